@@ -1,0 +1,249 @@
+//! Projection (000 §5, Fig. 3b): the points `P` of the base with `Q = O_P + t·d_P`. For S1 this is
+//! the cubic `[(H2 − H1) × (H3 − H1)]·(Q − H1) = 0` in `t` (Q lies on the affine plane `Πa(t)`), then
+//! the barycentric coordinates of `Q` in `Δa(t)` (the barycentric invariance of §5). For S^n the
+//! base is subdivided, each piece solved as a local S1 beam and the candidates polished by Newton's
+//! method on the full eq. 1.
+
+use super::NonlinearBeam;
+use super::parameterization::Interpolant;
+use crate::roots::cubic;
+use glam::{DMat3, DVec3, Vec3};
+
+/// One projection: barycentric coordinates on the base and the ray parameter, `Q = O_P + t·d_P`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projection {
+    /// Barycentric coordinates `ω` of `P` on the base triangle.
+    pub bary: Vec3,
+    /// Ray parameter `t` (with the beam's unit boundary directions).
+    pub t: f32,
+}
+
+/// Up to [`Projections::CAPACITY`] projections, sorted by `t`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Projections {
+    items: [Option<Projection>; 9],
+    len: usize,
+}
+
+impl Projections {
+    /// Maximum number of projections kept.
+    pub const CAPACITY: usize = 9;
+
+    /// The projections, ascending in `t`.
+    pub fn iter(&self) -> impl Iterator<Item = Projection> + '_ {
+        self.items[..self.len].iter().flatten().copied()
+    }
+
+    /// Number of projections.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True when there is none.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    fn push_unique(&mut self, p: Projection, tol: f32) {
+        let dup = self.iter().any(|q| {
+            (q.bary - p.bary).abs().max_element() <= tol
+                && (q.t - p.t).abs() <= tol * (1.0 + p.t.abs())
+        });
+        if dup || self.len == Self::CAPACITY {
+            return;
+        }
+        let mut i = self.len;
+        while i > 0 && self.items[i - 1].is_some_and(|q| q.t > p.t) {
+            self.items[i] = self.items[i - 1];
+            i -= 1;
+        }
+        self.items[i] = Some(p);
+        self.len += 1;
+    }
+}
+
+/// Tolerance on barycentric coordinates for "inside the base triangle".
+pub const BARY_TOLERANCE: f32 = 1e-5;
+
+/// Real roots `t` of `[(H2 − H1) × (H3 − H1)]·(Q − H1)` for `Hᵢ = Pᵢ + t·dᵢ` with the barycentric
+/// coordinates of `Q` in `Δa(t)`: every S1 projection, inside the base triangle or not.
+pub(crate) fn s1_solutions(p: [DVec3; 3], d: [DVec3; 3], q: DVec3) -> ([(DVec3, f64); 3], usize) {
+    let e1 = p[1] - p[0];
+    let e2 = p[2] - p[0];
+    let f1 = d[1] - d[0];
+    let f2 = d[2] - d[0];
+    let r = q - p[0];
+    let dd = -d[0];
+    let n0 = e1.cross(e2);
+    let n1 = e1.cross(f2) + f1.cross(e2);
+    let n2 = f1.cross(f2);
+    let roots = cubic(
+        n2.dot(dd),
+        n2.dot(r) + n1.dot(dd),
+        n1.dot(r) + n0.dot(dd),
+        n0.dot(r),
+    );
+    let mut out = [(DVec3::ZERO, 0.0); 3];
+    let mut len = 0;
+    for &t in roots.as_slice() {
+        let h = [p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]];
+        let n = (h[1] - h[0]).cross(h[2] - h[0]);
+        let nn = n.length_squared();
+        if !(nn > 0.0) {
+            continue;
+        }
+        let w0 = (h[1] - q).cross(h[2] - q).dot(n) / nn;
+        let w1 = (h[2] - q).cross(h[0] - q).dot(n) / nn;
+        out[len] = (DVec3::new(w0, w1, 1.0 - w0 - w1), t);
+        len += 1;
+    }
+    (out, len)
+}
+
+impl<L: Interpolant> NonlinearBeam<L> {
+    /// Every projection of `q` whose barycentric coordinates lie in the base triangle (within
+    /// [`BARY_TOLERANCE`]), any sign of `t` (000 §5, *Projection*). At most 3 for S1.
+    #[must_use]
+    pub fn project(&self, q: Vec3) -> Projections {
+        let mut out = Projections::default();
+        if self.degree() == 1 {
+            let (sol, n) = s1_solutions(
+                self.base.map(|v| v.as_dvec3()),
+                self.dirs.map(|v| v.as_dvec3()),
+                q.as_dvec3(),
+            );
+            for &(w, t) in &sol[..n] {
+                if w.min_element() >= -f64::from(BARY_TOLERANCE) {
+                    out.push_unique(
+                        Projection {
+                            bary: w.as_vec3(),
+                            t: t as f32,
+                        },
+                        BARY_TOLERANCE,
+                    );
+                }
+            }
+            return out;
+        }
+        self.project_sn(q, &mut out);
+        out
+    }
+
+    /// S^n projection: subdivide the base into `K²` triangles, solve each as an S1 beam through its
+    /// corner rays, and polish every candidate with Newton's method on `O(ω) + t·d(ω) − Q = 0`.
+    fn project_sn(&self, q: Vec3, out: &mut Projections) {
+        const K: usize = 6;
+        let q = q.as_dvec3();
+        let scale = self
+            .base
+            .iter()
+            .fold(0.0f64, |m, p| m.max(f64::from(p.distance(self.base[0]))))
+            .max(1e-30);
+        let corner = |i: usize, j: usize| {
+            DVec3::new(
+                i as f64 / K as f64,
+                j as f64 / K as f64,
+                (K - i - j) as f64 / K as f64,
+            )
+        };
+        for i in 0..K {
+            for j in 0..K - i {
+                let mut tris = [
+                    [corner(i, j), corner(i + 1, j), corner(i, j + 1)],
+                    [DVec3::ZERO; 3],
+                ];
+                let count = if i + j + 1 < K {
+                    tris[1] = [corner(i + 1, j), corner(i + 1, j + 1), corner(i, j + 1)];
+                    2
+                } else {
+                    1
+                };
+                for w in &tris[..count] {
+                    let rays = w.map(|w| self.patch.eval(w));
+                    let (sol, n) = s1_solutions(rays.map(|r| r.0), rays.map(|r| r.1), q);
+                    for &(local, t) in &sol[..n] {
+                        if local.min_element() < -0.25 {
+                            continue;
+                        }
+                        let guess = w[0] * local.x + w[1] * local.y + w[2] * local.z;
+                        if let Some((w, t)) = self.newton(q, guess, t, scale) {
+                            if w.min_element() >= -f64::from(BARY_TOLERANCE) {
+                                out.push_unique(
+                                    Projection {
+                                        bary: w.as_vec3(),
+                                        t: t as f32,
+                                    },
+                                    1e-4,
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Newton's method on `F(ω1, ω2, t) = O(ω) + t·d(ω) − Q` from an initial guess.
+    fn newton(&self, q: DVec3, mut w: DVec3, mut t: f64, scale: f64) -> Option<(DVec3, f64)> {
+        for _ in 0..30 {
+            let (o, d) = self.patch.eval(w);
+            let f = o + t * d - q;
+            if f.length() <= 1e-12 * scale * (1.0 + t.abs()) {
+                return Some((w, t));
+            }
+            let [(o1, d1), (o2, d2)] = self.patch.derivatives(w);
+            let jac = DMat3::from_cols(o1 + t * d1, o2 + t * d2, d);
+            if jac.determinant().abs() < 1e-300 {
+                return None;
+            }
+            let step = jac.inverse() * f;
+            w.x -= step.x;
+            w.y -= step.y;
+            w.z = 1.0 - w.x - w.y;
+            t -= step.z;
+            if !w.is_finite() || !t.is_finite() {
+                return None;
+            }
+        }
+        let (o, d) = self.patch.eval(w);
+        ((o + t * d - q).length() <= 1e-7 * scale * (1.0 + t.abs())).then_some((w, t))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parallel_beam_projects_straight_down() {
+        let beam = NonlinearBeam::s1([Vec3::ZERO, Vec3::X, Vec3::Y], [Vec3::Z; 3]).unwrap();
+        let p = beam.project(Vec3::new(0.25, 0.25, 3.0));
+        assert_eq!(p.len(), 1);
+        let p = p.iter().next().unwrap();
+        assert!((p.bary - Vec3::new(0.5, 0.25, 0.25)).length() < 1e-5 && (p.t - 3.0).abs() < 1e-5);
+        assert!(beam.project(Vec3::new(2.0, 2.0, 1.0)).is_empty());
+    }
+
+    #[test]
+    fn diverging_beam_round_trip() {
+        let beam = NonlinearBeam::s1(
+            [Vec3::ZERO, Vec3::X, Vec3::Y],
+            [
+                Vec3::new(-0.3, -0.3, 1.0),
+                Vec3::new(0.4, -0.1, 1.0),
+                Vec3::new(-0.1, 0.5, 1.0),
+            ],
+        )
+        .unwrap();
+        let w = Vec3::new(0.2, 0.5, 0.3);
+        let q = beam.ray_at(w).at(2.5);
+        let p = beam.project(q);
+        assert!(
+            p.iter()
+                .any(|p| (p.bary - w).length() < 1e-4 && (p.t - 2.5).abs() < 1e-3),
+            "{p:?}"
+        );
+    }
+}

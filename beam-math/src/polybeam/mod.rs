@@ -1,0 +1,81 @@
+//! Polygon beams of 001: an apex and a convex cross-section on a reference plane, split exactly by
+//! triangles into hit and miss beams.
+
+mod beam;
+mod split;
+
+pub use beam::{BeamFrame, MAX_CORNERS, PolyBeam, Section};
+pub use split::{KEEP_CORNERS, Pieces, Split};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::Triangle;
+    use glam::Vec3;
+
+    fn eye_beam() -> PolyBeam {
+        let frame = BeamFrame::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0), Vec3::Z, Vec3::X).unwrap();
+        let corners = [
+            Vec3::new(-1.0, -1.0, 1.0),
+            Vec3::new(1.0, -1.0, 1.0),
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(-1.0, 1.0, 1.0),
+        ];
+        PolyBeam::new(frame, &corners).unwrap()
+    }
+
+    #[test]
+    fn triangle_inside_the_beam_splits_into_hit_and_three_misses() {
+        let beam = eye_beam();
+        assert_eq!(beam.area(), 4.0);
+        // A triangle at depth 2 whose projection is (−0.5,−0.5), (0.5,−0.5), (0,0.5).
+        let tri = Triangle::new(
+            Vec3::new(-1.0, -1.0, 2.0),
+            Vec3::new(1.0, -1.0, 2.0),
+            Vec3::new(0.0, 1.0, 2.0),
+        );
+        let s = beam.split(&tri, 1e-3, f32::INFINITY, 1e-6).unwrap();
+        assert!((s.hit.area() - 0.5).abs() < 1e-5, "{}", s.hit.area());
+        assert!((s.hit.area() + s.miss.area() - 4.0).abs() < 1e-4);
+        assert_eq!(s.miss.len(), 3);
+    }
+
+    #[test]
+    fn trivial_cases() {
+        let beam = eye_beam();
+        let far_away = Triangle::new(
+            Vec3::new(5.0, 5.0, 1.0),
+            Vec3::new(6.0, 5.0, 1.0),
+            Vec3::new(5.0, 6.0, 1.0),
+        );
+        let s = beam.split(&far_away, 1e-3, f32::INFINITY, 1e-6).unwrap();
+        assert!(s.hit.is_empty() && s.miss.len() == 1);
+        let covering = Triangle::new(
+            Vec3::new(-10.0, -10.0, 1.0),
+            Vec3::new(10.0, -10.0, 1.0),
+            Vec3::new(0.0, 10.0, 1.0),
+        );
+        let s = beam.split(&covering, 1e-3, f32::INFINITY, 1e-6).unwrap();
+        assert!(s.miss.is_empty() && (s.hit.area() - 4.0).abs() < 1e-5);
+        // Behind the far limit (a shadow beam ending at depth 1): missed.
+        let behind = Triangle::new(
+            Vec3::new(-10.0, -10.0, 3.0),
+            Vec3::new(10.0, -10.0, 3.0),
+            Vec3::new(0.0, 10.0, 3.0),
+        );
+        assert!(beam.split(&behind, 1e-3, 1.0, 1e-6).unwrap().hit.is_empty());
+    }
+
+    #[test]
+    fn triangle_crossing_the_apex_plane_is_clipped() {
+        let beam = eye_beam();
+        // From behind the apex to in front: only the front part can be hit.
+        let tri = Triangle::new(
+            Vec3::new(-0.2, -0.2, -1.0),
+            Vec3::new(0.2, -0.2, -1.0),
+            Vec3::new(0.0, 0.2, 3.0),
+        );
+        let s = beam.split(&tri, 1e-3, f32::INFINITY, 1e-6).unwrap();
+        assert!((s.hit.area() + s.miss.area() - 4.0).abs() < 1e-3);
+    }
+}
