@@ -1,1 +1,132 @@
-//! conformance
+//! # beam-conformance
+//!
+//! The conformance suite of beam. A property is one function body that checks something that could
+//! fail over thousands of seeded cases; it runs once per backend it applies to. `cargo test` runs
+//! every (property, backend) pair through thin `#[test]` wrappers in `tests/tests/`, and
+//! `beam conformance [--backend NAME]` runs the same bodies from the CLI and prints a table.
+//!
+//! Backends today: `math` (the beam-math core). The BVH, CPU and GPU backends join as they land.
+
+pub mod generate;
+pub mod math;
+
+use std::fmt;
+use std::time::Instant;
+
+/// What a property runs against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Backend {
+    /// The `no_std` math core, checked against independent computations.
+    Math,
+}
+
+impl Backend {
+    /// Every backend.
+    pub const ALL: [Backend; 1] = [Backend::Math];
+
+    /// The name used on the command line.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Math => "math",
+        }
+    }
+
+    /// Parse a command-line name.
+    pub fn parse(name: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|b| b.name() == name)
+            .ok_or_else(|| {
+                let names: Vec<_> = Self::ALL.iter().map(|b| b.name()).collect();
+                format!("unknown backend `{name}` (known: {})", names.join(", "))
+            })
+    }
+}
+
+impl fmt::Display for Backend {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A passing run: how many cases were checked and a line of measured figures.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// Number of cases checked.
+    pub cases: u64,
+    /// Measured figures (largest error, counts per branch, ...).
+    pub note: String,
+}
+
+/// A property: a name, the paper section it checks, the backends it runs on, and its body.
+pub struct Property {
+    /// Unique snake-case name (also the `#[test]` name).
+    pub name: &'static str,
+    /// The paper section or equation it checks.
+    pub cites: &'static str,
+    /// Backends the body applies to.
+    pub backends: &'static [Backend],
+    /// The body: `Ok` with figures, or `Err` with the first counterexample.
+    pub body: fn(Backend) -> Result<Outcome, String>,
+}
+
+/// Every property of the suite.
+#[must_use]
+pub fn properties() -> Vec<Property> {
+    math::properties()
+}
+
+/// One (property, backend) result.
+#[derive(Debug)]
+pub struct Report {
+    /// Property name.
+    pub property: &'static str,
+    /// Paper reference.
+    pub cites: &'static str,
+    /// Backend it ran on.
+    pub backend: Backend,
+    /// The result.
+    pub result: Result<Outcome, String>,
+    /// Wall time.
+    pub seconds: f64,
+}
+
+/// Run every property on `backend` (all backends when `None`), in order.
+#[must_use]
+pub fn run_suite(backend: Option<Backend>) -> Vec<Report> {
+    let mut out = Vec::new();
+    for p in properties() {
+        for &b in p.backends {
+            if backend.is_some_and(|want| want != b) {
+                continue;
+            }
+            let start = Instant::now();
+            let result = (p.body)(b);
+            out.push(Report {
+                property: p.name,
+                cites: p.cites,
+                backend: b,
+                result,
+                seconds: start.elapsed().as_secs_f64(),
+            });
+        }
+    }
+    out
+}
+
+/// Run one property on one backend and panic with its counterexample if it fails (for `#[test]`).
+pub fn check(name: &str, backend: Backend) {
+    let p = properties()
+        .into_iter()
+        .find(|p| p.name == name)
+        .unwrap_or_else(|| panic!("no property named {name}"));
+    assert!(
+        p.backends.contains(&backend),
+        "{name} does not run on {backend}"
+    );
+    match (p.body)(backend) {
+        Ok(o) => println!("{name} [{backend}]: {} cases, {}", o.cases, o.note),
+        Err(e) => panic!("{name} [{backend}] failed: {e}"),
+    }
+}

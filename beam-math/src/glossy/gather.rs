@@ -44,7 +44,8 @@ impl LightBeam {
     /// deviation `sigma` (radians): `E = Φs/A⊥ · cos θ · min(P_E, 1)` (002 eq. 3, Figs. 11–12).
     /// With [`VolumeMethod::Tessellated`] the split point `D` is found as in 002 §4.3 step 2–3: on the
     /// flux-triangle edge facing the fragment, `D_F` where the line from the opposite vertex through
-    /// `F` crosses it; the edge parameter `s` gives `D_W` and `S_D` on the scatterer, hence `φ_d`.
+    /// `F` crosses it; the edge parameter `s` gives `D_W` on the scatterer and `S_D = D_F − D_W`,
+    /// hence `φ_d` (zero on the boundary, so the estimate is continuous there).
     #[must_use]
     pub fn glossy_irradiance(
         &self,
@@ -119,7 +120,10 @@ impl LightBeam {
             }
             let d_f = flux.v[i] + s * e;
             let d_w = self.origins[i].lerp(self.origins[j], s);
-            let s_d = self.dirs[i].lerp(self.dirs[j], s).normalize_or_zero();
+            // The scatter direction at D_W that reaches D_F. Interpolating the vertex directions
+            // instead (the paper's wording) misses D_F, since the flux triangle's edge is not the
+            // ruled surface between the two edge rays, and breaks continuity at the boundary.
+            let s_d = (d_f - d_w).normalize_or_zero();
             let phi_d = scatter_angle(d_w, s_d, f);
             let l = (d_f - f).normalize_or_zero();
             let d = phi_d * Vec2::new(l.dot(frame.0), l.dot(frame.1));

@@ -134,7 +134,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// S^n projection: subdivide the base into `K²` triangles, solve each as an S1 beam through its
     /// corner rays, and polish every candidate with Newton's method on `O(ω) + t·d(ω) − Q = 0`.
     fn project_sn(&self, q: Vec3, out: &mut Projections) {
-        const K: usize = 6;
+        const K: usize = 10;
         let q = q.as_dvec3();
         let scale = self
             .base
@@ -164,10 +164,15 @@ impl<L: Interpolant> NonlinearBeam<L> {
                     let rays = w.map(|w| self.patch.eval(w));
                     let (sol, n) = s1_solutions(rays.map(|r| r.0), rays.map(|r| r.1), q);
                     for &(local, t) in &sol[..n] {
-                        if local.min_element() < -0.25 {
+                        // A local S1 piece is only a first guess: far along strongly curved S^n rays
+                        // its solution can land well outside the piece, so keep anything near it.
+                        if local.min_element() < -2.0 {
                             continue;
                         }
                         let guess = w[0] * local.x + w[1] * local.y + w[2] * local.z;
+                        if guess.min_element() < -0.5 {
+                            continue;
+                        }
                         if let Some((w, t)) = self.newton(q, guess, t, scale) {
                             if w.min_element() >= -f64::from(BARY_TOLERANCE) {
                                 out.push_unique(
@@ -185,30 +190,48 @@ impl<L: Interpolant> NonlinearBeam<L> {
         }
     }
 
-    /// Newton's method on `F(ω1, ω2, t) = O(ω) + t·d(ω) − Q` from an initial guess.
+    /// Damped Newton's method on `F(ω1, ω2, t) = O(ω) + t·d(ω) − Q` from an initial guess: a step
+    /// is halved until the residual decreases, which keeps it converging near folds of the beam
+    /// (caustics) where the Jacobian is nearly singular.
     fn newton(&self, q: DVec3, mut w: DVec3, mut t: f64, scale: f64) -> Option<(DVec3, f64)> {
-        for _ in 0..30 {
+        let residual = |w: DVec3, t: f64| {
             let (o, d) = self.patch.eval(w);
-            let f = o + t * d - q;
+            o + t * d - q
+        };
+        let mut f = residual(w, t);
+        for _ in 0..60 {
             if f.length() <= 1e-12 * scale * (1.0 + t.abs()) {
                 return Some((w, t));
             }
             let [(o1, d1), (o2, d2)] = self.patch.derivatives(w);
+            let (_, d) = self.patch.eval(w);
             let jac = DMat3::from_cols(o1 + t * d1, o2 + t * d2, d);
             if jac.determinant().abs() < 1e-300 {
                 return None;
             }
             let step = jac.inverse() * f;
-            w.x -= step.x;
-            w.y -= step.y;
-            w.z = 1.0 - w.x - w.y;
-            t -= step.z;
-            if !w.is_finite() || !t.is_finite() {
+            let mut lambda = 1.0;
+            loop {
+                let w2 = DVec3::new(
+                    w.x - lambda * step.x,
+                    w.y - lambda * step.y,
+                    1.0 - (w.x - lambda * step.x) - (w.y - lambda * step.y),
+                );
+                let t2 = t - lambda * step.z;
+                let f2 = residual(w2, t2);
+                if f2.length() < f.length() || lambda < 1e-3 {
+                    w = w2;
+                    t = t2;
+                    f = f2;
+                    break;
+                }
+                lambda *= 0.5;
+            }
+            if !w.is_finite() || !t.is_finite() || w.abs().max_element() > 10.0 {
                 return None;
             }
         }
-        let (o, d) = self.patch.eval(w);
-        ((o + t * d - q).length() <= 1e-7 * scale * (1.0 + t.abs())).then_some((w, t))
+        (f.length() <= 1e-7 * scale * (1.0 + t.abs())).then_some((w, t))
     }
 }
 

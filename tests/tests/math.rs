@@ -1,0 +1,39 @@
+//! Thin `#[test]` wrappers: one per (property, backend) of the math core.
+
+use beam_conformance::{Backend, check};
+
+macro_rules! math_tests {
+    ($($name:ident),* $(,)?) => {
+        $(#[test] fn $name() { check(stringify!($name), Backend::Math); })*
+
+        #[test]
+        fn every_math_property_has_a_test() {
+            let tested = [$(stringify!($name)),*];
+            for p in beam_conformance::properties() {
+                if p.backends.contains(&Backend::Math) {
+                    assert!(tested.contains(&p.name), "property {} has no #[test] wrapper", p.name);
+                }
+            }
+        }
+    };
+}
+
+math_tests!(
+    slab_vs_brute_force,
+    watertight_ray_triangle,
+    sat_vs_sampling,
+    clipping_area_vs_monte_carlo,
+    cone_sphere_vs_sampling,
+    roots_vs_polynomial,
+    projection_inverts_intersection,
+    threshold_plane_unique_projection,
+    bounding_triangle_s1,
+    bounding_triangle_s3,
+    bounding_triangle_bump,
+    bounding_cone_contains_beam,
+    polybeam_split_is_exact,
+    gaussian_volume_vs_integration,
+    gaussian_volume_continuous,
+    flux_triangle_vs_rays,
+    projected_area_vs_sampling,
+);
