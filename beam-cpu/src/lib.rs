@@ -1,6 +1,12 @@
 //! # beam-cpu
 //!
-//! Host side of beam: scenes, cameras, materials, lights and the CPU renderers. Work in progress:
-//! the renderers arrive with the rendering issues.
+//! Host side of beam: experiments and, as the rendering issues land, scenes, cameras, materials,
+//! lights and the CPU renderers.
+//!
+//! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
+//! - [`io`]: atomic output files.
+
+pub mod io;
+pub mod overdraw;
 
 pub use beam_math;

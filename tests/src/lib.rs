@@ -92,9 +92,8 @@ pub struct Report {
     pub seconds: f64,
 }
 
-/// Run every property on `backend` (all backends when `None`), in order.
-#[must_use]
-pub fn run_suite(backend: Option<Backend>) -> Vec<Report> {
+/// Run every property on `backend` (all backends when `None`), in order, calling `done` after each.
+pub fn run_suite(backend: Option<Backend>, mut done: impl FnMut()) -> Vec<Report> {
     let mut out = Vec::new();
     for p in properties() {
         for &b in p.backends {
@@ -110,6 +109,7 @@ pub fn run_suite(backend: Option<Backend>) -> Vec<Report> {
                 result,
                 seconds: start.elapsed().as_secs_f64(),
             });
+            done();
         }
     }
     out

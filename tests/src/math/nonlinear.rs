@@ -269,7 +269,7 @@ fn tilt(w: Vec3) -> Vec2 {
     Vec2::new(
         (17.0 * w.x + 5.0 * w.y).sin(),
         (13.0 * w.y - 7.0 * w.z).cos(),
-    ) * 0.7071
+    ) * std::f32::consts::FRAC_1_SQRT_2
 }
 
 /// Bump-map bounding triangles (eq. 5, D-expansion) contain every base point whose perturbed ray
