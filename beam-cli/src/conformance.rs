@@ -5,23 +5,50 @@ use std::process::ExitCode;
 
 pub fn run(backend: Option<&str>) -> Result<ExitCode, String> {
     let backend = backend.map(Backend::parse).transpose()?;
-    let total = properties().iter().map(|p| p.backends.iter().filter(|b| backend.is_none_or(|w| w == **b)).count()).sum::<usize>();
+    let total = properties()
+        .iter()
+        .map(|p| {
+            p.backends
+                .iter()
+                .filter(|b| backend.is_none_or(|w| w == **b))
+                .count()
+        })
+        .sum::<usize>();
     let bar = crate::progress::bar(total as u64, "conformance");
     let reports = run_suite(backend, || bar.inc(1));
     bar.finish_and_clear();
     let width = reports.iter().map(|r| r.property.len()).max().unwrap_or(8);
-    println!("{:<width$}  {:<7}  {:<6}  {:>9}  {:>7}  details", "property", "backend", "result", "cases", "seconds");
+    println!(
+        "{:<width$}  {:<7}  {:<6}  {:>9}  {:>7}  details",
+        "property", "backend", "result", "cases", "seconds"
+    );
     let mut failed = 0;
     for r in &reports {
         let (status, cases, detail) = match &r.result {
-            Ok(o) => ("pass", o.cases.to_string(), format!("{} ({})", o.note, r.cites)),
+            Ok(o) => (
+                "pass",
+                o.cases.to_string(),
+                format!("{} ({})", o.note, r.cites),
+            ),
             Err(e) => {
                 failed += 1;
                 ("FAIL", "-".into(), format!("{e} ({})", r.cites))
             }
         };
-        println!("{:<width$}  {:<7}  {:<6}  {:>9}  {:>7.2}  {}", r.property, r.backend.name(), status, cases, r.seconds, detail);
+        println!(
+            "{:<width$}  {:<7}  {:<6}  {:>9}  {:>7.2}  {}",
+            r.property,
+            r.backend.name(),
+            status,
+            cases,
+            r.seconds,
+            detail
+        );
     }
     println!("{} passed, {} failed", reports.len() - failed, failed);
-    Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE })
+    Ok(if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }

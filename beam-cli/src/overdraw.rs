@@ -34,7 +34,14 @@ pub fn run(out: &Path, csv: &Path, points: usize) -> Result<ExitCode, String> {
 
 /// (min, max) of ours and of the general case over one sweep.
 fn range(rows: &[OverdrawRow], s: Sweep) -> ((f64, f64), (f64, f64)) {
-    let mm = |f: fn(&OverdrawRow) -> f64| rows.iter().filter(|r| r.sweep == s).map(f).fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let mm = |f: fn(&OverdrawRow) -> f64| {
+        rows.iter()
+            .filter(|r| r.sweep == s)
+            .map(f)
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            })
+    };
     (mm(|r| r.ours), mm(|r| r.general))
 }
 
@@ -47,11 +54,19 @@ fn plot(path: &Path, rows: &[OverdrawRow]) -> Result<(), String> {
         let panels = root.split_evenly((1, 2));
         for (panel, s) in panels.iter().zip([Sweep::Size, Sweep::Distance]) {
             let data: Vec<_> = rows.iter().filter(|r| r.sweep == s).collect();
-            let (x0, x1) = data.iter().fold((f32::INFINITY, 0.0f32), |(lo, hi), r| (lo.min(r.parameter), hi.max(r.parameter)));
+            let (x0, x1) = data.iter().fold((f32::INFINITY, 0.0f32), |(lo, hi), r| {
+                (lo.min(r.parameter), hi.max(r.parameter))
+            });
             let y1 = data.iter().fold(1.0f64, |m, r| m.max(r.general)) * 2.0;
             let (title, xlabel) = match s {
-                Sweep::Size => ("fixed distance, varying triangle size", "triangle circumradius"),
-                Sweep::Distance => ("fixed size, varying distance to beam base", "distance along the central ray"),
+                Sweep::Size => (
+                    "fixed distance, varying triangle size",
+                    "triangle circumradius",
+                ),
+                Sweep::Distance => (
+                    "fixed size, varying distance to beam base",
+                    "distance along the central ray",
+                ),
             };
             let mut chart = ChartBuilder::on(panel)
                 .caption(title, ("sans-serif", 22))
@@ -60,13 +75,47 @@ fn plot(path: &Path, rows: &[OverdrawRow]) -> Result<(), String> {
                 .y_label_area_size(80)
                 .build_cartesian_2d((x0..x1).log_scale(), (0.8f64..y1).log_scale())
                 .map_err(|e| e.to_string())?;
-            chart.configure_mesh().x_desc(xlabel).y_desc("overdraw ratio").y_label_formatter(&|v| format!("{v:.0e}")).x_label_formatter(&|v| format!("{v}")).draw().map_err(|e| e.to_string())?;
-            let series = [("general case only ([11])", RED, data.iter().map(|r| (r.parameter, r.general)).collect::<Vec<_>>()), ("ours (Alg. 3)", BLUE, data.iter().map(|r| (r.parameter, r.ours)).collect())];
+            chart
+                .configure_mesh()
+                .x_desc(xlabel)
+                .y_desc("overdraw ratio")
+                .y_label_formatter(&|v| format!("{v:.0e}"))
+                .x_label_formatter(&|v| format!("{v}"))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            let series = [
+                (
+                    "general case only ([11])",
+                    RED,
+                    data.iter()
+                        .map(|r| (r.parameter, r.general))
+                        .collect::<Vec<_>>(),
+                ),
+                (
+                    "ours (Alg. 3)",
+                    BLUE,
+                    data.iter().map(|r| (r.parameter, r.ours)).collect(),
+                ),
+            ];
             for (label, color, points) in series {
-                chart.draw_series(LineSeries::new(points.clone(), color.stroke_width(2))).map_err(|e| e.to_string())?.label(label).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
-                chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, color.filled()))).map_err(|e| e.to_string())?;
+                chart
+                    .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))
+                    .map_err(|e| e.to_string())?
+                    .label(label)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+                chart
+                    .draw_series(points.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                    .map_err(|e| e.to_string())?;
             }
-            chart.configure_series_labels().position(SeriesLabelPosition::UpperLeft).background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(|e| e.to_string())?;
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| e.to_string())?;
         }
         root.present().map_err(|e| e.to_string())?;
     }

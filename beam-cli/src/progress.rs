@@ -5,7 +5,11 @@ use indicatif::{ProgressBar, ProgressStyle};
 /// A bar of `len` steps with a message.
 pub fn bar(len: u64, message: &'static str) -> ProgressBar {
     let bar = ProgressBar::new(len);
-    bar.set_style(ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} {elapsed}").expect("valid template").progress_chars("=> "));
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} {elapsed}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
     bar.set_message(message);
     bar
 }
