@@ -1,6 +1,33 @@
 //! # beam-bvh
 //!
-//! Bounding volume hierarchies for beam: builders, layouts and traversal. Work in progress: this
-//! crate is filled in by the BVH issue; for now it re-exports the math it will build on.
+//! One canonical binary BVH over triangles, built once and converted into layouts, as tinybvh
+//! does: a compact depth-first CPU layout ([`FlatBvh`]) that every traversal runs on, and a
+//! `#[repr(C)]` bytemuck GPU layout ([`gpu`]). Triangles are referenced by index, never copied.
+//!
+//! - Builders ([`BuildOptions`]): binned SAH; the projected-area heuristic (PAH) of 004 for a
+//!   declared ray distribution (a parallel bundle or a pencil through a point), falling back to SAH
+//!   where the distribution does not apply; splitting-plane facing (004): extra partition
+//!   directions perpendicular to the rays.
+//! - Traversal: closest hit and any hit (watertight triangle test), batches over slices (rayon),
+//!   and a generic front-to-back traversal driven by a node test and a leaf visitor, for beams.
+//! - Refit after vertices move, and statistics (node visits, triangle tests, SAH cost, depth,
+//!   leaf sizes) as data.
+//! - Degenerate triangles (zero area, NaN or infinite coordinates) are left out and counted.
+
+mod build;
+mod flat;
+pub mod gpu;
+mod options;
+mod refit;
+mod stats;
+mod traverse;
+mod tree;
+
+pub use build::build;
+pub use flat::{FlatBvh, FlatNode};
+pub use options::{BuildOptions, Heuristic, RayDistribution};
+pub use stats::{TraversalStats, TreeStats};
+pub use traverse::{Control, Hit, NodeVisitor};
+pub use tree::{Bvh, Node};
 
 pub use beam_math;

@@ -1,0 +1,95 @@
+//! Builder options: one struct picks the heuristic and its parameters.
+
+use beam_math::glam::Vec3;
+
+/// The ray distribution a projected-area heuristic is built for (004 §1, Fig. 4).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RayDistribution {
+    /// Parallel rays along `direction` (an area light seen from afar): orthographic projection.
+    Parallel {
+        /// Common ray direction.
+        direction: Vec3,
+    },
+    /// Rays through one point (a point light or a camera), looking along `forward`: perspective
+    /// projection onto the plane at unit distance.
+    Pencil {
+        /// The common point.
+        origin: Vec3,
+        /// Mean direction of the rays.
+        forward: Vec3,
+    },
+}
+
+impl RayDistribution {
+    /// The direction that split planes should face for [`BuildOptions::facing`]: the rays' mean
+    /// direction.
+    #[must_use]
+    pub fn direction(&self) -> Vec3 {
+        match *self {
+            RayDistribution::Parallel { direction } => direction,
+            RayDistribution::Pencil { forward, .. } => forward,
+        }
+    }
+}
+
+/// The cost model of the binned builder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Heuristic {
+    /// Surface area heuristic: a node is hit with probability proportional to its surface area.
+    Sah,
+    /// Projected area heuristic (004): proportional to the node's projected area under the
+    /// distribution's projection. Nodes the distribution does not apply to (a pencil's origin inside
+    /// or behind a box) fall back to SAH.
+    Pah(RayDistribution),
+}
+
+/// How to build a BVH.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildOptions {
+    /// The cost model.
+    pub heuristic: Heuristic,
+    /// Splitting-plane facing (004): besides the x, y and z axes, bin centroids along the two
+    /// directions perpendicular to the rays, so that children separate in the rays' view and
+    /// overlap less along them. Uses [`RayDistribution::direction`] of the PAH, or the given
+    /// direction with SAH.
+    pub facing: Option<Vec3>,
+    /// Bins per partition direction.
+    pub bins: usize,
+    /// Largest leaf (a leaf is forced beyond this only for identical centroids).
+    pub max_leaf: usize,
+    /// Cost of traversing a node relative to one triangle test.
+    pub traversal_cost: f32,
+    /// Build subtrees in parallel (with the `parallel` feature).
+    pub parallel: bool,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        Self {
+            heuristic: Heuristic::Sah,
+            facing: None,
+            bins: 16,
+            max_leaf: 8,
+            traversal_cost: 1.0,
+            parallel: true,
+        }
+    }
+}
+
+impl BuildOptions {
+    /// Binned SAH with default parameters.
+    #[must_use]
+    pub fn sah() -> Self {
+        Self::default()
+    }
+
+    /// PAH for `distribution`, with splitting-plane facing along its direction.
+    #[must_use]
+    pub fn pah(distribution: RayDistribution) -> Self {
+        Self {
+            heuristic: Heuristic::Pah(distribution),
+            facing: Some(distribution.direction()),
+            ..Self::default()
+        }
+    }
+}
