@@ -1,9 +1,13 @@
 //! `beam conformance`: the suite of `beam-conformance` with a pass/fail table.
 
-use beam_conformance::{Backend, properties, run_suite};
+use beam_conformance::{Backend, Config, properties, run_suite};
 use std::process::ExitCode;
 
-pub fn run(backend: Option<&str>) -> Result<ExitCode, String> {
+pub fn run(backend: Option<&str>, rays: Option<usize>) -> Result<ExitCode, String> {
+    let mut config = Config::default();
+    if let Some(r) = rays {
+        config.rays = r.max(1);
+    }
     let backend = backend.map(Backend::parse).transpose()?;
     let total = properties()
         .iter()
@@ -15,7 +19,7 @@ pub fn run(backend: Option<&str>) -> Result<ExitCode, String> {
         })
         .sum::<usize>();
     let bar = crate::progress::bar(total as u64, "conformance");
-    let reports = run_suite(backend, || bar.inc(1));
+    let reports = run_suite(backend, &config, || bar.inc(1));
     bar.finish_and_clear();
     let width = reports.iter().map(|r| r.property.len()).max().unwrap_or(8);
     println!(

@@ -21,9 +21,13 @@ struct Cli {
 enum Command {
     /// Run the conformance suite and print a pass/fail table (exit status 1 on any failure).
     Conformance {
-        /// Only this backend (math).
+        /// Only this backend (math, bvh).
         #[arg(long)]
         backend: Option<String>,
+        /// Rays of each kind per mesh for the BVH properties (default 2,000 or
+        /// $BEAM_CONFORMANCE_RAYS; the BVH issue's full check is 100,000).
+        #[arg(long)]
+        rays: Option<usize>,
     },
     /// Reproduce 000 Fig. 7: overdraw of our bounding triangles vs the general case alone.
     Overdraw {
@@ -42,7 +46,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Conformance { backend } => conformance::run(backend.as_deref()),
+        Command::Conformance { backend, rays } => conformance::run(backend.as_deref(), rays),
         Command::Overdraw { out, csv, points } => overdraw::run(&out, &csv, points),
     };
     match result {

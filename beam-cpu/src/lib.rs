@@ -5,8 +5,11 @@
 //!
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
 //! - [`io`]: atomic output files.
+//! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
 
 pub mod io;
+pub mod mesh;
 pub mod overdraw;
+pub mod scenes;
 
 pub use beam_math;

@@ -5,8 +5,10 @@
 //! every (property, backend) pair through thin `#[test]` wrappers in `tests/tests/`, and
 //! `beam conformance [--backend NAME]` runs the same bodies from the CLI and prints a table.
 //!
-//! Backends today: `math` (the beam-math core). The BVH, CPU and GPU backends join as they land.
+//! Backends today: `math` (the beam-math core) and `bvh` (beam-bvh against brute force). The CPU
+//! and GPU backends join as they land.
 
+pub mod bvh;
 pub mod generate;
 pub mod math;
 
@@ -18,17 +20,20 @@ use std::time::Instant;
 pub enum Backend {
     /// The `no_std` math core, checked against independent computations.
     Math,
+    /// beam-bvh builders and traversals, checked against brute force.
+    Bvh,
 }
 
 impl Backend {
     /// Every backend.
-    pub const ALL: [Backend; 1] = [Backend::Math];
+    pub const ALL: [Backend; 2] = [Backend::Math, Backend::Bvh];
 
     /// The name used on the command line.
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Backend::Math => "math",
+            Backend::Bvh => "bvh",
         }
     }
 
@@ -50,6 +55,24 @@ impl fmt::Display for Backend {
     }
 }
 
+/// Settings of a suite run.
+#[derive(Clone, Copy, Debug)]
+pub struct Config {
+    /// Rays of each kind per mesh for the BVH properties (the full check of the BVH issue is 100,000).
+    pub rays: usize,
+}
+
+impl Default for Config {
+    /// 2,000 rays per kind per mesh, or `$BEAM_CONFORMANCE_RAYS`.
+    fn default() -> Self {
+        let rays = std::env::var("BEAM_CONFORMANCE_RAYS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(2_000);
+        Self { rays }
+    }
+}
+
 /// A passing run: how many cases were checked and a line of measured figures.
 #[derive(Clone, Debug)]
 pub struct Outcome {
@@ -68,13 +91,15 @@ pub struct Property {
     /// Backends the body applies to.
     pub backends: &'static [Backend],
     /// The body: `Ok` with figures, or `Err` with the first counterexample.
-    pub body: fn(Backend) -> Result<Outcome, String>,
+    pub body: fn(Backend, &Config) -> Result<Outcome, String>,
 }
 
 /// Every property of the suite.
 #[must_use]
 pub fn properties() -> Vec<Property> {
-    math::properties()
+    let mut all = math::properties();
+    all.extend(bvh::properties());
+    all
 }
 
 /// One (property, backend) result.
@@ -93,7 +118,7 @@ pub struct Report {
 }
 
 /// Run every property on `backend` (all backends when `None`), in order, calling `done` after each.
-pub fn run_suite(backend: Option<Backend>, mut done: impl FnMut()) -> Vec<Report> {
+pub fn run_suite(backend: Option<Backend>, config: &Config, mut done: impl FnMut()) -> Vec<Report> {
     let mut out = Vec::new();
     for p in properties() {
         for &b in p.backends {
@@ -101,7 +126,7 @@ pub fn run_suite(backend: Option<Backend>, mut done: impl FnMut()) -> Vec<Report
                 continue;
             }
             let start = Instant::now();
-            let result = (p.body)(b);
+            let result = (p.body)(b, config);
             out.push(Report {
                 property: p.name,
                 cites: p.cites,
@@ -125,7 +150,7 @@ pub fn check(name: &str, backend: Backend) {
         p.backends.contains(&backend),
         "{name} does not run on {backend}"
     );
-    match (p.body)(backend) {
+    match (p.body)(backend, &Config::default()) {
         Ok(o) => println!("{name} [{backend}]: {} cases, {}", o.cases, o.note),
         Err(e) => panic!("{name} [{backend}] failed: {e}"),
     }

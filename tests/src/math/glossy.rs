@@ -1,7 +1,7 @@
 //! Glossy light volumes (002 §3–4): flux triangles and Gaussian volumes.
 
 use crate::generate::{self, uniform};
-use crate::{Backend, Outcome};
+use crate::{Backend, Config, Outcome};
 use beam_math::collide::point_in_convex_polygon;
 use beam_math::glam::{DVec2, Vec2};
 use beam_math::glossy::{
@@ -34,7 +34,7 @@ fn integrate(a: Vec2, b: Vec2, c: Vec2, sigma: f32, m: usize) -> f64 {
 
 /// The exact Gaussian volume (Owen's T) is within 2% (relative, or 1e-5 absolute) of numerical
 /// integration on 1,500 random triangles, inside and outside; the paper's tessellation is reported.
-pub fn gaussian_volume_vs_integration(_: Backend) -> Result<Outcome, String> {
+pub fn gaussian_volume_vs_integration(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(14);
     let (mut worst, mut worst_tess, mut mean_tess) = (0.0f64, 0.0f64, 0.0f64);
     let n = 1_500;
@@ -72,7 +72,7 @@ pub fn gaussian_volume_vs_integration(_: Backend) -> Result<Outcome, String> {
 /// Continuity across the flux-triangle boundary (002 §4.2): for 2,000 random light beams, the glossy
 /// irradiance just inside and just outside an edge of the flux triangle differs by less than 1% of
 /// the specular value, for the exact volume and for the paper's tessellation with its split point D.
-pub fn gaussian_volume_continuous(_: Backend) -> Result<Outcome, String> {
+pub fn gaussian_volume_continuous(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(15);
     let (mut worst_exact, mut worst_tess) = (0.0f32, 0.0f32);
     let n = 2_000u64;
@@ -138,7 +138,7 @@ fn light_beam(rng: &mut generate::Rng64) -> LightBeam {
 /// each vertex lies on its scattered ray and on the flux plane; the in-beam test equals a 2D
 /// inside–outside test (004 Alg. A.4) in the plane; and with the receiver perpendicular to the mean
 /// direction, the irradiance of eq. 1 integrates to the beam flux (energy conservation, 2%).
-pub fn flux_triangle_vs_rays(_: Backend) -> Result<Outcome, String> {
+pub fn flux_triangle_vs_rays(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(16);
     let n = 5_000;
     for i in 0..n {

@@ -1,7 +1,7 @@
 //! BVH cost-model areas (004).
 
 use crate::generate::{self, uniform};
-use crate::{Backend, Outcome};
+use crate::{Backend, Config, Outcome};
 use beam_math::Ray;
 use beam_math::collide::ray_aabb;
 use beam_math::heuristics::{projected_area_orthographic, projected_area_perspective};
@@ -10,7 +10,7 @@ use beam_math::heuristics::{projected_area_orthographic, projected_area_perspect
 /// `|d·x|·A_yz + |d·y|·A_xz + |d·z|·A_xy` (2,000 boxes); perspective hull area equals a Monte-Carlo
 /// estimate of the box's image on the unit plane (eye rays through random image points hitting the
 /// box) within 4σ (1,000 boxes, 20,000 rays each).
-pub fn projected_area_vs_sampling(_: Backend) -> Result<Outcome, String> {
+pub fn projected_area_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(17);
     for i in 0..2_000 {
         let b = generate::aabb(&mut rng, 2.0);
