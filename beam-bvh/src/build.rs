@@ -5,7 +5,7 @@ use crate::options::{BuildOptions, Heuristic, RayDistribution};
 use crate::tree::{Bvh, Node};
 use beam_math::glam::Vec3;
 use beam_math::heuristics::{
-    projected_area_orthographic, projected_area_perspective, surface_area,
+    projected_area_orthographic_fast, projected_area_perspective_fast, surface_area,
 };
 use beam_math::{Aabb, Triangle};
 use std::vec::Vec;
@@ -95,7 +95,7 @@ impl Context {
                 Measure::Orthographic(direction)
             }
             Heuristic::Pah(RayDistribution::Pencil { origin, forward }) => {
-                if projected_area_perspective(parent, origin, forward).is_some() {
+                if projected_area_perspective_fast(parent, origin, forward).is_some() {
                     Measure::Perspective(origin, forward)
                 } else {
                     Measure::Surface
@@ -119,9 +119,9 @@ impl Measure {
         }
         match self {
             Measure::Surface => surface_area(b),
-            Measure::Orthographic(d) => projected_area_orthographic(b, d),
+            Measure::Orthographic(d) => projected_area_orthographic_fast(b, d),
             Measure::Perspective(o, f) => {
-                projected_area_perspective(b, o, f).unwrap_or(f32::INFINITY)
+                projected_area_perspective_fast(b, o, f).unwrap_or(f32::INFINITY)
             }
         }
     }

@@ -4,7 +4,7 @@
 use crate::flat::{FlatBvh, STACK_SIZE};
 use crate::stats::{Counter, TraversalStats};
 use beam_math::collide::WatertightRay;
-use beam_math::glam::Vec3;
+use beam_math::glam::Vec3A;
 use beam_math::{Aabb, Ray, Triangle};
 
 /// A closest hit: the input triangle's index, the ray parameter and barycentrics.
@@ -46,9 +46,9 @@ pub trait NodeVisitor {
 /// Slab entry distance of a ray with reciprocal direction `inv` into a node, if it enters before
 /// `t_max` (004 Alg. A.1; IEEE infinities handle axis-parallel rays).
 #[inline(always)]
-fn slab(min: &[f32; 3], max: &[f32; 3], origin: Vec3, inv: Vec3, t_max: f32) -> f32 {
-    let t1 = (Vec3::from_array(*min) - origin) * inv;
-    let t2 = (Vec3::from_array(*max) - origin) * inv;
+fn slab(min: &[f32; 3], max: &[f32; 3], origin: Vec3A, inv: Vec3A, t_max: f32) -> f32 {
+    let t1 = (Vec3A::from_array(*min) - origin) * inv;
+    let t2 = (Vec3A::from_array(*max) - origin) * inv;
     let near = t1.min(t2).max_element().max(0.0);
     let far = t1.max(t2).min_element().min(t_max);
     if near <= far { near } else { f32::INFINITY }
@@ -102,8 +102,8 @@ impl FlatBvh {
         if nodes.is_empty() {
             return None;
         }
-        let origin = ray.origin;
-        let inv = ray.direction.recip();
+        let origin = Vec3A::from(ray.origin);
+        let inv = Vec3A::from(ray.direction.recip());
         let wt = WatertightRay::new(ray);
         let mut best: Option<Hit> = None;
         let mut t_best = t_max;
@@ -175,8 +175,8 @@ impl FlatBvh {
         if nodes.is_empty() {
             return false;
         }
-        let origin = ray.origin;
-        let inv = ray.direction.recip();
+        let origin = Vec3A::from(ray.origin);
+        let inv = Vec3A::from(ray.direction.recip());
         let wt = WatertightRay::new(ray);
         c.node();
         if slab(&nodes[0].min, &nodes[0].max, origin, inv, t_max) == f32::INFINITY {
@@ -301,6 +301,7 @@ mod tests {
     use super::*;
     use crate::{BuildOptions, RayDistribution};
     use beam_math::collide::ray_triangle;
+    use beam_math::glam::Vec3;
 
     fn soup(n: usize, seed: u32) -> Vec<Triangle> {
         let mut s = seed;

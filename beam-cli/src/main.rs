@@ -1,6 +1,7 @@
 //! The `beam` command: runs the conformance suite and the experiments of the beam crates.
 //! Thin by design: it parses arguments and calls the libraries.
 
+mod bench;
 mod conformance;
 mod overdraw;
 mod progress;
@@ -29,6 +30,11 @@ enum Command {
         #[arg(long)]
         rays: Option<usize>,
     },
+    /// Benchmarks against peers measured in the same run.
+    Bench {
+        #[command(subcommand)]
+        what: BenchCommand,
+    },
     /// Reproduce 000 Fig. 7: overdraw of our bounding triangles vs the general case alone.
     Overdraw {
         /// Plot of both sweeps (PNG).
@@ -43,11 +49,31 @@ enum Command {
     },
 }
 
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Build with each builder and trace primary, shadow and diffuse rays, 1 thread and all cores,
+    /// beside Embree 3 and obvhs (with `--features peers`).
+    Bvh {
+        /// An OBJ file.
+        #[arg(long)]
+        scene: PathBuf,
+        /// Also write the rows as JSON (`name`, `ray_kind`, `threads`, `build_ms`, `mrays_per_s`).
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Image width and height of the primary rays.
+        #[arg(long, default_value_t = 512)]
+        size: usize,
+    },
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Conformance { backend, rays } => conformance::run(backend.as_deref(), rays),
         Command::Overdraw { out, csv, points } => overdraw::run(&out, &csv, points),
+        Command::Bench {
+            what: BenchCommand::Bvh { scene, json, size },
+        } => bench::bvh::run(&scene, json.as_deref(), size).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,

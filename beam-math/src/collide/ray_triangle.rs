@@ -2,7 +2,7 @@
 //! 004 App. A.3 made exact on shared edges: no ray passes between two triangles that share an edge.
 
 use crate::shapes::{Ray, Triangle};
-use glam::Vec3;
+use glam::{Mat3A, Vec3, Vec3A};
 
 /// A ray–triangle hit: the ray parameter and the barycentric coordinates of the hit point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,20 +15,17 @@ pub struct TriangleHit {
     pub v: f32,
 }
 
-/// Per-ray constants of the watertight test: the dominant axis permutation and the shear.
+/// Per-ray constants of the watertight test: the axis permutation (largest |d| becomes z, winding
+/// kept) and the shear, folded into one matrix so that a vertex is transformed without branches:
+/// rows `e_kx − Sx·e_kz`, `e_ky − Sy·e_kz`, `Sz·e_kz`.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
-    origin: Vec3,
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    origin: Vec3A,
+    shear: Mat3A,
 }
 
 impl WatertightRay {
-    /// Precompute the axis permutation (largest |d| becomes z, winding kept) and the shear.
+    /// Precompute the permutation and shear of `ray`.
     #[must_use]
     pub fn new(ray: Ray) -> Self {
         let d = ray.direction;
@@ -45,14 +42,16 @@ impl WatertightRay {
         if d[kz] < 0.0 {
             core::mem::swap(&mut kx, &mut ky);
         }
+        let (sx, sy, sz) = (d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
+        let unit = |k: usize| Vec3A::from(Vec3::AXES[k]);
+        let rows = [
+            unit(kx) - sx * unit(kz),
+            unit(ky) - sy * unit(kz),
+            sz * unit(kz),
+        ];
         Self {
-            origin: ray.origin,
-            kx,
-            ky,
-            kz,
-            sx: d[kx] / d[kz],
-            sy: d[ky] / d[kz],
-            sz: 1.0 / d[kz],
+            origin: ray.origin.into(),
+            shear: Mat3A::from_cols(rows[0], rows[1], rows[2]).transpose(),
         }
     }
 
@@ -60,24 +59,20 @@ impl WatertightRay {
     #[must_use]
     #[inline]
     pub fn intersect(&self, tri: &Triangle, t_min: f32, t_max: f32) -> Option<TriangleHit> {
-        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let a = tri.v[0] - self.origin;
-        let b = tri.v[1] - self.origin;
-        let c = tri.v[2] - self.origin;
-        let (ax, ay) = (a[kx] - self.sx * a[kz], a[ky] - self.sy * a[kz]);
-        let (bx, by) = (b[kx] - self.sx * b[kz], b[ky] - self.sy * b[kz]);
-        let (cx, cy) = (c[kx] - self.sx * c[kz], c[ky] - self.sy * c[kz]);
-        let mut u = cx * by - cy * bx;
-        let mut v = ax * cy - ay * cx;
-        let mut w = bx * ay - by * ax;
+        let a = self.shear * (Vec3A::from(tri.v[0]) - self.origin);
+        let b = self.shear * (Vec3A::from(tri.v[1]) - self.origin);
+        let c = self.shear * (Vec3A::from(tri.v[2]) - self.origin);
+        let mut u = c.x * b.y - c.y * b.x;
+        let mut v = a.x * c.y - a.y * c.x;
+        let mut w = b.x * a.y - b.y * a.x;
         if u == 0.0 || v == 0.0 || w == 0.0 {
             // Fall back to double precision on the edges, as the paper prescribes.
             let f = |px: f32, py: f32, qx: f32, qy: f32| {
                 (px as f64 * qy as f64 - py as f64 * qx as f64) as f32
             };
-            u = f(cx, cy, bx, by);
-            v = f(ax, ay, cx, cy);
-            w = f(bx, by, ax, ay);
+            u = f(c.x, c.y, b.x, b.y);
+            v = f(a.x, a.y, c.x, c.y);
+            w = f(b.x, b.y, a.x, a.y);
         }
         if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
             return None;
@@ -86,8 +81,7 @@ impl WatertightRay {
         if det == 0.0 || !det.is_finite() {
             return None;
         }
-        let (az, bz, cz) = (self.sz * a[kz], self.sz * b[kz], self.sz * c[kz]);
-        let t_scaled = u * az + v * bz + w * cz;
+        let t_scaled = u * a.z + v * b.z + w * c.z;
         let inv = 1.0 / det;
         let t = t_scaled * inv;
         if !(t >= t_min && t <= t_max) {

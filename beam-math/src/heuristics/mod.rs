@@ -52,6 +52,57 @@ pub fn projected_area_perspective(aabb: Aabb, eye: Vec3, forward: Vec3) -> Optio
     Some(hull.area())
 }
 
+/// [`projected_area_orthographic`] in closed form, `|d·x|·A_yz + |d·y|·A_xz + |d·z|·A_xy` for unit
+/// `d` (each face pair's shadow), for builders that evaluate it many times.
+#[must_use]
+#[inline]
+pub fn projected_area_orthographic_fast(aabb: Aabb, dir: Vec3) -> f32 {
+    let e = aabb.extent().max(Vec3::ZERO);
+    let d = dir.normalize_or_zero().abs();
+    d.x * e.y * e.z + d.y * e.x * e.z + d.z * e.x * e.y
+}
+
+/// [`projected_area_perspective`] without a hull: the silhouette of a box seen from outside is
+/// tiled by its front faces (those facing the eye, one to three), so the image area is the sum of
+/// their projected quads' shoelace areas.
+#[must_use]
+pub fn projected_area_perspective_fast(aabb: Aabb, eye: Vec3, forward: Vec3) -> Option<f32> {
+    let forward = forward.try_normalize()?;
+    let (u, v) = plane_basis(forward);
+    let corners = aabb.corners();
+    let mut image = [Vec2::ZERO; 8];
+    for (p, c) in image.iter_mut().zip(corners) {
+        let r = c - eye;
+        let z = r.dot(forward);
+        if !(z > 0.0) {
+            return None;
+        }
+        *p = Vec2::new(r.dot(u), r.dot(v)) / z;
+    }
+    let mut area = 0.0;
+    for axis in 0..3 {
+        // The face at max (bit set) faces the eye when the eye is beyond it, and vice versa.
+        let side = if eye[axis] > aabb.max[axis] {
+            1
+        } else if eye[axis] < aabb.min[axis] {
+            0
+        } else {
+            continue;
+        };
+        let bit = 1 << axis;
+        let (a, b) = (1 << ((axis + 1) % 3), 1 << ((axis + 2) % 3));
+        let base = if side == 1 { bit } else { 0 };
+        let quad = [
+            image[base],
+            image[base | a],
+            image[base | a | b],
+            image[base | b],
+        ];
+        area += crate::collide::shoelace_area(&quad);
+    }
+    Some(area)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -73,5 +124,33 @@ mod tests {
             projected_area_perspective(b, Vec3::splat(0.5), Vec3::Z),
             None
         );
+    }
+
+    #[test]
+    fn fast_forms_equal_the_hull_forms() {
+        let b = Aabb::new(Vec3::new(-0.3, 0.2, 1.0), Vec3::new(0.9, 1.4, 2.5));
+        for d in [
+            Vec3::X,
+            Vec3::new(0.3, -0.5, 0.8),
+            Vec3::new(-1.0, 2.0, 0.1),
+        ] {
+            assert!(
+                (projected_area_orthographic(b, d) - projected_area_orthographic_fast(b, d)).abs()
+                    < 1e-5
+            );
+        }
+        for eye in [
+            Vec3::new(0.2, 0.5, -3.0),
+            Vec3::new(4.0, 3.0, -2.0),
+            Vec3::new(0.3, 5.0, 1.5),
+        ] {
+            let f = b.center() - eye;
+            let hull = projected_area_perspective(b, eye, f).unwrap();
+            let fast = projected_area_perspective_fast(b, eye, f).unwrap();
+            assert!(
+                (hull - fast).abs() < 1e-5 * hull.max(1.0),
+                "{hull} vs {fast}"
+            );
+        }
     }
 }

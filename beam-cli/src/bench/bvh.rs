@@ -1,0 +1,382 @@
+//! `beam bench bvh`: build with each of our builders and trace primary, shadow and diffuse rays,
+//! single-threaded and on all cores, beside the peers measured in the same run on the same rays.
+
+use super::{Tracer, peers};
+use beam_bvh::{BuildOptions, FlatBvh, RayDistribution, TraversalStats};
+use beam_conformance::bvh::scene_light;
+use beam_conformance::generate::{self, uniform};
+use beam_math::glam::Vec3;
+use beam_math::{Ray, Triangle};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+
+/// One row of the JSON output.
+#[derive(Serialize, Clone)]
+pub struct Row {
+    name: String,
+    ray_kind: &'static str,
+    threads: usize,
+    build_ms: f64,
+    mrays_per_s: f64,
+}
+
+/// The rays of the benchmark.
+struct Rays {
+    primary: Vec<Ray>,
+    shadow: Vec<(Ray, f32)>,
+    diffuse: Vec<Ray>,
+    eye: Vec3,
+    forward: Vec3,
+}
+
+/// A pinhole camera inside the scene box looking along its longest horizontal axis (an interior
+/// view for Sponza, the conference room and Sibenik), `width × height` primary rays; from the
+/// primary hits one shadow ray to a random point of the quad light under the ceiling and one
+/// cosine-distributed diffuse bounce each.
+fn make_rays(bvh: &FlatBvh, tris: &[Triangle], width: usize, height: usize) -> Rays {
+    let b = bvh.nodes[0].bounds();
+    let (c, e) = (b.center(), b.extent());
+    let axis = if e.x >= e.z { Vec3::X } else { Vec3::Z };
+    let eye = c - axis * (0.38 * e.dot(axis)) - Vec3::Y * (0.2 * e.y);
+    let forward = (axis + Vec3::Y * 0.15).normalize();
+    let right = forward.cross(Vec3::Y).normalize();
+    let up = right.cross(forward);
+    let tan = (60f32.to_radians() * 0.5).tan();
+    let aspect = width as f32 / height as f32;
+    let primary: Vec<Ray> = (0..width * height)
+        .map(|i| {
+            let (x, y) = ((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
+            let sx = (2.0 * x / width as f32 - 1.0) * tan * aspect;
+            let sy = (1.0 - 2.0 * y / height as f32) * tan;
+            Ray::new(eye, (forward + right * sx + up * sy).normalize())
+        })
+        .collect();
+    let hits = bvh.closest_hits(tris, &primary, f32::INFINITY);
+    let (lc, lu, lv) = scene_light(b);
+    let mut rng = generate::rng(77);
+    let eps = 1e-4 * e.length();
+    let mut shadow = Vec::new();
+    let mut diffuse = Vec::new();
+    for (ray, hit) in primary.iter().zip(&hits) {
+        let Some(h) = hit else { continue };
+        let mut n = tris[h.prim as usize].scaled_normal().normalize_or_zero();
+        if n.dot(ray.direction) > 0.0 {
+            n = -n;
+        }
+        let p = ray.at(h.t) + n * eps;
+        let target = lc + lu * uniform(&mut rng, -0.5, 0.5) + lv * uniform(&mut rng, -0.5, 0.5);
+        shadow.push((Ray::new(p, target - p), 0.999));
+        let (u1, u2) = (uniform(&mut rng, 0.0, 1.0), uniform(&mut rng, 0.0, 1.0));
+        let t = n.any_orthonormal_vector();
+        let phi = std::f32::consts::TAU * u2;
+        let d =
+            t * u1.sqrt() * phi.cos() + n.cross(t) * u1.sqrt() * phi.sin() + n * (1.0 - u1).sqrt();
+        diffuse.push(Ray::new(p, d));
+    }
+    Rays {
+        primary,
+        shadow,
+        diffuse,
+        eye,
+        forward,
+    }
+}
+
+/// Our BVH as a [`Tracer`].
+struct Ours<'a> {
+    name: String,
+    bvh: FlatBvh,
+    tris: &'a [Triangle],
+    build_ms: f64,
+}
+
+impl Tracer for Ours<'_> {
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+    fn build_ms(&self) -> f64 {
+        self.build_ms
+    }
+    fn closest(&self, ray: &Ray) -> Option<f32> {
+        self.bvh
+            .closest_hit(self.tris, *ray, f32::INFINITY)
+            .map(|h| h.t)
+    }
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.bvh.any_hit(self.tris, *ray, t_max)
+    }
+}
+
+/// Best of `runs` timings of `f`, in seconds.
+fn best_of(runs: usize, mut f: impl FnMut()) -> f64 {
+    (0..runs)
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+const KINDS: [&str; 3] = ["primary", "shadow", "diffuse"];
+
+/// Mrays/s of one tracer on one ray kind with `threads` (1 or all).
+fn throughput(t: &dyn Tracer, rays: &Rays, kind: &str, parallel: bool) -> f64 {
+    let sink = |x: bool| std::hint::black_box(x);
+    let secs = match (kind, parallel) {
+        ("shadow", false) => best_of(3, || {
+            rays.shadow
+                .iter()
+                .for_each(|(r, m)| _ = sink(t.occluded(r, *m)))
+        }),
+        ("shadow", true) => best_of(3, || {
+            rays.shadow
+                .par_iter()
+                .with_min_len(64)
+                .for_each(|(r, m)| _ = sink(t.occluded(r, *m)))
+        }),
+        (_, false) => {
+            let rs = if kind == "primary" {
+                &rays.primary
+            } else {
+                &rays.diffuse
+            };
+            best_of(3, || {
+                rs.iter().for_each(|r| _ = sink(t.closest(r).is_some()))
+            })
+        }
+        (_, true) => {
+            let rs = if kind == "primary" {
+                &rays.primary
+            } else {
+                &rays.diffuse
+            };
+            best_of(3, || {
+                rs.par_iter()
+                    .with_min_len(64)
+                    .for_each(|r| _ = sink(t.closest(r).is_some()))
+            })
+        }
+    };
+    let n = match kind {
+        "primary" => rays.primary.len(),
+        "shadow" => rays.shadow.len(),
+        _ => rays.diffuse.len(),
+    };
+    n as f64 / secs / 1e6
+}
+
+/// Disagreements of a tracer with the reference (closest-hit distance beyond 1e-4 relative, or a
+/// different occlusion answer) over all rays.
+fn disagreements(t: &dyn Tracer, reference: &dyn Tracer, rays: &Rays) -> usize {
+    let close = |a: Option<f32>, b: Option<f32>| match (a, b) {
+        (Some(a), Some(b)) => (a - b).abs() <= 1e-4 * b.abs().max(1e-3),
+        (None, None) => true,
+        _ => false,
+    };
+    let c = rays
+        .primary
+        .par_iter()
+        .chain(rays.diffuse.par_iter())
+        .filter(|r| !close(t.closest(r), reference.closest(r)))
+        .count();
+    c + rays
+        .shadow
+        .par_iter()
+        .filter(|(r, m)| t.occluded(r, *m) != reference.occluded(r, *m))
+        .count()
+}
+
+/// Run the benchmark on the OBJ at `scene`, print the table and optionally write JSON.
+pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String> {
+    let mesh = beam_cpu::mesh::load_obj(scene)?;
+    let all = mesh.triangles();
+    // Peers get the same triangles our builders keep: degenerate ones removed.
+    let tris: Vec<Triangle> = all.iter().copied().filter(|t| t.is_valid()).collect();
+    let threads = rayon::current_num_threads();
+    println!(
+        "scene {}: {} triangles ({} degenerate removed), {} threads",
+        scene.display(),
+        tris.len(),
+        all.len() - tris.len(),
+        threads
+    );
+    let probe = FlatBvh::build(&tris, &BuildOptions::sah());
+    let rays = make_rays(&probe, &tris, width, width);
+    println!(
+        "rays: {} primary ({}²), {} shadow, {} diffuse",
+        rays.primary.len(),
+        width,
+        rays.shadow.len(),
+        rays.diffuse.len()
+    );
+    let light_dir = Vec3::Y;
+    let builders = [
+        ("beam-sah", BuildOptions::sah()),
+        (
+            "beam-pah-light",
+            BuildOptions::pah(RayDistribution::Parallel {
+                direction: light_dir,
+            }),
+        ),
+        (
+            "beam-pah-eye",
+            BuildOptions::pah(RayDistribution::Pencil {
+                origin: rays.eye,
+                forward: rays.forward,
+            }),
+        ),
+    ];
+    let mut ours = Vec::new();
+    for (name, options) in builders {
+        // Median of three builds.
+        let mut times = Vec::new();
+        let mut bvh = FlatBvh::default();
+        for _ in 0..3 {
+            let s = Instant::now();
+            bvh = FlatBvh::build(&tris, &options);
+            times.push(s.elapsed().as_secs_f64() * 1e3);
+        }
+        times.sort_by(f64::total_cmp);
+        ours.push(Ours {
+            name: name.into(),
+            bvh,
+            tris: &tris,
+            build_ms: times[1],
+        });
+    }
+    let peer_tracers = peers(&tris)?;
+    let ours_count = ours.len();
+    let tracers: Vec<&dyn Tracer> = ours
+        .iter()
+        .map(|o| o as &dyn Tracer)
+        .chain(peer_tracers.iter().map(|p| p.as_ref()))
+        .collect();
+    let mut rows = Vec::new();
+    println!();
+    println!(
+        "{:<16} {:>9} {:>3}  {:>9} {:>9} {:>9}  (Mrays/s)  disagreements",
+        "name", "build ms", "T", "primary", "shadow", "diffuse"
+    );
+    for (i, t) in tracers.iter().enumerate() {
+        let wrong = if i == 0 {
+            0
+        } else {
+            disagreements(*t, tracers[0], &rays)
+        };
+        for parallel in [false, true] {
+            let n = if parallel { threads } else { 1 };
+            let m: Vec<f64> = KINDS
+                .iter()
+                .map(|k| throughput(*t, &rays, k, parallel))
+                .collect();
+            for (k, v) in KINDS.iter().zip(&m) {
+                rows.push(Row {
+                    name: t.name(),
+                    ray_kind: k,
+                    threads: n,
+                    build_ms: t.build_ms(),
+                    mrays_per_s: *v,
+                });
+            }
+            println!(
+                "{:<16} {:>9.1} {:>3}  {:>9.2} {:>9.2} {:>9.2}  {}",
+                t.name(),
+                t.build_ms(),
+                n,
+                m[0],
+                m[1],
+                m[2],
+                if parallel {
+                    String::new()
+                } else {
+                    wrong.to_string()
+                }
+            );
+        }
+    }
+    print_ratios(&rows, ours_count, &tracers);
+    print_pah(&ours, &rays);
+    if let Some(path) = json {
+        let text = serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?;
+        beam_cpu::io::write_atomic(path, text.as_bytes())?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer]) {
+    if tracers.len() == ours {
+        println!("\n(no peers in this build: `--features peers` adds Embree 3 and obvhs)");
+        return;
+    }
+    println!("\nratios ours/peer (Mrays/s; build: peer ms / our ms, >1 means we build faster)");
+    let get = |name: &str, kind: &str, threads: usize| {
+        rows.iter()
+            .find(|r| r.name == name && r.ray_kind == kind && r.threads == threads)
+            .map(|r| r.mrays_per_s)
+    };
+    let threads = rows.iter().map(|r| r.threads).max().unwrap_or(1);
+    for peer in &tracers[ours..] {
+        for our in &tracers[..1] {
+            let mut parts = vec![format!("build {:.2}", peer.build_ms() / our.build_ms())];
+            for t in [1, threads] {
+                for k in KINDS {
+                    if let (Some(a), Some(b)) = (get(&our.name(), k, t), get(&peer.name(), k, t)) {
+                        parts.push(format!("{k}/{t}T {:.2}", a / b));
+                    }
+                }
+            }
+            println!("  {} / {}: {}", our.name(), peer.name(), parts.join(", "));
+        }
+    }
+}
+
+/// PAH vs SAH: node visits and triangle tests per ray for camera and light-directed shadow rays.
+fn print_pah(ours: &[Ours<'_>], rays: &Rays) {
+    println!(
+        "\nPAH vs SAH, work per ray (single thread): node visits / triangle tests; SAH cost of the tree"
+    );
+    println!(
+        "{:<16} {:>18} {:>18} {:>9}",
+        "builder", "primary", "shadow", "SAH cost"
+    );
+    for o in ours {
+        let (pn, pt, sn, st) = visits(&o.bvh, o.tris, &rays.primary, &rays.shadow);
+        println!(
+            "{:<16} {:>9.1} / {:>6.2} {:>9.1} / {:>6.2} {:>9.1}",
+            o.name,
+            pn,
+            pt,
+            sn,
+            st,
+            beam_bvh::TreeStats::of(&o.bvh).sah_cost
+        );
+    }
+}
+
+/// Node visits and triangle tests per ray of one of our BVHs.
+pub fn visits(
+    bvh: &FlatBvh,
+    tris: &[Triangle],
+    rays: &[Ray],
+    shadow: &[(Ray, f32)],
+) -> (f64, f64, f64, f64) {
+    let mut p = TraversalStats::default();
+    for r in rays {
+        let _ = bvh.closest_hit_stats(tris, *r, f32::INFINITY, &mut p);
+    }
+    let mut s = TraversalStats::default();
+    for (r, m) in shadow {
+        let _ = bvh.any_hit_stats(tris, *r, *m, &mut s);
+    }
+    let (np, ns) = (rays.len().max(1) as f64, shadow.len().max(1) as f64);
+    (
+        p.node_visits as f64 / np,
+        p.triangle_tests as f64 / np,
+        s.node_visits as f64 / ns,
+        s.triangle_tests as f64 / ns,
+    )
+}
