@@ -39,6 +39,10 @@ pub fn projected_area_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, Str
         let Some(area) = projected_area_perspective(b, eye, forward) else {
             continue;
         };
+        let fast = projected_area_perspective_fast(b, eye, forward).unwrap_or(f32::NAN);
+        if !((fast - area).abs() <= 1e-4 * area.max(1e-3)) {
+            return Err(format!("case {i}: perspective hull area {area} vs front-face sum {fast}"));
+        }
         let u = forward.any_orthonormal_vector();
         let v = forward.cross(u);
         // Sample a square twice as wide as the image's extent, so a too-small hull shows.
