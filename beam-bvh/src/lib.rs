@@ -2,7 +2,9 @@
 //!
 //! One canonical binary BVH over triangles, built once and converted into layouts, as tinybvh
 //! does: a compact depth-first CPU layout ([`FlatBvh`]) that every traversal runs on, and a
-//! `#[repr(C)]` bytemuck GPU layout ([`gpu`]). Triangles are referenced by index, never copied.
+//! `#[repr(C)]` bytemuck GPU layout ([`gpu`]), and a 4-wide SIMD CPU layout ([`WideBvh`]) for
+//! single-ray speed. The canonical tree references triangles by index; the wide and GPU layouts add
+//! leaf-order copies for memory locality.
 //!
 //! - Builders ([`BuildOptions`]): binned SAH; the projected-area heuristic (PAH) of 004 for a
 //!   declared ray distribution (a parallel bundle or a pencil through a point), falling back to SAH
@@ -22,6 +24,7 @@ mod refit;
 mod stats;
 mod traverse;
 mod tree;
+mod wide;
 
 pub use build::build;
 pub use flat::{FlatBvh, FlatNode};
@@ -29,5 +32,6 @@ pub use options::{BuildOptions, Heuristic, RayDistribution};
 pub use stats::{TraversalStats, TreeStats};
 pub use traverse::{Control, Hit, NodeVisitor};
 pub use tree::{Bvh, Node};
+pub use wide::{WideBvh, WideNode};
 
 pub use beam_math;

@@ -286,13 +286,13 @@ impl FlatBvh {
 }
 
 #[cfg(feature = "parallel")]
-fn map_rays<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
+pub(crate) fn map_rays<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
     use rayon::prelude::*;
     items.par_iter().with_min_len(256).map(f).collect()
 }
 
 #[cfg(not(feature = "parallel"))]
-fn map_rays<T, R>(items: &[T], f: impl Fn(&T) -> R) -> Vec<R> {
+pub(crate) fn map_rays<T, R>(items: &[T], f: impl Fn(&T) -> R) -> Vec<R> {
     items.iter().map(f).collect()
 }
 

@@ -3,7 +3,7 @@
 
 use crate::generate::{self, Rng64, uniform};
 use crate::{Backend, Config, Outcome, Property};
-use beam_bvh::{BuildOptions, FlatBvh, Hit, RayDistribution};
+use beam_bvh::{BuildOptions, FlatBvh, Hit, RayDistribution, WideBvh};
 use beam_cpu::mesh::{self, Mesh};
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
@@ -231,21 +231,53 @@ pub fn builders(set: &RaySet, bounds: Aabb) -> Vec<(&'static str, BuildOptions)>
     ]
 }
 
-/// Compare one BVH with brute-force answers; returns the number of ties accepted.
+/// A layout's answers: closest hits of camera and diffuse rays, any-hit answers of shadow rays.
+struct Answers {
+    camera: Vec<Option<Hit>>,
+    diffuse: Vec<Option<Hit>>,
+    shadow: Vec<bool>,
+}
+
+impl Answers {
+    fn flat(bvh: &FlatBvh, triangles: &[Triangle], set: &RaySet) -> Self {
+        let (rays, t_max) = shadow_rays(set);
+        Self {
+            camera: bvh.closest_hits(triangles, &set.camera, f32::INFINITY),
+            diffuse: bvh.closest_hits(triangles, &set.diffuse, f32::INFINITY),
+            shadow: bvh.any_hits(triangles, &rays, &t_max),
+        }
+    }
+
+    fn wide(bvh: &WideBvh, set: &RaySet) -> Self {
+        let (rays, t_max) = shadow_rays(set);
+        Self {
+            camera: bvh.closest_hits(&set.camera, f32::INFINITY),
+            diffuse: bvh.closest_hits(&set.diffuse, f32::INFINITY),
+            shadow: bvh.any_hits(&rays, &t_max),
+        }
+    }
+}
+
+fn shadow_rays(set: &RaySet) -> (Vec<Ray>, Vec<f32>) {
+    (
+        set.shadow.iter().map(|s| s.0).collect(),
+        set.shadow.iter().map(|s| s.1).collect(),
+    )
+}
+
+/// Compare one layout's answers with brute force; returns the number of ties accepted.
 fn compare(
     name: &str,
     builder: &str,
-    bvh: &FlatBvh,
-    triangles: &[Triangle],
+    got: &Answers,
     set: &RaySet,
     reference: &Reference,
 ) -> Result<u64, String> {
     let mut ties = 0;
-    for (kind, rays, want) in [
-        ("camera", &set.camera, &reference.camera),
-        ("diffuse", &set.diffuse, &reference.diffuse),
+    for (kind, rays, got, want) in [
+        ("camera", &set.camera, &got.camera, &reference.camera),
+        ("diffuse", &set.diffuse, &got.diffuse, &reference.diffuse),
     ] {
-        let got = bvh.closest_hits(triangles, rays, f32::INFINITY);
         for (i, (g, w)) in got.iter().zip(want.iter()).enumerate() {
             match (g, w) {
                 (None, None) => {}
@@ -270,16 +302,13 @@ fn compare(
             }
         }
     }
-    let rays: Vec<Ray> = set.shadow.iter().map(|s| s.0).collect();
-    let t_max: Vec<f32> = set.shadow.iter().map(|s| s.1).collect();
-    let got = bvh.any_hits(triangles, &rays, &t_max);
-    for (i, (g, w)) in got.iter().zip(reference.shadow.iter()).enumerate() {
-        let want = w.is_some_and(|h| h.t <= t_max[i]);
-        let boundary = w.is_some_and(|h| (h.t - t_max[i]).abs() <= 1e-5 * t_max[i]);
+    for (i, (g, w)) in got.shadow.iter().zip(reference.shadow.iter()).enumerate() {
+        let t_max = set.shadow[i].1;
+        let want = w.is_some_and(|h| h.t <= t_max);
+        let boundary = w.is_some_and(|h| (h.t - t_max).abs() <= 1e-5 * t_max);
         if *g != want && !boundary {
             return Err(format!(
-                "{name} [{builder}] shadow ray {i}: BVH occluded={g}, brute force {w:?} (t_max {})",
-                t_max[i]
+                "{name} [{builder}] shadow ray {i}: BVH occluded={g}, brute force {w:?} (t_max {t_max})"
             ));
         }
     }
@@ -313,8 +342,8 @@ fn reference(triangles: &[Triangle], set: &RaySet) -> Reference {
     }
 }
 
-/// For every mesh (the procedural scene and each shared mesh) and every builder (SAH, PAH for the
-/// light, PAH for the eye): BVH closest hits equal brute-force closest hits for camera and diffuse
+/// For every mesh (the procedural scene and each shared mesh), every builder (SAH, PAH for the
+/// light, PAH for the eye) and both CPU layouts (binary, 4-wide): BVH closest hits equal brute-force closest hits for camera and diffuse
 /// rays (same triangle, or a tie at the same `t`; `t` within 1e-5 relative), and any-hit answers of
 /// shadow rays agree. `Config::rays` rays of each kind per mesh.
 pub fn hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outcome, String> {
@@ -330,8 +359,22 @@ pub fn hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outcome, St
         let mut ties = 0;
         for (builder, options) in builders(&set, bounds) {
             let bvh = FlatBvh::build(tris, &options);
-            ties += compare(&case.name, builder, &bvh, tris, &set, &reference)?;
-            total += 3 * config.rays as u64;
+            ties += compare(
+                &case.name,
+                builder,
+                &Answers::flat(&bvh, tris, &set),
+                &set,
+                &reference,
+            )?;
+            let wide = WideBvh::new(&bvh, tris);
+            ties += compare(
+                &case.name,
+                &format!("{builder} 4-wide"),
+                &Answers::wide(&wide, &set),
+                &set,
+                &reference,
+            )?;
+            total += 6 * config.rays as u64;
         }
         let hit_rate = reference.camera.iter().filter(|h| h.is_some()).count() as f64
             / set.camera.len() as f64;
@@ -352,7 +395,8 @@ pub fn hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outcome, St
     })
 }
 
-/// Deform every mesh (a smooth displacement of up to 2% of its size), refit the SAH BVH and compare
+/// Deform every mesh (a smooth displacement of up to 2% of its size), refit the SAH BVH in both
+/// layouts and compare
 /// with brute force on the deformed mesh, as in [`hits_equal_brute_force`] (a quarter of the rays).
 pub fn refit_hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outcome, String> {
     let (cases, skipped) = cases()?;
@@ -372,11 +416,26 @@ pub fn refit_hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outco
                     * 0.577;
             }
         }
+        let mut wide = WideBvh::new(&bvh, &case.triangles);
         bvh.refit(&tris);
+        wide.refit(&tris);
         let set = ray_set(&tris, &bvh, n, 200 + k as u64);
         let reference = reference(&tris, &set);
-        compare(&case.name, "sah refit", &bvh, &tris, &set, &reference)?;
-        total += 3 * n as u64;
+        compare(
+            &case.name,
+            "sah refit",
+            &Answers::flat(&bvh, &tris, &set),
+            &set,
+            &reference,
+        )?;
+        compare(
+            &case.name,
+            "sah 4-wide refit",
+            &Answers::wide(&wide, &set),
+            &set,
+            &reference,
+        )?;
+        total += 6 * n as u64;
     }
     let note = match skipped {
         Some(reason) => format!("{n} rays/kind/mesh; shared meshes skipped: {reason}"),

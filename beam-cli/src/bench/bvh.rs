@@ -2,7 +2,7 @@
 //! single-threaded and on all cores, beside the peers measured in the same run on the same rays.
 
 use super::{Tracer, peers};
-use beam_bvh::{BuildOptions, FlatBvh, RayDistribution, TraversalStats};
+use beam_bvh::{BuildOptions, FlatBvh, RayDistribution, TraversalStats, WideBvh};
 use beam_conformance::bvh::scene_light;
 use beam_conformance::generate::{self, uniform};
 use beam_math::glam::Vec3;
@@ -106,6 +106,28 @@ impl Tracer for Ours<'_> {
     }
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         self.bvh.any_hit(self.tris, *ray, t_max)
+    }
+}
+
+/// Our 4-wide layout as a [`Tracer`].
+struct OursWide {
+    name: String,
+    bvh: WideBvh,
+    build_ms: f64,
+}
+
+impl Tracer for OursWide {
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+    fn build_ms(&self) -> f64 {
+        self.build_ms
+    }
+    fn closest(&self, ray: &Ray) -> Option<f32> {
+        self.bvh.closest_hit(*ray, f32::INFINITY).map(|h| h.t)
+    }
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.bvh.any_hit(*ray, t_max)
     }
 }
 
@@ -230,6 +252,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
         ),
     ];
     let mut ours = Vec::new();
+    let mut wides = Vec::new();
     for (name, options) in builders {
         // Median of three builds.
         let mut times = Vec::new();
@@ -240,6 +263,14 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
             times.push(s.elapsed().as_secs_f64() * 1e3);
         }
         times.sort_by(f64::total_cmp);
+        let s = Instant::now();
+        let wide = WideBvh::new(&bvh, &tris);
+        let convert_ms = s.elapsed().as_secs_f64() * 1e3;
+        wides.push(OursWide {
+            name: format!("{name}-4wide"),
+            bvh: wide,
+            build_ms: times[1] + convert_ms,
+        });
         ours.push(Ours {
             name: name.into(),
             bvh,
@@ -248,16 +279,18 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
         });
     }
     let peer_tracers = peers(&tris)?;
-    let ours_count = ours.len();
-    let tracers: Vec<&dyn Tracer> = ours
+    let ours_count = ours.len() + wides.len();
+    // The reference for disagreements and ratios is the first: our SAH tree in the 4-wide layout.
+    let tracers: Vec<&dyn Tracer> = wides
         .iter()
         .map(|o| o as &dyn Tracer)
+        .chain(ours.iter().map(|o| o as &dyn Tracer))
         .chain(peer_tracers.iter().map(|p| p.as_ref()))
         .collect();
     let mut rows = Vec::new();
     println!();
     println!(
-        "{:<16} {:>9} {:>3}  {:>9} {:>9} {:>9}  (Mrays/s)  disagreements",
+        "{:<22} {:>9} {:>3}  {:>9} {:>9} {:>9}  (Mrays/s)  disagreements",
         "name", "build ms", "T", "primary", "shadow", "diffuse"
     );
     for (i, t) in tracers.iter().enumerate() {
@@ -282,7 +315,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
                 });
             }
             println!(
-                "{:<16} {:>9.1} {:>3}  {:>9.2} {:>9.2} {:>9.2}  {}",
+                "{:<22} {:>9.1} {:>3}  {:>9.2} {:>9.2} {:>9.2}  {}",
                 t.name(),
                 t.build_ms(),
                 n,
@@ -298,7 +331,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
         }
     }
     print_ratios(&rows, ours_count, &tracers);
-    print_pah(&ours, &rays);
+    print_pah(&ours, &wides, &rays);
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?;
         beam_cpu::io::write_atomic(path, text.as_bytes())?;
@@ -334,27 +367,44 @@ fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer]) {
     }
 }
 
-/// PAH vs SAH: node visits and triangle tests per ray for camera and light-directed shadow rays.
-fn print_pah(ours: &[Ours<'_>], rays: &Rays) {
+/// PAH vs SAH: box tests and triangle tests per ray for camera and light-directed shadow rays.
+fn print_pah(ours: &[Ours<'_>], wides: &[OursWide], rays: &Rays) {
     println!(
-        "\nPAH vs SAH, work per ray (single thread): node visits / triangle tests; SAH cost of the tree"
+        "\nPAH vs SAH, work per ray (single thread): box tests / triangle tests; SAH cost of the binary tree"
     );
     println!(
-        "{:<16} {:>18} {:>18} {:>9}",
+        "{:<22} {:>18} {:>18} {:>9}",
         "builder", "primary", "shadow", "SAH cost"
     );
-    for o in ours {
+    for (o, w) in ours.iter().zip(wides) {
         let (pn, pt, sn, st) = visits(&o.bvh, o.tris, &rays.primary, &rays.shadow);
+        let sah = beam_bvh::TreeStats::of(&o.bvh).sah_cost;
         println!(
-            "{:<16} {:>9.1} / {:>6.2} {:>9.1} / {:>6.2} {:>9.1}",
-            o.name,
-            pn,
-            pt,
-            sn,
-            st,
-            beam_bvh::TreeStats::of(&o.bvh).sah_cost
+            "{:<22} {pn:>9.1} / {pt:>6.2} {sn:>9.1} / {st:>6.2} {sah:>9.1}",
+            o.name
         );
+        let (pn, pt, sn, st) = wide_visits(&w.bvh, &rays.primary, &rays.shadow);
+        println!("{:<22} {pn:>9.1} / {pt:>6.2} {sn:>9.1} / {st:>6.2}", w.name);
     }
+}
+
+/// Box tests and triangle tests per ray of a wide BVH.
+fn wide_visits(bvh: &WideBvh, rays: &[Ray], shadow: &[(Ray, f32)]) -> (f64, f64, f64, f64) {
+    let mut p = TraversalStats::default();
+    for r in rays {
+        let _ = bvh.closest_hit_stats(*r, f32::INFINITY, &mut p);
+    }
+    let mut s = TraversalStats::default();
+    for (r, m) in shadow {
+        let _ = bvh.any_hit_stats(*r, *m, &mut s);
+    }
+    let (np, ns) = (rays.len().max(1) as f64, shadow.len().max(1) as f64);
+    (
+        p.node_visits as f64 / np,
+        p.triangle_tests as f64 / np,
+        s.node_visits as f64 / ns,
+        s.triangle_tests as f64 / ns,
+    )
 }
 
 /// Node visits and triangle tests per ray of one of our BVHs.

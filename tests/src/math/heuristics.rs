@@ -41,7 +41,9 @@ pub fn projected_area_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, Str
         };
         let fast = projected_area_perspective_fast(b, eye, forward).unwrap_or(f32::NAN);
         if !((fast - area).abs() <= 1e-4 * area.max(1e-3)) {
-            return Err(format!("case {i}: perspective hull area {area} vs front-face sum {fast}"));
+            return Err(format!(
+                "case {i}: perspective hull area {area} vs front-face sum {fast}"
+            ));
         }
         let u = forward.any_orthonormal_vector();
         let v = forward.cross(u);
