@@ -25,7 +25,7 @@ const PARALLEL_THRESHOLD: usize = 8192;
 /// `MAX_SPLIT_DEPTH + log2(n)` levels and fit [`crate::flat::STACK_SIZE`].
 pub(crate) const MAX_SPLIT_DEPTH: usize = 96;
 /// Largest number of bins.
-const MAX_BINS: usize = 64;
+const MAX_BINS: usize = 32;
 
 /// Build a BVH over `triangles` with `options`. Degenerate triangles (zero area, NaN or infinite
 /// coordinates) are left out and counted in [`Bvh::degenerate`].
@@ -49,7 +49,14 @@ pub fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh {
     let mut nodes = Vec::with_capacity(2 * refs.len() / options.max_leaf.max(1) + 1);
     if !refs.is_empty() {
         let ctx = Context::new(options);
-        build_node(&ctx, &mut refs, 0, 0, &mut nodes);
+        build_node(
+            &ctx,
+            &mut refs,
+            0,
+            0,
+            &mut nodes,
+            &mut Box::new(Bins::EMPTY),
+        );
     }
     Bvh {
         nodes,
@@ -128,6 +135,7 @@ impl Measure {
 }
 
 /// The best partition of a node: along `direction`, references with bin `< bin` go left.
+#[derive(Clone, Copy)]
 struct Split {
     direction: Vec3,
     lo: f32,
@@ -140,35 +148,135 @@ fn bin_of(r: &PrimRef, s: &Split, bins: usize) -> usize {
     (((r.centroid.dot(s.direction) - s.lo) * s.scale) as usize).min(bins - 1)
 }
 
-/// Find the cheapest binned split (cost `A(L)·N_L + A(R)·N_R` under `measure`).
-fn find_split(ctx: &Context, refs: &[PrimRef], measure: Measure) -> Option<Split> {
-    let bins = ctx.options.bins;
-    let mut best: Option<Split> = None;
-    for &direction in &ctx.directions[..ctx.direction_count] {
-        let (lo, hi) = refs
-            .iter()
-            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), r| {
-                let x = r.centroid.dot(direction);
-                (lo.min(x), hi.max(x))
-            });
-        if !(hi - lo > 1e-20 * (lo.abs() + hi.abs()).max(1e-30)) {
-            continue;
+/// Bin contents for every partition direction.
+#[derive(Clone, Copy)]
+struct Bins {
+    bounds: [[Aabb; MAX_BINS]; 5],
+    counts: [[u32; MAX_BINS]; 5],
+}
+
+impl Bins {
+    const EMPTY: Self = Self {
+        bounds: [[Aabb::EMPTY; MAX_BINS]; 5],
+        counts: [[0; MAX_BINS]; 5],
+    };
+
+    fn merge(mut self, o: Self) -> Self {
+        for d in 0..5 {
+            for b in 0..MAX_BINS {
+                self.bounds[d][b] = self.bounds[d][b].union(o.bounds[d][b]);
+                self.counts[d][b] += o.counts[d][b];
+            }
         }
-        let scale = bins as f32 / (hi - lo) * (1.0 - 1e-6);
-        let mut bounds = [Aabb::EMPTY; MAX_BINS];
-        let mut counts = [0u32; MAX_BINS];
-        let probe = Split {
-            direction,
+        self
+    }
+}
+
+/// Nodes with more references than this bin in parallel chunks.
+const PARALLEL_BINNING: usize = 32_768;
+
+/// `f` over chunks of `refs` merged with `merge`, in parallel for large slices.
+fn reduce_chunks<T: Send + Sync + Copy>(
+    refs: &[PrimRef],
+    parallel: bool,
+    init: T,
+    f: impl Fn(&[PrimRef]) -> T + Sync + Send,
+    merge: impl Fn(T, T) -> T + Sync + Send,
+) -> T {
+    #[cfg(feature = "parallel")]
+    if parallel && refs.len() > PARALLEL_BINNING {
+        use rayon::prelude::*;
+        return refs
+            .par_chunks(PARALLEL_BINNING / 4)
+            .map(&f)
+            .reduce(|| init, &merge);
+    }
+    let _ = (parallel, &merge, init);
+    f(refs)
+}
+
+/// Find the cheapest binned split (cost `A(L)·N_L + A(R)·N_R` under `measure`), binning every
+/// partition direction in one pass over the references.
+fn find_split(
+    ctx: &Context,
+    refs: &[PrimRef],
+    measure: Measure,
+    scratch: &mut Bins,
+) -> Option<Split> {
+    // Small nodes need few bins; fewer bins also means less to clear and sweep.
+    let bins = ctx.options.bins.min(refs.len().max(4));
+    let dirs = &ctx.directions[..ctx.direction_count];
+    let parallel = ctx.options.parallel;
+    let ranges = reduce_chunks(
+        refs,
+        parallel,
+        [(f32::INFINITY, f32::NEG_INFINITY); 5],
+        |chunk| {
+            let mut r = [(f32::INFINITY, f32::NEG_INFINITY); 5];
+            for p in chunk {
+                for (d, dir) in dirs.iter().enumerate() {
+                    let x = p.centroid.dot(*dir);
+                    r[d] = (r[d].0.min(x), r[d].1.max(x));
+                }
+            }
+            r
+        },
+        |a, b| core::array::from_fn(|d| (a[d].0.min(b[d].0), a[d].1.max(b[d].1))),
+    );
+    let probes: [Option<Split>; 5] = core::array::from_fn(|d| {
+        let (lo, hi) = ranges[d];
+        (d < dirs.len() && hi - lo > 1e-20 * (lo.abs() + hi.abs()).max(1e-30)).then(|| Split {
+            direction: dirs[d],
             lo,
-            scale,
+            scale: bins as f32 / (hi - lo) * (1.0 - 1e-6),
             bin: 0,
             cost: 0.0,
-        };
-        for r in refs {
-            let b = bin_of(r, &probe, bins);
-            bounds[b] = bounds[b].union(r.bounds);
-            counts[b] += 1;
+        })
+    });
+    let bin_chunk = |chunk: &[PrimRef], out: &mut Bins| {
+        for d in 0..dirs.len() {
+            out.bounds[d][..bins].fill(Aabb::EMPTY);
+            out.counts[d][..bins].fill(0);
         }
+        for p in chunk {
+            for (d, probe) in probes.iter().enumerate() {
+                if let Some(probe) = probe {
+                    let b = bin_of(p, probe, bins);
+                    out.bounds[d][b] = out.bounds[d][b].union(p.bounds);
+                    out.counts[d][b] += 1;
+                }
+            }
+        }
+    };
+    let large = parallel && refs.len() > PARALLEL_BINNING;
+    if large {
+        *scratch = reduce_chunks(
+            refs,
+            parallel,
+            Bins::EMPTY,
+            |chunk| {
+                let mut out = Bins::EMPTY;
+                for p in chunk {
+                    for (d, probe) in probes.iter().enumerate() {
+                        if let Some(probe) = probe {
+                            let b = bin_of(p, probe, bins);
+                            out.bounds[d][b] = out.bounds[d][b].union(p.bounds);
+                            out.counts[d][b] += 1;
+                        }
+                    }
+                }
+                out
+            },
+            Bins::merge,
+        );
+    } else {
+        bin_chunk(refs, scratch);
+    }
+    let binned = &*scratch;
+    let mut best: Option<Split> = None;
+    for (d, probe) in probes.iter().enumerate() {
+        let Some(probe) = probe else { continue };
+        let (bounds, counts) = (&binned.bounds[d], &binned.counts[d]);
         // Sweep from the right, then from the left.
         let mut right_area = [0.0f32; MAX_BINS];
         let mut acc = Aabb::EMPTY;
@@ -189,11 +297,9 @@ fn find_split(ctx: &Context, refs: &[PrimRef], measure: Measure) -> Option<Split
             let cost = measure.area(acc) * n as f32 + right_area[b];
             if best.as_ref().is_none_or(|s| cost < s.cost) {
                 best = Some(Split {
-                    direction,
-                    lo,
-                    scale,
                     bin: b,
                     cost,
+                    ..*probe
                 });
             }
         }
@@ -221,6 +327,7 @@ fn build_node(
     offset: usize,
     depth: usize,
     nodes: &mut Vec<Node>,
+    scratch: &mut Bins,
 ) -> u32 {
     let bounds = refs.iter().fold(Aabb::EMPTY, |b, r| b.union(r.bounds));
     let index = nodes.len() as u32;
@@ -241,7 +348,7 @@ fn build_node(
     let measure = ctx.measure(bounds);
     // Past MAX_SPLIT_DEPTH, median splits bound the depth (and so the traversal stack).
     let split = if depth < MAX_SPLIT_DEPTH {
-        find_split(ctx, refs, measure)
+        find_split(ctx, refs, measure, scratch)
     } else {
         None
     };
@@ -277,20 +384,34 @@ fn build_node(
         let (l, r) = join(
             || {
                 let mut v = Vec::new();
-                build_node(ctx, left_refs, offset, depth + 1, &mut v);
+                build_node(
+                    ctx,
+                    left_refs,
+                    offset,
+                    depth + 1,
+                    &mut v,
+                    &mut Box::new(Bins::EMPTY),
+                );
                 v
             },
             || {
                 let mut v = Vec::new();
-                build_node(ctx, right_refs, offset + mid, depth + 1, &mut v);
+                build_node(
+                    ctx,
+                    right_refs,
+                    offset + mid,
+                    depth + 1,
+                    &mut v,
+                    &mut Box::new(Bins::EMPTY),
+                );
                 v
             },
         );
         left = append(nodes, l);
         right = append(nodes, r);
     } else {
-        left = build_node(ctx, left_refs, offset, depth + 1, nodes);
-        right = build_node(ctx, right_refs, offset + mid, depth + 1, nodes);
+        left = build_node(ctx, left_refs, offset, depth + 1, nodes, scratch);
+        right = build_node(ctx, right_refs, offset + mid, depth + 1, nodes, scratch);
     }
     nodes[index as usize] = Node::Inner {
         bounds,
