@@ -6,10 +6,12 @@
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
 //! - [`io`]: atomic output files.
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
+//! - [`scene`]: scenes (TOML files, bare OBJ, built-ins): materials, lights, camera, BVHs.
 
 pub mod io;
 pub mod mesh;
 pub mod overdraw;
+pub mod scene;
 pub mod scenes;
 
 pub use beam_math;

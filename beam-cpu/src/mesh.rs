@@ -34,8 +34,54 @@ impl Mesh {
     }
 }
 
-/// Load every object of an OBJ file into one mesh (faces triangulated). Errors name the file.
+/// Check the lines tobj reads (`v` and `f`) so that a malformed file is reported as
+/// `file:line: what`, which tobj's own errors cannot say.
+pub fn validate_obj(path: &Path, text: &str) -> Result<(), String> {
+    let vertices = text
+        .lines()
+        .filter(|l| l.split_whitespace().next() == Some("v"))
+        .count() as i64;
+    for (n, line) in text.lines().enumerate() {
+        let fail = |what: String| Err(format!("{}:{}: {what}", path.display(), n + 1));
+        let mut tokens = line.split_whitespace();
+        match tokens.next() {
+            Some("v") => {
+                let coords: Vec<&str> = tokens.collect();
+                if coords.len() < 3 || coords.iter().any(|c| c.parse::<f32>().is_err()) {
+                    return fail(format!("a vertex needs three numbers: `{}`", line.trim()));
+                }
+            }
+            Some("f") => {
+                let corners: Vec<&str> = tokens.collect();
+                if corners.len() < 3 {
+                    return fail(format!(
+                        "a face needs at least three vertices: `{}`",
+                        line.trim()
+                    ));
+                }
+                for c in corners {
+                    let i = c.split('/').next().unwrap_or("").parse::<i64>();
+                    match i {
+                        Ok(i) if i != 0 && i.abs() <= vertices => {}
+                        _ => {
+                            return fail(format!(
+                                "face vertex `{c}` is not an index in 1..={vertices} (or −1..=−{vertices})"
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Load every object of an OBJ file into one mesh (faces triangulated). Errors name the file, and
+/// the line for malformed vertices and faces.
 pub fn load_obj(path: &Path) -> Result<Mesh, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    validate_obj(path, &text)?;
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,

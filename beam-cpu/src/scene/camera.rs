@@ -1,0 +1,73 @@
+//! A pinhole camera.
+
+use beam_math::Ray;
+use beam_math::glam::Vec3;
+
+/// A pinhole camera: position, look-at target, up vector, vertical field of view and resolution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub position: Vec3,
+    /// Point looked at.
+    pub target: Vec3,
+    /// Up direction (need not be orthogonal to the view direction).
+    pub up: Vec3,
+    /// Vertical field of view in degrees.
+    pub fov_y: f32,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+}
+
+/// The camera's orthonormal frame and the half-extents of its image plane at distance 1.
+#[derive(Clone, Copy, Debug)]
+pub struct CameraFrame {
+    /// Unit view direction.
+    pub forward: Vec3,
+    /// Unit right vector.
+    pub right: Vec3,
+    /// Unit up vector.
+    pub up: Vec3,
+    /// Half width of the image plane at distance 1.
+    pub half_width: f32,
+    /// Half height of the image plane at distance 1.
+    pub half_height: f32,
+}
+
+impl Camera {
+    /// The camera's frame.
+    #[must_use]
+    pub fn frame(&self) -> CameraFrame {
+        let forward = (self.target - self.position).normalize_or(Vec3::NEG_Z);
+        let right = forward
+            .cross(self.up)
+            .try_normalize()
+            .unwrap_or_else(|| forward.any_orthonormal_vector());
+        let up = right.cross(forward);
+        let half_height = (self.fov_y.to_radians() * 0.5).tan();
+        let half_width = half_height * self.width as f32 / self.height.max(1) as f32;
+        CameraFrame {
+            forward,
+            right,
+            up,
+            half_width,
+            half_height,
+        }
+    }
+
+    /// The point of the image plane (distance 1) at continuous pixel coordinates `(x, y)` (origin at
+    /// the top-left corner, y down).
+    #[must_use]
+    pub fn image_point(&self, frame: &CameraFrame, x: f32, y: f32) -> Vec3 {
+        let sx = (2.0 * x / self.width as f32 - 1.0) * frame.half_width;
+        let sy = (1.0 - 2.0 * y / self.height as f32) * frame.half_height;
+        self.position + frame.forward + frame.right * sx + frame.up * sy
+    }
+
+    /// The primary ray through continuous pixel coordinates `(x, y)`.
+    #[must_use]
+    pub fn ray(&self, frame: &CameraFrame, x: f32, y: f32) -> Ray {
+        Ray::new(self.position, self.image_point(frame, x, y) - self.position)
+    }
+}

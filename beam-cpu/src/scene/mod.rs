@@ -1,0 +1,233 @@
+//! Scenes: triangles with materials, lights and a camera, from a TOML scene file, a bare OBJ file
+//! or a built-in name.
+
+mod builtin;
+mod camera;
+mod file;
+
+pub use builtin::{BUILTIN, builtin};
+pub use camera::Camera;
+pub use file::{load, load_file};
+
+use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
+use beam_math::Triangle;
+use beam_math::glam::Vec3;
+
+/// A surface material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Material {
+    /// Lambertian with linear RGB albedo.
+    Diffuse {
+        /// Albedo.
+        albedo: Vec3,
+    },
+    /// Perfect mirror with a linear RGB tint.
+    Mirror {
+        /// Reflectance.
+        tint: Vec3,
+    },
+    /// Smooth dielectric with an index of refraction.
+    Glass {
+        /// Index of refraction.
+        ior: f32,
+    },
+    /// Glossy micro-facet surface (Gaussian facet distribution of variance `variance`).
+    Glossy {
+        /// Albedo.
+        albedo: Vec3,
+        /// Micro-facet variance (radians²).
+        variance: f32,
+    },
+    /// An emitter's surface, seen directly.
+    Emissive {
+        /// Emitted radiance.
+        radiance: Vec3,
+    },
+}
+
+impl Material {
+    /// The diffuse albedo used for direct lighting (zero for specular materials).
+    #[must_use]
+    pub fn albedo(&self) -> Vec3 {
+        match *self {
+            Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => albedo,
+            _ => Vec3::ZERO,
+        }
+    }
+}
+
+/// A light source.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// A point light of radiant intensity `intensity` (W/sr per channel).
+    Point {
+        /// Position.
+        position: Vec3,
+        /// Radiant intensity.
+        intensity: Vec3,
+    },
+    /// A one-sided parallelogram `corner + s·edge_u + t·edge_v`, `s, t ∈ [0, 1]`, emitting `radiance`
+    /// on the side of `edge_u × edge_v`.
+    Quad {
+        /// A corner.
+        corner: Vec3,
+        /// First edge.
+        edge_u: Vec3,
+        /// Second edge.
+        edge_v: Vec3,
+        /// Emitted radiance.
+        radiance: Vec3,
+    },
+    /// A one-sided triangle emitting `radiance` on the side of its normal.
+    Triangle {
+        /// Vertices, counter-clockwise seen from the lit side.
+        v: [Vec3; 3],
+        /// Emitted radiance.
+        radiance: Vec3,
+    },
+}
+
+impl Light {
+    /// The emitting polygon's corners (counter-clockwise seen from the lit side); empty for a point.
+    #[must_use]
+    pub fn polygon(&self) -> Vec<Vec3> {
+        match *self {
+            Light::Point { .. } => Vec::new(),
+            Light::Quad {
+                corner,
+                edge_u,
+                edge_v,
+                ..
+            } => vec![
+                corner,
+                corner + edge_u,
+                corner + edge_u + edge_v,
+                corner + edge_v,
+            ],
+            Light::Triangle { v, .. } => v.to_vec(),
+        }
+    }
+
+    /// Unit normal of the emitting side (zero for a point light).
+    #[must_use]
+    pub fn normal(&self) -> Vec3 {
+        match *self {
+            Light::Point { .. } => Vec3::ZERO,
+            Light::Quad { edge_u, edge_v, .. } => edge_u.cross(edge_v).normalize_or_zero(),
+            Light::Triangle { v, .. } => (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero(),
+        }
+    }
+
+    /// Area of the emitter (zero for a point light).
+    #[must_use]
+    pub fn area(&self) -> f32 {
+        match *self {
+            Light::Point { .. } => 0.0,
+            Light::Quad { edge_u, edge_v, .. } => edge_u.cross(edge_v).length(),
+            Light::Triangle { v, .. } => 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length(),
+        }
+    }
+
+    /// Centre of the emitter.
+    #[must_use]
+    pub fn center(&self) -> Vec3 {
+        match *self {
+            Light::Point { position, .. } => position,
+            Light::Quad {
+                corner,
+                edge_u,
+                edge_v,
+                ..
+            } => corner + 0.5 * (edge_u + edge_v),
+            Light::Triangle { v, .. } => (v[0] + v[1] + v[2]) / 3.0,
+        }
+    }
+
+    /// Emitted radiance (area lights) or intensity (point lights).
+    #[must_use]
+    pub fn power(&self) -> Vec3 {
+        match *self {
+            Light::Point { intensity, .. } => intensity,
+            Light::Quad { radiance, .. } | Light::Triangle { radiance, .. } => radiance,
+        }
+    }
+}
+
+/// Counts from loading a scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SceneStats {
+    /// Triangles kept.
+    pub triangles: usize,
+    /// Degenerate triangles filtered out (zero area, NaN or infinite coordinates).
+    pub degenerate: usize,
+}
+
+/// A scene ready to render: triangles (degenerate ones removed) with a material each, lights, a
+/// camera, and the BVH over the triangles.
+pub struct Scene {
+    /// Name (built-in name or file path).
+    pub name: String,
+    /// Triangles.
+    pub triangles: Vec<Triangle>,
+    /// Material index of each triangle.
+    pub material_of: Vec<u32>,
+    /// Materials.
+    pub materials: Vec<Material>,
+    /// Lights.
+    pub lights: Vec<Light>,
+    /// Camera.
+    pub camera: Camera,
+    /// Load counts.
+    pub stats: SceneStats,
+    /// Binary BVH (generic traversal for beams).
+    pub bvh: FlatBvh,
+    /// 4-wide BVH (fast single rays).
+    pub wide: WideBvh,
+}
+
+impl Scene {
+    /// Assemble a scene: filter degenerate triangles (counted) and build the BVHs.
+    #[must_use]
+    pub fn new(
+        name: String,
+        triangles: Vec<(Triangle, u32)>,
+        materials: Vec<Material>,
+        lights: Vec<Light>,
+        camera: Camera,
+    ) -> Self {
+        let total = triangles.len();
+        let (triangles, material_of): (Vec<Triangle>, Vec<u32>) =
+            triangles.into_iter().filter(|(t, _)| t.is_valid()).unzip();
+        let stats = SceneStats {
+            triangles: triangles.len(),
+            degenerate: total - triangles.len(),
+        };
+        let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
+        let wide = WideBvh::new(&bvh, &triangles);
+        Self {
+            name,
+            triangles,
+            material_of,
+            materials,
+            lights,
+            camera,
+            stats,
+            bvh,
+            wide,
+        }
+    }
+
+    /// Material of triangle `i`.
+    #[must_use]
+    pub fn material(&self, i: u32) -> Material {
+        self.materials[self.material_of[i as usize] as usize]
+    }
+
+    /// Geometric unit normal of triangle `i`.
+    #[must_use]
+    pub fn normal(&self, i: u32) -> Vec3 {
+        self.triangles[i as usize]
+            .scaled_normal()
+            .normalize_or_zero()
+    }
+}
