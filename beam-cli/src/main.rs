@@ -5,6 +5,7 @@ mod bench;
 mod conformance;
 mod overdraw;
 mod progress;
+mod render;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -34,6 +35,46 @@ enum Command {
     Bench {
         #[command(subcommand)]
         what: BenchCommand,
+    },
+    /// Render a scene (default: the built-in Cornell box, exact soft shadows by beams).
+    Render {
+        /// A built-in scene (cornell, mirror-glass), a .toml scene file or an .obj mesh.
+        #[arg(long, default_value = "cornell")]
+        scene: String,
+        /// Light visibility: `beam` (exact shadow beams) or `ray` (stratified shadow rays).
+        #[arg(long, default_value = "beam")]
+        method: String,
+        /// `exact` (eq. 1, Lambert's polygon formula) or `fraction` (001 eq. 2).
+        #[arg(long, default_value = "exact")]
+        shading: String,
+        /// Shadow rays per shade point and area light (`--method ray`).
+        #[arg(long, default_value_t = 64)]
+        spp: u32,
+        /// Image width (default: the scene camera's).
+        #[arg(long)]
+        width: Option<u32>,
+        /// Image height (default: the scene camera's, or keeping its aspect with --width).
+        #[arg(long)]
+        height: Option<u32>,
+        /// Output PNG.
+        #[arg(long, default_value = "beam.png")]
+        out: PathBuf,
+        /// Also write statistics as JSON.
+        #[arg(long)]
+        stats: Option<PathBuf>,
+    },
+    /// Compare two images: RMSE and PSNR, and a side-by-side picture with an error map.
+    Compare {
+        /// First image.
+        a: PathBuf,
+        /// Second image.
+        b: PathBuf,
+        /// Side-by-side output (a | b | error).
+        #[arg(long, default_value = "diff.png")]
+        out: PathBuf,
+        /// Error (sRGB units) shown at full scale in the error map.
+        #[arg(long, default_value_t = 0.1)]
+        scale: f32,
     },
     /// Reproduce 000 Fig. 7: overdraw of our bounding triangles vs the general case alone.
     Overdraw {
@@ -71,6 +112,26 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Conformance { backend, rays } => conformance::run(backend.as_deref(), rays),
         Command::Overdraw { out, csv, points } => overdraw::run(&out, &csv, points),
+        Command::Render {
+            scene,
+            method,
+            shading,
+            spp,
+            width,
+            height,
+            out,
+            stats,
+        } => render::run(&render::RenderArgs {
+            scene: &scene,
+            method: &method,
+            shading: &shading,
+            spp,
+            width,
+            height,
+            out: &out,
+            stats: stats.as_deref(),
+        }),
+        Command::Compare { a, b, out, scale } => render::compare(&a, &b, &out, scale),
         Command::Bench {
             what: BenchCommand::Bvh { scene, json, size },
         } => bench::bvh::run(&scene, json.as_deref(), size).map(|()| ExitCode::SUCCESS),

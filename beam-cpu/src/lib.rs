@@ -11,6 +11,7 @@
 pub mod io;
 pub mod mesh;
 pub mod overdraw;
+pub mod render;
 pub mod scene;
 pub mod scenes;
 

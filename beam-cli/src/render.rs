@@ -1,0 +1,97 @@
+//! `beam render` and `beam compare`.
+
+use beam_cpu::render::{Image, Method, RenderOptions, Shading, difference, render, side_by_side};
+use beam_cpu::scene;
+use std::path::Path;
+use std::process::ExitCode;
+
+/// Options of `beam render`.
+pub struct RenderArgs<'a> {
+    pub scene: &'a str,
+    pub method: &'a str,
+    pub shading: &'a str,
+    pub spp: u32,
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub out: &'a Path,
+    pub stats: Option<&'a Path>,
+}
+
+pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
+    let method = match a.method {
+        "beam" => Method::Beam,
+        "ray" => Method::Ray,
+        m => return Err(format!("unknown method `{m}` (beam, ray)")),
+    };
+    let shading = match a.shading {
+        "fraction" => Shading::Fraction,
+        "exact" => Shading::Exact,
+        s => return Err(format!("unknown shading `{s}` (fraction, exact)")),
+    };
+    let scene = scene::load(a.scene)?;
+    let width = a.width.unwrap_or(scene.camera.width);
+    let height = a.height.unwrap_or(if a.width.is_some() {
+        width * scene.camera.height / scene.camera.width.max(1)
+    } else {
+        scene.camera.height
+    });
+    if width == 0 || height == 0 || width > 16384 || height > 16384 {
+        return Err(format!(
+            "image size {width}×{height} out of range (1 to 16384)"
+        ));
+    }
+    let options = RenderOptions {
+        method,
+        shading,
+        spp: a.spp.max(1),
+        width,
+        height,
+        seed: 1,
+    };
+    let bar = crate::progress::bar(u64::from(height), "render");
+    let (image, stats) = render(&scene, &options, || bar.inc(1));
+    bar.finish_and_clear();
+    image.save_png(a.out)?;
+    println!(
+        "{}: {} triangles ({} degenerate filtered), {}×{}, {} ({}{}), {:.3} s -> {}",
+        scene.name,
+        stats.triangles,
+        stats.degenerate_triangles,
+        width,
+        height,
+        stats.method,
+        stats.shading,
+        if method == Method::Ray {
+            format!(", {} spp", stats.spp)
+        } else {
+            String::new()
+        },
+        stats.seconds,
+        a.out.display()
+    );
+    if method == Method::Beam {
+        println!(
+            "shadow beams {}, BVH steps {}, intersections {}, hit beams per pixel {:.2}",
+            stats.shadow_beams, stats.bvh_steps, stats.intersections, stats.hit_beams_per_pixel
+        );
+    }
+    if let Some(p) = a.stats {
+        let json = serde_json::to_string_pretty(&stats).map_err(|e| e.to_string())?;
+        beam_cpu::io::write_atomic(p, json.as_bytes())?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+pub fn compare(a: &Path, b: &Path, out: &Path, scale: f32) -> Result<ExitCode, String> {
+    let (ia, ib) = (Image::load(a)?, Image::load(b)?);
+    let d = difference(&ia, &ib).map_err(|e| format!("{} vs {}: {e}", a.display(), b.display()))?;
+    side_by_side(&ia, &ib, scale)?.save_png(out)?;
+    println!(
+        "RMSE {:.5}  PSNR {:.2} dB  max {:.4}  (sRGB, [0, 1]) -> {}",
+        d.rmse,
+        d.psnr,
+        d.max,
+        out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,13 @@
+//! Renderers: beam-traced soft shadows (001) and the ray-traced reference, with the same shading.
+
+mod compare;
+mod image;
+mod lambert;
+mod renderer;
+mod shadow_beam;
+
+pub use compare::{Difference, difference, side_by_side};
+pub use image::{Image, srgb_decode, srgb_encode};
+pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
+pub use renderer::{Method, RenderOptions, RenderStats, Shading, render};
+pub use shadow_beam::{DEPTH_EPS, ShadowBeamStats, VisibleLight, visible_light};

@@ -1,0 +1,370 @@
+//! The renderer: primary rays, Whitted mirror and glass, and direct lighting whose light
+//! visibility comes either from exact shadow beams (001 §5) or from stratified shadow rays, with the
+//! same shading, so that the two images differ only by the rays' noise.
+
+use super::image::Image;
+use super::lambert::{point_source_irradiance, polygon_irradiance};
+use super::shadow_beam::{DEPTH_EPS, ShadowBeamStats, visible_light};
+use crate::scene::{Light, Material, Scene};
+use beam_math::Ray;
+use beam_math::glam::Vec3;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg32;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// How the visibility of area lights is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Exact: a shadow beam per shade point, split at triangle edges (001 §5). Noise-free.
+    Beam,
+    /// `spp` stratified shadow rays per shade point and light (the reference).
+    Ray,
+}
+
+/// How visibility turns into irradiance.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shading {
+    /// 001 eq. 2: a point source at the light's centre times the visible fraction.
+    Fraction,
+    /// 001 eq. 1 for Lambertian surfaces: Lambert's formula over the visible polygons (beam), or
+    /// the Monte-Carlo estimate of the same integral with the same samples (ray).
+    Exact,
+}
+
+/// Render settings.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderOptions {
+    /// Visibility method.
+    pub method: Method,
+    /// Shading of area lights.
+    pub shading: Shading,
+    /// Shadow rays per shade point and area light ([`Method::Ray`]).
+    pub spp: u32,
+    /// Image width (the camera's aspect is kept from the camera's own resolution).
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Seed of the shadow-ray samples.
+    pub seed: u64,
+}
+
+/// What a render did.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct RenderStats {
+    /// Wall time of the render, seconds.
+    pub seconds: f64,
+    /// `beam` or `ray`.
+    pub method: String,
+    /// `fraction` (eq. 2) or `exact` (eq. 1).
+    pub shading: String,
+    /// Shadow rays per shade point and light (0 for beams).
+    pub spp: u32,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Triangles rendered.
+    pub triangles: usize,
+    /// Degenerate triangles filtered out at load.
+    pub degenerate_triangles: usize,
+    /// Primary and secondary (mirror, glass) rays.
+    pub camera_rays: u64,
+    /// Shadow rays traced.
+    pub shadow_rays: u64,
+    /// Shadow beams traced.
+    pub shadow_beams: u64,
+    /// BVH nodes tested by shadow beams.
+    pub bvh_steps: u64,
+    /// Beam–triangle splits.
+    pub intersections: u64,
+    /// Hit pieces produced by shadow beams.
+    pub hit_beams: u64,
+    /// `hit_beams / pixels`.
+    pub hit_beams_per_pixel: f64,
+}
+
+/// Per-thread accumulators.
+#[derive(Default, Clone, Copy)]
+struct Counters {
+    camera_rays: u64,
+    shadow_rays: u64,
+    shadow_beams: u64,
+    beams: ShadowBeamStats,
+}
+
+impl core::ops::AddAssign for Counters {
+    fn add_assign(&mut self, o: Self) {
+        self.camera_rays += o.camera_rays;
+        self.shadow_rays += o.shadow_rays;
+        self.shadow_beams += o.shadow_beams;
+        self.beams += o.beams;
+    }
+}
+
+/// Deepest mirror/glass recursion.
+const MAX_DEPTH: u32 = 6;
+
+struct Context<'a> {
+    scene: &'a Scene,
+    options: RenderOptions,
+    eps: f32,
+}
+
+impl Context<'_> {
+    fn radiance(&self, ray: Ray, depth: u32, rng: &mut Pcg32, c: &mut Counters) -> Vec3 {
+        c.camera_rays += 1;
+        let Some(hit) = self.scene.wide.closest_hit(ray, f32::INFINITY) else {
+            return Vec3::ZERO;
+        };
+        let d = ray.direction.normalize();
+        let mut n = self.scene.normal(hit.prim);
+        let entering = n.dot(d) < 0.0;
+        if !entering {
+            n = -n;
+        }
+        let p = ray.at(hit.t);
+        match self.scene.material(hit.prim) {
+            Material::Emissive { radiance } => radiance,
+            Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => {
+                let e = self.direct(p + n * self.eps, n, rng, c);
+                albedo / std::f32::consts::PI * e
+            }
+            Material::Mirror { tint } if depth < MAX_DEPTH => {
+                tint * self.radiance(Ray::new(p + n * self.eps, reflect(d, n)), depth + 1, rng, c)
+            }
+            Material::Glass { ior } if depth < MAX_DEPTH => {
+                let eta = if entering { 1.0 / ior } else { ior };
+                let cos_i = -n.dot(d);
+                let reflected =
+                    self.radiance(Ray::new(p + n * self.eps, reflect(d, n)), depth + 1, rng, c);
+                match refract(d, n, eta) {
+                    Some(t) => {
+                        let r0 = ((1.0 - ior) / (1.0 + ior)).powi(2);
+                        let cos = if entering { cos_i } else { -t.dot(n) };
+                        let fresnel = r0 + (1.0 - r0) * (1.0 - cos).powi(5);
+                        let transmitted =
+                            self.radiance(Ray::new(p - n * self.eps, t), depth + 1, rng, c);
+                        fresnel * reflected + (1.0 - fresnel) * transmitted
+                    }
+                    None => reflected,
+                }
+            }
+            Material::Mirror { .. } | Material::Glass { .. } => Vec3::ZERO,
+        }
+    }
+
+    /// Irradiance at `p` (normal `n`) from every light.
+    fn direct(&self, p: Vec3, n: Vec3, rng: &mut Pcg32, c: &mut Counters) -> Vec3 {
+        let scene = self.scene;
+        let mut e = Vec3::ZERO;
+        for light in &scene.lights {
+            match *light {
+                Light::Point {
+                    position,
+                    intensity,
+                } => {
+                    let to = position - p;
+                    let r2 = to.length_squared();
+                    let cos = n.dot(to) / r2.sqrt();
+                    if cos > 0.0 {
+                        c.shadow_rays += 1;
+                        if !scene.wide.any_hit(Ray::new(p, to), 1.0 - DEPTH_EPS) {
+                            e += intensity * cos / r2;
+                        }
+                    }
+                }
+                _ => e += light.power() * self.area_light(p, n, light, rng, c),
+            }
+        }
+        e
+    }
+
+    /// Irradiance per unit radiance from an area light.
+    fn area_light(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        light: &Light,
+        rng: &mut Pcg32,
+        c: &mut Counters,
+    ) -> f32 {
+        let polygon = light.polygon();
+        let ln = light.normal();
+        let (area, center) = (light.area(), light.center());
+        if ln.dot(p - center) <= 0.0 {
+            return 0.0;
+        }
+        match self.options.method {
+            Method::Beam => {
+                c.shadow_beams += 1;
+                let Some(vis) = visible_light(
+                    &self.scene.bvh,
+                    &self.scene.triangles,
+                    p,
+                    &polygon,
+                    ln,
+                    &mut c.beams,
+                ) else {
+                    return 0.0;
+                };
+                match self.options.shading {
+                    Shading::Fraction => {
+                        point_source_irradiance(p, n, center, ln, area, vis.fraction())
+                    }
+                    Shading::Exact => vis
+                        .polygons()
+                        .iter()
+                        .map(|poly| polygon_irradiance(p, n, poly))
+                        .sum(),
+                }
+            }
+            Method::Ray => {
+                let spp = self.options.spp.max(1);
+                let k = (spp as f32).sqrt() as u32;
+                let (mut visible, mut integral) = (0u32, 0.0f32);
+                for i in 0..spp {
+                    let (s, t) = if i < k * k {
+                        (
+                            ((i % k) as f32 + rng.random::<f32>()) / k as f32,
+                            ((i / k) as f32 + rng.random::<f32>()) / k as f32,
+                        )
+                    } else {
+                        (rng.random::<f32>(), rng.random::<f32>())
+                    };
+                    let q = sample_light(light, s, t);
+                    let to = q - p;
+                    c.shadow_rays += 1;
+                    if self.scene.wide.any_hit(Ray::new(p, to), 1.0 - DEPTH_EPS) {
+                        continue;
+                    }
+                    visible += 1;
+                    let r2 = to.length_squared();
+                    let w = to / r2.sqrt();
+                    integral += n.dot(w).max(0.0) * (-ln).dot(w).max(0.0) / r2;
+                }
+                match self.options.shading {
+                    Shading::Fraction => {
+                        point_source_irradiance(p, n, center, ln, area, visible as f32 / spp as f32)
+                    }
+                    Shading::Exact => area * integral / spp as f32,
+                }
+            }
+        }
+    }
+}
+
+/// A point on an area light from `(s, t) ∈ [0, 1)²` (uniform in area).
+fn sample_light(light: &Light, s: f32, t: f32) -> Vec3 {
+    match *light {
+        Light::Quad {
+            corner,
+            edge_u,
+            edge_v,
+            ..
+        } => corner + s * edge_u + t * edge_v,
+        Light::Triangle { v, .. } => {
+            let (s, t) = if s + t > 1.0 {
+                (1.0 - s, 1.0 - t)
+            } else {
+                (s, t)
+            };
+            v[0] + s * (v[1] - v[0]) + t * (v[2] - v[0])
+        }
+        Light::Point { position, .. } => position,
+    }
+}
+
+fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    d - 2.0 * d.dot(n) * n
+}
+
+fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_i = -n.dot(d);
+    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    (k >= 0.0).then(|| eta * d + (eta * cos_i - k.sqrt()) * n)
+}
+
+/// Render `scene`; `row_done` is called after each image row (for a progress bar).
+pub fn render(
+    scene: &Scene,
+    options: &RenderOptions,
+    row_done: impl Fn() + Sync,
+) -> (Image, RenderStats) {
+    let start = Instant::now();
+    let mut camera = scene.camera;
+    camera.width = options.width.max(1);
+    camera.height = options.height.max(1);
+    let frame = camera.frame();
+    let bounds = scene
+        .bvh
+        .nodes
+        .first()
+        .map_or(beam_math::Aabb::new(Vec3::ZERO, Vec3::ONE), |n| n.bounds());
+    let ctx = Context {
+        scene,
+        options: *options,
+        eps: 1e-4 * bounds.extent().length(),
+    };
+    let rows: Vec<(Vec<Vec3>, Counters)> = (0..camera.height)
+        .into_par_iter()
+        .map(|y| {
+            let mut c = Counters::default();
+            let row = (0..camera.width)
+                .map(|x| {
+                    let mut rng = Pcg32::seed_from_u64(
+                        options.seed
+                            ^ (u64::from(y) << 32 | u64::from(x))
+                                .wrapping_mul(0x9E37_79B9_7F4A_7C15),
+                    );
+                    ctx.radiance(
+                        camera.ray(&frame, x as f32 + 0.5, y as f32 + 0.5),
+                        0,
+                        &mut rng,
+                        &mut c,
+                    )
+                })
+                .collect();
+            row_done();
+            (row, c)
+        })
+        .collect();
+    let mut image = Image::new(camera.width, camera.height);
+    let mut total = Counters::default();
+    for (y, (row, c)) in rows.into_iter().enumerate() {
+        image.pixels[y * camera.width as usize..(y + 1) * camera.width as usize]
+            .copy_from_slice(&row);
+        total += c;
+    }
+    let pixels = f64::from(camera.width * camera.height);
+    let stats = RenderStats {
+        seconds: start.elapsed().as_secs_f64(),
+        method: match options.method {
+            Method::Beam => "beam",
+            Method::Ray => "ray",
+        }
+        .into(),
+        shading: match options.shading {
+            Shading::Fraction => "fraction",
+            Shading::Exact => "exact",
+        }
+        .into(),
+        spp: if options.method == Method::Ray {
+            options.spp
+        } else {
+            0
+        },
+        width: camera.width,
+        height: camera.height,
+        triangles: scene.stats.triangles,
+        degenerate_triangles: scene.stats.degenerate,
+        camera_rays: total.camera_rays,
+        shadow_rays: total.shadow_rays,
+        shadow_beams: total.shadow_beams,
+        bvh_steps: total.beams.bvh_steps,
+        intersections: total.beams.intersections,
+        hit_beams: total.beams.hit_beams,
+        hit_beams_per_pixel: total.beams.hit_beams as f64 / pixels,
+    };
+    (image, stats)
+}
