@@ -4,9 +4,7 @@
 use crate::options::{BuildOptions, Heuristic, RayDistribution};
 use crate::tree::{Bvh, Node};
 use beam_math::glam::Vec3;
-use beam_math::heuristics::{
-    projected_area_orthographic_fast, projected_area_perspective_fast, surface_area,
-};
+use beam_math::heuristics::{projected_area_orthographic_fast, projected_area_perspective_fast, surface_area};
 use beam_math::{Aabb, Triangle};
 use std::vec::Vec;
 
@@ -37,33 +35,16 @@ pub fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh {
         .filter(|(_, t)| t.is_valid())
         .map(|(i, t)| {
             let bounds = Aabb::from_points(&t.v);
-            PrimRef {
-                bounds,
-                centroid: bounds.center(),
-                index: i as u32,
-                area: t.area(),
-            }
+            PrimRef { bounds, centroid: bounds.center(), index: i as u32, area: t.area() }
         })
         .collect();
     let degenerate = triangles.len() - refs.len();
     let mut nodes = Vec::with_capacity(2 * refs.len() / options.max_leaf.max(1) + 1);
     if !refs.is_empty() {
         let ctx = Context::new(options);
-        build_node(
-            &ctx,
-            &mut refs,
-            0,
-            0,
-            &mut nodes,
-            &mut Box::new(Bins::EMPTY),
-        );
+        build_node(&ctx, &mut refs, 0, 0, &mut nodes, &mut Box::new(Bins::EMPTY));
     }
-    Bvh {
-        nodes,
-        prims: refs.iter().map(|r| r.index).collect(),
-        degenerate,
-        input_triangles: triangles.len(),
-    }
+    Bvh { nodes, prims: refs.iter().map(|r| r.index).collect(), degenerate, input_triangles: triangles.len() }
 }
 
 /// Per-build constants.
@@ -86,11 +67,7 @@ impl Context {
         let mut options = *options;
         options.bins = options.bins.clamp(2, MAX_BINS);
         options.max_leaf = options.max_leaf.max(1);
-        Self {
-            options,
-            directions,
-            direction_count,
-        }
+        Self { options, directions, direction_count }
     }
 
     /// The area measure for the children of a node with box `parent`: projected area when the
@@ -98,9 +75,7 @@ impl Context {
     fn measure(&self, parent: Aabb) -> Measure {
         match self.options.heuristic {
             Heuristic::Sah => Measure::Surface,
-            Heuristic::Pah(RayDistribution::Parallel { direction }) => {
-                Measure::Orthographic(direction)
-            }
+            Heuristic::Pah(RayDistribution::Parallel { direction }) => Measure::Orthographic(direction),
             Heuristic::Pah(RayDistribution::Pencil { origin, forward }) => {
                 if projected_area_perspective_fast(parent, origin, forward).is_some() {
                     Measure::Perspective(origin, forward)
@@ -127,9 +102,7 @@ impl Measure {
         match self {
             Measure::Surface => surface_area(b),
             Measure::Orthographic(d) => projected_area_orthographic_fast(b, d),
-            Measure::Perspective(o, f) => {
-                projected_area_perspective_fast(b, o, f).unwrap_or(f32::INFINITY)
-            }
+            Measure::Perspective(o, f) => projected_area_perspective_fast(b, o, f).unwrap_or(f32::INFINITY),
         }
     }
 }
@@ -156,10 +129,7 @@ struct Bins {
 }
 
 impl Bins {
-    const EMPTY: Self = Self {
-        bounds: [[Aabb::EMPTY; MAX_BINS]; 5],
-        counts: [[0; MAX_BINS]; 5],
-    };
+    const EMPTY: Self = Self { bounds: [[Aabb::EMPTY; MAX_BINS]; 5], counts: [[0; MAX_BINS]; 5] };
 
     fn merge(mut self, o: Self) -> Self {
         for d in 0..5 {
@@ -186,10 +156,7 @@ fn reduce_chunks<T: Send + Sync + Copy>(
     #[cfg(feature = "parallel")]
     if parallel && refs.len() > PARALLEL_BINNING {
         use rayon::prelude::*;
-        return refs
-            .par_chunks(PARALLEL_BINNING / 4)
-            .map(&f)
-            .reduce(|| init, &merge);
+        return refs.par_chunks(PARALLEL_BINNING / 4).map(&f).reduce(|| init, &merge);
     }
     let _ = (parallel, &merge, init);
     f(refs)
@@ -197,12 +164,7 @@ fn reduce_chunks<T: Send + Sync + Copy>(
 
 /// Find the cheapest binned split (cost `A(L)·N_L + A(R)·N_R` under `measure`), binning every
 /// partition direction in one pass over the references.
-fn find_split(
-    ctx: &Context,
-    refs: &[PrimRef],
-    measure: Measure,
-    scratch: &mut Bins,
-) -> Option<Split> {
+fn find_split(ctx: &Context, refs: &[PrimRef], measure: Measure, scratch: &mut Bins) -> Option<Split> {
     // Small nodes need few bins; fewer bins also means less to clear and sweep.
     let bins = ctx.options.bins.min(refs.len().max(4));
     let dirs = &ctx.directions[..ctx.direction_count];
@@ -296,11 +258,7 @@ fn find_split(
             }
             let cost = measure.area(acc) * n as f32 + right_area[b];
             if best.as_ref().is_none_or(|s| cost < s.cost) {
-                best = Some(Split {
-                    bin: b,
-                    cost,
-                    ..*probe
-                });
+                best = Some(Split { bin: b, cost, ..*probe });
             }
         }
     }
@@ -335,11 +293,7 @@ fn build_node(
     let make_leaf = |refs: &mut [PrimRef], nodes: &mut Vec<Node>| {
         // Larger triangles first: beams split less against them (001 §3.4).
         refs.sort_unstable_by(|a, b| b.area.total_cmp(&a.area));
-        nodes.push(Node::Leaf {
-            bounds,
-            first: offset as u32,
-            count: refs.len() as u32,
-        });
+        nodes.push(Node::Leaf { bounds, first: offset as u32, count: refs.len() as u32 });
         index
     };
     if n <= 1 {
@@ -347,18 +301,11 @@ fn build_node(
     }
     let measure = ctx.measure(bounds);
     // Past MAX_SPLIT_DEPTH, median splits bound the depth (and so the traversal stack).
-    let split = if depth < MAX_SPLIT_DEPTH {
-        find_split(ctx, refs, measure, scratch)
-    } else {
-        None
-    };
+    let split = if depth < MAX_SPLIT_DEPTH { find_split(ctx, refs, measure, scratch) } else { None };
     let parent_area = measure.area(bounds);
     let leaf_cost = parent_area * n as f32;
     let mid = match split {
-        Some(s)
-            if n > ctx.options.max_leaf
-                || ctx.options.traversal_cost * parent_area + s.cost < leaf_cost =>
-        {
+        Some(s) if n > ctx.options.max_leaf || ctx.options.traversal_cost * parent_area + s.cost < leaf_cost => {
             let bins = ctx.options.bins;
             partition(refs, |r| bin_of(r, &s, bins) < s.bin)
         }
@@ -372,11 +319,7 @@ fn build_node(
         }
         _ => return make_leaf(refs, nodes),
     };
-    nodes.push(Node::Leaf {
-        bounds,
-        first: 0,
-        count: 0,
-    });
+    nodes.push(Node::Leaf { bounds, first: 0, count: 0 });
     let (left_refs, right_refs) = refs.split_at_mut(mid);
     let left;
     let right;
@@ -384,26 +327,12 @@ fn build_node(
         let (l, r) = join(
             || {
                 let mut v = Vec::new();
-                build_node(
-                    ctx,
-                    left_refs,
-                    offset,
-                    depth + 1,
-                    &mut v,
-                    &mut Box::new(Bins::EMPTY),
-                );
+                build_node(ctx, left_refs, offset, depth + 1, &mut v, &mut Box::new(Bins::EMPTY));
                 v
             },
             || {
                 let mut v = Vec::new();
-                build_node(
-                    ctx,
-                    right_refs,
-                    offset + mid,
-                    depth + 1,
-                    &mut v,
-                    &mut Box::new(Bins::EMPTY),
-                );
+                build_node(ctx, right_refs, offset + mid, depth + 1, &mut v, &mut Box::new(Bins::EMPTY));
                 v
             },
         );
@@ -413,11 +342,7 @@ fn build_node(
         left = build_node(ctx, left_refs, offset, depth + 1, nodes, scratch);
         right = build_node(ctx, right_refs, offset + mid, depth + 1, nodes, scratch);
     }
-    nodes[index as usize] = Node::Inner {
-        bounds,
-        left,
-        right,
-    };
+    nodes[index as usize] = Node::Inner { bounds, left, right };
     index
 }
 
@@ -425,15 +350,7 @@ fn build_node(
 fn append(nodes: &mut Vec<Node>, sub: Vec<Node>) -> u32 {
     let base = nodes.len() as u32;
     nodes.extend(sub.into_iter().map(|n| match n {
-        Node::Inner {
-            bounds,
-            left,
-            right,
-        } => Node::Inner {
-            bounds,
-            left: left + base,
-            right: right + base,
-        },
+        Node::Inner { bounds, left, right } => Node::Inner { bounds, left: left + base, right: right + base },
         leaf => leaf,
     }));
     base
@@ -459,11 +376,7 @@ mod tests {
             for j in 0..n {
                 let o = Vec3::new(i as f32, j as f32, 0.0);
                 out.push(Triangle::new(o, o + Vec3::X, o + Vec3::Y));
-                out.push(Triangle::new(
-                    o + Vec3::X,
-                    o + Vec3::ONE.with_z(0.0),
-                    o + Vec3::Y,
-                ));
+                out.push(Triangle::new(o + Vec3::X, o + Vec3::ONE.with_z(0.0), o + Vec3::Y));
             }
         }
         out
@@ -474,12 +387,9 @@ mod tests {
         let mut tris = grid(40);
         tris.push(Triangle::new(Vec3::ZERO, Vec3::X, 2.0 * Vec3::X));
         tris.push(Triangle::new(Vec3::NAN, Vec3::X, Vec3::Y));
-        for options in [
-            BuildOptions::sah(),
-            BuildOptions::pah(RayDistribution::Parallel {
-                direction: Vec3::new(0.2, 0.3, -1.0),
-            }),
-        ] {
+        for options in
+            [BuildOptions::sah(), BuildOptions::pah(RayDistribution::Parallel { direction: Vec3::new(0.2, 0.3, -1.0) })]
+        {
             let bvh = build(&tris, &options);
             assert_eq!(bvh.degenerate, 2);
             let mut seen = bvh.prims.clone();
@@ -488,23 +398,13 @@ mod tests {
             // Children lie inside parents; leaves cover their triangles.
             for node in &bvh.nodes {
                 match *node {
-                    Node::Inner {
-                        bounds,
-                        left,
-                        right,
-                    } => {
+                    Node::Inner { bounds, left, right } => {
                         for c in [left, right] {
                             let cb = bvh.nodes[c as usize].bounds();
-                            assert!(
-                                cb.min.cmpge(bounds.min).all() && cb.max.cmple(bounds.max).all()
-                            );
+                            assert!(cb.min.cmpge(bounds.min).all() && cb.max.cmple(bounds.max).all());
                         }
                     }
-                    Node::Leaf {
-                        bounds,
-                        first,
-                        count,
-                    } => {
+                    Node::Leaf { bounds, first, count } => {
                         for &p in &bvh.prims[first as usize..(first + count) as usize] {
                             for v in tris[p as usize].v {
                                 assert!(v.cmpge(bounds.min).all() && v.cmple(bounds.max).all());
@@ -519,13 +419,7 @@ mod tests {
     #[test]
     fn identical_centroids_still_terminate() {
         let tris = vec![Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y); 100];
-        let bvh = build(
-            &tris,
-            &BuildOptions {
-                max_leaf: 4,
-                ..BuildOptions::sah()
-            },
-        );
+        let bvh = build(&tris, &BuildOptions { max_leaf: 4, ..BuildOptions::sah() });
         assert_eq!(bvh.prims.len(), 100);
     }
 }

@@ -79,36 +79,15 @@ impl From<&Bvh> for FlatBvh {
             .iter()
             .enumerate()
             .map(|(i, n)| match *n {
-                Node::Inner {
-                    bounds,
-                    left,
-                    right,
-                } => {
+                Node::Inner { bounds, left, right } => {
                     debug_assert_eq!(left as usize, i + 1);
-                    FlatNode {
-                        min: bounds.min.to_array(),
-                        right_or_first: right,
-                        max: bounds.max.to_array(),
-                        count: 0,
-                    }
+                    FlatNode { min: bounds.min.to_array(), right_or_first: right, max: bounds.max.to_array(), count: 0 }
                 }
-                Node::Leaf {
-                    bounds,
-                    first,
-                    count,
-                } => FlatNode {
-                    min: bounds.min.to_array(),
-                    right_or_first: first,
-                    max: bounds.max.to_array(),
-                    count,
-                },
+                Node::Leaf { bounds, first, count } => {
+                    FlatNode { min: bounds.min.to_array(), right_or_first: first, max: bounds.max.to_array(), count }
+                }
             })
             .collect();
-        Self {
-            nodes,
-            prims: bvh.prims.clone(),
-            degenerate: bvh.degenerate,
-            input_triangles: bvh.input_triangles,
-        }
+        Self { nodes, prims: bvh.prims.clone(), degenerate: bvh.degenerate, input_triangles: bvh.input_triangles }
     }
 }

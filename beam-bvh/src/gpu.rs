@@ -58,10 +58,7 @@ impl GpuBvh {
                 }
             })
             .collect();
-        Self {
-            nodes: bvh.nodes.clone(),
-            triangles,
-        }
+        Self { nodes: bvh.nodes.clone(), triangles }
     }
 
     /// The node buffer as bytes.
@@ -87,11 +84,7 @@ mod tests {
     fn leaf_ranges_index_the_triangle_buffer() {
         let tris: Vec<Triangle> = (0..50)
             .map(|i| {
-                Triangle::new(
-                    Vec3::splat(i as f32),
-                    Vec3::splat(i as f32) + Vec3::X,
-                    Vec3::splat(i as f32) + Vec3::Y,
-                )
+                Triangle::new(Vec3::splat(i as f32), Vec3::splat(i as f32) + Vec3::X, Vec3::splat(i as f32) + Vec3::Y)
             })
             .collect();
         let bvh = FlatBvh::build(&tris, &BuildOptions::sah());

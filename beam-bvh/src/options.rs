@@ -65,14 +65,7 @@ pub struct BuildOptions {
 
 impl Default for BuildOptions {
     fn default() -> Self {
-        Self {
-            heuristic: Heuristic::Sah,
-            facing: None,
-            bins: 16,
-            max_leaf: 8,
-            traversal_cost: 1.0,
-            parallel: true,
-        }
+        Self { heuristic: Heuristic::Sah, facing: None, bins: 16, max_leaf: 8, traversal_cost: 1.0, parallel: true }
     }
 }
 
@@ -86,10 +79,6 @@ impl BuildOptions {
     /// PAH for `distribution`, with splitting-plane facing along its direction.
     #[must_use]
     pub fn pah(distribution: RayDistribution) -> Self {
-        Self {
-            heuristic: Heuristic::Pah(distribution),
-            facing: Some(distribution.direction()),
-            ..Self::default()
-        }
+        Self { heuristic: Heuristic::Pah(distribution), facing: Some(distribution.direction()), ..Self::default() }
     }
 }

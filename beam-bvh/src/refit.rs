@@ -11,16 +11,12 @@ impl FlatBvh {
             let n = self.nodes[i];
             let b = if n.is_leaf() {
                 let first = n.right_or_first as usize;
-                self.prims[first..first + n.count as usize]
-                    .iter()
-                    .fold(Aabb::EMPTY, |b, &p| {
-                        let t = &triangles[p as usize];
-                        b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2])
-                    })
+                self.prims[first..first + n.count as usize].iter().fold(Aabb::EMPTY, |b, &p| {
+                    let t = &triangles[p as usize];
+                    b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2])
+                })
             } else {
-                self.nodes[i + 1]
-                    .bounds()
-                    .union(self.nodes[n.right_or_first as usize].bounds())
+                self.nodes[i + 1].bounds().union(self.nodes[n.right_or_first as usize].bounds())
             };
             self.nodes[i].min = b.min.to_array();
             self.nodes[i].max = b.max.to_array();
@@ -50,9 +46,7 @@ mod tests {
         }
         bvh.refit(&tris);
         let ray = Ray::new(Vec3::new(100.3, 0.3, -1.0), Vec3::Z);
-        let hit = bvh
-            .closest_hit(&tris, ray, f32::INFINITY)
-            .expect("moved triangle is found");
+        let hit = bvh.closest_hit(&tris, ray, f32::INFINITY).expect("moved triangle is found");
         assert_eq!(hit.prim, 100);
     }
 }

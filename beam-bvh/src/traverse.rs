@@ -81,23 +81,11 @@ impl FlatBvh {
 
     /// [`FlatBvh::any_hit`], counting work into `stats`.
     #[must_use]
-    pub fn any_hit_stats(
-        &self,
-        triangles: &[Triangle],
-        ray: Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> bool {
+    pub fn any_hit_stats(&self, triangles: &[Triangle], ray: Ray, t_max: f32, stats: &mut TraversalStats) -> bool {
         self.any_hit_counted(triangles, ray, t_max, stats)
     }
 
-    fn closest_hit_counted<C: Counter>(
-        &self,
-        triangles: &[Triangle],
-        ray: Ray,
-        t_max: f32,
-        c: &mut C,
-    ) -> Option<Hit> {
+    fn closest_hit_counted<C: Counter>(&self, triangles: &[Triangle], ray: Ray, t_max: f32, c: &mut C) -> Option<Hit> {
         let nodes = &self.nodes[..];
         if nodes.is_empty() {
             return None;
@@ -122,12 +110,7 @@ impl FlatBvh {
                     c.triangle();
                     if let Some(h) = wt.intersect(&triangles[p as usize], 0.0, t_best) {
                         t_best = h.t;
-                        best = Some(Hit {
-                            prim: p,
-                            t: h.t,
-                            u: h.u,
-                            v: h.v,
-                        });
+                        best = Some(Hit { prim: p, t: h.t, u: h.u, v: h.v });
                     }
                 }
             } else {
@@ -164,13 +147,7 @@ impl FlatBvh {
         }
     }
 
-    fn any_hit_counted<C: Counter>(
-        &self,
-        triangles: &[Triangle],
-        ray: Ray,
-        t_max: f32,
-        c: &mut C,
-    ) -> bool {
+    fn any_hit_counted<C: Counter>(&self, triangles: &[Triangle], ray: Ray, t_max: f32, c: &mut C) -> bool {
         let nodes = &self.nodes[..];
         if nodes.is_empty() {
             return false;
@@ -268,12 +245,7 @@ impl FlatBvh {
 
     /// Closest hits of many rays (parallel with the `parallel` feature).
     #[must_use]
-    pub fn closest_hits(
-        &self,
-        triangles: &[Triangle],
-        rays: &[Ray],
-        t_max: f32,
-    ) -> Vec<Option<Hit>> {
+    pub fn closest_hits(&self, triangles: &[Triangle], rays: &[Ray], t_max: f32) -> Vec<Option<Hit>> {
         map_rays(rays, |r| self.closest_hit(triangles, *r, t_max))
     }
 
@@ -326,16 +298,10 @@ mod tests {
         let tris = soup(3000, 7);
         for options in [
             BuildOptions::sah(),
-            BuildOptions::pah(RayDistribution::Pencil {
-                origin: Vec3::new(0.0, 0.0, 12.0),
-                forward: -Vec3::Z,
-            }),
+            BuildOptions::pah(RayDistribution::Pencil { origin: Vec3::new(0.0, 0.0, 12.0), forward: -Vec3::Z }),
         ] {
             let bvh = FlatBvh::build(&tris, &options);
-            let rays: Vec<Ray> = soup(500, 99)
-                .iter()
-                .map(|t| Ray::new(t.v[0] * 2.0, t.v[1] - t.v[0] * 2.0))
-                .collect();
+            let rays: Vec<Ray> = soup(500, 99).iter().map(|t| Ray::new(t.v[0] * 2.0, t.v[1] - t.v[0] * 2.0)).collect();
             let hits = bvh.closest_hits(&tris, &rays, f32::INFINITY);
             for (ray, hit) in rays.iter().zip(hits) {
                 let brute = tris

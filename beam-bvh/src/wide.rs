@@ -106,20 +106,16 @@ impl WideBvh {
         // (wide node index, binary node index)
         let mut work = vec![(0usize, 0usize)];
         while let Some((w, b)) = work.pop() {
-            let mut children: Vec<usize> = if flat.nodes[b].is_leaf() {
-                vec![b]
-            } else {
-                vec![b + 1, flat.nodes[b].right_or_first as usize]
-            };
+            let mut children: Vec<usize> =
+                if flat.nodes[b].is_leaf() { vec![b] } else { vec![b + 1, flat.nodes[b].right_or_first as usize] };
             while children.len() < 4 {
                 let open = children
                     .iter()
                     .enumerate()
                     .filter(|(_, c)| !flat.nodes[**c].is_leaf())
                     .max_by(|a, b| {
-                        beam_math::heuristics::surface_area(flat.nodes[*a.1].bounds()).total_cmp(
-                            &beam_math::heuristics::surface_area(flat.nodes[*b.1].bounds()),
-                        )
+                        beam_math::heuristics::surface_area(flat.nodes[*a.1].bounds())
+                            .total_cmp(&beam_math::heuristics::surface_area(flat.nodes[*b.1].bounds()))
                     })
                     .map(|(i, _)| i);
                 let Some(i) = open else { break };
@@ -153,12 +149,7 @@ impl WideBvh {
 
     /// [`WideBvh::closest_hit`], counting node visits (box tests) and triangle tests.
     #[must_use]
-    pub fn closest_hit_stats(
-        &self,
-        ray: Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> Option<Hit> {
+    pub fn closest_hit_stats(&self, ray: Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
         self.traverse::<false, _>(ray, t_max, stats).1
     }
 
@@ -174,21 +165,12 @@ impl WideBvh {
         self.traverse::<true, _>(ray, t_max, stats).0
     }
 
-    fn traverse<const ANY: bool, C: Counter>(
-        &self,
-        ray: Ray,
-        t_max: f32,
-        c: &mut C,
-    ) -> (bool, Option<Hit>) {
+    fn traverse<const ANY: bool, C: Counter>(&self, ray: Ray, t_max: f32, c: &mut C) -> (bool, Option<Hit>) {
         if self.nodes.is_empty() {
             return (false, None);
         }
         let inv = ray.direction.recip();
-        let (ox, oy, oz) = (
-            Vec4::splat(ray.origin.x),
-            Vec4::splat(ray.origin.y),
-            Vec4::splat(ray.origin.z),
-        );
+        let (ox, oy, oz) = (Vec4::splat(ray.origin.x), Vec4::splat(ray.origin.y), Vec4::splat(ray.origin.z));
         let (ix, iy, iz) = (Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z));
         let wt = WatertightRay::new(ray);
         let mut best: Option<Hit> = None;
@@ -211,12 +193,7 @@ impl WideBvh {
                             return (true, None);
                         }
                         t_best = h.t;
-                        best = Some(Hit {
-                            prim: self.prims[k as usize],
-                            t: h.t,
-                            u: h.u,
-                            v: h.v,
-                        });
+                        best = Some(Hit { prim: self.prims[k as usize], t: h.t, u: h.u, v: h.v });
                     }
                 }
                 continue;
@@ -231,16 +208,8 @@ impl WideBvh {
             let t2y = (Vec4::from_array(n.max_y) - oy) * iy;
             let t1z = (Vec4::from_array(n.min_z) - oz) * iz;
             let t2z = (Vec4::from_array(n.max_z) - oz) * iz;
-            let near = t1x
-                .min(t2x)
-                .max(t1y.min(t2y))
-                .max(t1z.min(t2z))
-                .max(Vec4::ZERO);
-            let far = t1x
-                .max(t2x)
-                .min(t1y.max(t2y))
-                .min(t1z.max(t2z))
-                .min(Vec4::splat(t_best));
+            let near = t1x.min(t2x).max(t1y.min(t2y)).max(t1z.min(t2z)).max(Vec4::ZERO);
+            let far = t1x.max(t2x).min(t1y.max(t2y)).min(t1z.max(t2z)).min(Vec4::splat(t_best));
             let hit: BVec4A = near.cmple(far);
             // Unused slots (the last ones) can pass the slab test when t_best is infinite.
             let mask = hit.bitmask() & n.used;
@@ -323,26 +292,16 @@ mod tests {
         let tris: Vec<Triangle> = (0..2000)
             .map(|i| {
                 let f = i as f32;
-                let c = Vec3::new(
-                    (f * 0.37).sin() * 5.0,
-                    (f * 0.71).cos() * 5.0,
-                    (f * 0.13).sin() * 5.0,
-                );
-                Triangle::new(
-                    c,
-                    c + Vec3::new(0.3, 0.1, 0.0),
-                    c + Vec3::new(0.0, 0.2, 0.3),
-                )
+                let c = Vec3::new((f * 0.37).sin() * 5.0, (f * 0.71).cos() * 5.0, (f * 0.13).sin() * 5.0);
+                Triangle::new(c, c + Vec3::new(0.3, 0.1, 0.0), c + Vec3::new(0.0, 0.2, 0.3))
             })
             .collect();
         let flat = FlatBvh::build(&tris, &BuildOptions::sah());
         let wide = WideBvh::new(&flat, &tris);
         for i in 0..500 {
             let f = i as f32;
-            let ray = Ray::new(
-                Vec3::new(0.0, 0.0, -12.0),
-                Vec3::new((f * 0.05).sin() * 0.4, (f * 0.09).cos() * 0.4, 1.0),
-            );
+            let ray =
+                Ray::new(Vec3::new(0.0, 0.0, -12.0), Vec3::new((f * 0.05).sin() * 0.4, (f * 0.09).cos() * 0.4, 1.0));
             let a = flat.closest_hit(&tris, ray, f32::INFINITY);
             let b = wide.closest_hit(ray, f32::INFINITY);
             assert_eq!(a.map(|h| h.t), b.map(|h| h.t));

@@ -11,29 +11,17 @@ pub fn run(backend: Option<&str>, rays: Option<usize>) -> Result<ExitCode, Strin
     let backend = backend.map(Backend::parse).transpose()?;
     let total = properties()
         .iter()
-        .map(|p| {
-            p.backends
-                .iter()
-                .filter(|b| backend.is_none_or(|w| w == **b))
-                .count()
-        })
+        .map(|p| p.backends.iter().filter(|b| backend.is_none_or(|w| w == **b)).count())
         .sum::<usize>();
     let bar = crate::progress::bar(total as u64, "conformance");
     let reports = run_suite(backend, &config, || bar.inc(1));
     bar.finish_and_clear();
     let width = reports.iter().map(|r| r.property.len()).max().unwrap_or(8);
-    println!(
-        "{:<width$}  {:<7}  {:<6}  {:>9}  {:>7}  details",
-        "property", "backend", "result", "cases", "seconds"
-    );
+    println!("{:<width$}  {:<7}  {:<6}  {:>9}  {:>7}  details", "property", "backend", "result", "cases", "seconds");
     let mut failed = 0;
     for r in &reports {
         let (status, cases, detail) = match &r.result {
-            Ok(o) => (
-                "pass",
-                o.cases.to_string(),
-                format!("{} ({})", o.note, r.cites),
-            ),
+            Ok(o) => ("pass", o.cases.to_string(), format!("{} ({})", o.note, r.cites)),
             Err(e) => {
                 failed += 1;
                 ("FAIL", "-".into(), format!("{e} ({})", r.cites))
@@ -50,9 +38,5 @@ pub fn run(backend: Option<&str>, rays: Option<usize>) -> Result<ExitCode, Strin
         );
     }
     println!("{} passed, {} failed", reports.len() - failed, failed);
-    Ok(if failed == 0 {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::FAILURE
-    })
+    Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE })
 }

@@ -112,29 +112,22 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Conformance { backend, rays } => conformance::run(backend.as_deref(), rays),
         Command::Overdraw { out, csv, points } => overdraw::run(&out, &csv, points),
-        Command::Render {
-            scene,
-            method,
-            shading,
-            spp,
-            width,
-            height,
-            out,
-            stats,
-        } => render::run(&render::RenderArgs {
-            scene: &scene,
-            method: &method,
-            shading: &shading,
-            spp,
-            width,
-            height,
-            out: &out,
-            stats: stats.as_deref(),
-        }),
+        Command::Render { scene, method, shading, spp, width, height, out, stats } => {
+            render::run(&render::RenderArgs {
+                scene: &scene,
+                method: &method,
+                shading: &shading,
+                spp,
+                width,
+                height,
+                out: &out,
+                stats: stats.as_deref(),
+            })
+        }
         Command::Compare { a, b, out, scale } => render::compare(&a, &b, &out, scale),
-        Command::Bench {
-            what: BenchCommand::Bvh { scene, json, size },
-        } => bench::bvh::run(&scene, json.as_deref(), size).map(|()| ExitCode::SUCCESS),
+        Command::Bench { what: BenchCommand::Bvh { scene, json, size } } => {
+            bench::bvh::run(&scene, json.as_deref(), size).map(|()| ExitCode::SUCCESS)
+        }
     };
     match result {
         Ok(code) => code,

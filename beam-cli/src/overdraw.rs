@@ -35,12 +35,7 @@ pub fn run(out: &Path, csv: &Path, points: usize) -> Result<ExitCode, String> {
 /// (min, max) of ours and of the general case over one sweep.
 fn range(rows: &[OverdrawRow], s: Sweep) -> ((f64, f64), (f64, f64)) {
     let mm = |f: fn(&OverdrawRow) -> f64| {
-        rows.iter()
-            .filter(|r| r.sweep == s)
-            .map(f)
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
-                (lo.min(v), hi.max(v))
-            })
+        rows.iter().filter(|r| r.sweep == s).map(f).fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)))
     };
     (mm(|r| r.ours), mm(|r| r.general))
 }
@@ -54,19 +49,12 @@ fn plot(path: &Path, rows: &[OverdrawRow]) -> Result<(), String> {
         let panels = root.split_evenly((1, 2));
         for (panel, s) in panels.iter().zip([Sweep::Size, Sweep::Distance]) {
             let data: Vec<_> = rows.iter().filter(|r| r.sweep == s).collect();
-            let (x0, x1) = data.iter().fold((f32::INFINITY, 0.0f32), |(lo, hi), r| {
-                (lo.min(r.parameter), hi.max(r.parameter))
-            });
+            let (x0, x1) =
+                data.iter().fold((f32::INFINITY, 0.0f32), |(lo, hi), r| (lo.min(r.parameter), hi.max(r.parameter)));
             let y1 = data.iter().fold(1.0f64, |m, r| m.max(r.general)) * 2.0;
             let (title, xlabel) = match s {
-                Sweep::Size => (
-                    "fixed distance, varying triangle size",
-                    "triangle circumradius",
-                ),
-                Sweep::Distance => (
-                    "fixed size, varying distance to beam base",
-                    "distance along the central ray",
-                ),
+                Sweep::Size => ("fixed distance, varying triangle size", "triangle circumradius"),
+                Sweep::Distance => ("fixed size, varying distance to beam base", "distance along the central ray"),
             };
             let mut chart = ChartBuilder::on(panel)
                 .caption(title, ("sans-serif", 22))
@@ -84,27 +72,15 @@ fn plot(path: &Path, rows: &[OverdrawRow]) -> Result<(), String> {
                 .draw()
                 .map_err(|e| e.to_string())?;
             let series = [
-                (
-                    "general case only ([11])",
-                    RED,
-                    data.iter()
-                        .map(|r| (r.parameter, r.general))
-                        .collect::<Vec<_>>(),
-                ),
-                (
-                    "ours (Alg. 3)",
-                    BLUE,
-                    data.iter().map(|r| (r.parameter, r.ours)).collect(),
-                ),
+                ("general case only ([11])", RED, data.iter().map(|r| (r.parameter, r.general)).collect::<Vec<_>>()),
+                ("ours (Alg. 3)", BLUE, data.iter().map(|r| (r.parameter, r.ours)).collect()),
             ];
             for (label, color, points) in series {
                 chart
                     .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))
                     .map_err(|e| e.to_string())?
                     .label(label)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
                 chart
                     .draw_series(points.iter().map(|&p| Circle::new(p, 3, color.filled())))
                     .map_err(|e| e.to_string())?;

@@ -36,18 +36,9 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         scene.camera.height
     });
     if width == 0 || height == 0 || width > 16384 || height > 16384 {
-        return Err(format!(
-            "image size {width}×{height} out of range (1 to 16384)"
-        ));
+        return Err(format!("image size {width}×{height} out of range (1 to 16384)"));
     }
-    let options = RenderOptions {
-        method,
-        shading,
-        spp: a.spp.max(1),
-        width,
-        height,
-        seed: 1,
-    };
+    let options = RenderOptions { method, shading, spp: a.spp.max(1), width, height, seed: 1 };
     let bar = crate::progress::bar(u64::from(height), "render");
     let (image, stats) = render(&scene, &options, || bar.inc(1));
     bar.finish_and_clear();
@@ -61,11 +52,7 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         height,
         stats.method,
         stats.shading,
-        if method == Method::Ray {
-            format!(", {} spp", stats.spp)
-        } else {
-            String::new()
-        },
+        if method == Method::Ray { format!(", {} spp", stats.spp) } else { String::new() },
         stats.seconds,
         a.out.display()
     );
@@ -86,12 +73,6 @@ pub fn compare(a: &Path, b: &Path, out: &Path, scale: f32) -> Result<ExitCode, S
     let (ia, ib) = (Image::load(a)?, Image::load(b)?);
     let d = difference(&ia, &ib).map_err(|e| format!("{} vs {}: {e}", a.display(), b.display()))?;
     side_by_side(&ia, &ib, scale)?.save_png(out)?;
-    println!(
-        "RMSE {:.5}  PSNR {:.2} dB  max {:.4}  (sRGB, [0, 1]) -> {}",
-        d.rmse,
-        d.psnr,
-        d.max,
-        out.display()
-    );
+    println!("RMSE {:.5}  PSNR {:.2} dB  max {:.4}  (sRGB, [0, 1]) -> {}", d.rmse, d.psnr, d.max, out.display());
     Ok(ExitCode::SUCCESS)
 }

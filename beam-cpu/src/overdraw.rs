@@ -52,11 +52,7 @@ pub struct OverdrawRow {
 /// The beam of the experiment: a diverging S1 beam over a unit-size base, as off a convex mirror.
 #[must_use]
 pub fn experiment_beam() -> NonlinearBeam {
-    let base = [
-        Vec3::new(-0.5, -0.29, 0.0),
-        Vec3::new(0.5, -0.29, 0.0),
-        Vec3::new(0.0, 0.58, 0.0),
-    ];
+    let base = [Vec3::new(-0.5, -0.29, 0.0), Vec3::new(0.5, -0.29, 0.0), Vec3::new(0.0, 0.58, 0.0)];
     let c = (base[0] + base[1] + base[2]) / 3.0;
     let dirs = base.map(|p| (Vec3::Z + 0.6 * (p - c)).normalize());
     NonlinearBeam::s1(base, dirs).expect("valid experiment beam")
@@ -83,10 +79,7 @@ fn hit_fraction(beam: &NonlinearBeam, bt: &BoundingTriangle, tri: &Triangle, n: 
     // Sample cell centres of the grid (avoids counting edges twice).
     for i in 0..n {
         for j in 0..n - i {
-            for (a, b) in [
-                (i as f32 + 1.0 / 3.0, j as f32 + 1.0 / 3.0),
-                (i as f32 + 2.0 / 3.0, j as f32 + 2.0 / 3.0),
-            ] {
+            for (a, b) in [(i as f32 + 1.0 / 3.0, j as f32 + 1.0 / 3.0), (i as f32 + 2.0 / 3.0, j as f32 + 2.0 / 3.0)] {
                 if a + b > n as f32 {
                     continue;
                 }
@@ -96,10 +89,7 @@ fn hit_fraction(beam: &NonlinearBeam, bt: &BoundingTriangle, tri: &Triangle, n: 
                 if w.min_element() < 0.0 {
                     continue;
                 }
-                if WatertightRay::new(beam.ray_at(w))
-                    .intersect(tri, 0.0, f32::INFINITY)
-                    .is_some()
-                {
+                if WatertightRay::new(beam.ray_at(w)).intersect(tri, 0.0, f32::INFINITY).is_some() {
                     hits += 1;
                 }
             }
@@ -149,23 +139,11 @@ pub fn sweep(points: usize, mut progress: impl FnMut()) -> Vec<OverdrawRow> {
     let bounds = beam.bounds();
     let mut rows = Vec::new();
     for size in log_space(0.02, 2.0, points) {
-        rows.extend(measure(
-            &beam,
-            &bounds,
-            &experiment_triangle(&beam, size, 10.0),
-            Sweep::Size,
-            size,
-        ));
+        rows.extend(measure(&beam, &bounds, &experiment_triangle(&beam, size, 10.0), Sweep::Size, size));
         progress();
     }
     for distance in log_space(0.5, 200.0, points) {
-        rows.extend(measure(
-            &beam,
-            &bounds,
-            &experiment_triangle(&beam, 0.1, distance),
-            Sweep::Distance,
-            distance,
-        ));
+        rows.extend(measure(&beam, &bounds, &experiment_triangle(&beam, 0.1, distance), Sweep::Distance, distance));
         progress();
     }
     rows
@@ -203,26 +181,13 @@ mod tests {
         let dist: Vec<_> = rows.iter().filter(|r| r.sweep == Sweep::Distance).collect();
         assert!(dist.len() >= 5);
         let (first, last) = (dist.first().unwrap(), dist.last().unwrap());
-        assert!(
-            last.general > 20.0 * first.general,
-            "general {} → {}",
-            first.general,
-            last.general
-        );
+        assert!(last.general > 20.0 * first.general, "general {} → {}", first.general, last.general);
         for r in &rows {
-            assert!(
-                r.ours >= 0.99,
-                "a conservative bounding triangle has overdraw ≥ 1: {r:?}"
-            );
-            assert!(
-                r.ours <= r.general * 1.0001,
-                "ours never worse than the general case: {r:?}"
-            );
+            assert!(r.ours >= 0.99, "a conservative bounding triangle has overdraw ≥ 1: {r:?}");
+            assert!(r.ours <= r.general * 1.0001, "ours never worse than the general case: {r:?}");
         }
         let far: Vec<_> = dist.iter().filter(|r| r.parameter > 2.0).collect();
-        let (lo, hi) = far.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), r| {
-            (lo.min(r.ours), hi.max(r.ours))
-        });
+        let (lo, hi) = far.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), r| (lo.min(r.ours), hi.max(r.ours)));
         assert!(hi < 3.0 * lo, "ours roughly constant: {lo}..{hi}");
     }
 }

@@ -8,19 +8,14 @@ use std::path::{Path, PathBuf};
 pub fn scenes_dir() -> Result<PathBuf, String> {
     if let Some(dir) = std::env::var_os("BEAM_SCENES") {
         let dir = PathBuf::from(dir);
-        return if dir.is_dir() {
-            Ok(dir)
-        } else {
-            Err(format!("BEAM_SCENES={} is not a folder", dir.display()))
-        };
+        return if dir.is_dir() { Ok(dir) } else { Err(format!("BEAM_SCENES={} is not a folder", dir.display())) };
     }
-    let candidates = [
-        PathBuf::from("../shared/scenes"),
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes"),
-    ];
-    candidates.into_iter().find(|d| d.is_dir()).ok_or_else(|| {
-        "no scenes: set BEAM_SCENES or place the shared scenes at ../shared/scenes".to_string()
-    })
+    let candidates =
+        [PathBuf::from("../shared/scenes"), Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes")];
+    candidates
+        .into_iter()
+        .find(|d| d.is_dir())
+        .ok_or_else(|| "no scenes: set BEAM_SCENES or place the shared scenes at ../shared/scenes".to_string())
 }
 
 /// Every `.obj` file one level below the scenes folder, sorted.

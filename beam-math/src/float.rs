@@ -120,9 +120,5 @@ macro_rules! impl_float {
     };
 }
 
-impl_float!(
-    f32, sqrtf, sinf, cosf, tanf, asinf, acosf, atanf, atan2f, expf, cbrtf, erff
-);
-impl_float!(
-    f64, sqrt, sin, cos, tan, asin, acos, atan, atan2, exp, cbrt, erf
-);
+impl_float!(f32, sqrtf, sinf, cosf, tanf, asinf, acosf, atanf, atan2f, expf, cbrtf, erff);
+impl_float!(f64, sqrt, sin, cos, tan, asin, acos, atan, atan2, exp, cbrt, erf);

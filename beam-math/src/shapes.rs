@@ -43,10 +43,7 @@ impl Default for Aabb {
 
 impl Aabb {
     /// The empty box: `min = +∞`, `max = −∞`, the identity of [`Aabb::union`].
-    pub const EMPTY: Self = Self {
-        min: Vec3::INFINITY,
-        max: Vec3::NEG_INFINITY,
-    };
+    pub const EMPTY: Self = Self { min: Vec3::INFINITY, max: Vec3::NEG_INFINITY };
 
     /// A box from its two corners.
     #[must_use]
@@ -63,19 +60,13 @@ impl Aabb {
     /// This box grown to contain `p`.
     #[must_use]
     pub fn grow(self, p: Vec3) -> Self {
-        Self {
-            min: self.min.min(p),
-            max: self.max.max(p),
-        }
+        Self { min: self.min.min(p), max: self.max.max(p) }
     }
 
     /// The smallest box containing both boxes.
     #[must_use]
     pub fn union(self, other: Self) -> Self {
-        Self {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
+        Self { min: self.min.min(other.min), max: self.max.max(other.max) }
     }
 
     /// True when `min ≤ max` on every axis.
@@ -122,10 +113,7 @@ impl Plane {
     /// The plane through `point` with normal `normal`: `D = −⟨n·P⟩` (004 App. A.2).
     #[must_use]
     pub fn from_point_normal(point: Vec3, normal: Vec3) -> Self {
-        Self {
-            normal,
-            d: -normal.dot(point),
-        }
+        Self { normal, d: -normal.dot(point) }
     }
 
     /// The plane through three points, normal `(b − a) × (c − a)` (not normalised).

@@ -50,19 +50,12 @@ pub fn procedural_case() -> Case {
     let mut triangles = m.triangles();
     for _ in 0..3000 {
         let c = generate::point(&mut rng, 3.5);
-        triangles.push(Triangle::new(
-            c,
-            c + generate::point(&mut rng, 0.3),
-            c + generate::point(&mut rng, 0.3),
-        ));
+        triangles.push(Triangle::new(c, c + generate::point(&mut rng, 0.3), c + generate::point(&mut rng, 0.3)));
     }
     triangles.push(Triangle::new(Vec3::ZERO, Vec3::X, 2.0 * Vec3::X));
     triangles.push(Triangle::new(Vec3::NAN, Vec3::X, Vec3::Y));
     triangles.push(Triangle::new(Vec3::INFINITY, Vec3::X, Vec3::Y));
-    Case {
-        name: "procedural".into(),
-        triangles,
-    }
+    Case { name: "procedural".into(), triangles }
 }
 
 /// The procedural case and every shared mesh; the second value says why shared meshes are missing.
@@ -73,10 +66,7 @@ pub fn cases() -> Result<(Vec<Case>, Option<String>), String> {
             for p in paths {
                 let m: Mesh = mesh::load_obj(&p)?;
                 out.push(Case {
-                    name: p
-                        .file_stem()
-                        .map(|s| s.to_string_lossy().into_owned())
-                        .unwrap_or_default(),
+                    name: p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
                     triangles: m.triangles(),
                 });
             }
@@ -105,25 +95,14 @@ pub struct RaySet {
 #[must_use]
 pub fn scene_light(bounds: Aabb) -> (Vec3, Vec3, Vec3) {
     let e = bounds.extent();
-    let center = Vec3::new(
-        bounds.center().x,
-        bounds.max.y - 0.02 * e.y,
-        bounds.center().z,
-    );
-    (
-        center,
-        Vec3::new(0.33 * e.x, 0.0, 0.0),
-        Vec3::new(0.0, 0.0, 0.33 * e.z),
-    )
+    let center = Vec3::new(bounds.center().x, bounds.max.y - 0.02 * e.y, bounds.center().z);
+    (center, Vec3::new(0.33 * e.x, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.33 * e.z))
 }
 
 /// Generate `n` rays of each kind, seeded; `bvh` only finds the camera hits to start from.
 pub fn ray_set(triangles: &[Triangle], bvh: &FlatBvh, n: usize, seed: u64) -> RaySet {
     let mut rng = generate::rng(seed);
-    let bounds = bvh
-        .nodes
-        .first()
-        .map_or(Aabb::new(Vec3::ZERO, Vec3::ONE), |r| r.bounds());
+    let bounds = bvh.nodes.first().map_or(Aabb::new(Vec3::ZERO, Vec3::ONE), |r| r.bounds());
     let c = bounds.center();
     let e = bounds.extent();
     let inside = c + e * Vec3::new(0.11, 0.13, -0.07);
@@ -171,13 +150,7 @@ pub fn ray_set(triangles: &[Triangle], bvh: &FlatBvh, n: usize, seed: u64) -> Ra
         shadow.push((r, 1.0));
         diffuse.push(r);
     }
-    RaySet {
-        camera,
-        shadow,
-        diffuse,
-        light: (lc, Vec3::NEG_Y),
-        eye,
-    }
+    RaySet { camera, shadow, diffuse, light: (lc, Vec3::NEG_Y), eye }
 }
 
 fn cosine_direction(rng: &mut Rng64, n: Vec3) -> Vec3 {
@@ -198,12 +171,7 @@ pub fn brute_force_closest(triangles: &[Triangle], ray: Ray, t_max: f32) -> Opti
     for (i, t) in triangles.iter().enumerate() {
         if let Some(h) = wt.intersect(t, 0.0, t_best) {
             t_best = h.t;
-            best = Some(Hit {
-                prim: i as u32,
-                t: h.t,
-                u: h.u,
-                v: h.v,
-            });
+            best = Some(Hit { prim: i as u32, t: h.t, u: h.u, v: h.v });
         }
     }
     best
@@ -215,19 +183,8 @@ pub fn brute_force_closest(triangles: &[Triangle], ray: Ray, t_max: f32) -> Opti
 pub fn builders(set: &RaySet, bounds: Aabb) -> Vec<(&'static str, BuildOptions)> {
     vec![
         ("sah", BuildOptions::sah()),
-        (
-            "pah-light",
-            BuildOptions::pah(RayDistribution::Parallel {
-                direction: set.light.1,
-            }),
-        ),
-        (
-            "pah-eye",
-            BuildOptions::pah(RayDistribution::Pencil {
-                origin: set.eye,
-                forward: bounds.center() - set.eye,
-            }),
-        ),
+        ("pah-light", BuildOptions::pah(RayDistribution::Parallel { direction: set.light.1 })),
+        ("pah-eye", BuildOptions::pah(RayDistribution::Pencil { origin: set.eye, forward: bounds.center() - set.eye })),
     ]
 }
 
@@ -259,20 +216,11 @@ impl Answers {
 }
 
 fn shadow_rays(set: &RaySet) -> (Vec<Ray>, Vec<f32>) {
-    (
-        set.shadow.iter().map(|s| s.0).collect(),
-        set.shadow.iter().map(|s| s.1).collect(),
-    )
+    (set.shadow.iter().map(|s| s.0).collect(), set.shadow.iter().map(|s| s.1).collect())
 }
 
 /// Compare one layout's answers with brute force; returns the number of ties accepted.
-fn compare(
-    name: &str,
-    builder: &str,
-    got: &Answers,
-    set: &RaySet,
-    reference: &Reference,
-) -> Result<u64, String> {
+fn compare(name: &str, builder: &str, got: &Answers, set: &RaySet, reference: &Reference) -> Result<u64, String> {
     let mut ties = 0;
     for (kind, rays, got, want) in [
         ("camera", &set.camera, &got.camera, &reference.camera),
@@ -324,10 +272,7 @@ struct Reference {
 
 fn reference(triangles: &[Triangle], set: &RaySet) -> Reference {
     let closest = |rays: &[Ray]| {
-        rays.par_iter()
-            .with_min_len(8)
-            .map(|r| brute_force_closest(triangles, *r, f32::INFINITY))
-            .collect()
+        rays.par_iter().with_min_len(8).map(|r| brute_force_closest(triangles, *r, f32::INFINITY)).collect()
     };
     let shadow = set
         .shadow
@@ -335,11 +280,7 @@ fn reference(triangles: &[Triangle], set: &RaySet) -> Reference {
         .with_min_len(8)
         .map(|(r, t)| brute_force_closest(triangles, *r, t * (1.0 + 1e-5)))
         .collect();
-    Reference {
-        camera: closest(&set.camera),
-        diffuse: closest(&set.diffuse),
-        shadow,
-    }
+    Reference { camera: closest(&set.camera), diffuse: closest(&set.diffuse), shadow }
 }
 
 /// For every mesh (the procedural scene and each shared mesh), every builder (SAH, PAH for the
@@ -359,25 +300,12 @@ pub fn hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outcome, St
         let mut ties = 0;
         for (builder, options) in builders(&set, bounds) {
             let bvh = FlatBvh::build(tris, &options);
-            ties += compare(
-                &case.name,
-                builder,
-                &Answers::flat(&bvh, tris, &set),
-                &set,
-                &reference,
-            )?;
+            ties += compare(&case.name, builder, &Answers::flat(&bvh, tris, &set), &set, &reference)?;
             let wide = WideBvh::new(&bvh, tris);
-            ties += compare(
-                &case.name,
-                &format!("{builder} 4-wide"),
-                &Answers::wide(&wide, &set),
-                &set,
-                &reference,
-            )?;
+            ties += compare(&case.name, &format!("{builder} 4-wide"), &Answers::wide(&wide, &set), &set, &reference)?;
             total += 6 * config.rays as u64;
         }
-        let hit_rate = reference.camera.iter().filter(|h| h.is_some()).count() as f64
-            / set.camera.len() as f64;
+        let hit_rate = reference.camera.iter().filter(|h| h.is_some()).count() as f64 / set.camera.len() as f64;
         notes.push(format!(
             "{} ({} tris, {} degenerate, {:.0}% camera hits, {ties} ties)",
             case.name,
@@ -389,10 +317,7 @@ pub fn hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outcome, St
     if let Some(reason) = skipped {
         notes.push(format!("shared meshes skipped: {reason}"));
     }
-    Ok(Outcome {
-        cases: total,
-        note: format!("{} rays/kind/mesh; {}", config.rays, notes.join("; ")),
-    })
+    Ok(Outcome { cases: total, note: format!("{} rays/kind/mesh; {}", config.rays, notes.join("; ")) })
 }
 
 /// Deform every mesh (a smooth displacement of up to 2% of its size), refit the SAH BVH in both
@@ -410,10 +335,7 @@ pub fn refit_hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outco
         let f = 6.0 / size;
         for t in &mut tris {
             for v in &mut t.v {
-                *v += 0.02
-                    * size
-                    * Vec3::new((v.y * f).sin(), (v.z * f).cos(), (v.x * f).sin())
-                    * 0.577;
+                *v += 0.02 * size * Vec3::new((v.y * f).sin(), (v.z * f).cos(), (v.x * f).sin()) * 0.577;
             }
         }
         let mut wide = WideBvh::new(&bvh, &case.triangles);
@@ -421,20 +343,8 @@ pub fn refit_hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outco
         wide.refit(&tris);
         let set = ray_set(&tris, &bvh, n, 200 + k as u64);
         let reference = reference(&tris, &set);
-        compare(
-            &case.name,
-            "sah refit",
-            &Answers::flat(&bvh, &tris, &set),
-            &set,
-            &reference,
-        )?;
-        compare(
-            &case.name,
-            "sah 4-wide refit",
-            &Answers::wide(&wide, &set),
-            &set,
-            &reference,
-        )?;
+        compare(&case.name, "sah refit", &Answers::flat(&bvh, &tris, &set), &set, &reference)?;
+        compare(&case.name, "sah 4-wide refit", &Answers::wide(&wide, &set), &set, &reference)?;
         total += 6 * n as u64;
     }
     let note = match skipped {

@@ -24,11 +24,7 @@ pub fn uniform(rng: &mut Rng64, lo: f32, hi: f32) -> f32 {
 
 /// A point uniform in the cube `[−r, r]³`.
 pub fn point(rng: &mut Rng64, r: f32) -> Vec3 {
-    Vec3::new(
-        uniform(rng, -r, r),
-        uniform(rng, -r, r),
-        uniform(rng, -r, r),
-    )
+    Vec3::new(uniform(rng, -r, r), uniform(rng, -r, r), uniform(rng, -r, r))
 }
 
 /// A unit vector uniform on the sphere.
@@ -93,9 +89,8 @@ pub fn frustum(rng: &mut Rng64) -> Frustum {
 pub fn convex_polygon(rng: &mut Rng64, c: Vec2, r: f32) -> ConvexPolygon<16> {
     loop {
         let n = rng.random_range(3..=8);
-        let pts: Vec<Vec2> = (0..n)
-            .map(|_| c + r * Vec2::new(uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0)))
-            .collect();
+        let pts: Vec<Vec2> =
+            (0..n).map(|_| c + r * Vec2::new(uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0))).collect();
         let h: ConvexPolygon<8> = convex_hull(&pts);
         if h.area() > 1e-3 * r * r {
             return ConvexPolygon::from_slice(h.vertices()).expect("8 ≤ 16");
@@ -124,12 +119,9 @@ pub fn base_triangle(rng: &mut Rng64) -> ([Vec3; 3], Vec3, Mat3) {
     let frame = Mat3::from_quat(rotation(rng));
     let origin = point(rng, 3.0);
     loop {
-        let local: [Vec2; 3] =
-            std::array::from_fn(|_| Vec2::new(uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0)));
+        let local: [Vec2; 3] = std::array::from_fn(|_| Vec2::new(uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0)));
         let area = 0.5 * (local[1] - local[0]).perp_dot(local[2] - local[0]);
-        let shortest = (0..3)
-            .map(|i| local[i].distance(local[(i + 1) % 3]))
-            .fold(f32::INFINITY, f32::min);
+        let shortest = (0..3).map(|i| local[i].distance(local[(i + 1) % 3])).fold(f32::INFINITY, f32::min);
         if area.abs() > 0.3 && shortest > 0.5 {
             let v = local.map(|p| origin + frame * Vec3::new(p.x, p.y, 0.0));
             return (v, frame * Vec3::Z, frame);
@@ -138,13 +130,7 @@ pub fn base_triangle(rng: &mut Rng64) -> ([Vec3; 3], Vec3, Mat3) {
 }
 
 /// Boundary directions of a beam of the given kind over a base with normal `n`.
-pub fn beam_directions(
-    rng: &mut Rng64,
-    kind: BeamKind,
-    base: &[Vec3; 3],
-    n: Vec3,
-    frame: Mat3,
-) -> [Vec3; 3] {
+pub fn beam_directions(rng: &mut Rng64, kind: BeamKind, base: &[Vec3; 3], n: Vec3, frame: Mat3) -> [Vec3; 3] {
     let c = (base[0] + base[1] + base[2]) / 3.0;
     match kind {
         BeamKind::Diverging => {
@@ -158,10 +144,9 @@ pub fn beam_directions(
                 + frame * Vec3::new(uniform(rng, -0.4, 0.4), uniform(rng, -0.4, 0.4), 0.0);
             base.map(|p| (focus - p).normalize())
         }
-        BeamKind::Mixed => base.map(|_| {
-            (n + frame * Vec3::new(uniform(rng, -0.8, 0.8), uniform(rng, -0.8, 0.8), 0.0))
-                .normalize()
-        }),
+        BeamKind::Mixed => {
+            base.map(|_| (n + frame * Vec3::new(uniform(rng, -0.8, 0.8), uniform(rng, -0.8, 0.8), 0.0)).normalize())
+        }
     }
 }
 
@@ -177,18 +162,14 @@ pub fn s3_beam(rng: &mut Rng64, kind: BeamKind) -> NonlinearBeam<S3> {
     let (base, n, frame) = base_triangle(rng);
     let dirs = beam_directions(rng, kind, &base, n, frame);
     let normals = std::array::from_fn(|_| {
-        (n + frame * Vec3::new(uniform(rng, -0.45, 0.45), uniform(rng, -0.45, 0.45), 0.0))
-            .normalize()
+        (n + frame * Vec3::new(uniform(rng, -0.45, 0.45), uniform(rng, -0.45, 0.45), 0.0)).normalize()
     });
     NonlinearBeam::new(base, dirs, S3 { normals }).expect("generated beams are valid")
 }
 
 /// A scene triangle for a beam: centred on a ray of the beam at parameter `t` (a mix of near, mid
 /// and far), of a size relative to its distance; some large ones straddle the beam boundary.
-pub fn scene_triangle<L: beam_math::nonlinear::Interpolant>(
-    rng: &mut Rng64,
-    beam: &NonlinearBeam<L>,
-) -> Triangle {
+pub fn scene_triangle<L: beam_math::nonlinear::Interpolant>(rng: &mut Rng64, beam: &NonlinearBeam<L>) -> Triangle {
     let w = barycentric(rng);
     let t = match rng.random_range(0..3) {
         0 => uniform(rng, 0.05, 1.0),
@@ -201,16 +182,8 @@ pub fn scene_triangle<L: beam_math::nonlinear::Interpolant>(
         _ => uniform(rng, 0.005, 0.3) * (1.0 + 0.3 * t),
     };
     let r = rotation(rng);
-    let v = [
-        Vec3::new(1.0, 0.0, 0.0),
-        Vec3::new(-0.5, 0.8, 0.0),
-        Vec3::new(-0.4, -0.9, uniform(rng, -0.5, 0.5)),
-    ];
-    Triangle {
-        v: v.map(|p| {
-            c + r * (p * size * Vec3::new(uniform(rng, 0.5, 1.5), uniform(rng, 0.5, 1.5), 1.0))
-        }),
-    }
+    let v = [Vec3::new(1.0, 0.0, 0.0), Vec3::new(-0.5, 0.8, 0.0), Vec3::new(-0.4, -0.9, uniform(rng, -0.5, 0.5))];
+    Triangle { v: v.map(|p| c + r * (p * size * Vec3::new(uniform(rng, 0.5, 1.5), uniform(rng, 0.5, 1.5), 1.0))) }
 }
 
 /// Uniform barycentric coordinates in a triangle.
@@ -225,7 +198,5 @@ pub fn barycentric(rng: &mut Rng64) -> Vec3 {
 
 /// Barycentric grid points `(i/n, j/n, k/n)` with `i + j + k = n`.
 pub fn barycentric_grid(n: usize) -> impl Iterator<Item = Vec3> {
-    (0..=n).flat_map(move |i| {
-        (0..=n - i).map(move |j| Vec3::new(i as f32, j as f32, (n - i - j) as f32) / n as f32)
-    })
+    (0..=n).flat_map(move |i| (0..=n - i).map(move |j| Vec3::new(i as f32, j as f32, (n - i - j) as f32) / n as f32))
 }

@@ -39,13 +39,10 @@ impl Backend {
 
     /// Parse a command-line name.
     pub fn parse(name: &str) -> Result<Self, String> {
-        Self::ALL
-            .into_iter()
-            .find(|b| b.name() == name)
-            .ok_or_else(|| {
-                let names: Vec<_> = Self::ALL.iter().map(|b| b.name()).collect();
-                format!("unknown backend `{name}` (known: {})", names.join(", "))
-            })
+        Self::ALL.into_iter().find(|b| b.name() == name).ok_or_else(|| {
+            let names: Vec<_> = Self::ALL.iter().map(|b| b.name()).collect();
+            format!("unknown backend `{name}` (known: {})", names.join(", "))
+        })
     }
 }
 
@@ -65,10 +62,7 @@ pub struct Config {
 impl Default for Config {
     /// 2,000 rays per kind per mesh, or `$BEAM_CONFORMANCE_RAYS`.
     fn default() -> Self {
-        let rays = std::env::var("BEAM_CONFORMANCE_RAYS")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(2_000);
+        let rays = std::env::var("BEAM_CONFORMANCE_RAYS").ok().and_then(|v| v.parse().ok()).unwrap_or(2_000);
         Self { rays }
     }
 }
@@ -142,14 +136,8 @@ pub fn run_suite(backend: Option<Backend>, config: &Config, mut done: impl FnMut
 
 /// Run one property on one backend and panic with its counterexample if it fails (for `#[test]`).
 pub fn check(name: &str, backend: Backend) {
-    let p = properties()
-        .into_iter()
-        .find(|p| p.name == name)
-        .unwrap_or_else(|| panic!("no property named {name}"));
-    assert!(
-        p.backends.contains(&backend),
-        "{name} does not run on {backend}"
-    );
+    let p = properties().into_iter().find(|p| p.name == name).unwrap_or_else(|| panic!("no property named {name}"));
+    assert!(p.backends.contains(&backend), "{name} does not run on {backend}");
     match (p.body)(backend, &Config::default()) {
         Ok(o) => println!("{name} [{backend}]: {} cases, {}", o.cases, o.note),
         Err(e) => panic!("{name} [{backend}] failed: {e}"),

@@ -71,17 +71,10 @@ fn make_rays(bvh: &FlatBvh, tris: &[Triangle], width: usize, height: usize) -> R
         let (u1, u2) = (uniform(&mut rng, 0.0, 1.0), uniform(&mut rng, 0.0, 1.0));
         let t = n.any_orthonormal_vector();
         let phi = std::f32::consts::TAU * u2;
-        let d =
-            t * u1.sqrt() * phi.cos() + n.cross(t) * u1.sqrt() * phi.sin() + n * (1.0 - u1).sqrt();
+        let d = t * u1.sqrt() * phi.cos() + n.cross(t) * u1.sqrt() * phi.sin() + n * (1.0 - u1).sqrt();
         diffuse.push(Ray::new(p, d));
     }
-    Rays {
-        primary,
-        shadow,
-        diffuse,
-        eye,
-        forward,
-    }
+    Rays { primary, shadow, diffuse, eye, forward }
 }
 
 /// Our BVH as a [`Tracer`].
@@ -100,9 +93,7 @@ impl Tracer for Ours<'_> {
         self.build_ms
     }
     fn closest(&self, ray: &Ray) -> Option<f32> {
-        self.bvh
-            .closest_hit(self.tris, *ray, f32::INFINITY)
-            .map(|h| h.t)
+        self.bvh.closest_hit(self.tris, *ray, f32::INFINITY).map(|h| h.t)
     }
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         self.bvh.any_hit(self.tris, *ray, t_max)
@@ -148,38 +139,17 @@ const KINDS: [&str; 3] = ["primary", "shadow", "diffuse"];
 fn throughput(t: &dyn Tracer, rays: &Rays, kind: &str, parallel: bool) -> f64 {
     let sink = |x: bool| std::hint::black_box(x);
     let secs = match (kind, parallel) {
-        ("shadow", false) => best_of(3, || {
-            rays.shadow
-                .iter()
-                .for_each(|(r, m)| _ = sink(t.occluded(r, *m)))
-        }),
-        ("shadow", true) => best_of(3, || {
-            rays.shadow
-                .par_iter()
-                .with_min_len(64)
-                .for_each(|(r, m)| _ = sink(t.occluded(r, *m)))
-        }),
+        ("shadow", false) => best_of(3, || rays.shadow.iter().for_each(|(r, m)| _ = sink(t.occluded(r, *m)))),
+        ("shadow", true) => {
+            best_of(3, || rays.shadow.par_iter().with_min_len(64).for_each(|(r, m)| _ = sink(t.occluded(r, *m))))
+        }
         (_, false) => {
-            let rs = if kind == "primary" {
-                &rays.primary
-            } else {
-                &rays.diffuse
-            };
-            best_of(3, || {
-                rs.iter().for_each(|r| _ = sink(t.closest(r).is_some()))
-            })
+            let rs = if kind == "primary" { &rays.primary } else { &rays.diffuse };
+            best_of(3, || rs.iter().for_each(|r| _ = sink(t.closest(r).is_some())))
         }
         (_, true) => {
-            let rs = if kind == "primary" {
-                &rays.primary
-            } else {
-                &rays.diffuse
-            };
-            best_of(3, || {
-                rs.par_iter()
-                    .with_min_len(64)
-                    .for_each(|r| _ = sink(t.closest(r).is_some()))
-            })
+            let rs = if kind == "primary" { &rays.primary } else { &rays.diffuse };
+            best_of(3, || rs.par_iter().with_min_len(64).for_each(|r| _ = sink(t.closest(r).is_some())))
         }
     };
     let n = match kind {
@@ -204,11 +174,7 @@ fn disagreements(t: &dyn Tracer, reference: &dyn Tracer, rays: &Rays) -> usize {
         .chain(rays.diffuse.par_iter())
         .filter(|r| !close(t.closest(r), reference.closest(r)))
         .count();
-    c + rays
-        .shadow
-        .par_iter()
-        .filter(|(r, m)| t.occluded(r, *m) != reference.occluded(r, *m))
-        .count()
+    c + rays.shadow.par_iter().filter(|(r, m)| t.occluded(r, *m) != reference.occluded(r, *m)).count()
 }
 
 /// Run the benchmark on the OBJ at `scene`, print the table and optionally write JSON.
@@ -237,19 +203,8 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
     let light_dir = Vec3::Y;
     let builders = [
         ("beam-sah", BuildOptions::sah()),
-        (
-            "beam-pah-light",
-            BuildOptions::pah(RayDistribution::Parallel {
-                direction: light_dir,
-            }),
-        ),
-        (
-            "beam-pah-eye",
-            BuildOptions::pah(RayDistribution::Pencil {
-                origin: rays.eye,
-                forward: rays.forward,
-            }),
-        ),
+        ("beam-pah-light", BuildOptions::pah(RayDistribution::Parallel { direction: light_dir })),
+        ("beam-pah-eye", BuildOptions::pah(RayDistribution::Pencil { origin: rays.eye, forward: rays.forward })),
     ];
     let mut ours = Vec::new();
     let mut wides = Vec::new();
@@ -266,17 +221,8 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
         let s = Instant::now();
         let wide = WideBvh::new(&bvh, &tris);
         let convert_ms = s.elapsed().as_secs_f64() * 1e3;
-        wides.push(OursWide {
-            name: format!("{name}-4wide"),
-            bvh: wide,
-            build_ms: times[1] + convert_ms,
-        });
-        ours.push(Ours {
-            name: name.into(),
-            bvh,
-            tris: &tris,
-            build_ms: times[1],
-        });
+        wides.push(OursWide { name: format!("{name}-4wide"), bvh: wide, build_ms: times[1] + convert_ms });
+        ours.push(Ours { name: name.into(), bvh, tris: &tris, build_ms: times[1] });
     }
     let peer_tracers = peers(&tris)?;
     let ours_count = ours.len() + wides.len();
@@ -294,25 +240,12 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
         "name", "build ms", "T", "primary", "shadow", "diffuse"
     );
     for (i, t) in tracers.iter().enumerate() {
-        let wrong = if i == 0 {
-            0
-        } else {
-            disagreements(*t, tracers[0], &rays)
-        };
+        let wrong = if i == 0 { 0 } else { disagreements(*t, tracers[0], &rays) };
         for parallel in [false, true] {
             let n = if parallel { threads } else { 1 };
-            let m: Vec<f64> = KINDS
-                .iter()
-                .map(|k| throughput(*t, &rays, k, parallel))
-                .collect();
+            let m: Vec<f64> = KINDS.iter().map(|k| throughput(*t, &rays, k, parallel)).collect();
             for (k, v) in KINDS.iter().zip(&m) {
-                rows.push(Row {
-                    name: t.name(),
-                    ray_kind: k,
-                    threads: n,
-                    build_ms: t.build_ms(),
-                    mrays_per_s: *v,
-                });
+                rows.push(Row { name: t.name(), ray_kind: k, threads: n, build_ms: t.build_ms(), mrays_per_s: *v });
             }
             println!(
                 "{:<22} {:>9.1} {:>3}  {:>9.2} {:>9.2} {:>9.2}  {}",
@@ -322,11 +255,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
                 m[0],
                 m[1],
                 m[2],
-                if parallel {
-                    String::new()
-                } else {
-                    wrong.to_string()
-                }
+                if parallel { String::new() } else { wrong.to_string() }
             );
         }
     }
@@ -347,9 +276,7 @@ fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer]) {
     }
     println!("\nratios ours/peer (Mrays/s; build: peer ms / our ms, >1 means we build faster)");
     let get = |name: &str, kind: &str, threads: usize| {
-        rows.iter()
-            .find(|r| r.name == name && r.ray_kind == kind && r.threads == threads)
-            .map(|r| r.mrays_per_s)
+        rows.iter().find(|r| r.name == name && r.ray_kind == kind && r.threads == threads).map(|r| r.mrays_per_s)
     };
     let threads = rows.iter().map(|r| r.threads).max().unwrap_or(1);
     for peer in &tracers[ours..] {
@@ -369,20 +296,12 @@ fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer]) {
 
 /// PAH vs SAH: box tests and triangle tests per ray for camera and light-directed shadow rays.
 fn print_pah(ours: &[Ours<'_>], wides: &[OursWide], rays: &Rays) {
-    println!(
-        "\nPAH vs SAH, work per ray (single thread): box tests / triangle tests; SAH cost of the binary tree"
-    );
-    println!(
-        "{:<22} {:>18} {:>18} {:>9}",
-        "builder", "primary", "shadow", "SAH cost"
-    );
+    println!("\nPAH vs SAH, work per ray (single thread): box tests / triangle tests; SAH cost of the binary tree");
+    println!("{:<22} {:>18} {:>18} {:>9}", "builder", "primary", "shadow", "SAH cost");
     for (o, w) in ours.iter().zip(wides) {
         let (pn, pt, sn, st) = visits(&o.bvh, o.tris, &rays.primary, &rays.shadow);
         let sah = beam_bvh::TreeStats::of(&o.bvh).sah_cost;
-        println!(
-            "{:<22} {pn:>9.1} / {pt:>6.2} {sn:>9.1} / {st:>6.2} {sah:>9.1}",
-            o.name
-        );
+        println!("{:<22} {pn:>9.1} / {pt:>6.2} {sn:>9.1} / {st:>6.2} {sah:>9.1}", o.name);
         let (pn, pt, sn, st) = wide_visits(&w.bvh, &rays.primary, &rays.shadow);
         println!("{:<22} {pn:>9.1} / {pt:>6.2} {sn:>9.1} / {st:>6.2}", w.name);
     }
@@ -399,21 +318,11 @@ fn wide_visits(bvh: &WideBvh, rays: &[Ray], shadow: &[(Ray, f32)]) -> (f64, f64,
         let _ = bvh.any_hit_stats(*r, *m, &mut s);
     }
     let (np, ns) = (rays.len().max(1) as f64, shadow.len().max(1) as f64);
-    (
-        p.node_visits as f64 / np,
-        p.triangle_tests as f64 / np,
-        s.node_visits as f64 / ns,
-        s.triangle_tests as f64 / ns,
-    )
+    (p.node_visits as f64 / np, p.triangle_tests as f64 / np, s.node_visits as f64 / ns, s.triangle_tests as f64 / ns)
 }
 
 /// Node visits and triangle tests per ray of one of our BVHs.
-pub fn visits(
-    bvh: &FlatBvh,
-    tris: &[Triangle],
-    rays: &[Ray],
-    shadow: &[(Ray, f32)],
-) -> (f64, f64, f64, f64) {
+pub fn visits(bvh: &FlatBvh, tris: &[Triangle], rays: &[Ray], shadow: &[(Ray, f32)]) -> (f64, f64, f64, f64) {
     let mut p = TraversalStats::default();
     for r in rays {
         let _ = bvh.closest_hit_stats(tris, *r, f32::INFINITY, &mut p);
@@ -423,10 +332,5 @@ pub fn visits(
         let _ = bvh.any_hit_stats(tris, *r, *m, &mut s);
     }
     let (np, ns) = (rays.len().max(1) as f64, shadow.len().max(1) as f64);
-    (
-        p.node_visits as f64 / np,
-        p.triangle_tests as f64 / np,
-        s.node_visits as f64 / ns,
-        s.triangle_tests as f64 / ns,
-    )
+    (p.node_visits as f64 / np, p.triangle_tests as f64 / np, s.node_visits as f64 / ns, s.triangle_tests as f64 / ns)
 }

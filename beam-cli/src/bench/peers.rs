@@ -10,10 +10,7 @@ use std::time::Instant;
 
 /// Every peer, built over `triangles` (degenerate ones already removed by the caller).
 pub fn all(triangles: &[Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
-    Ok(vec![
-        Box::new(Embree::new(triangles)?),
-        Box::new(Obvhs::new(triangles)),
-    ])
+    Ok(vec![Box::new(Embree::new(triangles)?), Box::new(Obvhs::new(triangles))])
 }
 
 /// Embree 3.13 through the `embree3` crate: default (medium) build quality, all threads.
@@ -26,36 +23,20 @@ impl Embree {
     fn new(triangles: &[Triangle]) -> Result<Self, String> {
         use embree3::{BufferUsage, Device, Format, GeometryKind};
         let device = Device::new().map_err(|e| format!("embree: {e:?}"))?;
-        let mut scene = device
-            .create_scene()
-            .map_err(|e| format!("embree: {e:?}"))?;
+        let mut scene = device.create_scene().map_err(|e| format!("embree: {e:?}"))?;
         let start = Instant::now();
-        let mut geom = device
-            .create_geometry(GeometryKind::TRIANGLE)
-            .map_err(|e| format!("embree: {e:?}"))?;
+        let mut geom = device.create_geometry(GeometryKind::TRIANGLE).map_err(|e| format!("embree: {e:?}"))?;
         let n = triangles.len();
         geom.set_new_buffer::<[f32; 3]>(BufferUsage::VERTEX, 0, Format::FLOAT3, 12, 3 * n)
             .map_err(|e| format!("embree: {e:?}"))?
-            .copy_from_slice(
-                &triangles
-                    .iter()
-                    .flat_map(|t| t.v.map(|v| v.to_array()))
-                    .collect::<Vec<_>>(),
-            );
+            .copy_from_slice(&triangles.iter().flat_map(|t| t.v.map(|v| v.to_array())).collect::<Vec<_>>());
         geom.set_new_buffer::<[u32; 3]>(BufferUsage::INDEX, 0, Format::UINT3, 12, n)
             .map_err(|e| format!("embree: {e:?}"))?
-            .copy_from_slice(
-                &(0..n as u32)
-                    .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
-                    .collect::<Vec<_>>(),
-            );
+            .copy_from_slice(&(0..n as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect::<Vec<_>>());
         let geom = geom.commit();
         scene.attach_geometry(&geom);
         scene.commit();
-        Ok(Self {
-            scene,
-            build_ms: start.elapsed().as_secs_f64() * 1e3,
-        })
+        Ok(Self { scene, build_ms: start.elapsed().as_secs_f64() * 1e3 })
     }
 }
 
@@ -79,8 +60,7 @@ impl Tracer for Embree {
     }
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let mut ctx = embree3::IntersectContext::incoherent();
-        let mut r =
-            embree3::Ray::segment(ray.origin.to_array(), ray.direction.to_array(), 0.0, t_max);
+        let mut r = embree3::Ray::segment(ray.origin.to_array(), ray.direction.to_array(), 0.0, t_max);
         self.scene.occluded(&mut ctx, &mut r)
     }
 }
@@ -109,11 +89,7 @@ impl Obvhs {
             obvhs::BvhBuildParams::medium_build(),
             &mut std::time::Duration::default(),
         );
-        Self {
-            bvh,
-            tris,
-            build_ms: start.elapsed().as_secs_f64() * 1e3,
-        }
+        Self { bvh, tris, build_ms: start.elapsed().as_secs_f64() * 1e3 }
     }
 
     fn ray(ray: &Ray, t_max: f32) -> obvhs::ray::Ray {
@@ -137,17 +113,14 @@ impl Tracer for Obvhs {
     fn closest(&self, ray: &Ray) -> Option<f32> {
         let mut hit = obvhs::ray::RayHit::none();
         let r = Self::ray(ray, f32::INFINITY);
-        let found = self.bvh.ray_traverse(r, &mut hit, |r, id| {
-            self.tris[self.bvh.primitive_indices[id] as usize].intersect(r)
-        });
+        let found =
+            self.bvh.ray_traverse(r, &mut hit, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r));
         found.then_some(hit.t)
     }
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let mut hit = obvhs::ray::RayHit::none();
         let r = Self::ray(ray, t_max);
         // obvhs has no early-exit any-hit for a plain closure; closest hit clipped at t_max.
-        self.bvh.ray_traverse(r, &mut hit, |r, id| {
-            self.tris[self.bvh.primitive_indices[id] as usize].intersect(r)
-        })
+        self.bvh.ray_traverse(r, &mut hit, |r, id| self.tris[self.bvh.primitive_indices[id] as usize].intersect(r))
     }
 }

@@ -17,10 +17,7 @@ pub struct Difference {
 /// Compare `a` and `b` (same size) on their sRGB encodings.
 pub fn difference(a: &Image, b: &Image) -> Result<Difference, String> {
     if (a.width, a.height) != (b.width, b.height) {
-        return Err(format!(
-            "sizes differ: {}×{} and {}×{}",
-            a.width, a.height, b.width, b.height
-        ));
+        return Err(format!("sizes differ: {}×{} and {}×{}", a.width, a.height, b.width, b.height));
     }
     let (mut sum, mut max) = (0.0f64, 0.0f64);
     for (p, q) in a.pixels.iter().zip(&b.pixels) {
@@ -31,26 +28,12 @@ pub fn difference(a: &Image, b: &Image) -> Result<Difference, String> {
         }
     }
     let rmse = (sum / (3 * a.pixels.len()).max(1) as f64).sqrt();
-    Ok(Difference {
-        rmse,
-        psnr: if rmse > 0.0 {
-            20.0 * (1.0 / rmse).log10()
-        } else {
-            f64::INFINITY
-        },
-        max,
-    })
+    Ok(Difference { rmse, psnr: if rmse > 0.0 { 20.0 * (1.0 / rmse).log10() } else { f64::INFINITY }, max })
 }
 
 /// A false-colour ramp (black → blue → red → yellow → white) of `x ∈ [0, 1]`, in sRGB.
 fn heat(x: f32) -> Vec3 {
-    let stops = [
-        Vec3::ZERO,
-        Vec3::new(0.1, 0.2, 0.9),
-        Vec3::new(0.9, 0.1, 0.1),
-        Vec3::new(1.0, 0.9, 0.1),
-        Vec3::ONE,
-    ];
+    let stops = [Vec3::ZERO, Vec3::new(0.1, 0.2, 0.9), Vec3::new(0.9, 0.1, 0.1), Vec3::new(1.0, 0.9, 0.1), Vec3::ONE];
     let t = x.clamp(0.0, 1.0) * (stops.len() - 1) as f32;
     let i = (t as usize).min(stops.len() - 2);
     stops[i].lerp(stops[i + 1], t - i as f32)
@@ -71,8 +54,7 @@ pub fn side_by_side(a: &Image, b: &Image, scale: f32) -> Result<Image, String> {
             let d = (0..3)
                 .map(|k| (srgb_encode(a.pixels[i][k]) - srgb_encode(b.pixels[i][k])).abs())
                 .fold(0.0f32, f32::max);
-            out.pixels[row + 2 * w as usize + x] =
-                heat(d / scale.max(1e-6)).to_array().map(srgb_decode).into();
+            out.pixels[row + 2 * w as usize + x] = heat(d / scale.max(1e-6)).to_array().map(srgb_decode).into();
         }
     }
     Ok(out)

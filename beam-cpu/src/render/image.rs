@@ -18,41 +18,26 @@ pub struct Image {
 #[must_use]
 pub fn srgb_encode(x: f32) -> f32 {
     let x = x.clamp(0.0, 1.0);
-    if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    }
+    if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 }
 }
 
 /// The inverse of [`srgb_encode`].
 #[must_use]
 pub fn srgb_decode(x: f32) -> f32 {
-    if x <= 0.040_45 {
-        x / 12.92
-    } else {
-        ((x + 0.055) / 1.055).powf(2.4)
-    }
+    if x <= 0.040_45 { x / 12.92 } else { ((x + 0.055) / 1.055).powf(2.4) }
 }
 
 impl Image {
     /// A black image.
     #[must_use]
     pub fn new(width: u32, height: u32) -> Self {
-        Self {
-            width,
-            height,
-            pixels: vec![Vec3::ZERO; (width * height) as usize],
-        }
+        Self { width, height, pixels: vec![Vec3::ZERO; (width * height) as usize] }
     }
 
     /// 8-bit sRGB bytes.
     #[must_use]
     pub fn to_srgb8(&self) -> Vec<u8> {
-        self.pixels
-            .iter()
-            .flat_map(|p| p.to_array().map(|c| (srgb_encode(c) * 255.0 + 0.5) as u8))
-            .collect()
+        self.pixels.iter().flat_map(|p| p.to_array().map(|c| (srgb_encode(c) * 255.0 + 0.5) as u8)).collect()
     }
 
     /// Write as PNG (sRGB), atomically.
@@ -62,9 +47,7 @@ impl Image {
 
     /// Read an 8-bit PNG (or any format the `image` crate reads) back to linear RGB.
     pub fn load(path: &Path) -> Result<Self, String> {
-        let img = image::open(path)
-            .map_err(|e| format!("{}: {e}", path.display()))?
-            .to_rgb8();
+        let img = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?.to_rgb8();
         let (width, height) = img.dimensions();
         let pixels = img
             .pixels()
@@ -76,11 +59,7 @@ impl Image {
                 )
             })
             .collect();
-        Ok(Self {
-            width,
-            height,
-            pixels,
-        })
+        Ok(Self { width, height, pixels })
     }
 }
 

@@ -49,14 +49,7 @@ pub fn polygon_irradiance(p: Vec3, n: Vec3, polygon: &[Vec3]) -> f32 {
 /// 001 eq. 2: the irradiance of a point source at the light's centre, `A·cos θᵢ·cos θ_l / r²`, times
 /// the fraction `visible` of the light seen from `p` (per unit radiance).
 #[must_use]
-pub fn point_source_irradiance(
-    p: Vec3,
-    n: Vec3,
-    center: Vec3,
-    light_normal: Vec3,
-    area: f32,
-    visible: f32,
-) -> f32 {
+pub fn point_source_irradiance(p: Vec3, n: Vec3, center: Vec3, light_normal: Vec3, area: f32, visible: f32) -> f32 {
     let d = center - p;
     let r2 = d.length_squared();
     if r2 == 0.0 {
@@ -81,32 +74,16 @@ mod tests {
             Vec3::new(1e4, 1e4, 1.0),
             Vec3::new(-1e4, 1e4, 1.0),
         ];
-        assert!(
-            (polygon_irradiance(Vec3::ZERO, Vec3::Z, &big) - std::f32::consts::PI).abs() < 1e-3
-        );
+        assert!((polygon_irradiance(Vec3::ZERO, Vec3::Z, &big) - std::f32::consts::PI).abs() < 1e-3);
         // A small square far away: E ≈ A cos / r².
         let s = 0.01;
-        let small = [
-            Vec3::new(-s, -s, 10.0),
-            Vec3::new(s, -s, 10.0),
-            Vec3::new(s, s, 10.0),
-            Vec3::new(-s, s, 10.0),
-        ];
+        let small = [Vec3::new(-s, -s, 10.0), Vec3::new(s, -s, 10.0), Vec3::new(s, s, 10.0), Vec3::new(-s, s, 10.0)];
         let e = polygon_irradiance(Vec3::ZERO, Vec3::Z, &small);
-        let approx = point_source_irradiance(
-            Vec3::ZERO,
-            Vec3::Z,
-            Vec3::new(0.0, 0.0, 10.0),
-            -Vec3::Z,
-            4.0 * s * s,
-            1.0,
-        );
+        let approx =
+            point_source_irradiance(Vec3::ZERO, Vec3::Z, Vec3::new(0.0, 0.0, 10.0), -Vec3::Z, 4.0 * s * s, 1.0);
         assert!((e - approx).abs() < 1e-3 * approx, "{e} vs {approx}");
         // Entirely below the horizon: nothing.
-        let below: Vec<Vec3> = small
-            .iter()
-            .map(|v| *v * Vec3::new(1.0, 1.0, -1.0))
-            .collect();
+        let below: Vec<Vec3> = small.iter().map(|v| *v * Vec3::new(1.0, 1.0, -1.0)).collect();
         assert_eq!(polygon_irradiance(Vec3::ZERO, Vec3::Z, &below), 0.0);
     }
 }

@@ -136,15 +136,13 @@ impl Context<'_> {
             Material::Glass { ior } if depth < MAX_DEPTH => {
                 let eta = if entering { 1.0 / ior } else { ior };
                 let cos_i = -n.dot(d);
-                let reflected =
-                    self.radiance(Ray::new(p + n * self.eps, reflect(d, n)), depth + 1, rng, c);
+                let reflected = self.radiance(Ray::new(p + n * self.eps, reflect(d, n)), depth + 1, rng, c);
                 match refract(d, n, eta) {
                     Some(t) => {
                         let r0 = ((1.0 - ior) / (1.0 + ior)).powi(2);
                         let cos = if entering { cos_i } else { -t.dot(n) };
                         let fresnel = r0 + (1.0 - r0) * (1.0 - cos).powi(5);
-                        let transmitted =
-                            self.radiance(Ray::new(p - n * self.eps, t), depth + 1, rng, c);
+                        let transmitted = self.radiance(Ray::new(p - n * self.eps, t), depth + 1, rng, c);
                         fresnel * reflected + (1.0 - fresnel) * transmitted
                     }
                     None => reflected,
@@ -160,10 +158,7 @@ impl Context<'_> {
         let mut e = Vec3::ZERO;
         for light in &scene.lights {
             match *light {
-                Light::Point {
-                    position,
-                    intensity,
-                } => {
+                Light::Point { position, intensity } => {
                     let to = position - p;
                     let r2 = to.length_squared();
                     let cos = n.dot(to) / r2.sqrt();
@@ -181,14 +176,7 @@ impl Context<'_> {
     }
 
     /// Irradiance per unit radiance from an area light.
-    fn area_light(
-        &self,
-        p: Vec3,
-        n: Vec3,
-        light: &Light,
-        rng: &mut Pcg32,
-        c: &mut Counters,
-    ) -> f32 {
+    fn area_light(&self, p: Vec3, n: Vec3, light: &Light, rng: &mut Pcg32, c: &mut Counters) -> f32 {
         let polygon = light.polygon();
         let ln = light.normal();
         let (area, center) = (light.area(), light.center());
@@ -198,25 +186,13 @@ impl Context<'_> {
         match self.options.method {
             Method::Beam => {
                 c.shadow_beams += 1;
-                let Some(vis) = visible_light(
-                    &self.scene.bvh,
-                    &self.scene.triangles,
-                    p,
-                    &polygon,
-                    ln,
-                    &mut c.beams,
-                ) else {
+                let Some(vis) = visible_light(&self.scene.bvh, &self.scene.triangles, p, &polygon, ln, &mut c.beams)
+                else {
                     return 0.0;
                 };
                 match self.options.shading {
-                    Shading::Fraction => {
-                        point_source_irradiance(p, n, center, ln, area, vis.fraction())
-                    }
-                    Shading::Exact => vis
-                        .polygons()
-                        .iter()
-                        .map(|poly| polygon_irradiance(p, n, poly))
-                        .sum(),
+                    Shading::Fraction => point_source_irradiance(p, n, center, ln, area, vis.fraction()),
+                    Shading::Exact => vis.polygons().iter().map(|poly| polygon_irradiance(p, n, poly)).sum(),
                 }
             }
             Method::Ray => {
@@ -244,9 +220,7 @@ impl Context<'_> {
                     integral += n.dot(w).max(0.0) * (-ln).dot(w).max(0.0) / r2;
                 }
                 match self.options.shading {
-                    Shading::Fraction => {
-                        point_source_irradiance(p, n, center, ln, area, visible as f32 / spp as f32)
-                    }
+                    Shading::Fraction => point_source_irradiance(p, n, center, ln, area, visible as f32 / spp as f32),
                     Shading::Exact => area * integral / spp as f32,
                 }
             }
@@ -257,18 +231,9 @@ impl Context<'_> {
 /// A point on an area light from `(s, t) ∈ [0, 1)²` (uniform in area).
 fn sample_light(light: &Light, s: f32, t: f32) -> Vec3 {
     match *light {
-        Light::Quad {
-            corner,
-            edge_u,
-            edge_v,
-            ..
-        } => corner + s * edge_u + t * edge_v,
+        Light::Quad { corner, edge_u, edge_v, .. } => corner + s * edge_u + t * edge_v,
         Light::Triangle { v, .. } => {
-            let (s, t) = if s + t > 1.0 {
-                (1.0 - s, 1.0 - t)
-            } else {
-                (s, t)
-            };
+            let (s, t) = if s + t > 1.0 { (1.0 - s, 1.0 - t) } else { (s, t) };
             v[0] + s * (v[1] - v[0]) + t * (v[2] - v[0])
         }
         Light::Point { position, .. } => position,
@@ -286,26 +251,14 @@ fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
 }
 
 /// Render `scene`; `row_done` is called after each image row (for a progress bar).
-pub fn render(
-    scene: &Scene,
-    options: &RenderOptions,
-    row_done: impl Fn() + Sync,
-) -> (Image, RenderStats) {
+pub fn render(scene: &Scene, options: &RenderOptions, row_done: impl Fn() + Sync) -> (Image, RenderStats) {
     let start = Instant::now();
     let mut camera = scene.camera;
     camera.width = options.width.max(1);
     camera.height = options.height.max(1);
     let frame = camera.frame();
-    let bounds = scene
-        .bvh
-        .nodes
-        .first()
-        .map_or(beam_math::Aabb::new(Vec3::ZERO, Vec3::ONE), |n| n.bounds());
-    let ctx = Context {
-        scene,
-        options: *options,
-        eps: 1e-4 * bounds.extent().length(),
-    };
+    let bounds = scene.bvh.nodes.first().map_or(beam_math::Aabb::new(Vec3::ZERO, Vec3::ONE), |n| n.bounds());
+    let ctx = Context { scene, options: *options, eps: 1e-4 * bounds.extent().length() };
     let rows: Vec<(Vec<Vec3>, Counters)> = (0..camera.height)
         .into_par_iter()
         .map(|y| {
@@ -313,16 +266,9 @@ pub fn render(
             let row = (0..camera.width)
                 .map(|x| {
                     let mut rng = Pcg32::seed_from_u64(
-                        options.seed
-                            ^ (u64::from(y) << 32 | u64::from(x))
-                                .wrapping_mul(0x9E37_79B9_7F4A_7C15),
+                        options.seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15),
                     );
-                    ctx.radiance(
-                        camera.ray(&frame, x as f32 + 0.5, y as f32 + 0.5),
-                        0,
-                        &mut rng,
-                        &mut c,
-                    )
+                    ctx.radiance(camera.ray(&frame, x as f32 + 0.5, y as f32 + 0.5), 0, &mut rng, &mut c)
                 })
                 .collect();
             row_done();
@@ -332,8 +278,7 @@ pub fn render(
     let mut image = Image::new(camera.width, camera.height);
     let mut total = Counters::default();
     for (y, (row, c)) in rows.into_iter().enumerate() {
-        image.pixels[y * camera.width as usize..(y + 1) * camera.width as usize]
-            .copy_from_slice(&row);
+        image.pixels[y * camera.width as usize..(y + 1) * camera.width as usize].copy_from_slice(&row);
         total += c;
     }
     let pixels = f64::from(camera.width * camera.height);
@@ -349,11 +294,7 @@ pub fn render(
             Shading::Exact => "exact",
         }
         .into(),
-        spp: if options.method == Method::Ray {
-            options.spp
-        } else {
-            0
-        },
+        spp: if options.method == Method::Ray { options.spp } else { 0 },
         width: camera.width,
         height: camera.height,
         triangles: scene.stats.triangles,

@@ -60,10 +60,7 @@ impl VisibleLight {
     /// The visible pieces as 3D polygons on the light.
     #[must_use]
     pub fn polygons(&self) -> Vec<Vec<Vec3>> {
-        self.pieces
-            .iter()
-            .map(|s| s.vertices().iter().map(|&c| self.frame.point(c)).collect())
-            .collect()
+        self.pieces.iter().map(|s| s.vertices().iter().map(|&c| self.frame.point(c)).collect()).collect()
     }
 }
 
@@ -88,10 +85,7 @@ impl NodeVisitor for ShadowVisitor<'_> {
             self.next.clear();
             for piece in &self.pieces {
                 self.stats.intersections += 1;
-                let beam = PolyBeam {
-                    frame: self.frame,
-                    section: *piece,
-                };
+                let beam = PolyBeam { frame: self.frame, section: *piece };
                 match beam.split(tri, DEPTH_EPS, 1.0 - DEPTH_EPS, 1e-6) {
                     Ok(split) => {
                         self.stats.hit_beams += split.hit.len() as u64;
@@ -144,11 +138,7 @@ pub fn visible_light(
     };
     bvh.traverse(&mut v);
     *stats += v.stats;
-    Some(VisibleLight {
-        frame,
-        pieces: v.pieces,
-        light_area,
-    })
+    Some(VisibleLight { frame, pieces: v.pieces, light_area })
 }
 
 #[cfg(test)]
@@ -169,16 +159,8 @@ mod tests {
         ];
         let h = 0.125;
         let occ = vec![
-            Triangle::new(
-                Vec3::new(-h, -h, 1.0),
-                Vec3::new(h, -h, 1.0),
-                Vec3::new(h, h, 1.0),
-            ),
-            Triangle::new(
-                Vec3::new(-h, -h, 1.0),
-                Vec3::new(h, h, 1.0),
-                Vec3::new(-h, h, 1.0),
-            ),
+            Triangle::new(Vec3::new(-h, -h, 1.0), Vec3::new(h, -h, 1.0), Vec3::new(h, h, 1.0)),
+            Triangle::new(Vec3::new(-h, -h, 1.0), Vec3::new(h, h, 1.0), Vec3::new(-h, h, 1.0)),
         ];
         let bvh = FlatBvh::build(&occ, &BuildOptions::sah());
         let mut stats = ShadowBeamStats::default();
@@ -186,32 +168,12 @@ mod tests {
         let v = visible_light(&bvh, &occ, Vec3::ZERO, &light, -Vec3::Z, &mut stats).unwrap();
         assert!((v.fraction() - 0.75).abs() < 1e-5, "{}", v.fraction());
         // Shifted sideways by x: the shadow moves by −x·(2−1)/1 = −x on the light plane.
-        let v = visible_light(
-            &bvh,
-            &occ,
-            Vec3::new(0.1, 0.0, 0.0),
-            &light,
-            -Vec3::Z,
-            &mut stats,
-        )
-        .unwrap();
+        let v = visible_light(&bvh, &occ, Vec3::new(0.1, 0.0, 0.0), &light, -Vec3::Z, &mut stats).unwrap();
         assert!((v.fraction() - 0.75).abs() < 1e-5);
-        let v = visible_light(
-            &bvh,
-            &occ,
-            Vec3::new(0.6, 0.0, 0.0),
-            &light,
-            -Vec3::Z,
-            &mut stats,
-        )
-        .unwrap();
+        let v = visible_light(&bvh, &occ, Vec3::new(0.6, 0.0, 0.0), &light, -Vec3::Z, &mut stats).unwrap();
         // Shadow x-range: [−0.6 − 0.25 + ..]: centre at 2·0.6 − 0.6 ... computed: centre c = 0.6 − 2·0.6 = −0.6,
         // so the shadow covers x ∈ [−0.85, −0.35] ∩ [−0.5, 0.5] = [−0.5, −0.35]: area 0.15 × 0.5.
-        assert!(
-            (v.fraction() - (1.0 - 0.15 * 0.5)).abs() < 1e-4,
-            "{}",
-            v.fraction()
-        );
+        assert!((v.fraction() - (1.0 - 0.15 * 0.5)).abs() < 1e-4, "{}", v.fraction());
         assert!(stats.bvh_steps > 0 && stats.intersections > 0);
     }
 }

@@ -13,18 +13,12 @@ pub fn builtin(name: &str) -> Result<Scene, String> {
     match name {
         "cornell" => Ok(cornell(false)),
         "mirror-glass" => Ok(cornell(true)),
-        _ => Err(format!(
-            "unknown built-in scene `{name}` (known: {})",
-            BUILTIN.join(", ")
-        )),
+        _ => Err(format!("unknown built-in scene `{name}` (known: {})", BUILTIN.join(", "))),
     }
 }
 
 fn quad(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Mesh {
-    Mesh {
-        positions: vec![a, b, c, d],
-        indices: vec![[0, 1, 2], [0, 2, 3]],
-    }
+    Mesh { positions: vec![a, b, c, d], indices: vec![[0, 1, 2], [0, 2, 3]] }
 }
 
 /// A box of size `size` standing on the floor at `center`, turned by `angle` degrees about y.
@@ -41,83 +35,33 @@ fn turned_box(center: Vec3, size: Vec3, angle: f32) -> Mesh {
 /// or with a mirror sphere and a glass sphere instead (`spheres`).
 fn cornell(spheres: bool) -> Scene {
     let s = 555.0;
-    let white = Material::Diffuse {
-        albedo: Vec3::splat(0.73),
-    };
-    let red = Material::Diffuse {
-        albedo: Vec3::new(0.65, 0.05, 0.05),
-    };
-    let green = Material::Diffuse {
-        albedo: Vec3::new(0.12, 0.45, 0.15),
-    };
-    let emitter = Material::Emissive {
-        radiance: Vec3::splat(15.0),
-    };
-    let mirror = Material::Mirror {
-        tint: Vec3::splat(0.95),
-    };
+    let white = Material::Diffuse { albedo: Vec3::splat(0.73) };
+    let red = Material::Diffuse { albedo: Vec3::new(0.65, 0.05, 0.05) };
+    let green = Material::Diffuse { albedo: Vec3::new(0.12, 0.45, 0.15) };
+    let emitter = Material::Emissive { radiance: Vec3::splat(15.0) };
+    let mirror = Material::Mirror { tint: Vec3::splat(0.95) };
     let glass = Material::Glass { ior: 1.5 };
     let materials = vec![white, red, green, emitter, mirror, glass];
     let mut tris: Vec<(Triangle, u32)> = Vec::new();
     let mut add = |m: &Mesh, mat: u32| tris.extend(m.triangles().into_iter().map(|t| (t, mat)));
     let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
     // Room, faces towards the inside (the camera looks along +z from z < 0).
-    add(
-        &quad(
-            p(0.0, 0.0, 0.0),
-            p(0.0, 0.0, s),
-            p(s, 0.0, s),
-            p(s, 0.0, 0.0),
-        ),
-        0,
-    ); // floor
-    add(
-        &quad(p(0.0, s, 0.0), p(s, s, 0.0), p(s, s, s), p(0.0, s, s)),
-        0,
-    ); // ceiling
-    add(
-        &quad(p(0.0, 0.0, s), p(0.0, s, s), p(s, s, s), p(s, 0.0, s)),
-        0,
-    ); // back
-    add(
-        &quad(p(s, 0.0, 0.0), p(s, 0.0, s), p(s, s, s), p(s, s, 0.0)),
-        2,
-    ); // right (x = s): green
-    add(
-        &quad(
-            p(0.0, 0.0, 0.0),
-            p(0.0, s, 0.0),
-            p(0.0, s, s),
-            p(0.0, 0.0, s),
-        ),
-        1,
-    ); // left (x = 0): red
+    add(&quad(p(0.0, 0.0, 0.0), p(0.0, 0.0, s), p(s, 0.0, s), p(s, 0.0, 0.0)), 0); // floor
+    add(&quad(p(0.0, s, 0.0), p(s, s, 0.0), p(s, s, s), p(0.0, s, s)), 0); // ceiling
+    add(&quad(p(0.0, 0.0, s), p(0.0, s, s), p(s, s, s), p(s, 0.0, s)), 0); // back
+    add(&quad(p(s, 0.0, 0.0), p(s, 0.0, s), p(s, s, s), p(s, s, 0.0)), 1); // x = s, the camera's left: red
+    add(&quad(p(0.0, 0.0, 0.0), p(0.0, s, 0.0), p(0.0, s, s), p(0.0, 0.0, s)), 2); // x = 0, the camera's right: green
     // Light: 130 × 105 below the ceiling, facing down.
-    let (corner, eu, ev) = (
-        p(213.0, 548.7, 227.0),
-        p(130.0, 0.0, 0.0),
-        p(0.0, 0.0, 105.0),
-    );
+    let (corner, eu, ev) = (p(213.0, 548.7, 227.0), p(130.0, 0.0, 0.0), p(0.0, 0.0, 105.0));
     add(&quad(corner, corner + ev, corner + eu + ev, corner + eu), 3);
     if spheres {
         add(&mesh::sphere(p(185.0, 90.0, 170.0), 90.0, 24, 48), 4);
         add(&mesh::sphere(p(370.0, 90.0, 350.0), 90.0, 24, 48), 5);
     } else {
-        add(
-            &turned_box(p(185.0, 0.0, 169.0), p(165.0, 165.0, 165.0), -18.0),
-            0,
-        );
-        add(
-            &turned_box(p(368.0, 0.0, 351.0), p(165.0, 330.0, 165.0), 15.0),
-            0,
-        );
+        add(&turned_box(p(185.0, 0.0, 169.0), p(165.0, 165.0, 165.0), -18.0), 0);
+        add(&turned_box(p(368.0, 0.0, 351.0), p(165.0, 330.0, 165.0), 15.0), 0);
     }
-    let lights = vec![Light::Quad {
-        corner,
-        edge_u: eu,
-        edge_v: ev,
-        radiance: Vec3::splat(15.0),
-    }];
+    let lights = vec![Light::Quad { corner, edge_u: eu, edge_v: ev, radiance: Vec3::splat(15.0) }];
     let camera = Camera {
         position: p(278.0, 273.0, -800.0),
         target: p(278.0, 273.0, 0.0),
@@ -141,10 +85,7 @@ mod tests {
         assert!((s.lights[0].area() - 130.0 * 105.0).abs() < 1e-2);
         assert_eq!(s.stats.degenerate, 0);
         let g = builtin("mirror-glass").unwrap();
-        assert!(
-            g.stats.degenerate > 0,
-            "the UV spheres' pole triangles are filtered and counted"
-        );
+        assert!(g.stats.degenerate > 0, "the UV spheres' pole triangles are filtered and counted");
         assert!(builtin("nope").err().unwrap().contains("cornell"));
     }
 }

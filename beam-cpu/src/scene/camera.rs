@@ -40,20 +40,11 @@ impl Camera {
     #[must_use]
     pub fn frame(&self) -> CameraFrame {
         let forward = (self.target - self.position).normalize_or(Vec3::NEG_Z);
-        let right = forward
-            .cross(self.up)
-            .try_normalize()
-            .unwrap_or_else(|| forward.any_orthonormal_vector());
+        let right = forward.cross(self.up).try_normalize().unwrap_or_else(|| forward.any_orthonormal_vector());
         let up = right.cross(forward);
         let half_height = (self.fov_y.to_radians() * 0.5).tan();
         let half_width = half_height * self.width as f32 / self.height.max(1) as f32;
-        CameraFrame {
-            forward,
-            right,
-            up,
-            half_width,
-            half_height,
-        }
+        CameraFrame { forward, right, up, half_width, half_height }
     }
 
     /// The point of the image plane (distance 1) at continuous pixel coordinates `(x, y)` (origin at

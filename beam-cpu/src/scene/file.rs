@@ -89,20 +89,9 @@ struct MeshFile {
 #[derive(Deserialize)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 enum LightFile {
-    Point {
-        position: [f32; 3],
-        intensity: [f32; 3],
-    },
-    Quad {
-        corner: [f32; 3],
-        edge_u: [f32; 3],
-        edge_v: [f32; 3],
-        radiance: [f32; 3],
-    },
-    Triangle {
-        vertices: [[f32; 3]; 3],
-        radiance: [f32; 3],
-    },
+    Point { position: [f32; 3], intensity: [f32; 3] },
+    Quad { corner: [f32; 3], edge_u: [f32; 3], edge_v: [f32; 3], radiance: [f32; 3] },
+    Triangle { vertices: [[f32; 3]; 3], radiance: [f32; 3] },
 }
 
 /// Load a scene by built-in name, `.toml` scene file or bare `.obj` file.
@@ -135,10 +124,7 @@ fn check_finite(path: &Path, element: &str, values: &[f32]) -> Result<(), String
     if values.iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
-        Err(format!(
-            "{}: {element}: values must be finite",
-            path.display()
-        ))
+        Err(format!("{}: {element}: values must be finite", path.display()))
     }
 }
 
@@ -151,36 +137,21 @@ fn load_toml(path: &Path) -> Result<Scene, String> {
     for (name, m) in &file.materials {
         let element = format!("materials.{name}");
         let m = match *m {
-            MaterialFile::Diffuse { albedo } => Material::Diffuse {
-                albedo: vec3(albedo),
-            },
-            MaterialFile::Mirror { tint } => Material::Mirror {
-                tint: vec3(tint.unwrap_or([1.0; 3])),
-            },
+            MaterialFile::Diffuse { albedo } => Material::Diffuse { albedo: vec3(albedo) },
+            MaterialFile::Mirror { tint } => Material::Mirror { tint: vec3(tint.unwrap_or([1.0; 3])) },
             MaterialFile::Glass { ior } => {
                 if !(ior > 0.0 && ior.is_finite()) {
-                    return Err(format!(
-                        "{}: {element}.ior must be a positive number",
-                        path.display()
-                    ));
+                    return Err(format!("{}: {element}.ior must be a positive number", path.display()));
                 }
                 Material::Glass { ior }
             }
             MaterialFile::Glossy { albedo, variance } => {
                 if !(variance >= 0.0 && variance.is_finite()) {
-                    return Err(format!(
-                        "{}: {element}.variance must be ≥ 0",
-                        path.display()
-                    ));
+                    return Err(format!("{}: {element}.variance must be ≥ 0", path.display()));
                 }
-                Material::Glossy {
-                    albedo: vec3(albedo),
-                    variance,
-                }
+                Material::Glossy { albedo: vec3(albedo), variance }
             }
-            MaterialFile::Emissive { radiance } => Material::Emissive {
-                radiance: vec3(radiance),
-            },
+            MaterialFile::Emissive { radiance } => Material::Emissive { radiance: vec3(radiance) },
         };
         index.insert(name.clone(), materials.len() as u32);
         materials.push(m);
@@ -188,13 +159,9 @@ fn load_toml(path: &Path) -> Result<Scene, String> {
     let mut triangles: Vec<(Triangle, u32)> = Vec::new();
     for (i, m) in file.meshes.iter().enumerate() {
         let element = format!("meshes[{i}]");
-        let &mat = index.get(&m.material).ok_or_else(|| {
-            format!(
-                "{}: {element}.material: no material named `{}`",
-                path.display(),
-                m.material
-            )
-        })?;
+        let &mat = index
+            .get(&m.material)
+            .ok_or_else(|| format!("{}: {element}.material: no material named `{}`", path.display(), m.material))?;
         let scale = match m.scale {
             None => Vec3::ONE,
             Some(Scale::Uniform(s)) => Vec3::splat(s),
@@ -207,89 +174,53 @@ fn load_toml(path: &Path) -> Result<Scene, String> {
             &format!("{element} transform"),
             &[scale.x, scale.y, scale.z, r.x, r.y, r.z, t.x, t.y, t.z],
         )?;
-        let rot = Mat3::from_euler(
-            EulerRot::XYZ,
-            r.x.to_radians(),
-            r.y.to_radians(),
-            r.z.to_radians(),
-        );
-        let mesh = load_obj(&dir.join(&m.file))
-            .map_err(|e| format!("{}: {element}: {e}", path.display()))?;
+        let rot = Mat3::from_euler(EulerRot::XYZ, r.x.to_radians(), r.y.to_radians(), r.z.to_radians());
+        let mesh = load_obj(&dir.join(&m.file)).map_err(|e| format!("{}: {element}: {e}", path.display()))?;
         for tri in mesh.triangles() {
-            triangles.push((
-                Triangle {
-                    v: tri.v.map(|v| rot * (v * scale) + t),
-                },
-                mat,
-            ));
+            triangles.push((Triangle { v: tri.v.map(|v| rot * (v * scale) + t) }, mat));
         }
     }
     let mut lights = Vec::new();
     for (i, l) in file.lights.iter().enumerate() {
         let element = format!("lights[{i}]");
         let light = match *l {
-            LightFile::Point {
-                position,
-                intensity,
-            } => Light::Point {
-                position: vec3(position),
-                intensity: vec3(intensity),
-            },
-            LightFile::Quad {
-                corner,
-                edge_u,
-                edge_v,
-                radiance,
-            } => Light::Quad {
+            LightFile::Point { position, intensity } => {
+                Light::Point { position: vec3(position), intensity: vec3(intensity) }
+            }
+            LightFile::Quad { corner, edge_u, edge_v, radiance } => Light::Quad {
                 corner: vec3(corner),
                 edge_u: vec3(edge_u),
                 edge_v: vec3(edge_v),
                 radiance: vec3(radiance),
             },
-            LightFile::Triangle { vertices, radiance } => Light::Triangle {
-                v: vertices.map(vec3),
-                radiance: vec3(radiance),
-            },
+            LightFile::Triangle { vertices, radiance } => {
+                Light::Triangle { v: vertices.map(vec3), radiance: vec3(radiance) }
+            }
         };
         let pts = light.polygon();
         check_finite(
             path,
             &element,
-            &pts.iter()
-                .flat_map(|p| p.to_array())
-                .chain(light.power().to_array())
-                .collect::<Vec<_>>(),
+            &pts.iter().flat_map(|p| p.to_array()).chain(light.power().to_array()).collect::<Vec<_>>(),
         )?;
         if !matches!(light, Light::Point { .. }) && !(light.area() > 0.0) {
-            return Err(format!(
-                "{}: {element}: the area light has zero area",
-                path.display()
-            ));
+            return Err(format!("{}: {element}: the area light has zero area", path.display()));
         }
         lights.push(light);
     }
     let bounds = triangles
         .iter()
         .filter(|(t, _)| t.is_valid())
-        .fold(beam_math::Aabb::EMPTY, |b, (t, _)| {
-            b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2])
-        });
+        .fold(beam_math::Aabb::EMPTY, |b, (t, _)| b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2]));
     if !bounds.is_valid() {
-        return Err(format!(
-            "{}: the scene has no valid triangle",
-            path.display()
-        ));
+        return Err(format!("{}: the scene has no valid triangle", path.display()));
     }
     if lights.is_empty() {
         lights.push(default_light(bounds));
     }
     let camera = match file.camera {
         Some(c) => {
-            check_finite(
-                path,
-                "camera",
-                &[c.position, c.target, c.up.unwrap_or([0.0, 1.0, 0.0])].concat(),
-            )?;
+            check_finite(path, "camera", &[c.position, c.target, c.up.unwrap_or([0.0, 1.0, 0.0])].concat())?;
             let cam = Camera {
                 position: vec3(c.position),
                 target: vec3(c.target),
@@ -312,13 +243,7 @@ fn load_toml(path: &Path) -> Result<Scene, String> {
         }
         None => default_camera(bounds),
     };
-    Ok(Scene::new(
-        path.display().to_string(),
-        triangles,
-        materials,
-        lights,
-        camera,
-    ))
+    Ok(Scene::new(path.display().to_string(), triangles, materials, lights, camera))
 }
 
 /// A camera in front of the box (along +z), framing it.
@@ -339,17 +264,8 @@ fn default_camera(b: beam_math::Aabb) -> Camera {
 fn default_light(b: beam_math::Aabb) -> Light {
     let e = b.extent();
     let size = 0.25 * e.x.max(e.z);
-    let corner = Vec3::new(
-        b.center().x - 0.5 * size,
-        b.max.y + 0.5 * e.y.max(0.1 * size),
-        b.center().z - 0.5 * size,
-    );
-    Light::Quad {
-        corner,
-        edge_u: Vec3::X * size,
-        edge_v: Vec3::Z * size,
-        radiance: Vec3::splat(20.0),
-    }
+    let corner = Vec3::new(b.center().x - 0.5 * size, b.max.y + 0.5 * e.y.max(0.1 * size), b.center().z - 0.5 * size);
+    Light::Quad { corner, edge_u: Vec3::X * size, edge_v: Vec3::Z * size, radiance: Vec3::splat(20.0) }
 }
 
 fn load_bare_obj(path: &Path) -> Result<Scene, String> {
@@ -358,15 +274,11 @@ fn load_bare_obj(path: &Path) -> Result<Scene, String> {
     let bounds = triangles
         .iter()
         .filter(|(t, _)| t.is_valid())
-        .fold(beam_math::Aabb::EMPTY, |b, (t, _)| {
-            b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2])
-        });
+        .fold(beam_math::Aabb::EMPTY, |b, (t, _)| b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2]));
     if !bounds.is_valid() {
         return Err(format!("{}: no valid triangle", path.display()));
     }
-    let materials = vec![Material::Diffuse {
-        albedo: Vec3::splat(0.7),
-    }];
+    let materials = vec![Material::Diffuse { albedo: Vec3::splat(0.7) }];
     Ok(Scene::new(
         path.display().to_string(),
         triangles,
@@ -390,11 +302,7 @@ mod tests {
     fn loads_a_scene_file_with_relative_meshes() {
         let dir = tempfile::tempdir().unwrap();
         std::fs::create_dir(dir.path().join("m")).unwrap();
-        write(
-            &dir.path().join("m"),
-            "tri.obj",
-            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nf 1 2 3\nf 1 1 2\n",
-        );
+        write(&dir.path().join("m"), "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nf 1 2 3\nf 1 1 2\n");
         let scene = write(
             dir.path(),
             "s.toml",
@@ -413,16 +321,9 @@ mod tests {
         let bad_syntax = write(dir.path(), "a.toml", "[camera]\nposition = [0, 0\n");
         let e = load_file(&bad_syntax).err().unwrap();
         assert!(e.contains("a.toml") && e.contains("line 2"), "{e}");
-        let bad_material = write(
-            dir.path(),
-            "b.toml",
-            "[[meshes]]\nfile = \"x.obj\"\nmaterial = \"nope\"\n",
-        );
+        let bad_material = write(dir.path(), "b.toml", "[[meshes]]\nfile = \"x.obj\"\nmaterial = \"nope\"\n");
         let e = load_file(&bad_material).err().unwrap();
-        assert!(
-            e.contains("b.toml") && e.contains("meshes[0].material"),
-            "{e}"
-        );
+        assert!(e.contains("b.toml") && e.contains("meshes[0].material"), "{e}");
         let zero_light = write(
             dir.path(),
             "c.toml",

@@ -93,17 +93,9 @@ impl Light {
     pub fn polygon(&self) -> Vec<Vec3> {
         match *self {
             Light::Point { .. } => Vec::new(),
-            Light::Quad {
-                corner,
-                edge_u,
-                edge_v,
-                ..
-            } => vec![
-                corner,
-                corner + edge_u,
-                corner + edge_u + edge_v,
-                corner + edge_v,
-            ],
+            Light::Quad { corner, edge_u, edge_v, .. } => {
+                vec![corner, corner + edge_u, corner + edge_u + edge_v, corner + edge_v]
+            }
             Light::Triangle { v, .. } => v.to_vec(),
         }
     }
@@ -133,12 +125,7 @@ impl Light {
     pub fn center(&self) -> Vec3 {
         match *self {
             Light::Point { position, .. } => position,
-            Light::Quad {
-                corner,
-                edge_u,
-                edge_v,
-                ..
-            } => corner + 0.5 * (edge_u + edge_v),
+            Light::Quad { corner, edge_u, edge_v, .. } => corner + 0.5 * (edge_u + edge_v),
             Light::Triangle { v, .. } => (v[0] + v[1] + v[2]) / 3.0,
         }
     }
@@ -198,23 +185,10 @@ impl Scene {
         let total = triangles.len();
         let (triangles, material_of): (Vec<Triangle>, Vec<u32>) =
             triangles.into_iter().filter(|(t, _)| t.is_valid()).unzip();
-        let stats = SceneStats {
-            triangles: triangles.len(),
-            degenerate: total - triangles.len(),
-        };
+        let stats = SceneStats { triangles: triangles.len(), degenerate: total - triangles.len() };
         let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
         let wide = WideBvh::new(&bvh, &triangles);
-        Self {
-            name,
-            triangles,
-            material_of,
-            materials,
-            lights,
-            camera,
-            stats,
-            bvh,
-            wide,
-        }
+        Self { name, triangles, material_of, materials, lights, camera, stats, bvh, wide }
     }
 
     /// Material of triangle `i`.
@@ -226,8 +200,6 @@ impl Scene {
     /// Geometric unit normal of triangle `i`.
     #[must_use]
     pub fn normal(&self, i: u32) -> Vec3 {
-        self.triangles[i as usize]
-            .scaled_normal()
-            .normalize_or_zero()
+        self.triangles[i as usize].scaled_normal().normalize_or_zero()
     }
 }

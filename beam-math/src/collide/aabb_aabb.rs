@@ -19,9 +19,6 @@ mod tests {
         let a = Aabb::new(Vec3::ZERO, Vec3::ONE);
         assert!(aabb_aabb(a, Aabb::new(Vec3::splat(0.5), Vec3::splat(2.0))));
         assert!(aabb_aabb(a, Aabb::new(Vec3::ONE, Vec3::splat(2.0))));
-        assert!(!aabb_aabb(
-            a,
-            Aabb::new(Vec3::new(1.1, 0.0, 0.0), Vec3::splat(2.0))
-        ));
+        assert!(!aabb_aabb(a, Aabb::new(Vec3::new(1.1, 0.0, 0.0), Vec3::splat(2.0))));
     }
 }

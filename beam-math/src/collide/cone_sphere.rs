@@ -48,11 +48,7 @@ mod tests {
 
     #[test]
     fn hand_worked() {
-        let cone = Cone {
-            apex: Vec3::ZERO,
-            axis: Vec3::Z,
-            angle: 0.5,
-        };
+        let cone = Cone { apex: Vec3::ZERO, axis: Vec3::Z, angle: 0.5 };
         assert!(cone_sphere(&cone, Vec3::new(0.0, 0.0, 5.0), 0.1));
         assert!(!cone_sphere(&cone, Vec3::new(0.0, 0.0, -5.0), 1.0));
         // Centre at 45° off-axis, distance √2·5: θ_S = asin(R/d); touching when θ_C + θ_S > π/4.

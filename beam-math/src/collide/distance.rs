@@ -68,11 +68,7 @@ pub fn segment_segment_distance(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> f32 {
         } else {
             let b = d1.dot(d2);
             let denom = a * e - b * b;
-            let s0 = if denom != 0.0 {
-                ((b * f - c * e) / denom).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
+            let s0 = if denom != 0.0 { ((b * f - c * e) / denom).clamp(0.0, 1.0) } else { 0.0 };
             let t0 = (b * s0 + f) / e;
             if t0 < 0.0 {
                 t = 0.0;
@@ -117,12 +113,7 @@ pub fn triangle_triangle_distance(a: &Triangle, b: &Triangle) -> f32 {
         best = best.min(a.v[i].distance(closest_point_on_triangle(a.v[i], b)));
         best = best.min(b.v[i].distance(closest_point_on_triangle(b.v[i], a)));
         for j in 0..3 {
-            best = best.min(segment_segment_distance(
-                a.v[i],
-                a.v[(i + 1) % 3],
-                b.v[j],
-                b.v[(j + 1) % 3],
-            ));
+            best = best.min(segment_segment_distance(a.v[i], a.v[(i + 1) % 3], b.v[j], b.v[(j + 1) % 3]));
         }
     }
     best
@@ -135,33 +126,13 @@ mod tests {
     #[test]
     fn hand_worked() {
         let t = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y);
-        assert!(
-            (closest_point_on_triangle(Vec3::new(0.2, 0.2, 1.0), &t) - Vec3::new(0.2, 0.2, 0.0))
-                .length()
-                < 1e-6
-        );
-        assert_eq!(
-            closest_point_on_triangle(Vec3::new(-1.0, -1.0, 0.0), &t),
-            Vec3::ZERO
-        );
-        let d = segment_segment_distance(
-            Vec3::ZERO,
-            Vec3::X,
-            Vec3::new(0.5, 1.0, -1.0),
-            Vec3::new(0.5, 1.0, 1.0),
-        );
+        assert!((closest_point_on_triangle(Vec3::new(0.2, 0.2, 1.0), &t) - Vec3::new(0.2, 0.2, 0.0)).length() < 1e-6);
+        assert_eq!(closest_point_on_triangle(Vec3::new(-1.0, -1.0, 0.0), &t), Vec3::ZERO);
+        let d = segment_segment_distance(Vec3::ZERO, Vec3::X, Vec3::new(0.5, 1.0, -1.0), Vec3::new(0.5, 1.0, 1.0));
         assert!((d - 1.0).abs() < 1e-6);
-        let lifted = Triangle::new(
-            Vec3::new(0.0, 0.0, 2.0),
-            Vec3::new(1.0, 0.0, 2.0),
-            Vec3::new(0.0, 1.0, 2.0),
-        );
+        let lifted = Triangle::new(Vec3::new(0.0, 0.0, 2.0), Vec3::new(1.0, 0.0, 2.0), Vec3::new(0.0, 1.0, 2.0));
         assert!((triangle_triangle_distance(&t, &lifted) - 2.0).abs() < 1e-6);
-        let crossing = Triangle::new(
-            Vec3::new(0.2, 0.2, -1.0),
-            Vec3::new(0.2, 0.2, 1.0),
-            Vec3::new(3.0, 3.0, 0.0),
-        );
+        let crossing = Triangle::new(Vec3::new(0.2, 0.2, -1.0), Vec3::new(0.2, 0.2, 1.0), Vec3::new(3.0, 3.0, 0.0));
         assert_eq!(triangle_triangle_distance(&t, &crossing), 0.0);
     }
 }

@@ -20,10 +20,7 @@ impl Frustum {
     #[must_use]
     pub fn from_apex(apex: Vec3, dirs: [Vec3; 4], axis: Vec3, near: f32, far: f32) -> Self {
         let at = |s: f32| dirs.map(|d| apex + d * (s / d.dot(axis)));
-        Self {
-            near: at(near),
-            far: at(far),
-        }
+        Self { near: at(near), far: at(far) }
     }
 
     /// The frustum of a view-projection matrix whose clip volume is `−w ≤ x, y ≤ w`, `0 ≤ z ≤ w`
@@ -35,27 +32,14 @@ impl Frustum {
             let p = inv * Vec4::new(x, y, z, 1.0);
             p.truncate() / p.w
         };
-        let quad = |z: f32| {
-            [
-                corner(-1.0, -1.0, z),
-                corner(1.0, -1.0, z),
-                corner(1.0, 1.0, z),
-                corner(-1.0, 1.0, z),
-            ]
-        };
-        Self {
-            near: quad(0.0),
-            far: quad(1.0),
-        }
+        let quad = |z: f32| [corner(-1.0, -1.0, z), corner(1.0, -1.0, z), corner(1.0, 1.0, z), corner(-1.0, 1.0, z)];
+        Self { near: quad(0.0), far: quad(1.0) }
     }
 
     /// The bounding box of the eight corners, used by the rejection test (004 App. A.5).
     #[must_use]
     pub fn aabb(&self) -> Aabb {
-        self.near
-            .iter()
-            .chain(self.far.iter())
-            .fold(Aabb::EMPTY, |b, &p| b.grow(p))
+        self.near.iter().chain(self.far.iter()).fold(Aabb::EMPTY, |b, &p| b.grow(p))
     }
 
     /// The six face planes with normals pointing outwards: near, far, then the four sides.
@@ -64,14 +48,7 @@ impl Frustum {
         let c = self.center();
         let outward = |a: Vec3, b: Vec3, d: Vec3| {
             let p = Plane::from_points(a, b, d);
-            if p.eval(c) > 0.0 {
-                Plane {
-                    normal: -p.normal,
-                    d: -p.d,
-                }
-            } else {
-                p
-            }
+            if p.eval(c) > 0.0 { Plane { normal: -p.normal, d: -p.d } } else { p }
         };
         let (n, f) = (&self.near, &self.far);
         [
@@ -97,9 +74,9 @@ impl Frustum {
         let mut out = [Vec3::ZERO; 8];
         let mut n = 0;
         let mut push = |e: Vec3| {
-            let parallel = out[..n].iter().any(|o: &Vec3| {
-                o.cross(e).length_squared() <= 1e-10 * o.length_squared() * e.length_squared()
-            });
+            let parallel = out[..n]
+                .iter()
+                .any(|o: &Vec3| o.cross(e).length_squared() <= 1e-10 * o.length_squared() * e.length_squared());
             if !parallel && e.length_squared() > 0.0 {
                 out[n] = e;
                 n += 1;

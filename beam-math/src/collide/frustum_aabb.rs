@@ -47,13 +47,10 @@ fn box_interval(aabb: Aabb, axis: Vec3) -> (f32, f32) {
 
 #[inline]
 fn frustum_interval(frustum: &Frustum, axis: Vec3) -> (f32, f32) {
-    frustum.near.iter().chain(frustum.far.iter()).fold(
-        (f32::INFINITY, f32::NEG_INFINITY),
-        |(lo, hi), p| {
-            let d = p.dot(axis);
-            (lo.min(d), hi.max(d))
-        },
-    )
+    frustum.near.iter().chain(frustum.far.iter()).fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| {
+        let d = p.dot(axis);
+        (lo.min(d), hi.max(d))
+    })
 }
 
 /// True when the frustum and the box overlap (touching counts): the rejection test against the
@@ -85,11 +82,7 @@ mod tests {
     #[test]
     fn camera_frustum_has_26_axes() {
         // A camera in general orientation: 3 + 5 + 3·6 axes, none degenerate.
-        let view = Mat4::look_at_rh(
-            Vec3::new(1.0, 2.0, 3.0),
-            Vec3::new(-0.3, 0.2, -1.0),
-            Vec3::new(0.1, 1.0, 0.2),
-        );
+        let view = Mat4::look_at_rh(Vec3::new(1.0, 2.0, 3.0), Vec3::new(-0.3, 0.2, -1.0), Vec3::new(0.1, 1.0, 0.2));
         let f = Frustum::from_view_projection(Mat4::perspective_rh(1.0, 1.3, 0.5, 10.0) * view);
         assert_eq!(separating_axes(&f).1, 26);
         // Axis-aligned, two box-edge × frustum-edge products vanish and are skipped.
@@ -99,18 +92,9 @@ mod tests {
     #[test]
     fn hand_worked() {
         let f = camera();
-        assert!(frustum_aabb(
-            &f,
-            Aabb::new(Vec3::new(-0.5, -0.5, -3.0), Vec3::new(0.5, 0.5, -2.0))
-        ));
-        assert!(!frustum_aabb(
-            &f,
-            Aabb::new(Vec3::new(-0.5, -0.5, 1.0), Vec3::new(0.5, 0.5, 2.0))
-        ));
-        assert!(!frustum_aabb(
-            &f,
-            Aabb::new(Vec3::new(-0.5, -0.5, -30.0), Vec3::new(0.5, 0.5, -20.0))
-        ));
+        assert!(frustum_aabb(&f, Aabb::new(Vec3::new(-0.5, -0.5, -3.0), Vec3::new(0.5, 0.5, -2.0))));
+        assert!(!frustum_aabb(&f, Aabb::new(Vec3::new(-0.5, -0.5, 1.0), Vec3::new(0.5, 0.5, 2.0))));
+        assert!(!frustum_aabb(&f, Aabb::new(Vec3::new(-0.5, -0.5, -30.0), Vec3::new(0.5, 0.5, -20.0))));
     }
 
     #[test]

@@ -14,17 +14,12 @@ mod ray_triangle;
 
 pub use aabb_aabb::aabb_aabb;
 pub use cone_sphere::{Cone, cone_sphere};
-pub use distance::{
-    closest_point_on_triangle, segment_segment_distance, triangle_triangle_distance,
-};
+pub use distance::{closest_point_on_triangle, segment_segment_distance, triangle_triangle_distance};
 pub use frustum::Frustum;
 pub use frustum_aabb::{frustum_aabb, separating_axes};
-pub use point_in::{
-    point_in_aabb, point_in_convex_polygon, point_in_convex_polygon_3d, point_in_frustum,
-};
+pub use point_in::{point_in_aabb, point_in_convex_polygon, point_in_convex_polygon_3d, point_in_frustum};
 pub use polygon::{
-    CapacityExceeded, ConvexPolygon, convex_hull, order_ccw, segment_intersection, shoelace_area,
-    signed_area,
+    CapacityExceeded, ConvexPolygon, convex_hull, order_ccw, segment_intersection, shoelace_area, signed_area,
 };
 pub use ray_aabb::{SlabHit, ray_aabb, ray_aabb_inv};
 pub use ray_plane::{line_plane, ray_plane};

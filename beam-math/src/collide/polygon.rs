@@ -30,10 +30,7 @@ impl<const N: usize> ConvexPolygon<N> {
     /// An empty polygon.
     #[must_use]
     pub const fn new() -> Self {
-        Self {
-            verts: [Vec2::ZERO; N],
-            len: 0,
-        }
+        Self { verts: [Vec2::ZERO; N], len: 0 }
     }
 
     /// A polygon from vertices in order; fails when there are more than `N`.
@@ -88,11 +85,7 @@ impl<const N: usize> ConvexPolygon<N> {
     /// Mean of the vertices.
     #[must_use]
     pub fn centroid(&self) -> Vec2 {
-        if self.len == 0 {
-            Vec2::ZERO
-        } else {
-            self.vertices().iter().sum::<Vec2>() / self.len as f32
-        }
+        if self.len == 0 { Vec2::ZERO } else { self.vertices().iter().sum::<Vec2>() / self.len as f32 }
     }
 
     /// Split by the line through `a` with normal `n` into the part where `n·(x − a) ≤ 0` (inside)
@@ -135,16 +128,9 @@ impl<const N: usize> ConvexPolygon<N> {
 
     /// Intersection with another convex polygon by clipping against each of its edges
     /// (Sutherland–Hodgman). `other` may have either winding.
-    pub fn clip_by<const M: usize>(
-        &self,
-        other: &ConvexPolygon<M>,
-    ) -> Result<Self, CapacityExceeded> {
+    pub fn clip_by<const M: usize>(&self, other: &ConvexPolygon<M>) -> Result<Self, CapacityExceeded> {
         let w = other.vertices();
-        let sign = if other.signed_area() >= 0.0 {
-            1.0
-        } else {
-            -1.0
-        };
+        let sign = if other.signed_area() >= 0.0 { 1.0 } else { -1.0 };
         let mut out = *self;
         for i in 0..w.len() {
             let e = w[(i + 1) % w.len()] - w[i];
@@ -159,18 +145,11 @@ impl<const N: usize> ConvexPolygon<N> {
 
     /// Intersection of two convex polygons as in 004 App. A.9: the vertices of each inside the other
     /// (A.9.1), the pairwise edge intersections (A.9.2), then `atan2` ordering (A.9.3).
-    pub fn intersect<const M: usize>(
-        &self,
-        other: &ConvexPolygon<M>,
-    ) -> Result<Self, CapacityExceeded> {
+    pub fn intersect<const M: usize>(&self, other: &ConvexPolygon<M>) -> Result<Self, CapacityExceeded> {
         let (a, b) = (self.vertices(), other.vertices());
         let mut out = Self::new();
         let mut add = |p: Vec2| -> Result<(), CapacityExceeded> {
-            if out
-                .vertices()
-                .iter()
-                .all(|q| q.distance_squared(p) > 1e-12 * (1.0 + p.length_squared()))
-            {
+            if out.vertices().iter().all(|q| q.distance_squared(p) > 1e-12 * (1.0 + p.length_squared())) {
                 out.push(p)?;
             }
             Ok(())
@@ -187,9 +166,7 @@ impl<const N: usize> ConvexPolygon<N> {
         }
         for i in 0..a.len() {
             for j in 0..b.len() {
-                if let Some(k) =
-                    segment_intersection(a[i], a[(i + 1) % a.len()], b[j], b[(j + 1) % b.len()])
-                {
+                if let Some(k) = segment_intersection(a[i], a[(i + 1) % a.len()], b[j], b[(j + 1) % b.len()]) {
                     add(k)?;
                 }
             }
@@ -252,10 +229,7 @@ pub fn segment_intersection(m: Vec2, n: Vec2, p: Vec2, q: Vec2) -> Option<Vec2> 
     let k = Vec2::new((b2 * c1 - b1 * c2) / det, (a1 * c2 - a2 * c1) / det);
     let within = |u: Vec2, v: Vec2| {
         let tol = 1e-5 * (1.0 + u.abs().max(v.abs()).max_element());
-        u.min(v).x - tol <= k.x
-            && u.max(v).x + tol >= k.x
-            && u.min(v).y - tol <= k.y
-            && u.max(v).y + tol >= k.y
+        u.min(v).x - tol <= k.x && u.max(v).x + tol >= k.x && u.min(v).y - tol <= k.y && u.max(v).y + tol >= k.y
     };
     (within(m, n) && within(p, q)).then_some(k)
 }
@@ -267,10 +241,7 @@ fn point_in_or_on(p: Vec2, hull: &[Vec2]) -> bool {
         return false;
     }
     let s = signed_area(hull).signum();
-    let scale = hull
-        .iter()
-        .fold(0.0f32, |m, v| m.max(v.abs().max_element()))
-        .max(p.abs().max_element());
+    let scale = hull.iter().fold(0.0f32, |m, v| m.max(v.abs().max_element())).max(p.abs().max_element());
     let tol = 1e-6 * scale * scale;
     (0..n).all(|i| s * (hull[(i + 1) % n] - hull[i]).perp_dot(p - hull[i]) >= -tol)
 }
@@ -307,10 +278,7 @@ pub fn convex_hull<const N: usize>(points: &[Vec2]) -> ConvexPolygon<N> {
     }
     let count = k.saturating_sub(1).min(N);
     hull[..count].copy_from_slice(&flat[..count]);
-    ConvexPolygon {
-        verts: hull,
-        len: if count >= 3 { count } else { 0 },
-    }
+    ConvexPolygon { verts: hull, len: if count >= 3 { count } else { 0 } }
 }
 
 #[cfg(test)]
@@ -320,22 +288,13 @@ mod tests {
     type Poly = ConvexPolygon<8>;
 
     fn square(o: Vec2, s: f32) -> Poly {
-        Poly::from_slice(&[
-            o,
-            o + Vec2::new(s, 0.0),
-            o + Vec2::splat(s),
-            o + Vec2::new(0.0, s),
-        ])
-        .unwrap()
+        Poly::from_slice(&[o, o + Vec2::new(s, 0.0), o + Vec2::splat(s), o + Vec2::new(0.0, s)]).unwrap()
     }
 
     #[test]
     fn shoelace_hand_worked() {
         assert_eq!(square(Vec2::ZERO, 2.0).area(), 4.0);
-        assert_eq!(
-            shoelace_area(&[Vec2::ZERO, Vec2::new(4.0, 0.0), Vec2::new(0.0, 3.0)]),
-            6.0
-        );
+        assert_eq!(shoelace_area(&[Vec2::ZERO, Vec2::new(4.0, 0.0), Vec2::new(0.0, 3.0)]), 6.0);
         let mut cw = [Vec2::ZERO, Vec2::new(0.0, 3.0), Vec2::new(4.0, 0.0)];
         assert_eq!(signed_area(&cw), -6.0);
         order_ccw(&mut cw);
@@ -350,11 +309,7 @@ mod tests {
         assert!((i.area() - 1.0).abs() < 1e-6, "{i:?}");
         let c = a.clip_by(&b).unwrap();
         assert!((c.area() - 1.0).abs() < 1e-6);
-        assert!(
-            a.intersect(&square(Vec2::splat(5.0), 1.0))
-                .unwrap()
-                .is_empty()
-        );
+        assert!(a.intersect(&square(Vec2::splat(5.0), 1.0)).unwrap().is_empty());
     }
 
     #[test]
@@ -363,42 +318,20 @@ mod tests {
         let (i, o) = a.split(Vec2::new(0.5, 0.0), Vec2::X, 0.0).unwrap();
         assert!((i.area() - 1.0).abs() < 1e-6 && (o.area() - 3.0).abs() < 1e-6);
         // A line through a corner within eps does not split.
-        let (i, o) = a
-            .split(Vec2::new(2.0, 2.0), Vec2::new(1.0, 1.0).normalize(), 1e-4)
-            .unwrap();
+        let (i, o) = a.split(Vec2::new(2.0, 2.0), Vec2::new(1.0, 1.0).normalize(), 1e-4).unwrap();
         assert!((i.area() - 4.0).abs() < 1e-6 && o.is_empty());
     }
 
     #[test]
     fn segments() {
-        let k = segment_intersection(
-            Vec2::ZERO,
-            Vec2::splat(2.0),
-            Vec2::new(0.0, 2.0),
-            Vec2::new(2.0, 0.0),
-        );
+        let k = segment_intersection(Vec2::ZERO, Vec2::splat(2.0), Vec2::new(0.0, 2.0), Vec2::new(2.0, 0.0));
         assert_eq!(k, Some(Vec2::ONE));
-        assert_eq!(
-            segment_intersection(
-                Vec2::ZERO,
-                Vec2::ONE,
-                Vec2::new(3.0, 0.0),
-                Vec2::new(0.0, 3.0)
-            ),
-            None
-        );
+        assert_eq!(segment_intersection(Vec2::ZERO, Vec2::ONE, Vec2::new(3.0, 0.0), Vec2::new(0.0, 3.0)), None);
     }
 
     #[test]
     fn hull_of_square_with_interior_points() {
-        let pts = [
-            Vec2::ZERO,
-            Vec2::splat(0.5),
-            Vec2::X,
-            Vec2::ONE,
-            Vec2::new(0.2, 0.7),
-            Vec2::Y,
-        ];
+        let pts = [Vec2::ZERO, Vec2::splat(0.5), Vec2::X, Vec2::ONE, Vec2::new(0.2, 0.7), Vec2::Y];
         let h: ConvexPolygon<8> = convex_hull(&pts);
         assert_eq!(h.len(), 4);
         assert!((h.signed_area() - 1.0).abs() < 1e-6);
@@ -407,9 +340,6 @@ mod tests {
     #[test]
     fn capacity_is_reported() {
         let tri = ConvexPolygon::<3>::from_slice(&[Vec2::ZERO, Vec2::X, Vec2::Y]).unwrap();
-        assert_eq!(
-            tri.split(Vec2::new(0.2, 0.0), Vec2::X, 0.0),
-            Err(CapacityExceeded)
-        );
+        assert_eq!(tri.split(Vec2::new(0.2, 0.0), Vec2::X, 0.0), Err(CapacityExceeded));
     }
 }

@@ -16,11 +16,7 @@ impl SlabHit {
     /// The `collisionDist` of Alg. A.1: `t_min`, or `t_max` when the origin is inside the box.
     #[must_use]
     pub fn distance(self) -> f32 {
-        if self.t_min < 0.0 {
-            self.t_max
-        } else {
-            self.t_min
-        }
+        if self.t_min < 0.0 { self.t_max } else { self.t_min }
     }
 }
 

@@ -35,9 +35,6 @@ mod tests {
         assert_eq!(ray_plane(ray, plane), Some(1.5));
         assert_eq!(ray_plane(Ray::new(Vec3::ZERO, Vec3::X), plane), None);
         assert_eq!(ray_plane(Ray::new(Vec3::ZERO, -Vec3::Z), plane), None);
-        assert_eq!(
-            line_plane(Ray::new(Vec3::ZERO, -Vec3::Z), plane),
-            Some(-3.0)
-        );
+        assert_eq!(line_plane(Ray::new(Vec3::ZERO, -Vec3::Z), plane), Some(-3.0));
     }
 }

@@ -44,15 +44,8 @@ impl WatertightRay {
         }
         let (sx, sy, sz) = (d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
         let unit = |k: usize| Vec3A::from(Vec3::AXES[k]);
-        let rows = [
-            unit(kx) - sx * unit(kz),
-            unit(ky) - sy * unit(kz),
-            sz * unit(kz),
-        ];
-        Self {
-            origin: ray.origin.into(),
-            shear: Mat3A::from_cols(rows[0], rows[1], rows[2]).transpose(),
-        }
+        let rows = [unit(kx) - sx * unit(kz), unit(ky) - sy * unit(kz), sz * unit(kz)];
+        Self { origin: ray.origin.into(), shear: Mat3A::from_cols(rows[0], rows[1], rows[2]).transpose() }
     }
 
     /// Intersect one triangle; hits with `t` in `[t_min, t_max]` are returned. Both faces count.
@@ -67,9 +60,7 @@ impl WatertightRay {
         let mut w = b.x * a.y - b.y * a.x;
         if u == 0.0 || v == 0.0 || w == 0.0 {
             // Fall back to double precision on the edges, as the paper prescribes.
-            let f = |px: f32, py: f32, qx: f32, qy: f32| {
-                (px as f64 * qy as f64 - py as f64 * qx as f64) as f32
-            };
+            let f = |px: f32, py: f32, qx: f32, qy: f32| (px as f64 * qy as f64 - py as f64 * qx as f64) as f32;
             u = f(c.x, c.y, b.x, b.y);
             v = f(a.x, a.y, c.x, c.y);
             w = f(b.x, b.y, a.x, a.y);
@@ -88,11 +79,7 @@ impl WatertightRay {
             return None;
         }
         // u, v, w weight vertices 0, 1, 2.
-        Some(TriangleHit {
-            t,
-            u: v * inv,
-            v: w * inv,
-        })
+        Some(TriangleHit { t, u: v * inv, v: w * inv })
     }
 }
 
@@ -108,11 +95,7 @@ mod tests {
 
     #[test]
     fn hand_worked_hit() {
-        let tri = Triangle::new(
-            Vec3::new(0.0, 0.0, 2.0),
-            Vec3::new(1.0, 0.0, 2.0),
-            Vec3::new(0.0, 1.0, 2.0),
-        );
+        let tri = Triangle::new(Vec3::new(0.0, 0.0, 2.0), Vec3::new(1.0, 0.0, 2.0), Vec3::new(0.0, 1.0, 2.0));
         let h = ray_triangle(Ray::new(Vec3::new(0.25, 0.25, 0.0), Vec3::Z), &tri).unwrap();
         assert!((h.t - 2.0).abs() < 1e-6);
         assert!((h.u - 0.25).abs() < 1e-6 && (h.v - 0.25).abs() < 1e-6);
@@ -136,10 +119,7 @@ mod tests {
             let s = i as f32 / 1000.0;
             let target = a + s * (c - a);
             let ray = Ray::new(eye, target - eye);
-            assert!(
-                ray_triangle(ray, &t1).is_some() || ray_triangle(ray, &t2).is_some(),
-                "crack at {s}"
-            );
+            assert!(ray_triangle(ray, &t1).is_some() || ray_triangle(ray, &t2).is_some(), "crack at {s}");
         }
     }
 

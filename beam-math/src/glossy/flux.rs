@@ -59,29 +59,20 @@ impl LightBeam {
     #[must_use]
     pub fn in_front(&self, f: Vec3, plane: Plane) -> bool {
         let _ = f;
-        self.origins
-            .iter()
-            .zip(&self.dirs)
-            .all(|(o, d)| line_plane(Ray::new(*o, *d), plane).is_some_and(|t| t >= 0.0))
+        self.origins.iter().zip(&self.dirs).all(|(o, d)| line_plane(Ray::new(*o, *d), plane).is_some_and(|t| t >= 0.0))
     }
 }
 
 /// In-beam test: the fragment lies in the flux triangle (barycentric coordinates all `≥ 0`).
 #[must_use]
 pub fn in_beam(flux_triangle: &Triangle, f: Vec3) -> bool {
-    flux_triangle
-        .barycentric(f)
-        .is_some_and(|w| w.min_element() >= 0.0)
+    flux_triangle.barycentric(f).is_some_and(|w| w.min_element() >= 0.0)
 }
 
 /// `E = Φs/A⊥ · cos θ` (002 eq. 1).
 #[must_use]
 pub fn specular_irradiance(flux: f32, area_perp: f32, cos_theta: f32) -> f32 {
-    if area_perp > 0.0 {
-        flux / area_perp * cos_theta
-    } else {
-        0.0
-    }
+    if area_perp > 0.0 { flux / area_perp * cos_theta } else { 0.0 }
 }
 
 /// Solid angle of a triangle seen from `eye` (Van Oosterom and Strackee), for `Ω_light` in
@@ -103,24 +94,14 @@ mod tests {
     fn parallel_beam_irradiance() {
         // A beam falling straight down through a unit right triangle: flux 1 over area 0.5.
         let beam = LightBeam {
-            origins: [
-                Vec3::new(0.0, 0.0, 2.0),
-                Vec3::new(1.0, 0.0, 2.0),
-                Vec3::new(0.0, 1.0, 2.0),
-            ],
+            origins: [Vec3::new(0.0, 0.0, 2.0), Vec3::new(1.0, 0.0, 2.0), Vec3::new(0.0, 1.0, 2.0)],
             dirs: [-Vec3::Z; 3],
             flux: 1.0,
         };
         let e = beam.specular_irradiance(Vec3::new(0.2, 0.2, 0.0), Vec3::Z);
         assert!((e - 2.0).abs() < 1e-5);
-        assert_eq!(
-            beam.specular_irradiance(Vec3::new(0.8, 0.8, 0.0), Vec3::Z),
-            0.0
-        );
-        assert_eq!(
-            beam.specular_irradiance(Vec3::new(0.2, 0.2, 3.0), Vec3::Z),
-            0.0
-        );
+        assert_eq!(beam.specular_irradiance(Vec3::new(0.8, 0.8, 0.0), Vec3::Z), 0.0);
+        assert_eq!(beam.specular_irradiance(Vec3::new(0.2, 0.2, 3.0), Vec3::Z), 0.0);
     }
 
     #[test]

@@ -27,12 +27,7 @@ fn scatter_angle(origin: Vec3, dir: Vec3, f: Vec3) -> f32 {
 /// the flux plane, where `l̄_a` is the unit vector from the fragment to `A_F` and `φ_a` the angle at
 /// `A_W` between `F − A_W` and the scattered direction.
 #[must_use]
-pub fn angular_domain(
-    beam: &LightBeam,
-    flux: &Triangle,
-    f: Vec3,
-    frame: (Vec3, Vec3),
-) -> [Vec2; 3] {
+pub fn angular_domain(beam: &LightBeam, flux: &Triangle, f: Vec3, frame: (Vec3, Vec3)) -> [Vec2; 3] {
     core::array::from_fn(|i| {
         let l = (flux.v[i] - f).normalize_or_zero();
         scatter_angle(beam.origins[i], beam.dirs[i], f) * Vec2::new(l.dot(frame.0), l.dot(frame.1))
@@ -47,13 +42,7 @@ impl LightBeam {
     /// `F` crosses it; the edge parameter `s` gives `D_W` on the scatterer and `S_D = D_F − D_W`,
     /// hence `φ_d` (zero on the boundary, so the estimate is continuous there).
     #[must_use]
-    pub fn glossy_irradiance(
-        &self,
-        f: Vec3,
-        normal: Vec3,
-        sigma: f32,
-        method: VolumeMethod,
-    ) -> f32 {
+    pub fn glossy_irradiance(&self, f: Vec3, normal: Vec3, sigma: f32, method: VolumeMethod) -> f32 {
         let Some(plane) = self.flux_plane(f) else {
             return 0.0;
         };
@@ -79,25 +68,14 @@ impl LightBeam {
         super::flux::specular_irradiance(self.flux, area, cos_theta) * p_e.min(1.0)
     }
 
-    fn tessellated_volume(
-        &self,
-        flux: &Triangle,
-        f: Vec3,
-        frame: (Vec3, Vec3),
-        abc: [Vec2; 3],
-        sigma: f32,
-    ) -> f32 {
+    fn tessellated_volume(&self, flux: &Triangle, f: Vec3, frame: (Vec3, Vec3), abc: [Vec2; 3], sigma: f32) -> f32 {
         let nf = flux.scaled_normal();
         // Edge k joins vertices k and k+1; its outward normal in the flux plane.
         let outward = |k: usize| {
             let e = flux.v[(k + 1) % 3] - flux.v[k];
             let m = e.cross(nf);
             let centroid = (flux.v[0] + flux.v[1] + flux.v[2]) / 3.0;
-            if m.dot(flux.v[k] - centroid) < 0.0 {
-                -m
-            } else {
-                m
-            }
+            if m.dot(flux.v[k] - centroid) < 0.0 { -m } else { m }
         };
         for k in 0..3 {
             // D lies on edge k when F is outside that edge and inside the other two's wedge.
@@ -140,11 +118,7 @@ mod tests {
     #[test]
     fn glossy_tends_to_specular_for_small_sigma() {
         let beam = LightBeam {
-            origins: [
-                Vec3::new(0.0, 0.0, 2.0),
-                Vec3::new(1.0, 0.0, 2.0),
-                Vec3::new(0.0, 1.0, 2.0),
-            ],
+            origins: [Vec3::new(0.0, 0.0, 2.0), Vec3::new(1.0, 0.0, 2.0), Vec3::new(0.0, 1.0, 2.0)],
             dirs: [-Vec3::Z; 3],
             flux: 1.0,
         };
@@ -153,15 +127,9 @@ mod tests {
         let glossy = beam.glossy_irradiance(f, Vec3::Z, 1e-3, VolumeMethod::Exact);
         assert!((spec - glossy).abs() < 1e-3 * spec, "{spec} {glossy}");
         // Outside the beam a glossy scatterer still lights the fragment a little.
-        let out =
-            beam.glossy_irradiance(Vec3::new(0.7, 0.7, 0.0), Vec3::Z, 0.2, VolumeMethod::Exact);
+        let out = beam.glossy_irradiance(Vec3::new(0.7, 0.7, 0.0), Vec3::Z, 0.2, VolumeMethod::Exact);
         assert!(out > 0.0 && out < spec);
-        let tess = beam.glossy_irradiance(
-            Vec3::new(0.7, 0.7, 0.0),
-            Vec3::Z,
-            0.2,
-            VolumeMethod::Tessellated,
-        );
+        let tess = beam.glossy_irradiance(Vec3::new(0.7, 0.7, 0.0), Vec3::Z, 0.2, VolumeMethod::Tessellated);
         assert!(tess > 0.0);
     }
 }

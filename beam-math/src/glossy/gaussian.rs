@@ -35,9 +35,7 @@ pub fn owens_t(h: f64, a: f64) -> f64 {
             return 0.5 * (1.0 - normal_cdf(h));
         }
         let ah = a * h;
-        return 0.5 * normal_cdf(h) + 0.5 * normal_cdf(ah)
-            - normal_cdf(h) * normal_cdf(ah)
-            - owens_t(ah, 1.0 / a);
+        return 0.5 * normal_cdf(h) + 0.5 * normal_cdf(ah) - normal_cdf(h) * normal_cdf(ah) - owens_t(ah, 1.0 / a);
     }
     if h > 40.0 {
         return 0.0;
@@ -87,9 +85,7 @@ pub fn gaussian_volume(a: Vec2, b: Vec2, c: Vec2, sigma: f32) -> f32 {
         let inside = [(a, b), (b, c), (c, a)]
             .iter()
             .map(|(p, q)| p.perp_dot(*q).signum())
-            .fold((true, true), |(pos, neg), x| {
-                (pos && x >= 0.0, neg && x <= 0.0)
-            });
+            .fold((true, true), |(pos, neg), x| (pos && x >= 0.0, neg && x <= 0.0));
         return if inside.0 || inside.1 { 1.0 } else { 0.0 };
     }
     (sector_volume(a, b, s) + sector_volume(b, c, s) + sector_volume(c, a, s)).abs() as f32
@@ -109,13 +105,7 @@ pub fn gaussian(p: Vec2, sigma: f32) -> f32 {
 /// `CAD` and `CDB`, `P_E = ½‖COA + AOD‖·P_CAD + ½‖BOC + DOB‖·P_CDB` (the paper prints `P_CAD` twice;
 /// the second is `P_CDB`). Outside without a split point: `area(ABC)·P_ABC`.
 #[must_use]
-pub fn gaussian_volume_tessellated(
-    a: Vec2,
-    b: Vec2,
-    c: Vec2,
-    split: Option<Vec2>,
-    sigma: f32,
-) -> f32 {
+pub fn gaussian_volume_tessellated(a: Vec2, b: Vec2, c: Vec2, split: Option<Vec2>, sigma: f32) -> f32 {
     let p = |x: Vec2| gaussian(x, sigma);
     let area = |x: Vec2, y: Vec2, z: Vec2| 0.5 * ((y - x).perp_dot(z - x)).abs();
     let o = Vec2::ZERO;
@@ -129,9 +119,7 @@ pub fn gaussian_volume_tessellated(
         return (tri(a, b) + tri(b, c) + tri(c, a)).abs();
     }
     match split {
-        Some(d) => {
-            area(c, a, d) * (p(c) + p(a) + p(d)) / 3.0 + area(c, d, b) * (p(c) + p(d) + p(b)) / 3.0
-        }
+        Some(d) => area(c, a, d) * (p(c) + p(a) + p(d)) / 3.0 + area(c, d, b) * (p(c) + p(d) + p(b)) / 3.0,
         None => area(a, b, c) * (p(a) + p(b) + p(c)) / 3.0,
     }
 }
@@ -143,9 +131,7 @@ mod tests {
     #[test]
     fn owens_t_known_values() {
         // T(0, a) = atan(a)/2π; T(h, 1) = Φ(h)(1 − Φ(h))/2.
-        assert!(
-            (owens_t(0.0, 0.5) - libm::atan(0.5) / (2.0 * core::f64::consts::PI)).abs() < 1e-14
-        );
+        assert!((owens_t(0.0, 0.5) - libm::atan(0.5) / (2.0 * core::f64::consts::PI)).abs() < 1e-14);
         let h = 0.7;
         assert!((owens_t(h, 1.0) - 0.5 * normal_cdf(h) * (1.0 - normal_cdf(h))).abs() < 1e-13);
         // Continuity across a = 1.
@@ -159,42 +145,24 @@ mod tests {
                 s += f(a * i as f64 / n as f64) * if i % 2 == 1 { 4.0 } else { 2.0 };
             }
             let simpson = s * a / n as f64 / 3.0 / (2.0 * core::f64::consts::PI);
-            assert!(
-                (owens_t(h, a) - simpson).abs() < 1e-12,
-                "T({h}, {a}) = {} vs {simpson}",
-                owens_t(h, a)
-            );
+            assert!((owens_t(h, a) - simpson).abs() < 1e-12, "T({h}, {a}) = {} vs {simpson}", owens_t(h, a));
         }
     }
 
     #[test]
     fn whole_plane_and_half_plane() {
         let big = 1e3;
-        let v = gaussian_volume(
-            Vec2::new(-big, -big),
-            Vec2::new(big, -big),
-            Vec2::new(0.0, big),
-            1.0,
-        );
+        let v = gaussian_volume(Vec2::new(-big, -big), Vec2::new(big, -big), Vec2::new(0.0, big), 1.0);
         assert!((v - 1.0).abs() < 1e-6);
         // A huge triangle with the origin on an edge: half the mass.
-        let v = gaussian_volume(
-            Vec2::new(-big, 0.0),
-            Vec2::new(big, 0.0),
-            Vec2::new(0.0, big),
-            1.0,
-        );
+        let v = gaussian_volume(Vec2::new(-big, 0.0), Vec2::new(big, 0.0), Vec2::new(0.0, big), 1.0);
         assert!((v - 0.5).abs() < 1e-5, "{v}");
     }
 
     #[test]
     fn tessellated_is_continuous_at_the_boundary() {
         // Origin on edge AB at its midpoint: the inside formula and the split formula (D = O) agree.
-        let (a, b, c) = (
-            Vec2::new(-0.5, 0.0),
-            Vec2::new(0.5, 0.0),
-            Vec2::new(0.1, 0.8),
-        );
+        let (a, b, c) = (Vec2::new(-0.5, 0.0), Vec2::new(0.5, 0.0), Vec2::new(0.1, 0.8));
         let inside = gaussian_volume_tessellated(a, b, c, None, 0.5);
         let outside = gaussian_volume_tessellated(a, b, c, Some(Vec2::ZERO), 0.5);
         assert!((inside - outside).abs() < 1e-6, "{inside} {outside}");

@@ -7,6 +7,4 @@ mod gaussian;
 
 pub use flux::{LightBeam, in_beam, solid_angle, specular_irradiance};
 pub use gather::{VolumeMethod, angular_domain};
-pub use gaussian::{
-    gaussian, gaussian_volume, gaussian_volume_tessellated, owens_t, sector_volume,
-};
+pub use gaussian::{gaussian, gaussian_volume, gaussian_volume_tessellated, owens_t, sector_volume};

@@ -92,12 +92,7 @@ pub fn projected_area_perspective_fast(aabb: Aabb, eye: Vec3, forward: Vec3) -> 
         let bit = 1 << axis;
         let (a, b) = (1 << ((axis + 1) % 3), 1 << ((axis + 2) % 3));
         let base = if side == 1 { bit } else { 0 };
-        let quad = [
-            image[base],
-            image[base | a],
-            image[base | a | b],
-            image[base | b],
-        ];
+        let quad = [image[base], image[base | a], image[base | a | b], image[base | b]];
         area += crate::collide::shoelace_area(&quad);
     }
     Some(area)
@@ -120,37 +115,20 @@ mod tests {
         // A unit square face at distance 2 straight ahead: image area 1/4.
         let sq = Aabb::new(Vec3::new(-0.5, -0.5, 2.0), Vec3::new(0.5, 0.5, 2.0));
         assert!((projected_area_perspective(sq, Vec3::ZERO, Vec3::Z).unwrap() - 0.25).abs() < 1e-5);
-        assert_eq!(
-            projected_area_perspective(b, Vec3::splat(0.5), Vec3::Z),
-            None
-        );
+        assert_eq!(projected_area_perspective(b, Vec3::splat(0.5), Vec3::Z), None);
     }
 
     #[test]
     fn fast_forms_equal_the_hull_forms() {
         let b = Aabb::new(Vec3::new(-0.3, 0.2, 1.0), Vec3::new(0.9, 1.4, 2.5));
-        for d in [
-            Vec3::X,
-            Vec3::new(0.3, -0.5, 0.8),
-            Vec3::new(-1.0, 2.0, 0.1),
-        ] {
-            assert!(
-                (projected_area_orthographic(b, d) - projected_area_orthographic_fast(b, d)).abs()
-                    < 1e-5
-            );
+        for d in [Vec3::X, Vec3::new(0.3, -0.5, 0.8), Vec3::new(-1.0, 2.0, 0.1)] {
+            assert!((projected_area_orthographic(b, d) - projected_area_orthographic_fast(b, d)).abs() < 1e-5);
         }
-        for eye in [
-            Vec3::new(0.2, 0.5, -3.0),
-            Vec3::new(4.0, 3.0, -2.0),
-            Vec3::new(0.3, 5.0, 1.5),
-        ] {
+        for eye in [Vec3::new(0.2, 0.5, -3.0), Vec3::new(4.0, 3.0, -2.0), Vec3::new(0.3, 5.0, 1.5)] {
             let f = b.center() - eye;
             let hull = projected_area_perspective(b, eye, f).unwrap();
             let fast = projected_area_perspective_fast(b, eye, f).unwrap();
-            assert!(
-                (hull - fast).abs() < 1e-5 * hull.max(1.0),
-                "{hull} vs {fast}"
-            );
+            assert!((hull - fast).abs() < 1e-5 * hull.max(1.0), "{hull} vs {fast}");
         }
     }
 }

@@ -10,9 +10,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// The affine triangle `Δa(t)`: `Hᵢ = Pᵢ + t·dᵢ` (000 §5, Fig. 5).
     #[must_use]
     pub fn affine_triangle(&self, t: f32) -> Triangle {
-        Triangle {
-            v: core::array::from_fn(|i| self.base[i] + t * self.dirs[i]),
-        }
+        Triangle { v: core::array::from_fn(|i| self.base[i] + t * self.dirs[i]) }
     }
 
     /// The affine triangle in double precision.
@@ -24,10 +22,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// `±1`: the sign that turns `(P2 − P1) × (P3 − P1)` into the inner normal `n`.
     #[must_use]
     pub fn winding(&self) -> f32 {
-        self.base_triangle()
-            .scaled_normal()
-            .dot(self.normal)
-            .signum()
+        self.base_triangle().scaled_normal().dot(self.normal).signum()
     }
 
     /// The affine plane `Πa(t)` through `Δa(t)` with normal `±(H2 − H1) × (H3 − H1)`, the sign of
@@ -61,11 +56,8 @@ mod tests {
 
     #[test]
     fn affine_triangle_moves_along_directions() {
-        let beam = NonlinearBeam::s1(
-            [Vec3::ZERO, Vec3::X, Vec3::Y],
-            [Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::Z],
-        )
-        .unwrap();
+        let beam =
+            NonlinearBeam::s1([Vec3::ZERO, Vec3::X, Vec3::Y], [Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::Z]).unwrap();
         let a = beam.affine_triangle(2.0);
         assert!((a.v[1] - (Vec3::X + 2.0 * beam.dirs[1])).length() < 1e-6);
         assert!(beam.affine_plane(0.0).normal.dot(Vec3::Z) > 0.0);

@@ -52,13 +52,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
             };
         }
         let patch = Patch::new(&interp, &base, &clamped);
-        Some(Self {
-            base,
-            dirs: clamped,
-            normal,
-            interp,
-            patch,
-        })
+        Some(Self { base, dirs: clamped, normal, interp, patch })
     }
 
     /// The base triangle `Δb`.
@@ -113,9 +107,7 @@ impl NonlinearBeam<S1> {
 #[must_use]
 pub fn heights(tri: &Triangle) -> Vec3 {
     let twice_area = tri.scaled_normal().length();
-    Vec3::from_array(core::array::from_fn(|k| {
-        twice_area / (tri.v[(k + 2) % 3] - tri.v[(k + 1) % 3]).length()
-    }))
+    Vec3::from_array(core::array::from_fn(|k| twice_area / (tri.v[(k + 2) % 3] - tri.v[(k + 1) % 3]).length()))
 }
 
 #[cfg(test)]
@@ -134,19 +126,11 @@ mod tests {
 
     #[test]
     fn ray_at_vertices_and_heights() {
-        let base = [
-            Vec3::ZERO,
-            Vec3::new(2.0, 0.0, 0.0),
-            Vec3::new(0.0, 2.0, 0.0),
-        ];
+        let base = [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)];
         let beam = NonlinearBeam::s1(base, [Vec3::Z; 3]).unwrap();
         let r = beam.ray_at(Vec3::new(0.0, 1.0, 0.0));
         assert_eq!(r.origin, base[1]);
         let h = beam.heights();
-        assert!(
-            (h.x - 2f32.sqrt()).abs() < 1e-6
-                && (h.y - 2.0).abs() < 1e-6
-                && (h.z - 2.0).abs() < 1e-6
-        );
+        assert!((h.x - 2f32.sqrt()).abs() < 1e-6 && (h.y - 2.0).abs() < 1e-6 && (h.z - 2.0).abs() < 1e-6);
     }
 }

@@ -18,15 +18,11 @@ impl<L: Interpolant> NonlinearBeam<L> {
     #[must_use]
     pub fn bounding_cone(&self, extremal: &[Vec3; 3], extra_angle: f32) -> Cone {
         let axis = (extremal[0] + extremal[1] + extremal[2]).normalize_or(self.normal);
-        let cos_min = extremal
-            .iter()
-            .fold(1.0f32, |m, d| m.min(d.normalize().dot(axis)));
+        let cos_min = extremal.iter().fold(1.0f32, |m, d| m.min(d.normalize().dot(axis)));
         let angle = (cos_min.clamp(-1.0, 1.0).acos_() + extra_angle).max(MIN_CONE_ANGLE);
         let centroid = (self.base[0] + self.base[1] + self.base[2]) / 3.0;
         let p = &self.patch;
-        let reach = (0..p.count).fold(0.0f32, |m, i| {
-            m.max(p.origin[i].as_vec3().distance(centroid))
-        });
+        let reach = (0..p.count).fold(0.0f32, |m, i| m.max(p.origin[i].as_vec3().distance(centroid)));
         let apex = centroid - axis * (reach * 1.0001 / angle.sin_());
         Cone { apex, axis, angle }
     }
@@ -40,11 +36,7 @@ mod tests {
     fn cone_contains_sampled_beam_points() {
         let beam = NonlinearBeam::s1(
             [Vec3::ZERO, Vec3::X, Vec3::Y],
-            [
-                Vec3::new(-0.3, -0.3, 1.0),
-                Vec3::new(0.4, -0.1, 1.0),
-                Vec3::new(-0.1, 0.5, 1.0),
-            ],
+            [Vec3::new(-0.3, -0.3, 1.0), Vec3::new(0.4, -0.1, 1.0), Vec3::new(-0.1, 0.5, 1.0)],
         )
         .unwrap();
         let cone = beam.bounding_cone(&beam.extremal_directions(), 0.0);

@@ -37,10 +37,7 @@ pub struct BoundingTriangle {
 
 impl BoundingTriangle {
     /// The whole base triangle (the brute-force case).
-    pub const BASE: Self = Self {
-        lower: Vec3::ZERO,
-        case: BoundingCase::BruteForce,
-    };
+    pub const BASE: Self = Self { lower: Vec3::ZERO, case: BoundingCase::BruteForce };
 
     /// Corners in base barycentric coordinates: corner `i` has `ω_k = m_k` for `k ≠ i`.
     #[must_use]
@@ -83,10 +80,7 @@ impl BoundingTriangle {
     /// of heights `h` (ExpandedBoundingTriangle of Alg. 4).
     #[must_use]
     pub fn expanded(self, d: f32, h: Vec3) -> Self {
-        Self {
-            lower: self.lower - Vec3::splat(d) / h,
-            ..self
-        }
+        Self { lower: self.lower - Vec3::splat(d) / h, ..self }
     }
 }
 
@@ -96,11 +90,7 @@ impl BoundingTriangle {
 #[must_use]
 pub fn enclosing_triangle(bary: impl Iterator<Item = Vec3>, expand: Vec3) -> [Vec3; 3] {
     let m = bary.fold(Vec3::INFINITY, Vec3::min) - expand;
-    BoundingTriangle {
-        lower: m,
-        case: BoundingCase::General,
-    }
-    .corners()
+    BoundingTriangle { lower: m, case: BoundingCase::General }.corners()
 }
 
 /// Per-beam quantities of Alg. 3 / 4 ("all quantities above are pre-computed per B").
@@ -141,11 +131,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// when every `d̂ⱼ` points to the same side of `Πa(t_top)`, which is what its proof (App. B.4)
     /// needs; otherwise it falls back to the general case.
     #[must_use]
-    pub fn bounding_triangle(
-        &self,
-        bounds: &BeamBounds,
-        tri: &Triangle,
-    ) -> Option<BoundingTriangle> {
+    pub fn bounding_triangle(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {
         if self.is_behind(bounds, tri) {
             return None;
         }
@@ -164,11 +150,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// Bounding triangle by the general case alone, for every triangle: the algorithm of [11] that
     /// 000 Fig. 7 compares against. `None` when the triangle is wholly behind the base.
     #[must_use]
-    pub fn bounding_triangle_general(
-        &self,
-        bounds: &BeamBounds,
-        tri: &Triangle,
-    ) -> Option<BoundingTriangle> {
+    pub fn bounding_triangle_general(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {
         (!self.is_behind(bounds, tri)).then(|| self.general_case(bounds, tri))
     }
 
@@ -182,29 +164,15 @@ impl<L: Interpolant> NonlinearBeam<L> {
     fn general_case(&self, bounds: &BeamBounds, tri: &Triangle) -> BoundingTriangle {
         let plane = self.base_plane();
         let base = self.base_triangle();
-        match enclose_transfers(
-            tri,
-            &bounds.extremal,
-            plane,
-            &base,
-            bounds.mu_b,
-            &bounds.heights,
-        ) {
-            Some(lower) => BoundingTriangle {
-                lower,
-                case: BoundingCase::General,
-            },
+        match enclose_transfers(tri, &bounds.extremal, plane, &base, bounds.mu_b, &bounds.heights) {
+            Some(lower) => BoundingTriangle { lower, case: BoundingCase::General },
             None => BoundingTriangle::BASE,
         }
     }
 
     /// Unique-projection case: transfers onto `Πa(t_top)`, the affine plane through the top of the
     /// triangle (largest `t` over its vertices), enclosed, expanded by `(μ_b + t·μ_d)/sin θ_min`.
-    fn unique_projection_case(
-        &self,
-        bounds: &BeamBounds,
-        tri: &Triangle,
-    ) -> Option<BoundingTriangle> {
+    fn unique_projection_case(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {
         let base = self.base.map(|v| v.as_dvec3());
         let dirs = self.dirs.map(|v| v.as_dvec3());
         let mut t_top = f64::NEG_INFINITY;
@@ -224,18 +192,8 @@ impl<L: Interpolant> NonlinearBeam<L> {
             return None;
         }
         let mu = bounds.mu_b + t_top * bounds.mu_d;
-        let lower = enclose_transfers(
-            tri,
-            &bounds.extremal,
-            plane,
-            &affine,
-            mu,
-            &super::beam::heights(&affine),
-        )?;
-        Some(BoundingTriangle {
-            lower,
-            case: BoundingCase::UniqueProjection,
-        })
+        let lower = enclose_transfers(tri, &bounds.extremal, plane, &affine, mu, &super::beam::heights(&affine))?;
+        Some(BoundingTriangle { lower, case: BoundingCase::UniqueProjection })
     }
 }
 
@@ -251,9 +209,7 @@ fn enclose_transfers(
     heights: &Vec3,
 ) -> Option<Vec3> {
     let n = plane.normal.normalize();
-    let sin_min = dirs
-        .iter()
-        .fold(f32::INFINITY, |m, d| m.min(n.dot(*d).abs() / d.length()));
+    let sin_min = dirs.iter().fold(f32::INFINITY, |m, d| m.min(n.dot(*d).abs() / d.length()));
     if !(sin_min > 0.0) {
         return None;
     }
@@ -283,11 +239,7 @@ mod tests {
     fn diverging() -> NonlinearBeam {
         NonlinearBeam::s1(
             [Vec3::ZERO, Vec3::X, Vec3::Y],
-            [
-                Vec3::new(-0.3, -0.3, 1.0),
-                Vec3::new(0.4, -0.1, 1.0),
-                Vec3::new(-0.1, 0.5, 1.0),
-            ],
+            [Vec3::new(-0.3, -0.3, 1.0), Vec3::new(0.4, -0.1, 1.0), Vec3::new(-0.1, 0.5, 1.0)],
         )
         .unwrap()
     }
@@ -297,20 +249,11 @@ mod tests {
         let beam = diverging();
         let bounds = beam.bounds();
         let c = beam.ray_at(Vec3::splat(1.0 / 3.0)).at(20.0);
-        let tri = Triangle::new(
-            c,
-            c + Vec3::new(0.2, 0.0, 0.0),
-            c + Vec3::new(0.0, 0.2, 0.05),
-        );
+        let tri = Triangle::new(c, c + Vec3::new(0.2, 0.0, 0.0), c + Vec3::new(0.0, 0.2, 0.05));
         let ours = beam.bounding_triangle(&bounds, &tri).unwrap();
         let general = beam.bounding_triangle_general(&bounds, &tri).unwrap();
         assert_eq!(ours.case, BoundingCase::UniqueProjection);
-        assert!(
-            ours.area_ratio() < general.area_ratio() / 10.0,
-            "{} vs {}",
-            ours.area_ratio(),
-            general.area_ratio()
-        );
+        assert!(ours.area_ratio() < general.area_ratio() / 10.0, "{} vs {}", ours.area_ratio(), general.area_ratio());
     }
 
     #[test]
@@ -318,34 +261,20 @@ mod tests {
         let beam = diverging();
         let bounds = beam.bounds();
         let c = beam.ray_at(Vec3::splat(1.0 / 3.0)).at(2.0);
-        let tri = Triangle::new(
-            c,
-            c + Vec3::new(30.0, 0.0, 0.0),
-            c + Vec3::new(0.0, 0.1, 0.0),
-        );
-        assert_eq!(
-            beam.bounding_triangle(&bounds, &tri),
-            Some(BoundingTriangle::BASE)
-        );
+        let tri = Triangle::new(c, c + Vec3::new(30.0, 0.0, 0.0), c + Vec3::new(0.0, 0.1, 0.0));
+        assert_eq!(beam.bounding_triangle(&bounds, &tri), Some(BoundingTriangle::BASE));
     }
 
     #[test]
     fn triangle_behind_the_base_is_culled() {
         let beam = diverging();
-        let tri = Triangle::new(
-            Vec3::new(0.0, 0.0, -1.0),
-            Vec3::new(1.0, 0.0, -1.0),
-            Vec3::new(0.0, 1.0, -2.0),
-        );
+        let tri = Triangle::new(Vec3::new(0.0, 0.0, -1.0), Vec3::new(1.0, 0.0, -1.0), Vec3::new(0.0, 1.0, -2.0));
         assert_eq!(beam.bounding_triangle(&beam.bounds(), &tri), None);
     }
 
     #[test]
     fn corners_and_areas() {
-        let b = BoundingTriangle {
-            lower: Vec3::new(-0.5, 0.0, 0.0),
-            case: BoundingCase::General,
-        };
+        let b = BoundingTriangle { lower: Vec3::new(-0.5, 0.0, 0.0), case: BoundingCase::General };
         assert_eq!(b.area_ratio(), 2.25);
         assert_eq!(b.clipped_area_ratio(), 1.0);
         let c = b.corners();

@@ -37,14 +37,9 @@ impl BumpBeam {
         let t = (tilt.x * u + tilt.y * v).normalize();
         let axis = d.cross(t).normalize_or_zero();
         let a = self.delta * len;
-        let rotated =
-            d * a.cos_() + axis.cross(d) * a.sin_() + axis * axis.dot(d) * (1.0 - a.cos_());
+        let rotated = d * a.cos_() + axis.cross(d) * a.sin_() + axis * axis.dot(d) * (1.0 - a.cos_());
         let z = rotated.dot(n);
-        let dir = if z >= super::beam::MIN_ELEVATION {
-            rotated
-        } else {
-            d
-        };
+        let dir = if z >= super::beam::MIN_ELEVATION { rotated } else { d };
         Ray::new(ray.origin, dir)
     }
 
@@ -61,24 +56,14 @@ impl BumpBeam {
     /// by `D = max‖QᵢPᵢⱼ‖·sin τ / sin(θ3 − τ)`, `τ = δ + φ`. When `θ3 ≤ τ` no finite `D` exists and
     /// the whole base is returned. `None` when the triangle lies behind the base.
     #[must_use]
-    pub fn bounding_triangle(
-        &self,
-        bounds: &BeamBounds,
-        tri: &Triangle,
-    ) -> Option<BoundingTriangle> {
+    pub fn bounding_triangle(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {
         let s1 = self.beam.bounding_triangle(bounds, tri)?;
         if s1 == BoundingTriangle::BASE {
             return Some(s1);
         }
         let n = self.beam.normal;
         let tau = self.delta + self.spread();
-        let theta2 = self
-            .beam
-            .dirs
-            .iter()
-            .fold(1.0f32, |m, d| m.min(n.dot(*d)))
-            .clamp(-1.0, 1.0)
-            .asin_();
+        let theta2 = self.beam.dirs.iter().fold(1.0f32, |m, d| m.min(n.dot(*d))).clamp(-1.0, 1.0).asin_();
         let theta3 = if theta2 > tau {
             theta2
         } else {
@@ -107,11 +92,7 @@ impl BumpBeam {
         let b = &self.beam;
         let mut s = 1.0f32;
         for q in tri.v {
-            let (sol, count) = s1_solutions(
-                b.base.map(|v| v.as_dvec3()),
-                b.dirs.map(|v| v.as_dvec3()),
-                q.as_dvec3(),
-            );
+            let (sol, count) = s1_solutions(b.base.map(|v| v.as_dvec3()), b.dirs.map(|v| v.as_dvec3()), q.as_dvec3());
             let mut any = false;
             for &(w, t) in &sol[..count] {
                 if t > 0.0 {
@@ -142,11 +123,7 @@ mod tests {
     fn perturbation_angle_is_bounded_by_delta() {
         let beam = NonlinearBeam::s1(
             [Vec3::ZERO, Vec3::X, Vec3::Y],
-            [
-                Vec3::new(-0.2, -0.2, 1.0),
-                Vec3::new(0.2, 0.0, 1.0),
-                Vec3::new(0.0, 0.2, 1.0),
-            ],
+            [Vec3::new(-0.2, -0.2, 1.0), Vec3::new(0.2, 0.0, 1.0), Vec3::new(0.0, 0.2, 1.0)],
         )
         .unwrap();
         let bump = BumpBeam { beam, delta: 0.1 };

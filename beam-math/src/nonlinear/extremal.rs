@@ -28,9 +28,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
         };
         let lift = |q: Vec2| (q.x * u + q.y * v + n).normalize();
         let to3 = |q: Vec2| Vec3::new(q.x, q.y, 0.0);
-        let reference = Triangle {
-            v: self.dirs.map(|d| to3(flat(d))),
-        };
+        let reference = Triangle { v: self.dirs.map(|d| to3(flat(d))) };
         // A degenerate direction triangle (nearly parallel rays): use the shape of the base instead.
         let reference = if reference.area() > 1e-8 {
             reference
@@ -38,12 +36,9 @@ impl<L: Interpolant> NonlinearBeam<L> {
             let c = (reference.v[0] + reference.v[1] + reference.v[2]) / 3.0;
             let b = self.base.map(|x| to3(Vec2::new(x.dot(u), x.dot(v))));
             let bc = (b[0] + b[1] + b[2]) / 3.0;
-            Triangle {
-                v: b.map(|x| c + (x - bc) * 1e-3),
-            }
+            Triangle { v: b.map(|x| c + (x - bc) * 1e-3) }
         };
-        let bary =
-            (0..p.count).filter_map(|i| reference.barycentric(to3(flat(p.direction[i].as_vec3()))));
+        let bary = (0..p.count).filter_map(|i| reference.barycentric(to3(flat(p.direction[i].as_vec3()))));
         let corners = enclosing_triangle(bary, Vec3::ZERO);
         corners.map(|w| lift(reference.point(w).truncate()))
     }
@@ -57,11 +52,7 @@ mod tests {
     #[test]
     fn s3_directions_are_inside_the_extremal_cone() {
         let base = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let dirs = [
-            Vec3::new(-0.2, -0.2, 1.0),
-            Vec3::new(0.3, 0.0, 1.0),
-            Vec3::new(0.0, 0.3, 1.0),
-        ];
+        let dirs = [Vec3::new(-0.2, -0.2, 1.0), Vec3::new(0.3, 0.0, 1.0), Vec3::new(0.0, 0.3, 1.0)];
         let normals = [
             Vec3::new(-0.4, -0.4, 1.0).normalize(),
             Vec3::new(0.5, 0.0, 1.0).normalize(),

@@ -20,14 +20,8 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// classify the brute-force case of Alg. 3 and 4 quickly).
     #[must_use]
     pub fn contains_s1(&self, q: Vec3) -> bool {
-        let (sol, n) = s1_solutions(
-            self.base.map(|v| v.as_dvec3()),
-            self.dirs.map(|v| v.as_dvec3()),
-            q.as_dvec3(),
-        );
-        sol[..n]
-            .iter()
-            .any(|&(w, t)| t >= 0.0 && w.min_element() >= -f64::from(BARY_TOLERANCE))
+        let (sol, n) = s1_solutions(self.base.map(|v| v.as_dvec3()), self.dirs.map(|v| v.as_dvec3()), q.as_dvec3());
+        sol[..n].iter().any(|&(w, t)| t >= 0.0 && w.min_element() >= -f64::from(BARY_TOLERANCE))
     }
 }
 
@@ -39,11 +33,7 @@ mod tests {
     fn hand_worked() {
         let beam = NonlinearBeam::s1(
             [Vec3::ZERO, Vec3::X, Vec3::Y],
-            [
-                Vec3::new(-0.5, -0.5, 1.0),
-                Vec3::new(0.5, 0.0, 1.0),
-                Vec3::new(0.0, 0.5, 1.0),
-            ],
+            [Vec3::new(-0.5, -0.5, 1.0), Vec3::new(0.5, 0.0, 1.0), Vec3::new(0.0, 0.5, 1.0)],
         )
         .unwrap();
         // The cross-section at height 2 spans roughly x, y ∈ [−1, 2].
@@ -51,9 +41,6 @@ mod tests {
         assert!(beam.contains(Vec3::new(-0.8, -0.8, 2.0)));
         assert!(!beam.contains(Vec3::new(-0.8, -0.8, 0.5)));
         assert!(!beam.contains(Vec3::new(0.2, 0.2, -1.0)));
-        assert_eq!(
-            beam.contains(Vec3::new(0.2, 0.2, 2.0)),
-            beam.contains_s1(Vec3::new(0.2, 0.2, 2.0))
-        );
+        assert_eq!(beam.contains(Vec3::new(0.2, 0.2, 2.0)), beam.contains_s1(Vec3::new(0.2, 0.2, 2.0)));
     }
 }

@@ -16,9 +16,8 @@ impl<L: Interpolant> NonlinearBeam<L> {
         let n = p.degree as f64;
         let base = self.base.map(|v| v.as_dvec3());
         let dirs = self.dirs.map(|v| v.as_dvec3());
-        let lin = |x: &[DVec3; 3], ijk: [usize; 3]| {
-            (ijk[0] as f64 * x[0] + ijk[1] as f64 * x[1] + ijk[2] as f64 * x[2]) / n
-        };
+        let lin =
+            |x: &[DVec3; 3], ijk: [usize; 3]| (ijk[0] as f64 * x[0] + ijk[1] as f64 * x[1] + ijk[2] as f64 * x[2]) / n;
         let mut mu = (0.0f64, 0.0f64);
         for c in 0..p.count {
             mu.0 = mu.0.max((p.origin[c] - lin(&base, p.ijk[c])).length());
@@ -39,15 +38,8 @@ mod tests {
     #[test]
     fn s1_has_no_offset_and_s3_bounds_samples() {
         let base = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let dirs = [
-            Vec3::new(-0.2, -0.2, 1.0),
-            Vec3::new(0.3, 0.0, 1.0),
-            Vec3::new(0.0, 0.3, 1.0),
-        ];
-        assert_eq!(
-            NonlinearBeam::s1(base, dirs).unwrap().max_offsets(),
-            (0.0, 0.0)
-        );
+        let dirs = [Vec3::new(-0.2, -0.2, 1.0), Vec3::new(0.3, 0.0, 1.0), Vec3::new(0.0, 0.3, 1.0)];
+        assert_eq!(NonlinearBeam::s1(base, dirs).unwrap().max_offsets(), (0.0, 0.0));
         let normals = [
             Vec3::new(-0.4, -0.4, 1.0).normalize(),
             Vec3::new(0.5, 0.0, 1.0).normalize(),
@@ -67,10 +59,7 @@ mod tests {
                 seen.1 = seen.1.max((r.direction - lin_d).length());
             }
         }
-        assert!(
-            seen.0 <= mu_b * 1.0001 && seen.1 <= mu_d * 1.0001 + 1e-7,
-            "{seen:?} vs {mu_b} {mu_d}"
-        );
+        assert!(seen.0 <= mu_b * 1.0001 && seen.1 <= mu_d * 1.0001 + 1e-7, "{seen:?} vs {mu_b} {mu_d}");
         // The bound is not absurdly loose.
         assert!(mu_b < 4.0 * seen.0, "{mu_b} vs {}", seen.0);
     }

@@ -61,9 +61,7 @@ impl S3 {
             [1, 0, 2] => edge(2, 0),
             [2, 0, 1] => edge(0, 2),
             _ => {
-                let c =
-                    (edge(0, 1) + edge(1, 0) + edge(1, 2) + edge(2, 1) + edge(2, 0) + edge(0, 2))
-                        / 6.0;
+                let c = (edge(0, 1) + edge(1, 0) + edge(1, 2) + edge(2, 1) + edge(2, 0) + edge(0, 2)) / 6.0;
                 let v = (x[0] + x[1] + x[2]) / 3.0;
                 c + (c - v) / 2.0
             }
@@ -94,9 +92,7 @@ pub fn multinomial(n: usize, ijk: [usize; 3]) -> u32 {
 
 /// The indices `(i, j, k)` with `i + j + k = n` in a fixed order.
 pub fn indices(n: usize) -> impl Iterator<Item = [usize; 3]> {
-    (0..=n)
-        .rev()
-        .flat_map(move |i| (0..=n - i).rev().map(move |j| [i, j, n - i - j]))
+    (0..=n).rev().flat_map(move |i| (0..=n - i).rev().map(move |j| [i, j, n - i - j]))
 }
 
 /// The two Bézier patches of a beam (`O(ω)` and `d(ω)`) in Bernstein form and double precision:
@@ -142,10 +138,7 @@ impl Patch {
     fn weights(&self, w: DVec3) -> [f64; MAX_COEFFICIENTS] {
         let mut out = [0.0; MAX_COEFFICIENTS];
         for (o, ijk) in out.iter_mut().zip(&self.ijk[..self.count]) {
-            *o = f64::from(multinomial(self.degree, *ijk))
-                * powi(w.x, ijk[0])
-                * powi(w.y, ijk[1])
-                * powi(w.z, ijk[2]);
+            *o = f64::from(multinomial(self.degree, *ijk)) * powi(w.x, ijk[0]) * powi(w.y, ijk[1]) * powi(w.z, ijk[2]);
         }
         out
     }
@@ -189,11 +182,7 @@ mod tests {
 
     fn sample() -> ([Vec3; 3], [Vec3; 3]) {
         let base = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let dirs = [
-            Vec3::new(-0.2, -0.1, 1.0),
-            Vec3::new(0.3, 0.0, 1.0),
-            Vec3::new(0.0, 0.4, 1.0),
-        ];
+        let dirs = [Vec3::new(-0.2, -0.1, 1.0), Vec3::new(0.3, 0.0, 1.0), Vec3::new(0.0, 0.4, 1.0)];
         (base, dirs)
     }
 
@@ -205,9 +194,7 @@ mod tests {
         let (o, d) = p.eval(w);
         let expect_o = 0.2 * base[0] + 0.3 * base[1] + 0.5 * base[2];
         let expect_d = 0.2 * dirs[0] + 0.3 * dirs[1] + 0.5 * dirs[2];
-        assert!(
-            (o - expect_o.as_dvec3()).length() < 1e-7 && (d - expect_d.as_dvec3()).length() < 1e-7
-        );
+        assert!((o - expect_o.as_dvec3()).length() < 1e-7 && (d - expect_d.as_dvec3()).length() < 1e-7);
     }
 
     #[test]
@@ -223,18 +210,11 @@ mod tests {
         let p = Patch::new(&s3, &base, &dirs);
         for (i, w) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
             let (o, d) = p.eval(w);
-            assert!(
-                (o - base[i].as_dvec3()).length() < 1e-6
-                    && (d - dirs[i].as_dvec3()).length() < 1e-6
-            );
+            assert!((o - base[i].as_dvec3()).length() < 1e-6 && (d - dirs[i].as_dvec3()).length() < 1e-6);
         }
         // eq. 2: L(P + s d) = L(P) + s L(d) for every coefficient.
         let s = 0.7;
-        let moved = [
-            base[0] + s * dirs[0],
-            base[1] + s * dirs[1],
-            base[2] + s * dirs[2],
-        ];
+        let moved = [base[0] + s * dirs[0], base[1] + s * dirs[1], base[2] + s * dirs[2]];
         for ijk in indices(3) {
             let lhs = s3.coefficient(ijk, &moved);
             let rhs = s3.coefficient(ijk, &base) + s * s3.coefficient(ijk, &dirs);
@@ -248,13 +228,8 @@ mod tests {
     #[test]
     fn derivatives_match_finite_differences() {
         let (base, dirs) = sample();
-        let s3 = S3 {
-            normals: [
-                Vec3::new(-0.3, -0.3, 1.0).normalize(),
-                Vec3::Z,
-                Vec3::new(0.0, 0.5, 1.0).normalize(),
-            ],
-        };
+        let s3 =
+            S3 { normals: [Vec3::new(-0.3, -0.3, 1.0).normalize(), Vec3::Z, Vec3::new(0.0, 0.5, 1.0).normalize()] };
         let p = Patch::new(&s3, &base, &dirs);
         let w = DVec3::new(0.2, 0.5, 0.3);
         let h = 1e-6;

@@ -47,10 +47,9 @@ impl Projections {
     }
 
     fn push_unique(&mut self, p: Projection, tol: f32) {
-        let dup = self.iter().any(|q| {
-            (q.bary - p.bary).abs().max_element() <= tol
-                && (q.t - p.t).abs() <= tol * (1.0 + p.t.abs())
-        });
+        let dup = self
+            .iter()
+            .any(|q| (q.bary - p.bary).abs().max_element() <= tol && (q.t - p.t).abs() <= tol * (1.0 + p.t.abs()));
         if dup || self.len == Self::CAPACITY {
             return;
         }
@@ -79,12 +78,7 @@ pub(crate) fn s1_solutions(p: [DVec3; 3], d: [DVec3; 3], q: DVec3) -> ([(DVec3, 
     let n0 = e1.cross(e2);
     let n1 = e1.cross(f2) + f1.cross(e2);
     let n2 = f1.cross(f2);
-    let roots = cubic(
-        n2.dot(dd),
-        n2.dot(r) + n1.dot(dd),
-        n1.dot(r) + n0.dot(dd),
-        n0.dot(r),
-    );
+    let roots = cubic(n2.dot(dd), n2.dot(r) + n1.dot(dd), n1.dot(r) + n0.dot(dd), n0.dot(r));
     let mut out = [(DVec3::ZERO, 0.0); 3];
     let mut len = 0;
     for &t in roots.as_slice() {
@@ -109,20 +103,10 @@ impl<L: Interpolant> NonlinearBeam<L> {
     pub fn project(&self, q: Vec3) -> Projections {
         let mut out = Projections::default();
         if self.degree() == 1 {
-            let (sol, n) = s1_solutions(
-                self.base.map(|v| v.as_dvec3()),
-                self.dirs.map(|v| v.as_dvec3()),
-                q.as_dvec3(),
-            );
+            let (sol, n) = s1_solutions(self.base.map(|v| v.as_dvec3()), self.dirs.map(|v| v.as_dvec3()), q.as_dvec3());
             for &(w, t) in &sol[..n] {
                 if w.min_element() >= -f64::from(BARY_TOLERANCE) {
-                    out.push_unique(
-                        Projection {
-                            bary: w.as_vec3(),
-                            t: t as f32,
-                        },
-                        BARY_TOLERANCE,
-                    );
+                    out.push_unique(Projection { bary: w.as_vec3(), t: t as f32 }, BARY_TOLERANCE);
                 }
             }
             return out;
@@ -136,24 +120,12 @@ impl<L: Interpolant> NonlinearBeam<L> {
     fn project_sn(&self, q: Vec3, out: &mut Projections) {
         const K: usize = 10;
         let q = q.as_dvec3();
-        let scale = self
-            .base
-            .iter()
-            .fold(0.0f64, |m, p| m.max(f64::from(p.distance(self.base[0]))))
-            .max(1e-30);
-        let corner = |i: usize, j: usize| {
-            DVec3::new(
-                i as f64 / K as f64,
-                j as f64 / K as f64,
-                (K - i - j) as f64 / K as f64,
-            )
-        };
+        let scale = self.base.iter().fold(0.0f64, |m, p| m.max(f64::from(p.distance(self.base[0])))).max(1e-30);
+        let corner =
+            |i: usize, j: usize| DVec3::new(i as f64 / K as f64, j as f64 / K as f64, (K - i - j) as f64 / K as f64);
         for i in 0..K {
             for j in 0..K - i {
-                let mut tris = [
-                    [corner(i, j), corner(i + 1, j), corner(i, j + 1)],
-                    [DVec3::ZERO; 3],
-                ];
+                let mut tris = [[corner(i, j), corner(i + 1, j), corner(i, j + 1)], [DVec3::ZERO; 3]];
                 let count = if i + j + 1 < K {
                     tris[1] = [corner(i + 1, j), corner(i + 1, j + 1), corner(i, j + 1)];
                     2
@@ -175,13 +147,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
                         }
                         if let Some((w, t)) = self.newton(q, guess, t, scale) {
                             if w.min_element() >= -f64::from(BARY_TOLERANCE) {
-                                out.push_unique(
-                                    Projection {
-                                        bary: w.as_vec3(),
-                                        t: t as f32,
-                                    },
-                                    1e-4,
-                                );
+                                out.push_unique(Projection { bary: w.as_vec3(), t: t as f32 }, 1e-4);
                             }
                         }
                     }
@@ -253,20 +219,12 @@ mod tests {
     fn diverging_beam_round_trip() {
         let beam = NonlinearBeam::s1(
             [Vec3::ZERO, Vec3::X, Vec3::Y],
-            [
-                Vec3::new(-0.3, -0.3, 1.0),
-                Vec3::new(0.4, -0.1, 1.0),
-                Vec3::new(-0.1, 0.5, 1.0),
-            ],
+            [Vec3::new(-0.3, -0.3, 1.0), Vec3::new(0.4, -0.1, 1.0), Vec3::new(-0.1, 0.5, 1.0)],
         )
         .unwrap();
         let w = Vec3::new(0.2, 0.5, 0.3);
         let q = beam.ray_at(w).at(2.5);
         let p = beam.project(q);
-        assert!(
-            p.iter()
-                .any(|p| (p.bary - w).length() < 1e-4 && (p.t - 2.5).abs() < 1e-3),
-            "{p:?}"
-        );
+        assert!(p.iter().any(|p| (p.bary - w).length() < 1e-4 && (p.t - 2.5).abs() < 1e-3), "{p:?}");
     }
 }

@@ -55,10 +55,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
         }
         let t_max = t_max as f32;
         let (mu_b, mu_d) = self.max_offsets();
-        let size = self
-            .base
-            .iter()
-            .fold(0.0f32, |m, p| m.max(p.distance(self.base[0])));
+        let size = self.base.iter().fold(0.0f32, |m, p| m.max(p.distance(self.base[0])));
         let margin = (mu_b + t_max * mu_d).max(1e-4 * size);
         let low = self.affine_triangle(t_max);
         let mut step = 1e-3 * size.max(t_max * 1e-3);
@@ -71,25 +68,10 @@ impl<L: Interpolant> NonlinearBeam<L> {
             }
             step *= 2.0;
         }
-        let plane = if t_res.is_finite() {
-            self.affine_plane(t_res)
-        } else {
-            self.affine_plane(t_max)
-        };
+        let plane = if t_res.is_finite() { self.affine_plane(t_res) } else { self.affine_plane(t_max) };
         let facing = self.dirs.iter().map(|d| plane.normal.dot(*d)).sum::<f32>();
-        let plane = if facing < 0.0 {
-            Plane {
-                normal: -plane.normal,
-                d: -plane.d,
-            }
-        } else {
-            plane
-        };
-        ThresholdPlane {
-            t_max,
-            t_res,
-            plane,
-        }
+        let plane = if facing < 0.0 { Plane { normal: -plane.normal, d: -plane.d } } else { plane };
+        ThresholdPlane { t_max, t_res, plane }
     }
 }
 
@@ -102,11 +84,7 @@ mod tests {
     fn diverging_beam_threshold_is_near_the_base() {
         let beam = NonlinearBeam::s1(
             [Vec3::ZERO, Vec3::X, Vec3::Y],
-            [
-                Vec3::new(-0.3, -0.3, 1.0),
-                Vec3::new(0.4, -0.1, 1.0),
-                Vec3::new(-0.1, 0.5, 1.0),
-            ],
+            [Vec3::new(-0.3, -0.3, 1.0), Vec3::new(0.4, -0.1, 1.0), Vec3::new(-0.1, 0.5, 1.0)],
         )
         .unwrap();
         let th = beam.threshold_plane();

@@ -45,18 +45,10 @@ impl BeamFrame {
         if !(distance > 0.0) || !apex.is_finite() || !origin.is_finite() {
             return None;
         }
-        let u = (u_hint - u_hint.dot(normal) * normal)
-            .try_normalize()
-            .unwrap_or_else(|| normal.any_orthonormal_vector());
+        let u =
+            (u_hint - u_hint.dot(normal) * normal).try_normalize().unwrap_or_else(|| normal.any_orthonormal_vector());
         let v = normal.cross(u);
-        Some(Self {
-            apex,
-            origin,
-            u,
-            v,
-            normal,
-            distance,
-        })
+        Some(Self { apex, origin, u, v, normal, distance })
     }
 
     /// Depth of `p` in units of the plane distance: `(p − apex)·n / distance` (1 on the plane).

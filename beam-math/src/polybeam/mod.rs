@@ -29,11 +29,7 @@ mod tests {
         let beam = eye_beam();
         assert_eq!(beam.area(), 4.0);
         // A triangle at depth 2 whose projection is (−0.5,−0.5), (0.5,−0.5), (0,0.5).
-        let tri = Triangle::new(
-            Vec3::new(-1.0, -1.0, 2.0),
-            Vec3::new(1.0, -1.0, 2.0),
-            Vec3::new(0.0, 1.0, 2.0),
-        );
+        let tri = Triangle::new(Vec3::new(-1.0, -1.0, 2.0), Vec3::new(1.0, -1.0, 2.0), Vec3::new(0.0, 1.0, 2.0));
         let s = beam.split(&tri, 1e-3, f32::INFINITY, 1e-6).unwrap();
         assert!((s.hit.area() - 0.5).abs() < 1e-5, "{}", s.hit.area());
         assert!((s.hit.area() + s.miss.area() - 4.0).abs() < 1e-4);
@@ -43,26 +39,16 @@ mod tests {
     #[test]
     fn trivial_cases() {
         let beam = eye_beam();
-        let far_away = Triangle::new(
-            Vec3::new(5.0, 5.0, 1.0),
-            Vec3::new(6.0, 5.0, 1.0),
-            Vec3::new(5.0, 6.0, 1.0),
-        );
+        let far_away = Triangle::new(Vec3::new(5.0, 5.0, 1.0), Vec3::new(6.0, 5.0, 1.0), Vec3::new(5.0, 6.0, 1.0));
         let s = beam.split(&far_away, 1e-3, f32::INFINITY, 1e-6).unwrap();
         assert!(s.hit.is_empty() && s.miss.len() == 1);
-        let covering = Triangle::new(
-            Vec3::new(-10.0, -10.0, 1.0),
-            Vec3::new(10.0, -10.0, 1.0),
-            Vec3::new(0.0, 10.0, 1.0),
-        );
+        let covering =
+            Triangle::new(Vec3::new(-10.0, -10.0, 1.0), Vec3::new(10.0, -10.0, 1.0), Vec3::new(0.0, 10.0, 1.0));
         let s = beam.split(&covering, 1e-3, f32::INFINITY, 1e-6).unwrap();
         assert!(s.miss.is_empty() && (s.hit.area() - 4.0).abs() < 1e-5);
         // Behind the far limit (a shadow beam ending at depth 1): missed.
-        let behind = Triangle::new(
-            Vec3::new(-10.0, -10.0, 3.0),
-            Vec3::new(10.0, -10.0, 3.0),
-            Vec3::new(0.0, 10.0, 3.0),
-        );
+        let behind =
+            Triangle::new(Vec3::new(-10.0, -10.0, 3.0), Vec3::new(10.0, -10.0, 3.0), Vec3::new(0.0, 10.0, 3.0));
         assert!(beam.split(&behind, 1e-3, 1.0, 1e-6).unwrap().hit.is_empty());
     }
 
@@ -70,11 +56,7 @@ mod tests {
     fn triangle_crossing_the_apex_plane_is_clipped() {
         let beam = eye_beam();
         // From behind the apex to in front: only the front part can be hit.
-        let tri = Triangle::new(
-            Vec3::new(-0.2, -0.2, -1.0),
-            Vec3::new(0.2, -0.2, -1.0),
-            Vec3::new(0.0, 0.2, 3.0),
-        );
+        let tri = Triangle::new(Vec3::new(-0.2, -0.2, -1.0), Vec3::new(0.2, -0.2, -1.0), Vec3::new(0.0, 0.2, 3.0));
         let s = beam.split(&tri, 1e-3, f32::INFINITY, 1e-6).unwrap();
         assert!((s.hit.area() + s.miss.area() - 4.0).abs() < 1e-3);
     }

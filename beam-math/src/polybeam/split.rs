@@ -115,13 +115,7 @@ impl PolyBeam {
     ///
     /// Trivial cases first (001 Fig. 2a–c): a triangle edge separating the triangle from the beam,
     /// a beam edge separating the beam from the triangle, or the beam inside the triangle.
-    pub fn split(
-        &self,
-        tri: &Triangle,
-        near: f32,
-        far: f32,
-        eps: f32,
-    ) -> Result<Split, CapacityExceeded> {
+    pub fn split(&self, tri: &Triangle, near: f32, far: f32, eps: f32) -> Result<Split, CapacityExceeded> {
         let mut out = Split::default();
         let (poly, n) = clip_depth(&self.frame, tri, near, far);
         if n < 3 {
@@ -132,9 +126,7 @@ impl PolyBeam {
         for p in &poly[..n] {
             proj.push(self.frame.project(*p))?;
         }
-        let scale = self.section.vertices().iter().fold(0.0f32, |m, v| {
-            m.max((*v - self.section.centroid()).length())
-        });
+        let scale = self.section.vertices().iter().fold(0.0f32, |m, v| m.max((*v - self.section.centroid()).length()));
         let eps = eps * scale.max(f32::MIN_POSITIVE);
         let area = proj.signed_area();
         if area.abs() <= eps * eps {

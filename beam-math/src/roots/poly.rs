@@ -9,10 +9,7 @@ pub struct Roots<const N: usize> {
 
 impl<const N: usize> Default for Roots<N> {
     fn default() -> Self {
-        Self {
-            values: [0.0; N],
-            len: 0,
-        }
+        Self { values: [0.0; N], len: 0 }
     }
 }
 
@@ -88,9 +85,7 @@ fn eval_d(c: &[f64], x: f64) -> (f64, f64) {
 /// Cauchy bound: every root has `|x| ≤ 1 + max |c_i / c_n|`.
 pub(crate) fn cauchy_bound(c: &[f64]) -> f64 {
     let n = c.len() - 1;
-    1.0 + c[..n]
-        .iter()
-        .fold(0.0f64, |m, &ci| m.max((ci / c[n]).abs()))
+    1.0 + c[..n].iter().fold(0.0f64, |m, &ci| m.max((ci / c[n]).abs()))
 }
 
 /// The unique root of a polynomial monotone on `[lo, hi]` with `p(lo)·p(hi) < 0`, by Newton steps
@@ -110,11 +105,7 @@ fn refine(c: &[f64], mut lo: f64, mut hi: f64) -> f64 {
             hi = x;
         }
         let newton = x - p / d;
-        let next = if d != 0.0 && newton > lo && newton < hi {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
+        let next = if d != 0.0 && newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
         if (next - x).abs() <= 4.0 * f64::EPSILON * x.abs().max(f64::MIN_POSITIVE)
             || hi - lo <= 2.0 * f64::EPSILON * lo.abs().max(hi.abs())
         {
@@ -140,13 +131,7 @@ pub(crate) fn roots_from_critical<const N: usize>(c: &[f64], crit: &[f64]) -> Ro
     }
     points[m] = bound;
     m += 1;
-    let values: [(f64, f64); 6] = core::array::from_fn(|i| {
-        if i < m {
-            eval(c, points[i])
-        } else {
-            (0.0, 0.0)
-        }
-    });
+    let values: [(f64, f64); 6] = core::array::from_fn(|i| if i < m { eval(c, points[i]) } else { (0.0, 0.0) });
     // Multiple roots: a critical point where |p| is within its rounding error.
     for i in 1..m - 1 {
         let (p, b) = values[i];

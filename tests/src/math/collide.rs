@@ -3,8 +3,8 @@
 use crate::generate::{self, Rng64, uniform};
 use crate::{Backend, Config, Outcome};
 use beam_math::collide::{
-    Cone, ConvexPolygon, cone_sphere, frustum_aabb, point_in_aabb, point_in_convex_polygon,
-    ray_aabb, ray_plane, ray_triangle,
+    Cone, ConvexPolygon, cone_sphere, frustum_aabb, point_in_aabb, point_in_convex_polygon, ray_aabb, ray_plane,
+    ray_triangle,
 };
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::{Aabb, Plane, Ray, Triangle};
@@ -54,9 +54,7 @@ pub fn slab_vs_brute_force(_: Backend, _: &Config) -> Result<Outcome, String> {
                 hits += 1;
                 max_err = max_err.max((s - t).abs());
                 if (s - t).abs() > 1e-3 * (1.0 + t) {
-                    return Err(format!(
-                        "case {i}: slab t={s}, brute force t={t} for {r:?} {b:?}"
-                    ));
+                    return Err(format!("case {i}: slab t={s}, brute force t={t} for {r:?} {b:?}"));
                 }
             }
             (None, None) => {}
@@ -68,28 +66,17 @@ pub fn slab_vs_brute_force(_: Backend, _: &Config) -> Result<Outcome, String> {
                     [t0, t1].iter().any(|&t| {
                         t.is_finite()
                             && t >= 0.0
-                            && point_in_aabb(
-                                r.at(t),
-                                Aabb::new(b.min - Vec3::splat(2e-4), b.max + Vec3::splat(2e-4)),
-                            )
-                            && !point_in_aabb(
-                                r.at(t),
-                                Aabb::new(b.min + Vec3::splat(2e-4), b.max - Vec3::splat(2e-4)),
-                            )
+                            && point_in_aabb(r.at(t), Aabb::new(b.min - Vec3::splat(2e-4), b.max + Vec3::splat(2e-4)))
+                            && !point_in_aabb(r.at(t), Aabb::new(b.min + Vec3::splat(2e-4), b.max - Vec3::splat(2e-4)))
                     })
                 });
                 if !grazing {
-                    return Err(format!(
-                        "case {i}: slab {s:?} vs brute force {t:?} for {r:?} {b:?}"
-                    ));
+                    return Err(format!("case {i}: slab {s:?} vs brute force {t:?} for {r:?} {b:?}"));
                 }
             }
         }
     }
-    Ok(Outcome {
-        cases: n,
-        note: format!("{hits} hits, {parallel} axis-parallel rays, max |Δt| {max_err:.1e}"),
-    })
+    Ok(Outcome { cases: n, note: format!("{hits} hits, {parallel} axis-parallel rays, max |Δt| {max_err:.1e}") })
 }
 
 /// Watertight ray–triangle: on 2,000 random fans of triangles around a shared vertex (closed
@@ -107,14 +94,10 @@ pub fn watertight_ray_triangle(_: Backend, _: &Config) -> Result<Outcome, String
         let rim: Vec<Vec3> = (0..k)
             .map(|i| {
                 let a = i as f32 / k as f32 * std::f32::consts::TAU;
-                center
-                    + uniform(&mut rng, 0.5, 1.5) * (a.cos() * u + a.sin() * v)
-                    + n * uniform(&mut rng, -0.2, 0.2)
+                center + uniform(&mut rng, 0.5, 1.5) * (a.cos() * u + a.sin() * v) + n * uniform(&mut rng, -0.2, 0.2)
             })
             .collect();
-        let tris: Vec<Triangle> = (0..k)
-            .map(|i| Triangle::new(center, rim[i], rim[(i + 1) % k]))
-            .collect();
+        let tris: Vec<Triangle> = (0..k).map(|i| Triangle::new(center, rim[i], rim[(i + 1) % k])).collect();
         let eye = center + n * uniform(&mut rng, 1.0, 5.0) + generate::point(&mut rng, 1.0);
         for _ in 0..50 {
             // Aim exactly at points on the shared edges (the hard case) or inside.
@@ -127,14 +110,9 @@ pub fn watertight_ray_triangle(_: Backend, _: &Config) -> Result<Outcome, String
             if facing(&tris[i]) != facing(&tris[(i + k - 1) % k]) {
                 continue;
             }
-            let hit = tris
-                .iter()
-                .filter_map(|t| ray_triangle(ray, t).map(|h| (t, h)))
-                .next();
+            let hit = tris.iter().filter_map(|t| ray_triangle(ray, t).map(|h| (t, h))).next();
             let Some((t, h)) = hit else {
-                return Err(format!(
-                    "fan {fan}: ray {ray:?} slipped through the shared edge at s={s}"
-                ));
+                return Err(format!("fan {fan}: ray {ray:?} slipped through the shared edge at s={s}"));
             };
             rays += 1;
             let w = Vec3::new(1.0 - h.u - h.v, h.u, h.v);
@@ -143,10 +121,7 @@ pub fn watertight_ray_triangle(_: Backend, _: &Config) -> Result<Outcome, String
             }
         }
     }
-    Ok(Outcome {
-        cases: rays,
-        note: "no ray slipped between triangles sharing an edge".into(),
-    })
+    Ok(Outcome { cases: rays, note: "no ray slipped between triangles sharing an edge".into() })
 }
 
 fn rng_range(rng: &mut Rng64, lo: usize, hi: usize) -> usize {
@@ -170,11 +145,7 @@ pub fn sat_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String> {
         for _ in 0..4_000 {
             let p = b.min
                 + (b.max - b.min)
-                    * Vec3::new(
-                        uniform(&mut rng, 0.0, 1.0),
-                        uniform(&mut rng, 0.0, 1.0),
-                        uniform(&mut rng, 0.0, 1.0),
-                    );
+                    * Vec3::new(uniform(&mut rng, 0.0, 1.0), uniform(&mut rng, 0.0, 1.0), uniform(&mut rng, 0.0, 1.0));
             if inside_frustum(p) {
                 witness = true;
                 break;
@@ -196,17 +167,12 @@ pub fn sat_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String> {
             }
         }
         if witness && !sat {
-            return Err(format!(
-                "case {i}: a point lies in both but SAT says no overlap"
-            ));
+            return Err(format!("case {i}: a point lies in both but SAT says no overlap"));
         }
         overlaps += u64::from(sat);
         witnessed += u64::from(witness);
     }
-    Ok(Outcome {
-        cases: n,
-        note: format!("{overlaps} overlaps by SAT, {witnessed} witnessed by sampling, 0 missed"),
-    })
+    Ok(Outcome { cases: n, note: format!("{overlaps} overlaps by SAT, {witnessed} witnessed by sampling, 0 missed") })
 }
 
 /// Convex-polygon intersection area (004 App. A.9 + shoelace A.10) equals Sutherland–Hodgman
@@ -223,42 +189,27 @@ pub fn clipping_area_vs_monte_carlo(_: Backend, _: &Config) -> Result<Outcome, S
         let paper = a.intersect(&b).map_err(|e| format!("case {i}: {e:?}"))?;
         let clipped: ConvexPolygon<16> = a.clip_by(&b).map_err(|e| format!("case {i}: {e:?}"))?;
         if (paper.area() - clipped.area()).abs() > 1e-4 {
-            return Err(format!(
-                "case {i}: A.9 area {} vs clipping {}",
-                paper.area(),
-                clipped.area()
-            ));
+            return Err(format!("case {i}: A.9 area {} vs clipping {}", paper.area(), clipped.area()));
         }
         let samples = 20_000;
         let (lo, hi) = (Vec2::splat(-1.0), Vec2::splat(1.0));
         let mut count = 0;
         for _ in 0..samples {
             let p = Vec2::new(uniform(&mut rng, lo.x, hi.x), uniform(&mut rng, lo.y, hi.y));
-            if point_in_convex_polygon(p, a.vertices()) && point_in_convex_polygon(p, b.vertices())
-            {
+            if point_in_convex_polygon(p, a.vertices()) && point_in_convex_polygon(p, b.vertices()) {
                 count += 1;
             }
         }
         let box_area = 4.0;
         let frac = f64::from(count) / f64::from(samples);
-        let sigma = (frac * (1.0 - frac) / f64::from(samples))
-            .sqrt()
-            .max(1.0 / f64::from(samples))
-            * box_area;
+        let sigma = (frac * (1.0 - frac) / f64::from(samples)).sqrt().max(1.0 / f64::from(samples)) * box_area;
         let err = (f64::from(paper.area()) - frac * box_area).abs() / sigma;
         worst_sigma = worst_sigma.max(err);
         if err > 4.0 {
-            return Err(format!(
-                "case {i}: area {} vs Monte Carlo {} ({err:.1}σ)",
-                paper.area(),
-                frac * box_area
-            ));
+            return Err(format!("case {i}: area {} vs Monte Carlo {} ({err:.1}σ)", paper.area(), frac * box_area));
         }
     }
-    Ok(Outcome {
-        cases: n,
-        note: format!("worst deviation from Monte Carlo {worst_sigma:.2}σ"),
-    })
+    Ok(Outcome { cases: n, note: format!("worst deviation from Monte Carlo {worst_sigma:.2}σ") })
 }
 
 /// Cone–sphere test (000 App. A) never rejects a sphere that holds a point inside the cone (2,000
@@ -278,18 +229,12 @@ pub fn cone_sphere_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String
         accepted += u64::from(test);
         if !test {
             for _ in 0..2_000 {
-                let p =
-                    center + radius * generate::unit(&mut rng) * uniform(&mut rng, 0.0, 1.0).cbrt();
+                let p = center + radius * generate::unit(&mut rng) * uniform(&mut rng, 0.0, 1.0).cbrt();
                 if cone.contains(p) {
-                    return Err(format!(
-                        "case {i}: sphere rejected but {p} is inside the cone"
-                    ));
+                    return Err(format!("case {i}: sphere rejected but {p} is inside the cone"));
                 }
             }
         }
     }
-    Ok(Outcome {
-        cases: n,
-        note: format!("{accepted} accepted, rejections all confirmed empty"),
-    })
+    Ok(Outcome { cases: n, note: format!("{accepted} accepted, rejections all confirmed empty") })
 }

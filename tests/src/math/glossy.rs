@@ -4,9 +4,7 @@ use crate::generate::{self, uniform};
 use crate::{Backend, Config, Outcome};
 use beam_math::collide::point_in_convex_polygon;
 use beam_math::glam::{DVec2, Vec2};
-use beam_math::glossy::{
-    LightBeam, VolumeMethod, gaussian_volume, gaussian_volume_tessellated, in_beam,
-};
+use beam_math::glossy::{LightBeam, VolumeMethod, gaussian_volume, gaussian_volume_tessellated, in_beam};
 
 /// Gaussian volume over a triangle by subdividing it into `m²` sub-triangles and a degree-2 rule
 /// (edge midpoints) on each: an independent numerical integration.
@@ -14,12 +12,9 @@ fn integrate(a: Vec2, b: Vec2, c: Vec2, sigma: f32, m: usize) -> f64 {
     let (a, b, c) = (a.as_dvec2(), b.as_dvec2(), c.as_dvec2());
     let s2 = f64::from(sigma) * f64::from(sigma);
     let g = |p: DVec2| (-p.length_squared() / (2.0 * s2)).exp() / (2.0 * std::f64::consts::PI * s2);
-    let at =
-        |i: usize, j: usize| a + (b - a) * (i as f64 / m as f64) + (c - a) * (j as f64 / m as f64);
+    let at = |i: usize, j: usize| a + (b - a) * (i as f64 / m as f64) + (c - a) * (j as f64 / m as f64);
     let area = 0.5 * (b - a).perp_dot(c - a).abs() / (m * m) as f64;
-    let tri = |p: DVec2, q: DVec2, r: DVec2| {
-        area * (g(0.5 * (p + q)) + g(0.5 * (q + r)) + g(0.5 * (r + p))) / 3.0
-    };
+    let tri = |p: DVec2, q: DVec2, r: DVec2| area * (g(0.5 * (p + q)) + g(0.5 * (q + r)) + g(0.5 * (r + p))) / 3.0;
     let mut sum = 0.0;
     for i in 0..m {
         for j in 0..m - i {
@@ -42,17 +37,14 @@ pub fn gaussian_volume_vs_integration(_: Backend, _: &Config) -> Result<Outcome,
         let sigma = uniform(&mut rng, 0.05, 1.0);
         let r = sigma * uniform(&mut rng, 0.3, 4.0);
         let c = Vec2::new(uniform(&mut rng, -1.0, 1.0), uniform(&mut rng, -1.0, 1.0)) * r;
-        let v: [Vec2; 3] = std::array::from_fn(|_| {
-            c + Vec2::new(uniform(&mut rng, -1.0, 1.0), uniform(&mut rng, -1.0, 1.0)) * r
-        });
+        let v: [Vec2; 3] =
+            std::array::from_fn(|_| c + Vec2::new(uniform(&mut rng, -1.0, 1.0), uniform(&mut rng, -1.0, 1.0)) * r);
         let exact = f64::from(gaussian_volume(v[0], v[1], v[2], sigma));
         let numeric = integrate(v[0], v[1], v[2], sigma, 200);
         let err = (exact - numeric).abs() / numeric.max(5e-4);
         worst = worst.max(err);
         if err > 0.02 {
-            return Err(format!(
-                "case {i}: volume {exact} vs integration {numeric} for {v:?} σ={sigma}"
-            ));
+            return Err(format!("case {i}: volume {exact} vs integration {numeric} for {v:?} σ={sigma}"));
         }
         let tess = f64::from(gaussian_volume_tessellated(v[0], v[1], v[2], None, sigma));
         let terr = (tess - numeric).abs() / numeric.max(5e-4);
@@ -96,18 +88,13 @@ pub fn gaussian_volume_continuous(_: Backend, _: &Config) -> Result<Outcome, Str
         if !(spec > 0.0) {
             continue;
         }
-        for (method, worst) in [
-            (VolumeMethod::Exact, &mut worst_exact),
-            (VolumeMethod::Tessellated, &mut worst_tess),
-        ] {
+        for (method, worst) in [(VolumeMethod::Exact, &mut worst_exact), (VolumeMethod::Tessellated, &mut worst_tess)] {
             let inside = beam.glossy_irradiance(on_edge + step, normal, sigma, method);
             let outside = beam.glossy_irradiance(on_edge - step, normal, sigma, method);
             let jump = (inside - outside).abs() / spec;
             *worst = worst.max(jump);
             if jump > 0.01 {
-                return Err(format!(
-                    "case {i}: {method:?} jumps from {inside} to {outside} (specular {spec})"
-                ));
+                return Err(format!("case {i}: {method:?} jumps from {inside} to {outside} (specular {spec})"));
             }
         }
     }
@@ -123,15 +110,9 @@ pub fn gaussian_volume_continuous(_: Backend, _: &Config) -> Result<Outcome, Str
 fn light_beam(rng: &mut generate::Rng64) -> LightBeam {
     let (origins, n, _) = generate::base_triangle(rng);
     let tilt = generate::point(rng, 0.3);
-    let dirs = origins.map(|p| {
-        (n + tilt + (p - (origins[0] + origins[1] + origins[2]) / 3.0) * uniform(rng, -0.3, 0.3))
-            .normalize()
-    });
-    LightBeam {
-        origins,
-        dirs,
-        flux: uniform(rng, 0.5, 2.0),
-    }
+    let dirs = origins
+        .map(|p| (n + tilt + (p - (origins[0] + origins[1] + origins[2]) / 3.0) * uniform(rng, -0.3, 0.3)).normalize());
+    LightBeam { origins, dirs, flux: uniform(rng, 0.5, 2.0) }
 }
 
 /// Flux triangles (002 §3.1) against direct ray computation on 5,000 random beams and fragments:
@@ -143,27 +124,19 @@ pub fn flux_triangle_vs_rays(_: Backend, _: &Config) -> Result<Outcome, String> 
     let n = 5_000;
     for i in 0..n {
         let beam = light_beam(&mut rng);
-        let f = beam.origins[0]
-            + beam.dirs[0] * uniform(&mut rng, 0.5, 3.0)
-            + generate::point(&mut rng, 0.8);
+        let f = beam.origins[0] + beam.dirs[0] * uniform(&mut rng, 0.5, 3.0) + generate::point(&mut rng, 0.8);
         let plane = beam.flux_plane(f).ok_or("degenerate")?;
         let flux = beam.flux_triangle(plane).ok_or("parallel")?;
         for k in 0..3 {
             let on_plane = plane.eval(flux.v[k]).abs();
             let off_ray = (flux.v[k] - beam.origins[k]).cross(beam.dirs[k]).length();
             if on_plane > 1e-4 || off_ray > 1e-4 * (1.0 + (flux.v[k] - beam.origins[k]).length()) {
-                return Err(format!(
-                    "case {i}: flux vertex {k} off plane by {on_plane} or off ray by {off_ray}"
-                ));
+                return Err(format!("case {i}: flux vertex {k} off plane by {on_plane} or off ray by {off_ray}"));
             }
         }
         let u = plane.normal.any_orthonormal_vector();
         let v = plane.normal.cross(u);
-        let flat: Vec<Vec2> = flux
-            .v
-            .iter()
-            .map(|p| Vec2::new((*p - f).dot(u), (*p - f).dot(v)))
-            .collect();
+        let flat: Vec<Vec2> = flux.v.iter().map(|p| Vec2::new((*p - f).dot(u), (*p - f).dot(v))).collect();
         let inside_2d = point_in_convex_polygon(Vec2::ZERO, &flat);
         let near_edge = (0..3).any(|k| {
             let (a, b) = (flat[k], flat[(k + 1) % 3]);
@@ -171,10 +144,7 @@ pub fn flux_triangle_vs_rays(_: Backend, _: &Config) -> Result<Outcome, String> 
             (a + t.clamp(0.0, 1.0) * (b - a)).length() < 1e-4
         });
         if inside_2d != in_beam(&flux, f) && !near_edge {
-            return Err(format!(
-                "case {i}: in-beam {} but 2D test {inside_2d}",
-                in_beam(&flux, f)
-            ));
+            return Err(format!("case {i}: in-beam {} but 2D test {inside_2d}", in_beam(&flux, f)));
         }
     }
     // Energy conservation on a receiver perpendicular to the mean direction.
@@ -196,14 +166,8 @@ pub fn flux_triangle_vs_rays(_: Backend, _: &Config) -> Result<Outcome, String> 
             }
         }
         if (total - f64::from(beam.flux)).abs() > 0.02 * f64::from(beam.flux) {
-            return Err(format!(
-                "conservation case {i}: ∫E dA = {total} for flux {}",
-                beam.flux
-            ));
+            return Err(format!("conservation case {i}: ∫E dA = {total} for flux {}", beam.flux));
         }
     }
-    Ok(Outcome {
-        cases: n + 50,
-        note: "vertices on rays and plane, in-beam = 2D test, ∫E dA = Φs within 2%".into(),
-    })
+    Ok(Outcome { cases: n + 50, note: "vertices on rays and plane, in-beam = 2D test, ∫E dA = Φs within 2%".into() })
 }

@@ -23,12 +23,8 @@ pub fn projected_area_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, Str
         let closed = d.x.abs() * e.y * e.z + d.y.abs() * e.x * e.z + d.z.abs() * e.x * e.y;
         let hull = projected_area_orthographic(b, d);
         let fast = projected_area_orthographic_fast(b, d);
-        if (hull - closed).abs() > 1e-4 * (1.0 + closed)
-            || (fast - closed).abs() > 1e-4 * (1.0 + closed)
-        {
-            return Err(format!(
-                "case {i}: hull {hull}, fast {fast}, closed form {closed}"
-            ));
+        if (hull - closed).abs() > 1e-4 * (1.0 + closed) || (fast - closed).abs() > 1e-4 * (1.0 + closed) {
+            return Err(format!("case {i}: hull {hull}, fast {fast}, closed form {closed}"));
         }
     }
     let mut worst = 0.0f64;
@@ -41,9 +37,7 @@ pub fn projected_area_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, Str
         };
         let fast = projected_area_perspective_fast(b, eye, forward).unwrap_or(f32::NAN);
         if !((fast - area).abs() <= 1e-4 * area.max(1e-3)) {
-            return Err(format!(
-                "case {i}: perspective hull area {area} vs front-face sum {fast}"
-            ));
+            return Err(format!("case {i}: perspective hull area {area} vs front-face sum {fast}"));
         }
         let u = forward.any_orthonormal_vector();
         let v = forward.cross(u);
@@ -53,19 +47,14 @@ pub fn projected_area_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, Str
             .iter()
             .map(|c| {
                 let r = *c - eye;
-                (r.dot(u) / r.dot(forward))
-                    .abs()
-                    .max((r.dot(v) / r.dot(forward)).abs())
+                (r.dot(u) / r.dot(forward)).abs().max((r.dot(v) / r.dot(forward)).abs())
             })
             .fold(0.0f32, f32::max)
             * 2.0;
         let samples = 20_000;
         let mut hits = 0;
         for _ in 0..samples {
-            let p = eye
-                + forward
-                + u * uniform(&mut rng, -half, half)
-                + v * uniform(&mut rng, -half, half);
+            let p = eye + forward + u * uniform(&mut rng, -half, half) + v * uniform(&mut rng, -half, half);
             if ray_aabb(Ray::new(eye, p - eye), b).is_some() {
                 hits += 1;
             }
@@ -73,17 +62,11 @@ pub fn projected_area_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, Str
         let frac = f64::from(hits) / f64::from(samples);
         let square = f64::from(4.0 * half * half);
         let expected = f64::from(area) / square;
-        let sigma = (expected * (1.0 - expected) / f64::from(samples))
-            .sqrt()
-            .max(1.0 / f64::from(samples))
-            * square;
+        let sigma = (expected * (1.0 - expected) / f64::from(samples)).sqrt().max(1.0 / f64::from(samples)) * square;
         let dev = (f64::from(area) - frac * square).abs() / sigma;
         worst = worst.max(dev);
         if dev > 4.0 {
-            return Err(format!(
-                "case {i}: perspective area {area} vs Monte Carlo {}",
-                frac * square
-            ));
+            return Err(format!("case {i}: perspective area {area} vs Monte Carlo {}", frac * square));
         }
     }
     Ok(Outcome {

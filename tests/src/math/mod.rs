@@ -27,12 +27,7 @@ pub fn properties() -> Vec<Property> {
             backends: MATH,
             body: collide::watertight_ray_triangle,
         },
-        Property {
-            name: "sat_vs_sampling",
-            cites: "004 App. A.5",
-            backends: MATH,
-            body: collide::sat_vs_sampling,
-        },
+        Property { name: "sat_vs_sampling", cites: "004 App. A.5", backends: MATH, body: collide::sat_vs_sampling },
         Property {
             name: "clipping_area_vs_monte_carlo",
             cites: "004 App. A.9-A.10",
@@ -45,12 +40,7 @@ pub fn properties() -> Vec<Property> {
             backends: MATH,
             body: collide::cone_sphere_vs_sampling,
         },
-        Property {
-            name: "roots_vs_polynomial",
-            cites: "roots",
-            backends: MATH,
-            body: roots::roots_vs_polynomial,
-        },
+        Property { name: "roots_vs_polynomial", cites: "roots", backends: MATH, body: roots::roots_vs_polynomial },
         Property {
             name: "projection_inverts_intersection",
             cites: "000 §5",

@@ -5,9 +5,7 @@ use crate::{Backend, Config, Outcome};
 use beam_math::Triangle;
 use beam_math::collide::WatertightRay;
 use beam_math::glam::{DMat3, Vec2, Vec3};
-use beam_math::nonlinear::{
-    BeamBounds, BoundingCase, BoundingTriangle, BumpBeam, Interpolant, NonlinearBeam,
-};
+use beam_math::nonlinear::{BeamBounds, BoundingCase, BoundingTriangle, BumpBeam, Interpolant, NonlinearBeam};
 
 /// Containment tolerance in barycentric coordinates.
 const TOL: f32 = 1e-4;
@@ -58,9 +56,9 @@ pub fn projection_inverts_intersection(_: Backend, _: &Config) -> Result<Outcome
                             ));
                         }
                     }
-                    let found = pairs.iter().any(|&(w2, t2)| {
-                        (w2 - w).abs().max_element() < 2e-3 && (t2 - t).abs() < 2e-3 * (1.0 + t)
-                    });
+                    let found = pairs
+                        .iter()
+                        .any(|&(w2, t2)| (w2 - w).abs().max_element() < 2e-3 && (t2 - t).abs() < 2e-3 * (1.0 + t));
                     if !found {
                         if cond * 1e-5 * f64::from(1.0 + q.length()) > 2e-3 {
                             ill += 1;
@@ -74,30 +72,16 @@ pub fn projection_inverts_intersection(_: Backend, _: &Config) -> Result<Outcome
                 };
                 let q = s1.ray_at(w).at(t);
                 let pairs = s1.project(q).iter().map(|p| (p.bary, p.t)).collect();
-                check(
-                    "S1",
-                    pairs,
-                    q,
-                    &|w, t| s1.ray_at(w).at(t),
-                    inverse_jacobian_norm(&s1, w, t),
-                )?;
+                check("S1", pairs, q, &|w, t| s1.ray_at(w).at(t), inverse_jacobian_norm(&s1, w, t))?;
                 let q = s3.ray_at(w).at(t);
                 let pairs = s3.project(q).iter().map(|p| (p.bary, p.t)).collect();
-                check(
-                    "S3",
-                    pairs,
-                    q,
-                    &|w, t| s3.ray_at(w).at(t),
-                    inverse_jacobian_norm(&s3, w, t),
-                )?;
+                check("S3", pairs, q, &|w, t| s3.ray_at(w).at(t), inverse_jacobian_norm(&s3, w, t))?;
             }
         }
     }
     Ok(Outcome {
         cases,
-        note: format!(
-            "max |O + t·d − Q| / (1 + t) = {worst:.1e}; {ill} ill-conditioned samples (at folds) skipped"
-        ),
+        note: format!("max |O + t·d − Q| / (1 + t) = {worst:.1e}; {ill} ill-conditioned samples (at folds) skipped"),
     })
 }
 
@@ -128,10 +112,7 @@ pub fn threshold_plane_unique_projection(_: Backend, _: &Config) -> Result<Outco
             }
         }
     }
-    Ok(Outcome {
-        cases,
-        note: format!("{above} points above Π_T, each with one projection"),
-    })
+    Ok(Outcome { cases, note: format!("{above} points above Π_T, each with one projection") })
 }
 
 /// Counts of each branch and the largest containment violation found.
@@ -177,17 +158,12 @@ fn check_by_rays(
 ) -> Result<(), String> {
     for w in barycentric_grid(grid) {
         let r = ray(w);
-        if WatertightRay::new(r)
-            .intersect(tri, 0.0, f32::INFINITY)
-            .is_some()
-        {
+        if WatertightRay::new(r).intersect(tri, 0.0, f32::INFINITY).is_some() {
             tally.checked_points += 1;
             match bt {
                 Some(b) if b.contains(w, TOL) => {}
                 _ => {
-                    return Err(format!(
-                        "base point ω={w} sees the triangle but lies outside {bt:?}"
-                    ));
+                    return Err(format!("base point ω={w} sees the triangle but lies outside {bt:?}"));
                 }
             }
         }
@@ -210,10 +186,7 @@ fn check_by_projection<L: Interpolant>(
             match bt {
                 Some(b) if b.contains(p.bary, TOL) => {}
                 _ => {
-                    return Err(format!(
-                        "point {q} projects to ω={} (t={}) outside {bt:?}",
-                        p.bary, p.t
-                    ));
+                    return Err(format!("point {q} projects to ω={} (t={}) outside {bt:?}", p.bary, p.t));
                 }
             }
         }
@@ -244,8 +217,7 @@ fn bounding_triangle_property<L: Interpolant>(
                     )
                 };
                 check_by_rays(bt, &tri, &|w| beam.ray_at(w), 24, &mut tally).map_err(context)?;
-                check_by_projection(&beam, bt, &tri, projection_grid, &mut tally)
-                    .map_err(context)?;
+                check_by_projection(&beam, bt, &tri, projection_grid, &mut tally).map_err(context)?;
             }
         }
     }
@@ -266,10 +238,7 @@ pub fn bounding_triangle_s3(_: Backend, _: &Config) -> Result<Outcome, String> {
 
 /// A bump map's tilt field: high-frequency, magnitude up to 1.
 fn tilt(w: Vec3) -> Vec2 {
-    Vec2::new(
-        (17.0 * w.x + 5.0 * w.y).sin(),
-        (13.0 * w.y - 7.0 * w.z).cos(),
-    ) * std::f32::consts::FRAC_1_SQRT_2
+    Vec2::new((17.0 * w.x + 5.0 * w.y).sin(), (13.0 * w.y - 7.0 * w.z).cos()) * std::f32::consts::FRAC_1_SQRT_2
 }
 
 /// Bump-map bounding triangles (eq. 5, D-expansion) contain every base point whose perturbed ray
@@ -279,18 +248,14 @@ pub fn bounding_triangle_bump(_: Backend, _: &Config) -> Result<Outcome, String>
     let mut tally = Tally::default();
     for kind in BeamKind::ALL {
         for b in 0..75 {
-            let beam = BumpBeam {
-                beam: generate::s1_beam(&mut rng, kind),
-                delta: uniform(&mut rng, 0.01, 0.15),
-            };
+            let beam = BumpBeam { beam: generate::s1_beam(&mut rng, kind), delta: uniform(&mut rng, 0.01, 0.15) };
             let bounds = beam.beam.bounds();
             for k in 0..40 {
                 let tri = generate::scene_triangle(&mut rng, &beam.beam);
                 let bt = beam.bounding_triangle(&bounds, &tri);
                 tally.add(bt);
-                check_by_rays(bt, &tri, &|w| beam.ray_at(w, tilt(w)), 24, &mut tally).map_err(
-                    |e| format!("{kind:?} beam {b} (δ={}) triangle {k}: {e}", beam.delta),
-                )?;
+                check_by_rays(bt, &tri, &|w| beam.ray_at(w, tilt(w)), 24, &mut tally)
+                    .map_err(|e| format!("{kind:?} beam {b} (δ={}) triangle {k}: {e}", beam.delta))?;
             }
         }
     }
@@ -305,10 +270,7 @@ pub fn bounding_cone_contains_beam(_: Backend, _: &Config) -> Result<Outcome, St
         for b in 0..300 {
             let s1 = generate::s1_beam(&mut rng, kind);
             let s3 = generate::s3_beam(&mut rng, kind);
-            let bump = BumpBeam {
-                beam: s1,
-                delta: uniform(&mut rng, 0.01, 0.2),
-            };
+            let bump = BumpBeam { beam: s1, delta: uniform(&mut rng, 0.01, 0.2) };
             let cones = [
                 s1.bounding_cone(&s1.dirs, 0.0),
                 s3.bounding_cone(&s3.extremal_directions(), 0.0),
@@ -324,16 +286,11 @@ pub fn bounding_cone_contains_beam(_: Backend, _: &Config) -> Result<Outcome, St
                 for (i, (cone, p)) in cones.iter().zip(points).enumerate() {
                     cases += 1;
                     if !cone.contains(p) {
-                        return Err(format!(
-                            "{kind:?} beam {b}: point {p} (ω={w}, t={t}) outside cone {i} {cone:?}"
-                        ));
+                        return Err(format!("{kind:?} beam {b}: point {p} (ω={w}, t={t}) outside cone {i} {cone:?}"));
                     }
                 }
             }
         }
     }
-    Ok(Outcome {
-        cases,
-        note: "S1, S3 and bump cones all conservative".into(),
-    })
+    Ok(Outcome { cases, note: "S1, S3 and bump cones all conservative".into() })
 }

@@ -6,9 +6,7 @@ use beam_math::roots::{cubic, quadratic, quartic};
 use rand::Rng;
 
 fn eval(c: &[f64], x: f64) -> (f64, f64) {
-    c.iter().rev().fold((0.0, 0.0), |(p, b), &ci| {
-        (p * x + ci, b * x.abs() + ci.abs())
-    })
+    c.iter().rev().fold((0.0, 0.0), |(p, b), &ci| (p * x + ci, b * x.abs() + ci.abs()))
 }
 
 fn solve(c: &[f64]) -> Vec<f64> {
@@ -59,37 +57,25 @@ pub fn roots_vs_polynomial(_: Backend, _: &Config) -> Result<Outcome, String> {
                 roots.push((x + 1e-3, 1));
             }
         }
-        let flat: Vec<f64> = roots
-            .iter()
-            .flat_map(|&(x, m)| std::iter::repeat_n(x, m))
-            .collect();
-        let scale = f64::from(generate::uniform(&mut rng, 0.1, 10.0))
-            * if rng.random() { 1.0 } else { -1.0 };
+        let flat: Vec<f64> = roots.iter().flat_map(|&(x, m)| std::iter::repeat_n(x, m)).collect();
+        let scale = f64::from(generate::uniform(&mut rng, 0.1, 10.0)) * if rng.random() { 1.0 } else { -1.0 };
         let c = from_roots(&flat, scale);
         let found = solve(&c);
         if found.len() != roots.len() {
             return Err(format!("case {i}: roots {roots:?} but found {found:?}"));
         }
         for &(x, m) in &roots {
-            let err = found
-                .iter()
-                .map(|f| (f - x).abs())
-                .fold(f64::INFINITY, f64::min)
-                / (1.0 + x.abs());
+            let err = found.iter().map(|f| (f - x).abs()).fold(f64::INFINITY, f64::min) / (1.0 + x.abs());
             let tol = [1e-8, 1e-6, 1e-4][m - 1];
             worst[m - 1] = worst[m - 1].max(err);
             if err > tol {
-                return Err(format!(
-                    "case {i}: root {x} (multiplicity {m}) found with error {err:e}: {found:?}"
-                ));
+                return Err(format!("case {i}: root {x} (multiplicity {m}) found with error {err:e}: {found:?}"));
             }
         }
     }
     for i in 0..30_000 {
         let degree = rng.random_range(2..=4usize);
-        let c: Vec<f64> = (0..=degree)
-            .map(|_| f64::from(generate::uniform(&mut rng, -5.0, 5.0)))
-            .collect();
+        let c: Vec<f64> = (0..=degree).map(|_| f64::from(generate::uniform(&mut rng, -5.0, 5.0))).collect();
         let found = solve(&c);
         for &x in &found {
             let (p, b) = eval(&c, x);
@@ -108,9 +94,7 @@ pub fn roots_vs_polynomial(_: Backend, _: &Config) -> Result<Outcome, String> {
             prev = p;
         }
         if changes > found.len() {
-            return Err(format!(
-                "case {i}: {changes} sign changes but roots {found:?} of {c:?}"
-            ));
+            return Err(format!("case {i}: {changes} sign changes but roots {found:?} of {c:?}"));
         }
     }
     Ok(Outcome {
