@@ -5,10 +5,11 @@
 //! every (property, backend) pair through thin `#[test]` wrappers in `tests/tests/`, and
 //! `beam conformance [--backend NAME]` runs the same bodies from the CLI and prints a table.
 //!
-//! Backends today: `math` (the beam-math core) and `bvh` (beam-bvh against brute force). The CPU
-//! and GPU backends join as they land.
+//! Backends today: `math` (the beam-math core), `bvh` (beam-bvh against brute force) and `cpu`
+//! (beam-cpu's renderers). The GPU backend joins when it lands.
 
 pub mod bvh;
+pub mod cpu;
 pub mod generate;
 pub mod math;
 
@@ -22,11 +23,13 @@ pub enum Backend {
     Math,
     /// beam-bvh builders and traversals, checked against brute force.
     Bvh,
+    /// beam-cpu renderers: exact soft shadows against closed forms and Monte Carlo.
+    Cpu,
 }
 
 impl Backend {
     /// Every backend.
-    pub const ALL: [Backend; 2] = [Backend::Math, Backend::Bvh];
+    pub const ALL: [Backend; 3] = [Backend::Math, Backend::Bvh, Backend::Cpu];
 
     /// The name used on the command line.
     #[must_use]
@@ -34,6 +37,7 @@ impl Backend {
         match self {
             Backend::Math => "math",
             Backend::Bvh => "bvh",
+            Backend::Cpu => "cpu",
         }
     }
 
@@ -93,6 +97,7 @@ pub struct Property {
 pub fn properties() -> Vec<Property> {
     let mut all = math::properties();
     all.extend(bvh::properties());
+    all.extend(cpu::properties());
     all
 }
 
