@@ -105,6 +105,26 @@ enum BenchCommand {
         #[arg(long, default_value_t = 512)]
         size: usize,
     },
+    /// Exact soft shadows by beams against 16/64/256 shadow rays per pixel (and Embree at 256 with
+    /// `--features peers`), each with its RMSE against a many-ray reference.
+    Softshadow {
+        /// A built-in scene, a .toml scene or an .obj mesh (which gets an interior camera and a
+        /// ceiling light).
+        #[arg(long, default_value = "cornell")]
+        scene: String,
+        /// Image width and height.
+        #[arg(long, default_value_t = 512)]
+        size: u32,
+        /// Shadow rays per pixel of the reference.
+        #[arg(long, default_value_t = 4096)]
+        reference_spp: u32,
+        /// Light width and depth as a fraction of the scene box's (for an .obj scene).
+        #[arg(long, default_value_t = 0.1)]
+        light_size: f32,
+        /// Write the images and their comparisons with the reference here.
+        #[arg(long)]
+        out_dir: Option<PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -127,6 +147,10 @@ fn main() -> ExitCode {
         Command::Compare { a, b, out, scale } => render::compare(&a, &b, &out, scale),
         Command::Bench { what: BenchCommand::Bvh { scene, json, size } } => {
             bench::bvh::run(&scene, json.as_deref(), size).map(|()| ExitCode::SUCCESS)
+        }
+        Command::Bench { what: BenchCommand::Softshadow { scene, size, reference_spp, light_size, out_dir } } => {
+            bench::softshadow::run(&scene, size, reference_spp, light_size, out_dir.as_deref())
+                .map(|()| ExitCode::SUCCESS)
         }
     };
     match result {

@@ -91,12 +91,16 @@ pub struct RaySet {
     pub eye: Vec3,
 }
 
-/// The scene light: a quad of a third of the box's width just under its top.
+/// The scene light (centre and edges): [`beam_cpu::scene::Light::under_ceiling`] of a third of the
+/// box's width.
 #[must_use]
 pub fn scene_light(bounds: Aabb) -> (Vec3, Vec3, Vec3) {
-    let e = bounds.extent();
-    let center = Vec3::new(bounds.center().x, bounds.max.y - 0.02 * e.y, bounds.center().z);
-    (center, Vec3::new(0.33 * e.x, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.33 * e.z))
+    match beam_cpu::scene::Light::under_ceiling(bounds, 0.33, Vec3::ONE) {
+        beam_cpu::scene::Light::Quad { corner, edge_u, edge_v, .. } => {
+            (corner + 0.5 * (edge_u + edge_v), edge_u, edge_v)
+        }
+        _ => unreachable!("under_ceiling is a quad"),
+    }
 }
 
 /// Generate `n` rays of each kind, seeded; `bvh` only finds the camera hits to start from.

@@ -5,6 +5,7 @@ use super::{Tracer, peers};
 use beam_bvh::{BuildOptions, FlatBvh, RayDistribution, TraversalStats, WideBvh};
 use beam_conformance::bvh::scene_light;
 use beam_conformance::generate::{self, uniform};
+use beam_cpu::scene::Camera;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use rayon::prelude::*;
@@ -37,20 +38,13 @@ struct Rays {
 /// cosine-distributed diffuse bounce each.
 fn make_rays(bvh: &FlatBvh, tris: &[Triangle], width: usize, height: usize) -> Rays {
     let b = bvh.nodes[0].bounds();
-    let (c, e) = (b.center(), b.extent());
-    let axis = if e.x >= e.z { Vec3::X } else { Vec3::Z };
-    let eye = c - axis * (0.38 * e.dot(axis)) - Vec3::Y * (0.2 * e.y);
-    let forward = (axis + Vec3::Y * 0.15).normalize();
-    let right = forward.cross(Vec3::Y).normalize();
-    let up = right.cross(forward);
-    let tan = (60f32.to_radians() * 0.5).tan();
-    let aspect = width as f32 / height as f32;
+    let e = b.extent();
+    let camera = Camera::interior(b, width as u32, height as u32);
+    let frame = camera.frame();
     let primary: Vec<Ray> = (0..width * height)
         .map(|i| {
-            let (x, y) = ((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
-            let sx = (2.0 * x / width as f32 - 1.0) * tan * aspect;
-            let sy = (1.0 - 2.0 * y / height as f32) * tan;
-            Ray::new(eye, (forward + right * sx + up * sy).normalize())
+            let r = camera.ray(&frame, (i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
+            Ray::new(r.origin, r.direction.normalize())
         })
         .collect();
     let hits = bvh.closest_hits(tris, &primary, f32::INFINITY);
@@ -74,7 +68,7 @@ fn make_rays(bvh: &FlatBvh, tris: &[Triangle], width: usize, height: usize) -> R
         let d = t * u1.sqrt() * phi.cos() + n.cross(t) * u1.sqrt() * phi.sin() + n * (1.0 - u1).sqrt();
         diffuse.push(Ray::new(p, d));
     }
-    Rays { primary, shadow, diffuse, eye, forward }
+    Rays { primary, shadow, diffuse, eye: camera.position, forward: frame.forward }
 }
 
 /// Our BVH as a [`Tracer`].

@@ -3,6 +3,7 @@
 pub mod bvh;
 #[cfg(feature = "peers")]
 mod peers;
+pub mod softshadow;
 
 use beam_math::Ray;
 

@@ -13,6 +13,12 @@ pub fn all(triangles: &[Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
     Ok(vec![Box::new(Embree::new(triangles)?), Box::new(Obvhs::new(triangles))])
 }
 
+/// Embree's any-hit query over `triangles`, as a shadow-ray tracer for the renderer.
+pub fn embree_occluder(triangles: &[Triangle]) -> Result<Box<dyn Fn(Ray, f32) -> bool + Sync>, String> {
+    let e = Embree::new(triangles)?;
+    Ok(Box::new(move |ray: Ray, t_max: f32| e.occluded(&ray, t_max)))
+}
+
 /// Embree 3.13 through the `embree3` crate: default (medium) build quality, all threads.
 struct Embree {
     scene: embree3::Scene<'static>,

@@ -9,5 +9,5 @@ mod shadow_beam;
 pub use compare::{Difference, difference, side_by_side};
 pub use image::{Image, srgb_decode, srgb_encode};
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
-pub use renderer::{Method, RenderOptions, RenderStats, Shading, render};
+pub use renderer::{Method, Occluder, RenderOptions, RenderStats, Shading, render, render_with};
 pub use shadow_beam::{DEPTH_EPS, ShadowBeamStats, VisibleLight, visible_light};

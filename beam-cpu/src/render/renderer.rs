@@ -105,10 +105,14 @@ impl core::ops::AddAssign for Counters {
 /// Deepest mirror/glass recursion.
 const MAX_DEPTH: u32 = 6;
 
+/// A shadow-ray tracer: true when something lies on the ray before `t_max`.
+pub type Occluder<'a> = &'a (dyn Fn(Ray, f32) -> bool + Sync);
+
 struct Context<'a> {
     scene: &'a Scene,
     options: RenderOptions,
     eps: f32,
+    occluded: Occluder<'a>,
 }
 
 impl Context<'_> {
@@ -164,7 +168,7 @@ impl Context<'_> {
                     let cos = n.dot(to) / r2.sqrt();
                     if cos > 0.0 {
                         c.shadow_rays += 1;
-                        if !scene.wide.any_hit(Ray::new(p, to), 1.0 - DEPTH_EPS) {
+                        if !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
                             e += intensity * cos / r2;
                         }
                     }
@@ -211,7 +215,7 @@ impl Context<'_> {
                     let q = sample_light(light, s, t);
                     let to = q - p;
                     c.shadow_rays += 1;
-                    if self.scene.wide.any_hit(Ray::new(p, to), 1.0 - DEPTH_EPS) {
+                    if (self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
                         continue;
                     }
                     visible += 1;
@@ -252,13 +256,23 @@ fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
 
 /// Render `scene`; `row_done` is called after each image row (for a progress bar).
 pub fn render(scene: &Scene, options: &RenderOptions, row_done: impl Fn() + Sync) -> (Image, RenderStats) {
+    render_with(scene, options, &|ray, t_max| scene.wide.any_hit(ray, t_max), row_done)
+}
+
+/// [`render`] with another shadow-ray tracer (for benchmarks against peers).
+pub fn render_with(
+    scene: &Scene,
+    options: &RenderOptions,
+    occluded: Occluder<'_>,
+    row_done: impl Fn() + Sync,
+) -> (Image, RenderStats) {
     let start = Instant::now();
     let mut camera = scene.camera;
     camera.width = options.width.max(1);
     camera.height = options.height.max(1);
     let frame = camera.frame();
     let bounds = scene.bvh.nodes.first().map_or(beam_math::Aabb::new(Vec3::ZERO, Vec3::ONE), |n| n.bounds());
-    let ctx = Context { scene, options: *options, eps: 1e-4 * bounds.extent().length() };
+    let ctx = Context { scene, options: *options, eps: 1e-4 * bounds.extent().length(), occluded };
     let rows: Vec<(Vec<Vec3>, Counters)> = (0..camera.height)
         .into_par_iter()
         .map(|y| {

@@ -7,9 +7,8 @@
 //! triangle from exactly one leaf, so the kd-tree mailboxing of 001 §3.4 has nothing to remove here.
 
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
-use beam_math::collide::{Frustum, frustum_aabb};
-use beam_math::glam::Vec3;
-use beam_math::polybeam::{BeamFrame, PolyBeam, Section};
+use beam_math::glam::{Vec2, Vec3};
+use beam_math::polybeam::{BeamFrame, PolyBeam, ProjectedTriangle, Section, split_section};
 use beam_math::{Aabb, Triangle};
 
 /// Occluders are counted only strictly between the point and the light: depths (in units of the
@@ -65,28 +64,85 @@ impl VisibleLight {
 }
 
 struct ShadowVisitor<'a> {
-    frustum: Frustum,
     triangles: &'a [Triangle],
     frame: BeamFrame,
     pieces: Vec<Section>,
     next: Vec<Section>,
+    /// Bounding rectangle of the remaining pieces on the light plane.
+    lo: Vec2,
+    hi: Vec2,
+    /// Outward normals of the four planes through the apex and the rectangle's sides, then the
+    /// near and far planes (`depth = DEPTH_EPS`, `depth = 1 − DEPTH_EPS`) as (normal, offset).
+    planes: [(Vec3, f32); 6],
     stats: ShadowBeamStats,
 }
 
+impl ShadowVisitor<'_> {
+    /// Recompute the bounding rectangle of the pieces and the beam planes around it.
+    fn update_bounds(&mut self) {
+        (self.lo, self.hi) = self
+            .pieces
+            .iter()
+            .flat_map(|s| s.vertices().iter())
+            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        let f = &self.frame;
+        let apex = f.apex;
+        let c = [
+            Vec2::new(self.lo.x, self.lo.y),
+            Vec2::new(self.hi.x, self.lo.y),
+            Vec2::new(self.hi.x, self.hi.y),
+            Vec2::new(self.lo.x, self.hi.y),
+        ]
+        .map(|q| f.point(q) - apex);
+        let mid = f.point(0.5 * (self.lo + self.hi)) - apex;
+        for i in 0..4 {
+            let mut n = c[i].cross(c[(i + 1) % 4]);
+            if n.dot(mid) > 0.0 {
+                n = -n;
+            }
+            self.planes[i] = (n, n.dot(apex));
+        }
+        // Depth d(x) = (x − apex)·N / distance: near plane keeps d ≥ ε, far plane keeps d ≤ 1 − ε.
+        let n = f.normal / f.distance;
+        self.planes[4] = (-n, -n.dot(apex) - DEPTH_EPS);
+        self.planes[5] = (n, n.dot(apex) + 1.0 - DEPTH_EPS);
+    }
+}
+
 impl NodeVisitor for ShadowVisitor<'_> {
+    /// A node is entered unless its box lies wholly outside one of the beam's six planes (the four
+    /// through the apex and the sides of the pieces' bounding rectangle, the near and far planes),
+    /// tested at the box corner nearest to the inside: the plane test of frustum culling, cheap and
+    /// conservative (001 §3.3 keeps near and far planes per axis for the same purpose).
     fn enter(&mut self, bounds: &Aabb) -> Option<f32> {
         self.stats.bvh_steps += 1;
-        frustum_aabb(&self.frustum, *bounds).then_some(0.0)
+        for &(n, d) in &self.planes {
+            let nearest = Vec3::select(n.cmpgt(Vec3::ZERO), bounds.min, bounds.max);
+            if n.dot(nearest) > d {
+                return None;
+            }
+        }
+        Some(0.0)
     }
 
     fn leaf(&mut self, prims: &[u32]) -> Control {
         for &p in prims {
-            let tri = &self.triangles[p as usize];
+            let Some(projected) =
+                ProjectedTriangle::new(&self.frame, &self.triangles[p as usize], DEPTH_EPS, 1.0 - DEPTH_EPS)
+            else {
+                continue;
+            };
+            if projected.max.x < self.lo.x
+                || projected.max.y < self.lo.y
+                || projected.min.x > self.hi.x
+                || projected.min.y > self.hi.y
+            {
+                continue;
+            }
             self.next.clear();
             for piece in &self.pieces {
                 self.stats.intersections += 1;
-                let beam = PolyBeam { frame: self.frame, section: *piece };
-                match beam.split(tri, DEPTH_EPS, 1.0 - DEPTH_EPS, 1e-6) {
+                match split_section(piece, &projected, 1e-6) {
                     Ok(split) => {
                         self.stats.hit_beams += split.hit.len() as u64;
                         self.next.extend(split.miss.iter().copied());
@@ -99,6 +155,7 @@ impl NodeVisitor for ShadowVisitor<'_> {
             if self.pieces.is_empty() {
                 return Control::Stop;
             }
+            self.update_bounds();
         }
         Control::Continue
     }
@@ -120,22 +177,17 @@ pub fn visible_light(
     let frame = BeamFrame::new(p, light[0], light_normal, light[1] - light[0])?;
     let beam = PolyBeam::new(frame, light)?;
     let light_area = beam.area();
-    let corner = |i: usize| light[i.min(light.len() - 1)] - p;
-    let frustum = Frustum::from_apex(
-        p,
-        [corner(0), corner(1), corner(2), corner(3)],
-        frame.normal,
-        DEPTH_EPS * frame.distance,
-        frame.distance,
-    );
     let mut v = ShadowVisitor {
-        frustum,
         triangles,
         frame,
         pieces: vec![beam.section],
         next: Vec::new(),
+        lo: Vec2::ZERO,
+        hi: Vec2::ZERO,
+        planes: [(Vec3::ZERO, 0.0); 6],
         stats: ShadowBeamStats::default(),
     };
+    v.update_bounds();
     bvh.traverse(&mut v);
     *stats += v.stats;
     Some(VisibleLight { frame, pieces: v.pieces, light_area })

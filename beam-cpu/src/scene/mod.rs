@@ -88,6 +88,17 @@ pub enum Light {
 }
 
 impl Light {
+    /// A downward-facing quad light of `size` times the box's width and depth, centred just under
+    /// the top of the box (a ceiling light for interiors).
+    #[must_use]
+    pub fn under_ceiling(bounds: beam_math::Aabb, size: f32, radiance: Vec3) -> Self {
+        let e = bounds.extent();
+        let center = Vec3::new(bounds.center().x, bounds.max.y - 0.02 * e.y, bounds.center().z);
+        let (edge_u, edge_v) = (Vec3::new(size * e.x, 0.0, 0.0), Vec3::new(0.0, 0.0, size * e.z));
+        // edge_u × edge_v points down.
+        Light::Quad { corner: center - 0.5 * (edge_u + edge_v), edge_u, edge_v, radiance }
+    }
+
     /// The emitting polygon's corners (counter-clockwise seen from the lit side); empty for a point.
     #[must_use]
     pub fn polygon(&self) -> Vec<Vec3> {

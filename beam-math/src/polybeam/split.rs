@@ -107,6 +107,38 @@ fn clip_depth(frame: &BeamFrame, tri: &Triangle, near: f32, far: f32) -> ([Vec3;
     (poly, n)
 }
 
+/// A triangle clipped to a beam's depth range and projected through its apex onto the reference
+/// plane (001 §3.2 step 1), ready to split any section of beams sharing the frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProjectedTriangle {
+    /// The projected polygon (3 to 5 corners after clipping).
+    pub polygon: ConvexPolygon<5>,
+    /// Its bounding rectangle, lower corner.
+    pub min: Vec2,
+    /// Its bounding rectangle, upper corner.
+    pub max: Vec2,
+}
+
+impl ProjectedTriangle {
+    /// Clip `tri` to depths `[near, far]` of `frame` and project it; `None` when nothing remains.
+    #[must_use]
+    pub fn new(frame: &BeamFrame, tri: &Triangle, near: f32, far: f32) -> Option<Self> {
+        let (poly, n) = clip_depth(frame, tri, near, far);
+        if n < 3 {
+            return None;
+        }
+        let mut polygon = ConvexPolygon::<5>::new();
+        let (mut min, mut max) = (Vec2::INFINITY, Vec2::NEG_INFINITY);
+        for p in &poly[..n] {
+            let q = frame.project(*p);
+            min = min.min(q);
+            max = max.max(q);
+            polygon.push(q).ok()?;
+        }
+        Some(Self { polygon, min, max })
+    }
+}
+
 impl PolyBeam {
     /// Split this beam by a triangle into hit and miss parts (001 §3.2). Only the part of the
     /// triangle with depth in `[near, far]` (units of the reference-plane distance) counts, so a
@@ -116,65 +148,76 @@ impl PolyBeam {
     /// Trivial cases first (001 Fig. 2a–c): a triangle edge separating the triangle from the beam,
     /// a beam edge separating the beam from the triangle, or the beam inside the triangle.
     pub fn split(&self, tri: &Triangle, near: f32, far: f32, eps: f32) -> Result<Split, CapacityExceeded> {
-        let mut out = Split::default();
-        let (poly, n) = clip_depth(&self.frame, tri, near, far);
-        if n < 3 {
-            out.miss.push(self.section)?;
-            return Ok(out);
-        }
-        let mut proj = ConvexPolygon::<5>::new();
-        for p in &poly[..n] {
-            proj.push(self.frame.project(*p))?;
-        }
-        let scale = self.section.vertices().iter().fold(0.0f32, |m, v| m.max((*v - self.section.centroid()).length()));
-        let eps = eps * scale.max(f32::MIN_POSITIVE);
-        let area = proj.signed_area();
-        if area.abs() <= eps * eps {
-            out.miss.push(self.section)?;
-            return Ok(out);
-        }
-        let sign = area.signum();
-        let edges = proj.vertices();
-        // Outward normal of edge i of the projected polygon.
-        let edge = |i: usize| {
-            let a = edges[i];
-            let e = edges[(i + 1) % edges.len()] - a;
-            (a, sign * Vec2::new(e.y, -e.x).normalize())
-        };
-        let beam = self.section.vertices();
-        // Fig. 2a: a triangle edge with every beam corner outside.
-        for i in 0..edges.len() {
-            let (a, nrm) = edge(i);
-            if beam.iter().all(|c| nrm.dot(*c - a) >= -eps) {
+        match ProjectedTriangle::new(&self.frame, tri, near, far) {
+            Some(projected) => split_section(&self.section, &projected, eps),
+            None => {
+                let mut out = Split::default();
                 out.miss.push(self.section)?;
-                return Ok(out);
+                Ok(out)
             }
         }
-        // Fig. 2b: a beam edge with every triangle corner outside (the section is counter-clockwise).
-        for i in 0..beam.len() {
-            let a = beam[i];
-            let e = beam[(i + 1) % beam.len()] - a;
-            let nrm = Vec2::new(e.y, -e.x).normalize();
-            if edges.iter().all(|c| nrm.dot(*c - a) >= -eps) {
-                out.miss.push(self.section)?;
-                return Ok(out);
-            }
-        }
-        // Fig. 2d–g: split edge by edge; what lies outside an edge misses.
-        let mut rest = self.section;
-        for i in 0..edges.len() {
-            let (a, nrm) = edge(i);
-            let (inside, outside) = rest.split(a, nrm, eps)?;
-            if inside.is_empty() {
-                out.miss.push(rest)?;
-                return Ok(out);
-            }
-            if !outside.is_empty() {
-                out.miss.push(outside)?;
-            }
-            rest = inside;
-        }
-        out.hit.push(rest)?;
-        Ok(out)
     }
+}
+
+/// Split a section by a projected triangle (see [`PolyBeam::split`]); a section whose bounding
+/// rectangle misses the triangle's is returned whole as a miss at once.
+pub fn split_section(section: &Section, projected: &ProjectedTriangle, eps: f32) -> Result<Split, CapacityExceeded> {
+    let mut out = Split::default();
+    let proj = &projected.polygon;
+    let (lo, hi) =
+        section.vertices().iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+    if hi.x < projected.min.x || hi.y < projected.min.y || lo.x > projected.max.x || lo.y > projected.max.y {
+        out.miss.push(*section)?;
+        return Ok(out);
+    }
+    let scale = section.vertices().iter().fold(0.0f32, |m, v| m.max((*v - section.centroid()).length()));
+    let eps = eps * scale.max(f32::MIN_POSITIVE);
+    let area = proj.signed_area();
+    if area.abs() <= eps * eps {
+        out.miss.push(*section)?;
+        return Ok(out);
+    }
+    let sign = area.signum();
+    let edges = proj.vertices();
+    // Outward normal of edge i of the projected polygon.
+    let edge = |i: usize| {
+        let a = edges[i];
+        let e = edges[(i + 1) % edges.len()] - a;
+        (a, sign * Vec2::new(e.y, -e.x).normalize())
+    };
+    let beam = section.vertices();
+    // Fig. 2a: a triangle edge with every beam corner outside.
+    for i in 0..edges.len() {
+        let (a, nrm) = edge(i);
+        if beam.iter().all(|c| nrm.dot(*c - a) >= -eps) {
+            out.miss.push(*section)?;
+            return Ok(out);
+        }
+    }
+    // Fig. 2b: a beam edge with every triangle corner outside (the section is counter-clockwise).
+    for i in 0..beam.len() {
+        let a = beam[i];
+        let e = beam[(i + 1) % beam.len()] - a;
+        let nrm = Vec2::new(e.y, -e.x).normalize();
+        if edges.iter().all(|c| nrm.dot(*c - a) >= -eps) {
+            out.miss.push(*section)?;
+            return Ok(out);
+        }
+    }
+    // Fig. 2d–g: split edge by edge; what lies outside an edge misses.
+    let mut rest = *section;
+    for i in 0..edges.len() {
+        let (a, nrm) = edge(i);
+        let (inside, outside) = rest.split(a, nrm, eps)?;
+        if inside.is_empty() {
+            out.miss.push(rest)?;
+            return Ok(out);
+        }
+        if !outside.is_empty() {
+            out.miss.push(outside)?;
+        }
+        rest = inside;
+    }
+    out.hit.push(rest)?;
+    Ok(out)
 }

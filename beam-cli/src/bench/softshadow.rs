@@ -1,0 +1,74 @@
+//! `beam bench softshadow`: exact soft shadows by beams against shadow rays (ours at 16, 64 and 256
+//! per pixel, Embree at 256 with `--features peers`), each with its error against a many-ray
+//! reference, as 001 §5.1 compares them.
+
+use beam_cpu::render::{Image, Method, RenderOptions, Shading, difference, render, side_by_side};
+use beam_cpu::scene::{self, Camera, Light};
+use beam_math::glam::Vec3;
+use std::path::Path;
+
+/// Run the benchmark on `scene_arg` at `size × size`.
+pub fn run(
+    scene_arg: &str,
+    size: u32,
+    reference_spp: u32,
+    light_size: f32,
+    out_dir: Option<&Path>,
+) -> Result<(), String> {
+    let mut scene = scene::load(scene_arg)?;
+    let bounds = scene.bvh.nodes.first().ok_or("empty scene")?.bounds();
+    if scene_arg.ends_with(".obj") {
+        // A bare mesh gets the interior view and ceiling light of `beam bench bvh`.
+        scene.camera = Camera::interior(bounds, size, size);
+        scene.lights = vec![Light::under_ceiling(bounds, light_size, Vec3::splat(8.0 * (0.1 / light_size).powi(2)))];
+    }
+    println!(
+        "scene {}: {} triangles, {}×{}, light area {:.3}",
+        scene.name,
+        scene.stats.triangles,
+        size,
+        size,
+        scene.lights[0].area()
+    );
+    let options =
+        |method, spp, seed| RenderOptions { method, shading: Shading::Exact, spp, width: size, height: size, seed };
+    let bar = crate::progress::bar(u64::from(size), "reference");
+    let (reference, rs) = render(&scene, &options(Method::Ray, reference_spp, 99), || bar.inc(1));
+    bar.finish_and_clear();
+    println!("reference: {reference_spp} shadow rays per pixel, {:.1} s", rs.seconds);
+    let mut rows: Vec<(String, f64, Image, String)> = Vec::new();
+    let (beam, bs) = render(&scene, &options(Method::Beam, 1, 1), || {});
+    rows.push(("beam (exact)".into(), bs.seconds, beam, format!("{:.2} hit beams/pixel", bs.hit_beams_per_pixel)));
+    for spp in [16, 64, 256] {
+        let (img, st) = render(&scene, &options(Method::Ray, spp, 1), || {});
+        rows.push((format!("rays {spp} spp"), st.seconds, img, String::new()));
+    }
+    #[cfg(feature = "peers")]
+    {
+        let embree = super::peers::embree_occluder(&scene.triangles)?;
+        let (img, st) = beam_cpu::render::render_with(&scene, &options(Method::Ray, 256, 1), &*embree, || {});
+        rows.push(("embree3 256 spp".into(), st.seconds, img, String::new()));
+    }
+    let beam_seconds = rows[0].1;
+    println!("\n{:<18} {:>9} {:>10} {:>9} {:>14}", "method", "seconds", "RMSE", "PSNR dB", "beam speed-up");
+    for (name, seconds, img, extra) in &rows {
+        let d = difference(img, &reference)?;
+        println!(
+            "{name:<18} {seconds:>9.3} {:>10.5} {:>9.2} {:>14.2}  {extra}",
+            d.rmse,
+            d.psnr,
+            seconds / beam_seconds
+        );
+    }
+    if let Some(dir) = out_dir {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        reference.save_png(&dir.join("reference.png"))?;
+        for (name, _, img, _) in &rows {
+            let file = name.split_whitespace().take(2).collect::<Vec<_>>().join("-").replace(['(', ')'], "");
+            img.save_png(&dir.join(format!("{file}.png")))?;
+            side_by_side(img, &reference, 0.05)?.save_png(&dir.join(format!("{file}-vs-reference.png")))?;
+        }
+        println!("images in {}", dir.display());
+    }
+    Ok(())
+}
