@@ -5,7 +5,8 @@ use beam_math::{Aabb, Triangle};
 
 impl FlatBvh {
     /// Recompute node boxes bottom-up for moved `triangles` (same count and order as at build).
-    /// Children follow their parents in the depth-first layout, so one reverse pass suffices.
+    /// Children follow their parents in the depth-first layout, so one reverse pass suffices. The
+    /// tree keeps its triangles: one left out as degenerate at build stays out; rebuild to add it.
     pub fn refit(&mut self, triangles: &[Triangle]) {
         for i in (0..self.nodes.len()).rev() {
             let n = self.nodes[i];

@@ -3,8 +3,8 @@
 use beam_conformance::{Backend, Config, properties, run_suite};
 use std::process::ExitCode;
 
-pub fn run(backend: Option<&str>, rays: Option<usize>) -> Result<ExitCode, String> {
-    let mut config = Config::default();
+pub fn run(backend: Option<&str>, rays: Option<usize>, only: Option<String>) -> Result<ExitCode, String> {
+    let mut config = Config { only, ..Config::default() };
     if let Some(r) = rays {
         config.rays = r.max(1);
     }

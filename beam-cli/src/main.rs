@@ -30,6 +30,9 @@ enum Command {
         /// $BEAM_CONFORMANCE_RAYS; the BVH issue's full check is 100,000).
         #[arg(long)]
         rays: Option<usize>,
+        /// Run only the property of this name.
+        #[arg(long)]
+        only: Option<String>,
     },
     /// Benchmarks against peers measured in the same run.
     Bench {
@@ -130,7 +133,7 @@ enum BenchCommand {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Conformance { backend, rays } => conformance::run(backend.as_deref(), rays),
+        Command::Conformance { backend, rays, only } => conformance::run(backend.as_deref(), rays, only),
         Command::Overdraw { out, csv, points } => overdraw::run(&out, &csv, points),
         Command::Render { scene, method, shading, spp, width, height, out, stats } => {
             render::run(&render::RenderArgs {

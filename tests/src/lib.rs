@@ -57,17 +57,19 @@ impl fmt::Display for Backend {
 }
 
 /// Settings of a suite run.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Config {
     /// Rays of each kind per mesh for the BVH properties (the full check of the BVH issue is 100,000).
     pub rays: usize,
+    /// Run only the property of this name.
+    pub only: Option<String>,
 }
 
 impl Default for Config {
     /// 2,000 rays per kind per mesh, or `$BEAM_CONFORMANCE_RAYS`.
     fn default() -> Self {
         let rays = std::env::var("BEAM_CONFORMANCE_RAYS").ok().and_then(|v| v.parse().ok()).unwrap_or(2_000);
-        Self { rays }
+        Self { rays, only: None }
     }
 }
 
@@ -120,6 +122,9 @@ pub struct Report {
 pub fn run_suite(backend: Option<Backend>, config: &Config, mut done: impl FnMut()) -> Vec<Report> {
     let mut out = Vec::new();
     for p in properties() {
+        if config.only.as_deref().is_some_and(|only| only != p.name) {
+            continue;
+        }
         for &b in p.backends {
             if backend.is_some_and(|want| want != b) {
                 continue;
