@@ -38,7 +38,18 @@ pub fn run(
     println!("reference: {reference_spp} shadow rays per pixel, {:.1} s", rs.seconds);
     let mut rows: Vec<(String, f64, Image, String)> = Vec::new();
     let (beam, bs) = render(&scene, &options(Method::Beam, 1, 1), || {});
-    rows.push(("beam (exact)".into(), bs.seconds, beam, format!("{:.2} hit beams/pixel", bs.hit_beams_per_pixel)));
+    let per_beam = |x: u64| x as f64 / bs.shadow_beams.max(1) as f64;
+    rows.push((
+        "beam (exact)".into(),
+        bs.seconds,
+        beam,
+        format!(
+            "{:.2} hit beams/pixel; per shadow beam: {:.1} BVH steps, {:.1} splits",
+            bs.hit_beams_per_pixel,
+            per_beam(bs.bvh_steps),
+            per_beam(bs.intersections)
+        ),
+    ));
     for spp in [16, 64, 256] {
         let (img, st) = render(&scene, &options(Method::Ray, spp, 1), || {});
         rows.push((format!("rays {spp} spp"), st.seconds, img, String::new()));

@@ -179,17 +179,18 @@ pub fn split_section(section: &Section, projected: &ProjectedTriangle, eps: f32)
     }
     let sign = area.signum();
     let edges = proj.vertices();
-    // Outward normal of edge i of the projected polygon.
+    // Outward normal of edge i of the projected polygon; a zero-length edge (clipping can repeat a
+    // corner) gets a zero normal and is skipped below, as it bounds nothing.
     let edge = |i: usize| {
         let a = edges[i];
         let e = edges[(i + 1) % edges.len()] - a;
-        (a, sign * Vec2::new(e.y, -e.x).normalize())
+        (a, sign * Vec2::new(e.y, -e.x).normalize_or_zero())
     };
     let beam = section.vertices();
     // Fig. 2a: a triangle edge with every beam corner outside.
     for i in 0..edges.len() {
         let (a, nrm) = edge(i);
-        if beam.iter().all(|c| nrm.dot(*c - a) >= -eps) {
+        if nrm != Vec2::ZERO && beam.iter().all(|c| nrm.dot(*c - a) >= -eps) {
             out.miss.push(*section)?;
             return Ok(out);
         }
@@ -208,6 +209,9 @@ pub fn split_section(section: &Section, projected: &ProjectedTriangle, eps: f32)
     let mut rest = *section;
     for i in 0..edges.len() {
         let (a, nrm) = edge(i);
+        if nrm == Vec2::ZERO {
+            continue;
+        }
         let (inside, outside) = rest.split(a, nrm, eps)?;
         if inside.is_empty() {
             out.miss.push(rest)?;
