@@ -18,9 +18,17 @@ pub fn run(
     let mut scene = scene::load(scene_arg)?;
     let bounds = scene.bvh.nodes.first().ok_or("empty scene")?.bounds();
     if scene_arg.ends_with(".obj") {
-        // A bare mesh gets the interior view and ceiling light of `beam bench bvh`.
+        // A bare mesh gets the interior view of `beam bench bvh` and a ceiling light, lowered under
+        // the ceiling above the box centre if there is one (the conference room's box top is above
+        // its ceiling; Sponza's atrium is open).
         scene.camera = Camera::interior(bounds, size, size);
-        scene.lights = vec![Light::under_ceiling(bounds, light_size, Vec3::splat(8.0 * (0.1 / light_size).powi(2)))];
+        let mut light = Light::under_ceiling(bounds, light_size, Vec3::splat(25.0 * (0.1 / light_size).powi(2)));
+        if let Some(hit) = scene.wide.closest_hit(beam_math::Ray::new(bounds.center(), Vec3::Y), f32::INFINITY) {
+            if let Light::Quad { corner, .. } = &mut light {
+                corner.y = bounds.center().y + hit.t - 0.01 * bounds.extent().y;
+            }
+        }
+        scene.lights = vec![light];
     }
     println!(
         "scene {}: {} triangles, {}×{}, light area {:.3}",

@@ -36,13 +36,14 @@ pub struct CameraFrame {
 }
 
 impl Camera {
-    /// An interior view of a scene box (Sponza, the conference room, Sibenik): inside the box, low,
-    /// looking along its longest horizontal axis, 60° field of view.
+    /// An interior view of a scene box (Sponza, the conference room, Sibenik): a fifth of the box
+    /// behind its centre along the longest horizontal axis and a fifth of its height below, looking
+    /// along that axis slightly upwards, 60° field of view.
     #[must_use]
     pub fn interior(bounds: beam_math::Aabb, width: u32, height: u32) -> Self {
         let (c, e) = (bounds.center(), bounds.extent());
         let axis = if e.x >= e.z { Vec3::X } else { Vec3::Z };
-        let position = c - axis * (0.38 * e.dot(axis)) - Vec3::Y * (0.2 * e.y);
+        let position = c - axis * (0.2 * e.dot(axis)) - Vec3::Y * (0.2 * e.y);
         let forward = (axis + Vec3::Y * 0.15).normalize();
         Self { position, target: position + forward, up: Vec3::Y, fov_y: 60.0, width, height }
     }
