@@ -195,6 +195,7 @@ fn find_split(ctx: &Context, refs: &[PrimRef], measure: Measure, scratch: &mut B
             cost: 0.0,
         })
     });
+    // Clear the bins in use, then add every reference of `chunk` to its bin in each direction.
     let bin_chunk = |chunk: &[PrimRef], out: &mut Bins| {
         for d in 0..dirs.len() {
             out.bounds[d][..bins].fill(Aabb::EMPTY);
@@ -210,27 +211,13 @@ fn find_split(ctx: &Context, refs: &[PrimRef], measure: Measure, scratch: &mut B
             }
         }
     };
-    let large = parallel && refs.len() > PARALLEL_BINNING;
-    if large {
-        *scratch = reduce_chunks(
-            refs,
-            parallel,
-            Bins::EMPTY,
-            |chunk| {
-                let mut out = Bins::EMPTY;
-                for p in chunk {
-                    for (d, probe) in probes.iter().enumerate() {
-                        if let Some(probe) = probe {
-                            let b = bin_of(p, probe, bins);
-                            out.bounds[d][b] = out.bounds[d][b].union(p.bounds);
-                            out.counts[d][b] += 1;
-                        }
-                    }
-                }
-                out
-            },
-            Bins::merge,
-        );
+    if parallel && refs.len() > PARALLEL_BINNING {
+        let chunk = |c: &[PrimRef]| {
+            let mut out = Bins::EMPTY;
+            bin_chunk(c, &mut out);
+            out
+        };
+        *scratch = reduce_chunks(refs, parallel, Bins::EMPTY, chunk, Bins::merge);
     } else {
         bin_chunk(refs, scratch);
     }

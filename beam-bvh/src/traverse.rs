@@ -86,9 +86,25 @@ impl FlatBvh {
     }
 
     fn closest_hit_counted<C: Counter>(&self, triangles: &[Triangle], ray: Ray, t_max: f32, c: &mut C) -> Option<Hit> {
+        self.trace::<false, C>(triangles, ray, t_max, c).1
+    }
+
+    fn any_hit_counted<C: Counter>(&self, triangles: &[Triangle], ray: Ray, t_max: f32, c: &mut C) -> bool {
+        self.trace::<true, C>(triangles, ray, t_max, c).0
+    }
+
+    /// Nearest-child-first traversal: with `ANY`, stop at the first hit in `[0, t_max]`; otherwise
+    /// shrink `t_max` to each hit and skip pending nodes that start beyond it.
+    fn trace<const ANY: bool, C: Counter>(
+        &self,
+        triangles: &[Triangle],
+        ray: Ray,
+        t_max: f32,
+        c: &mut C,
+    ) -> (bool, Option<Hit>) {
         let nodes = &self.nodes[..];
         if nodes.is_empty() {
-            return None;
+            return (false, None);
         }
         let origin = Vec3A::from(ray.origin);
         let inv = Vec3A::from(ray.direction.recip());
@@ -97,7 +113,7 @@ impl FlatBvh {
         let mut t_best = t_max;
         c.node();
         if slab(&nodes[0].min, &nodes[0].max, origin, inv, t_best) == f32::INFINITY {
-            return None;
+            return (false, None);
         }
         let mut stack = [(0u32, 0.0f32); STACK_SIZE];
         let mut sp = 0usize;
@@ -109,6 +125,9 @@ impl FlatBvh {
                 for &p in &self.prims[first..first + n.count as usize] {
                     c.triangle();
                     if let Some(h) = wt.intersect(&triangles[p as usize], 0.0, t_best) {
+                        if ANY {
+                            return (true, None);
+                        }
                         t_best = h.t;
                         best = Some(Hit { prim: p, t: h.t, u: h.u, v: h.v });
                     }
@@ -135,7 +154,7 @@ impl FlatBvh {
             // Pop the nearest pending node still in front of the best hit.
             loop {
                 if sp == 0 {
-                    return best;
+                    return (best.is_some(), best);
                 }
                 sp -= 1;
                 let (next, d) = stack[sp];
@@ -144,58 +163,6 @@ impl FlatBvh {
                     break;
                 }
             }
-        }
-    }
-
-    fn any_hit_counted<C: Counter>(&self, triangles: &[Triangle], ray: Ray, t_max: f32, c: &mut C) -> bool {
-        let nodes = &self.nodes[..];
-        if nodes.is_empty() {
-            return false;
-        }
-        let origin = Vec3A::from(ray.origin);
-        let inv = Vec3A::from(ray.direction.recip());
-        let wt = WatertightRay::new(ray);
-        c.node();
-        if slab(&nodes[0].min, &nodes[0].max, origin, inv, t_max) == f32::INFINITY {
-            return false;
-        }
-        let mut stack = [0u32; STACK_SIZE];
-        let mut sp = 0usize;
-        let mut node = 0usize;
-        loop {
-            let n = &nodes[node];
-            if n.count > 0 {
-                let first = n.right_or_first as usize;
-                for &p in &self.prims[first..first + n.count as usize] {
-                    c.triangle();
-                    if wt.intersect(&triangles[p as usize], 0.0, t_max).is_some() {
-                        return true;
-                    }
-                }
-            } else {
-                let (mut a, mut b) = (node + 1, n.right_or_first as usize);
-                c.node();
-                c.node();
-                let mut da = slab(&nodes[a].min, &nodes[a].max, origin, inv, t_max);
-                let mut db = slab(&nodes[b].min, &nodes[b].max, origin, inv, t_max);
-                if db < da {
-                    core::mem::swap(&mut a, &mut b);
-                    core::mem::swap(&mut da, &mut db);
-                }
-                if da != f32::INFINITY {
-                    if db != f32::INFINITY {
-                        stack[sp] = b as u32;
-                        sp += 1;
-                    }
-                    node = a;
-                    continue;
-                }
-            }
-            if sp == 0 {
-                return false;
-            }
-            sp -= 1;
-            node = stack[sp] as usize;
         }
     }
 

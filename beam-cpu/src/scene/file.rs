@@ -208,13 +208,7 @@ fn load_toml(path: &Path) -> Result<Scene, String> {
         }
         lights.push(light);
     }
-    let bounds = triangles
-        .iter()
-        .filter(|(t, _)| t.is_valid())
-        .fold(beam_math::Aabb::EMPTY, |b, (t, _)| b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2]));
-    if !bounds.is_valid() {
-        return Err(format!("{}: the scene has no valid triangle", path.display()));
-    }
+    let bounds = valid_bounds(path, &triangles)?;
     if lights.is_empty() {
         lights.push(default_light(bounds));
     }
@@ -246,6 +240,15 @@ fn load_toml(path: &Path) -> Result<Scene, String> {
     Ok(Scene::new(path.display().to_string(), triangles, materials, lights, camera))
 }
 
+/// Bounds of the non-degenerate triangles; an error naming the file when there is none.
+fn valid_bounds(path: &Path, triangles: &[(Triangle, u32)]) -> Result<beam_math::Aabb, String> {
+    let bounds = triangles
+        .iter()
+        .filter(|(t, _)| t.is_valid())
+        .fold(beam_math::Aabb::EMPTY, |b, (t, _)| b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2]));
+    if bounds.is_valid() { Ok(bounds) } else { Err(format!("{}: no valid triangle", path.display())) }
+}
+
 /// A camera in front of the box (along +z), framing it.
 fn default_camera(b: beam_math::Aabb) -> Camera {
     let c = b.center();
@@ -271,13 +274,7 @@ fn default_light(b: beam_math::Aabb) -> Light {
 fn load_bare_obj(path: &Path) -> Result<Scene, String> {
     let mesh = load_obj(path)?;
     let triangles: Vec<(Triangle, u32)> = mesh.triangles().into_iter().map(|t| (t, 0)).collect();
-    let bounds = triangles
-        .iter()
-        .filter(|(t, _)| t.is_valid())
-        .fold(beam_math::Aabb::EMPTY, |b, (t, _)| b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2]));
-    if !bounds.is_valid() {
-        return Err(format!("{}: no valid triangle", path.display()));
-    }
+    let bounds = valid_bounds(path, &triangles)?;
     let materials = vec![Material::Diffuse { albedo: Vec3::splat(0.7) }];
     Ok(Scene::new(
         path.display().to_string(),
