@@ -53,6 +53,9 @@ enum Command {
         /// Shadow rays per shade point and area light (`--method ray`).
         #[arg(long, default_value_t = 64)]
         spp: u32,
+        /// Primary rays per pixel, stratified (`--method ray`; beams compute exact coverage).
+        #[arg(long, default_value_t = 1)]
+        primary_spp: u32,
         /// Image width (default: the scene camera's).
         #[arg(long)]
         width: Option<u32>,
@@ -135,12 +138,13 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Conformance { backend, rays, only } => conformance::run(backend.as_deref(), rays, only),
         Command::Overdraw { out, csv, points } => overdraw::run(&out, &csv, points),
-        Command::Render { scene, method, shading, spp, width, height, out, stats } => {
+        Command::Render { scene, method, shading, spp, primary_spp, width, height, out, stats } => {
             render::run(&render::RenderArgs {
                 scene: &scene,
                 method: &method,
                 shading: &shading,
                 spp,
+                primary_spp,
                 width,
                 height,
                 out: &out,

@@ -11,6 +11,7 @@ pub struct RenderArgs<'a> {
     pub method: &'a str,
     pub shading: &'a str,
     pub spp: u32,
+    pub primary_spp: u32,
     pub width: Option<u32>,
     pub height: Option<u32>,
     pub out: &'a Path,
@@ -38,7 +39,8 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     if width == 0 || height == 0 || width > 16384 || height > 16384 {
         return Err(format!("image size {width}×{height} out of range (1 to 16384)"));
     }
-    let options = RenderOptions { method, shading, spp: a.spp.max(1), width, height, seed: 1 };
+    let options =
+        RenderOptions { method, shading, spp: a.spp.max(1), primary_spp: a.primary_spp.max(1), width, height, seed: 1 };
     let bar = crate::progress::bar(u64::from(height), "render");
     let (image, stats) = render(&scene, &options, || bar.inc(1));
     bar.finish_and_clear();
@@ -58,7 +60,11 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     );
     if method == Method::Beam {
         println!(
-            "shadow beams {}, BVH steps {}, intersections {}, hit beams per pixel {:.2}",
+            "eye beams: {} visible triangles, {:.2} hit beams per visible triangle, {} fragments, coverage error {:.1e}",
+            stats.visible_triangles, stats.hit_beams_per_visible_triangle, stats.fragments, stats.coverage_error
+        );
+        println!(
+            "shadow beams: {}, BVH steps {}, intersections {}, hit beams per pixel {:.2}",
             stats.shadow_beams, stats.bvh_steps, stats.intersections, stats.hit_beams_per_pixel
         );
     }

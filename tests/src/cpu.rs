@@ -36,6 +36,12 @@ pub fn properties() -> Vec<Property> {
             backends: CPU,
             body: beam_and_ray_images_agree,
         },
+        Property {
+            name: "primary_coverage_sums_to_one",
+            cites: "001 §3-4",
+            backends: CPU,
+            body: primary_coverage_sums_to_one,
+        },
     ]
 }
 
@@ -166,12 +172,28 @@ pub fn soft_shadow_vs_monte_carlo(_: Backend, config: &Config) -> Result<Outcome
     })
 }
 
-/// The Cornell box at 96×96: beam-traced exact soft shadows against 1,024 stratified shadow rays per
-/// shade point, same shading (eq. 1): PSNR ≥ 45 dB and no bias (the mean difference is within 3
-/// standard errors of zero).
+/// The Cornell box at 96×96: the beam image (exact primary visibility with box-filtered coverage,
+/// exact soft shadows) against the ray image (16 stratified primary rays per pixel, 256 stratified
+/// shadow rays per shade point), same shading (eq. 1): PSNR ≥ 40 dB and no bias (the mean
+/// difference of linear radiance is within 3 standard errors of zero).
 pub fn beam_and_ray_images_agree(_: Backend, _: &Config) -> Result<Outcome, String> {
-    let scene = scene::builtin("cornell")?;
-    let opts = |method| RenderOptions { method, shading: Shading::Exact, spp: 1024, width: 96, height: 96, seed: 5 };
+    let mut scene = scene::builtin("cornell")?;
+    // Seen directly, the light (radiance 15) saturates any pixel it covers by more than 1/15, so
+    // box-filter noise at its edges would swamp the comparison: dim its surface to radiance 1.
+    for m in &mut scene.materials {
+        if let scene::Material::Emissive { radiance } = m {
+            *radiance = Vec3::ONE;
+        }
+    }
+    let opts = |method| RenderOptions {
+        method,
+        shading: Shading::Exact,
+        spp: 256,
+        primary_spp: 16,
+        width: 96,
+        height: 96,
+        seed: 5,
+    };
     let (beam, _) = render(&scene, &opts(Method::Beam), || {});
     let (ray, _) = render(&scene, &opts(Method::Ray), || {});
     let d = difference(&beam, &ray)?;
@@ -180,8 +202,54 @@ pub fn beam_and_ray_images_agree(_: Backend, _: &Config) -> Result<Outcome, Stri
     let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
     let var = diffs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (diffs.len() - 1) as f64;
     let stderr = (var / diffs.len() as f64).sqrt();
-    if d.psnr < 45.0 || mean.abs() > 3.0 * stderr.max(1e-9) {
+    if d.psnr < 40.0 || mean.abs() > 3.0 * stderr.max(1e-9) {
         return Err(format!("PSNR {:.1} dB, mean difference {mean:.2e} (standard error {stderr:.2e})", d.psnr));
     }
     Ok(Outcome { cases: 96 * 96, note: format!("PSNR {:.1} dB, mean difference {mean:.1e} ± {stderr:.1e}", d.psnr) })
+}
+
+/// Exact primary visibility by eye beams: in every pixel the visible pieces' coverage sums to one
+/// (1e-4), no crack, no overlap. Inside a closed room (a box around a sphere and a cube, camera
+/// inside, 160×120 and 512×384) every piece sees a triangle; in the Cornell box (open at the front)
+/// pieces and background together sum to one.
+pub fn primary_coverage_sums_to_one(_: Backend, _: &Config) -> Result<Outcome, String> {
+    use beam_cpu::mesh;
+    use beam_cpu::scene::{Camera, Material, Scene};
+    let mut room = mesh::cuboid(Vec3::splat(-5.0), Vec3::splat(5.0));
+    room.append(&mesh::sphere(Vec3::new(0.5, -1.0, -1.0), 1.5, 16, 32));
+    room.append(&mesh::cuboid(Vec3::new(-3.0, -5.0, -3.0), Vec3::new(-1.5, -2.0, -1.5)));
+    let camera = Camera {
+        position: Vec3::new(1.0, 0.5, 4.0),
+        target: Vec3::new(-0.5, -1.0, -1.0),
+        up: Vec3::Y,
+        fov_y: 70.0,
+        width: 160,
+        height: 120,
+    };
+    let closed = Scene::new(
+        "closed room".into(),
+        room.triangles().into_iter().map(|t| (t, 0)).collect(),
+        vec![Material::Diffuse { albedo: Vec3::ONE }],
+        vec![],
+        camera,
+    );
+    let cornell = scene::builtin("cornell")?;
+    let mut worst = 0.0f32;
+    let mut pixels = 0u64;
+    for (scene, w, h, closed) in [(&closed, 160, 120, true), (&closed, 512, 384, true), (&cornell, 128, 128, false)] {
+        for (i, &(total, owned)) in beam_cpu::render::primary_coverage(scene, w, h).iter().enumerate() {
+            pixels += 1;
+            let err = if closed { (1.0 - owned).abs().max((1.0 - total).abs()) } else { (1.0 - total).abs() };
+            worst = worst.max(err);
+            if err > 1e-4 {
+                return Err(format!(
+                    "{} {w}×{h} pixel ({}, {}): coverage {total} (seeing triangles {owned})",
+                    scene.name,
+                    i % w as usize,
+                    i / w as usize
+                ));
+            }
+        }
+    }
+    Ok(Outcome { cases: pixels, note: format!("largest |1 − Σ coverage| {worst:.1e}") })
 }

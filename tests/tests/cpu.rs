@@ -16,3 +16,8 @@ fn soft_shadow_vs_monte_carlo() {
 fn beam_and_ray_images_agree() {
     check("beam_and_ray_images_agree", Backend::Cpu);
 }
+
+#[test]
+fn primary_coverage_sums_to_one() {
+    check("primary_coverage_sums_to_one", Backend::Cpu);
+}

@@ -38,8 +38,15 @@ pub fn run(
         size,
         scene.lights[0].area()
     );
-    let options =
-        |method, spp, seed| RenderOptions { method, shading: Shading::Exact, spp, width: size, height: size, seed };
+    let options = |method, spp, seed| RenderOptions {
+        method,
+        shading: Shading::Exact,
+        spp,
+        primary_spp: 1,
+        width: size,
+        height: size,
+        seed,
+    };
     let bar = crate::progress::bar(u64::from(size), "reference");
     let (reference, rs) = render(&scene, &options(Method::Ray, reference_spp, 99), || bar.inc(1));
     bar.finish_and_clear();

@@ -3,11 +3,15 @@
 mod compare;
 mod image;
 mod lambert;
+mod primary_beam;
 mod renderer;
 mod shadow_beam;
 
 pub use compare::{Difference, difference, side_by_side};
 pub use image::{Image, srgb_decode, srgb_encode};
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
-pub use renderer::{Method, Occluder, RenderOptions, RenderStats, Shading, render, render_with};
+pub use primary_beam::{NEAR, Piece, PrimaryStats, point_on_piece, visible_surface};
+pub use renderer::{
+    Method, Occluder, RenderOptions, RenderStats, Shading, TILE, primary_coverage, render, render_with,
+};
 pub use shadow_beam::{DEPTH_EPS, ShadowBeamStats, VisibleLight, visible_light};

@@ -4,10 +4,13 @@
 
 use super::image::Image;
 use super::lambert::{point_source_irradiance, polygon_irradiance};
+use super::primary_beam::{PrimaryStats, point_on_piece, visible_surface};
 use super::shadow_beam::{DEPTH_EPS, ShadowBeamStats, visible_light};
-use crate::scene::{Light, Material, Scene};
+use crate::scene::{Camera, Light, Material, Scene};
 use beam_math::Ray;
-use beam_math::glam::Vec3;
+use beam_math::collide::ConvexPolygon;
+use beam_math::glam::{Vec2, Vec3};
+use beam_math::polybeam::BeamFrame;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use rayon::prelude::*;
@@ -41,6 +44,9 @@ pub struct RenderOptions {
     pub shading: Shading,
     /// Shadow rays per shade point and area light ([`Method::Ray`]).
     pub spp: u32,
+    /// Primary rays per pixel, stratified and jittered, averaged (a box filter) ([`Method::Ray`];
+    /// [`Method::Beam`] computes the exact box-filtered coverage instead).
+    pub primary_spp: u32,
     /// Image width (the camera's aspect is kept from the camera's own resolution).
     pub width: u32,
     /// Image height.
@@ -82,6 +88,20 @@ pub struct RenderStats {
     pub hit_beams: u64,
     /// `hit_beams / pixels`.
     pub hit_beams_per_pixel: f64,
+    /// BVH nodes tested by eye beams.
+    pub primary_bvh_steps: u64,
+    /// Eye-beam–triangle splits.
+    pub primary_intersections: u64,
+    /// Hit pieces produced by eye beams.
+    pub primary_hit_beams: u64,
+    /// Distinct triangles seen by the eye beams.
+    pub visible_triangles: u64,
+    /// `primary_hit_beams / visible_triangles` (001 Fig. 5).
+    pub hit_beams_per_visible_triangle: f64,
+    /// Shaded fragments (a visible piece within a pixel) of the eye beams.
+    pub fragments: u64,
+    /// Largest `|1 − Σ coverage|` of a pixel (exact coverage sums to one).
+    pub coverage_error: f64,
 }
 
 /// Per-thread accumulators.
@@ -91,6 +111,9 @@ struct Counters {
     shadow_rays: u64,
     shadow_beams: u64,
     beams: ShadowBeamStats,
+    primary: PrimaryStats,
+    fragments: u64,
+    coverage_error: f64,
 }
 
 impl core::ops::AddAssign for Counters {
@@ -99,7 +122,108 @@ impl core::ops::AddAssign for Counters {
         self.shadow_rays += o.shadow_rays;
         self.shadow_beams += o.shadow_beams;
         self.beams += o.beams;
+        self.primary.bvh_steps += o.primary.bvh_steps;
+        self.primary.intersections += o.primary.intersections;
+        self.primary.hit_beams += o.primary.hit_beams;
+        self.fragments += o.fragments;
+        self.coverage_error = self.coverage_error.max(o.coverage_error);
     }
+}
+
+/// Tiles of the eye beams, in pixels.
+pub const TILE: u32 = 16;
+
+/// The image plane of `camera` as a beam frame: `u` along the camera's right, `v` down the image, so
+/// that pixel `(x, y)` spans `[(2x/W − 1)·w, (2(x+1)/W − 1)·w] × [(2y/H − 1)·h, …]`.
+fn image_frame(camera: &Camera) -> (BeamFrame, f32, f32) {
+    let f = camera.frame();
+    let frame = BeamFrame::new(camera.position, camera.position + f.forward, f.forward, f.right)
+        .expect("a camera frame is valid");
+    (frame, f.half_width, f.half_height)
+}
+
+/// Every fragment of the exact visible surface seen through pixels of tile `(tx, ty)`: calls
+/// `fragment(x, y, coverage, seen)` with the fraction of pixel `(x, y)` a visible piece covers and,
+/// unless it is background, the triangle, the point seen at the fragment's centroid and the view
+/// direction. Marks the triangles seen in `seen_prims`.
+fn tile_fragments(
+    scene: &Scene,
+    camera: &Camera,
+    tx: u32,
+    ty: u32,
+    stats: &mut PrimaryStats,
+    seen_prims: &mut [bool],
+    mut fragment: impl FnMut(u32, u32, f32, Option<(u32, Vec3, Vec3)>),
+) {
+    let (frame, hw, hh) = image_frame(camera);
+    let (w, h) = (camera.width as f32, camera.height as f32);
+    let px = |x: u32| (2.0 * x as f32 / w - 1.0) * hw;
+    let py = |y: u32| (2.0 * y as f32 / h - 1.0) * hh;
+    let (x0, y0) = (tx * TILE, ty * TILE);
+    let (x1, y1) = ((x0 + TILE).min(camera.width), (y0 + TILE).min(camera.height));
+    let pieces = visible_surface(
+        &scene.bvh,
+        &scene.triangles,
+        &frame,
+        Vec2::new(px(x0), py(y0)),
+        Vec2::new(px(x1), py(y1)),
+        stats,
+    );
+    let pixel_area = (2.0 * hw / w) * (2.0 * hh / h);
+    for piece in &pieces {
+        if let Some(p) = piece.prim {
+            seen_prims[p as usize] = true;
+        }
+        let v = piece.section.vertices();
+        let (lo, hi) = v.iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), c| (lo.min(*c), hi.max(*c)));
+        let col = |c: f32, half: f32, n: f32| ((c / half + 1.0) * 0.5 * n).floor();
+        let (cx0, cx1) = ((col(lo.x, hw, w).max(x0 as f32)) as u32, (col(hi.x, hw, w) as u32).min(x1 - 1));
+        let (cy0, cy1) = ((col(lo.y, hh, h).max(y0 as f32)) as u32, (col(hi.y, hh, h) as u32).min(y1 - 1));
+        for y in cy0..=cy1 {
+            for x in cx0..=cx1 {
+                let square = [
+                    Vec2::new(px(x), py(y)),
+                    Vec2::new(px(x + 1), py(y)),
+                    Vec2::new(px(x + 1), py(y + 1)),
+                    Vec2::new(px(x), py(y + 1)),
+                ];
+                let Ok(square) = ConvexPolygon::<4>::from_slice(&square) else { continue };
+                let Ok(part) = piece.section.clip_by(&square) else { continue };
+                let area = part.area();
+                if !(area > 0.0) {
+                    continue;
+                }
+                let seen = piece.prim.and_then(|prim| {
+                    let q = point_on_piece(&frame, piece, part.centroid())?;
+                    Some((prim, q, (q - frame.apex).normalize()))
+                });
+                fragment(x, y, area / pixel_area, seen);
+            }
+        }
+    }
+}
+
+/// Per pixel, the coverage of all visible pieces and of the pieces that see a triangle (exact
+/// primary visibility by eye beams; both are 1 wherever geometry surrounds the camera).
+#[must_use]
+pub fn primary_coverage(scene: &Scene, width: u32, height: u32) -> Vec<(f32, f32)> {
+    let mut camera = scene.camera;
+    camera.width = width;
+    camera.height = height;
+    let mut out = vec![(0.0f32, 0.0f32); (width * height) as usize];
+    let mut seen = vec![false; scene.triangles.len()];
+    for ty in 0..height.div_ceil(TILE) {
+        for tx in 0..width.div_ceil(TILE) {
+            tile_fragments(scene, &camera, tx, ty, &mut PrimaryStats::default(), &mut seen, |x, y, cov, hit| {
+                let o = &mut out[(y * width + x) as usize];
+                o.0 += cov;
+                if hit.is_some() {
+                    o.1 += cov;
+                }
+            });
+        }
+    }
+    out
 }
 
 /// Deepest mirror/glass recursion.
@@ -121,14 +245,17 @@ impl Context<'_> {
         let Some(hit) = self.scene.wide.closest_hit(ray, f32::INFINITY) else {
             return Vec3::ZERO;
         };
-        let d = ray.direction.normalize();
-        let mut n = self.scene.normal(hit.prim);
+        self.shade(hit.prim, ray.at(hit.t), ray.direction.normalize(), depth, rng, c)
+    }
+
+    /// Radiance leaving point `p` of triangle `prim` towards `−d`.
+    fn shade(&self, prim: u32, p: Vec3, d: Vec3, depth: u32, rng: &mut Pcg32, c: &mut Counters) -> Vec3 {
+        let mut n = self.scene.normal(prim);
         let entering = n.dot(d) < 0.0;
         if !entering {
             n = -n;
         }
-        let p = ray.at(hit.t);
-        match self.scene.material(hit.prim) {
+        match self.scene.material(prim) {
             Material::Emissive { radiance } => radiance,
             Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => {
                 let e = self.direct(p + n * self.eps, n, rng, c);
@@ -273,28 +400,79 @@ pub fn render_with(
     let frame = camera.frame();
     let bounds = scene.bvh.nodes.first().map_or(beam_math::Aabb::new(Vec3::ZERO, Vec3::ONE), |n| n.bounds());
     let ctx = Context { scene, options: *options, eps: 1e-4 * bounds.extent().length(), occluded };
-    let rows: Vec<(Vec<Vec3>, Counters)> = (0..camera.height)
+    let pixel_seed =
+        |x: u32, y: u32| options.seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    let (w, h) = (camera.width as usize, camera.height as usize);
+    // Bands of TILE rows, in parallel; each band returns its pixels, counters and triangles seen.
+    let bands: Vec<(Vec<Vec3>, Counters, Vec<bool>)> = (0..camera.height.div_ceil(TILE))
         .into_par_iter()
-        .map(|y| {
+        .map(|ty| {
             let mut c = Counters::default();
-            let row = (0..camera.width)
-                .map(|x| {
-                    let mut rng = Pcg32::seed_from_u64(
-                        options.seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15),
-                    );
-                    ctx.radiance(camera.ray(&frame, x as f32 + 0.5, y as f32 + 0.5), 0, &mut rng, &mut c)
-                })
-                .collect();
-            row_done();
-            (row, c)
+            let y0 = ty * TILE;
+            let rows = TILE.min(camera.height - y0);
+            let mut band = vec![Vec3::ZERO; rows as usize * w];
+            let mut seen = vec![false; if options.method == Method::Beam { scene.triangles.len() } else { 0 }];
+            match options.method {
+                Method::Ray => {
+                    let k = ((options.primary_spp.max(1) as f32).sqrt() as u32).max(1);
+                    for y in y0..y0 + rows {
+                        for x in 0..camera.width {
+                            let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
+                            let mut sum = Vec3::ZERO;
+                            for i in 0..k * k {
+                                let (jx, jy) = if k == 1 {
+                                    (0.5, 0.5)
+                                } else {
+                                    (
+                                        ((i % k) as f32 + rng.random::<f32>()) / k as f32,
+                                        ((i / k) as f32 + rng.random::<f32>()) / k as f32,
+                                    )
+                                };
+                                sum +=
+                                    ctx.radiance(camera.ray(&frame, x as f32 + jx, y as f32 + jy), 0, &mut rng, &mut c);
+                            }
+                            band[(y - y0) as usize * w + x as usize] = sum / (k * k) as f32;
+                        }
+                        row_done();
+                    }
+                }
+                Method::Beam => {
+                    let mut coverage = vec![0.0f32; rows as usize * w];
+                    for tx in 0..camera.width.div_ceil(TILE) {
+                        let mut primary = PrimaryStats::default();
+                        tile_fragments(scene, &camera, tx, ty, &mut primary, &mut seen, |x, y, cov, hit| {
+                            let i = (y - y0) as usize * w + x as usize;
+                            coverage[i] += cov;
+                            if let Some((prim, q, d)) = hit {
+                                c.fragments += 1;
+                                let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
+                                band[i] += cov * ctx.shade(prim, q, d, 0, &mut rng, &mut c);
+                            }
+                        });
+                        c.primary.bvh_steps += primary.bvh_steps;
+                        c.primary.intersections += primary.intersections;
+                        c.primary.hit_beams += primary.hit_beams;
+                    }
+                    c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
+                    (0..rows).for_each(|_| row_done());
+                }
+            }
+            (band, c, seen)
         })
         .collect();
     let mut image = Image::new(camera.width, camera.height);
     let mut total = Counters::default();
-    for (y, (row, c)) in rows.into_iter().enumerate() {
-        image.pixels[y * camera.width as usize..(y + 1) * camera.width as usize].copy_from_slice(&row);
+    let mut visible = vec![false; if options.method == Method::Beam { scene.triangles.len() } else { 0 }];
+    for (ty, (band, c, seen)) in bands.into_iter().enumerate() {
+        let start = ty * TILE as usize * w;
+        image.pixels[start..start + band.len()].copy_from_slice(&band);
         total += c;
+        for (v, s) in visible.iter_mut().zip(seen) {
+            *v |= s;
+        }
     }
+    let visible_triangles = visible.iter().filter(|&&v| v).count() as u64;
+    let _ = h;
     let pixels = f64::from(camera.width * camera.height);
     let stats = RenderStats {
         seconds: start.elapsed().as_secs_f64(),
@@ -320,6 +498,13 @@ pub fn render_with(
         intersections: total.beams.intersections,
         hit_beams: total.beams.hit_beams,
         hit_beams_per_pixel: total.beams.hit_beams as f64 / pixels,
+        primary_bvh_steps: total.primary.bvh_steps,
+        primary_intersections: total.primary.intersections,
+        primary_hit_beams: total.primary.hit_beams,
+        visible_triangles,
+        hit_beams_per_visible_triangle: total.primary.hit_beams as f64 / visible_triangles.max(1) as f64,
+        fragments: total.fragments,
+        coverage_error: total.coverage_error,
     };
     (image, stats)
 }

@@ -127,6 +127,8 @@ impl NodeVisitor for ShadowVisitor<'_> {
 
     fn leaf(&mut self, prims: &[u32]) -> Control {
         for &p in prims {
+            // Depth clipping only: shadow beams can graze the light's plane, where planes through the
+            // apex and the window are nearly parallel to it and clipping by them is ill-conditioned.
             let Some(projected) =
                 ProjectedTriangle::new(&self.frame, &self.triangles[p as usize], DEPTH_EPS, 1.0 - DEPTH_EPS)
             else {

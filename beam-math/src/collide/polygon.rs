@@ -180,13 +180,19 @@ impl<const N: usize> ConvexPolygon<N> {
     }
 }
 
-/// Signed shoelace area `½ Σ (x_i y_{i+1} − y_i x_{i+1})` (004 App. A.10).
+/// Signed shoelace area `½ Σ (x_i y_{i+1} − y_i x_{i+1})` (004 App. A.10), evaluated relative to
+/// the first vertex: the same sum, without the cancellation that absolute coordinates cause for a
+/// small polygon far from the origin (a pixel of an image plane).
 #[must_use]
 pub fn signed_area(points: &[Vec2]) -> f32 {
     let n = points.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let o = points[0];
     let mut s = 0.0;
-    for i in 0..n {
-        s += points[i].perp_dot(points[(i + 1) % n]);
+    for i in 1..n - 1 {
+        s += (points[i] - o).perp_dot(points[i + 1] - o);
     }
     0.5 * s
 }

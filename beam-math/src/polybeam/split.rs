@@ -74,26 +74,26 @@ pub struct Split {
 }
 
 /// Clip a convex 3D polygon against `depth ≥ near` and `depth ≤ far`.
-fn clip_depth(frame: &BeamFrame, tri: &Triangle, near: f32, far: f32) -> ([Vec3; 5], usize) {
-    let mut poly = [Vec3::ZERO; 5];
+fn clip_depth(frame: &BeamFrame, tri: &Triangle, near: f32, far: f32) -> ([Vec3; CLIPPED], usize) {
+    let mut poly = [Vec3::ZERO; CLIPPED];
     poly[..3].copy_from_slice(&tri.v);
     let mut n = 3;
     for (bound, sign) in [(near, 1.0f32), (far, -1.0)] {
         if !bound.is_finite() {
             continue;
         }
-        let mut out = [Vec3::ZERO; 5];
+        let mut out = [Vec3::ZERO; CLIPPED];
         let mut m = 0;
         for i in 0..n {
             let p = poly[i];
             let q = poly[(i + 1) % n];
             let dp = sign * (frame.depth(p) - bound);
             let dq = sign * (frame.depth(q) - bound);
-            if dp >= 0.0 && m < 5 {
+            if dp >= 0.0 {
                 out[m] = p;
                 m += 1;
             }
-            if ((dp < 0.0) != (dq < 0.0)) && m < 5 {
+            if (dp < 0.0) != (dq < 0.0) {
                 out[m] = p + (q - p) * (dp / (dp - dq));
                 m += 1;
             }
@@ -107,12 +107,77 @@ fn clip_depth(frame: &BeamFrame, tri: &Triangle, near: f32, far: f32) -> ([Vec3;
     (poly, n)
 }
 
+/// Most corners a triangle keeps after clipping by the near, far and four window planes.
+const CLIPPED: usize = 9;
+
+/// Clip a triangle by half-spaces `n·(x − origin) ≤ d` (Sutherland–Hodgman in 3D). Relative to the
+/// apex, so that rounding follows the beam's size, not the scene's coordinates.
+fn clip_planes(tri: &Triangle, planes: &[(Vec3, f32)], origin: Vec3) -> ([Vec3; CLIPPED], usize) {
+    let mut poly = [Vec3::ZERO; CLIPPED];
+    poly[..3].copy_from_slice(&tri.v);
+    let mut n = 3;
+    for &(normal, d) in planes {
+        let mut out = [Vec3::ZERO; CLIPPED];
+        let mut m = 0;
+        for i in 0..n {
+            let p = poly[i];
+            let q = poly[(i + 1) % n];
+            let dp = d - normal.dot(p - origin);
+            let dq = d - normal.dot(q - origin);
+            if dp >= 0.0 && m < CLIPPED {
+                out[m] = p;
+                m += 1;
+            }
+            if ((dp < 0.0) != (dq < 0.0)) && m < CLIPPED {
+                out[m] = p + (q - p) * (dp / (dp - dq));
+                m += 1;
+            }
+        }
+        poly = out;
+        n = m;
+        if n < 3 {
+            return (poly, 0);
+        }
+    }
+    (poly, n)
+}
+
+/// The half-spaces (relative to the apex) of a beam between depths `near` and `far` (infinite:
+/// none), and, with a window `[lo, hi]` on the reference plane, the four planes through the apex and
+/// the window's sides.
+fn beam_planes(frame: &BeamFrame, near: f32, far: f32, window: Option<(Vec2, Vec2)>) -> ([(Vec3, f32); 6], usize) {
+    let mut planes = [(Vec3::ZERO, 0.0); 6];
+    let mut k = 0;
+    let n = frame.normal / frame.distance;
+    // depth(x) = n·(x − apex): near keeps depth ≥ near, far keeps depth ≤ far.
+    planes[k] = (-n, -near);
+    k += 1;
+    if far.is_finite() {
+        planes[k] = (n, far);
+        k += 1;
+    }
+    if let Some((lo, hi)) = window {
+        let q = [Vec2::new(lo.x, lo.y), Vec2::new(hi.x, lo.y), Vec2::new(hi.x, hi.y), Vec2::new(lo.x, hi.y)]
+            .map(|c| frame.point(c) - frame.apex);
+        let mid = frame.point(0.5 * (lo + hi)) - frame.apex;
+        for i in 0..4 {
+            let mut m = q[i].cross(q[(i + 1) % 4]);
+            if m.dot(mid) > 0.0 {
+                m = -m;
+            }
+            planes[k] = (m, 0.0);
+            k += 1;
+        }
+    }
+    (planes, k)
+}
+
 /// A triangle clipped to a beam's depth range and projected through its apex onto the reference
 /// plane (001 §3.2 step 1), ready to split any section of beams sharing the frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProjectedTriangle {
-    /// The projected polygon (3 to 5 corners after clipping).
-    pub polygon: ConvexPolygon<5>,
+    /// The projected polygon (3 to 9 corners after clipping).
+    pub polygon: ConvexPolygon<CLIPPED>,
     /// Its bounding rectangle, lower corner.
     pub min: Vec2,
     /// Its bounding rectangle, upper corner.
@@ -124,12 +189,30 @@ impl ProjectedTriangle {
     #[must_use]
     pub fn new(frame: &BeamFrame, tri: &Triangle, near: f32, far: f32) -> Option<Self> {
         let (poly, n) = clip_depth(frame, tri, near, far);
-        if n < 3 {
+        Self::project(frame, &poly[..n])
+    }
+
+    /// As [`ProjectedTriangle::new`], also clipped in 3D to the beam through the window `[lo, hi]`
+    /// of the reference plane, widened by a tenth of its size. Only the triangle's part near the
+    /// window can split sections inside it, and clipping first keeps the projected corners near the
+    /// window: a triangle reaching close to the apex would otherwise project to coordinates ~1/near
+    /// times larger, whose rounding swamps the window's size.
+    #[must_use]
+    pub fn new_in_window(frame: &BeamFrame, tri: &Triangle, near: f32, far: f32, lo: Vec2, hi: Vec2) -> Option<Self> {
+        let margin = 0.1 * (hi - lo);
+        let (planes, k) = beam_planes(frame, near, far, Some((lo - margin, hi + margin)));
+        let (poly, n) = clip_planes(tri, &planes[..k], frame.apex);
+        Self::project(frame, &poly[..n])
+    }
+
+    /// Project a clipped polygon; `None` for fewer than three corners.
+    fn project(frame: &BeamFrame, poly: &[Vec3]) -> Option<Self> {
+        if poly.len() < 3 {
             return None;
         }
-        let mut polygon = ConvexPolygon::<5>::new();
+        let mut polygon = ConvexPolygon::<CLIPPED>::new();
         let (mut min, mut max) = (Vec2::INFINITY, Vec2::NEG_INFINITY);
-        for p in &poly[..n] {
+        for p in poly {
             let q = frame.project(*p);
             min = min.min(q);
             max = max.max(q);
