@@ -53,9 +53,12 @@ enum Command {
         /// Shadow rays per shade point and area light (`--method ray`).
         #[arg(long, default_value_t = 64)]
         spp: u32,
-        /// Primary rays per pixel, stratified (`--method ray`; beams compute exact coverage).
+        /// Primary rays per pixel, stratified, when primary visibility is ray traced.
         #[arg(long, default_value_t = 1)]
         primary_spp: u32,
+        /// With `--method beam`: primary visibility by rays instead of eye beams (shadows stay beams).
+        #[arg(long)]
+        primary_rays: bool,
         /// Image width (default: the scene camera's).
         #[arg(long)]
         width: Option<u32>,
@@ -138,13 +141,14 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Conformance { backend, rays, only } => conformance::run(backend.as_deref(), rays, only),
         Command::Overdraw { out, csv, points } => overdraw::run(&out, &csv, points),
-        Command::Render { scene, method, shading, spp, primary_spp, width, height, out, stats } => {
+        Command::Render { scene, method, shading, spp, primary_spp, primary_rays, width, height, out, stats } => {
             render::run(&render::RenderArgs {
                 scene: &scene,
                 method: &method,
                 shading: &shading,
                 spp,
                 primary_spp,
+                primary_rays,
                 width,
                 height,
                 out: &out,

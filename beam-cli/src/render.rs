@@ -12,6 +12,7 @@ pub struct RenderArgs<'a> {
     pub shading: &'a str,
     pub spp: u32,
     pub primary_spp: u32,
+    pub primary_rays: bool,
     pub width: Option<u32>,
     pub height: Option<u32>,
     pub out: &'a Path,
@@ -39,8 +40,16 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     if width == 0 || height == 0 || width > 16384 || height > 16384 {
         return Err(format!("image size {width}×{height} out of range (1 to 16384)"));
     }
-    let options =
-        RenderOptions { method, shading, spp: a.spp.max(1), primary_spp: a.primary_spp.max(1), width, height, seed: 1 };
+    let options = RenderOptions {
+        method,
+        shading,
+        spp: a.spp.max(1),
+        primary_spp: a.primary_spp.max(1),
+        primary_beams: !a.primary_rays,
+        width,
+        height,
+        seed: 1,
+    };
     let bar = crate::progress::bar(u64::from(height), "render");
     let (image, stats) = render(&scene, &options, || bar.inc(1));
     bar.finish_and_clear();
@@ -58,7 +67,7 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         stats.seconds,
         a.out.display()
     );
-    if method == Method::Beam {
+    if method == Method::Beam && !a.primary_rays {
         println!(
             "eye beams: {} visible triangles, {:.2} hit beams per visible triangle, {} fragments, coverage error {:.1e}",
             stats.visible_triangles, stats.hit_beams_per_visible_triangle, stats.fragments, stats.coverage_error

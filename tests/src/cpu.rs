@@ -190,6 +190,7 @@ pub fn beam_and_ray_images_agree(_: Backend, _: &Config) -> Result<Outcome, Stri
         shading: Shading::Exact,
         spp: 256,
         primary_spp: 16,
+        primary_beams: true,
         width: 96,
         height: 96,
         seed: 5,

@@ -43,6 +43,7 @@ pub fn run(
         shading: Shading::Exact,
         spp,
         primary_spp: 1,
+        primary_beams: false,
         width: size,
         height: size,
         seed,
@@ -52,6 +53,7 @@ pub fn run(
     bar.finish_and_clear();
     println!("reference: {reference_spp} shadow rays per pixel, {:.1} s", rs.seconds);
     let mut rows: Vec<(String, f64, Image, String)> = Vec::new();
+    // Primary visibility by rays at pixel centres for every method, as 001 §5.1 times soft shadows.
     let (beam, bs) = render(&scene, &options(Method::Beam, 1, 1), || {});
     let per_beam = |x: u64| x as f64 / bs.shadow_beams.max(1) as f64;
     rows.push((
@@ -64,6 +66,14 @@ pub fn run(
             per_beam(bs.bvh_steps),
             per_beam(bs.intersections)
         ),
+    ));
+    let full = RenderOptions { primary_beams: true, ..options(Method::Beam, 1, 1) };
+    let (img, fs) = render(&scene, &full, || {});
+    rows.push((
+        "beam + eye beams".into(),
+        fs.seconds,
+        img,
+        format!("{:.2} hit beams per visible triangle", fs.hit_beams_per_visible_triangle),
     ));
     for spp in [16, 64, 256] {
         let (img, st) = render(&scene, &options(Method::Ray, spp, 1), || {});

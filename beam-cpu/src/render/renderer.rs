@@ -44,9 +44,12 @@ pub struct RenderOptions {
     pub shading: Shading,
     /// Shadow rays per shade point and area light ([`Method::Ray`]).
     pub spp: u32,
-    /// Primary rays per pixel, stratified and jittered, averaged (a box filter) ([`Method::Ray`];
-    /// [`Method::Beam`] computes the exact box-filtered coverage instead).
+    /// Primary rays per pixel, stratified and jittered, averaged (a box filter), when primary
+    /// visibility is ray traced.
     pub primary_spp: u32,
+    /// With [`Method::Beam`]: primary visibility by eye beams with exact box-filtered coverage
+    /// (`true`), or by primary rays like [`Method::Ray`] (`false`, as 001 §5.1 times soft shadows).
+    pub primary_beams: bool,
     /// Image width (the camera's aspect is kept from the camera's own resolution).
     pub width: u32,
     /// Image height.
@@ -411,9 +414,10 @@ pub fn render_with(
             let y0 = ty * TILE;
             let rows = TILE.min(camera.height - y0);
             let mut band = vec![Vec3::ZERO; rows as usize * w];
-            let mut seen = vec![false; if options.method == Method::Beam { scene.triangles.len() } else { 0 }];
-            match options.method {
-                Method::Ray => {
+            let eye_beams = options.method == Method::Beam && options.primary_beams;
+            let mut seen = vec![false; if eye_beams { scene.triangles.len() } else { 0 }];
+            match eye_beams {
+                false => {
                     let k = ((options.primary_spp.max(1) as f32).sqrt() as u32).max(1);
                     for y in y0..y0 + rows {
                         for x in 0..camera.width {
@@ -436,7 +440,7 @@ pub fn render_with(
                         row_done();
                     }
                 }
-                Method::Beam => {
+                true => {
                     let mut coverage = vec![0.0f32; rows as usize * w];
                     for tx in 0..camera.width.div_ceil(TILE) {
                         let mut primary = PrimaryStats::default();
@@ -462,7 +466,8 @@ pub fn render_with(
         .collect();
     let mut image = Image::new(camera.width, camera.height);
     let mut total = Counters::default();
-    let mut visible = vec![false; if options.method == Method::Beam { scene.triangles.len() } else { 0 }];
+    let mut visible =
+        vec![false; if options.method == Method::Beam && options.primary_beams { scene.triangles.len() } else { 0 }];
     for (ty, (band, c, seen)) in bands.into_iter().enumerate() {
         let start = ty * TILE as usize * w;
         image.pixels[start..start + band.len()].copy_from_slice(&band);
