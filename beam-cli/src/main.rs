@@ -56,9 +56,10 @@ enum Command {
         /// Primary rays per pixel, stratified, when primary visibility is ray traced.
         #[arg(long, default_value_t = 1)]
         primary_spp: u32,
-        /// With `--method beam`: primary visibility by rays instead of eye beams (shadows stay beams).
+        /// With `--method beam`: exact primary visibility by eye beams with box-filtered coverage
+        /// (fast on small scenes; does not scale to large ones yet) instead of primary rays.
         #[arg(long)]
-        primary_rays: bool,
+        primary_beams: bool,
         /// Image width (default: the scene camera's).
         #[arg(long)]
         width: Option<u32>,
@@ -141,14 +142,14 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Conformance { backend, rays, only } => conformance::run(backend.as_deref(), rays, only),
         Command::Overdraw { out, csv, points } => overdraw::run(&out, &csv, points),
-        Command::Render { scene, method, shading, spp, primary_spp, primary_rays, width, height, out, stats } => {
+        Command::Render { scene, method, shading, spp, primary_spp, primary_beams, width, height, out, stats } => {
             render::run(&render::RenderArgs {
                 scene: &scene,
                 method: &method,
                 shading: &shading,
                 spp,
                 primary_spp,
-                primary_rays,
+                primary_beams,
                 width,
                 height,
                 out: &out,

@@ -12,7 +12,7 @@ pub struct RenderArgs<'a> {
     pub shading: &'a str,
     pub spp: u32,
     pub primary_spp: u32,
-    pub primary_rays: bool,
+    pub primary_beams: bool,
     pub width: Option<u32>,
     pub height: Option<u32>,
     pub out: &'a Path,
@@ -45,7 +45,7 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         shading,
         spp: a.spp.max(1),
         primary_spp: a.primary_spp.max(1),
-        primary_beams: !a.primary_rays,
+        primary_beams: a.primary_beams,
         width,
         height,
         seed: 1,
@@ -67,7 +67,7 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         stats.seconds,
         a.out.display()
     );
-    if method == Method::Beam && !a.primary_rays {
+    if method == Method::Beam && a.primary_beams {
         println!(
             "eye beams: {} visible triangles, {:.2} hit beams per visible triangle, {} fragments, coverage error {:.1e}",
             stats.visible_triangles, stats.hit_beams_per_visible_triangle, stats.fragments, stats.coverage_error

@@ -162,6 +162,15 @@ impl NodeVisitor for EyeVisitor<'_> {
             self.next.clear();
             let pieces = core::mem::take(&mut self.pieces);
             for piece in &pieces {
+                // Hidden: the triangle's plane is behind the owner's at every corner of the piece,
+                // hence (both inverse depths being affine) on all of it; it must not split the piece.
+                if let Some(owner) = piece.depth {
+                    let g = depth.minus(&owner);
+                    if piece.section.vertices().iter().all(|&c| g.at(c) <= 0.0) {
+                        self.next.push(*piece);
+                        continue;
+                    }
+                }
                 self.stats.intersections += 1;
                 match split_section(&piece.section, &projected, 1e-6) {
                     Ok(split) => {

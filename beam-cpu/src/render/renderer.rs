@@ -48,7 +48,9 @@ pub struct RenderOptions {
     /// visibility is ray traced.
     pub primary_spp: u32,
     /// With [`Method::Beam`]: primary visibility by eye beams with exact box-filtered coverage
-    /// (`true`), or by primary rays like [`Method::Ray`] (`false`, as 001 §5.1 times soft shadows).
+    /// (`true`; fast on small scenes, but tiles that see background or much hidden geometry traverse
+    /// far and fragment: minutes on the 277k-triangle conference room), or by primary rays like
+    /// [`Method::Ray`] (`false`, as 001 §5.1 times soft shadows).
     pub primary_beams: bool,
     /// Image width (the camera's aspect is kept from the camera's own resolution).
     pub width: u32,
