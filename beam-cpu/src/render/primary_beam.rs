@@ -6,6 +6,7 @@
 //! until every node left is farther than all of them (001 Fig. 4d).
 
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
+use beam_math::collide::aabb_outside_planes;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::{BeamFrame, ProjectedTriangle, Section, split_section};
 use beam_math::{Aabb, Triangle};
@@ -127,11 +128,8 @@ impl EyeVisitor<'_> {
 impl NodeVisitor for EyeVisitor<'_> {
     fn enter(&mut self, bounds: &Aabb) -> Option<f32> {
         self.stats.bvh_steps += 1;
-        for &(n, d) in &self.planes {
-            let nearest = Vec3::select(n.cmpgt(Vec3::ZERO), bounds.min, bounds.max);
-            if n.dot(nearest) > d {
-                return None;
-            }
+        if aabb_outside_planes(bounds, &self.planes) {
+            return None;
         }
         // Entry distance: the box's smallest forward depth.
         let f = self.frame.normal;
@@ -151,11 +149,7 @@ impl NodeVisitor for EyeVisitor<'_> {
             else {
                 continue;
             };
-            if projected.max.x < self.lo.x
-                || projected.max.y < self.lo.y
-                || projected.min.x > self.hi.x
-                || projected.min.y > self.hi.y
-            {
+            if !projected.overlaps(self.lo, self.hi) {
                 continue;
             }
             let Some(depth) = InverseDepth::of(&self.frame, tri) else { continue };

@@ -7,6 +7,7 @@
 //! triangle from exactly one leaf, so the kd-tree mailboxing of 001 §3.4 has nothing to remove here.
 
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
+use beam_math::collide::aabb_outside_planes;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::{BeamFrame, PolyBeam, ProjectedTriangle, Section, split_section};
 use beam_math::{Aabb, Triangle};
@@ -116,11 +117,8 @@ impl NodeVisitor for ShadowVisitor<'_> {
     /// conservative (001 §3.3 keeps near and far planes per axis for the same purpose).
     fn enter(&mut self, bounds: &Aabb) -> Option<f32> {
         self.stats.bvh_steps += 1;
-        for &(n, d) in &self.planes {
-            let nearest = Vec3::select(n.cmpgt(Vec3::ZERO), bounds.min, bounds.max);
-            if n.dot(nearest) > d {
-                return None;
-            }
+        if aabb_outside_planes(bounds, &self.planes) {
+            return None;
         }
         Some(0.0)
     }
@@ -134,11 +132,7 @@ impl NodeVisitor for ShadowVisitor<'_> {
             else {
                 continue;
             };
-            if projected.max.x < self.lo.x
-                || projected.max.y < self.lo.y
-                || projected.min.x > self.hi.x
-                || projected.min.y > self.hi.y
-            {
+            if !projected.overlaps(self.lo, self.hi) {
                 continue;
             }
             self.next.clear();

@@ -2,6 +2,7 @@
 //! 000 Appendix A, one file each.
 
 mod aabb_aabb;
+mod aabb_planes;
 mod cone_sphere;
 mod distance;
 mod frustum;
@@ -13,6 +14,7 @@ mod ray_plane;
 mod ray_triangle;
 
 pub use aabb_aabb::aabb_aabb;
+pub use aabb_planes::aabb_outside_planes;
 pub use cone_sphere::{Cone, cone_sphere};
 pub use distance::{closest_point_on_triangle, segment_segment_distance, triangle_triangle_distance};
 pub use frustum::Frustum;

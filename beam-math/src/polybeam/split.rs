@@ -73,40 +73,6 @@ pub struct Split {
     pub miss: Pieces,
 }
 
-/// Clip a convex 3D polygon against `depth ≥ near` and `depth ≤ far`.
-fn clip_depth(frame: &BeamFrame, tri: &Triangle, near: f32, far: f32) -> ([Vec3; CLIPPED], usize) {
-    let mut poly = [Vec3::ZERO; CLIPPED];
-    poly[..3].copy_from_slice(&tri.v);
-    let mut n = 3;
-    for (bound, sign) in [(near, 1.0f32), (far, -1.0)] {
-        if !bound.is_finite() {
-            continue;
-        }
-        let mut out = [Vec3::ZERO; CLIPPED];
-        let mut m = 0;
-        for i in 0..n {
-            let p = poly[i];
-            let q = poly[(i + 1) % n];
-            let dp = sign * (frame.depth(p) - bound);
-            let dq = sign * (frame.depth(q) - bound);
-            if dp >= 0.0 {
-                out[m] = p;
-                m += 1;
-            }
-            if (dp < 0.0) != (dq < 0.0) {
-                out[m] = p + (q - p) * (dp / (dp - dq));
-                m += 1;
-            }
-        }
-        poly = out;
-        n = m;
-        if n < 3 {
-            return (poly, 0);
-        }
-    }
-    (poly, n)
-}
-
 /// Most corners a triangle keeps after clipping by the near, far and four window planes.
 const CLIPPED: usize = 9;
 
@@ -188,7 +154,8 @@ impl ProjectedTriangle {
     /// Clip `tri` to depths `[near, far]` of `frame` and project it; `None` when nothing remains.
     #[must_use]
     pub fn new(frame: &BeamFrame, tri: &Triangle, near: f32, far: f32) -> Option<Self> {
-        let (poly, n) = clip_depth(frame, tri, near, far);
+        let (planes, k) = beam_planes(frame, near, far, None);
+        let (poly, n) = clip_planes(tri, &planes[..k], frame.apex);
         Self::project(frame, &poly[..n])
     }
 
@@ -203,6 +170,12 @@ impl ProjectedTriangle {
         let (planes, k) = beam_planes(frame, near, far, Some((lo - margin, hi + margin)));
         let (poly, n) = clip_planes(tri, &planes[..k], frame.apex);
         Self::project(frame, &poly[..n])
+    }
+
+    /// True when the projection's bounding rectangle meets the rectangle `[lo, hi]`.
+    #[must_use]
+    pub fn overlaps(&self, lo: Vec2, hi: Vec2) -> bool {
+        self.max.x >= lo.x && self.max.y >= lo.y && self.min.x <= hi.x && self.min.y <= hi.y
     }
 
     /// Project a clipped polygon; `None` for fewer than three corners.
@@ -249,7 +222,7 @@ pub fn split_section(section: &Section, projected: &ProjectedTriangle, eps: f32)
     let proj = &projected.polygon;
     let (lo, hi) =
         section.vertices().iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
-    if hi.x < projected.min.x || hi.y < projected.min.y || lo.x > projected.max.x || lo.y > projected.max.y {
+    if !projected.overlaps(lo, hi) {
         out.miss.push(*section)?;
         return Ok(out);
     }
