@@ -5,7 +5,7 @@ use crate::bvh::{cases, ray_set, scene_light};
 use crate::generate::{self, uniform};
 use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
-use beam_cpu::render::{DEPTH_EPS, Method, RenderOptions, Shading, ShadowBeamStats, difference, render, visible_light};
+use beam_cpu::render::{BeamStats, DEPTH_EPS, Method, RenderOptions, Shading, difference, render, visible_light};
 use beam_cpu::scene;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
@@ -79,9 +79,8 @@ pub fn soft_shadow_closed_form(_: Backend, _: &Config) -> Result<Outcome, String
         let k = big_h / h;
         let shadow = (p.x + (occ_c.x - p.x) * k, p.y + (occ_c.y - p.y) * k, ho * k);
         let expected = 1.0 - square_overlap((light_c.x, light_c.y, hl), shadow) / (side * side);
-        let got = visible_light(&bvh, &occluder, p, &light, -Vec3::Z, &mut ShadowBeamStats::default())
-            .ok_or("no beam")?
-            .fraction();
+        let got =
+            visible_light(&bvh, &occluder, p, &light, -Vec3::Z, &mut BeamStats::default()).ok_or("no beam")?.fraction();
         worst = worst.max((got - expected).abs());
         if (got - expected).abs() > 1e-4 {
             return Err(format!("case {i}: visible {got}, closed form {expected}"));
@@ -124,8 +123,8 @@ pub fn soft_shadow_vs_monte_carlo(_: Backend, config: &Config) -> Result<Outcome
             .par_iter()
             .enumerate()
             .map(|(i, &p)| {
-                let exact = visible_light(&bvh, tris, p, &light, ln, &mut ShadowBeamStats::default())
-                    .map_or(0.0, |v| v.fraction());
+                let exact =
+                    visible_light(&bvh, tris, p, &light, ln, &mut BeamStats::default()).map_or(0.0, |v| v.fraction());
                 let mut rng = generate::rng(1_000 + i as u64 + 7919 * k as u64);
                 let mut seen = 0u32;
                 for _ in 0..N {

@@ -153,3 +153,22 @@ pub fn check(name: &str, backend: Backend) {
         Err(e) => panic!("{name} [{backend}] failed: {e}"),
     }
 }
+
+/// One `#[test]` per listed property of `backend`, plus a test that every property of that backend
+/// has one: `conformance_tests!(Backend::Math, slab_vs_brute_force, …)`.
+#[macro_export]
+macro_rules! conformance_tests {
+    ($backend:expr, $($name:ident),* $(,)?) => {
+        $(#[test] fn $name() { $crate::check(stringify!($name), $backend); })*
+
+        #[test]
+        fn every_property_has_a_test() {
+            let tested = [$(stringify!($name)),*];
+            for p in $crate::properties() {
+                if p.backends.contains(&$backend) {
+                    assert!(tested.contains(&p.name), "property {} has no #[test] wrapper", p.name);
+                }
+            }
+        }
+    };
+}

@@ -1,13 +1,7 @@
-//! Thin `#[test]` wrappers: one per (property, backend) of the BVH.
+//! Thin `#[test]` wrappers: one per property of the BVH.
 
-use beam_conformance::{Backend, check};
-
-#[test]
-fn bvh_hits_equal_brute_force() {
-    check("bvh_hits_equal_brute_force", Backend::Bvh);
-}
-
-#[test]
-fn bvh_refit_hits_equal_brute_force() {
-    check("bvh_refit_hits_equal_brute_force", Backend::Bvh);
-}
+beam_conformance::conformance_tests!(
+    beam_conformance::Backend::Bvh,
+    bvh_hits_equal_brute_force,
+    bvh_refit_hits_equal_brute_force,
+);

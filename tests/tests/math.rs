@@ -1,24 +1,7 @@
-//! Thin `#[test]` wrappers: one per (property, backend) of the math core.
+//! Thin `#[test]` wrappers: one per property of the math core.
 
-use beam_conformance::{Backend, check};
-
-macro_rules! math_tests {
-    ($($name:ident),* $(,)?) => {
-        $(#[test] fn $name() { check(stringify!($name), Backend::Math); })*
-
-        #[test]
-        fn every_math_property_has_a_test() {
-            let tested = [$(stringify!($name)),*];
-            for p in beam_conformance::properties() {
-                if p.backends.contains(&Backend::Math) {
-                    assert!(tested.contains(&p.name), "property {} has no #[test] wrapper", p.name);
-                }
-            }
-        }
-    };
-}
-
-math_tests!(
+beam_conformance::conformance_tests!(
+    beam_conformance::Backend::Math,
     slab_vs_brute_force,
     watertight_ray_triangle,
     sat_vs_sampling,

@@ -293,38 +293,33 @@ fn print_pah(ours: &[Ours<'_>], wides: &[OursWide], rays: &Rays) {
     println!("\nPAH vs SAH, work per ray (single thread): box tests / triangle tests; SAH cost of the binary tree");
     println!("{:<22} {:>18} {:>18} {:>9}", "builder", "primary", "shadow", "SAH cost");
     for (o, w) in ours.iter().zip(wides) {
-        let (pn, pt, sn, st) = visits(&o.bvh, o.tris, &rays.primary, &rays.shadow);
+        let (pn, pt, sn, st) = visits(
+            rays,
+            |r, st| _ = o.bvh.closest_hit_stats(o.tris, r, f32::INFINITY, st),
+            |r, m, st| _ = o.bvh.any_hit_stats(o.tris, r, m, st),
+        );
         let sah = beam_bvh::TreeStats::of(&o.bvh).sah_cost;
         println!("{:<22} {pn:>9.1} / {pt:>6.2} {sn:>9.1} / {st:>6.2} {sah:>9.1}", o.name);
-        let (pn, pt, sn, st) = wide_visits(&w.bvh, &rays.primary, &rays.shadow);
+        let (pn, pt, sn, st) = visits(
+            rays,
+            |r, st| _ = w.bvh.closest_hit_stats(r, f32::INFINITY, st),
+            |r, m, st| _ = w.bvh.any_hit_stats(r, m, st),
+        );
         println!("{:<22} {pn:>9.1} / {pt:>6.2} {sn:>9.1} / {st:>6.2}", w.name);
     }
 }
 
-/// Box tests and triangle tests per ray of a wide BVH.
-fn wide_visits(bvh: &WideBvh, rays: &[Ray], shadow: &[(Ray, f32)]) -> (f64, f64, f64, f64) {
+/// Box tests and triangle tests per ray of one layout: `closest` and `any` trace a ray with a
+/// statistics sink (primary rays: closest hit; shadow rays: any hit before their `t_max`).
+fn visits(
+    rays: &Rays,
+    closest: impl Fn(Ray, &mut TraversalStats),
+    any: impl Fn(Ray, f32, &mut TraversalStats),
+) -> (f64, f64, f64, f64) {
     let mut p = TraversalStats::default();
-    for r in rays {
-        let _ = bvh.closest_hit_stats(*r, f32::INFINITY, &mut p);
-    }
+    rays.primary.iter().for_each(|r| closest(*r, &mut p));
     let mut s = TraversalStats::default();
-    for (r, m) in shadow {
-        let _ = bvh.any_hit_stats(*r, *m, &mut s);
-    }
-    let (np, ns) = (rays.len().max(1) as f64, shadow.len().max(1) as f64);
-    (p.node_visits as f64 / np, p.triangle_tests as f64 / np, s.node_visits as f64 / ns, s.triangle_tests as f64 / ns)
-}
-
-/// Node visits and triangle tests per ray of one of our BVHs.
-pub fn visits(bvh: &FlatBvh, tris: &[Triangle], rays: &[Ray], shadow: &[(Ray, f32)]) -> (f64, f64, f64, f64) {
-    let mut p = TraversalStats::default();
-    for r in rays {
-        let _ = bvh.closest_hit_stats(tris, *r, f32::INFINITY, &mut p);
-    }
-    let mut s = TraversalStats::default();
-    for (r, m) in shadow {
-        let _ = bvh.any_hit_stats(tris, *r, *m, &mut s);
-    }
-    let (np, ns) = (rays.len().max(1) as f64, shadow.len().max(1) as f64);
+    rays.shadow.iter().for_each(|(r, m)| any(*r, *m, &mut s));
+    let (np, ns) = (rays.primary.len().max(1) as f64, rays.shadow.len().max(1) as f64);
     (p.node_visits as f64 / np, p.triangle_tests as f64 / np, s.node_visits as f64 / ns, s.triangle_tests as f64 / ns)
 }

@@ -10,8 +10,8 @@ mod shadow_beam;
 pub use compare::{Difference, difference, side_by_side};
 pub use image::{Image, srgb_decode, srgb_encode};
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
-pub use primary_beam::{NEAR, Piece, PrimaryStats, point_on_piece, visible_surface};
+pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub use renderer::{
     Method, Occluder, RenderOptions, RenderStats, Shading, TILE, primary_coverage, render, render_with,
 };
-pub use shadow_beam::{DEPTH_EPS, ShadowBeamStats, VisibleLight, visible_light};
+pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};

@@ -5,6 +5,7 @@
 //! affine function of the image-plane point, so that line is straight. Hit pieces stay in the beam
 //! until every node left is farther than all of them (001 Fig. 4d).
 
+use super::shadow_beam::BeamStats;
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
 use beam_math::collide::aabb_outside_planes;
 use beam_math::glam::{Vec2, Vec3};
@@ -53,17 +54,6 @@ pub struct Piece {
     depth: Option<InverseDepth>,
 }
 
-/// Work done by eye beams.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct PrimaryStats {
-    /// BVH nodes tested.
-    pub bvh_steps: u64,
-    /// Beam–triangle splits.
-    pub intersections: u64,
-    /// Hit pieces produced.
-    pub hit_beams: u64,
-}
-
 struct EyeVisitor<'a> {
     frame: BeamFrame,
     triangles: &'a [Triangle],
@@ -72,7 +62,7 @@ struct EyeVisitor<'a> {
     planes: [(Vec3, f32); 5],
     lo: Vec2,
     hi: Vec2,
-    stats: PrimaryStats,
+    stats: BeamStats,
 }
 
 impl EyeVisitor<'_> {
@@ -191,7 +181,7 @@ pub fn visible_surface(
     frame: &BeamFrame,
     lo: Vec2,
     hi: Vec2,
-    stats: &mut PrimaryStats,
+    stats: &mut BeamStats,
 ) -> Vec<Piece> {
     let rect = [Vec2::new(lo.x, lo.y), Vec2::new(hi.x, lo.y), Vec2::new(hi.x, hi.y), Vec2::new(lo.x, hi.y)];
     let Ok(section) = Section::from_slice(&rect) else { return Vec::new() };
@@ -216,12 +206,10 @@ pub fn visible_surface(
         planes,
         lo,
         hi,
-        stats: PrimaryStats::default(),
+        stats: BeamStats::default(),
     };
     bvh.traverse(&mut v);
-    stats.bvh_steps += v.stats.bvh_steps;
-    stats.intersections += v.stats.intersections;
-    stats.hit_beams += v.stats.hit_beams;
+    *stats += v.stats;
     v.pieces
 }
 
@@ -250,7 +238,7 @@ mod tests {
         let mut tris = q(4.0, -10.0, 10.0).to_vec();
         tris.extend(q(2.0, 0.0, 10.0));
         let bvh = FlatBvh::build(&tris, &BuildOptions::sah());
-        let mut stats = PrimaryStats::default();
+        let mut stats = BeamStats::default();
         let pieces = visible_surface(&bvh, &tris, &frame, Vec2::splat(-1.0), Vec2::splat(1.0), &mut stats);
         let area = |pred: &dyn Fn(u32) -> bool| {
             pieces.iter().filter(|p| p.prim.is_some_and(pred)).map(|p| p.section.area()).sum::<f32>()

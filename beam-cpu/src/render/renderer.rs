@@ -4,8 +4,8 @@
 
 use super::image::Image;
 use super::lambert::{point_source_irradiance, polygon_irradiance};
-use super::primary_beam::{PrimaryStats, point_on_piece, visible_surface};
-use super::shadow_beam::{DEPTH_EPS, ShadowBeamStats, visible_light};
+use super::primary_beam::{point_on_piece, visible_surface};
+use super::shadow_beam::{BeamStats, DEPTH_EPS, visible_light};
 use crate::scene::{Camera, Light, Material, Scene};
 use beam_math::Ray;
 use beam_math::collide::ConvexPolygon;
@@ -115,8 +115,8 @@ struct Counters {
     camera_rays: u64,
     shadow_rays: u64,
     shadow_beams: u64,
-    beams: ShadowBeamStats,
-    primary: PrimaryStats,
+    beams: BeamStats,
+    primary: BeamStats,
     fragments: u64,
     coverage_error: f64,
 }
@@ -127,9 +127,7 @@ impl core::ops::AddAssign for Counters {
         self.shadow_rays += o.shadow_rays;
         self.shadow_beams += o.shadow_beams;
         self.beams += o.beams;
-        self.primary.bvh_steps += o.primary.bvh_steps;
-        self.primary.intersections += o.primary.intersections;
-        self.primary.hit_beams += o.primary.hit_beams;
+        self.primary += o.primary;
         self.fragments += o.fragments;
         self.coverage_error = self.coverage_error.max(o.coverage_error);
     }
@@ -156,7 +154,7 @@ fn tile_fragments(
     camera: &Camera,
     tx: u32,
     ty: u32,
-    stats: &mut PrimaryStats,
+    stats: &mut BeamStats,
     seen_prims: &mut [bool],
     mut fragment: impl FnMut(u32, u32, f32, Option<(u32, Vec3, Vec3)>),
 ) {
@@ -219,7 +217,7 @@ pub fn primary_coverage(scene: &Scene, width: u32, height: u32) -> Vec<(f32, f32
     let mut seen = vec![false; scene.triangles.len()];
     for ty in 0..height.div_ceil(TILE) {
         for tx in 0..width.div_ceil(TILE) {
-            tile_fragments(scene, &camera, tx, ty, &mut PrimaryStats::default(), &mut seen, |x, y, cov, hit| {
+            tile_fragments(scene, &camera, tx, ty, &mut BeamStats::default(), &mut seen, |x, y, cov, hit| {
                 let o = &mut out[(y * width + x) as usize];
                 o.0 += cov;
                 if hit.is_some() {
@@ -407,7 +405,7 @@ pub fn render_with(
     let ctx = Context { scene, options: *options, eps: 1e-4 * bounds.extent().length(), occluded };
     let pixel_seed =
         |x: u32, y: u32| options.seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    let (w, h) = (camera.width as usize, camera.height as usize);
+    let w = camera.width as usize;
     // Bands of TILE rows, in parallel; each band returns its pixels, counters and triangles seen.
     let bands: Vec<(Vec<Vec3>, Counters, Vec<bool>)> = (0..camera.height.div_ceil(TILE))
         .into_par_iter()
@@ -445,7 +443,7 @@ pub fn render_with(
                 true => {
                     let mut coverage = vec![0.0f32; rows as usize * w];
                     for tx in 0..camera.width.div_ceil(TILE) {
-                        let mut primary = PrimaryStats::default();
+                        let mut primary = BeamStats::default();
                         tile_fragments(scene, &camera, tx, ty, &mut primary, &mut seen, |x, y, cov, hit| {
                             let i = (y - y0) as usize * w + x as usize;
                             coverage[i] += cov;
@@ -455,9 +453,7 @@ pub fn render_with(
                                 band[i] += cov * ctx.shade(prim, q, d, 0, &mut rng, &mut c);
                             }
                         });
-                        c.primary.bvh_steps += primary.bvh_steps;
-                        c.primary.intersections += primary.intersections;
-                        c.primary.hit_beams += primary.hit_beams;
+                        c.primary += primary;
                     }
                     c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
                     (0..rows).for_each(|_| row_done());
@@ -479,7 +475,6 @@ pub fn render_with(
         }
     }
     let visible_triangles = visible.iter().filter(|&&v| v).count() as u64;
-    let _ = h;
     let pixels = f64::from(camera.width * camera.height);
     let stats = RenderStats {
         seconds: start.elapsed().as_secs_f64(),

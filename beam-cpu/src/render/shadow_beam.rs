@@ -16,9 +16,9 @@ use beam_math::{Aabb, Triangle};
 /// light-plane distance) within `[DEPTH_EPS, 1 − DEPTH_EPS]`.
 pub const DEPTH_EPS: f32 = 1e-4;
 
-/// Work done by shadow beams.
+/// Work done by beams (eye or shadow beams).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ShadowBeamStats {
+pub struct BeamStats {
     /// BVH nodes tested against the beam frustum (001's "BVH steps").
     pub bvh_steps: u64,
     /// Beam–triangle split operations (001's "intersections").
@@ -27,7 +27,7 @@ pub struct ShadowBeamStats {
     pub hit_beams: u64,
 }
 
-impl core::ops::AddAssign for ShadowBeamStats {
+impl core::ops::AddAssign for BeamStats {
     fn add_assign(&mut self, o: Self) {
         self.bvh_steps += o.bvh_steps;
         self.intersections += o.intersections;
@@ -75,7 +75,7 @@ struct ShadowVisitor<'a> {
     /// Outward normals of the four planes through the apex and the rectangle's sides, then the
     /// near and far planes (`depth = DEPTH_EPS`, `depth = 1 − DEPTH_EPS`) as (normal, offset).
     planes: [(Vec3, f32); 6],
-    stats: ShadowBeamStats,
+    stats: BeamStats,
 }
 
 impl ShadowVisitor<'_> {
@@ -165,7 +165,7 @@ pub fn visible_light(
     p: Vec3,
     light: &[Vec3],
     light_normal: Vec3,
-    stats: &mut ShadowBeamStats,
+    stats: &mut BeamStats,
 ) -> Option<VisibleLight> {
     if light.len() < 3 || light_normal.dot(p - light[0]) <= 0.0 {
         return None;
@@ -181,7 +181,7 @@ pub fn visible_light(
         lo: Vec2::ZERO,
         hi: Vec2::ZERO,
         planes: [(Vec3::ZERO, 0.0); 6],
-        stats: ShadowBeamStats::default(),
+        stats: BeamStats::default(),
     };
     v.update_bounds();
     bvh.traverse(&mut v);
@@ -211,7 +211,7 @@ mod tests {
             Triangle::new(Vec3::new(-h, -h, 1.0), Vec3::new(h, h, 1.0), Vec3::new(-h, h, 1.0)),
         ];
         let bvh = FlatBvh::build(&occ, &BuildOptions::sah());
-        let mut stats = ShadowBeamStats::default();
+        let mut stats = BeamStats::default();
         // Shadow of the occluder on the light plane: half-width 2h = 0.25, area 0.25 of the light.
         let v = visible_light(&bvh, &occ, Vec3::ZERO, &light, -Vec3::Z, &mut stats).unwrap();
         assert!((v.fraction() - 0.75).abs() < 1e-5, "{}", v.fraction());
