@@ -9,7 +9,7 @@ use super::shadow_beam::BeamStats;
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
 use beam_math::collide::aabb_outside_planes;
 use beam_math::glam::{Vec2, Vec3};
-use beam_math::polybeam::{BeamFrame, ProjectedTriangle, Section, split_section};
+use beam_math::polybeam::{BeamFrame, Part, ProjectedTriangle, Section, split_section};
 use beam_math::{Aabb, Triangle};
 
 /// Near clipping depth of the eye beam, in units of the image-plane distance.
@@ -59,6 +59,8 @@ struct EyeVisitor<'a> {
     triangles: &'a [Triangle],
     pieces: Vec<Piece>,
     next: Vec<Piece>,
+    /// Hit parts of the piece being split (scratch).
+    hits: Vec<Section>,
     planes: [(Vec3, f32); 5],
     lo: Vec2,
     hi: Vec2,
@@ -156,15 +158,20 @@ impl NodeVisitor for EyeVisitor<'_> {
                     }
                 }
                 self.stats.intersections += 1;
-                match split_section(&piece.section, &projected, 1e-6) {
-                    Ok(split) => {
-                        self.next.extend(split.miss.iter().map(|s| Piece { section: *s, ..*piece }));
-                        self.stats.hit_beams += split.hit.len() as u64;
-                        for h in split.hit.iter() {
-                            self.resolve(*h, piece.prim.zip(piece.depth), p, depth);
-                        }
-                    }
-                    Err(_) => self.next.push(*piece),
+                let (start, next, hits) = (self.next.len(), &mut self.next, &mut self.hits);
+                hits.clear();
+                let emitted = split_section(&piece.section, &projected, 1e-6, &mut |part, s| match part {
+                    Part::Hit => hits.push(s),
+                    Part::Miss => next.push(Piece { section: s, ..*piece }),
+                });
+                if emitted.is_err() {
+                    self.next.truncate(start);
+                    self.next.push(*piece);
+                    continue;
+                }
+                self.stats.hit_beams += self.hits.len() as u64;
+                for i in 0..self.hits.len() {
+                    self.resolve(self.hits[i], piece.prim.zip(piece.depth), p, depth);
                 }
             }
             self.pieces = core::mem::take(&mut self.next);
@@ -203,6 +210,7 @@ pub fn visible_surface(
         triangles,
         pieces: vec![Piece { section, prim: None, depth: None }],
         next: Vec::new(),
+        hits: Vec::new(),
         planes,
         lo,
         hi,

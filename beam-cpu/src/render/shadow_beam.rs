@@ -9,7 +9,7 @@
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
 use beam_math::collide::aabb_outside_planes;
 use beam_math::glam::{Vec2, Vec3};
-use beam_math::polybeam::{BeamFrame, PolyBeam, ProjectedTriangle, Section, split_section};
+use beam_math::polybeam::{BeamFrame, Part, PolyBeam, ProjectedTriangle, Section, split_section};
 use beam_math::{Aabb, Triangle};
 
 /// Occluders are counted only strictly between the point and the light: depths (in units of the
@@ -64,11 +64,30 @@ impl VisibleLight {
     }
 }
 
+/// A remaining piece of the light with its bounding rectangle.
+#[derive(Clone, Copy)]
+struct LitPiece {
+    section: Section,
+    lo: Vec2,
+    hi: Vec2,
+}
+
+impl LitPiece {
+    fn new(section: Section) -> Self {
+        let (lo, hi) = section
+            .vertices()
+            .iter()
+            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        Self { section, lo, hi }
+    }
+}
+
 struct ShadowVisitor<'a> {
     triangles: &'a [Triangle],
     frame: BeamFrame,
-    pieces: Vec<Section>,
-    next: Vec<Section>,
+    pieces: Vec<LitPiece>,
+    /// Miss parts of the piece being split (scratch).
+    misses: Vec<Section>,
     /// Bounding rectangle of the remaining pieces on the light plane.
     lo: Vec2,
     hi: Vec2,
@@ -81,11 +100,8 @@ struct ShadowVisitor<'a> {
 impl ShadowVisitor<'_> {
     /// Recompute the bounding rectangle of the pieces and the beam planes around it.
     fn update_bounds(&mut self) {
-        (self.lo, self.hi) = self
-            .pieces
-            .iter()
-            .flat_map(|s| s.vertices().iter())
-            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        (self.lo, self.hi) =
+            self.pieces.iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), p| (lo.min(p.lo), hi.max(p.hi)));
         let f = &self.frame;
         let apex = f.apex;
         let c = [
@@ -107,6 +123,51 @@ impl ShadowVisitor<'_> {
         let n = f.normal / f.distance;
         self.planes[4] = (-n, -n.dot(apex) - DEPTH_EPS);
         self.planes[5] = (n, n.dot(apex) + 1.0 - DEPTH_EPS);
+    }
+
+    /// Split every piece the projected triangle overlaps, in place: a piece is replaced by its miss
+    /// parts (hit parts are occluded and dropped). True when any piece was hit.
+    fn occlude(&mut self, projected: &ProjectedTriangle) -> bool {
+        let mut hit = false;
+        // Pieces [0, end) are the ones from before this triangle; its miss parts are appended.
+        let mut end = self.pieces.len();
+        let mut i = 0;
+        while i < end {
+            if !projected.overlaps(self.pieces[i].lo, self.pieces[i].hi) {
+                i += 1;
+                continue;
+            }
+            let piece = self.pieces[i];
+            self.stats.intersections += 1;
+            let mut hits = 0;
+            self.misses.clear();
+            let (misses, hits_ref) = (&mut self.misses, &mut hits);
+            let emitted = split_section(&piece.section, projected, 1e-6, &mut |part, s| match part {
+                Part::Hit => *hits_ref += 1,
+                Part::Miss => misses.push(s),
+            });
+            // Untouched, or a piece that outgrew its corner capacity (kept whole, visible).
+            if hits == 0 || emitted.is_err() {
+                i += 1;
+                continue;
+            }
+            hit = true;
+            self.stats.hit_beams += hits;
+            match self.misses.split_first() {
+                Some((first, rest)) => {
+                    self.pieces[i] = LitPiece::new(*first);
+                    self.pieces.extend(rest.iter().map(|&s| LitPiece::new(s)));
+                    i += 1;
+                }
+                None => {
+                    // Wholly hidden: move the last unvisited piece here, then drop this one.
+                    end -= 1;
+                    self.pieces.swap(i, end);
+                    self.pieces.swap_remove(end);
+                }
+            }
+        }
+        hit
     }
 }
 
@@ -135,23 +196,13 @@ impl NodeVisitor for ShadowVisitor<'_> {
             if !projected.overlaps(self.lo, self.hi) {
                 continue;
             }
-            self.next.clear();
-            for piece in &self.pieces {
-                self.stats.intersections += 1;
-                match split_section(piece, &projected, 1e-6) {
-                    Ok(split) => {
-                        self.stats.hit_beams += split.hit.len() as u64;
-                        self.next.extend(split.miss.iter().copied());
-                    }
-                    // Cannot happen with the split's own extra splits; keep the piece (visible).
-                    Err(_) => self.next.push(*piece),
+            if self.occlude(&projected) {
+                if self.pieces.is_empty() {
+                    return Control::Stop;
                 }
+                // Pieces only shrink where the triangle hit one; otherwise the bounds still hold.
+                self.update_bounds();
             }
-            core::mem::swap(&mut self.pieces, &mut self.next);
-            if self.pieces.is_empty() {
-                return Control::Stop;
-            }
-            self.update_bounds();
         }
         Control::Continue
     }
@@ -176,8 +227,8 @@ pub fn visible_light(
     let mut v = ShadowVisitor {
         triangles,
         frame,
-        pieces: vec![beam.section],
-        next: Vec::new(),
+        pieces: vec![LitPiece::new(beam.section)],
+        misses: Vec::new(),
         lo: Vec2::ZERO,
         hi: Vec2::ZERO,
         planes: [(Vec3::ZERO, 0.0); 6],
@@ -186,7 +237,7 @@ pub fn visible_light(
     v.update_bounds();
     bvh.traverse(&mut v);
     *stats += v.stats;
-    Some(VisibleLight { frame, pieces: v.pieces, light_area })
+    Some(VisibleLight { frame, pieces: v.pieces.iter().map(|p| p.section).collect(), light_area })
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@ mod beam;
 mod split;
 
 pub use beam::{BeamFrame, MAX_CORNERS, PolyBeam, Section};
-pub use split::{KEEP_CORNERS, Pieces, ProjectedTriangle, Split, split_section};
+pub use split::{KEEP_CORNERS, Part, Pieces, ProjectedTriangle, Split, split_section};
 
 #[cfg(test)]
 mod tests {

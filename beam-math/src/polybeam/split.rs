@@ -42,26 +42,41 @@ impl Pieces {
         self.iter().map(Section::area).sum()
     }
 
-    /// Add a piece, cutting it in two while it has more than [`KEEP_CORNERS`] corners.
+    /// Add a piece (already at most [`KEEP_CORNERS`] corners).
     fn push(&mut self, s: Section) -> Result<(), CapacityExceeded> {
-        if s.len() < 3 {
-            return Ok(());
+        if self.len == self.items.len() {
+            return Err(CapacityExceeded);
         }
-        if s.len() <= KEEP_CORNERS {
-            if self.len == self.items.len() {
-                return Err(CapacityExceeded);
-            }
-            self.items[self.len] = Some(s);
-            self.len += 1;
-            return Ok(());
-        }
-        let v = s.vertices();
-        let k = v.len() / 2;
-        self.push(Section::from_slice(&v[..=k])?)?;
-        let mut rest = Section::from_slice(&v[k..])?;
-        rest.push(v[0])?;
-        self.push(rest)
+        self.items[self.len] = Some(s);
+        self.len += 1;
+        Ok(())
     }
+}
+
+/// Which side of a triangle a piece of a split lies on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// Its rays hit the triangle.
+    Hit,
+    /// Its rays miss it.
+    Miss,
+}
+
+/// Hand a piece to `emit`, cutting it in two while it has more than [`KEEP_CORNERS`] corners.
+fn emit_kept(part: Part, s: Section, emit: &mut impl FnMut(Part, Section)) -> Result<(), CapacityExceeded> {
+    if s.len() < 3 {
+        return Ok(());
+    }
+    if s.len() <= KEEP_CORNERS {
+        emit(part, s);
+        return Ok(());
+    }
+    let v = s.vertices();
+    let k = v.len() / 2;
+    emit_kept(part, Section::from_slice(&v[..=k])?, emit)?;
+    let mut rest = Section::from_slice(&v[k..])?;
+    rest.push(v[0])?;
+    emit_kept(part, rest, emit)
 }
 
 /// The outcome of splitting a beam by a triangle.
@@ -81,6 +96,10 @@ const CLIPPED: usize = 9;
 fn clip_planes(tri: &Triangle, planes: &[(Vec3, f32)], origin: Vec3) -> ([Vec3; CLIPPED], usize) {
     let mut poly = [Vec3::ZERO; CLIPPED];
     poly[..3].copy_from_slice(&tri.v);
+    // Common case: wholly inside every half-space, nothing to clip.
+    if planes.iter().all(|&(normal, d)| tri.v.iter().all(|&p| normal.dot(p - origin) <= d)) {
+        return (poly, 3);
+    }
     let mut n = 3;
     for &(normal, d) in planes {
         let mut out = [Vec3::ZERO; CLIPPED];
@@ -204,34 +223,43 @@ impl PolyBeam {
     /// Trivial cases first (001 Fig. 2a–c): a triangle edge separating the triangle from the beam,
     /// a beam edge separating the beam from the triangle, or the beam inside the triangle.
     pub fn split(&self, tri: &Triangle, near: f32, far: f32, eps: f32) -> Result<Split, CapacityExceeded> {
+        let mut out = Split::default();
+        let mut failed = false;
+        let mut collect = |part, s| {
+            let list = if part == Part::Hit { &mut out.hit } else { &mut out.miss };
+            failed |= list.push(s).is_err();
+        };
         match ProjectedTriangle::new(&self.frame, tri, near, far) {
-            Some(projected) => split_section(&self.section, &projected, eps),
-            None => {
-                let mut out = Split::default();
-                out.miss.push(self.section)?;
-                Ok(out)
-            }
+            Some(projected) => split_section(&self.section, &projected, eps, &mut collect)?,
+            None => collect(Part::Miss, self.section),
         }
+        if failed { Err(CapacityExceeded) } else { Ok(out) }
     }
 }
 
-/// Split a section by a projected triangle (see [`PolyBeam::split`]); a section whose bounding
-/// rectangle misses the triangle's is returned whole as a miss at once.
-pub fn split_section(section: &Section, projected: &ProjectedTriangle, eps: f32) -> Result<Split, CapacityExceeded> {
-    let mut out = Split::default();
+/// Split a section by a projected triangle (see [`PolyBeam::split`]), handing each hit and miss
+/// piece to `emit` (pieces of more than [`KEEP_CORNERS`] corners cut in two first). A section whose
+/// bounding rectangle misses the triangle's is handed on whole as a miss at once. On
+/// `CapacityExceeded` the pieces emitted so far are incomplete; callers keep the section whole.
+pub fn split_section(
+    section: &Section,
+    projected: &ProjectedTriangle,
+    eps: f32,
+    emit: &mut impl FnMut(Part, Section),
+) -> Result<(), CapacityExceeded> {
     let proj = &projected.polygon;
     let (lo, hi) =
         section.vertices().iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
     if !projected.overlaps(lo, hi) {
-        out.miss.push(*section)?;
-        return Ok(out);
+        emit(Part::Miss, *section);
+        return Ok(());
     }
     let scale = section.vertices().iter().fold(0.0f32, |m, v| m.max((*v - section.centroid()).length()));
     let eps = eps * scale.max(f32::MIN_POSITIVE);
     let area = proj.signed_area();
     if area.abs() <= eps * eps {
-        out.miss.push(*section)?;
-        return Ok(out);
+        emit(Part::Miss, *section);
+        return Ok(());
     }
     let sign = area.signum();
     let edges = proj.vertices();
@@ -247,8 +275,8 @@ pub fn split_section(section: &Section, projected: &ProjectedTriangle, eps: f32)
     for i in 0..edges.len() {
         let (a, nrm) = edge(i);
         if nrm != Vec2::ZERO && beam.iter().all(|c| nrm.dot(*c - a) >= -eps) {
-            out.miss.push(*section)?;
-            return Ok(out);
+            emit(Part::Miss, *section);
+            return Ok(());
         }
     }
     // Fig. 2b: a beam edge with every triangle corner outside (the section is counter-clockwise).
@@ -257,8 +285,8 @@ pub fn split_section(section: &Section, projected: &ProjectedTriangle, eps: f32)
         let e = beam[(i + 1) % beam.len()] - a;
         let nrm = Vec2::new(e.y, -e.x).normalize();
         if edges.iter().all(|c| nrm.dot(*c - a) >= -eps) {
-            out.miss.push(*section)?;
-            return Ok(out);
+            emit(Part::Miss, *section);
+            return Ok(());
         }
     }
     // Fig. 2d–g: split edge by edge; what lies outside an edge misses.
@@ -270,14 +298,12 @@ pub fn split_section(section: &Section, projected: &ProjectedTriangle, eps: f32)
         }
         let (inside, outside) = rest.split(a, nrm, eps)?;
         if inside.is_empty() {
-            out.miss.push(rest)?;
-            return Ok(out);
+            return emit_kept(Part::Miss, rest, emit);
         }
         if !outside.is_empty() {
-            out.miss.push(outside)?;
+            emit_kept(Part::Miss, outside, emit)?;
         }
         rest = inside;
     }
-    out.hit.push(rest)?;
-    Ok(out)
+    emit_kept(Part::Hit, rest, emit)
 }
