@@ -56,8 +56,9 @@ enum Command {
         /// Primary rays per pixel, stratified, when primary visibility is ray traced.
         #[arg(long, default_value_t = 1)]
         primary_spp: u32,
-        /// With `--method beam`: exact primary visibility by eye beams with box-filtered coverage
-        /// (fast on small scenes; does not scale to large ones yet) instead of primary rays.
+        /// With `--method beam`: exact primary visibility by eye beams with box-filtered coverage,
+        /// and hard shadows from point lights by beams from the visible pieces (001 §4.2), instead
+        /// of primary and shadow rays (fast on small scenes; slower than rays on large ones).
         #[arg(long)]
         primary_beams: bool,
         /// Image width (default: the scene camera's).

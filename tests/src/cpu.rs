@@ -37,6 +37,9 @@ pub fn properties() -> Vec<Property> {
             body: beam_and_ray_images_agree,
         },
         Property {
+            name: "hard_shadow_images_agree", cites: "001 §4.2", backends: CPU, body: hard_shadow_images_agree
+        },
+        Property {
             name: "primary_coverage_sums_to_one",
             cites: "001 §3-4",
             backends: CPU,
@@ -176,7 +179,21 @@ pub fn soft_shadow_vs_monte_carlo(_: Backend, config: &Config) -> Result<Outcome
 /// shadow rays per shade point), same shading (eq. 1): PSNR ≥ 40 dB and no bias (the mean
 /// difference of linear radiance is within 3 standard errors of zero).
 pub fn beam_and_ray_images_agree(_: Backend, _: &Config) -> Result<Outcome, String> {
-    let mut scene = scene::builtin("cornell")?;
+    images_agree("cornell", 16)
+}
+
+/// Hard shadows from a point light by beams (001 §4.2: visible pieces connected to the light, lit
+/// parts rasterized with exact coverage) against 64 stratified primary rays per pixel, each with its
+/// shadow ray, on the Cornell box lit by a point light: the same box-filtered image within noise.
+pub fn hard_shadow_images_agree(_: Backend, _: &Config) -> Result<Outcome, String> {
+    images_agree("cornell-point", 64)
+}
+
+/// The beam image (eye beams, exact light visibility) against the ray image (`primary_spp` primary
+/// rays, 256 shadow rays per area light) of a built-in scene at 96²: PSNR ≥ 40 dB and a mean
+/// difference within 3 standard errors of zero (no bias).
+fn images_agree(name: &str, primary_spp: u32) -> Result<Outcome, String> {
+    let mut scene = scene::builtin(name)?;
     // Seen directly, the light (radiance 15) saturates any pixel it covers by more than 1/15, so
     // box-filter noise at its edges would swamp the comparison: dim its surface to radiance 1.
     for m in &mut scene.materials {
@@ -188,7 +205,7 @@ pub fn beam_and_ray_images_agree(_: Backend, _: &Config) -> Result<Outcome, Stri
         method,
         shading: Shading::Exact,
         spp: 256,
-        primary_spp: 16,
+        primary_spp,
         primary_beams: true,
         width: 96,
         height: 96,
@@ -203,9 +220,12 @@ pub fn beam_and_ray_images_agree(_: Backend, _: &Config) -> Result<Outcome, Stri
     let var = diffs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (diffs.len() - 1) as f64;
     let stderr = (var / diffs.len() as f64).sqrt();
     if d.psnr < 40.0 || mean.abs() > 3.0 * stderr.max(1e-9) {
-        return Err(format!("PSNR {:.1} dB, mean difference {mean:.2e} (standard error {stderr:.2e})", d.psnr));
+        return Err(format!("{name}: PSNR {:.1} dB, mean difference {mean:.2e} (standard error {stderr:.2e})", d.psnr));
     }
-    Ok(Outcome { cases: 96 * 96, note: format!("PSNR {:.1} dB, mean difference {mean:.1e} ± {stderr:.1e}", d.psnr) })
+    Ok(Outcome {
+        cases: 96 * 96,
+        note: format!("{name}: PSNR {:.1} dB, mean difference {mean:.1e} ± {stderr:.1e}", d.psnr),
+    })
 }
 
 /// Exact primary visibility by eye beams: in every pixel the visible pieces' coverage sums to one

@@ -5,5 +5,6 @@ beam_conformance::conformance_tests!(
     soft_shadow_closed_form,
     soft_shadow_vs_monte_carlo,
     beam_and_ray_images_agree,
+    hard_shadow_images_agree,
     primary_coverage_sums_to_one,
 );

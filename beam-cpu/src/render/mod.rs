@@ -1,6 +1,7 @@
 //! Renderers: beam-traced soft shadows (001) and the ray-traced reference, with the same shading.
 
 mod compare;
+mod hard_shadow;
 mod image;
 mod lambert;
 mod primary_beam;
@@ -8,6 +9,7 @@ mod renderer;
 mod shadow_beam;
 
 pub use compare::{Difference, difference, side_by_side};
+pub use hard_shadow::lit_pieces;
 pub use image::{Image, srgb_decode, srgb_encode};
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};

@@ -52,18 +52,40 @@ pub struct Piece {
     /// The visible triangle.
     pub prim: Option<u32>,
     depth: Option<InverseDepth>,
+    /// Bounding rectangle of the section.
+    lo: Vec2,
+    hi: Vec2,
+}
+
+impl Piece {
+    fn new(section: Section, prim: Option<u32>, depth: Option<InverseDepth>) -> Self {
+        let (lo, hi) = section
+            .vertices()
+            .iter()
+            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        Self { section, prim, depth, lo, hi }
+    }
+
+    /// Another cross-section seeing the same triangle at the same depths.
+    #[must_use]
+    pub fn with_section(&self, section: Section) -> Self {
+        Self::new(section, self.prim, self.depth)
+    }
 }
 
 struct EyeVisitor<'a> {
     frame: BeamFrame,
     triangles: &'a [Triangle],
     pieces: Vec<Piece>,
-    next: Vec<Piece>,
+    /// What one piece becomes after a split (scratch).
+    out: Vec<Piece>,
     /// Hit parts of the piece being split (scratch).
     hits: Vec<Section>,
     planes: [(Vec3, f32); 5],
     lo: Vec2,
     hi: Vec2,
+    /// Largest forward depth seen through any piece (infinity while one sees background).
+    far: f32,
     stats: BeamStats,
 }
 
@@ -84,36 +106,101 @@ impl EyeVisitor<'_> {
         far
     }
 
-    /// Resolve a piece seen through both its current owner and `tri` (inverse depth `depth`).
+    /// Resolve a piece seen through both its current owner and `tri` (inverse depth `depth`) into
+    /// `self.out`.
     fn resolve(&mut self, section: Section, old: Option<(u32, InverseDepth)>, prim: u32, depth: InverseDepth) {
-        let new = Piece { section, prim: Some(prim), depth: Some(depth) };
+        let new = Piece::new(section, Some(prim), Some(depth));
         let Some((old_prim, old_depth)) = old else {
-            self.next.push(new);
+            self.out.push(new);
             return;
         };
-        let keep = Piece { section, prim: Some(old_prim), depth: Some(old_depth) };
         let g = depth.minus(&old_depth);
-        let values: Vec<f32> = section.vertices().iter().map(|&c| g.at(c)).collect();
-        let scale = values.iter().fold(0.0f32, |m, v| m.max(v.abs())).max(1e-30);
-        if values.iter().all(|&v| v >= -1e-6 * scale) && values.iter().any(|&v| v > 1e-6 * scale) {
-            self.next.push(new);
-        } else if values.iter().all(|&v| v <= 1e-6 * scale) || g.k.length_squared() == 0.0 {
-            self.next.push(keep);
+        let (min, max) = section
+            .vertices()
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &c| (lo.min(g.at(c)), hi.max(g.at(c))));
+        let tol = 1e-6 * min.abs().max(max.abs()).max(1e-30);
+        if min >= -tol && max > tol {
+            self.out.push(new);
+        } else if max <= tol || g.k.length_squared() == 0.0 {
+            self.out.push(Piece { prim: Some(old_prim), depth: Some(old_depth), ..new });
         } else {
             // Split along g(c) = 0: the new triangle is nearer where g > 0.
             let a = -g.k0 * g.k / g.k.length_squared();
             match section.split(a, -g.k, 0.0) {
                 Ok((near, far)) => {
                     if !near.is_empty() {
-                        self.next.push(Piece { section: near, ..new });
+                        self.out.push(Piece::new(near, Some(prim), Some(depth)));
                     }
                     if !far.is_empty() {
-                        self.next.push(Piece { section: far, ..keep });
+                        self.out.push(Piece::new(far, Some(old_prim), Some(old_depth)));
                     }
                 }
-                Err(_) => self.next.push(keep),
+                Err(_) => self.out.push(Piece { prim: Some(old_prim), depth: Some(old_depth), ..new }),
             }
         }
+    }
+
+    /// Split every piece the triangle `prim` (projected, inverse depth `depth`) overlaps and is not
+    /// hidden behind, in place: a piece is replaced by its miss parts (same owner) and its resolved
+    /// hit parts. True when any piece changed.
+    fn split_pieces(&mut self, prim: u32, projected: &ProjectedTriangle, depth: InverseDepth) -> bool {
+        let mut changed = false;
+        // Pieces [0, end) are the ones from before this triangle; new parts are appended.
+        let end = self.pieces.len();
+        for i in 0..end {
+            let piece = &self.pieces[i];
+            if !projected.overlaps(piece.lo, piece.hi) {
+                continue;
+            }
+            // Where the triangle's plane is behind the owner's it must not split the piece: hidden
+            // at every corner of the piece means hidden on all of it (both inverse depths are affine);
+            // partly hidden, only the triangle's part in front (g > 0) splits it, so hidden edges
+            // never fragment the piece.
+            let mut front = None;
+            if let Some(owner) = piece.depth {
+                let g = depth.minus(&owner);
+                let (min, max) = piece
+                    .section
+                    .vertices()
+                    .iter()
+                    .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &c| (lo.min(g.at(c)), hi.max(g.at(c))));
+                if max <= 0.0 {
+                    continue;
+                }
+                if min < 0.0 && g.k.length_squared() > 0.0 {
+                    let a = -g.k0 * g.k / g.k.length_squared();
+                    match projected.clip(a, -g.k) {
+                        Some(p) if p.overlaps(piece.lo, piece.hi) => front = Some(p),
+                        Some(_) => continue,
+                        // Nothing in front, or no capacity left: split by the whole triangle below.
+                        None => {}
+                    }
+                }
+            }
+            let piece = *piece;
+            self.stats.intersections += 1;
+            let (out, hits) = (&mut self.out, &mut self.hits);
+            out.clear();
+            hits.clear();
+            let emitted =
+                split_section(&piece.section, front.as_ref().unwrap_or(projected), 1e-6, &mut |part, s| match part {
+                    Part::Hit => hits.push(s),
+                    Part::Miss => out.push(piece.with_section(s)),
+                });
+            if emitted.is_err() || self.hits.is_empty() {
+                continue;
+            }
+            changed = true;
+            self.stats.hit_beams += self.hits.len() as u64;
+            for k in 0..self.hits.len() {
+                self.resolve(self.hits[k], piece.prim.zip(piece.depth), prim, depth);
+            }
+            // A hit part always survives resolution, so `out` is never empty here.
+            self.pieces[i] = self.out[0];
+            self.pieces.extend_from_slice(&self.out[1..]);
+        }
+        changed
     }
 }
 
@@ -130,10 +217,11 @@ impl NodeVisitor for EyeVisitor<'_> {
     }
 
     fn cutoff(&self) -> f32 {
-        self.farthest()
+        self.far
     }
 
     fn leaf(&mut self, prims: &[u32]) -> Control {
+        let mut changed = false;
         for &p in prims {
             let tri = &self.triangles[p as usize];
             let Some(projected) =
@@ -145,36 +233,10 @@ impl NodeVisitor for EyeVisitor<'_> {
                 continue;
             }
             let Some(depth) = InverseDepth::of(&self.frame, tri) else { continue };
-            self.next.clear();
-            let pieces = core::mem::take(&mut self.pieces);
-            for piece in &pieces {
-                // Hidden: the triangle's plane is behind the owner's at every corner of the piece,
-                // hence (both inverse depths being affine) on all of it; it must not split the piece.
-                if let Some(owner) = piece.depth {
-                    let g = depth.minus(&owner);
-                    if piece.section.vertices().iter().all(|&c| g.at(c) <= 0.0) {
-                        self.next.push(*piece);
-                        continue;
-                    }
-                }
-                self.stats.intersections += 1;
-                let (start, next, hits) = (self.next.len(), &mut self.next, &mut self.hits);
-                hits.clear();
-                let emitted = split_section(&piece.section, &projected, 1e-6, &mut |part, s| match part {
-                    Part::Hit => hits.push(s),
-                    Part::Miss => next.push(Piece { section: s, ..*piece }),
-                });
-                if emitted.is_err() {
-                    self.next.truncate(start);
-                    self.next.push(*piece);
-                    continue;
-                }
-                self.stats.hit_beams += self.hits.len() as u64;
-                for i in 0..self.hits.len() {
-                    self.resolve(self.hits[i], piece.prim.zip(piece.depth), p, depth);
-                }
-            }
-            self.pieces = core::mem::take(&mut self.next);
+            changed |= self.split_pieces(p, &projected, depth);
+        }
+        if changed {
+            self.far = self.farthest();
         }
         Control::Continue
     }
@@ -208,12 +270,13 @@ pub fn visible_surface(
     let mut v = EyeVisitor {
         frame: *frame,
         triangles,
-        pieces: vec![Piece { section, prim: None, depth: None }],
-        next: Vec::new(),
+        pieces: vec![Piece::new(section, None, None)],
+        out: Vec::new(),
         hits: Vec::new(),
         planes,
         lo,
         hi,
+        far: f32::INFINITY,
         stats: BeamStats::default(),
     };
     bvh.traverse(&mut v);

@@ -2,15 +2,17 @@
 //! visibility comes either from exact shadow beams (001 §5) or from stratified shadow rays, with the
 //! same shading, so that the two images differ only by the rays' noise.
 
+use super::hard_shadow::lit_pieces;
 use super::image::Image;
 use super::lambert::{point_source_irradiance, polygon_irradiance};
+use super::primary_beam::Piece;
 use super::primary_beam::{point_on_piece, visible_surface};
 use super::shadow_beam::{BeamStats, DEPTH_EPS, visible_light};
 use crate::scene::{Camera, Light, Material, Scene};
 use beam_math::Ray;
 use beam_math::collide::ConvexPolygon;
 use beam_math::glam::{Vec2, Vec3};
-use beam_math::polybeam::BeamFrame;
+use beam_math::polybeam::{BeamFrame, Section};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use rayon::prelude::*;
@@ -145,18 +147,44 @@ fn image_frame(camera: &Camera) -> (BeamFrame, f32, f32) {
     (frame, f.half_width, f.half_height)
 }
 
+/// What a fragment of the eye beams (a visible piece within a pixel) sees.
+#[derive(Clone, Copy, Debug)]
+enum Fragment<'a> {
+    /// Nothing: the background.
+    Background,
+    /// Triangle `prim` at point `q` (at the fragment's centroid), seen along `d`.
+    Surface { prim: u32, q: Vec3, d: Vec3 },
+    /// The part of a surface fragment lit by point light `light` (001 §4.2); its light is added to
+    /// the surface fragment's, which then leaves that light out. The light varies fast near the
+    /// light, so it is integrated over the fragment: `points` are the surface points of a quadrature
+    /// exact for quadratics on the image plane (edge midpoints of a fan around the centroid), with
+    /// weights summing to the coverage.
+    Lit { light: usize, prim: u32, points: &'a [(f32, Vec3)] },
+}
+
+/// Work done by the beams of a tile.
+#[derive(Clone, Copy, Debug, Default)]
+struct TileStats {
+    primary: BeamStats,
+    shadow: BeamStats,
+    shadow_beams: u64,
+}
+
 /// Every fragment of the exact visible surface seen through pixels of tile `(tx, ty)`: calls
-/// `fragment(x, y, coverage, seen)` with the fraction of pixel `(x, y)` a visible piece covers and,
-/// unless it is background, the triangle, the point seen at the fragment's centroid and the view
-/// direction. Marks the triangles seen in `seen_prims`.
+/// `fragment(x, y, coverage, seen)` with the fraction of pixel `(x, y)` a piece covers. With
+/// `point_shadows`, each visible piece of a diffuse or glossy triangle is also connected to every
+/// point light by a beam, and its lit parts come as [`Fragment::Lit`]. Marks the triangles seen in
+/// `seen_prims`.
+#[allow(clippy::too_many_arguments)]
 fn tile_fragments(
     scene: &Scene,
     camera: &Camera,
     tx: u32,
     ty: u32,
-    stats: &mut BeamStats,
+    point_shadows: bool,
+    stats: &mut TileStats,
     seen_prims: &mut [bool],
-    mut fragment: impl FnMut(u32, u32, f32, Option<(u32, Vec3, Vec3)>),
+    mut fragment: impl FnMut(u32, u32, f32, Fragment),
 ) {
     let (frame, hw, hh) = image_frame(camera);
     let (w, h) = (camera.width as f32, camera.height as f32);
@@ -170,13 +198,12 @@ fn tile_fragments(
         &frame,
         Vec2::new(px(x0), py(y0)),
         Vec2::new(px(x1), py(y1)),
-        stats,
+        &mut stats.primary,
     );
     let pixel_area = (2.0 * hw / w) * (2.0 * hh / h);
-    for piece in &pieces {
-        if let Some(p) = piece.prim {
-            seen_prims[p as usize] = true;
-        }
+    let mut points = Vec::new();
+    // Calls `f(x, y, coverage, piece ∩ pixel)` for every pixel of the tile `piece` covers.
+    let rasterize = |piece: &Piece, f: &mut dyn FnMut(u32, u32, f32, &Section)| {
         let v = piece.section.vertices();
         let (lo, hi) = v.iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), c| (lo.min(*c), hi.max(*c)));
         let col = |c: f32, half: f32, n: f32| ((c / half + 1.0) * 0.5 * n).floor();
@@ -193,14 +220,42 @@ fn tile_fragments(
                 let Ok(square) = ConvexPolygon::<4>::from_slice(&square) else { continue };
                 let Ok(part) = piece.section.clip_by(&square) else { continue };
                 let area = part.area();
-                if !(area > 0.0) {
-                    continue;
+                if area > 0.0 {
+                    f(x, y, area / pixel_area, &part);
                 }
-                let seen = piece.prim.and_then(|prim| {
-                    let q = point_on_piece(&frame, piece, part.centroid())?;
-                    Some((prim, q, (q - frame.apex).normalize()))
+            }
+        }
+    };
+    for piece in &pieces {
+        let Some(prim) = piece.prim else {
+            rasterize(piece, &mut |x, y, cov, _| fragment(x, y, cov, Fragment::Background));
+            continue;
+        };
+        seen_prims[prim as usize] = true;
+        rasterize(piece, &mut |x, y, cov, part| {
+            if let Some(q) = point_on_piece(&frame, piece, part.centroid()) {
+                fragment(x, y, cov, Fragment::Surface { prim, q, d: (q - frame.apex).normalize() });
+            }
+        });
+        if !point_shadows || !matches!(scene.material(prim), Material::Diffuse { .. } | Material::Glossy { .. }) {
+            continue;
+        }
+        for (light, l) in scene.lights.iter().enumerate() {
+            let Light::Point { position, .. } = *l else { continue };
+            stats.shadow_beams += 1;
+            for lit in lit_pieces(&scene.bvh, &scene.triangles, &frame, piece, position, &mut stats.shadow) {
+                rasterize(&lit, &mut |x, y, cov, part| {
+                    let (v, c) = (part.vertices(), part.centroid());
+                    points.clear();
+                    for i in 0..v.len() {
+                        let (a, b) = (v[i], v[(i + 1) % v.len()]);
+                        let w = (a - c).perp_dot(b - c).abs() / 6.0 / pixel_area;
+                        for m in [0.5 * (c + a), 0.5 * (a + b), 0.5 * (b + c)] {
+                            points.extend(point_on_piece(&frame, &lit, m).map(|q| (w, q)));
+                        }
+                    }
+                    fragment(x, y, cov, Fragment::Lit { light, prim, points: &points });
                 });
-                fragment(x, y, area / pixel_area, seen);
             }
         }
     }
@@ -217,10 +272,11 @@ pub fn primary_coverage(scene: &Scene, width: u32, height: u32) -> Vec<(f32, f32
     let mut seen = vec![false; scene.triangles.len()];
     for ty in 0..height.div_ceil(TILE) {
         for tx in 0..width.div_ceil(TILE) {
-            tile_fragments(scene, &camera, tx, ty, &mut BeamStats::default(), &mut seen, |x, y, cov, hit| {
+            let mut stats = TileStats::default();
+            tile_fragments(scene, &camera, tx, ty, false, &mut stats, &mut seen, |x, y, cov, seen| {
                 let o = &mut out[(y * width + x) as usize];
                 o.0 += cov;
-                if hit.is_some() {
+                if let Fragment::Surface { .. } = seen {
                     o.1 += cov;
                 }
             });
@@ -248,11 +304,22 @@ impl Context<'_> {
         let Some(hit) = self.scene.wide.closest_hit(ray, f32::INFINITY) else {
             return Vec3::ZERO;
         };
-        self.shade(hit.prim, ray.at(hit.t), ray.direction.normalize(), depth, rng, c)
+        self.shade(hit.prim, ray.at(hit.t), ray.direction.normalize(), depth, Lights::All, rng, c)
     }
 
-    /// Radiance leaving point `p` of triangle `prim` towards `−d`.
-    fn shade(&self, prim: u32, p: Vec3, d: Vec3, depth: u32, rng: &mut Pcg32, c: &mut Counters) -> Vec3 {
+    /// Radiance leaving point `p` of triangle `prim` towards `−d`, with the direct light of `lights`
+    /// (at the first surface; every light after a mirror or glass bounce).
+    #[allow(clippy::too_many_arguments)]
+    fn shade(
+        &self,
+        prim: u32,
+        p: Vec3,
+        d: Vec3,
+        depth: u32,
+        lights: Lights,
+        rng: &mut Pcg32,
+        c: &mut Counters,
+    ) -> Vec3 {
         let mut n = self.scene.normal(prim);
         let entering = n.dot(d) < 0.0;
         if !entering {
@@ -261,7 +328,7 @@ impl Context<'_> {
         match self.scene.material(prim) {
             Material::Emissive { radiance } => radiance,
             Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => {
-                let e = self.direct(p + n * self.eps, n, rng, c);
+                let e = self.direct(p + n * self.eps, n, lights, rng, c);
                 albedo / std::f32::consts::PI * e
             }
             Material::Mirror { tint } if depth < MAX_DEPTH => {
@@ -286,12 +353,13 @@ impl Context<'_> {
         }
     }
 
-    /// Irradiance at `p` (normal `n`) from every light.
-    fn direct(&self, p: Vec3, n: Vec3, rng: &mut Pcg32, c: &mut Counters) -> Vec3 {
+    /// Irradiance at `p` (normal `n`) from `lights`.
+    fn direct(&self, p: Vec3, n: Vec3, lights: Lights, rng: &mut Pcg32, c: &mut Counters) -> Vec3 {
         let scene = self.scene;
         let mut e = Vec3::ZERO;
         for light in &scene.lights {
             match *light {
+                Light::Point { .. } if lights == Lights::AreaOnly => {}
                 Light::Point { position, intensity } => {
                     let to = position - p;
                     let r2 = to.length_squared();
@@ -307,6 +375,23 @@ impl Context<'_> {
             }
         }
         e
+    }
+
+    /// Radiance towards `−d` of diffuse or glossy point `q` of `prim` from point light `light`,
+    /// unoccluded: the fragment is known to be lit (001 §4.2).
+    fn point_lit(&self, prim: u32, q: Vec3, d: Vec3, light: usize) -> Vec3 {
+        let (Light::Point { position, intensity }, Material::Diffuse { albedo } | Material::Glossy { albedo, .. }) =
+            (self.scene.lights[light], self.scene.material(prim))
+        else {
+            return Vec3::ZERO;
+        };
+        let mut n = self.scene.normal(prim);
+        if n.dot(d) > 0.0 {
+            n = -n;
+        }
+        let to = position - q;
+        let r2 = to.length_squared();
+        albedo / std::f32::consts::PI * intensity * (n.dot(to) / r2.sqrt()).max(0.0) / r2
     }
 
     /// Irradiance per unit radiance from an area light.
@@ -360,6 +445,15 @@ impl Context<'_> {
             }
         }
     }
+}
+
+/// Which lights a shade point gathers directly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Lights {
+    /// Every light.
+    All,
+    /// Area lights only: point lights come from lit fragments (001 §4.2).
+    AreaOnly,
 }
 
 /// A point on an area light from `(s, t) ∈ [0, 1)²` (uniform in area).
@@ -443,17 +537,27 @@ pub fn render_with(
                 true => {
                     let mut coverage = vec![0.0f32; rows as usize * w];
                     for tx in 0..camera.width.div_ceil(TILE) {
-                        let mut primary = BeamStats::default();
-                        tile_fragments(scene, &camera, tx, ty, &mut primary, &mut seen, |x, y, cov, hit| {
+                        let mut tile = TileStats::default();
+                        tile_fragments(scene, &camera, tx, ty, true, &mut tile, &mut seen, |x, y, cov, seen| {
                             let i = (y - y0) as usize * w + x as usize;
-                            coverage[i] += cov;
-                            if let Some((prim, q, d)) = hit {
-                                c.fragments += 1;
-                                let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
-                                band[i] += cov * ctx.shade(prim, q, d, 0, &mut rng, &mut c);
+                            match seen {
+                                Fragment::Background => coverage[i] += cov,
+                                Fragment::Surface { prim, q, d } => {
+                                    coverage[i] += cov;
+                                    c.fragments += 1;
+                                    let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
+                                    band[i] += cov * ctx.shade(prim, q, d, 0, Lights::AreaOnly, &mut rng, &mut c);
+                                }
+                                Fragment::Lit { light, prim, points } => {
+                                    for &(weight, q) in points {
+                                        band[i] += weight * ctx.point_lit(prim, q, q - camera.position, light);
+                                    }
+                                }
                             }
                         });
-                        c.primary += primary;
+                        c.primary += tile.primary;
+                        c.beams += tile.shadow;
+                        c.shadow_beams += tile.shadow_beams;
                     }
                     c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
                     (0..rows).for_each(|_| row_done());

@@ -222,11 +222,15 @@ pub fn visible_light(
         return None;
     }
     let frame = BeamFrame::new(p, light[0], light_normal, light[1] - light[0])?;
-    let beam = PolyBeam::new(frame, light)?;
-    let light_area = beam.area();
+    Some(visible_section(bvh, triangles, &PolyBeam::new(frame, light)?, stats))
+}
+
+/// The part of `beam`'s cross-section seen from its apex past every triangle strictly between the
+/// apex and the reference plane (depths in `[DEPTH_EPS, 1 − DEPTH_EPS]`).
+pub fn visible_section(bvh: &FlatBvh, triangles: &[Triangle], beam: &PolyBeam, stats: &mut BeamStats) -> VisibleLight {
     let mut v = ShadowVisitor {
         triangles,
-        frame,
+        frame: beam.frame,
         pieces: vec![LitPiece::new(beam.section)],
         misses: Vec::new(),
         lo: Vec2::ZERO,
@@ -237,7 +241,7 @@ pub fn visible_light(
     v.update_bounds();
     bvh.traverse(&mut v);
     *stats += v.stats;
-    Some(VisibleLight { frame, pieces: v.pieces.iter().map(|p| p.section).collect(), light_area })
+    VisibleLight { frame: beam.frame, pieces: v.pieces.iter().map(|p| p.section).collect(), light_area: beam.area() }
 }
 
 #[cfg(test)]

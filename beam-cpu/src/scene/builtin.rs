@@ -6,13 +6,14 @@ use beam_math::Triangle;
 use beam_math::glam::{Mat3, Vec3};
 
 /// Names of the built-in scenes; the first is the default of `beam render`.
-pub const BUILTIN: [&str; 2] = ["cornell", "mirror-glass"];
+pub const BUILTIN: [&str; 3] = ["cornell", "mirror-glass", "cornell-point"];
 
 /// A built-in scene by name.
 pub fn builtin(name: &str) -> Result<Scene, String> {
     match name {
-        "cornell" => Ok(cornell(false)),
-        "mirror-glass" => Ok(cornell(true)),
+        "cornell" => Ok(cornell(false, false)),
+        "mirror-glass" => Ok(cornell(true, false)),
+        "cornell-point" => Ok(cornell(false, true)),
         _ => Err(format!("unknown built-in scene `{name}` (known: {})", BUILTIN.join(", "))),
     }
 }
@@ -32,8 +33,9 @@ fn turned_box(center: Vec3, size: Vec3, angle: f32) -> Mesh {
 }
 
 /// The Cornell box (the classic 555-unit room with its 130 × 105 ceiling light), with its two boxes,
-/// or with a mirror sphere and a glass sphere instead (`spheres`).
-fn cornell(spheres: bool) -> Scene {
+/// or with a mirror sphere and a glass sphere instead (`spheres`); with `point_light`, lit by a point
+/// light under the ceiling's centre instead (hard shadows, 001 §4.2).
+fn cornell(spheres: bool, point_light: bool) -> Scene {
     let s = 555.0;
     let white = Material::Diffuse { albedo: Vec3::splat(0.73) };
     let red = Material::Diffuse { albedo: Vec3::new(0.65, 0.05, 0.05) };
@@ -61,7 +63,12 @@ fn cornell(spheres: bool) -> Scene {
         add(&turned_box(p(185.0, 0.0, 169.0), p(165.0, 165.0, 165.0), -18.0), 0);
         add(&turned_box(p(368.0, 0.0, 351.0), p(165.0, 330.0, 165.0), 15.0), 0);
     }
-    let lights = vec![Light::Quad { corner, edge_u: eu, edge_v: ev, radiance: Vec3::splat(15.0) }];
+    let lights = vec![if point_light {
+        // As bright straight below as the quad light: intensity = radiance × area.
+        Light::Point { position: p(278.0, 500.0, 279.5), intensity: Vec3::splat(15.0 * 130.0 * 105.0) }
+    } else {
+        Light::Quad { corner, edge_u: eu, edge_v: ev, radiance: Vec3::splat(15.0) }
+    }];
     let camera = Camera {
         position: p(278.0, 273.0, -800.0),
         target: p(278.0, 273.0, 0.0),
@@ -70,7 +77,11 @@ fn cornell(spheres: bool) -> Scene {
         width: 512,
         height: 512,
     };
-    let name = if spheres { "mirror-glass" } else { "cornell" };
+    let name = match (spheres, point_light) {
+        (true, _) => "mirror-glass",
+        (false, true) => "cornell-point",
+        (false, false) => "cornell",
+    };
     Scene::new(name.into(), tris, materials, lights, camera)
 }
 

@@ -88,8 +88,9 @@ pub struct Split {
     pub miss: Pieces,
 }
 
-/// Most corners a triangle keeps after clipping by the near, far and four window planes.
-const CLIPPED: usize = 9;
+/// Most corners a triangle keeps after clipping by the near, far and four window planes (9), and
+/// by one more line in the image (10).
+const CLIPPED: usize = 10;
 
 /// Clip a triangle by half-spaces `n·(x − origin) ≤ d` (Sutherland–Hodgman in 3D). Relative to the
 /// apex, so that rounding follows the beam's size, not the scene's coordinates.
@@ -161,7 +162,7 @@ fn beam_planes(frame: &BeamFrame, near: f32, far: f32, window: Option<(Vec2, Vec
 /// plane (001 §3.2 step 1), ready to split any section of beams sharing the frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProjectedTriangle {
-    /// The projected polygon (3 to 9 corners after clipping).
+    /// The projected polygon (3 to 10 corners after clipping).
     pub polygon: ConvexPolygon<CLIPPED>,
     /// Its bounding rectangle, lower corner.
     pub min: Vec2,
@@ -189,6 +190,21 @@ impl ProjectedTriangle {
         let (planes, k) = beam_planes(frame, near, far, Some((lo - margin, hi + margin)));
         let (poly, n) = clip_planes(tri, &planes[..k], frame.apex);
         Self::project(frame, &poly[..n])
+    }
+
+    /// The part on the inner side `n·(x − a) ≤ 0` of a line; `None` when nothing (or a sliver of
+    /// fewer than three corners) remains or the corners outgrow the capacity.
+    #[must_use]
+    pub fn clip(&self, a: Vec2, n: Vec2) -> Option<Self> {
+        let polygon = self.polygon.clip(a, n).ok()?;
+        if polygon.len() < 3 {
+            return None;
+        }
+        let (min, max) = polygon
+            .vertices()
+            .iter()
+            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        Some(Self { polygon, min, max })
     }
 
     /// True when the projection's bounding rectangle meets the rectangle `[lo, hi]`.
