@@ -41,12 +41,20 @@ enum Command {
     },
     /// Render a scene (default: the built-in Cornell box, exact soft shadows by beams).
     Render {
-        /// A built-in scene (cornell, mirror-glass), a .toml scene file or an .obj mesh.
+        /// A built-in scene (cornell, mirror-glass, cornell-point), a .toml scene file or an .obj mesh.
         #[arg(long, default_value = "cornell")]
         scene: String,
-        /// Light visibility: `beam` (exact shadow beams) or `ray` (stratified shadow rays).
+        /// Light visibility: `beam` (exact shadow beams) or `ray` (stratified shadow rays); or
+        /// `nonlinear` (mirrors by nonlinear beams, 000, with exact shadow beams) and its ground
+        /// truth `nonlinear-reference` (mirrors by rays reflected about the interpolated normal).
         #[arg(long, default_value = "beam")]
         method: String,
+        /// Nonlinear beam parameterization: `s1` or `s3` (`--method nonlinear`).
+        #[arg(long, default_value = "s3")]
+        degree: String,
+        /// Texels per side of each nonlinear beam's region (`--method nonlinear`).
+        #[arg(long, default_value_t = 32)]
+        texels: u32,
         /// `exact` (eq. 1, Lambert's polygon formula) or `fraction` (001 eq. 2).
         #[arg(long, default_value = "exact")]
         shading: String,
@@ -143,20 +151,33 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Conformance { backend, rays, only } => conformance::run(backend.as_deref(), rays, only),
         Command::Overdraw { out, csv, points } => overdraw::run(&out, &csv, points),
-        Command::Render { scene, method, shading, spp, primary_spp, primary_beams, width, height, out, stats } => {
-            render::run(&render::RenderArgs {
-                scene: &scene,
-                method: &method,
-                shading: &shading,
-                spp,
-                primary_spp,
-                primary_beams,
-                width,
-                height,
-                out: &out,
-                stats: stats.as_deref(),
-            })
-        }
+        Command::Render {
+            scene,
+            method,
+            degree,
+            texels,
+            shading,
+            spp,
+            primary_spp,
+            primary_beams,
+            width,
+            height,
+            out,
+            stats,
+        } => render::run(&render::RenderArgs {
+            scene: &scene,
+            method: &method,
+            degree: &degree,
+            texels,
+            shading: &shading,
+            spp,
+            primary_spp,
+            primary_beams,
+            width,
+            height,
+            out: &out,
+            stats: stats.as_deref(),
+        }),
         Command::Compare { a, b, out, scale } => render::compare(&a, &b, &out, scale),
         Command::Bench { what: BenchCommand::Bvh { scene, json, size } } => {
             bench::bvh::run(&scene, json.as_deref(), size).map(|()| ExitCode::SUCCESS)

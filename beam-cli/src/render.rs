@@ -1,5 +1,6 @@
 //! `beam render` and `beam compare`.
 
+use beam_cpu::nonlinear::{Degree, NonlinearOptions, render_nonlinear, render_smooth_reference};
 use beam_cpu::render::{Image, Method, RenderOptions, Shading, difference, render, side_by_side};
 use beam_cpu::scene;
 use std::path::Path;
@@ -9,6 +10,8 @@ use std::process::ExitCode;
 pub struct RenderArgs<'a> {
     pub scene: &'a str,
     pub method: &'a str,
+    pub degree: &'a str,
+    pub texels: u32,
     pub shading: &'a str,
     pub spp: u32,
     pub primary_spp: u32,
@@ -21,9 +24,9 @@ pub struct RenderArgs<'a> {
 
 pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     let method = match a.method {
-        "beam" => Method::Beam,
+        "beam" | "nonlinear" | "nonlinear-reference" => Method::Beam,
         "ray" => Method::Ray,
-        m => return Err(format!("unknown method `{m}` (beam, ray)")),
+        m => return Err(format!("unknown method `{m}` (beam, ray, nonlinear, nonlinear-reference)")),
     };
     let shading = match a.shading {
         "fraction" => Shading::Fraction,
@@ -50,6 +53,9 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         height,
         seed: 1,
     };
+    if a.method.starts_with("nonlinear") {
+        return nonlinear(a, &scene, options);
+    }
     let bar = crate::progress::bar(u64::from(height), "render");
     let (image, stats) = render(&scene, &options, || bar.inc(1));
     bar.finish_and_clear();
@@ -77,6 +83,49 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
             stats.shadow_beams, stats.bvh_steps, stats.intersections, stats.hit_beams_per_pixel
         );
     }
+    if let Some(p) = a.stats {
+        let json = serde_json::to_string_pretty(&stats).map_err(|e| e.to_string())?;
+        beam_cpu::io::write_atomic(p, json.as_bytes())?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--method nonlinear` and `nonlinear-reference`.
+fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Result<ExitCode, String> {
+    let degree = match a.degree {
+        "s1" => Degree::S1,
+        "s3" => Degree::S3,
+        d => return Err(format!("unknown degree `{d}` (s1, s3)")),
+    };
+    if !(2..=4096).contains(&a.texels) {
+        return Err(format!("--texels {} out of range (2 to 4096)", a.texels));
+    }
+    let start = std::time::Instant::now();
+    if a.method == "nonlinear-reference" {
+        let image = render_smooth_reference(scene, &shading);
+        image.save_png(a.out)?;
+        println!(
+            "{}: nonlinear reference (rays, smooth mirrors), {:.3} s -> {}",
+            scene.name,
+            start.elapsed().as_secs_f64(),
+            a.out.display()
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    let (image, stats) = render_nonlinear(scene, &NonlinearOptions { degree, texels: a.texels, shading });
+    image.save_png(a.out)?;
+    println!(
+        "{}: nonlinear {} ({} texels per beam side), {} beams, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {:.3} s -> {}",
+        scene.name,
+        stats.degree,
+        a.texels,
+        stats.beams_per_level.iter().sum::<u64>(),
+        stats.triangles_per_beam,
+        stats.overdraw,
+        stats.texels_shaded,
+        stats.seconds,
+        a.out.display()
+    );
     if let Some(p) = a.stats {
         let json = serde_json::to_string_pretty(&stats).map_err(|e| e.to_string())?;
         beam_cpu::io::write_atomic(p, json.as_bytes())?;

@@ -6,10 +6,12 @@
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
 //! - [`io`]: atomic output files.
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
+//! - [`nonlinear`]: nonlinear beam tracing of curved mirrors (000).
 //! - [`scene`]: scenes (TOML files, bare OBJ, built-ins): materials, lights, camera, BVHs.
 
 pub mod io;
 pub mod mesh;
+pub mod nonlinear;
 pub mod overdraw;
 pub mod render;
 pub mod scene;

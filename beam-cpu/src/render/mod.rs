@@ -14,6 +14,7 @@ pub use image::{Image, srgb_decode, srgb_encode};
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub use renderer::{
-    Method, Occluder, RenderOptions, RenderStats, Shading, TILE, primary_coverage, render, render_with,
+    Method, Occluder, RenderOptions, RenderStats, Shading, TILE, primary_coverage, reflect, render, render_with,
+    shade_point, trace_radiance,
 };
 pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};

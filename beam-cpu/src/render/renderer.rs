@@ -456,6 +456,30 @@ enum Lights {
     AreaOnly,
 }
 
+/// The shading every renderer shares, for one shade point: the radiance leaving point `p` of
+/// triangle `prim` towards `−d`, with direct light by `options.method` and mirror and glass followed
+/// by rays. `seed` seeds the shadow-ray samples.
+#[must_use]
+pub fn shade_point(scene: &Scene, options: &RenderOptions, prim: u32, p: Vec3, d: Vec3, seed: u64) -> Vec3 {
+    let ctx =
+        Context { scene, options: *options, eps: shading_eps(scene), occluded: &|ray, t| scene.wide.any_hit(ray, t) };
+    ctx.shade(prim, p, d, 0, Lights::All, &mut Pcg32::seed_from_u64(seed), &mut Counters::default())
+}
+
+/// Radiance arriving along `ray` (the background is black), shaded as [`shade_point`].
+#[must_use]
+pub fn trace_radiance(scene: &Scene, options: &RenderOptions, ray: Ray, seed: u64) -> Vec3 {
+    let ctx =
+        Context { scene, options: *options, eps: shading_eps(scene), occluded: &|ray, t| scene.wide.any_hit(ray, t) };
+    ctx.radiance(ray, 0, &mut Pcg32::seed_from_u64(seed), &mut Counters::default())
+}
+
+/// Offset of secondary ray origins from surfaces: 1e-4 of the scene's diagonal.
+fn shading_eps(scene: &Scene) -> f32 {
+    let bounds = scene.bvh.nodes.first().map_or(beam_math::Aabb::new(Vec3::ZERO, Vec3::ONE), |n| n.bounds());
+    1e-4 * bounds.extent().length()
+}
+
 /// A point on an area light from `(s, t) ∈ [0, 1)²` (uniform in area).
 fn sample_light(light: &Light, s: f32, t: f32) -> Vec3 {
     match *light {
@@ -468,7 +492,9 @@ fn sample_light(light: &Light, s: f32, t: f32) -> Vec3 {
     }
 }
 
-fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+/// Mirror reflection of direction `d` about unit normal `n`.
+#[must_use]
+pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
     d - 2.0 * d.dot(n) * n
 }
 
@@ -495,8 +521,7 @@ pub fn render_with(
     camera.width = options.width.max(1);
     camera.height = options.height.max(1);
     let frame = camera.frame();
-    let bounds = scene.bvh.nodes.first().map_or(beam_math::Aabb::new(Vec3::ZERO, Vec3::ONE), |n| n.bounds());
-    let ctx = Context { scene, options: *options, eps: 1e-4 * bounds.extent().length(), occluded };
+    let ctx = Context { scene, options: *options, eps: shading_eps(scene), occluded };
     let pixel_seed =
         |x: u32, y: u32| options.seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     let w = camera.width as usize;

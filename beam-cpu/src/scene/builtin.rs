@@ -6,7 +6,7 @@ use beam_math::Triangle;
 use beam_math::glam::{Mat3, Vec3};
 
 /// Names of the built-in scenes; the first is the default of `beam render`.
-pub const BUILTIN: [&str; 3] = ["cornell", "mirror-glass", "cornell-point"];
+pub const BUILTIN: [&str; 4] = ["cornell", "mirror-glass", "cornell-point", "mirror-glass-coarse"];
 
 /// A built-in scene by name.
 pub fn builtin(name: &str) -> Result<Scene, String> {
@@ -14,12 +14,35 @@ pub fn builtin(name: &str) -> Result<Scene, String> {
         "cornell" => Ok(cornell(false, false)),
         "mirror-glass" => Ok(cornell(true, false)),
         "cornell-point" => Ok(cornell(false, true)),
+        "mirror-glass-coarse" => {
+            // The mirror sphere at a coarse S-mesh resolution (8 × 16), where S1's kinks show.
+            Ok(coarse_mirror(cornell(true, false)))
+        }
         _ => Err(format!("unknown built-in scene `{name}` (known: {})", BUILTIN.join(", "))),
     }
 }
 
 fn quad(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Mesh {
     Mesh { positions: vec![a, b, c, d], indices: vec![[0, 1, 2], [0, 2, 3]] }
+}
+
+/// `scene` with its mirror triangles replaced by an 8 × 16 sphere of the same centre and radius.
+fn coarse_mirror(scene: Scene) -> Scene {
+    let mirror = |m: &Material| matches!(m, Material::Mirror { .. });
+    let mut tris: Vec<(Triangle, u32)> = Vec::new();
+    let mut mirror_material = None;
+    for (t, &m) in scene.triangles.iter().zip(&scene.material_of) {
+        if mirror(&scene.materials[m as usize]) {
+            mirror_material = Some(m);
+        } else {
+            tris.push((*t, m));
+        }
+    }
+    if let Some(m) = mirror_material {
+        let sphere = mesh::sphere(Vec3::new(185.0, 90.0, 170.0), 90.0, 8, 16);
+        tris.extend(sphere.triangles().into_iter().map(|t| (t, m)));
+    }
+    Scene::new("mirror-glass-coarse".into(), tris, scene.materials, scene.lights, scene.camera)
 }
 
 /// A box of size `size` standing on the floor at `center`, turned by `angle` degrees about y.

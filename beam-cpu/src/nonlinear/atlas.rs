@@ -1,0 +1,140 @@
+//! Rendering one nonlinear beam into its texel region (000 Algs. 1–2): every scene triangle that
+//! survives bounding-cone culling (App. A) gets its bounding triangle on the beam base; the texels
+//! inside it rebuild their ray from the S^n parameterization, intersect the scene triangle, discard
+//! misses and keep the nearest hit (the depth test).
+
+use crate::scene::Scene;
+use beam_math::collide::{WatertightRay, cone_sphere};
+use beam_math::glam::Vec3;
+use beam_math::nonlinear::{Interpolant, NonlinearBeam};
+
+/// What a texel's ray hits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TexelHit {
+    /// The scene triangle.
+    pub prim: u32,
+    /// Ray parameter of the hit (the ray's direction is not normalised).
+    pub t: f32,
+}
+
+/// A beam's texel region: `size × size` texels over the base's barycentric square, of which those
+/// with `u + v ≤ 1 + 1/size` (the base triangle and a one-texel margin for filtering) are rendered.
+/// Texel `(x, y)` has centre `(u, v) = ((x + ½)/size, (y + ½)/size)` and barycentric coordinates
+/// `(1 − u − v, u, v)` (clamped to the base in the margin).
+#[derive(Clone, Debug)]
+pub struct BeamTexture {
+    /// Texels per side.
+    pub size: u32,
+    /// Nearest hit per texel (row-major), `None` where the ray leaves the scene.
+    pub hits: Vec<Option<TexelHit>>,
+    /// Radiance per texel, filled by the caller's shading.
+    pub radiance: Vec<Vec3>,
+    /// Scene triangles left after bounding-cone culling.
+    pub triangles_after_culling: u32,
+    /// Texels inside bounding triangles (rays intersected); overdraw is this over the texels rendered.
+    pub texels_tested: u64,
+}
+
+impl BeamTexture {
+    /// Barycentric coordinates of texel `(x, y)`; margin texels (outside the base) take the nearest
+    /// point of the base's edge, where bounding triangles still hold.
+    #[must_use]
+    pub fn barycentric(&self, x: u32, y: u32) -> Vec3 {
+        let (u, v) = ((x as f32 + 0.5) / self.size as f32, (y as f32 + 0.5) / self.size as f32);
+        if u + v <= 1.0 {
+            return Vec3::new(1.0 - u - v, u, v);
+        }
+        let excess = 0.5 * (u + v - 1.0);
+        let (u, v) = ((u - excess).clamp(0.0, 1.0), (v - excess).clamp(0.0, 1.0));
+        Vec3::new(1.0 - u - v, u, v).max(Vec3::ZERO)
+    }
+
+    /// True when texel `(x, y)` is rendered.
+    #[must_use]
+    pub fn in_region(&self, x: u32, y: u32) -> bool {
+        x + y < self.size + 1
+    }
+
+    /// Texels rendered.
+    #[must_use]
+    pub fn texels(&self) -> u64 {
+        (0..self.size).map(|y| u64::from((self.size + 1 - y).min(self.size))).sum()
+    }
+
+    /// Bilinear lookup of the radiance at barycentric `w` over the rendered texels.
+    #[must_use]
+    pub fn sample(&self, w: Vec3) -> Vec3 {
+        let n = self.size as f32;
+        let (fx, fy) = (w.y * n - 0.5, w.z * n - 0.5);
+        let (x0, y0) = (fx.floor(), fy.floor());
+        let (ax, ay) = (fx - x0, fy - y0);
+        let (mut sum, mut weight) = (Vec3::ZERO, 0.0);
+        for (dx, dy, k) in
+            [(0, 0, (1.0 - ax) * (1.0 - ay)), (1, 0, ax * (1.0 - ay)), (0, 1, (1.0 - ax) * ay), (1, 1, ax * ay)]
+        {
+            let (x, y) =
+                ((x0 as i64 + dx).clamp(0, n as i64 - 1) as u32, (y0 as i64 + dy).clamp(0, n as i64 - 1) as u32);
+            if self.in_region(x, y) && k > 0.0 {
+                sum += k * self.radiance[(y * self.size + x) as usize];
+                weight += k;
+            }
+        }
+        if weight > 0.0 { sum / weight } else { Vec3::ZERO }
+    }
+}
+
+/// Render `beam` into a `size × size` texel region (000 Alg. 1 with Alg. 3 or 4 for the bounding
+/// triangles): nearest hits of the texels' rays, skipping triangle `exclude` (the beam's own base).
+#[must_use]
+pub fn render_beam<L: Interpolant>(scene: &Scene, beam: &NonlinearBeam<L>, size: u32, exclude: u32) -> BeamTexture {
+    let n = size as usize;
+    let mut tex = BeamTexture {
+        size,
+        hits: vec![None; n * n],
+        radiance: vec![Vec3::ZERO; n * n],
+        triangles_after_culling: 0,
+        texels_tested: 0,
+    };
+    let bounds = beam.bounds();
+    let cone = beam.bounding_cone(&bounds.extremal, 0.0);
+    let extent = scene.bvh.nodes.first().map_or(1.0, |n| n.bounds().extent().length());
+    // Half a texel of slack around the bounding triangle, in barycentric units.
+    let slack = 0.5 / size as f32;
+    for (i, tri) in scene.triangles.iter().enumerate() {
+        if i as u32 == exclude {
+            continue;
+        }
+        let centre = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
+        let radius = tri.v.iter().fold(0.0f32, |m, v| m.max(v.distance(centre)));
+        if !cone_sphere(&cone, centre, radius) {
+            continue;
+        }
+        let Some(bt) = beam.bounding_triangle(&bounds, tri) else { continue };
+        tex.triangles_after_culling += 1;
+        let m = bt.lower - Vec3::splat(slack);
+        // Texels with u ≥ m.y, v ≥ m.z, u + v ≤ 1 − m.x.
+        let x_lo = ((m.y * size as f32 - 0.5).floor().max(0.0)) as u32;
+        let y_lo = ((m.z * size as f32 - 0.5).floor().max(0.0)) as u32;
+        let hi = ((1.0 - m.x) * size as f32).ceil().min(size as f32) as u32;
+        for y in y_lo..hi.min(size) {
+            for x in x_lo..hi.min(size) {
+                if !tex.in_region(x, y) {
+                    break;
+                }
+                let w = tex.barycentric(x, y);
+                if !bt.contains(w, slack) {
+                    continue;
+                }
+                tex.texels_tested += 1;
+                let ray = beam.ray_at(w);
+                let t_min = 1e-4 * extent / ray.direction.length().max(f32::MIN_POSITIVE);
+                let k = y as usize * n + x as usize;
+                let t_max = tex.hits[k].map_or(f32::INFINITY, |h| h.t);
+                if let Some(hit) = WatertightRay::new(ray).intersect(tri, t_min, t_max) {
+                    tex.hits[k] = Some(TexelHit { prim: i as u32, t: hit.t });
+                }
+            }
+        }
+    }
+    tex
+}

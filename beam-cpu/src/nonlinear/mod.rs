@@ -1,0 +1,12 @@
+//! Nonlinear beam tracing (000) on the CPU, doing what the GPU pipeline does: an S mesh over each
+//! mirror, one nonlinear beam per S-mesh triangle (mirror reflection, S1 or S3), each beam rendered
+//! into its own texel region by bounding triangles (Algs. 1–2), and the final image textured from
+//! those regions.
+
+mod atlas;
+mod smesh;
+mod trace;
+
+pub use atlas::{BeamTexture, TexelHit, render_beam};
+pub use smesh::{SFace, SMesh};
+pub use trace::{Degree, NonlinearOptions, NonlinearStats, render_nonlinear, render_smooth_reference};
