@@ -295,7 +295,6 @@ pub fn primary_coverage_sums_to_one(_: Backend, _: &Config) -> Result<Outcome, S
 /// that misses or hits something farther.
 pub fn nonlinear_texels_equal_ray_hits(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::nonlinear::{SMesh, render_beam};
-    use beam_cpu::render::reflect;
     use beam_math::nonlinear::{NonlinearBeam, S3};
     let mut checked = 0u64;
     let mut notes = Vec::new();
@@ -309,7 +308,7 @@ pub fn nonlinear_texels_equal_ray_hits(_: Backend, _: &Config) -> Result<Outcome
             .par_iter()
             .step_by(3)
             .flat_map(|f| {
-                let dirs = [0, 1, 2].map(|i| reflect((f.v[i] - eye).normalize(), f.n[i]));
+                let dirs = f.reflected_directions(eye);
                 let check = |tex: beam_cpu::nonlinear::BeamTexture, ray_at: &dyn Fn(Vec3) -> Ray| {
                     let mut n = 0u64;
                     for y in 0..tex.size {

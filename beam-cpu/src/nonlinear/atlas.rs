@@ -97,7 +97,7 @@ pub fn render_beam<L: Interpolant>(scene: &Scene, beam: &NonlinearBeam<L>, size:
     };
     let bounds = beam.bounds();
     let cone = beam.bounding_cone(&bounds.extremal, 0.0);
-    let extent = scene.bvh.nodes.first().map_or(1.0, |n| n.bounds().extent().length());
+    let extent = scene.bounds().extent().length();
     // Half a texel of slack around the bounding triangle, in barycentric units.
     let slack = 0.5 / size as f32;
     for (i, tri) in scene.triangles.iter().enumerate() {

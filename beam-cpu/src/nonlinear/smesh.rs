@@ -22,6 +22,13 @@ impl SFace {
         (w.x * self.n[0] + w.y * self.n[1] + w.z * self.n[2]).normalize_or_zero()
     }
 
+    /// Mirror reflections about the vertex normals of the directions from `eye` to the vertices:
+    /// the boundary directions of the face's reflection beam (000 §7.2).
+    #[must_use]
+    pub fn reflected_directions(&self, eye: Vec3) -> [Vec3; 3] {
+        [0, 1, 2].map(|i| crate::render::reflect((self.v[i] - eye).normalize_or_zero(), self.n[i]))
+    }
+
     /// Barycentric coordinates of point `p` (projected onto the face's plane).
     #[must_use]
     pub fn barycentric(&self, p: Vec3) -> Vec3 {
@@ -54,7 +61,7 @@ impl SMesh {
         let prims: Vec<u32> = (0..scene.triangles.len() as u32)
             .filter(|&p| matches!(scene.material(p), Material::Mirror { .. }))
             .collect();
-        let extent = scene.bvh.nodes.first().map_or(1.0, |n| n.bounds().extent().max_element());
+        let extent = scene.bounds().extent().max_element();
         let tol = 1e-5 * extent.max(f32::MIN_POSITIVE);
         let key = |p: Vec3| ((p.x / tol).round() as i64, (p.y / tol).round() as i64, (p.z / tol).round() as i64);
         let mut at: HashMap<(i64, i64, i64), Vec<u32>> = HashMap::new();

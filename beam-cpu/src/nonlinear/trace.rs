@@ -6,11 +6,11 @@
 
 use super::atlas::{BeamTexture, render_beam};
 use super::smesh::{SFace, SMesh};
-use crate::render::{Image, RenderOptions, reflect, shade_point, trace_radiance};
+use crate::render::{Image, RenderOptions, reflect, shade_point, shading_eps, trace_radiance};
 use crate::scene::{Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_math::nonlinear::{NonlinearBeam, S3};
+use beam_math::nonlinear::{Interpolant, NonlinearBeam, S3};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -55,18 +55,37 @@ pub struct NonlinearStats {
     pub height: u32,
 }
 
-/// The reflection beam off S-mesh face `f` seen from `eye`.
-fn reflection_beam(f: &SFace, eye: Vec3, degree: Degree) -> Option<Beam> {
-    let dirs = [0, 1, 2].map(|i| reflect((f.v[i] - eye).normalize_or_zero(), f.n[i]));
-    match degree {
-        Degree::S1 => NonlinearBeam::s1(f.v, dirs).map(Beam::S1),
-        Degree::S3 => NonlinearBeam::new(f.v, dirs, S3 { normals: f.n }).map(Beam::S3),
+/// The reflection beam off S-mesh face `f` seen from `eye`, rendered and shaded.
+fn reflection_texture(scene: &Scene, f: &SFace, eye: Vec3, options: &NonlinearOptions) -> Option<BeamTexture> {
+    let dirs = f.reflected_directions(eye);
+    match options.degree {
+        Degree::S1 => NonlinearBeam::s1(f.v, dirs).map(|b| shaded_texture(scene, &b, f.prim, options)),
+        Degree::S3 => {
+            NonlinearBeam::new(f.v, dirs, S3 { normals: f.n }).map(|b| shaded_texture(scene, &b, f.prim, options))
+        }
     }
 }
 
-enum Beam {
-    S1(NonlinearBeam),
-    S3(NonlinearBeam<S3>),
+/// `beam` (off S-mesh triangle `prim`) rendered into its texel region, every texel hit shaded (the
+/// fragment stage's shading).
+fn shaded_texture<L: Interpolant>(
+    scene: &Scene,
+    beam: &NonlinearBeam<L>,
+    prim: u32,
+    options: &NonlinearOptions,
+) -> BeamTexture {
+    let mut tex = render_beam(scene, beam, options.texels, prim);
+    for y in 0..tex.size {
+        for x in 0..tex.size {
+            let k = (y * tex.size + x) as usize;
+            let Some(hit) = tex.hits[k] else { continue };
+            let ray = beam.ray_at(tex.barycentric(x, y));
+            let seed = u64::from(prim) << 32 | k as u64;
+            tex.radiance[k] =
+                shade_point(scene, &options.shading, hit.prim, ray.at(hit.t), ray.direction.normalize(), seed);
+        }
+    }
+    tex
 }
 
 /// Render `scene` with its mirrors by nonlinear beams.
@@ -100,28 +119,7 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
         .faces
         .par_iter()
         .zip(&seen)
-        .map(|(f, &seen)| {
-            let beam = reflection_beam(f, eye, options.degree).filter(|_| seen)?;
-            let mut tex = match &beam {
-                Beam::S1(b) => render_beam(scene, b, options.texels, f.prim),
-                Beam::S3(b) => render_beam(scene, b, options.texels, f.prim),
-            };
-            // Shade every texel hit (the fragment stage's shading).
-            for y in 0..tex.size {
-                for x in 0..tex.size {
-                    let k = (y * tex.size + x) as usize;
-                    let Some(hit) = tex.hits[k] else { continue };
-                    let ray = match &beam {
-                        Beam::S1(b) => b.ray_at(tex.barycentric(x, y)),
-                        Beam::S3(b) => b.ray_at(tex.barycentric(x, y)),
-                    };
-                    let seed = u64::from(f.prim) << 32 | u64::from(y * tex.size + x);
-                    tex.radiance[k] =
-                        shade_point(scene, &options.shading, hit.prim, ray.at(hit.t), ray.direction.normalize(), seed);
-                }
-            }
-            Some(tex)
-        })
+        .map(|(f, &seen)| if seen { reflection_texture(scene, f, eye, options) } else { None })
         .collect();
     let mut image = Image::new(camera.width, camera.height);
     image.pixels.par_iter_mut().zip(&hits).enumerate().for_each(|(i, (px, hit))| {
@@ -169,7 +167,7 @@ pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions) -> Image 
     let frame = camera.frame();
     let mut image = Image::new(camera.width, camera.height);
     let w = camera.width as usize;
-    let eps = 1e-4 * scene.bvh.nodes.first().map_or(1.0, |n| n.bounds().extent().length());
+    let eps = shading_eps(scene);
     image.pixels.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
         for (x, px) in row.iter_mut().enumerate() {
             let ray = camera.ray(&frame, x as f32 + 0.5, y as f32 + 0.5);

@@ -59,10 +59,7 @@ pub struct Piece {
 
 impl Piece {
     fn new(section: Section, prim: Option<u32>, depth: Option<InverseDepth>) -> Self {
-        let (lo, hi) = section
-            .vertices()
-            .iter()
-            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        let (lo, hi) = section.bounds();
         Self { section, prim, depth, lo, hi }
     }
 
@@ -255,15 +252,9 @@ pub fn visible_surface(
     let rect = [Vec2::new(lo.x, lo.y), Vec2::new(hi.x, lo.y), Vec2::new(hi.x, hi.y), Vec2::new(lo.x, hi.y)];
     let Ok(section) = Section::from_slice(&rect) else { return Vec::new() };
     let apex = frame.apex;
-    let corners = rect.map(|q| frame.point(q) - apex);
-    let mid = frame.point(0.5 * (lo + hi)) - apex;
     let mut planes = [(Vec3::ZERO, 0.0); 5];
-    for i in 0..4 {
-        let mut n = corners[i].cross(corners[(i + 1) % 4]);
-        if n.dot(mid) > 0.0 {
-            n = -n;
-        }
-        planes[i] = (n, n.dot(apex));
+    for (plane, n) in planes.iter_mut().zip(frame.side_normals(lo, hi)) {
+        *plane = (n, n.dot(apex));
     }
     let f = frame.normal / frame.distance;
     planes[4] = (-f, -f.dot(apex) - NEAR);

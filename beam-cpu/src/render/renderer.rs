@@ -204,8 +204,7 @@ fn tile_fragments(
     let mut points = Vec::new();
     // Calls `f(x, y, coverage, piece ∩ pixel)` for every pixel of the tile `piece` covers.
     let rasterize = |piece: &Piece, f: &mut dyn FnMut(u32, u32, f32, &Section)| {
-        let v = piece.section.vertices();
-        let (lo, hi) = v.iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), c| (lo.min(*c), hi.max(*c)));
+        let (lo, hi) = piece.section.bounds();
         let col = |c: f32, half: f32, n: f32| ((c / half + 1.0) * 0.5 * n).floor();
         let (cx0, cx1) = ((col(lo.x, hw, w).max(x0 as f32)) as u32, (col(hi.x, hw, w) as u32).min(x1 - 1));
         let (cy0, cy1) = ((col(lo.y, hh, h).max(y0 as f32)) as u32, (col(hi.y, hh, h) as u32).min(y1 - 1));
@@ -461,23 +460,26 @@ enum Lights {
 /// by rays. `seed` seeds the shadow-ray samples.
 #[must_use]
 pub fn shade_point(scene: &Scene, options: &RenderOptions, prim: u32, p: Vec3, d: Vec3, seed: u64) -> Vec3 {
-    let ctx =
-        Context { scene, options: *options, eps: shading_eps(scene), occluded: &|ray, t| scene.wide.any_hit(ray, t) };
-    ctx.shade(prim, p, d, 0, Lights::All, &mut Pcg32::seed_from_u64(seed), &mut Counters::default())
+    with_context(scene, options, |ctx| {
+        ctx.shade(prim, p, d, 0, Lights::All, &mut Pcg32::seed_from_u64(seed), &mut Counters::default())
+    })
 }
 
 /// Radiance arriving along `ray` (the background is black), shaded as [`shade_point`].
 #[must_use]
 pub fn trace_radiance(scene: &Scene, options: &RenderOptions, ray: Ray, seed: u64) -> Vec3 {
-    let ctx =
-        Context { scene, options: *options, eps: shading_eps(scene), occluded: &|ray, t| scene.wide.any_hit(ray, t) };
-    ctx.radiance(ray, 0, &mut Pcg32::seed_from_u64(seed), &mut Counters::default())
+    with_context(scene, options, |ctx| ctx.radiance(ray, 0, &mut Pcg32::seed_from_u64(seed), &mut Counters::default()))
+}
+
+/// Runs `f` with the shading context of `scene`, shadow rays traced by its own BVH.
+fn with_context<R>(scene: &Scene, options: &RenderOptions, f: impl FnOnce(&Context<'_>) -> R) -> R {
+    let occluded = |ray, t_max| scene.wide.any_hit(ray, t_max);
+    f(&Context { scene, options: *options, eps: shading_eps(scene), occluded: &occluded })
 }
 
 /// Offset of secondary ray origins from surfaces: 1e-4 of the scene's diagonal.
-fn shading_eps(scene: &Scene) -> f32 {
-    let bounds = scene.bvh.nodes.first().map_or(beam_math::Aabb::new(Vec3::ZERO, Vec3::ONE), |n| n.bounds());
-    1e-4 * bounds.extent().length()
+pub(crate) fn shading_eps(scene: &Scene) -> f32 {
+    1e-4 * scene.bounds().extent().length()
 }
 
 /// A point on an area light from `(s, t) ∈ [0, 1)²` (uniform in area).

@@ -74,10 +74,7 @@ struct LitPiece {
 
 impl LitPiece {
     fn new(section: Section) -> Self {
-        let (lo, hi) = section
-            .vertices()
-            .iter()
-            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        let (lo, hi) = section.bounds();
         Self { section, lo, hi }
     }
 }
@@ -104,20 +101,8 @@ impl ShadowVisitor<'_> {
             self.pieces.iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), p| (lo.min(p.lo), hi.max(p.hi)));
         let f = &self.frame;
         let apex = f.apex;
-        let c = [
-            Vec2::new(self.lo.x, self.lo.y),
-            Vec2::new(self.hi.x, self.lo.y),
-            Vec2::new(self.hi.x, self.hi.y),
-            Vec2::new(self.lo.x, self.hi.y),
-        ]
-        .map(|q| f.point(q) - apex);
-        let mid = f.point(0.5 * (self.lo + self.hi)) - apex;
-        for i in 0..4 {
-            let mut n = c[i].cross(c[(i + 1) % 4]);
-            if n.dot(mid) > 0.0 {
-                n = -n;
-            }
-            self.planes[i] = (n, n.dot(apex));
+        for (plane, n) in self.planes.iter_mut().zip(f.side_normals(self.lo, self.hi)) {
+            *plane = (n, n.dot(apex));
         }
         // Depth d(x) = (x − apex)·N / distance: near plane keeps d ≥ ε, far plane keeps d ≤ 1 − ε.
         let n = f.normal / f.distance;

@@ -208,6 +208,12 @@ impl Scene {
         self.materials[self.material_of[i as usize] as usize]
     }
 
+    /// Bounding box of the scene's triangles (the unit cube for an empty scene).
+    #[must_use]
+    pub fn bounds(&self) -> beam_math::Aabb {
+        self.bvh.nodes.first().map_or(beam_math::Aabb::new(Vec3::ZERO, Vec3::ONE), |n| n.bounds())
+    }
+
     /// Geometric unit normal of triangle `i`.
     #[must_use]
     pub fn normal(&self, i: u32) -> Vec3 {

@@ -82,6 +82,12 @@ impl<const N: usize> ConvexPolygon<N> {
         self.signed_area().abs()
     }
 
+    /// Bounding rectangle `(lo, hi)` of the vertices (`(+∞, −∞)` when empty).
+    #[must_use]
+    pub fn bounds(&self) -> (Vec2, Vec2) {
+        self.vertices().iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)))
+    }
+
     /// Mean of the vertices.
     #[must_use]
     pub fn centroid(&self) -> Vec2 {

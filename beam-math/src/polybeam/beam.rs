@@ -72,6 +72,19 @@ impl BeamFrame {
         self.origin + c.x * self.u + c.y * self.v
     }
 
+    /// Outward normals of the four planes through the apex and the sides of the rectangle `[lo, hi]`
+    /// of the reference plane: a point `x` is inside the pyramid where `n·(x − apex) ≤ 0` for all four.
+    #[must_use]
+    pub fn side_normals(&self, lo: Vec2, hi: Vec2) -> [Vec3; 4] {
+        let q = [Vec2::new(lo.x, lo.y), Vec2::new(hi.x, lo.y), Vec2::new(hi.x, hi.y), Vec2::new(lo.x, hi.y)]
+            .map(|c| self.point(c) - self.apex);
+        let mid = self.point(0.5 * (lo + hi)) - self.apex;
+        core::array::from_fn(|i| {
+            let n = q[i].cross(q[(i + 1) % 4]);
+            if n.dot(mid) > 0.0 { -n } else { n }
+        })
+    }
+
     /// The ray from the apex through the plane point `c` (direction reaches the plane at `t = 1`).
     #[must_use]
     pub fn ray(&self, c: Vec2) -> Ray {

@@ -143,14 +143,7 @@ fn beam_planes(frame: &BeamFrame, near: f32, far: f32, window: Option<(Vec2, Vec
         k += 1;
     }
     if let Some((lo, hi)) = window {
-        let q = [Vec2::new(lo.x, lo.y), Vec2::new(hi.x, lo.y), Vec2::new(hi.x, hi.y), Vec2::new(lo.x, hi.y)]
-            .map(|c| frame.point(c) - frame.apex);
-        let mid = frame.point(0.5 * (lo + hi)) - frame.apex;
-        for i in 0..4 {
-            let mut m = q[i].cross(q[(i + 1) % 4]);
-            if m.dot(mid) > 0.0 {
-                m = -m;
-            }
+        for m in frame.side_normals(lo, hi) {
             planes[k] = (m, 0.0);
             k += 1;
         }
@@ -200,10 +193,7 @@ impl ProjectedTriangle {
         if polygon.len() < 3 {
             return None;
         }
-        let (min, max) = polygon
-            .vertices()
-            .iter()
-            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        let (min, max) = polygon.bounds();
         Some(Self { polygon, min, max })
     }
 
@@ -264,8 +254,7 @@ pub fn split_section(
     emit: &mut impl FnMut(Part, Section),
 ) -> Result<(), CapacityExceeded> {
     let proj = &projected.polygon;
-    let (lo, hi) =
-        section.vertices().iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+    let (lo, hi) = section.bounds();
     if !projected.overlaps(lo, hi) {
         emit(Part::Miss, *section);
         return Ok(());
