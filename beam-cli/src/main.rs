@@ -55,6 +55,9 @@ enum Command {
         /// Texels per side of each nonlinear beam's region (`--method nonlinear`).
         #[arg(long, default_value_t = 32)]
         texels: u32,
+        /// Levels of the nonlinear beam tree (specular bounces by beams; deeper ones by rays).
+        #[arg(long, default_value_t = 2)]
+        bounces: u32,
         /// `exact` (eq. 1, Lambert's polygon formula) or `fraction` (001 eq. 2).
         #[arg(long, default_value = "exact")]
         shading: String,
@@ -156,6 +159,7 @@ fn main() -> ExitCode {
             method,
             degree,
             texels,
+            bounces,
             shading,
             spp,
             primary_spp,
@@ -169,6 +173,7 @@ fn main() -> ExitCode {
             method: &method,
             degree: &degree,
             texels,
+            bounces,
             shading: &shading,
             spp,
             primary_spp,

@@ -12,6 +12,7 @@ pub struct RenderArgs<'a> {
     pub method: &'a str,
     pub degree: &'a str,
     pub texels: u32,
+    pub bounces: u32,
     pub shading: &'a str,
     pub spp: u32,
     pub primary_spp: u32,
@@ -100,26 +101,30 @@ fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Re
     if !(2..=4096).contains(&a.texels) {
         return Err(format!("--texels {} out of range (2 to 4096)", a.texels));
     }
+    if !(1..=16).contains(&a.bounces) {
+        return Err(format!("--bounces {} out of range (1 to 16)", a.bounces));
+    }
     let start = std::time::Instant::now();
     if a.method == "nonlinear-reference" {
         let image = render_smooth_reference(scene, &shading);
         image.save_png(a.out)?;
         println!(
-            "{}: nonlinear reference (rays, smooth mirrors), {:.3} s -> {}",
+            "{}: nonlinear reference (rays, smooth mirrors and glass), {:.3} s -> {}",
             scene.name,
             start.elapsed().as_secs_f64(),
             a.out.display()
         );
         return Ok(ExitCode::SUCCESS);
     }
-    let (image, stats) = render_nonlinear(scene, &NonlinearOptions { degree, texels: a.texels, shading });
+    let (image, stats) =
+        render_nonlinear(scene, &NonlinearOptions { degree, texels: a.texels, bounces: a.bounces, shading });
     image.save_png(a.out)?;
     println!(
-        "{}: nonlinear {} ({} texels per beam side), {} beams, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {:.3} s -> {}",
+        "{}: nonlinear {} ({} texels per beam side), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {:.3} s -> {}",
         scene.name,
         stats.degree,
         a.texels,
-        stats.beams_per_level.iter().sum::<u64>(),
+        stats.beams_per_level,
         stats.triangles_per_beam,
         stats.overdraw,
         stats.texels_shaded,

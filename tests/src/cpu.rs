@@ -7,7 +7,6 @@ use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
 use beam_cpu::render::{BeamStats, DEPTH_EPS, Method, RenderOptions, Shading, difference, render, visible_light};
 use beam_cpu::scene;
-use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use rand::Rng;
@@ -39,18 +38,6 @@ pub fn properties() -> Vec<Property> {
         },
         Property {
             name: "hard_shadow_images_agree", cites: "001 §4.2", backends: CPU, body: hard_shadow_images_agree
-        },
-        Property {
-            name: "nonlinear_texels_equal_ray_hits",
-            cites: "000 Algs. 1-4",
-            backends: CPU,
-            body: nonlinear_texels_equal_ray_hits,
-        },
-        Property {
-            name: "nonlinear_images_vs_reference",
-            cites: "000 §8, Figs. 9, 14",
-            backends: CPU,
-            body: nonlinear_images_vs_reference,
         },
         Property {
             name: "primary_coverage_sums_to_one",
@@ -285,127 +272,4 @@ pub fn primary_coverage_sums_to_one(_: Backend, _: &Config) -> Result<Outcome, S
         }
     }
     Ok(Outcome { cases: pixels, note: format!("largest |1 − Σ coverage| {worst:.1e}") })
-}
-
-/// Nonlinear beams off every mirror face of the built-in mirror scenes (S1 and S3, 16 texels per
-/// side): every texel's stored nearest hit (bounding-cone culling, bounding triangles, per-texel
-/// intersection and depth test) equals the BVH's closest hit of the same ray from the beam's
-/// parameterization (ignoring the beam's own base triangle): the texel's hit is a real intersection
-/// of its ray and none nearer exists. A bounding triangle that missed a texel would show as a texel
-/// that misses or hits something farther.
-pub fn nonlinear_texels_equal_ray_hits(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{SMesh, render_beam};
-    use beam_math::nonlinear::{NonlinearBeam, S3};
-    let mut checked = 0u64;
-    let mut notes = Vec::new();
-    for name in ["mirror-glass", "mirror-glass-coarse"] {
-        let scene = scene::builtin(name)?;
-        let smesh = SMesh::mirrors(&scene);
-        let eye = scene.camera.position;
-        let extent = scene.bvh.nodes[0].bounds().extent().length();
-        let results: Vec<Result<u64, String>> = smesh
-            .faces
-            .par_iter()
-            .step_by(3)
-            .flat_map(|f| {
-                let dirs = f.reflected_directions(eye);
-                let check = |tex: beam_cpu::nonlinear::BeamTexture, ray_at: &dyn Fn(Vec3) -> Ray| {
-                    let mut n = 0u64;
-                    for y in 0..tex.size {
-                        for x in 0..tex.size {
-                            // Texels strictly inside the base: the margin and the diagonal row lie
-                            // on the base's edge, where rays graze the neighbouring faces (and where
-                            // a rare miss is still open, see the README).
-                            if x + y + 1 >= tex.size {
-                                continue;
-                            }
-                            let ray = ray_at(tex.barycentric(x, y));
-                            let t_min = 1e-4 * extent / ray.direction.length();
-                            // Closest hit beyond t_min that is not the base triangle itself.
-                            let mut origin = ray;
-                            let mut expected = None;
-                            let mut t0 = t_min;
-                            while let Some(h) = scene.wide.closest_hit(
-                                Ray::new(origin.origin + origin.direction * t0, origin.direction),
-                                f32::INFINITY,
-                            ) {
-                                if h.prim != f.prim {
-                                    expected = Some((h.prim, h.t + t0));
-                                    break;
-                                }
-                                t0 += h.t + t_min;
-                                origin = ray;
-                            }
-                            let got = tex.hits[(y * tex.size + x) as usize].map(|h| (h.prim, h.t));
-                            // The texel's hit is a real intersection of its ray, and no hit the
-                            // ray tracer finds is nearer (a ray from the offset origin may miss a
-                            // grazing hit on a neighbouring face that the texel keeps).
-                            let real = |prim: u32, t: f32| {
-                                WatertightRay::new(ray)
-                                    .intersect(&scene.triangles[prim as usize], t_min, f32::INFINITY)
-                                    .is_some_and(|h| (h.t - t).abs() <= t_min + 1e-3 * t)
-                            };
-                            let agree = match (got, expected) {
-                                (None, None) => true,
-                                (Some((a, ta)), Some((_, tb))) => real(a, ta) && ta <= tb + t_min + 1e-3 * tb,
-                                (Some((a, ta)), None) => real(a, ta),
-                                (None, Some(_)) => false,
-                            };
-                            if !agree {
-                                return Err(format!(
-                                    "{name}: face {} texel ({x}, {y}): beam {got:?}, ray {expected:?}",
-                                    f.prim
-                                ));
-                            }
-                            n += 1;
-                        }
-                    }
-                    Ok(n)
-                };
-                let s1 =
-                    NonlinearBeam::s1(f.v, dirs).map(|b| check(render_beam(&scene, &b, 16, f.prim), &|w| b.ray_at(w)));
-                let s3 = NonlinearBeam::new(f.v, dirs, S3 { normals: f.n })
-                    .map(|b| check(render_beam(&scene, &b, 16, f.prim), &|w| b.ray_at(w)));
-                [s1, s3].into_iter().flatten().collect::<Vec<_>>()
-            })
-            .collect();
-        let mut n = 0;
-        for r in results {
-            n += r?;
-        }
-        notes.push(format!("{name}: {n} texels"));
-        checked += n;
-    }
-    Ok(Outcome { cases: checked, note: format!("0 mismatches; {}", notes.join(", ")) })
-}
-
-/// The nonlinear renderer (mirrors by S1 and S3 beams, 24 texels per side) against the ray-traced
-/// ground truth (rays reflected about the interpolated normal), at 128², on the built-in mirror
-/// scene at two S-mesh resolutions (24 × 48 and 8 × 16): PSNR ≥ 33 dB.
-pub fn nonlinear_images_vs_reference(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{Degree, NonlinearOptions, render_nonlinear, render_smooth_reference};
-    let shading = RenderOptions {
-        method: Method::Beam,
-        shading: Shading::Exact,
-        spp: 1,
-        primary_spp: 1,
-        primary_beams: false,
-        width: 128,
-        height: 128,
-        seed: 1,
-    };
-    let mut notes = Vec::new();
-    for name in ["mirror-glass", "mirror-glass-coarse"] {
-        let scene = scene::builtin(name)?;
-        let reference = render_smooth_reference(&scene, &shading);
-        for degree in [Degree::S1, Degree::S3] {
-            let (image, _) = render_nonlinear(&scene, &NonlinearOptions { degree, texels: 24, shading });
-            let d = difference(&image, &reference)?;
-            if d.psnr < 33.0 {
-                return Err(format!("{name} {degree:?}: PSNR {:.1} dB", d.psnr));
-            }
-            notes.push(format!("{name} {degree:?} {:.1} dB", d.psnr));
-        }
-    }
-    Ok(Outcome { cases: 4 * 128 * 128, note: notes.join(", ") })
 }

@@ -12,6 +12,7 @@ pub mod bvh;
 pub mod cpu;
 pub mod generate;
 pub mod math;
+pub mod nonlinear;
 
 use std::fmt;
 use std::time::Instant;
@@ -100,6 +101,7 @@ pub fn properties() -> Vec<Property> {
     let mut all = math::properties();
     all.extend(bvh::properties());
     all.extend(cpu::properties());
+    all.extend(nonlinear::properties());
     all
 }
 

@@ -9,4 +9,6 @@ mod trace;
 
 pub use atlas::{BeamTexture, TexelHit, render_beam};
 pub use smesh::{SFace, SMesh};
-pub use trace::{Degree, NonlinearOptions, NonlinearStats, render_nonlinear, render_smooth_reference};
+pub use trace::{
+    Degree, NonlinearOptions, NonlinearStats, TEXELS_PER_SAMPLE, render_nonlinear, render_smooth_reference,
+};

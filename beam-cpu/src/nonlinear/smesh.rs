@@ -1,10 +1,11 @@
 //! The S mesh of 000 §7.1: the base triangles of the secondary beams, with smooth vertex normals.
 
-use crate::scene::{Material, Scene};
+use crate::scene::Scene;
+use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use std::collections::HashMap;
 
-/// One S-mesh triangle: a mirror triangle of the scene with its vertex normals.
+/// One S-mesh triangle: a mirror or glass triangle of the scene with its smooth vertex normals.
 #[derive(Clone, Copy, Debug)]
 pub struct SFace {
     /// The scene triangle it is.
@@ -32,17 +33,11 @@ impl SFace {
     /// Barycentric coordinates of point `p` (projected onto the face's plane).
     #[must_use]
     pub fn barycentric(&self, p: Vec3) -> Vec3 {
-        let (e1, e2, q) = (self.v[1] - self.v[0], self.v[2] - self.v[0], p - self.v[0]);
-        let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
-        let (q1, q2) = (q.dot(e1), q.dot(e2));
-        let det = d11 * d22 - d12 * d12;
-        let u = (d22 * q1 - d12 * q2) / det;
-        let v = (d11 * q2 - d12 * q1) / det;
-        Vec3::new(1.0 - u - v, u, v)
+        Triangle { v: self.v }.barycentric(p).unwrap_or(Vec3::splat(1.0 / 3.0))
     }
 }
 
-/// The S mesh of every mirror in a scene.
+/// The S mesh of every mirror and glass surface of a scene.
 #[derive(Clone, Debug, Default)]
 pub struct SMesh {
     /// Its triangles.
@@ -52,40 +47,17 @@ pub struct SMesh {
 }
 
 impl SMesh {
-    /// The S mesh of the scene's mirror triangles: the triangles themselves (the scene gives the
-    /// mirror at S-mesh resolution), with vertex normals averaged, weighted by area, over the mirror
-    /// triangles sharing a position (welded to 1e-5 of the scene's size) whose normals lie within 60°
-    /// (so that creases stay sharp).
+    /// The S mesh of the scene's mirror and glass triangles: the triangles themselves (the scene
+    /// gives specular surfaces at S-mesh resolution) with the scene's smooth vertex normals.
     #[must_use]
-    pub fn mirrors(scene: &Scene) -> Self {
-        let prims: Vec<u32> = (0..scene.triangles.len() as u32)
-            .filter(|&p| matches!(scene.material(p), Material::Mirror { .. }))
+    pub fn specular(scene: &Scene) -> Self {
+        let mut prims: Vec<u32> = scene.smooth_normals.keys().copied().collect();
+        prims.sort_unstable();
+        let faces: Vec<SFace> = prims
+            .iter()
+            .map(|&p| SFace { prim: p, v: scene.triangles[p as usize].v, n: scene.smooth_normals[&p] })
             .collect();
-        let extent = scene.bounds().extent().max_element();
-        let tol = 1e-5 * extent.max(f32::MIN_POSITIVE);
-        let key = |p: Vec3| ((p.x / tol).round() as i64, (p.y / tol).round() as i64, (p.z / tol).round() as i64);
-        let mut at: HashMap<(i64, i64, i64), Vec<u32>> = HashMap::new();
-        for &p in &prims {
-            for v in scene.triangles[p as usize].v {
-                at.entry(key(v)).or_default().push(p);
-            }
-        }
-        let mut faces = Vec::with_capacity(prims.len());
-        let mut face_of = HashMap::new();
-        for &p in &prims {
-            let tri = scene.triangles[p as usize];
-            let own = tri.scaled_normal().normalize_or_zero();
-            let n = tri.v.map(|v| {
-                let sum: Vec3 = at[&key(v)]
-                    .iter()
-                    .map(|&q| scene.triangles[q as usize].scaled_normal())
-                    .filter(|m| m.normalize_or_zero().dot(own) > 0.5)
-                    .sum();
-                sum.try_normalize().unwrap_or(own)
-            });
-            face_of.insert(p, faces.len());
-            faces.push(SFace { prim: p, v: tri.v, n });
-        }
+        let face_of = prims.iter().enumerate().map(|(i, &p)| (p, i)).collect();
         Self { faces, face_of }
     }
 }
@@ -97,18 +69,15 @@ mod tests {
     #[test]
     fn sphere_normals_are_radial() {
         let scene = crate::scene::load("mirror-glass").unwrap();
-        let s = SMesh::mirrors(&scene);
+        let s = SMesh::specular(&scene);
         assert!(!s.faces.is_empty());
-        // The mirror sphere of the built-in scene: centre (185, 90, 170). Averaged normals of a
-        // tessellated sphere point nearly radially (within 18°; least near the poles).
+        // The mirror sphere of the built-in scene: centre (185, 90, 170). Max's weights give a
+        // tessellated sphere's exact radial normals.
         let c = Vec3::new(185.0, 90.0, 170.0);
-        for f in &s.faces {
+        for f in s.faces.iter().filter(|f| matches!(scene.material(f.prim), crate::scene::Material::Mirror { .. })) {
             for i in 0..3 {
                 let radial = (f.v[i] - c).normalize();
-                if radial.y.abs() > 0.9 {
-                    continue; // the poles, where slivers meet
-                }
-                assert!(f.n[i].dot(radial).abs() > 0.95, "{}", f.n[i].dot(radial));
+                assert!(f.n[i].dot(radial).abs() > 0.9999, "{} {} {}", f.n[i].dot(radial), f.v[i], f.prim);
             }
             // Barycentric coordinates round-trip (slivers at the poles are ill-conditioned).
             if (f.v[1] - f.v[0]).cross(f.v[2] - f.v[0]).length() > 10.0 {

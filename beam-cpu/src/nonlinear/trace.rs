@@ -1,17 +1,24 @@
-//! The nonlinear renderer (000 §7): the eye sees the scene directly; every mirror triangle of the
-//! S mesh that faces the eye spawns a nonlinear reflection beam (S1 or S3 over the vertex normals),
-//! rendered into its texel region; the mirror's pixels are then textured from those regions. Further
-//! bounces inside a beam's texels are shaded by the shared Whitted shading (rays). The reference
-//! traces the same mirrors with rays reflected about the interpolated (Phong) normal.
+//! The nonlinear renderer (000 §7): the beam tree over the S mesh of every mirror and glass surface.
+//! The eye sees the scene directly; each specular S-mesh face it sees spawns the level-1 beams
+//! (mirror reflection; refraction by Snell's law too for glass; S1 or S3 over the vertex normals),
+//! rendered into their texel regions (Algs. 1–2). A texel of a level-k beam that hits another
+//! specular face spawns that face's level-(k+1) beams, whose directions at the face's vertices are
+//! the parent beam's rays through them (projection, 000 §5, extrapolated past the parent's base).
+//! Radiance flows back up: every texel and pixel on a specular face is textured from its face's
+//! child beams, weighted by Fresnel for glass. The tree is built depth-first, children dropped once
+//! their parent is shaded (000 §7.3's per-level atlases); bounces past the last level are traced by
+//! rays. The reference traces the same surfaces with rays about the interpolated (Phong) normals.
 
 use super::atlas::{BeamTexture, render_beam};
 use super::smesh::{SFace, SMesh};
-use crate::render::{Image, RenderOptions, reflect, shade_point, shading_eps, trace_radiance};
+use crate::render::{Image, RenderOptions, dielectric, reflect, shade_point, trace_radiance};
 use crate::scene::{Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_math::nonlinear::{Interpolant, NonlinearBeam, S3};
+use beam_math::nonlinear::{NonlinearBeam, S1, S3};
 use rayon::prelude::*;
+use std::collections::HashMap;
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// The S^n parameterization of the beams (000 §4).
@@ -28,8 +35,11 @@ pub enum Degree {
 pub struct NonlinearOptions {
     /// Beam parameterization.
     pub degree: Degree,
-    /// Texels per side of each beam's region.
+    /// Most texels per side of a beam's region; each beam gets the smallest power of two that
+    /// gives its face at least [`TEXELS_PER_SAMPLE`] texels per pixel (or parent texel) covering it.
     pub texels: u32,
+    /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays.
+    pub bounces: u32,
     /// Shading of everything the beams and the eye see.
     pub shading: RenderOptions,
 }
@@ -41,13 +51,15 @@ pub struct NonlinearStats {
     pub seconds: f64,
     /// `s1` or `s3`.
     pub degree: String,
-    /// Beams per level of the beam tree (level 1: reflection beams off the S mesh).
+    /// Beams per level of the beam tree (level 1: beams off the S-mesh faces the eye sees).
     pub beams_per_level: Vec<u64>,
     /// Mean scene triangles per beam after bounding-cone culling.
     pub triangles_per_beam: f64,
     /// Texels tested in bounding triangles over texels rendered (the overdraw of 000 Fig. 7).
     pub overdraw: f64,
-    /// Texels shaded.
+    /// Texels rendered (every beam's region).
+    pub texels_rendered: u64,
+    /// Texels shaded (their ray hit the scene).
     pub texels_shaded: u64,
     /// Image width and height.
     pub width: u32,
@@ -55,48 +67,203 @@ pub struct NonlinearStats {
     pub height: u32,
 }
 
-/// The reflection beam off S-mesh face `f` seen from `eye`, rendered and shaded.
-fn reflection_texture(scene: &Scene, f: &SFace, eye: Vec3, options: &NonlinearOptions) -> Option<BeamTexture> {
-    let dirs = f.reflected_directions(eye);
-    match options.degree {
-        Degree::S1 => NonlinearBeam::s1(f.v, dirs).map(|b| shaded_texture(scene, &b, f.prim, options)),
-        Degree::S3 => {
-            NonlinearBeam::new(f.v, dirs, S3 { normals: f.n }).map(|b| shaded_texture(scene, &b, f.prim, options))
+/// Texels a beam's region gives each pixel (or parent-beam texel) that samples its face: 4, two
+/// per side, so that bilinear lookups interpolate rather than extrapolate.
+pub const TEXELS_PER_SAMPLE: u32 = 4;
+
+/// A nonlinear beam of either parameterization.
+enum Beam {
+    S1(NonlinearBeam<S1>),
+    S3(NonlinearBeam<S3>),
+}
+
+impl Beam {
+    /// The beam off face `f` with boundary directions `dirs`; `None` when degenerate.
+    fn new(degree: Degree, f: &SFace, dirs: [Vec3; 3]) -> Option<Self> {
+        match degree {
+            Degree::S1 => NonlinearBeam::s1(f.v, dirs).map(Self::S1),
+            Degree::S3 => NonlinearBeam::new(f.v, dirs, S3 { normals: f.n }).map(Self::S3),
+        }
+    }
+
+    fn ray_at(&self, w: Vec3) -> Ray {
+        match self {
+            Self::S1(b) => b.ray_at(w),
+            Self::S3(b) => b.ray_at(w),
+        }
+    }
+
+    fn render(&self, scene: &Scene, size: u32, exclude: u32) -> BeamTexture {
+        match self {
+            Self::S1(b) => render_beam(scene, b, size, exclude),
+            Self::S3(b) => render_beam(scene, b, size, exclude),
+        }
+    }
+
+    /// Unit direction of the beam's ray through `q` (its nearest projection, 000 §5).
+    fn direction_through(&self, q: Vec3) -> Option<Vec3> {
+        let p = match self {
+            Self::S1(b) => b.project_nearest(q),
+            Self::S3(b) => b.project_nearest(q),
+        }?;
+        self.ray_at(p.bary).direction.try_normalize()
+    }
+}
+
+/// Where the light arriving at an S-mesh face comes from: the eye, or a parent beam.
+#[derive(Clone, Copy)]
+enum Source<'a> {
+    Eye(Vec3),
+    Beam(&'a Beam),
+}
+
+impl Source<'_> {
+    fn direction_to(self, q: Vec3) -> Option<Vec3> {
+        match self {
+            Self::Eye(eye) => (q - eye).try_normalize(),
+            Self::Beam(b) => b.direction_through(q),
         }
     }
 }
 
-/// `beam` (off S-mesh triangle `prim`) rendered into its texel region, every texel hit shaded (the
-/// fragment stage's shading).
-fn shaded_texture<L: Interpolant>(
-    scene: &Scene,
-    beam: &NonlinearBeam<L>,
-    prim: u32,
-    options: &NonlinearOptions,
-) -> BeamTexture {
-    let mut tex = render_beam(scene, beam, options.texels, prim);
-    for y in 0..tex.size {
-        for x in 0..tex.size {
-            let k = (y * tex.size + x) as usize;
-            let Some(hit) = tex.hits[k] else { continue };
-            let ray = beam.ray_at(tex.barycentric(x, y));
-            let seed = u64::from(prim) << 32 | k as u64;
-            tex.radiance[k] =
-                shade_point(scene, &options.shading, hit.prim, ray.at(hit.t), ray.direction.normalize(), seed);
-        }
-    }
-    tex
+/// The shaded child beams of one S-mesh face: its reflection and, for glass, its refraction.
+struct Scattered {
+    reflected: BeamTexture,
+    refracted: Option<BeamTexture>,
 }
 
-/// Render `scene` with its mirrors by nonlinear beams.
+/// Counts over the whole tree.
+#[derive(Default)]
+struct Tally {
+    beams_per_level: Vec<u64>,
+    triangles: u64,
+    texels_tested: u64,
+    texels_rendered: u64,
+    texels_shaded: u64,
+}
+
+/// One render's beam tree.
+struct Tree<'a> {
+    scene: &'a Scene,
+    smesh: SMesh,
+    options: NonlinearOptions,
+    tally: Mutex<Tally>,
+}
+
+impl Tree<'_> {
+    /// The level-`level` beams off face `fi` lit from `source` (000 §7.2), rendered and shaded;
+    /// `None` when a beam is degenerate (its texels are then shaded by rays).
+    fn scattered(&self, source: Source<'_>, fi: usize, size: u32, level: u32) -> Option<Scattered> {
+        let f = &self.smesh.faces[fi];
+        let [a, b, c] = f.v.map(|v| source.direction_to(v));
+        let incoming = [a?, b?, c?];
+        // Vertex normals turned against the incoming light.
+        let entering = (incoming[0] + incoming[1] + incoming[2]).dot(self.scene.normal(f.prim)) < 0.0;
+        let n = f.n.map(|n| if entering { n } else { -n });
+        let reflected = Beam::new(self.options.degree, f, [0, 1, 2].map(|i| reflect(incoming[i], n[i])))?;
+        let reflected = self.shaded(&reflected, f, size, level);
+        let refracted = match self.scene.material(f.prim) {
+            Material::Glass { ior } => {
+                // Under total internal reflection a boundary direction grazes the surface (the
+                // beam clamps it to the transmitted side, 000 §4); those texels take reflection only.
+                let dirs = [0, 1, 2].map(|i| {
+                    let d = incoming[i];
+                    dielectric(d, n[i], ior, entering).1.unwrap_or(d - d.dot(n[i]) * n[i])
+                });
+                Some(self.shaded(&Beam::new(self.options.degree, f, dirs)?, f, size, level))
+            }
+            _ => None,
+        };
+        Some(Scattered { reflected, refracted })
+    }
+
+    /// `beam` (off face `f`, at level `level`) rendered into its texel region and shaded: texels on
+    /// specular faces from their own child beams while levels remain.
+    fn shaded(&self, beam: &Beam, f: &SFace, size: u32, level: u32) -> BeamTexture {
+        let mut tex = beam.render(self.scene, size, f.prim);
+        let faces = tex.hits.iter().flatten().filter_map(|h| self.smesh.face_of.get(&h.prim).copied());
+        let children = self.children(Source::Beam(beam), faces, level + 1);
+        for y in 0..tex.size {
+            for x in 0..tex.size {
+                let k = (y * tex.size + x) as usize;
+                let Some(hit) = tex.hits[k] else { continue };
+                let ray = beam.ray_at(tex.barycentric(x, y));
+                let seed = u64::from(f.prim) << 32 | k as u64;
+                tex.radiance[k] = self.shade_hit(&children, hit.prim, ray.at(hit.t), ray.direction.normalize(), seed);
+            }
+        }
+        let mut t = self.tally.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if t.beams_per_level.len() < level as usize {
+            t.beams_per_level.resize(level as usize, 0);
+        }
+        t.beams_per_level[level as usize - 1] += 1;
+        t.triangles += u64::from(tex.triangles_after_culling);
+        t.texels_tested += tex.texels_tested;
+        t.texels_rendered += tex.texels();
+        t.texels_shaded += tex.hits.iter().flatten().count() as u64;
+        tex
+    }
+
+    /// The level-`level` beams of the faces that `samples` (one face per pixel or parent texel)
+    /// land on, lit from `source`, each sized to its samples; none past the last level.
+    fn children(
+        &self,
+        source: Source<'_>,
+        samples: impl Iterator<Item = usize>,
+        level: u32,
+    ) -> HashMap<usize, Scattered> {
+        if level > self.options.bounces {
+            return HashMap::new();
+        }
+        let mut count: HashMap<usize, u32> = HashMap::new();
+        for fi in samples {
+            *count.entry(fi).or_default() += 1;
+        }
+        count
+            .into_par_iter()
+            .filter_map(|(fi, n)| {
+                // size²/2 texels cover the base: the smallest power of two with TEXELS_PER_SAMPLE
+                // texels per sample.
+                let size = ((2 * TEXELS_PER_SAMPLE * n) as f32).sqrt().ceil() as u32;
+                let size = size.next_power_of_two().clamp(4, self.options.texels.max(2));
+                self.scattered(source, fi, size, level).map(|s| (fi, s))
+            })
+            .collect()
+    }
+
+    /// Radiance leaving point `p` of triangle `prim` towards `−d`: on a specular face with child
+    /// beams, their textures at `p` (Fresnel-weighted for glass); anything else shaded as usual.
+    fn shade_hit(&self, children: &HashMap<usize, Scattered>, prim: u32, p: Vec3, d: Vec3, seed: u64) -> Vec3 {
+        let scene = self.scene;
+        let Some((fi, sc)) = self.smesh.face_of.get(&prim).and_then(|&fi| children.get(&fi).map(|s| (fi, s))) else {
+            return shade_point(scene, &self.options.shading, prim, p, d, seed);
+        };
+        let f = &self.smesh.faces[fi];
+        let w = f.barycentric(p);
+        let reflected = sc.reflected.sample(w);
+        match (scene.material(prim), &sc.refracted) {
+            (Material::Mirror { tint }, _) => tint * reflected,
+            (Material::Glass { ior }, Some(refracted)) => {
+                let entering = d.dot(scene.normal(prim)) < 0.0;
+                let n = if entering { f.normal_at(w) } else { -f.normal_at(w) };
+                match dielectric(d, n, ior, entering) {
+                    (fresnel, Some(_)) => fresnel * reflected + (1.0 - fresnel) * refracted.sample(w),
+                    (_, None) => reflected,
+                }
+            }
+            _ => shade_point(scene, &self.options.shading, prim, p, d, seed),
+        }
+    }
+}
+
+/// Render `scene` with its mirror and glass surfaces by nonlinear beams.
 #[must_use]
 pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, NonlinearStats) {
     let start = Instant::now();
     let mut camera = scene.camera;
     camera.width = options.shading.width.max(1);
     camera.height = options.shading.height.max(1);
-    let eye = camera.position;
-    let smesh = SMesh::mirrors(scene);
+    let tree = Tree { scene, smesh: SMesh::specular(scene), options: *options, tally: Mutex::default() };
     let frame = camera.frame();
     let w = camera.width as usize;
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
@@ -108,35 +275,16 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
             scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (ray, h))
         })
         .collect();
-    let mut seen = vec![false; smesh.faces.len()];
-    for (_, h) in hits.iter().flatten() {
-        if let Some(&fi) = smesh.face_of.get(&h.prim) {
-            seen[fi] = true;
-        }
-    }
-    // Level 1 of the beam tree: a reflection beam per S-mesh face the eye sees.
-    let textures: Vec<Option<BeamTexture>> = smesh
-        .faces
-        .par_iter()
-        .zip(&seen)
-        .map(|(f, &seen)| if seen { reflection_texture(scene, f, eye, options) } else { None })
-        .collect();
+    let seen = hits.iter().flatten().filter_map(|(_, h)| tree.smesh.face_of.get(&h.prim).copied());
+    let children = tree.children(Source::Eye(camera.position), seen, 1);
     let mut image = Image::new(camera.width, camera.height);
     image.pixels.par_iter_mut().zip(&hits).enumerate().for_each(|(i, (px, hit))| {
-        let Some((ray, hit)) = hit else { return };
-        let p = ray.at(hit.t);
-        let seed = i as u64;
-        *px = match (smesh.face_of.get(&hit.prim), scene.material(hit.prim)) {
-            (Some(&fi), Material::Mirror { tint }) => match &textures[fi] {
-                Some(tex) => tint * tex.sample(smesh.faces[fi].barycentric(p)),
-                None => Vec3::ZERO,
-            },
-            _ => shade_point(scene, &options.shading, hit.prim, p, ray.direction.normalize(), seed),
-        };
+        if let Some((ray, hit)) = hit {
+            *px = tree.shade_hit(&children, hit.prim, ray.at(hit.t), ray.direction.normalize(), i as u64);
+        }
     });
-    let built: Vec<&BeamTexture> = textures.iter().flatten().collect();
-    let beams = built.len() as u64;
-    let rendered: u64 = built.iter().map(|t| t.texels()).sum();
+    let t = tree.tally.into_inner().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let beams: u64 = t.beams_per_level.iter().sum();
     let stats = NonlinearStats {
         seconds: start.elapsed().as_secs_f64(),
         degree: match options.degree {
@@ -144,47 +292,31 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
             Degree::S3 => "s3",
         }
         .into(),
-        beams_per_level: vec![beams],
-        triangles_per_beam: built.iter().map(|t| f64::from(t.triangles_after_culling)).sum::<f64>()
-            / beams.max(1) as f64,
-        overdraw: built.iter().map(|t| t.texels_tested).sum::<u64>() as f64 / rendered.max(1) as f64,
-        texels_shaded: built.iter().map(|t| t.hits.iter().flatten().count() as u64).sum(),
+        beams_per_level: t.beams_per_level,
+        triangles_per_beam: t.triangles as f64 / beams.max(1) as f64,
+        overdraw: t.texels_tested as f64 / t.texels_rendered.max(1) as f64,
+        texels_rendered: t.texels_rendered,
+        texels_shaded: t.texels_shaded,
         width: camera.width,
         height: camera.height,
     };
     (image, stats)
 }
 
-/// The ray-traced ground truth of [`render_nonlinear`]: one ray per pixel centre; on a mirror of
-/// the S mesh the ray reflects about the interpolated (Phong) normal, the smooth surface the S mesh
-/// stands for; everything else is shaded alike.
+/// The ray-traced ground truth of [`render_nonlinear`]: one ray per pixel centre, Whitted through
+/// mirrors and glass about the interpolated (Phong) normals, the smooth surfaces the S mesh stands
+/// for; everything else shaded alike.
 #[must_use]
 pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions) -> Image {
     let mut camera = scene.camera;
     camera.width = options.width.max(1);
     camera.height = options.height.max(1);
-    let smesh = SMesh::mirrors(scene);
     let frame = camera.frame();
     let mut image = Image::new(camera.width, camera.height);
     let w = camera.width as usize;
-    let eps = shading_eps(scene);
-    image.pixels.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-        for (x, px) in row.iter_mut().enumerate() {
-            let ray = camera.ray(&frame, x as f32 + 0.5, y as f32 + 0.5);
-            let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY) else { continue };
-            let p = ray.at(hit.t);
-            let d = ray.direction.normalize();
-            let seed = (y * w + x) as u64;
-            *px = match (smesh.face_of.get(&hit.prim), scene.material(hit.prim)) {
-                (Some(&fi), Material::Mirror { tint }) => {
-                    let f = &smesh.faces[fi];
-                    let n = f.normal_at(f.barycentric(p));
-                    let side = if n.dot(d) < 0.0 { n } else { -n };
-                    tint * trace_radiance(scene, options, Ray::new(p + side * eps, reflect(d, n)), seed)
-                }
-                _ => shade_point(scene, options, hit.prim, p, d, seed),
-            };
-        }
+    image.pixels.par_iter_mut().enumerate().for_each(|(i, px)| {
+        let ray = camera.ray(&frame, (i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
+        *px = trace_radiance(scene, options, ray, i as u64);
     });
     image
 }

@@ -331,21 +331,18 @@ impl Context<'_> {
                 albedo / std::f32::consts::PI * e
             }
             Material::Mirror { tint } if depth < MAX_DEPTH => {
-                tint * self.radiance(Ray::new(p + n * self.eps, reflect(d, n)), depth + 1, rng, c)
+                let s = self.scene.shading_normal(prim, p) * n.dot(self.scene.normal(prim)).signum();
+                tint * self.radiance(Ray::new(p + n * self.eps, reflect(d, s)), depth + 1, rng, c)
             }
             Material::Glass { ior } if depth < MAX_DEPTH => {
-                let eta = if entering { 1.0 / ior } else { ior };
-                let cos_i = -n.dot(d);
-                let reflected = self.radiance(Ray::new(p + n * self.eps, reflect(d, n)), depth + 1, rng, c);
-                match refract(d, n, eta) {
-                    Some(t) => {
-                        let r0 = ((1.0 - ior) / (1.0 + ior)).powi(2);
-                        let cos = if entering { cos_i } else { -t.dot(n) };
-                        let fresnel = r0 + (1.0 - r0) * (1.0 - cos).powi(5);
+                let s = self.scene.shading_normal(prim, p) * n.dot(self.scene.normal(prim)).signum();
+                let reflected = self.radiance(Ray::new(p + n * self.eps, reflect(d, s)), depth + 1, rng, c);
+                match dielectric(d, s, ior, entering) {
+                    (fresnel, Some(t)) => {
                         let transmitted = self.radiance(Ray::new(p - n * self.eps, t), depth + 1, rng, c);
                         fresnel * reflected + (1.0 - fresnel) * transmitted
                     }
-                    None => reflected,
+                    (_, None) => reflected,
                 }
             }
             Material::Mirror { .. } | Material::Glass { .. } => Vec3::ZERO,
@@ -478,7 +475,7 @@ fn with_context<R>(scene: &Scene, options: &RenderOptions, f: impl FnOnce(&Conte
 }
 
 /// Offset of secondary ray origins from surfaces: 1e-4 of the scene's diagonal.
-pub(crate) fn shading_eps(scene: &Scene) -> f32 {
+fn shading_eps(scene: &Scene) -> f32 {
     1e-4 * scene.bounds().extent().length()
 }
 
@@ -500,10 +497,29 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
     d - 2.0 * d.dot(n) * n
 }
 
-fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+/// Snell's law: the direction refracted from unit direction `d` through unit normal `n` (facing
+/// against `d`) with relative index `eta = n₁/n₂`; `None` under total internal reflection.
+#[must_use]
+pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     let cos_i = -n.dot(d);
     let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
     (k >= 0.0).then(|| eta * d + (eta * cos_i - k.sqrt()) * n)
+}
+
+/// A smooth dielectric of index `ior` met by unit direction `d` at unit normal `n` (facing against
+/// `d`), from outside when `entering`: Schlick's Fresnel reflectance and the refracted direction
+/// (reflectance 1 and `None` under total internal reflection).
+#[must_use]
+pub fn dielectric(d: Vec3, n: Vec3, ior: f32, entering: bool) -> (f32, Option<Vec3>) {
+    let eta = if entering { 1.0 / ior } else { ior };
+    match refract(d, n, eta) {
+        Some(t) => {
+            let r0 = ((1.0 - ior) / (1.0 + ior)).powi(2);
+            let cos = if entering { -n.dot(d) } else { -t.dot(n) };
+            (r0 + (1.0 - r0) * (1.0 - cos).powi(5), Some(t))
+        }
+        None => (1.0, None),
+    }
 }
 
 /// Render `scene`; `row_done` is called after each image row (for a progress bar).

@@ -4,6 +4,7 @@
 mod builtin;
 mod camera;
 mod file;
+mod normals;
 
 pub use builtin::{BUILTIN, builtin};
 pub use camera::Camera;
@@ -181,6 +182,9 @@ pub struct Scene {
     pub bvh: FlatBvh,
     /// 4-wide BVH (fast single rays).
     pub wide: WideBvh,
+    /// Smooth unit vertex normals of each mirror and glass triangle (the curved surface its mesh
+    /// approximates).
+    pub smooth_normals: std::collections::HashMap<u32, [Vec3; 3]>,
 }
 
 impl Scene {
@@ -199,7 +203,8 @@ impl Scene {
         let stats = SceneStats { triangles: triangles.len(), degenerate: total - triangles.len() };
         let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
         let wide = WideBvh::new(&bvh, &triangles);
-        Self { name, triangles, material_of, materials, lights, camera, stats, bvh, wide }
+        let smooth_normals = normals::specular_normals(&triangles, &material_of, &materials);
+        Self { name, triangles, material_of, materials, lights, camera, stats, bvh, wide, smooth_normals }
     }
 
     /// Material of triangle `i`.
@@ -218,5 +223,16 @@ impl Scene {
     #[must_use]
     pub fn normal(&self, i: u32) -> Vec3 {
         self.triangles[i as usize].scaled_normal().normalize_or_zero()
+    }
+
+    /// Shading normal of triangle `i` at its point `p`: the Phong interpolation of its smooth vertex
+    /// normals (mirror and glass), else the geometric normal; on the geometric normal's side.
+    #[must_use]
+    pub fn shading_normal(&self, i: u32, p: Vec3) -> Vec3 {
+        self.smooth_normals
+            .get(&i)
+            .zip(self.triangles[i as usize].barycentric(p))
+            .and_then(|(n, w)| (w.x * n[0] + w.y * n[1] + w.z * n[2]).try_normalize())
+            .unwrap_or_else(|| self.normal(i))
     }
 }

@@ -115,6 +115,23 @@ impl<L: Interpolant> NonlinearBeam<L> {
         out
     }
 
+    /// The projection of `q` with `t > 0` nearest the base triangle, extrapolating the
+    /// parameterization beyond the base when `q` lies outside the beam: the direction a beam carries
+    /// to the vertices of a surface it only partly covers (000 §7.2). S1 by the cubic; S^n by the
+    /// S1 beam of its corner rays, polished by Newton's method on the full eq. 1.
+    #[must_use]
+    pub fn project_nearest(&self, q: Vec3) -> Option<Projection> {
+        let (sol, n) = s1_solutions(self.base.map(|v| v.as_dvec3()), self.dirs.map(|v| v.as_dvec3()), q.as_dvec3());
+        let outside = |w: DVec3| (-w.min_element()).max(0.0);
+        let &(mut w, mut t) =
+            sol[..n].iter().filter(|(_, t)| *t > 0.0).min_by(|a, b| outside(a.0).total_cmp(&outside(b.0)))?;
+        if self.degree() > 1 {
+            let scale = self.base.iter().fold(0.0f64, |m, p| m.max(f64::from(p.distance(self.base[0])))).max(1e-30);
+            (w, t) = self.newton(q.as_dvec3(), w, t, scale).filter(|(_, t)| *t > 0.0).unwrap_or((w, t));
+        }
+        Some(Projection { bary: w.as_vec3(), t: t as f32 })
+    }
+
     /// S^n projection: subdivide the base into `K²` triangles, solve each as an S1 beam through its
     /// corner rays, and polish every candidate with Newton's method on `O(ω) + t·d(ω) − Q = 0`.
     fn project_sn(&self, q: Vec3, out: &mut Projections) {
@@ -213,6 +230,26 @@ mod tests {
         let p = p.iter().next().unwrap();
         assert!((p.bary - Vec3::new(0.5, 0.25, 0.25)).length() < 1e-5 && (p.t - 3.0).abs() < 1e-5);
         assert!(beam.project(Vec3::new(2.0, 2.0, 1.0)).is_empty());
+    }
+
+    #[test]
+    fn nearest_projection_extrapolates_outside_the_base() {
+        let dirs = [Vec3::new(-0.3, -0.3, 1.0), Vec3::new(0.4, -0.1, 1.0), Vec3::new(-0.1, 0.5, 1.0)];
+        let s1 = NonlinearBeam::s1([Vec3::ZERO, Vec3::X, Vec3::Y], dirs).unwrap();
+        let s3 = NonlinearBeam::new(
+            [Vec3::ZERO, Vec3::X, Vec3::Y],
+            dirs,
+            crate::nonlinear::S3 { normals: [Vec3::new(-0.1, -0.1, 1.0).normalize(), Vec3::Z, Vec3::Z] },
+        )
+        .unwrap();
+        for w in [Vec3::new(0.2, 0.5, 0.3), Vec3::new(-0.4, 0.9, 0.5), Vec3::new(1.3, -0.1, -0.2)] {
+            let q = s1.ray_at(w).at(2.0);
+            let p = s1.project_nearest(q).unwrap();
+            assert!((p.bary - w).length() < 1e-4, "{p:?} {w}");
+            let q = s3.ray_at(w).at(2.0);
+            let p = s3.project_nearest(q).unwrap();
+            assert!((s3.ray_at(p.bary).at(p.t) - q).length() < 1e-4, "{p:?} {w}");
+        }
     }
 
     #[test]
