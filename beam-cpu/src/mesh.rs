@@ -118,6 +118,27 @@ pub fn sphere(center: Vec3, radius: f32, rings: u32, segments: u32) -> Mesh {
     mesh
 }
 
+/// A parametric surface `f(u, v)`, `(u, v) ∈ [0, 1]²`, as an `nu × nv` grid of quads split into
+/// triangles wound counter-clockwise around `∂f/∂u × ∂f/∂v`.
+#[must_use]
+pub fn parametric(nu: u32, nv: u32, f: impl Fn(f32, f32) -> Vec3) -> Mesh {
+    let mut mesh = Mesh::default();
+    for j in 0..=nv {
+        for i in 0..=nu {
+            mesh.positions.push(f(i as f32 / nu as f32, j as f32 / nv as f32));
+        }
+    }
+    let w = nu + 1;
+    for j in 0..nv {
+        for i in 0..nu {
+            let (a, b, c, d) = (j * w + i, j * w + i + 1, (j + 1) * w + i, (j + 1) * w + i + 1);
+            mesh.indices.push([a, b, d]);
+            mesh.indices.push([a, d, c]);
+        }
+    }
+    mesh
+}
+
 /// An axis-aligned box as 12 triangles (closed).
 #[must_use]
 pub fn cuboid(min: Vec3, max: Vec3) -> Mesh {

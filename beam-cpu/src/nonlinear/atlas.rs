@@ -98,6 +98,10 @@ pub fn render_beam<L: Interpolant>(scene: &Scene, beam: &NonlinearBeam<L>, size:
     let bounds = beam.bounds();
     let cone = beam.bounding_cone(&bounds.extremal, 0.0);
     let extent = scene.bounds().extent().length();
+    // S^n ray origins leave the flat base by up to μ_b (eq. 4); on a concave surface they start
+    // behind the neighbouring S-mesh faces, so nearer hits than 2μ_b over the ray's rise above the
+    // base are the surface meeting itself.
+    let lift = beam.max_offsets().0;
     // Half a texel of slack around the bounding triangle, in barycentric units.
     let slack = 0.5 / size as f32;
     for (i, tri) in scene.triangles.iter().enumerate() {
@@ -127,7 +131,9 @@ pub fn render_beam<L: Interpolant>(scene: &Scene, beam: &NonlinearBeam<L>, size:
                 }
                 tex.texels_tested += 1;
                 let ray = beam.ray_at(w);
-                let t_min = 1e-4 * extent / ray.direction.length().max(f32::MIN_POSITIVE);
+                let len = ray.direction.length().max(f32::MIN_POSITIVE);
+                let rise = (ray.direction.dot(beam.normal) / len).max(0.05);
+                let t_min = (1e-4 * extent).max(2.0 * lift / rise) / len;
                 let k = y as usize * n + x as usize;
                 let t_max = tex.hits[k].map_or(f32::INFINITY, |h| h.t);
                 if let Some(hit) = WatertightRay::new(ray).intersect(tri, t_min, t_max) {

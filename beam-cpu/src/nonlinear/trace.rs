@@ -14,7 +14,7 @@ use super::smesh::{SFace, SMesh};
 use crate::render::{Image, RenderOptions, dielectric, reflect, shade_point, trace_radiance};
 use crate::scene::{Material, Scene};
 use beam_math::Ray;
-use beam_math::glam::Vec3;
+use beam_math::glam::{Mat3, Vec3};
 use beam_math::nonlinear::{NonlinearBeam, S1, S3};
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -36,7 +36,7 @@ pub struct NonlinearOptions {
     /// Beam parameterization.
     pub degree: Degree,
     /// Most texels per side of a beam's region; each beam gets the smallest power of two that
-    /// gives its face at least [`TEXELS_PER_SAMPLE`] texels per pixel (or parent texel) covering it.
+    /// gives its face at least [`TEXELS_PER_SAMPLE`] texels per pixel covering it.
     pub texels: u32,
     /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays.
     pub bounces: u32,
@@ -67,8 +67,8 @@ pub struct NonlinearStats {
     pub height: u32,
 }
 
-/// Texels a beam's region gives each pixel (or parent-beam texel) that samples its face: 4, two
-/// per side, so that bilinear lookups interpolate rather than extrapolate.
+/// Texels a beam's region gives each pixel its face covers (directly, or through the parent beams):
+/// 4, two per side, so that bilinear lookups interpolate rather than extrapolate.
 pub const TEXELS_PER_SAMPLE: u32 = 4;
 
 /// A nonlinear beam of either parameterization.
@@ -118,11 +118,31 @@ enum Source<'a> {
 }
 
 impl Source<'_> {
-    fn direction_to(self, q: Vec3) -> Option<Vec3> {
-        match self {
-            Self::Eye(eye) => (q - eye).try_normalize(),
-            Self::Beam(b) => b.direction_through(q),
+    /// Unit directions of the light arriving at the vertices of `f`: from the eye; from a parent
+    /// beam, the affine fit over `f`'s barycentric coordinates of the directions of the parent's
+    /// texel rays that hit `f` (`samples`: barycentric point, unit direction), exact for the
+    /// directions an S1 parent carries across a flat face; when the samples do not span the face,
+    /// the parent's rays through the vertices (projection, extrapolated past the parent's base).
+    fn directions_to(self, f: &SFace, samples: &[(Vec3, Vec3)]) -> Option<[Vec3; 3]> {
+        let beam = match self {
+            Self::Eye(eye) => {
+                let [a, b, c] = f.v.map(|v| (v - eye).try_normalize());
+                return Some([a?, b?, c?]);
+            }
+            Self::Beam(beam) => beam,
+        };
+        let gram: Mat3 = samples.iter().map(|(w, _)| Mat3::from_cols(*w * w.x, *w * w.y, *w * w.z)).sum();
+        if samples.len() >= 3 && gram.determinant() > 1e-6 * samples.len().pow(3) as f32 {
+            // Least squares for d(w) = Σ wᵢ Dᵢ: (Σ w wᵀ) [D₀ D₁ D₂]ᵀ = Σ w dᵀ.
+            let moment: Mat3 = samples.iter().map(|(w, d)| Mat3::from_cols(*d * w.x, *d * w.y, *d * w.z)).sum();
+            let fit = moment * gram.inverse();
+            let [a, b, c] = [fit.x_axis, fit.y_axis, fit.z_axis].map(Vec3::try_normalize);
+            if let (Some(a), Some(b), Some(c)) = (a, b, c) {
+                return Some([a, b, c]);
+            }
         }
+        let [a, b, c] = f.v.map(|v| beam.direction_through(v));
+        Some([a?, b?, c?])
     }
 }
 
@@ -153,15 +173,25 @@ struct Tree<'a> {
 impl Tree<'_> {
     /// The level-`level` beams off face `fi` lit from `source` (000 §7.2), rendered and shaded;
     /// `None` when a beam is degenerate (its texels are then shaded by rays).
-    fn scattered(&self, source: Source<'_>, fi: usize, size: u32, level: u32) -> Option<Scattered> {
+    fn scattered(
+        &self,
+        source: Source<'_>,
+        fi: usize,
+        samples: &[(Vec3, Vec3)],
+        pixels: f32,
+        level: u32,
+    ) -> Option<Scattered> {
+        // size²/2 texels cover the base: the smallest power of two with TEXELS_PER_SAMPLE texels
+        // per pixel.
+        let size = (2.0 * TEXELS_PER_SAMPLE as f32 * pixels).sqrt().ceil() as u32;
+        let size = size.next_power_of_two().clamp(4, self.options.texels.max(2));
         let f = &self.smesh.faces[fi];
-        let [a, b, c] = f.v.map(|v| source.direction_to(v));
-        let incoming = [a?, b?, c?];
+        let incoming = source.directions_to(f, samples)?;
         // Vertex normals turned against the incoming light.
         let entering = (incoming[0] + incoming[1] + incoming[2]).dot(self.scene.normal(f.prim)) < 0.0;
         let n = f.n.map(|n| if entering { n } else { -n });
         let reflected = Beam::new(self.options.degree, f, [0, 1, 2].map(|i| reflect(incoming[i], n[i])))?;
-        let reflected = self.shaded(&reflected, f, size, level);
+        let reflected = self.shaded(&reflected, f, size, pixels, level);
         let refracted = match self.scene.material(f.prim) {
             Material::Glass { ior } => {
                 // Under total internal reflection a boundary direction grazes the surface (the
@@ -170,19 +200,28 @@ impl Tree<'_> {
                     let d = incoming[i];
                     dielectric(d, n[i], ior, entering).1.unwrap_or(d - d.dot(n[i]) * n[i])
                 });
-                Some(self.shaded(&Beam::new(self.options.degree, f, dirs)?, f, size, level))
+                Some(self.shaded(&Beam::new(self.options.degree, f, dirs)?, f, size, pixels, level))
             }
             _ => None,
         };
         Some(Scattered { reflected, refracted })
     }
 
-    /// `beam` (off face `f`, at level `level`) rendered into its texel region and shaded: texels on
-    /// specular faces from their own child beams while levels remain.
-    fn shaded(&self, beam: &Beam, f: &SFace, size: u32, level: u32) -> BeamTexture {
+    /// `beam` (off face `f`, at level `level`, seen in `pixels` pixels) rendered into a `size ×
+    /// size` texel region and shaded: texels on specular faces from their own child beams while
+    /// levels remain.
+    fn shaded(&self, beam: &Beam, f: &SFace, size: u32, pixels: f32, level: u32) -> BeamTexture {
         let mut tex = beam.render(self.scene, size, f.prim);
-        let faces = tex.hits.iter().flatten().filter_map(|h| self.smesh.face_of.get(&h.prim).copied());
-        let children = self.children(Source::Beam(beam), faces, level + 1);
+        let mut samples = Vec::new();
+        for y in 0..tex.size {
+            for x in 0..tex.size {
+                let Some(hit) = tex.hits[(y * tex.size + x) as usize] else { continue };
+                let Some(&g) = self.smesh.face_of.get(&hit.prim) else { continue };
+                let ray = beam.ray_at(tex.barycentric(x, y));
+                samples.push((g, self.smesh.faces[g].barycentric(ray.at(hit.t)), ray.direction.normalize()));
+            }
+        }
+        let children = self.children(Source::Beam(beam), samples, pixels / tex.texels() as f32, level + 1);
         for y in 0..tex.size {
             for x in 0..tex.size {
                 let k = (y * tex.size + x) as usize;
@@ -204,29 +243,26 @@ impl Tree<'_> {
         tex
     }
 
-    /// The level-`level` beams of the faces that `samples` (one face per pixel or parent texel)
-    /// land on, lit from `source`, each sized to its samples; none past the last level.
+    /// The level-`level` beams of the faces that `samples` (face, barycentric point, unit
+    /// direction of one pixel's or parent texel's ray, standing for `pixels_per_sample` pixels)
+    /// land on, lit from `source`, each sized to the pixels it covers; none past the last level.
     fn children(
         &self,
         source: Source<'_>,
-        samples: impl Iterator<Item = usize>,
+        samples: Vec<(usize, Vec3, Vec3)>,
+        pixels_per_sample: f32,
         level: u32,
     ) -> HashMap<usize, Scattered> {
         if level > self.options.bounces {
             return HashMap::new();
         }
-        let mut count: HashMap<usize, u32> = HashMap::new();
-        for fi in samples {
-            *count.entry(fi).or_default() += 1;
+        let mut on: HashMap<usize, Vec<(Vec3, Vec3)>> = HashMap::new();
+        for (fi, w, d) in samples {
+            on.entry(fi).or_default().push((w, d));
         }
-        count
-            .into_par_iter()
-            .filter_map(|(fi, n)| {
-                // size²/2 texels cover the base: the smallest power of two with TEXELS_PER_SAMPLE
-                // texels per sample.
-                let size = ((2 * TEXELS_PER_SAMPLE * n) as f32).sqrt().ceil() as u32;
-                let size = size.next_power_of_two().clamp(4, self.options.texels.max(2));
-                self.scattered(source, fi, size, level).map(|s| (fi, s))
+        on.into_par_iter()
+            .filter_map(|(fi, s)| {
+                self.scattered(source, fi, &s, s.len() as f32 * pixels_per_sample, level).map(|sc| (fi, sc))
             })
             .collect()
     }
@@ -275,8 +311,15 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
             scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (ray, h))
         })
         .collect();
-    let seen = hits.iter().flatten().filter_map(|(_, h)| tree.smesh.face_of.get(&h.prim).copied());
-    let children = tree.children(Source::Eye(camera.position), seen, 1);
+    let seen = hits
+        .iter()
+        .flatten()
+        .filter_map(|(ray, h)| {
+            let fi = *tree.smesh.face_of.get(&h.prim)?;
+            Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
+        })
+        .collect();
+    let children = tree.children(Source::Eye(camera.position), seen, 1.0, 1);
     let mut image = Image::new(camera.width, camera.height);
     image.pixels.par_iter_mut().zip(&hits).enumerate().for_each(|(i, (px, hit))| {
         if let Some((ray, hit)) = hit {

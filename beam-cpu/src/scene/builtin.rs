@@ -1,12 +1,23 @@
 //! Built-in scenes, so that the default job needs no files.
 
-use super::{Camera, Light, Material, Scene};
+use super::{Camera, Light, Material, Scene, showcase};
 use crate::mesh::{self, Mesh};
 use beam_math::Triangle;
 use beam_math::glam::{Mat3, Vec3};
 
 /// Names of the built-in scenes; the first is the default of `beam render`.
-pub const BUILTIN: [&str; 4] = ["cornell", "mirror-glass", "cornell-point", "mirror-glass-coarse"];
+pub const BUILTIN: [&str; 10] = [
+    "cornell",
+    "mirror-glass",
+    "cornell-point",
+    "mirror-glass-coarse",
+    "facing-mirrors",
+    "facing-mirrors-coarse",
+    "glass-lens",
+    "glass-lens-coarse",
+    "mirror-teapot",
+    "mirror-teapot-coarse",
+];
 
 /// A built-in scene by name.
 pub fn builtin(name: &str) -> Result<Scene, String> {
@@ -18,6 +29,12 @@ pub fn builtin(name: &str) -> Result<Scene, String> {
             // The mirror sphere at a coarse S-mesh resolution (8 × 16), where S1's kinks show.
             Ok(coarse_mirror(cornell(true, false)))
         }
+        "facing-mirrors" => Ok(showcase::facing_mirrors(12)),
+        "facing-mirrors-coarse" => Ok(showcase::facing_mirrors(4)),
+        "glass-lens" => Ok(showcase::glass_lens(8)),
+        "glass-lens-coarse" => Ok(showcase::glass_lens(3)),
+        "mirror-teapot" => Ok(showcase::mirror_teapot(24)),
+        "mirror-teapot-coarse" => Ok(showcase::mirror_teapot(10)),
         _ => Err(format!("unknown built-in scene `{name}` (known: {})", BUILTIN.join(", "))),
     }
 }
