@@ -91,6 +91,9 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Photons per point light of the caustic ground truth (`--method nonlinear-reference`).
+const REFERENCE_PHOTONS: u64 = 4_000_000;
+
 /// `--method nonlinear` and `nonlinear-reference`.
 fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Result<ExitCode, String> {
     let degree = match a.degree {
@@ -106,7 +109,7 @@ fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Re
     }
     let start = std::time::Instant::now();
     if a.method == "nonlinear-reference" {
-        let image = render_smooth_reference(scene, &shading);
+        let image = render_smooth_reference(scene, &shading, REFERENCE_PHOTONS);
         image.save_png(a.out)?;
         println!(
             "{}: nonlinear reference (rays, smooth mirrors and glass), {:.3} s -> {}",

@@ -111,8 +111,8 @@ pub fn sphere(center: Vec3, radius: f32, rings: u32, segments: u32) -> Mesh {
     for r in 0..rings {
         for s in 0..segments {
             let (a, b, c, d) = (r * w + s, r * w + s + 1, (r + 1) * w + s, (r + 1) * w + s + 1);
-            mesh.indices.push([a, c, b]);
-            mesh.indices.push([b, c, d]);
+            mesh.indices.push([a, b, c]);
+            mesh.indices.push([b, d, c]);
         }
     }
     mesh

@@ -27,6 +27,12 @@ pub fn properties() -> Vec<Property> {
             backends: CPU,
             body: nonlinear_images_vs_reference,
         },
+        Property {
+            name: "caustics_match_photon_tracing",
+            cites: "000 §9.2, Fig. 13",
+            backends: CPU,
+            body: caustics_match_photon_tracing,
+        },
         Property { name: "s3_removes_s1_kinks", cites: "000 §4, Fig. 4", backends: CPU, body: s3_removes_s1_kinks },
     ]
 }
@@ -141,7 +147,7 @@ pub fn nonlinear_images_vs_reference(_: Backend, _: &Config) -> Result<Outcome, 
     let mut notes = Vec::new();
     for name in ["mirror-glass", "mirror-glass-coarse"] {
         let scene = scene::builtin(name)?;
-        let reference = render_smooth_reference(&scene, &shading);
+        let reference = render_smooth_reference(&scene, &shading, 1_000_000);
         for degree in [Degree::S1, Degree::S3] {
             let (image, _) = render_nonlinear(&scene, &NonlinearOptions { degree, texels: 24, bounces: 2, shading });
             let d = difference(&image, &reference)?;
@@ -203,7 +209,7 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
                 && [0, 1, 2, n, 2 * n].iter().all(|&d| a[i - d] && b[i - d] && a[i + d] && b[i + d])
         })
         .collect();
-    let truth = render_smooth_reference(&fine, &shading);
+    let truth = render_smooth_reference(&fine, &shading, 1_000_000);
     let psnr = |degree| {
         let (image, _) = render_nonlinear(&coarse, &NonlinearOptions { degree, texels: 32, bounces: 2, shading });
         let sum: f64 = mask
@@ -257,4 +263,30 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
         return Err(note);
     }
     Ok(Outcome { cases: mask.len() as u64 + u64::from(m), note })
+}
+
+/// 000 §9.2, Fig. 13: the caustics and nonlinear shadows under the wavy lake's surface by light
+/// beams (S1 and S3, 32 texels per side) against photon tracing through the same surface (rays
+/// refracted about the interpolated normals at each photon's own point). Photon maps carry noise
+/// that falls as 1/√N: the beam map's relative RMS difference from a 16M-photon map must lie within
+/// 1.5× that of an independent 4M-photon map (whose own noise is twice the 16M map's), and the
+/// total flux must agree within 1%.
+pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, String> {
+    use beam_cpu::nonlinear::{Degree, caustics_by_beams, caustics_by_photons};
+    let scene = scene::builtin("wavy-lake")?;
+    let truth = caustics_by_photons(&scene, 16_000_000, 1).ok_or("no caustics")?;
+    let photons = caustics_by_photons(&scene, 4_000_000, 2).ok_or("no caustics")?;
+    let noise = photons.relative_rms(&truth);
+    let mut notes = vec![format!("4M photons {noise:.3}")];
+    for degree in [Degree::S1, Degree::S3] {
+        let (beams, stats) = caustics_by_beams(&scene, degree, 32).ok_or("no caustics")?;
+        let error = beams.relative_rms(&truth);
+        let (a, b) = (beams.total_flux().element_sum(), truth.total_flux().element_sum());
+        let note = format!("{degree:?} {error:.3} ({} beams, flux ratio {:.4})", stats.beams, a / b);
+        if error > 1.5 * noise || (a / b - 1.0).abs() > 0.01 {
+            return Err(format!("relative RMS vs 16M photons: {note}; {}", notes.join(", ")));
+        }
+        notes.push(note);
+    }
+    Ok(Outcome { cases: 3, note: format!("irradiance map relative RMS vs 16M photons: {}", notes.join(", ")) })
 }

@@ -4,5 +4,6 @@ beam_conformance::conformance_tests!(
     beam_conformance::Backend::Cpu,
     nonlinear_texels_equal_ray_hits,
     nonlinear_images_vs_reference,
+    caustics_match_photon_tracing,
     s3_removes_s1_kinks,
 );

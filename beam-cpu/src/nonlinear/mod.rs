@@ -4,10 +4,12 @@
 //! those regions.
 
 mod atlas;
+mod caustics;
 mod smesh;
 mod trace;
 
 pub use atlas::{BeamTexture, TexelHit, render_beam};
+pub use caustics::{CausticStats, caustic_texel, caustics_by_beams, caustics_by_photons};
 pub use smesh::{SFace, SMesh};
 pub use trace::{
     Degree, NonlinearOptions, NonlinearStats, TEXELS_PER_SAMPLE, render_nonlinear, render_smooth_reference,

@@ -10,8 +10,9 @@
 //! rays. The reference traces the same surfaces with rays about the interpolated (Phong) normals.
 
 use super::atlas::{BeamTexture, render_beam};
+use super::caustics::{CausticStats, caustics_by_beams, caustics_by_photons};
 use super::smesh::{SFace, SMesh};
-use crate::render::{Image, RenderOptions, dielectric, reflect, shade_point, trace_radiance};
+use crate::render::{Image, IrradianceMap, RenderOptions, dielectric, reflect, shade_point, trace_radiance};
 use crate::scene::{Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::{Mat3, Vec3};
@@ -61,6 +62,8 @@ pub struct NonlinearStats {
     pub texels_rendered: u64,
     /// Texels shaded (their ray hit the scene).
     pub texels_shaded: u64,
+    /// The light beams of the caustic pass.
+    pub caustics: CausticStats,
     /// Image width and height.
     pub width: u32,
     /// Image height.
@@ -72,7 +75,7 @@ pub struct NonlinearStats {
 pub const TEXELS_PER_SAMPLE: u32 = 4;
 
 /// A nonlinear beam of either parameterization.
-enum Beam {
+pub(super) enum Beam {
     S1(NonlinearBeam<S1>),
     S3(NonlinearBeam<S3>),
 }
@@ -86,14 +89,14 @@ impl Beam {
         }
     }
 
-    fn ray_at(&self, w: Vec3) -> Ray {
+    pub(super) fn ray_at(&self, w: Vec3) -> Ray {
         match self {
             Self::S1(b) => b.ray_at(w),
             Self::S3(b) => b.ray_at(w),
         }
     }
 
-    fn render(&self, scene: &Scene, size: u32, exclude: u32) -> BeamTexture {
+    pub(super) fn render(&self, scene: &Scene, size: u32, exclude: u32) -> BeamTexture {
         match self {
             Self::S1(b) => render_beam(scene, b, size, exclude),
             Self::S3(b) => render_beam(scene, b, size, exclude),
@@ -108,6 +111,35 @@ impl Beam {
         }?;
         self.ray_at(p.bary).direction.try_normalize()
     }
+}
+
+/// The beams off S-mesh face `f` for light arriving along the unit directions `incoming` at its
+/// vertices (000 §7.2): the mirror reflection about the vertex normals, and for glass the
+/// refraction by Snell's law (`Some(None)` when that beam is degenerate). Under total internal
+/// reflection a boundary direction grazes the surface (the beam clamps it to the transmitted side,
+/// 000 §4); such texels take reflection only. `None` when the reflection beam is degenerate.
+pub(super) fn child_beams(
+    scene: &Scene,
+    f: &SFace,
+    incoming: [Vec3; 3],
+    degree: Degree,
+) -> Option<(Beam, Option<Option<Beam>>)> {
+    // Vertex normals turned against the incoming light.
+    let entering = (incoming[0] + incoming[1] + incoming[2]).dot(scene.normal(f.prim)) < 0.0;
+    let n = f.n.map(|n| if entering { n } else { -n });
+    let reflected = Beam::new(degree, f, [0, 1, 2].map(|i| reflect(incoming[i], n[i])))?;
+    let refracted = match scene.material(f.prim) {
+        Material::Glass { ior } => Some(Beam::new(
+            degree,
+            f,
+            [0, 1, 2].map(|i| {
+                let d = incoming[i];
+                dielectric(d, n[i], ior, entering).1.unwrap_or(d - d.dot(n[i]) * n[i])
+            }),
+        )),
+        _ => None,
+    };
+    Some((reflected, refracted))
 }
 
 /// Where the light arriving at an S-mesh face comes from: the eye, or a parent beam.
@@ -168,6 +200,8 @@ struct Tree<'a> {
     smesh: SMesh,
     options: NonlinearOptions,
     tally: Mutex<Tally>,
+    /// Irradiance through the specular surfaces from point lights (caustics, nonlinear shadows).
+    caustics: Option<IrradianceMap>,
 }
 
 impl Tree<'_> {
@@ -187,22 +221,11 @@ impl Tree<'_> {
         let size = size.next_power_of_two().clamp(4, self.options.texels.max(2));
         let f = &self.smesh.faces[fi];
         let incoming = source.directions_to(f, samples)?;
-        // Vertex normals turned against the incoming light.
-        let entering = (incoming[0] + incoming[1] + incoming[2]).dot(self.scene.normal(f.prim)) < 0.0;
-        let n = f.n.map(|n| if entering { n } else { -n });
-        let reflected = Beam::new(self.options.degree, f, [0, 1, 2].map(|i| reflect(incoming[i], n[i])))?;
+        let (reflected, refracted) = child_beams(self.scene, f, incoming, self.options.degree)?;
         let reflected = self.shaded(&reflected, f, size, pixels, level);
-        let refracted = match self.scene.material(f.prim) {
-            Material::Glass { ior } => {
-                // Under total internal reflection a boundary direction grazes the surface (the
-                // beam clamps it to the transmitted side, 000 §4); those texels take reflection only.
-                let dirs = [0, 1, 2].map(|i| {
-                    let d = incoming[i];
-                    dielectric(d, n[i], ior, entering).1.unwrap_or(d - d.dot(n[i]) * n[i])
-                });
-                Some(self.shaded(&Beam::new(self.options.degree, f, dirs)?, f, size, pixels, level))
-            }
-            _ => None,
+        let refracted = match refracted {
+            Some(b) => Some(self.shaded(&b?, f, size, pixels, level)),
+            None => None,
         };
         Some(Scattered { reflected, refracted })
     }
@@ -272,7 +295,7 @@ impl Tree<'_> {
     fn shade_hit(&self, children: &HashMap<usize, Scattered>, prim: u32, p: Vec3, d: Vec3, seed: u64) -> Vec3 {
         let scene = self.scene;
         let Some((fi, sc)) = self.smesh.face_of.get(&prim).and_then(|&fi| children.get(&fi).map(|s| (fi, s))) else {
-            return shade_point(scene, &self.options.shading, prim, p, d, seed);
+            return shade_point(scene, &self.options.shading, self.caustics.as_ref(), prim, p, d, seed);
         };
         let f = &self.smesh.faces[fi];
         let w = f.barycentric(p);
@@ -287,7 +310,7 @@ impl Tree<'_> {
                     (_, None) => reflected,
                 }
             }
-            _ => shade_point(scene, &self.options.shading, prim, p, d, seed),
+            _ => shade_point(scene, &self.options.shading, self.caustics.as_ref(), prim, p, d, seed),
         }
     }
 }
@@ -299,7 +322,16 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
     let mut camera = scene.camera;
     camera.width = options.shading.width.max(1);
     camera.height = options.shading.height.max(1);
-    let tree = Tree { scene, smesh: SMesh::specular(scene), options: *options, tally: Mutex::default() };
+    // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.
+    let caustics = caustics_by_beams(scene, options.degree, options.texels);
+    let caustic_stats = caustics.as_ref().map(|c| c.1.clone()).unwrap_or_default();
+    let tree = Tree {
+        scene,
+        smesh: SMesh::specular(scene),
+        options: *options,
+        tally: Mutex::default(),
+        caustics: caustics.map(|c| c.0),
+    };
     let frame = camera.frame();
     let w = camera.width as usize;
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
@@ -340,6 +372,7 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
         overdraw: t.texels_tested as f64 / t.texels_rendered.max(1) as f64,
         texels_rendered: t.texels_rendered,
         texels_shaded: t.texels_shaded,
+        caustics: caustic_stats,
         width: camera.width,
         height: camera.height,
     };
@@ -348,9 +381,11 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
 
 /// The ray-traced ground truth of [`render_nonlinear`]: one ray per pixel centre, Whitted through
 /// mirrors and glass about the interpolated (Phong) normals, the smooth surfaces the S mesh stands
-/// for; everything else shaded alike.
+/// for; caustics by about `photons` photons per point light ([`caustics_by_photons`]); everything
+/// else shaded alike.
 #[must_use]
-pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions) -> Image {
+pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions, photons: u64) -> Image {
+    let caustics = caustics_by_photons(scene, photons, options.seed);
     let mut camera = scene.camera;
     camera.width = options.width.max(1);
     camera.height = options.height.max(1);
@@ -359,7 +394,7 @@ pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions) -> Image 
     let w = camera.width as usize;
     image.pixels.par_iter_mut().enumerate().for_each(|(i, px)| {
         let ray = camera.ray(&frame, (i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
-        *px = trace_radiance(scene, options, ray, i as u64);
+        *px = trace_radiance(scene, options, caustics.as_ref(), ray, i as u64);
     });
     image
 }

@@ -3,6 +3,7 @@
 mod compare;
 mod hard_shadow;
 mod image;
+mod irradiance_map;
 mod lambert;
 mod primary_beam;
 mod renderer;
@@ -11,6 +12,7 @@ mod shadow_beam;
 pub use compare::{Difference, difference, side_by_side};
 pub use hard_shadow::lit_pieces;
 pub use image::{Image, srgb_decode, srgb_encode};
+pub use irradiance_map::IrradianceMap;
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub use renderer::{

@@ -4,6 +4,7 @@
 
 use super::hard_shadow::lit_pieces;
 use super::image::Image;
+use super::irradiance_map::IrradianceMap;
 use super::lambert::{point_source_irradiance, polygon_irradiance};
 use super::primary_beam::Piece;
 use super::primary_beam::{point_on_piece, visible_surface};
@@ -295,6 +296,8 @@ struct Context<'a> {
     options: RenderOptions,
     eps: f32,
     occluded: Occluder<'a>,
+    /// Irradiance arriving at diffuse surfaces by paths the direct light does not follow (caustics).
+    caustics: Option<&'a IrradianceMap>,
 }
 
 impl Context<'_> {
@@ -327,7 +330,10 @@ impl Context<'_> {
         match self.scene.material(prim) {
             Material::Emissive { radiance } => radiance,
             Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => {
-                let e = self.direct(p + n * self.eps, n, lights, rng, c);
+                let mut e = self.direct(p + n * self.eps, n, lights, rng, c);
+                if let Some(map) = self.caustics {
+                    e += map.irradiance(prim, p);
+                }
                 albedo / std::f32::consts::PI * e
             }
             Material::Mirror { tint } if depth < MAX_DEPTH => {
@@ -453,25 +459,47 @@ enum Lights {
 }
 
 /// The shading every renderer shares, for one shade point: the radiance leaving point `p` of
-/// triangle `prim` towards `−d`, with direct light by `options.method` and mirror and glass followed
-/// by rays. `seed` seeds the shadow-ray samples.
+/// triangle `prim` towards `−d`, with direct light by `options.method`, the irradiance of
+/// `caustics` on diffuse surfaces, and mirror and glass followed by rays. `seed` seeds the
+/// shadow-ray samples.
 #[must_use]
-pub fn shade_point(scene: &Scene, options: &RenderOptions, prim: u32, p: Vec3, d: Vec3, seed: u64) -> Vec3 {
-    with_context(scene, options, |ctx| {
+pub fn shade_point(
+    scene: &Scene,
+    options: &RenderOptions,
+    caustics: Option<&IrradianceMap>,
+    prim: u32,
+    p: Vec3,
+    d: Vec3,
+    seed: u64,
+) -> Vec3 {
+    with_context(scene, options, caustics, |ctx| {
         ctx.shade(prim, p, d, 0, Lights::All, &mut Pcg32::seed_from_u64(seed), &mut Counters::default())
     })
 }
 
 /// Radiance arriving along `ray` (the background is black), shaded as [`shade_point`].
 #[must_use]
-pub fn trace_radiance(scene: &Scene, options: &RenderOptions, ray: Ray, seed: u64) -> Vec3 {
-    with_context(scene, options, |ctx| ctx.radiance(ray, 0, &mut Pcg32::seed_from_u64(seed), &mut Counters::default()))
+pub fn trace_radiance(
+    scene: &Scene,
+    options: &RenderOptions,
+    caustics: Option<&IrradianceMap>,
+    ray: Ray,
+    seed: u64,
+) -> Vec3 {
+    with_context(scene, options, caustics, |ctx| {
+        ctx.radiance(ray, 0, &mut Pcg32::seed_from_u64(seed), &mut Counters::default())
+    })
 }
 
 /// Runs `f` with the shading context of `scene`, shadow rays traced by its own BVH.
-fn with_context<R>(scene: &Scene, options: &RenderOptions, f: impl FnOnce(&Context<'_>) -> R) -> R {
+fn with_context<R>(
+    scene: &Scene,
+    options: &RenderOptions,
+    caustics: Option<&IrradianceMap>,
+    f: impl FnOnce(&Context<'_>) -> R,
+) -> R {
     let occluded = |ray, t_max| scene.wide.any_hit(ray, t_max);
-    f(&Context { scene, options: *options, eps: shading_eps(scene), occluded: &occluded })
+    f(&Context { scene, options: *options, eps: shading_eps(scene), occluded: &occluded, caustics })
 }
 
 /// Offset of secondary ray origins from surfaces: 1e-4 of the scene's diagonal.
@@ -539,7 +567,7 @@ pub fn render_with(
     camera.width = options.width.max(1);
     camera.height = options.height.max(1);
     let frame = camera.frame();
-    let ctx = Context { scene, options: *options, eps: shading_eps(scene), occluded };
+    let ctx = Context { scene, options: *options, eps: shading_eps(scene), occluded, caustics: None };
     let pixel_seed =
         |x: u32, y: u32| options.seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     let w = camera.width as usize;

@@ -6,7 +6,7 @@ use beam_math::Triangle;
 use beam_math::glam::{Mat3, Vec3};
 
 /// Names of the built-in scenes; the first is the default of `beam render`.
-pub const BUILTIN: [&str; 10] = [
+pub const BUILTIN: [&str; 12] = [
     "cornell",
     "mirror-glass",
     "cornell-point",
@@ -17,6 +17,8 @@ pub const BUILTIN: [&str; 10] = [
     "glass-lens-coarse",
     "mirror-teapot",
     "mirror-teapot-coarse",
+    "wavy-lake",
+    "wavy-lake-coarse",
 ];
 
 /// A built-in scene by name.
@@ -35,6 +37,8 @@ pub fn builtin(name: &str) -> Result<Scene, String> {
         "glass-lens-coarse" => Ok(showcase::glass_lens(3)),
         "mirror-teapot" => Ok(showcase::mirror_teapot(24)),
         "mirror-teapot-coarse" => Ok(showcase::mirror_teapot(10)),
+        "wavy-lake" => Ok(showcase::wavy_lake(24)),
+        "wavy-lake-coarse" => Ok(showcase::wavy_lake(8)),
         _ => Err(format!("unknown built-in scene `{name}` (known: {})", BUILTIN.join(", "))),
     }
 }

@@ -35,6 +35,7 @@ const GREEN: u32 = 3;
 const GOLD: u32 = 4;
 const MIRROR: u32 = 5;
 const GLASS: u32 = 6;
+const WATER: u32 = 7;
 
 fn materials() -> Vec<Material> {
     vec![
@@ -45,6 +46,7 @@ fn materials() -> Vec<Material> {
         Material::Diffuse { albedo: Vec3::new(0.8, 0.55, 0.1) },
         Material::Mirror { tint: Vec3::splat(0.95) },
         Material::Glass { ior: 1.5 },
+        Material::Glass { ior: 1.33 },
     ]
 }
 
@@ -137,7 +139,8 @@ pub fn glass_lens(n: u32) -> Scene {
     let sag = |rho: f32| (r * r - rho * rho).sqrt() - (r * r - a * a).sqrt();
     for side in [-1.0f32, 1.0] {
         let cap = mesh::parametric(4 * n, n, |u, v| {
-            let (rho, phi) = (a * v, TAU * u * side);
+            // Outward normals (∂u × ∂v): the angle runs against `side`.
+            let (rho, phi) = (a * v, -TAU * u * side);
             Vec3::new(rho * phi.cos(), y + rho * phi.sin(), side * (half_band + sag(rho)))
         });
         add(&mut tris, &cap, GLASS);
@@ -267,4 +270,54 @@ fn teapot(base: Vec3, size: f32, n: u32) -> Mesh {
         *p = base + r * (*p - base);
     }
     m
+}
+
+/// The height of the wavy lake's surface over `(x, z)`: a sum of three sinusoids.
+fn wave(x: f32, z: f32) -> f32 {
+    7.0 * (0.021 * x + 0.4).sin() + 5.0 * (0.027 * z - 0.013 * x).sin() + 3.0 * (0.043 * (x + z) + 1.1).sin()
+}
+
+/// A wavy lake (000 Fig. 13): water of index 1.33 whose surface is a sum of sinusoids over `n × n`
+/// quads, in a walled basin with a checkered bed; a gold ball under the water, a red box and a flat
+/// "bird" above it; lit by a point light, so that the bed shows caustics and the bird's shadow
+/// through the water.
+#[must_use]
+pub fn wavy_lake(n: u32) -> Scene {
+    let mut tris = Tris::new();
+    let (h, bed, rim) = (300.0f32, -150.0f32, 30.0f32);
+    checker(
+        &mut tris,
+        Vec3::new(-h, bed, -h),
+        Vec3::new(0.0, 0.0, 2.0 * h),
+        Vec3::new(2.0 * h, 0.0, 0.0),
+        6,
+        (WHITE, DARK),
+    );
+    for (corner, along) in [
+        (Vec3::new(-h, bed, -h), Vec3::new(2.0 * h, 0.0, 0.0)),
+        (Vec3::new(h, bed, -h), Vec3::new(0.0, 0.0, 2.0 * h)),
+        (Vec3::new(h, bed, h), Vec3::new(-2.0 * h, 0.0, 0.0)),
+        (Vec3::new(-h, bed, h), Vec3::new(0.0, 0.0, -2.0 * h)),
+    ] {
+        checker(&mut tris, corner, along, Vec3::new(0.0, rim - bed, 0.0), 1, (GREEN, GREEN));
+    }
+    // u along z and v along x, so that ∂u × ∂v points up, out of the water.
+    let water = mesh::parametric(n, n, |u, v| {
+        let (x, z) = (h * (2.0 * v - 1.0), h * (2.0 * u - 1.0));
+        Vec3::new(x, wave(x, z), z)
+    });
+    add(&mut tris, &water, WATER);
+    add(&mut tris, &mesh::sphere(Vec3::new(70.0, -95.0, 40.0), 45.0, 12, 24), GOLD);
+    add(&mut tris, &mesh::cuboid(Vec3::new(-220.0, 60.0, 120.0), Vec3::new(-140.0, 140.0, 200.0)), RED);
+    add(&mut tris, &mesh::cuboid(Vec3::new(-90.0, 230.0, -80.0), Vec3::new(30.0, 238.0, -30.0)), WHITE);
+    let light = Light::Point { position: Vec3::new(60.0, 650.0, -60.0), intensity: Vec3::splat(1.2e6) };
+    let camera = Camera {
+        position: Vec3::new(0.0, 560.0, -470.0),
+        target: Vec3::new(0.0, -110.0, 40.0),
+        up: Vec3::Y,
+        fov_y: 45.0,
+        width: 512,
+        height: 512,
+    };
+    Scene::new("wavy-lake".into(), tris, materials(), vec![light], camera)
 }

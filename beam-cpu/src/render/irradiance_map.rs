@@ -1,0 +1,148 @@
+//! Irradiance maps: the gather of a two-pass caustic method (000 §9.2 after Wyman and Davis), in
+//! receiver space rather than image space. Every receiving plane of the scene gets a grid of square
+//! texels; flux carriers (beam texels or photons) are splatted into it with a tent kernel, and a
+//! shade point reads the irradiance back bilinearly.
+
+use crate::scene::{Material, Scene};
+use beam_math::glam::{Vec2, Vec3};
+use std::collections::HashMap;
+
+/// One receiving plane's texels.
+#[derive(Clone, Debug)]
+struct PlaneMap {
+    origin: Vec3,
+    axes: [Vec3; 2],
+    size: [u32; 2],
+    flux: Vec<Vec3>,
+}
+
+impl PlaneMap {
+    /// Continuous texel coordinates of `p` (texel centres at integers).
+    fn coords(&self, p: Vec3) -> Vec2 {
+        let q = p - self.origin;
+        Vec2::new(q.dot(self.axes[0]), q.dot(self.axes[1]))
+    }
+
+    /// The four texels around continuous coordinates `c` with their bilinear (tent) weights.
+    fn taps(&self, c: Vec2) -> impl Iterator<Item = (usize, f32)> + '_ {
+        let (x0, y0) = (c.x.floor(), c.y.floor());
+        let (ax, ay) = (c.x - x0, c.y - y0);
+        [(0, 0, (1.0 - ax) * (1.0 - ay)), (1, 0, ax * (1.0 - ay)), (0, 1, (1.0 - ax) * ay), (1, 1, ax * ay)]
+            .into_iter()
+            .filter_map(move |(dx, dy, k)| {
+                let (x, y) = (x0 as i64 + dx, y0 as i64 + dy);
+                let inside = x >= 0 && y >= 0 && x < i64::from(self.size[0]) && y < i64::from(self.size[1]);
+                (inside && k > 0.0).then(|| ((y as u64 * u64::from(self.size[0]) + x as u64) as usize, k))
+            })
+    }
+}
+
+/// Irradiance over the scene's diffuse and glossy triangles, grouped by plane.
+#[derive(Clone, Debug)]
+pub struct IrradianceMap {
+    /// World size of a texel's side.
+    pub texel: f32,
+    maps: Vec<PlaneMap>,
+    plane_of: HashMap<u32, usize>,
+}
+
+impl IrradianceMap {
+    /// Empty maps over every diffuse and glossy triangle of `scene`, texels of side `texel` (world
+    /// units); coplanar triangles (normals within 1e-3, offsets within a tenth of a texel) share one
+    /// map, so that splats cross their shared edges.
+    #[must_use]
+    pub fn new(scene: &Scene, texel: f32) -> Self {
+        let texel = texel.max(f32::MIN_POSITIVE);
+        let mut key_of: HashMap<(i32, i32, i32, i64), usize> = HashMap::new();
+        let mut bounds: Vec<(Vec3, Vec3, Vec2, Vec2)> = Vec::new();
+        let mut plane_of = HashMap::new();
+        for (i, tri) in scene.triangles.iter().enumerate() {
+            if !matches!(scene.material(i as u32), Material::Diffuse { .. } | Material::Glossy { .. }) {
+                continue;
+            }
+            let n = scene.normal(i as u32);
+            let q = |x: f32| (x * 1000.0).round() as i32;
+            let key = (q(n.x), q(n.y), q(n.z), (n.dot(tri.v[0]) / (0.1 * texel)).round() as i64);
+            let m = *key_of.entry(key).or_insert_with(|| {
+                bounds.push((tri.v[0], n, Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)));
+                bounds.len() - 1
+            });
+            let (origin, normal, lo, hi) = &mut bounds[m];
+            let (u, v) = (normal.any_orthonormal_vector(), normal.cross(normal.any_orthonormal_vector()));
+            for p in tri.v {
+                let c = Vec2::new((p - *origin).dot(u), (p - *origin).dot(v));
+                *lo = lo.min(c);
+                *hi = hi.max(c);
+            }
+            plane_of.insert(i as u32, m);
+        }
+        let maps = bounds
+            .into_iter()
+            .map(|(origin, n, lo, hi)| {
+                let (u, v) = (n.any_orthonormal_vector(), n.cross(n.any_orthonormal_vector()));
+                // One texel of margin each side; texel centres at integer coordinates.
+                let corner = origin + (lo.x - texel) * u + (lo.y - texel) * v;
+                let size = ((hi - lo) / texel).ceil().as_uvec2() + 3;
+                let size = [size.x.min(4096), size.y.min(4096)];
+                PlaneMap {
+                    origin: corner,
+                    axes: [u / texel, v / texel],
+                    size,
+                    flux: vec![Vec3::ZERO; (size[0] * size[1]) as usize],
+                }
+            })
+            .collect();
+        Self { texel, maps, plane_of }
+    }
+
+    /// Deposit `flux` (watts) arriving at point `p` of triangle `prim`; false when `prim` has no map.
+    pub fn splat(&mut self, prim: u32, p: Vec3, flux: Vec3) -> bool {
+        let Some(&m) = self.plane_of.get(&prim) else { return false };
+        let map = &mut self.maps[m];
+        let c = map.coords(p);
+        let taps: Vec<(usize, f32)> = map.taps(c).collect();
+        for (k, w) in taps {
+            map.flux[k] += w * flux;
+        }
+        true
+    }
+
+    /// Irradiance (watts per unit area) at point `p` of triangle `prim`: the splatted flux over the
+    /// texel area, read bilinearly; zero where there is no map.
+    #[must_use]
+    pub fn irradiance(&self, prim: u32, p: Vec3) -> Vec3 {
+        let Some(&m) = self.plane_of.get(&prim) else { return Vec3::ZERO };
+        let map = &self.maps[m];
+        let sum: Vec3 = map.taps(map.coords(p)).map(|(k, w)| w * map.flux[k]).sum();
+        sum / (self.texel * self.texel)
+    }
+
+    /// Add another map of the same scene and texel size.
+    pub fn merge(&mut self, other: &Self) {
+        for (a, b) in self.maps.iter_mut().zip(&other.maps) {
+            for (x, y) in a.flux.iter_mut().zip(&b.flux) {
+                *x += *y;
+            }
+        }
+    }
+
+    /// Relative RMS difference `√(Σ|a − b|² / Σ|b|²)` of the texels of `self` (a) and `other` (b),
+    /// maps of the same scene and texel size.
+    #[must_use]
+    pub fn relative_rms(&self, other: &Self) -> f64 {
+        let (mut diff, mut norm) = (0.0f64, 0.0f64);
+        for (a, b) in self.maps.iter().zip(&other.maps) {
+            for (x, y) in a.flux.iter().zip(&b.flux) {
+                diff += f64::from((*x - *y).length_squared());
+                norm += f64::from(y.length_squared());
+            }
+        }
+        (diff / norm.max(f64::MIN_POSITIVE)).sqrt()
+    }
+
+    /// Total flux deposited.
+    #[must_use]
+    pub fn total_flux(&self) -> Vec3 {
+        self.maps.iter().flat_map(|m| &m.flux).sum()
+    }
+}
