@@ -147,6 +147,19 @@ enum BenchCommand {
         #[arg(long)]
         out_dir: Option<PathBuf>,
     },
+    /// 000 Fig. 10: nonlinear render time (S1, S3) against scene triangles, S-mesh triangles and
+    /// atlas resolution on the mirror teapot, beside the ray-traced reference.
+    Nonlinear {
+        /// Image width and height.
+        #[arg(long, default_value_t = 256)]
+        size: u32,
+        /// Plot (PNG).
+        #[arg(long, default_value = "nonlinear-sweep.png")]
+        out: PathBuf,
+        /// Table of every measurement.
+        #[arg(long, default_value = "nonlinear-sweep.csv")]
+        csv: PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
@@ -186,6 +199,9 @@ fn main() -> ExitCode {
         Command::Compare { a, b, out, scale } => render::compare(&a, &b, &out, scale),
         Command::Bench { what: BenchCommand::Bvh { scene, json, size } } => {
             bench::bvh::run(&scene, json.as_deref(), size).map(|()| ExitCode::SUCCESS)
+        }
+        Command::Bench { what: BenchCommand::Nonlinear { size, out, csv } } => {
+            bench::nonlinear::run(size, &out, &csv).map(|()| ExitCode::SUCCESS)
         }
         Command::Bench { what: BenchCommand::Softshadow { scene, size, reference_spp, light_size, out_dir } } => {
             bench::softshadow::run(&scene, size, reference_spp, light_size, out_dir.as_deref())

@@ -4,7 +4,9 @@
 //! misses and keep the nearest hit (the depth test).
 
 use crate::scene::Scene;
-use beam_math::collide::{WatertightRay, cone_sphere};
+use beam_bvh::{Control, NodeVisitor};
+use beam_math::Aabb;
+use beam_math::collide::{Cone, WatertightRay, cone_sphere};
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::{Interpolant, NonlinearBeam};
 
@@ -98,22 +100,23 @@ pub fn render_beam<L: Interpolant>(scene: &Scene, beam: &NonlinearBeam<L>, size:
     let bounds = beam.bounds();
     let cone = beam.bounding_cone(&bounds.extremal, 0.0);
     let extent = scene.bounds().extent().length();
-    // S^n ray origins leave the flat base by up to μ_b (eq. 4); on a concave surface they start
-    // behind the neighbouring S-mesh faces, so nearer hits than 2μ_b over the ray's rise above the
-    // base are the surface meeting itself.
-    let lift = beam.max_offsets().0;
     // Half a texel of slack around the bounding triangle, in barycentric units.
     let slack = 0.5 / size as f32;
-    for (i, tri) in scene.triangles.iter().enumerate() {
-        if i as u32 == exclude {
+    // Bounding-cone culling (App. A) of the BVH's boxes and then of each triangle's bounding sphere.
+    let mut candidates = ConeCull { cone, prims: Vec::new() };
+    scene.bvh.traverse(&mut candidates);
+    for &i in &candidates.prims {
+        if i == exclude {
             continue;
         }
+        let tri = &scene.triangles[i as usize];
         let centre = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
         let radius = tri.v.iter().fold(0.0f32, |m, v| m.max(v.distance(centre)));
         if !cone_sphere(&cone, centre, radius) {
             continue;
         }
         let Some(bt) = beam.bounding_triangle(&bounds, tri) else { continue };
+        let neighbour = tri.v.iter().any(|v| beam.base.contains(v));
         tex.triangles_after_culling += 1;
         let m = bt.lower - Vec3::splat(slack);
         // Texels with u ≥ m.y, v ≥ m.z, u + v ≤ 1 − m.x.
@@ -132,15 +135,42 @@ pub fn render_beam<L: Interpolant>(scene: &Scene, beam: &NonlinearBeam<L>, size:
                 tex.texels_tested += 1;
                 let ray = beam.ray_at(w);
                 let len = ray.direction.length().max(f32::MIN_POSITIVE);
-                let rise = (ray.direction.dot(beam.normal) / len).max(0.05);
-                let t_min = (1e-4 * extent).max(2.0 * lift / rise) / len;
+                let t_min = if neighbour { self_hit_distance(beam, ray, extent) } else { 1e-4 * extent } / len;
                 let k = y as usize * n + x as usize;
                 let t_max = tex.hits[k].map_or(f32::INFINITY, |h| h.t);
                 if let Some(hit) = WatertightRay::new(ray).intersect(tri, t_min, t_max) {
-                    tex.hits[k] = Some(TexelHit { prim: i as u32, t: hit.t });
+                    tex.hits[k] = Some(TexelHit { prim: i, t: hit.t });
                 }
             }
         }
     }
     tex
+}
+
+/// Collects the triangles of the BVH leaves whose boxes' bounding spheres meet a beam's bounding
+/// cone.
+struct ConeCull {
+    cone: Cone,
+    prims: Vec<u32>,
+}
+
+impl NodeVisitor for ConeCull {
+    fn enter(&mut self, bounds: &Aabb) -> Option<f32> {
+        cone_sphere(&self.cone, bounds.center(), 0.5 * bounds.extent().length()).then_some(0.0)
+    }
+
+    fn leaf(&mut self, prims: &[u32]) -> Control {
+        self.prims.extend_from_slice(prims);
+        Control::Continue
+    }
+}
+
+/// Distance along `ray` (a ray of `beam`) below which a hit on a triangle sharing a vertex with the
+/// base is the surface meeting itself: S^n ray origins leave the flat base by up to μ_b (eq. 4), and
+/// on a concave surface they start behind the neighbouring S-mesh faces, so hits nearer than 2μ_b
+/// over the ray's rise above the base are skipped (1e-4 of the scene's diagonal `extent` for S1).
+#[must_use]
+pub fn self_hit_distance<L: Interpolant>(beam: &NonlinearBeam<L>, ray: beam_math::Ray, extent: f32) -> f32 {
+    let rise = (ray.direction.normalize_or_zero().dot(beam.normal)).max(0.05);
+    (1e-4 * extent).max(2.0 * beam.max_offsets().0 / rise)
 }

@@ -48,10 +48,19 @@ pub struct SMesh {
 
 impl SMesh {
     /// The S mesh of the scene's mirror and glass triangles: the triangles themselves (the scene
-    /// gives specular surfaces at S-mesh resolution) with the scene's smooth vertex normals.
+    /// gives specular surfaces at S-mesh resolution, slivers left out) with the scene's smooth
+    /// vertex normals.
     #[must_use]
     pub fn specular(scene: &Scene) -> Self {
-        let mut prims: Vec<u32> = scene.smooth_normals.keys().copied().collect();
+        // Slivers (a sphere's pole triangles, narrower than 1e-4 of their longest edge) make no
+        // beam worth having; the few pixels on them are traced by rays.
+        let sliver = |p: u32| {
+            let v = scene.triangles[p as usize].v;
+            let longest =
+                (v[1] - v[0]).length_squared().max((v[2] - v[1]).length_squared()).max((v[0] - v[2]).length_squared());
+            (v[1] - v[0]).cross(v[2] - v[0]).length() < 1e-4 * longest
+        };
+        let mut prims: Vec<u32> = scene.smooth_normals.keys().copied().filter(|&p| !sliver(p)).collect();
         prims.sort_unstable();
         let faces: Vec<SFace> = prims
             .iter()

@@ -5,7 +5,7 @@ mod builtin;
 mod camera;
 mod file;
 mod normals;
-mod showcase;
+pub mod showcase;
 
 pub use builtin::{BUILTIN, builtin};
 pub use camera::Camera;

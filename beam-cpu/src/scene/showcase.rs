@@ -165,9 +165,10 @@ pub fn glass_lens(n: u32) -> Scene {
 
 /// A mirror teapot among objects (000 Fig. 1): a procedural teapot (body and lid revolved from the
 /// Utah teapot's profile, a torus handle, a tapered curved spout, a knob) on a checkered floor with
-/// coloured walls, a gold ball, a glass ball and a box; `n` sets the mirror's S-mesh resolution.
+/// coloured walls, a gold ball, a glass ball and a box; `n` sets the mirror's S-mesh resolution and
+/// `ball` the gold ball's (`ball × 2·ball` quads; the scene-triangle axis of 000 Fig. 10).
 #[must_use]
-pub fn mirror_teapot(n: u32) -> Scene {
+pub fn mirror_teapot(n: u32, ball: u32) -> Scene {
     let mut tris = Tris::new();
     checker(
         &mut tris,
@@ -202,7 +203,7 @@ pub fn mirror_teapot(n: u32) -> Scene {
         (GREEN, GREEN),
     );
     add(&mut tris, &teapot(Vec3::ZERO, 100.0, n), MIRROR);
-    add(&mut tris, &mesh::sphere(Vec3::new(-230.0, 60.0, 60.0), 60.0, 16, 32), GOLD);
+    add(&mut tris, &mesh::sphere(Vec3::new(-230.0, 60.0, 60.0), 60.0, ball, 2 * ball), GOLD);
     add(&mut tris, &mesh::sphere(Vec3::new(190.0, 55.0, -130.0), 55.0, 16, 32), GLASS);
     add(&mut tris, &mesh::cuboid(Vec3::new(120.0, 0.0, 150.0), Vec3::new(240.0, 120.0, 270.0)), RED);
     let camera = Camera {
