@@ -1,4 +1,4 @@
-//! Thin `#[test]` wrappers: one per property of the CPU renderers.
+//! Thin `#[test]` wrappers: one per property of the CPU renderers (001 beams and 000 nonlinear beams).
 
 beam_conformance::conformance_tests!(
     beam_conformance::Backend::Cpu,
@@ -7,4 +7,8 @@ beam_conformance::conformance_tests!(
     beam_and_ray_images_agree,
     hard_shadow_images_agree,
     primary_coverage_sums_to_one,
+    nonlinear_texels_equal_ray_hits,
+    nonlinear_images_vs_reference,
+    caustics_match_photon_tracing,
+    s3_removes_s1_kinks,
 );
