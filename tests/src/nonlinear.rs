@@ -45,11 +45,11 @@ pub fn properties() -> Vec<Property> {
 /// of its ray and none nearer exists. A bounding triangle that missed a texel would show as a texel
 /// that misses or hits something farther.
 pub fn nonlinear_texels_equal_ray_hits(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{SMesh, render_beam, self_hit_distance};
-    use beam_math::nonlinear::{NonlinearBeam, S3};
+    use beam_cpu::nonlinear::{BumpedBeam, SMesh, TexelBeam, render_beam, self_hit_distance};
+    use beam_math::nonlinear::{BumpBeam, NonlinearBeam, S3};
     let mut checked = 0u64;
     let mut notes = Vec::new();
-    for name in ["mirror-glass", "mirror-glass-coarse", "facing-mirrors"] {
+    for name in ["mirror-glass", "mirror-glass-coarse", "facing-mirrors", "bumpy-mirror"] {
         let scene = scene::builtin(name)?;
         let smesh = SMesh::specular(&scene);
         let eye = scene.camera.position;
@@ -125,7 +125,19 @@ pub fn nonlinear_texels_equal_ray_hits(_: Backend, _: &Config) -> Result<Outcome
                 let s3 = NonlinearBeam::new(f.v, dirs, S3 { normals: f.n }).map(|b| {
                     check(render_beam(&scene, &b, 16, f.prim), &|w| b.ray_at(w), &|r| self_hit_distance(&b, r, extent))
                 });
-                [s1, s3].into_iter().flatten().collect::<Vec<_>>()
+                // On a bumpy mirror, the perturbed beam too (000 §6.3, eq. 5 bounding triangles).
+                let bumped = match scene.material(f.prim) {
+                    scene::Material::Mirror { bump, .. } if bump.delta > 0.0 => {
+                        NonlinearBeam::s1(f.v, dirs).map(|beam| {
+                            let b = BumpedBeam { beam: BumpBeam { beam, delta: bump.delta }, bump };
+                            check(render_beam(&scene, &b, 16, f.prim), &|w| b.texel_ray(w), &|r| {
+                                self_hit_distance(&b, r, extent)
+                            })
+                        })
+                    }
+                    _ => None,
+                };
+                [s1, s3, bumped].into_iter().flatten().collect::<Vec<_>>()
             })
             .collect();
         let mut n = 0;
@@ -157,7 +169,7 @@ pub fn nonlinear_images_vs_reference(_: Backend, _: &Config) -> Result<Outcome, 
         seed: 1,
     };
     let mut notes = Vec::new();
-    for name in ["mirror-glass", "mirror-glass-coarse", "facing-mirrors", "glass-lens-coarse"] {
+    for name in ["mirror-glass", "mirror-glass-coarse", "facing-mirrors", "glass-lens-coarse", "bumpy-mirror"] {
         let scene = scene::builtin(name)?;
         let reference = render_smooth_reference(&scene, &shading, 0);
         for degree in [Degree::S1, Degree::S3] {

@@ -3,12 +3,14 @@
 //! inside it rebuild their ray from the S^n parameterization, intersect the scene triangle, discard
 //! misses and keep the nearest hit (the depth test).
 
+use crate::scene::Bump;
 use crate::scene::Scene;
 use beam_bvh::{Control, NodeVisitor};
-use beam_math::Aabb;
 use beam_math::collide::{Cone, WatertightRay, cone_sphere};
 use beam_math::glam::Vec3;
+use beam_math::nonlinear::{BeamBounds, BoundingTriangle, BumpBeam};
 use beam_math::nonlinear::{Interpolant, NonlinearBeam};
+use beam_math::{Aabb, Ray, Triangle};
 
 /// What a texel's ray hits.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -88,7 +90,7 @@ impl BeamTexture {
 /// Render `beam` into a `size × size` texel region (000 Alg. 1 with Alg. 3 or 4 for the bounding
 /// triangles): nearest hits of the texels' rays, skipping triangle `exclude` (the beam's own base).
 #[must_use]
-pub fn render_beam<L: Interpolant>(scene: &Scene, beam: &NonlinearBeam<L>, size: u32, exclude: u32) -> BeamTexture {
+pub fn render_beam(scene: &Scene, beam: &impl TexelBeam, size: u32, exclude: u32) -> BeamTexture {
     let n = size as usize;
     let mut tex = BeamTexture {
         size,
@@ -97,8 +99,8 @@ pub fn render_beam<L: Interpolant>(scene: &Scene, beam: &NonlinearBeam<L>, size:
         triangles_after_culling: 0,
         texels_tested: 0,
     };
-    let bounds = beam.bounds();
-    let cone = beam.bounding_cone(&bounds.extremal, 0.0);
+    let bounds = beam.s1_or_sn_bounds();
+    let cone = beam.culling_cone(&bounds);
     let extent = scene.bounds().extent().length();
     // Half a texel of slack around the bounding triangle, in barycentric units.
     let slack = 0.5 / size as f32;
@@ -115,8 +117,8 @@ pub fn render_beam<L: Interpolant>(scene: &Scene, beam: &NonlinearBeam<L>, size:
         if !cone_sphere(&cone, centre, radius) {
             continue;
         }
-        let Some(bt) = beam.bounding_triangle(&bounds, tri) else { continue };
-        let neighbour = tri.v.iter().any(|v| beam.base.contains(v));
+        let Some(bt) = beam.bounding_triangle_of(&bounds, tri) else { continue };
+        let neighbour = tri.v.iter().any(|v| beam.base().contains(v));
         tex.triangles_after_culling += 1;
         let m = bt.lower - Vec3::splat(slack);
         // Texels with u ≥ m.y, v ≥ m.z, u + v ≤ 1 − m.x.
@@ -133,7 +135,7 @@ pub fn render_beam<L: Interpolant>(scene: &Scene, beam: &NonlinearBeam<L>, size:
                     continue;
                 }
                 tex.texels_tested += 1;
-                let ray = beam.ray_at(w);
+                let ray = beam.texel_ray(w);
                 let len = ray.direction.length().max(f32::MIN_POSITIVE);
                 let t_min = if neighbour { self_hit_distance(beam, ray, extent) } else { 1e-4 * extent } / len;
                 let k = y as usize * n + x as usize;
@@ -170,7 +172,84 @@ impl NodeVisitor for ConeCull {
 /// on a concave surface they start behind the neighbouring S-mesh faces, so hits nearer than 2μ_b
 /// over the ray's rise above the base are skipped (1e-4 of the scene's diagonal `extent` for S1).
 #[must_use]
-pub fn self_hit_distance<L: Interpolant>(beam: &NonlinearBeam<L>, ray: beam_math::Ray, extent: f32) -> f32 {
-    let rise = (ray.direction.normalize_or_zero().dot(beam.normal)).max(0.05);
-    (1e-4 * extent).max(2.0 * beam.max_offsets().0 / rise)
+pub fn self_hit_distance(beam: &impl TexelBeam, ray: Ray, extent: f32) -> f32 {
+    let rise = (ray.direction.normalize_or_zero().dot(beam.base_normal())).max(0.05);
+    (1e-4 * extent).max(2.0 * beam.lift() / rise)
+}
+
+/// What [`render_beam`] needs of a beam: its texel rays and their bounds (000 Algs. 1–4).
+pub trait TexelBeam {
+    /// The bounds the bounding triangles are computed from (Alg. 3's `B`).
+    fn s1_or_sn_bounds(&self) -> BeamBounds;
+    /// A cone containing every ray (App. A).
+    fn culling_cone(&self, bounds: &BeamBounds) -> Cone;
+    /// Bounding triangle of `tri` on the base (Algs. 3–4, eq. 5 for bump beams).
+    fn bounding_triangle_of(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle>;
+    /// The ray at barycentric point `w` of the base.
+    fn texel_ray(&self, w: Vec3) -> Ray;
+    /// Base vertices.
+    fn base(&self) -> [Vec3; 3];
+    /// Unit base normal on the rays' side.
+    fn base_normal(&self) -> Vec3;
+    /// Largest distance of a ray origin from the flat base (μ_b of eq. 4).
+    fn lift(&self) -> f32;
+}
+
+impl<L: Interpolant> TexelBeam for NonlinearBeam<L> {
+    fn s1_or_sn_bounds(&self) -> BeamBounds {
+        self.bounds()
+    }
+    fn culling_cone(&self, bounds: &BeamBounds) -> Cone {
+        self.bounding_cone(&bounds.extremal, 0.0)
+    }
+    fn bounding_triangle_of(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {
+        self.bounding_triangle(bounds, tri)
+    }
+    fn texel_ray(&self, w: Vec3) -> Ray {
+        self.ray_at(w)
+    }
+    fn base(&self) -> [Vec3; 3] {
+        self.base
+    }
+    fn base_normal(&self) -> Vec3 {
+        self.normal
+    }
+    fn lift(&self) -> f32 {
+        self.max_offsets().0
+    }
+}
+
+/// A bump-mapped (perturbed) beam off a bumpy mirror (000 §6.3): S1 rays tilted by the mirror's
+/// bump map, bounded by the D-expanded bounding triangles (eq. 5) and the δ-widened cone.
+#[derive(Clone, Copy, Debug)]
+pub struct BumpedBeam {
+    /// The perturbed beam of beam-math.
+    pub beam: BumpBeam,
+    /// The bump map that tilts its rays.
+    pub bump: Bump,
+}
+
+impl TexelBeam for BumpedBeam {
+    fn s1_or_sn_bounds(&self) -> BeamBounds {
+        self.beam.beam.bounds()
+    }
+    fn culling_cone(&self, _: &BeamBounds) -> Cone {
+        self.beam.bounding_cone()
+    }
+    fn bounding_triangle_of(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {
+        self.beam.bounding_triangle(bounds, tri)
+    }
+    fn texel_ray(&self, w: Vec3) -> Ray {
+        let base = Triangle { v: self.beam.beam.base };
+        self.beam.ray_at(w, self.bump.tilt(&base, self.beam.beam.normal, base.point(w)))
+    }
+    fn base(&self) -> [Vec3; 3] {
+        self.beam.beam.base
+    }
+    fn base_normal(&self) -> Vec3 {
+        self.beam.beam.normal
+    }
+    fn lift(&self) -> f32 {
+        0.0
+    }
 }

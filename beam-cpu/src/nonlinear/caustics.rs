@@ -56,7 +56,7 @@ fn split(scene: &Scene, f: &SFace, w: Vec3, d: Vec3) -> (Vec3, f32) {
     let entering = d.dot(scene.normal(f.prim)) < 0.0;
     let n = if entering { f.normal_at(w) } else { -f.normal_at(w) };
     match scene.material(f.prim) {
-        Material::Mirror { tint } => (tint, 0.0),
+        Material::Mirror { tint, .. } => (tint, 0.0),
         Material::Glass { ior } => match dielectric(d, n, ior, entering) {
             (fresnel, Some(_)) => (Vec3::splat(fresnel), 1.0 - fresnel),
             (_, None) => (Vec3::ONE, 0.0),

@@ -8,7 +8,7 @@ mod caustics;
 mod smesh;
 mod trace;
 
-pub use atlas::{BeamTexture, TexelHit, render_beam, self_hit_distance};
+pub use atlas::{BeamTexture, BumpedBeam, TexelBeam, TexelHit, render_beam, self_hit_distance};
 pub use caustics::{CausticStats, caustic_texel, caustics_by_beams, caustics_by_photons};
 pub use smesh::{SFace, SMesh};
 pub use trace::{

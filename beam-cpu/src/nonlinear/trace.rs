@@ -9,14 +9,14 @@
 //! their parent is shaded (000 §7.3's per-level atlases); bounces past the last level are traced by
 //! rays. The reference traces the same surfaces with rays about the interpolated (Phong) normals.
 
-use super::atlas::{BeamTexture, render_beam};
+use super::atlas::{BeamTexture, BumpedBeam, TexelBeam, render_beam};
 use super::caustics::{CausticStats, caustics_by_beams, caustics_by_photons};
 use super::smesh::{SFace, SMesh};
 use crate::render::{Image, IrradianceMap, RenderOptions, dielectric, reflect, shade_point, trace_radiance};
 use crate::scene::{Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::{Mat3, Vec3};
-use beam_math::nonlinear::{NonlinearBeam, S1, S3};
+use beam_math::nonlinear::{BumpBeam, NonlinearBeam, S1, S3};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::Mutex;
@@ -78,6 +78,8 @@ pub const TEXELS_PER_SAMPLE: u32 = 4;
 pub(super) enum Beam {
     S1(NonlinearBeam<S1>),
     S3(NonlinearBeam<S3>),
+    /// Off a bumpy mirror: S1 rays tilted by its bump map (000 §6.3).
+    Bumped(BumpedBeam),
 }
 
 impl Beam {
@@ -93,6 +95,7 @@ impl Beam {
         match self {
             Self::S1(b) => b.ray_at(w),
             Self::S3(b) => b.ray_at(w),
+            Self::Bumped(b) => b.texel_ray(w),
         }
     }
 
@@ -100,14 +103,17 @@ impl Beam {
         match self {
             Self::S1(b) => render_beam(scene, b, size, exclude),
             Self::S3(b) => render_beam(scene, b, size, exclude),
+            Self::Bumped(b) => render_beam(scene, b, size, exclude),
         }
     }
 
-    /// Unit direction of the beam's ray through `q` (its nearest projection, 000 §5).
+    /// Unit direction of the beam's ray through `q` (its nearest projection, 000 §5; for a bumped
+    /// beam, that of its unperturbed S1 beam).
     fn direction_through(&self, q: Vec3) -> Option<Vec3> {
         let p = match self {
             Self::S1(b) => b.project_nearest(q),
             Self::S3(b) => b.project_nearest(q),
+            Self::Bumped(b) => b.beam.beam.project_nearest(q),
         }?;
         self.ray_at(p.bary).direction.try_normalize()
     }
@@ -127,7 +133,14 @@ pub(super) fn child_beams(
     // Vertex normals turned against the incoming light.
     let entering = (incoming[0] + incoming[1] + incoming[2]).dot(scene.normal(f.prim)) < 0.0;
     let n = f.n.map(|n| if entering { n } else { -n });
-    let reflected = Beam::new(degree, f, [0, 1, 2].map(|i| reflect(incoming[i], n[i])))?;
+    let dirs = [0, 1, 2].map(|i| reflect(incoming[i], n[i]));
+    let reflected = match scene.material(f.prim) {
+        // Bump beams are S1 beams perturbed by at most δ (000 §6.3).
+        Material::Mirror { bump, .. } if bump.delta > 0.0 => {
+            Beam::Bumped(BumpedBeam { beam: BumpBeam { beam: NonlinearBeam::s1(f.v, dirs)?, delta: bump.delta }, bump })
+        }
+        _ => Beam::new(degree, f, dirs)?,
+    };
     let refracted = match scene.material(f.prim) {
         Material::Glass { ior } => Some(Beam::new(
             degree,
@@ -301,7 +314,7 @@ impl Tree<'_> {
         let w = f.barycentric(p);
         let reflected = sc.reflected.sample(w);
         match (scene.material(prim), &sc.refracted) {
-            (Material::Mirror { tint }, _) => tint * reflected,
+            (Material::Mirror { tint, .. }, _) => tint * reflected,
             (Material::Glass { ior }, Some(refracted)) => {
                 let entering = d.dot(scene.normal(prim)) < 0.0;
                 let n = if entering { f.normal_at(w) } else { -f.normal_at(w) };

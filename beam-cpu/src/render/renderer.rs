@@ -13,6 +13,7 @@ use crate::scene::{Camera, Light, Material, Scene};
 use beam_math::Ray;
 use beam_math::collide::ConvexPolygon;
 use beam_math::glam::{Vec2, Vec3};
+use beam_math::nonlinear::perturb;
 use beam_math::polybeam::{BeamFrame, Section};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
@@ -336,9 +337,15 @@ impl Context<'_> {
                 }
                 albedo / std::f32::consts::PI * e
             }
-            Material::Mirror { tint } if depth < MAX_DEPTH => {
+            Material::Mirror { tint, bump } if depth < MAX_DEPTH => {
                 let s = self.scene.shading_normal(prim, p) * n.dot(self.scene.normal(prim)).signum();
-                tint * self.radiance(Ray::new(p + n * self.eps, reflect(d, s)), depth + 1, rng, c)
+                let mut r = reflect(d, s);
+                if bump.delta > 0.0 {
+                    let tri = &self.scene.triangles[prim as usize];
+                    let u = (tri.v[1] - tri.v[0]).normalize_or_zero();
+                    r = perturb(r.normalize(), n, u, bump.tilt(tri, n, p), bump.delta);
+                }
+                tint * self.radiance(Ray::new(p + n * self.eps, r), depth + 1, rng, c)
             }
             Material::Glass { ior } if depth < MAX_DEPTH => {
                 let s = self.scene.shading_normal(prim, p) * n.dot(self.scene.normal(prim)).signum();

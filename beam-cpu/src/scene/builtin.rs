@@ -6,7 +6,7 @@ use beam_math::Triangle;
 use beam_math::glam::{Mat3, Vec3};
 
 /// Names of the built-in scenes; the first is the default of `beam render`.
-pub const BUILTIN: [&str; 12] = [
+pub const BUILTIN: [&str; 13] = [
     "cornell",
     "mirror-glass",
     "cornell-point",
@@ -19,6 +19,7 @@ pub const BUILTIN: [&str; 12] = [
     "mirror-teapot-coarse",
     "wavy-lake",
     "wavy-lake-coarse",
+    "bumpy-mirror",
 ];
 
 /// A built-in scene by name.
@@ -39,6 +40,7 @@ pub fn builtin(name: &str) -> Result<Scene, String> {
         "mirror-teapot-coarse" => Ok(showcase::mirror_teapot(10, 16)),
         "wavy-lake" => Ok(showcase::wavy_lake(24)),
         "wavy-lake-coarse" => Ok(showcase::wavy_lake(8)),
+        "bumpy-mirror" => Ok(bumpy(cornell(true, false))),
         _ => Err(format!("unknown built-in scene `{name}` (known: {})", BUILTIN.join(", "))),
     }
 }
@@ -66,6 +68,18 @@ fn coarse_mirror(scene: Scene) -> Scene {
     Scene::new("mirror-glass-coarse".into(), tris, scene.materials, scene.lights, scene.camera)
 }
 
+/// `scene` with its mirrors bump-mapped (000 §6.3): rays tilted by up to 0.06 rad by ripples of
+/// wavelength 40.
+fn bumpy(mut scene: Scene) -> Scene {
+    for m in &mut scene.materials {
+        if let Material::Mirror { bump, .. } = m {
+            *bump = super::Bump { delta: 0.06, wavelength: 40.0 };
+        }
+    }
+    scene.name = "bumpy-mirror".into();
+    scene
+}
+
 /// A box of size `size` standing on the floor at `center`, turned by `angle` degrees about y.
 fn turned_box(center: Vec3, size: Vec3, angle: f32) -> Mesh {
     let mut m = mesh::cuboid(-0.5 * size, 0.5 * size);
@@ -85,7 +99,7 @@ fn cornell(spheres: bool, point_light: bool) -> Scene {
     let red = Material::Diffuse { albedo: Vec3::new(0.65, 0.05, 0.05) };
     let green = Material::Diffuse { albedo: Vec3::new(0.12, 0.45, 0.15) };
     let emitter = Material::Emissive { radiance: Vec3::splat(15.0) };
-    let mirror = Material::Mirror { tint: Vec3::splat(0.95) };
+    let mirror = Material::Mirror { tint: Vec3::splat(0.95), bump: super::Bump::NONE };
     let glass = Material::Glass { ior: 1.5 };
     let materials = vec![white, red, green, emitter, mirror, glass];
     let mut tris: Vec<(Triangle, u32)> = Vec::new();

@@ -28,7 +28,7 @@
 //! radiance = [10, 10, 10]       # intensity for a point light
 //! ```
 
-use super::{Camera, Light, Material, Scene};
+use super::{Bump, Camera, Light, Material, Scene};
 use crate::mesh::load_obj;
 use beam_math::Triangle;
 use beam_math::glam::{EulerRot, Mat3, Vec3};
@@ -63,7 +63,7 @@ struct CameraFile {
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 enum MaterialFile {
     Diffuse { albedo: [f32; 3] },
-    Mirror { tint: Option<[f32; 3]> },
+    Mirror { tint: Option<[f32; 3]>, bump: Option<f32>, bump_wavelength: Option<f32> },
     Glass { ior: f32 },
     Glossy { albedo: [f32; 3], variance: f32 },
     Emissive { radiance: [f32; 3] },
@@ -138,7 +138,16 @@ fn load_toml(path: &Path) -> Result<Scene, String> {
         let element = format!("materials.{name}");
         let m = match *m {
             MaterialFile::Diffuse { albedo } => Material::Diffuse { albedo: vec3(albedo) },
-            MaterialFile::Mirror { tint } => Material::Mirror { tint: vec3(tint.unwrap_or([1.0; 3])) },
+            MaterialFile::Mirror { tint, bump, bump_wavelength } => {
+                let (delta, wavelength) = (bump.unwrap_or(0.0), bump_wavelength.unwrap_or(1.0));
+                if !(0.0..=0.5).contains(&delta) {
+                    return Err(format!("{}: {element}.bump must be an angle from 0 to 0.5 radians", path.display()));
+                }
+                if !(wavelength > 0.0 && wavelength.is_finite()) {
+                    return Err(format!("{}: {element}.bump_wavelength must be a positive number", path.display()));
+                }
+                Material::Mirror { tint: vec3(tint.unwrap_or([1.0; 3])), bump: Bump { delta, wavelength } }
+            }
             MaterialFile::Glass { ior } => {
                 if !(ior > 0.0 && ior.is_finite()) {
                     return Err(format!("{}: {element}.ior must be a positive number", path.display()));

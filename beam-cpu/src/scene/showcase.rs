@@ -44,7 +44,7 @@ fn materials() -> Vec<Material> {
         Material::Diffuse { albedo: Vec3::new(0.7, 0.1, 0.08) },
         Material::Diffuse { albedo: Vec3::new(0.12, 0.5, 0.15) },
         Material::Diffuse { albedo: Vec3::new(0.8, 0.55, 0.1) },
-        Material::Mirror { tint: Vec3::splat(0.95) },
+        Material::Mirror { tint: Vec3::splat(0.95), bump: super::Bump::NONE },
         Material::Glass { ior: 1.5 },
         Material::Glass { ior: 1.33 },
     ]

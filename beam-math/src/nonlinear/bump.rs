@@ -9,6 +9,25 @@ use crate::float::Float;
 use crate::shapes::{Ray, Triangle};
 use glam::{Vec2, Vec3};
 
+/// Unit direction `d` (on the side of unit normal `n`) rotated by the angle `δ·‖tilt‖` towards the
+/// tangent direction `tilt` (a vector of length ≤ 1 in the frame `(u, n × u)`, as read from a bump
+/// map); `d` itself when the rotated direction would leave the side of `n` by more than
+/// [`super::MIN_ELEVATION`] allows.
+#[must_use]
+pub fn perturb(d: Vec3, n: Vec3, u: Vec3, tilt: Vec2, delta: f32) -> Vec3 {
+    let len = tilt.length().min(1.0);
+    if len == 0.0 {
+        return d;
+    }
+    let v = n.cross(u);
+    // Rotate d by angle a about the axis perpendicular to d and the tilt direction.
+    let t = (tilt.x * u + tilt.y * v).normalize();
+    let axis = d.cross(t).normalize_or_zero();
+    let a = delta * len;
+    let rotated = d * a.cos_() + axis.cross(d) * a.sin_() + axis * axis.dot(d) * (1.0 - a.cos_());
+    if rotated.dot(n) >= super::beam::MIN_ELEVATION { rotated } else { d }
+}
+
 /// An S1 beam whose rays a bump map tilts by at most `delta` radians.
 #[derive(Clone, Copy, Debug)]
 pub struct BumpBeam {
@@ -25,22 +44,8 @@ impl BumpBeam {
     #[must_use]
     pub fn ray_at(&self, w: Vec3, tilt: Vec2) -> Ray {
         let ray = self.beam.ray_at(w);
-        let d = ray.direction.normalize();
-        let n = self.beam.normal;
         let u = (self.beam.base[1] - self.beam.base[0]).normalize();
-        let v = n.cross(u);
-        let len = tilt.length().min(1.0);
-        if len == 0.0 {
-            return Ray::new(ray.origin, d);
-        }
-        // Rotate d by angle a about the axis perpendicular to d and the tilt direction.
-        let t = (tilt.x * u + tilt.y * v).normalize();
-        let axis = d.cross(t).normalize_or_zero();
-        let a = self.delta * len;
-        let rotated = d * a.cos_() + axis.cross(d) * a.sin_() + axis * axis.dot(d) * (1.0 - a.cos_());
-        let z = rotated.dot(n);
-        let dir = if z >= super::beam::MIN_ELEVATION { rotated } else { d };
-        Ray::new(ray.origin, dir)
+        Ray::new(ray.origin, perturb(ray.direction.normalize(), self.beam.normal, u, tilt, self.delta))
     }
 
     /// `φ`: the largest angle between two rays of the unperturbed beam (attained between two
