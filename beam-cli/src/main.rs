@@ -58,6 +58,10 @@ enum Command {
         /// Levels of the nonlinear beam tree (specular bounces by beams; deeper ones by rays).
         #[arg(long, default_value_t = 2)]
         bounces: u32,
+        /// S-mesh resolution of a procedural built-in (facing-mirrors, glass-lens, mirror-teapot,
+        /// wavy-lake): quads per mirror side, lens rings, teapot profile steps, water quads per side.
+        #[arg(long)]
+        smesh: Option<u32>,
         /// `exact` (eq. 1, Lambert's polygon formula) or `fraction` (001 eq. 2).
         #[arg(long, default_value = "exact")]
         shading: String,
@@ -173,6 +177,7 @@ fn main() -> ExitCode {
             degree,
             texels,
             bounces,
+            smesh,
             shading,
             spp,
             primary_spp,
@@ -187,6 +192,7 @@ fn main() -> ExitCode {
             degree: &degree,
             texels,
             bounces,
+            smesh,
             shading: &shading,
             spp,
             primary_spp,

@@ -13,6 +13,7 @@ pub struct RenderArgs<'a> {
     pub degree: &'a str,
     pub texels: u32,
     pub bounces: u32,
+    pub smesh: Option<u32>,
     pub shading: &'a str,
     pub spp: u32,
     pub primary_spp: u32,
@@ -34,7 +35,10 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         "exact" => Shading::Exact,
         s => return Err(format!("unknown shading `{s}` (fraction, exact)")),
     };
-    let scene = scene::load(a.scene)?;
+    let scene = match a.smesh {
+        Some(n) => scene::builtin_with_smesh(a.scene, n)?,
+        None => scene::load(a.scene)?,
+    };
     let width = a.width.unwrap_or(scene.camera.width);
     let height = a.height.unwrap_or(if a.width.is_some() {
         width * scene.camera.height / scene.camera.width.max(1)

@@ -37,8 +37,8 @@ pub fn properties() -> Vec<Property> {
     ]
 }
 
-/// Nonlinear beams off every mirror face of the built-in mirror scenes (S1 and S3, 16 texels per
-/// side): every texel's stored nearest hit (bounding-cone culling, bounding triangles, per-texel
+/// Nonlinear beams off every third specular face of six built-in scenes (reflection beams, refraction
+/// beams through glass, bumped beams off bumpy mirrors; S1 and S3, 16 texels per side): every texel's stored nearest hit (bounding-cone culling, bounding triangles, per-texel
 /// intersection and depth test) equals the BVH's closest hit of the same ray from the beam's
 /// parameterization (ignoring the beam's own base triangle, and a neighbouring face's hits within
 /// the S^n self-hit distance): the texel's hit is a real intersection
@@ -49,7 +49,14 @@ pub fn nonlinear_texels_equal_ray_hits(_: Backend, _: &Config) -> Result<Outcome
     use beam_math::nonlinear::{BumpBeam, NonlinearBeam, S3};
     let mut checked = 0u64;
     let mut notes = Vec::new();
-    for name in ["mirror-glass", "mirror-glass-coarse", "facing-mirrors", "bumpy-mirror"] {
+    for name in [
+        "mirror-glass",
+        "mirror-glass-coarse",
+        "facing-mirrors",
+        "bumpy-mirror",
+        "glass-lens-coarse",
+        "wavy-lake-coarse",
+    ] {
         let scene = scene::builtin(name)?;
         let smesh = SMesh::specular(&scene);
         let eye = scene.camera.position;
@@ -119,12 +126,29 @@ pub fn nonlinear_texels_equal_ray_hits(_: Backend, _: &Config) -> Result<Outcome
                         }
                         Ok(n)
                     };
-                let s1 = NonlinearBeam::s1(f.v, dirs).map(|b| {
-                    check(render_beam(&scene, &b, 16, f.prim), &|w| b.ray_at(w), &|r| self_hit_distance(&b, r, extent))
-                });
-                let s3 = NonlinearBeam::new(f.v, dirs, S3 { normals: f.n }).map(|b| {
-                    check(render_beam(&scene, &b, 16, f.prim), &|w| b.ray_at(w), &|r| self_hit_distance(&b, r, extent))
-                });
+                // Reflection beams, and through glass the refraction beams (000 §7.2).
+                let mut sets = vec![dirs];
+                if let scene::Material::Glass { ior } = scene.material(f.prim) {
+                    let entering = (f.v[0] - eye).dot(scene.normal(f.prim)) < 0.0;
+                    sets.push([0, 1, 2].map(|i| {
+                        let d = (f.v[i] - eye).normalize();
+                        let n = if entering { f.n[i] } else { -f.n[i] };
+                        beam_cpu::render::dielectric(d, n, ior, entering).1.unwrap_or(d - d.dot(n) * n)
+                    }));
+                }
+                let mut out = Vec::new();
+                for dirs in sets {
+                    out.extend(NonlinearBeam::s1(f.v, dirs).map(|b| {
+                        check(render_beam(&scene, &b, 16, f.prim), &|w| b.ray_at(w), &|r| {
+                            self_hit_distance(&b, r, extent)
+                        })
+                    }));
+                    out.extend(NonlinearBeam::new(f.v, dirs, S3 { normals: f.n }).map(|b| {
+                        check(render_beam(&scene, &b, 16, f.prim), &|w| b.ray_at(w), &|r| {
+                            self_hit_distance(&b, r, extent)
+                        })
+                    }));
+                }
                 // On a bumpy mirror, the perturbed beam too (000 §6.3, eq. 5 bounding triangles).
                 let bumped = match scene.material(f.prim) {
                     scene::Material::Mirror { bump, .. } if bump.delta > 0.0 => {
@@ -137,7 +161,8 @@ pub fn nonlinear_texels_equal_ray_hits(_: Backend, _: &Config) -> Result<Outcome
                     }
                     _ => None,
                 };
-                [s1, s3, bumped].into_iter().flatten().collect::<Vec<_>>()
+                out.extend(bumped);
+                out
             })
             .collect();
         let mut n = 0;

@@ -45,6 +45,24 @@ pub fn builtin(name: &str) -> Result<Scene, String> {
     }
 }
 
+/// The procedural built-ins whose specular surfaces [`builtin_with_smesh`] can tessellate.
+pub const PROCEDURAL: [&str; 4] = ["facing-mirrors", "glass-lens", "mirror-teapot", "wavy-lake"];
+
+/// A procedural built-in with its specular surfaces (the S mesh) at resolution `n` (quads per mirror
+/// side, lens rings, teapot profile steps, water quads per side; 2 to 256).
+pub fn builtin_with_smesh(name: &str, n: u32) -> Result<Scene, String> {
+    if !(2..=256).contains(&n) {
+        return Err(format!("S-mesh resolution {n} out of range (2 to 256)"));
+    }
+    match name {
+        "facing-mirrors" => Ok(showcase::facing_mirrors(n)),
+        "glass-lens" => Ok(showcase::glass_lens(n)),
+        "mirror-teapot" => Ok(showcase::mirror_teapot(n, 16)),
+        "wavy-lake" => Ok(showcase::wavy_lake(n)),
+        _ => Err(format!("an S-mesh resolution applies to the built-ins {} only, not `{name}`", PROCEDURAL.join(", "))),
+    }
+}
+
 fn quad(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Mesh {
     Mesh { positions: vec![a, b, c, d], indices: vec![[0, 1, 2], [0, 2, 3]] }
 }

@@ -7,7 +7,7 @@ mod file;
 mod normals;
 pub mod showcase;
 
-pub use builtin::{BUILTIN, builtin};
+pub use builtin::{BUILTIN, PROCEDURAL, builtin, builtin_with_smesh};
 pub use camera::Camera;
 pub use file::{load, load_file};
 
