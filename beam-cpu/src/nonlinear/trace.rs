@@ -248,24 +248,21 @@ impl Tree<'_> {
     /// levels remain.
     fn shaded(&self, beam: &Beam, f: &SFace, size: u32, pixels: f32, level: u32) -> BeamTexture {
         let mut tex = beam.render(self.scene, size, f.prim);
-        let mut samples = Vec::new();
-        for y in 0..tex.size {
-            for x in 0..tex.size {
-                let Some(hit) = tex.hits[(y * tex.size + x) as usize] else { continue };
-                let Some(&g) = self.smesh.face_of.get(&hit.prim) else { continue };
-                let ray = beam.ray_at(tex.barycentric(x, y));
-                samples.push((g, self.smesh.faces[g].barycentric(ray.at(hit.t)), ray.direction.normalize()));
-            }
-        }
-        let children = self.children(Source::Beam(beam), samples, pixels / tex.texels() as f32, level + 1);
-        for y in 0..tex.size {
-            for x in 0..tex.size {
-                let k = (y * tex.size + x) as usize;
-                let Some(hit) = tex.hits[k] else { continue };
-                let ray = beam.ray_at(tex.barycentric(x, y));
-                let seed = u64::from(f.prim) << 32 | k as u64;
-                tex.radiance[k] = self.shade_hit(&children, hit.prim, ray.at(hit.t), ray.direction.normalize(), seed);
-            }
+        // Per texel that hit: its index, hit triangle, hit point and unit ray direction.
+        let hits: Vec<(usize, u32, Vec3, Vec3)> = (0..tex.size * tex.size)
+            .filter_map(|k| {
+                let hit = tex.hits[k as usize]?;
+                let ray = beam.ray_at(tex.barycentric(k % tex.size, k / tex.size));
+                Some((k as usize, hit.prim, ray.at(hit.t), ray.direction.normalize()))
+            })
+            .collect();
+        let samples = hits.iter().filter_map(|&(_, prim, p, d)| {
+            let g = *self.smesh.face_of.get(&prim)?;
+            Some((g, self.smesh.faces[g].barycentric(p), d))
+        });
+        let children = self.children(Source::Beam(beam), samples.collect(), pixels / tex.texels() as f32, level + 1);
+        for (k, prim, p, d) in hits {
+            tex.radiance[k] = self.shade_hit(&children, prim, p, d, u64::from(f.prim) << 32 | k as u64);
         }
         let mut t = self.tally.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         if t.beams_per_level.len() < level as usize {
