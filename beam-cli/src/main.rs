@@ -102,6 +102,16 @@ enum Command {
         #[arg(long, default_value_t = 0.1)]
         scale: f32,
     },
+    /// Write the WGSL shaders translated by naga (SPIR-V, GLSL, MSL or HLSL), for engines that take
+    /// them into their own pipelines.
+    Shaders {
+        /// `spv`, `glsl`, `msl` or `hlsl`.
+        #[arg(long)]
+        emit: String,
+        /// Output directory (created).
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Reproduce 000 Fig. 7: overdraw of our bounding triangles vs the general case alone.
     Overdraw {
         /// Plot of both sweeps (PNG).
@@ -171,6 +181,14 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Conformance { backend, rays, only } => conformance::run(backend.as_deref(), rays, only),
         Command::Overdraw { out, csv, points } => overdraw::run(&out, &csv, points),
+        Command::Shaders { emit, out } => beam_gpu::shaders::Language::parse(&emit)
+            .and_then(|lang| beam_gpu::shaders::emit(lang, &out))
+            .map(|files| {
+                for f in &files {
+                    println!("{}", f.display());
+                }
+                ExitCode::SUCCESS
+            }),
         Command::Render {
             scene,
             method,

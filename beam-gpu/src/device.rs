@@ -1,0 +1,43 @@
+//! Headless device set-up: an adapter without a window or surface (Mesa lavapipe in CI, a real GPU
+//! where there is one), its name and backend, and a clear error when there is none.
+
+/// A device and its queue with what the adapter says of itself.
+pub struct Gpu {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// Adapter name, backend, driver.
+    pub info: wgpu::AdapterInfo,
+}
+
+impl Gpu {
+    /// The default adapter (`WGPU_BACKEND=vulkan|gl|…` picks a backend) with its own limits.
+    /// Errors say that no adapter exists and how to get one (Mesa's lavapipe on Linux).
+    pub fn new() -> Result<Self, String> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
+        let adapter = pollster::block_on(
+            instance.request_adapter(&wgpu::RequestAdapterOptions { compatible_surface: None, ..Default::default() }),
+        )
+        .map_err(|e| {
+            format!(
+                "no GPU adapter ({e}); on Linux without a GPU install Mesa's software Vulkan driver: \
+                 apt-get install mesa-vulkan-drivers"
+            )
+        })?;
+        let info = adapter.get_info();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("beam"),
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| format!("{} ({:?}): cannot open a device: {e}", info.name, info.backend))?;
+        Ok(Self { device, queue, info })
+    }
+
+    /// `name (backend)`.
+    #[must_use]
+    pub fn describe(&self) -> String {
+        format!("{} ({:?})", self.info.name, self.info.backend)
+    }
+}

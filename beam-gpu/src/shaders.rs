@@ -1,0 +1,153 @@
+//! The WGSL shaders, their validation by naga, and their translation for engines that take them
+//! into their own pipelines (`beam shaders --emit spv|glsl|msl|hlsl`).
+
+use std::path::Path;
+
+/// Code shared by the shaders (`shaders/shared/*.wgsl`), prepended to each.
+const SHARED: &[(&str, &str)] = &[("shared/bvh.wgsl", include_str!("../shaders/shared/bvh.wgsl"))];
+
+/// The shaders: name and source (without the shared code).
+pub const SHADERS: &[(&str, &str)] = &[("raytrace", include_str!("../shaders/raytrace.wgsl"))];
+
+/// The full source of shader `name`: the shared code, then the shader.
+#[must_use]
+pub fn source(name: &str) -> Option<String> {
+    let (_, body) = SHADERS.iter().find(|(n, _)| *n == name)?;
+    let mut out: String = SHARED.iter().map(|(_, s)| *s).collect::<Vec<_>>().join("\n");
+    out.push('\n');
+    out.push_str(body);
+    Some(out)
+}
+
+/// Parse and validate shader `name` with naga.
+pub fn validate(name: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), String> {
+    let src = source(name).ok_or_else(|| format!("no shader named `{name}`"))?;
+    let module = naga::front::wgsl::parse_str(&src).map_err(|e| format!("{name}.wgsl: {}", e.emit_to_string(&src)))?;
+    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+        .validate(&module)
+        .map_err(|e| format!("{name}.wgsl: {}", e.emit_to_string(&src)))?;
+    Ok((module, info))
+}
+
+/// A target language of [`emit`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Language {
+    /// SPIR-V binary (`.spv`).
+    Spirv,
+    /// GLSL 4.50 compute (`.<entry>.comp.glsl`), one file per entry point.
+    Glsl,
+    /// Metal Shading Language (`.metal`).
+    Msl,
+    /// HLSL shader model 5.1 (`.hlsl`).
+    Hlsl,
+}
+
+impl Language {
+    /// From `spv`, `glsl`, `msl` or `hlsl`.
+    pub fn parse(s: &str) -> Result<Self, String> {
+        match s {
+            "spv" => Ok(Self::Spirv),
+            "glsl" => Ok(Self::Glsl),
+            "msl" => Ok(Self::Msl),
+            "hlsl" => Ok(Self::Hlsl),
+            _ => Err(format!("unknown shader language `{s}` (spv, glsl, msl, hlsl)")),
+        }
+    }
+}
+
+/// Translate every shader to `lang` into directory `out` (created); returns the files written.
+pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let mut written = Vec::new();
+    for (name, _) in SHADERS {
+        let (module, info) = validate(name)?;
+        let files: Vec<(String, Vec<u8>)> = match lang {
+            Language::Spirv => {
+                let words = naga::back::spv::write_vec(&module, &info, &naga::back::spv::Options::default(), None)
+                    .map_err(|e| format!("{name}: SPIR-V: {e}"))?;
+                vec![(format!("{name}.spv"), words.iter().flat_map(|w| w.to_le_bytes()).collect())]
+            }
+            Language::Glsl => {
+                let mut files = Vec::new();
+                for ep in &module.entry_points {
+                    let mut text = String::new();
+                    let options = naga::back::glsl::Options {
+                        version: naga::back::glsl::Version::Desktop(450),
+                        ..Default::default()
+                    };
+                    let pipeline = naga::back::glsl::PipelineOptions {
+                        shader_stage: ep.stage,
+                        entry_point: ep.name.clone(),
+                        multiview: None,
+                    };
+                    naga::back::glsl::Writer::new(
+                        &mut text,
+                        &module,
+                        &info,
+                        &options,
+                        &pipeline,
+                        naga::proc::BoundsCheckPolicies::default(),
+                    )
+                    .and_then(|mut w| w.write().map(|_| ()))
+                    .map_err(|e| format!("{name}: GLSL: {e}"))?;
+                    files.push((format!("{name}.{}.comp.glsl", ep.name), text.into_bytes()));
+                }
+                files
+            }
+            Language::Msl => {
+                let (text, _) = naga::back::msl::write_string(
+                    &module,
+                    &info,
+                    &naga::back::msl::Options::default(),
+                    &naga::back::msl::PipelineOptions::default(),
+                )
+                .map_err(|e| format!("{name}: MSL: {e}"))?;
+                vec![(format!("{name}.metal"), text.into_bytes())]
+            }
+            Language::Hlsl => {
+                let mut text = String::new();
+                naga::back::hlsl::Writer::new(&mut text, &naga::back::hlsl::Options::default(), &Default::default())
+                    .write(&module, &info, None)
+                    .map_err(|e| format!("{name}: HLSL: {e}"))?;
+                vec![(format!("{name}.hlsl"), text.into_bytes())]
+            }
+        };
+        for (file, bytes) in files {
+            let path = out.join(file);
+            let tmp = path.with_extension("tmp");
+            std::fs::write(&tmp, &bytes).map_err(|e| format!("{}: {e}", tmp.display()))?;
+            std::fs::rename(&tmp, &path).map_err(|e| format!("{}: {e}", path.display()))?;
+            written.push(path);
+        }
+    }
+    Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_shader_validates() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+        let on_disk = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter(|e| e.as_ref().is_ok_and(|e| e.path().extension().is_some_and(|x| x == "wgsl")));
+        let n = on_disk.count();
+        assert!(n > 0, "no shaders found in {}", dir.display());
+        assert_eq!(n, SHADERS.len(), "every shaders/*.wgsl must be listed in SHADERS");
+        for (name, _) in SHADERS {
+            validate(name).unwrap_or_else(|e| panic!("{e}"));
+        }
+    }
+
+    #[test]
+    fn every_language_translates() {
+        let dir = std::env::temp_dir().join(format!("beam-shaders-{}", std::process::id()));
+        for lang in [Language::Spirv, Language::Glsl, Language::Msl, Language::Hlsl] {
+            let files = emit(lang, &dir).unwrap_or_else(|e| panic!("{lang:?}: {e}"));
+            assert!(!files.is_empty() && files.iter().all(|f| f.metadata().is_ok_and(|m| m.len() > 0)), "{lang:?}");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
