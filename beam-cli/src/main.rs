@@ -4,6 +4,7 @@
 mod bench;
 mod conformance;
 mod overdraw;
+mod plot;
 mod progress;
 mod render;
 

@@ -1,6 +1,6 @@
 //! `beam overdraw`: 000 Fig. 7 as a plot and a CSV table.
 
-use beam_cpu::io::{write_atomic, write_png};
+use beam_cpu::io::write_atomic;
 use beam_cpu::overdraw::{OverdrawRow, Sweep, sweep, to_csv};
 use plotters::prelude::*;
 use std::path::Path;
@@ -41,11 +41,7 @@ fn range(rows: &[OverdrawRow], s: Sweep) -> ((f64, f64), (f64, f64)) {
 }
 
 fn plot(path: &Path, rows: &[OverdrawRow]) -> Result<(), String> {
-    let (w, h) = (1400u32, 560u32);
-    let mut buf = vec![0u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+    crate::plot::png(path, (1400, 560), |root| {
         let panels = root.split_evenly((1, 2));
         for (panel, s) in panels.iter().zip([Sweep::Size, Sweep::Distance]) {
             let data: Vec<_> = rows.iter().filter(|r| r.sweep == s).collect();
@@ -75,25 +71,8 @@ fn plot(path: &Path, rows: &[OverdrawRow]) -> Result<(), String> {
                 ("general case only ([11])", RED, data.iter().map(|r| (r.parameter, r.general)).collect::<Vec<_>>()),
                 ("ours (Alg. 3)", BLUE, data.iter().map(|r| (r.parameter, r.ours)).collect()),
             ];
-            for (label, color, points) in series {
-                chart
-                    .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))
-                    .map_err(|e| e.to_string())?
-                    .label(label)
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
-                chart
-                    .draw_series(points.iter().map(|&p| Circle::new(p, 3, color.filled())))
-                    .map_err(|e| e.to_string())?;
-            }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| e.to_string())?;
+            crate::plot::lines(&mut chart, series.into())?;
         }
-        root.present().map_err(|e| e.to_string())?;
-    }
-    write_png(path, w, h, &buf)
+        Ok(())
+    })
 }

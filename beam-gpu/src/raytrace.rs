@@ -92,6 +92,11 @@ impl RayTracer {
         if rays.is_empty() {
             return Ok(Vec::new());
         }
+        // One dispatch: at most 65,535 workgroups of 64 rays.
+        let groups = rays.len().div_ceil(64);
+        if groups > 65_535 {
+            return Err(format!("{} rays exceed one dispatch (at most {})", rays.len(), 65_535 * 64));
+        }
         let device = &gpu.device;
         let ray_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("rays"),
@@ -126,13 +131,7 @@ impl RayTracer {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bind, &[]);
-            let groups = rays.len().div_ceil(64) as u32;
-            // Dispatch in slices that respect the 65,535 workgroups-per-dimension limit.
-            let (x, y) = (groups.min(65_535), groups.div_ceil(65_535));
-            if y > 1 {
-                return Err(format!("{} rays exceed one dispatch (at most {})", rays.len(), 65_535 * 64));
-            }
-            pass.dispatch_workgroups(x, 1, 1);
+            pass.dispatch_workgroups(groups as u32, 1, 1);
         }
         encoder.copy_buffer_to_buffer(&hits, 0, &readback, 0, size);
         gpu.queue.submit([encoder.finish()]);

@@ -24,14 +24,9 @@ fn gpu_hits_equal_cpu_hits() {
         let scene = beam_cpu::scene::builtin(name).unwrap();
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles)).unwrap();
         let bounds = scene.bounds();
-        let frame = scene.camera.frame();
-        let mut rays = Vec::new();
-        for i in 0..128 * 128 {
-            let mut cam = scene.camera;
-            (cam.width, cam.height) = (128, 128);
-            let r = cam.ray(&frame, (i % 128) as f32 + 0.5, (i / 128) as f32 + 0.5);
-            rays.push((r, f32::INFINITY, 0));
-        }
+        let camera = scene.camera.with_size(128, 128);
+        let frame = camera.frame();
+        let mut rays: Vec<_> = (0..128 * 128).map(|i| (camera.pixel_ray(&frame, i), f32::INFINITY, 0)).collect();
         for k in 0..20_000 {
             let p = |rng: &mut rand_pcg::Pcg32| {
                 bounds.min + (bounds.max - bounds.min) * Vec3::new(rng.random(), rng.random(), rng.random())

@@ -2,7 +2,7 @@
 //! the ray-traced ground truth, and S3's smoothness over S1.
 
 use crate::{Backend, Config, Outcome, Property};
-use beam_cpu::render::{Method, RenderOptions, Shading, difference};
+use beam_cpu::render::{RenderOptions, difference};
 use beam_cpu::scene;
 use beam_math::Ray;
 use beam_math::collide::WatertightRay;
@@ -183,16 +183,7 @@ pub fn nonlinear_texels_equal_ray_hits(_: Backend, _: &Config) -> Result<Outcome
 /// measures the photon noise of the reference.)
 pub fn nonlinear_images_vs_reference(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::nonlinear::{Degree, NonlinearOptions, render_nonlinear, render_smooth_reference};
-    let shading = RenderOptions {
-        method: Method::Beam,
-        shading: Shading::Exact,
-        spp: 1,
-        primary_spp: 1,
-        primary_beams: false,
-        width: 128,
-        height: 128,
-        seed: 1,
-    };
+    let shading = RenderOptions::exact(128, 128);
     let mut notes = Vec::new();
     for name in ["mirror-glass", "mirror-glass-coarse", "facing-mirrors", "glass-lens-coarse", "bumpy-mirror"] {
         let scene = scene::builtin(name)?;
@@ -221,24 +212,14 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::render::srgb_encode;
     use beam_cpu::scene::Material;
     let size = 256;
-    let shading = RenderOptions {
-        method: Method::Beam,
-        shading: Shading::Exact,
-        spp: 1,
-        primary_spp: 1,
-        primary_beams: false,
-        width: size,
-        height: size,
-        seed: 1,
-    };
+    let shading = RenderOptions::exact(size, size);
     let (coarse, fine) = (scene::builtin("mirror-glass-coarse")?, scene::builtin("mirror-glass")?);
     let mirror_at = |scene: &scene::Scene| -> Vec<bool> {
-        let mut camera = scene.camera;
-        (camera.width, camera.height) = (size, size);
+        let camera = scene.camera.with_size(size, size);
         let frame = camera.frame();
-        (0..size * size)
+        (0..(size * size) as usize)
             .map(|i| {
-                let ray = camera.ray(&frame, (i % size) as f32 + 0.5, (i / size) as f32 + 0.5);
+                let ray = camera.pixel_ray(&frame, i);
                 scene
                     .wide
                     .closest_hit(ray, f32::INFINITY)

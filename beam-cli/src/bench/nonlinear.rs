@@ -2,9 +2,10 @@
 //! the mirror teapot against scene triangles, S-mesh triangles (beams) and atlas resolution, S1 and
 //! S3, beside the ray-traced reference measured in the same run.
 
-use beam_cpu::io::{write_atomic, write_png};
+use beam_cpu::io::write_atomic;
 use beam_cpu::nonlinear::{Degree, NonlinearOptions, render_nonlinear, render_smooth_reference};
-use beam_cpu::render::{Method, RenderOptions, Shading};
+use beam_cpu::render::RenderOptions;
+use beam_cpu::scene::Material;
 use beam_cpu::scene::showcase::mirror_teapot;
 use plotters::prelude::*;
 use std::fmt::Write as _;
@@ -28,7 +29,7 @@ pub fn run(size: u32, out: &Path, csv: &Path) -> Result<(), String> {
     let triangles = |n: u32, ball: u32| mirror_teapot(n, ball).triangles.len() as f64;
     let mirror = |n: u32| {
         let s = mirror_teapot(n, 16);
-        s.smooth_normals.len() as f64 - 2.0 * 16.0 * 32.0 // the glass ball's faces are S faces too
+        s.smooth_normals.keys().filter(|&&p| matches!(s.material(p), Material::Mirror { .. })).count() as f64
     };
     let sweeps: Vec<Sweep> = vec![
         (
@@ -49,16 +50,7 @@ pub fn run(size: u32, out: &Path, csv: &Path) -> Result<(), String> {
     ];
     let points: usize = sweeps.iter().map(|s| s.2.len()).sum();
     let bar = crate::progress::bar(points as u64, "nonlinear sweep");
-    let shading = RenderOptions {
-        method: Method::Beam,
-        shading: Shading::Exact,
-        spp: 1,
-        primary_spp: 1,
-        primary_beams: false,
-        width: size,
-        height: size,
-        seed: 1,
-    };
+    let shading = RenderOptions::exact(size, size);
     let mut rows = Vec::new();
     for (name, _, pts) in &sweeps {
         for &((n, ball, texels), x) in pts {
@@ -98,11 +90,7 @@ pub fn run(size: u32, out: &Path, csv: &Path) -> Result<(), String> {
 }
 
 fn plot(path: &Path, sweeps: &[Sweep], rows: &[Row]) -> Result<(), String> {
-    let (w, h) = (1800u32, 560u32);
-    let mut buf = vec![0u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+    crate::plot::png(path, (1800, 560), |root| {
         for (panel, (name, label, _)) in root.split_evenly((1, 3)).iter().zip(sweeps) {
             let data: Vec<&Row> = rows.iter().filter(|r| r.sweep == *name).collect();
             let (x0, x1) = data.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), r| (lo.min(r.x), hi.max(r.x)));
@@ -127,25 +115,8 @@ fn plot(path: &Path, sweeps: &[Sweep], rows: &[Row]) -> Result<(), String> {
                 ("nonlinear S3", RED, data.iter().map(|r| (r.x, r.s3)).collect()),
                 ("rays (reference)", BLACK, data.iter().map(|r| (r.x, r.rays)).collect()),
             ];
-            for (label, color, points) in series {
-                chart
-                    .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))
-                    .map_err(|e| e.to_string())?
-                    .label(label)
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
-                chart
-                    .draw_series(points.iter().map(|&p| Circle::new(p, 3, color.filled())))
-                    .map_err(|e| e.to_string())?;
-            }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| e.to_string())?;
+            crate::plot::lines(&mut chart, series.into())?;
         }
-        root.present().map_err(|e| e.to_string())?;
-    }
-    write_png(path, w, h, &buf)
+        Ok(())
+    })
 }

@@ -6,7 +6,7 @@
 
 use super::smesh::{SFace, SMesh};
 use super::trace::{Beam, Degree, child_beams};
-use crate::render::{DEPTH_EPS, IrradianceMap, dielectric};
+use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, shading_eps};
 use crate::scene::{Light, Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -29,8 +29,11 @@ pub fn caustic_texel(scene: &Scene) -> f32 {
     scene.bounds().extent().max_element() / 256.0
 }
 
-/// The point lights of `scene` with their positions and intensities.
-fn point_lights(scene: &Scene) -> Vec<(Vec3, Vec3)> {
+/// A point light's position and intensity.
+type PointLight = (Vec3, Vec3);
+
+/// The point lights of `scene`.
+fn point_lights(scene: &Scene) -> Vec<PointLight> {
     scene
         .lights
         .iter()
@@ -41,11 +44,22 @@ fn point_lights(scene: &Scene) -> Vec<(Vec3, Vec3)> {
         .collect()
 }
 
-/// True when the segment from `p` (on triangle `prim`, offset towards `to`) to `to` is blocked.
-fn blocked(scene: &Scene, prim: u32, p: Vec3, to: Vec3) -> bool {
+/// The point lights, the S mesh and an empty irradiance map of `scene`; `None` without point lights
+/// or specular faces.
+fn setup(scene: &Scene) -> Option<(Vec<PointLight>, SMesh, IrradianceMap)> {
+    let lights = point_lights(scene);
+    let smesh = SMesh::specular(scene);
+    if lights.is_empty() || smesh.faces.is_empty() {
+        return None;
+    }
+    Some((lights, smesh, IrradianceMap::new(scene, caustic_texel(scene))))
+}
+
+/// True when the segment from `p` (on triangle `prim`, offset by `eps` towards `to`) to `to` is
+/// blocked.
+fn blocked(scene: &Scene, prim: u32, p: Vec3, to: Vec3, eps: f32) -> bool {
     let n = scene.normal(prim);
     let side = if n.dot(to - p) > 0.0 { n } else { -n };
-    let eps = 1e-4 * scene.bounds().extent().length();
     let o = p + side * eps;
     scene.wide.any_hit(Ray::new(o, to - o), 1.0 - DEPTH_EPS)
 }
@@ -73,13 +87,9 @@ fn split(scene: &Scene, f: &SFace, w: Vec3, d: Vec3) -> (Vec3, f32) {
 /// specular faces.
 #[must_use]
 pub fn caustics_by_beams(scene: &Scene, degree: Degree, texels: u32) -> Option<(IrradianceMap, CausticStats)> {
-    let lights = point_lights(scene);
-    let smesh = SMesh::specular(scene);
-    if lights.is_empty() || smesh.faces.is_empty() {
-        return None;
-    }
-    let empty = IrradianceMap::new(scene, caustic_texel(scene));
-    let jobs: Vec<((Vec3, Vec3), &SFace)> =
+    let (lights, smesh, empty) = setup(scene)?;
+    let eps = shading_eps(scene);
+    let jobs: Vec<(PointLight, &SFace)> =
         lights.iter().flat_map(|&l| smesh.faces.iter().map(move |f| (l, f))).collect();
     let (map, stats) = jobs
         .par_iter()
@@ -90,13 +100,14 @@ pub fn caustics_by_beams(scene: &Scene, degree: Degree, texels: u32) -> Option<(
                 let Some((reflected, refracted)) = child_beams(scene, f, incoming, degree) else {
                     return (map, stats);
                 };
-                let area = 0.5 * (f.v[1] - f.v[0]).cross(f.v[2] - f.v[0]).length();
-                let n = scene.normal(f.prim);
+                // Whether the light reaches each texel's base point, shared by the face's two beams.
+                let mut lit = vec![None; (texels * texels) as usize];
                 for (beam, transmitted) in
                     [Some(reflected), refracted.flatten()].into_iter().flatten().zip([false, true])
                 {
                     stats.beams += 1;
-                    deposit(scene, f, &beam, texels, (light, intensity), area, n, transmitted, &mut map, &mut stats);
+                    let light = (light, intensity);
+                    deposit(scene, f, &beam, texels, light, transmitted, eps, &mut lit, &mut map, &mut stats);
                 }
                 (map, stats)
             },
@@ -117,24 +128,25 @@ pub fn caustics_by_beams(scene: &Scene, degree: Degree, texels: u32) -> Option<(
     Some((map, stats))
 }
 
-/// Render one light beam off face `f` and splat its texels' flux (see [`caustics_by_beams`]).
-#[allow(clippy::too_many_arguments)]
+/// Render one light beam off face `f` and splat its texels' flux (see [`caustics_by_beams`]);
+/// `lit` caches per texel whether the light reaches its base point (shadow rays offset by `eps`).
 fn deposit(
     scene: &Scene,
     f: &SFace,
     beam: &Beam,
     texels: u32,
-    (light, intensity): (Vec3, Vec3),
-    area: f32,
-    n: Vec3,
+    (light, intensity): PointLight,
     transmitted: bool,
+    eps: f32,
+    lit: &mut [Option<bool>],
     map: &mut IrradianceMap,
     stats: &mut CausticStats,
 ) {
     let tex = beam.render(scene, texels, f.prim);
+    let n = scene.normal(f.prim);
     // Texels whose centre lies strictly inside the base: x + y + 1 ≤ size, n(n+1)/2 of them.
     let inside = u64::from(texels) * u64::from(texels + 1) / 2;
-    let share = area / inside as f32;
+    let share = f.area() / inside as f32;
     for y in 0..tex.size {
         for x in 0..tex.size - y {
             let Some(hit) = tex.hits[(y * tex.size + x) as usize] else { continue };
@@ -148,7 +160,9 @@ fn deposit(
             let d = to / r2.sqrt();
             let (reflect, transmit) = split(scene, f, w, d);
             let weight = if transmitted { Vec3::splat(transmit) } else { reflect };
-            if weight == Vec3::ZERO || blocked(scene, f.prim, base, light) {
+            if weight == Vec3::ZERO
+                || !*lit[(y * tex.size + x) as usize].get_or_insert_with(|| !blocked(scene, f.prim, base, light, eps))
+            {
                 continue;
             }
             let ray = beam.ray_at(w);
@@ -167,20 +181,14 @@ fn deposit(
 /// surface they hit when it is diffuse (second specular bounces are not followed, as for beams).
 #[must_use]
 pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<IrradianceMap> {
-    let lights = point_lights(scene);
-    let smesh = SMesh::specular(scene);
-    if lights.is_empty() || smesh.faces.is_empty() {
-        return None;
-    }
-    let empty = IrradianceMap::new(scene, caustic_texel(scene));
-    let eps = 1e-4 * scene.bounds().extent().length();
+    let (lights, smesh, empty) = setup(scene)?;
+    let eps = shading_eps(scene);
     let mut jobs = Vec::new();
     for &(light, intensity) in &lights {
         let share = |f: &SFace| {
             let c = (f.v[0] + f.v[1] + f.v[2]) / 3.0;
             let to = c - light;
-            let area = 0.5 * (f.v[1] - f.v[0]).cross(f.v[2] - f.v[0]).length();
-            scene.normal(f.prim).dot(to).abs() / to.length().powi(3) * area
+            scene.normal(f.prim).dot(to).abs() / to.length().powi(3) * f.area()
         };
         let total: f32 = smesh.faces.iter().map(share).sum();
         for (i, f) in smesh.faces.iter().enumerate() {
@@ -194,8 +202,7 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
             || empty.clone(),
             |mut map, &(light, intensity, f, m, seed)| {
                 let mut rng = Pcg32::seed_from_u64(seed);
-                let area = 0.5 * (f.v[1] - f.v[0]).cross(f.v[2] - f.v[0]).length();
-                let n = scene.normal(f.prim);
+                let (area, n) = (f.area(), scene.normal(f.prim));
                 for _ in 0..m {
                     let (mut s, mut t) = (rng.random::<f32>(), rng.random::<f32>());
                     if s + t > 1.0 {
@@ -206,7 +213,7 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
                     let to = p - light;
                     let r2 = to.length_squared();
                     let d = to / r2.sqrt();
-                    if blocked(scene, f.prim, p, light) {
+                    if blocked(scene, f.prim, p, light, eps) {
                         continue;
                     }
                     let flux = intensity * (n.dot(d).abs() * area / (r2 * m as f32));

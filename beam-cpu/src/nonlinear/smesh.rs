@@ -30,6 +30,12 @@ impl SFace {
         [0, 1, 2].map(|i| crate::render::reflect((self.v[i] - eye).normalize_or_zero(), self.n[i]))
     }
 
+    /// Area.
+    #[must_use]
+    pub fn area(&self) -> f32 {
+        Triangle { v: self.v }.area()
+    }
+
     /// Barycentric coordinates of point `p` (projected onto the face's plane).
     #[must_use]
     pub fn barycentric(&self, p: Vec3) -> Vec3 {

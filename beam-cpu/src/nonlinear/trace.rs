@@ -329,9 +329,7 @@ impl Tree<'_> {
 #[must_use]
 pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, NonlinearStats) {
     let start = Instant::now();
-    let mut camera = scene.camera;
-    camera.width = options.shading.width.max(1);
-    camera.height = options.shading.height.max(1);
+    let camera = scene.camera.with_size(options.shading.width, options.shading.height);
     // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.
     let caustics = caustics_by_beams(scene, options.degree, options.texels);
     let caustic_stats = caustics.as_ref().map(|c| c.1.clone()).unwrap_or_default();
@@ -343,13 +341,12 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
         caustics: caustics.map(|c| c.0),
     };
     let frame = camera.frame();
-    let w = camera.width as usize;
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree.
-    let hits: Vec<Option<(Ray, beam_bvh::Hit)>> = (0..w * camera.height as usize)
+    let hits: Vec<Option<(Ray, beam_bvh::Hit)>> = (0..(camera.width * camera.height) as usize)
         .into_par_iter()
         .map(|i| {
-            let ray = camera.ray(&frame, (i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
+            let ray = camera.pixel_ray(&frame, i);
             scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (ray, h))
         })
         .collect();
@@ -396,14 +393,11 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
 #[must_use]
 pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions, photons: u64) -> Image {
     let caustics = caustics_by_photons(scene, photons, options.seed);
-    let mut camera = scene.camera;
-    camera.width = options.width.max(1);
-    camera.height = options.height.max(1);
+    let camera = scene.camera.with_size(options.width, options.height);
     let frame = camera.frame();
     let mut image = Image::new(camera.width, camera.height);
-    let w = camera.width as usize;
     image.pixels.par_iter_mut().enumerate().for_each(|(i, px)| {
-        let ray = camera.ray(&frame, (i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
+        let ray = camera.pixel_ray(&frame, i);
         *px = trace_radiance(scene, options, caustics.as_ref(), ray, i as u64);
     });
     image

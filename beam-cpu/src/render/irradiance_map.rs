@@ -22,19 +22,20 @@ impl PlaneMap {
         let q = p - self.origin;
         Vec2::new(q.dot(self.axes[0]), q.dot(self.axes[1]))
     }
+}
 
-    /// The four texels around continuous coordinates `c` with their bilinear (tent) weights.
-    fn taps(&self, c: Vec2) -> impl Iterator<Item = (usize, f32)> + '_ {
-        let (x0, y0) = (c.x.floor(), c.y.floor());
-        let (ax, ay) = (c.x - x0, c.y - y0);
-        [(0, 0, (1.0 - ax) * (1.0 - ay)), (1, 0, ax * (1.0 - ay)), (0, 1, (1.0 - ax) * ay), (1, 1, ax * ay)]
-            .into_iter()
-            .filter_map(move |(dx, dy, k)| {
-                let (x, y) = (x0 as i64 + dx, y0 as i64 + dy);
-                let inside = x >= 0 && y >= 0 && x < i64::from(self.size[0]) && y < i64::from(self.size[1]);
-                (inside && k > 0.0).then(|| ((y as u64 * u64::from(self.size[0]) + x as u64) as usize, k))
-            })
-    }
+/// The texels of a `size[0] × size[1]` grid around continuous coordinates `c`, with their bilinear
+/// (tent) weights.
+fn taps(size: [u32; 2], c: Vec2) -> impl Iterator<Item = (usize, f32)> {
+    let (x0, y0) = (c.x.floor(), c.y.floor());
+    let (ax, ay) = (c.x - x0, c.y - y0);
+    [(0, 0, (1.0 - ax) * (1.0 - ay)), (1, 0, ax * (1.0 - ay)), (0, 1, (1.0 - ax) * ay), (1, 1, ax * ay)]
+        .into_iter()
+        .filter_map(move |(dx, dy, k)| {
+            let (x, y) = (x0 as i64 + dx, y0 as i64 + dy);
+            let inside = x >= 0 && y >= 0 && x < i64::from(size[0]) && y < i64::from(size[1]);
+            (inside && k > 0.0).then(|| ((y as u64 * u64::from(size[0]) + x as u64) as usize, k))
+        })
 }
 
 /// Irradiance over the scene's diffuse and glossy triangles, grouped by plane.
@@ -54,7 +55,8 @@ impl IrradianceMap {
     pub fn new(scene: &Scene, texel: f32) -> Self {
         let texel = texel.max(f32::MIN_POSITIVE);
         let mut key_of: HashMap<(i32, i32, i32, i64), usize> = HashMap::new();
-        let mut bounds: Vec<(Vec3, Vec3, Vec2, Vec2)> = Vec::new();
+        // Per plane: origin, in-plane axes, and the bounds of its triangles in those axes.
+        let mut bounds: Vec<(Vec3, [Vec3; 2], Vec2, Vec2)> = Vec::new();
         let mut plane_of = HashMap::new();
         for (i, tri) in scene.triangles.iter().enumerate() {
             if !matches!(scene.material(i as u32), Material::Diffuse { .. } | Material::Glossy { .. }) {
@@ -64,11 +66,12 @@ impl IrradianceMap {
             let q = |x: f32| (x * 1000.0).round() as i32;
             let key = (q(n.x), q(n.y), q(n.z), (n.dot(tri.v[0]) / (0.1 * texel)).round() as i64);
             let m = *key_of.entry(key).or_insert_with(|| {
-                bounds.push((tri.v[0], n, Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)));
+                let axes = [n.any_orthonormal_vector(), n.cross(n.any_orthonormal_vector())];
+                bounds.push((tri.v[0], axes, Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)));
                 bounds.len() - 1
             });
-            let (origin, normal, lo, hi) = &mut bounds[m];
-            let (u, v) = (normal.any_orthonormal_vector(), normal.cross(normal.any_orthonormal_vector()));
+            let (origin, [u, v], lo, hi) = &mut bounds[m];
+            let (u, v) = (*u, *v);
             for p in tri.v {
                 let c = Vec2::new((p - *origin).dot(u), (p - *origin).dot(v));
                 *lo = lo.min(c);
@@ -78,8 +81,7 @@ impl IrradianceMap {
         }
         let maps = bounds
             .into_iter()
-            .map(|(origin, n, lo, hi)| {
-                let (u, v) = (n.any_orthonormal_vector(), n.cross(n.any_orthonormal_vector()));
+            .map(|(origin, [u, v], lo, hi)| {
                 // One texel of margin each side; texel centres at integer coordinates.
                 let corner = origin + (lo.x - texel) * u + (lo.y - texel) * v;
                 let size = ((hi - lo) / texel).ceil().as_uvec2() + 3;
@@ -99,9 +101,7 @@ impl IrradianceMap {
     pub fn splat(&mut self, prim: u32, p: Vec3, flux: Vec3) -> bool {
         let Some(&m) = self.plane_of.get(&prim) else { return false };
         let map = &mut self.maps[m];
-        let c = map.coords(p);
-        let taps: Vec<(usize, f32)> = map.taps(c).collect();
-        for (k, w) in taps {
+        for (k, w) in taps(map.size, map.coords(p)) {
             map.flux[k] += w * flux;
         }
         true
@@ -113,7 +113,7 @@ impl IrradianceMap {
     pub fn irradiance(&self, prim: u32, p: Vec3) -> Vec3 {
         let Some(&m) = self.plane_of.get(&prim) else { return Vec3::ZERO };
         let map = &self.maps[m];
-        let sum: Vec3 = map.taps(map.coords(p)).map(|(k, w)| w * map.flux[k]).sum();
+        let sum: Vec3 = taps(map.size, map.coords(p)).map(|(k, w)| w * map.flux[k]).sum();
         sum / (self.texel * self.texel)
     }
 

@@ -15,6 +15,7 @@ pub use image::{Image, srgb_decode, srgb_encode};
 pub use irradiance_map::IrradianceMap;
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
+pub(crate) use renderer::shading_eps;
 pub use renderer::{
     Method, Occluder, RenderOptions, RenderStats, Shading, TILE, dielectric, primary_coverage, reflect, refract,
     render, render_with, shade_point, trace_radiance,

@@ -64,6 +64,24 @@ pub struct RenderOptions {
     pub seed: u64,
 }
 
+impl RenderOptions {
+    /// Exact shading by shadow beams (001 eq. 1) at `width × height`, one primary ray per pixel
+    /// centre: the shading the nonlinear renderer and its references share.
+    #[must_use]
+    pub fn exact(width: u32, height: u32) -> Self {
+        Self {
+            method: Method::Beam,
+            shading: Shading::Exact,
+            spp: 1,
+            primary_spp: 1,
+            primary_beams: false,
+            width,
+            height,
+            seed: 1,
+        }
+    }
+}
+
 /// What a render did.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct RenderStats {
@@ -266,9 +284,7 @@ fn tile_fragments(
 /// primary visibility by eye beams; both are 1 wherever geometry surrounds the camera).
 #[must_use]
 pub fn primary_coverage(scene: &Scene, width: u32, height: u32) -> Vec<(f32, f32)> {
-    let mut camera = scene.camera;
-    camera.width = width;
-    camera.height = height;
+    let camera = scene.camera.with_size(width, height);
     let mut out = vec![(0.0f32, 0.0f32); (width * height) as usize];
     let mut seen = vec![false; scene.triangles.len()];
     for ty in 0..height.div_ceil(TILE) {
@@ -510,7 +526,7 @@ fn with_context<R>(
 }
 
 /// Offset of secondary ray origins from surfaces: 1e-4 of the scene's diagonal.
-fn shading_eps(scene: &Scene) -> f32 {
+pub(crate) fn shading_eps(scene: &Scene) -> f32 {
     1e-4 * scene.bounds().extent().length()
 }
 
@@ -570,9 +586,7 @@ pub fn render_with(
     row_done: impl Fn() + Sync,
 ) -> (Image, RenderStats) {
     let start = Instant::now();
-    let mut camera = scene.camera;
-    camera.width = options.width.max(1);
-    camera.height = options.height.max(1);
+    let camera = scene.camera.with_size(options.width, options.height);
     let frame = camera.frame();
     let ctx = Context { scene, options: *options, eps: shading_eps(scene), occluded, caustics: None };
     let pixel_seed =

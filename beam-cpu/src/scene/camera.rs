@@ -48,6 +48,12 @@ impl Camera {
         Self { position, target: position + forward, up: Vec3::Y, fov_y: 60.0, width, height }
     }
 
+    /// The same camera rendering `width × height` pixels (at least one each way).
+    #[must_use]
+    pub fn with_size(self, width: u32, height: u32) -> Self {
+        Self { width: width.max(1), height: height.max(1), ..self }
+    }
+
     /// The camera's frame.
     #[must_use]
     pub fn frame(&self) -> CameraFrame {
@@ -66,6 +72,13 @@ impl Camera {
         let sx = (2.0 * x / self.width as f32 - 1.0) * frame.half_width;
         let sy = (1.0 - 2.0 * y / self.height as f32) * frame.half_height;
         self.position + frame.forward + frame.right * sx + frame.up * sy
+    }
+
+    /// The primary ray through the centre of pixel `i` (row-major).
+    #[must_use]
+    pub fn pixel_ray(&self, frame: &CameraFrame, i: usize) -> Ray {
+        let w = self.width.max(1) as usize;
+        self.ray(frame, (i % w) as f32 + 0.5, (i / w) as f32 + 0.5)
     }
 
     /// The primary ray through continuous pixel coordinates `(x, y)`.

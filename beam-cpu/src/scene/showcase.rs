@@ -27,6 +27,22 @@ fn checker(tris: &mut Tris, corner: Vec3, eu: Vec3, ev: Vec3, n: u32, (a, b): (u
     }
 }
 
+/// A one-material rectangle `corner + [0, 1]·eu + [0, 1]·ev` (a wall).
+fn wall(tris: &mut Tris, corner: Vec3, eu: Vec3, ev: Vec3, material: u32) {
+    checker(tris, corner, eu, ev, 1, (material, material));
+}
+
+/// A checkered floor of `n × n` white and dark squares over the square of side `size` at `corner`
+/// (spanning +x and +z).
+fn floor(tris: &mut Tris, corner: Vec3, size: f32, n: u32) {
+    checker(tris, corner, Vec3::new(0.0, 0.0, size), Vec3::new(size, 0.0, 0.0), n, (WHITE, DARK));
+}
+
+/// A 512² camera at `position` looking at `target`, up +y, vertical field of view `fov_y` degrees.
+fn camera(position: Vec3, target: Vec3, fov_y: f32) -> Camera {
+    Camera { position, target, up: Vec3::Y, fov_y, width: 512, height: 512 }
+}
+
 /// The materials every showcase scene shares, by index.
 const WHITE: u32 = 0;
 const DARK: u32 = 1;
@@ -78,22 +94,8 @@ fn sphere_patch(centre: Vec3, radius: f32, axis: Vec3, half: f32, n: u32) -> Mes
 #[must_use]
 pub fn facing_mirrors(n: u32) -> Scene {
     let mut tris = Tris::new();
-    checker(
-        &mut tris,
-        Vec3::new(-400.0, 0.0, -400.0),
-        Vec3::new(0.0, 0.0, 800.0),
-        Vec3::new(800.0, 0.0, 0.0),
-        8,
-        (WHITE, DARK),
-    );
-    checker(
-        &mut tris,
-        Vec3::new(-400.0, 0.0, 400.0),
-        Vec3::new(800.0, 0.0, 0.0),
-        Vec3::new(0.0, 500.0, 0.0),
-        1,
-        (GREEN, GREEN),
-    );
+    floor(&mut tris, Vec3::new(-400.0, 0.0, -400.0), 800.0, 8);
+    wall(&mut tris, Vec3::new(-400.0, 0.0, 400.0), Vec3::new(800.0, 0.0, 0.0), Vec3::new(0.0, 500.0, 0.0), GREEN);
     let radius = 1400.0;
     for side in [-1.0f32, 1.0] {
         // The mirror at x = 260·side, its sphere's centre across the room: concave towards it.
@@ -102,14 +104,7 @@ pub fn facing_mirrors(n: u32) -> Scene {
     }
     add(&mut tris, &mesh::sphere(Vec3::new(20.0, 60.0, -40.0), 60.0, 16, 32), GOLD);
     add(&mut tris, &mesh::cuboid(Vec3::new(-150.0, 0.0, 60.0), Vec3::new(-70.0, 160.0, 140.0)), RED);
-    let camera = Camera {
-        position: Vec3::new(230.0, 230.0, -170.0),
-        target: Vec3::new(-260.0, 140.0, 0.0),
-        up: Vec3::Y,
-        fov_y: 50.0,
-        width: 512,
-        height: 512,
-    };
+    let camera = camera(Vec3::new(230.0, 230.0, -170.0), Vec3::new(-260.0, 140.0, 0.0), 50.0);
     Scene::new("facing-mirrors".into(), tris, materials(), vec![ceiling_light(0.0, 600.0, -100.0, 200.0)], camera)
 }
 
@@ -119,14 +114,7 @@ pub fn facing_mirrors(n: u32) -> Scene {
 #[must_use]
 pub fn glass_lens(n: u32) -> Scene {
     let mut tris = Tris::new();
-    checker(
-        &mut tris,
-        Vec3::new(-500.0, 0.0, -600.0),
-        Vec3::new(0.0, 0.0, 1000.0),
-        Vec3::new(1000.0, 0.0, 0.0),
-        10,
-        (WHITE, DARK),
-    );
+    floor(&mut tris, Vec3::new(-500.0, 0.0, -600.0), 1000.0, 10);
     checker(
         &mut tris,
         Vec3::new(-400.0, 0.0, 300.0),
@@ -152,14 +140,7 @@ pub fn glass_lens(n: u32) -> Scene {
     add(&mut tris, &band, GLASS);
     add(&mut tris, &mesh::cuboid(Vec3::new(-15.0, 0.0, -15.0), Vec3::new(15.0, y - a, 15.0)), DARK);
     add(&mut tris, &mesh::sphere(Vec3::new(-230.0, 50.0, 120.0), 50.0, 16, 32), GOLD);
-    let camera = Camera {
-        position: Vec3::new(60.0, 200.0, -560.0),
-        target: Vec3::new(0.0, 160.0, 0.0),
-        up: Vec3::Y,
-        fov_y: 40.0,
-        width: 512,
-        height: 512,
-    };
+    let camera = camera(Vec3::new(60.0, 200.0, -560.0), Vec3::new(0.0, 160.0, 0.0), 40.0);
     Scene::new("glass-lens".into(), tris, materials(), vec![ceiling_light(0.0, 650.0, -250.0, 250.0)], camera)
 }
 
@@ -170,50 +151,16 @@ pub fn glass_lens(n: u32) -> Scene {
 #[must_use]
 pub fn mirror_teapot(n: u32, ball: u32) -> Scene {
     let mut tris = Tris::new();
-    checker(
-        &mut tris,
-        Vec3::new(-400.0, 0.0, -400.0),
-        Vec3::new(0.0, 0.0, 800.0),
-        Vec3::new(800.0, 0.0, 0.0),
-        8,
-        (WHITE, DARK),
-    );
-    checker(
-        &mut tris,
-        Vec3::new(-400.0, 0.0, 400.0),
-        Vec3::new(800.0, 0.0, 0.0),
-        Vec3::new(0.0, 500.0, 0.0),
-        1,
-        (WHITE, WHITE),
-    );
-    checker(
-        &mut tris,
-        Vec3::new(-400.0, 0.0, -400.0),
-        Vec3::new(0.0, 500.0, 0.0),
-        Vec3::new(0.0, 0.0, 800.0),
-        1,
-        (RED, RED),
-    );
-    checker(
-        &mut tris,
-        Vec3::new(400.0, 0.0, -400.0),
-        Vec3::new(0.0, 0.0, 800.0),
-        Vec3::new(0.0, 500.0, 0.0),
-        1,
-        (GREEN, GREEN),
-    );
+    floor(&mut tris, Vec3::new(-400.0, 0.0, -400.0), 800.0, 8);
+    let (up, along_x, along_z) = (Vec3::new(0.0, 500.0, 0.0), Vec3::new(800.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 800.0));
+    wall(&mut tris, Vec3::new(-400.0, 0.0, 400.0), along_x, up, WHITE);
+    wall(&mut tris, Vec3::new(-400.0, 0.0, -400.0), up, along_z, RED);
+    wall(&mut tris, Vec3::new(400.0, 0.0, -400.0), along_z, up, GREEN);
     add(&mut tris, &teapot(Vec3::ZERO, 100.0, n), MIRROR);
     add(&mut tris, &mesh::sphere(Vec3::new(-230.0, 60.0, 60.0), 60.0, ball, 2 * ball), GOLD);
     add(&mut tris, &mesh::sphere(Vec3::new(190.0, 55.0, -130.0), 55.0, 16, 32), GLASS);
     add(&mut tris, &mesh::cuboid(Vec3::new(120.0, 0.0, 150.0), Vec3::new(240.0, 120.0, 270.0)), RED);
-    let camera = Camera {
-        position: Vec3::new(-60.0, 280.0, -620.0),
-        target: Vec3::new(0.0, 90.0, 0.0),
-        up: Vec3::Y,
-        fov_y: 42.0,
-        width: 512,
-        height: 512,
-    };
+    let camera = camera(Vec3::new(-60.0, 280.0, -620.0), Vec3::new(0.0, 90.0, 0.0), 42.0);
     Scene::new("mirror-teapot".into(), tris, materials(), vec![ceiling_light(0.0, 499.0, -50.0, 220.0)], camera)
 }
 
@@ -286,21 +233,14 @@ fn wave(x: f32, z: f32) -> f32 {
 pub fn wavy_lake(n: u32) -> Scene {
     let mut tris = Tris::new();
     let (h, bed, rim) = (300.0f32, -150.0f32, 30.0f32);
-    checker(
-        &mut tris,
-        Vec3::new(-h, bed, -h),
-        Vec3::new(0.0, 0.0, 2.0 * h),
-        Vec3::new(2.0 * h, 0.0, 0.0),
-        6,
-        (WHITE, DARK),
-    );
+    floor(&mut tris, Vec3::new(-h, bed, -h), 2.0 * h, 6);
     for (corner, along) in [
         (Vec3::new(-h, bed, -h), Vec3::new(2.0 * h, 0.0, 0.0)),
         (Vec3::new(h, bed, -h), Vec3::new(0.0, 0.0, 2.0 * h)),
         (Vec3::new(h, bed, h), Vec3::new(-2.0 * h, 0.0, 0.0)),
         (Vec3::new(-h, bed, h), Vec3::new(0.0, 0.0, -2.0 * h)),
     ] {
-        checker(&mut tris, corner, along, Vec3::new(0.0, rim - bed, 0.0), 1, (GREEN, GREEN));
+        wall(&mut tris, corner, along, Vec3::new(0.0, rim - bed, 0.0), GREEN);
     }
     // u along z and v along x, so that ∂u × ∂v points up, out of the water.
     let water = mesh::parametric(n, n, |u, v| {
@@ -312,13 +252,6 @@ pub fn wavy_lake(n: u32) -> Scene {
     add(&mut tris, &mesh::cuboid(Vec3::new(-220.0, 60.0, 120.0), Vec3::new(-140.0, 140.0, 200.0)), RED);
     add(&mut tris, &mesh::cuboid(Vec3::new(-90.0, 230.0, -80.0), Vec3::new(30.0, 238.0, -30.0)), WHITE);
     let light = Light::Point { position: Vec3::new(60.0, 650.0, -60.0), intensity: Vec3::splat(1.2e6) };
-    let camera = Camera {
-        position: Vec3::new(0.0, 560.0, -470.0),
-        target: Vec3::new(0.0, -110.0, 40.0),
-        up: Vec3::Y,
-        fov_y: 45.0,
-        width: 512,
-        height: 512,
-    };
+    let camera = camera(Vec3::new(0.0, 560.0, -470.0), Vec3::new(0.0, -110.0, 40.0), 45.0);
     Scene::new("wavy-lake".into(), tris, materials(), vec![light], camera)
 }
