@@ -4,8 +4,9 @@
 //! beams do not reach lies in a nonlinear shadow. The ground truth traces photons from the light
 //! through the same surfaces about the interpolated normals.
 
+use super::atlas::BeamTexture;
 use super::smesh::{SFace, SMesh};
-use super::trace::{Beam, Degree, child_beams};
+use super::trace::{Beam, BeamJob, BeamRenderer, Degree, child_beams};
 use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, shading_eps};
 use crate::scene::{Light, Material, Scene};
 use beam_math::Ray;
@@ -86,55 +87,80 @@ fn split(scene: &Scene, f: &SFace, w: Vec3, d: Vec3) -> (Vec3, f32) {
 /// it. Paths with a second specular bounce are not followed. `None` without point lights or
 /// specular faces.
 #[must_use]
-pub fn caustics_by_beams(scene: &Scene, degree: Degree, texels: u32) -> Option<(IrradianceMap, CausticStats)> {
+pub fn caustics_by_beams(
+    scene: &Scene,
+    degree: Degree,
+    texels: u32,
+    renderer: &dyn BeamRenderer,
+) -> Option<(IrradianceMap, CausticStats)> {
     let (lights, smesh, empty) = setup(scene)?;
     let eps = shading_eps(scene);
-    let jobs: Vec<(PointLight, &SFace)> =
-        lights.iter().flat_map(|&l| smesh.faces.iter().map(move |f| (l, f))).collect();
-    let (map, stats) = jobs
-        .par_iter()
-        .fold(
-            || (empty.clone(), CausticStats::default()),
-            |(mut map, mut stats), &((light, intensity), f)| {
-                let incoming = f.v.map(|v| (v - light).normalize_or_zero());
-                let Some((reflected, refracted)) = child_beams(scene, f, incoming, degree) else {
-                    return (map, stats);
-                };
-                // Whether the light reaches each texel's base point, shared by the face's two beams.
-                let mut lit = vec![None; (texels * texels) as usize];
-                for (beam, transmitted) in
-                    [Some(reflected), refracted.flatten()].into_iter().flatten().zip([false, true])
-                {
-                    stats.beams += 1;
-                    let light = (light, intensity);
-                    deposit(scene, f, &beam, texels, light, transmitted, eps, &mut lit, &mut map, &mut stats);
-                }
-                (map, stats)
-            },
-        )
-        .reduce(
-            || (empty.clone(), CausticStats::default()),
-            |(mut a, sa), (b, sb)| {
-                a.merge(&b);
-                (
-                    a,
-                    CausticStats {
-                        beams: sa.beams + sb.beams,
-                        texels_deposited: sa.texels_deposited + sb.texels_deposited,
-                    },
-                )
-            },
-        );
+    // Per point light and face it lights: its reflection and refraction beams.
+    let faces: Vec<(PointLight, &SFace, Vec<(Beam, bool)>)> = lights
+        .iter()
+        .flat_map(|&l| smesh.faces.iter().map(move |f| (l, f)))
+        .filter_map(|((light, intensity), f)| {
+            let incoming = f.v.map(|v| (v - light).normalize_or_zero());
+            let (reflected, refracted) = child_beams(scene, f, incoming, degree)?;
+            let beams = [Some(reflected), refracted.flatten()].into_iter().flatten().zip([false, true]).collect();
+            Some(((light, intensity), f, beams))
+        })
+        .collect();
+    let mut map = empty.clone();
+    let mut stats = CausticStats::default();
+    // Batches of faces, so that the beams' textures stay within a few hundred MB.
+    for batch in faces.chunks(512) {
+        let jobs: Vec<BeamJob<'_>> = batch
+            .iter()
+            .flat_map(|(_, f, beams)| beams.iter().map(|(beam, _)| BeamJob { beam, size: texels, exclude: f.prim }))
+            .collect();
+        let mut textures = renderer.render_beams(scene, &jobs).into_iter();
+        let work: Vec<_> = batch
+            .iter()
+            .map(|(l, f, beams)| (*l, *f, beams, textures.by_ref().take(beams.len()).collect::<Vec<_>>()))
+            .collect();
+        let (m, s) = work
+            .par_iter()
+            .fold(
+                || (empty.clone(), CausticStats::default()),
+                |(mut map, mut stats), (light, f, beams, textures)| {
+                    // Whether the light reaches each texel's base point, shared by the face's beams.
+                    let mut lit = vec![None; (texels * texels) as usize];
+                    for ((beam, transmitted), tex) in beams.iter().zip(textures) {
+                        stats.beams += 1;
+                        deposit(scene, f, beam, tex, *light, *transmitted, eps, &mut lit, &mut map, &mut stats);
+                    }
+                    (map, stats)
+                },
+            )
+            .reduce(
+                || (empty.clone(), CausticStats::default()),
+                |(mut a, sa), (b, sb)| {
+                    a.merge(&b);
+                    (
+                        a,
+                        CausticStats {
+                            beams: sa.beams + sb.beams,
+                            texels_deposited: sa.texels_deposited + sb.texels_deposited,
+                        },
+                    )
+                },
+            );
+        map.merge(&m);
+        stats.beams += s.beams;
+        stats.texels_deposited += s.texels_deposited;
+    }
     Some((map, stats))
 }
 
-/// Render one light beam off face `f` and splat its texels' flux (see [`caustics_by_beams`]);
+/// Splat the flux of one light beam's texels `tex` off face `f` (see [`caustics_by_beams`]);
 /// `lit` caches per texel whether the light reaches its base point (shadow rays offset by `eps`).
+#[allow(clippy::too_many_arguments)]
 fn deposit(
     scene: &Scene,
     f: &SFace,
     beam: &Beam,
-    texels: u32,
+    tex: &BeamTexture,
     (light, intensity): PointLight,
     transmitted: bool,
     eps: f32,
@@ -142,10 +168,9 @@ fn deposit(
     map: &mut IrradianceMap,
     stats: &mut CausticStats,
 ) {
-    let tex = beam.render(scene, texels, f.prim);
     let n = scene.normal(f.prim);
     // Texels whose centre lies strictly inside the base: x + y + 1 ≤ size, n(n+1)/2 of them.
-    let inside = u64::from(texels) * u64::from(texels + 1) / 2;
+    let inside = u64::from(tex.size) * u64::from(tex.size + 1) / 2;
     let share = f.area() / inside as f32;
     for y in 0..tex.size {
         for x in 0..tex.size - y {

@@ -12,5 +12,6 @@ pub use atlas::{BeamTexture, BumpedBeam, TexelBeam, TexelHit, render_beam, self_
 pub use caustics::{CausticStats, caustic_texel, caustics_by_beams, caustics_by_photons};
 pub use smesh::{SFace, SMesh};
 pub use trace::{
-    Degree, NonlinearOptions, NonlinearStats, TEXELS_PER_SAMPLE, render_nonlinear, render_smooth_reference,
+    Beam, BeamJob, BeamRenderer, CpuBeams, Degree, NonlinearOptions, NonlinearStats, TEXELS_PER_SAMPLE,
+    render_nonlinear, render_nonlinear_with, render_smooth_reference,
 };

@@ -13,13 +13,13 @@ use super::atlas::{BeamTexture, BumpedBeam, TexelBeam, render_beam};
 use super::caustics::{CausticStats, caustics_by_beams, caustics_by_photons};
 use super::smesh::{SFace, SMesh};
 use crate::render::{Image, IrradianceMap, RenderOptions, dielectric, reflect, shade_point, trace_radiance};
-use crate::scene::{Material, Scene};
+use crate::scene::{Camera, Material, Scene};
+use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::{Mat3, Vec3};
 use beam_math::nonlinear::{BumpBeam, NonlinearBeam, S1, S3};
 use rayon::prelude::*;
 use std::collections::HashMap;
-use std::sync::Mutex;
 use std::time::Instant;
 
 /// The S^n parameterization of the beams (000 §4).
@@ -75,8 +75,11 @@ pub struct NonlinearStats {
 pub const TEXELS_PER_SAMPLE: u32 = 4;
 
 /// A nonlinear beam of either parameterization.
-pub(super) enum Beam {
+#[derive(Clone, Copy, Debug)]
+pub enum Beam {
+    /// Linear (eq. 3).
     S1(NonlinearBeam<S1>),
+    /// Cubic (eq. 6).
     S3(NonlinearBeam<S3>),
     /// Off a bumpy mirror: S1 rays tilted by its bump map (000 §6.3).
     Bumped(BumpedBeam),
@@ -91,7 +94,9 @@ impl Beam {
         }
     }
 
-    pub(super) fn ray_at(&self, w: Vec3) -> Ray {
+    /// The ray at barycentric point `w` of the base.
+    #[must_use]
+    pub fn ray_at(&self, w: Vec3) -> Ray {
         match self {
             Self::S1(b) => b.ray_at(w),
             Self::S3(b) => b.ray_at(w),
@@ -99,7 +104,9 @@ impl Beam {
         }
     }
 
-    pub(super) fn render(&self, scene: &Scene, size: u32, exclude: u32) -> BeamTexture {
+    /// The beam rendered on the CPU ([`render_beam`]).
+    #[must_use]
+    pub fn render(&self, scene: &Scene, size: u32, exclude: u32) -> BeamTexture {
         match self {
             Self::S1(b) => render_beam(scene, b, size, exclude),
             Self::S3(b) => render_beam(scene, b, size, exclude),
@@ -191,20 +198,78 @@ impl Source<'_> {
     }
 }
 
-/// The shaded child beams of one S-mesh face: its reflection and, for glass, its refraction.
-struct Scattered {
-    reflected: BeamTexture,
-    refracted: Option<BeamTexture>,
+/// Renders batches of beams into their texel regions: [`CpuBeams`] (each beam by [`render_beam`],
+/// in parallel) or a GPU's per-level atlases (000 §3, in beam-gpu).
+pub trait BeamRenderer: Sync {
+    /// The textures of `jobs`, in order: nearest hits only (radiance zero), as [`render_beam`].
+    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Vec<BeamTexture>;
+
+    /// The eye's nearest hit at every pixel centre of `camera` (row-major).
+    fn eye_hits(&self, scene: &Scene, camera: &Camera) -> Vec<Option<(Ray, Hit)>>;
 }
 
-/// Counts over the whole tree.
-#[derive(Default)]
-struct Tally {
-    beams_per_level: Vec<u64>,
-    triangles: u64,
-    texels_tested: u64,
-    texels_rendered: u64,
-    texels_shaded: u64,
+/// One beam to render: `size × size` texels, skipping scene triangle `exclude` (its base).
+#[derive(Clone, Copy)]
+pub struct BeamJob<'a> {
+    /// The beam.
+    pub beam: &'a Beam,
+    /// Texels per side of its region.
+    pub size: u32,
+    /// The scene triangle it leaves (never hit by its own rays).
+    pub exclude: u32,
+}
+
+/// The CPU's beam renderer: [`render_beam`] per beam, in parallel; primary rays through the BVH.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CpuBeams;
+
+impl BeamRenderer for CpuBeams {
+    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Vec<BeamTexture> {
+        jobs.par_iter().map(|j| j.beam.render(scene, j.size, j.exclude)).collect()
+    }
+
+    fn eye_hits(&self, scene: &Scene, camera: &Camera) -> Vec<Option<(Ray, Hit)>> {
+        let frame = camera.frame();
+        (0..(camera.width * camera.height) as usize)
+            .into_par_iter()
+            .map(|i| {
+                let ray = camera.pixel_ray(&frame, i);
+                scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (ray, h))
+            })
+            .collect()
+    }
+}
+
+/// The child beams of one S-mesh face: indices of its reflection and, for glass, its refraction in
+/// the next level.
+#[derive(Clone, Copy)]
+struct Scattered {
+    reflected: usize,
+    refracted: Option<usize>,
+}
+
+/// A rendered beam of the tree.
+struct Node {
+    beam: Beam,
+    /// Its base: the S-mesh face it leaves.
+    face: usize,
+    /// Pixels it covers (directly, or through its parents).
+    pixels: f32,
+    tex: BeamTexture,
+    /// Per texel that hit: its index, hit triangle, hit point and unit ray direction.
+    hits: Vec<(usize, u32, Vec3, Vec3)>,
+    /// Its children per S-mesh face its texels hit.
+    children: HashMap<usize, Scattered>,
+}
+
+/// The light arriving at one S-mesh face, from which its beams are built: samples (barycentric
+/// point, unit direction) of the pixels' or the parent texels' rays on it, standing for `pixels`.
+struct Request {
+    /// The parent beam (index into the previous level), or the eye.
+    parent: Option<usize>,
+    face: usize,
+    samples: Vec<(Vec3, Vec3)>,
+    pixels: f32,
 }
 
 /// One render's beam tree.
@@ -212,111 +277,155 @@ struct Tree<'a> {
     scene: &'a Scene,
     smesh: SMesh,
     options: NonlinearOptions,
-    tally: Mutex<Tally>,
+    eye: Vec3,
     /// Irradiance through the specular surfaces from point lights (caustics, nonlinear shadows).
     caustics: Option<IrradianceMap>,
 }
 
 impl Tree<'_> {
-    /// The level-`level` beams off face `fi` lit from `source` (000 §7.2), rendered and shaded;
-    /// `None` when a beam is degenerate (its texels are then shaded by rays).
-    fn scattered(
-        &self,
-        source: Source<'_>,
-        fi: usize,
-        samples: &[(Vec3, Vec3)],
-        pixels: f32,
-        level: u32,
-    ) -> Option<Scattered> {
-        // size²/2 texels cover the base: the smallest power of two with TEXELS_PER_SAMPLE texels
-        // per pixel.
-        let size = (2.0 * TEXELS_PER_SAMPLE as f32 * pixels).sqrt().ceil() as u32;
-        let size = size.next_power_of_two().clamp(4, self.options.texels.max(2));
-        let f = &self.smesh.faces[fi];
-        let incoming = source.directions_to(f, samples)?;
-        let (reflected, refracted) = child_beams(self.scene, f, incoming, self.options.degree)?;
-        let reflected = self.shaded(&reflected, f, size, pixels, level);
-        let refracted = match refracted {
-            Some(b) => Some(self.shaded(&b?, f, size, pixels, level)),
-            None => None,
-        };
-        Some(Scattered { reflected, refracted })
-    }
-
-    /// `beam` (off face `f`, at level `level`, seen in `pixels` pixels) rendered into a `size ×
-    /// size` texel region and shaded: texels on specular faces from their own child beams while
-    /// levels remain.
-    fn shaded(&self, beam: &Beam, f: &SFace, size: u32, pixels: f32, level: u32) -> BeamTexture {
-        let mut tex = beam.render(self.scene, size, f.prim);
-        // Per texel that hit: its index, hit triangle, hit point and unit ray direction.
-        let hits: Vec<(usize, u32, Vec3, Vec3)> = (0..tex.size * tex.size)
-            .filter_map(|k| {
-                let hit = tex.hits[k as usize]?;
-                let ray = beam.ray_at(tex.barycentric(k % tex.size, k / tex.size));
-                Some((k as usize, hit.prim, ray.at(hit.t), ray.direction.normalize()))
-            })
-            .collect();
-        let samples = hits.iter().filter_map(|&(_, prim, p, d)| {
-            let g = *self.smesh.face_of.get(&prim)?;
-            Some((g, self.smesh.faces[g].barycentric(p), d))
-        });
-        let children = self.children(Source::Beam(beam), samples.collect(), pixels / tex.texels() as f32, level + 1);
-        for (k, prim, p, d) in hits {
-            tex.radiance[k] = self.shade_hit(&children, prim, p, d, u64::from(f.prim) << 32 | k as u64);
-        }
-        let mut t = self.tally.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        if t.beams_per_level.len() < level as usize {
-            t.beams_per_level.resize(level as usize, 0);
-        }
-        t.beams_per_level[level as usize - 1] += 1;
-        t.triangles += u64::from(tex.triangles_after_culling);
-        t.texels_tested += tex.texels_tested;
-        t.texels_rendered += tex.texels();
-        t.texels_shaded += tex.hits.iter().flatten().count() as u64;
-        tex
-    }
-
-    /// The level-`level` beams of the faces that `samples` (face, barycentric point, unit
-    /// direction of one pixel's or parent texel's ray, standing for `pixels_per_sample` pixels)
-    /// land on, lit from `source`, each sized to the pixels it covers; none past the last level.
-    fn children(
-        &self,
-        source: Source<'_>,
-        samples: Vec<(usize, Vec3, Vec3)>,
+    /// Requests for the faces that `samples` (face, barycentric point, unit direction of one
+    /// pixel's or parent texel's ray, standing for `pixels_per_sample` pixels) land on.
+    fn requests(
+        parent: Option<usize>,
+        samples: impl Iterator<Item = (usize, Vec3, Vec3)>,
         pixels_per_sample: f32,
-        level: u32,
-    ) -> HashMap<usize, Scattered> {
-        if level > self.options.bounces {
-            return HashMap::new();
-        }
+    ) -> Vec<Request> {
         let mut on: HashMap<usize, Vec<(Vec3, Vec3)>> = HashMap::new();
         for (fi, w, d) in samples {
             on.entry(fi).or_default().push((w, d));
         }
-        on.into_par_iter()
-            .filter_map(|(fi, s)| {
-                self.scattered(source, fi, &s, s.len() as f32 * pixels_per_sample, level).map(|sc| (fi, sc))
-            })
+        on.into_iter()
+            .map(|(face, samples)| Request { parent, face, pixels: samples.len() as f32 * pixels_per_sample, samples })
             .collect()
     }
 
+    /// The beam tree level by level (000 §7.2–7.3, per-level atlases): each level's beams built from
+    /// the light arriving at its faces, rendered in one batch by `renderer`, their texels' hits on
+    /// specular faces the requests of the next level. Returns the roots' children and the levels.
+    fn build(&self, renderer: &dyn BeamRenderer, roots: Vec<Request>) -> (HashMap<usize, Scattered>, Vec<Vec<Node>>) {
+        let mut levels: Vec<Vec<Node>> = Vec::new();
+        let mut root_children = HashMap::new();
+        let mut requests = roots;
+        for level in 1..=self.options.bounces {
+            if requests.is_empty() {
+                break;
+            }
+            let parents = levels.last();
+            // The beams of each request (000 §7.2); a face whose beams are degenerate is shaded by rays.
+            let built: Vec<Option<(Beam, Option<Beam>, u32)>> = requests
+                .par_iter()
+                .map(|r| {
+                    let source = match r.parent {
+                        Some(p) => Source::Beam(&parents?[p].beam),
+                        None => Source::Eye(self.eye),
+                    };
+                    let f = &self.smesh.faces[r.face];
+                    let incoming = source.directions_to(f, &r.samples)?;
+                    let (reflected, refracted) = child_beams(self.scene, f, incoming, self.options.degree)?;
+                    let refracted = match refracted {
+                        Some(b) => Some(b?),
+                        None => None,
+                    };
+                    // size²/2 texels cover the base: the smallest power of two with
+                    // TEXELS_PER_SAMPLE texels per pixel.
+                    let size = (2.0 * TEXELS_PER_SAMPLE as f32 * r.pixels).sqrt().ceil() as u32;
+                    Some((reflected, refracted, size.next_power_of_two().clamp(4, self.options.texels.max(2))))
+                })
+                .collect();
+            let mut beams = Vec::new();
+            for (r, b) in requests.iter().zip(built) {
+                let Some((reflected, refracted, size)) = b else { continue };
+                let mut push = |beam| {
+                    beams.push((beam, r.face, r.pixels, size));
+                    beams.len() - 1
+                };
+                let scattered = Scattered { reflected: push(reflected), refracted: refracted.map(push) };
+                match (r.parent, levels.last_mut()) {
+                    (Some(p), Some(parents)) => parents[p].children.insert(r.face, scattered),
+                    _ => root_children.insert(r.face, scattered),
+                };
+            }
+            let jobs: Vec<BeamJob<'_>> = beams
+                .iter()
+                .map(|(beam, face, _, size)| BeamJob { beam, size: *size, exclude: self.smesh.faces[*face].prim })
+                .collect();
+            let textures = renderer.render_beams(self.scene, &jobs);
+            let nodes: Vec<Node> = beams
+                .into_par_iter()
+                .zip(textures)
+                .map(|((beam, face, pixels, _), tex)| {
+                    let hits = (0..tex.size * tex.size)
+                        .filter_map(|k| {
+                            let hit = tex.hits[k as usize]?;
+                            let ray = beam.ray_at(tex.barycentric(k % tex.size, k / tex.size));
+                            Some((k as usize, hit.prim, ray.at(hit.t), ray.direction.normalize()))
+                        })
+                        .collect();
+                    Node { beam, face, pixels, tex, hits, children: HashMap::new() }
+                })
+                .collect();
+            requests = if level < self.options.bounces {
+                nodes
+                    .par_iter()
+                    .enumerate()
+                    .flat_map_iter(|(i, node)| {
+                        let samples = node.hits.iter().filter_map(|&(_, prim, p, d)| {
+                            let g = *self.smesh.face_of.get(&prim)?;
+                            Some((g, self.smesh.faces[g].barycentric(p), d))
+                        });
+                        Self::requests(Some(i), samples, node.pixels / node.tex.texels() as f32)
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            levels.push(nodes);
+        }
+        (root_children, levels)
+    }
+
+    /// Radiance flows up the tree: every level's texels shaded, deepest level first, specular ones
+    /// from their children's textures.
+    fn shade(&self, levels: &mut [Vec<Node>]) {
+        for k in (0..levels.len()).rev() {
+            let (this, below) = levels.split_at_mut(k + 1);
+            let next: &[Node] = below.first().map_or(&[], |v| v.as_slice());
+            this[k].par_iter_mut().for_each(|node| {
+                let prim = self.smesh.faces[node.face].prim;
+                for &(k, hit, p, d) in &node.hits {
+                    let seed = u64::from(prim) << 32 | k as u64;
+                    node.tex.radiance[k] = self.shade_hit(&node.children, next, hit, p, d, seed);
+                }
+            });
+        }
+    }
+
     /// Radiance leaving point `p` of triangle `prim` towards `−d`: on a specular face with child
-    /// beams, their textures at `p` (Fresnel-weighted for glass); anything else shaded as usual.
-    fn shade_hit(&self, children: &HashMap<usize, Scattered>, prim: u32, p: Vec3, d: Vec3, seed: u64) -> Vec3 {
+    /// beams (in `next`), their textures at `p` (Fresnel-weighted for glass); anything else shaded
+    /// as usual.
+    fn shade_hit(
+        &self,
+        children: &HashMap<usize, Scattered>,
+        next: &[Node],
+        prim: u32,
+        p: Vec3,
+        d: Vec3,
+        seed: u64,
+    ) -> Vec3 {
         let scene = self.scene;
         let Some((fi, sc)) = self.smesh.face_of.get(&prim).and_then(|&fi| children.get(&fi).map(|s| (fi, s))) else {
             return shade_point(scene, &self.options.shading, self.caustics.as_ref(), prim, p, d, seed);
         };
         let f = &self.smesh.faces[fi];
         let w = f.barycentric(p);
-        let reflected = sc.reflected.sample(w);
-        match (scene.material(prim), &sc.refracted) {
+        let reflected = next[sc.reflected].tex.sample(w);
+        match (scene.material(prim), sc.refracted) {
             (Material::Mirror { tint, .. }, _) => tint * reflected,
             (Material::Glass { ior }, Some(refracted)) => {
                 let entering = d.dot(scene.normal(prim)) < 0.0;
                 let n = if entering { f.normal_at(w) } else { -f.normal_at(w) };
                 match dielectric(d, n, ior, entering) {
-                    (fresnel, Some(_)) => fresnel * reflected + (1.0 - fresnel) * refracted.sample(w),
+                    (fresnel, Some(_)) => fresnel * reflected + (1.0 - fresnel) * next[refracted].tex.sample(w),
                     (_, None) => reflected,
                 }
             }
@@ -325,48 +434,53 @@ impl Tree<'_> {
     }
 }
 
-/// Render `scene` with its mirror and glass surfaces by nonlinear beams.
+/// Render `scene` with its mirror and glass surfaces by nonlinear beams on the CPU.
 #[must_use]
 pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, NonlinearStats) {
+    render_nonlinear_with(scene, options, &CpuBeams)
+}
+
+/// Render `scene` with its mirror and glass surfaces by nonlinear beams, the eye's view and every
+/// level of the beam tree rendered by `renderer` (the CPU's, or a GPU's atlases); the tree logic and
+/// the shading are shared.
+#[must_use]
+pub fn render_nonlinear_with(
+    scene: &Scene,
+    options: &NonlinearOptions,
+    renderer: &dyn BeamRenderer,
+) -> (Image, NonlinearStats) {
     let start = Instant::now();
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
     // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.
-    let caustics = caustics_by_beams(scene, options.degree, options.texels);
+    let caustics = caustics_by_beams(scene, options.degree, options.texels, renderer);
     let caustic_stats = caustics.as_ref().map(|c| c.1.clone()).unwrap_or_default();
     let tree = Tree {
         scene,
         smesh: SMesh::specular(scene),
         options: *options,
-        tally: Mutex::default(),
+        eye: camera.position,
         caustics: caustics.map(|c| c.0),
     };
-    let frame = camera.frame();
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree.
-    let hits: Vec<Option<(Ray, beam_bvh::Hit)>> = (0..(camera.width * camera.height) as usize)
-        .into_par_iter()
-        .map(|i| {
-            let ray = camera.pixel_ray(&frame, i);
-            scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (ray, h))
-        })
-        .collect();
-    let seen = hits
-        .iter()
-        .flatten()
-        .filter_map(|(ray, h)| {
-            let fi = *tree.smesh.face_of.get(&h.prim)?;
-            Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
-        })
-        .collect();
-    let children = tree.children(Source::Eye(camera.position), seen, 1.0, 1);
+    let hits = renderer.eye_hits(scene, &camera);
+    let seen = hits.iter().flatten().filter_map(|(ray, h)| {
+        let fi = *tree.smesh.face_of.get(&h.prim)?;
+        Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
+    });
+    let (children, mut levels) = tree.build(renderer, Tree::requests(None, seen, 1.0));
+    tree.shade(&mut levels);
+    let next: &[Node] = levels.first().map_or(&[], |v| v.as_slice());
     let mut image = Image::new(camera.width, camera.height);
     image.pixels.par_iter_mut().zip(&hits).enumerate().for_each(|(i, (px, hit))| {
         if let Some((ray, hit)) = hit {
-            *px = tree.shade_hit(&children, hit.prim, ray.at(hit.t), ray.direction.normalize(), i as u64);
+            *px = tree.shade_hit(&children, next, hit.prim, ray.at(hit.t), ray.direction.normalize(), i as u64);
         }
     });
-    let t = tree.tally.into_inner().unwrap_or_else(std::sync::PoisonError::into_inner);
-    let beams: u64 = t.beams_per_level.iter().sum();
+    let all = || levels.iter().flatten();
+    let beams = all().count();
+    let texels_tested: u64 = all().map(|n| n.tex.texels_tested).sum();
+    let texels_rendered: u64 = all().map(|n| n.tex.texels()).sum();
     let stats = NonlinearStats {
         seconds: start.elapsed().as_secs_f64(),
         degree: match options.degree {
@@ -374,11 +488,11 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
             Degree::S3 => "s3",
         }
         .into(),
-        beams_per_level: t.beams_per_level,
-        triangles_per_beam: t.triangles as f64 / beams.max(1) as f64,
-        overdraw: t.texels_tested as f64 / t.texels_rendered.max(1) as f64,
-        texels_rendered: t.texels_rendered,
-        texels_shaded: t.texels_shaded,
+        beams_per_level: levels.iter().map(|l| l.len() as u64).collect(),
+        triangles_per_beam: all().map(|n| f64::from(n.tex.triangles_after_culling)).sum::<f64>() / beams.max(1) as f64,
+        overdraw: texels_tested as f64 / texels_rendered.max(1) as f64,
+        texels_rendered,
+        texels_shaded: all().map(|n| n.hits.len() as u64).sum(),
         caustics: caustic_stats,
         width: camera.width,
         height: camera.height,
