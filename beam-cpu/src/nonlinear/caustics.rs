@@ -33,6 +33,9 @@ pub fn caustic_texel(scene: &Scene) -> f32 {
 /// A point light's position and intensity.
 type PointLight = (Vec3, Vec3);
 
+/// A point light, an S-mesh face it lights and the face's light beams (refracted ones marked `true`).
+type LitFace<'a> = (PointLight, &'a SFace, Vec<(Beam, bool)>);
+
 /// The point lights of `scene`.
 fn point_lights(scene: &Scene) -> Vec<PointLight> {
     scene
@@ -96,7 +99,7 @@ pub fn caustics_by_beams(
     let (lights, smesh, empty) = setup(scene)?;
     let eps = shading_eps(scene);
     // Per point light and face it lights: its reflection and refraction beams.
-    let faces: Vec<(PointLight, &SFace, Vec<(Beam, bool)>)> = lights
+    let faces: Vec<LitFace<'_>> = lights
         .iter()
         .flat_map(|&l| smesh.faces.iter().map(move |f| (l, f)))
         .filter_map(|((light, intensity), f)| {
