@@ -1,10 +1,13 @@
 //! # beam-gpu
 //!
 //! wgpu + naga pipelines mirroring beam-cpu: headless device set-up, WGSL shaders validated by naga
-//! and translatable to SPIR-V, GLSL, MSL and HLSL, and a compute ray tracer over beam-bvh's GPU
-//! layout. Every entry point has a CPU twin that the conformance suite compares it with.
+//! and translatable to SPIR-V, GLSL, MSL and HLSL, a compute ray tracer over beam-bvh's GPU
+//! layout, and the nonlinear beam pipeline of 000 (bounding triangles in a vertex stage, per-texel
+//! rays in a fragment stage, per-level atlases). Every entry point has a CPU twin that the conformance suite compares it with.
 
+pub mod buffers;
 pub mod device;
+pub mod nonlinear;
 pub mod raytrace;
 pub mod shaders;
 

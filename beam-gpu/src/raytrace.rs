@@ -3,9 +3,9 @@
 //! [`beam_bvh::FlatBvh::any_hit`].
 
 use crate::Gpu;
+use crate::buffers::{compute_pipeline, dispatch, output, read_back, storage};
 use beam_bvh::gpu::GpuBvh;
 use bytemuck::{Pod, Zeroable};
-use wgpu::util::DeviceExt;
 
 /// A ray for the GPU.
 ///
@@ -54,36 +54,9 @@ pub struct RayTracer {
 impl RayTracer {
     /// Compile `raytrace.wgsl` and upload `bvh`.
     pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, String> {
-        let source = crate::shaders::source("raytrace").ok_or("raytrace shader missing")?;
-        let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("raytrace"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let pipeline = gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("raytrace"),
-            layout: None,
-            module: &module,
-            entry_point: Some("trace"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        // Empty buffers are not allowed: pad with one zeroed element.
-        let upload = |label, bytes: &[u8]| {
-            let padded;
-            let contents = if bytes.is_empty() {
-                padded = vec![0u8; 64];
-                &padded[..]
-            } else {
-                bytes
-            };
-            gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage: wgpu::BufferUsages::STORAGE,
-            })
-        };
-        let nodes = upload("nodes", bytemuck::cast_slice(&bvh.nodes));
-        let triangles = upload("triangles", bytemuck::cast_slice(&bvh.triangles));
+        let pipeline = compute_pipeline(gpu, "raytrace", "trace")?;
+        let nodes = storage(gpu, "nodes", bytemuck::cast_slice(&bvh.nodes), wgpu::BufferUsages::empty());
+        let triangles = storage(gpu, "triangles", bytemuck::cast_slice(&bvh.triangles), wgpu::BufferUsages::empty());
         Ok(Self { pipeline, nodes, triangles })
     }
 
@@ -97,51 +70,10 @@ impl RayTracer {
         if groups > 65_535 {
             return Err(format!("{} rays exceed one dispatch (at most {})", rays.len(), 65_535 * 64));
         }
-        let device = &gpu.device;
-        let ray_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("rays"),
-            contents: bytemuck::cast_slice(rays),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+        let ray_buffer = storage(gpu, "rays", bytemuck::cast_slice(rays), wgpu::BufferUsages::empty());
         let size = (rays.len() * size_of::<GpuHit>()) as u64;
-        let hits = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hits"),
-            size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("raytrace"),
-            layout: &self.pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: self.nodes.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: self.triangles.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: ray_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: hits.as_entire_binding() },
-            ],
-        });
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("raytrace") });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(groups as u32, 1, 1);
-        }
-        encoder.copy_buffer_to_buffer(&hits, 0, &readback, 0, size);
-        gpu.queue.submit([encoder.finish()]);
-        let slice = readback.slice(..);
-        slice.map_async(wgpu::MapMode::Read, |_| {});
-        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| format!("GPU wait failed: {e}"))?;
-        let data = slice.get_mapped_range().map_err(|e| format!("GPU readback failed: {e:?}"))?;
-        let out = bytemuck::cast_slice(&data).to_vec();
-        drop(data);
-        readback.unmap();
-        Ok(out)
+        let hits = output(gpu, "hits", size);
+        let encoder = dispatch(gpu, &self.pipeline, &[&self.nodes, &self.triangles, &ray_buffer, &hits], groups as u32);
+        Ok(bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &hits, size)?))
     }
 }

@@ -4,10 +4,17 @@
 use std::path::Path;
 
 /// Code shared by the shaders (`shaders/shared/*.wgsl`), prepended to each.
-const SHARED: &[(&str, &str)] = &[("shared/bvh.wgsl", include_str!("../shaders/shared/bvh.wgsl"))];
+const SHARED: &[(&str, &str)] = &[
+    ("shared/bvh.wgsl", include_str!("../shaders/shared/bvh.wgsl")),
+    ("shared/nonlinear.wgsl", include_str!("../shaders/shared/nonlinear.wgsl")),
+];
 
 /// The shaders: name and source (without the shared code).
-pub const SHADERS: &[(&str, &str)] = &[("raytrace", include_str!("../shaders/raytrace.wgsl"))];
+pub const SHADERS: &[(&str, &str)] = &[
+    ("raytrace", include_str!("../shaders/raytrace.wgsl")),
+    ("beam_atlas", include_str!("../shaders/beam_atlas.wgsl")),
+    ("nonlinear_check", include_str!("../shaders/nonlinear_check.wgsl")),
+];
 
 /// The full source of shader `name`: the shared code, then the shader.
 #[must_use]
@@ -34,7 +41,7 @@ pub fn validate(name: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), S
 pub enum Language {
     /// SPIR-V binary (`.spv`).
     Spirv,
-    /// GLSL 4.50 compute (`.<entry>.comp.glsl`), one file per entry point.
+    /// GLSL 4.50 (`.<entry>.<comp|vert|frag>.glsl`), one file per entry point.
     Glsl,
     /// Metal Shading Language (`.metal`).
     Msl,
@@ -90,7 +97,12 @@ pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, Strin
                     )
                     .and_then(|mut w| w.write().map(|_| ()))
                     .map_err(|e| format!("{name}: GLSL: {e}"))?;
-                    files.push((format!("{name}.{}.comp.glsl", ep.name), text.into_bytes()));
+                    let stage = match ep.stage {
+                        naga::ShaderStage::Vertex => "vert",
+                        naga::ShaderStage::Fragment => "frag",
+                        _ => "comp",
+                    };
+                    files.push((format!("{name}.{}.{stage}.glsl", ep.name), text.into_bytes()));
                 }
                 files
             }
@@ -98,7 +110,8 @@ pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, Strin
                 let (text, _) = naga::back::msl::write_string(
                     &module,
                     &info,
-                    &naga::back::msl::Options::default(),
+                    // MSL 2.0 for instance ids in vertex functions (every Metal GPU since 2017).
+                    &naga::back::msl::Options { lang_version: (2, 0), ..Default::default() },
                     &naga::back::msl::PipelineOptions::default(),
                 )
                 .map_err(|e| format!("{name}: MSL: {e}"))?;

@@ -5,12 +5,14 @@
 //! every (property, backend) pair through thin `#[test]` wrappers in `tests/tests/`, and
 //! `beam conformance [--backend NAME]` runs the same bodies from the CLI and prints a table.
 //!
-//! Backends today: `math` (the beam-math core), `bvh` (beam-bvh against brute force) and `cpu`
-//! (beam-cpu's renderers). The GPU backend joins when it lands.
+//! Backends: `math` (the beam-math core), `bvh` (beam-bvh against brute force), `cpu` (beam-cpu's
+//! renderers) and `gpu` (beam-gpu's shaders and pipelines against their CPU twins, on whatever
+//! adapter wgpu finds; Mesa lavapipe in CI).
 
 pub mod bvh;
 pub mod cpu;
 pub mod generate;
+pub mod gpu;
 pub mod math;
 pub mod nonlinear;
 
@@ -26,11 +28,13 @@ pub enum Backend {
     Bvh,
     /// beam-cpu renderers: exact soft shadows against closed forms and Monte Carlo.
     Cpu,
+    /// beam-gpu: WGSL shaders and pipelines against beam-math and beam-cpu.
+    Gpu,
 }
 
 impl Backend {
     /// Every backend.
-    pub const ALL: [Backend; 3] = [Backend::Math, Backend::Bvh, Backend::Cpu];
+    pub const ALL: [Backend; 4] = [Backend::Math, Backend::Bvh, Backend::Cpu, Backend::Gpu];
 
     /// The name used on the command line.
     #[must_use]
@@ -39,6 +43,7 @@ impl Backend {
             Backend::Math => "math",
             Backend::Bvh => "bvh",
             Backend::Cpu => "cpu",
+            Backend::Gpu => "gpu",
         }
     }
 
@@ -102,6 +107,7 @@ pub fn properties() -> Vec<Property> {
     all.extend(bvh::properties());
     all.extend(cpu::properties());
     all.extend(nonlinear::properties());
+    all.extend(gpu::properties());
     all
 }
 

@@ -310,7 +310,7 @@ pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, 
     let mut notes = vec![format!("4M photons {noise:.3}")];
     for degree in [Degree::S1, Degree::S3] {
         let (beams, stats) =
-            caustics_by_beams(&scene, degree, 32, &beam_cpu::nonlinear::CpuBeams).ok_or("no caustics")?;
+            caustics_by_beams(&scene, degree, 32, &beam_cpu::nonlinear::CpuBeams)?.ok_or("no caustics")?;
         let error = beams.relative_rms(&truth);
         let (a, b) = (beams.total_flux().element_sum(), truth.total_flux().element_sum());
         let note = format!("{degree:?} {error:.3} ({} beams, flux ratio {:.4})", stats.beams, a / b);

@@ -90,7 +90,7 @@ impl BeamTexture {
 /// Render `beam` into a `size × size` texel region (000 Alg. 1 with Alg. 3 or 4 for the bounding
 /// triangles): nearest hits of the texels' rays, skipping triangle `exclude` (the beam's own base).
 #[must_use]
-pub fn render_beam(scene: &Scene, beam: &impl TexelBeam, size: u32, exclude: u32) -> BeamTexture {
+pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, exclude: u32) -> BeamTexture {
     let n = size as usize;
     let mut tex = BeamTexture {
         size,
@@ -104,19 +104,8 @@ pub fn render_beam(scene: &Scene, beam: &impl TexelBeam, size: u32, exclude: u32
     let extent = scene.bounds().extent().length();
     // Half a texel of slack around the bounding triangle, in barycentric units.
     let slack = 0.5 / size as f32;
-    // Bounding-cone culling (App. A) of the BVH's boxes and then of each triangle's bounding sphere.
-    let mut candidates = ConeCull { cone, prims: Vec::new() };
-    scene.bvh.traverse(&mut candidates);
-    for &i in &candidates.prims {
-        if i == exclude {
-            continue;
-        }
+    for i in cone_candidates(scene, &cone, exclude) {
         let tri = &scene.triangles[i as usize];
-        let centre = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
-        let radius = tri.v.iter().fold(0.0f32, |m, v| m.max(v.distance(centre)));
-        if !cone_sphere(&cone, centre, radius) {
-            continue;
-        }
         let Some(bt) = beam.bounding_triangle_of(&bounds, tri) else { continue };
         let neighbour = tri.v.iter().any(|v| beam.base().contains(v));
         tex.triangles_after_culling += 1;
@@ -149,6 +138,21 @@ pub fn render_beam(scene: &Scene, beam: &impl TexelBeam, size: u32, exclude: u32
     tex
 }
 
+/// The scene triangles other than `exclude` that may meet a beam with bounding cone `cone`:
+/// bounding-cone culling (000 App. A) of the BVH's boxes, then of each triangle's bounding sphere.
+#[must_use]
+pub fn cone_candidates(scene: &Scene, cone: &Cone, exclude: u32) -> Vec<u32> {
+    let mut cull = ConeCull { cone: *cone, prims: Vec::new() };
+    scene.bvh.traverse(&mut cull);
+    cull.prims.retain(|&i| {
+        let tri = &scene.triangles[i as usize];
+        let centre = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
+        let radius = tri.v.iter().fold(0.0f32, |m, v| m.max(v.distance(centre)));
+        i != exclude && cone_sphere(cone, centre, radius)
+    });
+    cull.prims
+}
+
 /// Collects the triangles of the BVH leaves whose boxes' bounding spheres meet a beam's bounding
 /// cone.
 struct ConeCull {
@@ -172,7 +176,7 @@ impl NodeVisitor for ConeCull {
 /// on a concave surface they start behind the neighbouring S-mesh faces, so hits nearer than 2μ_b
 /// over the ray's rise above the base are skipped (1e-4 of the scene's diagonal `extent` for S1).
 #[must_use]
-pub fn self_hit_distance(beam: &impl TexelBeam, ray: Ray, extent: f32) -> f32 {
+pub fn self_hit_distance(beam: &(impl TexelBeam + ?Sized), ray: Ray, extent: f32) -> f32 {
     let rise = (ray.direction.normalize_or_zero().dot(beam.base_normal())).max(0.05);
     (1e-4 * extent).max(2.0 * beam.lift() / rise)
 }

@@ -88,15 +88,14 @@ fn split(scene: &Scene, f: &SFace, w: Vec3, d: Vec3) -> (Vec3, f32) {
 /// the flux `I·cosθ·A/r²` of its share `A` of the base (less what the Fresnel split sends the other
 /// way), unless the light is blocked before the face; its ray's first hit, when diffuse, receives
 /// it. Paths with a second specular bounce are not followed. `None` without point lights or
-/// specular faces.
-#[must_use]
+/// specular faces; an error when `renderer` fails.
 pub fn caustics_by_beams(
     scene: &Scene,
     degree: Degree,
     texels: u32,
     renderer: &dyn BeamRenderer,
-) -> Option<(IrradianceMap, CausticStats)> {
-    let (lights, smesh, empty) = setup(scene)?;
+) -> Result<Option<(IrradianceMap, CausticStats)>, String> {
+    let Some((lights, smesh, empty)) = setup(scene) else { return Ok(None) };
     let eps = shading_eps(scene);
     // Per point light and face it lights: its reflection and refraction beams.
     let faces: Vec<LitFace<'_>> = lights
@@ -117,7 +116,7 @@ pub fn caustics_by_beams(
             .iter()
             .flat_map(|(_, f, beams)| beams.iter().map(|(beam, _)| BeamJob { beam, size: texels, exclude: f.prim }))
             .collect();
-        let mut textures = renderer.render_beams(scene, &jobs).into_iter();
+        let mut textures = renderer.render_beams(scene, &jobs)?.into_iter();
         let work: Vec<_> = batch
             .iter()
             .map(|(l, f, beams)| (*l, *f, beams, textures.by_ref().take(beams.len()).collect::<Vec<_>>()))
@@ -153,7 +152,7 @@ pub fn caustics_by_beams(
         stats.beams += s.beams;
         stats.texels_deposited += s.texels_deposited;
     }
-    Some((map, stats))
+    Ok(Some((map, stats)))
 }
 
 /// Splat the flux of one light beam's texels `tex` off face `f` (see [`caustics_by_beams`]);

@@ -97,21 +97,23 @@ impl Beam {
     /// The ray at barycentric point `w` of the base.
     #[must_use]
     pub fn ray_at(&self, w: Vec3) -> Ray {
+        self.texel_beam().texel_ray(w)
+    }
+
+    /// What [`render_beam`] needs of it.
+    #[must_use]
+    pub fn texel_beam(&self) -> &dyn TexelBeam {
         match self {
-            Self::S1(b) => b.ray_at(w),
-            Self::S3(b) => b.ray_at(w),
-            Self::Bumped(b) => b.texel_ray(w),
+            Self::S1(b) => b,
+            Self::S3(b) => b,
+            Self::Bumped(b) => b,
         }
     }
 
     /// The beam rendered on the CPU ([`render_beam`]).
     #[must_use]
     pub fn render(&self, scene: &Scene, size: u32, exclude: u32) -> BeamTexture {
-        match self {
-            Self::S1(b) => render_beam(scene, b, size, exclude),
-            Self::S3(b) => render_beam(scene, b, size, exclude),
-            Self::Bumped(b) => render_beam(scene, b, size, exclude),
-        }
+        render_beam(scene, self.texel_beam(), size, exclude)
     }
 
     /// Unit direction of the beam's ray through `q` (its nearest projection, 000 §5; for a bumped
@@ -131,7 +133,7 @@ impl Beam {
 /// refraction by Snell's law (`Some(None)` when that beam is degenerate). Under total internal
 /// reflection a boundary direction grazes the surface (the beam clamps it to the transmitted side,
 /// 000 §4); such texels take reflection only. `None` when the reflection beam is degenerate.
-pub(super) fn child_beams(
+pub fn child_beams(
     scene: &Scene,
     f: &SFace,
     incoming: [Vec3; 3],
@@ -202,10 +204,10 @@ impl Source<'_> {
 /// in parallel) or a GPU's per-level atlases (000 §3, in beam-gpu).
 pub trait BeamRenderer: Sync {
     /// The textures of `jobs`, in order: nearest hits only (radiance zero), as [`render_beam`].
-    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Vec<BeamTexture>;
+    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String>;
 
     /// The eye's nearest hit at every pixel centre of `camera` (row-major).
-    fn eye_hits(&self, scene: &Scene, camera: &Camera) -> Vec<Option<(Ray, Hit)>>;
+    fn eye_hits(&self, scene: &Scene, camera: &Camera) -> Result<Vec<Option<(Ray, Hit)>>, String>;
 }
 
 /// One beam to render: `size × size` texels, skipping scene triangle `exclude` (its base).
@@ -224,19 +226,19 @@ pub struct BeamJob<'a> {
 pub struct CpuBeams;
 
 impl BeamRenderer for CpuBeams {
-    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Vec<BeamTexture> {
-        jobs.par_iter().map(|j| j.beam.render(scene, j.size, j.exclude)).collect()
+    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String> {
+        Ok(jobs.par_iter().map(|j| j.beam.render(scene, j.size, j.exclude)).collect())
     }
 
-    fn eye_hits(&self, scene: &Scene, camera: &Camera) -> Vec<Option<(Ray, Hit)>> {
+    fn eye_hits(&self, scene: &Scene, camera: &Camera) -> Result<Vec<Option<(Ray, Hit)>>, String> {
         let frame = camera.frame();
-        (0..(camera.width * camera.height) as usize)
+        Ok((0..(camera.width * camera.height) as usize)
             .into_par_iter()
             .map(|i| {
                 let ray = camera.pixel_ray(&frame, i);
                 scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (ray, h))
             })
-            .collect()
+            .collect())
     }
 }
 
@@ -260,6 +262,12 @@ struct Node {
     hits: Vec<(usize, u32, Vec3, Vec3)>,
     /// Its children per S-mesh face its texels hit.
     children: HashMap<usize, Scattered>,
+}
+
+/// A built beam tree: the children of the faces the eye sees, and the beams level by level.
+struct Built {
+    roots: HashMap<usize, Scattered>,
+    levels: Vec<Vec<Node>>,
 }
 
 /// The light arriving at one S-mesh face, from which its beams are built: samples (barycentric
@@ -302,7 +310,7 @@ impl Tree<'_> {
     /// The beam tree level by level (000 §7.2–7.3, per-level atlases): each level's beams built from
     /// the light arriving at its faces, rendered in one batch by `renderer`, their texels' hits on
     /// specular faces the requests of the next level. Returns the roots' children and the levels.
-    fn build(&self, renderer: &dyn BeamRenderer, roots: Vec<Request>) -> (HashMap<usize, Scattered>, Vec<Vec<Node>>) {
+    fn build(&self, renderer: &dyn BeamRenderer, roots: Vec<Request>) -> Result<Built, String> {
         let mut levels: Vec<Vec<Node>> = Vec::new();
         let mut root_children = HashMap::new();
         let mut requests = roots;
@@ -349,7 +357,7 @@ impl Tree<'_> {
                 .iter()
                 .map(|(beam, face, _, size)| BeamJob { beam, size: *size, exclude: self.smesh.faces[*face].prim })
                 .collect();
-            let textures = renderer.render_beams(self.scene, &jobs);
+            let textures = renderer.render_beams(self.scene, &jobs)?;
             let nodes: Vec<Node> = beams
                 .into_par_iter()
                 .zip(textures)
@@ -381,7 +389,7 @@ impl Tree<'_> {
             };
             levels.push(nodes);
         }
-        (root_children, levels)
+        Ok(Built { roots: root_children, levels })
     }
 
     /// Radiance flows up the tree: every level's texels shaded, deepest level first, specular ones
@@ -437,22 +445,21 @@ impl Tree<'_> {
 /// Render `scene` with its mirror and glass surfaces by nonlinear beams on the CPU.
 #[must_use]
 pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, NonlinearStats) {
-    render_nonlinear_with(scene, options, &CpuBeams)
+    render_nonlinear_with(scene, options, &CpuBeams).unwrap_or_else(|e| unreachable!("the CPU renderer failed: {e}"))
 }
 
 /// Render `scene` with its mirror and glass surfaces by nonlinear beams, the eye's view and every
 /// level of the beam tree rendered by `renderer` (the CPU's, or a GPU's atlases); the tree logic and
 /// the shading are shared.
-#[must_use]
 pub fn render_nonlinear_with(
     scene: &Scene,
     options: &NonlinearOptions,
     renderer: &dyn BeamRenderer,
-) -> (Image, NonlinearStats) {
+) -> Result<(Image, NonlinearStats), String> {
     let start = Instant::now();
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
     // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.
-    let caustics = caustics_by_beams(scene, options.degree, options.texels, renderer);
+    let caustics = caustics_by_beams(scene, options.degree, options.texels, renderer)?;
     let caustic_stats = caustics.as_ref().map(|c| c.1.clone()).unwrap_or_default();
     let tree = Tree {
         scene,
@@ -463,12 +470,12 @@ pub fn render_nonlinear_with(
     };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree.
-    let hits = renderer.eye_hits(scene, &camera);
+    let hits = renderer.eye_hits(scene, &camera)?;
     let seen = hits.iter().flatten().filter_map(|(ray, h)| {
         let fi = *tree.smesh.face_of.get(&h.prim)?;
         Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
     });
-    let (children, mut levels) = tree.build(renderer, Tree::requests(None, seen, 1.0));
+    let Built { roots: children, mut levels } = tree.build(renderer, Tree::requests(None, seen, 1.0))?;
     tree.shade(&mut levels);
     let next: &[Node] = levels.first().map_or(&[], |v| v.as_slice());
     let mut image = Image::new(camera.width, camera.height);
@@ -497,7 +504,7 @@ pub fn render_nonlinear_with(
         width: camera.width,
         height: camera.height,
     };
-    (image, stats)
+    Ok((image, stats))
 }
 
 /// The ray-traced ground truth of [`render_nonlinear`]: one ray per pixel centre, Whitted through

@@ -1,0 +1,122 @@
+// The nonlinear pipeline of 000 §3 (Alg. 1) in two GPU passes per atlas page:
+// 1. `bound_triangles` (compute): per (beam, scene triangle) pair that survives the beam's
+//    bounding-cone culling, the bounding triangle on the beam base (Algs. 3–4, eq. 5), once;
+// 2. one draw per beam (the instance) over its pairs: the vertex stage pulls the pair and its
+//    bounding triangle from storage buffers (vertex index / 3) and emits the triangle on the beam's
+//    atlas region; the fragment stage rebuilds the texel's ray, intersects the scene triangle,
+//    discards misses and writes the hit with its distance as depth, so the depth test keeps each
+//    texel's nearest hit.
+// (000 computes the bounding triangle in the vertex stage itself; a compute pass computes it once
+// per pair instead of once per corner, and runs on every core of a software rasterizer, which
+// shades vertices on one thread.) CPU twin: beam_cpu::nonlinear::render_beam.
+
+// Keep in sync with beam_gpu::nonlinear::AtlasParams (16 bytes).
+struct AtlasParams {
+    size: vec2<f32>,  // atlas width and height in texels
+    extent: f32,      // the scene's diagonal
+    pairs: u32,       // (beam, triangle) pairs on the page
+}
+
+@group(0) @binding(0) var<uniform> params: AtlasParams;
+@group(0) @binding(1) var<storage, read> beams: array<Beam>;
+@group(0) @binding(2) var<storage, read> triangles: array<BvhTriangle>;
+@group(0) @binding(3) var<storage, read> pairs: array<vec2<u32>>;   // (beam on the page, scene triangle)
+@group(0) @binding(4) var<storage, read_write> bounds_out: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read> bounds_in: array<vec4<f32>>; // lower bounds (xyz), case (w)
+
+fn scene_tri(prim: u32) -> Tri {
+    let t = triangles[prim];
+    return Tri(array<vec3<f32>, 3>(t.v0, t.v1, t.v2));
+}
+
+@compute @workgroup_size(64)
+fn bound_triangles(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = id.y * groups.x * 64u + id.x;
+    if i >= params.pairs { return; }
+    let pair = pairs[i];
+    let bt = bounding_triangle(beams[pair.x], scene_tri(pair.y));
+    bounds_out[i] = vec4<f32>(bt.lower, f32(bt.case_));
+}
+
+struct Fragment {
+    @builtin(position) position: vec4<f32>,
+    @location(0) @interpolate(flat) beam: u32,
+    @location(1) @interpolate(flat) prim: u32,
+    @location(2) @interpolate(flat) lower: vec3<f32>,
+    @location(3) @interpolate(flat) neighbour: u32,
+}
+
+@vertex
+fn emit_bounding_triangle(@builtin(vertex_index) vertex: u32, @builtin(instance_index) beam: u32) -> Fragment {
+    let b = beams[beam];
+    let pair = vertex / 3u;
+    let prim = pairs[pair].y;
+    let bt = bounds_in[pair];
+    var out: Fragment;
+    out.beam = beam;
+    out.prim = prim;
+    out.lower = bt.xyz;
+    out.position = vec4<f32>(-2.0, -2.0, 0.0, 1.0);
+    let tri = scene_tri(prim);
+    var neighbour = 0u;
+    for (var i = 0u; i < 3u; i++) {
+        for (var j = 0u; j < 3u; j++) {
+            if all(tri.v[i] == bv(b, j)) { neighbour = 1u; }
+        }
+    }
+    out.neighbour = neighbour;
+    if bt.w == 3.0 { return out; }
+    let size = f32(b.region.z);
+    // The texels tested are those with ω ≥ lower − ½ texel (slack); the rasterized triangle is
+    // 1.5 texels larger still, clamped to the beam's region (edges parallel, so clamping is a max).
+    let r = max(bt.xyz - vec3<f32>(2.0 / size), vec3<f32>(-2.0 / size, -1.0 / size, -1.0 / size));
+    if r.x + r.y + r.z >= 1.0 { return out; }
+    let k = vertex % 3u;
+    var w = vec3<f32>(1.0 - r.y - r.z, r.y, r.z);
+    if k == 1u { w = vec3<f32>(r.x, 1.0 - r.x - r.z, r.z); }
+    if k == 2u { w = vec3<f32>(r.x, r.y, 1.0 - r.x - r.y); }
+    let p = vec2<f32>(f32(b.region.x), f32(b.region.y)) + w.yz * size;
+    out.position = vec4<f32>(p.x / params.size.x * 2.0 - 1.0, 1.0 - p.y / params.size.y * 2.0, 0.5, 1.0);
+    return out;
+}
+
+// beam_cpu::nonlinear::BeamTexture::barycentric: texel (x, y) of a size × size region; margin
+// texels (u + v > 1) take the nearest point of the base's edge.
+fn texel_barycentric(x: u32, y: u32, size: u32) -> vec3<f32> {
+    let u = (f32(x) + 0.5) / f32(size);
+    let v = (f32(y) + 0.5) / f32(size);
+    if u + v <= 1.0 { return vec3<f32>(1.0 - u - v, u, v); }
+    let excess = 0.5 * (u + v - 1.0);
+    let uc = clamp(u - excess, 0.0, 1.0);
+    let vc = clamp(v - excess, 0.0, 1.0);
+    return max(vec3<f32>(1.0 - uc - vc, uc, vc), vec3<f32>(0.0));
+}
+
+struct Hit {
+    @location(0) hit: vec2<u32>,  // scene triangle + 1, bits of t
+    @builtin(frag_depth) depth: f32,
+}
+
+@fragment
+fn intersect_texel(f: Fragment) -> Hit {
+    let b = beams[f.beam];
+    let size = b.region.z;
+    let xi = i32(floor(f.position.x)) - i32(b.region.x);
+    let yi = i32(floor(f.position.y)) - i32(b.region.y);
+    if xi < 0 || yi < 0 || xi >= i32(size) || yi >= i32(size) || xi + yi >= i32(size) + 1 { discard; }
+    let w = texel_barycentric(u32(xi), u32(yi), size);
+    let slack = 0.5 / f32(size);
+    if any(w < f.lower - vec3<f32>(slack)) { discard; }
+    let ray = texel_ray(b, w);
+    let len = max(length(ray.direction), 1.17549435e-38);
+    var t_min = 1e-4 * params.extent / len;
+    if f.neighbour == 1u { t_min = self_hit_distance(b, ray, params.extent) / len; }
+    let tri = triangles[f.prim];
+    let t = intersect_triangle(shear_ray(ray.origin, ray.direction), tri, t_min, 3.0e38);
+    if t < 0.0 { discard; }
+    var out: Hit;
+    out.hit = vec2<u32>(f.prim + 1u, bitcast<u32>(t));
+    let dist = t * len;
+    out.depth = dist / (dist + params.extent);
+    return out;
+}

@@ -1,0 +1,36 @@
+// Compute entry points that run the WGSL nonlinear-beam functions on batches of cases, for the
+// conformance suite to compare with beam-math (tests/src/gpu.rs).
+
+// Keep in sync with beam_gpu::nonlinear::CheckCase (48 bytes): a scene triangle for
+// `check_bounding_triangles`, or a base point (a.xyz) for `check_rays`; the beam index in a.w.
+struct CheckCase {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    c: vec4<f32>,
+}
+
+@group(0) @binding(0) var<storage, read> beams: array<Beam>;
+@group(0) @binding(1) var<storage, read> cases: array<CheckCase>;
+@group(0) @binding(2) var<storage, read_write> results: array<vec4<f32>>;
+
+// Per case: the bounding triangle's lower bounds (xyz) and case (w).
+@compute @workgroup_size(64)
+fn check_bounding_triangles(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&cases) { return; }
+    let c = cases[i];
+    let tri = Tri(array<vec3<f32>, 3>(c.a.xyz, c.b.xyz, c.c.xyz));
+    let bt = bounding_triangle(beams[bitcast<u32>(c.a.w)], tri);
+    results[i] = vec4<f32>(bt.lower, f32(bt.case_));
+}
+
+// Per case: the texel ray's origin and direction (two results).
+@compute @workgroup_size(64)
+fn check_rays(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&cases) { return; }
+    let c = cases[i];
+    let r = texel_ray(beams[bitcast<u32>(c.a.w)], c.a.xyz);
+    results[2u * i] = vec4<f32>(r.origin, 0.0);
+    results[2u * i + 1u] = vec4<f32>(r.direction, 0.0);
+}

@@ -1,0 +1,109 @@
+//! Buffer upload, compute dispatch and readback shared by the pipelines.
+
+use crate::Gpu;
+use wgpu::util::DeviceExt;
+
+/// A storage buffer holding `bytes` (one zeroed element when empty: wgpu refuses empty bindings).
+#[must_use]
+pub fn storage(gpu: &Gpu, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    let padded = [0u8; 64];
+    let contents = if bytes.is_empty() { &padded[..] } else { bytes };
+    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents,
+        usage: wgpu::BufferUsages::STORAGE | usage,
+    })
+}
+
+/// Submit `encoder` after copying `size` bytes of `source` into a mappable buffer, wait, and read
+/// them back.
+pub fn read_back(
+    gpu: &Gpu,
+    mut encoder: wgpu::CommandEncoder,
+    source: &wgpu::Buffer,
+    size: u64,
+) -> Result<Vec<u8>, String> {
+    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    encoder.copy_buffer_to_buffer(source, 0, &readback, 0, size);
+    gpu.queue.submit([encoder.finish()]);
+    map(gpu, &readback)
+}
+
+/// Wait for the queue and read a `MAP_READ` buffer.
+pub fn map(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, String> {
+    let slice = buffer.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |_| {});
+    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| format!("GPU wait failed: {e}"))?;
+    let data = slice.get_mapped_range().map_err(|e| format!("GPU readback failed: {e:?}"))?;
+    let out = data.to_vec();
+    drop(data);
+    buffer.unmap();
+    Ok(out)
+}
+
+/// A shader module of [`crate::shaders`] (its shared code prepended), compiled by the device.
+pub fn shader_module(gpu: &Gpu, shader: &str) -> Result<wgpu::ShaderModule, String> {
+    let source = crate::shaders::source(shader).ok_or_else(|| format!("no shader named `{shader}`"))?;
+    Ok(gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(shader),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    }))
+}
+
+/// The compute pipeline of entry point `entry` of shader `shader`, bindings laid out by the shader.
+pub fn compute_pipeline(gpu: &Gpu, shader: &str, entry: &str) -> Result<wgpu::ComputePipeline, String> {
+    let module = shader_module(gpu, shader)?;
+    Ok(gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: None,
+        module: &module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    }))
+}
+
+/// An encoder with one dispatch of `groups` workgroups of `pipeline`, `buffers` bound in order at
+/// group 0.
+#[must_use]
+pub fn dispatch(
+    gpu: &Gpu,
+    pipeline: &wgpu::ComputePipeline,
+    buffers: &[&wgpu::Buffer],
+    groups: u32,
+) -> wgpu::CommandEncoder {
+    let entries: Vec<_> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
+        .collect();
+    let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(groups, 1, 1);
+    }
+    encoder
+}
+
+/// A buffer of `size` bytes the shaders write and [`read_back`] copies from.
+#[must_use]
+pub fn output(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}

@@ -1,0 +1,395 @@
+//! The nonlinear pipeline of 000 §3 (`shaders/beam_atlas.wgsl`): every beam of a tree level packed
+//! into square regions of atlas pages, one draw per beam (the instance) over the scene triangles its
+//! bounding cone keeps (pulled from a storage buffer by vertex index / 3); the vertex stage emits
+//! each triangle's bounding triangle on the beam's region, the fragment stage intersects the
+//! texel's ray with it, and the depth test keeps the nearest hit. The pages are read back as the
+//! beams' hit textures; the beam tree and the shading are beam-cpu's, so the images match the CPU's.
+
+use super::beam::GpuBeam;
+use crate::Gpu;
+use crate::buffers::{compute_pipeline, map, output, shader_module, storage};
+use crate::raytrace::{GpuHit, GpuRay, RayTracer};
+use beam_bvh::Hit;
+use beam_bvh::gpu::{GpuBvh, GpuTriangle};
+use beam_cpu::nonlinear::{BeamJob, BeamRenderer, BeamTexture, TexelHit, cone_candidates};
+use beam_cpu::scene::{Camera, Scene};
+use beam_math::Ray;
+use beam_math::glam::Vec3;
+use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// Uniforms of the atlas pass.
+///
+/// Keep in sync with the WGSL twin `AtlasParams` in `shaders/beam_atlas.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct AtlasParams {
+    /// Page width and height in texels.
+    pub size: [f32; 2],
+    /// The scene's diagonal (self-hit distances and the depth mapping).
+    pub extent: f32,
+    /// (beam, scene triangle) pairs on the page.
+    pub pairs: u32,
+}
+
+const _: () = assert!(size_of::<AtlasParams>() == 16);
+
+/// Where the GPU renderer spent its time, summed over calls.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct GpuTimes {
+    /// Seconds in atlas passes: upload, draws and readback, waiting for the GPU.
+    pub atlas_seconds: f64,
+    /// Seconds on the CPU preparing them (beam quantities, bounding-cone culling, packing).
+    pub prepare_seconds: f64,
+    /// Seconds tracing the eye's rays on the GPU.
+    pub eye_seconds: f64,
+    /// Atlas pages rendered.
+    pub pages: u64,
+    /// Beams drawn.
+    pub beams: u64,
+    /// Scene triangles drawn (vertex-stage bounding triangles computed).
+    pub triangles: u64,
+}
+
+/// The GPU's beam renderer for one scene: its triangles uploaded, the atlas pipeline compiled.
+pub struct GpuBeams<'g> {
+    gpu: &'g Gpu,
+    bound: wgpu::ComputePipeline,
+    pipeline: wgpu::RenderPipeline,
+    triangles: wgpu::Buffer,
+    tracer: RayTracer,
+    extent: f32,
+    /// Side of an atlas page in texels.
+    page: u32,
+    times: Mutex<GpuTimes>,
+}
+
+/// Where a beam landed: its page and the corner of its region.
+struct Placed {
+    page: usize,
+    x: u32,
+    y: u32,
+}
+
+impl<'g> GpuBeams<'g> {
+    /// Upload `scene` and compile the pipeline; pages of up to 4096² texels (less where the adapter
+    /// allows less).
+    pub fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, String> {
+        let module = shader_module(gpu, "beam_atlas")?;
+        let bound = compute_pipeline(gpu, "beam_atlas", "bound_triangles")?;
+        let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("beam_atlas"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("emit_bounding_triangle"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("intersect_texel"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: wgpu::TextureFormat::Rg32Uint,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let by_prim: Vec<GpuTriangle> = scene
+            .triangles
+            .iter()
+            .enumerate()
+            .map(|(i, t)| GpuTriangle {
+                v0: t.v[0].to_array(),
+                prim: i as u32,
+                v1: t.v[1].to_array(),
+                pad1: 0,
+                v2: t.v[2].to_array(),
+                pad2: 0,
+            })
+            .collect();
+        let triangles = storage(gpu, "scene triangles", bytemuck::cast_slice(&by_prim), wgpu::BufferUsages::empty());
+        let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
+        let page = gpu.device.limits().max_texture_dimension_2d.min(4096);
+        Ok(Self {
+            gpu,
+            bound,
+            pipeline,
+            triangles,
+            tracer,
+            extent: scene.bounds().extent().length(),
+            page,
+            times: Mutex::default(),
+        })
+    }
+
+    /// Time spent so far.
+    #[must_use]
+    pub fn times(&self) -> GpuTimes {
+        *self.times.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    fn add_times(&self, f: impl FnOnce(&mut GpuTimes)) {
+        f(&mut self.times.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
+    }
+
+    /// Render one page of `rows` rows: `beams` with their (beam on the page, scene triangle)
+    /// `pairs`, those of beam `i` at `ranges[i]`. Returns the page's texels: scene triangle + 1 (0:
+    /// miss) and the bits of `t`.
+    fn render_page(
+        &self,
+        beams: &[GpuBeam],
+        pairs: &[[u32; 2]],
+        ranges: &[(u32, u32)],
+        rows: u32,
+    ) -> Result<Vec<[u32; 2]>, String> {
+        let device = &self.gpu.device;
+        let extent = wgpu::Extent3d { width: self.page, height: rows, depth_or_array_layers: 1 };
+        let texture = |format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("atlas"),
+                size: extent,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let hits = texture(
+            wgpu::TextureFormat::Rg32Uint,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
+        let depth = texture(wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
+        let params =
+            AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pairs.len() as u32 };
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("atlas params"),
+            size: size_of::<AtlasParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        self.gpu.queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&params));
+        let beam_buffer = storage(self.gpu, "beams", bytemuck::cast_slice(beams), wgpu::BufferUsages::empty());
+        let pair_buffer = storage(self.gpu, "pairs", bytemuck::cast_slice(pairs), wgpu::BufferUsages::empty());
+        let bounds = output(self.gpu, "bounding triangles", (pairs.len() * 16) as u64);
+        let bind = |layout: wgpu::BindGroupLayout, entries: &[(u32, &wgpu::Buffer)]| {
+            let entries: Vec<_> = entries
+                .iter()
+                .map(|&(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() })
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("atlas"),
+                layout: &layout,
+                entries: &entries,
+            })
+        };
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas") });
+        {
+            let group = bind(
+                self.bound.get_bind_group_layout(0),
+                &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (4, &bounds)],
+            );
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&self.bound);
+            pass.set_bind_group(0, &group, &[]);
+            let groups = pairs.len().div_ceil(64).max(1) as u32;
+            pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+        }
+        let group = bind(
+            self.pipeline.get_bind_group_layout(0),
+            &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (5, &bounds)],
+        );
+        let hit_view = hits.create_view(&Default::default());
+        let depth_view = depth.create_view(&Default::default());
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas") });
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("atlas"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &hit_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            for (i, &(start, end)) in ranges.iter().enumerate() {
+                if end > start {
+                    pass.draw(3 * start..3 * end, i as u32..i as u32 + 1);
+                }
+            }
+        }
+        let bytes_per_row = self.page * 8;
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("atlas readback"),
+            size: u64::from(bytes_per_row) * u64::from(rows),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        encoder.copy_texture_to_buffer(
+            hits.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(bytes_per_row),
+                    rows_per_image: Some(rows),
+                },
+            },
+            extent,
+        );
+        self.gpu.queue.submit([encoder.finish()]);
+        Ok(bytemuck::pod_collect_to_vec(&map(self.gpu, &readback)?))
+    }
+}
+
+/// Position of the `index`-th square of side `s` in Z order (bits of `index` de-interleaved).
+fn z_order(index: u32, s: u32) -> (u32, u32) {
+    let (mut x, mut y) = (0, 0);
+    for bit in 0..16 {
+        x |= ((index >> (2 * bit)) & 1) << bit;
+        y |= ((index >> (2 * bit + 1)) & 1) << bit;
+    }
+    (x * s, y * s)
+}
+
+impl BeamRenderer for GpuBeams<'_> {
+    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String> {
+        let start = Instant::now();
+        // Bounding-cone culling on the CPU (000 App. A; the paper culls objects there too).
+        let candidates: Vec<Vec<u32>> = jobs
+            .par_iter()
+            .map(|j| {
+                let tb = j.beam.texel_beam();
+                cone_candidates(scene, &tb.culling_cone(&tb.s1_or_sn_bounds()), j.exclude)
+            })
+            .collect();
+        // Pack power-of-two squares, largest first, in Z order: every square lands aligned.
+        let mut order: Vec<usize> = (0..jobs.len()).collect();
+        order.sort_by_key(|&i| std::cmp::Reverse(jobs[i].size));
+        let mut placed: Vec<Option<Placed>> = (0..jobs.len()).map(|_| None).collect();
+        let (mut page, mut used) = (0usize, 0u64);
+        let capacity = u64::from(self.page) * u64::from(self.page);
+        let mut rows = vec![0u32];
+        for &i in &order {
+            let s = jobs[i].size.clamp(1, self.page);
+            let area = u64::from(s) * u64::from(s);
+            if used + area > capacity {
+                page += 1;
+                used = 0;
+                rows.push(0);
+            }
+            let (x, y) = z_order((used / area) as u32, s);
+            used += area;
+            rows[page] = rows[page].max(y + s);
+            placed[i] = Some(Placed { page, x, y });
+        }
+        let mut textures: Vec<Option<BeamTexture>> = (0..jobs.len()).map(|_| None).collect();
+        self.add_times(|t| t.prepare_seconds += start.elapsed().as_secs_f64());
+        for (p, &page_rows) in rows.iter().enumerate() {
+            let start = Instant::now();
+            let members: Vec<usize> =
+                order.iter().copied().filter(|&i| placed[i].as_ref().is_some_and(|q| q.page == p)).collect();
+            if members.is_empty() {
+                continue;
+            }
+            let mut beams = Vec::with_capacity(members.len());
+            let mut flat = Vec::new();
+            let mut ranges = Vec::with_capacity(members.len());
+            for (k, &i) in members.iter().enumerate() {
+                let q = placed[i].as_ref().ok_or("unplaced beam")?;
+                beams.push(GpuBeam::new(jobs[i].beam, [q.x, q.y, jobs[i].size], jobs[i].exclude));
+                let first = flat.len() as u32;
+                flat.extend(candidates[i].iter().map(|&prim| [k as u32, prim]));
+                ranges.push((first, flat.len() as u32));
+            }
+            let prepared = start.elapsed().as_secs_f64();
+            let texels = self.render_page(&beams, &flat, &ranges, page_rows)?;
+            let drawn = start.elapsed().as_secs_f64() - prepared;
+            let start = Instant::now();
+            for &i in &members {
+                let q = placed[i].as_ref().ok_or("unplaced beam")?;
+                let size = jobs[i].size;
+                let n = (size * size) as usize;
+                let mut hits = vec![None; n];
+                for y in 0..size {
+                    for x in 0..size {
+                        let [prim, t] = texels[((q.y + y) * self.page + q.x + x) as usize];
+                        if prim > 0 && x + y < size + 1 {
+                            hits[(y * size + x) as usize] = Some(TexelHit { prim: prim - 1, t: f32::from_bits(t) });
+                        }
+                    }
+                }
+                textures[i] = Some(BeamTexture {
+                    size,
+                    hits,
+                    radiance: vec![Vec3::ZERO; n],
+                    triangles_after_culling: candidates[i].len() as u32,
+                    texels_tested: 0,
+                });
+            }
+            self.add_times(|t| {
+                t.atlas_seconds += drawn;
+                t.prepare_seconds += prepared + start.elapsed().as_secs_f64();
+                t.pages += 1;
+                t.beams += members.len() as u64;
+                t.triangles += flat.len() as u64;
+            });
+        }
+        textures.into_iter().map(|t| t.ok_or_else(|| "a beam was not rendered".to_string())).collect()
+    }
+
+    fn eye_hits(&self, _scene: &Scene, camera: &Camera) -> Result<Vec<Option<(Ray, Hit)>>, String> {
+        let start = Instant::now();
+        let frame = camera.frame();
+        let rays: Vec<Ray> =
+            (0..(camera.width * camera.height) as usize).map(|i| camera.pixel_ray(&frame, i)).collect();
+        let mut out = Vec::with_capacity(rays.len());
+        for chunk in rays.chunks(65_535 * 64) {
+            let gpu_rays: Vec<GpuRay> = chunk
+                .iter()
+                .map(|r| GpuRay {
+                    origin: r.origin.to_array(),
+                    t_max: 3.0e38,
+                    direction: r.direction.to_array(),
+                    kind: 0,
+                })
+                .collect();
+            let hits = self.tracer.trace(self.gpu, &gpu_rays)?;
+            out.extend(chunk.iter().zip(hits).map(|(&ray, h)| {
+                (h.prim != GpuHit::MISS).then_some((ray, Hit { prim: h.prim, t: h.t, u: 0.0, v: 0.0 }))
+            }));
+        }
+        self.add_times(|t| t.eye_seconds += start.elapsed().as_secs_f64());
+        Ok(out)
+    }
+}

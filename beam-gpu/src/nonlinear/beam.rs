@@ -1,0 +1,96 @@
+//! The GPU layout of a nonlinear beam: the per-beam quantities of 000 Algs. 3–4 (extremal
+//! directions, threshold plane, μ_b, μ_d, heights; θ2 and τ of eq. 5 for bump-mapped beams) computed
+//! once by beam-math, and the Bernstein control points of eq. 1.
+
+use beam_cpu::nonlinear::Beam;
+use beam_math::glam::Vec3;
+use beam_math::nonlinear::{BeamBounds, Interpolant, NonlinearBeam};
+use bytemuck::{Pod, Zeroable};
+
+/// Most control points of a GPU beam (S3: 10).
+pub const MAX_CONTROL_POINTS: usize = 10;
+
+/// A beam for the shaders.
+///
+/// Keep in sync with the WGSL twin `Beam` in `shaders/shared/nonlinear.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuBeam {
+    /// Base vertices `Pᵢ` (w unused).
+    pub base: [[f32; 4]; 3],
+    /// Unit boundary directions `dᵢ`.
+    pub dirs: [[f32; 4]; 3],
+    /// Extremal directions `d̂ᵢ` (000 §6.2).
+    pub extremal: [[f32; 4]; 3],
+    /// Inner unit normal of the base plane; w: the winding sign of the affine planes.
+    pub normal: [f32; 4],
+    /// Threshold plane `Π_T`: normal and offset.
+    pub threshold: [f32; 4],
+    /// Heights of the base; w: `t_max` of `Π_T`.
+    pub heights: [f32; 4],
+    /// `μ_b`, `μ_d` (eq. 4), bump angle `δ`, `τ = δ + φ` (eq. 5).
+    pub offsets: [f32; 4],
+    /// `θ2 = asin(min n·dᵢ)`, bump wavelength, lift (largest origin offset, for self-hits), unused.
+    pub bump: [f32; 4],
+    /// Atlas x, y, texels per side, excluded scene triangle (the base).
+    pub region: [u32; 4],
+    /// Degree `n`, control points, bumped (0 or 1), unused.
+    pub kind: [u32; 4],
+    /// Bernstein control points of `O(ω)`.
+    pub origin: [[f32; 4]; MAX_CONTROL_POINTS],
+    /// Bernstein control points of `d(ω)`.
+    pub direction: [[f32; 4]; MAX_CONTROL_POINTS],
+}
+
+const _: () = assert!(size_of::<GpuBeam>() == 576);
+
+fn v4(v: Vec3, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}
+
+impl GpuBeam {
+    /// `beam` on an atlas region `(x, y, size)`, skipping scene triangle `exclude`.
+    #[must_use]
+    pub fn new(beam: &Beam, region: [u32; 3], exclude: u32) -> Self {
+        let mut out = match beam {
+            Beam::S1(b) => Self::from_beam(b, &b.bounds()),
+            Beam::S3(b) => Self::from_beam(b, &b.bounds()),
+            Beam::Bumped(b) => {
+                let s1 = &b.beam.beam;
+                let mut g = Self::from_beam(s1, &s1.bounds());
+                let min_elevation = s1.dirs.iter().fold(1.0f32, |m, d| m.min(s1.normal.dot(*d)));
+                g.offsets[2] = b.beam.delta;
+                g.offsets[3] = b.beam.delta + b.beam.spread();
+                g.bump = [min_elevation.clamp(-1.0, 1.0).asin(), b.bump.wavelength, 0.0, 0.0];
+                g.kind[2] = 1;
+                g
+            }
+        };
+        out.region = [region[0], region[1], region[2], exclude];
+        out
+    }
+
+    fn from_beam<L: Interpolant>(b: &NonlinearBeam<L>, bounds: &BeamBounds) -> Self {
+        let p = &b.patch;
+        let count = p.count.min(MAX_CONTROL_POINTS);
+        let mut g = Self {
+            base: b.base.map(|v| v4(v, 0.0)),
+            dirs: b.dirs.map(|v| v4(v, 0.0)),
+            extremal: bounds.extremal.map(|v| v4(v, 0.0)),
+            normal: v4(b.normal, b.winding()),
+            threshold: v4(bounds.threshold.plane.normal, bounds.threshold.plane.d),
+            heights: v4(bounds.heights, bounds.threshold.t_max),
+            offsets: [bounds.mu_b, bounds.mu_d, 0.0, 0.0],
+            bump: [0.0, 0.0, bounds.mu_b, 0.0],
+            region: [0; 4],
+            kind: [p.degree as u32, count as u32, 0, 0],
+            origin: [[0.0; 4]; MAX_CONTROL_POINTS],
+            direction: [[0.0; 4]; MAX_CONTROL_POINTS],
+        };
+        for i in 0..count {
+            g.origin[i] = v4(p.origin[i].as_vec3(), 0.0);
+            g.direction[i] = v4(p.direction[i].as_vec3(), 0.0);
+        }
+        g
+    }
+}

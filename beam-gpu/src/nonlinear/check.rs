@@ -1,0 +1,111 @@
+//! The WGSL nonlinear-beam functions run on batches of cases (`shaders/nonlinear_check.wgsl`), for
+//! the conformance suite to compare with their CPU twins: `bounding_triangle` with beam-math's
+//! [`NonlinearBeam::bounding_triangle`](beam_math::nonlinear::NonlinearBeam::bounding_triangle) and
+//! [`BumpBeam::bounding_triangle`](beam_math::nonlinear::BumpBeam::bounding_triangle), `texel_ray`
+//! with [`Beam::ray_at`].
+
+use super::beam::GpuBeam;
+use crate::Gpu;
+use crate::buffers::{compute_pipeline, dispatch, output, read_back, storage};
+use beam_cpu::nonlinear::Beam;
+use beam_math::Triangle;
+use beam_math::glam::Vec3;
+use beam_math::nonlinear::BoundingCase;
+use bytemuck::{Pod, Zeroable};
+
+/// One case: a scene triangle, or a base point in `a`; the beam's index in `a[3]` (as bits).
+///
+/// Keep in sync with the WGSL twin `CheckCase` in `shaders/nonlinear_check.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct CheckCase {
+    /// First vertex, or the base point; w: beam index bits.
+    pub a: [f32; 4],
+    /// Second vertex.
+    pub b: [f32; 4],
+    /// Third vertex.
+    pub c: [f32; 4],
+}
+
+const _: () = assert!(size_of::<CheckCase>() == 48);
+
+/// A bounding triangle computed by the shader: lower bounds and case (`None`: culled, behind the
+/// base).
+pub type GpuBoundingTriangle = Option<([f32; 3], BoundingCase)>;
+
+/// The compiled check pipelines.
+pub struct NonlinearCheck {
+    bounding: wgpu::ComputePipeline,
+    rays: wgpu::ComputePipeline,
+}
+
+impl NonlinearCheck {
+    /// Compile both entry points.
+    pub fn new(gpu: &Gpu) -> Result<Self, String> {
+        Ok(Self {
+            bounding: compute_pipeline(gpu, "nonlinear_check", "check_bounding_triangles")?,
+            rays: compute_pipeline(gpu, "nonlinear_check", "check_rays")?,
+        })
+    }
+
+    fn run(
+        &self,
+        gpu: &Gpu,
+        pipeline: &wgpu::ComputePipeline,
+        beams: &[Beam],
+        cases: &[CheckCase],
+        per_case: usize,
+    ) -> Result<Vec<[f32; 4]>, String> {
+        if cases.is_empty() {
+            return Ok(Vec::new());
+        }
+        let groups = cases.len().div_ceil(64);
+        if groups > 65_535 {
+            return Err(format!("{} cases exceed one dispatch", cases.len()));
+        }
+        let gpu_beams: Vec<GpuBeam> = beams.iter().map(|b| GpuBeam::new(b, [0, 0, 1], u32::MAX)).collect();
+        let beam_buffer = storage(gpu, "beams", bytemuck::cast_slice(&gpu_beams), wgpu::BufferUsages::empty());
+        let case_buffer = storage(gpu, "cases", bytemuck::cast_slice(cases), wgpu::BufferUsages::empty());
+        let size = (cases.len() * per_case * 16) as u64;
+        let results = output(gpu, "results", size);
+        let encoder = dispatch(gpu, pipeline, &[&beam_buffer, &case_buffer, &results], groups as u32);
+        Ok(bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &results, size)?))
+    }
+
+    /// The shader's bounding triangle of each `(beam index, scene triangle)`.
+    pub fn bounding_triangles(
+        &self,
+        gpu: &Gpu,
+        beams: &[Beam],
+        cases: &[(u32, Triangle)],
+    ) -> Result<Vec<GpuBoundingTriangle>, String> {
+        let v = |p: Vec3, w: f32| [p.x, p.y, p.z, w];
+        let cases: Vec<CheckCase> = cases
+            .iter()
+            .map(|(i, t)| CheckCase { a: v(t.v[0], f32::from_bits(*i)), b: v(t.v[1], 0.0), c: v(t.v[2], 0.0) })
+            .collect();
+        let out = self.run(gpu, &self.bounding, beams, &cases, 1)?;
+        Ok(out
+            .iter()
+            .map(|r| {
+                let case = match r[3] as u32 {
+                    0 => BoundingCase::BruteForce,
+                    1 => BoundingCase::General,
+                    2 => BoundingCase::UniqueProjection,
+                    _ => return None,
+                };
+                Some(([r[0], r[1], r[2]], case))
+            })
+            .collect())
+    }
+
+    /// The shader's texel ray (origin, direction) of each `(beam index, base point)`.
+    pub fn rays(&self, gpu: &Gpu, beams: &[Beam], cases: &[(u32, Vec3)]) -> Result<Vec<(Vec3, Vec3)>, String> {
+        let cases: Vec<CheckCase> = cases
+            .iter()
+            .map(|(i, w)| CheckCase { a: [w.x, w.y, w.z, f32::from_bits(*i)], b: [0.0; 4], c: [0.0; 4] })
+            .collect();
+        let out = self.run(gpu, &self.rays, beams, &cases, 2)?;
+        Ok(out.chunks_exact(2).map(|p| (Vec3::from_slice(&p[0][..3]), Vec3::from_slice(&p[1][..3]))).collect())
+    }
+}

@@ -1,0 +1,11 @@
+//! Nonlinear beam tracing (000) on the GPU: the beams' GPU layout, the atlas pipeline of 000 §3 that
+//! renders every beam of a tree level at once, and compute entry points that check the WGSL
+//! bounding triangles and rays against beam-math.
+
+mod atlas;
+mod beam;
+mod check;
+
+pub use atlas::{AtlasParams, GpuBeams, GpuTimes};
+pub use beam::{GpuBeam, MAX_CONTROL_POINTS};
+pub use check::{CheckCase, GpuBoundingTriangle, NonlinearCheck};

@@ -1,0 +1,368 @@
+//! GPU properties (beam-gpu on whatever adapter wgpu finds: Mesa lavapipe in CI): the WGSL
+//! nonlinear-beam functions against beam-math, the compute ray tracer against the CPU's BVH, the
+//! atlas pipeline's beam textures and the nonlinear images against the CPU renderer's. Each skips,
+//! saying why, only when no adapter exists at all.
+
+use crate::generate::{self, BeamKind, uniform};
+use crate::{Backend, Config, Outcome, Property};
+use beam_bvh::gpu::GpuBvh;
+use beam_cpu::nonlinear::{
+    Beam, BeamJob, BumpedBeam, CpuBeams, Degree, NonlinearOptions, SMesh, render_nonlinear_with,
+};
+use beam_cpu::render::RenderOptions;
+use beam_cpu::scene::{self, Bump};
+use beam_gpu::Gpu;
+use beam_gpu::nonlinear::{GpuBeams, NonlinearCheck};
+use beam_gpu::raytrace::{GpuHit, GpuRay, RayTracer};
+use beam_math::glam::Vec3;
+use beam_math::nonlinear::{BoundingCase, BumpBeam};
+use beam_math::{Ray, Triangle};
+use rand::Rng;
+
+const GPU: &[Backend] = &[Backend::Gpu];
+
+/// The GPU properties.
+#[must_use]
+pub fn properties() -> Vec<Property> {
+    vec![
+        Property {
+            name: "gpu_bounding_triangles_match_math",
+            cites: "000 Algs. 3-4, eq. 5",
+            backends: GPU,
+            body: gpu_bounding_triangles_match_math,
+        },
+        Property {
+            name: "gpu_texel_rays_match_math",
+            cites: "000 eq. 1, §6.3",
+            backends: GPU,
+            body: gpu_texel_rays_match_math,
+        },
+        Property {
+            name: "gpu_ray_hits_equal_cpu_hits",
+            cites: "BVH traversal",
+            backends: GPU,
+            body: gpu_ray_hits_equal_cpu_hits,
+        },
+        Property {
+            name: "gpu_beam_texels_equal_cpu",
+            cites: "000 §3, Alg. 1",
+            backends: GPU,
+            body: gpu_beam_texels_equal_cpu,
+        },
+        Property { name: "gpu_images_equal_cpu", cites: "000 §3, §7", backends: GPU, body: gpu_images_equal_cpu },
+    ]
+}
+
+/// The adapter, or `Ok(Err(outcome))` saying why the property is skipped.
+fn adapter() -> Result<Gpu, Outcome> {
+    Gpu::new().map_err(|e| Outcome { cases: 0, note: format!("skipped: {e}") })
+}
+
+/// Random beams of every kind (diverging, converging, mixed), each as S1, S3 and bump-mapped.
+fn random_beams(seed: u64, per_kind: usize) -> Vec<Beam> {
+    let mut rng = generate::rng(seed);
+    let mut beams = Vec::new();
+    for kind in BeamKind::ALL {
+        for _ in 0..per_kind {
+            beams.push(Beam::S1(generate::s1_beam(&mut rng, kind)));
+            beams.push(Beam::S3(generate::s3_beam(&mut rng, kind)));
+            let delta = uniform(&mut rng, 0.01, 0.15);
+            let bump = Bump { delta, wavelength: uniform(&mut rng, 0.2, 2.0) };
+            let beam = BumpBeam { beam: generate::s1_beam(&mut rng, kind), delta };
+            beams.push(Beam::Bumped(BumpedBeam { beam, bump }));
+        }
+    }
+    beams
+}
+
+/// The bounding triangle beam-math computes for `tri` (what the CPU renderer rasterizes).
+fn cpu_bounding_triangle(beam: &Beam, tri: &Triangle) -> Option<beam_math::nonlinear::BoundingTriangle> {
+    let tb = beam.texel_beam();
+    tb.bounding_triangle_of(&tb.s1_or_sn_bounds(), tri)
+}
+
+/// How much larger than beam-math's a GPU bounding triangle may be where both take the same branch:
+/// the shader's f32 margin (2e-3 of the base, in barycentric units) plus f32 rounding.
+const TOLERANCE: f32 = 5e-3;
+
+/// The WGSL bounding triangles (a compute entry point running the vertex stage's function) against
+/// beam-math's on 36,000 (beam, triangle) pairs — S1, S3 and bump-mapped beams of three kinds,
+/// triangles near and far, small and straddling. Where f32 decides every branch as beam-math's f64
+/// does, the lower bounds are at most [`TOLERANCE`] below beam-math's (clamped at 0: every texel's
+/// ω is ≥ 0); where it
+/// cannot (a vertex within 1e-4 of a side surface, the base or the threshold plane) the shader
+/// takes the larger branch. Always: the GPU triangle contains the CPU's,
+/// and culls only what the CPU culls. At most 5% of these stress pairs (beams past their focus, mixed
+/// directions) may take the larger branch.
+pub fn gpu_bounding_triangles_match_math(_: Backend, _: &Config) -> Result<Outcome, String> {
+    let gpu = match adapter() {
+        Ok(g) => g,
+        Err(o) => return Ok(o),
+    };
+    let check = NonlinearCheck::new(&gpu)?;
+    let beams = random_beams(21, 100);
+    let mut rng = generate::rng(22);
+    let mut cases = Vec::new();
+    for (i, beam) in beams.iter().enumerate() {
+        let s1 = match beam {
+            Beam::S1(b) => *b,
+            Beam::S3(b) => beam_math::nonlinear::NonlinearBeam::s1(b.base, b.dirs).ok_or("degenerate beam")?,
+            Beam::Bumped(b) => b.beam.beam,
+        };
+        for _ in 0..40 {
+            cases.push((i as u32, generate::scene_triangle(&mut rng, &s1)));
+        }
+    }
+    let got = check.bounding_triangles(&gpu, &beams, &cases)?;
+    let (mut same, mut larger, mut worst) = (0u64, 0u64, 0.0f32);
+    // Larger branches: the whole base where beam-math computed one, the general case where it used
+    // the unique projection, kept where it culled.
+    let mut why = [0u64; 3];
+    let mut by_case = [0u64; 4];
+    for ((i, tri), gpu_bt) in cases.iter().zip(&got) {
+        let cpu = cpu_bounding_triangle(&beams[*i as usize], tri);
+        let context =
+            || format!("beam {i} ({:?}) triangle {tri:?}: CPU {cpu:?}, GPU {gpu_bt:?}", kind(&beams[*i as usize]));
+        match (cpu, gpu_bt) {
+            (None, None) => by_case[3] += 1,
+            (_, None) => return Err(format!("GPU culled a triangle the CPU keeps: {}", context())),
+            (None, Some(_)) => {
+                larger += 1;
+                why[2] += 1;
+            }
+            (Some(c), Some((lower, case))) => {
+                // Every texel's ω is ≥ 0 (margin texels take the nearest point of the base's edge),
+                // so bounds below 0 all mean the base's edge.
+                let (g, m) = (Vec3::from_array(*lower).max(Vec3::ZERO), c.lower.max(Vec3::ZERO));
+                if g.cmpgt(m).any() {
+                    return Err(format!("GPU triangle does not contain the CPU's: {}", context()));
+                }
+                if *case == c.case {
+                    same += 1;
+                    worst = worst.max((g - m).abs().max_element());
+                    by_case[match c.case {
+                        BoundingCase::BruteForce => 0,
+                        BoundingCase::General => 1,
+                        BoundingCase::UniqueProjection => 2,
+                    }] += 1;
+                } else {
+                    larger += 1;
+                    why[usize::from(*case != BoundingCase::BruteForce)] += 1;
+                }
+            }
+        }
+    }
+    let n = cases.len() as u64;
+    if worst > TOLERANCE {
+        return Err(format!("lower bounds differ by {worst:.1e} where the cases agree"));
+    }
+    if larger * 20 > n {
+        return Err(format!("{larger} of {n} pairs took the larger branch (more than 5%): {why:?}"));
+    }
+    Ok(Outcome {
+        cases: n,
+        note: format!(
+            "same case {same} (brute force {}, general {}, unique projection {}; culled {}), larger branch {larger} \
+             (whole base {}, general for unique {}, kept {}); worst |Δm| {worst:.1e} (bounds clamped at 0)",
+            by_case[0], by_case[1], by_case[2], by_case[3], why[0], why[1], why[2]
+        ),
+    })
+}
+
+fn kind(beam: &Beam) -> &'static str {
+    match beam {
+        Beam::S1(_) => "S1",
+        Beam::S3(_) => "S3",
+        Beam::Bumped(_) => "bumped",
+    }
+}
+
+/// The WGSL texel rays (eq. 1 by Bernstein sums; S1 rays tilted by the bump map for bumped beams)
+/// against beam-math's on 36,000 base points: origins within 1e-5 of the base size, unit
+/// directions within 1e-4 rad (bump tilts use the GPU's sine).
+pub fn gpu_texel_rays_match_math(_: Backend, _: &Config) -> Result<Outcome, String> {
+    let gpu = match adapter() {
+        Ok(g) => g,
+        Err(o) => return Ok(o),
+    };
+    let check = NonlinearCheck::new(&gpu)?;
+    let beams = random_beams(23, 100);
+    let mut rng = generate::rng(24);
+    let cases: Vec<(u32, Vec3)> = (0..beams.len())
+        .flat_map(|i| (0..40).map(move |_| i as u32))
+        .map(|i| (i, generate::barycentric(&mut rng)))
+        .collect();
+    let got = check.rays(&gpu, &beams, &cases)?;
+    let (mut worst_o, mut worst_d) = (0.0f32, 0.0f32);
+    for ((i, w), (o, d)) in cases.iter().zip(&got) {
+        let beam = &beams[*i as usize];
+        let cpu = beam.ray_at(*w);
+        let base = beam.texel_beam().base();
+        let size = base[1].distance(base[0]).max(base[2].distance(base[0]));
+        let eo = o.distance(cpu.origin) / size;
+        let (a, b) = (d.normalize(), cpu.direction.normalize());
+        let ed = a.cross(b).length().atan2(a.dot(b));
+        worst_o = worst_o.max(eo);
+        worst_d = worst_d.max(if ed.is_nan() { f32::INFINITY } else { ed });
+        if eo > 1e-5 || !(ed <= 1e-4) {
+            return Err(format!("{} beam {i} at ω={w}: GPU ({o}, {d}), CPU {cpu:?}", kind(beam)));
+        }
+    }
+    Ok(Outcome {
+        cases: cases.len() as u64,
+        note: format!("worst origin error {worst_o:.1e} of the base size, direction {worst_d:.1e} rad"),
+    })
+}
+
+/// The compute ray tracer against the CPU's BVH traversal: camera rays and random rays through the
+/// scene's box, closest and any hits, on three built-ins. Rays exactly on an edge may be decided
+/// differently (the CPU refines in f64): at most 1 in 10⁴; hit distances within 1e-5 relative.
+pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, String> {
+    let gpu = match adapter() {
+        Ok(g) => g,
+        Err(o) => return Ok(o),
+    };
+    let mut rng = generate::rng(7);
+    let (mut total, mut notes) = (0u64, Vec::new());
+    for name in ["cornell", "mirror-glass", "wavy-lake"] {
+        let scene = scene::builtin(name)?;
+        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
+        let bounds = scene.bounds();
+        let camera = scene.camera.with_size(128, 128);
+        let frame = camera.frame();
+        let mut rays: Vec<_> = (0..128 * 128).map(|i| (camera.pixel_ray(&frame, i), f32::INFINITY, 0)).collect();
+        for k in 0..20_000 {
+            let mut p = || bounds.min + (bounds.max - bounds.min) * Vec3::new(rng.random(), rng.random(), rng.random());
+            let (a, b) = (p(), p());
+            rays.push((Ray::new(a, b - a), if k % 2 == 0 { f32::INFINITY } else { 1.0 }, (k % 2) as u32));
+        }
+        let gpu_rays: Vec<GpuRay> = rays
+            .iter()
+            .map(|&(r, t_max, kind)| GpuRay {
+                origin: r.origin.to_array(),
+                t_max: t_max.min(3.0e38),
+                direction: r.direction.to_array(),
+                kind,
+            })
+            .collect();
+        let hits = tracer.trace(&gpu, &gpu_rays)?;
+        let (mut mismatches, mut worst) = (0usize, 0.0f32);
+        for (&(ray, t_max, kind), hit) in rays.iter().zip(&hits) {
+            if kind == 1 {
+                if scene.bvh.any_hit(&scene.triangles, ray, t_max) != (hit.t > 0.5) {
+                    mismatches += 1;
+                }
+                continue;
+            }
+            match (scene.bvh.closest_hit(&scene.triangles, ray, t_max), hit.prim) {
+                (None, GpuHit::MISS) => {}
+                (Some(c), p) if p == c.prim => worst = worst.max((c.t - hit.t).abs() / c.t.max(1.0)),
+                // Ties: another triangle at the same distance (shared edges, coplanar faces).
+                (Some(c), p) if p != GpuHit::MISS && (c.t - hit.t).abs() <= 1e-5 * c.t.max(1.0) => {}
+                _ => mismatches += 1,
+            }
+        }
+        if mismatches * 10_000 > rays.len() || worst > 1e-5 {
+            return Err(format!("{name}: {mismatches} mismatches of {}, worst relative Δt {worst:.1e}", rays.len()));
+        }
+        total += rays.len() as u64;
+        notes.push(format!("{name} {mismatches} mismatches, Δt ≤ {worst:.1e}"));
+    }
+    Ok(Outcome { cases: total, note: format!("{} ({})", notes.join("; "), gpu.describe()) })
+}
+
+/// The atlas pipeline (vertex-stage bounding triangles, fragment-stage intersection, depth test)
+/// against the CPU's `render_beam` on the level-1 beams off every third specular face of four
+/// built-ins (S1, S3, bumped, refracted; 16 texels per side): per texel the same nearest hit — the
+/// same triangle, or another at the same distance (within 1e-4 relative: a shared edge). At most 0.1% of the texels may differ.
+pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+    use beam_cpu::nonlinear::BeamRenderer;
+    let gpu = match adapter() {
+        Ok(g) => g,
+        Err(o) => return Ok(o),
+    };
+    let (mut texels, mut notes) = (0u64, Vec::new());
+    for (name, degree) in [
+        ("mirror-glass-coarse", Degree::S3),
+        ("facing-mirrors-coarse", Degree::S1),
+        ("bumpy-mirror", Degree::S1),
+        ("glass-lens-coarse", Degree::S3),
+    ] {
+        let scene = scene::builtin(name)?;
+        let smesh = SMesh::specular(&scene);
+        let eye = scene.camera.position;
+        let beams: Vec<(Beam, u32)> = smesh
+            .faces
+            .iter()
+            .step_by(3)
+            .filter_map(|f| {
+                let incoming = f.v.map(|v| (v - eye).normalize_or_zero());
+                let (reflected, refracted) = beam_cpu::nonlinear::child_beams(&scene, f, incoming, degree)?;
+                Some([Some(reflected), refracted.flatten()].into_iter().flatten().map(move |b| (b, f.prim)))
+            })
+            .flatten()
+            .collect();
+        let jobs: Vec<BeamJob<'_>> =
+            beams.iter().map(|(beam, prim)| BeamJob { beam, size: 16, exclude: *prim }).collect();
+        let renderer = GpuBeams::new(&gpu, &scene)?;
+        let on_gpu = renderer.render_beams(&scene, &jobs)?;
+        let on_cpu = CpuBeams.render_beams(&scene, &jobs)?;
+        let (mut n, mut d) = (0u64, 0u64);
+        for (g, c) in on_gpu.iter().zip(&on_cpu) {
+            for (a, b) in g.hits.iter().zip(&c.hits) {
+                n += 1;
+                let same = match (a, b) {
+                    (None, None) => true,
+                    (Some(a), Some(b)) => a.prim == b.prim || (a.t - b.t).abs() <= 1e-4 * a.t.abs().max(b.t.abs()),
+                    _ => false,
+                };
+                d += u64::from(!same);
+            }
+        }
+        if d * 1000 > n {
+            return Err(format!("{name}: {d} of {n} texels differ"));
+        }
+        texels += n;
+        notes.push(format!("{name} ({} beams) {d}", beams.len()));
+    }
+    Ok(Outcome { cases: texels, note: format!("texels differing: {}", notes.join(", ")) })
+}
+
+/// Nonlinear images (96², two tree levels) with every beam rendered by the GPU's atlases and the
+/// eye's view by its ray tracer, against the CPU renderer's, on five built-ins: at most 0.5% of the
+/// pixels differ by more than 4/255 in a channel (sRGB); the mean error is stated.
+pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+    let gpu = match adapter() {
+        Ok(g) => g,
+        Err(o) => return Ok(o),
+    };
+    let (mut pixels, mut notes) = (0u64, Vec::new());
+    for (name, degree) in [
+        ("mirror-glass-coarse", Degree::S3),
+        ("facing-mirrors-coarse", Degree::S1),
+        ("glass-lens-coarse", Degree::S3),
+        ("bumpy-mirror", Degree::S1),
+        ("wavy-lake-coarse", Degree::S3),
+    ] {
+        let scene = scene::builtin(name)?;
+        let options = NonlinearOptions { degree, texels: 32, bounces: 2, shading: RenderOptions::exact(96, 96) };
+        let renderer = GpuBeams::new(&gpu, &scene)?;
+        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &renderer)?;
+        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &CpuBeams)?;
+        let (mut differ, mut sum) = (0u64, 0.0f64);
+        for (a, b) in on_gpu.pixels.iter().zip(&on_cpu.pixels) {
+            let d = (0..3)
+                .map(|k| (beam_cpu::render::srgb_encode(a[k]) - beam_cpu::render::srgb_encode(b[k])).abs())
+                .fold(0.0f32, f32::max);
+            sum += f64::from(d);
+            differ += u64::from(d > 4.0 / 255.0);
+        }
+        let n = on_gpu.pixels.len() as u64;
+        if differ * 200 > n {
+            return Err(format!("{name}: {differ} of {n} pixels differ by more than 4/255"));
+        }
+        pixels += n;
+        notes.push(format!("{name} {:.2}% (mean {:.2}/255)", 100.0 * differ as f64 / n as f64, 255.0 * sum / n as f64));
+    }
+    Ok(Outcome { cases: pixels, note: format!("pixels differing by > 4/255: {}", notes.join(", ")) })
+}
