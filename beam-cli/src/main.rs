@@ -50,6 +50,10 @@ enum Command {
         /// truth `nonlinear-reference` (mirrors by rays reflected about the interpolated normal).
         #[arg(long, default_value = "beam")]
         method: String,
+        /// Where the nonlinear method and its reference find their hits: `cpu`, or `gpu` (beam
+        /// atlases and rays on the first wgpu adapter; the shading stays on the CPU).
+        #[arg(long, default_value = "cpu")]
+        backend: String,
         /// Nonlinear beam parameterization: `s1` or `s3` (`--method nonlinear`).
         #[arg(long, default_value = "s3")]
         degree: String,
@@ -193,6 +197,7 @@ fn main() -> ExitCode {
         Command::Render {
             scene,
             method,
+            backend,
             degree,
             texels,
             bounces,
@@ -208,6 +213,7 @@ fn main() -> ExitCode {
         } => render::run(&render::RenderArgs {
             scene: &scene,
             method: &method,
+            backend: &backend,
             degree: &degree,
             texels,
             bounces,

@@ -1,8 +1,11 @@
 //! `beam render` and `beam compare`.
 
-use beam_cpu::nonlinear::{Degree, NonlinearOptions, render_nonlinear, render_smooth_reference};
+use beam_cpu::nonlinear::{
+    BeamRenderer, CpuBeams, Degree, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
+};
 use beam_cpu::render::{Image, Method, RenderOptions, Shading, difference, render, side_by_side};
 use beam_cpu::scene;
+use beam_gpu::nonlinear::GpuBeams;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -10,6 +13,7 @@ use std::process::ExitCode;
 pub struct RenderArgs<'a> {
     pub scene: &'a str,
     pub method: &'a str,
+    pub backend: &'a str,
     pub degree: &'a str,
     pub texels: u32,
     pub bounces: u32,
@@ -61,6 +65,9 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     if a.method.starts_with("nonlinear") {
         return nonlinear(a, &scene, options);
     }
+    if a.backend != "cpu" {
+        return Err(format!("--backend {} renders --method nonlinear and nonlinear-reference only", a.backend));
+    }
     let bar = crate::progress::bar(u64::from(height), "render");
     let (image, stats) = render(&scene, &options, || bar.inc(1));
     bar.finish_and_clear();
@@ -111,23 +118,37 @@ fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Re
     if !(1..=16).contains(&a.bounces) {
         return Err(format!("--bounces {} out of range (1 to 16)", a.bounces));
     }
+    let gpu = match a.backend {
+        "cpu" => None,
+        "gpu" => Some(beam_gpu::Gpu::new()?),
+        b => return Err(format!("unknown backend `{b}` (cpu, gpu)")),
+    };
+    let gpu_beams = gpu.as_ref().map(|g| GpuBeams::new(g, scene)).transpose()?;
+    let renderer: &dyn BeamRenderer = match &gpu_beams {
+        Some(g) => g,
+        None => &CpuBeams,
+    };
+    let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
     let start = std::time::Instant::now();
     if a.method == "nonlinear-reference" {
-        let image = render_smooth_reference(scene, &shading, REFERENCE_PHOTONS);
+        let image = render_smooth_reference_with(scene, &shading, REFERENCE_PHOTONS, renderer)?;
         image.save_png(a.out)?;
         println!(
-            "{}: nonlinear reference (rays, smooth mirrors and glass), {:.3} s -> {}",
+            "{}: nonlinear reference (rays, smooth mirrors and glass) on {on}, {:.3} s -> {}",
             scene.name,
             start.elapsed().as_secs_f64(),
             a.out.display()
         );
         return Ok(ExitCode::SUCCESS);
     }
-    let (image, stats) =
-        render_nonlinear(scene, &NonlinearOptions { degree, texels: a.texels, bounces: a.bounces, shading });
+    let (image, stats) = render_nonlinear_with(
+        scene,
+        &NonlinearOptions { degree, texels: a.texels, bounces: a.bounces, shading },
+        renderer,
+    )?;
     image.save_png(a.out)?;
     println!(
-        "{}: nonlinear {} ({} texels per beam side), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {:.3} s -> {}",
+        "{}: nonlinear {} on {on} ({} texels per beam side), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {:.3} s -> {}",
         scene.name,
         stats.degree,
         a.texels,

@@ -23,6 +23,8 @@ struct AtlasParams {
 @group(0) @binding(3) var<storage, read> pairs: array<vec2<u32>>;   // (beam on the page, scene triangle)
 @group(0) @binding(4) var<storage, read_write> bounds_out: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> bounds_in: array<vec4<f32>>; // lower bounds (xyz), case (w)
+// Per beam on the page: scene triangles not culled as behind its base, texels tested (overdraw).
+@group(0) @binding(6) var<storage, read_write> counters: array<atomic<u32>>;
 
 fn scene_tri(prim: u32) -> Tri {
     let t = triangles[prim];
@@ -36,6 +38,7 @@ fn bound_triangles(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
     let pair = pairs[i];
     let bt = bounding_triangle(beams[pair.x], scene_tri(pair.y));
     bounds_out[i] = vec4<f32>(bt.lower, f32(bt.case_));
+    if bt.case_ != 3u { atomicAdd(&counters[2u * pair.x], 1u); }
 }
 
 struct Fragment {
@@ -107,6 +110,7 @@ fn intersect_texel(f: Fragment) -> Hit {
     let w = texel_barycentric(u32(xi), u32(yi), size);
     let slack = 0.5 / f32(size);
     if any(w < f.lower - vec3<f32>(slack)) { discard; }
+    atomicAdd(&counters[2u * f.beam + 1u], 1u);
     let ray = texel_ray(b, w);
     let len = max(length(ray.direction), 1.17549435e-38);
     var t_min = 1e-4 * params.extent / len;

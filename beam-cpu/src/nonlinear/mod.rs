@@ -5,13 +5,15 @@
 
 mod atlas;
 mod caustics;
+mod reference;
 mod smesh;
 mod trace;
 
 pub use atlas::{BeamTexture, BumpedBeam, TexelBeam, TexelHit, cone_candidates, render_beam, self_hit_distance};
 pub use caustics::{CausticStats, caustic_texel, caustics_by_beams, caustics_by_photons};
+pub use reference::{render_smooth_reference, render_smooth_reference_with};
 pub use smesh::{SFace, SMesh};
 pub use trace::{
     Beam, BeamJob, BeamRenderer, CpuBeams, Degree, NonlinearOptions, NonlinearStats, TEXELS_PER_SAMPLE, child_beams,
-    render_nonlinear, render_nonlinear_with, render_smooth_reference,
+    render_nonlinear, render_nonlinear_with,
 };

@@ -10,10 +10,10 @@
 //! rays. The reference traces the same surfaces with rays about the interpolated (Phong) normals.
 
 use super::atlas::{BeamTexture, BumpedBeam, TexelBeam, render_beam};
-use super::caustics::{CausticStats, caustics_by_beams, caustics_by_photons};
+use super::caustics::{CausticStats, caustics_by_beams};
 use super::smesh::{SFace, SMesh};
-use crate::render::{Image, IrradianceMap, RenderOptions, dielectric, reflect, shade_point, trace_radiance};
-use crate::scene::{Camera, Material, Scene};
+use crate::render::{Image, IrradianceMap, RenderOptions, dielectric, reflect, shade_point};
+use crate::scene::{Material, Scene};
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::{Mat3, Vec3};
@@ -206,8 +206,8 @@ pub trait BeamRenderer: Sync {
     /// The textures of `jobs`, in order: nearest hits only (radiance zero), as [`render_beam`].
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String>;
 
-    /// The eye's nearest hit at every pixel centre of `camera` (row-major).
-    fn eye_hits(&self, scene: &Scene, camera: &Camera) -> Result<Vec<Option<(Ray, Hit)>>, String>;
+    /// The nearest hit of every ray (the eye's view; the reference's Whitted rays).
+    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String>;
 }
 
 /// One beam to render: `size × size` texels, skipping scene triangle `exclude` (its base).
@@ -221,7 +221,7 @@ pub struct BeamJob<'a> {
     pub exclude: u32,
 }
 
-/// The CPU's beam renderer: [`render_beam`] per beam, in parallel; primary rays through the BVH.
+/// The CPU's beam renderer: [`render_beam`] per beam, in parallel; rays through the BVH.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct CpuBeams;
 
@@ -230,15 +230,8 @@ impl BeamRenderer for CpuBeams {
         Ok(jobs.par_iter().map(|j| j.beam.render(scene, j.size, j.exclude)).collect())
     }
 
-    fn eye_hits(&self, scene: &Scene, camera: &Camera) -> Result<Vec<Option<(Ray, Hit)>>, String> {
-        let frame = camera.frame();
-        Ok((0..(camera.width * camera.height) as usize)
-            .into_par_iter()
-            .map(|i| {
-                let ray = camera.pixel_ray(&frame, i);
-                scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (ray, h))
-            })
-            .collect())
+    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
+        Ok(rays.par_iter().map(|&ray| scene.wide.closest_hit(ray, f32::INFINITY)).collect())
     }
 }
 
@@ -470,7 +463,10 @@ pub fn render_nonlinear_with(
     };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree.
-    let hits = renderer.eye_hits(scene, &camera)?;
+    let frame = camera.frame();
+    let rays: Vec<Ray> = (0..(camera.width * camera.height) as usize).map(|i| camera.pixel_ray(&frame, i)).collect();
+    let hits: Vec<Option<(Ray, Hit)>> =
+        renderer.closest_hits(scene, &rays)?.into_iter().zip(&rays).map(|(h, &ray)| Some((ray, h?))).collect();
     let seen = hits.iter().flatten().filter_map(|(ray, h)| {
         let fi = *tree.smesh.face_of.get(&h.prim)?;
         Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
@@ -505,21 +501,4 @@ pub fn render_nonlinear_with(
         height: camera.height,
     };
     Ok((image, stats))
-}
-
-/// The ray-traced ground truth of [`render_nonlinear`]: one ray per pixel centre, Whitted through
-/// mirrors and glass about the interpolated (Phong) normals, the smooth surfaces the S mesh stands
-/// for; caustics by about `photons` photons per point light ([`caustics_by_photons`]); everything
-/// else shaded alike.
-#[must_use]
-pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions, photons: u64) -> Image {
-    let caustics = caustics_by_photons(scene, photons, options.seed);
-    let camera = scene.camera.with_size(options.width, options.height);
-    let frame = camera.frame();
-    let mut image = Image::new(camera.width, camera.height);
-    image.pixels.par_iter_mut().enumerate().for_each(|(i, px)| {
-        let ray = camera.pixel_ray(&frame, i);
-        *px = trace_radiance(scene, options, caustics.as_ref(), ray, i as u64);
-    });
-    image
 }

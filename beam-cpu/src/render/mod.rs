@@ -17,7 +17,7 @@ pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub(crate) use renderer::shading_eps;
 pub use renderer::{
-    Method, Occluder, RenderOptions, RenderStats, Shading, TILE, dielectric, primary_coverage, reflect, refract,
-    render, render_with, shade_point, trace_radiance,
+    MAX_DEPTH, Method, Occluder, RenderOptions, RenderStats, Shading, TILE, dielectric, primary_coverage, reflect,
+    refract, render, render_with, shade_point, specular_rays, trace_radiance,
 };
 pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};

@@ -303,7 +303,44 @@ pub fn primary_coverage(scene: &Scene, width: u32, height: u32) -> Vec<(f32, f32
 }
 
 /// Deepest mirror/glass recursion.
-const MAX_DEPTH: u32 = 6;
+pub const MAX_DEPTH: u32 = 6;
+
+/// The rays a mirror or glass triangle `prim` sends back along light arriving at point `p` along
+/// unit direction `d`, with their weights: the reflection about the interpolated (Phong) normal
+/// (tilted by a mirror's bump map; times its tint), and through glass the refraction too, the two
+/// split by Fresnel (reflection alone under total internal reflection). Origins are offset by
+/// `eps` off the surface. `None` for other materials.
+#[must_use]
+pub fn specular_rays(scene: &Scene, eps: f32, prim: u32, p: Vec3, d: Vec3) -> Option<[Option<(Ray, Vec3)>; 2]> {
+    let mut n = scene.normal(prim);
+    let entering = n.dot(d) < 0.0;
+    if !entering {
+        n = -n;
+    }
+    let s = scene.shading_normal(prim, p) * n.dot(scene.normal(prim)).signum();
+    match scene.material(prim) {
+        Material::Mirror { tint, bump } => {
+            let mut r = reflect(d, s);
+            if bump.delta > 0.0 {
+                let tri = &scene.triangles[prim as usize];
+                let u = (tri.v[1] - tri.v[0]).normalize_or_zero();
+                r = perturb(r.normalize(), n, u, bump.tilt(tri, n, p), bump.delta);
+            }
+            Some([Some((Ray::new(p + n * eps, r), tint)), None])
+        }
+        Material::Glass { ior } => {
+            let reflected = Ray::new(p + n * eps, reflect(d, s));
+            Some(match dielectric(d, s, ior, entering) {
+                (fresnel, Some(t)) => [
+                    Some((reflected, Vec3::splat(fresnel))),
+                    Some((Ray::new(p - n * eps, t), Vec3::splat(1.0 - fresnel))),
+                ],
+                (_, None) => [Some((reflected, Vec3::ONE)), None],
+            })
+        }
+        _ => None,
+    }
+}
 
 /// A shadow-ray tracer: true when something lies on the ray before `t_max`.
 pub type Occluder<'a> = &'a (dyn Fn(Ray, f32) -> bool + Sync);
@@ -353,26 +390,13 @@ impl Context<'_> {
                 }
                 albedo / std::f32::consts::PI * e
             }
-            Material::Mirror { tint, bump } if depth < MAX_DEPTH => {
-                let s = self.scene.shading_normal(prim, p) * n.dot(self.scene.normal(prim)).signum();
-                let mut r = reflect(d, s);
-                if bump.delta > 0.0 {
-                    let tri = &self.scene.triangles[prim as usize];
-                    let u = (tri.v[1] - tri.v[0]).normalize_or_zero();
-                    r = perturb(r.normalize(), n, u, bump.tilt(tri, n, p), bump.delta);
-                }
-                tint * self.radiance(Ray::new(p + n * self.eps, r), depth + 1, rng, c)
-            }
-            Material::Glass { ior } if depth < MAX_DEPTH => {
-                let s = self.scene.shading_normal(prim, p) * n.dot(self.scene.normal(prim)).signum();
-                let reflected = self.radiance(Ray::new(p + n * self.eps, reflect(d, s)), depth + 1, rng, c);
-                match dielectric(d, s, ior, entering) {
-                    (fresnel, Some(t)) => {
-                        let transmitted = self.radiance(Ray::new(p - n * self.eps, t), depth + 1, rng, c);
-                        fresnel * reflected + (1.0 - fresnel) * transmitted
-                    }
-                    (_, None) => reflected,
-                }
+            Material::Mirror { .. } | Material::Glass { .. } if depth < MAX_DEPTH => {
+                specular_rays(self.scene, self.eps, prim, p, d)
+                    .into_iter()
+                    .flatten()
+                    .flatten()
+                    .map(|(ray, weight)| weight * self.radiance(ray, depth + 1, rng, c))
+                    .sum()
             }
             Material::Mirror { .. } | Material::Glass { .. } => Vec3::ZERO,
         }

@@ -4,6 +4,7 @@
 //! each triangle's bounding triangle on the beam's region, the fragment stage intersects the
 //! texel's ray with it, and the depth test keeps the nearest hit. The pages are read back as the
 //! beams' hit textures; the beam tree and the shading are beam-cpu's, so the images match the CPU's.
+//! Rays (the eye's view, the reference's Whitted rays) go to the compute ray tracer.
 
 use super::beam::GpuBeam;
 use crate::Gpu;
@@ -12,7 +13,7 @@ use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_cpu::nonlinear::{BeamJob, BeamRenderer, BeamTexture, TexelHit, cone_candidates};
-use beam_cpu::scene::{Camera, Scene};
+use beam_cpu::scene::Scene;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use bytemuck::{Pod, Zeroable};
@@ -43,8 +44,8 @@ pub struct GpuTimes {
     pub atlas_seconds: f64,
     /// Seconds on the CPU preparing them (beam quantities, bounding-cone culling, packing).
     pub prepare_seconds: f64,
-    /// Seconds tracing the eye's rays on the GPU.
-    pub eye_seconds: f64,
+    /// Seconds tracing rays on the GPU (the eye's view, the reference's Whitted rays).
+    pub ray_seconds: f64,
     /// Atlas pages rendered.
     pub pages: u64,
     /// Beams drawn.
@@ -149,15 +150,15 @@ impl<'g> GpuBeams<'g> {
     }
 
     /// Render one page of `rows` rows: `beams` with their (beam on the page, scene triangle)
-    /// `pairs`, those of beam `i` at `ranges[i]`. Returns the page's texels: scene triangle + 1 (0:
-    /// miss) and the bits of `t`.
+    /// `pairs`, those of beam `i` at `ranges[i]`. Returns the page's texels (scene triangle + 1, 0
+    /// for a miss, and the bits of `t`) and per beam the triangles kept and the texels tested.
     fn render_page(
         &self,
         beams: &[GpuBeam],
         pairs: &[[u32; 2]],
         ranges: &[(u32, u32)],
         rows: u32,
-    ) -> Result<Vec<[u32; 2]>, String> {
+    ) -> Result<(Vec<[u32; 2]>, Vec<[u32; 2]>), String> {
         let device = &self.gpu.device;
         let extent = wgpu::Extent3d { width: self.page, height: rows, depth_or_array_layers: 1 };
         let texture = |format, usage| {
@@ -189,6 +190,7 @@ impl<'g> GpuBeams<'g> {
         let beam_buffer = storage(self.gpu, "beams", bytemuck::cast_slice(beams), wgpu::BufferUsages::empty());
         let pair_buffer = storage(self.gpu, "pairs", bytemuck::cast_slice(pairs), wgpu::BufferUsages::empty());
         let bounds = output(self.gpu, "bounding triangles", (pairs.len() * 16) as u64);
+        let counters = storage(self.gpu, "counters", &vec![0u8; beams.len() * 8], wgpu::BufferUsages::COPY_SRC);
         let bind = |layout: wgpu::BindGroupLayout, entries: &[(u32, &wgpu::Buffer)]| {
             let entries: Vec<_> = entries
                 .iter()
@@ -204,7 +206,14 @@ impl<'g> GpuBeams<'g> {
         {
             let group = bind(
                 self.bound.get_bind_group_layout(0),
-                &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (4, &bounds)],
+                &[
+                    (0, &uniform),
+                    (1, &beam_buffer),
+                    (2, &self.triangles),
+                    (3, &pair_buffer),
+                    (4, &bounds),
+                    (6, &counters),
+                ],
             );
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
             pass.set_pipeline(&self.bound);
@@ -214,11 +223,10 @@ impl<'g> GpuBeams<'g> {
         }
         let group = bind(
             self.pipeline.get_bind_group_layout(0),
-            &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (5, &bounds)],
+            &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (5, &bounds), (6, &counters)],
         );
         let hit_view = hits.create_view(&Default::default());
         let depth_view = depth.create_view(&Default::default());
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas") });
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("atlas"),
@@ -249,9 +257,11 @@ impl<'g> GpuBeams<'g> {
             }
         }
         let bytes_per_row = self.page * 8;
+        let texel_bytes = u64::from(bytes_per_row) * u64::from(rows);
+        // The texels, then the counters.
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("atlas readback"),
-            size: u64::from(bytes_per_row) * u64::from(rows),
+            size: texel_bytes + beams.len() as u64 * 8,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -267,8 +277,11 @@ impl<'g> GpuBeams<'g> {
             },
             extent,
         );
+        encoder.copy_buffer_to_buffer(&counters, 0, &readback, texel_bytes, beams.len() as u64 * 8);
         self.gpu.queue.submit([encoder.finish()]);
-        Ok(bytemuck::pod_collect_to_vec(&map(self.gpu, &readback)?))
+        let bytes = map(self.gpu, &readback)?;
+        let (texels, counts) = bytes.split_at(texel_bytes as usize);
+        Ok((bytemuck::pod_collect_to_vec(texels), bytemuck::pod_collect_to_vec(counts)))
     }
 }
 
@@ -333,10 +346,10 @@ impl BeamRenderer for GpuBeams<'_> {
                 ranges.push((first, flat.len() as u32));
             }
             let prepared = start.elapsed().as_secs_f64();
-            let texels = self.render_page(&beams, &flat, &ranges, page_rows)?;
+            let (texels, counts) = self.render_page(&beams, &flat, &ranges, page_rows)?;
             let drawn = start.elapsed().as_secs_f64() - prepared;
             let start = Instant::now();
-            for &i in &members {
+            for (&i, &[kept, tested]) in members.iter().zip(&counts) {
                 let q = placed[i].as_ref().ok_or("unplaced beam")?;
                 let size = jobs[i].size;
                 let n = (size * size) as usize;
@@ -353,8 +366,8 @@ impl BeamRenderer for GpuBeams<'_> {
                     size,
                     hits,
                     radiance: vec![Vec3::ZERO; n],
-                    triangles_after_culling: candidates[i].len() as u32,
-                    texels_tested: 0,
+                    triangles_after_culling: kept,
+                    texels_tested: u64::from(tested),
                 });
             }
             self.add_times(|t| {
@@ -368,11 +381,8 @@ impl BeamRenderer for GpuBeams<'_> {
         textures.into_iter().map(|t| t.ok_or_else(|| "a beam was not rendered".to_string())).collect()
     }
 
-    fn eye_hits(&self, _scene: &Scene, camera: &Camera) -> Result<Vec<Option<(Ray, Hit)>>, String> {
+    fn closest_hits(&self, _scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
         let start = Instant::now();
-        let frame = camera.frame();
-        let rays: Vec<Ray> =
-            (0..(camera.width * camera.height) as usize).map(|i| camera.pixel_ray(&frame, i)).collect();
         let mut out = Vec::with_capacity(rays.len());
         for chunk in rays.chunks(65_535 * 64) {
             let gpu_rays: Vec<GpuRay> = chunk
@@ -385,11 +395,13 @@ impl BeamRenderer for GpuBeams<'_> {
                 })
                 .collect();
             let hits = self.tracer.trace(self.gpu, &gpu_rays)?;
-            out.extend(chunk.iter().zip(hits).map(|(&ray, h)| {
-                (h.prim != GpuHit::MISS).then_some((ray, Hit { prim: h.prim, t: h.t, u: 0.0, v: 0.0 }))
-            }));
+            // The tracer reports no barycentric weights: u and v are zero.
+            out.extend(
+                hits.into_iter()
+                    .map(|h| (h.prim != GpuHit::MISS).then_some(Hit { prim: h.prim, t: h.t, u: 0.0, v: 0.0 })),
+            );
         }
-        self.add_times(|t| t.eye_seconds += start.elapsed().as_secs_f64());
+        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
         Ok(out)
     }
 }
