@@ -10,6 +10,9 @@ use beam_math::Ray;
 use beam_math::glam::Vec3;
 use rayon::prelude::*;
 
+/// A path of the Whitted reference: its pixel, its next ray and its weight.
+type Path = (usize, Ray, Vec3);
+
 /// The ray-traced ground truth of [`super::render_nonlinear`] on the CPU (see
 /// [`render_smooth_reference_with`]).
 #[must_use]
@@ -33,16 +36,15 @@ pub fn render_smooth_reference_with(
     let frame = camera.frame();
     let eps = shading_eps(scene);
     let mut image = Image::new(camera.width, camera.height);
-    // Paths: pixel, ray, weight.
-    let mut paths: Vec<(usize, Ray, Vec3)> =
-        (0..image.pixels.len()).map(|i| (i, camera.pixel_ray(&frame, i), Vec3::ONE)).collect();
+    let mut paths: Vec<Path> = (0..image.pixels.len()).map(|i| (i, camera.pixel_ray(&frame, i), Vec3::ONE)).collect();
     for depth in 0..=MAX_DEPTH {
         if paths.is_empty() {
             break;
         }
         let rays: Vec<Ray> = paths.iter().map(|p| p.1).collect();
         let hits = renderer.closest_hits(scene, &rays)?;
-        let next: Vec<(Vec<(usize, Ray, Vec3)>, (usize, Vec3))> = paths
+        // Per path: the paths it continues as, and the radiance it adds to its pixel.
+        let next: Vec<(Vec<Path>, (usize, Vec3))> = paths
             .par_iter()
             .zip(hits)
             .map(|(&(px, ray, weight), hit)| {
