@@ -67,6 +67,9 @@ pub struct GpuBeams<'g> {
     times: Mutex<GpuTimes>,
 }
 
+/// Per beam of a page: scene triangles kept (not behind its base) and texels tested.
+type Counters = [u32; 2];
+
 /// Where a beam landed: its page and the corner of its region.
 struct Placed {
     page: usize,
@@ -158,7 +161,7 @@ impl<'g> GpuBeams<'g> {
         pairs: &[[u32; 2]],
         ranges: &[(u32, u32)],
         rows: u32,
-    ) -> Result<(Vec<[u32; 2]>, Vec<[u32; 2]>), String> {
+    ) -> Result<(Vec<[u32; 2]>, Vec<Counters>), String> {
         let device = &self.gpu.device;
         let extent = wgpu::Extent3d { width: self.page, height: rows, depth_or_array_layers: 1 };
         let texture = |format, usage| {
