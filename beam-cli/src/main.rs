@@ -166,6 +166,25 @@ enum BenchCommand {
         #[arg(long)]
         out_dir: Option<PathBuf>,
     },
+    /// The nonlinear renderer on the GPU (wgpu) against the CPU renderer, frames per second on the
+    /// built-in nonlinear scenes, each GPU image checked against the CPU's.
+    Gpu {
+        /// Built-in scenes, comma-separated (default: all six nonlinear ones).
+        #[arg(long, value_delimiter = ',')]
+        scenes: Vec<String>,
+        /// Image width.
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 1024)]
+        height: u32,
+        /// Timed GPU frames per scene (after a warm-up frame).
+        #[arg(long, default_value_t = 3)]
+        frames: u32,
+        /// `s1` or `s3`.
+        #[arg(long, default_value = "s3")]
+        degree: String,
+    },
     /// 000 Fig. 10: nonlinear render time (S1, S3) against scene triangles, S-mesh triangles and
     /// atlas resolution on the mirror teapot, beside the ray-traced reference.
     Nonlinear {
@@ -230,6 +249,15 @@ fn main() -> ExitCode {
         Command::Compare { a, b, out, scale } => render::compare(&a, &b, &out, scale),
         Command::Bench { what: BenchCommand::Bvh { scene, json, size } } => {
             bench::bvh::run(&scene, json.as_deref(), size).map(|()| ExitCode::SUCCESS)
+        }
+        Command::Bench { what: BenchCommand::Gpu { scenes, width, height, frames, degree } } => {
+            let scenes = if scenes.is_empty() { bench::gpu::SCENES.map(String::from).to_vec() } else { scenes };
+            let degree = match degree.as_str() {
+                "s1" => Ok(beam_cpu::nonlinear::Degree::S1),
+                "s3" => Ok(beam_cpu::nonlinear::Degree::S3),
+                d => Err(format!("unknown degree `{d}` (s1, s3)")),
+            };
+            degree.and_then(|d| bench::gpu::run(&scenes, width, height, frames, d)).map(|()| ExitCode::SUCCESS)
         }
         Command::Bench { what: BenchCommand::Nonlinear { size, out, csv } } => {
             bench::nonlinear::run(size, &out, &csv).map(|()| ExitCode::SUCCESS)

@@ -107,3 +107,16 @@ pub fn output(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
         mapped_at_creation: false,
     })
 }
+
+/// Run `work` (which submits and waits) with the device's validation and out-of-memory errors
+/// captured and returned instead of panicking.
+pub fn checked<T>(gpu: &Gpu, work: impl FnOnce() -> Result<T, String>) -> Result<T, String> {
+    let memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let validation = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let out = work();
+    let errors = [pollster::block_on(validation.pop()), pollster::block_on(memory.pop())];
+    match errors.into_iter().flatten().next() {
+        Some(e) => Err(format!("{}: {e}", gpu.describe())),
+        None => out,
+    }
+}

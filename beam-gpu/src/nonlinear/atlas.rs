@@ -8,7 +8,7 @@
 
 use super::beam::GpuBeam;
 use crate::Gpu;
-use crate::buffers::{compute_pipeline, map, output, shader_module, storage};
+use crate::buffers::{checked, compute_pipeline, map, output, shader_module, storage};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
@@ -315,15 +315,23 @@ impl BeamRenderer for GpuBeams<'_> {
         let mut placed: Vec<Option<Placed>> = (0..jobs.len()).map(|_| None).collect();
         let (mut page, mut used) = (0usize, 0u64);
         let capacity = u64::from(self.page) * u64::from(self.page);
-        let mut rows = vec![0u32];
+        // A page's pairs and their bounding triangles (16 bytes each) must fit one storage binding.
+        let limits = self.gpu.device.limits();
+        let max_pairs = (u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size) / 16) as usize;
+        let (mut rows, mut pairs) = (vec![0u32], 0usize);
         for &i in &order {
             let s = jobs[i].size.clamp(1, self.page);
             let area = u64::from(s) * u64::from(s);
-            if used + area > capacity {
+            let n = candidates[i].len();
+            if n > max_pairs {
+                return Err(format!("a beam meets {n} scene triangles, more than one GPU binding holds ({max_pairs})"));
+            }
+            if used + area > capacity || pairs + n > max_pairs {
                 page += 1;
-                used = 0;
+                (used, pairs) = (0, 0);
                 rows.push(0);
             }
+            pairs += n;
             let (x, y) = z_order((used / area) as u32, s);
             used += area;
             rows[page] = rows[page].max(y + s);
@@ -349,7 +357,7 @@ impl BeamRenderer for GpuBeams<'_> {
                 ranges.push((first, flat.len() as u32));
             }
             let prepared = start.elapsed().as_secs_f64();
-            let (texels, counts) = self.render_page(&beams, &flat, &ranges, page_rows)?;
+            let (texels, counts) = checked(self.gpu, || self.render_page(&beams, &flat, &ranges, page_rows))?;
             let drawn = start.elapsed().as_secs_f64() - prepared;
             let start = Instant::now();
             for (&i, &[kept, tested]) in members.iter().zip(&counts) {
@@ -397,7 +405,7 @@ impl BeamRenderer for GpuBeams<'_> {
                     kind: 0,
                 })
                 .collect();
-            let hits = self.tracer.trace(self.gpu, &gpu_rays)?;
+            let hits = checked(self.gpu, || self.tracer.trace(self.gpu, &gpu_rays))?;
             // The tracer reports no barycentric weights: u and v are zero.
             out.extend(
                 hits.into_iter()

@@ -6,7 +6,7 @@
 
 use super::beam::GpuBeam;
 use crate::Gpu;
-use crate::buffers::{compute_pipeline, dispatch, output, read_back, storage};
+use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage};
 use beam_cpu::nonlinear::Beam;
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
@@ -68,8 +68,10 @@ impl NonlinearCheck {
         let case_buffer = storage(gpu, "cases", bytemuck::cast_slice(cases), wgpu::BufferUsages::empty());
         let size = (cases.len() * per_case * 16) as u64;
         let results = output(gpu, "results", size);
-        let encoder = dispatch(gpu, pipeline, &[&beam_buffer, &case_buffer, &results], groups as u32);
-        Ok(bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &results, size)?))
+        checked(gpu, || {
+            let encoder = dispatch(gpu, pipeline, &[&beam_buffer, &case_buffer, &results], groups as u32);
+            Ok(bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &results, size)?))
+        })
     }
 
     /// The shader's bounding triangle of each `(beam index, scene triangle)`.
