@@ -317,7 +317,7 @@ impl BeamRenderer for GpuBeams<'_> {
         let capacity = u64::from(self.page) * u64::from(self.page);
         // A page's pairs and their bounding triangles (16 bytes each) must fit one storage binding.
         let limits = self.gpu.device.limits();
-        let max_pairs = (u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size) / 16) as usize;
+        let max_pairs = (limits.max_storage_buffer_binding_size.min(limits.max_buffer_size) / 16) as usize;
         let (mut rows, mut pairs) = (vec![0u32], 0usize);
         for &i in &order {
             let s = jobs[i].size.clamp(1, self.page);
