@@ -1,7 +1,7 @@
-//! Nonlinear beam tracing (000) on the CPU, doing what the GPU pipeline does: an S mesh over each
-//! mirror, one nonlinear beam per S-mesh triangle (mirror reflection, S1 or S3), each beam rendered
-//! into its own texel region by bounding triangles (Algs. 1–2), and the final image textured from
-//! those regions.
+//! Nonlinear beam tracing (000): an S mesh over each mirror and glass surface, nonlinear beams per
+//! S-mesh triangle (reflection, refraction; S1, S3 or bump-mapped), each beam rendered into its own
+//! texel region by bounding triangles (Algs. 1–2) — on the CPU here, or on a GPU through the
+//! [`BeamRenderer`] trait (beam-gpu) — and the final image textured from those regions.
 
 mod atlas;
 mod caustics;

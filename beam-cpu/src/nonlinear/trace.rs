@@ -5,9 +5,11 @@
 //! specular face spawns that face's level-(k+1) beams, whose directions at the face's vertices are
 //! the parent beam's rays through them (projection, 000 §5, extrapolated past the parent's base).
 //! Radiance flows back up: every texel and pixel on a specular face is textured from its face's
-//! child beams, weighted by Fresnel for glass. The tree is built depth-first, children dropped once
-//! their parent is shaded (000 §7.3's per-level atlases); bounces past the last level are traced by
-//! rays. The reference traces the same surfaces with rays about the interpolated (Phong) normals.
+//! child beams, weighted by Fresnel for glass. The tree is built level by level (000 §7.3's
+//! per-level atlases), each level's beams rendered in one batch by a [`BeamRenderer`] (the CPU's, or
+//! a GPU's atlases in beam-gpu), then shaded deepest level first; bounces past the last level are
+//! traced by rays. The reference (`reference.rs`) traces the same surfaces with rays about the
+//! interpolated (Phong) normals.
 
 use super::atlas::{BeamTexture, BumpedBeam, TexelBeam, render_beam};
 use super::caustics::{CausticStats, caustics_by_beams};
