@@ -129,7 +129,9 @@ impl<'g> GpuBeams<'g> {
             .collect();
         let triangles = storage(gpu, "scene triangles", bytemuck::cast_slice(&by_prim), wgpu::BufferUsages::empty());
         let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
-        let page = gpu.device.limits().max_texture_dimension_2d.min(4096);
+        // A power of two, so that Z-order packing of power-of-two squares fills it.
+        let side = gpu.device.limits().max_texture_dimension_2d.clamp(32, 4096);
+        let page = 1 << (31 - side.leading_zeros());
         Ok(Self {
             gpu,
             bound,
@@ -311,7 +313,7 @@ impl BeamRenderer for GpuBeams<'_> {
             .collect();
         // Pack power-of-two squares, largest first, in Z order: every square lands aligned.
         let mut order: Vec<usize> = (0..jobs.len()).collect();
-        order.sort_by_key(|&i| std::cmp::Reverse(jobs[i].size));
+        order.sort_by_key(|&i| std::cmp::Reverse(jobs[i].size.max(1).next_power_of_two()));
         let mut placed: Vec<Option<Placed>> = (0..jobs.len()).map(|_| None).collect();
         let (mut page, mut used) = (0usize, 0u64);
         let capacity = u64::from(self.page) * u64::from(self.page);
@@ -320,7 +322,11 @@ impl BeamRenderer for GpuBeams<'_> {
         let max_pairs = (limits.max_storage_buffer_binding_size.min(limits.max_buffer_size) / 16) as usize;
         let (mut rows, mut pairs) = (vec![0u32], 0usize);
         for &i in &order {
-            let s = jobs[i].size.clamp(1, self.page);
+            // Each region takes the power-of-two square around it.
+            let s = jobs[i].size.max(1).next_power_of_two();
+            if s > self.page {
+                return Err(format!("a beam of {}² texels does not fit a {}² atlas page", jobs[i].size, self.page));
+            }
             let area = u64::from(s) * u64::from(s);
             let n = candidates[i].len();
             if n > max_pairs {
