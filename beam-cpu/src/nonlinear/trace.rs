@@ -210,6 +210,31 @@ pub trait BeamRenderer: Sync {
 
     /// The nearest hit of every ray (the eye's view; the reference's Whitted rays).
     fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String>;
+
+    /// The radiance of every point as [`shade_point`] computes it (on the CPU unless overridden).
+    fn shade_points(
+        &self,
+        scene: &Scene,
+        options: &RenderOptions,
+        caustics: Option<&IrradianceMap>,
+        points: &[ShadePoint],
+    ) -> Result<Vec<Vec3>, String> {
+        Ok(points.par_iter().map(|s| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed)).collect())
+    }
+}
+
+/// A point for [`shade_point`]: the radiance leaving point `p` of triangle `prim` towards `−d`
+/// (`d` unit), shadow-ray samples seeded by `seed`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadePoint {
+    /// The scene triangle.
+    pub prim: u32,
+    /// The point.
+    pub p: Vec3,
+    /// Unit direction of the arriving ray.
+    pub d: Vec3,
+    /// Seed of its samples.
+    pub seed: u64,
 }
 
 /// One beam to render: `size × size` texels, skipping scene triangle `exclude` (its base).
@@ -388,51 +413,73 @@ impl Tree<'_> {
     }
 
     /// Radiance flows up the tree: every level's texels shaded, deepest level first, specular ones
-    /// from their children's textures.
-    fn shade(&self, levels: &mut [Vec<Node>]) {
+    /// from their children's textures, the others by `renderer` in one batch per level.
+    fn shade(&self, levels: &mut [Vec<Node>], renderer: &dyn BeamRenderer) -> Result<(), String> {
         for k in (0..levels.len()).rev() {
             let (this, below) = levels.split_at_mut(k + 1);
             let next: &[Node] = below.first().map_or(&[], |v| v.as_slice());
-            this[k].par_iter_mut().for_each(|node| {
-                let prim = self.smesh.faces[node.face].prim;
-                for &(k, hit, p, d) in &node.hits {
-                    let seed = u64::from(prim) << 32 | k as u64;
-                    node.tex.radiance[k] = self.shade_hit(&node.children, next, hit, p, d, seed);
+            let parts: Vec<Vec<(Option<Vec3>, ShadePoint)>> = this[k]
+                .par_iter()
+                .map(|node| {
+                    let prim = self.smesh.faces[node.face].prim;
+                    node.hits
+                        .iter()
+                        .map(|&(t, hit, p, d)| {
+                            let point = ShadePoint { prim: hit, p, d, seed: u64::from(prim) << 32 | t as u64 };
+                            (self.composite(&node.children, next, hit, p, d), point)
+                        })
+                        .collect()
+                })
+                .collect();
+            let shaded = self.shade_rest(renderer, parts.iter().flatten())?;
+            let mut shaded = shaded.into_iter();
+            for (node, part) in this[k].iter_mut().zip(parts) {
+                for (&(t, ..), (composite, _)) in node.hits.iter().zip(part) {
+                    node.tex.radiance[t] = composite.or_else(|| shaded.next()).unwrap_or_default();
                 }
-            });
+            }
         }
+        Ok(())
     }
 
-    /// Radiance leaving point `p` of triangle `prim` towards `−d`: on a specular face with child
-    /// beams (in `next`), their textures at `p` (Fresnel-weighted for glass); anything else shaded
-    /// as usual.
-    fn shade_hit(
+    /// The points of `parts` without a composite, shaded in one batch by `renderer`, in order.
+    fn shade_rest<'p>(
+        &self,
+        renderer: &dyn BeamRenderer,
+        parts: impl Iterator<Item = &'p (Option<Vec3>, ShadePoint)>,
+    ) -> Result<Vec<Vec3>, String> {
+        let points: Vec<ShadePoint> = parts.filter(|(c, _)| c.is_none()).map(|&(_, p)| p).collect();
+        renderer.shade_points(self.scene, &self.options.shading, self.caustics.as_ref(), &points)
+    }
+
+    /// Radiance leaving point `p` of triangle `prim` towards `−d` on a specular face with child
+    /// beams (in `next`): their textures at `p`, Fresnel-weighted for glass. `None` for anything
+    /// else, which [`shade_point`] shades.
+    fn composite(
         &self,
         children: &HashMap<usize, Scattered>,
         next: &[Node],
         prim: u32,
         p: Vec3,
         d: Vec3,
-        seed: u64,
-    ) -> Vec3 {
+    ) -> Option<Vec3> {
         let scene = self.scene;
-        let Some((fi, sc)) = self.smesh.face_of.get(&prim).and_then(|&fi| children.get(&fi).map(|s| (fi, s))) else {
-            return shade_point(scene, &self.options.shading, self.caustics.as_ref(), prim, p, d, seed);
-        };
+        let fi = *self.smesh.face_of.get(&prim)?;
+        let sc = children.get(&fi)?;
         let f = &self.smesh.faces[fi];
         let w = f.barycentric(p);
         let reflected = next[sc.reflected].tex.sample(w);
         match (scene.material(prim), sc.refracted) {
-            (Material::Mirror { tint, .. }, _) => tint * reflected,
+            (Material::Mirror { tint, .. }, _) => Some(tint * reflected),
             (Material::Glass { ior }, Some(refracted)) => {
                 let entering = d.dot(scene.normal(prim)) < 0.0;
                 let n = if entering { f.normal_at(w) } else { -f.normal_at(w) };
-                match dielectric(d, n, ior, entering) {
+                Some(match dielectric(d, n, ior, entering) {
                     (fresnel, Some(_)) => fresnel * reflected + (1.0 - fresnel) * next[refracted].tex.sample(w),
                     (_, None) => reflected,
-                }
+                })
             }
-            _ => shade_point(scene, &self.options.shading, self.caustics.as_ref(), prim, p, d, seed),
+            _ => None,
         }
     }
 }
@@ -474,14 +521,24 @@ pub fn render_nonlinear_with(
         Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
     });
     let Built { roots: children, mut levels } = tree.build(renderer, Tree::requests(None, seen, 1.0))?;
-    tree.shade(&mut levels);
+    tree.shade(&mut levels, renderer)?;
     let next: &[Node] = levels.first().map_or(&[], |v| v.as_slice());
+    let parts: Vec<Option<(Option<Vec3>, ShadePoint)>> = hits
+        .par_iter()
+        .enumerate()
+        .map(|(i, hit)| {
+            let (ray, hit) = (*hit)?;
+            let (p, d) = (ray.at(hit.t), ray.direction.normalize());
+            Some((tree.composite(&children, next, hit.prim, p, d), ShadePoint { prim: hit.prim, p, d, seed: i as u64 }))
+        })
+        .collect();
+    let mut shaded = tree.shade_rest(renderer, parts.iter().flatten())?.into_iter();
     let mut image = Image::new(camera.width, camera.height);
-    image.pixels.par_iter_mut().zip(&hits).enumerate().for_each(|(i, (px, hit))| {
-        if let Some((ray, hit)) = hit {
-            *px = tree.shade_hit(&children, next, hit.prim, ray.at(hit.t), ray.direction.normalize(), i as u64);
+    for (px, part) in image.pixels.iter_mut().zip(&parts) {
+        if let Some((composite, _)) = part {
+            *px = composite.or_else(|| shaded.next()).unwrap_or_default();
         }
-    });
+    }
     let all = || levels.iter().flatten();
     let beams = all().count();
     let texels_tested: u64 = all().map(|n| n.tex.texels_tested).sum();
