@@ -25,20 +25,16 @@ struct GpuHit {
 
 const STACK: u32 = 64u;
 
-@compute @workgroup_size(64)
-fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= arrayLength(&rays) {
-        return;
-    }
-    let ray = rays[i];
-    let sheared = shear_ray(ray.origin, ray.direction);
-    let inv = 1.0 / ray.direction;
-    var best = ray.t_max;
+// The nearest hit before t_max (any hit when `any`) of the ray (origin, direction): GpuHit with
+// prim 0xffffffff on a miss; for `any`, t is 1 when occluded and 0 otherwise.
+fn trace_ray(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any: bool) -> GpuHit {
+    let sheared = shear_ray(origin, direction);
+    let inv = 1.0 / direction;
+    var best = t_max;
     var prim = 0xffffffffu;
     var stack: array<u32, 64>;
     var sp = 0u;
-    if slab(nodes[0], ray.origin, inv, best) < 3.0e38 {
+    if slab(nodes[0], origin, inv, best) < 3.0e38 {
         stack[0] = 0u;
         sp = 1u;
     }
@@ -49,7 +45,7 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
         sp -= 1u;
         let node = nodes[stack[sp]];
         let index = stack[sp];
-        if slab(node, ray.origin, inv, best) >= 3.0e38 {
+        if slab(node, origin, inv, best) >= 3.0e38 {
             continue;
         }
         if node.count > 0u {
@@ -59,9 +55,8 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
                 if t >= 0.0 && (t < best || (t == best && tri.prim < prim)) {
                     best = t;
                     prim = tri.prim;
-                    if ray.kind == 1u {
-                        hits[i] = GpuHit(prim, 1.0);
-                        return;
+                    if any {
+                        return GpuHit(prim, 1.0);
                     }
                 }
             }
@@ -70,8 +65,8 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
         // Inner node: push the farther child first so the nearer is visited first.
         let left = index + 1u;
         let right = node.right_or_first;
-        let dl = slab(nodes[left], ray.origin, inv, best);
-        let dr = slab(nodes[right], ray.origin, inv, best);
+        let dl = slab(nodes[left], origin, inv, best);
+        let dr = slab(nodes[right], origin, inv, best);
         if sp + 2u > STACK {
             continue;
         }
@@ -83,9 +78,126 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
             if dr < 3.0e38 { stack[sp] = right; sp += 1u; }
         }
     }
-    if ray.kind == 1u {
-        hits[i] = GpuHit(0xffffffffu, 0.0);
-    } else {
-        hits[i] = GpuHit(prim, best);
+    if any {
+        return GpuHit(0xffffffffu, 0.0);
     }
+    return GpuHit(prim, best);
+}
+
+@compute @workgroup_size(64)
+fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&rays) {
+        return;
+    }
+    let ray = rays[i];
+    hits[i] = trace_ray(ray.origin, ray.direction, ray.t_max, ray.kind == 1u);
+}
+
+// ---- Shading of diffuse and emissive points lit by point lights (CPU twin:
+// beam_cpu::render::shade_point, without area lights) ----
+
+// Keep in sync with beam_gpu::shade::ShadeInput (32 bytes).
+struct ShadeInput {
+    p: vec3<f32>,
+    prim: u32,
+    d: vec3<f32>,   // unit direction of the arriving ray
+    pad: u32,
+}
+
+// Keep in sync with beam_gpu::shade::PrimShading (32 bytes).
+struct PrimShading {
+    normal: vec3<f32>,  // unit geometric normal
+    kind: u32,          // 0: diffuse or glossy (color = albedo); 1: emissive (color = radiance)
+    color: vec3<f32>,
+    plane: i32,         // caustic irradiance plane, −1 for none
+}
+
+// Keep in sync with beam_gpu::shade::GpuPointLight (32 bytes).
+struct PointLight {
+    position: vec3<f32>,
+    pad: u32,
+    intensity: vec3<f32>,
+    pad2: u32,
+}
+
+// Keep in sync with beam_gpu::shade::CausticPlane (48 bytes).
+struct CausticPlane {
+    origin: vec3<f32>,
+    offset: u32,       // first texel in `flux`
+    axis_u: vec3<f32>, // scaled to texels
+    width: u32,
+    axis_v: vec3<f32>,
+    height: u32,
+}
+
+// Keep in sync with beam_gpu::shade::ShadeParams (16 bytes).
+struct ShadeParams {
+    eps: f32,             // offset of shadow-ray origins off the surface
+    inv_texel_area: f32,  // 1 / (irradiance-map texel side)²
+    lights: u32,
+    points: u32,
+}
+
+@group(0) @binding(4) var<uniform> shade_params: ShadeParams;
+@group(0) @binding(5) var<storage, read> shade_in: array<ShadeInput>;
+@group(0) @binding(6) var<storage, read> prim_shading: array<PrimShading>;
+@group(0) @binding(7) var<storage, read> point_lights: array<PointLight>;
+@group(0) @binding(8) var<storage, read> planes: array<CausticPlane>;
+@group(0) @binding(9) var<storage, read> flux: array<vec4<f32>>;
+@group(0) @binding(10) var<storage, read_write> shade_out: array<vec4<f32>>;
+
+// Caustic irradiance at p on plane `k`: the flux of the four nearest texels, bilinearly weighted,
+// over the texel area (beam_cpu::render::IrradianceMap::irradiance).
+fn caustic_irradiance(k: u32, p: vec3<f32>) -> vec3<f32> {
+    let plane = planes[k];
+    let q = p - plane.origin;
+    let c = vec2<f32>(dot(q, plane.axis_u), dot(q, plane.axis_v));
+    let c0 = floor(c);
+    let a = c - c0;
+    var sum = vec3<f32>(0.0);
+    for (var j = 0; j < 4; j++) {
+        let dx = j % 2;
+        let dy = j / 2;
+        var w = select(1.0 - a.x, a.x, dx == 1) * select(1.0 - a.y, a.y, dy == 1);
+        let x = i32(c0.x) + dx;
+        let y = i32(c0.y) + dy;
+        if w > 0.0 && x >= 0 && y >= 0 && x < i32(plane.width) && y < i32(plane.height) {
+            sum += w * flux[plane.offset + u32(y) * plane.width + u32(x)].xyz;
+        }
+    }
+    return sum * shade_params.inv_texel_area;
+}
+
+@compute @workgroup_size(64)
+fn shade(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = id.y * groups.x * 64u + id.x;
+    if i >= shade_params.points {
+        return;
+    }
+    let s = shade_in[i];
+    let m = prim_shading[s.prim];
+    if m.kind == 1u {
+        shade_out[i] = vec4<f32>(m.color, 0.0);
+        return;
+    }
+    var n = m.normal;
+    if dot(n, s.d) >= 0.0 {
+        n = -n;
+    }
+    let q = s.p + n * shade_params.eps;
+    var e = vec3<f32>(0.0);
+    for (var l = 0u; l < shade_params.lights; l++) {
+        let light = point_lights[l];
+        let to = light.position - q;
+        let r2 = dot(to, to);
+        let cosine = dot(n, to) / sqrt(r2);
+        if cosine > 0.0 && trace_ray(q, to, 1.0 - 1e-4, true).t < 0.5 {
+            e += light.intensity * cosine / r2;
+        }
+    }
+    if m.plane >= 0 {
+        e += caustic_irradiance(u32(m.plane), s.p);
+    }
+    shade_out[i] = vec4<f32>(m.color / 3.1415927 * e, 0.0);
 }

@@ -9,6 +9,7 @@ pub mod buffers;
 pub mod device;
 pub mod nonlinear;
 pub mod raytrace;
+pub mod shade;
 pub mod shaders;
 
 pub use beam_math;

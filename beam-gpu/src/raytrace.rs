@@ -60,6 +60,12 @@ impl RayTracer {
         Ok(Self { pipeline, nodes, triangles })
     }
 
+    /// The uploaded node and triangle buffers (bindings 0 and 1 of `raytrace.wgsl`).
+    #[must_use]
+    pub fn buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
+        (&self.nodes, &self.triangles)
+    }
+
     /// Trace `rays`; one result each.
     pub fn trace(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<Vec<GpuHit>, String> {
         if rays.is_empty() {

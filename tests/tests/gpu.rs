@@ -7,4 +7,5 @@ beam_conformance::conformance_tests!(
     gpu_ray_hits_equal_cpu_hits,
     gpu_beam_texels_equal_cpu,
     gpu_images_equal_cpu,
+    gpu_shading_equals_cpu,
 );

@@ -19,8 +19,8 @@ pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degr
     let gpu = Gpu::new()?;
     println!("GPU: {}; {width}×{height}, {frames} timed frames per scene, {degree:?}, 2 tree levels", gpu.describe());
     println!(
-        "{:<16} {:>9} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9} {:>8}",
-        "scene", "GPU fps", "GPU ms", "atlas ms", "rays ms", "CPU ms", "CPU/GPU", "beams", "PSNR"
+        "{:<16} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9} {:>8}",
+        "scene", "GPU fps", "GPU ms", "atlas ms", "rays ms", "shade ms", "CPU ms", "CPU/GPU", "beams", "PSNR"
     );
     for name in scenes {
         let scene = scene::builtin(name)?;
@@ -37,25 +37,28 @@ pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degr
         let after = renderer.times();
         let atlas = (after.atlas_seconds - before.atlas_seconds) / f64::from(frames.max(1));
         let rays = (after.ray_seconds - before.ray_seconds) / f64::from(frames.max(1));
+        let shade = (after.shade_seconds - before.shade_seconds) / f64::from(frames.max(1));
         let start = Instant::now();
         let (cpu_image, _) = render_nonlinear_with(&scene, &options, &CpuBeams)?;
         let cpu = start.elapsed().as_secs_f64();
         let psnr = difference(&warm, &cpu_image)?.psnr;
         let beams: u64 = stats.map_or(0, |s| s.beams_per_level.iter().sum());
         println!(
-            "{name:<16} {:>9.2} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>9.2} {beams:>9} {:>8}",
+            "{name:<16} {:>9.2} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>9.2} {beams:>9} {:>8}",
             1.0 / per_frame,
             1e3 * per_frame,
             1e3 * atlas,
             1e3 * rays,
+            1e3 * shade,
             1e3 * cpu,
             cpu / per_frame,
             if psnr.is_finite() { format!("{psnr:.1}") } else { "equal".into() },
         );
     }
     println!(
-        "GPU ms: whole frame (beam tree and shading on the CPU); atlas ms: beam visibility on the GPU \
-         (upload, bounding triangles, draws, readback); rays ms: the eye's rays; PSNR: GPU image vs CPU image."
+        "GPU ms: whole frame (beam tree, composite and area-light shading on the CPU); atlas ms: beam \
+         visibility on the GPU (upload, bounding triangles, draws, readback); rays ms: the eye's rays; shade ms: \
+         shading on the GPU (scenes lit by point lights only); PSNR: GPU image vs CPU image."
     );
     Ok(())
 }

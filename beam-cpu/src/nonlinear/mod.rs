@@ -14,6 +14,6 @@ pub use caustics::{CausticStats, caustic_texel, caustics_by_beams, caustics_by_p
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
 pub use smesh::{SFace, SMesh};
 pub use trace::{
-    Beam, BeamJob, BeamRenderer, CpuBeams, Degree, NonlinearOptions, NonlinearStats, TEXELS_PER_SAMPLE, child_beams,
-    render_nonlinear, render_nonlinear_with,
+    Beam, BeamJob, BeamRenderer, CpuBeams, Degree, NonlinearOptions, NonlinearStats, ShadePoint, TEXELS_PER_SAMPLE,
+    child_beams, render_nonlinear, render_nonlinear_with,
 };

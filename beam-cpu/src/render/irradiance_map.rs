@@ -140,6 +140,18 @@ impl IrradianceMap {
         (diff / norm.max(f64::MIN_POSITIVE)).sqrt()
     }
 
+    /// The planes' grids in order, for upload to a GPU: texel-centre origin, axes scaled to texels
+    /// (so `(p − origin)·axis` is a continuous texel coordinate), size, and flux per texel (row-major).
+    pub fn grids(&self) -> impl Iterator<Item = (Vec3, [Vec3; 2], [u32; 2], &[Vec3])> {
+        self.maps.iter().map(|m| (m.origin, m.axes, m.size, m.flux.as_slice()))
+    }
+
+    /// The index (in [`IrradianceMap::grids`]) of the plane of triangle `prim`, if it has one.
+    #[must_use]
+    pub fn plane_of(&self, prim: u32) -> Option<usize> {
+        self.plane_of.get(&prim).copied()
+    }
+
     /// Total flux deposited.
     #[must_use]
     pub fn total_flux(&self) -> Vec3 {

@@ -15,7 +15,7 @@ pub use image::{Image, srgb_decode, srgb_encode};
 pub use irradiance_map::IrradianceMap;
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
-pub(crate) use renderer::shading_eps;
+pub use renderer::shading_eps;
 pub use renderer::{
     MAX_DEPTH, Method, Occluder, RenderOptions, RenderStats, Shading, TILE, dielectric, primary_coverage, reflect,
     refract, render, render_with, shade_point, specular_rays, trace_radiance,

@@ -550,7 +550,8 @@ fn with_context<R>(
 }
 
 /// Offset of secondary ray origins from surfaces: 1e-4 of the scene's diagonal.
-pub(crate) fn shading_eps(scene: &Scene) -> f32 {
+#[must_use]
+pub fn shading_eps(scene: &Scene) -> f32 {
     1e-4 * scene.bounds().extent().length()
 }
 

@@ -4,15 +4,18 @@
 //! each triangle's bounding triangle on the beam's region, the fragment stage intersects the
 //! texel's ray with it, and the depth test keeps the nearest hit. The pages are read back as the
 //! beams' hit textures; the beam tree and the shading are beam-cpu's, so the images match the CPU's.
-//! Rays (the eye's view, the reference's Whitted rays) go to the compute ray tracer.
+//! Rays (the eye's view, the reference's Whitted rays) go to the compute ray tracer; on scenes lit
+//! by point lights only, diffuse and emissive points are shaded on the GPU too ([`PointShader`]).
 
 use super::beam::GpuBeam;
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, map, output, shader_module, storage};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
+use crate::shade::PointShader;
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
-use beam_cpu::nonlinear::{BeamJob, BeamRenderer, BeamTexture, TexelHit, cone_candidates};
+use beam_cpu::nonlinear::{BeamJob, BeamRenderer, BeamTexture, ShadePoint, TexelHit, cone_candidates};
+use beam_cpu::render::{IrradianceMap, RenderOptions, shade_point};
 use beam_cpu::scene::Scene;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -46,6 +49,8 @@ pub struct GpuTimes {
     pub prepare_seconds: f64,
     /// Seconds tracing rays on the GPU (the eye's view, the reference's Whitted rays).
     pub ray_seconds: f64,
+    /// Seconds shading points on the GPU (scenes lit by point lights only).
+    pub shade_seconds: f64,
     /// Atlas pages rendered.
     pub pages: u64,
     /// Beams drawn.
@@ -61,6 +66,8 @@ pub struct GpuBeams<'g> {
     pipeline: wgpu::RenderPipeline,
     triangles: wgpu::Buffer,
     tracer: RayTracer,
+    /// Shading on the GPU, for scenes lit by point lights only.
+    shader: Option<PointShader>,
     extent: f32,
     /// Side of an atlas page in texels.
     page: u32,
@@ -138,6 +145,7 @@ impl<'g> GpuBeams<'g> {
             pipeline,
             triangles,
             tracer,
+            shader: PointShader::new(gpu, scene)?,
             extent: scene.bounds().extent().length(),
             page,
             times: Mutex::default(),
@@ -396,6 +404,30 @@ impl BeamRenderer for GpuBeams<'_> {
             });
         }
         textures.into_iter().map(|t| t.ok_or_else(|| "a beam was not rendered".to_string())).collect()
+    }
+
+    fn shade_points(
+        &self,
+        scene: &Scene,
+        options: &RenderOptions,
+        caustics: Option<&IrradianceMap>,
+        points: &[ShadePoint],
+    ) -> Result<Vec<Vec3>, String> {
+        let cpu = |s: &ShadePoint| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed);
+        let Some(shader) = &self.shader else { return Ok(points.par_iter().map(cpu).collect()) };
+        // Diffuse, glossy and emissive points on the GPU; mirrors and glass (traced on by rays) on
+        // the CPU.
+        let start = Instant::now();
+        let on_gpu: Vec<ShadePoint> = points.iter().filter(|s| PointShader::shades(scene, s.prim)).copied().collect();
+        let mut shaded = shader.shade(self.gpu, &self.tracer, caustics, &on_gpu)?.into_iter();
+        self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
+        let rest: Vec<Vec3> =
+            points.par_iter().map(|s| if PointShader::shades(scene, s.prim) { Vec3::ZERO } else { cpu(s) }).collect();
+        Ok(points
+            .iter()
+            .zip(rest)
+            .map(|(s, r)| if PointShader::shades(scene, s.prim) { shaded.next().unwrap_or_default() } else { r })
+            .collect())
     }
 
     fn closest_hits(&self, _scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
