@@ -418,15 +418,16 @@ impl BeamRenderer for GpuBeams<'_> {
         // Diffuse, glossy and emissive points on the GPU; mirrors and glass (traced on by rays) on
         // the CPU.
         let start = Instant::now();
-        let on_gpu: Vec<ShadePoint> = points.iter().filter(|s| PointShader::shades(scene, s.prim)).copied().collect();
-        let mut shaded = shader.shade(self.gpu, &self.tracer, caustics, &on_gpu)?.into_iter();
+        let (on_gpu, on_cpu): (Vec<&ShadePoint>, Vec<&ShadePoint>) =
+            points.iter().partition(|s| PointShader::shades(scene, s.prim));
+        let on_gpu: Vec<ShadePoint> = on_gpu.into_iter().copied().collect();
+        let mut gpu_shaded = shader.shade(self.gpu, &self.tracer, caustics, &on_gpu)?.into_iter();
         self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
-        let rest: Vec<Vec3> =
-            points.par_iter().map(|s| if PointShader::shades(scene, s.prim) { Vec3::ZERO } else { cpu(s) }).collect();
+        let mut cpu_shaded = on_cpu.into_par_iter().map(cpu).collect::<Vec<_>>().into_iter();
         Ok(points
             .iter()
-            .zip(rest)
-            .map(|(s, r)| if PointShader::shades(scene, s.prim) { shaded.next().unwrap_or_default() } else { r })
+            .map(|s| if PointShader::shades(scene, s.prim) { gpu_shaded.next() } else { cpu_shaded.next() })
+            .map(Option::unwrap_or_default)
             .collect())
     }
 
