@@ -1,14 +1,16 @@
 //! Shading on the GPU (`shaders/raytrace.wgsl`, entry point `shade`): diffuse, glossy and emissive
-//! points lit by point lights, shadow rays traced through the GPU BVH, plus the caustic irradiance
-//! maps of the nonlinear renderer. CPU twin: [`beam_cpu::render::shade_point`] on scenes whose
-//! lights are all point lights (area lights' exact soft shadows by 001 beams stay on the CPU).
+//! points, point lights by one shadow ray each and area lights by stratified shadow rays (the
+//! `Shading::Exact` estimator of [`beam_cpu::render::shade_point`]'s `Method::Ray`, its jitter from a
+//! hash of the point's seed), all traced through the GPU BVH, plus the caustic irradiance maps of
+//! the nonlinear renderer. CPU twin: [`shade_twin`]; on point-lit scenes it equals `shade_point`.
 
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, output, read_back, storage};
 use crate::raytrace::RayTracer;
 use beam_cpu::nonlinear::ShadePoint;
-use beam_cpu::render::{IrradianceMap, shading_eps};
+use beam_cpu::render::{DEPTH_EPS, IrradianceMap, shading_eps};
 use beam_cpu::scene::{Light, Material, Scene};
+use beam_math::Ray;
 use beam_math::glam::Vec3;
 use bytemuck::{Pod, Zeroable};
 
@@ -24,8 +26,8 @@ pub struct ShadeInput {
     pub prim: u32,
     /// Unit direction of the arriving ray.
     pub d: [f32; 3],
-    /// Padding.
-    pub pad: u32,
+    /// Seed of its shadow-ray jitter.
+    pub seed: u32,
 }
 
 /// What shading needs of a scene triangle.
@@ -44,20 +46,50 @@ pub struct PrimShading {
     pub plane: i32,
 }
 
-/// A point light.
+/// A light.
 ///
-/// Keep in sync with the WGSL twin `PointLight` in `shaders/raytrace.wgsl`.
+/// Keep in sync with the WGSL twin `Light` in `shaders/raytrace.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-pub struct GpuPointLight {
-    /// Position.
-    pub position: [f32; 3],
+pub struct GpuLight {
+    /// Point: position; quad: corner; triangle: first vertex.
+    pub a: [f32; 3],
+    /// 0: point, 1: quad, 2: triangle.
+    pub kind: u32,
+    /// Quad: first edge; triangle: `v1 − v0`.
+    pub b: [f32; 3],
+    /// Area (0 for a point light).
+    pub area: f32,
+    /// Quad: second edge; triangle: `v2 − v0`.
+    pub c: [f32; 3],
     /// Padding.
     pub pad: u32,
-    /// Radiant intensity.
-    pub intensity: [f32; 3],
+    /// Intensity (point) or radiance (area lights).
+    pub power: [f32; 3],
     /// Padding.
     pub pad2: u32,
+}
+
+impl GpuLight {
+    /// `light` for the shader.
+    #[must_use]
+    pub fn new(light: &Light) -> Self {
+        let (a, kind, b, c) = match *light {
+            Light::Point { position, .. } => (position, 0, Vec3::ZERO, Vec3::ZERO),
+            Light::Quad { corner, edge_u, edge_v, .. } => (corner, 1, edge_u, edge_v),
+            Light::Triangle { v, .. } => (v[0], 2, v[1] - v[0], v[2] - v[0]),
+        };
+        Self {
+            a: a.to_array(),
+            kind,
+            b: b.to_array(),
+            area: light.area(),
+            c: c.to_array(),
+            pad: 0,
+            power: light.power().to_array(),
+            pad2: 0,
+        }
+    }
 }
 
 /// One plane of the caustic irradiance maps.
@@ -94,14 +126,18 @@ pub struct ShadeParams {
     pub lights: u32,
     /// Points to shade.
     pub points: u32,
+    /// Shadow rays per area light.
+    pub spp: u32,
+    /// Padding.
+    pub pad: [u32; 3],
 }
 
 const _: () = assert!(
     size_of::<ShadeInput>() == 32
         && size_of::<PrimShading>() == 32
-        && size_of::<GpuPointLight>() == 32
+        && size_of::<GpuLight>() == 64
         && size_of::<CausticPlane>() == 48
-        && size_of::<ShadeParams>() == 16
+        && size_of::<ShadeParams>() == 32
 );
 
 /// The shading pass with a scene's triangles and lights uploaded.
@@ -114,20 +150,9 @@ pub struct PointShader {
 }
 
 impl PointShader {
-    /// The pass for `scene`; `None` when it has an area light (shaded on the CPU).
-    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Option<Self>, String> {
-        let mut lights = Vec::new();
-        for light in &scene.lights {
-            match *light {
-                Light::Point { position, intensity } => lights.push(GpuPointLight {
-                    position: position.to_array(),
-                    pad: 0,
-                    intensity: intensity.to_array(),
-                    pad2: 0,
-                }),
-                _ => return Ok(None),
-            }
-        }
+    /// The pass for `scene`.
+    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, String> {
+        let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::new).collect();
         let prims: Vec<PrimShading> = (0..scene.triangles.len() as u32)
             .map(|i| {
                 let (kind, color) = match scene.material(i) {
@@ -138,13 +163,13 @@ impl PointShader {
                 PrimShading { normal: scene.normal(i).to_array(), kind, color: color.to_array(), plane: -1 }
             })
             .collect();
-        Ok(Some(Self {
+        Ok(Self {
             pipeline: compute_pipeline(gpu, "raytrace", "shade")?,
             prims,
-            lights: storage(gpu, "point lights", bytemuck::cast_slice(&lights), wgpu::BufferUsages::empty()),
+            lights: storage(gpu, "lights", bytemuck::cast_slice(&lights), wgpu::BufferUsages::empty()),
             light_count: lights.len() as u32,
             eps: shading_eps(scene),
-        }))
+        })
     }
 
     /// True when the pass shades points of triangle `prim` (diffuse, glossy, emissive).
@@ -154,12 +179,13 @@ impl PointShader {
     }
 
     /// The radiance of `points` (all of triangles the pass [`shades`](Self::shades)), shadow rays
-    /// through `tracer`'s BVH, with the irradiance of `caustics`.
+    /// through `tracer`'s BVH (`spp` per area light), with the irradiance of `caustics`.
     pub fn shade(
         &self,
         gpu: &Gpu,
         tracer: &RayTracer,
         caustics: Option<&IrradianceMap>,
+        spp: u32,
         points: &[ShadePoint],
     ) -> Result<Vec<Vec3>, String> {
         if points.is_empty() {
@@ -185,14 +211,18 @@ impl PointShader {
                 flux.extend(texels.iter().map(|f| [f.x, f.y, f.z, 0.0]));
             }
         }
-        let inputs: Vec<ShadeInput> =
-            points.iter().map(|s| ShadeInput { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), pad: 0 }).collect();
+        let inputs: Vec<ShadeInput> = points
+            .iter()
+            .map(|s| ShadeInput { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), seed: seed32(s.seed) })
+            .collect();
         let texel = caustics.map_or(1.0, |m| m.texel);
         let params = ShadeParams {
             eps: self.eps,
             inv_texel_area: 1.0 / (texel * texel),
             lights: self.light_count,
             points: points.len() as u32,
+            spp: spp.max(1),
+            pad: [0; 3],
         };
         checked(gpu, || {
             let uniform = gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -241,4 +271,85 @@ impl PointShader {
             Ok(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])).collect())
         })
     }
+}
+
+/// The 32-bit seed the shader gets for a point's 64-bit seed.
+#[must_use]
+pub fn seed32(seed: u64) -> u32 {
+    (seed ^ (seed >> 32)) as u32
+}
+
+/// PCG hash (Jarzynski and Olano 2020), as in the shader.
+fn pcg_hash(v: u32) -> u32 {
+    let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
+    (word >> 22) ^ word
+}
+
+/// A uniform number in `[0, 1)` from a seed and a sample index, as in the shader.
+fn uniform01(seed: u32, i: u32) -> f32 {
+    (pcg_hash(seed ^ pcg_hash(i)) >> 8) as f32 / 16_777_216.0
+}
+
+/// The CPU twin of the shader's `shade`: the radiance of point `s` (of a diffuse, glossy or emissive
+/// triangle) with `spp` stratified shadow rays per area light, jittered exactly as the shader does.
+#[must_use]
+pub fn shade_twin(scene: &Scene, caustics: Option<&IrradianceMap>, spp: u32, s: &ShadePoint) -> Vec3 {
+    let albedo = match scene.material(s.prim) {
+        Material::Emissive { radiance } => return radiance,
+        Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => albedo,
+        _ => return Vec3::ZERO,
+    };
+    let mut n = scene.normal(s.prim);
+    if n.dot(s.d) >= 0.0 {
+        n = -n;
+    }
+    let q = s.p + n * shading_eps(scene);
+    let seed = seed32(s.seed);
+    let occluded = |to: Vec3| scene.wide.any_hit(Ray::new(q, to), 1.0 - DEPTH_EPS);
+    let mut e = Vec3::ZERO;
+    for (j, light) in scene.lights.iter().enumerate() {
+        let l = GpuLight::new(light);
+        let (a, b, c) = (Vec3::from(l.a), Vec3::from(l.b), Vec3::from(l.c));
+        if l.kind == 0 {
+            let to = a - q;
+            let r2 = to.dot(to);
+            let cosine = n.dot(to) / r2.sqrt();
+            if cosine > 0.0 && !occluded(to) {
+                e += Vec3::from(l.power) * cosine / r2;
+            }
+            continue;
+        }
+        let ln = b.cross(c).normalize();
+        let center = if l.kind == 2 { a + (b + c) / 3.0 } else { a + 0.5 * (b + c) };
+        if ln.dot(q - center) <= 0.0 {
+            continue;
+        }
+        let light_seed = pcg_hash(seed ^ pcg_hash(0x9e37_79b9_u32.wrapping_add(j as u32)));
+        let spp = spp.max(1);
+        let k = (spp as f32).sqrt() as u32;
+        let mut integral = 0.0;
+        for i in 0..spp {
+            let (mut u, mut v) = (uniform01(light_seed, 2 * i), uniform01(light_seed, 2 * i + 1));
+            if i < k * k {
+                u = ((i % k) as f32 + u) / k as f32;
+                v = ((i / k) as f32 + v) / k as f32;
+            }
+            if l.kind == 2 && u + v > 1.0 {
+                (u, v) = (1.0 - u, 1.0 - v);
+            }
+            let to = a + u * b + v * c - q;
+            if occluded(to) {
+                continue;
+            }
+            let r2 = to.dot(to);
+            let w = to / r2.sqrt();
+            integral += n.dot(w).max(0.0) * (-ln.dot(w)).max(0.0) / r2;
+        }
+        e += Vec3::from(l.power) * (l.area * integral / spp as f32);
+    }
+    if let Some(map) = caustics {
+        e += map.irradiance(s.prim, s.p);
+    }
+    albedo / std::f32::consts::PI * e
 }

@@ -4,8 +4,9 @@
 //! each triangle's bounding triangle on the beam's region, the fragment stage intersects the
 //! texel's ray with it, and the depth test keeps the nearest hit. The pages are read back as the
 //! beams' hit textures; the beam tree and the shading are beam-cpu's, so the images match the CPU's.
-//! Rays (the eye's view, the reference's Whitted rays) go to the compute ray tracer; on scenes lit
-//! by point lights only, diffuse and emissive points are shaded on the GPU too ([`PointShader`]).
+//! Rays (the eye's view, the reference's Whitted rays) go to the compute ray tracer, and diffuse,
+//! glossy and emissive points are shaded on the GPU ([`PointShader`]: area lights by stratified
+//! shadow rays, where the CPU's default is exact).
 
 use super::beam::GpuBeam;
 use crate::Gpu;
@@ -15,7 +16,7 @@ use crate::shade::PointShader;
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_cpu::nonlinear::{BeamJob, BeamRenderer, BeamTexture, ShadePoint, TexelHit, cone_candidates};
-use beam_cpu::render::{IrradianceMap, RenderOptions, shade_point};
+use beam_cpu::render::{IrradianceMap, RenderOptions, Shading, shade_point};
 use beam_cpu::scene::Scene;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -49,7 +50,7 @@ pub struct GpuTimes {
     pub prepare_seconds: f64,
     /// Seconds tracing rays on the GPU (the eye's view, the reference's Whitted rays).
     pub ray_seconds: f64,
-    /// Seconds shading points on the GPU (scenes lit by point lights only).
+    /// Seconds shading points on the GPU.
     pub shade_seconds: f64,
     /// Atlas pages rendered.
     pub pages: u64,
@@ -66,8 +67,10 @@ pub struct GpuBeams<'g> {
     pipeline: wgpu::RenderPipeline,
     triangles: wgpu::Buffer,
     tracer: RayTracer,
-    /// Shading on the GPU, for scenes lit by point lights only.
-    shader: Option<PointShader>,
+    /// Shading on the GPU.
+    shader: PointShader,
+    /// Shadow rays per area light and shade point.
+    light_samples: u32,
     extent: f32,
     /// Side of an atlas page in texels.
     page: u32,
@@ -146,10 +149,18 @@ impl<'g> GpuBeams<'g> {
             triangles,
             tracer,
             shader: PointShader::new(gpu, scene)?,
+            light_samples: 64,
             extent: scene.bounds().extent().length(),
             page,
             times: Mutex::default(),
         })
+    }
+
+    /// This renderer with `n` shadow rays per area light and shade point (default 64).
+    #[must_use]
+    pub fn with_light_samples(mut self, n: u32) -> Self {
+        self.light_samples = n.max(1);
+        self
     }
 
     /// Time spent so far.
@@ -414,14 +425,17 @@ impl BeamRenderer for GpuBeams<'_> {
         points: &[ShadePoint],
     ) -> Result<Vec<Vec3>, String> {
         let cpu = |s: &ShadePoint| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed);
-        let Some(shader) = &self.shader else { return Ok(points.par_iter().map(cpu).collect()) };
+        if options.shading != Shading::Exact {
+            return Ok(points.par_iter().map(cpu).collect());
+        }
         // Diffuse, glossy and emissive points on the GPU; mirrors and glass (traced on by rays) on
         // the CPU.
         let start = Instant::now();
         let (on_gpu, on_cpu): (Vec<&ShadePoint>, Vec<&ShadePoint>) =
             points.iter().partition(|s| PointShader::shades(scene, s.prim));
         let on_gpu: Vec<ShadePoint> = on_gpu.into_iter().copied().collect();
-        let mut gpu_shaded = shader.shade(self.gpu, &self.tracer, caustics, &on_gpu)?.into_iter();
+        let mut gpu_shaded =
+            self.shader.shade(self.gpu, &self.tracer, caustics, self.light_samples, &on_gpu)?.into_iter();
         self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
         let mut cpu_shaded = on_cpu.into_par_iter().map(cpu).collect::<Vec<_>>().into_iter();
         Ok(points
