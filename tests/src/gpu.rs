@@ -393,7 +393,7 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in ["cornell-point", "wavy-lake-coarse", "cornell", "mirror-glass"] {
         let scene = scene::builtin(name)?;
-        let point_lit = scene.lights.iter().all(|l| matches!(l, beam_cpu::scene::Light::Point { .. }));
+        let point_lit = scene.lights.iter().all(|l| matches!(l, scene::Light::Point { .. }));
         let shader = PointShader::new(&gpu, &scene)?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
         let caustics = caustics_by_beams(&scene, Degree::S1, 16, &CpuBeams)?.map(|c| c.0);
@@ -448,19 +448,19 @@ struct TwinShading;
 impl beam_cpu::nonlinear::BeamRenderer for TwinShading {
     fn render_beams(
         &self,
-        scene: &beam_cpu::scene::Scene,
+        scene: &scene::Scene,
         jobs: &[BeamJob<'_>],
     ) -> Result<Vec<beam_cpu::nonlinear::BeamTexture>, String> {
         CpuBeams.render_beams(scene, jobs)
     }
 
-    fn closest_hits(&self, scene: &beam_cpu::scene::Scene, rays: &[Ray]) -> Result<Vec<Option<beam_bvh::Hit>>, String> {
+    fn closest_hits(&self, scene: &scene::Scene, rays: &[Ray]) -> Result<Vec<Option<beam_bvh::Hit>>, String> {
         CpuBeams.closest_hits(scene, rays)
     }
 
     fn shade_points(
         &self,
-        scene: &beam_cpu::scene::Scene,
+        scene: &scene::Scene,
         options: &RenderOptions,
         caustics: Option<&beam_cpu::render::IrradianceMap>,
         points: &[beam_cpu::nonlinear::ShadePoint],
