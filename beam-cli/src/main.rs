@@ -50,8 +50,9 @@ enum Command {
         /// truth `nonlinear-reference` (mirrors by rays reflected about the interpolated normal).
         #[arg(long, default_value = "beam")]
         method: String,
-        /// Where the nonlinear method and its reference find their hits: `cpu`, or `gpu` (beam
-        /// atlases and rays on the first wgpu adapter; the shading stays on the CPU).
+        /// Where the nonlinear method and its reference run: `cpu`, or `gpu` (beam atlases, rays and
+        /// the shading of diffuse points on the first wgpu adapter; area lights by `--spp`
+        /// stratified shadow rays there, where the CPU's are exact).
         #[arg(long, default_value = "cpu")]
         backend: String,
         /// Nonlinear beam parameterization: `s1` or `s3` (`--method nonlinear`).
@@ -70,7 +71,7 @@ enum Command {
         /// `exact` (eq. 1, Lambert's polygon formula) or `fraction` (001 eq. 2).
         #[arg(long, default_value = "exact")]
         shading: String,
-        /// Shadow rays per shade point and area light (`--method ray`).
+        /// Shadow rays per shade point and area light (`--method ray`, and `--backend gpu`).
         #[arg(long, default_value_t = 64)]
         spp: u32,
         /// Primary rays per pixel, stratified, when primary visibility is ray traced.

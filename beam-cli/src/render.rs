@@ -123,7 +123,7 @@ fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Re
         "gpu" => Some(beam_gpu::Gpu::new()?),
         b => return Err(format!("unknown backend `{b}` (cpu, gpu)")),
     };
-    let gpu_beams = gpu.as_ref().map(|g| GpuBeams::new(g, scene)).transpose()?;
+    let gpu_beams = gpu.as_ref().map(|g| GpuBeams::new(g, scene).map(|b| b.with_light_samples(a.spp))).transpose()?;
     let renderer: &dyn BeamRenderer = match &gpu_beams {
         Some(g) => g,
         None => &CpuBeams,
