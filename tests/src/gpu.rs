@@ -441,8 +441,9 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
     Ok(Outcome { cases: total, note: notes.join("; ") })
 }
 
-/// The CPU renderer with the GPU's shading estimator ([`beam_gpu::shade::shade_twin`], 64 rays per
-/// area light) for diffuse, glossy and emissive points: the reference the GPU images must equal.
+/// The CPU renderer with the GPU's shading: [`beam_gpu::shade::shade_twin`] (64 rays per area light)
+/// for diffuse, glossy and emissive points, mirrors and glass by Whitted rays in waves ending on it:
+/// the reference the GPU images must equal.
 struct TwinShading;
 
 impl beam_cpu::nonlinear::BeamRenderer for TwinShading {
@@ -461,21 +462,23 @@ impl beam_cpu::nonlinear::BeamRenderer for TwinShading {
     fn shade_points(
         &self,
         scene: &scene::Scene,
-        options: &RenderOptions,
+        _options: &RenderOptions,
         caustics: Option<&beam_cpu::render::IrradianceMap>,
         points: &[beam_cpu::nonlinear::ShadePoint],
     ) -> Result<Vec<Vec3>, String> {
         use beam_gpu::shade::{PointShader, shade_twin};
         use rayon::prelude::*;
+        let twin = |batch: &[beam_cpu::nonlinear::ShadePoint]| {
+            Ok::<Vec<Vec3>, String>(batch.par_iter().map(|s| shade_twin(scene, caustics, 64, s)).collect())
+        };
+        let (diffuse, specular): (Vec<_>, Vec<_>) = points.iter().partition(|s| PointShader::shades(scene, s.prim));
+        let mut diffuse = twin(&diffuse)?.into_iter();
+        let mut specular =
+            beam_cpu::nonlinear::shade_specular_by_waves(scene, &CpuBeams, &twin, &specular)?.into_iter();
         Ok(points
-            .par_iter()
-            .map(|s| {
-                if PointShader::shades(scene, s.prim) {
-                    shade_twin(scene, caustics, 64, s)
-                } else {
-                    beam_cpu::render::shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed)
-                }
-            })
+            .iter()
+            .map(|s| if PointShader::shades(scene, s.prim) { diffuse.next() } else { specular.next() })
+            .map(Option::unwrap_or_default)
             .collect())
     }
 }

@@ -3,7 +3,7 @@
 //! waves so that a GPU's ray tracer can find every wave's hits at once.
 
 use super::caustics::caustics_by_photons;
-use super::trace::{BeamRenderer, CpuBeams};
+use super::trace::{BeamRenderer, CpuBeams, ShadePoint};
 use crate::render::{Image, MAX_DEPTH, RenderOptions, shade_point, shading_eps, specular_rays};
 use crate::scene::Scene;
 use beam_math::Ray;
@@ -34,39 +34,90 @@ pub fn render_smooth_reference_with(
     let caustics = caustics_by_photons(scene, photons, options.seed);
     let camera = scene.camera.with_size(options.width, options.height);
     let frame = camera.frame();
-    let eps = shading_eps(scene);
     let mut image = Image::new(camera.width, camera.height);
-    let mut paths: Vec<Path> = (0..image.pixels.len()).map(|i| (i, camera.pixel_ray(&frame, i), Vec3::ONE)).collect();
-    for depth in 0..=MAX_DEPTH {
+    let paths: Vec<Path> = (0..image.pixels.len()).map(|i| (i, camera.pixel_ray(&frame, i), Vec3::ONE)).collect();
+    // The ground truth shades exactly, on the CPU.
+    let shade = |points: &[ShadePoint]| {
+        Ok(points
+            .par_iter()
+            .map(|s| shade_point(scene, options, caustics.as_ref(), s.prim, s.p, s.d, s.seed))
+            .collect())
+    };
+    trace_waves(scene, renderer, &shade, paths, 0, &mut image.pixels)?;
+    Ok(image)
+}
+
+/// The radiance leaving mirror and glass points (what [`shade_point`] computes for them by
+/// recursive rays) by Whitted rays traced in waves through `renderer`, the points they end on
+/// shaded by `shade` in one batch per wave.
+pub fn shade_specular_by_waves(
+    scene: &Scene,
+    renderer: &dyn BeamRenderer,
+    shade: &Shade<'_>,
+    points: &[ShadePoint],
+) -> Result<Vec<Vec3>, String> {
+    let eps = shading_eps(scene);
+    let paths: Vec<Path> = points
+        .iter()
+        .enumerate()
+        .flat_map(|(i, s)| {
+            specular_rays(scene, eps, s.prim, s.p, s.d).into_iter().flatten().flatten().map(move |(r, k)| (i, r, k))
+        })
+        .collect();
+    let mut out = vec![Vec3::ZERO; points.len()];
+    trace_waves(scene, renderer, shade, paths, 1, &mut out)?;
+    Ok(out)
+}
+
+/// Where a path ends: its pixel, its weight and the point it hit.
+type End = (usize, Vec3, ShadePoint);
+
+/// Shades a batch of diffuse, glossy or emissive points.
+pub type Shade<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, String> + Sync + 'a;
+
+/// Trace `paths` (at bounce `first` of at most [`MAX_DEPTH`]) wave by wave: each wave's nearest hits
+/// by `renderer`, mirror and glass hits continuing as their [`specular_rays`], every other hit
+/// shaded by `shade` in one batch and added, times its path's weight, to `out[pixel]`.
+fn trace_waves(
+    scene: &Scene,
+    renderer: &dyn BeamRenderer,
+    shade: &Shade<'_>,
+    mut paths: Vec<Path>,
+    first: u32,
+    out: &mut [Vec3],
+) -> Result<(), String> {
+    let eps = shading_eps(scene);
+    for depth in first..=MAX_DEPTH {
         if paths.is_empty() {
             break;
         }
         let rays: Vec<Ray> = paths.iter().map(|p| p.1).collect();
         let hits = renderer.closest_hits(scene, &rays)?;
-        // Per path: the paths it continues as, and the radiance it adds to its pixel.
-        let next: Vec<(Vec<Path>, (usize, Vec3))> = paths
+        // Per path: the paths it continues as, or the point it ends on.
+        let next: Vec<(Vec<Path>, Option<End>)> = paths
             .par_iter()
             .zip(hits)
             .map(|(&(px, ray, weight), hit)| {
-                let Some(hit) = hit else { return (Vec::new(), (px, Vec3::ZERO)) };
+                let Some(hit) = hit else { return (Vec::new(), None) };
                 let (p, d) = (ray.at(hit.t), ray.direction.normalize());
                 match specular_rays(scene, eps, hit.prim, p, d) {
-                    Some(_) if depth == MAX_DEPTH => (Vec::new(), (px, Vec3::ZERO)),
+                    Some(_) if depth == MAX_DEPTH => (Vec::new(), None),
                     Some(scattered) => {
-                        (scattered.into_iter().flatten().map(|(r, k)| (px, r, weight * k)).collect(), (px, Vec3::ZERO))
+                        (scattered.into_iter().flatten().map(|(r, k)| (px, r, weight * k)).collect(), None)
                     }
-                    None => {
-                        let radiance = shade_point(scene, options, caustics.as_ref(), hit.prim, p, d, px as u64);
-                        (Vec::new(), (px, weight * radiance))
-                    }
+                    None => (Vec::new(), Some((px, weight, ShadePoint { prim: hit.prim, p, d, seed: px as u64 }))),
                 }
             })
             .collect();
+        let ends: Vec<ShadePoint> = next.iter().filter_map(|(_, e)| e.map(|e| e.2)).collect();
+        let mut shaded = shade(&ends)?.into_iter();
         paths = Vec::new();
-        for (more, (px, radiance)) in next {
-            image.pixels[px] += radiance;
+        for (more, end) in next {
+            if let Some((px, weight, _)) = end {
+                out[px] += weight * shaded.next().unwrap_or_default();
+            }
             paths.extend(more);
         }
     }
-    Ok(image)
+    Ok(())
 }

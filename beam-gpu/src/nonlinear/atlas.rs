@@ -15,7 +15,9 @@ use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::PointShader;
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
-use beam_cpu::nonlinear::{BeamJob, BeamRenderer, BeamTexture, ShadePoint, TexelHit, cone_candidates};
+use beam_cpu::nonlinear::{
+    BeamJob, BeamRenderer, BeamTexture, ShadePoint, TexelHit, cone_candidates, shade_specular_by_waves,
+};
 use beam_cpu::render::{IrradianceMap, RenderOptions, Shading, shade_point};
 use beam_cpu::scene::Scene;
 use beam_math::Ray;
@@ -428,19 +430,21 @@ impl BeamRenderer for GpuBeams<'_> {
         if options.shading != Shading::Exact {
             return Ok(points.par_iter().map(cpu).collect());
         }
-        // Diffuse, glossy and emissive points on the GPU; mirrors and glass (traced on by rays) on
-        // the CPU.
-        let start = Instant::now();
-        let (on_gpu, on_cpu): (Vec<&ShadePoint>, Vec<&ShadePoint>) =
+        // Diffuse, glossy and emissive points by the GPU shading pass; mirrors and glass by Whitted
+        // rays traced on the GPU in waves, the points they end on shaded by the same pass.
+        let gpu_shade = |batch: &[ShadePoint]| {
+            let start = Instant::now();
+            let out = self.shader.shade(self.gpu, &self.tracer, caustics, self.light_samples, batch);
+            self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
+            out
+        };
+        let (diffuse, specular): (Vec<ShadePoint>, Vec<ShadePoint>) =
             points.iter().partition(|s| PointShader::shades(scene, s.prim));
-        let on_gpu: Vec<ShadePoint> = on_gpu.into_iter().copied().collect();
-        let mut gpu_shaded =
-            self.shader.shade(self.gpu, &self.tracer, caustics, self.light_samples, &on_gpu)?.into_iter();
-        self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
-        let mut cpu_shaded = on_cpu.into_par_iter().map(cpu).collect::<Vec<_>>().into_iter();
+        let mut diffuse = gpu_shade(&diffuse)?.into_iter();
+        let mut specular = shade_specular_by_waves(scene, self, &gpu_shade, &specular)?.into_iter();
         Ok(points
             .iter()
-            .map(|s| if PointShader::shades(scene, s.prim) { gpu_shaded.next() } else { cpu_shaded.next() })
+            .map(|s| if PointShader::shades(scene, s.prim) { diffuse.next() } else { specular.next() })
             .map(Option::unwrap_or_default)
             .collect())
     }
