@@ -140,7 +140,7 @@ const _: () = assert!(
         && size_of::<ShadeParams>() == 32
 );
 
-/// The shading pass with a scene's triangles and lights uploaded.
+/// The shading pass for one scene: its lights uploaded, its triangles' normals and materials kept.
 pub struct PointShader {
     pipeline: wgpu::ComputePipeline,
     prims: Vec<PrimShading>,
