@@ -8,6 +8,7 @@ mod lambert;
 mod primary_beam;
 mod renderer;
 mod shadow_beam;
+mod specular;
 
 pub use compare::{Difference, difference, side_by_side};
 pub use hard_shadow::lit_pieces;
@@ -17,7 +18,8 @@ pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub use renderer::shading_eps;
 pub use renderer::{
-    MAX_DEPTH, Method, Occluder, RenderOptions, RenderStats, Shading, TILE, dielectric, primary_coverage, reflect,
-    refract, render, render_with, shade_point, specular_rays, trace_radiance,
+    Method, Occluder, RenderOptions, RenderStats, Shading, TILE, primary_coverage, render, render_with, shade_point,
+    trace_radiance,
 };
 pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};
+pub use specular::{MAX_DEPTH, dielectric, reflect, refract, specular_rays};
