@@ -30,6 +30,14 @@ pub struct GpuTriangle {
 
 const _: () = assert!(size_of::<GpuTriangle>() == 48);
 
+impl GpuTriangle {
+    /// Triangle `t`, input index `prim`.
+    #[must_use]
+    pub fn new(t: &Triangle, prim: u32) -> Self {
+        Self { v0: t.v[0].to_array(), prim, v1: t.v[1].to_array(), pad1: 0, v2: t.v[2].to_array(), pad2: 0 }
+    }
+}
+
 /// Node and triangle buffers ready for upload.
 #[derive(Clone, Debug, Default)]
 pub struct GpuBvh {
@@ -43,21 +51,7 @@ impl GpuBvh {
     /// Convert a CPU BVH over `triangles`.
     #[must_use]
     pub fn new(bvh: &FlatBvh, triangles: &[Triangle]) -> Self {
-        let triangles = bvh
-            .prims
-            .iter()
-            .map(|&p| {
-                let t = &triangles[p as usize];
-                GpuTriangle {
-                    v0: t.v[0].to_array(),
-                    prim: p,
-                    v1: t.v[1].to_array(),
-                    pad1: 0,
-                    v2: t.v[2].to_array(),
-                    pad2: 0,
-                }
-            })
-            .collect();
+        let triangles = bvh.prims.iter().map(|&p| GpuTriangle::new(&triangles[p as usize], p)).collect();
         Self { nodes: bvh.nodes.clone(), triangles }
     }
 

@@ -466,19 +466,10 @@ impl beam_cpu::nonlinear::BeamRenderer for TwinShading {
         caustics: Option<&beam_cpu::render::IrradianceMap>,
         points: &[beam_cpu::nonlinear::ShadePoint],
     ) -> Result<Vec<Vec3>, String> {
-        use beam_gpu::shade::{PointShader, shade_twin};
         use rayon::prelude::*;
         let twin = |batch: &[beam_cpu::nonlinear::ShadePoint]| {
-            Ok::<Vec<Vec3>, String>(batch.par_iter().map(|s| shade_twin(scene, caustics, 64, s)).collect())
+            Ok(batch.par_iter().map(|s| beam_gpu::shade::shade_twin(scene, caustics, 64, s)).collect())
         };
-        let (diffuse, specular): (Vec<_>, Vec<_>) = points.iter().partition(|s| PointShader::shades(scene, s.prim));
-        let mut diffuse = twin(&diffuse)?.into_iter();
-        let mut specular =
-            beam_cpu::nonlinear::shade_specular_by_waves(scene, &CpuBeams, &twin, &specular)?.into_iter();
-        Ok(points
-            .iter()
-            .map(|s| if PointShader::shades(scene, s.prim) { diffuse.next() } else { specular.next() })
-            .map(Option::unwrap_or_default)
-            .collect())
+        beam_cpu::nonlinear::shade_by_waves(scene, &CpuBeams, &twin, points)
     }
 }

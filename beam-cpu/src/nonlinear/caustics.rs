@@ -24,6 +24,14 @@ pub struct CausticStats {
     pub texels_deposited: u64,
 }
 
+impl core::ops::Add for CausticStats {
+    type Output = Self;
+
+    fn add(self, other: Self) -> Self {
+        Self { beams: self.beams + other.beams, texels_deposited: self.texels_deposited + other.texels_deposited }
+    }
+}
+
 /// World size of an irradiance-map texel for `scene`: 1/256 of its bounding box's largest side.
 #[must_use]
 pub fn caustic_texel(scene: &Scene) -> f32 {
@@ -139,18 +147,11 @@ pub fn caustics_by_beams(
                 || (empty.clone(), CausticStats::default()),
                 |(mut a, sa), (b, sb)| {
                     a.merge(&b);
-                    (
-                        a,
-                        CausticStats {
-                            beams: sa.beams + sb.beams,
-                            texels_deposited: sa.texels_deposited + sb.texels_deposited,
-                        },
-                    )
+                    (a, sa + sb)
                 },
             );
         map.merge(&m);
-        stats.beams += s.beams;
-        stats.texels_deposited += s.texels_deposited;
+        stats = stats + s;
     }
     Ok(Some((map, stats)))
 }

@@ -11,7 +11,7 @@ mod trace;
 
 pub use atlas::{BeamTexture, BumpedBeam, TexelBeam, TexelHit, cone_candidates, render_beam, self_hit_distance};
 pub use caustics::{CausticStats, caustic_texel, caustics_by_beams, caustics_by_photons};
-pub use reference::{Shade, render_smooth_reference, render_smooth_reference_with, shade_specular_by_waves};
+pub use reference::{Shade, render_smooth_reference, render_smooth_reference_with, shade_by_waves};
 pub use smesh::{SFace, SMesh};
 pub use trace::{
     Beam, BeamJob, BeamRenderer, CpuBeams, Degree, NonlinearOptions, NonlinearStats, ShadePoint, TEXELS_PER_SAMPLE,

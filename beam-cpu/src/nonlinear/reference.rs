@@ -47,24 +47,29 @@ pub fn render_smooth_reference_with(
     Ok(image)
 }
 
-/// The radiance leaving mirror and glass points (what [`shade_point`] computes for them by
-/// recursive rays) by Whitted rays traced in waves through `renderer`, the points they end on
-/// shaded by `shade` in one batch per wave.
-pub fn shade_specular_by_waves(
+/// The radiance of every point, as [`shade_point`] would compute it, with `shade` for the
+/// diffuse, glossy and emissive ones (all of them in one batch) and mirror and glass points followed
+/// by Whitted rays traced in waves through `renderer`, the points they end on shaded by `shade` in
+/// one batch per wave.
+pub fn shade_by_waves(
     scene: &Scene,
     renderer: &dyn BeamRenderer,
     shade: &Shade<'_>,
     points: &[ShadePoint],
 ) -> Result<Vec<Vec3>, String> {
     let eps = shading_eps(scene);
-    let paths: Vec<Path> = points
-        .iter()
-        .enumerate()
-        .flat_map(|(i, s)| {
-            specular_rays(scene, eps, s.prim, s.p, s.d).into_iter().flatten().flatten().map(move |(r, k)| (i, r, k))
-        })
-        .collect();
+    let (mut direct, mut paths) = (Vec::new(), Vec::new());
+    for (i, s) in points.iter().enumerate() {
+        match specular_rays(scene, eps, s.prim, s.p, s.d) {
+            Some(rays) => paths.extend(rays.into_iter().flatten().map(|(r, k)| (i, r, k))),
+            None => direct.push((i, *s)),
+        }
+    }
     let mut out = vec![Vec3::ZERO; points.len()];
+    let batch: Vec<ShadePoint> = direct.iter().map(|d| d.1).collect();
+    for ((i, _), radiance) in direct.iter().zip(shade(&batch)?) {
+        out[*i] = radiance;
+    }
     trace_waves(scene, renderer, shade, paths, 1, &mut out)?;
     Ok(out)
 }

@@ -15,9 +15,7 @@ use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::PointShader;
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
-use beam_cpu::nonlinear::{
-    BeamJob, BeamRenderer, BeamTexture, ShadePoint, TexelHit, cone_candidates, shade_specular_by_waves,
-};
+use beam_cpu::nonlinear::{BeamJob, BeamRenderer, BeamTexture, ShadePoint, TexelHit, cone_candidates, shade_by_waves};
 use beam_cpu::render::{IrradianceMap, RenderOptions, Shading, shade_point};
 use beam_cpu::scene::Scene;
 use beam_math::Ray;
@@ -126,19 +124,8 @@ impl<'g> GpuBeams<'g> {
             multiview_mask: None,
             cache: None,
         });
-        let by_prim: Vec<GpuTriangle> = scene
-            .triangles
-            .iter()
-            .enumerate()
-            .map(|(i, t)| GpuTriangle {
-                v0: t.v[0].to_array(),
-                prim: i as u32,
-                v1: t.v[1].to_array(),
-                pad1: 0,
-                v2: t.v[2].to_array(),
-                pad2: 0,
-            })
-            .collect();
+        let by_prim: Vec<GpuTriangle> =
+            scene.triangles.iter().enumerate().map(|(i, t)| GpuTriangle::new(t, i as u32)).collect();
         let triangles = storage(gpu, "scene triangles", bytemuck::cast_slice(&by_prim), wgpu::BufferUsages::empty());
         let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
         // A power of two, so that Z-order packing of power-of-two squares fills it.
@@ -438,15 +425,7 @@ impl BeamRenderer for GpuBeams<'_> {
             self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
             out
         };
-        let (diffuse, specular): (Vec<ShadePoint>, Vec<ShadePoint>) =
-            points.iter().partition(|s| PointShader::shades(scene, s.prim));
-        let mut diffuse = gpu_shade(&diffuse)?.into_iter();
-        let mut specular = shade_specular_by_waves(scene, self, &gpu_shade, &specular)?.into_iter();
-        Ok(points
-            .iter()
-            .map(|s| if PointShader::shades(scene, s.prim) { diffuse.next() } else { specular.next() })
-            .map(Option::unwrap_or_default)
-            .collect())
+        shade_by_waves(scene, self, &gpu_shade, points)
     }
 
     fn closest_hits(&self, _scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
