@@ -15,6 +15,23 @@ pub fn storage(gpu: &Gpu, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) 
     })
 }
 
+/// The largest buffer one storage binding of the device takes.
+#[must_use]
+pub fn max_binding(gpu: &Gpu) -> u64 {
+    let limits = gpu.device.limits();
+    limits.max_storage_buffer_binding_size.min(limits.max_buffer_size)
+}
+
+/// A uniform buffer holding `bytes`.
+#[must_use]
+pub fn uniform(gpu: &Gpu, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytes,
+        usage: wgpu::BufferUsages::UNIFORM,
+    })
+}
+
 /// Submit `encoder` after copying `size` bytes of `source` into a mappable buffer, wait, and read
 /// them back.
 pub fn read_back(
@@ -97,13 +114,13 @@ pub fn dispatch(
     encoder
 }
 
-/// A buffer of `size` bytes the shaders write and [`read_back`] copies from.
+/// A buffer of `size` bytes the shaders write (and the host may fill) and [`read_back`] copies from.
 #[must_use]
 pub fn output(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
     gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size.max(16),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
 }

@@ -5,7 +5,7 @@
 //! the nonlinear renderer. CPU twin: [`shade_twin`]; on point-lit scenes it equals `shade_point`.
 
 use crate::Gpu;
-use crate::buffers::{checked, compute_pipeline, output, read_back, storage};
+use crate::buffers::{checked, compute_pipeline, output, read_back, storage, uniform};
 use crate::raytrace::RayTracer;
 use beam_cpu::nonlinear::ShadePoint;
 use beam_cpu::render::{DEPTH_EPS, IrradianceMap, shading_eps};
@@ -178,19 +178,10 @@ impl PointShader {
         matches!(scene.material(prim), Material::Diffuse { .. } | Material::Glossy { .. } | Material::Emissive { .. })
     }
 
-    /// The radiance of `points` (all of triangles the pass [`shades`](Self::shades)), shadow rays
-    /// through `tracer`'s BVH (`spp` per area light), with the irradiance of `caustics`.
-    pub fn shade(
-        &self,
-        gpu: &Gpu,
-        tracer: &RayTracer,
-        caustics: Option<&IrradianceMap>,
-        spp: u32,
-        points: &[ShadePoint],
-    ) -> Result<Vec<Vec3>, String> {
-        if points.is_empty() {
-            return Ok(Vec::new());
-        }
+    /// The triangles' shading and the irradiance maps of `caustics` on the GPU, for
+    /// [`shade_into`](Self::shade_into).
+    #[must_use]
+    pub fn prepare(&self, gpu: &Gpu, caustics: Option<&IrradianceMap>) -> ShadeScene {
         let mut planes = Vec::new();
         let mut flux: Vec<[f32; 4]> = Vec::new();
         let mut prims = self.prims.clone();
@@ -211,66 +202,102 @@ impl PointShader {
                 flux.extend(texels.iter().map(|f| [f.x, f.y, f.z, 0.0]));
             }
         }
+        let texel = caustics.map_or(1.0, |m| m.texel);
+        ShadeScene {
+            prims: storage(gpu, "prim shading", bytemuck::cast_slice(&prims), wgpu::BufferUsages::empty()),
+            planes: storage(gpu, "caustic planes", bytemuck::cast_slice(&planes), wgpu::BufferUsages::empty()),
+            flux: storage(gpu, "caustic flux", bytemuck::cast_slice(&flux), wgpu::BufferUsages::empty()),
+            inv_texel_area: 1.0 / (texel * texel),
+        }
+    }
+
+    /// The radiance of `points` (all of triangles the pass [`shades`](Self::shades)), shadow rays
+    /// through `tracer`'s BVH (`spp` per area light), with the irradiance of `caustics`.
+    pub fn shade(
+        &self,
+        gpu: &Gpu,
+        tracer: &RayTracer,
+        caustics: Option<&IrradianceMap>,
+        spp: u32,
+        points: &[ShadePoint],
+    ) -> Result<Vec<Vec3>, String> {
+        if points.is_empty() {
+            return Ok(Vec::new());
+        }
+        let prepared = self.prepare(gpu, caustics);
+        checked(gpu, || {
+            let (encoder, out) = self.shade_into(gpu, tracer, &prepared, spp, points, 0);
+            let size = (points.len() * 16) as u64;
+            let radiance: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &out, size)?);
+            Ok(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])).collect())
+        })
+    }
+
+    /// An encoder with the pass over `points` recorded, and the buffer it writes their radiance to
+    /// (`vec4` each), with room for `extra` more after them.
+    #[must_use]
+    pub fn shade_into(
+        &self,
+        gpu: &Gpu,
+        tracer: &RayTracer,
+        scene: &ShadeScene,
+        spp: u32,
+        points: &[ShadePoint],
+        extra: usize,
+    ) -> (wgpu::CommandEncoder, wgpu::Buffer) {
         let inputs: Vec<ShadeInput> = points
             .iter()
             .map(|s| ShadeInput { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), seed: seed32(s.seed) })
             .collect();
-        let texel = caustics.map_or(1.0, |m| m.texel);
         let params = ShadeParams {
             eps: self.eps,
-            inv_texel_area: 1.0 / (texel * texel),
+            inv_texel_area: scene.inv_texel_area,
             lights: self.light_count,
             points: points.len() as u32,
             spp: spp.max(1),
             pad: [0; 3],
         };
-        checked(gpu, || {
-            let uniform = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("shade params"),
-                size: size_of::<ShadeParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            gpu.queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&params));
-            let input = storage(gpu, "shade points", bytemuck::cast_slice(&inputs), wgpu::BufferUsages::empty());
-            let prim_buffer = storage(gpu, "prim shading", bytemuck::cast_slice(&prims), wgpu::BufferUsages::empty());
-            let plane_buffer =
-                storage(gpu, "caustic planes", bytemuck::cast_slice(&planes), wgpu::BufferUsages::empty());
-            let flux_buffer = storage(gpu, "caustic flux", bytemuck::cast_slice(&flux), wgpu::BufferUsages::empty());
-            let size = (points.len() * 16) as u64;
-            let out = output(gpu, "radiance", size);
-            let (nodes, triangles) = tracer.buffers();
-            let entries: Vec<wgpu::BindGroupEntry<'_>> = [
-                (0, nodes),
-                (1, triangles),
-                (4, &uniform),
-                (5, &input),
-                (6, &prim_buffer),
-                (7, &self.lights),
-                (8, &plane_buffer),
-                (9, &flux_buffer),
-                (10, &out),
-            ]
-            .into_iter()
-            .map(|(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() })
-            .collect();
-            let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("shade"),
-                layout: &self.pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            });
-            let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                let groups = points.len().div_ceil(64) as u32;
-                pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
-            }
-            let radiance: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &out, size)?);
-            Ok(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])).collect())
-        })
+        let uniform = uniform(gpu, "shade params", bytemuck::bytes_of(&params));
+        let input = storage(gpu, "shade points", bytemuck::cast_slice(&inputs), wgpu::BufferUsages::empty());
+        let out = output(gpu, "radiance", ((points.len() + extra) * 16) as u64);
+        let (nodes, triangles) = tracer.buffers();
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = [
+            (0, nodes),
+            (1, triangles),
+            (4, &uniform),
+            (5, &input),
+            (6, &scene.prims),
+            (7, &self.lights),
+            (8, &scene.planes),
+            (9, &scene.flux),
+            (10, &out),
+        ]
+        .into_iter()
+        .map(|(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() })
+        .collect();
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shade"),
+            layout: &self.pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        if !points.is_empty() {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            let groups = points.len().div_ceil(64) as u32;
+            pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+        }
+        (encoder, out)
     }
+}
+
+/// A scene's triangles' shading and caustic irradiance maps on the GPU ([`PointShader::prepare`]).
+pub struct ShadeScene {
+    prims: wgpu::Buffer,
+    planes: wgpu::Buffer,
+    flux: wgpu::Buffer,
+    inv_texel_area: f32,
 }
 
 /// The 32-bit seed the shader gets for a point's 64-bit seed.

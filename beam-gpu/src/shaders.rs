@@ -14,6 +14,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("raytrace", include_str!("../shaders/raytrace.wgsl")),
     ("beam_atlas", include_str!("../shaders/beam_atlas.wgsl")),
     ("nonlinear_check", include_str!("../shaders/nonlinear_check.wgsl")),
+    ("composite", include_str!("../shaders/composite.wgsl")),
 ];
 
 /// The full source of shader `name`: the shared code, then the shader.

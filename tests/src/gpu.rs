@@ -7,7 +7,7 @@ use crate::generate::{self, BeamKind, uniform};
 use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::{
-    Beam, BeamJob, BumpedBeam, CpuBeams, Degree, NonlinearOptions, SMesh, render_nonlinear_with,
+    Beam, BeamJob, BeamRenderer, BumpedBeam, CpuBeams, Degree, NonlinearOptions, SMesh, render_nonlinear_with,
 };
 use beam_cpu::render::RenderOptions;
 use beam_cpu::scene::{self, Bump};
@@ -51,6 +51,9 @@ pub fn properties() -> Vec<Property> {
         },
         Property { name: "gpu_images_equal_cpu", cites: "000 §3, §7", backends: GPU, body: gpu_images_equal_cpu },
         Property { name: "gpu_shading_equals_cpu", cites: "000 §9.2", backends: GPU, body: gpu_shading_equals_cpu },
+        Property {
+            name: "gpu_composite_equals_cpu", cites: "000 §7.3", backends: GPU, body: gpu_composite_equals_cpu
+        },
     ]
 }
 
@@ -278,7 +281,6 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
 /// same triangle, or another at the same distance (within 1e-4 relative: a shared edge); and at
 /// most twice the CPU's texels tested, so the bounding triangles are in use and tight. At most 0.1% of the texels may differ.
 pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::BeamRenderer;
     let gpu = match adapter() {
         Ok(g) => g,
         Err(o) => return Ok(o),
@@ -441,12 +443,112 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
     Ok(Outcome { cases: total, note: notes.join("; ") })
 }
 
+/// The GPU's final composite (every level's radiance kept on the GPU as half floats, only the
+/// pixels read back) against the CPU's `composite_levels` over the same beam trees (three levels,
+/// 64², shading by `shade_twin` on both sides) on four built-ins with mirrors (tinted and bumpy)
+/// and glass (Fresnel, total internal reflection): every pixel within 4e-3 relative + 1e-4 (three
+/// half-float roundings and the shading's 1e-4); at most 0.1% may differ by a shadow ray that
+/// grazes an edge. The worst relative error is stated.
+pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+    use beam_gpu::nonlinear::GpuComposite;
+    use beam_gpu::shade::PointShader;
+    let gpu = match adapter() {
+        Ok(g) => g,
+        Err(o) => return Ok(o),
+    };
+    let (mut total, mut notes) = (0u64, Vec::new());
+    for name in ["mirror-glass-coarse", "glass-lens-coarse", "bumpy-mirror", "wavy-lake-coarse"] {
+        let scene = scene::builtin(name)?;
+        let options =
+            NonlinearOptions { degree: Degree::S3, texels: 32, bounces: 3, shading: RenderOptions::exact(64, 64) };
+        let capture = Capture::default();
+        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &capture)?;
+        let (levels, caustics) = capture.0.into_inner().map_err(|e| e.to_string())?;
+        let shader = PointShader::new(&gpu, &scene)?;
+        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
+        let rest = |points: &[beam_cpu::nonlinear::ShadePoint]| {
+            TwinShading.shade_points(&scene, &options.shading, caustics.as_ref(), points)
+        };
+        let smesh = SMesh::specular(&scene);
+        let on_gpu = beam_gpu::buffers::checked(&gpu, || {
+            GpuComposite::new(&gpu)?.run(
+                &gpu,
+                &tracer,
+                &shader,
+                (&scene, &smesh),
+                caustics.as_ref(),
+                64,
+                &levels,
+                &rest,
+            )
+        })?;
+        let (mut differ, mut worst) = (0u64, 0.0f32);
+        for (g, c) in on_gpu.iter().zip(&on_cpu.pixels) {
+            let error = (*g - *c).abs();
+            if error.cmpgt(4e-3 * c.abs() + Vec3::splat(1e-4)).any() {
+                differ += 1;
+            } else {
+                worst = worst.max((error / (c.abs() + Vec3::splat(1e-2))).max_element());
+            }
+        }
+        let n = on_cpu.pixels.len() as u64;
+        if on_gpu.len() as u64 != n || differ * 1000 > n {
+            return Err(format!("{name}: {differ} of {n} pixels differ ({} from the GPU)", on_gpu.len()));
+        }
+        total += n;
+        let texels: usize = levels.iter().skip(1).map(|l| l.texels.len()).sum();
+        notes
+            .push(format!("{name} ({} levels, {texels} texels): {differ} differ, worst {worst:.1e}", levels.len() - 1));
+    }
+    Ok(Outcome { cases: total, note: notes.join("; ") })
+}
+
+/// [`TwinShading`], keeping the radiance flow it composites (the levels and the caustics).
+#[derive(Default)]
+struct Capture(std::sync::Mutex<(Vec<beam_cpu::nonlinear::LevelRadiance>, Option<beam_cpu::render::IrradianceMap>)>);
+
+impl BeamRenderer for Capture {
+    fn render_beams(
+        &self,
+        scene: &scene::Scene,
+        jobs: &[BeamJob<'_>],
+    ) -> Result<Vec<beam_cpu::nonlinear::BeamTexture>, String> {
+        CpuBeams.render_beams(scene, jobs)
+    }
+
+    fn closest_hits(&self, scene: &scene::Scene, rays: &[Ray]) -> Result<Vec<Option<beam_bvh::Hit>>, String> {
+        CpuBeams.closest_hits(scene, rays)
+    }
+
+    fn shade_points(
+        &self,
+        scene: &scene::Scene,
+        options: &RenderOptions,
+        caustics: Option<&beam_cpu::render::IrradianceMap>,
+        points: &[beam_cpu::nonlinear::ShadePoint],
+    ) -> Result<Vec<Vec3>, String> {
+        TwinShading.shade_points(scene, options, caustics, points)
+    }
+
+    fn shade_tree(
+        &self,
+        scene: &scene::Scene,
+        smesh: &SMesh,
+        options: &RenderOptions,
+        caustics: Option<&beam_cpu::render::IrradianceMap>,
+        levels: &[beam_cpu::nonlinear::LevelRadiance],
+    ) -> Result<Vec<Vec3>, String> {
+        *self.0.lock().map_err(|e| e.to_string())? = (levels.to_vec(), caustics.cloned());
+        beam_cpu::nonlinear::composite_levels(self, scene, smesh, options, caustics, levels)
+    }
+}
+
 /// The CPU renderer with the GPU's shading: [`beam_gpu::shade::shade_twin`] (64 rays per area light)
 /// for diffuse, glossy and emissive points, mirrors and glass by Whitted rays in waves ending on it:
 /// the reference the GPU images must equal.
 struct TwinShading;
 
-impl beam_cpu::nonlinear::BeamRenderer for TwinShading {
+impl BeamRenderer for TwinShading {
     fn render_beams(
         &self,
         scene: &scene::Scene,

@@ -8,4 +8,5 @@ beam_conformance::conformance_tests!(
     gpu_beam_texels_equal_cpu,
     gpu_images_equal_cpu,
     gpu_shading_equals_cpu,
+    gpu_composite_equals_cpu,
 );

@@ -56,10 +56,11 @@ pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degr
         );
     }
     println!(
-        "GPU ms: whole frame (the beam tree and the composite stay on the CPU); atlas ms: beam visibility on \
-         the GPU (upload, bounding triangles, draws, readback); rays ms: the eye's rays and the Whitted rays \
-         past the last tree level; shade ms: the GPU shading pass (area lights by 64 shadow rays); PSNR: GPU \
-         image vs the CPU's (exact soft shadows)."
+        "GPU ms: whole frame (the beam tree's directions, culling and packing stay on the CPU); atlas ms: \
+         beam visibility on the GPU (upload, bounding triangles, draws, hit readback); rays ms: the eye's rays \
+         and the Whitted rays past the last tree level; shade ms: the GPU shading pass (area lights by 64 \
+         shadow rays) and the composite, radiance kept on the GPU; PSNR: GPU image vs the CPU's (exact soft \
+         shadows)."
     );
     Ok(())
 }

@@ -31,8 +31,6 @@ pub struct BeamTexture {
     pub size: u32,
     /// Nearest hit per texel (row-major), `None` where the ray leaves the scene.
     pub hits: Vec<Option<TexelHit>>,
-    /// Radiance per texel, filled by the caller's shading.
-    pub radiance: Vec<Vec3>,
     /// Scene triangles left after bounding-cone culling.
     pub triangles_after_culling: u32,
     /// Texels inside bounding triangles (rays intersected); overdraw is this over the texels rendered.
@@ -64,27 +62,6 @@ impl BeamTexture {
     pub fn texels(&self) -> u64 {
         (0..self.size).map(|y| u64::from((self.size + 1 - y).min(self.size))).sum()
     }
-
-    /// Bilinear lookup of the radiance at barycentric `w` over the rendered texels.
-    #[must_use]
-    pub fn sample(&self, w: Vec3) -> Vec3 {
-        let n = self.size as f32;
-        let (fx, fy) = (w.y * n - 0.5, w.z * n - 0.5);
-        let (x0, y0) = (fx.floor(), fy.floor());
-        let (ax, ay) = (fx - x0, fy - y0);
-        let (mut sum, mut weight) = (Vec3::ZERO, 0.0);
-        for (dx, dy, k) in
-            [(0, 0, (1.0 - ax) * (1.0 - ay)), (1, 0, ax * (1.0 - ay)), (0, 1, (1.0 - ax) * ay), (1, 1, ax * ay)]
-        {
-            let (x, y) =
-                ((x0 as i64 + dx).clamp(0, n as i64 - 1) as u32, (y0 as i64 + dy).clamp(0, n as i64 - 1) as u32);
-            if self.in_region(x, y) && k > 0.0 {
-                sum += k * self.radiance[(y * self.size + x) as usize];
-                weight += k;
-            }
-        }
-        if weight > 0.0 { sum / weight } else { Vec3::ZERO }
-    }
 }
 
 /// Render `beam` into a `size × size` texel region (000 Alg. 1 with Alg. 3 or 4 for the bounding
@@ -92,13 +69,7 @@ impl BeamTexture {
 #[must_use]
 pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, exclude: u32) -> BeamTexture {
     let n = size as usize;
-    let mut tex = BeamTexture {
-        size,
-        hits: vec![None; n * n],
-        radiance: vec![Vec3::ZERO; n * n],
-        triangles_after_culling: 0,
-        texels_tested: 0,
-    };
+    let mut tex = BeamTexture { size, hits: vec![None; n * n], triangles_after_culling: 0, texels_tested: 0 };
     let bounds = beam.s1_or_sn_bounds();
     let cone = beam.culling_cone(&bounds);
     let extent = scene.bounds().extent().length();

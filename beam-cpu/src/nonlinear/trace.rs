@@ -13,6 +13,7 @@
 
 use super::atlas::{BeamTexture, BumpedBeam, TexelBeam, render_beam};
 use super::caustics::{CausticStats, caustics_by_beams};
+use super::composite::{Composite, LevelRadiance, TexelRadiance, composite_levels};
 use super::smesh::{SFace, SMesh};
 use crate::render::{Image, IrradianceMap, RenderOptions, dielectric, reflect, shade_point};
 use crate::scene::{Material, Scene};
@@ -221,6 +222,19 @@ pub trait BeamRenderer: Sync {
     ) -> Result<Vec<Vec3>, String> {
         Ok(points.par_iter().map(|s| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed)).collect())
     }
+
+    /// The radiance flow of a built tree (`levels[0]` the eye's view): the eye's pixels, as
+    /// [`composite_levels`] computes them (on the CPU unless overridden).
+    fn shade_tree(
+        &self,
+        scene: &Scene,
+        smesh: &SMesh,
+        options: &RenderOptions,
+        caustics: Option<&IrradianceMap>,
+        levels: &[LevelRadiance],
+    ) -> Result<Vec<Vec3>, String> {
+        composite_levels(self, scene, smesh, options, caustics, levels)
+    }
 }
 
 /// A point for [`shade_point`]: the radiance leaving point `p` of triangle `prim` towards `−d`
@@ -412,75 +426,40 @@ impl Tree<'_> {
         Ok(Built { roots: root_children, levels })
     }
 
-    /// Radiance flows up the tree: every level's texels shaded, deepest level first, specular ones
-    /// from their children's textures, the others by `renderer` in one batch per level.
-    fn shade(&self, levels: &mut [Vec<Node>], renderer: &dyn BeamRenderer) -> Result<(), String> {
-        for k in (0..levels.len()).rev() {
-            let (this, below) = levels.split_at_mut(k + 1);
-            let next: &[Node] = below.first().map_or(&[], |v| v.as_slice());
-            let parts: Vec<Vec<(Option<Vec3>, ShadePoint)>> = this[k]
-                .par_iter()
-                .map(|node| {
-                    let prim = self.smesh.faces[node.face].prim;
-                    node.hits
-                        .iter()
-                        .map(|&(t, hit, p, d)| {
-                            let point = ShadePoint { prim: hit, p, d, seed: u64::from(prim) << 32 | t as u64 };
-                            (self.composite(&node.children, next, hit, p, d), point)
-                        })
-                        .collect()
-                })
-                .collect();
-            let shaded = self.shade_rest(renderer, parts.iter().flatten())?;
-            let mut shaded = shaded.into_iter();
-            for (node, part) in this[k].iter_mut().zip(parts) {
-                for (&(t, ..), (composite, _)) in node.hits.iter().zip(part) {
-                    node.tex.radiance[t] = composite.or_else(|| shaded.next()).unwrap_or_default();
+    /// The tree's levels for the radiance flow: per level, every beam's region and every texel
+    /// that hit, composited from its face's children where it has them.
+    fn radiance_levels(&self, levels: &[Vec<Node>]) -> Vec<LevelRadiance> {
+        levels
+            .iter()
+            .map(|nodes| {
+                let mut regions = Vec::with_capacity(nodes.len());
+                let mut len = 0;
+                for node in nodes {
+                    regions.push((len as u32, node.tex.size));
+                    len += (node.tex.size * node.tex.size) as usize;
                 }
-            }
-        }
-        Ok(())
+                let texels = nodes
+                    .par_iter()
+                    .zip(&regions)
+                    .flat_map_iter(|(node, &(first, _))| {
+                        let prim = self.smesh.faces[node.face].prim;
+                        node.hits.iter().map(move |&(t, hit, p, d)| TexelRadiance {
+                            texel: first + t as u32,
+                            point: ShadePoint { prim: hit, p, d, seed: u64::from(prim) << 32 | t as u64 },
+                            composite: self.composite(&node.children, hit),
+                        })
+                    })
+                    .collect();
+                LevelRadiance { regions, len, texels }
+            })
+            .collect()
     }
 
-    /// The points of `parts` without a composite, shaded in one batch by `renderer`, in order.
-    fn shade_rest<'p>(
-        &self,
-        renderer: &dyn BeamRenderer,
-        parts: impl Iterator<Item = &'p (Option<Vec3>, ShadePoint)>,
-    ) -> Result<Vec<Vec3>, String> {
-        let points: Vec<ShadePoint> = parts.filter(|(c, _)| c.is_none()).map(|&(_, p)| p).collect();
-        renderer.shade_points(self.scene, &self.options.shading, self.caustics.as_ref(), &points)
-    }
-
-    /// Radiance leaving point `p` of triangle `prim` towards `−d` on a specular face with child
-    /// beams (in `next`): their textures at `p`, Fresnel-weighted for glass. `None` for anything
-    /// else, which [`shade_point`] shades.
-    fn composite(
-        &self,
-        children: &HashMap<usize, Scattered>,
-        next: &[Node],
-        prim: u32,
-        p: Vec3,
-        d: Vec3,
-    ) -> Option<Vec3> {
-        let scene = self.scene;
-        let fi = *self.smesh.face_of.get(&prim)?;
-        let sc = children.get(&fi)?;
-        let f = &self.smesh.faces[fi];
-        let w = f.barycentric(p);
-        let reflected = next[sc.reflected].tex.sample(w);
-        match (scene.material(prim), sc.refracted) {
-            (Material::Mirror { tint, .. }, _) => Some(tint * reflected),
-            (Material::Glass { ior }, Some(refracted)) => {
-                let entering = d.dot(scene.normal(prim)) < 0.0;
-                let n = if entering { f.normal_at(w) } else { -f.normal_at(w) };
-                Some(match dielectric(d, n, ior, entering) {
-                    (fresnel, Some(_)) => fresnel * reflected + (1.0 - fresnel) * next[refracted].tex.sample(w),
-                    (_, None) => reflected,
-                })
-            }
-            _ => None,
-        }
+    /// The composite of a point of scene triangle `prim` whose S-mesh face has child beams.
+    fn composite(&self, children: &HashMap<usize, Scattered>, prim: u32) -> Option<Composite> {
+        let face = *self.smesh.face_of.get(&prim)?;
+        let sc = children.get(&face)?;
+        Some(Composite { face: face as u32, reflected: sc.reflected as u32, refracted: sc.refracted.map(|r| r as u32) })
     }
 }
 
@@ -520,25 +499,25 @@ pub fn render_nonlinear_with(
         let fi = *tree.smesh.face_of.get(&h.prim)?;
         Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
     });
-    let Built { roots: children, mut levels } = tree.build(renderer, Tree::requests(None, seen, 1.0))?;
-    tree.shade(&mut levels, renderer)?;
-    let next: &[Node] = levels.first().map_or(&[], |v| v.as_slice());
-    let parts: Vec<Option<(Option<Vec3>, ShadePoint)>> = hits
-        .par_iter()
-        .enumerate()
-        .map(|(i, hit)| {
-            let (ray, hit) = (*hit)?;
-            let (p, d) = (ray.at(hit.t), ray.direction.normalize());
-            Some((tree.composite(&children, next, hit.prim, p, d), ShadePoint { prim: hit.prim, p, d, seed: i as u64 }))
-        })
-        .collect();
-    let mut shaded = tree.shade_rest(renderer, parts.iter().flatten())?.into_iter();
+    let Built { roots: children, levels } = tree.build(renderer, Tree::requests(None, seen, 1.0))?;
+    // The eye's view is level 0 of the radiance flow.
+    let eye = LevelRadiance {
+        regions: Vec::new(),
+        len: hits.len(),
+        texels: hits
+            .iter()
+            .enumerate()
+            .filter_map(|(i, hit)| {
+                let (ray, hit) = (*hit)?;
+                let point =
+                    ShadePoint { prim: hit.prim, p: ray.at(hit.t), d: ray.direction.normalize(), seed: i as u64 };
+                Some(TexelRadiance { texel: i as u32, point, composite: tree.composite(&children, hit.prim) })
+            })
+            .collect(),
+    };
+    let flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
     let mut image = Image::new(camera.width, camera.height);
-    for (px, part) in image.pixels.iter_mut().zip(&parts) {
-        if let Some((composite, _)) = part {
-            *px = composite.or_else(|| shaded.next()).unwrap_or_default();
-        }
-    }
+    image.pixels = renderer.shade_tree(scene, &tree.smesh, &options.shading, tree.caustics.as_ref(), &flow)?;
     let all = || levels.iter().flatten();
     let beams = all().count();
     let texels_tested: u64 = all().map(|n| n.tex.texels_tested).sum();

@@ -3,25 +3,31 @@
 //! bounding cone keeps (pulled from a storage buffer by vertex index / 3); the vertex stage emits
 //! each triangle's bounding triangle on the beam's region, the fragment stage intersects the
 //! texel's ray with it, and the depth test keeps the nearest hit. The pages are read back as the
-//! beams' hit textures; the beam tree and the shading are beam-cpu's, so the images match the CPU's.
-//! Rays (the eye's view, the reference's Whitted rays) go to the compute ray tracer, and diffuse,
-//! glossy and emissive points are shaded on the GPU ([`PointShader`]: area lights by stratified
-//! shadow rays, where the CPU's default is exact).
+//! beams' hit textures, which beam-cpu's beam tree needs for the next level's beams. Rays (the eye's
+//! view, the reference's Whitted rays) go to the compute ray tracer; the radiance flows up the tree
+//! on the GPU ([`GpuComposite`]): diffuse, glossy and emissive points shaded by [`PointShader`] (area
+//! lights by stratified shadow rays, where the CPU's default is exact), specular ones composited
+//! from their child beams, only the pixels read back.
 
 use super::beam::GpuBeam;
+use super::composite::GpuComposite;
 use crate::Gpu;
-use crate::buffers::{checked, compute_pipeline, map, output, shader_module, storage};
+use crate::buffers::{checked, compute_pipeline, map, max_binding, output, shader_module, storage, uniform};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::PointShader;
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
-use beam_cpu::nonlinear::{BeamJob, BeamRenderer, BeamTexture, ShadePoint, TexelHit, cone_candidates, shade_by_waves};
+use beam_cpu::nonlinear::{
+    BeamJob, BeamRenderer, BeamTexture, LevelRadiance, SMesh, ShadePoint, TexelHit, composite_levels, cone_candidates,
+    shade_by_waves,
+};
 use beam_cpu::render::{IrradianceMap, RenderOptions, Shading, shade_point};
 use beam_cpu::scene::Scene;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
+use std::cell::Cell;
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -50,7 +56,7 @@ pub struct GpuTimes {
     pub prepare_seconds: f64,
     /// Seconds tracing rays on the GPU (the eye's view, the reference's Whitted rays).
     pub ray_seconds: f64,
-    /// Seconds shading points on the GPU.
+    /// Seconds shading points and compositing the beam tree on the GPU.
     pub shade_seconds: f64,
     /// Atlas pages rendered.
     pub pages: u64,
@@ -69,6 +75,8 @@ pub struct GpuBeams<'g> {
     tracer: RayTracer,
     /// Shading on the GPU.
     shader: PointShader,
+    /// The final composite on the GPU.
+    composite: GpuComposite,
     /// Shadow rays per area light and shade point.
     light_samples: u32,
     extent: f32,
@@ -138,6 +146,7 @@ impl<'g> GpuBeams<'g> {
             triangles,
             tracer,
             shader: PointShader::new(gpu, scene)?,
+            composite: GpuComposite::new(gpu)?,
             light_samples: 64,
             extent: scene.bounds().extent().length(),
             page,
@@ -193,13 +202,7 @@ impl<'g> GpuBeams<'g> {
         let depth = texture(wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
         let params =
             AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pairs.len() as u32 };
-        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("atlas params"),
-            size: size_of::<AtlasParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        self.gpu.queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&params));
+        let uniform = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
         let beam_buffer = storage(self.gpu, "beams", bytemuck::cast_slice(beams), wgpu::BufferUsages::empty());
         let pair_buffer = storage(self.gpu, "pairs", bytemuck::cast_slice(pairs), wgpu::BufferUsages::empty());
         let bounds = output(self.gpu, "bounding triangles", (pairs.len() * 16) as u64);
@@ -326,8 +329,7 @@ impl BeamRenderer for GpuBeams<'_> {
         let (mut page, mut used) = (0usize, 0u64);
         let capacity = u64::from(self.page) * u64::from(self.page);
         // A page's pairs and their bounding triangles (16 bytes each) must fit one storage binding.
-        let limits = self.gpu.device.limits();
-        let max_pairs = (limits.max_storage_buffer_binding_size.min(limits.max_buffer_size) / 16) as usize;
+        let max_pairs = (max_binding(self.gpu) / 16) as usize;
         let (mut rows, mut pairs) = (vec![0u32], 0usize);
         for &i in &order {
             // Each region takes the power-of-two square around it.
@@ -387,13 +389,8 @@ impl BeamRenderer for GpuBeams<'_> {
                         }
                     }
                 }
-                textures[i] = Some(BeamTexture {
-                    size,
-                    hits,
-                    radiance: vec![Vec3::ZERO; n],
-                    triangles_after_culling: kept,
-                    texels_tested: u64::from(tested),
-                });
+                textures[i] =
+                    Some(BeamTexture { size, hits, triangles_after_culling: kept, texels_tested: u64::from(tested) });
             }
             self.add_times(|t| {
                 t.atlas_seconds += drawn;
@@ -426,6 +423,42 @@ impl BeamRenderer for GpuBeams<'_> {
             out
         };
         shade_by_waves(scene, self, &gpu_shade, points)
+    }
+
+    fn shade_tree(
+        &self,
+        scene: &Scene,
+        smesh: &SMesh,
+        options: &RenderOptions,
+        caustics: Option<&IrradianceMap>,
+        levels: &[LevelRadiance],
+    ) -> Result<Vec<Vec3>, String> {
+        if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
+            return composite_levels(self, scene, smesh, options, caustics, levels);
+        }
+        let start = Instant::now();
+        // Mirror and glass points past the tree by `shade_points` (Whitted rays in waves), timed there.
+        let elsewhere = Cell::new(0.0);
+        let rest = |points: &[ShadePoint]| {
+            let start = Instant::now();
+            let out = self.shade_points(scene, options, caustics, points);
+            elsewhere.set(elsewhere.get() + start.elapsed().as_secs_f64());
+            out
+        };
+        let pixels = checked(self.gpu, || {
+            self.composite.run(
+                self.gpu,
+                &self.tracer,
+                &self.shader,
+                (scene, smesh),
+                caustics,
+                self.light_samples,
+                levels,
+                &rest,
+            )
+        });
+        self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64() - elsewhere.get());
+        pixels
     }
 
     fn closest_hits(&self, _scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {

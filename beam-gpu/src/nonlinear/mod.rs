@@ -5,7 +5,9 @@
 mod atlas;
 mod beam;
 mod check;
+mod composite;
 
 pub use atlas::{AtlasParams, GpuBeams, GpuTimes};
 pub use beam::{GpuBeam, MAX_CONTROL_POINTS};
 pub use check::{CheckCase, GpuBoundingTriangle, NonlinearCheck};
+pub use composite::{CompositeParams, CompositeRecord, GpuComposite, GpuFace, NONE, ShadeRest};

@@ -1,0 +1,146 @@
+// The final composite of 000 §7.3, one tree level per dispatch: every texel that hit either copies
+// its shaded radiance or, on a specular S-mesh face with child beams, samples the children's
+// radiance (the level below, still on the GPU) at the face's barycentric point, tinted for a mirror
+// and Fresnel-weighted for glass. Radiance is stored as half floats (rgb, 8 bytes a texel), as an
+// RGBA16F atlas would hold it. CPU twin: beam_cpu::nonlinear::composite_levels.
+
+// Keep in sync with beam_gpu::nonlinear::composite::GpuFace (128 bytes): an S-mesh face.
+struct Face {
+    v0: vec4<f32>,
+    v1: vec4<f32>,
+    v2: vec4<f32>,
+    // Unit vertex normals, on the side of the geometric normal.
+    n0: vec4<f32>,
+    n1: vec4<f32>,
+    n2: vec4<f32>,
+    // The scene triangle's unit geometric normal.
+    normal: vec4<f32>,
+    // rgb: a mirror's tint; w: a glass's index of refraction, 0 for a mirror.
+    material: vec4<f32>,
+}
+
+// Keep in sync with beam_gpu::nonlinear::composite::CompositeRecord (48 bytes).
+struct Record {
+    p: vec3<f32>,
+    // Its index in the level's radiance.
+    texel: u32,
+    d: vec3<f32>,
+    // Index of its shaded radiance, 0xffffffff when composited.
+    src: u32,
+    face: u32,
+    reflected: u32,
+    // 0xffffffff for none.
+    refracted: u32,
+    pad: u32,
+}
+
+// Keep in sync with beam_gpu::nonlinear::composite::CompositeParams (16 bytes).
+struct CompositeParams {
+    records: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: CompositeParams;
+@group(0) @binding(1) var<storage, read> records: array<Record>;
+@group(0) @binding(2) var<storage, read> faces: array<Face>;
+@group(0) @binding(3) var<storage, read> shaded: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read> below: array<vec2<u32>>;
+// Per beam of the level below: its first texel and its texels per side.
+@group(0) @binding(5) var<storage, read> regions: array<vec2<u32>>;
+@group(0) @binding(6) var<storage, read_write> radiance: array<vec2<u32>>;
+
+const NONE: u32 = 0xffffffffu;
+
+fn unpack_rgb(h: vec2<u32>) -> vec3<f32> {
+    return vec3<f32>(unpack2x16float(h.x), unpack2x16float(h.y).x);
+}
+
+// Bilinear lookup at barycentric w of beam `beam`'s region below, over its rendered texels
+// (x + y ≤ size): beam_cpu::nonlinear::sample_region.
+fn sample_region(beam: u32, w: vec3<f32>) -> vec3<f32> {
+    let region = regions[beam];
+    let size = region.y;
+    let n = f32(size);
+    let f = vec2<f32>(w.y * n - 0.5, w.z * n - 0.5);
+    let f0 = floor(f);
+    let a = f - f0;
+    var sum = vec3<f32>(0.0);
+    var weight = 0.0;
+    for (var j = 0; j < 4; j++) {
+        let dx = j % 2;
+        let dy = j / 2;
+        let k = select(1.0 - a.x, a.x, dx == 1) * select(1.0 - a.y, a.y, dy == 1);
+        let x = u32(clamp(i32(f0.x) + dx, 0, i32(size) - 1));
+        let y = u32(clamp(i32(f0.y) + dy, 0, i32(size) - 1));
+        let index = region.x + y * size + x;
+        if x + y < size + 1u && k > 0.0 && index < arrayLength(&below) {
+            sum += k * unpack_rgb(below[index]);
+            weight += k;
+        }
+    }
+    return select(vec3<f32>(0.0), sum / weight, weight > 0.0);
+}
+
+// Barycentric coordinates of p in the face's plane (beam_math::Triangle::barycentric; the centre
+// for a degenerate face).
+fn face_barycentric(f: Face, p: vec3<f32>) -> vec3<f32> {
+    let n = cross(f.v1.xyz - f.v0.xyz, f.v2.xyz - f.v0.xyz);
+    let nn = dot(n, n);
+    if !(nn > 0.0) {
+        return vec3<f32>(1.0 / 3.0);
+    }
+    let w0 = dot(cross(f.v1.xyz - p, f.v2.xyz - p), n) / nn;
+    let w1 = dot(cross(f.v2.xyz - p, f.v0.xyz - p), n) / nn;
+    return vec3<f32>(w0, w1, 1.0 - w0 - w1);
+}
+
+// Radiance leaving a point of a specular face towards the arriving ray (beam_cpu::nonlinear::composite).
+fn composite_texel(r: Record) -> vec3<f32> {
+    let f = faces[r.face];
+    let w = face_barycentric(f, r.p);
+    let reflected = sample_region(r.reflected, w);
+    let ior = f.material.w;
+    if ior == 0.0 {
+        return f.material.xyz * reflected;
+    }
+    if r.refracted == NONE {
+        return reflected;
+    }
+    // Snell's law and Schlick's Fresnel about the interpolated normal (beam_cpu::render::dielectric).
+    let entering = dot(r.d, f.normal.xyz) < 0.0;
+    let interpolated = w.x * f.n0.xyz + w.y * f.n1.xyz + w.z * f.n2.xyz;
+    var n = select(vec3<f32>(0.0), normalize(interpolated), dot(interpolated, interpolated) > 0.0);
+    if !entering {
+        n = -n;
+    }
+    let eta = select(ior, 1.0 / ior, entering);
+    let cos_i = -dot(n, r.d);
+    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    if k < 0.0 {
+        return reflected;
+    }
+    let t = eta * r.d + (eta * cos_i - sqrt(k)) * n;
+    let q = (1.0 - ior) / (1.0 + ior);
+    let r0 = q * q;
+    let m = 1.0 - select(-dot(t, n), cos_i, entering);
+    let fresnel = r0 + (1.0 - r0) * m * m * m * m * m;
+    return fresnel * reflected + (1.0 - fresnel) * sample_region(r.refracted, w);
+}
+
+@compute @workgroup_size(64)
+fn composite(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = id.y * groups.x * 64u + id.x;
+    if i >= params.records {
+        return;
+    }
+    let r = records[i];
+    var c: vec3<f32>;
+    if r.src != NONE {
+        c = shaded[r.src].xyz;
+    } else {
+        c = composite_texel(r);
+    }
+    radiance[r.texel] = vec2<u32>(pack2x16float(c.xy), pack2x16float(vec2<f32>(c.z, 0.0)));
+}

@@ -1,0 +1,213 @@
+//! The final composite of 000 §7.3 on the GPU (`shaders/composite.wgsl`): the radiance flow of a
+//! beam tree, deepest level first, with every level's radiance kept on the GPU (half floats, as an
+//! RGBA16F atlas) and only the eye's pixels read back. Diffuse, glossy and emissive points are
+//! shaded by [`PointShader`] straight into the buffer the composite pass reads; mirror and glass
+//! points without child beams (past the last level) come from the caller. CPU twin:
+//! [`beam_cpu::nonlinear::composite_levels`].
+
+use crate::Gpu;
+use crate::buffers::{compute_pipeline, max_binding, output, read_back, storage, uniform};
+use crate::raytrace::RayTracer;
+use crate::shade::PointShader;
+use beam_cpu::nonlinear::{LevelRadiance, SMesh, ShadePoint};
+use beam_cpu::render::IrradianceMap;
+use beam_cpu::scene::{Material, Scene};
+use beam_math::glam::Vec3;
+use bytemuck::{Pod, Zeroable};
+
+/// An S-mesh face for the composite.
+///
+/// Keep in sync with the WGSL twin `Face` in `shaders/composite.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuFace {
+    /// Vertices (w unused).
+    pub v: [[f32; 4]; 3],
+    /// Unit vertex normals on the side of the geometric normal (w unused).
+    pub n: [[f32; 4]; 3],
+    /// The scene triangle's unit geometric normal (w unused).
+    pub normal: [f32; 4],
+    /// rgb: a mirror's tint; w: a glass's index of refraction, 0 for a mirror.
+    pub material: [f32; 4],
+}
+
+/// One texel of a level for the composite pass.
+///
+/// Keep in sync with the WGSL twin `Record` in `shaders/composite.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct CompositeRecord {
+    /// The point its ray hit.
+    pub p: [f32; 3],
+    /// Its index in the level's radiance.
+    pub texel: u32,
+    /// Unit direction of the ray.
+    pub d: [f32; 3],
+    /// Index of its shaded radiance, [`NONE`] when composited.
+    pub src: u32,
+    /// Its S-mesh face.
+    pub face: u32,
+    /// Its face's reflection beam in the level below.
+    pub reflected: u32,
+    /// Its face's refraction beam, [`NONE`] for none.
+    pub refracted: u32,
+    /// Padding.
+    pub pad: u32,
+}
+
+/// Uniforms of the composite pass.
+///
+/// Keep in sync with the WGSL twin `CompositeParams` in `shaders/composite.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct CompositeParams {
+    /// Records of the dispatch.
+    pub records: u32,
+    /// Padding.
+    pub pad: [u32; 3],
+}
+
+const _: () =
+    assert!(size_of::<GpuFace>() == 128 && size_of::<CompositeRecord>() == 48 && size_of::<CompositeParams>() == 16);
+
+/// "None" in [`CompositeRecord`].
+pub const NONE: u32 = u32::MAX;
+
+/// Bytes of a texel of a level's radiance (rgb as half floats, and padding).
+const TEXEL_BYTES: u64 = 8;
+
+/// Shades a batch of the points the [`PointShader`] does not (mirrors and glass past the tree).
+pub type ShadeRest<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, String> + 'a;
+
+/// The composite pass.
+pub struct GpuComposite {
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl GpuComposite {
+    /// Compile the pass.
+    pub fn new(gpu: &Gpu) -> Result<Self, String> {
+        Ok(Self { pipeline: compute_pipeline(gpu, "composite", "composite")? })
+    }
+
+    /// True when every level's radiance fits one storage binding of the device.
+    #[must_use]
+    pub fn fits(gpu: &Gpu, levels: &[LevelRadiance]) -> bool {
+        let limit = max_binding(gpu);
+        levels.iter().all(|l| l.len as u64 * TEXEL_BYTES <= limit)
+    }
+
+    /// The radiance flow of `levels` (`levels[0]` the eye's view) on the GPU: the eye's pixels.
+    /// Points the [`PointShader`] shades are shaded on the GPU (`spp` shadow rays per area light,
+    /// the irradiance of `caustics`), the others by `rest`. Call inside [`crate::buffers::checked`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn run(
+        &self,
+        gpu: &Gpu,
+        tracer: &RayTracer,
+        shader: &PointShader,
+        (scene, smesh): (&Scene, &SMesh),
+        caustics: Option<&IrradianceMap>,
+        spp: u32,
+        levels: &[LevelRadiance],
+        rest: &ShadeRest<'_>,
+    ) -> Result<Vec<Vec3>, String> {
+        let faces = storage(gpu, "faces", bytemuck::cast_slice(&gpu_faces(scene, smesh)), wgpu::BufferUsages::empty());
+        let prepared = shader.prepare(gpu, caustics);
+        // Records, shade inputs and outputs of one dispatch within a binding.
+        let chunk = ((max_binding(gpu) / 48) as usize).clamp(1, 1 << 20);
+        let empty = || storage(gpu, "empty", &[], wgpu::BufferUsages::empty());
+        let (mut below, mut below_regions) = (empty(), empty());
+        let mut len = 0;
+        for level in levels.iter().rev() {
+            len = level.len as u64 * TEXEL_BYTES;
+            let radiance = output(gpu, "level radiance", len);
+            for texels in level.texels.chunks(chunk) {
+                // Points not composited: on the GPU where the point shader shades them, else by `rest`.
+                let (mut direct, mut other) = (Vec::new(), Vec::new());
+                // Per texel: composited, or where its shaded radiance lies (direct or other).
+                let sources: Vec<Option<(bool, usize)>> = texels
+                    .iter()
+                    .map(|t| {
+                        t.composite.is_none().then(|| {
+                            let on_gpu = PointShader::shades(scene, t.point.prim);
+                            let list = if on_gpu { &mut direct } else { &mut other };
+                            list.push(t.point);
+                            (on_gpu, list.len() - 1)
+                        })
+                    })
+                    .collect();
+                let other_radiance: Vec<[f32; 4]> = rest(&other)?.iter().map(|c| c.extend(0.0).to_array()).collect();
+                let (mut encoder, shaded) = shader.shade_into(gpu, tracer, &prepared, spp, &direct, other.len());
+                gpu.queue.write_buffer(&shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
+                let records: Vec<CompositeRecord> = texels
+                    .iter()
+                    .zip(&sources)
+                    .map(|(t, source)| {
+                        let c = t.composite;
+                        CompositeRecord {
+                            p: t.point.p.to_array(),
+                            texel: t.texel,
+                            d: t.point.d.to_array(),
+                            src: source.map_or(NONE, |(on_gpu, i)| (if on_gpu { i } else { direct.len() + i }) as u32),
+                            face: c.map_or(NONE, |c| c.face),
+                            reflected: c.map_or(NONE, |c| c.reflected),
+                            refracted: c.and_then(|c| c.refracted).unwrap_or(NONE),
+                            pad: 0,
+                        }
+                    })
+                    .collect();
+                let params = CompositeParams { records: records.len() as u32, pad: [0; 3] };
+                let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
+                let records_buffer =
+                    storage(gpu, "records", bytemuck::cast_slice(&records), wgpu::BufferUsages::empty());
+                let buffers = [&params, &records_buffer, &faces, &shaded, &below, &below_regions, &radiance];
+                let entries: Vec<_> = buffers
+                    .iter()
+                    .enumerate()
+                    .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
+                    .collect();
+                let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("composite"),
+                    layout: &self.pipeline.get_bind_group_layout(0),
+                    entries: &entries,
+                });
+                {
+                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+                    pass.set_pipeline(&self.pipeline);
+                    pass.set_bind_group(0, &bind, &[]);
+                    let groups = records.len().div_ceil(64) as u32;
+                    pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+                }
+                gpu.queue.submit([encoder.finish()]);
+            }
+            let regions: Vec<[u32; 2]> = level.regions.iter().map(|&(first, size)| [first, size]).collect();
+            below_regions = storage(gpu, "regions", bytemuck::cast_slice(&regions), wgpu::BufferUsages::empty());
+            below = radiance;
+        }
+        let encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        let halves: Vec<[u16; 4]> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &below, len)?);
+        Ok(halves
+            .iter()
+            .map(|h| Vec3::from_array([h[0], h[1], h[2]].map(|x| half::f16::from_bits(x).to_f32())))
+            .collect())
+    }
+}
+
+/// The faces of `smesh` for the shader.
+fn gpu_faces(scene: &Scene, smesh: &SMesh) -> Vec<GpuFace> {
+    smesh
+        .faces
+        .iter()
+        .map(|f| GpuFace {
+            v: f.v.map(|v| v.extend(0.0).to_array()),
+            n: f.n.map(|n| n.extend(0.0).to_array()),
+            normal: scene.normal(f.prim).extend(0.0).to_array(),
+            material: match scene.material(f.prim) {
+                Material::Mirror { tint, .. } => tint.extend(0.0).to_array(),
+                Material::Glass { ior } => [1.0, 1.0, 1.0, ior],
+                _ => [0.0; 4],
+            },
+        })
+        .collect()
+}
