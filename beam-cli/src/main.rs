@@ -47,12 +47,14 @@ enum Command {
         scene: String,
         /// Light visibility: `beam` (exact shadow beams) or `ray` (stratified shadow rays); or
         /// `nonlinear` (mirrors by nonlinear beams, 000, with exact shadow beams) and its ground
-        /// truth `nonlinear-reference` (mirrors by rays reflected about the interpolated normal).
+        /// truth `nonlinear-reference` (mirrors by rays reflected about the interpolated normal); or
+        /// `glossy` (caustics and glossy light by light volumes from point lights, 002) and its
+        /// ground truth `glossy-reference` (photons).
         #[arg(long, default_value = "beam")]
         method: String,
-        /// Where the nonlinear method and its reference run: `cpu`, or `gpu` (beam atlases, rays and
-        /// the shading of diffuse points on the first wgpu adapter; area lights by `--spp`
-        /// stratified shadow rays there, where the CPU's are exact).
+        /// Where the nonlinear and glossy methods run: `cpu`, or `gpu` (nonlinear: beam atlases, rays
+        /// and the shading of diffuse points on the first wgpu adapter, area lights by `--spp`
+        /// stratified shadow rays there, where the CPU's are exact; glossy: eye rays and the gather).
         #[arg(long, default_value = "cpu")]
         backend: String,
         /// Nonlinear beam parameterization: `s1` or `s3` (`--method nonlinear`).
@@ -82,6 +84,18 @@ enum Command {
         /// of primary and shadow rays (fast on small scenes; slower than rays on large ones).
         #[arg(long)]
         primary_beams: bool,
+        /// Glossy beams' Gaussian volumes (`--method glossy`): `exact` (Owen's T) or `tessellated`
+        /// (002 Figs. 11-12).
+        #[arg(long, default_value = "exact")]
+        volume: String,
+        /// Gather over every light beam (`--method glossy`), as 002 does, instead of through the
+        /// cone hierarchy.
+        #[arg(long)]
+        linear_gather: bool,
+        /// Photons per point light of the references' caustics (`nonlinear-reference`,
+        /// `glossy-reference`).
+        #[arg(long, default_value_t = 4_000_000)]
+        photons: u64,
         /// Image width (default: the scene camera's).
         #[arg(long)]
         width: Option<u32>,
@@ -226,6 +240,9 @@ fn main() -> ExitCode {
             spp,
             primary_spp,
             primary_beams,
+            volume,
+            linear_gather,
+            photons,
             width,
             height,
             out,
@@ -242,6 +259,9 @@ fn main() -> ExitCode {
             spp,
             primary_spp,
             primary_beams,
+            volume: &volume,
+            linear_gather,
+            photons,
             width,
             height,
             out: &out,

@@ -1,11 +1,13 @@
 //! `beam render` and `beam compare`.
 
+use beam_cpu::glossy::{GlossyOptions, render_glossy, render_glossy_reference};
 use beam_cpu::nonlinear::{
     BeamRenderer, CpuBeams, Degree, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
 };
 use beam_cpu::render::{Image, Method, RenderOptions, Shading, difference, render, side_by_side};
 use beam_cpu::scene;
 use beam_gpu::nonlinear::GpuBeams;
+use beam_math::glossy::VolumeMethod;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -22,6 +24,9 @@ pub struct RenderArgs<'a> {
     pub spp: u32,
     pub primary_spp: u32,
     pub primary_beams: bool,
+    pub volume: &'a str,
+    pub linear_gather: bool,
+    pub photons: u64,
     pub width: Option<u32>,
     pub height: Option<u32>,
     pub out: &'a Path,
@@ -30,9 +35,13 @@ pub struct RenderArgs<'a> {
 
 pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     let method = match a.method {
-        "beam" | "nonlinear" | "nonlinear-reference" => Method::Beam,
+        "beam" | "nonlinear" | "nonlinear-reference" | "glossy" | "glossy-reference" => Method::Beam,
         "ray" => Method::Ray,
-        m => return Err(format!("unknown method `{m}` (beam, ray, nonlinear, nonlinear-reference)")),
+        m => {
+            return Err(format!(
+                "unknown method `{m}` (beam, ray, nonlinear, nonlinear-reference, glossy, glossy-reference)"
+            ));
+        }
     };
     let shading = match a.shading {
         "fraction" => Shading::Fraction,
@@ -64,6 +73,9 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     };
     if a.method.starts_with("nonlinear") {
         return nonlinear(a, &scene, options);
+    }
+    if a.method.starts_with("glossy") {
+        return glossy(a, &scene, width, height);
     }
     if a.backend != "cpu" {
         return Err(format!("--backend {} renders --method nonlinear and nonlinear-reference only", a.backend));
@@ -102,9 +114,6 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Photons per point light of the caustic ground truth (`--method nonlinear-reference`).
-const REFERENCE_PHOTONS: u64 = 4_000_000;
-
 /// `--method nonlinear` and `nonlinear-reference`.
 fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Result<ExitCode, String> {
     let degree = match a.degree {
@@ -131,7 +140,7 @@ fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Re
     let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
     let start = std::time::Instant::now();
     if a.method == "nonlinear-reference" {
-        let image = render_smooth_reference_with(scene, &shading, REFERENCE_PHOTONS, renderer)?;
+        let image = render_smooth_reference_with(scene, &shading, a.photons, renderer)?;
         image.save_png(a.out)?;
         println!(
             "{}: nonlinear reference (rays, smooth mirrors and glass) on {on}, {:.3} s -> {}",
@@ -156,6 +165,52 @@ fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Re
         stats.triangles_per_beam,
         stats.overdraw,
         stats.texels_shaded,
+        stats.seconds,
+        a.out.display()
+    );
+    if let Some(p) = a.stats {
+        let json = serde_json::to_string_pretty(&stats).map_err(|e| e.to_string())?;
+        beam_cpu::io::write_atomic(p, json.as_bytes())?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--method glossy` and `glossy-reference`.
+fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Result<ExitCode, String> {
+    let method = match a.volume {
+        "exact" => VolumeMethod::Exact,
+        "tessellated" => VolumeMethod::Tessellated,
+        v => return Err(format!("unknown volume `{v}` (exact, tessellated)")),
+    };
+    if a.backend != "cpu" {
+        return Err(format!("--method glossy runs on --backend cpu only (not `{}`)", a.backend));
+    }
+    let start = std::time::Instant::now();
+    if a.method == "glossy-reference" {
+        let image = render_glossy_reference(scene, width, height, a.photons, 1)?;
+        image.save_png(a.out)?;
+        println!(
+            "{}: glossy reference ({} photons per light), {:.3} s -> {}",
+            scene.name,
+            a.photons,
+            start.elapsed().as_secs_f64(),
+            a.out.display()
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    let options = GlossyOptions { width, height, method, hierarchy: !a.linear_gather };
+    let (image, stats) = render_glossy(scene, &options)?;
+    image.save_png(a.out)?;
+    println!(
+        "{}: glossy light volumes on CPU, {} beams + {} shadow beams ({:.3} s), {} receiver points, {:.1} beams tested per point ({}), gather {:.3} s, {:.3} s -> {}",
+        scene.name,
+        stats.beams,
+        stats.shadow_beams,
+        stats.beam_seconds,
+        stats.receivers,
+        stats.beams_per_point,
+        if a.linear_gather { "linear" } else { "cone hierarchy" },
+        stats.gather_seconds,
         stats.seconds,
         a.out.display()
     );

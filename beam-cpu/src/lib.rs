@@ -4,11 +4,13 @@
 //! lights and the CPU renderers.
 //!
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
+//! - [`glossy`]: glossy light volumes and caustics from point lights (002).
 //! - [`io`]: atomic output files.
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
 //! - [`nonlinear`]: nonlinear beam tracing of curved mirrors (000).
 //! - [`scene`]: scenes (TOML files, bare OBJ, built-ins): materials, lights, camera, BVHs.
 
+pub mod glossy;
 pub mod io;
 pub mod mesh;
 pub mod nonlinear;

@@ -350,7 +350,7 @@ impl Context<'_> {
                 }
                 albedo / std::f32::consts::PI * e
             }
-            Material::Mirror { .. } | Material::Glass { .. } if depth < MAX_DEPTH => {
+            Material::Mirror { .. } | Material::Glass { .. } | Material::ThinGlass { .. } if depth < MAX_DEPTH => {
                 specular_rays(self.scene, self.eps, prim, p, d)
                     .into_iter()
                     .flatten()
@@ -358,7 +358,7 @@ impl Context<'_> {
                     .map(|(ray, weight)| weight * self.radiance(ray, depth + 1, rng, c))
                     .sum()
             }
-            Material::Mirror { .. } | Material::Glass { .. } => Vec3::ZERO,
+            Material::Mirror { .. } | Material::Glass { .. } | Material::ThinGlass { .. } => Vec3::ZERO,
         }
     }
 

@@ -12,8 +12,8 @@ pub const MAX_DEPTH: u32 = 6;
 /// The rays a mirror or glass triangle `prim` sends back along light arriving at point `p` along
 /// unit direction `d`, with their weights: the reflection about the interpolated (Phong) normal
 /// (tilted by a mirror's bump map; times its tint), and through glass the refraction too, the two
-/// split by Fresnel (reflection alone under total internal reflection). Origins are offset by
-/// `eps` off the surface. `None` for other materials.
+/// split by Fresnel (reflection alone under total internal reflection); through a thin pane, the ray
+/// itself, tinted. Origins are offset by `eps` off the surface. `None` for other materials.
 #[must_use]
 pub fn specular_rays(scene: &Scene, eps: f32, prim: u32, p: Vec3, d: Vec3) -> Option<[Option<(Ray, Vec3)>; 2]> {
     let mut n = scene.normal(prim);
@@ -42,6 +42,7 @@ pub fn specular_rays(scene: &Scene, eps: f32, prim: u32, p: Vec3, d: Vec3) -> Op
                 (_, None) => [Some((reflected, Vec3::ONE)), None],
             })
         }
+        Material::ThinGlass { tint, .. } => Some([Some((Ray::new(p - n * eps, d), tint)), None]),
         _ => None,
     }
 }

@@ -1,12 +1,12 @@
 //! Built-in scenes, so that the default job needs no files.
 
-use super::{Camera, Light, Material, Scene, showcase};
+use super::{Camera, Light, Material, Scene, light_volumes, showcase};
 use crate::mesh::{self, Mesh};
 use beam_math::Triangle;
 use beam_math::glam::{Mat3, Vec3};
 
 /// Names of the built-in scenes; the first is the default of `beam render`.
-pub const BUILTIN: [&str; 13] = [
+pub const BUILTIN: [&str; 16] = [
     "cornell",
     "mirror-glass",
     "cornell-point",
@@ -20,6 +20,9 @@ pub const BUILTIN: [&str; 13] = [
     "wavy-lake",
     "wavy-lake-coarse",
     "bumpy-mirror",
+    "cardioid-ring",
+    "pool-caustics",
+    "stained-glass",
 ];
 
 /// A built-in scene by name.
@@ -41,6 +44,9 @@ pub fn builtin(name: &str) -> Result<Scene, String> {
         "wavy-lake" => Ok(showcase::wavy_lake(24)),
         "wavy-lake-coarse" => Ok(showcase::wavy_lake(8)),
         "bumpy-mirror" => Ok(bumpy(cornell(true, false))),
+        "cardioid-ring" => Ok(light_volumes::cardioid_ring(40)),
+        "pool-caustics" => Ok(light_volumes::pool_caustics(20)),
+        "stained-glass" => Ok(light_volumes::stained_glass()),
         _ => Err(format!("unknown built-in scene `{name}` (known: {})", BUILTIN.join(", "))),
     }
 }

@@ -62,11 +62,29 @@ struct CameraFile {
 #[derive(Deserialize)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 enum MaterialFile {
-    Diffuse { albedo: [f32; 3] },
-    Mirror { tint: Option<[f32; 3]>, bump: Option<f32>, bump_wavelength: Option<f32> },
-    Glass { ior: f32 },
-    Glossy { albedo: [f32; 3], variance: f32 },
-    Emissive { radiance: [f32; 3] },
+    Diffuse {
+        albedo: [f32; 3],
+    },
+    Mirror {
+        tint: Option<[f32; 3]>,
+        bump: Option<f32>,
+        bump_wavelength: Option<f32>,
+    },
+    Glass {
+        ior: f32,
+    },
+    Glossy {
+        albedo: [f32; 3],
+        variance: f32,
+    },
+    #[serde(rename = "thin-glass")]
+    ThinGlass {
+        tint: [f32; 3],
+        sigma: Option<f32>,
+    },
+    Emissive {
+        radiance: [f32; 3],
+    },
 }
 
 #[derive(Deserialize)]
@@ -159,6 +177,13 @@ fn load_toml(path: &Path) -> Result<Scene, String> {
                     return Err(format!("{}: {element}.variance must be ≥ 0", path.display()));
                 }
                 Material::Glossy { albedo: vec3(albedo), variance }
+            }
+            MaterialFile::ThinGlass { tint, sigma } => {
+                let sigma = sigma.unwrap_or(0.0);
+                if !(sigma >= 0.0 && sigma.is_finite()) {
+                    return Err(format!("{}: {element}.sigma must be ≥ 0", path.display()));
+                }
+                Material::ThinGlass { tint: vec3(tint), sigma }
             }
             MaterialFile::Emissive { radiance } => Material::Emissive { radiance: vec3(radiance) },
         };

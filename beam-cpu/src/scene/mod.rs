@@ -4,6 +4,7 @@
 mod builtin;
 mod camera;
 mod file;
+pub mod light_volumes;
 mod normals;
 pub mod showcase;
 
@@ -69,6 +70,15 @@ pub enum Material {
         albedo: Vec3,
         /// Micro-facet variance (radians²).
         variance: f32,
+    },
+    /// A thin pane of tinted glass (stained glass): light passes straight through its two parallel
+    /// faces, tinted, spread by its micro-facets' roughness (the Gaussian of 002 §4.2, standard
+    /// deviation `sigma` radians) where the glossy light volumes trace it; eye rays pass straight.
+    ThinGlass {
+        /// Transmittance.
+        tint: Vec3,
+        /// Micro-facet roughness: standard deviation of the scatter angle (radians).
+        sigma: f32,
     },
     /// An emitter's surface, seen directly.
     Emissive {

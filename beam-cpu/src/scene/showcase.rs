@@ -8,15 +8,15 @@ use beam_math::glam::{Mat3, Vec3};
 use std::f32::consts::{PI, TAU};
 
 /// Triangles with a material index each, as [`Scene::new`] takes them.
-type Tris = Vec<(Triangle, u32)>;
+pub(super) type Tris = Vec<(Triangle, u32)>;
 
-fn add(tris: &mut Tris, m: &Mesh, material: u32) {
+pub(super) fn add(tris: &mut Tris, m: &Mesh, material: u32) {
     tris.extend(m.triangles().into_iter().map(|t| (t, material)));
 }
 
 /// A checkerboard of `n × n` squares on the rectangle `corner + [0, 1]·eu + [0, 1]·ev`, alternating
 /// materials `a` and `b`.
-fn checker(tris: &mut Tris, corner: Vec3, eu: Vec3, ev: Vec3, n: u32, (a, b): (u32, u32)) {
+pub(super) fn checker(tris: &mut Tris, corner: Vec3, eu: Vec3, ev: Vec3, n: u32, (a, b): (u32, u32)) {
     for j in 0..n {
         for i in 0..n {
             let p = |di: u32, dj: u32| corner + eu * ((i + di) as f32 / n as f32) + ev * ((j + dj) as f32 / n as f32);
@@ -28,7 +28,7 @@ fn checker(tris: &mut Tris, corner: Vec3, eu: Vec3, ev: Vec3, n: u32, (a, b): (u
 }
 
 /// A one-material rectangle `corner + [0, 1]·eu + [0, 1]·ev` (a wall).
-fn wall(tris: &mut Tris, corner: Vec3, eu: Vec3, ev: Vec3, material: u32) {
+pub(super) fn wall(tris: &mut Tris, corner: Vec3, eu: Vec3, ev: Vec3, material: u32) {
     checker(tris, corner, eu, ev, 1, (material, material));
 }
 
@@ -39,21 +39,21 @@ fn floor(tris: &mut Tris, corner: Vec3, size: f32, n: u32) {
 }
 
 /// A 512² camera at `position` looking at `target`, up +y, vertical field of view `fov_y` degrees.
-fn camera(position: Vec3, target: Vec3, fov_y: f32) -> Camera {
+pub(super) fn camera(position: Vec3, target: Vec3, fov_y: f32) -> Camera {
     Camera { position, target, up: Vec3::Y, fov_y, width: 512, height: 512 }
 }
 
 /// The materials every showcase scene shares, by index.
-const WHITE: u32 = 0;
-const DARK: u32 = 1;
-const RED: u32 = 2;
-const GREEN: u32 = 3;
-const GOLD: u32 = 4;
-const MIRROR: u32 = 5;
-const GLASS: u32 = 6;
-const WATER: u32 = 7;
+pub(super) const WHITE: u32 = 0;
+pub(super) const DARK: u32 = 1;
+pub(super) const RED: u32 = 2;
+pub(super) const GREEN: u32 = 3;
+pub(super) const GOLD: u32 = 4;
+pub(super) const MIRROR: u32 = 5;
+pub(super) const GLASS: u32 = 6;
+pub(super) const WATER: u32 = 7;
 
-fn materials() -> Vec<Material> {
+pub(super) fn materials() -> Vec<Material> {
     vec![
         Material::Diffuse { albedo: Vec3::splat(0.75) },
         Material::Diffuse { albedo: Vec3::new(0.08, 0.1, 0.3) },
@@ -221,7 +221,7 @@ fn teapot(base: Vec3, size: f32, n: u32) -> Mesh {
 }
 
 /// The height of the wavy lake's surface over `(x, z)`: a sum of three sinusoids.
-fn wave(x: f32, z: f32) -> f32 {
+pub(super) fn wave(x: f32, z: f32) -> f32 {
     7.0 * (0.021 * x + 0.4).sin() + 5.0 * (0.027 * z - 0.013 * x).sin() + 3.0 * (0.043 * (x + z) + 1.1).sin()
 }
 

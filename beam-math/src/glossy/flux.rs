@@ -49,17 +49,21 @@ impl LightBeam {
         let Some(tri) = self.flux_triangle(plane) else {
             return 0.0;
         };
-        if !self.in_front(f, plane) || !in_beam(&tri, f) {
+        if !self.in_front(f) || !in_beam(&tri, f) {
             return 0.0;
         }
         specular_irradiance(self.flux, tri.area(), (-plane.normal).dot(normal).max(0.0))
     }
 
-    /// True when the flux plane at `f` lies downstream of the scatterer (along the scattered rays).
+    /// True when `f` lies downstream of the scatterer: strictly on the side of its plane that the
+    /// scattered rays leave to (their mean direction's side). Points beside a scatterer whose flux
+    /// plane cuts it (a receiver touching the scatterer's edge) count, which a test of the three
+    /// rays' parameters at the flux plane would miss.
     #[must_use]
-    pub fn in_front(&self, f: Vec3, plane: Plane) -> bool {
-        let _ = f;
-        self.origins.iter().zip(&self.dirs).all(|(o, d)| line_plane(Ray::new(*o, *d), plane).is_some_and(|t| t >= 0.0))
+    pub fn in_front(&self, f: Vec3) -> bool {
+        let n = (self.origins[1] - self.origins[0]).cross(self.origins[2] - self.origins[0]);
+        let side = (self.dirs[0] + self.dirs[1] + self.dirs[2]).dot(n);
+        side != 0.0 && (f - self.origins[0]).dot(n) * side > 0.0
     }
 }
 

@@ -49,7 +49,7 @@ impl LightBeam {
         let Some(flux) = self.flux_triangle(plane) else {
             return 0.0;
         };
-        if !self.in_front(f, plane) {
+        if !self.in_front(f) {
             return 0.0;
         }
         let area = flux.area();

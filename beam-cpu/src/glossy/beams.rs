@@ -1,0 +1,163 @@
+//! Backward beam construction (002 §3.1): from each point light, through every scatterer triangle
+//! it lights, the three light rays through the triangle's vertices, reflected or refracted about
+//! the interpolated vertex normals into a triplet of scattered vectors (a warped volume) carrying
+//! the flux `Φs = I·Ω` of the light's solid angle through the triangle; and a negative shadow beam
+//! (the light rays themselves) behind every scatterer triangle for first-order shadows.
+
+use crate::render::{dielectric, reflect};
+use crate::scene::{Light, Material, Scene};
+use beam_math::Triangle;
+use beam_math::glam::Vec3;
+use beam_math::glossy::{LightBeam, solid_angle};
+use rayon::prelude::*;
+
+/// How a scatterer turns the light (002 §1.2: specular micro-facet materials).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scatter {
+    /// About the normal (mirrors, glossy reflectors, and glass's Fresnel reflection).
+    Reflect,
+    /// Into a dense medium by Snell's law (glass, water: one interface).
+    Refract {
+        /// Index of refraction.
+        ior: f32,
+    },
+    /// Straight through a thin pane.
+    Transmit,
+}
+
+/// What a scatterer material does: the beams it makes (kind, tint and micro-facet standard
+/// deviation, radians); empty for receivers and emitters. Glass makes a refracted and a reflected
+/// beam, their flux split by Fresnel (the tint here is 1: [`trace_light_beams`] applies it).
+#[must_use]
+pub fn scatterings(material: &Material) -> Vec<(Scatter, Vec3, f32)> {
+    match *material {
+        Material::Mirror { tint, .. } => vec![(Scatter::Reflect, tint, 0.0)],
+        Material::Glass { ior } => vec![(Scatter::Refract { ior }, Vec3::ONE, 0.0), (Scatter::Reflect, Vec3::ONE, 0.0)],
+        Material::ThinGlass { tint, sigma } => vec![(Scatter::Transmit, tint, sigma)],
+        Material::Glossy { albedo, variance } => vec![(Scatter::Reflect, albedo, variance.max(0.0).sqrt())],
+        Material::Diffuse { .. } | Material::Emissive { .. } => Vec::new(),
+    }
+}
+
+/// True when light scattered by `material` is traced by light beams (it is not a receiver).
+#[must_use]
+pub fn is_scatterer(material: &Material) -> bool {
+    !scatterings(material).is_empty()
+}
+
+/// One light volume: a scattered beam, or a negative shadow beam.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlossyBeam {
+    /// Scatterer vertices, unit scattered (or, for a shadow beam, light) directions, and
+    /// `Φs/I = Ω`, the light's solid angle through the scatterer.
+    pub beam: LightBeam,
+    /// Radiant intensity of the light times the scatterer's tint and Fresnel weight (per channel);
+    /// the light's intensity for a shadow beam.
+    pub power: Vec3,
+    /// Micro-facet standard deviation of the scatter angle (radians); 0: specular.
+    pub sigma: f32,
+    /// Index of the light among the scene's point lights.
+    pub light: u32,
+    /// A negative shadow beam: removes the light's direct irradiance where it reaches.
+    pub shadow: bool,
+}
+
+/// The scene's point lights: position and intensity.
+pub fn point_lights(scene: &Scene) -> impl Iterator<Item = (Vec3, Vec3)> + '_ {
+    scene.lights.iter().filter_map(|l| match *l {
+        Light::Point { position, intensity } => Some((position, intensity)),
+        _ => None,
+    })
+}
+
+/// Unit vertex normals of scatterer `prim`: the scene's smooth normals where it has them (mirrors,
+/// glass), else the geometric normal.
+fn vertex_normals(scene: &Scene, prim: u32) -> [Vec3; 3] {
+    scene.smooth_normals.get(&prim).copied().unwrap_or([scene.normal(prim); 3])
+}
+
+/// The light beams of `scene` (002 §3.1, in parallel over scatterer triangles): for every point
+/// light and every scatterer triangle, its scattered beams when the light reaches its front (thin
+/// panes: either side) and a shadow beam always. Degenerate triangles (no solid angle, or a vertex
+/// at the light) are skipped and counted.
+#[must_use]
+pub fn trace_light_beams(scene: &Scene) -> (Vec<GlossyBeam>, u64) {
+    let lights: Vec<(Vec3, Vec3)> = point_lights(scene).collect();
+    let scatterers: Vec<u32> =
+        (0..scene.triangles.len() as u32).filter(|&p| is_scatterer(&scene.material(p))).collect();
+    let per: Vec<(Vec<GlossyBeam>, u64)> = scatterers
+        .par_iter()
+        .map(|&prim| {
+            let mut out = Vec::new();
+            let mut skipped = 0;
+            for (li, &(light, intensity)) in lights.iter().enumerate() {
+                match beams_of(scene, prim, light, intensity, li as u32) {
+                    Some(b) => out.extend(b),
+                    None => skipped += 1,
+                }
+            }
+            (out, skipped)
+        })
+        .collect();
+    let skipped = per.iter().map(|p| p.1).sum();
+    (per.into_iter().flat_map(|p| p.0).collect(), skipped)
+}
+
+/// The beams of scatterer `prim` lit by the point light at `light`; `None` when degenerate.
+fn beams_of(scene: &Scene, prim: u32, light: Vec3, intensity: Vec3, index: u32) -> Option<Vec<GlossyBeam>> {
+    let tri: Triangle = scene.triangles[prim as usize];
+    let omega = solid_angle(light, &tri);
+    let [a, b, c] = tri.v.map(|v| (v - light).try_normalize());
+    let incoming = [a?, b?, c?];
+    if !(omega > 0.0) || !omega.is_finite() {
+        return None;
+    }
+    let shadow = GlossyBeam {
+        beam: LightBeam { origins: tri.v, dirs: incoming, flux: omega },
+        power: intensity,
+        sigma: 0.0,
+        light: index,
+        shadow: true,
+    };
+    let mut out = vec![shadow];
+    let material = scene.material(prim);
+    let g = scene.normal(prim);
+    let centroid = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
+    let front = g.dot(centroid - light) < 0.0;
+    let thin = matches!(material, Material::ThinGlass { .. });
+    if !front && !thin {
+        return Some(out);
+    }
+    // Vertex normals against the incoming light.
+    let normals = vertex_normals(scene, prim).map(|n| if front { n } else { -n });
+    for (scatter, tint, sigma) in scatterings(&material) {
+        let mut weight = 0.0;
+        let mut dirs = [Vec3::ZERO; 3];
+        for i in 0..3 {
+            let (d, n) = (incoming[i], normals[i]);
+            let (w, s) = match scatter {
+                Scatter::Reflect => match material {
+                    Material::Glass { ior } => (dielectric(d, n, ior, true).0, reflect(d, n)),
+                    _ => (1.0, reflect(d, n)),
+                },
+                Scatter::Refract { ior } => match dielectric(d, n, ior, true) {
+                    (fresnel, Some(t)) => (1.0 - fresnel, t),
+                    (_, None) => (0.0, d),
+                },
+                Scatter::Transmit => (1.0, d),
+            };
+            weight += w / 3.0;
+            dirs[i] = s.try_normalize()?;
+        }
+        if weight > 0.0 {
+            out.push(GlossyBeam {
+                beam: LightBeam { origins: tri.v, dirs, flux: omega },
+                power: intensity * tint * weight,
+                sigma,
+                light: index,
+                shadow: false,
+            });
+        }
+    }
+    Some(out)
+}

@@ -1,0 +1,20 @@
+//! Glossy light volumes (002): backward polygon beams from point lights through specular and glossy
+//! scatterers (mirrors, glass, thin stained-glass panes, glossy reflectors), negative shadow beams
+//! for first-order shadows, and the gather at every receiver point the eye sees (specular eq. 1,
+//! glossy eq. 3 with beam-math's Gaussian volumes), through a hierarchy of bounding cones over the
+//! beams (002 §5.2's future work). The ground truth traces photons with the same micro-facet model.
+
+mod beams;
+mod cones;
+mod gather;
+mod photons;
+mod render;
+
+pub use beams::{GlossyBeam, Scatter, is_scatterer, point_lights, scatterings, trace_light_beams};
+pub use cones::{BoundingCone, ConeNode, ConeTree, GLOSSY_REACH};
+pub use gather::{Gathered, LightVolumes, covers};
+pub use photons::{glossy_photons, photon_texel};
+pub use render::{
+    Gather, GlossyOptions, GlossyStats, gather_on_cpu, render_glossy, render_glossy_photons, render_glossy_reference,
+    render_glossy_with,
+};

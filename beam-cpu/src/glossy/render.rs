@@ -1,0 +1,276 @@
+//! The glossy light-volume renderer (002 §3–4): one eye ray per pixel centre, on through mirrors,
+//! glass and thin panes by Whitted rays; every diffuse receiver point the eye reaches is lit by the
+//! point lights directly (occluders other than scatterers by shadow rays, scatterers by the negative
+//! shadow beams) plus the irradiance gathered from the scattered light beams. Its ground truth
+//! ([`render_glossy_reference`]) shades the same points with exact shadow rays and the photon map of
+//! [`glossy_photons`].
+
+use super::beams::{is_scatterer, point_lights};
+use super::gather::{Gathered, LightVolumes};
+use super::photons::glossy_photons;
+use crate::nonlinear::{BeamRenderer, CpuBeams, Shade, ShadePoint, shade_by_waves};
+use crate::render::{DEPTH_EPS, Image, IrradianceMap, shading_eps};
+use crate::scene::{Light, Material, Scene};
+use beam_math::Ray;
+use beam_math::glam::Vec3;
+use beam_math::glossy::VolumeMethod;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Settings of the glossy renderer.
+#[derive(Clone, Copy, Debug)]
+pub struct GlossyOptions {
+    /// Image width (the camera's aspect is kept from its own resolution).
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// How glossy beams' Gaussian volumes are integrated.
+    pub method: VolumeMethod,
+    /// Gather through the cone hierarchy (`false`: every beam, as 002 does).
+    pub hierarchy: bool,
+}
+
+impl GlossyOptions {
+    /// Exact Gaussian volumes through the hierarchy at `width × height`.
+    #[must_use]
+    pub fn new(width: u32, height: u32) -> Self {
+        Self { width, height, method: VolumeMethod::Exact, hierarchy: true }
+    }
+}
+
+/// What a glossy render did.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct GlossyStats {
+    /// Wall time, seconds.
+    pub seconds: f64,
+    /// Seconds building the beams and their hierarchy.
+    pub beam_seconds: f64,
+    /// Seconds gathering.
+    pub gather_seconds: f64,
+    /// Scattered beams (specular and glossy).
+    pub beams: u64,
+    /// Negative shadow beams.
+    pub shadow_beams: u64,
+    /// Scatterer triangles skipped as degenerate (per light).
+    pub degenerate: u64,
+    /// Receiver points gathered.
+    pub receivers: u64,
+    /// Mean beams evaluated per receiver point.
+    pub beams_per_point: f64,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+}
+
+/// Gathers many receiver points `(point, unit normal)` at once.
+pub type Gather<'a> = dyn Fn(&LightVolumes, &[(Vec3, Vec3)]) -> Result<Vec<Gathered>, String> + Sync + 'a;
+
+/// The gather on the CPU, in parallel: through the hierarchy, or over every beam.
+#[must_use]
+pub fn gather_on_cpu(volumes: &LightVolumes, points: &[(Vec3, Vec3)], hierarchy: bool) -> Vec<Gathered> {
+    points
+        .par_iter()
+        .map(|&(p, n)| if hierarchy { volumes.gather(p, n) } else { volumes.gather_linear(p, n) })
+        .collect()
+}
+
+/// The scene's lights must all be point lights (002 traces beams from a point source).
+fn check_lights(scene: &Scene) -> Result<(), String> {
+    if let Some(l) = scene.lights.iter().find(|l| !matches!(l, Light::Point { .. })) {
+        let kind = match l {
+            Light::Quad { .. } => "quad",
+            _ => "triangle",
+        };
+        return Err(format!(
+            "scene `{}` has a {kind} light: the glossy light volumes (002) are traced from point lights only",
+            scene.name
+        ));
+    }
+    if scene.lights.is_empty() {
+        return Err(format!("scene `{}` has no point light to trace light volumes from", scene.name));
+    }
+    Ok(())
+}
+
+/// True when a diffuse receiver at `q` does not see the point light at `light` for an occluder that
+/// is not a scatterer (scatterers shadow through their negative beams).
+fn blocked_by_non_scatterers(scene: &Scene, q: Vec3, light: Vec3, eps: f32) -> bool {
+    let mut o = q;
+    for _ in 0..64 {
+        let to = light - o;
+        let Some(hit) = scene.wide.closest_hit(Ray::new(o, to), 1.0 - DEPTH_EPS) else { return false };
+        if !is_scatterer(&scene.material(hit.prim)) {
+            return true;
+        }
+        o = o + to * hit.t + to.normalize_or_zero() * eps;
+    }
+    true
+}
+
+/// Unit normal of `prim` facing the arriving direction `d`.
+fn facing(scene: &Scene, prim: u32, d: Vec3) -> Vec3 {
+    let n = scene.normal(prim);
+    if n.dot(d) < 0.0 { n } else { -n }
+}
+
+/// Radiance of the eye's points `points` by `shade` for diffuse ones: mirrors, glass and thin panes
+/// by Whitted rays through `renderer`, emitters their radiance, glossy reflectors their diffuse part
+/// under direct light.
+fn render_points(
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    renderer: &dyn BeamRenderer,
+    diffuse: &Shade<'_>,
+) -> Result<Image, String> {
+    let camera = scene.camera.with_size(width, height);
+    let frame = camera.frame();
+    let rays: Vec<Ray> = (0..(camera.width * camera.height) as usize).map(|i| camera.pixel_ray(&frame, i)).collect();
+    let hits = renderer.closest_hits(scene, &rays)?;
+    let (pixels, points): (Vec<usize>, Vec<ShadePoint>) = hits
+        .iter()
+        .zip(&rays)
+        .enumerate()
+        .filter_map(|(i, (h, ray))| {
+            let h = (*h)?;
+            Some((i, ShadePoint { prim: h.prim, p: ray.at(h.t), d: ray.direction.normalize(), seed: i as u64 }))
+        })
+        .unzip();
+    let shade = |batch: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
+        let (receivers, others): (Vec<usize>, Vec<usize>) =
+            (0..batch.len()).partition(|&i| matches!(scene.material(batch[i].prim), Material::Diffuse { .. }));
+        let mut out = vec![Vec3::ZERO; batch.len()];
+        let received: Vec<ShadePoint> = receivers.iter().map(|&i| batch[i]).collect();
+        for (&i, c) in receivers.iter().zip(diffuse(&received)?) {
+            out[i] = c;
+        }
+        for i in others {
+            let s = &batch[i];
+            out[i] = match scene.material(s.prim) {
+                Material::Emissive { radiance } => radiance,
+                Material::Glossy { albedo, .. } => {
+                    albedo / core::f32::consts::PI * direct(scene, s.p, facing(scene, s.prim, s.d), 0, false)
+                }
+                _ => Vec3::ZERO,
+            };
+        }
+        Ok(out)
+    };
+    let radiance = shade_by_waves(scene, renderer, &shade, &points)?;
+    let mut image = Image::new(camera.width, camera.height);
+    for (i, c) in pixels.into_iter().zip(radiance) {
+        image.pixels[i] = c;
+    }
+    Ok(image)
+}
+
+/// Direct irradiance at `p` (unit normal `n`) from the point lights not in mask `shadowed`:
+/// scatterers occlude only when `all_occluders` (the reference), else only other geometry does.
+fn direct(scene: &Scene, p: Vec3, n: Vec3, shadowed: u64, all_occluders: bool) -> Vec3 {
+    let eps = shading_eps(scene);
+    let q = p + n * eps;
+    let mut e = Vec3::ZERO;
+    for (l, (light, intensity)) in point_lights(scene).enumerate() {
+        let to = light - q;
+        let r2 = to.length_squared();
+        let cos = n.dot(to) / r2.sqrt();
+        if cos <= 0.0 || shadowed & (1 << l.min(63)) != 0 {
+            continue;
+        }
+        let blocked = if all_occluders {
+            scene.wide.any_hit(Ray::new(q, to), 1.0 - DEPTH_EPS)
+        } else {
+            blocked_by_non_scatterers(scene, q, light, eps)
+        };
+        if !blocked {
+            e += intensity * cos / r2;
+        }
+    }
+    e
+}
+
+/// Render `scene` by glossy light volumes on the CPU.
+pub fn render_glossy(scene: &Scene, options: &GlossyOptions) -> Result<(Image, GlossyStats), String> {
+    let gather = |v: &LightVolumes, points: &[(Vec3, Vec3)]| Ok(gather_on_cpu(v, points, options.hierarchy));
+    render_glossy_with(scene, options, &CpuBeams, &gather)
+}
+
+/// Render `scene` by glossy light volumes: beams built on the CPU (in parallel), eye rays traced by
+/// `renderer`, receiver points gathered by `gather` (the CPU's, or a GPU's).
+pub fn render_glossy_with(
+    scene: &Scene,
+    options: &GlossyOptions,
+    renderer: &dyn BeamRenderer,
+    gather: &Gather<'_>,
+) -> Result<(Image, GlossyStats), String> {
+    check_lights(scene)?;
+    let start = Instant::now();
+    let volumes = LightVolumes::new(scene, options.method);
+    let beam_seconds = start.elapsed().as_secs_f64();
+    let totals = std::sync::Mutex::new((0.0f64, 0u64, 0u64));
+    let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
+        let at: Vec<(Vec3, Vec3)> = points.iter().map(|s| (s.p, facing(scene, s.prim, s.d))).collect();
+        let t = Instant::now();
+        let gathered = gather(&volumes, &at)?;
+        if let Ok(mut totals) = totals.lock() {
+            totals.0 += t.elapsed().as_secs_f64();
+            totals.1 += points.len() as u64;
+            totals.2 += gathered.iter().map(|g| u64::from(g.tested)).sum::<u64>();
+        }
+        Ok(points
+            .par_iter()
+            .zip(&at)
+            .zip(gathered)
+            .map(|((s, &(p, n)), g)| {
+                scene.material(s.prim).albedo() / core::f32::consts::PI
+                    * (direct(scene, p, n, g.shadowed, false) + g.irradiance)
+            })
+            .collect())
+    };
+    let image = render_points(scene, options.width, options.height, renderer, &diffuse)?;
+    let (gather_seconds, receivers, tested) = totals.into_inner().map_err(|e| e.to_string())?;
+    let shadow_beams = volumes.beams.iter().filter(|b| b.shadow).count() as u64;
+    let stats = GlossyStats {
+        seconds: start.elapsed().as_secs_f64(),
+        beam_seconds,
+        gather_seconds,
+        beams: volumes.beams.len() as u64 - shadow_beams,
+        shadow_beams,
+        degenerate: volumes.degenerate,
+        receivers,
+        beams_per_point: tested as f64 / receivers.max(1) as f64,
+        width: image.width,
+        height: image.height,
+    };
+    Ok((image, stats))
+}
+
+/// The ground truth of [`render_glossy`]: the same eye paths, receivers lit directly with exact
+/// shadow rays (every occluder) plus the scattered light of `map` (from [`glossy_photons`]).
+pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &IrradianceMap) -> Result<Image, String> {
+    check_lights(scene)?;
+    let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
+        Ok(points
+            .par_iter()
+            .map(|s| {
+                let n = facing(scene, s.prim, s.d);
+                let e = direct(scene, s.p, n, 0, true) + map.irradiance(s.prim, s.p);
+                scene.material(s.prim).albedo() / core::f32::consts::PI * e
+            })
+            .collect())
+    };
+    render_points(scene, width, height, &CpuBeams, &diffuse)
+}
+
+/// [`render_glossy_photons`] with a fresh photon map of about `photons` photons per light.
+pub fn render_glossy_reference(
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    photons: u64,
+    seed: u64,
+) -> Result<Image, String> {
+    check_lights(scene)?;
+    render_glossy_photons(scene, width, height, &glossy_photons(scene, photons, seed))
+}
