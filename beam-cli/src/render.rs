@@ -198,7 +198,7 @@ fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Resu
         );
         return Ok(ExitCode::SUCCESS);
     }
-    let options = GlossyOptions { width, height, method, hierarchy: !a.linear_gather };
+    let options = GlossyOptions { method, hierarchy: !a.linear_gather, ..GlossyOptions::new(width, height) };
     let (image, stats) = render_glossy(scene, &options)?;
     image.save_png(a.out)?;
     println!(

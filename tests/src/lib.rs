@@ -12,6 +12,7 @@
 pub mod bvh;
 pub mod cpu;
 pub mod generate;
+pub mod glossy;
 pub mod gpu;
 pub mod math;
 pub mod nonlinear;
@@ -107,6 +108,7 @@ pub fn properties() -> Vec<Property> {
     all.extend(bvh::properties());
     all.extend(cpu::properties());
     all.extend(nonlinear::properties());
+    all.extend(glossy::properties());
     all.extend(gpu::properties());
     all
 }

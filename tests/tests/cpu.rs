@@ -11,4 +11,7 @@ beam_conformance::conformance_tests!(
     nonlinear_images_vs_reference,
     caustics_match_photon_tracing,
     s3_removes_s1_kinks,
+    glossy_shadow_beams_equal_shadow_rays,
+    glossy_cone_hierarchy_is_conservative,
+    glossy_beams_match_photon_tracing,
 );

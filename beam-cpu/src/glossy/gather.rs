@@ -44,6 +44,19 @@ pub fn covers(b: &LightBeam, p: Vec3) -> bool {
     b.in_front(p) && b.flux_triangle(plane).is_some_and(|t| in_beam(&t, p))
 }
 
+/// Whether the light from a scatterer's point (second argument) to a receiver point (first) is
+/// blocked: second-order shadows, which 002 leaves out (its §3.2); `None` leaves them out too.
+pub type Occluded<'a> = Option<&'a (dyn Fn(Vec3, Vec3) -> bool + Sync)>;
+
+/// The point of `b`'s scatterer whose light reaches `p`: the scatterer vertices weighted by `p`'s
+/// barycentric coordinates in the flux triangle (clamped to it for points beside the beam).
+#[must_use]
+pub fn source_point(b: &LightBeam, p: Vec3) -> Option<Vec3> {
+    let w = b.flux_triangle(b.flux_plane(p)?)?.barycentric(p)?.max(Vec3::ZERO);
+    let w = w / (w.x + w.y + w.z).max(f32::MIN_POSITIVE);
+    Some(b.origins[0] * w.x + b.origins[1] * w.y + b.origins[2] * w.z)
+}
+
 impl LightVolumes {
     /// Trace the beams of `scene` (002 §3.1) and build their cone hierarchy.
     #[must_use]
@@ -53,8 +66,10 @@ impl LightVolumes {
         Self { beams, tree, lights: point_lights(scene).collect(), degenerate, method }
     }
 
-    /// Add beam `i`'s share at point `p` with unit normal `n` to `g`.
-    fn add(&self, i: usize, p: Vec3, n: Vec3, g: &mut Gathered) {
+    /// Add beam `i`'s share at point `p` with unit normal `n` to `g`; a scattered beam adds nothing
+    /// where `occluded(p, source)` says its light is blocked on the way from its source point
+    /// ([`source_point`]).
+    fn add(&self, i: usize, p: Vec3, n: Vec3, occluded: Occluded<'_>, g: &mut Gathered) {
         let b = &self.beams[i];
         g.tested += 1;
         // The beam's support: its own bounding cone (widened by GLOSSY_REACH·σ for glossy beams;
@@ -66,27 +81,33 @@ impl LightVolumes {
             if g.shadowed & (1 << b.light.min(63)) == 0 && covers(&b.beam, p) {
                 g.shadowed |= 1 << b.light.min(63);
             }
-        } else if b.sigma > 0.0 {
-            g.irradiance += b.power * b.beam.glossy_irradiance(p, n, b.sigma, self.method);
+            return;
+        }
+        let e = if b.sigma > 0.0 {
+            b.beam.glossy_irradiance(p, n, b.sigma, self.method)
         } else {
-            g.irradiance += b.power * b.beam.specular_irradiance(p, n);
+            b.beam.specular_irradiance(p, n)
+        };
+        if e != 0.0 && !occluded.is_some_and(|o| source_point(&b.beam, p).is_some_and(|s| o(p, s))) {
+            g.irradiance += b.power * e;
         }
     }
 
-    /// The gather at `p` (unit normal `n`) through the cone hierarchy.
+    /// The gather at `p` (unit normal `n`) through the cone hierarchy, with second-order shadows
+    /// where `occluded` is given.
     #[must_use]
-    pub fn gather(&self, p: Vec3, n: Vec3) -> Gathered {
+    pub fn gather(&self, p: Vec3, n: Vec3, occluded: Occluded<'_>) -> Gathered {
         let mut g = Gathered::default();
-        self.tree.for_each_near(p, |i| self.add(i, p, n, &mut g));
+        self.tree.for_each_near(p, |i| self.add(i, p, n, occluded, &mut g));
         g
     }
 
     /// The gather at `p` over every beam, in the same order (the hierarchy's reference).
     #[must_use]
-    pub fn gather_linear(&self, p: Vec3, n: Vec3) -> Gathered {
+    pub fn gather_linear(&self, p: Vec3, n: Vec3, occluded: Occluded<'_>) -> Gathered {
         let mut g = Gathered::default();
         for i in 0..self.beams.len() {
-            self.add(i, p, n, &mut g);
+            self.add(i, p, n, occluded, &mut g);
         }
         g
     }

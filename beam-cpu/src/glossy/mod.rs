@@ -12,8 +12,8 @@ mod render;
 
 pub use beams::{GlossyBeam, Scatter, is_scatterer, point_lights, scatterings, trace_light_beams};
 pub use cones::{BoundingCone, ConeNode, ConeTree, GLOSSY_REACH};
-pub use gather::{Gathered, LightVolumes, covers};
-pub use photons::{glossy_photons, photon_texel};
+pub use gather::{Gathered, LightVolumes, Occluded, covers, source_point};
+pub use photons::{PhotonMaps, glossy_photons, photon_texel};
 pub use render::{
     Gather, GlossyOptions, GlossyStats, gather_on_cpu, render_glossy, render_glossy_photons, render_glossy_reference,
     render_glossy_with,

@@ -36,12 +36,41 @@ fn spread(d: Vec3, sigma: f32, rng: &mut Pcg32) -> Vec3 {
     (d * angle.cos() + (t1 * c + t2 * s) * angle.sin()).normalize_or_zero()
 }
 
+/// The photon maps of the scattered light: one per side of the receivers (a thin wall lit on one
+/// side stays dark on the other).
+#[derive(Clone, Debug)]
+pub struct PhotonMaps {
+    /// Photons arriving against the triangles' geometric normals (on their front), and along them.
+    pub sides: [IrradianceMap; 2],
+}
+
+impl PhotonMaps {
+    /// The side of triangle `prim` that light travelling along `d` arrives on.
+    fn side(scene: &Scene, prim: u32, d: Vec3) -> usize {
+        usize::from(scene.normal(prim).dot(d) > 0.0)
+    }
+
+    /// Irradiance at point `p` of triangle `prim` on the side an eye ray along `d` sees.
+    #[must_use]
+    pub fn irradiance(&self, scene: &Scene, prim: u32, p: Vec3, d: Vec3) -> Vec3 {
+        self.sides[Self::side(scene, prim, d)].irradiance(prim, p)
+    }
+
+    /// Relative RMS difference of the texels of two photon maps of the same scene.
+    #[must_use]
+    pub fn relative_rms(&self, other: &Self) -> f64 {
+        let sq = |m: &Self, o: &Self| (0..2).map(|k| m.sides[k].relative_rms(&o.sides[k]).powi(2)).sum::<f64>();
+        sq(self, other).sqrt()
+    }
+}
+
 /// About `photons` photons per point light, spread over the scatterer triangles in proportion to the
 /// solid angle they fill, uniformly over each triangle's area; each carries `I·cosθ·A/(r²·M)` of its
-/// triangle's `M`. Returns the irradiance map of the scattered light (texel [`photon_texel`]).
+/// triangle's `M`. Returns the irradiance maps of the scattered light (texel [`photon_texel`]).
 #[must_use]
-pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> IrradianceMap {
-    let empty = IrradianceMap::new(scene, photon_texel(scene));
+pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
+    let map = IrradianceMap::new(scene, photon_texel(scene));
+    let empty = PhotonMaps { sides: [map.clone(), map] };
     let eps = shading_eps(scene);
     let mut jobs = Vec::new();
     for (li, (light, intensity)) in point_lights(scene).enumerate() {
@@ -108,7 +137,8 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> IrradianceMap {
                         if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY)
                             && !super::beams::is_scatterer(&scene.material(hit.prim))
                         {
-                            map.splat(hit.prim, ray.at(hit.t), flux * tint * weight);
+                            let side = PhotonMaps::side(scene, hit.prim, dir);
+                            map.sides[side].splat(hit.prim, ray.at(hit.t), flux * tint * weight);
                         }
                     }
                 }
@@ -118,7 +148,8 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> IrradianceMap {
         .reduce(
             || empty.clone(),
             |mut a, b| {
-                a.merge(&b);
+                a.sides[0].merge(&b.sides[0]);
+                a.sides[1].merge(&b.sides[1]);
                 a
             },
         )

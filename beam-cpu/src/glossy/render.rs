@@ -6,10 +6,10 @@
 //! [`glossy_photons`].
 
 use super::beams::{is_scatterer, point_lights};
-use super::gather::{Gathered, LightVolumes};
-use super::photons::glossy_photons;
+use super::gather::{Gathered, LightVolumes, Occluded};
+use super::photons::{PhotonMaps, glossy_photons};
 use crate::nonlinear::{BeamRenderer, CpuBeams, Shade, ShadePoint, shade_by_waves};
-use crate::render::{DEPTH_EPS, Image, IrradianceMap, shading_eps};
+use crate::render::{DEPTH_EPS, Image, shading_eps};
 use crate::scene::{Light, Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -28,13 +28,16 @@ pub struct GlossyOptions {
     pub method: VolumeMethod,
     /// Gather through the cone hierarchy (`false`: every beam, as 002 does).
     pub hierarchy: bool,
+    /// Second-order shadows: a scattered beam's light is checked by a shadow ray from the receiver
+    /// to its source point on the scatterer (`false`: left out, as 002 does).
+    pub second_order: bool,
 }
 
 impl GlossyOptions {
-    /// Exact Gaussian volumes through the hierarchy at `width × height`.
+    /// Exact Gaussian volumes through the hierarchy, with second-order shadows, at `width × height`.
     #[must_use]
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, method: VolumeMethod::Exact, hierarchy: true }
+        Self { width, height, method: VolumeMethod::Exact, hierarchy: true, second_order: true }
     }
 }
 
@@ -66,12 +69,28 @@ pub struct GlossyStats {
 /// Gathers many receiver points `(point, unit normal)` at once.
 pub type Gather<'a> = dyn Fn(&LightVolumes, &[(Vec3, Vec3)]) -> Result<Vec<Gathered>, String> + Sync + 'a;
 
-/// The gather on the CPU, in parallel: through the hierarchy, or over every beam.
+/// The gather on the CPU, in parallel: through the hierarchy or over every beam; second-order
+/// shadows by shadow rays through `scene` when `second_order`.
 #[must_use]
-pub fn gather_on_cpu(volumes: &LightVolumes, points: &[(Vec3, Vec3)], hierarchy: bool) -> Vec<Gathered> {
+pub fn gather_on_cpu(
+    scene: &Scene,
+    volumes: &LightVolumes,
+    points: &[(Vec3, Vec3)],
+    options: &GlossyOptions,
+) -> Vec<Gathered> {
+    let eps = shading_eps(scene);
+    let occluded = |p: Vec3, source: Vec3| {
+        let to = source - p;
+        let length = to.length();
+        length > eps && scene.wide.any_hit(Ray::new(p, to), 1.0 - (2.0 * eps / length).max(DEPTH_EPS))
+    };
     points
         .par_iter()
-        .map(|&(p, n)| if hierarchy { volumes.gather(p, n) } else { volumes.gather_linear(p, n) })
+        .map(|&(p, n)| {
+            let q = p + n * eps;
+            let occluded: Occluded<'_> = if options.second_order { Some(&occluded) } else { None };
+            if options.hierarchy { volumes.gather(q, n, occluded) } else { volumes.gather_linear(q, n, occluded) }
+        })
         .collect()
 }
 
@@ -192,7 +211,7 @@ fn direct(scene: &Scene, p: Vec3, n: Vec3, shadowed: u64, all_occluders: bool) -
 
 /// Render `scene` by glossy light volumes on the CPU.
 pub fn render_glossy(scene: &Scene, options: &GlossyOptions) -> Result<(Image, GlossyStats), String> {
-    let gather = |v: &LightVolumes, points: &[(Vec3, Vec3)]| Ok(gather_on_cpu(v, points, options.hierarchy));
+    let gather = |v: &LightVolumes, points: &[(Vec3, Vec3)]| Ok(gather_on_cpu(scene, v, points, options));
     render_glossy_with(scene, options, &CpuBeams, &gather)
 }
 
@@ -248,14 +267,14 @@ pub fn render_glossy_with(
 
 /// The ground truth of [`render_glossy`]: the same eye paths, receivers lit directly with exact
 /// shadow rays (every occluder) plus the scattered light of `map` (from [`glossy_photons`]).
-pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &IrradianceMap) -> Result<Image, String> {
+pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &PhotonMaps) -> Result<Image, String> {
     check_lights(scene)?;
     let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
         Ok(points
             .par_iter()
             .map(|s| {
                 let n = facing(scene, s.prim, s.d);
-                let e = direct(scene, s.p, n, 0, true) + map.irradiance(s.prim, s.p);
+                let e = direct(scene, s.p, n, 0, true) + map.irradiance(scene, s.prim, s.p, s.d);
                 scene.material(s.prim).albedo() / core::f32::consts::PI * e
             })
             .collect())
