@@ -200,6 +200,22 @@ enum BenchCommand {
         #[arg(long, default_value = "s3")]
         degree: String,
     },
+    /// Glossy light volumes (002) against photon tracing at equal RMSE on the three built-ins of
+    /// 002's figures, on the CPU and (with an adapter) the GPU; plots RMSE against time.
+    Glossy {
+        /// Built-in scenes, comma-separated (default: cardioid-ring, pool-caustics, stained-glass).
+        #[arg(long, value_delimiter = ',')]
+        scenes: Vec<String>,
+        /// Image width and height.
+        #[arg(long, default_value_t = 512)]
+        size: u32,
+        /// Photons per light of the reference.
+        #[arg(long, default_value_t = 64_000_000)]
+        reference_photons: u64,
+        /// Plot (PNG).
+        #[arg(long, default_value = "glossy-vs-photons.png")]
+        out: PathBuf,
+    },
     /// 000 Fig. 10: nonlinear render time (S1, S3) against scene triangles, S-mesh triangles and
     /// atlas resolution on the mirror teapot, beside the ray-traced reference.
     Nonlinear {
@@ -279,6 +295,10 @@ fn main() -> ExitCode {
                 d => Err(format!("unknown degree `{d}` (s1, s3)")),
             };
             degree.and_then(|d| bench::gpu::run(&scenes, width, height, frames, d)).map(|()| ExitCode::SUCCESS)
+        }
+        Command::Bench { what: BenchCommand::Glossy { scenes, size, reference_photons, out } } => {
+            let scenes = if scenes.is_empty() { bench::glossy::SCENES.map(String::from).to_vec() } else { scenes };
+            bench::glossy::run(&scenes, size, reference_photons, &out).map(|()| ExitCode::SUCCESS)
         }
         Command::Bench { what: BenchCommand::Nonlinear { size, out, csv } } => {
             bench::nonlinear::run(size, &out, &csv).map(|()| ExitCode::SUCCESS)

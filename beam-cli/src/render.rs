@@ -1,12 +1,13 @@
 //! `beam render` and `beam compare`.
 
-use beam_cpu::glossy::{GlossyOptions, render_glossy, render_glossy_reference};
+use beam_cpu::glossy::{GlossyOptions, LightVolumes, render_glossy, render_glossy_reference, render_glossy_with};
 use beam_cpu::nonlinear::{
     BeamRenderer, CpuBeams, Degree, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
 };
 use beam_cpu::render::{Image, Method, RenderOptions, Shading, difference, render, side_by_side};
 use beam_cpu::scene;
 use beam_gpu::nonlinear::GpuBeams;
+use beam_math::glam::Vec3;
 use beam_math::glossy::VolumeMethod;
 use std::path::Path;
 use std::process::ExitCode;
@@ -182,9 +183,11 @@ fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Resu
         "tessellated" => VolumeMethod::Tessellated,
         v => return Err(format!("unknown volume `{v}` (exact, tessellated)")),
     };
-    if a.backend != "cpu" {
-        return Err(format!("--method glossy runs on --backend cpu only (not `{}`)", a.backend));
-    }
+    let gpu = match a.backend {
+        "cpu" => None,
+        "gpu" => Some(beam_gpu::Gpu::new()?),
+        b => return Err(format!("unknown backend `{b}` (cpu, gpu)")),
+    };
     let start = std::time::Instant::now();
     if a.method == "glossy-reference" {
         let image = render_glossy_reference(scene, width, height, a.photons, 1)?;
@@ -199,10 +202,21 @@ fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Resu
         return Ok(ExitCode::SUCCESS);
     }
     let options = GlossyOptions { method, hierarchy: !a.linear_gather, ..GlossyOptions::new(width, height) };
-    let (image, stats) = render_glossy(scene, &options)?;
+    let (image, stats) = match &gpu {
+        Some(g) => {
+            if a.linear_gather {
+                return Err("the GPU gather walks the cone hierarchy (drop --linear-gather)".into());
+            }
+            let gather = beam_gpu::glossy::GpuGather::new(g, scene)?;
+            let run = |v: &LightVolumes, points: &[(Vec3, Vec3)]| gather.gather(g, v, points, &options);
+            render_glossy_with(scene, &options, &CpuBeams, &run)?
+        }
+        None => render_glossy(scene, &options)?,
+    };
+    let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
     image.save_png(a.out)?;
     println!(
-        "{}: glossy light volumes on CPU, {} beams + {} shadow beams ({:.3} s), {} receiver points, {:.1} beams tested per point ({}), gather {:.3} s, {:.3} s -> {}",
+        "{}: glossy light volumes on {on}, {} beams + {} shadow beams ({:.3} s), {} receiver points, {:.1} beams tested per point ({}), gather {:.3} s, {:.3} s -> {}",
         scene.name,
         stats.beams,
         stats.shadow_beams,

@@ -3,10 +3,12 @@
 //! wgpu + naga pipelines mirroring beam-cpu: headless device set-up, WGSL shaders validated by naga
 //! and translatable to SPIR-V, GLSL, MSL and HLSL, a compute ray tracer over beam-bvh's GPU
 //! layout, and the nonlinear beam pipeline of 000 (bounding triangles in a vertex stage, per-texel
-//! rays in a fragment stage, per-level atlases). Every entry point has a CPU twin that the conformance suite compares it with.
+//! rays in a fragment stage, per-level atlases, the composite), and the gather of the glossy light
+//! volumes of 002. Every entry point has a CPU twin that the conformance suite compares it with.
 
 pub mod buffers;
 pub mod device;
+pub mod glossy;
 pub mod nonlinear;
 pub mod raytrace;
 pub mod shade;

@@ -15,13 +15,20 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("beam_atlas", include_str!("../shaders/beam_atlas.wgsl")),
     ("nonlinear_check", include_str!("../shaders/nonlinear_check.wgsl")),
     ("composite", include_str!("../shaders/composite.wgsl")),
+    ("glossy_gather", include_str!("../shaders/glossy_gather.wgsl")),
 ];
 
-/// The full source of shader `name`: the shared code, then the shader.
+/// Library code that some shaders include (`shaders/lib/*.wgsl`): name, source, the shaders that
+/// include it.
+const LIBRARY: &[(&str, &str, &[&str])] =
+    &[("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather"])];
+
+/// The full source of shader `name`: the shared code, the library code it includes, then the shader.
 #[must_use]
 pub fn source(name: &str) -> Option<String> {
     let (_, body) = SHADERS.iter().find(|(n, _)| *n == name)?;
-    let mut out: String = SHARED.iter().map(|(_, s)| *s).collect::<Vec<_>>().join("\n");
+    let included = LIBRARY.iter().filter(|(_, _, users)| users.contains(&name)).map(|(_, s, _)| *s);
+    let mut out: String = SHARED.iter().map(|(_, s)| *s).chain(included).collect::<Vec<_>>().join("\n");
     out.push('\n');
     out.push_str(body);
     Some(out)

@@ -44,7 +44,7 @@ pub fn properties() -> Vec<Property> {
 }
 
 /// Receiver points of `scene`: `n` random points on its diffuse triangles, with their normals.
-fn receiver_points(scene: &Scene, n: usize, seed: u64) -> Vec<(Vec3, Vec3)> {
+pub fn receiver_points(scene: &Scene, n: usize, seed: u64) -> Vec<(Vec3, Vec3)> {
     let mut rng = generate::rng(seed);
     let receivers: Vec<u32> = (0..scene.triangles.len() as u32)
         .filter(|&p| matches!(scene.material(p), scene::Material::Diffuse { .. }))

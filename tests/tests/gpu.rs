@@ -9,4 +9,5 @@ beam_conformance::conformance_tests!(
     gpu_images_equal_cpu,
     gpu_shading_equals_cpu,
     gpu_composite_equals_cpu,
+    gpu_glossy_gather_equals_cpu,
 );

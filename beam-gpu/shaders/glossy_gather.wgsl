@@ -1,0 +1,363 @@
+// The gather of the glossy light volumes (002 §3.1, §4.2–4.3), one invocation per receiver point:
+// through the cone hierarchy, every beam whose cones hold the point adds its irradiance — specular
+// by eq. 1, glossy by eq. 3 with the exact Gaussian volume over the scatter-angle domain (Owen's T)
+// — unless a shadow ray from the point to the beam's source point is blocked (second-order shadows);
+// shadow beams mark the lights whose direct light they remove. CPU twin:
+// beam_cpu::glossy::LightVolumes::gather. shared/bvh.wgsl and lib/trace.wgsl are prepended.
+
+// Keep in sync with beam_gpu::glossy::GpuLightBeam (112 bytes).
+struct LightBeam {
+    o0: vec3<f32>,
+    // Φs / I = Ω, the light's solid angle through the scatterer.
+    flux: f32,
+    o1: vec3<f32>,
+    // Micro-facet standard deviation (radians); 0: specular.
+    sigma: f32,
+    o2: vec3<f32>,
+    light: u32,
+    d0: vec3<f32>,
+    // 1: a negative shadow beam.
+    shadow: u32,
+    d1: vec3<f32>,
+    pad0: u32,
+    d2: vec3<f32>,
+    pad1: u32,
+    power: vec3<f32>,
+    pad2: u32,
+}
+
+// Keep in sync with beam_gpu::glossy::GpuCone (32 bytes): cos = −1 holds every point.
+struct Cone {
+    apex: vec3<f32>,
+    cos: f32,
+    axis: vec3<f32>,
+    pad: u32,
+}
+
+// Keep in sync with beam_gpu::glossy::GpuConeNode (48 bytes).
+struct ConeNode {
+    apex: vec3<f32>,
+    cos: f32,
+    axis: vec3<f32>,
+    // Inner node: its second child (the first follows it); leaf: its first beam.
+    right_or_first: u32,
+    // Beams of a leaf; 0 for an inner node.
+    count: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+// Keep in sync with beam_gpu::glossy::GatherPoint (32 bytes).
+struct GatherPoint {
+    p: vec3<f32>,
+    pad0: u32,
+    n: vec3<f32>,
+    pad1: u32,
+}
+
+// Keep in sync with beam_gpu::glossy::GpuGathered (32 bytes).
+struct Gathered {
+    irradiance: vec3<f32>,
+    shadowed: u32,
+    tested: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+// Keep in sync with beam_gpu::glossy::GatherParams (16 bytes).
+struct GatherParams {
+    points: u32,
+    nodes: u32,
+    // Bit 0: second-order shadows.
+    flags: u32,
+    // Offset of shadow-ray ends off the scatterer.
+    eps: f32,
+}
+
+@group(0) @binding(2) var<uniform> params: GatherParams;
+@group(0) @binding(3) var<storage, read> beams: array<LightBeam>;
+@group(0) @binding(4) var<storage, read> cones: array<Cone>;
+@group(0) @binding(5) var<storage, read> tree: array<ConeNode>;
+@group(0) @binding(6) var<storage, read> points: array<GatherPoint>;
+@group(0) @binding(7) var<storage, read_write> gathered: array<Gathered>;
+
+const PI: f32 = 3.14159265;
+
+fn in_cone(apex: vec3<f32>, axis: vec3<f32>, cos_angle: f32, p: vec3<f32>) -> bool {
+    let q = p - apex;
+    return dot(q, axis) >= length(q) * cos_angle;
+}
+
+// Barycentric coordinates of p in the plane of triangle abc (beam_math::Triangle::barycentric);
+// (−1, −1, −1) when degenerate.
+fn barycentric(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    let n = cross(b - a, c - a);
+    let nn = dot(n, n);
+    if !(nn > 0.0) {
+        return vec3<f32>(-1.0);
+    }
+    let w0 = dot(cross(b - p, c - p), n) / nn;
+    let w1 = dot(cross(c - p, a - p), n) / nn;
+    return vec3<f32>(w0, w1, 1.0 - w0 - w1);
+}
+
+// A beam's flux triangle at f (002 §3.1): its rays meet the plane through f perpendicular to their
+// mean direction. `ok` is false when the mean vanishes or a ray is parallel to the plane.
+struct Flux {
+    a: vec3<f32>,
+    b: vec3<f32>,
+    c: vec3<f32>,
+    normal: vec3<f32>,
+    ok: bool,
+}
+
+fn line_plane(o: vec3<f32>, d: vec3<f32>, n: vec3<f32>, f: vec3<f32>) -> vec4<f32> {
+    let nd = dot(n, d);
+    if nd == 0.0 {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(o + d * (dot(n, f - o) / nd), 1.0);
+}
+
+fn flux_triangle(b: LightBeam, f: vec3<f32>) -> Flux {
+    var out: Flux;
+    let mean = b.d0 + b.d1 + b.d2;
+    if dot(mean, mean) == 0.0 {
+        out.ok = false;
+        return out;
+    }
+    let n = normalize(mean);
+    let a = line_plane(b.o0, b.d0, n, f);
+    let bb = line_plane(b.o1, b.d1, n, f);
+    let c = line_plane(b.o2, b.d2, n, f);
+    out.a = a.xyz;
+    out.b = bb.xyz;
+    out.c = c.xyz;
+    out.normal = n;
+    out.ok = a.w > 0.0 && bb.w > 0.0 && c.w > 0.0;
+    return out;
+}
+
+// f lies downstream of the scatterer (beam_math::glossy::LightBeam::in_front).
+fn in_front(b: LightBeam, f: vec3<f32>) -> bool {
+    let n = cross(b.o1 - b.o0, b.o2 - b.o0);
+    let side = dot(b.d0 + b.d1 + b.d2, n);
+    return side != 0.0 && dot(f - b.o0, n) * side > 0.0;
+}
+
+fn in_beam(t: Flux, f: vec3<f32>) -> bool {
+    let w = barycentric(t.a, t.b, t.c, f);
+    return min(w.x, min(w.y, w.z)) >= 0.0;
+}
+
+fn area(t: Flux) -> f32 {
+    return 0.5 * length(cross(t.b - t.a, t.c - t.a));
+}
+
+// ---- The Gaussian volume over a triangle of the scatter-angle plane (beam_math::glossy::gaussian) ----
+
+// Standard normal distribution function, by erfc (Abramowitz and Stegun 7.1.26, error < 1.5e-7).
+fn normal_cdf(x: f32) -> f32 {
+    let z = abs(x) / sqrt(2.0);
+    let t = 1.0 / (1.0 + 0.3275911 * z);
+    let poly = t * (0.254829592 + t * (-0.284496736 + t * (1.421413741 + t * (-1.453152027 + t * 1.061405429))));
+    let erfc = poly * exp(-z * z);
+    return select(1.0 - 0.5 * erfc, 0.5 * erfc, x < 0.0);
+}
+
+// Owen's T(h, a) for h ≥ 0 and 0 ≤ a ≤ 1: composite five-point Gauss–Legendre on 8 panels.
+fn owens_t_small(h: f32, a: f32) -> f32 {
+    if a == 0.0 || h > 40.0 {
+        return 0.0;
+    }
+    let nodes = array<f32, 5>(0.0, -0.5384693, 0.5384693, -0.9061798, 0.9061798);
+    let weights = array<f32, 5>(0.5688889, 0.4786287, 0.4786287, 0.2369269, 0.2369269);
+    let width = a / 8.0;
+    var sum = 0.0;
+    for (var p = 0; p < 8; p++) {
+        let mid = (f32(p) + 0.5) * width;
+        for (var k = 0; k < 5; k++) {
+            let t = mid + 0.5 * width * nodes[k];
+            let q = 1.0 + t * t;
+            sum += weights[k] * exp(-0.5 * h * h * q) / q;
+        }
+    }
+    return sum * 0.5 * width / (2.0 * PI);
+}
+
+// Owen's T(h, a) for any a (odd in a), h ≥ 0 (beam_math::glossy::owens_t).
+fn owens_t(h_in: f32, a_in: f32) -> f32 {
+    let h = abs(h_in);
+    let a = abs(a_in);
+    var t: f32;
+    if a <= 1.0 {
+        t = owens_t_small(h, a);
+    } else if a > 3.0e38 {
+        t = 0.5 * (1.0 - normal_cdf(h));
+    } else {
+        let ah = a * h;
+        t = 0.5 * normal_cdf(h) + 0.5 * normal_cdf(ah) - normal_cdf(h) * normal_cdf(ah) - owens_t_small(ah, 1.0 / a);
+    }
+    return select(t, -t, a_in < 0.0);
+}
+
+fn perp_dot(a: vec2<f32>, b: vec2<f32>) -> f32 {
+    return a.x * b.y - a.y * b.x;
+}
+
+// Signed Gaussian volume over the triangle (0, a, b) (beam_math::glossy::sector_volume).
+fn sector_volume(a: vec2<f32>, b: vec2<f32>, sigma: f32) -> f32 {
+    let e = b - a;
+    let len = length(e);
+    let cr = perp_dot(a, b);
+    if len == 0.0 || cr == 0.0 {
+        return 0.0;
+    }
+    let t = e / len;
+    let h = abs(cr) / len;
+    let foot = a - dot(a, t) * t;
+    let sa = dot(a - foot, t);
+    let sb = dot(b - foot, t);
+    let ga = atan2(sa, h) / (2.0 * PI) - owens_t(h / sigma, sa / h);
+    let gb = atan2(sb, h) / (2.0 * PI) - owens_t(h / sigma, sb / h);
+    return sign(cr) * (gb - ga);
+}
+
+fn gaussian_volume(a: vec2<f32>, b: vec2<f32>, c: vec2<f32>, sigma: f32) -> f32 {
+    return abs(sector_volume(a, b, sigma) + sector_volume(b, c, sigma) + sector_volume(c, a, sigma));
+}
+
+// The angle between f − o and d (002 §4.2.1's φ).
+fn scatter_angle(o: vec3<f32>, d: vec3<f32>, f: vec3<f32>) -> f32 {
+    let to_f = f - o;
+    if dot(to_f, to_f) == 0.0 {
+        return 0.0;
+    }
+    return acos(clamp(dot(normalize(to_f), normalize(d)), -1.0, 1.0));
+}
+
+// A vertex of the angular domain: φ times the unit direction from f to the flux vertex, in the
+// frame (u, v) of the flux plane.
+fn domain_vertex(phi: f32, vertex: vec3<f32>, f: vec3<f32>, u: vec3<f32>, v: vec3<f32>) -> vec2<f32> {
+    let l = vertex - f;
+    if dot(l, l) == 0.0 {
+        return vec2<f32>(0.0);
+    }
+    let lu = normalize(l);
+    return phi * vec2<f32>(dot(lu, u), dot(lu, v));
+}
+
+// Irradiance per unit of `power` at f (unit normal n): eq. 1 for a specular beam, eq. 3 with the
+// exact Gaussian volume for a glossy one.
+fn beam_irradiance(b: LightBeam, f: vec3<f32>, n: vec3<f32>) -> f32 {
+    let t = flux_triangle(b, f);
+    if !t.ok || !in_front(b, f) {
+        return 0.0;
+    }
+    let a = area(t);
+    if !(a > 0.0) {
+        return 0.0;
+    }
+    let e = b.flux / a * max(dot(-t.normal, n), 0.0);
+    if b.sigma <= 0.0 {
+        return select(0.0, e, in_beam(t, f));
+    }
+    // Any orthonormal frame of the flux plane: the volume does not depend on it.
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(t.normal.x) > 0.9);
+    let u = normalize(cross(t.normal, helper));
+    let v = cross(t.normal, u);
+    let da = domain_vertex(scatter_angle(b.o0, b.d0, f), t.a, f, u, v);
+    let db = domain_vertex(scatter_angle(b.o1, b.d1, f), t.b, f, u, v);
+    let dc = domain_vertex(scatter_angle(b.o2, b.d2, f), t.c, f, u, v);
+    return e * min(gaussian_volume(da, db, dc, b.sigma), 1.0);
+}
+
+// The scatterer point whose light reaches f (beam_cpu::glossy::source_point).
+fn source_point(b: LightBeam, f: vec3<f32>) -> vec4<f32> {
+    let t = flux_triangle(b, f);
+    if !t.ok {
+        return vec4<f32>(0.0);
+    }
+    var w = barycentric(t.a, t.b, t.c, f);
+    if w.x == -1.0 && w.y == -1.0 {
+        return vec4<f32>(0.0);
+    }
+    w = max(w, vec3<f32>(0.0));
+    w = w / max(w.x + w.y + w.z, 1e-30);
+    return vec4<f32>(b.o0 * w.x + b.o1 * w.y + b.o2 * w.z, 1.0);
+}
+
+fn add_beam(j: u32, f: vec3<f32>, n: vec3<f32>, g: ptr<function, Gathered>) {
+    (*g).tested += 1u;
+    let cone = cones[j];
+    if !in_cone(cone.apex, cone.axis, cone.cos, f) {
+        return;
+    }
+    let b = beams[j];
+    if b.shadow == 1u {
+        let bit = 1u << min(b.light, 31u);
+        if ((*g).shadowed & bit) == 0u {
+            let t = flux_triangle(b, f);
+            if t.ok && in_front(b, f) && in_beam(t, f) {
+                (*g).shadowed |= bit;
+            }
+        }
+        return;
+    }
+    let e = beam_irradiance(b, f, n);
+    if e == 0.0 {
+        return;
+    }
+    if (params.flags & 1u) != 0u {
+        let s = source_point(b, f);
+        if s.w > 0.0 {
+            let to = s.xyz - f;
+            let len = length(to);
+            if len > params.eps && trace_ray(f, to, 1.0 - max(2.0 * params.eps / len, 1e-4), true).t > 0.5 {
+                return;
+            }
+        }
+    }
+    (*g).irradiance += b.power * e;
+}
+
+@compute @workgroup_size(64)
+fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = id.y * groups.x * 64u + id.x;
+    if i >= params.points {
+        return;
+    }
+    let f = points[i].p;
+    let n = points[i].n;
+    var g: Gathered;
+    var stack: array<u32, 64>;
+    var sp = 0u;
+    if params.nodes > 0u {
+        stack[0] = 0u;
+        sp = 1u;
+    }
+    loop {
+        if sp == 0u {
+            break;
+        }
+        sp -= 1u;
+        let k = stack[sp];
+        let node = tree[k];
+        if !in_cone(node.apex, node.axis, node.cos, f) {
+            continue;
+        }
+        if node.count > 0u {
+            for (var j = node.right_or_first; j < node.right_or_first + node.count; j++) {
+                add_beam(j, f, n, &g);
+            }
+        } else if sp + 2u <= 64u {
+            // The second child first on the stack, so that the first is visited first.
+            stack[sp] = node.right_or_first;
+            stack[sp + 1u] = k + 1u;
+            sp += 2u;
+        }
+    }
+    gathered[i] = g;
+}
