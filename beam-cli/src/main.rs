@@ -92,6 +92,13 @@ enum Command {
         /// cone hierarchy.
         #[arg(long)]
         linear_gather: bool,
+        /// Split each scatterer triangle into N × N sub-triangles for its light beams (`--method
+        /// glossy`; 1: one beam per triangle, as 002 does).
+        #[arg(long, default_value_t = 4)]
+        subdivide: u32,
+        /// Leave out second-order shadows (`--method glossy`), as 002 does.
+        #[arg(long)]
+        no_second_order: bool,
         /// Photons per point light of the references' caustics (`nonlinear-reference`,
         /// `glossy-reference`).
         #[arg(long, default_value_t = 4_000_000)]
@@ -258,6 +265,8 @@ fn main() -> ExitCode {
             primary_beams,
             volume,
             linear_gather,
+            subdivide,
+            no_second_order,
             photons,
             width,
             height,
@@ -277,6 +286,8 @@ fn main() -> ExitCode {
             primary_beams,
             volume: &volume,
             linear_gather,
+            subdivide,
+            second_order: !no_second_order,
             photons,
             width,
             height,

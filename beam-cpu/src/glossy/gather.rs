@@ -58,10 +58,11 @@ pub fn source_point(b: &LightBeam, p: Vec3) -> Option<Vec3> {
 }
 
 impl LightVolumes {
-    /// Trace the beams of `scene` (002 §3.1) and build their cone hierarchy.
+    /// Trace the beams of `scene` (002 §3.1; scatterers split into `subdivide²` sub-triangles) and
+    /// build their cone hierarchy.
     #[must_use]
-    pub fn new(scene: &Scene, method: VolumeMethod) -> Self {
-        let (mut beams, degenerate) = trace_light_beams(scene);
+    pub fn new(scene: &Scene, method: VolumeMethod, subdivide: u32) -> Self {
+        let (mut beams, degenerate) = trace_light_beams(scene, subdivide);
         let tree = ConeTree::build(&mut beams);
         Self { beams, tree, lights: point_lights(scene).collect(), degenerate, method }
     }

@@ -55,13 +55,6 @@ impl PhotonMaps {
     pub fn irradiance(&self, scene: &Scene, prim: u32, p: Vec3, d: Vec3) -> Vec3 {
         self.sides[Self::side(scene, prim, d)].irradiance(prim, p)
     }
-
-    /// Relative RMS difference of the texels of two photon maps of the same scene.
-    #[must_use]
-    pub fn relative_rms(&self, other: &Self) -> f64 {
-        let sq = |m: &Self, o: &Self| (0..2).map(|k| m.sides[k].relative_rms(&o.sides[k]).powi(2)).sum::<f64>();
-        sq(self, other).sqrt()
-    }
 }
 
 /// About `photons` photons per point light, spread over the scatterer triangles in proportion to the

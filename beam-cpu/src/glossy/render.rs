@@ -31,13 +31,29 @@ pub struct GlossyOptions {
     /// Second-order shadows: a scattered beam's light is checked by a shadow ray from the receiver
     /// to its source point on the scatterer (`false`: left out, as 002 does).
     pub second_order: bool,
+    /// Scatterer triangles are split into `subdivide²` sub-triangles for their scattered beams (1:
+    /// one beam per triangle, as 002 does).
+    pub subdivide: u32,
+    /// When positive, the scattered irradiance at each receiver point is the mean of the gathers at
+    /// the four points ±½·`filter` about it in its plane: the tent filter of a photon map of that
+    /// texel size, for comparisons with one. 0: the point itself.
+    pub filter: f32,
 }
 
 impl GlossyOptions {
-    /// Exact Gaussian volumes through the hierarchy, with second-order shadows, at `width × height`.
+    /// Exact Gaussian volumes through the hierarchy, with second-order shadows, scatterers split
+    /// 4 × 4, at `width × height`.
     #[must_use]
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, method: VolumeMethod::Exact, hierarchy: true, second_order: true }
+        Self {
+            width,
+            height,
+            method: VolumeMethod::Exact,
+            hierarchy: true,
+            second_order: true,
+            subdivide: 4,
+            filter: 0.0,
+        }
     }
 }
 
@@ -209,6 +225,32 @@ fn direct(scene: &Scene, p: Vec3, n: Vec3, shadowed: u64, all_occluders: bool) -
     e
 }
 
+/// The gathers at `points` with the scattered irradiance averaged over the four points ±½·`texel`
+/// about each in its plane (the tent filter of a photon map's splats, by a 2 × 2 rule); shadow masks
+/// from the points themselves.
+fn filtered(
+    volumes: &LightVolumes,
+    points: &[(Vec3, Vec3)],
+    texel: f32,
+    gather: &Gather<'_>,
+) -> Result<Vec<Gathered>, String> {
+    let mut all = Vec::with_capacity(5 * points.len());
+    for &(p, n) in points {
+        let u = n.any_orthonormal_vector() * (0.5 * texel);
+        let v = n.cross(u);
+        all.extend([p, p + u + v, p + u - v, p - u + v, p - u - v].map(|q| (q, n)));
+    }
+    let gathered = gather(volumes, &all)?;
+    Ok(gathered
+        .chunks(5)
+        .map(|g| Gathered {
+            irradiance: g[1..].iter().map(|x| x.irradiance).sum::<Vec3>() / 4.0,
+            shadowed: g[0].shadowed,
+            tested: g.iter().map(|x| x.tested).sum(),
+        })
+        .collect())
+}
+
 /// Render `scene` by glossy light volumes on the CPU.
 pub fn render_glossy(scene: &Scene, options: &GlossyOptions) -> Result<(Image, GlossyStats), String> {
     let gather = |v: &LightVolumes, points: &[(Vec3, Vec3)]| Ok(gather_on_cpu(scene, v, points, options));
@@ -225,13 +267,17 @@ pub fn render_glossy_with(
 ) -> Result<(Image, GlossyStats), String> {
     check_lights(scene)?;
     let start = Instant::now();
-    let volumes = LightVolumes::new(scene, options.method);
+    let volumes = LightVolumes::new(scene, options.method, options.subdivide);
     let beam_seconds = start.elapsed().as_secs_f64();
     let totals = std::sync::Mutex::new((0.0f64, 0u64, 0u64));
     let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
         let at: Vec<(Vec3, Vec3)> = points.iter().map(|s| (s.p, facing(scene, s.prim, s.d))).collect();
         let t = Instant::now();
-        let gathered = gather(&volumes, &at)?;
+        let gathered = if options.filter > 0.0 {
+            filtered(&volumes, &at, options.filter, gather)?
+        } else {
+            gather(&volumes, &at)?
+        };
         if let Ok(mut totals) = totals.lock() {
             totals.0 += t.elapsed().as_secs_f64();
             totals.1 += points.len() as u64;
