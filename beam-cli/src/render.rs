@@ -110,10 +110,7 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
             stats.shadow_beams, stats.bvh_steps, stats.intersections, stats.hit_beams_per_pixel
         );
     }
-    if let Some(p) = a.stats {
-        let json = serde_json::to_string_pretty(&stats).map_err(|e| e.to_string())?;
-        beam_cpu::io::write_atomic(p, json.as_bytes())?;
-    }
+    write_stats(a.stats, &stats)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -130,11 +127,7 @@ fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Re
     if !(1..=16).contains(&a.bounces) {
         return Err(format!("--bounces {} out of range (1 to 16)", a.bounces));
     }
-    let gpu = match a.backend {
-        "cpu" => None,
-        "gpu" => Some(beam_gpu::Gpu::new()?),
-        b => return Err(format!("unknown backend `{b}` (cpu, gpu)")),
-    };
+    let gpu = gpu_of(a.backend)?;
     let gpu_beams = gpu.as_ref().map(|g| GpuBeams::new(g, scene).map(|b| b.with_light_samples(a.spp))).transpose()?;
     let renderer: &dyn BeamRenderer = match &gpu_beams {
         Some(g) => g,
@@ -171,10 +164,7 @@ fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Re
         stats.seconds,
         a.out.display()
     );
-    if let Some(p) = a.stats {
-        let json = serde_json::to_string_pretty(&stats).map_err(|e| e.to_string())?;
-        beam_cpu::io::write_atomic(p, json.as_bytes())?;
-    }
+    write_stats(a.stats, &stats)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -185,11 +175,7 @@ fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Resu
         "tessellated" => VolumeMethod::Tessellated,
         v => return Err(format!("unknown volume `{v}` (exact, tessellated)")),
     };
-    let gpu = match a.backend {
-        "cpu" => None,
-        "gpu" => Some(beam_gpu::Gpu::new()?),
-        b => return Err(format!("unknown backend `{b}` (cpu, gpu)")),
-    };
+    let gpu = gpu_of(a.backend)?;
     let start = std::time::Instant::now();
     if a.method == "glossy-reference" {
         let image = render_glossy_reference(scene, width, height, a.photons, 1)?;
@@ -239,11 +225,26 @@ fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Resu
         stats.seconds,
         a.out.display()
     );
-    if let Some(p) = a.stats {
-        let json = serde_json::to_string_pretty(&stats).map_err(|e| e.to_string())?;
+    write_stats(a.stats, &stats)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The adapter `--backend gpu` asks for (`None` for `cpu`).
+fn gpu_of(backend: &str) -> Result<Option<beam_gpu::Gpu>, String> {
+    match backend {
+        "cpu" => Ok(None),
+        "gpu" => beam_gpu::Gpu::new().map(Some),
+        b => Err(format!("unknown backend `{b}` (cpu, gpu)")),
+    }
+}
+
+/// Write `stats` as JSON to `path` (atomically), when given.
+fn write_stats(path: Option<&Path>, stats: &impl serde::Serialize) -> Result<(), String> {
+    if let Some(p) = path {
+        let json = serde_json::to_string_pretty(stats).map_err(|e| e.to_string())?;
         beam_cpu::io::write_atomic(p, json.as_bytes())?;
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
 
 pub fn compare(a: &Path, b: &Path, out: &Path, scale: f32) -> Result<ExitCode, String> {

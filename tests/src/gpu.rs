@@ -7,7 +7,8 @@ use crate::generate::{self, BeamKind, uniform};
 use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BumpedBeam, CpuBeams, Degree, NonlinearOptions, SMesh, render_nonlinear_with,
+    Beam, BeamJob, BeamRenderer, BumpedBeam, CpuBeams, Degree, LevelRadiance, NonlinearOptions, SMesh,
+    render_nonlinear_with,
 };
 use beam_cpu::render::RenderOptions;
 use beam_cpu::scene::{self, Bump};
@@ -18,6 +19,7 @@ use beam_math::glam::Vec3;
 use beam_math::nonlinear::{BoundingCase, BumpBeam};
 use beam_math::{Ray, Triangle};
 use rand::Rng;
+use std::sync::Mutex;
 
 const GPU: &[Backend] = &[Backend::Gpu];
 
@@ -366,7 +368,7 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
         let options = NonlinearOptions { degree, texels: 32, bounces: 2, shading: RenderOptions::exact(96, 96) };
         let renderer = GpuBeams::new(&gpu, &scene)?;
         let (on_gpu, _) = render_nonlinear_with(&scene, &options, &renderer)?;
-        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &TwinShading)?;
+        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &TwinShading::default())?;
         let (mut differ, mut sum) = (0u64, 0.0f64);
         for (a, b) in on_gpu.pixels.iter().zip(&on_cpu.pixels) {
             let d = (0..3)
@@ -467,13 +469,13 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
         let scene = scene::builtin(name)?;
         let options =
             NonlinearOptions { degree: Degree::S3, texels: 32, bounces: 3, shading: RenderOptions::exact(64, 64) };
-        let capture = Capture::default();
-        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &capture)?;
-        let (levels, caustics) = capture.0.into_inner().map_err(|e| e.to_string())?;
+        let twin = TwinShading::default();
+        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &twin)?;
+        let (levels, caustics) = twin.0.into_inner().map_err(|e| e.to_string())?;
         let shader = PointShader::new(&gpu, &scene)?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
         let rest = |points: &[beam_cpu::nonlinear::ShadePoint]| {
-            TwinShading.shade_points(&scene, &options.shading, caustics.as_ref(), points)
+            TwinShading::default().shade_points(&scene, &options.shading, caustics.as_ref(), points)
         };
         let smesh = SMesh::specular(&scene);
         let on_gpu = beam_gpu::buffers::checked(&gpu, || {
@@ -554,50 +556,12 @@ pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, S
     Ok(Outcome { cases: total, note: notes.join("; ") })
 }
 
-/// [`TwinShading`], keeping the radiance flow it composites (the levels and the caustics).
-#[derive(Default)]
-struct Capture(std::sync::Mutex<(Vec<beam_cpu::nonlinear::LevelRadiance>, Option<beam_cpu::render::IrradianceMap>)>);
-
-impl BeamRenderer for Capture {
-    fn render_beams(
-        &self,
-        scene: &scene::Scene,
-        jobs: &[BeamJob<'_>],
-    ) -> Result<Vec<beam_cpu::nonlinear::BeamTexture>, String> {
-        CpuBeams.render_beams(scene, jobs)
-    }
-
-    fn closest_hits(&self, scene: &scene::Scene, rays: &[Ray]) -> Result<Vec<Option<beam_bvh::Hit>>, String> {
-        CpuBeams.closest_hits(scene, rays)
-    }
-
-    fn shade_points(
-        &self,
-        scene: &scene::Scene,
-        options: &RenderOptions,
-        caustics: Option<&beam_cpu::render::IrradianceMap>,
-        points: &[beam_cpu::nonlinear::ShadePoint],
-    ) -> Result<Vec<Vec3>, String> {
-        TwinShading.shade_points(scene, options, caustics, points)
-    }
-
-    fn shade_tree(
-        &self,
-        scene: &scene::Scene,
-        smesh: &SMesh,
-        options: &RenderOptions,
-        caustics: Option<&beam_cpu::render::IrradianceMap>,
-        levels: &[beam_cpu::nonlinear::LevelRadiance],
-    ) -> Result<Vec<Vec3>, String> {
-        *self.0.lock().map_err(|e| e.to_string())? = (levels.to_vec(), caustics.cloned());
-        beam_cpu::nonlinear::composite_levels(self, scene, smesh, options, caustics, levels)
-    }
-}
-
 /// The CPU renderer with the GPU's shading: [`beam_gpu::shade::shade_twin`] (64 rays per area light)
 /// for diffuse, glossy and emissive points, mirrors and glass by Whitted rays in waves ending on it:
-/// the reference the GPU images must equal.
-struct TwinShading;
+/// the reference the GPU images must equal. It keeps the last radiance flow it composited (the
+/// levels and the caustics).
+#[derive(Default)]
+struct TwinShading(Mutex<(Vec<LevelRadiance>, Option<beam_cpu::render::IrradianceMap>)>);
 
 impl BeamRenderer for TwinShading {
     fn render_beams(
@@ -624,5 +588,17 @@ impl BeamRenderer for TwinShading {
             Ok(batch.par_iter().map(|s| beam_gpu::shade::shade_twin(scene, caustics, 64, s)).collect())
         };
         beam_cpu::nonlinear::shade_by_waves(scene, &CpuBeams, &twin, points)
+    }
+
+    fn shade_tree(
+        &self,
+        scene: &scene::Scene,
+        smesh: &SMesh,
+        options: &RenderOptions,
+        caustics: Option<&beam_cpu::render::IrradianceMap>,
+        levels: &[LevelRadiance],
+    ) -> Result<Vec<Vec3>, String> {
+        *self.0.lock().map_err(|e| e.to_string())? = (levels.to_vec(), caustics.cloned());
+        beam_cpu::nonlinear::composite_levels(self, scene, smesh, options, caustics, levels)
     }
 }
