@@ -54,7 +54,8 @@ pub fn run(scenes: &[String], size: u32, reference: u64, out: &Path) -> Result<(
         let (beam_seconds, (image, _)) = timed(|| render_glossy(&scene, &options))?;
         let d = difference(&image, &truth)?;
         let mut photons = Vec::new();
-        let mut n = 4_000u64;
+        // Doubling up to half the reference's count.
+        let mut n = (reference >> 14).max(1_000);
         let matched = loop {
             let (seconds, img) = timed(|| render_glossy_photons(&scene, size, size, &glossy_photons(&scene, n, 1)))?;
             let e = difference(&img, &truth)?.rmse;
@@ -62,7 +63,7 @@ pub fn run(scenes: &[String], size: u32, reference: u64, out: &Path) -> Result<(
             if e <= d.rmse {
                 break Some((n, seconds));
             }
-            if n * 2 > reference / 2 {
+            if n * 2 > reference.div_ceil(2) {
                 break None;
             }
             n *= 2;
@@ -94,7 +95,7 @@ pub fn run(scenes: &[String], size: u32, reference: u64, out: &Path) -> Result<(
     println!(
         "beams ms: the beam frame on the CPU with its scattered light tent-filtered like the photon map's \
          (light volumes, cone hierarchy, 5 gathers a receiver pixel, eye rays, direct light); RMSE, PSNR: \
-         against the reference frame (sRGB); photons: the fewest photons per light (doubling from 4,000) \
+         against the reference frame (sRGB); photons: the fewest photons per light (doubling up to half the reference's) \
          whose frame is as close, and its ms (photon tracing, the same eye rays and direct light); speed-up: \
          photon ms over beam ms; sharp ms: the unfiltered beam frame (one gather a pixel); linear ms: that \
          with the gather over every beam (002); GPU ms: that with the gather on the GPU."

@@ -185,7 +185,7 @@ fn render_points(
             out[i] = match scene.material(s.prim) {
                 Material::Emissive { radiance } => radiance,
                 Material::Glossy { albedo, .. } => {
-                    albedo / core::f32::consts::PI * direct(scene, s.p, facing(scene, s.prim, s.d), 0, false)
+                    albedo / core::f32::consts::PI * direct(scene, s.p, facing(scene, s.prim, s.d), 0, true)
                 }
                 _ => Vec3::ZERO,
             };
