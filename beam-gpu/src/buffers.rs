@@ -86,7 +86,8 @@ pub fn compute_pipeline(gpu: &Gpu, shader: &str, entry: &str) -> Result<wgpu::Co
 }
 
 /// An encoder with one dispatch of `groups` workgroups of `pipeline`, `buffers` bound in order at
-/// group 0.
+/// group 0; past 65,535 groups the dispatch is `65,535 × ⌈groups / 65,535⌉` (the shader folds `y`
+/// into its index).
 #[must_use]
 pub fn dispatch(
     gpu: &Gpu,
@@ -109,7 +110,7 @@ pub fn dispatch(
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups(groups, 1, 1);
+        pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
     }
     encoder
 }

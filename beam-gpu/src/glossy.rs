@@ -4,7 +4,7 @@
 //! GPU BVH. CPU twin: [`LightVolumes::gather`].
 
 use crate::Gpu;
-use crate::buffers::{checked, compute_pipeline, output, read_back, storage, uniform};
+use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage, uniform};
 use crate::raytrace::RayTracer;
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::glossy::{BoundingCone, Gathered, GlossyOptions, LightVolumes};
@@ -249,24 +249,7 @@ impl GpuGather {
                 let (bvh_nodes, triangles) = self.tracer.buffers();
                 let buffers =
                     [bvh_nodes, triangles, &params, &beam_buffer, &cone_buffer, &node_buffer, &point_buffer, &result];
-                let entries: Vec<_> = buffers
-                    .iter()
-                    .enumerate()
-                    .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
-                    .collect();
-                let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("glossy gather"),
-                    layout: &self.pipeline.get_bind_group_layout(0),
-                    entries: &entries,
-                });
-                let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-                {
-                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-                    pass.set_pipeline(&self.pipeline);
-                    pass.set_bind_group(0, &bind, &[]);
-                    let groups = chunk.len().div_ceil(64) as u32;
-                    pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
-                }
+                let encoder = dispatch(gpu, &self.pipeline, &buffers, chunk.len().div_ceil(64) as u32);
                 let raw: Vec<GpuGathered> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &result, size)?);
                 out.extend(raw.iter().map(|g| Gathered {
                     irradiance: Vec3::from(g.irradiance),

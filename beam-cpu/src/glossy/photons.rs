@@ -32,8 +32,7 @@ fn spread(d: Vec3, sigma: f32, rng: &mut Pcg32) -> Vec3 {
     let (s, c) = (core::f32::consts::TAU * u2).sin_cos();
     let t1 = d.any_orthonormal_vector();
     let t2 = d.cross(t1);
-    let angle = r;
-    (d * angle.cos() + (t1 * c + t2 * s) * angle.sin()).normalize_or_zero()
+    (d * r.cos() + (t1 * c + t2 * s) * r.sin()).normalize_or_zero()
 }
 
 /// The photon maps of the scattered light: one per side of the receivers (a thin wall lit on one

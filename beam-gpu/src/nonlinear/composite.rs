@@ -6,7 +6,7 @@
 //! [`beam_cpu::nonlinear::composite_levels`].
 
 use crate::Gpu;
-use crate::buffers::{compute_pipeline, max_binding, output, read_back, storage, uniform};
+use crate::buffers::{compute_pipeline, dispatch, max_binding, output, read_back, storage, uniform};
 use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
 use beam_cpu::nonlinear::{LevelRadiance, SMesh, ShadePoint};
@@ -138,7 +138,7 @@ impl GpuComposite {
                     })
                     .collect();
                 let other_radiance: Vec<[f32; 4]> = rest(&other)?.iter().map(|c| c.extend(0.0).to_array()).collect();
-                let (mut encoder, shaded) = shader.shade_into(gpu, tracer, &prepared, spp, &direct, other.len());
+                let (encoder, shaded) = shader.shade_into(gpu, tracer, &prepared, spp, &direct, other.len());
                 gpu.queue.write_buffer(&shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
                 let records: Vec<CompositeRecord> = texels
                     .iter()
@@ -162,24 +162,8 @@ impl GpuComposite {
                 let records_buffer =
                     storage(gpu, "records", bytemuck::cast_slice(&records), wgpu::BufferUsages::empty());
                 let buffers = [&params, &records_buffer, &faces, &shaded, &below, &below_regions, &radiance];
-                let entries: Vec<_> = buffers
-                    .iter()
-                    .enumerate()
-                    .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
-                    .collect();
-                let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("composite"),
-                    layout: &self.pipeline.get_bind_group_layout(0),
-                    entries: &entries,
-                });
-                {
-                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-                    pass.set_pipeline(&self.pipeline);
-                    pass.set_bind_group(0, &bind, &[]);
-                    let groups = records.len().div_ceil(64) as u32;
-                    pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
-                }
-                gpu.queue.submit([encoder.finish()]);
+                let composite = dispatch(gpu, &self.pipeline, &buffers, records.len().div_ceil(64) as u32);
+                gpu.queue.submit([encoder.finish(), composite.finish()]);
             }
             let regions: Vec<[u32; 2]> = level.regions.iter().map(|&(first, size)| [first, size]).collect();
             below_regions = storage(gpu, "regions", bytemuck::cast_slice(&regions), wgpu::BufferUsages::empty());
