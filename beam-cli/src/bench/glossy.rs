@@ -1,7 +1,7 @@
 //! `beam bench glossy`: glossy light volumes (002) against photon tracing at equal error, frame
-//! against frame. The reference is a many-photon frame; the beam frame gathers its scattered light
-//! through the same tent filter as the photon map's splats (2 × 2 gathers a receiver pixel), so the
-//! two estimate the same image; photon frames of doubling photon counts are timed until one is as
+//! against frame. The reference is a many-photon frame; the beam frame reads its scattered light
+//! through the photon map's kernel ([`beam_cpu::glossy::PhotonKernel`]: each specular beam's flux
+//! integrated exactly over it), so the two estimate the same image; photon frames of doubling photon counts are timed until one is as
 //! close to the reference as the beam frame. Also timed: the unfiltered beam frame (one gather a
 //! pixel) through the cone hierarchy, over every beam, and with the gather on the GPU.
 
@@ -93,8 +93,8 @@ pub fn run(scenes: &[String], size: u32, reference: u64, out: &Path) -> Result<(
         all.push(Measured { name: name.clone(), beams: (beam_seconds, d.rmse), photons });
     }
     println!(
-        "beams ms: the beam frame on the CPU with its scattered light tent-filtered like the photon map's \
-         (light volumes, cone hierarchy, 5 gathers a receiver pixel, eye rays, direct light); RMSE, PSNR: \
+        "beams ms: the beam frame on the CPU with its scattered light read through the photon map's kernel \
+         (light volumes, cone hierarchy, each beam's flux integrated over the kernel, eye rays, direct light); RMSE, PSNR: \
          against the reference frame (sRGB); photons: the fewest photons per light (doubling up to half the reference's) \
          whose frame is as close, and its ms (photon tracing, the same eye rays and direct light); speed-up: \
          photon ms over beam ms; sharp ms: the unfiltered beam frame (one gather a pixel); linear ms: that \

@@ -106,6 +106,18 @@ impl BoundingCone {
         let q = p - self.apex;
         q.dot(self.axis) >= q.length() * self.cos
     }
+
+    /// True when `p` may lie within distance `r` of the cone: it lies in the cone of the same
+    /// angle with its apex moved back by `r / sin(angle)`, which holds every ball of radius `r`
+    /// centred in this one. `r = 0`: [`BoundingCone::contains`].
+    #[must_use]
+    pub fn contains_within(&self, p: Vec3, r: f32) -> bool {
+        if r <= 0.0 || self.is_unbounded() {
+            return self.contains(p);
+        }
+        let q = p - (self.apex - self.axis * (r / self.angle.sin()));
+        q.dot(self.axis) >= q.length() * self.cos
+    }
 }
 
 /// A node of the hierarchy: its cone and either two children or a run of beams.
@@ -188,9 +200,9 @@ impl ConeTree {
         index
     }
 
-    /// Visit, in beam order, every beam whose leaf's and ancestors' cones hold `p`: `visit(i)` with
-    /// its index. Returns the nodes visited.
-    pub fn for_each_near(&self, p: Vec3, mut visit: impl FnMut(usize)) -> u32 {
+    /// Visit, in beam order, every beam whose leaf's and ancestors' cones come within distance `r`
+    /// of `p` (hold it, for `r = 0`): `visit(i)` with its index. Returns the nodes visited.
+    pub fn for_each_near(&self, p: Vec3, r: f32, mut visit: impl FnMut(usize)) -> u32 {
         let mut stack = [0u32; 64];
         let mut sp = usize::from(!self.nodes.is_empty());
         let mut visited = 0;
@@ -199,7 +211,7 @@ impl ConeTree {
             let index = stack[sp] as usize;
             let node = &self.nodes[index];
             visited += 1;
-            if !node.cone.contains(p) {
+            if !node.cone.contains_within(p, r) {
                 continue;
             }
             if node.count > 0 {

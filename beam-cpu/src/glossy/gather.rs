@@ -99,7 +99,7 @@ impl LightVolumes {
     #[must_use]
     pub fn gather(&self, p: Vec3, n: Vec3, occluded: Occluded<'_>) -> Gathered {
         let mut g = Gathered::default();
-        self.tree.for_each_near(p, |i| self.add(i, p, n, occluded, &mut g));
+        self.tree.for_each_near(p, 0.0, |i| self.add(i, p, n, occluded, &mut g));
         g
     }
 

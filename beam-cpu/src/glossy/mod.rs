@@ -7,12 +7,14 @@
 mod beams;
 mod cones;
 mod gather;
+mod kernel;
 mod photons;
 mod render;
 
 pub use beams::{GlossyBeam, Scatter, is_scatterer, point_lights, scatterings, trace_light_beams};
 pub use cones::{BoundingCone, ConeNode, ConeTree, GLOSSY_REACH};
 pub use gather::{Gathered, LightVolumes, Occluded, covers, source_point};
+pub use kernel::PhotonKernel;
 pub use photons::{PhotonMaps, glossy_photons, photon_texel};
 pub use render::{
     Gather, GlossyOptions, GlossyStats, gather_on_cpu, render_glossy, render_glossy_photons, render_glossy_reference,

@@ -7,6 +7,7 @@
 
 use super::beams::{is_scatterer, point_lights};
 use super::gather::{Gathered, LightVolumes, Occluded};
+use super::kernel::PhotonKernel;
 use super::photons::{PhotonMaps, glossy_photons};
 use crate::nonlinear::{BeamRenderer, CpuBeams, Shade, ShadePoint, shade_by_waves};
 use crate::render::{DEPTH_EPS, Image, shading_eps};
@@ -34,9 +35,9 @@ pub struct GlossyOptions {
     /// Scatterer triangles are split into `subdivide²` sub-triangles for their scattered beams (1:
     /// one beam per triangle, as 002 does).
     pub subdivide: u32,
-    /// When positive, the scattered irradiance at each receiver point is the mean of the gathers at
-    /// the four points ±½·`filter` about it in its plane: the tent filter of a photon map of that
-    /// texel size, for comparisons with one. 0: the point itself.
+    /// When positive, the scattered irradiance at each receiver point is read through the kernel of a
+    /// photon map of that texel size ([`PhotonKernel`], on the CPU), for comparisons with one; 0:
+    /// at the point itself.
     pub filter: f32,
 }
 
@@ -95,11 +96,7 @@ pub fn gather_on_cpu(
     options: &GlossyOptions,
 ) -> Vec<Gathered> {
     let eps = shading_eps(scene);
-    let occluded = |p: Vec3, source: Vec3| {
-        let to = source - p;
-        let length = to.length();
-        length > eps && scene.wide.any_hit(Ray::new(p, to), 1.0 - (2.0 * eps / length).max(DEPTH_EPS))
-    };
+    let occluded = occlusion(scene);
     points
         .par_iter()
         .map(|&(p, n)| {
@@ -108,6 +105,17 @@ pub fn gather_on_cpu(
             if options.hierarchy { volumes.gather(q, n, occluded) } else { volumes.gather_linear(q, n, occluded) }
         })
         .collect()
+}
+
+/// Second-order shadows: whether a shadow ray from a receiver point to a scatterer's source point
+/// is blocked (stopping short of the source).
+fn occlusion(scene: &Scene) -> impl Fn(Vec3, Vec3) -> bool + Sync + '_ {
+    let eps = shading_eps(scene);
+    move |p: Vec3, source: Vec3| {
+        let to = source - p;
+        let length = to.length();
+        length > eps && scene.wide.any_hit(Ray::new(p, to), 1.0 - (2.0 * eps / length).max(DEPTH_EPS))
+    }
 }
 
 /// The scene's lights must all be point lights (002 traces beams from a point source).
@@ -225,32 +233,6 @@ fn direct(scene: &Scene, p: Vec3, n: Vec3, shadowed: u64, all_occluders: bool) -
     e
 }
 
-/// The gathers at `points` with the scattered irradiance averaged over the four points ±½·`texel`
-/// about each in its plane (the tent filter of a photon map's splats, by a 2 × 2 rule); shadow masks
-/// from the points themselves.
-fn filtered(
-    volumes: &LightVolumes,
-    points: &[(Vec3, Vec3)],
-    texel: f32,
-    gather: &Gather<'_>,
-) -> Result<Vec<Gathered>, String> {
-    let mut all = Vec::with_capacity(5 * points.len());
-    for &(p, n) in points {
-        let u = n.any_orthonormal_vector() * (0.5 * texel);
-        let v = n.cross(u);
-        all.extend([p, p + u + v, p + u - v, p - u + v, p - u - v].map(|q| (q, n)));
-    }
-    let gathered = gather(volumes, &all)?;
-    Ok(gathered
-        .chunks(5)
-        .map(|g| Gathered {
-            irradiance: g[1..].iter().map(|x| x.irradiance).sum::<Vec3>() / 4.0,
-            shadowed: g[0].shadowed,
-            tested: g.iter().map(|x| x.tested).sum(),
-        })
-        .collect())
-}
-
 /// Render `scene` by glossy light volumes on the CPU.
 pub fn render_glossy(scene: &Scene, options: &GlossyOptions) -> Result<(Image, GlossyStats), String> {
     let gather = |v: &LightVolumes, points: &[(Vec3, Vec3)]| Ok(gather_on_cpu(scene, v, points, options));
@@ -269,14 +251,22 @@ pub fn render_glossy_with(
     let start = Instant::now();
     let volumes = LightVolumes::new(scene, options.method, options.subdivide);
     let beam_seconds = start.elapsed().as_secs_f64();
+    let kernel = (options.filter > 0.0).then(|| PhotonKernel::new(scene, options.filter));
     let totals = std::sync::Mutex::new((0.0f64, 0u64, 0u64));
     let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
         let at: Vec<(Vec3, Vec3)> = points.iter().map(|s| (s.p, facing(scene, s.prim, s.d))).collect();
         let t = Instant::now();
-        let gathered = if options.filter > 0.0 {
-            filtered(&volumes, &at, options.filter, gather)?
-        } else {
-            gather(&volumes, &at)?
+        let gathered = match &kernel {
+            Some(kernel) => {
+                let (eps, occluded) = (shading_eps(scene), occlusion(scene));
+                let occluded: Occluded<'_> = if options.second_order { Some(&occluded) } else { None };
+                points
+                    .par_iter()
+                    .zip(&at)
+                    .map(|(s, &(p, n))| kernel.gather(&volumes, s.prim, (p, p + n * eps, n), occluded))
+                    .collect()
+            }
+            None => gather(&volumes, &at)?,
         };
         if let Ok(mut totals) = totals.lock() {
             totals.0 += t.elapsed().as_secs_f64();
