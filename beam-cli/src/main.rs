@@ -99,6 +99,10 @@ enum Command {
         /// Leave out second-order shadows (`--method glossy`), as 002 does.
         #[arg(long)]
         no_second_order: bool,
+        /// Read the scattered light through the kernel of `glossy-reference`'s photon map (`--method
+        /// glossy`, CPU), so the two estimate the same image: for comparisons with it.
+        #[arg(long)]
+        photon_kernel: bool,
         /// Photons per point light of the references' caustics (`nonlinear-reference`,
         /// `glossy-reference`).
         #[arg(long, default_value_t = 4_000_000)]
@@ -267,6 +271,7 @@ fn main() -> ExitCode {
             linear_gather,
             subdivide,
             no_second_order,
+            photon_kernel,
             photons,
             width,
             height,
@@ -288,6 +293,7 @@ fn main() -> ExitCode {
             linear_gather,
             subdivide,
             second_order: !no_second_order,
+            photon_kernel,
             photons,
             width,
             height,

@@ -1,6 +1,8 @@
 //! `beam render` and `beam compare`.
 
-use beam_cpu::glossy::{GlossyOptions, LightVolumes, render_glossy, render_glossy_reference, render_glossy_with};
+use beam_cpu::glossy::{
+    GlossyOptions, LightVolumes, photon_texel, render_glossy, render_glossy_reference, render_glossy_with,
+};
 use beam_cpu::nonlinear::{
     BeamRenderer, CpuBeams, Degree, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
 };
@@ -29,6 +31,7 @@ pub struct RenderArgs<'a> {
     pub linear_gather: bool,
     pub subdivide: u32,
     pub second_order: bool,
+    pub photon_kernel: bool,
     pub photons: u64,
     pub width: Option<u32>,
     pub height: Option<u32>,
@@ -197,12 +200,16 @@ fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Resu
         hierarchy: !a.linear_gather,
         second_order: a.second_order,
         subdivide: a.subdivide,
+        filter: if a.photon_kernel { photon_texel(scene) } else { 0.0 },
         ..GlossyOptions::new(width, height)
     };
     let (image, stats) = match &gpu {
         Some(g) => {
-            if a.linear_gather {
-                return Err("the GPU gather walks the cone hierarchy (drop --linear-gather)".into());
+            if a.linear_gather || a.photon_kernel {
+                return Err(
+                    "the GPU gather walks the cone hierarchy at each point (drop --linear-gather and --photon-kernel)"
+                        .into(),
+                );
             }
             let gather = beam_gpu::glossy::GpuGather::new(g, scene)?;
             let run = |v: &LightVolumes, points: &[(Vec3, Vec3)]| gather.gather(g, v, points, &options);

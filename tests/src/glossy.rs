@@ -204,13 +204,15 @@ fn ancestors(tree: &ConeTree, i: usize) -> Vec<usize> {
 
 /// Beam images of the three built-ins (96², exact Gaussian volumes, second-order shadows, read
 /// through the photon map's kernel) against the photon-traced ground truth (16 M photons, the same
-/// micro-facet model): PSNR at least 26 dB
-/// (sRGB) each, and the scattered light they put on the receivers the eye sees within 10%. The
-/// photon run's own noise is stated (the PSNR of a second, independent 16 M-photon run).
+/// micro-facet model): PSNR at least 45 dB on the ring (39.7 before beams were clipped to the part
+/// of their scatterer the light reaches), 30 dB on the pool (bounded by the photons' own noise),
+/// 38 dB on the stained glass (sRGB), and the scattered light they put on the receivers the eye
+/// sees within 10%. The photon run's own noise is stated (the PSNR of a second, independent
+/// 16 M-photon run).
 pub fn glossy_beams_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut notes = Vec::new();
     let (w, h) = (96, 96);
-    for name in SCENES {
+    for (name, least) in SCENES.into_iter().zip([45.0, 30.0, 38.0]) {
         let scene = scene::builtin(name)?;
         // Read through the photon map's kernel, so that both estimate the same image.
         let options = GlossyOptions { filter: photon_texel(&scene), ..GlossyOptions::new(w, h) };
@@ -221,8 +223,11 @@ pub fn glossy_beams_match_photon_tracing(_: Backend, _: &Config) -> Result<Outco
         let noise = difference(&again, &reference)?;
         let sum = |i: &beam_cpu::render::Image| i.pixels.iter().map(|p| f64::from(p.x + p.y + p.z)).sum::<f64>();
         let balance = sum(&beams) / sum(&reference);
-        if d.psnr < 26.0 || (balance - 1.0).abs() > 0.1 {
-            return Err(format!("{name}: beams vs photons {:.1} dB, radiance ratio {balance:.3}", d.psnr));
+        if d.psnr < least || (balance - 1.0).abs() > 0.1 {
+            return Err(format!(
+                "{name}: beams vs photons {:.1} dB (least {least}), radiance ratio {balance:.3}",
+                d.psnr
+            ));
         }
         notes.push(format!("{name} {:.1} dB (photon noise {:.1} dB), radiance ratio {balance:.3}", d.psnr, noise.psnr));
     }

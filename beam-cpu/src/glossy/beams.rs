@@ -4,11 +4,11 @@
 //! the flux `Φs = I·Ω` of the light's solid angle through the triangle; and a negative shadow beam
 //! (the light rays themselves) behind every scatterer triangle for first-order shadows.
 
-use crate::render::{dielectric, reflect};
+use crate::render::{DEPTH_EPS, dielectric, reflect, shading_eps};
 use crate::scene::{Light, Material, Scene};
-use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use beam_math::glossy::{LightBeam, solid_angle};
+use beam_math::{Ray, Triangle};
 use rayon::prelude::*;
 
 /// How a scatterer turns the light (002 §1.2: specular micro-facet materials).
@@ -80,8 +80,10 @@ fn vertex_normals(scene: &Scene, prim: u32) -> [Vec3; 3] {
 /// light and every scatterer triangle, a shadow beam always, and its scattered beams when the light
 /// reaches its front (thin panes: either side), a curved triangle (vertex normals apart) split into
 /// `subdivide²` sub-triangles whose vertex normals interpolate its own (the micro-polygon step of
-/// 002 §4.5: the beams then follow the smooth surface the normals stand for). Degenerate triangles (no solid angle, or a
-/// vertex at the light) are skipped and counted.
+/// 002 §4.5: the beams then follow the smooth surface the normals stand for). Beams are clipped to
+/// the part of their scatterer that the light reaches (shadow rays from the light; sub-triangles
+/// across a shadow's edge halved [`LIT_DEPTH`] times), which 002 leaves out. Degenerate triangles
+/// (no solid angle, or a vertex at the light) are skipped and counted.
 #[must_use]
 pub fn trace_light_beams(scene: &Scene, subdivide: u32) -> (Vec<GlossyBeam>, u64) {
     let lights: Vec<(Vec3, Vec3)> = point_lights(scene).collect();
@@ -118,6 +120,27 @@ fn sub_triangles(k: u32) -> impl Iterator<Item = [Vec3; 3]> {
     })
 }
 
+/// How many times a sub-triangle that the light reaches in part is halved along its edges.
+const LIT_DEPTH: u32 = 3;
+
+/// The parts of the (sub-)triangle `corners` (barycentric in its scatterer) that the light
+/// reaches, by `lit`: whole when it reaches its three vertices and its centroid, dropped when it
+/// reaches none of them, else split at its edge midpoints into four, `depth` more times (a part
+/// at the last level kept when the light reaches its centroid).
+fn lit_parts(corners: [Vec3; 3], depth: u32, lit: &impl Fn(Vec3) -> bool, out: &mut Vec<[Vec3; 3]>) {
+    let [a, b, c] = corners;
+    let centroid = lit((a + b + c) / 3.0);
+    let count = corners.iter().filter(|&&w| lit(w)).count() + usize::from(centroid);
+    if count == 4 || (depth == 0 && centroid) {
+        out.push(corners);
+    } else if count > 0 && depth > 0 {
+        let (ab, bc, ca) = ((a + b) / 2.0, (b + c) / 2.0, (c + a) / 2.0);
+        for part in [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]] {
+            lit_parts(part, depth - 1, lit, out);
+        }
+    }
+}
+
 /// The beams of scatterer `prim` lit by a point light (position, intensity, index); `None` when
 /// degenerate.
 fn beams_of(scene: &Scene, prim: u32, (light, intensity, index): (Vec3, Vec3, u32), k: u32) -> Option<Vec<GlossyBeam>> {
@@ -145,8 +168,18 @@ fn beams_of(scene: &Scene, prim: u32, (light, intensity, index): (Vec3, Vec3, u3
     // Vertex normals against the incoming light; a flat triangle (normals within 1.4e-3 rad) is not split.
     let normals = vertex_normals(scene, prim).map(|n| if front { n } else { -n });
     let flat = normals.iter().all(|n| n.dot(normals[0]) > 0.999_999);
+    let at = |w: Vec3| tri.v[0] * w.x + tri.v[1] * w.y + tri.v[2] * w.z;
+    // Whether the light reaches the scatterer's point at barycentric `w` (offset to the lit side).
+    let toward = if front { g } else { -g } * shading_eps(scene);
+    let lit = |w: Vec3| {
+        let o = at(w) + toward;
+        !scene.wide.any_hit(Ray::new(light, o - light), 1.0 - DEPTH_EPS)
+    };
+    let mut parts = Vec::new();
     for corners in sub_triangles(if flat { 1 } else { k }) {
-        let at = |w: Vec3| tri.v[0] * w.x + tri.v[1] * w.y + tri.v[2] * w.z;
+        lit_parts(corners, LIT_DEPTH, &lit, &mut parts);
+    }
+    for corners in parts {
         let sub = Triangle { v: corners.map(at) };
         let omega = solid_angle(light, &sub);
         if !(omega > 0.0) {
