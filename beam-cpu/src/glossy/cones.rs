@@ -38,11 +38,13 @@ pub struct BoundingCone {
     pub cos: f32,
     /// Half-angle (radians).
     pub angle: f32,
+    /// Its sine.
+    pub sin: f32,
 }
 
 impl BoundingCone {
     /// The cone holding every point.
-    pub const ALL: Self = Self { apex: Vec3::ZERO, axis: Vec3::Z, cos: -1.0, angle: core::f32::consts::PI };
+    pub const ALL: Self = Self { apex: Vec3::ZERO, axis: Vec3::Z, cos: -1.0, angle: core::f32::consts::PI, sin: 0.0 };
 
     /// True when it holds every point.
     #[must_use]
@@ -58,7 +60,7 @@ impl BoundingCone {
             return Self::ALL;
         }
         let back = radius * (1.0 + SLACK) / angle.sin() + SLACK * radius;
-        Self { apex: centre - axis * back, axis, cos: angle.cos(), angle }
+        Self { apex: centre - axis * back, axis, cos: angle.cos(), angle, sin: angle.sin() }
     }
 
     /// The bounding cone of `beam`'s support (see the module doc), glossy beams widened by
@@ -97,7 +99,8 @@ impl BoundingCone {
             })
             .fold(0.0, f32::max);
         let extent = cones.iter().map(|c| (c.apex - centre).length()).fold(0.0, f32::max);
-        Self { apex: centre - axis * (back * (1.0 + SLACK) + SLACK * extent), axis, cos: angle.cos(), angle }
+        let apex = centre - axis * (back * (1.0 + SLACK) + SLACK * extent);
+        Self { apex, axis, cos: angle.cos(), angle, sin: angle.sin() }
     }
 
     /// True when `p` lies in the cone.
@@ -115,7 +118,7 @@ impl BoundingCone {
         if r <= 0.0 || self.is_unbounded() {
             return self.contains(p);
         }
-        let q = p - (self.apex - self.axis * (r / self.angle.sin()));
+        let q = p - (self.apex - self.axis * (r / self.sin));
         q.dot(self.axis) >= q.length() * self.cos
     }
 }

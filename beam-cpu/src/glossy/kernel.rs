@@ -10,7 +10,6 @@
 use super::gather::{Gathered, LightVolumes, Occluded, covers, source_point};
 use crate::render::IrradianceMap;
 use crate::scene::Scene;
-use beam_math::collide::ConvexPolygon;
 use beam_math::glam::{Vec2, Vec3};
 
 /// A photon map's layout: its planes' grids and which plane each receiver triangle reads.
@@ -21,18 +20,55 @@ pub struct PhotonKernel {
     grids: Vec<(Vec3, [Vec3; 2], [u32; 2])>,
 }
 
-/// `∫ (Σ wₖ·(1 − |x − cₖ|)(1 − |y − cₖ|)) dA` over a convex polygon inside one unit cell whose corners
-/// `cₖ` carry weights `wₖ`: fan triangles, midpoint rule.
-fn integrate(poly: &[Vec2], corners: &[(Vec2, f32); 4]) -> f32 {
-    let f =
-        |x: Vec2| corners.iter().map(|&(c, w)| w * (1.0 - (x.x - c.x).abs()) * (1.0 - (x.y - c.y).abs())).sum::<f32>();
-    let mut sum = 0.0;
-    for k in 1..poly.len().saturating_sub(1) {
-        let (a, b, c) = (poly[0], poly[k], poly[k + 1]);
-        let area = 0.5 * (b - a).perp_dot(c - a).abs();
-        sum += area * (f(0.5 * (a + b)) + f(0.5 * (b + c)) + f(0.5 * (c + a))) / 3.0;
+/// A convex polygon of at most 7 vertices: a triangle clipped by up to four axis-aligned lines.
+#[derive(Clone, Copy)]
+struct Piece {
+    v: [Vec2; 8],
+    n: usize,
+}
+
+impl Piece {
+    fn triangle(t: [Vec2; 3]) -> Self {
+        let mut v = [Vec2::ZERO; 8];
+        v[..3].copy_from_slice(&t);
+        Self { v, n: 3 }
     }
-    sum
+
+    /// The part where coordinate `axis` is at most `bound` (`below`), or at least it
+    /// (Sutherland–Hodgman against one line).
+    fn clip(&self, axis: usize, bound: f32, below: bool) -> Self {
+        let inside = |p: Vec2| if below { p[axis] <= bound } else { p[axis] >= bound };
+        let mut out = Self { v: [Vec2::ZERO; 8], n: 0 };
+        for i in 0..self.n {
+            let (a, b) = (self.v[i], self.v[(i + 1) % self.n]);
+            let (ia, ib) = (inside(a), inside(b));
+            if ia && out.n < 8 {
+                out.v[out.n] = a;
+                out.n += 1;
+            }
+            if ia != ib && out.n < 8 {
+                out.v[out.n] = a + (b - a) * ((bound - a[axis]) / (b[axis] - a[axis]));
+                out.n += 1;
+            }
+        }
+        out
+    }
+
+    /// `∫ (Σ wₖ·(1 − |x − cₖ|)(1 − |y − cₖ|)) dA` over the piece, inside one unit cell whose
+    /// corners `cₖ` carry weights `wₖ`: fan triangles, midpoint rule (exact for degree 2).
+    fn integrate(&self, corners: &[(Vec2, f32); 4]) -> f32 {
+        let f = |x: Vec2| {
+            corners.iter().map(|&(c, w)| w * (1.0 - (x.x - c.x).abs()) * (1.0 - (x.y - c.y).abs())).sum::<f32>()
+        };
+        let p = &self.v[..self.n];
+        let mut sum = 0.0;
+        for k in 1..p.len().saturating_sub(1) {
+            let (a, b, c) = (p[0], p[k], p[k + 1]);
+            let area = 0.5 * (b - a).perp_dot(c - a).abs();
+            sum += area * (f(0.5 * (a + b)) + f(0.5 * (b + c)) + f(0.5 * (c + a))) / 3.0;
+        }
+        sum
+    }
 }
 
 impl PhotonKernel {
@@ -116,25 +152,40 @@ impl PhotonKernel {
                 }
                 return;
             }
-            let Ok(tri) = ConvexPolygon::<8>::from_slice(&foot) else { return };
+            // The kernel's support is cells j0 − 1 ..= j0 + 1 (cell i spans [i, i + 1]): those the
+            // footprint's bounds meet, column strips first, each clipped only where it crosses.
+            let (lo, hi) = (foot[0].min(foot[1]).min(foot[2]), foot[0].max(foot[1]).max(foot[2]));
+            let (first, last) = (lo.floor().max(j0 - Vec2::ONE), hi.floor().min(j0 + Vec2::ONE));
+            let tri = Piece::triangle(foot);
             let mut sum = 0.0;
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let cell = j0 + Vec2::new(dx as f32, dy as f32);
-                    let corners = [Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE].map(|o| (cell + o, weight(cell + o)));
-                    if corners.iter().all(|k| k.1 == 0.0) {
-                        continue;
-                    }
-                    let mut piece = Ok(tri);
-                    for (a, normal) in
-                        [(cell, -Vec2::X), (cell, -Vec2::Y), (cell + Vec2::ONE, Vec2::X), (cell + Vec2::ONE, Vec2::Y)]
-                    {
-                        piece = piece.and_then(|poly| poly.clip(a, normal));
-                    }
-                    if let Ok(piece) = piece {
-                        sum += integrate(piece.vertices(), &corners);
-                    }
+            let mut x = first.x;
+            while x <= last.x {
+                let mut strip = tri;
+                if lo.x < x {
+                    strip = strip.clip(0, x, false);
                 }
+                if hi.x > x + 1.0 {
+                    strip = strip.clip(0, x + 1.0, true);
+                }
+                let mut y = first.y;
+                while y <= last.y && strip.n >= 3 {
+                    let cell = Vec2::new(x, y);
+                    let corners = [Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE].map(|o| (cell + o, weight(cell + o)));
+                    if corners.iter().any(|k| k.1 > 0.0) {
+                        let mut piece = strip;
+                        if lo.y < y {
+                            piece = piece.clip(1, y, false);
+                        }
+                        if hi.y > y + 1.0 {
+                            piece = piece.clip(1, y + 1.0, true);
+                        }
+                        if piece.n >= 3 {
+                            sum += piece.integrate(&corners);
+                        }
+                    }
+                    y += 1.0;
+                }
+                x += 1.0;
             }
             if sum > 0.0 && !blocked(l, q, occluded) {
                 g.irradiance += b.power * (l.flux * sum / (area * t2));
