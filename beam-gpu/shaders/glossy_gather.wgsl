@@ -167,16 +167,19 @@ fn normal_cdf(x: f32) -> f32 {
     return select(1.0 - 0.5 * erfc, 0.5 * erfc, x < 0.0);
 }
 
-// Owen's T(h, a) for h ≥ 0 and 0 ≤ a ≤ 1: composite five-point Gauss–Legendre on 8 panels.
+// Owen's T(h, a) for h ≥ 0 and 0 ≤ a ≤ 1: composite five-point Gauss–Legendre on up to 3 panels
+// over the part of [0, a] where the integrand is not negligible (as beam_math::glossy::owens_t).
 fn owens_t_small(h: f32, a: f32) -> f32 {
     if a == 0.0 || h > 40.0 {
         return 0.0;
     }
     let nodes = array<f32, 5>(0.0, -0.5384693, 0.5384693, -0.9061798, 0.9061798);
     let weights = array<f32, 5>(0.5688889, 0.4786287, 0.4786287, 0.2369269, 0.2369269);
-    let width = a / 8.0;
+    let upper = select(a, 8.95 / h, h * a > 8.95);
+    let panels = max(i32(ceil(max(h * upper / 3.0, 3.0 * upper))), 1);
+    let width = upper / f32(panels);
     var sum = 0.0;
-    for (var p = 0; p < 8; p++) {
+    for (var p = 0; p < panels; p++) {
         let mid = (f32(p) + 0.5) * width;
         for (var k = 0; k < 5; k++) {
             let t = mid + 0.5 * width * nodes[k];
