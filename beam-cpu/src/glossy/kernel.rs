@@ -20,7 +20,8 @@ pub struct PhotonKernel {
     grids: Vec<(Vec3, [Vec3; 2], [u32; 2])>,
 }
 
-/// A convex polygon of at most 7 vertices: a triangle clipped by up to four axis-aligned lines.
+/// A convex polygon of at most 7 vertices: a triangle clipped by up to four axis-aligned lines (the
+/// kernel's inner loop; `ConvexPolygon::clip` is general and keeps both halves).
 #[derive(Clone, Copy)]
 struct Piece {
     v: [Vec2; 8],
