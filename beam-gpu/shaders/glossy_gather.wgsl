@@ -263,10 +263,17 @@ fn beam_irradiance(b: LightBeam, f: vec3<f32>, n: vec3<f32>) -> f32 {
     if !(a > 0.0) {
         return 0.0;
     }
-    let e = b.flux / a * max(dot(-t.normal, n), 0.0);
     if b.sigma <= 0.0 {
-        return select(0.0, e, in_beam(t, f));
+        return select(0.0, b.flux / a * max(dot(-t.normal, n), 0.0), in_beam(t, f));
     }
+    // The cosine along the light's arrival from its source point (beam_math's glossy_irradiance).
+    let s = source_point(b, f);
+    var arrival = t.normal;
+    if s.w > 0.0 {
+        let to_f = f - s.xyz;
+        arrival = select(vec3<f32>(0.0), normalize(to_f), dot(to_f, to_f) > 0.0);
+    }
+    let e = b.flux / a * max(dot(-arrival, n), 0.0);
     // Any orthonormal frame of the flux plane: the volume does not depend on it.
     let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(t.normal.x) > 0.9);
     let u = normalize(cross(t.normal, helper));
@@ -277,7 +284,7 @@ fn beam_irradiance(b: LightBeam, f: vec3<f32>, n: vec3<f32>) -> f32 {
     return e * min(gaussian_volume(da, db, dc, b.sigma), 1.0);
 }
 
-// The scatterer point whose light reaches f (beam_cpu::glossy::source_point).
+// The scatterer point whose light reaches f (beam_math's LightBeam::source_point).
 fn source_point(b: LightBeam, f: vec3<f32>) -> vec4<f32> {
     let t = flux_triangle(b, f);
     if !t.ok {

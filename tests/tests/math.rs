@@ -17,6 +17,7 @@ beam_conformance::conformance_tests!(
     polybeam_split_is_exact,
     gaussian_volume_vs_integration,
     gaussian_volume_continuous,
+    glossy_irradiance_vs_integration,
     flux_triangle_vs_rays,
     projected_area_vs_sampling,
 );

@@ -48,15 +48,6 @@ pub fn covers(b: &LightBeam, p: Vec3) -> bool {
 /// blocked: second-order shadows, which 002 leaves out (its §3.2); `None` leaves them out too.
 pub type Occluded<'a> = Option<&'a (dyn Fn(Vec3, Vec3) -> bool + Sync)>;
 
-/// The point of `b`'s scatterer whose light reaches `p`: the scatterer vertices weighted by `p`'s
-/// barycentric coordinates in the flux triangle (clamped to it for points beside the beam).
-#[must_use]
-pub fn source_point(b: &LightBeam, p: Vec3) -> Option<Vec3> {
-    let w = b.flux_triangle(b.flux_plane(p)?)?.barycentric(p)?.max(Vec3::ZERO);
-    let w = w / (w.x + w.y + w.z).max(f32::MIN_POSITIVE);
-    Some(b.origins[0] * w.x + b.origins[1] * w.y + b.origins[2] * w.z)
-}
-
 impl LightVolumes {
     /// Trace the beams of `scene` (002 §3.1; scatterers split into `subdivide²` sub-triangles) and
     /// build their cone hierarchy.
@@ -89,7 +80,7 @@ impl LightVolumes {
         } else {
             b.beam.specular_irradiance(p, n)
         };
-        if e != 0.0 && !occluded.is_some_and(|o| source_point(&b.beam, p).is_some_and(|s| o(p, s))) {
+        if e != 0.0 && !occluded.is_some_and(|o| b.beam.source_point(p).is_some_and(|s| o(p, s))) {
             g.irradiance += b.power * e;
         }
     }

@@ -7,7 +7,7 @@
 //! kernel's support and the bilinear kernel integrated on the pieces by the midpoint rule (exact for
 //! degree 2). Glossy beams, smooth already, are sampled at `p`.
 
-use super::gather::{Gathered, LightVolumes, Occluded, covers, source_point};
+use super::gather::{Gathered, LightVolumes, Occluded, covers};
 use crate::render::IrradianceMap;
 use crate::scene::Scene;
 use beam_math::glam::{Vec2, Vec3};
@@ -198,5 +198,5 @@ impl PhotonKernel {
 
 /// True when `occluded` says the light from `b`'s source point does not reach `q`.
 fn blocked(b: &beam_math::glossy::LightBeam, q: Vec3, occluded: Occluded<'_>) -> bool {
-    occluded.is_some_and(|o| source_point(b, q).is_some_and(|s| o(q, s)))
+    occluded.is_some_and(|o| b.source_point(q).is_some_and(|s| o(q, s)))
 }

@@ -13,7 +13,7 @@ mod render;
 
 pub use beams::{GlossyBeam, Scatter, is_scatterer, point_lights, scatterings, trace_light_beams};
 pub use cones::{BoundingCone, ConeNode, ConeTree, GLOSSY_REACH};
-pub use gather::{Gathered, LightVolumes, Occluded, covers, source_point};
+pub use gather::{Gathered, LightVolumes, Occluded, covers};
 pub use kernel::PhotonKernel;
 pub use photons::{PhotonMaps, glossy_photons, photon_texel};
 pub use render::{

@@ -36,7 +36,8 @@ pub fn angular_domain(beam: &LightBeam, flux: &Triangle, f: Vec3, frame: (Vec3, 
 
 impl LightBeam {
     /// Glossy irradiance at fragment `f` with unit normal `normal` for micro-facet standard
-    /// deviation `sigma` (radians): `E = Φs/A⊥ · cos θ · min(P_E, 1)` (002 eq. 3, Figs. 11–12).
+    /// deviation `sigma` (radians): `E = Φs/A⊥ · cos θ · min(P_E, 1)` (002 eq. 3, Figs. 11–12), `θ`
+    /// between the receiver's normal and the light's arrival from its [`Self::source_point`].
     /// With [`VolumeMethod::Tessellated`] the split point `D` is found as in 002 §4.3 step 2–3: on the
     /// flux-triangle edge facing the fragment, `D_F` where the line from the opposite vertex through
     /// `F` crosses it; the edge parameter `s` gives `D_W` on the scatterer and `S_D = D_F − D_W`,
@@ -60,12 +61,29 @@ impl LightBeam {
         let u = n.any_orthonormal_vector();
         let frame = (u, n.cross(u));
         let [a, b, c] = angular_domain(self, &flux, f, frame);
-        let cos_theta = (-n).dot(normal).max(0.0);
+        // The cosine along the light's arrival from its source point (002 takes the flux plane's
+        // normal, which loses light turned towards a receiver the beam itself grazes).
+        let arrival = self.source_in(&flux, f).map_or(n, |s| (f - s).normalize_or_zero());
+        let cos_theta = (-arrival).dot(normal).max(0.0);
         let p_e = match method {
             VolumeMethod::Exact => gaussian_volume(a, b, c, sigma),
             VolumeMethod::Tessellated => self.tessellated_volume(&flux, f, frame, [a, b, c], sigma),
         };
         super::flux::specular_irradiance(self.flux, area, cos_theta) * p_e.min(1.0)
+    }
+
+    /// The scatterer point whose light reaches `f`: the scatterer vertices weighted by `f`'s
+    /// barycentric coordinates in the flux triangle (clamped to it for points beside the beam).
+    #[must_use]
+    pub fn source_point(&self, f: Vec3) -> Option<Vec3> {
+        self.source_in(&self.flux_triangle(self.flux_plane(f)?)?, f)
+    }
+
+    /// [`Self::source_point`] given the flux triangle through `f`.
+    fn source_in(&self, flux: &Triangle, f: Vec3) -> Option<Vec3> {
+        let w = flux.barycentric(f)?.max(Vec3::ZERO);
+        let w = w / (w.x + w.y + w.z).max(f32::MIN_POSITIVE);
+        Some(self.origins[0] * w.x + self.origins[1] * w.y + self.origins[2] * w.z)
     }
 
     fn tessellated_volume(&self, flux: &Triangle, f: Vec3, frame: (Vec3, Vec3), abc: [Vec2; 3], sigma: f32) -> f32 {

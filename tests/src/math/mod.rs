@@ -96,6 +96,12 @@ pub fn properties() -> Vec<Property> {
             body: glossy::gaussian_volume_continuous,
         },
         Property {
+            name: "glossy_irradiance_vs_integration",
+            cites: "002 §4.2 eq. 3",
+            backends: MATH,
+            body: glossy::glossy_irradiance_vs_integration,
+        },
+        Property {
             name: "flux_triangle_vs_rays",
             cites: "002 §3.1",
             backends: MATH,
