@@ -48,6 +48,11 @@ pub fn covers(b: &LightBeam, p: Vec3) -> bool {
 /// blocked: second-order shadows, which 002 leaves out (its §3.2); `None` leaves them out too.
 pub type Occluded<'a> = Option<&'a (dyn Fn(Vec3, Vec3) -> bool + Sync)>;
 
+/// True when `occluded` says the light from `b`'s source point does not reach `p`.
+pub(super) fn blocked(b: &LightBeam, p: Vec3, occluded: Occluded<'_>) -> bool {
+    occluded.is_some_and(|o| b.source_point(p).is_some_and(|s| o(p, s)))
+}
+
 impl LightVolumes {
     /// Trace the beams of `scene` (002 §3.1; scatterers split into `subdivide²` sub-triangles) and
     /// build their cone hierarchy.
@@ -60,8 +65,8 @@ impl LightVolumes {
 
     /// Add beam `i`'s share at point `p` with unit normal `n` to `g`; a scattered beam adds nothing
     /// where `occluded(p, source)` says its light is blocked on the way from its source point
-    /// ([`source_point`]).
-    fn add(&self, i: usize, p: Vec3, n: Vec3, occluded: Occluded<'_>, g: &mut Gathered) {
+    /// ([`LightBeam::source_point`]).
+    pub(super) fn add(&self, i: usize, p: Vec3, n: Vec3, occluded: Occluded<'_>, g: &mut Gathered) {
         let b = &self.beams[i];
         g.tested += 1;
         // The beam's support: its own bounding cone (widened by GLOSSY_REACH·σ for glossy beams;
@@ -80,7 +85,7 @@ impl LightVolumes {
         } else {
             b.beam.specular_irradiance(p, n)
         };
-        if e != 0.0 && !occluded.is_some_and(|o| b.beam.source_point(p).is_some_and(|s| o(p, s))) {
+        if e != 0.0 && !blocked(&b.beam, p, occluded) {
             g.irradiance += b.power * e;
         }
     }

@@ -7,7 +7,7 @@
 //! kernel's support and the bilinear kernel integrated on the pieces by the midpoint rule (exact for
 //! degree 2). Glossy beams, smooth already, are sampled at `p`.
 
-use super::gather::{Gathered, LightVolumes, Occluded, covers};
+use super::gather::{Gathered, LightVolumes, Occluded, blocked};
 use crate::render::IrradianceMap;
 use crate::scene::Scene;
 use beam_math::glam::{Vec2, Vec3};
@@ -19,6 +19,9 @@ pub struct PhotonKernel {
     /// Per plane: texel-centre origin, axes scaled to texels, size.
     grids: Vec<(Vec3, [Vec3; 2], [u32; 2])>,
 }
+
+/// The corners of a unit cell, from its lower one.
+const CORNERS: [Vec2; 4] = [Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE];
 
 /// A convex polygon of at most 7 vertices: a triangle clipped by up to four axis-aligned lines (the
 /// kernel's inner loop; `ConvexPolygon::clip` is general and keeps both halves).
@@ -104,23 +107,23 @@ impl PhotonKernel {
             let inside = j.x >= 0.0 && j.y >= 0.0 && j.x < size[0] as f32 && j.y < size[1] as f32;
             if inside { (1.0 - (c.x - j.x).abs()).max(0.0) * (1.0 - (c.y - j.y).abs()).max(0.0) } else { 0.0 }
         };
+        // The kernel's support, cells j0 − 1 ..= j0 + 1 (cell i spans [i, i + 1]), each with its
+        // corners' weights, once per point.
+        let cells: [[[(Vec2, f32); 4]; 3]; 3] = core::array::from_fn(|dy| {
+            core::array::from_fn(|dx| {
+                let cell = j0 + Vec2::new(dx as f32 - 1.0, dy as f32 - 1.0);
+                CORNERS.map(|o| (cell + o, weight(cell + o)))
+            })
+        });
         let mut g = Gathered::default();
         let reach = 2.0 * core::f32::consts::SQRT_2 * self.map.texel;
         volumes.tree.for_each_near(q, reach, |i| {
             let b = &volumes.beams[i];
-            g.tested += 1;
             if b.shadow || b.sigma > 0.0 {
-                if volumes.tree.cones[i].contains(q) {
-                    if b.shadow {
-                        if covers(&b.beam, q) {
-                            g.shadowed |= 1 << b.light.min(63);
-                        }
-                    } else if !blocked(&b.beam, q, occluded) {
-                        g.irradiance += b.power * b.beam.glossy_irradiance(q, n, b.sigma, volumes.method);
-                    }
-                }
+                volumes.add(i, q, n, occluded, &mut g);
                 return;
             }
+            g.tested += 1;
             // The footprint on the receiver's plane, light arriving on the viewer's side.
             let l = &b.beam;
             if (l.dirs[0] + l.dirs[1] + l.dirs[2]).dot(n) >= 0.0 {
@@ -143,18 +146,17 @@ impl PhotonKernel {
             if area < 1e-3 {
                 // A sliver (near a caustic): its flux as a point mass at its centroid.
                 let m = (foot[0] + foot[1] + foot[2]) / 3.0;
-                let k: f32 = [Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE]
-                    .map(|o| j0 + o)
+                let k: f32 = cells[1][1]
                     .iter()
-                    .map(|&j| weight(j) * (1.0 - (m.x - j.x).abs()).max(0.0) * (1.0 - (m.y - j.y).abs()).max(0.0))
+                    .map(|&(j, w)| w * (1.0 - (m.x - j.x).abs()).max(0.0) * (1.0 - (m.y - j.y).abs()).max(0.0))
                     .sum();
                 if k > 0.0 && !blocked(l, q, occluded) {
                     g.irradiance += b.power * (l.flux * k / t2);
                 }
                 return;
             }
-            // The kernel's support is cells j0 − 1 ..= j0 + 1 (cell i spans [i, i + 1]): those the
-            // footprint's bounds meet, column strips first, each clipped only where it crosses.
+            // The kernel's cells the footprint's bounds meet, column strips first, each clipped only
+            // where it crosses.
             let (lo, hi) = (foot[0].min(foot[1]).min(foot[2]), foot[0].max(foot[1]).max(foot[2]));
             let (first, last) = (lo.floor().max(j0 - Vec2::ONE), hi.floor().min(j0 + Vec2::ONE));
             let tri = Piece::triangle(foot);
@@ -170,8 +172,7 @@ impl PhotonKernel {
                 }
                 let mut y = first.y;
                 while y <= last.y && strip.n >= 3 {
-                    let cell = Vec2::new(x, y);
-                    let corners = [Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE].map(|o| (cell + o, weight(cell + o)));
+                    let corners = &cells[(y - j0.y + 1.0) as usize][(x - j0.x + 1.0) as usize];
                     if corners.iter().any(|k| k.1 > 0.0) {
                         let mut piece = strip;
                         if lo.y < y {
@@ -181,7 +182,7 @@ impl PhotonKernel {
                             piece = piece.clip(1, y + 1.0, true);
                         }
                         if piece.n >= 3 {
-                            sum += piece.integrate(&corners);
+                            sum += piece.integrate(corners);
                         }
                     }
                     y += 1.0;
@@ -194,9 +195,4 @@ impl PhotonKernel {
         });
         g
     }
-}
-
-/// True when `occluded` says the light from `b`'s source point does not reach `q`.
-fn blocked(b: &beam_math::glossy::LightBeam, q: Vec3, occluded: Occluded<'_>) -> bool {
-    occluded.is_some_and(|o| b.source_point(q).is_some_and(|s| o(q, s)))
 }
