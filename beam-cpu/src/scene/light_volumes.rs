@@ -2,7 +2,7 @@
 //! cardioid, caustics under wavy water, and stained-glass windows of increasing roughness, each lit
 //! by a point light.
 
-use super::showcase::{GOLD, MIRROR, Tris, WATER, WHITE, add, camera, checker, materials, wall, wave};
+use super::showcase::{GOLD, MIRROR, Tris, WHITE, add, camera, checker, materials, pool, wall};
 use super::{Light, Material, Scene};
 use crate::mesh;
 use beam_math::glam::Vec3;
@@ -41,20 +41,7 @@ pub fn pool_caustics(n: u32) -> Scene {
     let mut tris = Tris::new();
     let (h, bed, rim) = (300.0f32, -150.0f32, 30.0f32);
     wall(&mut tris, Vec3::new(-h, bed, -h), Vec3::new(0.0, 0.0, 2.0 * h), Vec3::new(2.0 * h, 0.0, 0.0), WHITE);
-    for (corner, along) in [
-        (Vec3::new(-h, bed, -h), Vec3::new(2.0 * h, 0.0, 0.0)),
-        (Vec3::new(h, bed, -h), Vec3::new(0.0, 0.0, 2.0 * h)),
-        (Vec3::new(h, bed, h), Vec3::new(-2.0 * h, 0.0, 0.0)),
-        (Vec3::new(-h, bed, h), Vec3::new(0.0, 0.0, -2.0 * h)),
-    ] {
-        wall(&mut tris, corner, along, Vec3::new(0.0, rim - bed, 0.0), WHITE);
-    }
-    // u along z and v along x, so that ∂u × ∂v points up, out of the water.
-    let water = mesh::parametric(n, n, |u, v| {
-        let (x, z) = (h * (2.0 * v - 1.0), h * (2.0 * u - 1.0));
-        Vec3::new(x, wave(x, z), z)
-    });
-    add(&mut tris, &water, WATER);
+    pool(&mut tris, n, (h, bed, rim), WHITE);
     add(&mut tris, &mesh::sphere(Vec3::new(70.0, bed + 45.0, 40.0), 45.0, 12, 24), GOLD);
     let light = Light::Point { position: Vec3::new(60.0, 650.0, -60.0), intensity: Vec3::splat(1.2e6) };
     let camera = camera(Vec3::new(0.0, 560.0, -470.0), Vec3::new(0.0, -110.0, 40.0), 45.0);

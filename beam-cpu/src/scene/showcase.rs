@@ -220,6 +220,25 @@ fn teapot(base: Vec3, size: f32, n: u32) -> Mesh {
     m
 }
 
+/// A pool of half-width `h` from `bed` up to `rim`: four walls of `material` and, on top, a wavy
+/// water surface ([`wave`]) of `n × n × 2` triangles.
+pub(super) fn pool(tris: &mut Tris, n: u32, (h, bed, rim): (f32, f32, f32), material: u32) {
+    for (corner, along) in [
+        (Vec3::new(-h, bed, -h), Vec3::new(2.0 * h, 0.0, 0.0)),
+        (Vec3::new(h, bed, -h), Vec3::new(0.0, 0.0, 2.0 * h)),
+        (Vec3::new(h, bed, h), Vec3::new(-2.0 * h, 0.0, 0.0)),
+        (Vec3::new(-h, bed, h), Vec3::new(0.0, 0.0, -2.0 * h)),
+    ] {
+        wall(tris, corner, along, Vec3::new(0.0, rim - bed, 0.0), material);
+    }
+    // u along z and v along x, so that ∂u × ∂v points up, out of the water.
+    let water = mesh::parametric(n, n, |u, v| {
+        let (x, z) = (h * (2.0 * v - 1.0), h * (2.0 * u - 1.0));
+        Vec3::new(x, wave(x, z), z)
+    });
+    add(tris, &water, WATER);
+}
+
 /// The height of the wavy lake's surface over `(x, z)`: a sum of three sinusoids.
 pub(super) fn wave(x: f32, z: f32) -> f32 {
     7.0 * (0.021 * x + 0.4).sin() + 5.0 * (0.027 * z - 0.013 * x).sin() + 3.0 * (0.043 * (x + z) + 1.1).sin()
@@ -234,20 +253,7 @@ pub fn wavy_lake(n: u32) -> Scene {
     let mut tris = Tris::new();
     let (h, bed, rim) = (300.0f32, -150.0f32, 30.0f32);
     floor(&mut tris, Vec3::new(-h, bed, -h), 2.0 * h, 6);
-    for (corner, along) in [
-        (Vec3::new(-h, bed, -h), Vec3::new(2.0 * h, 0.0, 0.0)),
-        (Vec3::new(h, bed, -h), Vec3::new(0.0, 0.0, 2.0 * h)),
-        (Vec3::new(h, bed, h), Vec3::new(-2.0 * h, 0.0, 0.0)),
-        (Vec3::new(-h, bed, h), Vec3::new(0.0, 0.0, -2.0 * h)),
-    ] {
-        wall(&mut tris, corner, along, Vec3::new(0.0, rim - bed, 0.0), GREEN);
-    }
-    // u along z and v along x, so that ∂u × ∂v points up, out of the water.
-    let water = mesh::parametric(n, n, |u, v| {
-        let (x, z) = (h * (2.0 * v - 1.0), h * (2.0 * u - 1.0));
-        Vec3::new(x, wave(x, z), z)
-    });
-    add(&mut tris, &water, WATER);
+    pool(&mut tris, n, (h, bed, rim), GREEN);
     add(&mut tris, &mesh::sphere(Vec3::new(70.0, -95.0, 40.0), 45.0, 12, 24), GOLD);
     add(&mut tris, &mesh::cuboid(Vec3::new(-220.0, 60.0, 120.0), Vec3::new(-140.0, 140.0, 200.0)), RED);
     add(&mut tris, &mesh::cuboid(Vec3::new(-90.0, 230.0, -80.0), Vec3::new(30.0, 238.0, -30.0)), WHITE);
