@@ -63,6 +63,15 @@ impl LightVolumes {
         Self { beams, tree, lights: point_lights(scene).collect(), degenerate, method }
     }
 
+    /// The same lights' negative shadow beams alone, with their own cone hierarchy (for a gather that
+    /// takes the scattered beams elsewhere, as [`super::PhotonKernel::splat`] does).
+    #[must_use]
+    pub fn shadows(&self) -> Self {
+        let mut beams: Vec<GlossyBeam> = self.beams.iter().filter(|b| b.shadow).copied().collect();
+        let tree = ConeTree::build(&mut beams);
+        Self { beams, tree, lights: self.lights.clone(), degenerate: self.degenerate, method: self.method }
+    }
+
     /// Add beam `i`'s share at point `p` with unit normal `n` to `g`; a scattered beam adds nothing
     /// where `occluded(p, source)` says its light is blocked on the way from its source point
     /// ([`LightBeam::source_point`]).

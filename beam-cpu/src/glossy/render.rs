@@ -251,19 +251,29 @@ pub fn render_glossy_with(
     let start = Instant::now();
     let volumes = LightVolumes::new(scene, options.method, options.subdivide);
     let beam_seconds = start.elapsed().as_secs_f64();
-    let kernel = (options.filter > 0.0).then(|| PhotonKernel::new(scene, options.filter));
-    let totals = std::sync::Mutex::new((0.0f64, 0u64, 0u64));
+    // Through the photon map's kernel: the scattered beams splatted into the map once, the shadow
+    // beams still gathered per point.
+    let t = Instant::now();
+    let splatted = (options.filter > 0.0).then(|| {
+        let occluded = occlusion(scene);
+        let occluded: Occluded<'_> = if options.second_order { Some(&occluded) } else { None };
+        let (maps, tested) = PhotonKernel::new(scene, options.filter).splat(&volumes, occluded);
+        (maps, volumes.shadows(), tested)
+    });
+    let totals = std::sync::Mutex::new((t.elapsed().as_secs_f64(), 0u64, splatted.as_ref().map_or(0, |s| s.2)));
     let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
         let at: Vec<(Vec3, Vec3)> = points.iter().map(|s| (s.p, facing(scene, s.prim, s.d))).collect();
         let t = Instant::now();
-        let gathered = match &kernel {
-            Some(kernel) => {
-                let (eps, occluded) = (shading_eps(scene), occlusion(scene));
-                let occluded: Occluded<'_> = if options.second_order { Some(&occluded) } else { None };
+        let gathered = match &splatted {
+            Some((maps, shadows, _)) => {
+                let eps = shading_eps(scene);
                 points
                     .par_iter()
                     .zip(&at)
-                    .map(|(s, &(p, n))| kernel.gather(&volumes, s.prim, (p, p + n * eps, n), occluded))
+                    .map(|(s, &(p, n))| Gathered {
+                        irradiance: maps.irradiance(scene, s.prim, p, s.d),
+                        ..shadows.gather(p + n * eps, n, None)
+                    })
                     .collect()
             }
             None => gather(&volumes, &at)?,

@@ -107,6 +107,17 @@ impl IrradianceMap {
         true
     }
 
+    /// Add `flux` to texel `at` (column, row) of plane `plane` (an index in [`IrradianceMap::grids`]);
+    /// outside the grid it is dropped.
+    pub fn add_texel(&mut self, plane: usize, at: [usize; 2], flux: Vec3) {
+        if let Some(map) = self.maps.get_mut(plane)
+            && at[0] < map.size[0] as usize
+            && at[1] < map.size[1] as usize
+        {
+            map.flux[at[1] * map.size[0] as usize + at[0]] += flux;
+        }
+    }
+
     /// Irradiance (watts per unit area) at point `p` of triangle `prim`: the splatted flux over the
     /// texel area, read bilinearly; zero where there is no map.
     #[must_use]
