@@ -14,4 +14,5 @@ beam_conformance::conformance_tests!(
     glossy_shadow_beams_equal_shadow_rays,
     glossy_cone_hierarchy_is_conservative,
     glossy_beams_match_photon_tracing,
+    glossy_splat_equals_integrated_gather,
 );

@@ -78,25 +78,33 @@ impl LightVolumes {
     pub(super) fn add(&self, i: usize, p: Vec3, n: Vec3, occluded: Occluded<'_>, g: &mut Gathered) {
         let b = &self.beams[i];
         g.tested += 1;
-        // The beam's support: its own bounding cone (widened by GLOSSY_REACH·σ for glossy beams;
-        // see cones.rs), which holds its whole warped volume.
-        if !self.tree.cones[i].contains(p) {
-            return;
-        }
         if b.shadow {
-            if g.shadowed & (1 << b.light.min(63)) == 0 && covers(&b.beam, p) {
-                g.shadowed |= 1 << b.light.min(63);
+            let bit = 1 << b.light.min(63);
+            if g.shadowed & bit == 0 && self.tree.cones[i].contains(p) && covers(&b.beam, p) {
+                g.shadowed |= bit;
             }
             return;
         }
-        let e = if b.sigma > 0.0 {
-            b.beam.glossy_irradiance(p, n, b.sigma, self.method)
-        } else {
-            b.beam.specular_irradiance(p, n)
-        };
-        if e != 0.0 && !blocked(&b.beam, p, occluded) {
-            g.irradiance += b.power * e;
+        let e = self.scattered(i, p, n);
+        if e != Vec3::ZERO && !blocked(&b.beam, p, occluded) {
+            g.irradiance += e;
         }
+    }
+
+    /// Scattered beam `i`'s irradiance at `p` (unit normal `n`), second-order shadows left out: eq. 1
+    /// or eq. 3 inside its support, zero outside: its own bounding cone (widened by `GLOSSY_REACH·σ`
+    /// for glossy beams; see cones.rs), which holds its whole warped volume.
+    pub(super) fn scattered(&self, i: usize, p: Vec3, n: Vec3) -> Vec3 {
+        let b = &self.beams[i];
+        if !self.tree.cones[i].contains(p) {
+            return Vec3::ZERO;
+        }
+        b.power
+            * if b.sigma > 0.0 {
+                b.beam.glossy_irradiance(p, n, b.sigma, self.method)
+            } else {
+                b.beam.specular_irradiance(p, n)
+            }
     }
 
     /// The gather at `p` (unit normal `n`) through the cone hierarchy, with second-order shadows

@@ -13,7 +13,7 @@
 //! cell. The cells are visited in blocks, each taking the beams whose cones reach it from the cone
 //! hierarchy; negative shadow beams stay per receiver point ([`LightVolumes::shadows`]).
 
-use super::gather::{Gathered, LightVolumes, Occluded, blocked};
+use super::gather::{LightVolumes, Occluded, blocked};
 use super::photons::PhotonMaps;
 use crate::render::{IrradianceMap, shading_eps};
 use crate::scene::Scene;
@@ -22,6 +22,9 @@ use rayon::prelude::*;
 
 /// Cells per side of a block: the unit of parallel work and of the cone-hierarchy query.
 const BLOCK: usize = 16;
+
+/// Glossy beams are sampled on a lattice no coarser than their lobe's width (`σ·distance`) over this.
+const LATTICE: f32 = 2.0;
 
 /// Footprints smaller than this (texels²) are splatted as a point mass at their centroid.
 const SLIVER: f32 = 1e-3;
@@ -309,7 +312,6 @@ impl PhotonKernel {
         let mut out =
             Block { plane: k, first, width, flux: [vec![Vec3::ZERO; texels], vec![Vec3::ZERO; texels]], tested: 0 };
         let (lo, hi) = (Vec2::new(first[0] as f32, first[1] as f32), Vec2::new(last[0] as f32, last[1] as f32));
-        let t2 = self.map.texel * self.map.texel;
         let reach = 0.5 * (hi - lo).length() * self.map.texel + self.eps;
         volumes.tree.for_each_near(r.world(0.5 * (lo + hi)), reach, |i| {
             let b = &volumes.beams[i];
@@ -326,20 +328,7 @@ impl PhotonKernel {
             let (side, n) = if above > 0.0 { (0, r.normal) } else { (1, -r.normal) };
             let lift = |c: Vec2| r.world(c) + n * self.eps;
             if b.sigma > 0.0 {
-                for y in first[1]..last[1] {
-                    for x in first[0]..last[0] {
-                        let (c, corner) = (y * cx + x, Vec2::new(x as f32, y as f32));
-                        if !r.covered(c) {
-                            continue;
-                        }
-                        let mut g = Gathered::default();
-                        volumes.add(i, lift(corner + 0.5), n, occluded, &mut g);
-                        if g.irradiance != Vec3::ZERO {
-                            let w = if r.full[c] { WHOLE } else { r.tents(&Piece::cell(corner), c, corner) };
-                            out.add(side, (x - first[0], y - first[1]), g.irradiance * t2, w);
-                        }
-                    }
-                }
+                self.splat_glossy(volumes, i, (r, side, n), (first, last), occluded, &mut out);
                 return;
             }
             // The footprint on the receiver's plane: each ray at or past its origin.
@@ -410,6 +399,76 @@ impl PhotonKernel {
             }
         });
         out
+    }
+
+    /// Glossy beam `i`'s share of the cells `first ..< last` of plane `r` (its light arriving on
+    /// `side`, against `n`): eq. 3 at the cells' centres, read off a lattice of every `s`-th centre
+    /// (bilinearly) where the lobe is wide enough, `s ≤` its width over [`LATTICE`]; second-order
+    /// shadows tested on the lattice and, between lattice points that disagree, at each cell.
+    fn splat_glossy(
+        &self,
+        volumes: &LightVolumes,
+        i: usize,
+        (r, side, n): (&Receivers, usize, Vec3),
+        (first, last): ([usize; 2], [usize; 2]),
+        occluded: Occluded<'_>,
+        out: &mut Block,
+    ) {
+        let b = &volumes.beams[i];
+        let lift = |c: Vec2| r.world(c) + n * self.eps;
+        let at = |x: usize, y: usize| Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+        // The lobe's width here: σ times the distance from the scatterer.
+        let centre = (b.beam.origins[0] + b.beam.origins[1] + b.beam.origins[2]) / 3.0;
+        let middle = lift(0.5 * (at(first[0], first[1]) + at(last[0] - 1, last[1] - 1)));
+        let width = b.sigma * (middle - centre).length() / self.map.texel;
+        let mut s = 1;
+        while 2 * s <= BLOCK && (2 * s) as f32 <= width / LATTICE {
+            s *= 2;
+        }
+        // Lattice point (u, v) at the centre of cell first + s·(u, v): irradiance and, where it has
+        // some, whether its light is blocked.
+        let span = [(last[0] - first[0] - 1).div_ceil(s) + 1, (last[1] - first[1] - 1).div_ceil(s) + 1];
+        let mut lattice = [(Vec3::ZERO, false); (BLOCK + 1) * (BLOCK + 1)];
+        for v in 0..span[1] {
+            for u in 0..span[0] {
+                let q = lift(at(first[0] + s * u, first[1] + s * v));
+                let e = volumes.scattered(i, q, n);
+                lattice[v * span[0] + u] = (e, e != Vec3::ZERO && blocked(&b.beam, q, occluded));
+            }
+        }
+        let t2 = self.map.texel * self.map.texel;
+        let cx = r.cells()[0];
+        for y in first[1]..last[1] {
+            let (v, fy) = ((y - first[1]) / s, ((y - first[1]) % s) as f32 / s as f32);
+            for x in first[0]..last[0] {
+                let (c, corner) = (y * cx + x, Vec2::new(x as f32, y as f32));
+                if !r.covered(c) {
+                    continue;
+                }
+                let (u, fx) = ((x - first[0]) / s, ((x - first[0]) % s) as f32 / s as f32);
+                let (u1, v1) = ((u + 1).min(span[0] - 1), (v + 1).min(span[1] - 1));
+                let k = [
+                    (u, v, (1.0 - fx) * (1.0 - fy)),
+                    (u1, v, fx * (1.0 - fy)),
+                    (u, v1, (1.0 - fx) * fy),
+                    (u1, v1, fx * fy),
+                ];
+                let (mut e, mut lit, mut dark) = (Vec3::ZERO, false, false);
+                for (u, v, w) in k {
+                    let (le, shadowed) = lattice[v * span[0] + u];
+                    if w > 0.0 && le != Vec3::ZERO {
+                        e += w * le;
+                        lit |= !shadowed;
+                        dark |= shadowed;
+                    }
+                }
+                if e == Vec3::ZERO || (dark && (!lit || blocked(&b.beam, lift(corner + 0.5), occluded))) {
+                    continue;
+                }
+                let w = if r.full[c] { WHOLE } else { r.tents(&Piece::cell(corner), c, corner) };
+                out.add(side, (x - first[0], y - first[1]), e * t2, w);
+            }
+        }
     }
 }
 
