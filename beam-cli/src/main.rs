@@ -223,6 +223,9 @@ enum BenchCommand {
         /// Photons per light of the reference.
         #[arg(long, default_value_t = 64_000_000)]
         reference_photons: u64,
+        /// Sub-triangles per side of each curved scatterer triangle, for every beam frame.
+        #[arg(long, default_value_t = 4)]
+        subdivide: u32,
         /// Plot (PNG).
         #[arg(long, default_value = "glossy-vs-photons.png")]
         out: PathBuf,
@@ -313,9 +316,9 @@ fn main() -> ExitCode {
             };
             degree.and_then(|d| bench::gpu::run(&scenes, width, height, frames, d)).map(|()| ExitCode::SUCCESS)
         }
-        Command::Bench { what: BenchCommand::Glossy { scenes, size, reference_photons, out } } => {
+        Command::Bench { what: BenchCommand::Glossy { scenes, size, reference_photons, subdivide, out } } => {
             let scenes = if scenes.is_empty() { bench::glossy::SCENES.map(String::from).to_vec() } else { scenes };
-            bench::glossy::run(&scenes, size, reference_photons, &out).map(|()| ExitCode::SUCCESS)
+            bench::glossy::run(&scenes, size, reference_photons, subdivide, &out).map(|()| ExitCode::SUCCESS)
         }
         Command::Bench { what: BenchCommand::Nonlinear { size, out, csv } } => {
             bench::nonlinear::run(size, &out, &csv).map(|()| ExitCode::SUCCESS)

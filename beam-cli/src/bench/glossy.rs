@@ -1,7 +1,8 @@
 //! `beam bench glossy`: glossy light volumes (002) against photon tracing at equal error, frame
 //! against frame. The reference is a many-photon frame; the beam frame reads its scattered light
-//! through the photon map's kernel ([`beam_cpu::glossy::PhotonKernel`]: each specular beam's flux
-//! integrated exactly over it), so the two estimate the same image; photon frames of doubling photon counts are timed until one is as
+//! through the photon map's kernel ([`beam_cpu::glossy::PhotonKernel`]: the beams splatted into the
+//! map's texels once a frame, each specular beam's flux integrated exactly over the tents), so the
+//! two estimate the same image; photon frames of doubling photon counts are timed until one is as
 //! close to the reference as the beam frame. Also timed: the unfiltered beam frame (one gather a
 //! pixel) through the cone hierarchy, over every beam, and with the gather on the GPU.
 
@@ -34,11 +35,12 @@ fn timed<T>(mut f: impl FnMut() -> Result<T, String>) -> Result<(f64, T), String
     Ok((start.elapsed().as_secs_f64(), out))
 }
 
-/// Run the benchmark on `scenes` at `size²`, the reference with `reference` photons per light.
-pub fn run(scenes: &[String], size: u32, reference: u64, out: &Path) -> Result<(), String> {
+/// Run the benchmark on `scenes` at `size²`, the reference with `reference` photons per light,
+/// curved scatterers split `subdivide²`.
+pub fn run(scenes: &[String], size: u32, reference: u64, subdivide: u32, out: &Path) -> Result<(), String> {
     let gpu = beam_gpu::Gpu::new().ok();
     println!(
-        "{size}×{size}; reference {reference} photons per light; GPU: {}",
+        "{size}×{size}; reference {reference} photons per light; --subdivide {subdivide}; GPU: {}",
         gpu.as_ref().map_or_else(|| "none".to_string(), beam_gpu::Gpu::describe)
     );
     println!(
@@ -48,7 +50,7 @@ pub fn run(scenes: &[String], size: u32, reference: u64, out: &Path) -> Result<(
     let mut all = Vec::new();
     for name in scenes {
         let scene = scene::builtin(name)?;
-        let sharp = GlossyOptions::new(size, size);
+        let sharp = GlossyOptions { subdivide, ..GlossyOptions::new(size, size) };
         let truth: Image = render_glossy_photons(&scene, size, size, &glossy_photons(&scene, reference, 7))?;
         let options = GlossyOptions { filter: photon_texel(&scene), ..sharp };
         let (beam_seconds, (image, _)) = timed(|| render_glossy(&scene, &options))?;
@@ -94,7 +96,7 @@ pub fn run(scenes: &[String], size: u32, reference: u64, out: &Path) -> Result<(
     }
     println!(
         "beams ms: the beam frame on the CPU with its scattered light read through the photon map's kernel \
-         (light volumes, cone hierarchy, each beam's flux integrated over the kernel, eye rays, direct light); RMSE, PSNR: \
+         (light volumes, cone hierarchy, the scattered beams splatted into the map's texels, shadow beams per pixel, eye rays, direct light); RMSE, PSNR: \
          against the reference frame (sRGB); photons: the fewest photons per light (doubling up to half the reference's) \
          whose frame is as close, and its ms (photon tracing, the same eye rays and direct light); speed-up: \
          photon ms over beam ms; sharp ms: the unfiltered beam frame (one gather a pixel); linear ms: that \
