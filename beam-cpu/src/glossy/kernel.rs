@@ -80,10 +80,7 @@ impl Piece {
     /// `cell` (`tentₖ(x) = (1 − |x − cₖ|)(1 − |y − cₖ|)`, bilinear on the cell): fan triangles,
     /// midpoint rule (exact for degree 2).
     fn tents(&self, cell: Vec2) -> [f32; 4] {
-        let at = |x: Vec2| {
-            let f = x - cell;
-            [(1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y]
-        };
+        let at = |x: Vec2| tents_at(x - cell);
         let p = &self.v[..self.n];
         let mut sum = [0.0; 4];
         for k in 1..p.len().saturating_sub(1) {
@@ -101,6 +98,17 @@ impl Piece {
     fn centre(&self) -> Vec2 {
         self.v[..self.n].iter().sum::<Vec2>() / self.n.max(1) as f32
     }
+}
+
+/// The four tents of a unit cell's corners (lower left, lower right, upper left, upper right) at
+/// `f`, relative to its lower corner.
+fn tents_at(f: Vec2) -> [f32; 4] {
+    [(1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y]
+}
+
+/// True when `p` lies in triangle `t` (counter-clockwise), edges included.
+fn contains(t: &[Vec2; 3], p: Vec2) -> bool {
+    (0..3).all(|k| (t[(k + 1) % 3] - t[k]).perp_dot(p - t[k]) >= 0.0)
 }
 
 /// `∫ tentₖ dA` over a whole unit cell, for each corner.
@@ -143,12 +151,11 @@ impl Receivers {
         for (i, t) in triangles.iter().enumerate() {
             let lo = t[0].min(t[1]).min(t[2]).floor().max(Vec2::ZERO);
             let hi = t[0].max(t[1]).max(t[2]).floor();
-            let inside = |p: Vec2| (0..3).all(|k| (t[(k + 1) % 3] - t[k]).perp_dot(p - t[k]) >= 0.0);
             for y in lo.y as usize..=(hi.y as usize).min(size[1].saturating_sub(2)) {
                 for x in lo.x as usize..=(hi.x as usize).min(size[0].saturating_sub(2)) {
                     let c = Vec2::new(x as f32, y as f32);
                     let cell = y * (size[0] - 1) + x;
-                    if [c, c + Vec2::X, c + Vec2::Y, c + Vec2::ONE].into_iter().all(inside) {
+                    if [c, c + Vec2::X, c + Vec2::Y, c + Vec2::ONE].into_iter().all(|p| contains(t, p)) {
                         full[cell] = true;
                     } else if Piece::cell(c).inside(t).tents(c).iter().sum::<f32>() > 1e-9 {
                         pairs.push((cell as u32, i as u32));
@@ -215,8 +222,7 @@ impl Receivers {
 
     /// True when point `m` (texel coordinates) of cell `c` lies on a receiver.
     fn receives(&self, c: usize, m: Vec2) -> bool {
-        let inside = |t: &[Vec2; 3]| (0..3).all(|k| (t[(k + 1) % 3] - t[k]).perp_dot(m - t[k]) >= 0.0);
-        self.full[c] || self.partial(c).iter().any(|&t| inside(&self.triangles[t as usize]))
+        self.full[c] || self.partial(c).iter().any(|&t| contains(&self.triangles[t as usize], m))
     }
 }
 
@@ -353,9 +359,7 @@ impl PhotonKernel {
                 if cell.cmpge(lo).all() && cell.cmplt(hi).all() {
                     let (x, y) = (cell.x as usize, cell.y as usize);
                     if r.receives(y * cx + x, m) && !blocked(l, lift(m), occluded) {
-                        let w = m - cell;
-                        let w = [(1.0 - w.x) * (1.0 - w.y), w.x * (1.0 - w.y), (1.0 - w.x) * w.y, w.x * w.y];
-                        out.add(side, (x - first[0], y - first[1]), flux, w);
+                        out.add(side, (x - first[0], y - first[1]), flux, tents_at(m - cell));
                     }
                 }
                 return;
