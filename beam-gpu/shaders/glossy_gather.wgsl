@@ -267,10 +267,11 @@ fn beam_irradiance(b: LightBeam, f: vec3<f32>, n: vec3<f32>) -> f32 {
         return select(0.0, b.flux / a * max(dot(-t.normal, n), 0.0), in_beam(t, f));
     }
     // The cosine along the light's arrival from its source point (beam_math's glossy_irradiance).
-    let s = source_point(b, f);
+    let w = source_weights(b, f);
     var arrival = t.normal;
-    if s.w > 0.0 {
-        let to_f = f - s.xyz;
+    var to_f = vec3<f32>(0.0);
+    if w.w > 0.0 {
+        to_f = f - (b.o0 * w.x + b.o1 * w.y + b.o2 * w.z);
         arrival = select(vec3<f32>(0.0), normalize(to_f), dot(to_f, to_f) > 0.0);
     }
     let e = b.flux / a * max(dot(-arrival, n), 0.0);
@@ -281,11 +282,29 @@ fn beam_irradiance(b: LightBeam, f: vec3<f32>, n: vec3<f32>) -> f32 {
     let da = domain_vertex(scatter_angle(b.o0, b.d0, f), t.a, f, u, v);
     let db = domain_vertex(scatter_angle(b.o1, b.d1, f), t.b, f, u, v);
     let dc = domain_vertex(scatter_angle(b.o2, b.d2, f), t.c, f, u, v);
-    return e * min(gaussian_volume(da, db, dc, b.sigma), 1.0);
+    let p_e = min(gaussian_volume(da, db, dc, b.sigma), 1.0);
+    var tail = 1.0;
+    if w.w > 0.0 {
+        let dir = normalize(b.d0 * w.x + b.d1 * w.y + b.d2 * w.z);
+        tail = tail_factor(to_f, dir, a, 0.5 * abs(perp_dot(db - da, dc - da)));
+    }
+    return e * p_e * (p_e + (1.0 - p_e) * clamp(tail, 0.5, 2.0));
 }
 
-// The scatterer point whose light reaches f (beam_math's LightBeam::source_point).
-fn source_point(b: LightBeam, f: vec3<f32>) -> vec4<f32> {
+// Eq. 3's tail correction (beam_math's tail_factor): (φ/sin φ)·A⊥/(r²·|ABC|), 1 where undefined.
+fn tail_factor(to: vec3<f32>, dir: vec3<f32>, area: f32, domain: f32) -> f32 {
+    let r2 = dot(to, to);
+    if !(r2 > 0.0 && domain > 0.0) {
+        return 1.0;
+    }
+    let phi = acos(clamp(dot(to / sqrt(r2), dir), -1.0, 1.0));
+    let stretch = select(1.0, phi / sin(phi), phi > 1e-4);
+    return stretch * area / (r2 * domain);
+}
+
+// The barycentric weights of f's source point on the scatterer (w = 1), or w = 0 where there is none
+// (beam_math's LightBeam::source_point).
+fn source_weights(b: LightBeam, f: vec3<f32>) -> vec4<f32> {
     let t = flux_triangle(b, f);
     if !t.ok {
         return vec4<f32>(0.0);
@@ -296,7 +315,13 @@ fn source_point(b: LightBeam, f: vec3<f32>) -> vec4<f32> {
     }
     w = max(w, vec3<f32>(0.0));
     w = w / max(w.x + w.y + w.z, 1e-30);
-    return vec4<f32>(b.o0 * w.x + b.o1 * w.y + b.o2 * w.z, 1.0);
+    return vec4<f32>(w, 1.0);
+}
+
+// The scatterer point whose light reaches f (beam_math's LightBeam::source_point).
+fn source_point(b: LightBeam, f: vec3<f32>) -> vec4<f32> {
+    let w = source_weights(b, f);
+    return vec4<f32>(b.o0 * w.x + b.o1 * w.y + b.o2 * w.z, w.w);
 }
 
 fn add_beam(j: u32, f: vec3<f32>, n: vec3<f32>, g: ptr<function, Gathered>) {

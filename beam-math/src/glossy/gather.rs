@@ -34,10 +34,35 @@ pub fn angular_domain(beam: &LightBeam, flux: &Triangle, f: Vec3, frame: (Vec3, 
     })
 }
 
+/// Eq. 3's tail correction: `(φ/sin φ)·A⊥ / (r²·|ABC|)` for a fragment at `to` from its source
+/// point, whose scattered direction is `dir`, flux-triangle area `A⊥` and angular domain area `|ABC|`.
+/// Eq. 3 spreads the flux over the flux triangle, as a specular beam does, which is exact where the
+/// Gaussian volume `P_E` is whole; in the lobe's tail, where the domain is small against σ, the
+/// micro-facet model sends the flux from the scatterer with density `ρ(φ)·φ/sin φ` per steradian,
+/// so that `E = Φs·cos θ·ρ·(φ/sin φ)/r²` while eq. 3 gives `Φs·cos θ·ρ·|ABC|/A⊥`. Their ratio is
+/// this factor; [`LightBeam::glossy_irradiance`] weighs it by `1 − P_E` and clamps it to
+/// `TAIL_RANGE` (the single source point stands for the whole scatterer only while the beam is small
+/// against its distance). Without it eq. 3 falls short by up to a half where light leaves a pane
+/// far off its specular direction. 1 where it is undefined.
+/// Bounds of the tail factor.
+const TAIL_RANGE: (f32, f32) = (0.5, 2.0);
+
+fn tail_factor(to: Vec3, dir: Vec3, area: f32, domain: f32) -> f32 {
+    let r2 = to.length_squared();
+    if !(r2 > 0.0 && domain > 0.0) {
+        return 1.0;
+    }
+    let phi = (to / r2.sqrt_()).dot(dir).clamp(-1.0, 1.0).acos_();
+    let stretch = if phi > 1e-4 { phi / phi.sin_() } else { 1.0 };
+    stretch * area / (r2 * domain)
+}
+
 impl LightBeam {
     /// Glossy irradiance at fragment `f` with unit normal `normal` for micro-facet standard
-    /// deviation `sigma` (radians): `E = Φs/A⊥ · cos θ · min(P_E, 1)` (002 eq. 3, Figs. 11–12), `θ`
-    /// between the receiver's normal and the light's arrival from its [`Self::source_point`].
+    /// deviation `sigma` (radians): `E = Φs/A⊥ · cos θ · P_E` with `P_E ≤ 1` (002 eq. 3, Figs. 11–12),
+    /// `θ` between the receiver's normal and the light's arrival from its [`Self::source_point`],
+    /// times `P_E + (1 − P_E)·t` with `t` the clamped tail factor of `tail_factor` (the core keeps
+    /// eq. 3, the tail gets the micro-facet model's point-source falloff).
     /// With [`VolumeMethod::Tessellated`] the split point `D` is found as in 002 §4.3 step 2–3: on the
     /// flux-triangle edge facing the fragment, `D_F` where the line from the opposite vertex through
     /// `F` crosses it; the edge parameter `s` gives `D_W` on the scatterer and `S_D = D_F − D_W`,
@@ -63,13 +88,18 @@ impl LightBeam {
         let [a, b, c] = angular_domain(self, &flux, f, frame);
         // The cosine along the light's arrival from its source point (002 takes the flux plane's
         // normal, which loses light turned towards a receiver the beam itself grazes).
-        let arrival = self.source_in(&flux, f).map_or(n, |s| (f - s).normalize_or_zero());
+        let source = self.source_ray(&flux, f);
+        let arrival = source.map_or(n, |(s, _)| (f - s).normalize_or_zero());
         let cos_theta = (-arrival).dot(normal).max(0.0);
         let p_e = match method {
             VolumeMethod::Exact => gaussian_volume(a, b, c, sigma),
             VolumeMethod::Tessellated => self.tessellated_volume(&flux, f, frame, [a, b, c], sigma),
-        };
-        super::flux::specular_irradiance(self.flux, area, cos_theta) * p_e.min(1.0)
+        }
+        .min(1.0);
+        let tail = source.map_or(1.0, |(s, d)| tail_factor(f - s, d, area, 0.5 * (b - a).perp_dot(c - a).abs()));
+        super::flux::specular_irradiance(self.flux, area, cos_theta)
+            * p_e
+            * (p_e + (1.0 - p_e) * tail.clamp(TAIL_RANGE.0, TAIL_RANGE.1))
     }
 
     /// The scatterer point whose light reaches `f`: the scatterer vertices weighted by `f`'s
@@ -81,9 +111,16 @@ impl LightBeam {
 
     /// [`Self::source_point`] given the flux triangle through `f`.
     fn source_in(&self, flux: &Triangle, f: Vec3) -> Option<Vec3> {
+        self.source_ray(flux, f).map(|r| r.0)
+    }
+
+    /// The source point through flux triangle `flux` and its scattered direction (the unit
+    /// directions with the same weights, normalised).
+    fn source_ray(&self, flux: &Triangle, f: Vec3) -> Option<(Vec3, Vec3)> {
         let w = flux.barycentric(f)?.max(Vec3::ZERO);
         let w = w / (w.x + w.y + w.z).max(f32::MIN_POSITIVE);
-        Some(self.origins[0] * w.x + self.origins[1] * w.y + self.origins[2] * w.z)
+        let at = |v: [Vec3; 3]| v[0] * w.x + v[1] * w.y + v[2] * w.z;
+        Some((at(self.origins), at(self.dirs).normalize_or_zero()))
     }
 
     fn tessellated_volume(&self, flux: &Triangle, f: Vec3, frame: (Vec3, Vec3), abc: [Vec2; 3], sigma: f32) -> f32 {

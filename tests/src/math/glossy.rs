@@ -203,11 +203,12 @@ fn direct_glossy(light: Vec3, pane: [Vec3; 3], f: Vec3, normal: Vec3, sigma: f32
 }
 
 /// Glossy irradiance by eq. 3 (002 §4.2) against direct integration over the scatterer, for 40
-/// random thin panes lit from behind and 12 floor points each, 1.5 to 4 pane sizes in front: the
-/// sum over the pane's 8 × 8 sub-beams (the micro-polygon step) within 12% wherever the light
-/// exceeds a tenth of the brightest point's. The cosine at the receiver is taken along the light's
-/// arrival from its source point on the scatterer (9.6% at most); with 002's flux-plane normal
-/// instead the error reaches 74%. One beam per pane is reported.
+/// random thin panes lit from behind and 12 floor points each, 0.25 to 4 pane sizes in front: the
+/// sum over the pane's 8 × 8 sub-beams (the micro-polygon step) within 18% wherever the light
+/// exceeds a hundredth of the brightest point's, deep into the lobe's tail. Eq. 3 as amended: the
+/// cosine at the receiver along the light's arrival from its source point (with 002's flux-plane
+/// normal the error reached 74%), and the tail factor (`tail_factor` in beam-math: 14.5% at most;
+/// without it 24.1%). One beam per pane is reported.
 pub fn glossy_irradiance_vs_integration(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(17);
     let (mut worst, mut worst_single, mut cases) = (0.0f64, 0.0f64, 0);
@@ -235,11 +236,11 @@ pub fn glossy_irradiance_vs_integration(_: Backend, _: &Config) -> Result<Outcom
         }
         let single = beam_of(pane);
         let points: Vec<Vec3> =
-            (0..12).map(|_| Vec3::new(uniform(&mut rng, -0.6, 0.6), 0.0, uniform(&mut rng, 1.5, 4.0))).collect();
+            (0..12).map(|_| Vec3::new(uniform(&mut rng, -0.6, 0.6), 0.0, uniform(&mut rng, 0.25, 4.0))).collect();
         let exact: Vec<f64> = points.iter().map(|&f| direct_glossy(light, pane, f, Vec3::Y, sigma)).collect();
         let brightest = exact.iter().copied().fold(0.0, f64::max);
         for (&f, &e) in points.iter().zip(&exact) {
-            if e < 0.1 * brightest {
+            if e < 0.01 * brightest {
                 continue;
             }
             let eq3 = |b: &LightBeam| f64::from(b.glossy_irradiance(f, Vec3::Y, sigma, VolumeMethod::Exact));
@@ -248,7 +249,7 @@ pub fn glossy_irradiance_vs_integration(_: Backend, _: &Config) -> Result<Outcom
             worst = worst.max(err);
             worst_single = worst_single.max((eq3(&single) - e).abs() / e);
             cases += 1;
-            if err > 0.12 {
+            if err > 0.18 {
                 return Err(format!(
                     "case {case}: eq. 3 over 8 × 8 sub-beams {split:.5} vs direct {e:.5} at {f} (σ = {sigma})"
                 ));
