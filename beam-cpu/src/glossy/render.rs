@@ -75,7 +75,8 @@ pub struct GlossyStats {
     pub degenerate: u64,
     /// Receiver points gathered.
     pub receivers: u64,
-    /// Mean beams evaluated per receiver point.
+    /// Mean beams evaluated per receiver point (through the photon kernel, the splat's beam–block
+    /// pairs count too).
     pub beams_per_point: f64,
     /// Image width.
     pub width: u32,
