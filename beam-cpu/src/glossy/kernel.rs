@@ -266,11 +266,9 @@ impl PhotonKernel {
                 world[k].push(t.v);
             }
         }
-        let planes = map
-            .grids()
-            .zip(&world)
-            .map(|((origin, axes, size, _), tris)| Receivers::new((origin, axes, size), tris))
-            .collect();
+        let grids: Vec<_> = map.grids().map(|(origin, axes, size, _)| (origin, axes, size)).collect();
+        let planes =
+            grids.into_par_iter().zip(world.par_iter()).map(|(grid, tris)| Receivers::new(grid, tris)).collect();
         Self { map, planes, eps: shading_eps(scene) }
     }
 

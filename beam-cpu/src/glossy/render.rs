@@ -253,9 +253,10 @@ pub fn render_glossy_with(
     let volumes = LightVolumes::new(scene, options.method, options.subdivide);
     let beam_seconds = start.elapsed().as_secs_f64();
     // Through the photon map's kernel: the scattered beams splatted into the map once, the shadow
-    // beams still gathered per point.
+    // beams still gathered per point (without scattered beams, the plain gather does the same).
     let t = Instant::now();
-    let splatted = (options.filter > 0.0).then(|| {
+    let scattered = volumes.beams.iter().any(|b| !b.shadow);
+    let splatted = (options.filter > 0.0 && scattered).then(|| {
         let occluded = occlusion(scene);
         let occluded: Occluded<'_> = if options.second_order { Some(&occluded) } else { None };
         let (maps, tested) = PhotonKernel::new(scene, options.filter).splat(&volumes, occluded);
