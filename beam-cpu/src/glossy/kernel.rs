@@ -106,6 +106,12 @@ fn tents_at(f: Vec2) -> [f32; 4] {
     [(1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y]
 }
 
+/// Continuous texel coordinates of world point `x` on the plane with texel (0, 0) at `origin` and
+/// axes scaled to texels `axes`.
+fn texel_coords(origin: Vec3, axes: [Vec3; 2], x: Vec3) -> Vec2 {
+    Vec2::new((x - origin).dot(axes[0]), (x - origin).dot(axes[1]))
+}
+
 /// True when `p` lies in triangle `t` (counter-clockwise), edges included.
 fn contains(t: &[Vec2; 3], p: Vec2) -> bool {
     (0..3).all(|k| (t[(k + 1) % 3] - t[k]).perp_dot(p - t[k]) >= 0.0)
@@ -118,9 +124,11 @@ const WHOLE: [f32; 4] = [0.25; 4];
 /// (cell `(x, y)` spans texel centres `x ..= x + 1`, `y ..= y + 1`).
 #[derive(Clone, Debug)]
 struct Receivers {
-    /// World position of texel (0, 0), in-plane axes scaled to texels, unit normal.
+    /// World position of texel (0, 0), in-plane axes scaled to texels (world to texels) and their
+    /// inverses (a texel step in the world), unit normal.
     origin: Vec3,
     axes: [Vec3; 2],
+    steps: [Vec3; 2],
     normal: Vec3,
     /// Texels per side.
     size: [usize; 2],
@@ -137,11 +145,10 @@ impl Receivers {
     /// The plane of grid `(origin, axes, size)` and its receiver triangles `triangles` (world).
     fn new((origin, axes, size): (Vec3, [Vec3; 2], [u32; 2]), world: &[[Vec3; 3]]) -> Self {
         let size = [size[0] as usize, size[1] as usize];
-        let to_texels = |x: Vec3| Vec2::new((x - origin).dot(axes[0]), (x - origin).dot(axes[1]));
         let triangles: Vec<[Vec2; 3]> = world
             .iter()
             .map(|t| {
-                let [a, b, c] = t.map(to_texels);
+                let [a, b, c] = t.map(|x| texel_coords(origin, axes, x));
                 if (b - a).perp_dot(c - a) < 0.0 { [a, c, b] } else { [a, b, c] }
             })
             .collect();
@@ -172,7 +179,8 @@ impl Receivers {
             start[c + 1] += start[c];
         }
         let partial = pairs.into_iter().map(|p| p.1).collect();
-        Self { origin, axes, normal: axes[0].cross(axes[1]).normalize_or_zero(), size, triangles, full, start, partial }
+        let (normal, steps) = (axes[0].cross(axes[1]).normalize_or_zero(), axes.map(|a| a / a.length_squared()));
+        Self { origin, axes, steps, normal, size, triangles, full, start, partial }
     }
 
     /// Cells per side.
@@ -181,14 +189,12 @@ impl Receivers {
     }
 
     fn to_texels(&self, x: Vec3) -> Vec2 {
-        Vec2::new((x - self.origin).dot(self.axes[0]), (x - self.origin).dot(self.axes[1]))
+        texel_coords(self.origin, self.axes, x)
     }
 
     /// The world point at texel coordinates `c`.
     fn world(&self, c: Vec2) -> Vec3 {
-        self.origin
-            + c.x * self.axes[0] / self.axes[0].length_squared()
-            + c.y * self.axes[1] / self.axes[1].length_squared()
+        self.origin + c.x * self.steps[0] + c.y * self.steps[1]
     }
 
     /// The triangles covering part of cell `c` (an index), none when it is whole.
@@ -251,6 +257,8 @@ impl Block {
 pub struct PhotonKernel {
     map: IrradianceMap,
     planes: Vec<Receivers>,
+    /// The blocks (plane, first cell) that hold receivers.
+    blocks: Vec<(usize, [usize; 2])>,
     /// Offset of shade points off their surface.
     eps: f32,
 }
@@ -267,18 +275,10 @@ impl PhotonKernel {
             }
         }
         let grids: Vec<_> = map.grids().map(|(origin, axes, size, _)| (origin, axes, size)).collect();
-        let planes =
+        let planes: Vec<Receivers> =
             grids.into_par_iter().zip(world.par_iter()).map(|(grid, tris)| Receivers::new(grid, tris)).collect();
-        Self { map, planes, eps: shading_eps(scene) }
-    }
-
-    /// The scattered beams of `volumes` splatted into photon maps of this layout (one per side of
-    /// the receivers, as [`super::glossy_photons`]'s), second-order shadows by `occluded`; and the
-    /// beam–block pairs evaluated. Shadow beams are left out.
-    #[must_use]
-    pub fn splat(&self, volumes: &LightVolumes, occluded: Occluded<'_>) -> (PhotonMaps, u64) {
         let mut blocks = Vec::new();
-        for (k, r) in self.planes.iter().enumerate() {
+        for (k, r) in planes.iter().enumerate() {
             let [cx, cy] = r.cells();
             for y in (0..cy).step_by(BLOCK) {
                 for x in (0..cx).step_by(BLOCK) {
@@ -289,8 +289,16 @@ impl PhotonKernel {
                 }
             }
         }
+        Self { map, planes, blocks, eps: shading_eps(scene) }
+    }
+
+    /// The scattered beams of `volumes` splatted into photon maps of this layout (one per side of
+    /// the receivers, as [`super::glossy_photons`]'s), second-order shadows by `occluded`; and the
+    /// beam–block pairs evaluated. Shadow beams are left out.
+    #[must_use]
+    pub fn splat(&self, volumes: &LightVolumes, occluded: Occluded<'_>) -> (PhotonMaps, u64) {
         let done: Vec<Block> =
-            blocks.into_par_iter().map(|(k, first)| self.splat_block(volumes, k, first, occluded)).collect();
+            self.blocks.par_iter().map(|&(k, first)| self.splat_block(volumes, k, first, occluded)).collect();
         let mut maps = PhotonMaps { sides: [self.map.clone(), self.map.clone()] };
         let mut tested = 0;
         for b in done {

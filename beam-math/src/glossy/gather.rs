@@ -34,6 +34,9 @@ pub fn angular_domain(beam: &LightBeam, flux: &Triangle, f: Vec3, frame: (Vec3, 
     })
 }
 
+/// Bounds of the tail factor.
+const TAIL_RANGE: (f32, f32) = (0.5, 2.0);
+
 /// Eq. 3's tail correction: `(φ/sin φ)·A⊥ / (r²·|ABC|)` for a fragment at `to` from its source
 /// point, whose scattered direction is `dir`, flux-triangle area `A⊥` and angular domain area `|ABC|`.
 /// Eq. 3 spreads the flux over the flux triangle, as a specular beam does, which is exact where the
@@ -44,9 +47,6 @@ pub fn angular_domain(beam: &LightBeam, flux: &Triangle, f: Vec3, frame: (Vec3, 
 /// `TAIL_RANGE` (the single source point stands for the whole scatterer only while the beam is small
 /// against its distance). Without it eq. 3 falls short by up to a half where light leaves a pane
 /// far off its specular direction. 1 where it is undefined.
-/// Bounds of the tail factor.
-const TAIL_RANGE: (f32, f32) = (0.5, 2.0);
-
 fn tail_factor(to: Vec3, dir: Vec3, area: f32, domain: f32) -> f32 {
     let r2 = to.length_squared();
     if !(r2 > 0.0 && domain > 0.0) {
@@ -106,12 +106,7 @@ impl LightBeam {
     /// barycentric coordinates in the flux triangle (clamped to it for points beside the beam).
     #[must_use]
     pub fn source_point(&self, f: Vec3) -> Option<Vec3> {
-        self.source_in(&self.flux_triangle(self.flux_plane(f)?)?, f)
-    }
-
-    /// [`Self::source_point`] given the flux triangle through `f`.
-    fn source_in(&self, flux: &Triangle, f: Vec3) -> Option<Vec3> {
-        self.source_ray(flux, f).map(|r| r.0)
+        self.source_ray(&self.flux_triangle(self.flux_plane(f)?)?, f).map(|r| r.0)
     }
 
     /// The source point through flux triangle `flux` and its scattered direction (the unit
