@@ -6,6 +6,8 @@ pub mod gpu;
 pub mod nonlinear;
 #[cfg(feature = "peers")]
 mod peers;
+pub mod primary;
+pub mod primary_sweep;
 pub mod softshadow;
 
 use beam_math::Ray;

@@ -19,6 +19,12 @@ pub fn embree_occluder(triangles: &[Triangle]) -> Result<Box<dyn Fn(Ray, f32) ->
     Ok(Box::new(move |ray: Ray, t_max: f32| e.occluded(&ray, t_max)))
 }
 
+/// Embree's closest hit over `triangles`: the index of the triangle hit and the ray parameter.
+pub fn embree_closest(triangles: &[Triangle]) -> Result<Box<super::primary::Hits<'static>>, String> {
+    let e = Embree::new(triangles)?;
+    Ok(Box::new(move |ray: Ray| e.closest_prim(&ray)))
+}
+
 /// Embree 3.13 through the `embree3` crate: default (medium) build quality, all threads.
 struct Embree {
     scene: embree3::Scene<'static>,
@@ -44,6 +50,19 @@ impl Embree {
         scene.commit();
         Ok(Self { scene, build_ms: start.elapsed().as_secs_f64() * 1e3 })
     }
+
+    /// The closest hit's triangle index and ray parameter.
+    fn closest_prim(&self, ray: &Ray) -> Option<(u32, f32)> {
+        let mut ctx = embree3::IntersectContext::incoherent();
+        let mut rh = embree3::RayHit::from(embree3::Ray::segment(
+            ray.origin.to_array(),
+            ray.direction.to_array(),
+            0.0,
+            f32::INFINITY,
+        ));
+        self.scene.intersect(&mut ctx, &mut rh);
+        rh.hit.is_valid().then_some((rh.hit.primID, rh.ray.tfar))
+    }
 }
 
 impl Tracer for Embree {
@@ -54,15 +73,7 @@ impl Tracer for Embree {
         self.build_ms
     }
     fn closest(&self, ray: &Ray) -> Option<f32> {
-        let mut ctx = embree3::IntersectContext::incoherent();
-        let mut rh = embree3::RayHit::from(embree3::Ray::segment(
-            ray.origin.to_array(),
-            ray.direction.to_array(),
-            0.0,
-            f32::INFINITY,
-        ));
-        self.scene.intersect(&mut ctx, &mut rh);
-        rh.hit.is_valid().then_some(rh.ray.tfar)
+        self.closest_prim(ray).map(|(_, t)| t)
     }
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let mut ctx = embree3::IntersectContext::incoherent();

@@ -61,10 +61,17 @@ pub fn run(
         bs.seconds,
         beam,
         format!(
-            "{:.2} hit beams/pixel; per shadow beam: {:.1} BVH steps, {:.1} splits",
+            "{:.2} hit beams/pixel; per shadow beam: {:.1} BVH steps, {:.1} triangles, {:.1} splits, {:.1} pieces; \
+             {:.1} shaft BVH steps/pixel; thread-s primary {:.2}, shadow {:.2}, shading {:.2}",
             bs.hit_beams_per_pixel,
             per_beam(bs.bvh_steps),
-            per_beam(bs.intersections)
+            per_beam(bs.triangle_tests),
+            per_beam(bs.intersections),
+            per_beam(bs.pieces),
+            bs.shaft_bvh_steps as f64 / f64::from(size * size),
+            bs.primary_seconds,
+            bs.shadow_seconds,
+            bs.shading_seconds,
         ),
     ));
     let full = RenderOptions { primary_beams: true, ..options(Method::Beam, 1, 1) };

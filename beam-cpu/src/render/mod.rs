@@ -5,10 +5,14 @@ mod hard_shadow;
 mod image;
 mod irradiance_map;
 mod lambert;
+mod packet;
 mod primary_beam;
+mod primary_image;
 mod renderer;
 mod shadow_beam;
+mod shaft;
 mod specular;
+mod tile_shadows;
 
 pub use compare::{Difference, difference, side_by_side};
 pub use hard_shadow::lit_pieces;
@@ -16,6 +20,7 @@ pub use image::{Image, srgb_decode, srgb_encode};
 pub use irradiance_map::IrradianceMap;
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
+pub use primary_image::{PrimaryStats, primary_image};
 pub use renderer::shading_eps;
 pub use renderer::{
     Method, Occluder, RenderOptions, RenderStats, Shading, TILE, primary_coverage, render, render_with, shade_point,

@@ -8,13 +8,14 @@ use super::irradiance_map::IrradianceMap;
 use super::lambert::{point_source_irradiance, polygon_irradiance};
 use super::primary_beam::Piece;
 use super::primary_beam::{point_on_piece, visible_surface};
-use super::shadow_beam::{BeamStats, DEPTH_EPS, visible_light};
+use super::shadow_beam::{BeamStats, DEPTH_EPS, ShadowBeam, ShadowScratch, light_beam, trace_bvh};
 use super::specular::{MAX_DEPTH, specular_rays};
+use super::tile_shadows::{BLOCKS, TileShadows};
 use crate::scene::{Camera, Light, Material, Scene};
 use beam_math::Ray;
 use beam_math::collide::ConvexPolygon;
 use beam_math::glam::{Vec2, Vec3};
-use beam_math::polybeam::{BeamFrame, Section};
+use beam_math::polybeam::{BeamFrame, Quad, Section};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use rayon::prelude::*;
@@ -129,6 +130,21 @@ pub struct RenderStats {
     pub fragments: u64,
     /// Largest `|1 − Σ coverage|` of a pixel (exact coverage sums to one).
     pub coverage_error: f64,
+    /// Triangles set up against shadow beams (projected once each).
+    pub triangle_tests: u64,
+    /// Miss pieces made by shadow-beam splits.
+    pub pieces: u64,
+    /// Shafts traced (one per tile and area light), whose candidates replace the shadow beams'
+    /// own BVH traversals.
+    pub shafts: u64,
+    /// BVH nodes tested by the shafts.
+    pub shaft_bvh_steps: u64,
+    /// Thread-seconds spent on primary visibility (rays or eye beams), summed over threads.
+    pub primary_seconds: f64,
+    /// Thread-seconds spent on shadow beams and shafts (or shadow rays' shading), summed over threads.
+    pub shadow_seconds: f64,
+    /// Thread-seconds spent on the rest of the shading, summed over threads.
+    pub shading_seconds: f64,
 }
 
 /// Per-thread accumulators.
@@ -141,6 +157,22 @@ struct Counters {
     primary: BeamStats,
     fragments: u64,
     coverage_error: f64,
+    shafts: u64,
+    shaft_bvh_steps: u64,
+    primary_seconds: f64,
+    shadow_seconds: f64,
+    shading_seconds: f64,
+}
+
+/// What a thread keeps from one shade point to the next: its counters, its shadow-beam buffers and
+/// the candidate occluders of the tile it is shading.
+#[derive(Default)]
+struct Thread {
+    c: Counters,
+    scratch: ShadowScratch,
+    tile: TileShadows,
+    /// Block of the tile the current pixel lies in.
+    block: usize,
 }
 
 impl core::ops::AddAssign for Counters {
@@ -152,6 +184,11 @@ impl core::ops::AddAssign for Counters {
         self.primary += o.primary;
         self.fragments += o.fragments;
         self.coverage_error = self.coverage_error.max(o.coverage_error);
+        self.shafts += o.shafts;
+        self.shaft_bvh_steps += o.shaft_bvh_steps;
+        self.primary_seconds += o.primary_seconds;
+        self.shadow_seconds += o.shadow_seconds;
+        self.shading_seconds += o.shading_seconds;
     }
 }
 
@@ -169,7 +206,7 @@ fn image_frame(camera: &Camera) -> (BeamFrame, f32, f32) {
 
 /// What a fragment of the eye beams (a visible piece within a pixel) sees.
 #[derive(Clone, Copy, Debug)]
-enum Fragment<'a> {
+pub(crate) enum Fragment<'a> {
     /// Nothing: the background.
     Background,
     /// Triangle `prim` at point `q` (at the fragment's centroid), seen along `d`.
@@ -184,10 +221,10 @@ enum Fragment<'a> {
 
 /// Work done by the beams of a tile.
 #[derive(Clone, Copy, Debug, Default)]
-struct TileStats {
-    primary: BeamStats,
-    shadow: BeamStats,
-    shadow_beams: u64,
+pub(crate) struct TileStats {
+    pub(crate) primary: BeamStats,
+    pub(crate) shadow: BeamStats,
+    pub(crate) shadow_beams: u64,
 }
 
 /// Every fragment of the exact visible surface seen through pixels of tile `(tx, ty)`: calls
@@ -196,7 +233,7 @@ struct TileStats {
 /// point light by a beam, and its lit parts come as [`Fragment::Lit`]. Marks the triangles seen in
 /// `seen_prims`.
 #[allow(clippy::too_many_arguments)]
-fn tile_fragments(
+pub(crate) fn tile_fragments(
     scene: &Scene,
     camera: &Camera,
     tx: u32,
@@ -315,27 +352,29 @@ struct Context<'a> {
 }
 
 impl Context<'_> {
-    fn radiance(&self, ray: Ray, depth: u32, rng: &mut Pcg32, c: &mut Counters) -> Vec3 {
-        c.camera_rays += 1;
+    fn radiance(&self, ray: Ray, depth: u32, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
+        t.c.camera_rays += 1;
         let Some(hit) = self.scene.wide.closest_hit(ray, f32::INFINITY) else {
             return Vec3::ZERO;
         };
-        self.shade(hit.prim, ray.at(hit.t), ray.direction.normalize(), depth, Lights::All, rng, c)
+        self.shade(hit.prim, ray.at(hit.t), ray.direction.normalize(), depth, Lights::All, rng, t)
+    }
+
+    /// The point that gathers direct light for point `p` of `prim` seen along `d` (offset off the
+    /// surface on the viewer's side) and its normal; `None` unless the material is diffuse or glossy.
+    fn gather_point(&self, prim: u32, p: Vec3, d: Vec3) -> Option<(Vec3, Vec3)> {
+        if !matches!(self.scene.material(prim), Material::Diffuse { .. } | Material::Glossy { .. }) {
+            return None;
+        }
+        let n = self.scene.normal(prim);
+        let n = if n.dot(d) < 0.0 { n } else { -n };
+        Some((p + n * self.eps, n))
     }
 
     /// Radiance leaving point `p` of triangle `prim` towards `−d`, with the direct light of `lights`
     /// (at the first surface; every light after a mirror or glass bounce).
     #[allow(clippy::too_many_arguments)]
-    fn shade(
-        &self,
-        prim: u32,
-        p: Vec3,
-        d: Vec3,
-        depth: u32,
-        lights: Lights,
-        rng: &mut Pcg32,
-        c: &mut Counters,
-    ) -> Vec3 {
+    fn shade(&self, prim: u32, p: Vec3, d: Vec3, depth: u32, lights: Lights, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
         let mut n = self.scene.normal(prim);
         let entering = n.dot(d) < 0.0;
         if !entering {
@@ -344,7 +383,7 @@ impl Context<'_> {
         match self.scene.material(prim) {
             Material::Emissive { radiance } => radiance,
             Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => {
-                let mut e = self.direct(p + n * self.eps, n, lights, rng, c);
+                let mut e = self.direct(p + n * self.eps, n, lights, rng, t);
                 if let Some(map) = self.caustics {
                     e += map.irradiance(prim, p);
                 }
@@ -355,7 +394,7 @@ impl Context<'_> {
                     .into_iter()
                     .flatten()
                     .flatten()
-                    .map(|(ray, weight)| weight * self.radiance(ray, depth + 1, rng, c))
+                    .map(|(ray, weight)| weight * self.radiance(ray, depth + 1, rng, t))
                     .sum()
             }
             Material::Mirror { .. } | Material::Glass { .. } | Material::ThinGlass { .. } => Vec3::ZERO,
@@ -363,10 +402,10 @@ impl Context<'_> {
     }
 
     /// Irradiance at `p` (normal `n`) from `lights`.
-    fn direct(&self, p: Vec3, n: Vec3, lights: Lights, rng: &mut Pcg32, c: &mut Counters) -> Vec3 {
+    fn direct(&self, p: Vec3, n: Vec3, lights: Lights, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
         let scene = self.scene;
         let mut e = Vec3::ZERO;
-        for light in &scene.lights {
+        for (index, light) in scene.lights.iter().enumerate() {
             match *light {
                 Light::Point { .. } if lights == Lights::AreaOnly => {}
                 Light::Point { position, intensity } => {
@@ -374,13 +413,13 @@ impl Context<'_> {
                     let r2 = to.length_squared();
                     let cos = n.dot(to) / r2.sqrt();
                     if cos > 0.0 {
-                        c.shadow_rays += 1;
+                        t.c.shadow_rays += 1;
                         if !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
                             e += intensity * cos / r2;
                         }
                     }
                 }
-                _ => e += light.power() * self.area_light(p, n, light, rng, c),
+                _ => e += light.power() * self.area_light(p, n, index, rng, t),
             }
         }
         e
@@ -403,8 +442,9 @@ impl Context<'_> {
         albedo / std::f32::consts::PI * intensity * (n.dot(to) / r2.sqrt()).max(0.0) / r2
     }
 
-    /// Irradiance per unit radiance from an area light.
-    fn area_light(&self, p: Vec3, n: Vec3, light: &Light, rng: &mut Pcg32, c: &mut Counters) -> f32 {
+    /// Irradiance per unit radiance from area light `index`.
+    fn area_light(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
+        let light = &self.scene.lights[index];
         let polygon = light.polygon();
         let ln = light.normal();
         let (area, center) = (light.area(), light.center());
@@ -413,22 +453,43 @@ impl Context<'_> {
         }
         match self.options.method {
             Method::Beam => {
-                c.shadow_beams += 1;
-                let Some(vis) = visible_light(&self.scene.bvh, &self.scene.triangles, p, &polygon, ln, &mut c.beams)
-                else {
-                    return 0.0;
-                };
-                match self.options.shading {
-                    Shading::Fraction => point_source_irradiance(p, n, center, ln, area, vis.fraction()),
-                    Shading::Exact => vis.polygons().iter().map(|poly| polygon_irradiance(p, n, poly)).sum(),
+                let start = Instant::now();
+                let Some(beam) = light_beam(p, &polygon, ln) else { return 0.0 };
+                t.c.shadow_beams += 1;
+                let mut traced = ShadowBeam::new(&beam, &mut t.scratch);
+                let tris = &self.scene.triangles;
+                match t.tile.candidates(index, t.block, p) {
+                    Some(packets) => traced.occlude_packets(packets, tris),
+                    None => trace_bvh(&self.scene.bvh, tris, &mut traced),
                 }
+                t.c.beams += traced.stats;
+                let frame = &traced.frame;
+                let e = match self.options.shading {
+                    Shading::Fraction => {
+                        let visible: f32 = traced.pieces().iter().map(Quad::area).sum();
+                        point_source_irradiance(p, n, center, ln, area, (visible / beam.area()).min(1.0))
+                    }
+                    Shading::Exact => traced
+                        .pieces()
+                        .iter()
+                        .map(|q| {
+                            let mut corners = [Vec3::ZERO; 4];
+                            for (c, uv) in corners.iter_mut().zip(q.corners()) {
+                                *c = frame.point(uv);
+                            }
+                            polygon_irradiance(p, n, &corners[..q.len()])
+                        })
+                        .sum(),
+                };
+                t.c.shadow_seconds += start.elapsed().as_secs_f64();
+                e
             }
             Method::Ray => {
                 let spp = self.options.spp.max(1);
                 let k = (spp as f32).sqrt() as u32;
                 let (mut visible, mut integral) = (0u32, 0.0f32);
                 for i in 0..spp {
-                    let (s, t) = if i < k * k {
+                    let (s, r) = if i < k * k {
                         (
                             ((i % k) as f32 + rng.random::<f32>()) / k as f32,
                             ((i / k) as f32 + rng.random::<f32>()) / k as f32,
@@ -436,9 +497,9 @@ impl Context<'_> {
                     } else {
                         (rng.random::<f32>(), rng.random::<f32>())
                     };
-                    let q = sample_light(light, s, t);
+                    let q = sample_light(light, s, r);
                     let to = q - p;
-                    c.shadow_rays += 1;
+                    t.c.shadow_rays += 1;
                     if (self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
                         continue;
                     }
@@ -480,7 +541,7 @@ pub fn shade_point(
     seed: u64,
 ) -> Vec3 {
     with_context(scene, options, caustics, |ctx| {
-        ctx.shade(prim, p, d, 0, Lights::All, &mut Pcg32::seed_from_u64(seed), &mut Counters::default())
+        ctx.shade(prim, p, d, 0, Lights::All, &mut Pcg32::seed_from_u64(seed), &mut Thread::default())
     })
 }
 
@@ -494,7 +555,7 @@ pub fn trace_radiance(
     seed: u64,
 ) -> Vec3 {
     with_context(scene, options, caustics, |ctx| {
-        ctx.radiance(ray, 0, &mut Pcg32::seed_from_u64(seed), &mut Counters::default())
+        ctx.radiance(ray, 0, &mut Pcg32::seed_from_u64(seed), &mut Thread::default())
     })
 }
 
@@ -550,7 +611,7 @@ pub fn render_with(
     let bands: Vec<(Vec<Vec3>, Counters, Vec<bool>)> = (0..camera.height.div_ceil(TILE))
         .into_par_iter()
         .map(|ty| {
-            let mut c = Counters::default();
+            let mut t = Thread::default();
             let y0 = ty * TILE;
             let rows = TILE.min(camera.height - y0);
             let mut band = vec![Vec3::ZERO; rows as usize * w];
@@ -559,30 +620,76 @@ pub fn render_with(
             match eye_beams {
                 false => {
                     let k = ((options.primary_spp.max(1) as f32).sqrt() as u32).max(1);
-                    for y in y0..y0 + rows {
-                        for x in 0..camera.width {
-                            let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
-                            let mut sum = Vec3::ZERO;
-                            for i in 0..k * k {
-                                let (jx, jy) = if k == 1 {
-                                    (0.5, 0.5)
-                                } else {
-                                    (
-                                        ((i % k) as f32 + rng.random::<f32>()) / k as f32,
-                                        ((i / k) as f32 + rng.random::<f32>()) / k as f32,
-                                    )
-                                };
-                                sum +=
-                                    ctx.radiance(camera.ray(&frame, x as f32 + jx, y as f32 + jy), 0, &mut rng, &mut c);
+                    // Per tile: the primary hits, the candidate occluders of their shade points
+                    // (tile_shadows), then the shading.
+                    let mut hits = Vec::new();
+                    let mut points = Vec::new();
+                    for x0 in (0..camera.width).step_by(TILE as usize) {
+                        let start = Instant::now();
+                        hits.clear();
+                        for y in y0..y0 + rows {
+                            for x in x0..(x0 + TILE).min(camera.width) {
+                                let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
+                                for i in 0..k * k {
+                                    let (jx, jy) = if k == 1 {
+                                        (0.5, 0.5)
+                                    } else {
+                                        (
+                                            ((i % k) as f32 + rng.random::<f32>()) / k as f32,
+                                            ((i / k) as f32 + rng.random::<f32>()) / k as f32,
+                                        )
+                                    };
+                                    let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
+                                    t.c.camera_rays += 1;
+                                    hits.push((x, y, ray, scene.wide.closest_hit(ray, f32::INFINITY)));
+                                }
                             }
-                            band[(y - y0) as usize * w + x as usize] = sum / (k * k) as f32;
                         }
-                        row_done();
+                        let block = |x: u32, y: u32| {
+                            let side = TILE as usize / BLOCKS;
+                            (x - x0) as usize / side + (y - y0) as usize / side * BLOCKS
+                        };
+                        t.c.primary_seconds += start.elapsed().as_secs_f64();
+                        if options.method == Method::Beam {
+                            let start = Instant::now();
+                            points.clear();
+                            points.extend(hits.iter().filter_map(|&(x, y, ray, hit)| {
+                                let hit = hit?;
+                                let (p, _) = ctx.gather_point(hit.prim, ray.at(hit.t), ray.direction)?;
+                                Some((block(x, y), p))
+                            }));
+                            t.tile.build(scene, &points);
+                            t.c.shadow_seconds += start.elapsed().as_secs_f64();
+                        }
+                        let start = Instant::now();
+                        let shadow_before = t.c.shadow_seconds;
+                        for &(x, y, ray, hit) in &hits {
+                            let Some(hit) = hit else { continue };
+                            t.block = block(x, y);
+                            let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y) ^ 0x5EED);
+                            let l = ctx.shade(
+                                hit.prim,
+                                ray.at(hit.t),
+                                ray.direction.normalize(),
+                                0,
+                                Lights::All,
+                                &mut rng,
+                                &mut t,
+                            );
+                            band[(y - y0) as usize * w + x as usize] += l / (k * k) as f32;
+                        }
+                        t.c.shading_seconds += start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
                     }
+                    t.c.shafts = t.tile.shafts;
+                    t.c.shaft_bvh_steps = t.tile.bvh_steps;
+                    t.tile.clear();
+                    (0..rows).for_each(|_| row_done());
                 }
                 true => {
                     let mut coverage = vec![0.0f32; rows as usize * w];
                     for tx in 0..camera.width.div_ceil(TILE) {
+                        let start = Instant::now();
+                        let (shadow_before, shading_before) = (t.c.shadow_seconds, t.c.shading_seconds);
                         let mut tile = TileStats::default();
                         tile_fragments(scene, &camera, tx, ty, true, &mut tile, &mut seen, |x, y, cov, seen| {
                             let i = (y - y0) as usize * w + x as usize;
@@ -590,9 +697,13 @@ pub fn render_with(
                                 Fragment::Background => coverage[i] += cov,
                                 Fragment::Surface { prim, q, d } => {
                                     coverage[i] += cov;
-                                    c.fragments += 1;
+                                    t.c.fragments += 1;
+                                    let start = Instant::now();
+                                    let shadow_before = t.c.shadow_seconds;
                                     let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
-                                    band[i] += cov * ctx.shade(prim, q, d, 0, Lights::AreaOnly, &mut rng, &mut c);
+                                    band[i] += cov * ctx.shade(prim, q, d, 0, Lights::AreaOnly, &mut rng, &mut t);
+                                    t.c.shading_seconds +=
+                                        start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
                                 }
                                 Fragment::Lit { light, prim, points } => {
                                     for &(weight, q) in points {
@@ -601,15 +712,17 @@ pub fn render_with(
                                 }
                             }
                         });
-                        c.primary += tile.primary;
-                        c.beams += tile.shadow;
-                        c.shadow_beams += tile.shadow_beams;
+                        t.c.primary += tile.primary;
+                        t.c.beams += tile.shadow;
+                        t.c.shadow_beams += tile.shadow_beams;
+                        let shaded = (t.c.shadow_seconds - shadow_before) + (t.c.shading_seconds - shading_before);
+                        t.c.primary_seconds += start.elapsed().as_secs_f64() - shaded;
                     }
-                    c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
+                    t.c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
                     (0..rows).for_each(|_| row_done());
                 }
             }
-            (band, c, seen)
+            (band, t.c, seen)
         })
         .collect();
     let mut image = Image::new(camera.width, camera.height);
@@ -657,6 +770,13 @@ pub fn render_with(
         hit_beams_per_visible_triangle: total.primary.hit_beams as f64 / visible_triangles.max(1) as f64,
         fragments: total.fragments,
         coverage_error: total.coverage_error,
+        triangle_tests: total.beams.triangle_tests,
+        pieces: total.beams.pieces,
+        shafts: total.shafts,
+        shaft_bvh_steps: total.shaft_bvh_steps,
+        primary_seconds: total.primary_seconds,
+        shadow_seconds: total.shadow_seconds,
+        shading_seconds: total.shading_seconds,
     };
     (image, stats)
 }

@@ -1,37 +1,51 @@
 //! Exact visibility of a polygonal light from a point (001 §5): a beam from the shade point to the
-//! light polygon traverses the BVH; at every leaf each remaining piece of the light is split exactly
-//! at the triangle's edges (001 §3.2); the miss pieces are the visible part of the light.
+//! light polygon meets the triangles of the BVH (or of a shaft's candidate list, [`super::shaft`]);
+//! each remaining piece of the light is split exactly at the triangle's edges (001 §3.2); the miss
+//! pieces are the visible part of the light.
 //!
-//! The order of occluders does not matter for visibility (any triangle between the point and the
-//! light blocks), so hit pieces are dropped at once instead of traversing on. A BVH references each
-//! triangle from exactly one leaf, so the kd-tree mailboxing of 001 §3.4 has nothing to remove here.
+//! The fast core of 001 §3.4: each triangle is projected once per query (three divides, no
+//! clipping unless it reaches behind the point or past the light) into its 2D edge lines, and the
+//! pieces, at most four corners each ([`Quad`]), are classified against a line with one 4-lane
+//! multiply-add. The order of occluders does not matter for visibility (any triangle between the
+//! point and the light blocks), so hit pieces are dropped at once. A BVH references each triangle
+//! from exactly one leaf, so the kd-tree mailboxing of 001 §3.4 has nothing to remove here.
 
+use super::packet::{Packet, Projector};
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
 use beam_math::collide::aabb_outside_planes;
 use beam_math::glam::{Vec2, Vec3};
-use beam_math::polybeam::{BeamFrame, Part, PolyBeam, ProjectedTriangle, Section, split_section};
+use beam_math::polybeam::{BeamFrame, Cover, EdgeLines, MAX_EDGES, PolyBeam, ProjectedTriangle, Quad, Section};
 use beam_math::{Aabb, Triangle};
 
 /// Occluders are counted only strictly between the point and the light: depths (in units of the
 /// light-plane distance) within `[DEPTH_EPS, 1 − DEPTH_EPS]`.
 pub const DEPTH_EPS: f32 = 1e-4;
 
+/// Fuzzy tolerance of the side tests, as a fraction of the light's size (001 App. A).
+const SIDE_EPS: f32 = 1e-6;
+
 /// Work done by beams (eye or shadow beams).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BeamStats {
     /// BVH nodes tested against the beam frustum (001's "BVH steps").
     pub bvh_steps: u64,
+    /// Triangles set up against a beam (projected once each, 001 §3.4).
+    pub triangle_tests: u64,
     /// Beam–triangle split operations (001's "intersections").
     pub intersections: u64,
     /// Hit pieces produced (001's "hit beams").
     pub hit_beams: u64,
+    /// Miss pieces made by splits.
+    pub pieces: u64,
 }
 
 impl core::ops::AddAssign for BeamStats {
     fn add_assign(&mut self, o: Self) {
         self.bvh_steps += o.bvh_steps;
+        self.triangle_tests += o.triangle_tests;
         self.intersections += o.intersections;
         self.hit_beams += o.hit_beams;
+        self.pieces += o.pieces;
     }
 }
 
@@ -64,105 +78,240 @@ impl VisibleLight {
     }
 }
 
-/// A remaining piece of the light with its bounding rectangle.
-#[derive(Clone, Copy)]
-struct LitPiece {
-    section: Section,
+/// Buffers a thread reuses from one shadow beam to the next (no allocation per shade point).
+#[derive(Default)]
+pub(crate) struct ShadowScratch {
+    pieces: Vec<Quad>,
+    missed: Vec<Quad>,
+}
+
+/// A shadow beam being traced: its frame, its remaining (lit) pieces and their bounding rectangle.
+pub(crate) struct ShadowBeam<'s> {
+    pub(crate) frame: BeamFrame,
+    /// The apex in the plane's coordinates, `((apex − origin)·u, (apex − origin)·v)`.
+    apex_uv: Vec2,
+    pieces: &'s mut Vec<Quad>,
+    missed: &'s mut Vec<Quad>,
     lo: Vec2,
     hi: Vec2,
+    eps: f32,
+    pub(crate) stats: BeamStats,
 }
 
-impl LitPiece {
-    fn new(section: Section) -> Self {
-        let (lo, hi) = section.bounds();
-        Self { section, lo, hi }
-    }
-}
-
-struct ShadowVisitor<'a> {
-    triangles: &'a [Triangle],
-    frame: BeamFrame,
-    pieces: Vec<LitPiece>,
-    /// Miss parts of the piece being split (scratch).
-    misses: Vec<Section>,
-    /// Bounding rectangle of the remaining pieces on the light plane.
-    lo: Vec2,
-    hi: Vec2,
-    /// Outward normals of the four planes through the apex and the rectangle's sides, then the
-    /// near and far planes (`depth = DEPTH_EPS`, `depth = 1 − DEPTH_EPS`) as (normal, offset).
-    planes: [(Vec3, f32); 6],
-    stats: BeamStats,
-}
-
-impl ShadowVisitor<'_> {
-    /// Recompute the bounding rectangle of the pieces and the beam planes around it.
-    fn update_bounds(&mut self) {
-        (self.lo, self.hi) =
-            self.pieces.iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), p| (lo.min(p.lo), hi.max(p.hi)));
-        let f = &self.frame;
-        let apex = f.apex;
-        for (plane, n) in self.planes.iter_mut().zip(f.side_normals(self.lo, self.hi)) {
-            *plane = (n, n.dot(apex));
+impl<'s> ShadowBeam<'s> {
+    /// The beam of `beam`'s cross-section (cut into pieces of at most four corners).
+    pub(crate) fn new(beam: &PolyBeam, scratch: &'s mut ShadowScratch) -> Self {
+        let ShadowScratch { pieces, missed } = scratch;
+        pieces.clear();
+        let v = beam.section.vertices();
+        // A fan of quads around corner 0 (the section is convex and counter-clockwise).
+        let mut first = 1;
+        while first + 1 < v.len() {
+            let last = (first + 2).min(v.len() - 1);
+            let corners = if last == first + 2 {
+                &[v[0], v[first], v[first + 1], v[last]][..]
+            } else {
+                &[v[0], v[first], v[last]][..]
+            };
+            pieces.extend(Quad::new(corners));
+            first = last;
         }
-        // Depth d(x) = (x − apex)·N / distance: near plane keeps d ≥ ε, far plane keeps d ≤ 1 − ε.
-        let n = f.normal / f.distance;
-        self.planes[4] = (-n, -n.dot(apex) - DEPTH_EPS);
-        self.planes[5] = (n, n.dot(apex) + 1.0 - DEPTH_EPS);
+        let centroid = beam.section.centroid();
+        let scale = v.iter().fold(0.0f32, |m, c| m.max((*c - centroid).length()));
+        let f = &beam.frame;
+        let r = f.apex - f.origin;
+        let mut out = Self {
+            frame: *f,
+            apex_uv: Vec2::new(r.dot(f.u), r.dot(f.v)),
+            pieces,
+            missed,
+            lo: Vec2::ZERO,
+            hi: Vec2::ZERO,
+            eps: SIDE_EPS * scale.max(f32::MIN_POSITIVE),
+            stats: BeamStats::default(),
+        };
+        out.update_bounds();
+        out
     }
 
-    /// Split every piece the projected triangle overlaps, in place: a piece is replaced by its miss
-    /// parts (hit parts are occluded and dropped). True when any piece was hit.
-    fn occlude(&mut self, projected: &ProjectedTriangle) -> bool {
+    /// The remaining pieces.
+    pub(crate) fn pieces(&self) -> &[Quad] {
+        self.pieces
+    }
+
+    /// True when nothing of the light is left.
+    pub(crate) fn is_dark(&self) -> bool {
+        self.pieces.is_empty()
+    }
+
+    /// Bounding rectangle of the remaining pieces.
+    pub(crate) fn bounds(&self) -> (Vec2, Vec2) {
+        (self.lo, self.hi)
+    }
+
+    fn update_bounds(&mut self) {
+        (self.lo, self.hi) = self.pieces.iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), p| {
+            let (a, b) = p.bounds();
+            (lo.min(a), hi.max(b))
+        });
+    }
+
+    /// Remove from the pieces what `tri` hides: only its part strictly between the apex and the
+    /// light counts. True when any piece was hit.
+    pub(crate) fn occlude(&mut self, tri: &Triangle) -> bool {
+        self.stats.triangle_tests += 1;
+        self.occlude_uncounted(tri)
+    }
+
+    fn occlude_uncounted(&mut self, tri: &Triangle) -> bool {
+        let f = &self.frame;
+        let (near, far) = (DEPTH_EPS * f.distance, (1.0 - DEPTH_EPS) * f.distance);
+        let w = tri.v.map(|v| v - f.apex);
+        let h = w.map(|w| w.dot(f.normal));
+        if h.iter().all(|&h| h < near) || h.iter().all(|&h| h > far) || h.iter().any(|h| h.is_nan()) {
+            return false;
+        }
+        if h.iter().all(|&h| h >= near && h <= far) {
+            // Wholly in the depth range: project the three corners (001 §3.4).
+            let q =
+                core::array::from_fn(|i| self.apex_uv + Vec2::new(w[i].dot(f.u), w[i].dot(f.v)) * (f.distance / h[i]));
+            return self.occlude_projected(&q);
+        }
+        // Reaching behind the point or past the light: clip to the depth range first. Depth
+        // clipping only: shadow beams can graze the light's plane, where planes through the apex and
+        // the window are nearly parallel to it and clipping by them is ill-conditioned.
+        let Some(projected) = ProjectedTriangle::new(f, tri, DEPTH_EPS, 1.0 - DEPTH_EPS) else { return false };
+        if !projected.overlaps(self.lo, self.hi) {
+            return false;
+        }
+        match EdgeLines::<MAX_EDGES>::new(projected.polygon.vertices(), self.eps * self.eps) {
+            Some(lines) => self.split_pieces(&lines),
+            None => false,
+        }
+    }
+
+    /// [`ShadowBeam::occlude`] for a triangle wholly in the depth range, projected to `q`.
+    fn occlude_projected(&mut self, q: &[Vec2; 3]) -> bool {
+        let (lo, hi) = (q[0].min(q[1]).min(q[2]), q[0].max(q[1]).max(q[2]));
+        if hi.x < self.lo.x || hi.y < self.lo.y || lo.x > self.hi.x || lo.y > self.hi.y {
+            return false;
+        }
+        match EdgeLines::<3>::new(q, self.eps * self.eps) {
+            Some(lines) => self.split_pieces(&lines),
+            None => false,
+        }
+    }
+
+    /// The projection of this beam, for [`Packet::survivors`].
+    pub(crate) fn projector(&self) -> Projector {
+        let f = &self.frame;
+        Projector {
+            apex: f.apex,
+            u: f.u,
+            v: f.v,
+            normal: f.normal,
+            distance: f.distance,
+            apex_uv: self.apex_uv,
+            near: DEPTH_EPS * f.distance,
+            far: (1.0 - DEPTH_EPS) * f.distance,
+        }
+    }
+
+    /// Split by the candidates of `packets`, until nothing of the light is left.
+    pub(crate) fn occlude_packets(&mut self, packets: &[Packet], triangles: &[Triangle]) {
+        let projector = self.projector();
+        for packet in packets {
+            self.stats.triangle_tests += u64::from(packet.len);
+            let (lo, hi) = (self.lo, self.hi);
+            packet.survivors(&projector, lo, hi, &mut |s| {
+                if self.is_dark() {
+                    return;
+                }
+                match s.projected {
+                    Some(q) => self.occlude_projected(&q),
+                    None => self.occlude_uncounted(&triangles[s.prim as usize]),
+                };
+            });
+            if self.is_dark() {
+                return;
+            }
+        }
+    }
+
+    /// Remove from the pieces what the projected polygon `lines` hides. True when any piece was hit.
+    fn split_pieces<const N: usize>(&mut self, lines: &EdgeLines<N>) -> bool {
         let mut hit = false;
         // Pieces [0, end) are the ones from before this triangle; its miss parts are appended.
         let mut end = self.pieces.len();
         let mut i = 0;
         while i < end {
-            if !projected.overlaps(self.pieces[i].lo, self.pieces[i].hi) {
-                i += 1;
-                continue;
-            }
             let piece = self.pieces[i];
-            self.stats.intersections += 1;
-            let mut hits = 0;
-            self.misses.clear();
-            let (misses, hits_ref) = (&mut self.misses, &mut hits);
-            let emitted = split_section(&piece.section, projected, 1e-6, &mut |part, s| match part {
-                Part::Hit => *hits_ref += 1,
-                Part::Miss => misses.push(s),
-            });
-            // Untouched, or a piece that outgrew its corner capacity (kept whole, visible).
-            if hits == 0 || emitted.is_err() {
+            let (lo, hi) = piece.bounds();
+            if !lines.overlaps(lo, hi) {
                 i += 1;
                 continue;
             }
-            hit = true;
-            self.stats.hit_beams += hits;
-            match self.misses.split_first() {
-                Some((first, rest)) => {
-                    self.pieces[i] = LitPiece::new(*first);
-                    self.pieces.extend(rest.iter().map(|&s| LitPiece::new(s)));
-                    i += 1;
-                }
-                None => {
+            self.stats.intersections += 1;
+            self.missed.clear();
+            let missed = &mut *self.missed;
+            match piece.split(lines, self.eps, &mut |q| missed.push(q)) {
+                Cover::Outside => i += 1,
+                Cover::Inside => {
                     // Wholly hidden: move the last unvisited piece here, then drop this one.
+                    hit = true;
+                    self.stats.hit_beams += 1;
                     end -= 1;
                     self.pieces.swap(i, end);
                     self.pieces.swap_remove(end);
                 }
+                Cover::Crossed => {
+                    hit = true;
+                    self.stats.hit_beams += 1;
+                    self.stats.pieces += self.missed.len() as u64;
+                    self.pieces[i] = self.missed[0];
+                    self.pieces.extend_from_slice(&self.missed[1..]);
+                    i += 1;
+                }
             }
+        }
+        if hit {
+            self.update_bounds();
         }
         hit
     }
 }
 
-impl NodeVisitor for ShadowVisitor<'_> {
+/// Traces a shadow beam through the BVH.
+struct ShadowVisitor<'a, 'b, 's> {
+    triangles: &'a [Triangle],
+    beam: &'b mut ShadowBeam<'s>,
+    /// Outward normals of the four planes through the apex and the pieces' bounding rectangle's
+    /// sides, then the near and far planes (`depth = DEPTH_EPS`, `depth = 1 − DEPTH_EPS`), as
+    /// (normal, offset).
+    planes: [(Vec3, f32); 6],
+}
+
+impl ShadowVisitor<'_, '_, '_> {
+    fn update_planes(&mut self) {
+        let f = &self.beam.frame;
+        let (lo, hi) = self.beam.bounds();
+        for (plane, n) in self.planes.iter_mut().zip(f.side_normals(lo, hi)) {
+            *plane = (n, n.dot(f.apex));
+        }
+        // Depth d(x) = (x − apex)·N / distance: near plane keeps d ≥ ε, far plane keeps d ≤ 1 − ε.
+        let n = f.normal / f.distance;
+        self.planes[4] = (-n, -n.dot(f.apex) - DEPTH_EPS);
+        self.planes[5] = (n, n.dot(f.apex) + 1.0 - DEPTH_EPS);
+    }
+}
+
+impl NodeVisitor for ShadowVisitor<'_, '_, '_> {
     /// A node is entered unless its box lies wholly outside one of the beam's six planes (the four
     /// through the apex and the sides of the pieces' bounding rectangle, the near and far planes),
     /// tested at the box corner nearest to the inside: the plane test of frustum culling, cheap and
     /// conservative (001 §3.3 keeps near and far planes per axis for the same purpose).
     fn enter(&mut self, bounds: &Aabb) -> Option<f32> {
-        self.stats.bvh_steps += 1;
+        self.beam.stats.bvh_steps += 1;
         if aabb_outside_planes(bounds, &self.planes) {
             return None;
         }
@@ -171,26 +320,23 @@ impl NodeVisitor for ShadowVisitor<'_> {
 
     fn leaf(&mut self, prims: &[u32]) -> Control {
         for &p in prims {
-            // Depth clipping only: shadow beams can graze the light's plane, where planes through the
-            // apex and the window are nearly parallel to it and clipping by them is ill-conditioned.
-            let Some(projected) =
-                ProjectedTriangle::new(&self.frame, &self.triangles[p as usize], DEPTH_EPS, 1.0 - DEPTH_EPS)
-            else {
-                continue;
-            };
-            if !projected.overlaps(self.lo, self.hi) {
-                continue;
-            }
-            if self.occlude(&projected) {
-                if self.pieces.is_empty() {
+            if self.beam.occlude(&self.triangles[p as usize]) {
+                if self.beam.is_dark() {
                     return Control::Stop;
                 }
-                // Pieces only shrink where the triangle hit one; otherwise the bounds still hold.
-                self.update_bounds();
+                // Pieces only shrink where the triangle hit one; otherwise the planes still hold.
+                self.update_planes();
             }
         }
         Control::Continue
     }
+}
+
+/// Trace `beam` through the BVH: what is left of it are its lit pieces.
+pub(crate) fn trace_bvh(bvh: &FlatBvh, triangles: &[Triangle], beam: &mut ShadowBeam<'_>) {
+    let mut v = ShadowVisitor { triangles, beam, planes: [(Vec3::ZERO, 0.0); 6] };
+    v.update_planes();
+    bvh.traverse(&mut v);
 }
 
 /// The part of `light` (a convex polygon, 3 to 8 corners) visible from `p`. `None` when `p` lies on
@@ -203,30 +349,30 @@ pub fn visible_light(
     light_normal: Vec3,
     stats: &mut BeamStats,
 ) -> Option<VisibleLight> {
+    let beam = light_beam(p, light, light_normal)?;
+    Some(visible_section(bvh, triangles, &beam, stats))
+}
+
+/// The beam from `p` to `light` (its reference plane the light's), or `None` when `p` lies on the
+/// light's plane or behind it.
+pub(crate) fn light_beam(p: Vec3, light: &[Vec3], light_normal: Vec3) -> Option<PolyBeam> {
     if light.len() < 3 || light_normal.dot(p - light[0]) <= 0.0 {
         return None;
     }
     let frame = BeamFrame::new(p, light[0], light_normal, light[1] - light[0])?;
-    Some(visible_section(bvh, triangles, &PolyBeam::new(frame, light)?, stats))
+    PolyBeam::new(frame, light)
 }
 
 /// The part of `beam`'s cross-section seen from its apex past every triangle strictly between the
 /// apex and the reference plane (depths in `[DEPTH_EPS, 1 − DEPTH_EPS]`).
 pub fn visible_section(bvh: &FlatBvh, triangles: &[Triangle], beam: &PolyBeam, stats: &mut BeamStats) -> VisibleLight {
-    let mut v = ShadowVisitor {
-        triangles,
-        frame: beam.frame,
-        pieces: vec![LitPiece::new(beam.section)],
-        misses: Vec::new(),
-        lo: Vec2::ZERO,
-        hi: Vec2::ZERO,
-        planes: [(Vec3::ZERO, 0.0); 6],
-        stats: BeamStats::default(),
-    };
-    v.update_bounds();
-    bvh.traverse(&mut v);
-    *stats += v.stats;
-    VisibleLight { frame: beam.frame, pieces: v.pieces.iter().map(|p| p.section).collect(), light_area: beam.area() }
+    let mut scratch = ShadowScratch::default();
+    let mut traced = ShadowBeam::new(beam, &mut scratch);
+    trace_bvh(bvh, triangles, &mut traced);
+    *stats += traced.stats;
+    let pieces =
+        traced.pieces().iter().filter_map(|q| Section::from_slice(&q.corners().collect::<Vec<_>>()).ok()).collect();
+    VisibleLight { frame: beam.frame, pieces, light_area: beam.area() }
 }
 
 #[cfg(test)]
@@ -236,9 +382,8 @@ mod tests {
 
     #[test]
     fn square_occluder_parallel_to_square_light() {
-        // Light: unit square at z = 2; occluder: square of half-width 0.25 at z = 1 centred above
-        // the origin. From the origin the occluder's shadow on the light plane is a square of
-        // half-width 0.5: exactly the whole light (side 1, centred) → visible 0 when centred.
+        // Light: unit square at z = 2; occluder: square of half-width 0.125 at z = 1 centred above
+        // the origin, whose shadow on the light plane from the origin has half-width 0.25.
         let light = [
             Vec3::new(-0.5, -0.5, 2.0),
             Vec3::new(0.5, -0.5, 2.0),
@@ -255,13 +400,14 @@ mod tests {
         // Shadow of the occluder on the light plane: half-width 2h = 0.25, area 0.25 of the light.
         let v = visible_light(&bvh, &occ, Vec3::ZERO, &light, -Vec3::Z, &mut stats).unwrap();
         assert!((v.fraction() - 0.75).abs() < 1e-5, "{}", v.fraction());
+        assert!(v.pieces.iter().all(|p| p.len() <= 4));
         // Shifted sideways by x: the shadow moves by −x·(2−1)/1 = −x on the light plane.
         let v = visible_light(&bvh, &occ, Vec3::new(0.1, 0.0, 0.0), &light, -Vec3::Z, &mut stats).unwrap();
         assert!((v.fraction() - 0.75).abs() < 1e-5);
+        // At x = 0.6 the shadow's centre is at 0.6 − 2·0.6 = −0.6: it covers x ∈ [−0.85, −0.35], of
+        // which [−0.5, −0.35] is on the light: area 0.15 × 0.5.
         let v = visible_light(&bvh, &occ, Vec3::new(0.6, 0.0, 0.0), &light, -Vec3::Z, &mut stats).unwrap();
-        // Shadow x-range: [−0.6 − 0.25 + ..]: centre at 2·0.6 − 0.6 ... computed: centre c = 0.6 − 2·0.6 = −0.6,
-        // so the shadow covers x ∈ [−0.85, −0.35] ∩ [−0.5, 0.5] = [−0.5, −0.35]: area 0.15 × 0.5.
         assert!((v.fraction() - (1.0 - 0.15 * 0.5)).abs() < 1e-4, "{}", v.fraction());
-        assert!(stats.bvh_steps > 0 && stats.intersections > 0);
+        assert!(stats.bvh_steps > 0 && stats.intersections > 0 && stats.triangle_tests > 0);
     }
 }

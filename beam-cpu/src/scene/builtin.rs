@@ -1,12 +1,12 @@
 //! Built-in scenes, so that the default job needs no files.
 
-use super::{Camera, Light, Material, Scene, light_volumes, showcase};
+use super::{Camera, Light, Material, Scene, foliage, light_volumes, showcase};
 use crate::mesh::{self, Mesh};
 use beam_math::Triangle;
 use beam_math::glam::{Mat3, Vec3};
 
 /// Names of the built-in scenes; the first is the default of `beam render`.
-pub const BUILTIN: [&str; 16] = [
+pub const BUILTIN: [&str; 17] = [
     "cornell",
     "mirror-glass",
     "cornell-point",
@@ -23,6 +23,7 @@ pub const BUILTIN: [&str; 16] = [
     "cardioid-ring",
     "pool-caustics",
     "stained-glass",
+    "foliage",
 ];
 
 /// A built-in scene by name.
@@ -47,6 +48,7 @@ pub fn builtin(name: &str) -> Result<Scene, String> {
         "cardioid-ring" => Ok(light_volumes::cardioid_ring(40)),
         "pool-caustics" => Ok(light_volumes::pool_caustics(20)),
         "stained-glass" => Ok(light_volumes::stained_glass()),
+        "foliage" => Ok(foliage::foliage(foliage::LEAVES, 1)),
         _ => Err(format!("unknown built-in scene `{name}` (known: {})", BUILTIN.join(", "))),
     }
 }

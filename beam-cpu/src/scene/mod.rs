@@ -4,6 +4,7 @@
 mod builtin;
 mod camera;
 mod file;
+pub mod foliage;
 pub mod light_volumes;
 mod normals;
 pub mod showcase;

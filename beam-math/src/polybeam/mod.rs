@@ -2,9 +2,11 @@
 //! triangles into hit and miss beams.
 
 mod beam;
+mod quad;
 mod split;
 
 pub use beam::{BeamFrame, MAX_CORNERS, PolyBeam, Section};
+pub use quad::{Cover, EdgeLines, Line, MAX_EDGES, Quad};
 pub use split::{KEEP_CORNERS, Part, Pieces, ProjectedTriangle, Split, split_section};
 
 #[cfg(test)]
