@@ -13,7 +13,7 @@
 use super::packet::{Packet, Projector};
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
 use beam_math::collide::aabb_outside_planes;
-use beam_math::glam::{Vec2, Vec3};
+use beam_math::glam::{Vec2, Vec3, Vec4};
 use beam_math::polybeam::{BeamFrame, Cover, EdgeLines, MAX_EDGES, PolyBeam, ProjectedTriangle, Quad, Section};
 use beam_math::{Aabb, Triangle};
 
@@ -82,6 +82,8 @@ impl VisibleLight {
 #[derive(Default)]
 pub(crate) struct ShadowScratch {
     pieces: Vec<Quad>,
+    /// Each piece's bounding rectangle as `(lo.x, lo.y, −hi.x, −hi.y)` (see [`ShadowBeam::rect`]).
+    boxes: Vec<Vec4>,
     missed: Vec<Quad>,
 }
 
@@ -91,6 +93,7 @@ pub(crate) struct ShadowBeam<'s> {
     /// The apex in the plane's coordinates, `((apex − origin)·u, (apex − origin)·v)`.
     apex_uv: Vec2,
     pieces: &'s mut Vec<Quad>,
+    boxes: &'s mut Vec<Vec4>,
     missed: &'s mut Vec<Quad>,
     lo: Vec2,
     hi: Vec2,
@@ -101,7 +104,7 @@ pub(crate) struct ShadowBeam<'s> {
 impl<'s> ShadowBeam<'s> {
     /// The beam of `beam`'s cross-section (cut into pieces of at most four corners).
     pub(crate) fn new(beam: &PolyBeam, scratch: &'s mut ShadowScratch) -> Self {
-        let ShadowScratch { pieces, missed } = scratch;
+        let ShadowScratch { pieces, boxes, missed } = scratch;
         pieces.clear();
         let v = beam.section.vertices();
         // A fan of quads around corner 0 (the section is convex and counter-clockwise).
@@ -124,6 +127,7 @@ impl<'s> ShadowBeam<'s> {
             frame: *f,
             apex_uv: Vec2::new(r.dot(f.u), r.dot(f.v)),
             pieces,
+            boxes,
             missed,
             lo: Vec2::ZERO,
             hi: Vec2::ZERO,
@@ -149,11 +153,25 @@ impl<'s> ShadowBeam<'s> {
         (self.lo, self.hi)
     }
 
+    /// A bounding rectangle `[lo, hi]` as `(lo.x, lo.y, −hi.x, −hi.y)`: two such rectangles meet
+    /// where `a ≤ (b.hi.x, b.hi.y, −b.lo.x, −b.lo.y)` in all four lanes (one compare), and the
+    /// lane-wise minimum of several is their union.
+    fn rect(lo: Vec2, hi: Vec2) -> Vec4 {
+        Vec4::new(lo.x, lo.y, -hi.x, -hi.y)
+    }
+
     fn update_bounds(&mut self) {
-        (self.lo, self.hi) = self.pieces.iter().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), p| {
-            let (a, b) = p.bounds();
-            (lo.min(a), hi.max(b))
-        });
+        self.boxes.clear();
+        self.boxes.extend(self.pieces.iter().map(|p| {
+            let (lo, hi) = p.bounds();
+            Self::rect(lo, hi)
+        }));
+        self.union_boxes();
+    }
+
+    fn union_boxes(&mut self) {
+        let u = self.boxes.iter().fold(Vec4::INFINITY, |u, b| u.min(*b));
+        (self.lo, self.hi) = (Vec2::new(u.x, u.y), Vec2::new(-u.z, -u.w));
     }
 
     /// Remove from the pieces what `tri` hides: only its part strictly between the apex and the
@@ -241,16 +259,16 @@ impl<'s> ShadowBeam<'s> {
     /// Remove from the pieces what the projected polygon `lines` hides. True when any piece was hit.
     fn split_pieces<const N: usize>(&mut self, lines: &EdgeLines<N>) -> bool {
         let mut hit = false;
+        let query = Vec4::new(lines.max.x, lines.max.y, -lines.min.x, -lines.min.y);
         // Pieces [0, end) are the ones from before this triangle; its miss parts are appended.
         let mut end = self.pieces.len();
         let mut i = 0;
         while i < end {
-            let piece = self.pieces[i];
-            let (lo, hi) = piece.bounds();
-            if !lines.overlaps(lo, hi) {
+            if !self.boxes[i].cmple(query).all() {
                 i += 1;
                 continue;
             }
+            let piece = self.pieces[i];
             self.stats.intersections += 1;
             self.missed.clear();
             let missed = &mut *self.missed;
@@ -263,19 +281,29 @@ impl<'s> ShadowBeam<'s> {
                     end -= 1;
                     self.pieces.swap(i, end);
                     self.pieces.swap_remove(end);
+                    self.boxes.swap(i, end);
+                    self.boxes.swap_remove(end);
                 }
                 Cover::Crossed => {
                     hit = true;
                     self.stats.hit_beams += 1;
                     self.stats.pieces += self.missed.len() as u64;
-                    self.pieces[i] = self.missed[0];
-                    self.pieces.extend_from_slice(&self.missed[1..]);
+                    for (k, q) in self.missed.iter().enumerate() {
+                        let (lo, hi) = q.bounds();
+                        if k == 0 {
+                            self.pieces[i] = *q;
+                            self.boxes[i] = Self::rect(lo, hi);
+                        } else {
+                            self.pieces.push(*q);
+                            self.boxes.push(Self::rect(lo, hi));
+                        }
+                    }
                     i += 1;
                 }
             }
         }
         if hit {
-            self.update_bounds();
+            self.union_boxes();
         }
         hit
     }

@@ -6,7 +6,7 @@
 //! counts as inside as well as outside. Missed parts of more than four corners are re-cut into
 //! pieces of at most four (the paper's "extra split").
 
-use glam::{Vec2, Vec4};
+use glam::{Vec2, Vec4, Vec4Swizzles};
 
 /// A convex cross-section of 3 or 4 corners, counter-clockwise; unused lanes repeat corner 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -286,16 +286,21 @@ impl Quad {
         if inside {
             return Cover::Inside;
         }
-        // Fig. 2b: a section edge with every corner of the polygon outside.
+        // Fig. 2b: a section edge with every corner of the polygon outside, the four edges in the
+        // four lanes (edge i from corner i to corner i + 1; with three corners lane 3 is empty).
         let n = self.len();
-        for i in 0..n {
-            let (a, b) = (self.corner(i), self.corner((i + 1) % n));
-            let e = b - a;
-            let nrm = Vec2::new(e.y, -e.x);
-            let tol = -eps * nrm.length();
-            if poly.corners().iter().all(|&c| nrm.dot(c - a) >= tol) {
-                return Cover::Outside;
-            }
+        let (ex, ey) = (self.x.yzwx() - self.x, self.y.yzwx() - self.y);
+        // d ≥ −eps·|e| without a square root: d ≥ 0, or d² ≤ eps²·|e|².
+        let length2 = ex * ex + ey * ey;
+        let tol2 = Vec4::splat(eps * eps) * length2;
+        let mut separates = length2.cmpgt(Vec4::ZERO);
+        for &c in poly.corners() {
+            // Outward normal of a counter-clockwise edge is (e.y, −e.x).
+            let d = ey * (Vec4::splat(c.x) - self.x) - ex * (Vec4::splat(c.y) - self.y);
+            separates &= d.cmpge(Vec4::ZERO) | (d * d).cmple(tol2);
+        }
+        if separates.bitmask() & ((1 << n) - 1) != 0 {
+            return Cover::Outside;
         }
         // Fig. 2d–g: cut edge by edge; the missed parts are handed out only if a hit part remains.
         let mut rest = Poly { c: [Vec2::ZERO; POLY], len: n };
