@@ -14,12 +14,15 @@ use super::packet::{Packet, Projector};
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
 use beam_math::collide::aabb_outside_planes;
 use beam_math::glam::{Vec2, Vec3, Vec4};
-use beam_math::polybeam::{BeamFrame, Cover, EdgeLines, MAX_EDGES, PolyBeam, ProjectedTriangle, Quad, Section};
+use beam_math::polybeam::{BeamFrame, Cover, EdgeLines, PolyBeam, Quad, Section};
 use beam_math::{Aabb, Triangle};
 
 /// Occluders are counted only strictly between the point and the light: depths (in units of the
 /// light-plane distance) within `[DEPTH_EPS, 1 − DEPTH_EPS]`.
 pub const DEPTH_EPS: f32 = 1e-4;
+
+/// Occluders of the previous beam tried first.
+const HOT: usize = 8;
 
 /// Fuzzy tolerance of the side tests, as a fraction of the light's size (001 App. A).
 const SIDE_EPS: f32 = 1e-6;
@@ -85,6 +88,8 @@ pub(crate) struct ShadowScratch {
     /// Each piece's bounding rectangle as `(lo.x, lo.y, −hi.x, −hi.y)` (see [`ShadowBeam::rect`]).
     boxes: Vec<Vec4>,
     missed: Vec<Quad>,
+    /// The occluders that hit the last beam traced through candidates (tested first next time).
+    hot: Vec<u32>,
 }
 
 /// A shadow beam being traced: its frame, its remaining (lit) pieces and their bounding rectangle.
@@ -95,6 +100,7 @@ pub(crate) struct ShadowBeam<'s> {
     pieces: &'s mut Vec<Quad>,
     boxes: &'s mut Vec<Vec4>,
     missed: &'s mut Vec<Quad>,
+    hot: &'s mut Vec<u32>,
     lo: Vec2,
     hi: Vec2,
     eps: f32,
@@ -104,7 +110,7 @@ pub(crate) struct ShadowBeam<'s> {
 impl<'s> ShadowBeam<'s> {
     /// The beam of `beam`'s cross-section (cut into pieces of at most four corners).
     pub(crate) fn new(beam: &PolyBeam, scratch: &'s mut ShadowScratch) -> Self {
-        let ShadowScratch { pieces, boxes, missed } = scratch;
+        let ShadowScratch { pieces, boxes, missed, hot } = scratch;
         pieces.clear();
         let v = beam.section.vertices();
         // A fan of quads around corner 0 (the section is convex and counter-clockwise).
@@ -129,6 +135,7 @@ impl<'s> ShadowBeam<'s> {
             pieces,
             boxes,
             missed,
+            hot,
             lo: Vec2::ZERO,
             hi: Vec2::ZERO,
             eps: SIDE_EPS * scale.max(f32::MIN_POSITIVE),
@@ -198,11 +205,54 @@ impl<'s> ShadowBeam<'s> {
         // Reaching behind the point or past the light: clip to the depth range first. Depth
         // clipping only: shadow beams can graze the light's plane, where planes through the apex and
         // the window are nearly parallel to it and clipping by them is ill-conditioned.
-        let Some(projected) = ProjectedTriangle::new(f, tri, DEPTH_EPS, 1.0 - DEPTH_EPS) else { return false };
-        if !projected.overlaps(self.lo, self.hi) {
+        // The depths h are affine along the triangle, so clipping interpolates the corners relative
+        // to the apex by them (Sutherland–Hodgman against the two parallel planes).
+        // A triangle cut by two parallel planes keeps at most 5 corners (9 with the repeats that
+        // corners exactly on a plane make).
+        let mut poly = [(Vec3::ZERO, 0.0f32); 9];
+        let mut n = 0;
+        let mut push = |p: (Vec3, f32)| {
+            if n < poly.len() {
+                poly[n] = p;
+                n += 1;
+            }
+        };
+        for i in 0..3 {
+            let (a, ha, b, hb) = (w[i], h[i], w[(i + 1) % 3], h[(i + 1) % 3]);
+            if (near..=far).contains(&ha) {
+                push((a, ha));
+            }
+            // The edge's crossings of the two planes, in order along it.
+            let mut cross = [(f32::INFINITY, Vec3::ZERO, 0.0); 2];
+            for (c, plane) in cross.iter_mut().zip([near, far]) {
+                if (ha < plane) != (hb < plane) {
+                    let t = (plane - ha) / (hb - ha);
+                    *c = (t, a + (b - a) * t, plane);
+                }
+            }
+            if cross[1].0 < cross[0].0 {
+                cross.swap(0, 1);
+            }
+            for (t, p, plane) in cross {
+                if t.is_finite() {
+                    push((p, plane));
+                }
+            }
+        }
+        if n < 3 {
             return false;
         }
-        match EdgeLines::<MAX_EDGES>::new(projected.polygon.vertices(), self.eps * self.eps) {
+        let mut q = [Vec2::ZERO; 9];
+        let (mut lo, mut hi) = (Vec2::INFINITY, Vec2::NEG_INFINITY);
+        for ((w, h), q) in poly[..n].iter().zip(&mut q) {
+            *q = self.apex_uv + Vec2::new(w.dot(f.u), w.dot(f.v)) * (f.distance / h);
+            lo = lo.min(*q);
+            hi = hi.max(*q);
+        }
+        if hi.x < self.lo.x || hi.y < self.lo.y || lo.x > self.hi.x || lo.y > self.hi.y {
+            return false;
+        }
+        match EdgeLines::<9>::new(&q[..n], self.eps * self.eps) {
             Some(lines) => self.split_pieces(&lines),
             None => false,
         }
@@ -235,8 +285,22 @@ impl<'s> ShadowBeam<'s> {
         }
     }
 
-    /// Split by the candidates of `packets`, until nothing of the light is left.
+    /// Split by the candidates of `packets`, until nothing of the light is left. The occluders
+    /// that hit the previous beam traced this way (a neighbouring shade point) go first: a
+    /// shadow's edge or umbra continues from one point to the next.
     pub(crate) fn occlude_packets(&mut self, packets: &[Packet], triangles: &[Triangle]) {
+        let mut hot = [0u32; HOT];
+        let n = self.hot.len().min(HOT);
+        hot[..n].copy_from_slice(&self.hot[..n]);
+        self.hot.clear();
+        for &prim in &hot[..n] {
+            if self.occlude(&triangles[prim as usize]) {
+                self.hot.push(prim);
+            }
+            if self.is_dark() {
+                return;
+            }
+        }
         let projector = self.projector();
         for packet in packets {
             self.stats.triangle_tests += u64::from(packet.len);
@@ -245,10 +309,13 @@ impl<'s> ShadowBeam<'s> {
                 if self.is_dark() {
                     return;
                 }
-                match s.projected {
+                let hit = match s.projected {
                     Some(q) => self.occlude_projected(&q),
                     None => self.occlude_uncounted(&triangles[s.prim as usize]),
                 };
+                if hit && self.hot.len() < HOT {
+                    self.hot.push(s.prim);
+                }
             });
             if self.is_dark() {
                 return;
@@ -407,6 +474,47 @@ pub fn visible_section(bvh: &FlatBvh, triangles: &[Triangle], beam: &PolyBeam, s
 mod tests {
     use super::*;
     use beam_bvh::BuildOptions;
+
+    #[test]
+    fn clipped_triangles_hide_what_the_clipped_projection_covers() {
+        // Triangles reaching behind the point and past the light, against the independent clip of
+        // beam-math (ProjectedTriangle: 3D Sutherland–Hodgman, then projection).
+        use beam_math::collide::ConvexPolygon;
+        use beam_math::polybeam::ProjectedTriangle;
+        let light = [
+            Vec3::new(-0.5, -0.5, 2.0),
+            Vec3::new(0.5, -0.5, 2.0),
+            Vec3::new(0.5, 0.5, 2.0),
+            Vec3::new(-0.5, 0.5, 2.0),
+        ];
+        let beam = light_beam(Vec3::ZERO, &light, -Vec3::Z).unwrap();
+        let mut s = 99u32;
+        let mut r = move || {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (s >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+        };
+        let mut clipped = 0;
+        for _ in 0..3000 {
+            let tri = Triangle::new(
+                Vec3::new(r(), r(), 1.0 + 2.0 * r()),
+                Vec3::new(r(), r(), 1.0 + 2.0 * r()),
+                Vec3::new(r(), r(), 1.0 + 2.0 * r()),
+            );
+            let mut scratch = ShadowScratch::default();
+            let mut traced = ShadowBeam::new(&beam, &mut scratch);
+            traced.occlude(&tri);
+            let visible: f32 = traced.pieces().iter().map(Quad::area).sum();
+            let hidden = ProjectedTriangle::new(&beam.frame, &tri, DEPTH_EPS, 1.0 - DEPTH_EPS).map_or(0.0, |p| {
+                let poly = ConvexPolygon::<16>::from_slice(p.polygon.vertices()).unwrap();
+                poly.clip_by(&beam.section).unwrap().area()
+            });
+            clipped += usize::from(tri.v.iter().any(|v| v.z < 0.0 || v.z > 2.0));
+            // Corners clipped at the near plane project ~1/DEPTH_EPS times farther out, where f32
+            // rounding of either clip is ~1e-4 of the light.
+            assert!((visible + hidden - 1.0).abs() < 1e-3, "{tri:?}: visible {visible}, hidden {hidden}");
+        }
+        assert!(clipped > 1000, "{clipped}");
+    }
 
     #[test]
     fn square_occluder_parallel_to_square_light() {

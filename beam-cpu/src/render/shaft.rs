@@ -22,6 +22,9 @@ pub(crate) struct Shaft {
     planes: [(Vec3, f32); MAX_PLANES],
     len: usize,
     bounds: Aabb,
+    /// The box's corners and the light's: the shaft is their convex hull.
+    ends: [Vec3; 8 + MAX_PLANES - 1],
+    ends_len: usize,
 }
 
 impl Shaft {
@@ -31,7 +34,13 @@ impl Shaft {
         let bounds = light.iter().fold(*points, |b, &c| b.grow(c));
         let tol = 1e-5 * bounds.extent().length().max(f32::MIN_POSITIVE);
         let grow = Vec3::splat(tol);
+        let mut ends = [Vec3::ZERO; 8 + MAX_PLANES - 1];
+        let ends_len = 8 + light.len().min(MAX_PLANES - 1);
+        ends[..8].copy_from_slice(&points.corners());
+        ends[8..ends_len].copy_from_slice(&light[..ends_len - 8]);
         let mut out = Self {
+            ends,
+            ends_len,
             planes: [(Vec3::ZERO, 0.0); MAX_PLANES],
             len: 0,
             bounds: Aabb::new(bounds.min - grow, bounds.max + grow),
@@ -78,6 +87,18 @@ impl Shaft {
             && a.min(b).min(c).cmple(s.max).all()
             && self.planes[..self.len].iter().all(|&(n, d)| n.dot(a) <= d || n.dot(b) <= d || n.dot(c) <= d)
     }
+
+    /// True when the box and the light lie strictly on one side of `t`'s plane: no segment from
+    /// the box to the light crosses it, so `t` hides nothing (a wall or a floor beside the points;
+    /// 001 §3.4 marks back faces once per query for the same reason).
+    pub(crate) fn beside_plane_of(&self, t: &Triangle) -> bool {
+        let n = t.scaled_normal();
+        let d = n.dot(t.v[0]);
+        // A margin relative to the triangle's size keeps the test conservative under rounding.
+        let tol = 1e-5 * n.length() * (t.v[1] - t.v[0]).length().max((t.v[2] - t.v[0]).length());
+        let ends = &self.ends[..self.ends_len];
+        ends.iter().all(|&x| n.dot(x) - d > tol) || ends.iter().all(|&x| n.dot(x) - d < -tol)
+    }
 }
 
 /// Gathers the triangles that meet a shaft.
@@ -97,7 +118,7 @@ impl NodeVisitor for Gather<'_> {
     fn leaf(&mut self, prims: &[u32]) -> Control {
         for &p in prims {
             let t = &self.triangles[p as usize];
-            if self.shaft.meets_triangle(t) {
+            if self.shaft.meets_triangle(t) && !self.shaft.beside_plane_of(t) {
                 self.out.push(p);
             }
         }
@@ -141,6 +162,13 @@ mod tests {
         assert!(!shaft.meets_triangle(&tri(Vec3::new(0.6, 1.0, 0.0), 0.05)));
         assert!(!shaft.meets_triangle(&tri(Vec3::new(0.0, 2.5, 0.0), 0.05)));
         assert!(!shaft.meets_triangle(&tri(Vec3::new(0.0, -0.5, 0.0), 0.05)));
+        // A floor under the points and a wall beside them: both in the box, beside it all.
+        let floor =
+            Triangle::new(Vec3::new(-5.0, -0.01, -5.0), Vec3::new(5.0, -0.01, -5.0), Vec3::new(0.0, -0.01, 5.0));
+        let wall = Triangle::new(Vec3::new(0.2, -1.0, -5.0), Vec3::new(0.2, -1.0, 5.0), Vec3::new(0.2, 3.0, 0.0));
+        assert!(shaft.beside_plane_of(&floor) && !shaft.beside_plane_of(&wall));
+        let beside = Triangle::new(Vec3::new(0.6, -1.0, -5.0), Vec3::new(0.6, -1.0, 5.0), Vec3::new(0.6, 3.0, 0.0));
+        assert!(shaft.beside_plane_of(&beside));
         // Seeded segments from the box to the light: a small triangle around any of their points meets it.
         let mut s = 7u32;
         let mut r = move || {
