@@ -576,6 +576,12 @@ pub fn shading_eps(scene: &Scene) -> f32 {
     1e-4 * scene.bounds().extent().length()
 }
 
+/// The block (of [`BLOCKS`]² in a tile) of the pixel at `(x, y)` from the tile's corner.
+fn block_of(x: u32, y: u32) -> usize {
+    let side = TILE as usize / BLOCKS;
+    x as usize / side + y as usize / side * BLOCKS
+}
+
 /// A point on an area light from `(s, t) ∈ [0, 1)²` (uniform in area).
 fn sample_light(light: &Light, s: f32, t: f32) -> Vec3 {
     match *light {
@@ -645,10 +651,7 @@ pub fn render_with(
                                 }
                             }
                         }
-                        let block = |x: u32, y: u32| {
-                            let side = TILE as usize / BLOCKS;
-                            (x - x0) as usize / side + (y - y0) as usize / side * BLOCKS
-                        };
+                        let block = |x: u32, y: u32| block_of(x - x0, y - y0);
                         t.c.primary_seconds += start.elapsed().as_secs_f64();
                         if options.method == Method::Beam {
                             let start = Instant::now();
@@ -687,23 +690,20 @@ pub fn render_with(
                 }
                 true => {
                     let mut coverage = vec![0.0f32; rows as usize * w];
+                    // Per tile: the fragments, the candidate occluders of their shade points, then
+                    // the shading.
+                    let (mut surfaces, mut points) = (Vec::new(), Vec::new());
                     for tx in 0..camera.width.div_ceil(TILE) {
                         let start = Instant::now();
-                        let (shadow_before, shading_before) = (t.c.shadow_seconds, t.c.shading_seconds);
                         let mut tile = TileStats::default();
+                        surfaces.clear();
                         tile_fragments(scene, &camera, tx, ty, true, &mut tile, &mut seen, |x, y, cov, seen| {
                             let i = (y - y0) as usize * w + x as usize;
                             match seen {
                                 Fragment::Background => coverage[i] += cov,
                                 Fragment::Surface { prim, q, d } => {
                                     coverage[i] += cov;
-                                    t.c.fragments += 1;
-                                    let start = Instant::now();
-                                    let shadow_before = t.c.shadow_seconds;
-                                    let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
-                                    band[i] += cov * ctx.shade(prim, q, d, 0, Lights::AreaOnly, &mut rng, &mut t);
-                                    t.c.shading_seconds +=
-                                        start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
+                                    surfaces.push((x, y, cov, prim, q, d));
                                 }
                                 Fragment::Lit { light, prim, points } => {
                                     for &(weight, q) in points {
@@ -715,9 +715,29 @@ pub fn render_with(
                         t.c.primary += tile.primary;
                         t.c.beams += tile.shadow;
                         t.c.shadow_beams += tile.shadow_beams;
-                        let shaded = (t.c.shadow_seconds - shadow_before) + (t.c.shading_seconds - shading_before);
-                        t.c.primary_seconds += start.elapsed().as_secs_f64() - shaded;
+                        t.c.primary_seconds += start.elapsed().as_secs_f64();
+                        let start = Instant::now();
+                        let x0 = tx * TILE;
+                        points.clear();
+                        points.extend(surfaces.iter().filter_map(|&(x, y, _, prim, q, d)| {
+                            Some((block_of(x - x0, y - y0), ctx.gather_point(prim, q, d)?.0))
+                        }));
+                        t.tile.build(scene, &points);
+                        t.c.shadow_seconds += start.elapsed().as_secs_f64();
+                        let start = Instant::now();
+                        let shadow_before = t.c.shadow_seconds;
+                        for &(x, y, cov, prim, q, d) in &surfaces {
+                            t.c.fragments += 1;
+                            t.block = block_of(x - x0, y - y0);
+                            let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
+                            let l = ctx.shade(prim, q, d, 0, Lights::AreaOnly, &mut rng, &mut t);
+                            band[(y - y0) as usize * w + x as usize] += cov * l;
+                        }
+                        t.c.shading_seconds += start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
                     }
+                    t.c.shafts = t.tile.shafts;
+                    t.c.shaft_bvh_steps = t.tile.bvh_steps;
+                    t.tile.clear();
                     t.c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
                     (0..rows).for_each(|_| row_done());
                 }

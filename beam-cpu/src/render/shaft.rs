@@ -105,7 +105,7 @@ impl Shaft {
 struct Gather<'a> {
     shaft: &'a Shaft,
     triangles: &'a [Triangle],
-    out: &'a mut Vec<u32>,
+    out: &'a mut Vec<(u32, u32)>,
     steps: u64,
 }
 
@@ -119,7 +119,7 @@ impl NodeVisitor for Gather<'_> {
         for &p in prims {
             let t = &self.triangles[p as usize];
             if self.shaft.meets_triangle(t) && !self.shaft.beside_plane_of(t) {
-                self.out.push(p);
+                self.out.push((t.area().to_bits(), p));
             }
         }
         Control::Continue
@@ -130,13 +130,13 @@ impl NodeVisitor for Gather<'_> {
 /// the likelier to hide the whole light and end a shadow beam before the others split it (3× fewer
 /// splits on Sponza than in BVH order; weighting by the projected size from the points did worse).
 /// Returns the BVH nodes tested.
-pub(crate) fn gather(bvh: &FlatBvh, triangles: &[Triangle], shaft: &Shaft, out: &mut Vec<u32>) -> u64 {
-    let start = out.len();
+pub(crate) fn gather(bvh: &FlatBvh, triangles: &[Triangle], shaft: &Shaft, out: &mut Vec<(u32, u32)>) -> u64 {
+    out.clear();
     let mut g = Gather { shaft, triangles, out, steps: 0 };
     bvh.traverse(&mut g);
     let steps = g.steps;
-    // Areas are non-negative, so their bits order them.
-    out[start..].sort_by_cached_key(|&p| core::cmp::Reverse(triangles[p as usize].area().to_bits()));
+    // (area key, triangle): areas are non-negative, so their bits order them.
+    out.sort_unstable_by(|a, b| b.cmp(a));
     steps
 }
 

@@ -28,8 +28,8 @@ pub(crate) struct TileShadows {
     blocks: Vec<Block>,
     /// The blocks' candidates, four to a packet.
     packets: Vec<Packet>,
-    /// One block's candidates.
-    block: Vec<u32>,
+    /// One block's candidates with their sort keys.
+    block: Vec<(u32, u32)>,
     /// BVH nodes tested by the tiles' shafts.
     pub(crate) bvh_steps: u64,
     /// Shafts traced (one a tile and area light).
@@ -72,11 +72,16 @@ impl TileShadows {
                     continue;
                 }
                 let shaft = Shaft::new(&block.points, &polygon, ln);
-                self.block.clear();
                 self.shafts += 1;
                 self.bvh_steps += gather(&scene.bvh, tris, &shaft, &mut self.block);
                 block.start = self.packets.len() as u32;
-                self.packets.extend(self.block.chunks(4).map(|c| Packet::new(tris, c)));
+                for chunk in self.block.chunks(4) {
+                    let mut prims = [0; 4];
+                    for (p, &(_, prim)) in prims.iter_mut().zip(chunk) {
+                        *p = prim;
+                    }
+                    self.packets.push(Packet::new(tris, &prims[..chunk.len()]));
+                }
                 block.end = self.packets.len() as u32;
             }
         }
