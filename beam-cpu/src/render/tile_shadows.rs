@@ -1,7 +1,9 @@
 //! The candidate occluders of a tile of shade points, per area light and per block of the tile
-//! (see [`super::shaft`]): gathered once through the BVH for the tile's shaft, then filtered by each
-//! block's own shaft, so that a shadow beam from a point of a block splits only at triangles that
-//! can lie between it and the light.
+//! (see [`super::shaft`]): each block's shade points gather, through the BVH, the triangles that
+//! can lie between one of them and the light, so that a shadow beam from a point of the block
+//! splits only at those. A block whose points straddle a depth discontinuity (a column's edge in
+//! front of a far wall) is cut in two along its box's longest axis first, so that neither half's
+//! shaft spans the gap.
 
 use super::packet::Packet;
 use super::shaft::{Shaft, gather};
@@ -12,86 +14,115 @@ use beam_math::glam::Vec3;
 /// Blocks per tile side (a tile of [`super::TILE`]² pixels has blocks of `TILE / BLOCKS` pixels a side).
 pub(crate) const BLOCKS: usize = 4;
 
-/// The candidates of one block for one light.
+/// A block is cut in two when its box's diagonal exceeds this fraction of its distance to the light.
+const SPREAD: f32 = 0.1;
+
+/// The candidates of one half of a block for one light.
 #[derive(Clone, Copy, Debug)]
-struct Block {
-    /// Box of the block's shade points: the candidates hold for any point inside it.
+struct Cluster {
+    /// Box of the cluster's shade points: the candidates hold for any point inside it.
     points: Aabb,
     start: u32,
     end: u32,
 }
 
-/// Candidate occluders of a tile, per light and block. Empty until [`TileShadows::build`].
+/// How a block's points are cut in two: the ones with `p[axis] ≤ at` go to the first cluster.
+#[derive(Clone, Copy, Debug)]
+struct Cut {
+    axis: usize,
+    at: f32,
+}
+
+/// Candidate occluders of a tile, per light, block and cluster. Empty until [`TileShadows::build`].
 #[derive(Default)]
 pub(crate) struct TileShadows {
-    /// `blocks[light * BLOCKS² + block]`.
-    blocks: Vec<Block>,
-    /// The blocks' candidates, four to a packet.
+    /// `clusters[(light · BLOCKS² + block) · 2 + half]`.
+    clusters: Vec<Cluster>,
+    /// Per block of the light being built, its points' box and cut.
+    boxes: Vec<(Aabb, Cut)>,
+    /// The clusters' candidates, four to a packet.
     packets: Vec<Packet>,
-    /// One block's candidates with their sort keys.
-    block: Vec<(u32, u32)>,
-    /// BVH nodes tested by the tiles' shafts.
+    /// One cluster's candidates with their sort keys.
+    gathered: Vec<(u32, u32)>,
+    /// BVH nodes tested by the shafts.
     pub(crate) bvh_steps: u64,
-    /// Shafts traced (one a tile and area light).
+    /// Shafts traced (one a cluster and area light).
     pub(crate) shafts: u64,
 }
 
 impl TileShadows {
     /// Forget the last tile: every point falls back to its own BVH traversal.
     pub(crate) fn clear(&mut self) {
-        self.blocks.clear();
+        self.clusters.clear();
     }
 
     /// Gather the candidates for the shade points `points` (each with its block index,
     /// `< BLOCKS²`), for every area light of `scene` that faces them.
     pub(crate) fn build(&mut self, scene: &Scene, points: &[(usize, Vec3)]) {
-        self.blocks.clear();
+        self.clusters.clear();
         self.packets.clear();
-        let empty = Block { points: Aabb::EMPTY, start: 0, end: 0 };
+        let empty = Cluster { points: Aabb::EMPTY, start: 0, end: 0 };
         for light in &scene.lights {
-            let base = self.blocks.len();
-            self.blocks.resize(base + BLOCKS * BLOCKS, empty);
+            let base = self.clusters.len();
+            self.clusters.resize(base + 2 * BLOCKS * BLOCKS, empty);
             if matches!(light, Light::Point { .. }) {
                 continue;
             }
             let (polygon, ln, center) = (light.polygon(), light.normal(), light.center());
-            let mut tile = Aabb::EMPTY;
-            for &(block, p) in points {
-                if ln.dot(p - center) > 0.0 {
-                    let b = &mut self.blocks[base + block].points;
-                    *b = b.grow(p);
-                    tile = tile.grow(p);
+            let lit = |p: Vec3| ln.dot(p - center) > 0.0;
+            // The blocks' boxes, and where to cut the spread ones.
+            self.boxes.clear();
+            self.boxes.resize(BLOCKS * BLOCKS, (Aabb::EMPTY, Cut { axis: 0, at: f32::INFINITY }));
+            for &(block, p) in points.iter().filter(|&&(_, p)| lit(p)) {
+                self.boxes[block].0 = self.boxes[block].0.grow(p);
+            }
+            for (b, cut) in &mut self.boxes {
+                if b.is_valid() && b.extent().length() > SPREAD * ln.dot(b.center() - center) {
+                    let e = b.extent();
+                    let axis = if e.x >= e.y && e.x >= e.z {
+                        0
+                    } else if e.y >= e.z {
+                        1
+                    } else {
+                        2
+                    };
+                    *cut = Cut { axis, at: b.center()[axis] };
                 }
             }
-            if !tile.is_valid() {
-                continue;
+            for &(block, p) in points.iter().filter(|&&(_, p)| lit(p)) {
+                let cut = self.boxes[block].1;
+                let c = &mut self.clusters[base + 2 * block + usize::from(p[cut.axis] > cut.at)].points;
+                *c = c.grow(p);
             }
             let tris = &scene.triangles;
-            for block in &mut self.blocks[base..] {
-                if !block.points.is_valid() {
+            for cluster in &mut self.clusters[base..] {
+                if !cluster.points.is_valid() {
                     continue;
                 }
-                let shaft = Shaft::new(&block.points, &polygon, ln);
+                let shaft = Shaft::new(&cluster.points, &polygon, ln);
                 self.shafts += 1;
-                self.bvh_steps += gather(&scene.bvh, tris, &shaft, &mut self.block);
-                block.start = self.packets.len() as u32;
-                for chunk in self.block.chunks(4) {
+                self.bvh_steps += gather(&scene.bvh, tris, &shaft, &mut self.gathered);
+                cluster.start = self.packets.len() as u32;
+                for chunk in self.gathered.chunks(4) {
                     let mut prims = [0; 4];
                     for (p, &(_, prim)) in prims.iter_mut().zip(chunk) {
                         *p = prim;
                     }
                     self.packets.push(Packet::new(tris, &prims[..chunk.len()]));
                 }
-                block.end = self.packets.len() as u32;
+                cluster.end = self.packets.len() as u32;
             }
         }
     }
 
-    /// The candidate occluders between `p` and light `light`, when `p` lies in the box of block
-    /// `block`'s shade points (any point there: the shaft bounds every segment from the box).
+    /// The candidate occluders between `p` and light `light`, when `p` lies in the box of one of
+    /// block `block`'s clusters (any point there: the shaft bounds every segment from the box).
     pub(crate) fn candidates(&self, light: usize, block: usize, p: Vec3) -> Option<&[Packet]> {
-        let b = self.blocks.get(light * BLOCKS * BLOCKS + block)?;
-        (b.points.min.cmple(p).all() && p.cmple(b.points.max).all())
-            .then(|| &self.packets[b.start as usize..b.end as usize])
+        let first = 2 * (light * BLOCKS * BLOCKS + block);
+        self.clusters
+            .get(first..first + 2)?
+            .iter()
+            .find(|c| c.points.min.cmple(p).all() && p.cmple(c.points.max).all())
+            .map(|c| &self.packets[c.start as usize..c.end as usize])
     }
 }
