@@ -122,14 +122,18 @@ impl NodeVisitor for Gather<'_> {
                 self.out.push((t.area().to_bits(), p));
             }
         }
-        Control::Continue
+        if self.out.len() > MAX_CANDIDATES { Control::Stop } else { Control::Continue }
     }
 }
 
-/// Append to `out` every triangle of the BVH that meets `shaft`, larger triangles first: they are
+/// Most candidates a shaft gathers: past this many (a wide shaft through a dense room), each point's
+/// own BVH walk is cheaper than testing the list, and [`gather`] gives up.
+pub(crate) const MAX_CANDIDATES: usize = 2048;
+
+/// Fill `out` with every triangle of the BVH that meets `shaft`, larger triangles first: they are
 /// the likelier to hide the whole light and end a shadow beam before the others split it (3× fewer
 /// splits on Sponza than in BVH order; weighting by the projected size from the points did worse).
-/// Returns the BVH nodes tested.
+/// Returns the BVH nodes tested; `out` holds more than [`MAX_CANDIDATES`] when it gave up.
 pub(crate) fn gather(bvh: &FlatBvh, triangles: &[Triangle], shaft: &Shaft, out: &mut Vec<(u32, u32)>) -> u64 {
     out.clear();
     let mut g = Gather { shaft, triangles, out, steps: 0 };

@@ -6,7 +6,7 @@
 //! shaft spans the gap.
 
 use super::packet::Packet;
-use super::shaft::{Shaft, gather};
+use super::shaft::{MAX_CANDIDATES, Shaft, gather};
 use crate::scene::{Light, Scene};
 use beam_math::Aabb;
 use beam_math::glam::Vec3;
@@ -102,6 +102,11 @@ impl TileShadows {
                 let shaft = Shaft::new(&cluster.points, &polygon, ln);
                 self.shafts += 1;
                 self.bvh_steps += gather(&scene.bvh, tris, &shaft, &mut self.gathered);
+                if self.gathered.len() > MAX_CANDIDATES {
+                    // Too wide: its points walk the BVH themselves.
+                    cluster.points = Aabb::EMPTY;
+                    continue;
+                }
                 cluster.start = self.packets.len() as u32;
                 for chunk in self.gathered.chunks(4) {
                     let mut prims = [0; 4];
