@@ -9,7 +9,7 @@ use beam_cpu::render::{Image, difference, primary_image};
 use beam_cpu::scene::{self, Camera, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_pcg::Pcg32;
 use rayon::prelude::*;
 use std::path::Path;
@@ -107,14 +107,7 @@ pub fn ray_image(
             let mut rng = Pcg32::seed_from_u64(((y as u64) << 32 | x as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
             let mut sum = Vec3::ZERO;
             for i in 0..k * k {
-                let (jx, jy) = if k == 1 {
-                    (0.5, 0.5)
-                } else {
-                    (
-                        ((i % k) as f32 + rng.random::<f32>()) / k as f32,
-                        ((i / k) as f32 + rng.random::<f32>()) / k as f32,
-                    )
-                };
+                let (jx, jy) = beam_cpu::render::stratified(i, k, &mut rng);
                 let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
                 if let Some((prim, t)) = hit(ray) {
                     sum += shade(prim, ray.origin + t * ray.direction, ray.direction.normalize());

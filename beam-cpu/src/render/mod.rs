@@ -24,7 +24,7 @@ pub use primary_image::{PrimaryStats, primary_image};
 pub use renderer::shading_eps;
 pub use renderer::{
     Method, Occluder, RenderOptions, RenderStats, Shading, TILE, primary_coverage, render, render_with, shade_point,
-    trace_radiance,
+    stratified, trace_radiance,
 };
 pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};
 pub use specular::{MAX_DEPTH, dielectric, reflect, refract, specular_rays};

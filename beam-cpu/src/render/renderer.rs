@@ -576,6 +576,15 @@ pub fn shading_eps(scene: &Scene) -> f32 {
     1e-4 * scene.bounds().extent().length()
 }
 
+/// Offset in the pixel of sample `i` of `k × k` stratified samples, jittered by `rng` (the pixel's
+/// centre when `k == 1`).
+pub fn stratified(i: u32, k: u32, rng: &mut impl Rng) -> (f32, f32) {
+    if k == 1 {
+        return (0.5, 0.5);
+    }
+    (((i % k) as f32 + rng.random::<f32>()) / k as f32, ((i / k) as f32 + rng.random::<f32>()) / k as f32)
+}
+
 /// The block (of [`BLOCKS`]² in a tile) of the pixel at `(x, y)` from the tile's corner.
 fn block_of(x: u32, y: u32) -> usize {
     let side = TILE as usize / BLOCKS;
@@ -637,14 +646,7 @@ pub fn render_with(
                             for x in x0..(x0 + TILE).min(camera.width) {
                                 let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
                                 for i in 0..k * k {
-                                    let (jx, jy) = if k == 1 {
-                                        (0.5, 0.5)
-                                    } else {
-                                        (
-                                            ((i % k) as f32 + rng.random::<f32>()) / k as f32,
-                                            ((i / k) as f32 + rng.random::<f32>()) / k as f32,
-                                        )
-                                    };
+                                    let (jx, jy) = stratified(i, k, &mut rng);
                                     let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
                                     t.c.camera_rays += 1;
                                     hits.push((x, y, ray, scene.wide.closest_hit(ray, f32::INFINITY)));
