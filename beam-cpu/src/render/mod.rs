@@ -1,6 +1,7 @@
 //! Renderers: beam-traced soft shadows (001) and the ray-traced reference, with the same shading.
 
 mod compare;
+mod eye_tiles;
 mod hard_shadow;
 mod image;
 mod irradiance_map;
@@ -15,6 +16,7 @@ mod specular;
 mod tile_shadows;
 
 pub use compare::{Difference, difference, side_by_side};
+pub use eye_tiles::{TILE, primary_coverage};
 pub use hard_shadow::lit_pieces;
 pub use image::{Image, srgb_decode, srgb_encode};
 pub use irradiance_map::IrradianceMap;
@@ -23,8 +25,7 @@ pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub use primary_image::{PrimaryStats, primary_image};
 pub use renderer::shading_eps;
 pub use renderer::{
-    Method, Occluder, RenderOptions, RenderStats, Shading, TILE, primary_coverage, render, render_with, shade_point,
-    stratified, trace_radiance,
+    Method, Occluder, RenderOptions, RenderStats, Shading, render, render_with, shade_point, stratified, trace_radiance,
 };
 pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};
 pub use specular::{MAX_DEPTH, dielectric, reflect, refract, specular_rays};

@@ -2,8 +2,8 @@
 //! exact box-filtered pixel coverage, each fragment shaded by a caller's function — the ground truth
 //! that primary rays with N samples per pixel converge to.
 
+use super::eye_tiles::{Fragment, TILE, TileStats, tile_fragments};
 use super::image::Image;
-use super::renderer::{Fragment, TILE, TileStats, tile_fragments};
 use super::shadow_beam::BeamStats;
 use crate::scene::{Camera, Scene};
 use beam_math::glam::Vec3;
