@@ -133,16 +133,16 @@ const POLY: usize = 4 + MAX_EDGES;
 
 /// A convex polygon, the working shape of a split until it is re-cut into quads.
 #[derive(Clone, Copy)]
-struct Poly {
-    c: [Vec2; POLY],
+struct Poly<const P: usize> {
+    c: [Vec2; P],
     len: usize,
 }
 
-impl Poly {
+impl<const P: usize> Poly<P> {
     fn push(&mut self, p: Vec2) {
         // A convex polygon cut by a line gains at most one corner, so this always holds.
-        debug_assert!(self.len < POLY);
-        if self.len < POLY {
+        debug_assert!(self.len < P);
+        if self.len < P {
             self.c[self.len] = p;
             self.len += 1;
         }
@@ -151,7 +151,7 @@ impl Poly {
     /// The parts inside and outside `line`, corners within `eps` of it in both (as
     /// [`crate::collide::ConvexPolygon::split`]); parts of fewer than three corners are empty.
     fn split(&self, line: &Line, eps: f32) -> (Self, Self) {
-        let mut inside = Self { c: [Vec2::ZERO; POLY], len: 0 };
+        let mut inside = Self { c: [Vec2::ZERO; P], len: 0 };
         let mut outside = inside;
         for i in 0..self.len {
             let p = self.c[i];
@@ -302,8 +302,15 @@ impl Quad {
         if separates.bitmask() & ((1 << n) - 1) != 0 {
             return Cover::Outside;
         }
-        // Fig. 2d–g: cut edge by edge; the missed parts are handed out only if a hit part remains.
-        let mut rest = Poly { c: [Vec2::ZERO; POLY], len: n };
+        // A triangle's cut needs 7 corners at most; a clipped polygon's more.
+        if N <= 4 { self.cut::<8>(lines, eps, emit) } else { self.cut::<POLY>(lines, eps, emit) }
+    }
+
+    /// Fig. 2d–g: cut edge by edge, the working polygon holding `P` corners; the missed parts are
+    /// handed out only if a hit part remains.
+    fn cut<const P: usize>(&self, lines: &[Line], eps: f32, emit: &mut impl FnMut(Quad)) -> Cover {
+        let n = self.len();
+        let mut rest = Poly::<P> { c: [Vec2::ZERO; P], len: n };
         for i in 0..n {
             rest.c[i] = self.corner(i);
         }
