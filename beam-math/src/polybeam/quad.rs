@@ -238,7 +238,7 @@ impl Quad {
         (0..self.len()).map(|i| self.corner(i))
     }
 
-    /// Twice-halved shoelace area (004 App. A.10), positive counter-clockwise.
+    /// Signed shoelace area (004 App. A.10), positive counter-clockwise.
     #[must_use]
     pub fn signed_area(&self) -> f32 {
         let n = self.len();
