@@ -367,6 +367,55 @@ impl Context<'_> {
     }
 }
 
+/// A visible surface point of a tile to shade: pixel, weight in it, triangle, point, unit view
+/// direction and the seed of its shadow-ray samples.
+#[derive(Clone, Copy, Debug)]
+struct Surface {
+    x: u32,
+    y: u32,
+    weight: f32,
+    prim: u32,
+    q: Vec3,
+    d: Vec3,
+    seed: u64,
+}
+
+impl Context<'_> {
+    /// Shade the surface points of the tile whose corner is `(x0, y0)` into `band` (rows of
+    /// `width` pixels from row `y0`), `weight ×` radiance each. With beams, the points' candidate
+    /// occluders are gathered first, a block of the tile at a time ([`TileShadows`]).
+    fn shade_tile(
+        &self,
+        surfaces: &[Surface],
+        lights: Lights,
+        (x0, y0, width): (u32, u32, usize),
+        band: &mut [Vec3],
+        points: &mut Vec<(usize, Vec3)>,
+        t: &mut Thread,
+    ) {
+        if self.options.method == Method::Beam {
+            let start = Instant::now();
+            points.clear();
+            points.extend(
+                surfaces
+                    .iter()
+                    .filter_map(|s| Some((block_of(s.x - x0, s.y - y0), self.gather_point(s.prim, s.q, s.d)?.0))),
+            );
+            t.tile.build(self.scene, points);
+            t.c.shadow_seconds += start.elapsed().as_secs_f64();
+        }
+        let start = Instant::now();
+        let shadow_before = t.c.shadow_seconds;
+        for s in surfaces {
+            t.block = block_of(s.x - x0, s.y - y0);
+            let mut rng = Pcg32::seed_from_u64(s.seed);
+            let l = self.shade(s.prim, s.q, s.d, 0, lights, &mut rng, t);
+            band[(s.y - y0) as usize * width + s.x as usize] += s.weight * l;
+        }
+        t.c.shading_seconds += start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
+    }
+}
+
 /// Which lights a shade point gathers directly.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Lights {
@@ -485,13 +534,11 @@ pub fn render_with(
             match eye_beams {
                 false => {
                     let k = ((options.primary_spp.max(1) as f32).sqrt() as u32).max(1);
-                    // Per tile: the primary hits, the candidate occluders of their shade points
-                    // (tile_shadows), then the shading.
-                    let mut hits = Vec::new();
-                    let mut points = Vec::new();
+                    // Per tile: the primary hits, then their shading (Context::shade_tile).
+                    let (mut surfaces, mut points) = (Vec::new(), Vec::new());
                     for x0 in (0..camera.width).step_by(TILE as usize) {
                         let start = Instant::now();
-                        hits.clear();
+                        surfaces.clear();
                         for y in y0..y0 + rows {
                             for x in x0..(x0 + TILE).min(camera.width) {
                                 let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
@@ -499,51 +546,29 @@ pub fn render_with(
                                     let (jx, jy) = stratified(i, k, &mut rng);
                                     let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
                                     t.c.camera_rays += 1;
-                                    hits.push((x, y, ray, scene.wide.closest_hit(ray, f32::INFINITY)));
+                                    if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY) {
+                                        surfaces.push(Surface {
+                                            x,
+                                            y,
+                                            weight: 1.0 / (k * k) as f32,
+                                            prim: hit.prim,
+                                            q: ray.at(hit.t),
+                                            d: ray.direction.normalize(),
+                                            seed: pixel_seed(x, y) ^ 0x5EED,
+                                        });
+                                    }
                                 }
                             }
                         }
-                        let block = |x: u32, y: u32| block_of(x - x0, y - y0);
                         t.c.primary_seconds += start.elapsed().as_secs_f64();
-                        if options.method == Method::Beam {
-                            let start = Instant::now();
-                            points.clear();
-                            points.extend(hits.iter().filter_map(|&(x, y, ray, hit)| {
-                                let hit = hit?;
-                                let (p, _) = ctx.gather_point(hit.prim, ray.at(hit.t), ray.direction)?;
-                                Some((block(x, y), p))
-                            }));
-                            t.tile.build(scene, &points);
-                            t.c.shadow_seconds += start.elapsed().as_secs_f64();
-                        }
-                        let start = Instant::now();
-                        let shadow_before = t.c.shadow_seconds;
-                        for &(x, y, ray, hit) in &hits {
-                            let Some(hit) = hit else { continue };
-                            t.block = block(x, y);
-                            let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y) ^ 0x5EED);
-                            let l = ctx.shade(
-                                hit.prim,
-                                ray.at(hit.t),
-                                ray.direction.normalize(),
-                                0,
-                                Lights::All,
-                                &mut rng,
-                                &mut t,
-                            );
-                            band[(y - y0) as usize * w + x as usize] += l / (k * k) as f32;
-                        }
-                        t.c.shading_seconds += start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
+                        let origin = (x0, y0, w);
+                        ctx.shade_tile(&surfaces, Lights::All, origin, &mut band, &mut points, &mut t);
                     }
-                    t.c.shafts = t.tile.shafts;
-                    t.c.shaft_bvh_steps = t.tile.bvh_steps;
-                    t.tile.clear();
                     (0..rows).for_each(|_| row_done());
                 }
                 true => {
                     let mut coverage = vec![0.0f32; rows as usize * w];
-                    // Per tile: the fragments, the candidate occluders of their shade points, then
-                    // the shading.
+                    // Per tile: the fragments, then their shading (Context::shade_tile).
                     let (mut surfaces, mut points) = (Vec::new(), Vec::new());
                     for tx in 0..camera.width.div_ceil(TILE) {
                         let start = Instant::now();
@@ -555,7 +580,8 @@ pub fn render_with(
                                 Fragment::Background => coverage[i] += cov,
                                 Fragment::Surface { prim, q, d } => {
                                     coverage[i] += cov;
-                                    surfaces.push((x, y, cov, prim, q, d));
+                                    let seed = pixel_seed(x, y);
+                                    surfaces.push(Surface { x, y, weight: cov, prim, q, d, seed });
                                 }
                                 Fragment::Lit { light, prim, points } => {
                                     for &(weight, q) in points {
@@ -567,33 +593,17 @@ pub fn render_with(
                         t.c.primary += tile.primary;
                         t.c.beams += tile.shadow;
                         t.c.shadow_beams += tile.shadow_beams;
+                        t.c.fragments += surfaces.len() as u64;
                         t.c.primary_seconds += start.elapsed().as_secs_f64();
-                        let start = Instant::now();
-                        let x0 = tx * TILE;
-                        points.clear();
-                        points.extend(surfaces.iter().filter_map(|&(x, y, _, prim, q, d)| {
-                            Some((block_of(x - x0, y - y0), ctx.gather_point(prim, q, d)?.0))
-                        }));
-                        t.tile.build(scene, &points);
-                        t.c.shadow_seconds += start.elapsed().as_secs_f64();
-                        let start = Instant::now();
-                        let shadow_before = t.c.shadow_seconds;
-                        for &(x, y, cov, prim, q, d) in &surfaces {
-                            t.c.fragments += 1;
-                            t.block = block_of(x - x0, y - y0);
-                            let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
-                            let l = ctx.shade(prim, q, d, 0, Lights::AreaOnly, &mut rng, &mut t);
-                            band[(y - y0) as usize * w + x as usize] += cov * l;
-                        }
-                        t.c.shading_seconds += start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
+                        let origin = (tx * TILE, y0, w);
+                        ctx.shade_tile(&surfaces, Lights::AreaOnly, origin, &mut band, &mut points, &mut t);
                     }
-                    t.c.shafts = t.tile.shafts;
-                    t.c.shaft_bvh_steps = t.tile.bvh_steps;
-                    t.tile.clear();
                     t.c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
                     (0..rows).for_each(|_| row_done());
                 }
             }
+            t.c.shafts = t.tile.shafts;
+            t.c.shaft_bvh_steps = t.tile.bvh_steps;
             (band, t.c, seen)
         })
         .collect();

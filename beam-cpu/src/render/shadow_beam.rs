@@ -465,8 +465,16 @@ pub fn visible_section(bvh: &FlatBvh, triangles: &[Triangle], beam: &PolyBeam, s
     let mut traced = ShadowBeam::new(beam, &mut scratch);
     trace_bvh(bvh, triangles, &mut traced);
     *stats += traced.stats;
-    let pieces =
-        traced.pieces().iter().filter_map(|q| Section::from_slice(&q.corners().collect::<Vec<_>>()).ok()).collect();
+    let pieces = traced
+        .pieces()
+        .iter()
+        .map(|q| {
+            let mut section = Section::new();
+            // A quad's 3 or 4 corners always fit a section.
+            q.corners().for_each(|c| section.push(c).unwrap_or_default());
+            section
+        })
+        .collect();
     VisibleLight { frame: beam.frame, pieces, light_area: beam.area() }
 }
 

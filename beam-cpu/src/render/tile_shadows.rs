@@ -51,11 +51,6 @@ pub(crate) struct TileShadows {
 }
 
 impl TileShadows {
-    /// Forget the last tile: every point falls back to its own BVH traversal.
-    pub(crate) fn clear(&mut self) {
-        self.clusters.clear();
-    }
-
     /// Gather the candidates for the shade points `points` (each with its block index,
     /// `< BLOCKS²`), for every area light of `scene` that faces them.
     pub(crate) fn build(&mut self, scene: &Scene, points: &[(usize, Vec3)]) {
