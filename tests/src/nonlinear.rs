@@ -77,7 +77,7 @@ pub fn nonlinear_texels_equal_ray_hits(_: Backend, _: &Config) -> Result<Outcome
                             for x in 0..tex.size {
                                 // Texels strictly inside the base: the margin and the diagonal row lie
                                 // on the base's edge, where rays graze the neighbouring faces (and where
-                                // a rare miss is still open, see the README).
+                                // a rare miss is still open, see docs/guide.md).
                                 if x + y + 1 >= tex.size {
                                     continue;
                                 }
