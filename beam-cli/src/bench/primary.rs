@@ -131,8 +131,8 @@ pub fn run(scenes: &[String], size: u32, out: Option<&Path>) -> Result<(), Strin
         let Some(loaded) = load(arg)? else { continue };
         let scene = &loaded.scene;
         let camera = camera(&loaded, size);
-        let bar = crate::progress::bar(u64::from(size), "eye beams");
-        let (exact, ps) = primary_image(scene, &camera, flat(scene), |rows| bar.inc(u64::from(rows)));
+        let bar = crate::progress::bar(u64::from(size) * u64::from(size), "eye beams");
+        let (exact, ps) = primary_image(scene, &camera, flat(scene), |pixels| bar.inc(pixels));
         bar.finish_and_clear();
         println!(
             "\n{}: {} triangles, {size}×{size}; eye beams: {} visible triangles, {} hit beams ({:.2} per visible \

@@ -1,7 +1,8 @@
 //! Renderers: beam-traced soft shadows (001) and the ray-traced reference, with the same shading.
 
 mod compare;
-mod eye_tiles;
+mod coverage;
+mod eye_regions;
 mod hard_shadow;
 mod image;
 mod irradiance_map;
@@ -16,7 +17,7 @@ mod specular;
 mod tile_shadows;
 
 pub use compare::{Difference, difference, side_by_side};
-pub use eye_tiles::{TILE, primary_coverage};
+pub use eye_regions::{REGION, TILE, primary_coverage};
 pub use hard_shadow::lit_pieces;
 pub use image::{Image, srgb_decode, srgb_encode};
 pub use irradiance_map::IrradianceMap;

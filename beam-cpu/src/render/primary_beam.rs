@@ -6,20 +6,25 @@
 //! until every node left is farther than all of them (001 Fig. 4d).
 
 use super::shadow_beam::BeamStats;
-use beam_bvh::{Control, FlatBvh, NodeVisitor};
-use beam_math::collide::aabb_outside_planes;
-use beam_math::glam::{Vec2, Vec3};
+use beam_bvh::FlatBvh;
+use beam_math::Triangle;
+use beam_math::glam::{Vec2, Vec3, Vec4};
 use beam_math::polybeam::{BeamFrame, Part, ProjectedTriangle, Section, split_section};
-use beam_math::{Aabb, Triangle};
 
 /// Near clipping depth of the eye beam, in units of the image-plane distance.
 pub const NEAR: f32 = 1e-4;
 
-/// `1/s` of a plane as an affine function `k0 + k·c` of the image-plane point `c` (larger = nearer).
+/// Planes whose inverse depths differ by at most this fraction over a piece count as the same
+/// plane there: the one already seen keeps the piece (rays pick either, by rounding).
+const COPLANAR: f32 = 1e-5;
+
+/// `1/s` of a plane as an affine function `k0 + k·c` of the image-plane point `c` (larger = nearer),
+/// and the plane itself, `n·x = w` with the eye where `n·x > w`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct InverseDepth {
     k0: f32,
     k: Vec2,
+    plane: Vec4,
 }
 
 impl InverseDepth {
@@ -32,7 +37,16 @@ impl InverseDepth {
         }
         // s(c) = −h / (n·w(c)) with w(c) = origin − apex + c.x·u + c.y·v.
         let k0 = -n.dot(frame.origin - frame.apex) / h;
-        Some(Self { k0, k: Vec2::new(-n.dot(frame.u), -n.dot(frame.v)) / h })
+        let facing = (n * h.signum()).normalize();
+        let plane = facing.extend(facing.dot(tri.v[0]));
+        Some(Self { k0, k: Vec2::new(-n.dot(frame.u), -n.dot(frame.v)) / h, plane })
+    }
+
+    /// True when the box `[min, max]` lies wholly behind the plane, seen from the eye.
+    fn hides(&self, min: Vec3, max: Vec3) -> bool {
+        let n = self.plane.truncate();
+        let front = n.dot(Vec3::select(n.cmpgt(Vec3::ZERO), max, min));
+        front - self.plane.w < -1e-5 * (front.abs() + self.plane.w.abs())
     }
 
     fn at(&self, c: Vec2) -> f32 {
@@ -40,7 +54,7 @@ impl InverseDepth {
     }
 
     fn minus(&self, o: &Self) -> Self {
-        Self { k0: self.k0 - o.k0, k: self.k - o.k }
+        Self { k0: self.k0 - o.k0, k: self.k - o.k, plane: self.plane }
     }
 }
 
@@ -55,12 +69,16 @@ pub struct Piece {
     /// Bounding rectangle of the section.
     lo: Vec2,
     hi: Vec2,
+    /// Smallest `1/s` over the section, at its farthest point (0: unbounded, the background).
+    far_inv: f32,
 }
 
 impl Piece {
     fn new(section: Section, prim: Option<u32>, depth: Option<InverseDepth>) -> Self {
         let (lo, hi) = section.bounds();
-        Self { section, prim, depth, lo, hi }
+        let far_inv =
+            depth.map_or(0.0, |d| section.vertices().iter().fold(f32::INFINITY, |m, &c| m.min(d.at(c))).max(0.0));
+        Self { section, prim, depth, lo, hi, far_inv }
     }
 
     /// Another cross-section seeing the same triangle at the same depths.
@@ -68,39 +86,186 @@ impl Piece {
     pub fn with_section(&self, section: Section) -> Self {
         Self::new(section, self.prim, self.depth)
     }
+
+    /// How much nearer a plane of inverse depth `depth` is than the piece's own, over the piece:
+    /// the smallest and largest of their difference `g` (attained at corners: `g` is affine),
+    /// snapped to zero within [`COPLANAR`] of the piece's inverse depth, so that rounding never
+    /// lets one of two coplanar triangles cut the other's pieces into slivers.
+    fn nearer(&self, owner: &InverseDepth, depth: &InverseDepth) -> (f32, f32) {
+        let g = depth.minus(owner);
+        let (mut min, mut max, mut size) = (f32::INFINITY, f32::NEG_INFINITY, 0.0f32);
+        for &c in self.section.vertices() {
+            let v = g.at(c);
+            (min, max, size) = (min.min(v), max.max(v), size.max(owner.at(c).abs()));
+        }
+        let tol = COPLANAR * size;
+        let snap = |v: f32| if v.abs() <= tol { 0.0 } else { v };
+        (snap(min), snap(max))
+    }
 }
 
-struct EyeVisitor<'a> {
+/// A BVH node's box as the eye sees it: its projection's bounding rectangle on the image plane and
+/// its smallest depth `s` (units of the image-plane distance).
+struct NodeView {
+    lo: Vec2,
+    hi: Vec2,
+    near: f32,
+    /// The box.
+    min: Vec3,
+    max: Vec3,
+}
+
+impl NodeView {
+    /// True when the node may hold a triangle visible through `piece`: the rectangles meet and the
+    /// box is not wholly behind the piece's farthest point (001 §3.4: a hit beam goes on only while
+    /// some node is nearer than it).
+    fn meets(&self, piece: &Piece) -> bool {
+        if self.near * piece.far_inv > 1.0
+            || piece.lo.x > self.hi.x
+            || piece.lo.y > self.hi.y
+            || piece.hi.x < self.lo.x
+            || piece.hi.y < self.lo.y
+        {
+            return false;
+        }
+        // Behind the plane of what the piece sees, within the piece: hidden.
+        if piece.depth.is_some_and(|d| d.hides(self.min, self.max)) {
+            return false;
+        }
+        // No edge of the (counter-clockwise) section has the rectangle wholly outside (a box
+        // reaching behind the near plane has no rectangle).
+        let v = piece.section.vertices();
+        !self.lo.is_finite()
+            || (0..v.len()).all(|i| {
+                let (a, e) = (v[i], v[(i + 1) % v.len()] - v[i]);
+                // The rectangle's corner deepest inside the edge's half-plane (its left side).
+                let c = Vec2::new(
+                    if e.y > 0.0 { self.lo.x } else { self.hi.x },
+                    if e.x > 0.0 { self.hi.y } else { self.lo.y },
+                );
+                e.perp_dot(c - a) >= 0.0
+            })
+    }
+}
+
+/// The eye beam of one image region traced through the BVH as a list of pieces (001 §3.3–3.4).
+/// Each node is visited with the pieces that may see into it, nearest child first; a leaf's
+/// triangles split those pieces, and the parts carry on from there to the nodes left (sub-beams
+/// continue where they were made). A piece stops visiting nodes wholly behind its own surface, so
+/// hidden geometry costs one node test per piece that covers it.
+struct EyeTracer<'a> {
     frame: BeamFrame,
+    bvh: &'a FlatBvh,
     triangles: &'a [Triangle],
     pieces: Vec<Piece>,
+    /// The piece lists of the nodes on the current path, one after another.
+    lists: Vec<u32>,
+    /// Pieces being split by a leaf's triangles (scratch).
+    work: Vec<u32>,
     /// What one piece becomes after a split (scratch).
     out: Vec<Piece>,
     /// Hit parts of the piece being split (scratch).
     hits: Vec<Section>,
-    planes: [(Vec3, f32); 5],
     lo: Vec2,
     hi: Vec2,
-    /// Largest forward depth seen through any piece (infinity while one sees background).
-    far: f32,
+    /// `(apex − origin)·u` and `·v`: image coordinates of the ray along the view axis.
+    offset: Vec2,
     stats: BeamStats,
 }
 
-impl EyeVisitor<'_> {
-    /// Largest forward depth seen through any piece, or infinity while a piece sees background.
-    fn farthest(&self) -> f32 {
-        let mut far = 0.0f32;
-        for p in &self.pieces {
-            let Some(d) = p.depth else { return f32::INFINITY };
-            for &c in p.section.vertices() {
-                let inv = d.at(c);
-                if !(inv > 0.0) {
-                    return f32::INFINITY;
+impl EyeTracer<'_> {
+    /// How the eye sees node `i`; `None` when it is wholly behind the near plane or outside the
+    /// region.
+    fn view(&self, i: usize) -> Option<NodeView> {
+        let node = &self.bvh.nodes[i];
+        let (f, d) = (self.frame.normal, self.frame.distance);
+        let (box_min, box_max) = (Vec3::from_array(node.min), Vec3::from_array(node.max));
+        let (min, max) = (box_min - self.frame.apex, box_max - self.frame.apex);
+        let near_z = Vec3::select(f.cmpgt(Vec3::ZERO), min, max).dot(f);
+        let far_z = Vec3::select(f.cmpgt(Vec3::ZERO), max, min).dot(f);
+        if far_z < NEAR * d {
+            return None;
+        }
+        let near = near_z.max(0.0) / d;
+        if near_z <= NEAR * d {
+            // Reaches behind the near plane: no bounded projection.
+            return Some(NodeView { lo: Vec2::NEG_INFINITY, hi: Vec2::INFINITY, near, min: box_min, max: box_max });
+        }
+        let (mut lo, mut hi) = (Vec2::INFINITY, Vec2::NEG_INFINITY);
+        for k in 0..8 {
+            let p = Vec3::select(beam_math::glam::BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), max, min);
+            let q = Vec2::new(p.dot(self.frame.u), p.dot(self.frame.v)) * (d / p.dot(f)) + self.offset;
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        let outside = hi.x < self.lo.x || hi.y < self.lo.y || lo.x > self.hi.x || lo.y > self.hi.y;
+        (!outside).then_some(NodeView { lo, hi, near, min: box_min, max: box_max })
+    }
+
+    /// Visit node `i` with the pieces `self.lists[list]`.
+    fn visit(&mut self, i: usize, list: core::ops::Range<usize>) {
+        let node = self.bvh.nodes[i];
+        if node.is_leaf() {
+            let first = node.right_or_first as usize;
+            let bvh = self.bvh;
+            self.leaf(&bvh.prims[first..first + node.count as usize], list);
+            return;
+        }
+        let before = self.pieces.len();
+        let children = [i + 1, node.right_or_first as usize];
+        let views = children.map(|c| self.view(c));
+        self.stats.bvh_steps += 2;
+        let order = match (&views[0], &views[1]) {
+            (Some(a), Some(b)) if b.near < a.near => [1, 0],
+            _ => [0, 1],
+        };
+        for k in order {
+            let Some(view) = &views[k] else { continue };
+            let start = self.lists.len();
+            // The node's own pieces, and the parts they were split into by the nodes visited since.
+            for j in list.clone() {
+                let p = self.lists[j];
+                if view.meets(&self.pieces[p as usize]) {
+                    self.lists.push(p);
                 }
-                far = far.max(self.frame.distance / inv);
+            }
+            for p in before..self.pieces.len() {
+                if view.meets(&self.pieces[p]) {
+                    self.lists.push(p as u32);
+                }
+            }
+            if self.lists.len() > start {
+                self.visit(children[k], start..self.lists.len());
+            }
+            self.lists.truncate(start);
+        }
+    }
+
+    /// Split the pieces `self.lists[list]` by the triangles `prims`.
+    fn leaf(&mut self, prims: &[u32], list: core::ops::Range<usize>) {
+        let mut work = core::mem::take(&mut self.work);
+        work.clear();
+        work.extend_from_slice(&self.lists[list]);
+        for &p in prims {
+            self.stats.triangle_tests += 1;
+            let tri = &self.triangles[p as usize];
+            let Some(projected) =
+                ProjectedTriangle::new_in_window(&self.frame, tri, NEAR, f32::INFINITY, self.lo, self.hi)
+            else {
+                continue;
+            };
+            if !projected.overlaps(self.lo, self.hi) {
+                continue;
+            }
+            let Some(depth) = InverseDepth::of(&self.frame, tri) else { continue };
+            // Parts made by this triangle are not split by it again.
+            for w in 0..work.len() {
+                let first_new = self.pieces.len();
+                self.split_piece(work[w] as usize, p, &projected, depth);
+                work.extend(first_new as u32..self.pieces.len() as u32);
             }
         }
-        far
+        self.work = work;
     }
 
     /// Resolve a piece seen through both its current owner and `tri` (inverse depth `depth`) into
@@ -112,15 +277,11 @@ impl EyeVisitor<'_> {
             return;
         };
         let g = depth.minus(&old_depth);
-        let (min, max) = section
-            .vertices()
-            .iter()
-            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &c| (lo.min(g.at(c)), hi.max(g.at(c))));
-        let tol = 1e-6 * min.abs().max(max.abs()).max(1e-30);
-        if min >= -tol && max > tol {
+        let (min, max) = new.nearer(&old_depth, &depth);
+        if min >= 0.0 && max > 0.0 {
             self.out.push(new);
-        } else if max <= tol || g.k.length_squared() == 0.0 {
-            self.out.push(Piece { prim: Some(old_prim), depth: Some(old_depth), ..new });
+        } else if max <= 0.0 || g.k.length_squared() == 0.0 {
+            self.out.push(Piece::new(section, Some(old_prim), Some(old_depth)));
         } else {
             // Split along g(c) = 0: the new triangle is nearer where g > 0.
             let a = -g.k0 * g.k / g.k.length_squared();
@@ -133,109 +294,58 @@ impl EyeVisitor<'_> {
                         self.out.push(Piece::new(far, Some(old_prim), Some(old_depth)));
                     }
                 }
-                Err(_) => self.out.push(Piece { prim: Some(old_prim), depth: Some(old_depth), ..new }),
+                Err(_) => self.out.push(Piece::new(section, Some(old_prim), Some(old_depth))),
             }
         }
     }
 
-    /// Split every piece the triangle `prim` (projected, inverse depth `depth`) overlaps and is not
-    /// hidden behind, in place: a piece is replaced by its miss parts (same owner) and its resolved
-    /// hit parts. True when any piece changed.
-    fn split_pieces(&mut self, prim: u32, projected: &ProjectedTriangle, depth: InverseDepth) -> bool {
-        let mut changed = false;
-        // Pieces [0, end) are the ones from before this triangle; new parts are appended.
-        let end = self.pieces.len();
-        for i in 0..end {
-            let piece = &self.pieces[i];
-            if !projected.overlaps(piece.lo, piece.hi) {
-                continue;
+    /// Split piece `i` by the triangle `prim` (projected, inverse depth `depth`) where the triangle
+    /// is in front of what the piece sees: the piece is replaced by its miss parts (same owner) and
+    /// its resolved hit parts, the first in place and the others appended.
+    fn split_piece(&mut self, i: usize, prim: u32, projected: &ProjectedTriangle, depth: InverseDepth) {
+        let piece = self.pieces[i];
+        if !projected.overlaps(piece.lo, piece.hi) {
+            return;
+        }
+        // Where the triangle's plane is behind the owner's it must not split the piece: hidden at
+        // every corner of the piece means hidden on all of it (both inverse depths are affine);
+        // partly hidden, only the triangle's part in front (g > 0) splits it, so hidden edges never
+        // fragment the piece.
+        let mut front = None;
+        if let Some(owner) = piece.depth {
+            let g = depth.minus(&owner);
+            let (min, max) = piece.nearer(&owner, &depth);
+            if max <= 0.0 {
+                return;
             }
-            // Where the triangle's plane is behind the owner's it must not split the piece: hidden
-            // at every corner of the piece means hidden on all of it (both inverse depths are affine);
-            // partly hidden, only the triangle's part in front (g > 0) splits it, so hidden edges
-            // never fragment the piece.
-            let mut front = None;
-            if let Some(owner) = piece.depth {
-                let g = depth.minus(&owner);
-                let (min, max) = piece
-                    .section
-                    .vertices()
-                    .iter()
-                    .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &c| (lo.min(g.at(c)), hi.max(g.at(c))));
-                if max <= 0.0 {
-                    continue;
-                }
-                if min < 0.0 && g.k.length_squared() > 0.0 {
-                    let a = -g.k0 * g.k / g.k.length_squared();
-                    match projected.clip(a, -g.k) {
-                        Some(p) if p.overlaps(piece.lo, piece.hi) => front = Some(p),
-                        Some(_) => continue,
-                        // Nothing in front, or no capacity left: split by the whole triangle below.
-                        None => {}
-                    }
+            if min < 0.0 && g.k.length_squared() > 0.0 {
+                let a = -g.k0 * g.k / g.k.length_squared();
+                match projected.clip(a, -g.k) {
+                    Some(p) if p.overlaps(piece.lo, piece.hi) => front = Some(p),
+                    // The triangle lies behind where its plane is in front.
+                    _ => return,
                 }
             }
-            let piece = *piece;
-            self.stats.intersections += 1;
-            let (out, hits) = (&mut self.out, &mut self.hits);
-            out.clear();
-            hits.clear();
-            let emitted =
-                split_section(&piece.section, front.as_ref().unwrap_or(projected), 1e-6, &mut |part, s| match part {
-                    Part::Hit => hits.push(s),
-                    Part::Miss => out.push(piece.with_section(s)),
-                });
-            if emitted.is_err() || self.hits.is_empty() {
-                continue;
-            }
-            changed = true;
-            self.stats.hit_beams += self.hits.len() as u64;
-            for k in 0..self.hits.len() {
-                self.resolve(self.hits[k], piece.prim.zip(piece.depth), prim, depth);
-            }
-            // A hit part always survives resolution, so `out` is never empty here.
-            self.pieces[i] = self.out[0];
-            self.pieces.extend_from_slice(&self.out[1..]);
         }
-        changed
-    }
-}
-
-impl NodeVisitor for EyeVisitor<'_> {
-    fn enter(&mut self, bounds: &Aabb) -> Option<f32> {
-        self.stats.bvh_steps += 1;
-        if aabb_outside_planes(bounds, &self.planes) {
-            return None;
+        self.stats.intersections += 1;
+        let (out, hits) = (&mut self.out, &mut self.hits);
+        out.clear();
+        hits.clear();
+        let emitted =
+            split_section(&piece.section, front.as_ref().unwrap_or(projected), 1e-6, &mut |part, s| match part {
+                Part::Hit => hits.push(s),
+                Part::Miss => out.push(piece.with_section(s)),
+            });
+        if emitted.is_err() || self.hits.is_empty() {
+            return;
         }
-        // Entry distance: the box's smallest forward depth.
-        let f = self.frame.normal;
-        let nearest = Vec3::select(f.cmpgt(Vec3::ZERO), bounds.min, bounds.max);
-        Some(f.dot(nearest - self.frame.apex).max(0.0))
-    }
-
-    fn cutoff(&self) -> f32 {
-        self.far
-    }
-
-    fn leaf(&mut self, prims: &[u32]) -> Control {
-        let mut changed = false;
-        for &p in prims {
-            let tri = &self.triangles[p as usize];
-            let Some(projected) =
-                ProjectedTriangle::new_in_window(&self.frame, tri, NEAR, f32::INFINITY, self.lo, self.hi)
-            else {
-                continue;
-            };
-            if !projected.overlaps(self.lo, self.hi) {
-                continue;
-            }
-            let Some(depth) = InverseDepth::of(&self.frame, tri) else { continue };
-            changed |= self.split_pieces(p, &projected, depth);
+        self.stats.hit_beams += self.hits.len() as u64;
+        for k in 0..self.hits.len() {
+            self.resolve(self.hits[k], piece.prim.zip(piece.depth), prim, depth);
         }
-        if changed {
-            self.far = self.farthest();
-        }
-        Control::Continue
+        // A hit part always survives resolution, so `out` is never empty here.
+        self.pieces[i] = self.out[0];
+        self.pieces.extend_from_slice(&self.out[1..]);
     }
 }
 
@@ -251,28 +361,58 @@ pub fn visible_surface(
 ) -> Vec<Piece> {
     let rect = [Vec2::new(lo.x, lo.y), Vec2::new(hi.x, lo.y), Vec2::new(hi.x, hi.y), Vec2::new(lo.x, hi.y)];
     let Ok(section) = Section::from_slice(&rect) else { return Vec::new() };
-    let apex = frame.apex;
-    let mut planes = [(Vec3::ZERO, 0.0); 5];
-    for (plane, n) in planes.iter_mut().zip(frame.side_normals(lo, hi)) {
-        *plane = (n, n.dot(apex));
-    }
-    let f = frame.normal / frame.distance;
-    planes[4] = (-f, -f.dot(apex) - NEAR);
-    let mut v = EyeVisitor {
+    let r = frame.apex - frame.origin;
+    let mut t = EyeTracer {
         frame: *frame,
+        bvh,
         triangles,
         pieces: vec![Piece::new(section, None, None)],
+        lists: vec![0],
+        work: Vec::new(),
         out: Vec::new(),
         hits: Vec::new(),
-        planes,
         lo,
         hi,
-        far: f32::INFINITY,
+        offset: Vec2::new(r.dot(frame.u), r.dot(frame.v)),
         stats: BeamStats::default(),
     };
-    bvh.traverse(&mut v);
-    *stats += v.stats;
-    v.pieces
+    if !bvh.nodes.is_empty() && t.view(0).is_some() {
+        // The triangles a grid of rays sees split the beam first: the big near ones then own most
+        // of it, and nodes behind them are culled, whatever order their boxes come in.
+        let seeds = seen_by_rays(bvh, triangles, frame, lo, hi);
+        t.leaf(&seeds, 0..1);
+        t.lists = (0..t.pieces.len() as u32).collect();
+        t.stats.bvh_steps += 1;
+        t.visit(0, 0..t.lists.len());
+    }
+    *stats += t.stats;
+    t.pieces
+}
+
+/// Rays per side of the grid whose hits seed a beam ([`seen_by_rays`]).
+const SEED_RAYS: u32 = 16;
+
+/// The distinct triangles that rays through a grid of points of the window `[lo, hi]` hit, nearest
+/// first.
+fn seen_by_rays(bvh: &FlatBvh, triangles: &[Triangle], frame: &BeamFrame, lo: Vec2, hi: Vec2) -> Vec<u32> {
+    let mut hits: Vec<(f32, u32)> = Vec::with_capacity((SEED_RAYS * SEED_RAYS) as usize);
+    for j in 0..SEED_RAYS {
+        for i in 0..SEED_RAYS {
+            let f = (Vec2::new(i as f32, j as f32) + 0.5) / SEED_RAYS as f32;
+            let ray = frame.ray(lo + f * (hi - lo));
+            if let Some(hit) = bvh.closest_hit(triangles, ray, f32::INFINITY) {
+                hits.push((hit.t, hit.prim));
+            }
+        }
+    }
+    hits.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut seeds: Vec<u32> = Vec::with_capacity(hits.len());
+    for (_, p) in hits {
+        if !seeds.contains(&p) {
+            seeds.push(p);
+        }
+    }
+    seeds
 }
 
 /// The point of `prim`'s plane seen through image-plane point `c`.

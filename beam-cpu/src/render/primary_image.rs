@@ -2,7 +2,7 @@
 //! exact box-filtered pixel coverage, each fragment shaded by a caller's function — the ground truth
 //! that primary rays with N samples per pixel converge to.
 
-use super::eye_tiles::{Fragment, TILE, TileStats, tile_fragments};
+use super::eye_regions::{EyeStats, Fragment, Region, region_fragments, regions};
 use super::image::Image;
 use super::shadow_beam::BeamStats;
 use crate::scene::{Camera, Scene};
@@ -31,8 +31,9 @@ pub struct PrimaryStats {
     pub coverage_error: f64,
 }
 
-/// What a band of [`TILE`] rows returns.
-struct Band {
+/// What a region returns.
+struct Part {
+    region: Region,
     pixels: Vec<Vec3>,
     beams: BeamStats,
     fragments: u64,
@@ -45,53 +46,52 @@ struct Band {
 /// The image `camera` sees of `scene` by exact primary visibility: each pixel is the
 /// coverage-weighted sum over its fragments of `shade(prim, q, d)` — triangle `prim` seen at point
 /// `q` (the fragment's centroid) along the unit direction `d` — and black where the background
-/// shows. Bands of [`TILE`] rows run in parallel; `band_done(rows)` is called after each band (for a
-/// progress bar over rows).
+/// shows. Regions of [`super::REGION`]² pixels run in parallel; `pixels_done(n)` is called after
+/// each with its pixel count (for a progress bar).
 pub fn primary_image(
     scene: &Scene,
     camera: &Camera,
     shade: impl Fn(u32, Vec3, Vec3) -> Vec3 + Sync,
-    band_done: impl Fn(u32) + Sync,
+    pixels_done: impl Fn(u64) + Sync,
 ) -> (Image, PrimaryStats) {
     let start = Instant::now();
-    let (w, h) = (camera.width as usize, camera.height);
-    let bands: Vec<Band> = (0..h.div_ceil(TILE))
+    let parts: Vec<Part> = regions(camera.width, camera.height)
         .into_par_iter()
-        .map(|ty| {
-            let y0 = ty * TILE;
-            let rows = TILE.min(h - y0);
-            let mut band = vec![Vec3::ZERO; rows as usize * w];
-            let mut coverage = vec![0.0f32; rows as usize * w];
+        .map(|region| {
+            let mut pixels = vec![Vec3::ZERO; region.len()];
+            let mut coverage = vec![0.0f32; region.len()];
             let mut seen = vec![false; scene.triangles.len()];
-            let (mut beams, mut fragments) = (BeamStats::default(), 0u64);
-            for tx in 0..camera.width.div_ceil(TILE) {
-                let mut tile = TileStats::default();
-                tile_fragments(scene, camera, tx, ty, false, &mut tile, &mut seen, |x, y, cov, f| {
-                    let i = (y - y0) as usize * w + x as usize;
-                    coverage[i] += cov;
-                    if let Fragment::Surface { prim, q, d } = f {
-                        fragments += 1;
-                        band[i] += cov * shade(prim, q, d);
-                    }
-                });
-                beams += tile.primary;
-            }
+            let mut fragments = 0u64;
+            let mut eye = EyeStats::default();
+            region_fragments(scene, camera, region, false, &mut eye, &mut seen, |x, y, cov, f| {
+                let i = region.index(x, y);
+                coverage[i] += cov;
+                if let Fragment::Surface { prim, q, d } = f {
+                    fragments += 1;
+                    pixels[i] += cov * shade(prim, q, d);
+                }
+            });
             let error = coverage.iter().fold(0.0f64, |m, &c| m.max(f64::from((1.0 - c).abs())));
-            band_done(rows);
-            Band { pixels: band, beams, fragments, error, seen }
+            pixels_done(region.len() as u64);
+            Part { region, pixels, beams: eye.primary, fragments, error, seen }
         })
         .collect();
     let mut image = Image::new(camera.width, camera.height);
     let mut stats = PrimaryStats::default();
     let mut visible = vec![false; scene.triangles.len()];
     let mut beams = BeamStats::default();
-    for (ty, band) in bands.into_iter().enumerate() {
-        let first = ty * TILE as usize * w;
-        image.pixels[first..first + band.pixels.len()].copy_from_slice(&band.pixels);
-        beams += band.beams;
-        stats.fragments += band.fragments;
-        stats.coverage_error = stats.coverage_error.max(band.error);
-        visible.iter_mut().zip(band.seen).for_each(|(v, s)| *v |= s);
+    for part in parts {
+        let r = part.region;
+        for y in r.y0..r.y1 {
+            let row = (y * camera.width) as usize;
+            let from = r.index(r.x0, y);
+            image.pixels[row + r.x0 as usize..row + r.x1 as usize]
+                .copy_from_slice(&part.pixels[from..from + (r.x1 - r.x0) as usize]);
+        }
+        beams += part.beams;
+        stats.fragments += part.fragments;
+        stats.coverage_error = stats.coverage_error.max(part.error);
+        visible.iter_mut().zip(part.seen).for_each(|(v, s)| *v |= s);
     }
     stats.visible_triangles = visible.iter().filter(|&&v| v).count() as u64;
     stats.hit_beams = beams.hit_beams;

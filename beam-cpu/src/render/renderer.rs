@@ -2,7 +2,7 @@
 //! visibility comes either from exact shadow beams (001 §5) or from stratified shadow rays, with the
 //! same shading, so that the two images differ only by the rays' noise.
 
-use super::eye_tiles::{Fragment, TILE, TileStats, tile_fragments};
+use super::eye_regions::{REGION, Region, TILE, regions};
 use super::image::Image;
 use super::irradiance_map::IrradianceMap;
 use super::lambert::{point_source_irradiance, polygon_irradiance};
@@ -16,7 +16,11 @@ use beam_math::polybeam::Quad;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
+use trace::{Trace, Traced};
+
+mod trace;
 
 /// How the visibility of area lights is computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -381,15 +385,15 @@ struct Surface {
 }
 
 impl Context<'_> {
-    /// Shade the surface points of the tile whose corner is `(x0, y0)` into `band` (rows of
-    /// `width` pixels from row `y0`), `weight ×` radiance each. With beams, the points' candidate
+    /// Shade the surface points of the tile whose corner is `(x0, y0)` into `pixels`, the
+    /// row-major pixels of `part`, `weight ×` radiance each. With beams, the points' candidate
     /// occluders are gathered first, a block of the tile at a time ([`TileShadows`]).
     fn shade_tile(
         &self,
         surfaces: &[Surface],
         lights: Lights,
-        (x0, y0, width): (u32, u32, usize),
-        band: &mut [Vec3],
+        (x0, y0): (u32, u32),
+        (pixels, part): (&mut [Vec3], Region),
         points: &mut Vec<(usize, Vec3)>,
         t: &mut Thread,
     ) {
@@ -410,7 +414,7 @@ impl Context<'_> {
             t.block = block_of(s.x - x0, s.y - y0);
             let mut rng = Pcg32::seed_from_u64(s.seed);
             let l = self.shade(s.prim, s.q, s.d, 0, lights, &mut rng, t);
-            band[(s.y - y0) as usize * width + s.x as usize] += s.weight * l;
+            pixels[part.index(s.x, s.y)] += s.weight * l;
         }
         t.c.shading_seconds += start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
     }
@@ -516,106 +520,53 @@ pub fn render_with(
 ) -> (Image, RenderStats) {
     let start = Instant::now();
     let camera = scene.camera.with_size(options.width, options.height);
-    let frame = camera.frame();
     let ctx = Context { scene, options: *options, eps: shading_eps(scene), occluded, caustics: None };
     let pixel_seed =
         |x: u32, y: u32| options.seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    let w = camera.width as usize;
-    // Bands of TILE rows, in parallel; each band returns its pixels, counters and triangles seen.
-    let bands: Vec<(Vec<Vec3>, Counters, Vec<bool>)> = (0..camera.height.div_ceil(TILE))
-        .into_par_iter()
-        .map(|ty| {
-            let mut t = Thread::default();
-            let y0 = ty * TILE;
-            let rows = TILE.min(camera.height - y0);
-            let mut band = vec![Vec3::ZERO; rows as usize * w];
-            let eye_beams = options.method == Method::Beam && options.primary_beams;
-            let mut seen = vec![false; if eye_beams { scene.triangles.len() } else { 0 }];
-            match eye_beams {
-                false => {
-                    let k = ((options.primary_spp.max(1) as f32).sqrt() as u32).max(1);
-                    // Per tile: the primary hits, then their shading (Context::shade_tile).
-                    let (mut surfaces, mut points) = (Vec::new(), Vec::new());
-                    for x0 in (0..camera.width).step_by(TILE as usize) {
-                        let start = Instant::now();
-                        surfaces.clear();
-                        for y in y0..y0 + rows {
-                            for x in x0..(x0 + TILE).min(camera.width) {
-                                let mut rng = Pcg32::seed_from_u64(pixel_seed(x, y));
-                                for i in 0..k * k {
-                                    let (jx, jy) = stratified(i, k, &mut rng);
-                                    let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
-                                    t.c.camera_rays += 1;
-                                    if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY) {
-                                        surfaces.push(Surface {
-                                            x,
-                                            y,
-                                            weight: 1.0 / (k * k) as f32,
-                                            prim: hit.prim,
-                                            q: ray.at(hit.t),
-                                            d: ray.direction.normalize(),
-                                            seed: pixel_seed(x, y) ^ 0x5EED,
-                                        });
-                                    }
-                                }
-                            }
-                        }
-                        t.c.primary_seconds += start.elapsed().as_secs_f64();
-                        let origin = (x0, y0, w);
-                        ctx.shade_tile(&surfaces, Lights::All, origin, &mut band, &mut points, &mut t);
-                    }
-                    (0..rows).for_each(|_| row_done());
+    let eye_beams = options.method == Method::Beam && options.primary_beams;
+    let n_prims = if eye_beams { scene.triangles.len() } else { 0 };
+    let trace = Trace { ctx: &ctx, camera: &camera, seed: &pixel_seed, n_prims };
+    // Eye beams a region at a time, primary rays a band of TILE rows at a time, in parallel; each
+    // returns its pixels, counters and the triangles it saw.
+    let parts: Vec<Traced> = if eye_beams {
+        let regions = regions(camera.width, camera.height);
+        let across = camera.width.div_ceil(REGION);
+        let done: Vec<AtomicU32> = (0..camera.height.div_ceil(REGION)).map(|_| AtomicU32::new(0)).collect();
+        regions
+            .into_par_iter()
+            .map(|region| {
+                let traced = trace.eye_region(region);
+                // A row is done once every region across it is.
+                if done[(region.y0 / REGION) as usize].fetch_add(1, Ordering::Relaxed) + 1 == across {
+                    (region.y0..region.y1).for_each(|_| row_done());
                 }
-                true => {
-                    let mut coverage = vec![0.0f32; rows as usize * w];
-                    // Per tile: the fragments, then their shading (Context::shade_tile).
-                    let (mut surfaces, mut points) = (Vec::new(), Vec::new());
-                    for tx in 0..camera.width.div_ceil(TILE) {
-                        let start = Instant::now();
-                        let mut tile = TileStats::default();
-                        surfaces.clear();
-                        tile_fragments(scene, &camera, tx, ty, true, &mut tile, &mut seen, |x, y, cov, seen| {
-                            let i = (y - y0) as usize * w + x as usize;
-                            match seen {
-                                Fragment::Background => coverage[i] += cov,
-                                Fragment::Surface { prim, q, d } => {
-                                    coverage[i] += cov;
-                                    let seed = pixel_seed(x, y);
-                                    surfaces.push(Surface { x, y, weight: cov, prim, q, d, seed });
-                                }
-                                Fragment::Lit { light, prim, points } => {
-                                    for &(weight, q) in points {
-                                        band[i] += weight * ctx.point_lit(prim, q, q - camera.position, light);
-                                    }
-                                }
-                            }
-                        });
-                        t.c.primary += tile.primary;
-                        t.c.beams += tile.shadow;
-                        t.c.shadow_beams += tile.shadow_beams;
-                        t.c.fragments += surfaces.len() as u64;
-                        t.c.primary_seconds += start.elapsed().as_secs_f64();
-                        let origin = (tx * TILE, y0, w);
-                        ctx.shade_tile(&surfaces, Lights::AreaOnly, origin, &mut band, &mut points, &mut t);
-                    }
-                    t.c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
-                    (0..rows).for_each(|_| row_done());
-                }
-            }
-            t.c.shafts = t.tile.shafts;
-            t.c.shaft_bvh_steps = t.tile.bvh_steps;
-            (band, t.c, seen)
-        })
-        .collect();
+                traced
+            })
+            .collect()
+    } else {
+        (0..camera.height.div_ceil(TILE))
+            .into_par_iter()
+            .map(|ty| {
+                let (y0, x1) = (ty * TILE, camera.width);
+                let traced = trace.ray_band(Region { x0: 0, y0, x1, y1: (y0 + TILE).min(camera.height) });
+                (y0..traced.region.y1).for_each(|_| row_done());
+                traced
+            })
+            .collect()
+    };
     let mut image = Image::new(camera.width, camera.height);
     let mut total = Counters::default();
-    let mut visible =
-        vec![false; if options.method == Method::Beam && options.primary_beams { scene.triangles.len() } else { 0 }];
-    for (ty, (band, c, seen)) in bands.into_iter().enumerate() {
-        let start = ty * TILE as usize * w;
-        image.pixels[start..start + band.len()].copy_from_slice(&band);
-        total += c;
-        for (v, s) in visible.iter_mut().zip(seen) {
+    let mut visible = vec![false; n_prims];
+    for part in parts {
+        let r = part.region;
+        for y in r.y0..r.y1 {
+            let row = (y * camera.width) as usize;
+            let from = r.index(r.x0, y);
+            image.pixels[row + r.x0 as usize..row + r.x1 as usize]
+                .copy_from_slice(&part.pixels[from..from + (r.x1 - r.x0) as usize]);
+        }
+        total += part.counters;
+        for (v, s) in visible.iter_mut().zip(part.seen) {
             *v |= s;
         }
     }

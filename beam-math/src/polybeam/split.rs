@@ -186,10 +186,11 @@ impl ProjectedTriangle {
     }
 
     /// The part on the inner side `n·(x − a) ≤ 0` of a line; `None` when nothing (or a sliver of
-    /// fewer than three corners) remains or the corners outgrow the capacity.
+    /// fewer than three corners) remains. Should the corners outgrow the capacity, the whole
+    /// triangle (which contains that part).
     #[must_use]
     pub fn clip(&self, a: Vec2, n: Vec2) -> Option<Self> {
-        let polygon = self.polygon.clip(a, n).ok()?;
+        let Ok(polygon) = self.polygon.clip(a, n) else { return Some(*self) };
         if polygon.len() < 3 {
             return None;
         }
@@ -268,12 +269,14 @@ pub fn split_section(
     }
     let sign = area.signum();
     let edges = proj.vertices();
-    // Outward normal of edge i of the projected polygon; a zero-length edge (clipping can repeat a
-    // corner) gets a zero normal and is skipped below, as it bounds nothing.
+    // Outward normal of edge i of the projected polygon. An edge within rounding of zero length
+    // (clipping at a corner can repeat it, a few ulps apart) has no meaningful direction: it gets a
+    // zero normal and is skipped below, which moves the polygon's outline by less than its length.
     let edge = |i: usize| {
         let a = edges[i];
         let e = edges[(i + 1) % edges.len()] - a;
-        (a, sign * Vec2::new(e.y, -e.x).normalize_or_zero())
+        let n = if e.length() <= 16.0 * eps { Vec2::ZERO } else { sign * Vec2::new(e.y, -e.x).normalize() };
+        (a, n)
     };
     let beam = section.vertices();
     // Fig. 2a: a triangle edge with every beam corner outside.
@@ -285,9 +288,13 @@ pub fn split_section(
         }
     }
     // Fig. 2b: a beam edge with every triangle corner outside (the section is counter-clockwise).
+    // Edges within rounding of zero length are skipped, as above.
     for i in 0..beam.len() {
         let a = beam[i];
         let e = beam[(i + 1) % beam.len()] - a;
+        if e.length() <= 16.0 * eps {
+            continue;
+        }
         let nrm = Vec2::new(e.y, -e.x).normalize();
         if edges.iter().all(|c| nrm.dot(*c - a) >= -eps) {
             emit(Part::Miss, *section);

@@ -1,0 +1,123 @@
+//! Primary visibility of the renderer, a part of the image at a time: stratified primary rays for
+//! a band of tile rows, or exact eye beams (001 §3) for a region, each followed by the shading of
+//! what they see a tile at a time ([`Context::shade_tile`]).
+
+use super::{Context, Counters, Lights, Surface, Thread};
+use crate::render::eye_regions::{EyeStats, Fragment, Region, TILE, region_fragments};
+use crate::render::renderer::stratified;
+use crate::scene::Camera;
+use beam_math::glam::Vec3;
+use rand::SeedableRng;
+use rand_pcg::Pcg32;
+use std::time::Instant;
+
+/// What tracing one part of the image returns.
+pub(super) struct Traced {
+    /// The part.
+    pub(super) region: Region,
+    /// Its pixels, row-major.
+    pub(super) pixels: Vec<Vec3>,
+    pub(super) counters: Counters,
+    /// The triangles its eye beams saw (empty with primary rays).
+    pub(super) seen: Vec<bool>,
+}
+
+/// What every part shares.
+pub(super) struct Trace<'a> {
+    pub(super) ctx: &'a Context<'a>,
+    pub(super) camera: &'a Camera,
+    /// The seed of pixel `(x, y)`.
+    pub(super) seed: &'a (dyn Fn(u32, u32) -> u64 + Sync),
+    /// Triangles in the scene when eye beams record what they see, else 0.
+    pub(super) n_prims: usize,
+}
+
+impl Trace<'_> {
+    /// `options.primary_spp` stratified primary rays per pixel of `band`, shaded a tile at a time.
+    pub(super) fn ray_band(&self, band: Region) -> Traced {
+        let (ctx, camera) = (self.ctx, self.camera);
+        let mut t = Thread::default();
+        let mut pixels = vec![Vec3::ZERO; band.len()];
+        let frame = camera.frame();
+        let k = ((ctx.options.primary_spp.max(1) as f32).sqrt() as u32).max(1);
+        let (mut surfaces, mut points) = (Vec::new(), Vec::new());
+        for x0 in (band.x0..band.x1).step_by(TILE as usize) {
+            let start = Instant::now();
+            surfaces.clear();
+            for y in band.y0..band.y1 {
+                for x in x0..(x0 + TILE).min(band.x1) {
+                    let mut rng = Pcg32::seed_from_u64((self.seed)(x, y));
+                    for i in 0..k * k {
+                        let (jx, jy) = stratified(i, k, &mut rng);
+                        let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
+                        t.c.camera_rays += 1;
+                        if let Some(hit) = ctx.scene.wide.closest_hit(ray, f32::INFINITY) {
+                            surfaces.push(Surface {
+                                x,
+                                y,
+                                weight: 1.0 / (k * k) as f32,
+                                prim: hit.prim,
+                                q: ray.at(hit.t),
+                                d: ray.direction.normalize(),
+                                seed: (self.seed)(x, y) ^ 0x5EED,
+                            });
+                        }
+                    }
+                }
+            }
+            t.c.primary_seconds += start.elapsed().as_secs_f64();
+            ctx.shade_tile(&surfaces, Lights::All, (x0, band.y0), (&mut pixels, band), &mut points, &mut t);
+        }
+        self.finish(band, pixels, t, Vec::new())
+    }
+
+    /// The exact visible surface of `region` by one eye beam, its fragments shaded a tile at a time
+    /// (point lights by hard-shadow beams from the visible pieces, 001 §4.2).
+    pub(super) fn eye_region(&self, region: Region) -> Traced {
+        let (ctx, camera) = (self.ctx, self.camera);
+        let mut t = Thread::default();
+        let mut pixels = vec![Vec3::ZERO; region.len()];
+        let mut coverage = vec![0.0f32; region.len()];
+        let mut seen = vec![false; self.n_prims];
+        let start = Instant::now();
+        let mut surfaces = Vec::new();
+        let mut eye = EyeStats::default();
+        region_fragments(ctx.scene, camera, region, true, &mut eye, &mut seen, |x, y, cov, f| {
+            let i = region.index(x, y);
+            match f {
+                Fragment::Background => coverage[i] += cov,
+                Fragment::Surface { prim, q, d } => {
+                    coverage[i] += cov;
+                    surfaces.push(Surface { x, y, weight: cov, prim, q, d, seed: (self.seed)(x, y) });
+                }
+                Fragment::Lit { light, prim, points } => {
+                    for &(weight, q) in points {
+                        pixels[i] += weight * ctx.point_lit(prim, q, q - camera.position, light);
+                    }
+                }
+            }
+        });
+        // Shade tile by tile, so that neighbouring points share their candidate occluders.
+        let tile_of = |s: &Surface| ((s.y - region.y0) / TILE, (s.x - region.x0) / TILE);
+        surfaces.sort_by_key(tile_of);
+        t.c.primary += eye.primary;
+        t.c.beams += eye.shadow;
+        t.c.shadow_beams += eye.shadow_beams;
+        t.c.fragments += surfaces.len() as u64;
+        t.c.primary_seconds += start.elapsed().as_secs_f64();
+        let mut points = Vec::new();
+        for tile in surfaces.chunk_by(|a, b| tile_of(a) == tile_of(b)) {
+            let (ty, tx) = tile_of(&tile[0]);
+            let origin = (region.x0 + tx * TILE, region.y0 + ty * TILE);
+            ctx.shade_tile(tile, Lights::AreaOnly, origin, (&mut pixels, region), &mut points, &mut t);
+        }
+        t.c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
+        self.finish(region, pixels, t, seen)
+    }
+
+    fn finish(&self, region: Region, pixels: Vec<Vec3>, mut t: Thread, seen: Vec<bool>) -> Traced {
+        t.c.shafts = t.tile.shafts;
+        t.c.shaft_bvh_steps = t.tile.bvh_steps;
+        Traced { region, pixels, counters: t.c, seen }
+    }
+}
