@@ -5,7 +5,7 @@
 //!
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
 //! - [`glossy`]: glossy light volumes and caustics from point lights (002).
-//! - [`io`]: atomic output files.
+//! - [`io`]: atomic output files; [`read`]: bounded reads of input files.
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
 //! - [`nonlinear`]: nonlinear beam tracing of curved mirrors (000).
 //! - [`scene`]: scenes (TOML files, bare OBJ, built-ins): materials, lights, camera, BVHs.
@@ -15,6 +15,7 @@ pub mod io;
 pub mod mesh;
 pub mod nonlinear;
 pub mod overdraw;
+pub mod read;
 pub mod render;
 pub mod scene;
 pub mod scenes;

@@ -1,4 +1,10 @@
-//! Triangle meshes from OBJ files (through tobj) and built-in procedural meshes.
+//! Triangle meshes from OBJ files ([`obj`]) and built-in procedural meshes.
+
+mod obj;
+mod triangulate;
+
+pub use obj::{ObjStats, parse_obj};
+pub use triangulate::{MAX_NONCONVEX_CORNERS, triangulate};
 
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
@@ -28,70 +34,26 @@ impl Mesh {
     }
 }
 
-/// Check the lines tobj reads (`v` and `f`) so that a malformed file is reported as
-/// `file:line: what`, which tobj's own errors cannot say.
-pub fn validate_obj(path: &Path, text: &str) -> Result<(), String> {
-    let vertices = text.lines().filter(|l| l.split_whitespace().next() == Some("v")).count() as i64;
-    for (n, line) in text.lines().enumerate() {
-        let fail = |what: String| Err(format!("{}:{}: {what}", path.display(), n + 1));
-        let mut tokens = line.split_whitespace();
-        match tokens.next() {
-            Some("v") => {
-                let coords: Vec<&str> = tokens.collect();
-                if coords.len() < 3 || coords.iter().any(|c| c.parse::<f32>().is_err()) {
-                    return fail(format!("a vertex needs three numbers: `{}`", line.trim()));
-                }
-            }
-            Some("f") => {
-                let corners: Vec<&str> = tokens.collect();
-                if corners.len() < 3 {
-                    return fail(format!("a face needs at least three vertices: `{}`", line.trim()));
-                }
-                for c in corners {
-                    let i = c.split('/').next().unwrap_or("").parse::<i64>();
-                    match i {
-                        Ok(i) if i != 0 && i.abs() <= vertices => {}
-                        _ => {
-                            return fail(format!(
-                                "face vertex `{c}` is not an index in 1..={vertices} (or −1..=−{vertices})"
-                            ));
-                        }
-                    }
-                }
-            }
-            _ => {}
-        }
-    }
-    Ok(())
+/// Load every object of an OBJ file into one mesh (faces triangulated in their plane). The file is
+/// read once, bounded by [`MAX_MESH_BYTES`](crate::read::MAX_MESH_BYTES), and must be a regular
+/// file. Errors name the file, and `file:line` for malformed lines, quoting the line.
+pub fn load_obj(path: &Path) -> Result<Mesh, String> {
+    load_obj_with(path, true).map(|(mesh, _)| mesh)
 }
 
-/// Load every object of an OBJ file into one mesh (faces triangulated). Errors name the file, and
-/// the line for malformed vertices and faces.
-pub fn load_obj(path: &Path) -> Result<Mesh, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    validate_obj(path, &text)?;
-    let options = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
-    let (models, _) = tobj::load_obj(path, &options).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut mesh = Mesh::default();
-    for m in &models {
-        let p = &m.mesh.positions;
-        if p.len() % 3 != 0 {
-            return Err(format!("{}: object `{}` has a truncated position list", path.display(), m.name));
-        }
-        let part = Mesh {
-            positions: p.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect(),
-            indices: m.mesh.indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
-        };
-        let n = part.positions.len() as u32;
-        if let Some(bad) = part.indices.iter().flatten().find(|&&i| i >= n) {
-            return Err(format!("{}: object `{}` references vertex {} of {}", path.display(), m.name, bad + 1, n));
-        }
-        mesh.append(&part);
-    }
+/// [`load_obj`], with the counts of skipped elements; `quote_lines`: whether errors may quote a
+/// line of the file (not for files outside a scene's folder).
+pub fn load_obj_with(path: &Path, quote_lines: bool) -> Result<(Mesh, ObjStats), String> {
+    let data = crate::read::read_bounded(path, crate::read::MAX_MESH_BYTES)?;
+    let (mesh, stats) = parse_obj(path, &data, quote_lines)?;
     if mesh.indices.is_empty() {
-        return Err(format!("{}: no triangles", path.display()));
+        let skipped = match stats.skipped_elements {
+            0 => String::new(),
+            n => format!(" ({n} line or point elements skipped)"),
+        };
+        return Err(format!("{}: no triangles{skipped}", crate::read::shown(path)));
     }
-    Ok(mesh)
+    Ok((mesh, stats))
 }
 
 /// A UV sphere of `rings × segments` quads (two triangles each; the pole quads are degenerate and

@@ -3,16 +3,26 @@
 use crate::Gpu;
 use wgpu::util::DeviceExt;
 
-/// A storage buffer holding `bytes` (one zeroed element when empty: wgpu refuses empty bindings).
+/// A storage buffer holding `items`; when there are none, zeros the size of one `T` (at least 64
+/// bytes): wgpu refuses empty buffers, and a binding must hold at least one element of the
+/// shader's array (`T` is its Rust twin), so a smaller pad fails validation.
 #[must_use]
-pub fn storage(gpu: &Gpu, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    let padded = [0u8; 64];
-    let contents = if bytes.is_empty() { &padded[..] } else { bytes };
+pub fn storage<T: bytemuck::Pod>(gpu: &Gpu, label: &str, items: &[T], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    let padded = vec![0u8; empty_size::<T>()];
+    let contents = if items.is_empty() { &padded[..] } else { bytemuck::cast_slice(items) };
     gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
         contents,
         usage: wgpu::BufferUsages::STORAGE | usage,
     })
+}
+
+/// Bytes of the zeroed stand-in [`storage`] uploads for an empty slice of `T`: one element, at
+/// least 64 bytes.
+#[must_use]
+pub const fn empty_size<T>() -> usize {
+    let one = size_of::<T>();
+    if one > 64 { one } else { 64 }
 }
 
 /// The largest buffer one storage binding of the device takes.
@@ -115,12 +125,13 @@ pub fn dispatch(
     encoder
 }
 
-/// A buffer of `size` bytes the shaders write (and the host may fill) and [`read_back`] copies from.
+/// A buffer of `size` bytes the shaders write (and the host may fill) and [`read_back`] copies from;
+/// at least 256 bytes, so that even an empty one holds an element of any output array.
 #[must_use]
 pub fn output(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
     gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
-        size: size.max(16),
+        size: size.max(256),
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })

@@ -30,7 +30,7 @@ pub struct GpuLightBeam {
     pub sigma: f32,
     /// Third vertex.
     pub o2: [f32; 3],
-    /// Index of its point light.
+    /// Index of its emitter (point light, or area light's stratum).
     pub light: u32,
     /// Unit direction at the first vertex.
     pub d0: [f32; 3],
@@ -143,8 +143,11 @@ const _: () = assert!(
         && size_of::<GatherParams>() == 16
 );
 
-/// Point lights the GPU's shadow mask holds.
+/// Point emitters (point lights, and area lights' strata) the GPU's shadow mask holds: as many as
+/// the CPU makes at most when it can ([`beam_cpu::glossy::MAX_EMITTERS`]).
 pub const MAX_LIGHTS: usize = 32;
+
+const _: () = assert!(MAX_LIGHTS == beam_cpu::glossy::MAX_EMITTERS);
 
 /// Points per dispatch.
 const CHUNK: usize = 1 << 20;
@@ -183,7 +186,11 @@ impl GpuGather {
             return Err("the GPU gather integrates the Gaussian volumes exactly (--volume exact)".into());
         }
         if volumes.lights.len() > MAX_LIGHTS {
-            return Err(format!("the GPU gather takes at most {MAX_LIGHTS} point lights ({})", volumes.lights.len()));
+            return Err(format!(
+                "the GPU gather takes at most {MAX_LIGHTS} point emitters (point lights, and area lights' strata), \
+                 not {}",
+                volumes.lights.len()
+            ));
         }
         let beams: Vec<GpuLightBeam> = volumes
             .beams
@@ -227,9 +234,9 @@ impl GpuGather {
             })
             .collect();
         checked(gpu, || {
-            let beam_buffer = storage(gpu, "light beams", bytemuck::cast_slice(&beams), wgpu::BufferUsages::empty());
-            let cone_buffer = storage(gpu, "beam cones", bytemuck::cast_slice(&cones), wgpu::BufferUsages::empty());
-            let node_buffer = storage(gpu, "cone tree", bytemuck::cast_slice(&nodes), wgpu::BufferUsages::empty());
+            let beam_buffer = storage(gpu, "light beams", &beams, wgpu::BufferUsages::empty());
+            let cone_buffer = storage(gpu, "beam cones", &cones, wgpu::BufferUsages::empty());
+            let node_buffer = storage(gpu, "cone tree", &nodes, wgpu::BufferUsages::empty());
             let mut out = Vec::with_capacity(points.len());
             for chunk in points.chunks(CHUNK) {
                 let input: Vec<GatherPoint> = chunk
@@ -243,7 +250,7 @@ impl GpuGather {
                     eps: self.eps,
                 };
                 let params = uniform(gpu, "gather params", bytemuck::bytes_of(&params));
-                let point_buffer = storage(gpu, "receivers", bytemuck::cast_slice(&input), wgpu::BufferUsages::empty());
+                let point_buffer = storage(gpu, "receivers", &input, wgpu::BufferUsages::empty());
                 let size = (chunk.len() * size_of::<GpuGathered>()) as u64;
                 let result = output(gpu, "gathered", size);
                 let (bvh_nodes, triangles) = self.tracer.buffers();

@@ -55,8 +55,8 @@ impl RayTracer {
     /// Compile `raytrace.wgsl` and upload `bvh`.
     pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, String> {
         let pipeline = compute_pipeline(gpu, "raytrace", "trace")?;
-        let nodes = storage(gpu, "nodes", bytemuck::cast_slice(&bvh.nodes), wgpu::BufferUsages::empty());
-        let triangles = storage(gpu, "triangles", bytemuck::cast_slice(&bvh.triangles), wgpu::BufferUsages::empty());
+        let nodes = storage(gpu, "nodes", &bvh.nodes, wgpu::BufferUsages::empty());
+        let triangles = storage(gpu, "triangles", &bvh.triangles, wgpu::BufferUsages::empty());
         Ok(Self { pipeline, nodes, triangles })
     }
 
@@ -76,7 +76,7 @@ impl RayTracer {
         if groups > 65_535 {
             return Err(format!("{} rays exceed one dispatch (at most {})", rays.len(), 65_535 * 64));
         }
-        let ray_buffer = storage(gpu, "rays", bytemuck::cast_slice(rays), wgpu::BufferUsages::empty());
+        let ray_buffer = storage(gpu, "rays", rays, wgpu::BufferUsages::empty());
         let size = (rays.len() * size_of::<GpuHit>()) as u64;
         let hits = output(gpu, "hits", size);
         let encoder = dispatch(gpu, &self.pipeline, &[&self.nodes, &self.triangles, &ray_buffer, &hits], groups as u32);

@@ -166,7 +166,7 @@ impl PointShader {
         Ok(Self {
             pipeline: compute_pipeline(gpu, "raytrace", "shade")?,
             prims,
-            lights: storage(gpu, "lights", bytemuck::cast_slice(&lights), wgpu::BufferUsages::empty()),
+            lights: storage(gpu, "lights", &lights, wgpu::BufferUsages::empty()),
             light_count: lights.len() as u32,
             eps: shading_eps(scene),
         })
@@ -204,9 +204,9 @@ impl PointShader {
         }
         let texel = caustics.map_or(1.0, |m| m.texel);
         ShadeScene {
-            prims: storage(gpu, "prim shading", bytemuck::cast_slice(&prims), wgpu::BufferUsages::empty()),
-            planes: storage(gpu, "caustic planes", bytemuck::cast_slice(&planes), wgpu::BufferUsages::empty()),
-            flux: storage(gpu, "caustic flux", bytemuck::cast_slice(&flux), wgpu::BufferUsages::empty()),
+            prims: storage(gpu, "prim shading", &prims, wgpu::BufferUsages::empty()),
+            planes: storage(gpu, "caustic planes", &planes, wgpu::BufferUsages::empty()),
+            flux: storage(gpu, "caustic flux", &flux, wgpu::BufferUsages::empty()),
             inv_texel_area: 1.0 / (texel * texel),
         }
     }
@@ -258,7 +258,7 @@ impl PointShader {
             pad: [0; 3],
         };
         let uniform = uniform(gpu, "shade params", bytemuck::bytes_of(&params));
-        let input = storage(gpu, "shade points", bytemuck::cast_slice(&inputs), wgpu::BufferUsages::empty());
+        let input = storage(gpu, "shade points", &inputs, wgpu::BufferUsages::empty());
         let out = output(gpu, "radiance", ((points.len() + extra) * 16) as u64);
         let (nodes, triangles) = tracer.buffers();
         let entries: Vec<wgpu::BindGroupEntry<'_>> = [

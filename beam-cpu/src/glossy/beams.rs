@@ -1,11 +1,14 @@
-//! Backward beam construction (002 §3.1): from each point light, through every scatterer triangle
-//! it lights, the three light rays through the triangle's vertices, reflected or refracted about
-//! the interpolated vertex normals into a triplet of scattered vectors (a warped volume) carrying
-//! the flux `Φs = I·Ω` of the light's solid angle through the triangle; and a negative shadow beam
-//! (the light rays themselves) behind every scatterer triangle for first-order shadows.
+//! Backward beam construction (002 §3.1): from each point emitter (a point light, or a stratum of
+//! an area light: see emitters.rs), through every scatterer triangle it lights, the three light
+//! rays through the triangle's vertices, reflected or refracted about the interpolated vertex
+//! normals into a triplet of scattered vectors (a warped volume) carrying the flux `Φs = I·Ω` of the
+//! light's solid angle through the triangle (`I` the emitter's intensity towards it); and a
+//! negative shadow beam (the light rays themselves) behind every scatterer triangle for
+//! first-order shadows.
 
+use super::emitters::{Emitter, emitters};
 use crate::render::{DEPTH_EPS, dielectric, reflect, shading_eps};
-use crate::scene::{Light, Material, Scene};
+use crate::scene::{Material, Scene};
 use beam_math::glam::Vec3;
 use beam_math::glossy::{LightBeam, solid_angle};
 use beam_math::{Ray, Triangle};
@@ -51,23 +54,16 @@ pub struct GlossyBeam {
     /// Scatterer vertices, unit scattered (or, for a shadow beam, light) directions, and
     /// `Φs/I = Ω`, the light's solid angle through the scatterer.
     pub beam: LightBeam,
-    /// Radiant intensity of the light times the scatterer's tint and Fresnel weight (per channel);
-    /// the light's intensity for a shadow beam.
+    /// Radiant intensity of the emitter towards the scatterer (the mean over its three vertices)
+    /// times the scatterer's tint and Fresnel weight (per channel); the emitter's intensity for a
+    /// shadow beam.
     pub power: Vec3,
     /// Micro-facet standard deviation of the scatter angle (radians); 0: specular.
     pub sigma: f32,
-    /// Index of the light among the scene's point lights.
+    /// Index of its emitter among the scene's [`emitters`].
     pub light: u32,
     /// A negative shadow beam: removes the light's direct irradiance where it reaches.
     pub shadow: bool,
-}
-
-/// The scene's point lights: position and intensity.
-pub fn point_lights(scene: &Scene) -> impl Iterator<Item = (Vec3, Vec3)> + '_ {
-    scene.lights.iter().filter_map(|l| match *l {
-        Light::Point { position, intensity } => Some((position, intensity)),
-        _ => None,
-    })
 }
 
 /// Unit vertex normals of scatterer `prim`: the scene's smooth normals where it has them (mirrors,
@@ -76,17 +72,18 @@ fn vertex_normals(scene: &Scene, prim: u32) -> [Vec3; 3] {
     scene.smooth_normals.get(&prim).copied().unwrap_or([scene.normal(prim); 3])
 }
 
-/// The light beams of `scene` (002 §3.1, in parallel over scatterer triangles): for every point
-/// light and every scatterer triangle, a shadow beam always, and its scattered beams when the light
-/// reaches its front (thin panes: either side), a curved triangle (vertex normals apart) split into
-/// `subdivide²` sub-triangles whose vertex normals interpolate its own (the micro-polygon step of
-/// 002 §4.5: the beams then follow the smooth surface the normals stand for). Beams are clipped to
-/// the part of their scatterer that the light reaches (shadow rays from the light; sub-triangles
-/// across a shadow's edge halved [`LIT_DEPTH`] times), which 002 leaves out. Degenerate triangles
-/// (no solid angle, or a vertex at the light) are skipped and counted.
+/// The light beams of `scene` (002 §3.1, in parallel over scatterer triangles): for every emitter
+/// (point light, or stratum of an area light: [`emitters`]) and every scatterer triangle, a shadow
+/// beam always, and its scattered beams when the light reaches its front (thin panes: either side),
+/// a curved triangle (vertex normals apart) split into `subdivide²` sub-triangles whose vertex
+/// normals interpolate its own (the micro-polygon step of 002 §4.5: the beams then follow the
+/// smooth surface the normals stand for). Beams are clipped to the part of their scatterer that the
+/// light reaches (shadow rays from the light; sub-triangles across a shadow's edge halved
+/// [`LIT_DEPTH`] times), which 002 leaves out. Degenerate triangles (no solid angle, or a vertex at
+/// the light) are skipped and counted.
 #[must_use]
 pub fn trace_light_beams(scene: &Scene, subdivide: u32) -> (Vec<GlossyBeam>, u64) {
-    let lights: Vec<(Vec3, Vec3)> = point_lights(scene).collect();
+    let lights = emitters(scene);
     let scatterers: Vec<u32> =
         (0..scene.triangles.len() as u32).filter(|&p| is_scatterer(&scene.material(p))).collect();
     let per: Vec<(Vec<GlossyBeam>, u64)> = scatterers
@@ -94,8 +91,8 @@ pub fn trace_light_beams(scene: &Scene, subdivide: u32) -> (Vec<GlossyBeam>, u64
         .map(|&prim| {
             let mut out = Vec::new();
             let mut skipped = 0;
-            for (li, &(light, intensity)) in lights.iter().enumerate() {
-                match beams_of(scene, prim, (light, intensity, li as u32), subdivide.max(1)) {
+            for (li, light) in lights.iter().enumerate() {
+                match beams_of(scene, prim, light, li as u32, subdivide.max(1)) {
                     Some(b) => out.extend(b),
                     None => skipped += 1,
                 }
@@ -109,7 +106,7 @@ pub fn trace_light_beams(scene: &Scene, subdivide: u32) -> (Vec<GlossyBeam>, u64
 
 /// The sub-triangles of a `k × k` barycentric grid over a triangle, as barycentric corners (the
 /// winding of the triangle's own).
-fn sub_triangles(k: u32) -> impl Iterator<Item = [Vec3; 3]> {
+pub(super) fn sub_triangles(k: u32) -> impl Iterator<Item = [Vec3; 3]> {
     let w = move |i: u32, j: u32| Vec3::new(1.0 - (i + j) as f32 / k as f32, i as f32 / k as f32, j as f32 / k as f32);
     (0..k).flat_map(move |i| {
         (0..k - i).flat_map(move |j| {
@@ -141,9 +138,9 @@ fn lit_parts(corners: [Vec3; 3], depth: u32, lit: &impl Fn(Vec3) -> bool, out: &
     }
 }
 
-/// The beams of scatterer `prim` lit by a point light (position, intensity, index); `None` when
-/// degenerate.
-fn beams_of(scene: &Scene, prim: u32, (light, intensity, index): (Vec3, Vec3, u32), k: u32) -> Option<Vec<GlossyBeam>> {
+/// The beams of scatterer `prim` lit by `emitter` (number `index`); `None` when degenerate.
+fn beams_of(scene: &Scene, prim: u32, emitter: &Emitter, index: u32, k: u32) -> Option<Vec<GlossyBeam>> {
+    let (light, intensity) = (emitter.position, emitter.intensity);
     let tri: Triangle = scene.triangles[prim as usize];
     let omega = solid_angle(light, &tri);
     let [a, b, c] = tri.v.map(|v| (v - light).try_normalize());
@@ -187,6 +184,8 @@ fn beams_of(scene: &Scene, prim: u32, (light, intensity, index): (Vec3, Vec3, u3
         }
         let n = corners.map(|w| (normals[0] * w.x + normals[1] * w.y + normals[2] * w.z).normalize_or_zero());
         let incoming = sub.v.map(|v| (v - light).normalize_or_zero());
+        // An area light's stratum emits less at a slant (none behind it).
+        let falloff = incoming.map(|d| emitter.falloff(d));
         for (scatter, tint, sigma) in scatterings(&material) {
             let mut weight = 0.0;
             let mut dirs = [Vec3::ZERO; 3];
@@ -203,7 +202,7 @@ fn beams_of(scene: &Scene, prim: u32, (light, intensity, index): (Vec3, Vec3, u3
                     },
                     Scatter::Transmit => (1.0, d),
                 };
-                weight += w / 3.0;
+                weight += w * falloff[i] / 3.0;
                 dirs[i] = s.try_normalize()?;
             }
             if weight > 0.0 {

@@ -4,8 +4,9 @@
 //! lights whose direct irradiance they remove. Linear over all beams, or through the cone hierarchy
 //! (identical results: the hierarchy culls only beams that add nothing).
 
-use super::beams::{GlossyBeam, point_lights, trace_light_beams};
+use super::beams::{GlossyBeam, trace_light_beams};
 use super::cones::ConeTree;
+use super::emitters::{Emitter, emitters};
 use crate::scene::Scene;
 use beam_math::glam::Vec3;
 use beam_math::glossy::{LightBeam, VolumeMethod, in_beam};
@@ -15,7 +16,7 @@ use beam_math::glossy::{LightBeam, VolumeMethod, in_beam};
 pub struct Gathered {
     /// Irradiance of the scattered beams.
     pub irradiance: Vec3,
-    /// Bit `l` set: a shadow beam of point light `l` covers the point.
+    /// Bit `l` set: a shadow beam of emitter `l` covers the point.
     pub shadowed: u64,
     /// Beams evaluated.
     pub tested: u32,
@@ -28,8 +29,11 @@ pub struct LightVolumes {
     pub beams: Vec<GlossyBeam>,
     /// Their cone hierarchy.
     pub tree: ConeTree,
-    /// The scene's point lights (position, intensity), indexed by [`GlossyBeam::light`].
+    /// The scene's emitters' positions and intensities (along their normals), indexed by
+    /// [`GlossyBeam::light`].
     pub lights: Vec<(Vec3, Vec3)>,
+    /// The scene's emitters (point lights, and area lights' strata), indexed likewise.
+    pub emitters: Vec<Emitter>,
     /// Scatterer triangles skipped as degenerate (per light).
     pub degenerate: u64,
     /// How glossy volumes are integrated.
@@ -60,7 +64,9 @@ impl LightVolumes {
     pub fn new(scene: &Scene, method: VolumeMethod, subdivide: u32) -> Self {
         let (mut beams, degenerate) = trace_light_beams(scene, subdivide);
         let tree = ConeTree::build(&mut beams);
-        Self { beams, tree, lights: point_lights(scene).collect(), degenerate, method }
+        let emitters = emitters(scene);
+        let lights = emitters.iter().map(|e| (e.position, e.intensity)).collect();
+        Self { beams, tree, lights, emitters, degenerate, method }
     }
 
     /// The same lights' negative shadow beams alone, with their own cone hierarchy (for a gather that
@@ -69,7 +75,8 @@ impl LightVolumes {
     pub fn shadows(&self) -> Self {
         let mut beams: Vec<GlossyBeam> = self.beams.iter().filter(|b| b.shadow).copied().collect();
         let tree = ConeTree::build(&mut beams);
-        Self { beams, tree, lights: self.lights.clone(), degenerate: self.degenerate, method: self.method }
+        let (lights, emitters) = (self.lights.clone(), self.emitters.clone());
+        Self { beams, tree, lights, emitters, degenerate: self.degenerate, method: self.method }
     }
 
     /// Add beam `i`'s share at point `p` with unit normal `n` to `g`; a scattered beam adds nothing

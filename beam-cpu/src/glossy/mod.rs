@@ -1,4 +1,5 @@
-//! Glossy light volumes (002): backward polygon beams from point lights through specular and glossy
+//! Glossy light volumes (002): backward polygon beams from point emitters (point lights, and area
+//! lights as stratified points with cosine emission: [`emitters`]) through specular and glossy
 //! scatterers (mirrors, glass, thin stained-glass panes, glossy reflectors), negative shadow beams
 //! for first-order shadows, and the gather at every receiver point the eye sees (specular eq. 1,
 //! glossy eq. 3 with beam-math's Gaussian volumes), through a hierarchy of bounding cones over the
@@ -6,13 +7,17 @@
 
 mod beams;
 mod cones;
+mod emitters;
 mod gather;
 mod kernel;
 mod photons;
 mod render;
 
-pub use beams::{GlossyBeam, Scatter, is_scatterer, point_lights, scatterings, trace_light_beams};
+pub use beams::{GlossyBeam, Scatter, is_scatterer, scatterings, trace_light_beams};
 pub use cones::{BoundingCone, ConeNode, ConeTree, GLOSSY_REACH};
+pub use emitters::{
+    AREA_STRATA, Emitter, MAX_EMITTERS, REFERENCE_AREA_RAYS, area_point, area_strata, emitters, reference_direct, whole,
+};
 pub use gather::{Gathered, LightVolumes, Occluded, covers};
 pub use kernel::PhotonKernel;
 pub use photons::{PhotonMaps, glossy_photons, photon_texel};

@@ -1,13 +1,16 @@
-//! The Monte-Carlo ground truth of the light volumes: photons from each point light through the
-//! scatterer triangles, scattered about the interpolated normal at their own point (Fresnel split
-//! for glass) and spread by the Gaussian micro-facet model of 002 §4.2 (the scatter direction at a
-//! 2D Gaussian angular offset, standard deviation σ, from the specular one), deposited on the first
-//! surface they reach when it is a receiver. The light is checked for occlusion before the scatterer
-//! and so is the scattered photon's path (second-order shadows, which the beams leave out).
+//! The Monte-Carlo ground truth of the light volumes: photons from each light through the scatterer
+//! triangles (from a point light's position, or from a uniformly random point of an area light's
+//! area, weighted by its cosine emission: the area itself, not the beams' strata), scattered about
+//! the interpolated normal at their own point (Fresnel split for glass) and spread by the Gaussian
+//! micro-facet model of 002 §4.2 (the scatter direction at a 2D Gaussian angular offset, standard
+//! deviation σ, from the specular one), deposited on the first surface they reach when it is a
+//! receiver. The light is checked for occlusion before the scatterer and so is the scattered
+//! photon's path (second-order shadows, which the beams leave out).
 
-use super::beams::{Scatter, point_lights, scatterings};
+use super::beams::{Scatter, scatterings};
+use super::emitters::{area_point, whole};
 use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, reflect, shading_eps};
-use crate::scene::{Material, Scene};
+use crate::scene::{Light, Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::glossy::solid_angle;
@@ -56,16 +59,21 @@ impl PhotonMaps {
     }
 }
 
-/// About `photons` photons per point light, spread over the scatterer triangles in proportion to the
-/// solid angle they fill, uniformly over each triangle's area; each carries `I·cosθ·A/(r²·M)` of its
-/// triangle's `M`. Returns the irradiance maps of the scattered light (texel [`photon_texel`]).
+/// About `photons` photons per light, spread over the scatterer triangles in proportion to the
+/// solid angle they fill from the light's centre, uniformly over each triangle's area; each carries
+/// `I·cosθ·A/(r²·M)` of its triangle's `M`. For an area light (radiance `L`, area `A_L`) each
+/// photon leaves a uniformly random point of its area with `I = L·A_L·cosθ_L` towards the
+/// triangle's point: the same light as the area emits, sampled by area at both ends. Returns the
+/// irradiance maps of the scattered light (texel [`photon_texel`]).
 #[must_use]
 pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
     let map = IrradianceMap::new(scene, photon_texel(scene));
     let empty = PhotonMaps { sides: [map.clone(), map] };
     let eps = shading_eps(scene);
     let mut jobs = Vec::new();
-    for (li, (light, intensity)) in point_lights(scene).enumerate() {
+    for (li, source) in scene.lights.iter().enumerate() {
+        let Some(emitter) = whole(scene, source, li as u32) else { continue };
+        let light = emitter.position;
         let scatterers: Vec<(u32, f32)> = (0..scene.triangles.len() as u32)
             .filter(|&p| !scatterings(&scene.material(p)).is_empty())
             .map(|p| (p, solid_angle(light, &scene.triangles[p as usize])))
@@ -75,13 +83,13 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
         for &(prim, omega) in &scatterers {
             let m = (photons as f64 * f64::from(omega / total)).ceil() as u64;
             let seed = seed ^ (u64::from(prim) << 8 | li as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-            jobs.push((light, intensity, prim, m, seed));
+            jobs.push((source, emitter, prim, m, seed));
         }
     }
     jobs.par_iter()
         .fold(
             || empty.clone(),
-            |mut map, &(light, intensity, prim, m, seed)| {
+            |mut map, &(source, emitter, prim, m, seed)| {
                 let mut rng = Pcg32::seed_from_u64(seed);
                 let tri = scene.triangles[prim as usize];
                 let (area, g) = (tri.area(), scene.normal(prim));
@@ -92,6 +100,10 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
                         (s, t) = (1.0 - s, 1.0 - t);
                     }
                     let p = tri.v[0] * (1.0 - s - t) + tri.v[1] * s + tri.v[2] * t;
+                    let light = match source {
+                        Light::Point { .. } => emitter.position,
+                        _ => area_point(source, rng.random(), rng.random()) + emitter.normal * eps,
+                    };
                     let to = p - light;
                     let r2 = to.length_squared();
                     let d = to / r2.sqrt();
@@ -105,7 +117,10 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
                         continue;
                     }
                     let n = scene.shading_normal(prim, p) * side.dot(g).signum();
-                    let flux = intensity * (g.dot(d).abs() * area / (r2 * m as f32));
+                    let flux = emitter.towards(d) * (g.dot(d).abs() * area / (r2 * m as f32));
+                    if flux == Vec3::ZERO {
+                        continue;
+                    }
                     for (scatter, tint, sigma) in scatterings(&material) {
                         let (weight, dir, origin) = match scatter {
                             Scatter::Reflect => {

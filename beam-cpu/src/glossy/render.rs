@@ -1,17 +1,19 @@
 //! The glossy light-volume renderer (002 §3–4): one eye ray per pixel centre, on through mirrors,
 //! glass and thin panes by Whitted rays; every diffuse receiver point the eye reaches is lit by the
-//! point lights directly (occluders other than scatterers by shadow rays, scatterers by the negative
-//! shadow beams) plus the irradiance gathered from the scattered light beams. Its ground truth
-//! ([`render_glossy_reference`]) shades the same points with exact shadow rays and the photon map of
-//! [`glossy_photons`].
+//! emitters directly (point lights, and area lights as stratified points: emitters.rs; occluders
+//! other than scatterers by shadow rays, scatterers by the negative shadow beams) plus the
+//! irradiance gathered from the scattered light beams. Its ground truth
+//! ([`render_glossy_reference`]) shades the same points with exact shadow rays (area lights sampled
+//! over their area, [`reference_direct`]) and the photon map of [`glossy_photons`].
 
-use super::beams::{is_scatterer, point_lights};
+use super::beams::is_scatterer;
+use super::emitters::{Emitter, reference_direct};
 use super::gather::{Gathered, LightVolumes, Occluded};
 use super::kernel::PhotonKernel;
 use super::photons::{PhotonMaps, glossy_photons};
 use crate::nonlinear::{BeamRenderer, CpuBeams, Shade, ShadePoint, shade_by_waves};
 use crate::render::{DEPTH_EPS, Image, shading_eps};
-use crate::scene::{Light, Material, Scene};
+use crate::scene::{Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::glossy::VolumeMethod;
@@ -119,20 +121,14 @@ fn occlusion(scene: &Scene) -> impl Fn(Vec3, Vec3) -> bool + Sync + '_ {
     }
 }
 
-/// The scene's lights must all be point lights (002 traces beams from a point source).
+/// The scene must have a light that emits (002 traces beams from point sources; area lights are
+/// taken as stratified points).
 fn check_lights(scene: &Scene) -> Result<(), String> {
-    if let Some(l) = scene.lights.iter().find(|l| !matches!(l, Light::Point { .. })) {
-        let kind = match l {
-            Light::Quad { .. } => "quad",
-            _ => "triangle",
-        };
+    if super::emitters::emitters(scene).is_empty() {
         return Err(format!(
-            "scene `{}` has a {kind} light: the glossy light volumes (002) are traced from point lights only",
+            "scene `{}` has no light to trace light volumes from (a point light, or an area light of positive area)",
             scene.name
         ));
-    }
-    if scene.lights.is_empty() {
-        return Err(format!("scene `{}` has no point light to trace light volumes from", scene.name));
     }
     Ok(())
 }
@@ -194,7 +190,7 @@ fn render_points(
             out[i] = match scene.material(s.prim) {
                 Material::Emissive { radiance } => radiance,
                 Material::Glossy { albedo, .. } => {
-                    albedo / core::f32::consts::PI * direct(scene, s.p, facing(scene, s.prim, s.d), 0, true)
+                    albedo / core::f32::consts::PI * reference_direct(scene, s.p, facing(scene, s.prim, s.d), s.seed)
                 }
                 _ => Vec3::ZERO,
             };
@@ -209,26 +205,22 @@ fn render_points(
     Ok(image)
 }
 
-/// Direct irradiance at `p` (unit normal `n`) from the point lights not in mask `shadowed`:
-/// scatterers occlude only when `all_occluders` (the reference), else only other geometry does.
-fn direct(scene: &Scene, p: Vec3, n: Vec3, shadowed: u64, all_occluders: bool) -> Vec3 {
+/// Direct irradiance at `p` (unit normal `n`) from the `emitters` not in mask `shadowed` (their
+/// shadow beams cover `p`): occluders that are not scatterers cast shadows by shadow rays.
+fn direct(scene: &Scene, emitters: &[Emitter], p: Vec3, n: Vec3, shadowed: u64) -> Vec3 {
     let eps = shading_eps(scene);
     let q = p + n * eps;
     let mut e = Vec3::ZERO;
-    for (l, (light, intensity)) in point_lights(scene).enumerate() {
-        let to = light - q;
+    for (l, emitter) in emitters.iter().enumerate() {
+        let to = emitter.position - q;
         let r2 = to.length_squared();
-        let cos = n.dot(to) / r2.sqrt();
-        if cos <= 0.0 || shadowed & (1 << l.min(63)) != 0 {
+        let d = to / r2.sqrt();
+        let (cos, falloff) = (n.dot(d), emitter.falloff(-d));
+        if !(cos > 0.0 && falloff > 0.0) || shadowed & (1 << l.min(63)) != 0 {
             continue;
         }
-        let blocked = if all_occluders {
-            scene.wide.any_hit(Ray::new(q, to), 1.0 - DEPTH_EPS)
-        } else {
-            blocked_by_non_scatterers(scene, q, light, eps)
-        };
-        if !blocked {
-            e += intensity * cos / r2;
+        if !blocked_by_non_scatterers(scene, q, emitter.position, eps) {
+            e += emitter.intensity * (falloff * cos / r2);
         }
     }
     e
@@ -291,7 +283,7 @@ pub fn render_glossy_with(
             .zip(gathered)
             .map(|((s, &(p, n)), g)| {
                 scene.material(s.prim).albedo() / core::f32::consts::PI
-                    * (direct(scene, p, n, g.shadowed, false) + g.irradiance)
+                    * (direct(scene, &volumes.emitters, p, n, g.shadowed) + g.irradiance)
             })
             .collect())
     };
@@ -314,7 +306,8 @@ pub fn render_glossy_with(
 }
 
 /// The ground truth of [`render_glossy`]: the same eye paths, receivers lit directly with exact
-/// shadow rays (every occluder) plus the scattered light of `map` (from [`glossy_photons`]).
+/// shadow rays (every occluder; area lights sampled over their area, [`reference_direct`]) plus
+/// the scattered light of `map` (from [`glossy_photons`]).
 pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &PhotonMaps) -> Result<Image, String> {
     check_lights(scene)?;
     let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
@@ -322,7 +315,7 @@ pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &Photo
             .par_iter()
             .map(|s| {
                 let n = facing(scene, s.prim, s.d);
-                let e = direct(scene, s.p, n, 0, true) + map.irradiance(scene, s.prim, s.p, s.d);
+                let e = reference_direct(scene, s.p, n, s.seed) + map.irradiance(scene, s.prim, s.p, s.d);
                 scene.material(s.prim).albedo() / core::f32::consts::PI * e
             })
             .collect())

@@ -6,7 +6,7 @@
 
 use super::atlas::BeamTexture;
 use super::smesh::{SFace, SMesh};
-use super::trace::{Beam, BeamJob, BeamRenderer, Degree, child_beams};
+use super::trace::{Beam, BeamJob, BeamRenderer, Degree, TEXELS, child_beams};
 use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, shading_eps};
 use crate::scene::{Light, Material, Scene};
 use beam_math::Ray;
@@ -96,13 +96,14 @@ fn split(scene: &Scene, f: &SFace, w: Vec3, d: Vec3) -> (Vec3, f32) {
 /// the flux `I·cosθ·A/r²` of its share `A` of the base (less what the Fresnel split sends the other
 /// way), unless the light is blocked before the face; its ray's first hit, when diffuse, receives
 /// it. Paths with a second specular bounce are not followed. `None` without point lights or
-/// specular faces; an error when `renderer` fails.
+/// specular faces; an error when `renderer` fails. `texels` is taken within [`TEXELS`].
 pub fn caustics_by_beams(
     scene: &Scene,
     degree: Degree,
     texels: u32,
     renderer: &dyn BeamRenderer,
 ) -> Result<Option<(IrradianceMap, CausticStats)>, String> {
+    let texels = texels.clamp(*TEXELS.start(), *TEXELS.end());
     let Some((lights, smesh, empty)) = setup(scene) else { return Ok(None) };
     let eps = shading_eps(scene);
     // Per point light and face it lights: its reflection and refraction beams.

@@ -16,6 +16,6 @@ pub use composite::{Composite, LevelRadiance, TexelRadiance, composite, composit
 pub use reference::{Shade, render_smooth_reference, render_smooth_reference_with, shade_by_waves};
 pub use smesh::{SFace, SMesh};
 pub use trace::{
-    Beam, BeamJob, BeamRenderer, CpuBeams, Degree, NonlinearOptions, NonlinearStats, ShadePoint, TEXELS_PER_SAMPLE,
-    child_beams, render_nonlinear, render_nonlinear_with,
+    Beam, BeamJob, BeamRenderer, CpuBeams, Degree, NonlinearOptions, NonlinearStats, ShadePoint, TEXELS,
+    TEXELS_PER_SAMPLE, child_beams, region_size, render_nonlinear, render_nonlinear_with,
 };

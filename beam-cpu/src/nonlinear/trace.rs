@@ -40,7 +40,8 @@ pub struct NonlinearOptions {
     /// Beam parameterization.
     pub degree: Degree,
     /// Most texels per side of a beam's region; each beam gets the smallest power of two that
-    /// gives its face at least [`TEXELS_PER_SAMPLE`] texels per pixel covering it.
+    /// gives its face at least [`TEXELS_PER_SAMPLE`] texels per pixel covering it, no fewer than 4
+    /// (or than this, when it is below 4). Taken within [`TEXELS`] (a value outside is clamped).
     pub texels: u32,
     /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays.
     pub bounces: u32,
@@ -76,6 +77,20 @@ pub struct NonlinearStats {
 /// Texels a beam's region gives each pixel its face covers (directly, or through the parent beams):
 /// 4, two per side, so that bilinear lookups interpolate rather than extrapolate.
 pub const TEXELS_PER_SAMPLE: u32 = 4;
+
+/// The texels per side a beam's region may have: 2 (a base's three corners and its centre) to 4096.
+pub const TEXELS: core::ops::RangeInclusive<u32> = 2..=4096;
+
+/// Texels per side of the region of a beam standing for `pixels` pixels, at most `most` (clamped
+/// to [`TEXELS`]): the smallest power of two whose `size²/2` texels over the base give
+/// [`TEXELS_PER_SAMPLE`] per pixel, and at least 4 unless `most` is smaller.
+#[must_use]
+pub fn region_size(pixels: f32, most: u32) -> u32 {
+    let most = most.clamp(*TEXELS.start(), *TEXELS.end());
+    let size = (2.0 * TEXELS_PER_SAMPLE as f32 * pixels.max(0.0)).sqrt().ceil();
+    // `as` saturates: a NaN or huge count gives 0 or u32::MAX, both clamped below.
+    (size as u32).checked_next_power_of_two().unwrap_or(most).clamp(4.min(most), most)
+}
 
 /// A nonlinear beam of either parameterization.
 #[derive(Clone, Copy, Debug)]
@@ -368,10 +383,7 @@ impl Tree<'_> {
                         Some(b) => Some(b?),
                         None => None,
                     };
-                    // size²/2 texels cover the base: the smallest power of two with
-                    // TEXELS_PER_SAMPLE texels per pixel.
-                    let size = (2.0 * TEXELS_PER_SAMPLE as f32 * r.pixels).sqrt().ceil() as u32;
-                    Some((reflected, refracted, size.next_power_of_two().clamp(4, self.options.texels.max(2))))
+                    Some((reflected, refracted, region_size(r.pixels, self.options.texels)))
                 })
                 .collect();
             let mut beams = Vec::new();
@@ -530,7 +542,8 @@ pub fn render_nonlinear_with(
         }
         .into(),
         beams_per_level: levels.iter().map(|l| l.len() as u64).collect(),
-        triangles_per_beam: all().map(|n| f64::from(n.tex.triangles_after_culling)).sum::<f64>() / beams.max(1) as f64,
+        triangles_per_beam: all().map(|n| f64::from(n.tex.triangles_after_culling)).sum::<f64>().max(0.0)
+            / beams.max(1) as f64,
         overdraw: texels_tested as f64 / texels_rendered.max(1) as f64,
         texels_rendered,
         texels_shaded: all().map(|n| n.hits.len() as u64).sum(),

@@ -1,245 +1,117 @@
-//! Scene files (TOML) and bare OBJ files.
-//!
-//! ```toml
-//! [camera]                      # optional for a scene made of one mesh
-//! position = [0, 1, 4]
-//! target = [0, 1, 0]
-//! up = [0, 1, 0]                # default [0, 1, 0]
-//! fov = 45                      # vertical, degrees; default 45
-//! width = 512                   # default 512
-//! height = 512                  # default 512
-//!
-//! [materials.white]             # type: diffuse | mirror | glass | glossy | emissive
-//! type = "diffuse"
-//! albedo = [0.7, 0.7, 0.7]
-//!
-//! [[meshes]]
-//! file = "bunny.obj"            # relative to this file's folder
-//! material = "white"
-//! translate = [0, 0, 0]         # optional transform: scale, then rotate (degrees about x, y, z), then translate
-//! rotate = [0, 90, 0]
-//! scale = 1.0                   # a number or [x, y, z]
-//!
-//! [[lights]]                    # type: point | quad | triangle
-//! type = "quad"
-//! corner = [-0.5, 2, -0.5]
-//! edge_u = [1, 0, 0]
-//! edge_v = [0, 0, 1]
-//! radiance = [10, 10, 10]       # intensity for a point light
-//! ```
+//! Loading scene files (TOML, format in [`super::format`]) and bare OBJ files.
 
-use super::{Bump, Camera, Light, Material, Scene};
-use crate::mesh::load_obj;
+use super::check::{self, finite};
+use super::format::{self, Scale, SceneFile};
+use super::{Camera, Light, Material, Scene};
+use crate::mesh::{Mesh, load_obj_with};
+use crate::read::{MAX_SCENE_BYTES, has_extension, read_bounded, resolve_inside};
 use beam_math::Triangle;
 use beam_math::glam::{EulerRot, Mat3, Vec3};
-use serde::Deserialize;
-use std::collections::BTreeMap;
-use std::path::Path;
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct SceneFile {
-    camera: Option<CameraFile>,
-    #[serde(default)]
-    materials: BTreeMap<String, MaterialFile>,
-    #[serde(default)]
-    meshes: Vec<MeshFile>,
-    #[serde(default)]
-    lights: Vec<LightFile>,
+/// How a scene file may name other files.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Let mesh paths lead outside the scene file's folder (`beam render --allow-outside-paths`);
+    /// lines of such files are still never quoted in errors.
+    pub allow_outside_paths: bool,
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CameraFile {
-    position: [f32; 3],
-    target: [f32; 3],
-    up: Option<[f32; 3]>,
-    fov: Option<f32>,
-    width: Option<u32>,
-    height: Option<u32>,
-}
-
-#[derive(Deserialize)]
-#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
-enum MaterialFile {
-    Diffuse {
-        albedo: [f32; 3],
-    },
-    Mirror {
-        tint: Option<[f32; 3]>,
-        bump: Option<f32>,
-        bump_wavelength: Option<f32>,
-    },
-    Glass {
-        ior: f32,
-    },
-    Glossy {
-        albedo: [f32; 3],
-        variance: f32,
-    },
-    #[serde(rename = "thin-glass")]
-    ThinGlass {
-        tint: [f32; 3],
-        sigma: Option<f32>,
-    },
-    Emissive {
-        radiance: [f32; 3],
-    },
-}
-
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum Scale {
-    Uniform(f32),
-    Axes([f32; 3]),
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MeshFile {
-    file: String,
-    material: String,
-    translate: Option<[f32; 3]>,
-    rotate: Option<[f32; 3]>,
-    scale: Option<Scale>,
-}
-
-#[derive(Deserialize)]
-#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
-enum LightFile {
-    Point { position: [f32; 3], intensity: [f32; 3] },
-    Quad { corner: [f32; 3], edge_u: [f32; 3], edge_v: [f32; 3], radiance: [f32; 3] },
-    Triangle { vertices: [[f32; 3]; 3], radiance: [f32; 3] },
-}
-
-/// Load a scene by built-in name, `.toml` scene file or bare `.obj` file.
+/// Load a scene by built-in name, `.toml` scene file or bare `.obj` file, with mesh paths kept
+/// inside the scene file's folder.
 pub fn load(name_or_path: &str) -> Result<Scene, String> {
+    load_with(name_or_path, &LoadOptions::default())
+}
+
+/// [`load`] with `options`.
+pub fn load_with(name_or_path: &str, options: &LoadOptions) -> Result<Scene, String> {
     if super::BUILTIN.contains(&name_or_path) {
         return super::builtin(name_or_path);
     }
-    load_file(Path::new(name_or_path))
+    load_file_with(Path::new(name_or_path), options)
 }
 
-/// Load a `.toml` scene file or a bare `.obj` file. Errors name the file and the line (TOML syntax,
-/// OBJ lines) or the element (`meshes[2].material`).
+/// Load a `.toml` scene file or a bare `.obj` file (extensions in any case), with mesh paths kept
+/// inside the scene file's folder. Errors name the file and the line (TOML syntax, OBJ lines) or
+/// the element (`meshes[2].material`).
 pub fn load_file(path: &Path) -> Result<Scene, String> {
-    match path.extension().and_then(|e| e.to_str()) {
-        Some("obj") => load_bare_obj(path),
-        Some("toml") => load_toml(path),
-        _ => Err(format!(
+    load_file_with(path, &LoadOptions::default())
+}
+
+/// [`load_file`] with `options`.
+pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, String> {
+    if has_extension(path, "obj") {
+        load_bare_obj(path)
+    } else if has_extension(path, "toml") {
+        load_toml(path, options)
+    } else {
+        Err(format!(
             "{}: expected a built-in scene name ({}), a .toml scene or an .obj mesh",
             path.display(),
             super::BUILTIN.join(", ")
-        )),
+        ))
     }
 }
 
-fn vec3(a: [f32; 3]) -> Vec3 {
-    Vec3::from_array(a)
+/// The scene file's text, read once (bounded), checked for UTF-8 and nesting depth, and parsed.
+fn parse_toml(path: &Path) -> Result<SceneFile, String> {
+    let data = read_bounded(path, MAX_SCENE_BYTES)?;
+    let text = String::from_utf8(data).map_err(|e| {
+        let line = e.as_bytes()[..e.utf8_error().valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
+        format!("{}:{line}: not UTF-8 text", path.display())
+    })?;
+    check::nesting(path, &text)?;
+    toml::from_str(&text).map_err(|e| check::toml_error(path, &text, &e))
 }
 
-fn check_finite(path: &Path, element: &str, values: &[f32]) -> Result<(), String> {
-    if values.iter().all(|v| v.is_finite()) {
-        Ok(())
-    } else {
-        Err(format!("{}: {element}: values must be finite", path.display()))
-    }
-}
-
-fn load_toml(path: &Path) -> Result<Scene, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let file: SceneFile = toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    let dir = path.parent().unwrap_or(Path::new("."));
+fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, String> {
+    let file = parse_toml(path)?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
     let mut materials = Vec::new();
     let mut index = BTreeMap::new();
     for (name, m) in &file.materials {
-        let element = format!("materials.{name}");
-        let m = match *m {
-            MaterialFile::Diffuse { albedo } => Material::Diffuse { albedo: vec3(albedo) },
-            MaterialFile::Mirror { tint, bump, bump_wavelength } => {
-                let (delta, wavelength) = (bump.unwrap_or(0.0), bump_wavelength.unwrap_or(1.0));
-                if !(0.0..=0.5).contains(&delta) {
-                    return Err(format!("{}: {element}.bump must be an angle from 0 to 0.5 radians", path.display()));
-                }
-                if !(wavelength > 0.0 && wavelength.is_finite()) {
-                    return Err(format!("{}: {element}.bump_wavelength must be a positive number", path.display()));
-                }
-                Material::Mirror { tint: vec3(tint.unwrap_or([1.0; 3])), bump: Bump { delta, wavelength } }
-            }
-            MaterialFile::Glass { ior } => {
-                if !(ior > 0.0 && ior.is_finite()) {
-                    return Err(format!("{}: {element}.ior must be a positive number", path.display()));
-                }
-                Material::Glass { ior }
-            }
-            MaterialFile::Glossy { albedo, variance } => {
-                if !(variance >= 0.0 && variance.is_finite()) {
-                    return Err(format!("{}: {element}.variance must be ≥ 0", path.display()));
-                }
-                Material::Glossy { albedo: vec3(albedo), variance }
-            }
-            MaterialFile::ThinGlass { tint, sigma } => {
-                let sigma = sigma.unwrap_or(0.0);
-                if !(sigma >= 0.0 && sigma.is_finite()) {
-                    return Err(format!("{}: {element}.sigma must be ≥ 0", path.display()));
-                }
-                Material::ThinGlass { tint: vec3(tint), sigma }
-            }
-            MaterialFile::Emissive { radiance } => Material::Emissive { radiance: vec3(radiance) },
-        };
+        let element = format!("materials.{}", check::name(name));
+        let m = format::material(path, &element, m)?;
         index.insert(name.clone(), materials.len() as u32);
         materials.push(m);
     }
     let mut triangles: Vec<(Triangle, u32)> = Vec::new();
+    // Each mesh file is read once, however many meshes name it.
+    let mut meshes: HashMap<PathBuf, Mesh> = HashMap::new();
+    let mut skipped = 0;
     for (i, m) in file.meshes.iter().enumerate() {
         let element = format!("meshes[{i}]");
-        let &mat = index
-            .get(&m.material)
-            .ok_or_else(|| format!("{}: {element}.material: no material named `{}`", path.display(), m.material))?;
+        let &mat = index.get(&m.material).ok_or_else(|| {
+            format!("{}: {element}.material: no material named `{}`", path.display(), check::name(&m.material))
+        })?;
         let scale = match m.scale {
             None => Vec3::ONE,
             Some(Scale::Uniform(s)) => Vec3::splat(s),
-            Some(Scale::Axes(a)) => vec3(a),
+            Some(Scale::Axes(a)) => Vec3::from_array(a),
         };
-        let r = m.rotate.map_or(Vec3::ZERO, vec3);
-        let t = m.translate.map_or(Vec3::ZERO, vec3);
-        check_finite(
-            path,
-            &format!("{element} transform"),
-            &[scale.x, scale.y, scale.z, r.x, r.y, r.z, t.x, t.y, t.z],
-        )?;
+        let r = m.rotate.map_or(Vec3::ZERO, Vec3::from_array);
+        let t = m.translate.map_or(Vec3::ZERO, Vec3::from_array);
+        finite(path, &format!("{element} transform"), &[scale.x, scale.y, scale.z, r.x, r.y, r.z, t.x, t.y, t.z])?;
         let rot = Mat3::from_euler(EulerRot::XYZ, r.x.to_radians(), r.y.to_radians(), r.z.to_radians());
-        let mesh = load_obj(&dir.join(&m.file)).map_err(|e| format!("{}: {element}: {e}", path.display()))?;
-        for tri in mesh.triangles() {
+        let in_scene = |e: String| format!("{}: {element}: {e}", path.display());
+        let (mesh_path, inside) = resolve_inside(dir, &m.file, options.allow_outside_paths).map_err(in_scene)?;
+        if !meshes.contains_key(&mesh_path) {
+            let (mesh, stats) = load_obj_with(&mesh_path, inside).map_err(in_scene)?;
+            skipped += stats.skipped_elements;
+            meshes.insert(mesh_path.clone(), mesh);
+        }
+        for tri in meshes[&mesh_path].triangles() {
             triangles.push((Triangle { v: tri.v.map(|v| rot * (v * scale) + t) }, mat));
         }
     }
     let mut lights = Vec::new();
     for (i, l) in file.lights.iter().enumerate() {
         let element = format!("lights[{i}]");
-        let light = match *l {
-            LightFile::Point { position, intensity } => {
-                Light::Point { position: vec3(position), intensity: vec3(intensity) }
-            }
-            LightFile::Quad { corner, edge_u, edge_v, radiance } => Light::Quad {
-                corner: vec3(corner),
-                edge_u: vec3(edge_u),
-                edge_v: vec3(edge_v),
-                radiance: vec3(radiance),
-            },
-            LightFile::Triangle { vertices, radiance } => {
-                Light::Triangle { v: vertices.map(vec3), radiance: vec3(radiance) }
-            }
-        };
-        let pts = light.polygon();
-        check_finite(
-            path,
-            &element,
-            &pts.iter().flat_map(|p| p.to_array()).chain(light.power().to_array()).collect::<Vec<_>>(),
-        )?;
-        if !matches!(light, Light::Point { .. }) && !(light.area() > 0.0) {
-            return Err(format!("{}: {element}: the area light has zero area", path.display()));
-        }
+        let light = format::light(path, &element, l)?;
         lights.push(light);
     }
     let bounds = valid_bounds(path, &triangles)?;
@@ -247,31 +119,12 @@ fn load_toml(path: &Path) -> Result<Scene, String> {
         lights.push(default_light(bounds));
     }
     let camera = match file.camera {
-        Some(c) => {
-            check_finite(path, "camera", &[c.position, c.target, c.up.unwrap_or([0.0, 1.0, 0.0])].concat())?;
-            let cam = Camera {
-                position: vec3(c.position),
-                target: vec3(c.target),
-                up: vec3(c.up.unwrap_or([0.0, 1.0, 0.0])),
-                fov_y: c.fov.unwrap_or(45.0),
-                width: c.width.unwrap_or(512),
-                height: c.height.unwrap_or(512),
-            };
-            if !(cam.fov_y > 0.0 && cam.fov_y < 180.0)
-                || cam.width == 0
-                || cam.height == 0
-                || cam.position == cam.target
-            {
-                return Err(format!(
-                    "{}: camera: needs 0 < fov < 180, a non-zero resolution and position ≠ target",
-                    path.display()
-                ));
-            }
-            cam
-        }
+        Some(c) => format::camera(path, &c)?,
         None => default_camera(bounds),
     };
-    Ok(Scene::new(path.display().to_string(), triangles, materials, lights, camera))
+    let mut scene = Scene::new(path.display().to_string(), triangles, materials, lights, camera);
+    scene.stats.skipped_elements = skipped;
+    Ok(scene)
 }
 
 /// Bounds of the non-degenerate triangles; an error naming the file when there is none.
@@ -306,24 +159,26 @@ fn default_light(b: beam_math::Aabb) -> Light {
 }
 
 fn load_bare_obj(path: &Path) -> Result<Scene, String> {
-    let mesh = load_obj(path)?;
+    let (mesh, stats) = load_obj_with(path, true)?;
     let triangles: Vec<(Triangle, u32)> = mesh.triangles().into_iter().map(|t| (t, 0)).collect();
     let bounds = valid_bounds(path, &triangles)?;
     let materials = vec![Material::Diffuse { albedo: Vec3::splat(0.7) }];
-    Ok(Scene::new(
+    let mut scene = Scene::new(
         path.display().to_string(),
         triangles,
         materials,
         vec![default_light(bounds)],
         default_camera(bounds),
-    ))
+    );
+    scene.stats.skipped_elements = stats.skipped_elements;
+    Ok(scene)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
+    fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
         let p = dir.join(name);
         std::fs::write(&p, text).unwrap();
         p
@@ -351,7 +206,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let bad_syntax = write(dir.path(), "a.toml", "[camera]\nposition = [0, 0\n");
         let e = load_file(&bad_syntax).err().unwrap();
-        assert!(e.contains("a.toml") && e.contains("line 2"), "{e}");
+        assert!(e.contains("a.toml:2:"), "{e}");
         let bad_material = write(dir.path(), "b.toml", "[[meshes]]\nfile = \"x.obj\"\nmaterial = \"nope\"\n");
         let e = load_file(&bad_material).err().unwrap();
         assert!(e.contains("b.toml") && e.contains("meshes[0].material"), "{e}");

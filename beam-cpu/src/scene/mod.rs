@@ -3,15 +3,17 @@
 
 mod builtin;
 mod camera;
+mod check;
 mod file;
 pub mod foliage;
+mod format;
 pub mod light_volumes;
 mod normals;
 pub mod showcase;
 
 pub use builtin::{BUILTIN, PROCEDURAL, builtin, builtin_with_smesh};
 pub use camera::Camera;
-pub use file::{load, load_file};
+pub use file::{LoadOptions, load, load_file, load_file_with, load_with};
 
 use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
 use beam_math::Triangle;
@@ -201,6 +203,8 @@ pub struct SceneStats {
     pub triangles: usize,
     /// Degenerate triangles filtered out (zero area, NaN or infinite coordinates).
     pub degenerate: usize,
+    /// OBJ line (`l`) and point (`p`) elements skipped: they have no area to render.
+    pub skipped_elements: usize,
 }
 
 /// A scene ready to render: triangles (degenerate ones removed) with a material each, lights, a
@@ -242,7 +246,7 @@ impl Scene {
         let total = triangles.len();
         let (triangles, material_of): (Vec<Triangle>, Vec<u32>) =
             triangles.into_iter().filter(|(t, _)| t.is_valid()).unzip();
-        let stats = SceneStats { triangles: triangles.len(), degenerate: total - triangles.len() };
+        let stats = SceneStats { triangles: triangles.len(), degenerate: total - triangles.len(), skipped_elements: 0 };
         let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
         let wide = WideBvh::new(&bvh, &triangles);
         let smooth_normals = normals::specular_normals(&triangles, &material_of, &materials);

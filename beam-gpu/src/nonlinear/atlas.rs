@@ -134,7 +134,7 @@ impl<'g> GpuBeams<'g> {
         });
         let by_prim: Vec<GpuTriangle> =
             scene.triangles.iter().enumerate().map(|(i, t)| GpuTriangle::new(t, i as u32)).collect();
-        let triangles = storage(gpu, "scene triangles", bytemuck::cast_slice(&by_prim), wgpu::BufferUsages::empty());
+        let triangles = storage(gpu, "scene triangles", &by_prim, wgpu::BufferUsages::empty());
         let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
         // A power of two, so that Z-order packing of power-of-two squares fills it.
         let side = gpu.device.limits().max_texture_dimension_2d.clamp(32, 4096);
@@ -203,10 +203,10 @@ impl<'g> GpuBeams<'g> {
         let params =
             AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pairs.len() as u32 };
         let uniform = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
-        let beam_buffer = storage(self.gpu, "beams", bytemuck::cast_slice(beams), wgpu::BufferUsages::empty());
-        let pair_buffer = storage(self.gpu, "pairs", bytemuck::cast_slice(pairs), wgpu::BufferUsages::empty());
+        let beam_buffer = storage(self.gpu, "beams", beams, wgpu::BufferUsages::empty());
+        let pair_buffer = storage(self.gpu, "pairs", pairs, wgpu::BufferUsages::empty());
         let bounds = output(self.gpu, "bounding triangles", (pairs.len() * 16) as u64);
-        let counters = storage(self.gpu, "counters", &vec![0u8; beams.len() * 8], wgpu::BufferUsages::COPY_SRC);
+        let counters = storage(self.gpu, "counters", &vec![[0u32; 2]; beams.len()], wgpu::BufferUsages::COPY_SRC);
         let bind = |layout: wgpu::BindGroupLayout, entries: &[(u32, &wgpu::Buffer)]| {
             let entries: Vec<_> = entries
                 .iter()

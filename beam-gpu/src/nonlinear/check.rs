@@ -64,8 +64,8 @@ impl NonlinearCheck {
             return Err(format!("{} cases exceed one dispatch", cases.len()));
         }
         let gpu_beams: Vec<GpuBeam> = beams.iter().map(|b| GpuBeam::new(b, [0, 0, 1], u32::MAX)).collect();
-        let beam_buffer = storage(gpu, "beams", bytemuck::cast_slice(&gpu_beams), wgpu::BufferUsages::empty());
-        let case_buffer = storage(gpu, "cases", bytemuck::cast_slice(cases), wgpu::BufferUsages::empty());
+        let beam_buffer = storage(gpu, "beams", &gpu_beams, wgpu::BufferUsages::empty());
+        let case_buffer = storage(gpu, "cases", cases, wgpu::BufferUsages::empty());
         let size = (cases.len() * per_case * 16) as u64;
         let results = output(gpu, "results", size);
         checked(gpu, || {

@@ -112,11 +112,11 @@ impl GpuComposite {
         levels: &[LevelRadiance],
         rest: &ShadeRest<'_>,
     ) -> Result<Vec<Vec3>, String> {
-        let faces = storage(gpu, "faces", bytemuck::cast_slice(&gpu_faces(scene, smesh)), wgpu::BufferUsages::empty());
+        let faces = storage(gpu, "faces", &gpu_faces(scene, smesh), wgpu::BufferUsages::empty());
         let prepared = shader.prepare(gpu, caustics);
         // Records, shade inputs and outputs of one dispatch within a binding.
         let chunk = ((max_binding(gpu) / 48) as usize).clamp(1, 1 << 20);
-        let empty = || storage(gpu, "empty", &[], wgpu::BufferUsages::empty());
+        let empty = || storage::<[u32; 2]>(gpu, "empty", &[], wgpu::BufferUsages::empty());
         let (mut below, mut below_regions) = (empty(), empty());
         let mut len = 0;
         for level in levels.iter().rev() {
@@ -159,14 +159,13 @@ impl GpuComposite {
                     .collect();
                 let params = CompositeParams { records: records.len() as u32, pad: [0; 3] };
                 let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
-                let records_buffer =
-                    storage(gpu, "records", bytemuck::cast_slice(&records), wgpu::BufferUsages::empty());
+                let records_buffer = storage(gpu, "records", &records, wgpu::BufferUsages::empty());
                 let buffers = [&params, &records_buffer, &faces, &shaded, &below, &below_regions, &radiance];
                 let composite = dispatch(gpu, &self.pipeline, &buffers, records.len().div_ceil(64) as u32);
                 gpu.queue.submit([encoder.finish(), composite.finish()]);
             }
             let regions: Vec<[u32; 2]> = level.regions.iter().map(|&(first, size)| [first, size]).collect();
-            below_regions = storage(gpu, "regions", bytemuck::cast_slice(&regions), wgpu::BufferUsages::empty());
+            below_regions = storage(gpu, "regions", &regions, wgpu::BufferUsages::empty());
             below = radiance;
         }
         let encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());

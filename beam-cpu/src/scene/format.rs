@@ -1,0 +1,214 @@
+//! What a scene file (TOML) may say, and the checked values it gives.
+//!
+//! ```toml
+//! [camera]                      # optional for a scene made of one mesh
+//! position = [0, 1, 4]
+//! target = [0, 1, 0]
+//! up = [0, 1, 0]                # default [0, 1, 0]
+//! fov = 45                      # vertical, degrees; default 45
+//! width = 512                   # default 512
+//! height = 512                  # default 512
+//!
+//! [materials.white]             # type: diffuse | mirror | glass | glossy | emissive
+//! type = "diffuse"
+//! albedo = [0.7, 0.7, 0.7]
+//!
+//! [[meshes]]
+//! file = "bunny.obj"            # relative to this file's folder, and inside it
+//! material = "white"
+//! translate = [0, 0, 0]         # optional transform: scale, then rotate (degrees about x, y, z), then translate
+//! rotate = [0, 90, 0]
+//! scale = 1.0                   # a number or [x, y, z]
+//!
+//! [[lights]]                    # type: point | quad | triangle
+//! type = "quad"
+//! corner = [-0.5, 2, -0.5]
+//! edge_u = [1, 0, 0]
+//! edge_v = [0, 0, 1]
+//! radiance = [10, 10, 10]       # intensity for a point light
+//! ```
+
+use super::check::{colour, finite};
+use super::{Bump, Camera, Light, Material};
+use beam_math::glam::Vec3;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SceneFile {
+    pub(super) camera: Option<CameraFile>,
+    #[serde(default)]
+    pub(super) materials: BTreeMap<String, MaterialFile>,
+    #[serde(default)]
+    pub(super) meshes: Vec<MeshFile>,
+    #[serde(default)]
+    pub(super) lights: Vec<LightFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CameraFile {
+    pub(super) position: [f32; 3],
+    pub(super) target: [f32; 3],
+    pub(super) up: Option<[f32; 3]>,
+    pub(super) fov: Option<f32>,
+    pub(super) width: Option<u32>,
+    pub(super) height: Option<u32>,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub(super) enum MaterialFile {
+    Diffuse {
+        albedo: [f32; 3],
+    },
+    Mirror {
+        tint: Option<[f32; 3]>,
+        bump: Option<f32>,
+        bump_wavelength: Option<f32>,
+    },
+    Glass {
+        ior: f32,
+    },
+    Glossy {
+        albedo: [f32; 3],
+        variance: f32,
+    },
+    #[serde(rename = "thin-glass")]
+    ThinGlass {
+        tint: [f32; 3],
+        sigma: Option<f32>,
+    },
+    Emissive {
+        radiance: [f32; 3],
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+pub(super) enum Scale {
+    Uniform(f32),
+    Axes([f32; 3]),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MeshFile {
+    pub(super) file: String,
+    pub(super) material: String,
+    pub(super) translate: Option<[f32; 3]>,
+    pub(super) rotate: Option<[f32; 3]>,
+    pub(super) scale: Option<Scale>,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub(super) enum LightFile {
+    Point { position: [f32; 3], intensity: [f32; 3] },
+    Quad { corner: [f32; 3], edge_u: [f32; 3], edge_v: [f32; 3], radiance: [f32; 3] },
+    Triangle { vertices: [[f32; 3]; 3], radiance: [f32; 3] },
+}
+
+fn vec3(a: [f32; 3]) -> Vec3 {
+    Vec3::from_array(a)
+}
+
+/// The material `element` of the scene file `path`, its values checked (colours finite and ≥ 0).
+pub(super) fn material(path: &Path, element: &str, m: &MaterialFile) -> Result<Material, String> {
+    Ok(match *m {
+        MaterialFile::Diffuse { albedo } => {
+            colour(path, &format!("{element}.albedo"), albedo)?;
+            Material::Diffuse { albedo: vec3(albedo) }
+        }
+        MaterialFile::Mirror { tint, bump, bump_wavelength } => {
+            colour(path, &format!("{element}.tint"), tint.unwrap_or([1.0; 3]))?;
+            let (delta, wavelength) = (bump.unwrap_or(0.0), bump_wavelength.unwrap_or(1.0));
+            if !(0.0..=0.5).contains(&delta) {
+                return Err(format!("{}: {element}.bump must be an angle from 0 to 0.5 radians", path.display()));
+            }
+            if !(wavelength > 0.0 && wavelength.is_finite()) {
+                return Err(format!("{}: {element}.bump_wavelength must be a positive number", path.display()));
+            }
+            Material::Mirror { tint: vec3(tint.unwrap_or([1.0; 3])), bump: Bump { delta, wavelength } }
+        }
+        MaterialFile::Glass { ior } => {
+            if !(ior > 0.0 && ior.is_finite()) {
+                return Err(format!("{}: {element}.ior must be a positive number", path.display()));
+            }
+            Material::Glass { ior }
+        }
+        MaterialFile::Glossy { albedo, variance } => {
+            if !(variance >= 0.0 && variance.is_finite()) {
+                return Err(format!("{}: {element}.variance must be ≥ 0", path.display()));
+            }
+            colour(path, &format!("{element}.albedo"), albedo)?;
+            Material::Glossy { albedo: vec3(albedo), variance }
+        }
+        MaterialFile::ThinGlass { tint, sigma } => {
+            let sigma = sigma.unwrap_or(0.0);
+            if !(sigma >= 0.0 && sigma.is_finite()) {
+                return Err(format!("{}: {element}.sigma must be ≥ 0", path.display()));
+            }
+            colour(path, &format!("{element}.tint"), tint)?;
+            Material::ThinGlass { tint: vec3(tint), sigma }
+        }
+        MaterialFile::Emissive { radiance } => {
+            colour(path, &format!("{element}.radiance"), radiance)?;
+            Material::Emissive { radiance: vec3(radiance) }
+        }
+    })
+}
+
+/// The light `element` of the scene file `path`, checked: finite corners or position, a colour
+/// finite and ≥ 0, an area light's area positive.
+pub(super) fn light(path: &Path, element: &str, l: &LightFile) -> Result<Light, String> {
+    let light = match *l {
+        LightFile::Point { position, intensity } => {
+            finite(path, &format!("{element}.position"), &position)?;
+            Light::Point { position: vec3(position), intensity: vec3(intensity) }
+        }
+        LightFile::Quad { corner, edge_u, edge_v, radiance } => {
+            Light::Quad { corner: vec3(corner), edge_u: vec3(edge_u), edge_v: vec3(edge_v), radiance: vec3(radiance) }
+        }
+        LightFile::Triangle { vertices, radiance } => {
+            Light::Triangle { v: vertices.map(vec3), radiance: vec3(radiance) }
+        }
+    };
+    let pts = light.polygon();
+    finite(path, element, &pts.iter().flat_map(|p| p.to_array()).collect::<Vec<_>>())?;
+    let what = if matches!(light, Light::Point { .. }) { "intensity" } else { "radiance" };
+    colour(path, &format!("{element}.{what}"), light.power().to_array())?;
+    if !matches!(light, Light::Point { .. }) && !(light.area() > 0.0) {
+        return Err(format!("{}: {element}: the area light has zero area", path.display()));
+    }
+    Ok(light)
+}
+
+/// The camera of the scene file `path`, checked: finite, 0 < fov < 180, a non-zero resolution and
+/// an up vector not along the view (nor a view of zero length).
+pub(super) fn camera(path: &Path, c: &CameraFile) -> Result<Camera, String> {
+    finite(path, "camera", &[c.position, c.target, c.up.unwrap_or([0.0, 1.0, 0.0])].concat())?;
+    let cam = Camera {
+        position: vec3(c.position),
+        target: vec3(c.target),
+        up: vec3(c.up.unwrap_or([0.0, 1.0, 0.0])),
+        fov_y: c.fov.unwrap_or(45.0),
+        width: c.width.unwrap_or(512),
+        height: c.height.unwrap_or(512),
+    };
+    let sideways = cam.up.cross(cam.target - cam.position);
+    if !(cam.fov_y > 0.0 && cam.fov_y < 180.0)
+        || cam.width == 0
+        || cam.height == 0
+        || !(sideways.length_squared() > 0.0 && sideways.is_finite())
+    {
+        return Err(format!(
+            "{}: camera: needs 0 < fov < 180, a non-zero resolution, position ≠ target and an up \
+             vector not along the view",
+            path.display()
+        ));
+    }
+    Ok(cam)
+}
