@@ -3,14 +3,38 @@
 use beam_conformance::{Backend, Config, properties, run_suite};
 use std::process::ExitCode;
 
+/// Check the options before running anything: a known backend, `--rays` at least 1, and an `--only`
+/// that names a property (on that backend).
+pub fn check(backend: Option<&str>, rays: Option<usize>, only: Option<&str>) -> Result<(), String> {
+    let backend = backend.map(Backend::parse).transpose()?;
+    if rays == Some(0) {
+        return Err("--rays 0: at least 1 ray is needed".into());
+    }
+    if let Some(name) = only {
+        let all = properties();
+        let Some(p) = all.iter().find(|p| p.name == name) else {
+            let mut names: Vec<_> = all.iter().map(|p| p.name).collect();
+            names.sort_unstable();
+            return Err(format!("--only {name}: no such property; the properties are: {}", names.join(", ")));
+        };
+        if let Some(b) = backend.filter(|b| !p.backends.contains(b)) {
+            let on: Vec<_> = p.backends.iter().map(|b| b.name()).collect();
+            return Err(format!("--only {name}: runs on {} only, not on --backend {}", on.join(", "), b.name()));
+        }
+    }
+    Ok(())
+}
+
 pub fn run(backend: Option<&str>, rays: Option<usize>, only: Option<String>) -> Result<ExitCode, String> {
+    check(backend, rays, only.as_deref())?;
     let mut config = Config { only, ..Config::default() };
     if let Some(r) = rays {
-        config.rays = r.max(1);
+        config.rays = r;
     }
     let backend = backend.map(Backend::parse).transpose()?;
     let total = properties()
         .iter()
+        .filter(|p| config.only.as_deref().is_none_or(|o| o == p.name))
         .map(|p| p.backends.iter().filter(|b| backend.is_none_or(|w| w == **b)).count())
         .sum::<usize>();
     let bar = crate::progress::bar(total as u64, "conformance");

@@ -1,16 +1,16 @@
 //! `beam render` and `beam compare`.
 
+use crate::output::{erased::Json, write_render};
+use crate::plan::{Kind, Plan};
 use beam_cpu::glossy::{
     GlossyOptions, LightVolumes, photon_texel, render_glossy, render_glossy_reference, render_glossy_with,
 };
 use beam_cpu::nonlinear::{
-    BeamRenderer, CpuBeams, Degree, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
+    BeamRenderer, CpuBeams, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
 };
-use beam_cpu::render::{Image, Method, RenderOptions, Shading, difference, render, side_by_side};
-use beam_cpu::scene;
+use beam_cpu::render::{Method, render};
 use beam_gpu::nonlinear::GpuBeams;
 use beam_math::glam::Vec3;
-use beam_math::glossy::VolumeMethod;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -37,59 +37,25 @@ pub struct RenderArgs<'a> {
     pub height: Option<u32>,
     pub out: &'a Path,
     pub stats: Option<&'a Path>,
+    /// Let a scene file name meshes outside its folder.
+    pub allow_outside_paths: bool,
+    /// The clap ids of the options given on the command line (not defaulted).
+    pub given: &'a [String],
 }
 
 pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
-    let method = match a.method {
-        "beam" | "nonlinear" | "nonlinear-reference" | "glossy" | "glossy-reference" => Method::Beam,
-        "ray" => Method::Ray,
-        m => {
-            return Err(format!(
-                "unknown method `{m}` (beam, ray, nonlinear, nonlinear-reference, glossy, glossy-reference)"
-            ));
-        }
-    };
-    let shading = match a.shading {
-        "fraction" => Shading::Fraction,
-        "exact" => Shading::Exact,
-        s => return Err(format!("unknown shading `{s}` (fraction, exact)")),
-    };
-    let scene = match a.smesh {
-        Some(n) => scene::builtin_with_smesh(a.scene, n)?,
-        None => scene::load(a.scene)?,
-    };
-    let width = a.width.unwrap_or(scene.camera.width);
-    let height = a.height.unwrap_or(if a.width.is_some() {
-        width * scene.camera.height / scene.camera.width.max(1)
-    } else {
-        scene.camera.height
-    });
-    if width == 0 || height == 0 || width > 16384 || height > 16384 {
-        return Err(format!("image size {width}×{height} out of range (1 to 16384)"));
+    let plan = crate::plan::plan(a, false)?;
+    let (scene, options, (width, height)) = (&plan.scene, plan.options, (plan.options.width, plan.options.height));
+    match plan.kind {
+        Kind::Nonlinear | Kind::NonlinearReference => return nonlinear(a, &plan),
+        Kind::Glossy | Kind::GlossyReference => return glossy(a, &plan),
+        Kind::Beam | Kind::Ray => {}
     }
-    let options = RenderOptions {
-        method,
-        shading,
-        spp: a.spp.max(1),
-        primary_spp: a.primary_spp.max(1),
-        primary_beams: a.primary_beams,
-        width,
-        height,
-        seed: 1,
-    };
-    if a.method.starts_with("nonlinear") {
-        return nonlinear(a, &scene, options);
-    }
-    if a.method.starts_with("glossy") {
-        return glossy(a, &scene, width, height);
-    }
-    if a.backend != "cpu" {
-        return Err(format!("--backend {} renders --method nonlinear and nonlinear-reference only", a.backend));
-    }
+    let method = options.method;
     let bar = crate::progress::bar(u64::from(height), "render");
-    let (image, stats) = render(&scene, &options, || bar.inc(1));
+    let (image, stats) = render(scene, &options, || bar.inc(1));
     bar.finish_and_clear();
-    image.save_png(a.out)?;
+    write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
     println!(
         "{}: {} triangles ({} degenerate filtered), {}×{}, {} ({}{}), {:.3} s -> {}",
         scene.name,
@@ -113,24 +79,25 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
             stats.shadow_beams, stats.bvh_steps, stats.intersections, stats.hit_beams_per_pixel
         );
     }
-    write_stats(a.stats, &stats)?;
     Ok(ExitCode::SUCCESS)
 }
 
+/// What `--stats` holds for the references, which count nothing else.
+#[derive(serde::Serialize)]
+struct ReferenceStats<'a> {
+    scene: &'a str,
+    method: &'static str,
+    on: &'a str,
+    width: u32,
+    height: u32,
+    photons_per_light: u64,
+    seconds: f64,
+}
+
 /// `--method nonlinear` and `nonlinear-reference`.
-fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Result<ExitCode, String> {
-    let degree = match a.degree {
-        "s1" => Degree::S1,
-        "s3" => Degree::S3,
-        d => return Err(format!("unknown degree `{d}` (s1, s3)")),
-    };
-    if !(2..=4096).contains(&a.texels) {
-        return Err(format!("--texels {} out of range (2 to 4096)", a.texels));
-    }
-    if !(1..=16).contains(&a.bounces) {
-        return Err(format!("--bounces {} out of range (1 to 16)", a.bounces));
-    }
-    let gpu = gpu_of(a.backend)?;
+fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
+    let (scene, shading) = (&plan.scene, plan.options);
+    let gpu = gpu_of(plan.gpu)?;
     let gpu_beams = gpu.as_ref().map(|g| GpuBeams::new(g, scene).map(|b| b.with_light_samples(a.spp))).transpose()?;
     let renderer: &dyn BeamRenderer = match &gpu_beams {
         Some(g) => g,
@@ -138,23 +105,24 @@ fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Re
     };
     let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
     let start = std::time::Instant::now();
-    if a.method == "nonlinear-reference" {
+    if plan.kind == Kind::NonlinearReference {
         let image = render_smooth_reference_with(scene, &shading, a.photons, renderer)?;
-        image.save_png(a.out)?;
+        let stats = reference_stats(plan, &on, a.photons, start);
+        write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
         println!(
             "{}: nonlinear reference (rays, smooth mirrors and glass) on {on}, {:.3} s -> {}",
             scene.name,
-            start.elapsed().as_secs_f64(),
+            stats.seconds,
             a.out.display()
         );
         return Ok(ExitCode::SUCCESS);
     }
     let (image, stats) = render_nonlinear_with(
         scene,
-        &NonlinearOptions { degree, texels: a.texels, bounces: a.bounces, shading },
+        &NonlinearOptions { degree: plan.degree, texels: a.texels, bounces: a.bounces, shading },
         renderer,
     )?;
-    image.save_png(a.out)?;
+    write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
     println!(
         "{}: nonlinear {} on {on} ({} texels per beam side), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {:.3} s -> {}",
         scene.name,
@@ -167,36 +135,41 @@ fn nonlinear(a: &RenderArgs, scene: &scene::Scene, shading: RenderOptions) -> Re
         stats.seconds,
         a.out.display()
     );
-    write_stats(a.stats, &stats)?;
     Ok(ExitCode::SUCCESS)
 }
 
+fn reference_stats<'a>(plan: &'a Plan, on: &'a str, photons: u64, start: std::time::Instant) -> ReferenceStats<'a> {
+    ReferenceStats {
+        scene: &plan.scene.name,
+        method: plan.kind.name(),
+        on,
+        width: plan.options.width,
+        height: plan.options.height,
+        photons_per_light: photons,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
 /// `--method glossy` and `glossy-reference`.
-fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Result<ExitCode, String> {
-    let method = match a.volume {
-        "exact" => VolumeMethod::Exact,
-        "tessellated" => VolumeMethod::Tessellated,
-        v => return Err(format!("unknown volume `{v}` (exact, tessellated)")),
-    };
-    let gpu = gpu_of(a.backend)?;
+fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
+    let (scene, width, height) = (&plan.scene, plan.options.width, plan.options.height);
+    let gpu = gpu_of(plan.gpu)?;
     let start = std::time::Instant::now();
-    if a.method == "glossy-reference" {
+    if plan.kind == Kind::GlossyReference {
         let image = render_glossy_reference(scene, width, height, a.photons, 1)?;
-        image.save_png(a.out)?;
+        let stats = reference_stats(plan, "CPU", a.photons, start);
+        write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
         println!(
             "{}: glossy reference ({} photons per light), {:.3} s -> {}",
             scene.name,
             a.photons,
-            start.elapsed().as_secs_f64(),
+            stats.seconds,
             a.out.display()
         );
         return Ok(ExitCode::SUCCESS);
     }
-    if !(1..=64).contains(&a.subdivide) {
-        return Err(format!("--subdivide {} out of range (1 to 64)", a.subdivide));
-    }
     let options = GlossyOptions {
-        method,
+        method: plan.volume,
         hierarchy: !a.linear_gather,
         second_order: a.second_order,
         subdivide: a.subdivide,
@@ -205,12 +178,6 @@ fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Resu
     };
     let (image, stats) = match &gpu {
         Some(g) => {
-            if a.linear_gather || a.photon_kernel {
-                return Err(
-                    "the GPU gather walks the cone hierarchy at each point (drop --linear-gather and --photon-kernel)"
-                        .into(),
-                );
-            }
             let gather = beam_gpu::glossy::GpuGather::new(g, scene)?;
             let run = |v: &LightVolumes, points: &[(Vec3, Vec3)]| gather.gather(g, v, points, &options);
             render_glossy_with(scene, &options, &CpuBeams, &run)?
@@ -218,7 +185,7 @@ fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Resu
         None => render_glossy(scene, &options)?,
     };
     let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
-    image.save_png(a.out)?;
+    write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
     println!(
         "{}: glossy light volumes on {on}, {} beams + {} shadow beams ({:.3} s), {} receiver points, {:.1} beams tested per point ({}), gather {:.3} s, {:.3} s -> {}",
         scene.name,
@@ -232,32 +199,10 @@ fn glossy(a: &RenderArgs, scene: &scene::Scene, width: u32, height: u32) -> Resu
         stats.seconds,
         a.out.display()
     );
-    write_stats(a.stats, &stats)?;
     Ok(ExitCode::SUCCESS)
 }
 
-/// The adapter `--backend gpu` asks for (`None` for `cpu`).
-fn gpu_of(backend: &str) -> Result<Option<beam_gpu::Gpu>, String> {
-    match backend {
-        "cpu" => Ok(None),
-        "gpu" => beam_gpu::Gpu::new().map(Some),
-        b => Err(format!("unknown backend `{b}` (cpu, gpu)")),
-    }
-}
-
-/// Write `stats` as JSON to `path` (atomically), when given.
-fn write_stats(path: Option<&Path>, stats: &impl serde::Serialize) -> Result<(), String> {
-    if let Some(p) = path {
-        let json = serde_json::to_string_pretty(stats).map_err(|e| e.to_string())?;
-        beam_cpu::io::write_atomic(p, json.as_bytes())?;
-    }
-    Ok(())
-}
-
-pub fn compare(a: &Path, b: &Path, out: &Path, scale: f32) -> Result<ExitCode, String> {
-    let (ia, ib) = (Image::load(a)?, Image::load(b)?);
-    let d = difference(&ia, &ib).map_err(|e| format!("{} vs {}: {e}", a.display(), b.display()))?;
-    side_by_side(&ia, &ib, scale)?.save_png(out)?;
-    println!("RMSE {:.5}  PSNR {:.2} dB  max {:.4}  (sRGB, [0, 1]) -> {}", d.rmse, d.psnr, d.max, out.display());
-    Ok(ExitCode::SUCCESS)
+/// The adapter of `--backend gpu` (`None` for `cpu`).
+fn gpu_of(gpu: bool) -> Result<Option<beam_gpu::Gpu>, String> {
+    if gpu { beam_gpu::Gpu::new().map(Some) } else { Ok(None) }
 }

@@ -20,6 +20,21 @@ impl Gpu {
             instance.request_adapter(&wgpu::RequestAdapterOptions { compatible_surface: None, ..Default::default() }),
         )
         .map_err(|e| {
+            // An unknown `WGPU_BACKEND` name is dropped by wgpu, which then finds no adapter: say so
+            // rather than advise installing a driver.
+            const KNOWN: [&str; 11] =
+                ["vulkan", "vk", "dx12", "d3d12", "metal", "mtl", "opengl", "gles", "gl", "webgpu", "noop"];
+            if let Ok(v) = std::env::var("WGPU_BACKEND") {
+                let unknown: Vec<&str> =
+                    v.split(',').map(str::trim).filter(|b| !KNOWN.contains(&b.to_lowercase().as_str())).collect();
+                if !unknown.is_empty() {
+                    return format!(
+                        "no GPU adapter: WGPU_BACKEND={v:?} names unknown backend {:?} (expected a comma-separated \
+                         list of vulkan, metal, dx12, gl, webgpu)",
+                        unknown.join(",")
+                    );
+                }
+            }
             format!(
                 "no GPU adapter ({e}); on Linux without a GPU install Mesa's software Vulkan driver: \
                  apt-get install mesa-vulkan-drivers"

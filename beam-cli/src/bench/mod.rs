@@ -11,6 +11,9 @@ pub mod primary_sweep;
 pub mod softshadow;
 
 use beam_math::Ray;
+use clap::Subcommand;
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 /// A ray tracer under test: ours or a peer, over the same triangles.
 pub trait Tracer: Sync {
@@ -33,4 +36,197 @@ pub fn peers(triangles: &[beam_math::Triangle]) -> Result<Vec<Box<dyn Tracer>>, 
         let _ = triangles;
         Ok(Vec::new())
     }
+}
+
+#[derive(Subcommand)]
+pub enum BenchCommand {
+    /// Build with each builder and trace primary, shadow and diffuse rays, 1 thread and all cores,
+    /// beside Embree 3 and obvhs (with `--features peers`).
+    Bvh {
+        /// An OBJ file.
+        #[arg(long)]
+        scene: PathBuf,
+        /// Also write the rows as JSON (`name`, `ray_kind`, `threads`, `build_ms`, `mrays_per_s`).
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Image width and height of the primary rays.
+        #[arg(long, default_value_t = 512)]
+        size: usize,
+    },
+    /// Exact soft shadows by beams against 16/64/256 shadow rays per pixel (and Embree at 256 with
+    /// `--features peers`), each with its RMSE against a many-ray reference.
+    Softshadow {
+        /// A built-in scene, a .toml scene or an .obj mesh (which gets an interior camera and a
+        /// ceiling light).
+        #[arg(long, default_value = "cornell")]
+        scene: String,
+        /// Image width and height.
+        #[arg(long, default_value_t = 512)]
+        size: u32,
+        /// Shadow rays per pixel of the reference.
+        #[arg(long, default_value_t = 4096)]
+        reference_spp: u32,
+        /// Light width and depth as a fraction of the scene box's (for an .obj scene).
+        #[arg(long, default_value_t = 0.1)]
+        light_size: f32,
+        /// Write the images and their comparisons with the reference here.
+        #[arg(long)]
+        out_dir: Option<PathBuf>,
+    },
+    /// Exact primary visibility by eye beams (001 §3, box-filtered coverage) against 1, 4 and 16
+    /// stratified primary rays per pixel (ours, and Embree with `--features peers`) on a flat-shaded
+    /// image (a colour per triangle times |cos| of the view angle, black background): seconds, RMSE
+    /// against the eye beams' exact image, time relative to the eye beams. With `--sweep`, instead,
+    /// eye beams over seeded random views (001 Fig. 7: time against visible triangles).
+    Primary {
+        /// Scenes, comma-separated: `sponza` and `conference` (the shared OBJ files, skipped when
+        /// absent; an interior view), built-ins (e.g. cornell, foliage), .toml scenes or .obj meshes.
+        #[arg(long, value_delimiter = ',')]
+        scenes: Vec<String>,
+        /// Image width and height of the table.
+        #[arg(long, default_value_t = 1024)]
+        size: u32,
+        /// Run the view sweep instead of the table.
+        #[arg(long)]
+        sweep: bool,
+        /// Random cameras per scene of the sweep (default 32); given
+        /// without `--sweep`, the sweep runs after the table.
+        #[arg(long)]
+        cameras: Option<u32>,
+        /// Image width and height of the sweep (default 256).
+        #[arg(long)]
+        sweep_size: Option<u32>,
+        /// Seed of the sweep's cameras.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Write the table's images, the sweep's plot (primary-sweep.png) and its CSV here.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// The nonlinear renderer on the GPU (wgpu) against the CPU renderer, frames per second on the
+    /// built-in nonlinear scenes, each GPU image checked against the CPU's.
+    Gpu {
+        /// Built-in scenes, comma-separated (default: all six nonlinear ones).
+        #[arg(long, value_delimiter = ',')]
+        scenes: Vec<String>,
+        /// Image width.
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        /// Image height.
+        #[arg(long, default_value_t = 1024)]
+        height: u32,
+        /// Timed GPU frames per scene (after a warm-up frame).
+        #[arg(long, default_value_t = 3)]
+        frames: u32,
+        /// `s1` or `s3`.
+        #[arg(long, default_value = "s3")]
+        degree: String,
+    },
+    /// Glossy light volumes (002) against photon tracing at equal RMSE on the three built-ins of
+    /// 002's figures, on the CPU and (with an adapter) the GPU; plots RMSE against time.
+    Glossy {
+        /// Built-in scenes, comma-separated (default: cardioid-ring, pool-caustics, stained-glass).
+        #[arg(long, value_delimiter = ',')]
+        scenes: Vec<String>,
+        /// Image width and height.
+        #[arg(long, default_value_t = 512)]
+        size: u32,
+        /// Photons per light of the reference.
+        #[arg(long, default_value_t = 64_000_000)]
+        reference_photons: u64,
+        /// Sub-triangles per side of each curved scatterer triangle, for every beam frame.
+        #[arg(long, default_value_t = 4)]
+        subdivide: u32,
+        /// Plot (PNG).
+        #[arg(long, default_value = "glossy-vs-photons.png")]
+        out: PathBuf,
+    },
+    /// 000 Fig. 10: nonlinear render time (S1, S3) against scene triangles, S-mesh triangles and
+    /// atlas resolution on the mirror teapot, beside the ray-traced reference.
+    Nonlinear {
+        /// Image width and height.
+        #[arg(long, default_value_t = 256)]
+        size: u32,
+        /// Plot (PNG).
+        #[arg(long, default_value = "nonlinear-sweep.png")]
+        out: PathBuf,
+        /// Table of every measurement.
+        #[arg(long, default_value = "nonlinear-sweep.csv")]
+        csv: PathBuf,
+    },
+}
+
+/// An image side of a benchmark: 1 to 16384.
+fn side(option: &str, v: u32) -> Result<(), String> {
+    match v {
+        1..=crate::plan::MAX_SIDE => Ok(()),
+        _ => Err(format!("{option} {v} out of range (1 to {})", crate::plan::MAX_SIDE)),
+    }
+}
+
+/// Run `beam bench`; with `dry`, only check its arguments.
+pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
+    let result = match what {
+        BenchCommand::Bvh { scene, json, size } => {
+            if !(1..=crate::plan::MAX_SIDE as usize).contains(&size) {
+                return Err(format!("--size {size} out of range (1 to {})", crate::plan::MAX_SIDE));
+            }
+            if dry {
+                return Ok(ExitCode::SUCCESS);
+            }
+            bvh::run(&scene, json.as_deref(), size)
+        }
+        BenchCommand::Gpu { scenes, width, height, frames, degree } => {
+            side("--width", width)?;
+            side("--height", height)?;
+            let scenes = if scenes.is_empty() { gpu::SCENES.map(String::from).to_vec() } else { scenes };
+            let degree = match degree.as_str() {
+                "s1" => beam_cpu::nonlinear::Degree::S1,
+                "s3" => beam_cpu::nonlinear::Degree::S3,
+                d => return Err(format!("unknown degree `{d}` (s1, s3)")),
+            };
+            if dry {
+                return Ok(ExitCode::SUCCESS);
+            }
+            gpu::run(&scenes, width, height, frames, degree)
+        }
+        BenchCommand::Glossy { scenes, size, reference_photons, subdivide, out } => {
+            side("--size", size)?;
+            let scenes = if scenes.is_empty() { glossy::SCENES.map(String::from).to_vec() } else { scenes };
+            if dry {
+                return Ok(ExitCode::SUCCESS);
+            }
+            glossy::run(&scenes, size, reference_photons, subdivide, &out)
+        }
+        BenchCommand::Nonlinear { size, out, csv } => {
+            side("--size", size)?;
+            if dry {
+                return Ok(ExitCode::SUCCESS);
+            }
+            nonlinear::run(size, &out, &csv)
+        }
+        BenchCommand::Primary { scenes, size, sweep, cameras, sweep_size, seed, out } => {
+            side("--size", size)?;
+            if let Some(s) = sweep_size {
+                side("--sweep-size", s)?;
+            }
+            if dry {
+                return Ok(ExitCode::SUCCESS);
+            }
+            let scenes = if scenes.is_empty() { primary::SCENES.map(String::from).to_vec() } else { scenes };
+            let table = if sweep { Ok(()) } else { primary::run(&scenes, size, out.as_deref()) };
+            table.and_then(|()| match sweep || cameras.is_some() {
+                true => primary_sweep::run(&scenes, cameras, sweep_size, seed, out.as_deref()),
+                false => Ok(()),
+            })
+        }
+        BenchCommand::Softshadow { scene, size, reference_spp, light_size, out_dir } => {
+            softshadow::check(size, reference_spp, light_size)?;
+            if dry {
+                return Ok(ExitCode::SUCCESS);
+            }
+            softshadow::run(&scene, size, reference_spp, light_size, out_dir.as_deref())
+        }
+    };
+    result.map(|()| ExitCode::SUCCESS)
 }

@@ -7,6 +7,21 @@ use beam_cpu::scene::{self, Camera, Light};
 use beam_math::glam::Vec3;
 use std::path::Path;
 
+/// Refuse sizes and counts the benchmark cannot use: `size` 1 to 16384, at least 1 reference ray,
+/// and a light size in (0, 1].
+pub fn check(size: u32, reference_spp: u32, light_size: f32) -> Result<(), String> {
+    if !(1..=16384).contains(&size) {
+        return Err(format!("--size {size} out of range (1 to 16384)"));
+    }
+    if reference_spp == 0 {
+        return Err("--reference-spp 0: at least 1 shadow ray per pixel is needed".into());
+    }
+    if !(light_size > 0.0 && light_size <= 1.0) {
+        return Err(format!("--light-size {light_size} out of range (above 0, at most 1)"));
+    }
+    Ok(())
+}
+
 /// Run the benchmark on `scene_arg` at `size × size`.
 pub fn run(
     scene_arg: &str,
@@ -15,6 +30,7 @@ pub fn run(
     light_size: f32,
     out_dir: Option<&Path>,
 ) -> Result<(), String> {
+    check(size, reference_spp, light_size)?;
     let mut scene = scene::load(scene_arg)?;
     let bounds = scene.bvh.nodes.first().ok_or("empty scene")?.bounds();
     if scene_arg.ends_with(".obj") {

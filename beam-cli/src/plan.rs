@@ -1,0 +1,238 @@
+//! `beam render`'s options checked before any work: values in range, options that apply to the
+//! method, output paths that may be written, and the memory the render will need. [`plan`] renders
+//! nothing, so it can be run on any argument vector (the CLI fuzzer does).
+
+use crate::render::RenderArgs;
+use beam_cpu::nonlinear::Degree;
+use beam_cpu::render::{Method, RenderOptions, Shading};
+use beam_cpu::scene::{self, Scene};
+use beam_math::glossy::VolumeMethod;
+
+/// Largest image side, and largest pixel count.
+pub const MAX_SIDE: u32 = 16384;
+/// Largest `--primary-spp` (32 × 32 stratified rays).
+pub const MAX_PRIMARY_SPP: u32 = 1024;
+
+/// What `--method` names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Beam,
+    Ray,
+    Nonlinear,
+    NonlinearReference,
+    Glossy,
+    GlossyReference,
+}
+
+impl Kind {
+    const ALL: [(&'static str, Kind); 6] = [
+        ("beam", Kind::Beam),
+        ("ray", Kind::Ray),
+        ("nonlinear", Kind::Nonlinear),
+        ("nonlinear-reference", Kind::NonlinearReference),
+        ("glossy", Kind::Glossy),
+        ("glossy-reference", Kind::GlossyReference),
+    ];
+
+    fn parse(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .iter()
+            .find(|(n, _)| *n == s)
+            .map(|&(_, k)| k)
+            .ok_or_else(|| format!("unknown method `{s}` (expected {})", Self::ALL.map(|(n, _)| n).join(", ")))
+    }
+
+    /// The `--method` name.
+    pub fn name(self) -> &'static str {
+        Self::ALL.iter().find(|(_, k)| *k == self).map_or("?", |(n, _)| n)
+    }
+}
+
+/// A validated render: everything `beam render` needs but the adapter.
+pub struct Plan {
+    pub kind: Kind,
+    pub scene: Scene,
+    /// Size, shading, shadow and primary samples.
+    pub options: RenderOptions,
+    pub degree: Degree,
+    pub volume: VolumeMethod,
+    pub gpu: bool,
+}
+
+/// The methods an option applies to (`None`: every method), by clap id.
+fn applies_to(id: &str, gpu: bool, primary_beams: bool) -> Option<&'static [Kind]> {
+    use Kind::*;
+    Some(match id {
+        "degree" | "texels" | "bounces" => &[Nonlinear],
+        "shading" => &[Beam, Ray, Nonlinear, NonlinearReference],
+        "spp" if gpu => &[Ray, Nonlinear, NonlinearReference],
+        "spp" => &[Ray],
+        "primary_spp" if primary_beams => &[Ray],
+        "primary_spp" => &[Beam, Ray],
+        "primary_rays" => &[Beam],
+        "volume" | "linear_gather" | "subdivide" | "no_second_order" | "photon_kernel" => &[Glossy],
+        "photons" => &[NonlinearReference, GlossyReference],
+        _ => return None,
+    })
+}
+
+fn flag(id: &str) -> String {
+    format!("--{}", id.replace('_', "-"))
+}
+
+fn range<T: PartialOrd + std::fmt::Display>(id: &str, v: T, lo: T, hi: T) -> Result<(), String> {
+    if v < lo || v > hi {
+        return Err(format!("{} {v} out of range ({lo} to {hi})", flag(id)));
+    }
+    Ok(())
+}
+
+/// The image size: `--width` and `--height`, else the camera's (keeping its aspect when only the
+/// width is given), each side in 1 to [`MAX_SIDE`]. No arithmetic here can wrap.
+pub fn image_size(width: Option<u32>, height: Option<u32>, camera: (u32, u32)) -> Result<(u32, u32), String> {
+    let (cw, ch) = camera;
+    let w = u64::from(width.unwrap_or(cw));
+    let h = match (width, height) {
+        (_, Some(h)) => u64::from(h),
+        (Some(_), None) => ((w * u64::from(ch) + u64::from(cw.max(1)) / 2) / u64::from(cw.max(1))).max(1),
+        (None, None) => u64::from(ch),
+    };
+    let side = 1..=u64::from(MAX_SIDE);
+    if !side.contains(&w) || !side.contains(&h) {
+        let from = if width.is_none() || height.is_none() { format!(" (camera {cw}×{ch})") } else { String::new() };
+        return Err(format!("image size {w}×{h}{from} out of range: each side must be 1 to {MAX_SIDE}"));
+    }
+    Ok((w as u32, h as u32))
+}
+
+/// Refuse a `--scene` path that exists and is not a regular file (a FIFO would block, a device
+/// never end), before the loader opens it.
+fn check_scene_path(s: &str) -> Result<(), String> {
+    if scene::BUILTIN.contains(&s) {
+        return Ok(());
+    }
+    match std::fs::metadata(s) {
+        Ok(m) if !m.is_file() => Err(format!("--scene {s}: not a regular file")),
+        _ => Ok(()),
+    }
+}
+
+/// Peak memory of a render, in bytes: per-pixel buffers (the image, its bands, its 8-bit copy and
+/// encoding, and each method's per-pixel data), the scene, and the nonlinear reference's photons.
+/// The per-pixel figures are the peak resident sizes measured at 512² and 1024² (release build, the
+/// built-ins; the nonlinear method's depends on the scene, mirror-glass is the largest seen) with a
+/// margin of about a third.
+pub fn estimate(kind: Kind, width: u32, height: u32, triangles: usize, photons: u64) -> u64 {
+    let pixels = u64::from(width) * u64::from(height);
+    let per_pixel = match kind {
+        Kind::Beam | Kind::Ray => 32,
+        Kind::Nonlinear => 640,
+        Kind::NonlinearReference | Kind::Glossy | Kind::GlossyReference => 384,
+    };
+    let per_photon = if kind == Kind::NonlinearReference { 32 } else { 0 };
+    crate::limits::bytes(&[(pixels, per_pixel), (triangles as u64, 256), (photons, per_photon), (1, 64 << 20)])
+}
+
+/// Check every option of `beam render` and load the scene; `quiet` leaves out the memory note.
+pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
+    let kind = Kind::parse(a.method)?;
+    let gpu = match a.backend {
+        "cpu" => false,
+        "gpu" => true,
+        b => return Err(format!("unknown backend `{b}` (expected cpu or gpu)")),
+    };
+    if gpu && !matches!(kind, Kind::Nonlinear | Kind::NonlinearReference | Kind::Glossy) {
+        return Err(format!(
+            "--backend gpu does not apply to --method {} (it runs nonlinear, nonlinear-reference and glossy)",
+            kind.name()
+        ));
+    }
+    for id in a.given {
+        if let Some(kinds) = applies_to(id, gpu, a.primary_beams) {
+            if !kinds.contains(&kind) {
+                let to = kinds.iter().map(|k| k.name()).collect::<Vec<_>>().join(", ");
+                let backend = if gpu { " --backend gpu" } else { "" };
+                return Err(format!(
+                    "{} does not apply to --method {}{backend} (it applies to: {to})",
+                    flag(id),
+                    kind.name()
+                ));
+            }
+        }
+    }
+    if gpu && kind == Kind::Glossy && (a.linear_gather || a.photon_kernel) {
+        return Err(
+            "--linear-gather and --photon-kernel do not apply to --backend gpu (the GPU gather walks the cone \
+             hierarchy at each point)"
+                .into(),
+        );
+    }
+    let shading = match a.shading {
+        "fraction" => Shading::Fraction,
+        "exact" => Shading::Exact,
+        s => return Err(format!("unknown --shading `{s}` (expected exact or fraction)")),
+    };
+    let degree = match a.degree {
+        "s1" => Degree::S1,
+        "s3" => Degree::S3,
+        d => return Err(format!("unknown --degree `{d}` (expected s1 or s3)")),
+    };
+    let volume = match a.volume {
+        "exact" => VolumeMethod::Exact,
+        "tessellated" => VolumeMethod::Tessellated,
+        v => return Err(format!("unknown --volume `{v}` (expected exact or tessellated)")),
+    };
+    // The nonlinear tracer sizes beam regions from 4 texels up to `--texels`.
+    range("texels", a.texels, 4, 4096)?;
+    range("bounces", a.bounces, 1, 16)?;
+    range("spp", a.spp, 1, 65536)?;
+    range("subdivide", a.subdivide, 1, 64)?;
+    range("photons", a.photons, 1, 1 << 36)?;
+    let k = a.primary_spp.isqrt();
+    if a.primary_spp == 0 || a.primary_spp > MAX_PRIMARY_SPP || k * k != a.primary_spp {
+        return Err(format!(
+            "--primary-spp {} must be a perfect square from 1 to {MAX_PRIMARY_SPP} (1, 4, 9, 16, …: a k × k grid \
+             of stratified rays)",
+            a.primary_spp
+        ));
+    }
+    if let (Some(0), _) | (_, Some(0)) = (a.width, a.height) {
+        return Err(format!("image size out of range: each side must be 1 to {MAX_SIDE}"));
+    }
+    crate::output::check_render_outputs(a.out, a.stats)?;
+    check_scene_path(a.scene)?;
+    let scene = match a.smesh {
+        Some(n) => scene::builtin_with_smesh(a.scene, n)?,
+        None => scene::load_with(a.scene, &scene::LoadOptions { allow_outside_paths: a.allow_outside_paths })?,
+    };
+    let (width, height) = image_size(a.width, a.height, (scene.camera.width, scene.camera.height))?;
+    let memory = estimate(kind, width, height, scene.triangles.len(), a.photons);
+    crate::limits::admit(&format!("a {width}×{height} {} render", kind.name()), memory, quiet)?;
+    let options = RenderOptions {
+        method: if kind == Kind::Ray { Method::Ray } else { Method::Beam },
+        shading,
+        spp: a.spp,
+        primary_spp: a.primary_spp,
+        primary_beams: a.primary_beams,
+        width,
+        height,
+        seed: 1,
+    };
+    Ok(Plan { kind, scene, options, degree, volume, gpu })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_never_wrap() {
+        assert_eq!(image_size(None, None, (640, 480)), Ok((640, 480)));
+        assert_eq!(image_size(Some(320), None, (640, 480)), Ok((320, 240)));
+        assert_eq!(image_size(Some(1), None, (640, 100)), Ok((1, 1)));
+        assert!(image_size(Some(2), None, (2, (1 << 31) + 1)).is_err());
+        assert!(image_size(None, None, (640, (1 << 31) + 1)).is_err());
+        assert!(image_size(Some(16385), Some(1), (1, 1)).is_err());
+        assert!(image_size(Some(u32::MAX), None, (1, u32::MAX)).is_err());
+    }
+}
