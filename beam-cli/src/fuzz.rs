@@ -186,7 +186,13 @@ fn case(argv: &[String], render: bool) -> Verdict {
         let small = argv.windows(2).any(|w| w == ["--width", "8"])
             && argv.windows(2).any(|w| w == ["--height", "8"])
             && argv.get(1).is_some_and(|c| c == "render")
-            && !argv.iter().any(|a| a == "gpu" || a.ends_with("reference") || a == "--photons");
+            && !argv.iter().any(|a| a == "gpu" || a.ends_with("reference") || a == "--photons")
+            // Only into the case's folder: a relative `--stats NaN` would land in the crate.
+            && argv.windows(2).all(|w| {
+                !matches!(w[0].as_str(), "--out" | "--stats")
+                    || w[1].starts_with(&*std::env::temp_dir().to_string_lossy())
+            })
+            && argv.iter().any(|a| a == "--out");
         match run(cli, &given, true) {
             Ok(_) if render && small => {
                 let (cli, given) = parse_from(argv).map_err(|e| e.to_string())?;
