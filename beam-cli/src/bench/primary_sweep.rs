@@ -14,11 +14,8 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use std::path::Path;
 
-/// Cameras and image size per scene unless given: 8 cameras at 128² for bare meshes (eye beams
-/// take seconds to minutes a view on Sponza and the conference room), 32 at 256² otherwise.
-pub fn defaults(mesh: bool) -> (u32, u32) {
-    if mesh { (8, 128) } else { (32, 256) }
-}
+/// Cameras and image size per scene unless given: 32 at 256².
+pub const DEFAULTS: (u32, u32) = (32, 256);
 
 /// One camera's measurements.
 struct Row {
@@ -71,8 +68,7 @@ pub fn run(
     let mut rows = Vec::new();
     for arg in scenes {
         let Some(loaded) = load(arg)? else { continue };
-        let (n, size) = defaults(loaded.mesh);
-        let (n, size) = (cameras_arg.unwrap_or(n), size_arg.unwrap_or(size));
+        let (n, size) = (cameras_arg.unwrap_or(DEFAULTS.0), size_arg.unwrap_or(DEFAULTS.1));
         let scene = &loaded.scene;
         println!("\nsweep {}: {} cameras at {size}×{size} (table view first)", loaded.name, n);
         println!(
@@ -137,10 +133,24 @@ pub fn run(
         let (tw, tm) = worst_median(&|r| r.beam_s);
         let (rw, rm) = worst_median(&|r| r.beam_s / r.ray16_s);
         let (qw, qm) = worst_median(&|r| r.beam_s / r.ray1_s);
+        let (hw, hm) = worst_median(&|r| r.per_visible);
+        // Output sensitivity: seconds per visible triangle, over the views that see ≥ 100.
+        let per_visible: Vec<f64> =
+            rows[first..].iter().filter(|r| r.visible >= 100).map(|r| r.beam_s / r.visible as f64).collect();
+        let (sw, sm) = if per_visible.is_empty() {
+            (0.0, 0.0)
+        } else {
+            let mut v = per_visible;
+            v.sort_by(f64::total_cmp);
+            (v[v.len() - 1], v[v.len() / 2])
+        };
         println!(
             "{}: eye beams worst {tw:.4} s, median {tm:.4} s; × 16 rays/pixel worst {rw:.2}, median {rm:.2}; \
-             × 1 ray/pixel worst {qw:.2}, median {qm:.2}",
-            loaded.name
+             × 1 ray/pixel worst {qw:.2}, median {qm:.2}; hit beams per visible triangle worst {hw:.1}, median \
+             {hm:.1}; µs per visible triangle (views seeing ≥ 100) worst {:.1}, median {:.1}",
+            loaded.name,
+            sw * 1e6,
+            sm * 1e6
         );
     }
     if let (Some(dir), false) = (out, rows.is_empty()) {
