@@ -138,9 +138,12 @@ impl NodeView {
             return false;
         }
         // No edge of the (counter-clockwise) section has the rectangle wholly outside (a box
-        // reaching behind the near plane has no rectangle).
+        // reaching behind the near plane has no rectangle). Only for the background, whose pieces
+        // have no plane to hide nodes behind: for the others the test costs more than it saves
+        // (Sponza 1024², 1 thread: 0.43 s with it, 0.36 s without).
         let v = piece.section.vertices();
-        !self.lo.is_finite()
+        piece.depth.is_some()
+            || !self.lo.is_finite()
             || (0..v.len()).all(|i| {
                 let (a, e) = (v[i], v[(i + 1) % v.len()] - v[i]);
                 // The rectangle's corner deepest inside the edge's half-plane (its left side).
