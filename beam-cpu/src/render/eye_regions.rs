@@ -5,6 +5,7 @@
 
 use super::coverage::{PixelGrid, pixel_parts};
 use super::hard_shadow::lit_pieces;
+use super::image::Image;
 use super::primary_beam::{point_on_piece, visible_surface};
 use super::shadow_beam::BeamStats;
 use crate::scene::{Camera, Light, Material, Scene};
@@ -37,6 +38,16 @@ impl Region {
     /// Index of pixel `(x, y)` in a row-major buffer of the region.
     pub(crate) fn index(&self, x: u32, y: u32) -> usize {
         ((y - self.y0) * (self.x1 - self.x0) + (x - self.x0)) as usize
+    }
+
+    /// Copy the region's row-major `pixels` into its place in `image`.
+    pub(crate) fn paste(&self, pixels: &[Vec3], image: &mut Image) {
+        let w = (self.x1 - self.x0) as usize;
+        for y in self.y0..self.y1 {
+            let row = (y * image.width) as usize + self.x0 as usize;
+            let from = self.index(self.x0, y);
+            image.pixels[row..row + w].copy_from_slice(&pixels[from..from + w]);
+        }
     }
 }
 

@@ -1,15 +1,21 @@
-//! Exact primary visibility (001 §3): a beam from the eye through an image tile traverses the BVH
-//! front to back and is split at triangle edges into pieces, each owned by the nearest triangle seen
-//! through it. Where a triangle overlaps a piece already owned by another, the piece is split along
-//! the line where the two planes are at equal depth: the inverse ray parameter `1/s` of a plane is an
-//! affine function of the image-plane point, so that line is straight. Hit pieces stay in the beam
-//! until every node left is farther than all of them (001 Fig. 4d).
+//! Exact primary visibility (001 §3): the eye beam through a region of the image traverses the BVH
+//! front to back as a list of pieces, each owned by the nearest triangle seen through it, split at
+//! triangle edges. Where a triangle overlaps a piece already owned by another, the piece is split
+//! along the line where the two planes are at equal depth: the inverse ray parameter `1/s` of a
+//! plane is an affine function of the image-plane point, so that line is straight. A piece visits
+//! only nodes that may be in front of what it sees ([`node_view`]), and the triangles that a grid
+//! of rays sees split the beam first ([`seeds`]), so hidden geometry costs little.
 
 use super::shadow_beam::BeamStats;
 use beam_bvh::FlatBvh;
 use beam_math::Triangle;
 use beam_math::glam::{Vec2, Vec3, Vec4};
 use beam_math::polybeam::{BeamFrame, Part, ProjectedTriangle, Section, split_section};
+use node_view::NodeView;
+use seeds::seen_by_rays;
+
+mod node_view;
+mod seeds;
 
 /// Near clipping depth of the eye beam, in units of the image-plane distance.
 pub const NEAR: f32 = 1e-4;
@@ -109,53 +115,6 @@ impl Piece {
     }
 }
 
-/// A BVH node's box as the eye sees it: its projection's bounding rectangle on the image plane and
-/// its smallest depth `s` (units of the image-plane distance).
-struct NodeView {
-    lo: Vec2,
-    hi: Vec2,
-    near: f32,
-    /// The box.
-    min: Vec3,
-    max: Vec3,
-}
-
-impl NodeView {
-    /// True when the node may hold a triangle visible through `piece`: the rectangles meet and the
-    /// box is not wholly behind the piece's farthest point (001 §3.4: a hit beam goes on only while
-    /// some node is nearer than it).
-    fn meets(&self, piece: &Piece) -> bool {
-        if self.near * piece.far_inv > 1.0
-            || piece.lo.x > self.hi.x
-            || piece.lo.y > self.hi.y
-            || piece.hi.x < self.lo.x
-            || piece.hi.y < self.lo.y
-        {
-            return false;
-        }
-        // Behind the plane of what the piece sees, within the piece: hidden.
-        if piece.depth.is_some_and(|d| d.hides(self.min, self.max)) {
-            return false;
-        }
-        // No edge of the (counter-clockwise) section has the rectangle wholly outside (a box
-        // reaching behind the near plane has no rectangle). Only for the background, whose pieces
-        // have no plane to hide nodes behind: for the others the test costs more than it saves
-        // (Sponza 1024², 1 thread: 0.43 s with it, 0.36 s without).
-        let v = piece.section.vertices();
-        piece.depth.is_some()
-            || !self.lo.is_finite()
-            || (0..v.len()).all(|i| {
-                let (a, e) = (v[i], v[(i + 1) % v.len()] - v[i]);
-                // The rectangle's corner deepest inside the edge's half-plane (its left side).
-                let c = Vec2::new(
-                    if e.y > 0.0 { self.lo.x } else { self.hi.x },
-                    if e.x > 0.0 { self.hi.y } else { self.lo.y },
-                );
-                e.perp_dot(c - a) >= 0.0
-            })
-    }
-}
-
 /// The eye beam of one image region traced through the BVH as a list of pieces (001 §3.3–3.4).
 /// Each node is visited with the pieces that may see into it, nearest child first; a leaf's
 /// triangles split those pieces, and the parts carry on from there to the nodes left (sub-beams
@@ -182,34 +141,6 @@ struct EyeTracer<'a> {
 }
 
 impl EyeTracer<'_> {
-    /// How the eye sees node `i`; `None` when it is wholly behind the near plane or outside the
-    /// region.
-    fn view(&self, i: usize) -> Option<NodeView> {
-        let node = &self.bvh.nodes[i];
-        let (f, d) = (self.frame.normal, self.frame.distance);
-        let (box_min, box_max) = (Vec3::from_array(node.min), Vec3::from_array(node.max));
-        let (min, max) = (box_min - self.frame.apex, box_max - self.frame.apex);
-        let near_z = Vec3::select(f.cmpgt(Vec3::ZERO), min, max).dot(f);
-        let far_z = Vec3::select(f.cmpgt(Vec3::ZERO), max, min).dot(f);
-        if far_z < NEAR * d {
-            return None;
-        }
-        let near = near_z.max(0.0) / d;
-        if near_z <= NEAR * d {
-            // Reaches behind the near plane: no bounded projection.
-            return Some(NodeView { lo: Vec2::NEG_INFINITY, hi: Vec2::INFINITY, near, min: box_min, max: box_max });
-        }
-        let (mut lo, mut hi) = (Vec2::INFINITY, Vec2::NEG_INFINITY);
-        for k in 0..8 {
-            let p = Vec3::select(beam_math::glam::BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), max, min);
-            let q = Vec2::new(p.dot(self.frame.u), p.dot(self.frame.v)) * (d / p.dot(f)) + self.offset;
-            lo = lo.min(q);
-            hi = hi.max(q);
-        }
-        let outside = hi.x < self.lo.x || hi.y < self.lo.y || lo.x > self.hi.x || lo.y > self.hi.y;
-        (!outside).then_some(NodeView { lo, hi, near, min: box_min, max: box_max })
-    }
-
     /// Visit node `i` with the pieces `self.lists[list]`.
     fn visit(&mut self, i: usize, list: core::ops::Range<usize>) {
         let node = self.bvh.nodes[i];
@@ -221,7 +152,7 @@ impl EyeTracer<'_> {
         }
         let before = self.pieces.len();
         let children = [i + 1, node.right_or_first as usize];
-        let views = children.map(|c| self.view(c));
+        let views = children.map(|c| NodeView::of(&self.frame, self.offset, (self.lo, self.hi), &self.bvh.nodes[c]));
         self.stats.bvh_steps += 2;
         let order = match (&views[0], &views[1]) {
             (Some(a), Some(b)) if b.near < a.near => [1, 0],
@@ -384,7 +315,7 @@ pub fn visible_surface(
         offset: Vec2::new(r.dot(frame.u), r.dot(frame.v)),
         stats: BeamStats::default(),
     };
-    if !bvh.nodes.is_empty() && t.view(0).is_some() {
+    if bvh.nodes.first().is_some_and(|root| NodeView::of(frame, t.offset, (lo, hi), root).is_some()) {
         // The triangles a grid of rays sees split the beam first: the big near ones then own most
         // of it, and nodes behind them are culled, whatever order their boxes come in.
         let seeds = seen_by_rays(bvh, triangles, frame, lo, hi);
@@ -395,32 +326,6 @@ pub fn visible_surface(
     }
     *stats += t.stats;
     t.pieces
-}
-
-/// Rays per side of the grid whose hits seed a beam ([`seen_by_rays`]).
-const SEED_RAYS: u32 = 16;
-
-/// The distinct triangles that rays through a grid of points of the window `[lo, hi]` hit, nearest
-/// first.
-fn seen_by_rays(bvh: &FlatBvh, triangles: &[Triangle], frame: &BeamFrame, lo: Vec2, hi: Vec2) -> Vec<u32> {
-    let mut hits: Vec<(f32, u32)> = Vec::with_capacity((SEED_RAYS * SEED_RAYS) as usize);
-    for j in 0..SEED_RAYS {
-        for i in 0..SEED_RAYS {
-            let f = (Vec2::new(i as f32, j as f32) + 0.5) / SEED_RAYS as f32;
-            let ray = frame.ray(lo + f * (hi - lo));
-            if let Some(hit) = bvh.closest_hit(triangles, ray, f32::INFINITY) {
-                hits.push((hit.t, hit.prim));
-            }
-        }
-    }
-    hits.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut seeds: Vec<u32> = Vec::with_capacity(hits.len());
-    for (_, p) in hits {
-        if !seeds.contains(&p) {
-            seeds.push(p);
-        }
-    }
-    seeds
 }
 
 /// The point of `prim`'s plane seen through image-plane point `c`.

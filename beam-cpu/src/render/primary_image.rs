@@ -81,13 +81,7 @@ pub fn primary_image(
     let mut visible = vec![false; scene.triangles.len()];
     let mut beams = BeamStats::default();
     for part in parts {
-        let r = part.region;
-        for y in r.y0..r.y1 {
-            let row = (y * camera.width) as usize;
-            let from = r.index(r.x0, y);
-            image.pixels[row + r.x0 as usize..row + r.x1 as usize]
-                .copy_from_slice(&part.pixels[from..from + (r.x1 - r.x0) as usize]);
-        }
+        part.region.paste(&part.pixels, &mut image);
         beams += part.beams;
         stats.fragments += part.fragments;
         stats.coverage_error = stats.coverage_error.max(part.error);

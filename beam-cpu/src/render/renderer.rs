@@ -558,13 +558,7 @@ pub fn render_with(
     let mut total = Counters::default();
     let mut visible = vec![false; n_prims];
     for part in parts {
-        let r = part.region;
-        for y in r.y0..r.y1 {
-            let row = (y * camera.width) as usize;
-            let from = r.index(r.x0, y);
-            image.pixels[row + r.x0 as usize..row + r.x1 as usize]
-                .copy_from_slice(&part.pixels[from..from + (r.x1 - r.x0) as usize]);
-        }
+        part.region.paste(&part.pixels, &mut image);
         total += part.counters;
         for (v, s) in visible.iter_mut().zip(part.seen) {
             *v |= s;
