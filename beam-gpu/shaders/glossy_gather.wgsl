@@ -43,7 +43,8 @@ struct ConeNode {
     right_or_first: u32,
     // Beams of a leaf; 0 for an inner node.
     count: u32,
-    pad0: u32,
+    // The node after its subtree in depth-first order (the node count after the last).
+    skip: u32,
     pad1: u32,
     pad2: u32,
 }
@@ -56,17 +57,20 @@ struct GatherPoint {
     pad1: u32,
 }
 
-// Keep in sync with beam_gpu::glossy::GpuGathered (32 bytes).
+// Keep in sync with beam_gpu::glossy::GpuGathered (32 bytes). Also the walk's state between
+// passes: zero before the first.
 struct Gathered {
     irradiance: vec3<f32>,
     shadowed: u32,
     tested: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    // The node the walk goes on at (done from the node count on).
+    next: u32,
+    // Beams of leaf `next` already added.
+    in_leaf: u32,
+    pad: u32,
 }
 
-// Keep in sync with beam_gpu::glossy::GatherParams (16 bytes).
+// Keep in sync with beam_gpu::glossy::GatherParams (32 bytes).
 struct GatherParams {
     points: u32,
     nodes: u32,
@@ -74,6 +78,12 @@ struct GatherParams {
     flags: u32,
     // Offset of shadow-ray ends off the scatterer.
     eps: f32,
+    // Loop iterations an invocation may run in one pass before it stops and leaves its walk's
+    // state for the next pass.
+    budget: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 @group(0) @binding(2) var<uniform> params: GatherParams;
@@ -82,6 +92,11 @@ struct GatherParams {
 @group(0) @binding(5) var<storage, read> tree: array<ConeNode>;
 @group(0) @binding(6) var<storage, read> points: array<GatherPoint>;
 @group(0) @binding(7) var<storage, read_write> gathered: array<Gathered>;
+// Points whose walk a pass left unfinished (the host zeroes it before each pass).
+@group(0) @binding(8) var<storage, read_write> unfinished: atomic<u32>;
+
+// Loop iterations of this invocation in this pass, besides trace_ray's (trace_work).
+var<private> work: u32;
 
 const PI: f32 = 3.14159265;
 
@@ -177,6 +192,7 @@ fn owens_t_small(h: f32, a: f32) -> f32 {
     let weights = array<f32, 5>(0.5688889, 0.4786287, 0.4786287, 0.2369269, 0.2369269);
     let upper = select(a, 8.95 / h, h * a > 8.95);
     let panels = max(i32(ceil(max(h * upper / 3.0, 3.0 * upper))), 1);
+    work += 6u * u32(panels) + 1u;
     let width = upper / f32(panels);
     var sum = 0.0;
     for (var p = 0; p < panels; p++) {
@@ -358,40 +374,58 @@ fn add_beam(j: u32, f: vec3<f32>, n: vec3<f32>, g: ptr<function, Gathered>) {
     (*g).irradiance += b.power * e;
 }
 
+// One pass of the walk of point i's hierarchy, in depth-first order (the CPU's stack order) by the
+// nodes' skip indices, so that its whole state is the node it goes on at and the beams of that
+// leaf already added: it stops after `params.budget` loop iterations (counting trace_ray's and
+// Owen's T's) and the host runs passes until every walk is done. Software Vulkan (Mesa llvmpipe /
+// lavapipe) ends every loop of an invocation group for good once all its loops together have run
+// 65,535 iterations, which a walk over many beams passes (the walks of a whole SIMD group cut
+// short, at the same iteration): hence the passes.
 @compute @workgroup_size(64)
 fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = id.y * groups.x * 64u + id.x;
     if i >= params.points {
         return;
     }
+    var g = gathered[i];
+    if g.next >= params.nodes {
+        return;
+    }
     let f = points[i].p;
     let n = points[i].n;
-    var g: Gathered;
-    var stack: array<u32, 64>;
-    var sp = 0u;
-    if params.nodes > 0u {
-        stack[0] = 0u;
-        sp = 1u;
-    }
+    work = 0u;
+    trace_work = 0u;
     loop {
-        if sp == 0u {
+        if g.next >= params.nodes {
             break;
         }
-        sp -= 1u;
-        let k = stack[sp];
+        if work + trace_work >= params.budget {
+            atomicAdd(&unfinished, 1u);
+            break;
+        }
+        work += 1u;
+        let k = g.next;
         let node = tree[k];
         if !in_cone(node.apex, node.axis, node.cos, f) {
+            g.next = node.skip;
             continue;
         }
-        if node.count > 0u {
-            for (var j = node.right_or_first; j < node.right_or_first + node.count; j++) {
-                add_beam(j, f, n, &g);
+        if node.count == 0u {
+            // Its first child follows it.
+            g.next = k + 1u;
+            continue;
+        }
+        loop {
+            if g.in_leaf >= node.count || work + trace_work >= params.budget {
+                break;
             }
-        } else if sp + 2u <= 64u {
-            // The second child first on the stack, so that the first is visited first.
-            stack[sp] = node.right_or_first;
-            stack[sp + 1u] = k + 1u;
-            sp += 2u;
+            work += 1u;
+            add_beam(node.right_or_first + g.in_leaf, f, n, &g);
+            g.in_leaf += 1u;
+        }
+        if g.in_leaf >= node.count {
+            g.next = node.skip;
+            g.in_leaf = 0u;
         }
     }
     gathered[i] = g;

@@ -1,7 +1,7 @@
 //! The gather of the glossy light volumes (002) on the GPU (`shaders/glossy_gather.wgsl`): the
 //! beams, their cones and the cone hierarchy built on the CPU ([`LightVolumes`]) are uploaded, and
 //! one invocation per receiver point walks the hierarchy, with second-order shadow rays through the
-//! GPU BVH. CPU twin: [`LightVolumes::gather`].
+//! GPU BVH, in passes of bounded work ([`PASS_BUDGET`]). CPU twin: [`LightVolumes::gather`].
 
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage, uniform};
@@ -82,8 +82,11 @@ pub struct GpuConeNode {
     pub right_or_first: u32,
     /// Beams of a leaf, 0 for an inner node.
     pub count: u32,
+    /// The node after its subtree in depth-first order (the node count after the last): where the
+    /// walk goes on when it skips or finishes the node.
+    pub skip: u32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 /// A receiver point.
@@ -102,7 +105,8 @@ pub struct GatherPoint {
     pub pad1: u32,
 }
 
-/// What a receiver point gathered.
+/// What a receiver point gathered, and (between the passes of [`GpuGather::gather`]) where its walk
+/// of the hierarchy goes on.
 ///
 /// Keep in sync with the WGSL twin `Gathered` in `shaders/glossy_gather.wgsl`.
 #[repr(C)]
@@ -114,8 +118,12 @@ pub struct GpuGathered {
     pub shadowed: u32,
     /// Beams evaluated.
     pub tested: u32,
+    /// The node the walk goes on at (done from the node count on).
+    pub next: u32,
+    /// Beams of leaf `next` already added.
+    pub in_leaf: u32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: u32,
 }
 
 /// Uniforms of the gather.
@@ -132,6 +140,10 @@ pub struct GatherParams {
     pub flags: u32,
     /// Offset of shadow-ray ends off the scatterer.
     pub eps: f32,
+    /// Loop iterations an invocation runs per pass at most (besides finishing one beam).
+    pub budget: u32,
+    /// Padding.
+    pub pad: [u32; 3],
 }
 
 const _: () = assert!(
@@ -140,7 +152,7 @@ const _: () = assert!(
         && size_of::<GpuConeNode>() == 48
         && size_of::<GatherPoint>() == 32
         && size_of::<GpuGathered>() == 32
-        && size_of::<GatherParams>() == 16
+        && size_of::<GatherParams>() == 32
 );
 
 /// Point emitters (point lights, and area lights' strata) the GPU's shadow mask holds: as many as
@@ -151,6 +163,28 @@ const _: () = assert!(MAX_LIGHTS == beam_cpu::glossy::MAX_EMITTERS);
 
 /// Points per dispatch.
 const CHUNK: usize = 1 << 20;
+
+/// Loop iterations (cone-tree steps, beams, BVH steps and triangle tests of shadow rays, Owen's T
+/// panels) an invocation runs in one pass of the gather before it leaves the rest of its walk to
+/// the next. Mesa's software Vulkan (llvmpipe, lavapipe) stops every loop of a group of invocations
+/// for good once all its loops together have run 65,535 iterations (`LP_MAX_TGSI_LOOP_ITERATIONS`,
+/// counted per SIMD iteration, whichever lanes are active): the walks of the group then end early,
+/// each cut short by what the others in the batch did. On `mirror-glass-coarse` (16 emitters) a
+/// budget of 2,048 still lost a shadow ray, 512 did not; 256 leaves room even were the count shared
+/// by a whole workgroup of 64 (64 × 256 = 16,384, plus one beam's work each). On other devices the
+/// passes keep dispatches short.
+pub const PASS_BUDGET: u32 = 256;
+
+/// For each node of a hierarchy in depth-first order (first child next, `right_or_first` the
+/// second), the node after its subtree.
+fn skips(nodes: &[beam_cpu::glossy::ConeNode]) -> Vec<u32> {
+    let mut skip = vec![0u32; nodes.len()];
+    for k in (0..nodes.len()).rev() {
+        let node = &nodes[k];
+        skip[k] = if node.count > 0 { k as u32 + 1 } else { skip[node.right_or_first as usize] };
+    }
+    skip
+}
 
 fn cone(c: &BoundingCone) -> GpuCone {
     GpuCone { apex: c.apex.to_array(), cos: c.cos, axis: c.axis.to_array(), pad: 0 }
@@ -217,11 +251,13 @@ impl GpuGather {
             })
             .collect();
         let cones: Vec<GpuCone> = volumes.tree.cones.iter().map(cone).collect();
+        let skip = skips(&volumes.tree.nodes);
         let nodes: Vec<GpuConeNode> = volumes
             .tree
             .nodes
             .iter()
-            .map(|n| {
+            .zip(&skip)
+            .map(|(n, &skip)| {
                 let c = cone(&n.cone);
                 GpuConeNode {
                     apex: c.apex,
@@ -229,7 +265,8 @@ impl GpuGather {
                     axis: c.axis,
                     right_or_first: n.right_or_first,
                     count: n.count,
-                    pad: [0; 3],
+                    skip,
+                    pad: [0; 2],
                 }
             })
             .collect();
@@ -248,15 +285,38 @@ impl GpuGather {
                     nodes: nodes.len() as u32,
                     flags: u32::from(options.second_order),
                     eps: self.eps,
+                    budget: PASS_BUDGET,
+                    pad: [0; 3],
                 };
                 let params = uniform(gpu, "gather params", bytemuck::bytes_of(&params));
                 let point_buffer = storage(gpu, "receivers", &input, wgpu::BufferUsages::empty());
                 let size = (chunk.len() * size_of::<GpuGathered>()) as u64;
+                // Zeroed by wgpu: every walk starts at the root.
                 let result = output(gpu, "gathered", size);
+                let unfinished = output(gpu, "unfinished walks", 4);
                 let (bvh_nodes, triangles) = self.tracer.buffers();
-                let buffers =
-                    [bvh_nodes, triangles, &params, &beam_buffer, &cone_buffer, &node_buffer, &point_buffer, &result];
-                let encoder = dispatch(gpu, &self.pipeline, &buffers, chunk.len().div_ceil(64) as u32);
+                let buffers = [
+                    bvh_nodes,
+                    triangles,
+                    &params,
+                    &beam_buffer,
+                    &cone_buffer,
+                    &node_buffer,
+                    &point_buffer,
+                    &result,
+                    &unfinished,
+                ];
+                // Passes until no walk is left unfinished (each moves every unfinished walk on by at
+                // least one node or beam).
+                loop {
+                    gpu.queue.write_buffer(&unfinished, 0, &[0; 4]);
+                    let encoder = dispatch(gpu, &self.pipeline, &buffers, chunk.len().div_ceil(64) as u32);
+                    let left = read_back(gpu, encoder, &unfinished, 4)?;
+                    if u32::from_le_bytes([left[0], left[1], left[2], left[3]]) == 0 {
+                        break;
+                    }
+                }
+                let encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
                 let raw: Vec<GpuGathered> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &result, size)?);
                 out.extend(raw.iter().map(|g| Gathered {
                     irradiance: Vec3::from(g.irradiance),

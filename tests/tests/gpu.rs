@@ -10,4 +10,5 @@ beam_conformance::conformance_tests!(
     gpu_shading_equals_cpu,
     gpu_composite_equals_cpu,
     gpu_glossy_gather_equals_cpu,
+    gpu_glossy_gather_area_lights_equal_cpu,
 );

@@ -14,6 +14,10 @@ struct GpuHit {
 
 const STACK: u32 = 64u;
 
+// Loop iterations trace_ray has run in this invocation (its traversal steps and triangle tests):
+// shaders that must bound their work per dispatch (glossy_gather) read it.
+var<private> trace_work: u32;
+
 // The nearest hit before t_max (any hit when `any`) of the ray (origin, direction): GpuHit with
 // prim 0xffffffff on a miss; for `any`, t is 1 when occluded and 0 otherwise.
 fn trace_ray(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any: bool) -> GpuHit {
@@ -32,12 +36,14 @@ fn trace_ray(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any: bool) -> 
             break;
         }
         sp -= 1u;
+        trace_work += 1u;
         let node = nodes[stack[sp]];
         let index = stack[sp];
         if slab(node, origin, inv, best) >= 3.0e38 {
             continue;
         }
         if node.count > 0u {
+            trace_work += node.count + 1u;
             for (var k = 0u; k < node.count; k += 1u) {
                 let tri = triangles[node.right_or_first + k];
                 let t = intersect_triangle(sheared, tri, 0.0, best);
