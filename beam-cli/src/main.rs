@@ -55,8 +55,8 @@ enum Command {
         /// Light visibility: `beam` (exact shadow beams) or `ray` (stratified shadow rays); or
         /// `nonlinear` (mirrors by nonlinear beams, 000, with exact shadow beams) and its ground
         /// truth `nonlinear-reference` (mirrors by rays reflected about the interpolated normal); or
-        /// `glossy` (caustics and glossy light by light volumes from point lights, 002) and its
-        /// ground truth `glossy-reference` (photons).
+        /// `glossy` (caustics and glossy light by light volumes from point lights, and from area
+        /// lights as 4×4 stratified points, 002) and its ground truth `glossy-reference` (photons).
         #[arg(long, default_value = "beam")]
         method: String,
         /// Where the nonlinear and glossy methods run: `cpu`, or `gpu` (nonlinear: beam atlases, rays
