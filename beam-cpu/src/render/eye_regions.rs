@@ -92,6 +92,10 @@ pub(crate) struct EyeStats {
     pub(crate) primary: BeamStats,
     pub(crate) shadow: BeamStats,
     pub(crate) shadow_beams: u64,
+    /// Pieces the eye beams ended with.
+    pub(crate) pieces: u64,
+    /// Seconds spent tracing the eye beams (summed over threads).
+    pub(crate) trace_seconds: f64,
 }
 
 /// Every fragment of the exact visible surface seen through the pixels of `region`: calls
@@ -112,7 +116,10 @@ pub(crate) fn region_fragments(
     let grid = PixelGrid::new(hw, hh, camera.width, camera.height);
     let corner = |x: u32, y: u32| grid.to_image(Vec2::new(x as f32, y as f32));
     let (lo, hi) = (corner(region.x0, region.y0), corner(region.x1, region.y1));
+    let start = std::time::Instant::now();
     let pieces = visible_surface(&scene.bvh, &scene.triangles, &frame, lo, hi, &mut stats.primary);
+    stats.trace_seconds += start.elapsed().as_secs_f64();
+    stats.pieces += pieces.len() as u64;
     let window = (region.x0, region.y0, region.x1, region.y1);
     let mut points = Vec::new();
     for piece in &pieces {

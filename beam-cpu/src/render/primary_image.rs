@@ -21,8 +21,15 @@ pub struct PrimaryStats {
     pub hit_beams: u64,
     /// BVH nodes tested against the eye beams.
     pub bvh_steps: u64,
+    /// Triangles set up against the eye beams.
+    pub triangle_tests: u64,
     /// Eye-beam–triangle splits.
     pub intersections: u64,
+    /// Pieces the eye beams ended with (each sees one triangle or the background).
+    pub pieces: u64,
+    /// Seconds spent tracing the eye beams, summed over threads (the rest of [`Self::seconds`]
+    /// is exact coverage and shading).
+    pub trace_seconds: f64,
     /// `hit_beams / visible_triangles` (001 Fig. 5).
     pub hit_beams_per_visible_triangle: f64,
     /// Fragments shaded (a visible piece of a triangle within a pixel).
@@ -35,7 +42,7 @@ pub struct PrimaryStats {
 struct Part {
     region: Region,
     pixels: Vec<Vec3>,
-    beams: BeamStats,
+    eye: EyeStats,
     fragments: u64,
     /// Largest coverage error of its pixels.
     error: f64,
@@ -73,7 +80,7 @@ pub fn primary_image(
             });
             let error = coverage.iter().fold(0.0f64, |m, &c| m.max(f64::from((1.0 - c).abs())));
             pixels_done(region.len() as u64);
-            Part { region, pixels, beams: eye.primary, fragments, error, seen }
+            Part { region, pixels, eye, fragments, error, seen }
         })
         .collect();
     let mut image = Image::new(camera.width, camera.height);
@@ -82,7 +89,9 @@ pub fn primary_image(
     let mut beams = BeamStats::default();
     for part in parts {
         part.region.paste(&part.pixels, &mut image);
-        beams += part.beams;
+        beams += part.eye.primary;
+        stats.pieces += part.eye.pieces;
+        stats.trace_seconds += part.eye.trace_seconds;
         stats.fragments += part.fragments;
         stats.coverage_error = stats.coverage_error.max(part.error);
         visible.iter_mut().zip(part.seen).for_each(|(v, s)| *v |= s);
@@ -91,6 +100,7 @@ pub fn primary_image(
     stats.hit_beams = beams.hit_beams;
     stats.bvh_steps = beams.bvh_steps;
     stats.intersections = beams.intersections;
+    stats.triangle_tests = beams.triangle_tests;
     stats.hit_beams_per_visible_triangle = beams.hit_beams as f64 / stats.visible_triangles.max(1) as f64;
     stats.seconds = start.elapsed().as_secs_f64();
     (image, stats)

@@ -40,6 +40,8 @@ pub struct BeamStats {
     pub hit_beams: u64,
     /// Miss pieces made by splits.
     pub pieces: u64,
+    /// Pieces joined into a neighbour that sees the same thing.
+    pub joins: u64,
 }
 
 impl core::ops::AddAssign for BeamStats {
@@ -49,6 +51,7 @@ impl core::ops::AddAssign for BeamStats {
         self.intersections += o.intersections;
         self.hit_beams += o.hit_beams;
         self.pieces += o.pieces;
+        self.joins += o.joins;
     }
 }
 

@@ -2,10 +2,12 @@
 //! triangles into hit and miss beams.
 
 mod beam;
+mod merge;
 mod quad;
 mod split;
 
 pub use beam::{BeamFrame, MAX_CORNERS, PolyBeam, Section};
+pub use merge::merge;
 pub use quad::{Cover, EdgeLines, Line, MAX_EDGES, Quad};
 pub use split::{KEEP_CORNERS, Part, Pieces, ProjectedTriangle, Split, split_section};
 
@@ -61,5 +63,41 @@ mod tests {
         let tri = Triangle::new(Vec3::new(-0.2, -0.2, -1.0), Vec3::new(0.2, -0.2, -1.0), Vec3::new(0.0, 0.2, 3.0));
         let s = beam.split(&tri, 1e-3, f32::INFINITY, 1e-6).unwrap();
         assert!((s.hit.area() + s.miss.area() - 4.0).abs() < 1e-3);
+    }
+
+    /// A sliver met on the conference room: a polygon within a few tolerances of a point, all its
+    /// edges too short to have a direction, hides nothing (skipping them once gave a hit part of
+    /// the section's whole length).
+    #[test]
+    fn point_like_triangles_hide_nothing() {
+        use crate::collide::ConvexPolygon;
+        use glam::Vec2;
+        let v = |p: &[(f32, f32)]| p.iter().map(|&(x, y)| Vec2::new(x, y)).collect::<Vec<_>>();
+        let section = Section::from_slice(&v(&[
+            (-0.379_592_9, 0.178_272_22),
+            (-0.385_949_46, 0.263_592_8),
+            (-0.386_745_93, 0.264_530_36),
+            (-0.385_162_35, 0.214_532_67),
+        ]))
+        .unwrap();
+        let slivers =
+            [v(&[(-0.385_160_83, 0.214_532_38), (-0.385_162_35, 0.214_532_61), (-0.385_160_86, 0.214_527_17)])];
+        for corners in slivers {
+            let polygon = ConvexPolygon::from_slice(&corners).unwrap();
+            let (min, max) = polygon.bounds();
+            let projected = ProjectedTriangle { polygon, min, max };
+            let mut area = 0.0;
+            split_section(&section, &projected, 1e-5, &mut |part, s| {
+                area += s.area();
+                if part == Part::Hit {
+                    for c in s.vertices() {
+                        let out = (min - *c).max(*c - max).max_element();
+                        assert!(out < 1e-6, "hit corner {c} outside the sliver {min}–{max}");
+                    }
+                }
+            })
+            .unwrap();
+            assert!((area - section.area()).abs() < 1e-6 * section.area().max(1e-3));
+        }
     }
 }

@@ -263,7 +263,10 @@ pub fn split_section(
     let scale = section.vertices().iter().fold(0.0f32, |m, v| m.max((*v - section.centroid()).length()));
     let eps = eps * scale.max(f32::MIN_POSITIVE);
     let area = proj.signed_area();
-    if area.abs() <= eps * eps {
+    // A polygon within a few tolerances of a point hides nothing: its edges would all be skipped
+    // below as too short to have a direction, leaving the half-planes of none or some of them,
+    // which cover far more than the polygon.
+    if area.abs() <= eps * eps || (projected.max - projected.min).max_element() <= 32.0 * eps {
         emit(Part::Miss, *section);
         return Ok(());
     }
@@ -271,7 +274,9 @@ pub fn split_section(
     let edges = proj.vertices();
     // Outward normal of edge i of the projected polygon. An edge within rounding of zero length
     // (clipping at a corner can repeat it, a few ulps apart) has no meaningful direction: it gets a
-    // zero normal and is skipped below, which moves the polygon's outline by less than its length.
+    // zero normal and is skipped below, which moves the polygon's outline by less than its length
+    // where its neighbours meet beyond it (at the end of a thin sliver, where they meet behind it,
+    // the sliver is prolonged by a wedge as thin as itself).
     let edge = |i: usize| {
         let a = edges[i];
         let e = edges[(i + 1) % edges.len()] - a;

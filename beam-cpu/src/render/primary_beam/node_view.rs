@@ -51,6 +51,7 @@ impl NodeView {
     /// some node is nearer than it).
     pub(super) fn meets(&self, piece: &Piece) -> bool {
         if self.near * piece.far_inv > 1.0
+            || piece.is_gone()
             || piece.lo.x > self.hi.x
             || piece.lo.y > self.hi.y
             || piece.hi.x < self.lo.x
