@@ -193,14 +193,17 @@ where
 }
 
 fn main() -> ExitCode {
+    output::stop_cleanly_on_signals();
     let (cli, given) = parse_from(std::env::args_os()).unwrap_or_else(|e| e.exit());
-    match run(cli, &given, false) {
+    let code = match run(cli, &given, false) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)
         }
-    }
+    };
+    output::wait_if_stopped();
+    code
 }
 
 /// Run a command; with `dry`, only check its arguments (nothing is rendered, read past the

@@ -1,5 +1,6 @@
 //! Output paths of `beam render` and `beam compare`, checked before any work and written together
-//! (the policy itself is [`beam_cpu::io`]'s: regular files only, atomic, modes kept).
+//! (the policy itself is [`beam_cpu::io`]'s: regular files only, atomic, modes kept), and the
+//! signal handling that removes the temporaries of an interrupted write.
 
 use beam_cpu::io::{check_output, encode_png, same_file, write_atomic_all};
 use beam_cpu::render::Image;
@@ -61,3 +62,69 @@ pub mod erased {
         }
     }
 }
+
+/// Set, in the signal handler itself, when `SIGINT`, `SIGTERM` or `SIGHUP` has arrived.
+#[cfg(unix)]
+static STOPPED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether the thread that stops the program on a signal runs.
+#[cfg(unix)]
+static HANDLED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Stop cleanly on `SIGINT`, `SIGTERM` and `SIGHUP`: a thread waits for one, removes the
+/// temporaries of outputs being written ([`beam_cpu::io::remove_temporaries`], which waits for a
+/// group of renames in progress to finish or be undone), and exits with status 128 + the signal's
+/// number (130 for Ctrl-C), also when the work ended meanwhile ([`wait_if_stopped`]). A second
+/// signal changes nothing: the handlers stay installed until the exit. `SIGKILL` cannot be caught.
+#[cfg(unix)]
+pub fn stop_cleanly_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    use std::sync::atomic::Ordering;
+    let warn = |e: &dyn std::fmt::Display| {
+        eprintln!("warning: no signal handler ({e}): an interrupted write may leave a temporary");
+    };
+    for signal in [SIGINT, SIGTERM, SIGHUP] {
+        if let Err(e) = signal_hook::flag::register(signal, &STOPPED) {
+            return warn(&e);
+        }
+    }
+    let mut signals = match signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
+        Ok(s) => s,
+        Err(e) => return warn(&e),
+    };
+    let waiter = std::thread::Builder::new().name("signals".into()).spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            let removed = beam_cpu::io::remove_temporaries();
+            let name = signal_hook::low_level::signal_name(signal).unwrap_or("a signal");
+            let what = if removed > 0 { "; the unfinished outputs were removed" } else { "" };
+            eprintln!("\nbeam: stopped by {name}{what}");
+            // `_exit`: no at-exit handlers run while other threads (rayon, a GPU driver) still do.
+            signal_hook::low_level::exit(128 + signal);
+        }
+    });
+    match waiter {
+        Ok(_) => HANDLED.store(true, Ordering::SeqCst),
+        Err(e) => warn(&e),
+    }
+}
+
+/// When a signal has arrived, wait for [`stop_cleanly_on_signals`]'s thread to end the program
+/// (with status 128 + the signal's number) instead of returning: a signal that came before the end,
+/// however late, gives its status, not the work's.
+#[cfg(unix)]
+pub fn wait_if_stopped() {
+    use std::sync::atomic::Ordering;
+    if HANDLED.load(Ordering::SeqCst) && STOPPED.load(Ordering::SeqCst) {
+        loop {
+            std::thread::park();
+        }
+    }
+}
+
+/// Signals are not handled on this platform.
+#[cfg(not(unix))]
+pub fn stop_cleanly_on_signals() {}
+
+/// Signals are not handled on this platform.
+#[cfg(not(unix))]
+pub fn wait_if_stopped() {}

@@ -312,3 +312,142 @@ fn memory_is_estimated_and_limited() {
     write_png(&c, 30, 20, 5);
     refused(&beam(&["compare", s(&a), s(&c), "--out", s(&diff)], &[]), &["sizes differ"]);
 }
+
+/// What a signal left: no temporary, and `--out` and `--stats` both as they were (a 3 × 3 image
+/// and `old stats`) or both new (a whole `size` × `size` PNG that decodes, and its statistics).
+/// True when new.
+#[cfg(unix)]
+#[track_caller]
+fn old_or_new_pair(dir: &Path, out: &Path, stats: &Path, size: u32) -> bool {
+    no_temporaries(dir);
+    let image = image::open(out).unwrap_or_else(|e| panic!("--out is not a whole PNG: {e}"));
+    let new_out = (image.width(), image.height()) == (size, size);
+    assert!(new_out || (image.width(), image.height()) == (3, 3), "{}×{}", image.width(), image.height());
+    let text = std::fs::read_to_string(stats).unwrap();
+    let new_stats = text != "old stats";
+    if new_stats {
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}"));
+        assert_eq!(json["width"], size, "{text}");
+    }
+    assert_eq!(new_out, new_stats, "a half-replaced pair: --out new {new_out}, --stats new {new_stats}");
+    new_out
+}
+
+/// Wait for `child` at most 20 s (killed and failed after).
+#[cfg(unix)]
+fn wait_bounded(child: &mut std::process::Child) -> std::process::ExitStatus {
+    let start = std::time::Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        if start.elapsed().as_secs() >= 20 {
+            let _ = child.kill();
+            panic!("beam render still running after 20 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+}
+
+/// `status` is what a caught `signal` gives (128 + its number), or success (the signal came after
+/// the work), or, with `early`, death by the signal itself (before the handler was installed).
+#[cfg(unix)]
+#[track_caller]
+fn stopped_by(status: std::process::ExitStatus, signal: i32, early: bool) {
+    use std::os::unix::process::ExitStatusExt;
+    let caught = status.code() == Some(128 + signal);
+    let killed = early && status.signal() == Some(signal);
+    assert!(status.success() || caught || killed, "signal {signal}: {status:?}");
+}
+
+/// Ctrl-C, `SIGTERM` or `SIGHUP` during `beam render --out --stats`, at moments through the render
+/// and (traced by strace where it runs) at each system call of the final write: no `.beam-tmp-`
+/// file is ever left, and the image and statistics are both the old ones or both whole new ones.
+/// Before, the temporaries of an interrupted write stayed behind (no handler was installed).
+#[cfg(unix)]
+#[test]
+fn signals_leave_no_temporary_and_no_half_replaced_pair() {
+    const SIGNALS: [(i32, &str); 3] = [(2, "INT"), (15, "TERM"), (1, "HUP")];
+    let start = std::time::Instant::now();
+    let dir = tempfile::tempdir().unwrap();
+    let (out, stats) = (dir.path().join("o.png"), dir.path().join("s.json"));
+    let size = 768;
+    let size_arg = size.to_string();
+    let args = [
+        "render",
+        "--method",
+        "ray",
+        "--spp",
+        "8",
+        "--width",
+        &size_arg,
+        "--height",
+        &size_arg,
+        "--out",
+        s(&out),
+        "--stats",
+        s(&stats),
+    ];
+    let reset = || {
+        write_png(&out, 3, 3, 7);
+        std::fs::write(&stats, "old stats").unwrap();
+    };
+    // How long one render takes here, to spread the signals over it.
+    reset();
+    let t = std::time::Instant::now();
+    ok(&beam(&args, &[]));
+    let full = t.elapsed();
+    assert!(old_or_new_pair(dir.path(), &out, &stats, size));
+    // Signals at moments through the render: at once, during start-up and the output checks, in
+    // the middle, and near and after the end.
+    for (k, fraction) in [0.0, 0.02, 0.5, 0.9, 0.97, 1.0, 1.05].into_iter().enumerate() {
+        let (signal, name) = SIGNALS[k % 3];
+        reset();
+        let mut child = Command::new(bin())
+            .args(args)
+            .env_remove("BEAM_MAX_MEMORY")
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(full.mul_f64(fraction));
+        let sent = Command::new("kill").arg(format!("-{name}")).arg(child.id().to_string()).status().unwrap();
+        assert!(sent.success());
+        stopped_by(wait_bounded(&mut child), signal, fraction < 0.1);
+        old_or_new_pair(dir.path(), &out, &stats, size);
+    }
+    // The final write, system call by system call: the signal comes as the stats' temporary is
+    // synced (1st fsync), as the image's is (2nd), as the old stats are linked aside, between the
+    // two renames, after them, and at the folder's sync. From the links on, the registry is locked
+    // and the handler waits: both files are new.
+    let traced = Command::new("strace").args(["-o", "/dev/null", "true"]).output().is_ok_and(|o| o.status.success());
+    if !traced {
+        eprintln!("strace cannot trace here: the final write was interrupted only at the moments above");
+        return;
+    }
+    let points = [("fsync", 1, false), ("fsync", 2, false), ("linkat", 1, true), ("rename", 1, true)];
+    let points = points.into_iter().chain([("rename", 2, true), ("fsync", 3, true)]);
+    for (k, (call, when, renamed)) in points.enumerate() {
+        let (signal, name) = SIGNALS[k % 3];
+        reset();
+        let inject = format!("inject={call}:signal=SIG{name}:when={when}");
+        let mut child = Command::new("strace")
+            .args(["-o", "/dev/null", "-e", "trace=fsync,linkat,rename", "-e", &inject, &bin()])
+            .args(args)
+            .env_remove("BEAM_MAX_MEMORY")
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let status = wait_bounded(&mut child);
+        let mut said = String::new();
+        std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut said).unwrap();
+        assert_eq!(status.code(), Some(128 + signal), "SIG{name} at {call} {when}: {said}");
+        assert!(said.contains(&format!("stopped by SIG{name}")), "{said}");
+        let new = old_or_new_pair(dir.path(), &out, &stats, size);
+        if renamed {
+            assert!(new, "SIG{name} at {call} {when}: the renames were not finished");
+        }
+    }
+    assert!(start.elapsed().as_secs() < 20, "took {:?}", start.elapsed());
+}

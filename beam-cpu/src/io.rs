@@ -6,21 +6,92 @@
 //!   node, socket or directory is refused, never followed or replaced, and so is a read-only file;
 //! - its folder must exist and be writable ([`check_output`] says so before a long run starts);
 //! - the bytes go to `.NAME.beam-tmp-XXXXXXXXXXXXXXXX` beside it, are synced, and the temporary is
-//!   renamed over the target; several files written together ([`write_atomic_all`]) are all written
-//!   and synced before the first is renamed, so a failure to write one replaces none;
+//!   renamed over the target, then the folder is synced (best effort); each file on its own is
+//!   therefore always either wholly old or wholly new, never a mix or a prefix;
 //! - a new file gets the usual mode (`0o666` less the umask); a replaced file keeps its mode;
-//! - on every error the temporary is removed. Only a process killed outright (a signal, no handler
-//!   is installed) may leave a `.NAME.beam-tmp-*` file, which is safe to delete.
+//! - on every error the temporaries are removed. Errors name the user's path, never a temporary's
+//!   (but for the one case below where a backup holds a file's old content).
 //!
-//! Errors name the user's path, never the temporary's.
+//! # Several files together
+//!
+//! [`write_atomic_all`] (a render's `--out` and `--stats`) writes them as nearly all-or-nothing as
+//! POSIX allows, which has no rename of two files at once:
+//! 1. every temporary is written and synced before anything is renamed: an error here changes no
+//!    target;
+//! 2. every existing target but the last is hard-linked aside to a `.NAME.beam-tmp-*` name (copied
+//!    and synced where the file system has no hard links): an error here changes no target;
+//! 3. the temporaries are renamed in order; if one rename fails, the targets already replaced are
+//!    put back, each renamed back from its link (the very same file: content, mode, owner, inode)
+//!    or removed when it did not exist before, and the error names the file that failed. Only if
+//!    putting one back fails too (a disk gone read-only, say) does the error also name the
+//!    `.NAME.beam-tmp-*` link that keeps its old content, which is then left in place.
+//!
+//! What is not guaranteed: another process reading the targets while step 3 runs (a few system
+//! calls) may see some new and some old; and a crash, a power cut or `SIGKILL` during step 3
+//! leaves the earlier targets new and the later ones old, with `.NAME.beam-tmp-*` files beside them.
+//! A power cut shortly after a successful write may also lose some of the renames (the folder is
+//! synced after them, but the file system decides what reaches the disk first).
+//!
+//! # Signals
+//!
+//! The library installs no signal handler. Every temporary and backup it creates is registered
+//! while it exists, and [`remove_temporaries`] removes all of them and makes later writes fail; a
+//! program calls it when a signal asks it to stop (the `beam` binary does, for `SIGINT`, `SIGTERM`
+//! and `SIGHUP`, then exits with status 128 + the signal's number). It waits for a group of renames
+//! in progress (step 3) to finish or be rolled back, so a caught signal leaves every target of a
+//! group either as it was or new, and no `.NAME.beam-tmp-*` file. `SIGKILL` cannot be caught: a
+//! process killed by it (or by a crash or power cut) may still leave `.NAME.beam-tmp-*` files, which
+//! are safe to delete.
 
 use std::fs::{File, OpenOptions};
 use std::hash::{BuildHasher, Hasher};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// The marker of temporary names: `.NAME.beam-tmp-XXXXXXXXXXXXXXXX`.
 pub const TEMP_MARKER: &str = ".beam-tmp-";
+
+/// The temporaries of this process that exist now, and whether [`remove_temporaries`] has run.
+struct Registry {
+    live: Vec<PathBuf>,
+    closed: bool,
+}
+
+impl Registry {
+    /// Forget `path`; false when it was not registered (already removed by [`remove_temporaries`]).
+    fn forget(&mut self, path: &Path) -> bool {
+        let before = self.live.len();
+        self.live.retain(|p| p != path);
+        self.live.len() != before
+    }
+}
+
+static REGISTRY: Mutex<Registry> = Mutex::new(Registry { live: Vec::new(), closed: false });
+
+/// The registry, locked (a panic elsewhere while it was held does not make it unusable).
+fn registry() -> MutexGuard<'static, Registry> {
+    REGISTRY.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// The error of a write asked for after [`remove_temporaries`].
+fn interrupted() -> std::io::Error {
+    std::io::Error::new(std::io::ErrorKind::Interrupted, "interrupted: the program is stopping")
+}
+
+/// Remove every temporary file (and backup) this process has created and not yet renamed or
+/// removed, and make every later write of this module fail; returns how many were removed.
+///
+/// For a program's signal handling: call it, then exit. It waits until a group of renames in
+/// progress ([`write_atomic_all`]) has finished or been rolled back. It takes a lock and
+/// allocates, so call it from an ordinary thread (such as one waiting on signals through a
+/// self-pipe), never from inside an asynchronous signal handler.
+pub fn remove_temporaries() -> usize {
+    let mut reg = registry();
+    reg.closed = true;
+    let live = std::mem::take(&mut reg.live);
+    live.iter().filter(|p| std::fs::remove_file(p).is_ok()).count()
+}
 
 /// `path`'s folder (`.` for a bare name) and file name; an error for a path that names no file.
 fn split(path: &Path) -> Result<(&Path, &std::ffi::OsStr), String> {
@@ -77,38 +148,103 @@ fn special_kind(_: &std::fs::FileType) -> &'static str {
     "a special file"
 }
 
-/// A temporary file beside its target, removed on drop unless renamed.
+/// Make a new file at a fresh `.NAME.beam-tmp-XXXX` in `dir` with `make` (which fails with
+/// `AlreadyExists` when the name is taken), and register it. Its path, and what `make` returned.
+fn make_registered<T>(
+    reg: &mut Registry,
+    dir: &Path,
+    name: &std::ffi::OsStr,
+    mut make: impl FnMut(&Path) -> std::io::Result<T>,
+) -> std::io::Result<(PathBuf, T)> {
+    if reg.closed {
+        return Err(interrupted());
+    }
+    let mut last = None;
+    for _ in 0..16 {
+        let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+        h.write_u32(std::process::id());
+        let mut tmp_name = std::ffi::OsString::from(".");
+        tmp_name.push(name);
+        tmp_name.push(format!("{TEMP_MARKER}{:016x}", h.finish()));
+        let path = dir.join(tmp_name);
+        match make(&path) {
+            Ok(made) => {
+                reg.live.push(path.clone());
+                return Ok((path, made));
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(last.unwrap_or_else(|| std::io::Error::other("no free temporary name")))
+}
+
+/// A registered temporary file beside its target (or a backup of the target), removed on drop
+/// unless renamed or kept.
 struct Temp {
     path: PathBuf,
-    file: File,
-    renamed: bool,
+    done: bool,
 }
 
 impl Temp {
     /// Create `.NAME.beam-tmp-XXXX` in `dir`, with the default mode (`0o666` less the umask).
-    fn create(dir: &Path, name: &std::ffi::OsStr) -> std::io::Result<Self> {
-        let mut last = None;
-        for _ in 0..16 {
-            let mut h = std::collections::hash_map::RandomState::new().build_hasher();
-            h.write_u32(std::process::id());
-            let mut tmp_name = std::ffi::OsString::from(".");
-            tmp_name.push(name);
-            tmp_name.push(format!("{TEMP_MARKER}{:016x}", h.finish()));
-            let path = dir.join(tmp_name);
-            match OpenOptions::new().write(true).create_new(true).open(&path) {
-                Ok(file) => return Ok(Self { path, file, renamed: false }),
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
-                Err(e) => return Err(e),
-            }
+    fn create(dir: &Path, name: &std::ffi::OsStr) -> std::io::Result<(Self, File)> {
+        let open = |p: &Path| OpenOptions::new().write(true).create_new(true).open(p);
+        let (path, file) = make_registered(&mut registry(), dir, name, open)?;
+        Ok((Self { path, done: false }, file))
+    }
+
+    /// Keep `target`'s current content under a new `.NAME.beam-tmp-XXXX` name in `dir`: a hard
+    /// link, or a synced copy where the file system has none.
+    fn backup(reg: &mut Registry, dir: &Path, name: &std::ffi::OsStr, target: &Path) -> std::io::Result<Self> {
+        let link = |p: &Path| std::fs::hard_link(target, p);
+        let (path, ()) = match make_registered(reg, dir, name, link) {
+            Ok(made) => made,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => return Err(e),
+            Err(_) => make_registered(reg, dir, name, |p| {
+                let mut from = File::open(target)?;
+                let mut to = OpenOptions::new().write(true).create_new(true).open(p)?;
+                let done = std::io::copy(&mut from, &mut to)
+                    .and_then(|_| to.set_permissions(from.metadata()?.permissions()))
+                    .and_then(|()| to.sync_all());
+                if let Err(e) = done {
+                    let _ = std::fs::remove_file(p);
+                    // Not `AlreadyExists`, which would try another name.
+                    return Err(std::io::Error::other(e));
+                }
+                Ok(())
+            })?,
+        };
+        Ok(Self { path, done: false })
+    }
+
+    /// Rename the temporary to `to`; the caller holds the registry.
+    fn rename(&mut self, reg: &mut Registry, to: &Path) -> std::io::Result<()> {
+        std::fs::rename(&self.path, to)?;
+        reg.forget(&self.path);
+        self.done = true;
+        Ok(())
+    }
+
+    /// Leave the file where it is, unregistered.
+    fn keep(&mut self, reg: &mut Registry) {
+        reg.forget(&self.path);
+        self.done = true;
+    }
+
+    /// Remove the file, unless [`remove_temporaries`] already has; the caller holds the registry.
+    fn remove(&mut self, reg: &mut Registry) {
+        if !self.done && reg.forget(&self.path) {
+            let _ = std::fs::remove_file(&self.path);
         }
-        Err(last.unwrap_or_else(|| std::io::Error::other("no free temporary name")))
+        self.done = true;
     }
 }
 
 impl Drop for Temp {
     fn drop(&mut self) {
-        if !self.renamed {
-            let _ = std::fs::remove_file(&self.path);
+        if !self.done {
+            self.remove(&mut registry());
         }
     }
 }
@@ -153,41 +289,108 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
     false
 }
 
-/// Write each `(path, bytes)` atomically, as a group: every temporary is written and synced before
-/// the first rename, so an error while writing any of them replaces none. Errors name the path.
+/// Write each `(path, bytes)` atomically, as a group, as nearly all-or-nothing as POSIX allows
+/// (the module's documentation says exactly what is guaranteed): every temporary is written and
+/// synced, and every existing target but the last kept aside, before the first rename, and a failed
+/// rename puts back the targets already replaced. Errors name the path.
 pub fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<(), String> {
     for (i, (a, _)) in files.iter().enumerate() {
         if files[..i].iter().any(|(b, _)| same_file(a, b)) {
             return Err(format!("{}: named twice as an output", a.display()));
         }
     }
+    // 1. Write and sync every temporary.
     let mut temps = Vec::with_capacity(files.len());
     for &(path, bytes) in files {
         let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
         let (dir, name) = split(path)?;
         let old = check_target(path)?;
-        let mut tmp = Temp::create(dir, name).map_err(|e| fail(&e))?;
-        let file = &mut tmp.file;
+        let (tmp, mut file) = Temp::create(dir, name).map_err(|e| fail(&e))?;
+        // Pushed first, so that the temporary is removed on every error below.
+        temps.push((path, dir, name, tmp));
         file.write_all(bytes).map_err(|e| fail(&e))?;
         if let Some(old) = old {
             // A replaced file keeps its mode.
             file.set_permissions(old.permissions()).map_err(|e| fail(&e))?;
         }
         file.sync_all().map_err(|e| fail(&e))?;
-        temps.push((path, dir, tmp));
     }
-    for (path, dir, tmp) in &mut temps {
-        let (path, dir): (&Path, &Path) = (path, dir);
-        // Checked again: the target may have changed while the temporaries were written.
-        check_target(path)?;
-        std::fs::rename(&tmp.path, path).map_err(|e| format!("{}: {e}", path.display()))?;
-        tmp.renamed = true;
-        // Make the rename durable (best effort: not every platform opens folders).
-        if let Ok(d) = File::open(dir) {
-            let _ = d.sync_all();
+    let mut backups: Vec<Option<Temp>> = Vec::with_capacity(temps.len());
+    // From here to the end the registry stays locked, so that `remove_temporaries` (a signal)
+    // waits for the renames to finish or be undone. Declared after `temps` and `backups`, it is
+    // released first on every return, before the files still there are dropped (which locks it).
+    let mut guard = registry();
+    let reg = &mut *guard;
+    if reg.closed {
+        return Err(format!("{}: {}", files[0].0.display(), interrupted()));
+    }
+    // 2. Check the targets again (they may have changed while the temporaries were written), and
+    // keep every existing one but the last aside, to put it back if a later rename fails.
+    for (i, &(path, dir, name, _)) in temps.iter().enumerate() {
+        let exists = check_target(path)?.is_some();
+        let backup = if exists && i + 1 < temps.len() {
+            let keep = Temp::backup(reg, dir, name, path);
+            Some(keep.map_err(|e| format!("{}: cannot keep the old file aside: {e}", path.display()))?)
+        } else {
+            None
+        };
+        backups.push(backup);
+    }
+    // 3. Rename, in order; on a failure, undo the renames done.
+    for i in 0..temps.len() {
+        #[cfg(test)]
+        tests::before_rename(i);
+        let path = temps[i].0;
+        if let Err(e) = temps[i].3.rename(reg, path) {
+            let mut err = format!("{}: {e}", path.display());
+            let mut all_back = true;
+            for j in (0..i).rev() {
+                let target = temps[j].0;
+                let undone = match &mut backups[j] {
+                    Some(b) => b.rename(reg, target),
+                    None => std::fs::remove_file(target),
+                };
+                if let Err(e) = undone {
+                    let kept = match &mut backups[j] {
+                        Some(b) => {
+                            b.keep(reg);
+                            format!("; its old content is in {}", b.path.display())
+                        }
+                        None => String::new(),
+                    };
+                    all_back = false;
+                    err.push_str(&format!(
+                        "; and {} was replaced and could not be put back ({e}){kept}",
+                        target.display()
+                    ));
+                }
+            }
+            if i > 0 && all_back {
+                err.push_str("; the outputs written before it were put back as they were");
+            }
+            sync_folders(&temps[..i]);
+            for b in backups.iter_mut().flatten() {
+                b.remove(reg);
+            }
+            return Err(err);
         }
     }
+    sync_folders(&temps);
+    for b in backups.iter_mut().flatten() {
+        b.remove(reg);
+    }
     Ok(())
+}
+
+/// Make renames in the folders of `temps` durable (best effort: not every platform opens folders).
+fn sync_folders(temps: &[(&Path, &Path, &std::ffi::OsStr, Temp)]) {
+    for (i, (_, dir, _, _)) in temps.iter().enumerate() {
+        if temps[..i].iter().all(|(_, d, _, _)| d != dir) {
+            if let Ok(d) = File::open(dir) {
+                let _ = d.sync_all();
+            }
+        }
+    }
 }
 
 /// Write `bytes` to `path` atomically. Errors name the path.
@@ -213,9 +416,146 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(),
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::cell::RefCell;
+
+    type Hook = Box<dyn FnMut(usize)>;
+
+    thread_local! {
+        /// Run by `write_atomic_all` on this thread just before its `i`-th rename.
+        static BEFORE_RENAME: RefCell<Option<Hook>> = RefCell::new(None);
+    }
+
+    pub(super) fn before_rename(i: usize) {
+        BEFORE_RENAME.with(|h| {
+            if let Some(f) = h.borrow_mut().as_mut() {
+                f(i);
+            }
+        });
+    }
+
+    /// `write_atomic_all(files)` with `hook` run before each rename.
+    fn write_with_hook(files: &[(&Path, &[u8])], hook: impl FnMut(usize) + 'static) -> Result<(), String> {
+        BEFORE_RENAME.with(|h| *h.borrow_mut() = Some(Box::new(hook)));
+        let r = write_atomic_all(files);
+        BEFORE_RENAME.with(|h| *h.borrow_mut() = None);
+        r
+    }
 
     fn entries(dir: &Path) -> usize {
         std::fs::read_dir(dir).unwrap().count()
+    }
+
+    fn temporaries(dir: &Path) -> Vec<std::ffi::OsString> {
+        let names = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name());
+        names.filter(|n| n.to_string_lossy().contains(TEMP_MARKER)).collect()
+    }
+
+    /// Replace `path` (a file) by a non-empty directory: a rename over it fails, even as root.
+    fn block(path: &Path) {
+        let _ = std::fs::remove_file(path);
+        std::fs::create_dir(path).unwrap();
+        std::fs::write(path.join("inside"), b"x").unwrap();
+    }
+
+    #[test]
+    fn a_failed_second_rename_puts_the_first_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let stats = dir.path().join("s.json");
+        let out = dir.path().join("o.png");
+        std::fs::write(&stats, b"old stats").unwrap();
+        std::fs::write(&out, b"old image").unwrap();
+        #[cfg(unix)]
+        let inode = |p: &Path| std::os::unix::fs::MetadataExt::ino(&std::fs::metadata(p).unwrap());
+        #[cfg(unix)]
+        let stats_inode = inode(&stats);
+        // The second target becomes a directory after it was checked, before its rename.
+        let blocked = out.clone();
+        let err = write_with_hook(&[(&stats, b"new stats"), (&out, b"new image")], move |i| {
+            if i == 1 {
+                block(&blocked);
+            }
+        })
+        .unwrap_err();
+        assert!(err.contains("o.png") && err.contains("put back as they were"), "{err}");
+        assert!(!err.contains(TEMP_MARKER), "{err}");
+        assert_eq!(std::fs::read(&stats).unwrap(), b"old stats");
+        #[cfg(unix)]
+        assert_eq!(inode(&stats), stats_inode, "the very same file is back");
+        assert_eq!(temporaries(dir.path()), Vec::<std::ffi::OsString>::new());
+        // A first target that did not exist is removed again.
+        std::fs::remove_dir_all(&out).unwrap();
+        std::fs::remove_file(&stats).unwrap();
+        std::fs::write(&out, b"old image").unwrap();
+        let blocked = out.clone();
+        let err = write_with_hook(&[(&stats, b"new stats"), (&out, b"new image")], move |i| {
+            if i == 1 {
+                block(&blocked);
+            }
+        })
+        .unwrap_err();
+        assert!(err.contains("put back"), "{err}");
+        assert!(!stats.exists());
+        assert_eq!(temporaries(dir.path()), Vec::<std::ffi::OsString>::new());
+        // Without a hook the same pair is written whole.
+        std::fs::remove_dir_all(&out).unwrap();
+        write_atomic_all(&[(&stats, b"new stats"), (&out, b"new image")]).unwrap();
+        assert_eq!(std::fs::read(&stats).unwrap(), b"new stats");
+        assert_eq!(std::fs::read(&out).unwrap(), b"new image");
+        assert_eq!(entries(dir.path()), 2);
+    }
+
+    #[test]
+    fn a_failed_put_back_names_the_backup() {
+        let dir = tempfile::tempdir().unwrap();
+        let stats = dir.path().join("s.json");
+        let out = dir.path().join("o.png");
+        std::fs::write(&stats, b"old stats").unwrap();
+        std::fs::write(&out, b"old image").unwrap();
+        let d = dir.path().to_path_buf();
+        let err = write_with_hook(&[(&stats, b"new stats"), (&out, b"new image")], move |i| {
+            if i == 1 {
+                block(&d.join("o.png"));
+                // The backup of s.json is the only temporary left; make putting it back fail too,
+                // by making `s.json` a non-empty directory.
+                block(&d.join("s.json"));
+            }
+        })
+        .unwrap_err();
+        assert!(err.contains("s.json was replaced and could not be put back"), "{err}");
+        assert!(err.contains("its old content is in") && err.contains(TEMP_MARKER), "{err}");
+        let kept = temporaries(dir.path());
+        assert_eq!(kept.len(), 1, "{kept:?}");
+        assert_eq!(std::fs::read(dir.path().join(&kept[0])).unwrap(), b"old stats");
+    }
+
+    /// Runs in a child process of its own (it closes this process's registry for good).
+    #[test]
+    fn remove_temporaries_removes_them_and_refuses_more() {
+        const CHILD: &str = "BEAM_IO_REMOVE_TEMPORARIES_CHILD";
+        if std::env::var_os(CHILD).is_none() {
+            let child = std::process::Command::new(std::env::current_exe().unwrap())
+                .args(["--exact", "io::tests::remove_temporaries_removes_them_and_refuses_more", "--test-threads=1"])
+                .env(CHILD, "1")
+                .output()
+                .unwrap();
+            let said = String::from_utf8_lossy(&child.stdout);
+            assert!(child.status.success() && said.contains("1 passed"), "{said}");
+            return;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("o.png");
+        std::fs::write(&out, b"old").unwrap();
+        let (a, _file) = Temp::create(dir.path(), std::ffi::OsStr::new("o.png")).unwrap();
+        let (b, _) = Temp::create(dir.path(), std::ffi::OsStr::new("s.json")).unwrap();
+        assert_eq!(temporaries(dir.path()).len(), 2);
+        assert_eq!(remove_temporaries(), 2);
+        assert_eq!(temporaries(dir.path()).len(), 0);
+        drop((a, b));
+        let err = write_atomic(&out, b"new").unwrap_err();
+        assert!(err.contains("interrupted"), "{err}");
+        assert!(check_output(&out).is_err());
+        assert_eq!(std::fs::read(&out).unwrap(), b"old");
+        assert_eq!(entries(dir.path()), 1);
     }
 
     #[test]
