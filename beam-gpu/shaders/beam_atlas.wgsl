@@ -31,6 +31,15 @@ fn scene_tri(prim: u32) -> Tri {
     return Tri(array<vec3<f32>, 3>(t.v0, t.v1, t.v2));
 }
 
+// Loop bound (software Vulkan, Mesa llvmpipe / lavapipe, ends every loop of a SIMD group of 8
+// invocations once they have run 65,535 iterations together; a nested loop costs its iterations + 2
+// each time it is entered): bounding_triangle (shared/nonlinear.wgsl) has only loops of constant
+// bounds, whatever the scene. Per cubic_roots at most 293 (3 brackets × 80 Newton steps of
+// `refine`, the rest over at most 4 points and 3 roots); per s1_solutions 298; Alg. 3/4's three
+// classify_s1, the unique-projection case's three s1_solutions and two enclose_transfers (25 each)
+// 1,873; θ1 of eq. 5 914; the bump expansion 20: at most 2,807 for an invocation, and for a SIMD
+// group (divergent branches both run, each loop as long as its longest lane: the sum above already
+// counts every loop at its longest), 1/23 of the cap. No passes needed.
 @compute @workgroup_size(64)
 fn bound_triangles(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = id.y * groups.x * 64u + id.x;
@@ -62,6 +71,7 @@ fn emit_bounding_triangle(@builtin(vertex_index) vertex: u32, @builtin(instance_
     out.position = vec4<f32>(-2.0, -2.0, 0.0, 1.0);
     let tri = scene_tri(prim);
     var neighbour = 0u;
+    // 3 × 3 iterations (20 counted as llvmpipe counts).
     for (var i = 0u; i < 3u; i++) {
         for (var j = 0u; j < 3u; j++) {
             if all(tri.v[i] == bv(b, j)) { neighbour = 1u; }
@@ -100,6 +110,7 @@ struct Hit {
     @builtin(frag_depth) depth: f32,
 }
 
+// Loops: texel_ray's sum over the S^3 coefficients, 10 iterations; nothing scales with the scene.
 @fragment
 fn intersect_texel(f: Fragment) -> Hit {
     let b = beams[f.beam];

@@ -13,7 +13,9 @@ struct CheckCase {
 @group(0) @binding(1) var<storage, read> cases: array<CheckCase>;
 @group(0) @binding(2) var<storage, read_write> results: array<vec4<f32>>;
 
-// Per case: the bounding triangle's lower bounds (xyz) and case (w).
+// Per case: the bounding triangle's lower bounds (xyz) and case (w). Loops: at most 2,807
+// iterations an invocation or SIMD group (beam_atlas.wgsl's bound_triangles says how), far under
+// llvmpipe's 65,535.
 @compute @workgroup_size(64)
 fn check_bounding_triangles(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
@@ -24,7 +26,7 @@ fn check_bounding_triangles(@builtin(global_invocation_id) id: vec3<u32>) {
     results[i] = vec4<f32>(bt.lower, f32(bt.case_));
 }
 
-// Per case: the texel ray's origin and direction (two results).
+// Per case: the texel ray's origin and direction (two results). Loops: 10 iterations (S^3).
 @compute @workgroup_size(64)
 fn check_rays(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;

@@ -14,6 +14,10 @@ struct GpuRay {
 @group(0) @binding(2) var<storage, read> rays: array<GpuRay>;
 @group(0) @binding(3) var<storage, read_write> hits: array<GpuHit>;
 
+// One trace_ray per invocation. Its loops (lib/trace.wgsl) are bounded by the BVH: at most every
+// node once and every triangle once, far past llvmpipe's 65,535 for a mesh of 66K triangles or
+// more, but measured on real scenes at no more than 569 iterations for a SIMD group of 8 rays (see
+// trace_ray): no pass splitting here.
 @compute @workgroup_size(64)
 fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
@@ -73,10 +77,39 @@ struct ShadeParams {
     lights: u32,
     points: u32,
     spp: u32,             // shadow rays per area light
-    pad0: u32,
+    // Loop iterations (shadow rays, and their BVH steps and triangle tests) an invocation may run
+    // in one pass before it leaves its state for the next (beam_gpu::shade::PASS_BUDGET).
+    budget: u32,
     pad1: u32,
     pad2: u32,
 }
+
+// Keep in sync with beam_gpu::shade::ShadeState (32 bytes): a point's shading between passes,
+// zero before the first.
+struct ShadeState {
+    // Irradiance of the lights before `light`.
+    e: vec3<f32>,
+    // Area light `light`'s sum over its samples before `sample`.
+    integral: f32,
+    // The light the point goes on at; SHADED once its radiance is written.
+    light: u32,
+    // The next sample of area light `light`.
+    sample: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+// Keep in sync with beam_gpu::shade (a 16-byte header, then one ShadeState per point).
+struct ShadeStates {
+    // Points a pass left unfinished (the host zeroes it before each pass).
+    unfinished: atomic<u32>,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+    points: array<ShadeState>,
+}
+
+const SHADED: u32 = 0xffffffffu;
 
 @group(0) @binding(4) var<uniform> shade_params: ShadeParams;
 @group(0) @binding(5) var<storage, read> shade_in: array<ShadeInput>;
@@ -85,9 +118,10 @@ struct ShadeParams {
 @group(0) @binding(8) var<storage, read> planes: array<CausticPlane>;
 @group(0) @binding(9) var<storage, read> flux: array<vec4<f32>>;
 @group(0) @binding(10) var<storage, read_write> shade_out: array<vec4<f32>>;
+@group(0) @binding(11) var<storage, read_write> shade_state: ShadeStates;
 
 // Caustic irradiance at p on plane `k`: the flux of the four nearest texels, bilinearly weighted,
-// over the texel area (beam_cpu::render::IrradianceMap::irradiance).
+// over the texel area (beam_cpu::render::IrradianceMap::irradiance). Its loop: 4 iterations.
 fn caustic_irradiance(k: u32, p: vec3<f32>) -> vec3<f32> {
     let plane = planes[k];
     let q = p - plane.origin;
@@ -120,46 +154,51 @@ fn uniform01(seed: u32, i: u32) -> f32 {
     return f32(pcg_hash(seed ^ pcg_hash(i)) >> 8u) / 16777216.0;
 }
 
-// Irradiance per unit radiance at q (normal n) from area light `l`: `spp` stratified shadow rays,
-// area · mean of cos·cos'/r² over the unoccluded ones (Shading::Exact's estimator).
-fn area_light(l: Light, q: vec3<f32>, n: vec3<f32>, seed: u32) -> f32 {
-    var ln = normalize(cross(l.b, l.c));
-    var center = l.a + 0.5 * (l.b + l.c);
-    if l.kind == 2u { center = l.a + (l.b + l.c) / 3.0; }
-    if dot(ln, q - center) <= 0.0 { return 0.0; }
-    let spp = max(shade_params.spp, 1u);
+// Sample i of the `spp` stratified shadow rays from q (normal n) to area light `l` (unit normal
+// ln): cos·cos'/r² when the ray reaches the light, else 0 (Shading::Exact's estimator: the light's
+// irradiance per unit radiance is its area times the mean of these).
+fn area_sample(l: Light, ln: vec3<f32>, q: vec3<f32>, n: vec3<f32>, seed: u32, i: u32, spp: u32) -> f32 {
     let k = u32(sqrt(f32(spp)));
-    var integral = 0.0;
-    for (var i = 0u; i < spp; i++) {
-        var s = uniform01(seed, 2u * i);
-        var t = uniform01(seed, 2u * i + 1u);
-        if i < k * k {
-            s = (f32(i % k) + s) / f32(k);
-            t = (f32(i / k) + t) / f32(k);
-        }
-        if l.kind == 2u && s + t > 1.0 {
-            s = 1.0 - s;
-            t = 1.0 - t;
-        }
-        let to = l.a + s * l.b + t * l.c - q;
-        if trace_ray(q, to, 1.0 - 1e-4, true).t > 0.5 { continue; }
-        let r2 = dot(to, to);
-        let w = to / sqrt(r2);
-        integral += max(dot(n, w), 0.0) * max(-dot(ln, w), 0.0) / r2;
+    var s = uniform01(seed, 2u * i);
+    var t = uniform01(seed, 2u * i + 1u);
+    if i < k * k {
+        s = (f32(i % k) + s) / f32(k);
+        t = (f32(i / k) + t) / f32(k);
     }
-    return l.area * integral / f32(spp);
+    if l.kind == 2u && s + t > 1.0 {
+        s = 1.0 - s;
+        t = 1.0 - t;
+    }
+    let to = l.a + s * l.b + t * l.c - q;
+    if trace_ray(q, to, 1.0 - 1e-4, true).t > 0.5 { return 0.0; }
+    let r2 = dot(to, to);
+    let w = to / sqrt(r2);
+    return max(dot(n, w), 0.0) * max(-dot(ln, w), 0.0) / r2;
 }
 
+// One pass of the shading of point i. A point takes one shadow ray per point light and `spp` per
+// area light: lights × spp rays, each of up to a few hundred loop iterations on a real scene (see
+// trace_ray), well past the 65,535 iterations after which software Vulkan (Mesa llvmpipe /
+// lavapipe) ends every loop of a SIMD group of 8 invocations for good (4,096 rays on the Cornell box
+// are about 150,000). So the loop over lights and samples keeps its whole state in shade_state (the
+// light, the sample, the sums), stops once it has run `budget` iterations (trace_ray's included) and
+// the host runs passes until no point is left unfinished. A pass runs at most budget + 1 shadow
+// rays' worth of iterations per invocation.
 @compute @workgroup_size(64)
 fn shade(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = id.y * groups.x * 64u + id.x;
     if i >= shade_params.points {
         return;
     }
+    var st = shade_state.points[i];
+    if st.light == SHADED {
+        return;
+    }
     let s = shade_in[i];
     let m = prim_shading[s.prim];
     if m.kind == 1u {
         shade_out[i] = vec4<f32>(m.color, 0.0);
+        shade_state.points[i].light = SHADED;
         return;
     }
     var n = m.normal;
@@ -167,22 +206,51 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) 
         n = -n;
     }
     let q = s.p + n * shade_params.eps;
-    var e = vec3<f32>(0.0);
-    for (var j = 0u; j < shade_params.lights; j++) {
-        let light = lights[j];
-        if light.kind != 0u {
-            e += light.power * area_light(light, q, n, pcg_hash(s.seed ^ pcg_hash(0x9e3779b9u + j)));
+    let spp = max(shade_params.spp, 1u);
+    var work = 0u;
+    trace_work = 0u;
+    loop {
+        if st.light >= shade_params.lights {
+            break;
+        }
+        if work + trace_work >= shade_params.budget {
+            atomicAdd(&shade_state.unfinished, 1u);
+            shade_state.points[i] = st;
+            return;
+        }
+        work += 1u;
+        let light = lights[st.light];
+        if light.kind == 0u {
+            let to = light.a - q;
+            let r2 = dot(to, to);
+            let cosine = dot(n, to) / sqrt(r2);
+            if cosine > 0.0 && trace_ray(q, to, 1.0 - 1e-4, true).t < 0.5 {
+                st.e += light.power * cosine / r2;
+            }
+            st.light += 1u;
             continue;
         }
-        let to = light.a - q;
-        let r2 = dot(to, to);
-        let cosine = dot(n, to) / sqrt(r2);
-        if cosine > 0.0 && trace_ray(q, to, 1.0 - 1e-4, true).t < 0.5 {
-            e += light.power * cosine / r2;
+        let ln = normalize(cross(light.b, light.c));
+        var center = light.a + 0.5 * (light.b + light.c);
+        if light.kind == 2u { center = light.a + (light.b + light.c) / 3.0; }
+        // Only a light facing the point is sampled.
+        let facing = dot(ln, q - center) > 0.0;
+        if facing && st.sample < spp {
+            let seed = pcg_hash(s.seed ^ pcg_hash(0x9e3779b9u + st.light));
+            st.integral += area_sample(light, ln, q, n, seed, st.sample, spp);
+            st.sample += 1u;
+            continue;
         }
+        if facing {
+            st.e += light.power * (light.area * st.integral / f32(spp));
+        }
+        st.light += 1u;
+        st.sample = 0u;
+        st.integral = 0.0;
     }
     if m.plane >= 0 {
-        e += caustic_irradiance(u32(m.plane), s.p);
+        st.e += caustic_irradiance(u32(m.plane), s.p);
     }
-    shade_out[i] = vec4<f32>(m.color / 3.1415927 * e, 0.0);
+    shade_out[i] = vec4<f32>(m.color / 3.1415927 * st.e, 0.0);
+    shade_state.points[i].light = SHADED;
 }

@@ -2,7 +2,8 @@
 //! points, point lights by one shadow ray each and area lights by stratified shadow rays (the
 //! `Shading::Exact` estimator of [`beam_cpu::render::shade_point`]'s `Method::Ray`, its jitter from a
 //! hash of the point's seed), all traced through the GPU BVH, plus the caustic irradiance maps of
-//! the nonlinear renderer. CPU twin: [`shade_twin`]; on point-lit scenes it equals `shade_point`.
+//! the nonlinear renderer, in passes of bounded work ([`PASS_BUDGET`]). CPU twin: [`shade_twin`];
+//! on point-lit scenes it equals `shade_point`.
 
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, output, read_back, storage, uniform};
@@ -128,9 +129,41 @@ pub struct ShadeParams {
     pub points: u32,
     /// Shadow rays per area light.
     pub spp: u32,
+    /// Loop iterations an invocation may run in one pass ([`PASS_BUDGET`]).
+    pub budget: u32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
+
+/// A point's shading between passes (zero before the first).
+///
+/// Keep in sync with the WGSL twin `ShadeState` in `shaders/raytrace.wgsl`, which keeps them after
+/// a 16-byte header (`ShadeStates`: the count of points a pass left unfinished, and padding).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct ShadeState {
+    /// Irradiance of the lights before `light`.
+    pub e: [f32; 3],
+    /// Area light `light`'s sum over its samples before `sample`.
+    pub integral: f32,
+    /// The light the point goes on at; `u32::MAX` once shaded.
+    pub light: u32,
+    /// The next sample of area light `light`.
+    pub sample: u32,
+    /// Padding.
+    pub pad: [u32; 2],
+}
+
+/// Loop iterations (shadow rays, their BVH steps and triangle tests) one invocation of the shading
+/// runs in a pass before it leaves the rest to the next. Mesa's software Vulkan (llvmpipe,
+/// lavapipe) ends every loop of a SIMD group of 8 invocations for good once all the loops of that
+/// group together have run 65,535 iterations (`LP_MAX_TGSI_LOOP_ITERATIONS`): a point's `spp`
+/// shadow rays per area light pass that from about 1,800 rays on the Cornell box and 330 on Šibenik
+/// (its points then come out wrong, silently). A pass runs at most this plus one ray's traversal
+/// per invocation (at most 569 iterations for a group on the shared scenes, see `lib/trace.wgsl`):
+/// even were the 8 lanes' iterations added up, 8 × (2,048 + 569) = 20,936 stays under the cap. On
+/// other devices the passes cost one 4-byte read-back each.
+pub const PASS_BUDGET: u32 = 2048;
 
 const _: () = assert!(
     size_of::<ShadeInput>() == 32
@@ -138,7 +171,11 @@ const _: () = assert!(
         && size_of::<GpuLight>() == 64
         && size_of::<CausticPlane>() == 48
         && size_of::<ShadeParams>() == 32
+        && size_of::<ShadeState>() == 32
 );
+
+/// Bytes before the first [`ShadeState`] in the state buffer (the unfinished count and padding).
+const STATE_HEADER: u64 = 16;
 
 /// The shading pass for one scene: its lights uploaded, its triangles' normals and materials kept.
 pub struct PointShader {
@@ -226,16 +263,16 @@ impl PointShader {
         }
         let prepared = self.prepare(gpu, caustics);
         checked(gpu, || {
-            let (encoder, out) = self.shade_into(gpu, tracer, &prepared, spp, points, 0);
+            let (encoder, out) = self.shade_into(gpu, tracer, &prepared, spp, points, 0)?;
             let size = (points.len() * 16) as u64;
             let radiance: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &out, size)?);
             Ok(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])).collect())
         })
     }
 
-    /// An encoder with the pass over `points` recorded, and the buffer it writes their radiance to
-    /// (`vec4` each), with room for `extra` more after them.
-    #[must_use]
+    /// The radiance of `points` shaded, in passes of bounded work ([`PASS_BUDGET`]) submitted and
+    /// waited for, in a buffer (`vec4` each) with room for `extra` more after them; and an encoder
+    /// for the caller's next work.
     pub fn shade_into(
         &self,
         gpu: &Gpu,
@@ -244,7 +281,7 @@ impl PointShader {
         spp: u32,
         points: &[ShadePoint],
         extra: usize,
-    ) -> (wgpu::CommandEncoder, wgpu::Buffer) {
+    ) -> Result<(wgpu::CommandEncoder, wgpu::Buffer), String> {
         let inputs: Vec<ShadeInput> = points
             .iter()
             .map(|s| ShadeInput { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), seed: seed32(s.seed) })
@@ -255,11 +292,18 @@ impl PointShader {
             lights: self.light_count,
             points: points.len() as u32,
             spp: spp.max(1),
-            pad: [0; 3],
+            budget: PASS_BUDGET,
+            pad: [0; 2],
         };
         let uniform = uniform(gpu, "shade params", bytemuck::bytes_of(&params));
         let input = storage(gpu, "shade points", &inputs, wgpu::BufferUsages::empty());
         let out = output(gpu, "radiance", ((points.len() + extra) * 16) as u64);
+        let new_encoder = || gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        if points.is_empty() {
+            return Ok((new_encoder(), out));
+        }
+        // Zeroed by wgpu: every point starts at its first light.
+        let state = output(gpu, "shade state", STATE_HEADER + (points.len() * size_of::<ShadeState>()) as u64);
         let (nodes, triangles) = tracer.buffers();
         let entries: Vec<wgpu::BindGroupEntry<'_>> = [
             (0, nodes),
@@ -271,6 +315,7 @@ impl PointShader {
             (8, &scene.planes),
             (9, &scene.flux),
             (10, &out),
+            (11, &state),
         ]
         .into_iter()
         .map(|(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() })
@@ -280,15 +325,24 @@ impl PointShader {
             layout: &self.pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        if !points.is_empty() {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            let groups = points.len().div_ceil(64) as u32;
-            pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+        // Passes until no point is left unfinished (each moves every unfinished point on by at least
+        // one light or shadow ray).
+        loop {
+            gpu.queue.write_buffer(&state, 0, &[0; 4]);
+            let mut encoder = new_encoder();
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                let groups = points.len().div_ceil(64) as u32;
+                pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+            }
+            let left = read_back(gpu, encoder, &state, 4)?;
+            if u32::from_le_bytes([left[0], left[1], left[2], left[3]]) == 0 {
+                break;
+            }
         }
-        (encoder, out)
+        Ok((new_encoder(), out))
     }
 }
 

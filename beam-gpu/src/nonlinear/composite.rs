@@ -138,7 +138,7 @@ impl GpuComposite {
                     })
                     .collect();
                 let other_radiance: Vec<[f32; 4]> = rest(&other)?.iter().map(|c| c.extend(0.0).to_array()).collect();
-                let (encoder, shaded) = shader.shade_into(gpu, tracer, &prepared, spp, &direct, other.len());
+                let (encoder, shaded) = shader.shade_into(gpu, tracer, &prepared, spp, &direct, other.len())?;
                 gpu.queue.write_buffer(&shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
                 let records: Vec<CompositeRecord> = texels
                     .iter()
