@@ -3,7 +3,6 @@
 //! triangle edges, so neighbouring triangles of a mesh leave pieces that see one surface side by
 //! side; joined, later triangles meet fewer pieces (fewer hit beams, 001 §5.1).
 
-use super::KEEP_CORNERS;
 use super::beam::Section;
 use glam::Vec2;
 
@@ -13,18 +12,9 @@ use glam::Vec2;
 /// neighbours is dropped, so joining along a straight cut leaves no trace.
 #[must_use]
 pub fn merge(a: &Section, b: &Section, tol: f32, max: usize) -> Option<Section> {
-    let mut out = [Vec2::ZERO; 2 * KEEP_CORNERS];
-    let n = merge_corners(a.vertices(), b.vertices(), tol, &mut out)?;
-    if n > max {
-        return None;
-    }
-    Section::from_slice(&out[..n]).ok()
-}
-
-/// [`merge`] on corner lists, the union's corners written to `out`; returns their number.
-pub(crate) fn merge_corners(va: &[Vec2], vb: &[Vec2], tol: f32, out: &mut [Vec2]) -> Option<usize> {
+    let (va, vb) = (a.vertices(), b.vertices());
     let (n, m) = (va.len(), vb.len());
-    if n < 3 || m < 3 || n + m - 2 > out.len() {
+    if n < 3 || m < 3 {
         return None;
     }
     let near = |p: Vec2, q: Vec2| (p - q).abs().max_element() <= tol;
@@ -48,22 +38,20 @@ pub(crate) fn merge_corners(va: &[Vec2], vb: &[Vec2], tol: f32, out: &mut [Vec2]
         if h > tol { None } else { Some(h >= -tol) }
     };
     let (drop_first, drop_last) = (turn(0)?, turn(n - 1)?);
-    let mut len = 0;
+    let mut union = Section::new();
     for k in 0..total {
         if !((k == 0 && drop_first) || (k == n - 1 && drop_last)) {
-            out[len] = corner(k);
-            len += 1;
+            union.push(corner(k)).ok()?;
         }
     }
-    if len < 3 {
+    if union.len() < 3 || union.len() > max {
         return None;
     }
     // The union's area is the sum, up to the slivers of moving corners by `tol`.
     let perimeter = |v: &[Vec2]| (0..v.len()).map(|k| (v[(k + 1) % v.len()] - v[k]).length()).sum::<f32>();
-    let area = |v: &[Vec2]| crate::collide::signed_area(v);
-    let (sum, union) = (area(va) + area(vb), area(&out[..len]));
+    let sum = a.signed_area() + b.signed_area();
     let slack = (tol * (perimeter(va) + perimeter(vb))).min(1e-3 * sum.abs());
-    ((union - sum).abs() <= slack).then_some(len)
+    ((union.signed_area() - sum).abs() <= slack).then_some(union)
 }
 
 #[cfg(test)]
