@@ -26,8 +26,8 @@ struct Row {
     visible: u64,
     hit_beams: u64,
     per_visible: f64,
-    /// Share of `beam_s` spent tracing (the rest: exact coverage).
-    trace_share: f64,
+    /// Thread-seconds spent tracing the eye beams (the rest of the work: exact coverage).
+    trace_s: f64,
     steps: u64,
     tests: u64,
     pieces: u64,
@@ -77,14 +77,14 @@ pub fn run(
         let scene = &loaded.scene;
         println!("\nsweep {}: {} cameras at {size}×{size} (table view first)", loaded.name, n);
         println!(
-            "{:>4} {:>7} {:>9} {:>8} {:>9} {:>8} {:>6} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10} {:>8}",
+            "{:>4} {:>7} {:>9} {:>8} {:>9} {:>8} {:>8} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10} {:>8}",
             "cam",
             "where",
             "beams s",
             "visible",
             "hit beams",
             "per vis",
-            "trace",
+            "trace s",
             "steps",
             "tri tests",
             "pieces",
@@ -111,7 +111,7 @@ pub fn run(
                 visible: ps.visible_triangles,
                 hit_beams: ps.hit_beams,
                 per_visible: ps.hit_beams_per_visible_triangle,
-                trace_share: ps.trace_seconds / ps.seconds.max(1e-9) / rayon::current_num_threads() as f64,
+                trace_s: ps.trace_seconds,
                 steps: ps.bvh_steps,
                 tests: ps.triangle_tests,
                 pieces: ps.pieces,
@@ -121,14 +121,14 @@ pub fn run(
             };
             bar.suspend(|| {
                 println!(
-                    "{:>4} {:>7} {:>9.4} {:>8} {:>9} {:>8.2} {:>5.0}% {:>9} {:>9} {:>8} {:>9.4} {:>9.4} {:>10.2} {:>8.4}",
+                    "{:>4} {:>7} {:>9.4} {:>8} {:>9} {:>8.2} {:>8.4} {:>9} {:>9} {:>8} {:>9.4} {:>9.4} {:>10.2} {:>8.4}",
                     if i == 0 { "view".to_string() } else { i.to_string() },
                     if inside { "inside" } else { "outside" },
                     row.beam_s,
                     row.visible,
                     row.hit_beams,
                     row.per_visible,
-                    100.0 * row.trace_share,
+                    row.trace_s,
                     row.steps,
                     row.tests,
                     row.pieces,
@@ -173,7 +173,7 @@ pub fn run(
     if let (Some(dir), false) = (out, rows.is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let mut csv = String::from("scene,camera,inside,beam_s,visible_triangles,hit_beams,hit_beams_per_visible,");
-        csv.push_str("trace_share,bvh_steps,triangle_tests,pieces,ray1_s,ray16_s,rmse16\n");
+        csv.push_str("trace_s,bvh_steps,triangle_tests,pieces,ray1_s,ray16_s,rmse16\n");
         for r in &rows {
             csv.push_str(&format!(
                 "{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
@@ -184,7 +184,7 @@ pub fn run(
                 r.visible,
                 r.hit_beams,
                 r.per_visible,
-                r.trace_share,
+                r.trace_s,
                 r.steps,
                 r.tests,
                 r.pieces,
