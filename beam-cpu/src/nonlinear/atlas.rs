@@ -1,7 +1,10 @@
 //! Rendering one nonlinear beam into its texel region (000 Algs. 1–2): every scene triangle that
 //! survives bounding-cone culling (App. A) gets its bounding triangle on the beam base; the texels
 //! inside it rebuild their ray from the S^n parameterization, intersect the scene triangle, discard
-//! misses and keep the nearest hit (the depth test).
+//! misses and keep the nearest hit (the depth test). Where a GPU's fragment shader evaluates the
+//! ray for every fragment, the CPU keeps each texel's ray once evaluated (regions up to
+//! [`RAY_CACHE_SIZE`] texels a side): the same rays, evaluated once instead of once per covering
+//! triangle.
 
 use crate::scene::Bump;
 use crate::scene::Scene;
@@ -64,6 +67,24 @@ impl BeamTexture {
     }
 }
 
+/// Regions at most this many texels a side keep their texels' rays (about 100 bytes per texel).
+pub const RAY_CACHE_SIZE: u32 = 512;
+
+/// A texel's ray, prepared for intersection.
+#[derive(Clone, Copy)]
+struct TexelRay {
+    ray: Ray,
+    watertight: WatertightRay,
+    /// Length of the ray's direction (not normalised).
+    len: f32,
+}
+
+impl TexelRay {
+    fn new(ray: Ray) -> Self {
+        Self { ray, watertight: WatertightRay::new(ray), len: ray.direction.length().max(f32::MIN_POSITIVE) }
+    }
+}
+
 /// Render `beam` into a `size × size` texel region (000 Alg. 1 with Alg. 3 or 4 for the bounding
 /// triangles): nearest hits of the texels' rays, skipping triangle `exclude` (the beam's own base).
 #[must_use]
@@ -75,6 +96,8 @@ pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, e
     let extent = scene.bounds().extent().length();
     // Half a texel of slack around the bounding triangle, in barycentric units.
     let slack = 0.5 / size as f32;
+    let (lift, normal) = (beam.lift(), beam.base_normal());
+    let mut rays: Vec<Option<TexelRay>> = vec![None; if size <= RAY_CACHE_SIZE { n * n } else { 0 }];
     for i in cone_candidates(scene, &cone, exclude) {
         let tri = &scene.triangles[i as usize];
         let Some(bt) = beam.bounding_triangle_of(&bounds, tri) else { continue };
@@ -95,12 +118,14 @@ pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, e
                     continue;
                 }
                 tex.texels_tested += 1;
-                let ray = beam.texel_ray(w);
-                let len = ray.direction.length().max(f32::MIN_POSITIVE);
-                let t_min = if neighbour { self_hit_distance(beam, ray, extent) } else { 1e-4 * extent } / len;
                 let k = y as usize * n + x as usize;
+                let r = match rays.get_mut(k) {
+                    Some(cached) => *cached.get_or_insert_with(|| TexelRay::new(beam.texel_ray(w))),
+                    None => TexelRay::new(beam.texel_ray(w)),
+                };
+                let t_min = if neighbour { self_hit_at(lift, normal, r.ray, extent) } else { 1e-4 * extent } / r.len;
                 let t_max = tex.hits[k].map_or(f32::INFINITY, |h| h.t);
-                if let Some(hit) = WatertightRay::new(ray).intersect(tri, t_min, t_max) {
+                if let Some(hit) = r.watertight.intersect(tri, t_min, t_max) {
                     tex.hits[k] = Some(TexelHit { prim: i, t: hit.t });
                 }
             }
@@ -148,8 +173,13 @@ impl NodeVisitor for ConeCull {
 /// over the ray's rise above the base are skipped (1e-4 of the scene's diagonal `extent` for S1).
 #[must_use]
 pub fn self_hit_distance(beam: &(impl TexelBeam + ?Sized), ray: Ray, extent: f32) -> f32 {
-    let rise = (ray.direction.normalize_or_zero().dot(beam.base_normal())).max(0.05);
-    (1e-4 * extent).max(2.0 * beam.lift() / rise)
+    self_hit_at(beam.lift(), beam.base_normal(), ray, extent)
+}
+
+/// [`self_hit_distance`] for a beam of lift `lift` and unit base normal `normal`.
+fn self_hit_at(lift: f32, normal: Vec3, ray: Ray, extent: f32) -> f32 {
+    let rise = (ray.direction.normalize_or_zero().dot(normal)).max(0.05);
+    (1e-4 * extent).max(2.0 * lift / rise)
 }
 
 /// What [`render_beam`] needs of a beam: its texel rays and their bounds (000 Algs. 1–4).
