@@ -89,11 +89,12 @@ pub(crate) fn cauchy_bound(c: &[f64]) -> f64 {
 }
 
 /// The unique root of a polynomial monotone on `[lo, hi]` with `p(lo)·p(hi) < 0`, by Newton steps
-/// kept inside a shrinking bracket (bisection when Newton leaves it).
-fn refine(c: &[f64], mut lo: f64, mut hi: f64) -> f64 {
+/// kept inside a shrinking bracket (bisection when Newton leaves it), from the first of `guesses`
+/// strictly inside the bracket, else from its midpoint.
+fn refine(c: &[f64], mut lo: f64, mut hi: f64, guesses: &[f64]) -> f64 {
     let (plo, _) = eval_d(c, lo);
     let rising = plo < 0.0;
-    let mut x = 0.5 * (lo + hi);
+    let mut x = guesses.iter().copied().find(|&g| g > lo && g < hi).unwrap_or(0.5 * (lo + hi));
     for _ in 0..200 {
         let (p, d) = eval_d(c, x);
         if p == 0.0 {
@@ -117,8 +118,9 @@ fn refine(c: &[f64], mut lo: f64, mut hi: f64) -> f64 {
 }
 
 /// Roots of `c` (degree ≥ 2, ascending coefficients, non-zero leading one) given its sorted
-/// critical points `crit` (the distinct real roots of the derivative).
-pub(crate) fn roots_from_critical<const N: usize>(c: &[f64], crit: &[f64]) -> Roots<N> {
+/// critical points `crit` (the distinct real roots of the derivative) and approximate roots
+/// `guesses` to start the refinement from (any values: a bracket without one starts at its middle).
+pub(crate) fn roots_from_critical<const N: usize>(c: &[f64], crit: &[f64], guesses: &[f64]) -> Roots<N> {
     let mut out = Roots::<N>::default();
     let bound = cauchy_bound(c);
     let mut points = [0.0f64; 6];
@@ -145,7 +147,7 @@ pub(crate) fn roots_from_critical<const N: usize>(c: &[f64], crit: &[f64]) -> Ro
         let za = pa.abs() <= 32.0 * f64::EPSILON * ba;
         let zb = pb.abs() <= 32.0 * f64::EPSILON * bb;
         if !za && !zb && (pa < 0.0) != (pb < 0.0) {
-            let x = refine(c, points[i], points[i + 1]);
+            let x = refine(c, points[i], points[i + 1], guesses);
             out.insert(x, 0.0);
         }
     }

@@ -12,7 +12,7 @@ pub fn quartic(a: f64, b: f64, c: f64, d: f64, e: f64) -> Roots<4> {
         return Roots::from_slice(r.as_slice());
     }
     let crit = cubic(4.0 * a, 3.0 * b, 2.0 * c, d);
-    poly::roots_from_critical(&[e, d, c, b, a], crit.as_slice())
+    poly::roots_from_critical(&[e, d, c, b, a], crit.as_slice(), &[])
 }
 
 #[cfg(test)]
