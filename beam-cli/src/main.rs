@@ -73,6 +73,10 @@ enum Command {
         /// Levels of the nonlinear beam tree (specular bounces by beams; deeper ones by rays).
         #[arg(long, default_value_t = 2)]
         bounces: u32,
+        /// Area lights cast caustics as N × N stratified point emitters (`--method nonlinear`), 0 to
+        /// 8; each costs about as much as a point light's caustics; 0: area lights cast none.
+        #[arg(long, default_value_t = beam_cpu::nonlinear::CAUSTIC_STRATA)]
+        caustic_strata: u32,
         /// S-mesh resolution of a procedural built-in (facing-mirrors, glass-lens, mirror-teapot,
         /// wavy-lake): quads per mirror side, lens rings, teapot profile steps, water quads per side.
         #[arg(long)]
@@ -112,7 +116,7 @@ enum Command {
         /// glossy`, CPU), so the two estimate the same image: for comparisons with it.
         #[arg(long)]
         photon_kernel: bool,
-        /// Photons per point light of the references' caustics (`nonlinear-reference`,
+        /// Photons per light of the references' caustics (`nonlinear-reference`,
         /// `glossy-reference`).
         #[arg(long, default_value_t = 4_000_000)]
         photons: u64,
@@ -239,6 +243,7 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
             degree,
             texels,
             bounces,
+            caustic_strata,
             smesh,
             shading,
             spp,
@@ -263,6 +268,7 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
                 degree: &degree,
                 texels,
                 bounces,
+                caustic_strata,
                 smesh,
                 shading: &shading,
                 spp,

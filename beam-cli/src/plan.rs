@@ -63,7 +63,7 @@ pub struct Plan {
 fn applies_to(id: &str, gpu: bool, primary_beams: bool) -> Option<&'static [Kind]> {
     use Kind::*;
     Some(match id {
-        "degree" | "texels" | "bounces" => &[Nonlinear],
+        "degree" | "texels" | "bounces" | "caustic_strata" => &[Nonlinear],
         "shading" => &[Beam, Ray, Nonlinear, NonlinearReference],
         "spp" if gpu => &[Ray, Nonlinear, NonlinearReference],
         "spp" => &[Ray],
@@ -185,6 +185,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
     // The nonlinear tracer sizes beam regions from 4 texels up to `--texels`.
     range("texels", a.texels, 4, 4096)?;
     range("bounces", a.bounces, 1, 16)?;
+    range("caustic_strata", a.caustic_strata, 0, beam_cpu::nonlinear::MAX_CAUSTIC_STRATA)?;
     range("spp", a.spp, 1, 65536)?;
     range("subdivide", a.subdivide, 1, 64)?;
     range("photons", a.photons, 1, 1 << 36)?;

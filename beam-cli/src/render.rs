@@ -22,6 +22,7 @@ pub struct RenderArgs<'a> {
     pub degree: &'a str,
     pub texels: u32,
     pub bounces: u32,
+    pub caustic_strata: u32,
     pub smesh: Option<u32>,
     pub shading: &'a str,
     pub spp: u32,
@@ -119,12 +120,18 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     }
     let (image, stats) = render_nonlinear_with(
         scene,
-        &NonlinearOptions { degree: plan.degree, texels: a.texels, bounces: a.bounces, shading },
+        &NonlinearOptions {
+            degree: plan.degree,
+            texels: a.texels,
+            bounces: a.bounces,
+            caustic_strata: a.caustic_strata,
+            shading,
+        },
         renderer,
     )?;
     write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
     println!(
-        "{}: nonlinear {} on {on} ({} texels per beam side), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {:.3} s -> {}",
+        "{}: nonlinear {} on {on} ({} texels per beam side), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {} caustic beams in {:.3} s, {:.3} s in all -> {}",
         scene.name,
         stats.degree,
         a.texels,
@@ -132,6 +139,8 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         stats.triangles_per_beam,
         stats.overdraw,
         stats.texels_shaded,
+        stats.caustics.beams,
+        stats.caustics.seconds,
         stats.seconds,
         a.out.display()
     );

@@ -4,7 +4,7 @@
 //! lights and the CPU renderers.
 //!
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
-//! - [`glossy`]: glossy light volumes and caustics from point lights (002).
+//! - [`glossy`]: glossy light volumes and caustics from point and area lights (002).
 //! - [`io`]: atomic output files; [`read`]: bounded reads of input files.
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
 //! - [`nonlinear`]: nonlinear beam tracing of curved mirrors (000).

@@ -7,7 +7,7 @@ use crate::generate::{self, BeamKind, uniform};
 use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BumpedBeam, CpuBeams, Degree, LevelRadiance, NonlinearOptions, SMesh,
+    Beam, BeamJob, BeamRenderer, BumpedBeam, CAUSTIC_STRATA, CpuBeams, Degree, LevelRadiance, NonlinearOptions, SMesh,
     render_nonlinear_with,
 };
 use beam_cpu::render::RenderOptions;
@@ -371,7 +371,13 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
         ("wavy-lake-coarse", Degree::S3),
     ] {
         let scene = scene::builtin(name)?;
-        let options = NonlinearOptions { degree, texels: 32, bounces: 2, shading: RenderOptions::exact(96, 96) };
+        let options = NonlinearOptions {
+            degree,
+            texels: 32,
+            bounces: 2,
+            caustic_strata: CAUSTIC_STRATA,
+            shading: RenderOptions::exact(96, 96),
+        };
         let renderer = GpuBeams::new(&gpu, &scene)?;
         let (on_gpu, _) = render_nonlinear_with(&scene, &options, &renderer)?;
         let (on_cpu, _) = render_nonlinear_with(&scene, &options, &TwinShading::default())?;
@@ -412,7 +418,7 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
         let point_lit = scene.lights.iter().all(|l| matches!(l, scene::Light::Point { .. }));
         let shader = PointShader::new(&gpu, &scene)?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
-        let caustics = caustics_by_beams(&scene, Degree::S1, 16, &CpuBeams)?.map(|c| c.0);
+        let caustics = caustics_by_beams(&scene, Degree::S1, 16, CAUSTIC_STRATA, &CpuBeams)?.map(|c| c.0);
         let options = RenderOptions::exact(128, 128);
         let camera = scene.camera.with_size(128, 128);
         let frame = camera.frame();
@@ -473,8 +479,13 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in ["mirror-glass-coarse", "glass-lens-coarse", "bumpy-mirror", "wavy-lake-coarse"] {
         let scene = scene::builtin(name)?;
-        let options =
-            NonlinearOptions { degree: Degree::S3, texels: 32, bounces: 3, shading: RenderOptions::exact(64, 64) };
+        let options = NonlinearOptions {
+            degree: Degree::S3,
+            texels: 32,
+            bounces: 3,
+            caustic_strata: CAUSTIC_STRATA,
+            shading: RenderOptions::exact(64, 64),
+        };
         let twin = TwinShading::default();
         let (on_cpu, _) = render_nonlinear_with(&scene, &options, &twin)?;
         let (levels, caustics) = twin.0.into_inner().map_err(|e| e.to_string())?;

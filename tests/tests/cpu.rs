@@ -10,6 +10,7 @@ beam_conformance::conformance_tests!(
     nonlinear_texels_equal_ray_hits,
     nonlinear_images_vs_reference,
     caustics_match_photon_tracing,
+    area_light_caustics_converge,
     s3_removes_s1_kinks,
     glossy_shadow_beams_equal_shadow_rays,
     glossy_cone_hierarchy_is_conservative,

@@ -64,6 +64,7 @@ fn render_cell(scene: &Scene, method: &str, gpu: Option<&Gpu>) -> Result<Image, 
                 degree: Degree::S3,
                 texels: TEXELS,
                 bounces: 2,
+                caustic_strata: 1,
                 shading: shading(Method::Beam, false),
             };
             Ok(render_nonlinear_with(scene, &options, renderer)?.0)
@@ -178,8 +179,13 @@ fn any_texels_render(gpu: Option<&Gpu>) {
             Some(g) => g,
             None => &CpuBeams,
         };
-        let options =
-            NonlinearOptions { degree: Degree::S1, texels, bounces: 2, shading: shading(Method::Beam, false) };
+        let options = NonlinearOptions {
+            degree: Degree::S1,
+            texels,
+            bounces: 2,
+            caustic_strata: 1,
+            shading: shading(Method::Beam, false),
+        };
         let (image, stats) =
             render_nonlinear_with(&scene, &options, renderer).unwrap_or_else(|e| panic!("texels {texels}: {e}"));
         assert!(image.pixels.iter().all(|p| p.is_finite()), "texels {texels}: non-finite pixels");

@@ -2,7 +2,7 @@
 //! tree and the shading on the CPU) against the CPU renderer, measured in the same run on the
 //! built-in nonlinear scenes; each GPU image checked against the CPU's.
 
-use beam_cpu::nonlinear::{CpuBeams, Degree, NonlinearOptions, render_nonlinear_with};
+use beam_cpu::nonlinear::{CAUSTIC_STRATA, CpuBeams, Degree, NonlinearOptions, render_nonlinear_with};
 use beam_cpu::render::{RenderOptions, difference};
 use beam_cpu::scene;
 use beam_gpu::Gpu;
@@ -24,7 +24,13 @@ pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degr
     );
     for name in scenes {
         let scene = scene::builtin(name)?;
-        let options = NonlinearOptions { degree, texels: 32, bounces: 2, shading: RenderOptions::exact(width, height) };
+        let options = NonlinearOptions {
+            degree,
+            texels: 32,
+            bounces: 2,
+            caustic_strata: CAUSTIC_STRATA,
+            shading: RenderOptions::exact(width, height),
+        };
         let renderer = GpuBeams::new(&gpu, &scene)?;
         let (warm, _) = render_nonlinear_with(&scene, &options, &renderer)?;
         let before = renderer.times();

@@ -110,7 +110,13 @@ pub fn whole(scene: &Scene, light: &Light, index: u32) -> Option<Emitter> {
 /// (stratum centres; a triangle's strata are the sub-triangles of a `k × k` barycentric grid).
 #[must_use]
 pub fn emitters(scene: &Scene) -> Vec<Emitter> {
-    let k = area_strata(scene);
+    stratified(scene, area_strata(scene))
+}
+
+/// The emitters of `scene` with `k × k` strata per area light (as [`emitters`]; `k` at least 1).
+#[must_use]
+pub fn stratified(scene: &Scene, k: u32) -> Vec<Emitter> {
+    let k = k.max(1);
     let eps = shading_eps(scene);
     let mut out = Vec::new();
     for (i, light) in scene.lights.iter().enumerate() {

@@ -16,7 +16,8 @@ mod render;
 pub use beams::{GlossyBeam, Scatter, is_scatterer, scatterings, trace_light_beams};
 pub use cones::{BoundingCone, ConeNode, ConeTree, GLOSSY_REACH};
 pub use emitters::{
-    AREA_STRATA, Emitter, MAX_EMITTERS, REFERENCE_AREA_RAYS, area_point, area_strata, emitters, reference_direct, whole,
+    AREA_STRATA, Emitter, MAX_EMITTERS, REFERENCE_AREA_RAYS, area_point, area_strata, emitters, reference_direct,
+    stratified, whole,
 };
 pub use gather::{Gathered, LightVolumes, Occluded, covers};
 pub use kernel::PhotonKernel;

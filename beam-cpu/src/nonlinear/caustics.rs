@@ -1,12 +1,15 @@
-//! Caustics and nonlinear shadows by the two-pass method of 000 §9.2: beams from each point light
+//! Caustics and nonlinear shadows by the two-pass method of 000 §9.2: beams from each light
 //! through every mirror and glass S-mesh face carry the light's flux; their texels find the
 //! receiver points (pass 1), whose flux is gathered into an irradiance map (pass 2). A receiver the
-//! beams do not reach lies in a nonlinear shadow. The ground truth traces photons from the light
-//! through the same surfaces about the interpolated normals.
+//! beams do not reach lies in a nonlinear shadow. 000 traces from point lights; an area light is
+//! taken as [`CAUSTIC_STRATA`]² stratified point emitters with cosine emission (as the glossy light
+//! volumes take it, [`stratified`]). The ground truth traces photons from the lights (from uniform
+//! points over an area light's whole area) through the same surfaces about the interpolated normals.
 
 use super::atlas::BeamTexture;
 use super::smesh::{SFace, SMesh};
 use super::trace::{Beam, BeamJob, BeamRenderer, Degree, TEXELS, child_beams};
+use crate::glossy::{Emitter, area_point, stratified, whole};
 use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, shading_eps};
 use crate::scene::{Light, Material, Scene};
 use beam_math::Ray;
@@ -15,20 +18,35 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use rayon::prelude::*;
 
+/// Strata per side of an area light in the caustic pass, by default (`beam render
+/// --caustic-strata`). Each of an area light's `k²` stratum emitters renders its beams with `1/k`
+/// of the texels per side, so that it deposits as many texels as a point light; but every beam
+/// costs its bounding triangles, so an area light's caustics cost about `k²` point lights'.
+pub const CAUSTIC_STRATA: u32 = 2;
+
+/// Most strata per side of an area light in the caustic pass.
+pub const MAX_CAUSTIC_STRATA: u32 = 8;
+
 /// What the caustic pass did.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct CausticStats {
-    /// Light beams rendered (reflection and refraction beams off S-mesh faces the lights see).
+    /// Light beams rendered (reflection and refraction beams off S-mesh faces the emitters light).
     pub beams: u64,
     /// Beam texels that carried flux to a diffuse receiver.
     pub texels_deposited: u64,
+    /// Wall-clock seconds of the caustic pass.
+    pub seconds: f64,
 }
 
 impl core::ops::Add for CausticStats {
     type Output = Self;
 
     fn add(self, other: Self) -> Self {
-        Self { beams: self.beams + other.beams, texels_deposited: self.texels_deposited + other.texels_deposited }
+        Self {
+            beams: self.beams + other.beams,
+            texels_deposited: self.texels_deposited + other.texels_deposited,
+            seconds: self.seconds + other.seconds,
+        }
     }
 }
 
@@ -38,33 +56,21 @@ pub fn caustic_texel(scene: &Scene) -> f32 {
     scene.bounds().extent().max_element() / 256.0
 }
 
-/// A point light's position and intensity.
-type PointLight = (Vec3, Vec3);
+/// An emitter, an S-mesh face it lights and the face's light beams (refracted ones marked `true`).
+type LitFace<'a> = (Emitter, &'a SFace, Vec<(Beam, bool)>);
 
-/// A point light, an S-mesh face it lights and the face's light beams (refracted ones marked `true`).
-type LitFace<'a> = (PointLight, &'a SFace, Vec<(Beam, bool)>);
-
-/// The point lights of `scene`.
-fn point_lights(scene: &Scene) -> Vec<PointLight> {
-    scene
-        .lights
-        .iter()
-        .filter_map(|l| match *l {
-            Light::Point { position, intensity } => Some((position, intensity)),
-            _ => None,
-        })
-        .collect()
-}
-
-/// The point lights, the S mesh and an empty irradiance map of `scene`; `None` without point lights
-/// or specular faces.
-fn setup(scene: &Scene) -> Option<(Vec<PointLight>, SMesh, IrradianceMap)> {
-    let lights = point_lights(scene);
+/// The S mesh and an empty irradiance map of `scene`; `None` without lights or specular faces.
+fn setup(scene: &Scene) -> Option<(SMesh, IrradianceMap)> {
     let smesh = SMesh::specular(scene);
-    if lights.is_empty() || smesh.faces.is_empty() {
+    if scene.lights.is_empty() || smesh.faces.is_empty() {
         return None;
     }
-    Some((lights, smesh, IrradianceMap::new(scene, caustic_texel(scene))))
+    Some((smesh, IrradianceMap::new(scene, caustic_texel(scene))))
+}
+
+/// True when emitter `e` sends no light to face `f` (the face lies wholly behind an area light).
+fn behind(e: &Emitter, f: &SFace) -> bool {
+    f.v.iter().all(|&v| e.falloff((v - e.position).normalize_or_zero()) <= 0.0)
 }
 
 /// True when the segment from `p` (on triangle `prim`, offset by `eps` towards `to`) to `to` is
@@ -91,30 +97,39 @@ fn split(scene: &Scene, f: &SFace, w: Vec3, d: Vec3) -> (Vec3, f32) {
     }
 }
 
-/// Pass 1 and 2 by beams: for every point light and S-mesh face, the reflection and refraction
-/// beams (S1 or S3, `texels` per side) from the light; every texel strictly inside the base carries
-/// the flux `I·cosθ·A/r²` of its share `A` of the base (less what the Fresnel split sends the other
-/// way), unless the light is blocked before the face; its ray's first hit, when diffuse, receives
-/// it. Paths with a second specular bounce are not followed. `None` without point lights or
-/// specular faces; an error when `renderer` fails. `texels` is taken within [`TEXELS`].
+/// Pass 1 and 2 by beams: for every emitter (a point light, or one of an area light's `strata ×
+/// strata` strata: [`stratified`]; none for `strata` 0) and S-mesh face in front of it, the
+/// reflection and refraction beams (S1 or S3, `texels` per side, `texels / strata` for a stratum)
+/// from the emitter; every texel strictly inside the base
+/// carries the flux `I(d)·cosθ·A/r²` of its share `A` of the base (less what the Fresnel split sends
+/// the other way), unless the emitter is blocked before the face; its ray's first hit, when diffuse,
+/// receives it. Paths with a second specular bounce are not followed. `None` without lights or
+/// specular faces; an error when `renderer` fails. `texels` is taken within [`TEXELS`], `strata`
+/// within `0..=`[`MAX_CAUSTIC_STRATA`].
 pub fn caustics_by_beams(
     scene: &Scene,
     degree: Degree,
     texels: u32,
+    strata: u32,
     renderer: &dyn BeamRenderer,
 ) -> Result<Option<(IrradianceMap, CausticStats)>, String> {
     let texels = texels.clamp(*TEXELS.start(), *TEXELS.end());
-    let Some((lights, smesh, empty)) = setup(scene) else { return Ok(None) };
+    let start = std::time::Instant::now();
+    let Some((smesh, empty)) = setup(scene) else { return Ok(None) };
+    let strata = strata.min(MAX_CAUSTIC_STRATA);
+    let size = |e: &Emitter| if e.normal == Vec3::ZERO { texels } else { (texels / strata).max(*TEXELS.start()) };
     let eps = shading_eps(scene);
-    // Per point light and face it lights: its reflection and refraction beams.
-    let faces: Vec<LitFace<'_>> = lights
-        .iter()
-        .flat_map(|&l| smesh.faces.iter().map(move |f| (l, f)))
-        .filter_map(|((light, intensity), f)| {
-            let incoming = f.v.map(|v| (v - light).normalize_or_zero());
+    // Per emitter and face it lights: its reflection and refraction beams.
+    let emitters = stratified(scene, strata.max(1)).into_iter();
+    let faces: Vec<LitFace<'_>> = emitters
+        .filter(|e| strata > 0 || e.normal == Vec3::ZERO)
+        .flat_map(|e| smesh.faces.iter().map(move |f| (e, f)))
+        .filter(|(e, f)| !behind(e, f))
+        .filter_map(|(e, f)| {
+            let incoming = f.v.map(|v| (v - e.position).normalize_or_zero());
             let (reflected, refracted) = child_beams(scene, f, incoming, degree)?;
             let beams = [Some(reflected), refracted.flatten()].into_iter().flatten().zip([false, true]).collect();
-            Some(((light, intensity), f, beams))
+            Some((e, f, beams))
         })
         .collect();
     let mut map = empty.clone();
@@ -123,7 +138,7 @@ pub fn caustics_by_beams(
     for batch in faces.chunks(512) {
         let jobs: Vec<BeamJob<'_>> = batch
             .iter()
-            .flat_map(|(_, f, beams)| beams.iter().map(|(beam, _)| BeamJob { beam, size: texels, exclude: f.prim }))
+            .flat_map(|(e, f, beams)| beams.iter().map(|(beam, _)| BeamJob { beam, size: size(e), exclude: f.prim }))
             .collect();
         let mut textures = renderer.render_beams(scene, &jobs)?.into_iter();
         let work: Vec<_> = batch
@@ -134,12 +149,12 @@ pub fn caustics_by_beams(
             .par_iter()
             .fold(
                 || (empty.clone(), CausticStats::default()),
-                |(mut map, mut stats), (light, f, beams, textures)| {
-                    // Whether the light reaches each texel's base point, shared by the face's beams.
-                    let mut lit = vec![None; (texels * texels) as usize];
+                |(mut map, mut stats), (e, f, beams, textures)| {
+                    // Whether the emitter reaches each texel's base point, shared by the face's beams.
+                    let mut lit = vec![None; (size(e) * size(e)) as usize];
                     for ((beam, transmitted), tex) in beams.iter().zip(textures) {
                         stats.beams += 1;
-                        deposit(scene, f, beam, tex, *light, *transmitted, eps, &mut lit, &mut map, &mut stats);
+                        deposit(scene, f, beam, tex, e, *transmitted, eps, &mut lit, &mut map, &mut stats);
                     }
                     (map, stats)
                 },
@@ -154,18 +169,19 @@ pub fn caustics_by_beams(
         map.merge(&m);
         stats = stats + s;
     }
+    stats.seconds = start.elapsed().as_secs_f64();
     Ok(Some((map, stats)))
 }
 
 /// Splat the flux of one light beam's texels `tex` off face `f` (see [`caustics_by_beams`]);
-/// `lit` caches per texel whether the light reaches its base point (shadow rays offset by `eps`).
+/// `lit` caches per texel whether emitter `e` reaches its base point (shadow rays offset by `eps`).
 #[allow(clippy::too_many_arguments)]
 fn deposit(
     scene: &Scene,
     f: &SFace,
     beam: &Beam,
     tex: &BeamTexture,
-    (light, intensity): PointLight,
+    e: &Emitter,
     transmitted: bool,
     eps: f32,
     lit: &mut [Option<bool>],
@@ -173,29 +189,31 @@ fn deposit(
     stats: &mut CausticStats,
 ) {
     let n = scene.normal(f.prim);
-    // Texels whose centre lies strictly inside the base: x + y + 1 ≤ size, n(n+1)/2 of them.
-    let inside = u64::from(tex.size) * u64::from(tex.size + 1) / 2;
+    // Texels whose centre lies strictly inside the base: x + y + 2 ≤ size, n(n−1)/2 of them (the
+    // next diagonal's centres lie on the edge, where rays start on the neighbouring faces).
+    let inside = u64::from(tex.size) * u64::from(tex.size - 1) / 2;
     let share = f.area() / inside as f32;
-    for y in 0..tex.size {
-        for x in 0..tex.size - y {
+    for y in 0..tex.size - 1 {
+        for x in 0..tex.size - 1 - y {
             let Some(hit) = tex.hits[(y * tex.size + x) as usize] else { continue };
             if !matches!(scene.material(hit.prim), Material::Diffuse { .. } | Material::Glossy { .. }) {
                 continue;
             }
             let w = tex.barycentric(x, y);
             let base = f.v[0] * w.x + f.v[1] * w.y + f.v[2] * w.z;
-            let to = base - light;
+            let to = base - e.position;
             let r2 = to.length_squared();
             let d = to / r2.sqrt();
             let (reflect, transmit) = split(scene, f, w, d);
-            let weight = if transmitted { Vec3::splat(transmit) } else { reflect };
+            let weight = if transmitted { Vec3::splat(transmit) } else { reflect } * e.falloff(d);
             if weight == Vec3::ZERO
-                || !*lit[(y * tex.size + x) as usize].get_or_insert_with(|| !blocked(scene, f.prim, base, light, eps))
+                || !*lit[(y * tex.size + x) as usize]
+                    .get_or_insert_with(|| !blocked(scene, f.prim, base, e.position, eps))
             {
                 continue;
             }
             let ray = beam.ray_at(w);
-            let flux = intensity * weight * (n.dot(d).abs() * share / r2);
+            let flux = e.intensity * weight * (n.dot(d).abs() * share / r2);
             if map.splat(hit.prim, ray.at(hit.t), flux) {
                 stats.texels_deposited += 1;
             }
@@ -203,33 +221,38 @@ fn deposit(
     }
 }
 
-/// The ground truth of [`caustics_by_beams`]: about `photons` photons from each point light, spread
-/// over the S-mesh faces in proportion to the flux they receive and placed uniformly at random on
-/// each face; each carries `I·cosθ·A/(r²·M)` of its face's `M` photons, is split by Fresnel about the
+/// The ground truth of [`caustics_by_beams`]: about `photons` photons from each light, spread over
+/// the S-mesh faces in proportion to the flux they receive (from the light's centre) and placed
+/// uniformly at random on each face, each leaving a point light's position or a uniform random point
+/// of an area light; each carries `I(d)·cosθ·A/(r²·M)` of its face's `M` photons (`I(d)` the
+/// light's whole intensity `L·A_light·cosθ_light` for an area light), is split by Fresnel about the
 /// interpolated normal at its own point, and its reflected and refracted rays deposit on the first
 /// surface they hit when it is diffuse (second specular bounces are not followed, as for beams).
 #[must_use]
 pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<IrradianceMap> {
-    let (lights, smesh, empty) = setup(scene)?;
+    let (smesh, empty) = setup(scene)?;
     let eps = shading_eps(scene);
     let mut jobs = Vec::new();
-    for &(light, intensity) in &lights {
+    for (li, light) in scene.lights.iter().enumerate() {
+        let Some(e) = whole(scene, light, li as u32) else { continue };
         let share = |f: &SFace| {
             let c = (f.v[0] + f.v[1] + f.v[2]) / 3.0;
-            let to = c - light;
-            scene.normal(f.prim).dot(to).abs() / to.length().powi(3) * f.area()
+            let to = c - e.position;
+            let falloff = if behind(&e, f) { 0.0 } else { e.falloff(to.normalize_or_zero()).max(1e-3) };
+            scene.normal(f.prim).dot(to).abs() / to.length().powi(3) * f.area() * falloff
         };
         let total: f32 = smesh.faces.iter().map(share).sum();
         for (i, f) in smesh.faces.iter().enumerate() {
             let m = (photons as f64 * f64::from(share(f) / total.max(f32::MIN_POSITIVE))).ceil() as u64;
-            jobs.push((light, intensity, f, m, seed ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)));
+            let salt = (i as u64 + (li as u64) * smesh.faces.len() as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+            jobs.push((light, e, f, m, seed ^ salt));
         }
     }
     let map = jobs
         .par_iter()
         .fold(
             || empty.clone(),
-            |mut map, &(light, intensity, f, m, seed)| {
+            |mut map, &(light, e, f, m, seed)| {
                 let mut rng = Pcg32::seed_from_u64(seed);
                 let (area, n) = (f.area(), scene.normal(f.prim));
                 for _ in 0..m {
@@ -239,13 +262,17 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
                     }
                     let w = Vec3::new(1.0 - s - t, s, t);
                     let p = f.v[0] * w.x + f.v[1] * w.y + f.v[2] * w.z;
-                    let to = p - light;
+                    let from = match light {
+                        Light::Point { position, .. } => *position,
+                        _ => area_point(light, rng.random(), rng.random()) + e.normal * eps,
+                    };
+                    let to = p - from;
                     let r2 = to.length_squared();
                     let d = to / r2.sqrt();
-                    if blocked(scene, f.prim, p, light, eps) {
+                    if e.falloff(d) <= 0.0 || blocked(scene, f.prim, p, from, eps) {
                         continue;
                     }
-                    let flux = intensity * (n.dot(d).abs() * area / (r2 * m as f32));
+                    let flux = e.towards(d) * (n.dot(d).abs() * area / (r2 * m as f32));
                     let entering = d.dot(n) < 0.0;
                     let ns = if entering { f.normal_at(w) } else { -f.normal_at(w) };
                     let (reflect, transmit) = split(scene, f, w, d);

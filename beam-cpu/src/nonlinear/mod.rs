@@ -11,7 +11,9 @@ mod smesh;
 mod trace;
 
 pub use atlas::{BeamTexture, BumpedBeam, TexelBeam, TexelHit, cone_candidates, render_beam, self_hit_distance};
-pub use caustics::{CausticStats, caustic_texel, caustics_by_beams, caustics_by_photons};
+pub use caustics::{
+    CAUSTIC_STRATA, CausticStats, MAX_CAUSTIC_STRATA, caustic_texel, caustics_by_beams, caustics_by_photons,
+};
 pub use composite::{Composite, LevelRadiance, TexelRadiance, composite, composite_levels, sample_region};
 pub use reference::{Shade, render_smooth_reference, render_smooth_reference_with, shade_by_waves};
 pub use smesh::{SFace, SMesh};

@@ -23,7 +23,7 @@ pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions, photons: 
 
 /// The ray-traced ground truth of [`super::render_nonlinear`]: one ray per pixel centre, Whitted
 /// through mirrors and glass (at most [`MAX_DEPTH`] bounces) about the interpolated normals;
-/// caustics by about `photons` photons per point light ([`caustics_by_photons`]); everything else
+/// caustics by about `photons` photons per light ([`caustics_by_photons`]); everything else
 /// shaded alike. The rays of each bounce are traced together by `renderer`.
 pub fn render_smooth_reference_with(
     scene: &Scene,

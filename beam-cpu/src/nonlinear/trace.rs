@@ -45,6 +45,9 @@ pub struct NonlinearOptions {
     pub texels: u32,
     /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays.
     pub bounces: u32,
+    /// Strata per side of an area light in the caustic pass (0: area lights cast no caustics;
+    /// at most [`super::MAX_CAUSTIC_STRATA`]); see [`super::caustics_by_beams`].
+    pub caustic_strata: u32,
     /// Shading of everything the beams and the eye see.
     pub shading: RenderOptions,
 }
@@ -335,7 +338,7 @@ struct Tree<'a> {
     smesh: SMesh,
     options: NonlinearOptions,
     eye: Vec3,
-    /// Irradiance through the specular surfaces from point lights (caustics, nonlinear shadows).
+    /// Irradiance through the specular surfaces from the lights (caustics, nonlinear shadows).
     caustics: Option<IrradianceMap>,
 }
 
@@ -492,7 +495,7 @@ pub fn render_nonlinear_with(
     let start = Instant::now();
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
     // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.
-    let caustics = caustics_by_beams(scene, options.degree, options.texels, renderer)?;
+    let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
     let caustic_stats = caustics.as_ref().map(|c| c.1.clone()).unwrap_or_default();
     let tree = Tree {
         scene,
