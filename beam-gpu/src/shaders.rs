@@ -70,7 +70,8 @@ impl Language {
     }
 }
 
-/// Translate every shader to `lang` into directory `out` (created); returns the files written.
+/// Translate every shader to `lang` into directory `out` (created), each file written atomically;
+/// returns the files written.
 pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut written = Vec::new();
@@ -134,10 +135,9 @@ pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, Strin
             }
         };
         for (file, bytes) in files {
+            // Through beam-cpu's writer: hidden, unique temporaries that a signal removes.
             let path = out.join(file);
-            let tmp = path.with_extension("tmp");
-            std::fs::write(&tmp, &bytes).map_err(|e| format!("{}: {e}", tmp.display()))?;
-            std::fs::rename(&tmp, &path).map_err(|e| format!("{}: {e}", path.display()))?;
+            beam_cpu::io::write_atomic(&path, &bytes)?;
             written.push(path);
         }
     }
