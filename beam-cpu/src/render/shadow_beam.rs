@@ -10,19 +10,18 @@
 //! point and the light blocks), so hit pieces are dropped at once. A BVH references each triangle
 //! from exactly one leaf, so the kd-tree mailboxing of 001 §3.4 has nothing to remove here.
 
-use super::packet::{Packet, Projector};
+use super::packet::Survivor;
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
 use beam_math::collide::aabb_outside_planes;
 use beam_math::glam::{Vec2, Vec3, Vec4};
 use beam_math::polybeam::{BeamFrame, Cover, EdgeLines, PolyBeam, Quad, Section};
 use beam_math::{Aabb, Triangle};
 
+mod candidates;
+
 /// Occluders are counted only strictly between the point and the light: depths (in units of the
 /// light-plane distance) within `[DEPTH_EPS, 1 − DEPTH_EPS]`.
 pub const DEPTH_EPS: f32 = 1e-4;
-
-/// Occluders of the previous beam tried first.
-const HOT: usize = 8;
 
 /// Fuzzy tolerance of the side tests, as a fraction of the light's size (001 App. A).
 const SIDE_EPS: f32 = 1e-6;
@@ -90,8 +89,12 @@ pub(crate) struct ShadowScratch {
     pieces: Vec<Quad>,
     /// Each piece's bounding rectangle as `(lo.x, lo.y, −hi.x, −hi.y)` (see [`ShadowBeam::rect`]).
     boxes: Vec<Vec4>,
-    missed: Vec<Quad>,
-    /// The occluders that hit the last beam traced through candidates (tested first next time).
+    /// The candidates that survived the packet test.
+    survivors: Vec<Survivor>,
+    /// Their order: sort key (a non-negative `f32`'s bits) above, complemented index below.
+    order: Vec<u64>,
+    /// The occluders that hit the last beam traced through candidates, when it ended dark
+    /// (tested first next time).
     hot: Vec<u32>,
 }
 
@@ -102,7 +105,8 @@ pub(crate) struct ShadowBeam<'s> {
     apex_uv: Vec2,
     pieces: &'s mut Vec<Quad>,
     boxes: &'s mut Vec<Vec4>,
-    missed: &'s mut Vec<Quad>,
+    survivors: &'s mut Vec<Survivor>,
+    order: &'s mut Vec<u64>,
     hot: &'s mut Vec<u32>,
     lo: Vec2,
     hi: Vec2,
@@ -113,7 +117,7 @@ pub(crate) struct ShadowBeam<'s> {
 impl<'s> ShadowBeam<'s> {
     /// The beam of `beam`'s cross-section (cut into pieces of at most four corners).
     pub(crate) fn new(beam: &PolyBeam, scratch: &'s mut ShadowScratch) -> Self {
-        let ShadowScratch { pieces, boxes, missed, hot } = scratch;
+        let ShadowScratch { pieces, boxes, survivors, order, hot } = scratch;
         pieces.clear();
         let v = beam.section.vertices();
         // A fan of quads around corner 0 (the section is convex and counter-clockwise).
@@ -137,7 +141,8 @@ impl<'s> ShadowBeam<'s> {
             apex_uv: Vec2::new(r.dot(f.u), r.dot(f.v)),
             pieces,
             boxes,
-            missed,
+            survivors,
+            order,
             hot,
             lo: Vec2::ZERO,
             hi: Vec2::ZERO,
@@ -255,10 +260,7 @@ impl<'s> ShadowBeam<'s> {
         if hi.x < self.lo.x || hi.y < self.lo.y || lo.x > self.hi.x || lo.y > self.hi.y {
             return false;
         }
-        match EdgeLines::<9>::new(&q[..n], self.eps * self.eps) {
-            Some(lines) => self.split_pieces(&lines),
-            None => false,
-        }
+        self.split_pieces::<9>(&q[..n], lo, hi)
     }
 
     /// [`ShadowBeam::occlude`] for a triangle wholly in the depth range, projected to `q`.
@@ -267,86 +269,60 @@ impl<'s> ShadowBeam<'s> {
         if hi.x < self.lo.x || hi.y < self.lo.y || lo.x > self.hi.x || lo.y > self.hi.y {
             return false;
         }
-        match EdgeLines::<3>::new(q, self.eps * self.eps) {
-            Some(lines) => self.split_pieces(&lines),
-            None => false,
-        }
+        self.split_pieces::<3>(q, lo, hi)
     }
 
-    /// The projection of this beam, for [`Packet::survivors`].
-    pub(crate) fn projector(&self) -> Projector {
-        let f = &self.frame;
-        Projector {
-            apex: f.apex,
-            u: f.u,
-            v: f.v,
-            normal: f.normal,
-            distance: f.distance,
-            apex_uv: self.apex_uv,
-            near: DEPTH_EPS * f.distance,
-            far: (1.0 - DEPTH_EPS) * f.distance,
-        }
-    }
-
-    /// Split by the candidates of `packets`, until nothing of the light is left. The occluders
-    /// that hit the previous beam traced this way (a neighbouring shade point) go first: a
-    /// shadow's edge or umbra continues from one point to the next.
-    pub(crate) fn occlude_packets(&mut self, packets: &[Packet], triangles: &[Triangle]) {
-        let mut hot = [0u32; HOT];
-        let n = self.hot.len().min(HOT);
-        hot[..n].copy_from_slice(&self.hot[..n]);
-        self.hot.clear();
-        for &prim in &hot[..n] {
-            if self.occlude(&triangles[prim as usize]) {
-                self.hot.push(prim);
-            }
-            if self.is_dark() {
-                return;
-            }
-        }
-        let projector = self.projector();
-        for packet in packets {
-            self.stats.triangle_tests += u64::from(packet.len);
-            let (lo, hi) = (self.lo, self.hi);
-            packet.survivors(&projector, lo, hi, &mut |s| {
-                if self.is_dark() {
-                    return;
-                }
-                let hit = match s.projected {
-                    Some(q) => self.occlude_projected(&q),
-                    None => self.occlude_uncounted(&triangles[s.prim as usize]),
-                };
-                if hit && self.hot.len() < HOT {
-                    self.hot.push(s.prim);
-                }
-            });
-            if self.is_dark() {
-                return;
-            }
-        }
-    }
-
-    /// Remove from the pieces what the projected polygon `lines` hides. True when any piece was hit.
-    fn split_pieces<const N: usize>(&mut self, lines: &EdgeLines<N>) -> bool {
-        let mut hit = false;
-        let query = Vec4::new(lines.max.x, lines.max.y, -lines.min.x, -lines.min.y);
+    /// Remove from the pieces what the convex polygon `corners` (bounding rectangle `[lo, hi]`)
+    /// hides. True when any piece was hit.
+    fn split_pieces<const N: usize>(&mut self, corners: &[Vec2], lo: Vec2, hi: Vec2) -> bool {
+        let (mut hit, mut dropped) = (false, false);
+        let query = Vec4::new(hi.x, hi.y, -lo.x, -lo.y);
+        // The polygon's edge lines, made when a piece's box first meets its box.
+        let mut lines = None;
         // Pieces [0, end) are the ones from before this triangle; its miss parts are appended.
         let mut end = self.pieces.len();
         let mut i = 0;
-        while i < end {
-            if !self.boxes[i].cmple(query).all() {
-                i += 1;
-                continue;
+        loop {
+            // Skip to the next piece whose box meets the triangle's.
+            i += self.boxes[i..end].iter().position(|b| b.cmple(query).all()).unwrap_or(end - i);
+            if i >= end {
+                break;
             }
+            let lines = match lines {
+                Some(ref lines) => lines,
+                None => match EdgeLines::<N>::new(corners, self.eps * self.eps) {
+                    Some(made) => lines.insert(made),
+                    // A sliver or an edge-on triangle hides nothing.
+                    None => return false,
+                },
+            };
             let piece = self.pieces[i];
             self.stats.intersections += 1;
-            self.missed.clear();
-            let missed = &mut *self.missed;
-            match piece.split(lines, self.eps, &mut |q| missed.push(q)) {
-                Cover::Outside => i += 1,
-                Cover::Inside => {
-                    // Wholly hidden: move the last unvisited piece here, then drop this one.
+            let len = self.pieces.len();
+            let (pieces, boxes) = (&mut *self.pieces, &mut *self.boxes);
+            match piece.split(lines, self.eps, &mut |q| {
+                let (lo, hi) = q.bounds();
+                let b = Self::rect(lo, hi);
+                pieces.push(q);
+                boxes.push(b);
+            }) {
+                Cover::Outside => {
+                    self.pieces.truncate(len);
+                    self.boxes.truncate(len);
+                    i += 1;
+                }
+                Cover::Crossed if self.pieces.len() > len => {
+                    // The last missed part takes this piece's place.
                     hit = true;
+                    self.stats.hit_beams += 1;
+                    self.stats.pieces += (self.pieces.len() - len) as u64;
+                    self.pieces.swap_remove(i);
+                    self.boxes.swap_remove(i);
+                    i += 1;
+                }
+                Cover::Inside | Cover::Crossed => {
+                    // Wholly hidden: move the last unvisited piece here, then drop this one.
+                    (hit, dropped) = (true, true);
                     self.stats.hit_beams += 1;
                     end -= 1;
                     self.pieces.swap(i, end);
@@ -354,25 +330,11 @@ impl<'s> ShadowBeam<'s> {
                     self.boxes.swap(i, end);
                     self.boxes.swap_remove(end);
                 }
-                Cover::Crossed => {
-                    hit = true;
-                    self.stats.hit_beams += 1;
-                    self.stats.pieces += self.missed.len() as u64;
-                    for (k, q) in self.missed.iter().enumerate() {
-                        let (lo, hi) = q.bounds();
-                        if k == 0 {
-                            self.pieces[i] = *q;
-                            self.boxes[i] = Self::rect(lo, hi);
-                        } else {
-                            self.pieces.push(*q);
-                            self.boxes.push(Self::rect(lo, hi));
-                        }
-                    }
-                    i += 1;
-                }
             }
         }
-        if hit {
+        // Missed parts lie in the box of the piece they come from, so the bound holds until a
+        // piece goes; recomputing it only then is cheaper than its extra rejections are worth.
+        if dropped {
             self.union_boxes();
         }
         hit

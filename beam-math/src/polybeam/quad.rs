@@ -6,7 +6,7 @@
 //! counts as inside as well as outside. Missed parts of more than four corners are re-cut into
 //! pieces of at most four (the paper's "extra split").
 
-use glam::{Vec2, Vec4, Vec4Swizzles};
+use glam::{BVec4A, Vec2, Vec4, Vec4Swizzles};
 
 /// A convex cross-section of 3 or 4 corners, counter-clockwise; unused lanes repeat corner 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -148,15 +148,17 @@ impl<const P: usize> Poly<P> {
         }
     }
 
-    /// The parts inside and outside `line`, corners within `eps` of it in both (as
-    /// [`crate::collide::ConvexPolygon::split`]); parts of fewer than three corners are empty.
-    fn split(&self, line: &Line, eps: f32) -> (Self, Self) {
+    /// The parts inside and outside a line, given the corners' signed distances `d` to it (positive
+    /// outside), corners within `eps` of it in both (as [`crate::collide::ConvexPolygon::split`]);
+    /// parts of fewer than three corners are empty.
+    #[inline]
+    fn split(&self, d: &[f32; P], eps: f32) -> (Self, Self) {
         let mut inside = Self { c: [Vec2::ZERO; P], len: 0 };
         let mut outside = inside;
         for i in 0..self.len {
-            let p = self.c[i];
-            let q = self.c[(i + 1) % self.len];
-            let (dp, dq) = (line.distance(p), line.distance(q));
+            let j = if i + 1 == self.len { 0 } else { i + 1 };
+            let (p, q) = (self.c[i], self.c[j]);
+            let (dp, dq) = (d[i], d[j]);
             if dp <= eps {
                 inside.push(p);
             }
@@ -272,18 +274,24 @@ impl Quad {
     /// hit part is the section minus the missed parts. Corners within `eps` of a line are on it.
     /// What `emit` received counts only when the result is [`Cover::Crossed`]: a cut that finds no
     /// hit part left returns [`Cover::Outside`] after handing out some parts.
+    #[inline]
     pub fn split<const N: usize>(&self, poly: &EdgeLines<N>, eps: f32, emit: &mut impl FnMut(Quad)) -> Cover {
         let lines = poly.lines();
-        // Fig. 2a and 2c with one multiply-add a line.
-        let mut inside = true;
-        for line in lines {
+        // Fig. 2a and 2c with one multiply-add a line; the lines that cross the section are kept
+        // with the distances of its corners for the cut.
+        let mut dist = [Vec4::ZERO; N];
+        let mut crossing = 0u32;
+        for (k, line) in lines.iter().enumerate() {
             let d = self.distances(line);
             if d.cmpge(Vec4::splat(-eps)).all() {
                 return Cover::Outside;
             }
-            inside &= d.cmple(Vec4::splat(eps)).all();
+            if !d.cmple(Vec4::splat(eps)).all() {
+                crossing |= 1 << k;
+                dist[k] = d;
+            }
         }
-        if inside {
+        if crossing == 0 {
             return Cover::Inside;
         }
         // Fig. 2b: a section edge with every corner of the polygon outside, the four edges in the
@@ -303,23 +311,55 @@ impl Quad {
             return Cover::Outside;
         }
         // A triangle's cut needs 7 corners at most; a clipped polygon's more.
-        if N <= 4 { self.cut::<8>(lines, eps, emit) } else { self.cut::<POLY>(lines, eps, emit) }
+        if N <= 4 {
+            self.cut::<8, N>(lines, &dist, crossing, eps, emit)
+        } else {
+            self.cut::<POLY, N>(lines, &dist, crossing, eps, emit)
+        }
     }
 
     /// Fig. 2d–g: cut edge by edge, the working polygon holding `P` corners; the missed parts are
-    /// handed out only if a hit part remains.
-    fn cut<const P: usize>(&self, lines: &[Line], eps: f32, emit: &mut impl FnMut(Quad)) -> Cover {
+    /// handed out only if a hit part remains. Only the lines in the mask `crossing` cross the
+    /// section (`dist`: its corners' distances to them); the others cannot cross what is left of it.
+    /// Out of line: the rarer path, so that the trivial cases inline into the caller's loop.
+    #[inline(never)]
+    fn cut<const P: usize, const N: usize>(
+        &self,
+        lines: &[Line],
+        dist: &[Vec4; N],
+        mut crossing: u32,
+        eps: f32,
+        emit: &mut impl FnMut(Quad),
+    ) -> Cover {
         let n = self.len();
         let mut rest = Poly::<P> { c: [Vec2::ZERO; P], len: n };
         for i in 0..n {
             rest.c[i] = self.corner(i);
         }
-        let mut cut = false;
-        for line in lines {
-            if (0..rest.len).all(|i| line.distance(rest.c[i]) <= eps) {
-                continue;
+        // First the line that cuts off the most (by the sum of the corners' distances outside
+        // it): the hit part left shrinks the fastest, and the missed parts come in fewer pieces
+        // (about 15% fewer on foliage than in edge order).
+        let valid = Vec4::select(BVec4A::new(true, true, true, n == 4), Vec4::ONE, Vec4::ZERO);
+        let mut first = crossing.trailing_zeros() as usize;
+        if crossing & (crossing - 1) != 0 {
+            let mut most = -1.0;
+            let mut m = crossing;
+            while m != 0 {
+                let k = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let off = (dist[k].max(Vec4::ZERO) * valid).element_sum();
+                if off > most {
+                    (most, first) = (off, k);
+                }
             }
-            let (inner, outer) = rest.split(line, eps);
+        }
+        // The section's distances to it are known.
+        let mut d = [0.0f32; P];
+        d[..4].copy_from_slice(&dist[first].to_array());
+        crossing &= !(1 << first);
+        let mut cut = false;
+        loop {
+            let (inner, outer) = rest.split(&d, eps);
             if inner.len == 0 {
                 return Cover::Outside;
             }
@@ -328,6 +368,19 @@ impl Quad {
                 cut = true;
             }
             rest = inner;
+            // The next line that crosses what is left.
+            let mut next = false;
+            while crossing != 0 && !next {
+                let line = &lines[crossing.trailing_zeros() as usize];
+                crossing &= crossing - 1;
+                for i in 0..rest.len {
+                    d[i] = line.distance(rest.c[i]);
+                    next |= d[i] > eps;
+                }
+            }
+            if !next {
+                break;
+            }
         }
         if cut { Cover::Crossed } else { Cover::Inside }
     }
