@@ -2,8 +2,8 @@
 //! through every mirror and glass S-mesh face carry the light's flux; their texels find the
 //! receiver points (pass 1), whose flux is gathered into an irradiance map (pass 2). A receiver the
 //! beams do not reach lies in a nonlinear shadow. 000 traces from point lights; an area light is
-//! taken as [`CAUSTIC_STRATA`]² stratified point emitters with cosine emission (as the glossy light
-//! volumes take it, [`stratified`]). The ground truth traces photons from the lights (from uniform
+//! taken as N × N stratified point emitters with cosine emission (as the glossy light volumes take
+//! it, [`stratified`]; N = [`CAUSTIC_STRATA`] by default). The ground truth traces photons from the lights (from uniform
 //! points over an area light's whole area) through the same surfaces about the interpolated normals.
 
 use super::atlas::BeamTexture;
@@ -100,12 +100,12 @@ fn split(scene: &Scene, f: &SFace, w: Vec3, d: Vec3) -> (Vec3, f32) {
 /// Pass 1 and 2 by beams: for every emitter (a point light, or one of an area light's `strata ×
 /// strata` strata: [`stratified`]; none for `strata` 0) and S-mesh face in front of it, the
 /// reflection and refraction beams (S1 or S3, `texels` per side, `texels / strata` for a stratum)
-/// from the emitter; every texel strictly inside the base
-/// carries the flux `I(d)·cosθ·A/r²` of its share `A` of the base (less what the Fresnel split sends
-/// the other way), unless the emitter is blocked before the face; its ray's first hit, when diffuse,
-/// receives it. Paths with a second specular bounce are not followed. `None` without lights or
-/// specular faces; an error when `renderer` fails. `texels` is taken within [`TEXELS`], `strata`
-/// within `0..=`[`MAX_CAUSTIC_STRATA`].
+/// from the emitter; every texel strictly inside the base carries the flux `I(d)·cosθ·A/r²` of its
+/// share `A` of the base (less what the Fresnel split sends the other way), unless the emitter is
+/// blocked before the face; its ray's first hit, when diffuse, receives it. Paths with a second
+/// specular bounce are not followed. `None` without lights or specular faces; an error when
+/// `renderer` fails. `texels` is taken within [`TEXELS`], `strata` within
+/// `0..=`[`MAX_CAUSTIC_STRATA`].
 pub fn caustics_by_beams(
     scene: &Scene,
     degree: Degree,
