@@ -96,7 +96,7 @@ fn random_beams(seed: u64, per_kind: usize) -> Vec<Beam> {
 /// The bounding triangle beam-math computes for `tri` (what the CPU renderer rasterizes).
 fn cpu_bounding_triangle(beam: &Beam, tri: &Triangle) -> Option<beam_math::nonlinear::BoundingTriangle> {
     let tb = beam.texel_beam();
-    tb.bounding_triangle_of(&tb.s1_or_sn_bounds(), tri)
+    tb.bounding_triangle_of(&tb.s1_or_sn_bounds(), tri, &mut |q| tb.contains_s1(q))
 }
 
 /// How much larger than beam-math's a GPU bounding triangle may be where both take the same branch:

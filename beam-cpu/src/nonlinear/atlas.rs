@@ -85,6 +85,38 @@ impl TexelRay {
     }
 }
 
+/// A memo of a beam's [`TexelBeam::contains_s1`] over the vertices of its candidate triangles: a
+/// mesh's triangles share their vertices (about six each), and each answer costs a cubic. Direct
+/// mapped by the position's bits, a slot overwritten on a collision; the answers are the function's
+/// own, so the bounding triangles are the same with or without it.
+struct InsideMemo {
+    keys: [[u32; 3]; MEMO_SLOTS],
+    /// 0: empty, 1: outside, 2: inside.
+    values: [u8; MEMO_SLOTS],
+}
+
+/// Slots of an [`InsideMemo`] (a power of two).
+const MEMO_SLOTS: usize = 512;
+
+impl InsideMemo {
+    fn new() -> Self {
+        Self { keys: [[0; 3]; MEMO_SLOTS], values: [0; MEMO_SLOTS] }
+    }
+
+    /// `inside(q)`, remembered.
+    fn get(&mut self, q: Vec3, inside: impl FnOnce(Vec3) -> bool) -> bool {
+        let key = q.to_array().map(f32::to_bits);
+        let h = key[0].wrapping_mul(0x9E37_79B1) ^ key[1].wrapping_mul(0x85EB_CA77) ^ key[2].wrapping_mul(0xC2B2_AE3D);
+        let slot = (h >> (32 - MEMO_SLOTS.trailing_zeros())) as usize;
+        if self.values[slot] != 0 && self.keys[slot] == key {
+            return self.values[slot] == 2;
+        }
+        let answer = inside(q);
+        (self.keys[slot], self.values[slot]) = (key, 1 + u8::from(answer));
+        answer
+    }
+}
+
 /// Render `beam` into a `size × size` texel region (000 Alg. 1 with Alg. 3 or 4 for the bounding
 /// triangles): nearest hits of the texels' rays, skipping triangle `exclude` (the beam's own base).
 #[must_use]
@@ -97,10 +129,12 @@ pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, e
     // Half a texel of slack around the bounding triangle, in barycentric units.
     let slack = 0.5 / size as f32;
     let (lift, normal) = (beam.lift(), beam.base_normal());
+    let mut memo = InsideMemo::new();
     let mut rays: Vec<Option<TexelRay>> = vec![None; if size <= RAY_CACHE_SIZE { n * n } else { 0 }];
     for i in cone_candidates(scene, &cone, exclude) {
         let tri = &scene.triangles[i as usize];
-        let Some(bt) = beam.bounding_triangle_of(&bounds, tri) else { continue };
+        let inside = &mut |q| memo.get(q, |q| beam.contains_s1(q));
+        let Some(bt) = beam.bounding_triangle_of(&bounds, tri, inside) else { continue };
         let neighbour = tri.v.iter().any(|v| beam.base().contains(v));
         tex.triangles_after_culling += 1;
         let m = bt.lower - Vec3::splat(slack);
@@ -188,8 +222,17 @@ pub trait TexelBeam {
     fn s1_or_sn_bounds(&self) -> BeamBounds;
     /// A cone containing every ray (App. A).
     fn culling_cone(&self, bounds: &BeamBounds) -> Cone;
-    /// Bounding triangle of `tri` on the base (Algs. 3–4, eq. 5 for bump beams).
-    fn bounding_triangle_of(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle>;
+    /// Bounding triangle of `tri` on the base (Algs. 3–4, eq. 5 for bump beams), its vertices
+    /// classified by `inside` (as [`Self::contains_s1`]).
+    fn bounding_triangle_of(
+        &self,
+        bounds: &BeamBounds,
+        tri: &Triangle,
+        inside: &mut dyn FnMut(Vec3) -> bool,
+    ) -> Option<BoundingTriangle>;
+    /// True when `q` lies in the S1 beam through the boundary rays (the classification of Algs.
+    /// 3–4's brute-force case).
+    fn contains_s1(&self, q: Vec3) -> bool;
     /// The ray at barycentric point `w` of the base.
     fn texel_ray(&self, w: Vec3) -> Ray;
     /// Base vertices.
@@ -207,8 +250,16 @@ impl<L: Interpolant> TexelBeam for NonlinearBeam<L> {
     fn culling_cone(&self, bounds: &BeamBounds) -> Cone {
         self.bounding_cone(&bounds.extremal, 0.0)
     }
-    fn bounding_triangle_of(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {
-        self.bounding_triangle(bounds, tri)
+    fn bounding_triangle_of(
+        &self,
+        bounds: &BeamBounds,
+        tri: &Triangle,
+        inside: &mut dyn FnMut(Vec3) -> bool,
+    ) -> Option<BoundingTriangle> {
+        self.bounding_triangle_with(bounds, tri, inside)
+    }
+    fn contains_s1(&self, q: Vec3) -> bool {
+        NonlinearBeam::contains_s1(self, q)
     }
     fn texel_ray(&self, w: Vec3) -> Ray {
         self.ray_at(w)
@@ -241,8 +292,16 @@ impl TexelBeam for BumpedBeam {
     fn culling_cone(&self, _: &BeamBounds) -> Cone {
         self.beam.bounding_cone()
     }
-    fn bounding_triangle_of(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {
-        self.beam.bounding_triangle(bounds, tri)
+    fn bounding_triangle_of(
+        &self,
+        bounds: &BeamBounds,
+        tri: &Triangle,
+        inside: &mut dyn FnMut(Vec3) -> bool,
+    ) -> Option<BoundingTriangle> {
+        self.beam.bounding_triangle_with(bounds, tri, inside)
+    }
+    fn contains_s1(&self, q: Vec3) -> bool {
+        self.beam.beam.contains_s1(q)
     }
     fn texel_ray(&self, w: Vec3) -> Ray {
         let base = Triangle { v: self.beam.beam.base };

@@ -132,11 +132,23 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// needs; otherwise it falls back to the general case.
     #[must_use]
     pub fn bounding_triangle(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {
+        self.bounding_triangle_with(bounds, tri, |q| self.contains_s1(q))
+    }
+
+    /// [`Self::bounding_triangle`] with the vertices classified by `inside`, which must answer as
+    /// [`Self::contains_s1`] does (a memo of it, for triangles that share vertices).
+    #[must_use]
+    pub fn bounding_triangle_with(
+        &self,
+        bounds: &BeamBounds,
+        tri: &Triangle,
+        mut inside: impl FnMut(Vec3) -> bool,
+    ) -> Option<BoundingTriangle> {
         if self.is_behind(bounds, tri) {
             return None;
         }
-        let inside = tri.v.map(|q| self.contains_s1(q));
-        if inside[0] != inside[1] || inside[1] != inside[2] {
+        let first = inside(tri.v[0]);
+        if inside(tri.v[1]) != first || inside(tri.v[2]) != first {
             return Some(BoundingTriangle::BASE);
         }
         if !bounds.threshold.is_below(tri) {

@@ -62,7 +62,19 @@ impl BumpBeam {
     /// the whole base is returned. `None` when the triangle lies behind the base.
     #[must_use]
     pub fn bounding_triangle(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {
-        let s1 = self.beam.bounding_triangle(bounds, tri)?;
+        self.bounding_triangle_with(bounds, tri, |q| self.beam.contains_s1(q))
+    }
+
+    /// [`Self::bounding_triangle`] with the vertices classified by `inside`, which must answer as
+    /// the S1 beam's [`NonlinearBeam::contains_s1`] does.
+    #[must_use]
+    pub fn bounding_triangle_with(
+        &self,
+        bounds: &BeamBounds,
+        tri: &Triangle,
+        inside: impl FnMut(Vec3) -> bool,
+    ) -> Option<BoundingTriangle> {
+        let s1 = self.beam.bounding_triangle_with(bounds, tri, inside)?;
         if s1 == BoundingTriangle::BASE {
             return Some(s1);
         }
