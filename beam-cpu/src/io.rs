@@ -315,6 +315,18 @@ mod tests {
         std::fs::write(path.join("inside"), b"x").unwrap();
     }
 
+    /// `write_atomic_all` of new `stats` and `out`, where `out` becomes a directory after it was
+    /// checked, before its rename: the error.
+    fn write_pair_blocking_second(stats: &Path, out: &Path) -> String {
+        let blocked = out.to_path_buf();
+        write_with_hook(&[(stats, b"new stats"), (out, b"new image")], move |i| {
+            if i == 1 {
+                block(&blocked);
+            }
+        })
+        .unwrap_err()
+    }
+
     #[test]
     fn a_failed_second_rename_puts_the_first_back() {
         let dir = tempfile::tempdir().unwrap();
@@ -326,14 +338,7 @@ mod tests {
         let inode = |p: &Path| std::os::unix::fs::MetadataExt::ino(&std::fs::metadata(p).unwrap());
         #[cfg(unix)]
         let stats_inode = inode(&stats);
-        // The second target becomes a directory after it was checked, before its rename.
-        let blocked = out.clone();
-        let err = write_with_hook(&[(&stats, b"new stats"), (&out, b"new image")], move |i| {
-            if i == 1 {
-                block(&blocked);
-            }
-        })
-        .unwrap_err();
+        let err = write_pair_blocking_second(&stats, &out);
         assert!(err.contains("o.png") && err.contains("put back as they were"), "{err}");
         assert!(!err.contains(TEMP_MARKER), "{err}");
         assert_eq!(std::fs::read(&stats).unwrap(), b"old stats");
@@ -344,13 +349,7 @@ mod tests {
         std::fs::remove_dir_all(&out).unwrap();
         std::fs::remove_file(&stats).unwrap();
         std::fs::write(&out, b"old image").unwrap();
-        let blocked = out.clone();
-        let err = write_with_hook(&[(&stats, b"new stats"), (&out, b"new image")], move |i| {
-            if i == 1 {
-                block(&blocked);
-            }
-        })
-        .unwrap_err();
+        let err = write_pair_blocking_second(&stats, &out);
         assert!(err.contains("put back"), "{err}");
         assert!(!stats.exists());
         assert_eq!(temporaries(dir.path()), Vec::<std::ffi::OsString>::new());

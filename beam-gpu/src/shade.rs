@@ -338,7 +338,7 @@ impl PointShader {
                 pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
             }
             let left = read_back(gpu, encoder, &state, 4)?;
-            if u32::from_le_bytes([left[0], left[1], left[2], left[3]]) == 0 {
+            if bytemuck::pod_read_unaligned::<u32>(&left[..4]) == 0 {
                 break;
             }
         }

@@ -42,11 +42,17 @@ pub struct Emitter {
 }
 
 impl Emitter {
+    /// True for a point light (isotropic), false for a stratum of an area light.
+    #[must_use]
+    pub fn is_point(&self) -> bool {
+        self.normal == Vec3::ZERO
+    }
+
     /// Fraction of [`Self::intensity`] emitted towards unit direction `d` (leaving the emitter):
     /// 1 for a point light, `max(0, n·d)` for an area light's stratum (Lambertian emission).
     #[must_use]
     pub fn falloff(&self, d: Vec3) -> f32 {
-        if self.normal == Vec3::ZERO { 1.0 } else { self.normal.dot(d).max(0.0) }
+        if self.is_point() { 1.0 } else { self.normal.dot(d).max(0.0) }
     }
 
     /// Radiant intensity towards unit direction `d`.

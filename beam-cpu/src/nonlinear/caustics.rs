@@ -117,12 +117,12 @@ pub fn caustics_by_beams(
     let start = std::time::Instant::now();
     let Some((smesh, empty)) = setup(scene) else { return Ok(None) };
     let strata = strata.min(MAX_CAUSTIC_STRATA);
-    let size = |e: &Emitter| if e.normal == Vec3::ZERO { texels } else { (texels / strata).max(*TEXELS.start()) };
+    let size = |e: &Emitter| if e.is_point() { texels } else { (texels / strata).max(*TEXELS.start()) };
     let eps = shading_eps(scene);
     // Per emitter and face it lights: its reflection and refraction beams.
     let emitters = stratified(scene, strata.max(1)).into_iter();
     let faces: Vec<LitFace<'_>> = emitters
-        .filter(|e| strata > 0 || e.normal == Vec3::ZERO)
+        .filter(|e| strata > 0 || e.is_point())
         .flat_map(|e| smesh.faces.iter().map(move |f| (e, f)))
         .filter(|(e, f)| !behind(e, f))
         .filter_map(|(e, f)| {
@@ -241,9 +241,10 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
             let falloff = if behind(&e, f) { 0.0 } else { e.falloff(to.normalize_or_zero()).max(1e-3) };
             scene.normal(f.prim).dot(to).abs() / to.length().powi(3) * f.area() * falloff
         };
-        let total: f32 = smesh.faces.iter().map(share).sum();
-        for (i, f) in smesh.faces.iter().enumerate() {
-            let m = (photons as f64 * f64::from(share(f) / total.max(f32::MIN_POSITIVE))).ceil() as u64;
+        let shares: Vec<f32> = smesh.faces.iter().map(share).collect();
+        let total: f32 = shares.iter().sum();
+        for (i, (f, share)) in smesh.faces.iter().zip(shares).enumerate() {
+            let m = (photons as f64 * f64::from(share / total.max(f32::MIN_POSITIVE))).ceil() as u64;
             let salt = (i as u64 + (li as u64) * smesh.faces.len() as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
             jobs.push((light, e, f, m, seed ^ salt));
         }
