@@ -288,6 +288,6 @@ fn fuzz_cli_arguments() {
     }
     for e in std::fs::read_dir(dir.path()).unwrap() {
         let name = e.unwrap().file_name();
-        assert!(!name.to_string_lossy().contains(beam_cpu::io::TEMP_MARKER), "left behind: {name:?}");
+        assert!(!name.to_string_lossy().contains(beam_scene::io::TEMP_MARKER), "left behind: {name:?}");
     }
 }

@@ -1,9 +1,9 @@
 //! Output paths of `beam render` and `beam compare`, checked before any work and written together
-//! (the policy itself is [`beam_cpu::io`]'s: regular files only, atomic, modes kept), and the
+//! (the policy itself is [`beam_scene::io`]'s: regular files only, atomic, modes kept), and the
 //! signal handling that removes the temporaries of an interrupted write.
 
-use beam_cpu::io::{check_output, encode_png, same_file, write_atomic_all};
 use beam_cpu::render::Image;
+use beam_scene::io::{check_output, encode_png, same_file, write_atomic_all};
 use std::path::Path;
 
 /// Refuse an image path whose extension is not `.png` (any case): only PNG is written.
@@ -72,7 +72,7 @@ static STOPPED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::n
 static HANDLED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 /// Stop cleanly on `SIGINT`, `SIGTERM` and `SIGHUP`: a thread waits for one, removes the
-/// temporaries of outputs being written ([`beam_cpu::io::remove_temporaries`], which waits for a
+/// temporaries of outputs being written ([`beam_scene::io::remove_temporaries`], which waits for a
 /// group of renames in progress to finish or be undone), and exits with status 128 + the signal's
 /// number (130 for Ctrl-C), also when the work ended meanwhile ([`wait_if_stopped`]). A second
 /// signal changes nothing: the handlers stay installed until the exit. `SIGKILL` cannot be caught.
@@ -94,7 +94,7 @@ pub fn stop_cleanly_on_signals() {
     };
     let waiter = std::thread::Builder::new().name("signals".into()).spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            let removed = beam_cpu::io::remove_temporaries();
+            let removed = beam_scene::io::remove_temporaries();
             let name = signal_hook::low_level::signal_name(signal).unwrap_or("a signal");
             let what = if removed > 0 { "; the unfinished outputs were removed" } else { "" };
             eprintln!("\nbeam: stopped by {name}{what}");

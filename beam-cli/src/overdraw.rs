@@ -1,7 +1,7 @@
 //! `beam overdraw`: 000 Fig. 7 as a plot and a CSV table.
 
-use beam_cpu::io::write_atomic;
 use beam_cpu::overdraw::{OverdrawRow, Sweep, sweep, to_csv};
+use beam_scene::io::write_atomic;
 use plotters::prelude::*;
 use std::path::Path;
 use std::process::ExitCode;

@@ -5,8 +5,8 @@
 use crate::render::RenderArgs;
 use beam_cpu::nonlinear::Degree;
 use beam_cpu::render::{Method, RenderOptions, Shading};
-use beam_cpu::scene::{self, Scene};
 use beam_math::glossy::VolumeMethod;
+use beam_scene::scene::{self, Scene};
 
 /// Largest image side, and largest pixel count.
 pub const MAX_SIDE: u32 = 16384;

@@ -1,6 +1,6 @@
 //! What the benchmark plots share: a PNG canvas and labelled lines with dots and a legend.
 
-use beam_cpu::io::write_png;
+use beam_scene::io::write_png;
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::Ranged;
 use plotters::prelude::*;

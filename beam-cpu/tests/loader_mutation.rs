@@ -2,7 +2,7 @@
 //! the shared scenes' OBJ files (their first 400 lines) and of a scene file must each load or fail
 //! with an error that names the file, and never panic.
 
-use beam_cpu::scene;
+use beam_scene::scene;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -51,7 +51,7 @@ fn mutate(rng: &mut Pcg64, text: &str) -> String {
 #[test]
 fn mutated_inputs_never_panic() {
     let mut sources: Vec<(&str, String)> = Vec::new();
-    match beam_cpu::scenes::shared_meshes() {
+    match beam_scene::scenes::shared_meshes() {
         Ok(paths) => {
             for p in paths {
                 let text = std::fs::read_to_string(&p).unwrap();

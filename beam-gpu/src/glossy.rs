@@ -9,9 +9,9 @@ use crate::raytrace::RayTracer;
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::glossy::{BoundingCone, Gathered, GlossyOptions, LightVolumes};
 use beam_cpu::render::shading_eps;
-use beam_cpu::scene::Scene;
 use beam_math::glam::Vec3;
 use beam_math::glossy::VolumeMethod;
+use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 
 /// A light beam.

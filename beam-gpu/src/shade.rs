@@ -10,9 +10,9 @@ use crate::buffers::{checked, compute_pipeline, output, read_back, storage, unif
 use crate::raytrace::RayTracer;
 use beam_cpu::nonlinear::ShadePoint;
 use beam_cpu::render::{DEPTH_EPS, IrradianceMap, shading_eps};
-use beam_cpu::scene::{Light, Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::scene::{Light, Material, Scene};
 use bytemuck::{Pod, Zeroable};
 
 /// A point to shade.

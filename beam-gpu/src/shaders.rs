@@ -137,7 +137,7 @@ pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, Strin
         for (file, bytes) in files {
             // Through beam-cpu's writer: hidden, unique temporaries that a signal removes.
             let path = out.join(file);
-            beam_cpu::io::write_atomic(&path, &bytes)?;
+            beam_scene::io::write_atomic(&path, &bytes)?;
             written.push(path);
         }
     }

@@ -6,10 +6,10 @@
 
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::ShadePoint;
-use beam_cpu::scene::{self, Scene};
 use beam_gpu::Gpu;
 use beam_gpu::raytrace::RayTracer;
 use beam_gpu::shade::{PointShader, shade_twin};
+use beam_scene::scene::{self, Scene};
 
 fn adapter() -> Option<Gpu> {
     Gpu::new().map_err(|e| eprintln!("skipped: {e}")).ok()
@@ -73,7 +73,7 @@ fn shading_with_many_shadow_rays_equals_the_twin() {
 #[test]
 fn shading_of_a_real_scene_with_many_shadow_rays_equals_the_twin() {
     let Some(gpu) = adapter() else { return };
-    let path = match beam_cpu::scenes::scenes_dir() {
+    let path = match beam_scene::scenes::scenes_dir() {
         Ok(dir) => dir.join("sibenik/sibenik.obj"),
         Err(e) => return eprintln!("skipped: {e}"),
     };

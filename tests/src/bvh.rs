@@ -4,10 +4,10 @@
 use crate::generate::{self, Rng64, uniform};
 use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::{BuildOptions, FlatBvh, Hit, RayDistribution, WideBvh};
-use beam_cpu::mesh::{self, Mesh};
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
 use beam_math::{Aabb, Ray, Triangle};
+use beam_scene::mesh::{self, Mesh};
 use rayon::prelude::*;
 
 const BVH: &[Backend] = &[Backend::Bvh];
@@ -61,7 +61,7 @@ pub fn procedural_case() -> Case {
 /// The procedural case and every shared mesh; the second value says why shared meshes are missing.
 pub fn cases() -> Result<(Vec<Case>, Option<String>), String> {
     let mut out = vec![procedural_case()];
-    match beam_cpu::scenes::shared_meshes() {
+    match beam_scene::scenes::shared_meshes() {
         Ok(paths) => {
             for p in paths {
                 let m: Mesh = mesh::load_obj(&p)?;
@@ -91,12 +91,12 @@ pub struct RaySet {
     pub eye: Vec3,
 }
 
-/// The scene light (centre and edges): [`beam_cpu::scene::Light::under_ceiling`] of a third of the
+/// The scene light (centre and edges): [`beam_scene::scene::Light::under_ceiling`] of a third of the
 /// box's width.
 #[must_use]
 pub fn scene_light(bounds: Aabb) -> (Vec3, Vec3, Vec3) {
-    match beam_cpu::scene::Light::under_ceiling(bounds, 0.33, Vec3::ONE) {
-        beam_cpu::scene::Light::Quad { corner, edge_u, edge_v, .. } => {
+    match beam_scene::scene::Light::under_ceiling(bounds, 0.33, Vec3::ONE) {
+        beam_scene::scene::Light::Quad { corner, edge_u, edge_v, .. } => {
             (corner + 0.5 * (edge_u + edge_v), edge_u, edge_v)
         }
         _ => unreachable!("under_ceiling is a quad"),

@@ -6,9 +6,9 @@ use crate::generate::{self, uniform};
 use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
 use beam_cpu::render::{BeamStats, DEPTH_EPS, Method, RenderOptions, Shading, difference, render, visible_light};
-use beam_cpu::scene;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
+use beam_scene::scene;
 use rand::Rng;
 use rayon::prelude::*;
 
@@ -233,8 +233,8 @@ fn images_agree(name: &str, primary_spp: u32) -> Result<Outcome, String> {
 /// inside, 160×120 and 512×384) every piece sees a triangle; in the Cornell box (open at the front)
 /// pieces and background together sum to one.
 pub fn primary_coverage_sums_to_one(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::mesh;
-    use beam_cpu::scene::{Camera, Material, Scene};
+    use beam_scene::mesh;
+    use beam_scene::scene::{Camera, Material, Scene};
     let mut room = mesh::cuboid(Vec3::splat(-5.0), Vec3::splat(5.0));
     room.append(&mesh::sphere(Vec3::new(0.5, -1.0, -1.0), 1.5, 16, 32));
     room.append(&mesh::cuboid(Vec3::new(-3.0, -5.0, -3.0), Vec3::new(-1.5, -2.0, -1.5)));

@@ -8,10 +8,10 @@ use beam_cpu::glossy::{
     render_glossy_photons,
 };
 use beam_cpu::render::difference;
-use beam_cpu::scene::{self, Scene};
 use beam_math::Ray;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::glossy::VolumeMethod;
+use beam_scene::scene::{self, Scene};
 use rand::Rng;
 
 const CPU: &[Backend] = &[Backend::Cpu];

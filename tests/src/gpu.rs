@@ -11,13 +11,13 @@ use beam_cpu::nonlinear::{
     render_nonlinear_with,
 };
 use beam_cpu::render::RenderOptions;
-use beam_cpu::scene::{self, Bump};
 use beam_gpu::Gpu;
 use beam_gpu::nonlinear::{GpuBeams, NonlinearCheck};
 use beam_gpu::raytrace::{GpuHit, GpuRay, RayTracer};
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::{BoundingCase, BumpBeam};
 use beam_math::{Ray, Triangle};
+use beam_scene::scene::{self, Bump};
 use rand::Rng;
 use std::sync::Mutex;
 

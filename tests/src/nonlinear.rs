@@ -3,10 +3,10 @@
 
 use crate::{Backend, Config, Outcome, Property};
 use beam_cpu::render::{RenderOptions, difference};
-use beam_cpu::scene;
 use beam_math::Ray;
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
+use beam_scene::scene;
 use rayon::prelude::*;
 
 const CPU: &[Backend] = &[Backend::Cpu];
@@ -220,7 +220,7 @@ pub fn nonlinear_images_vs_reference(_: Backend, _: &Config) -> Result<Outcome, 
 pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::nonlinear::{CAUSTIC_STRATA, Degree, NonlinearOptions, render_nonlinear, render_smooth_reference};
     use beam_cpu::render::srgb_encode;
-    use beam_cpu::scene::Material;
+    use beam_scene::scene::Material;
     let size = 256;
     let shading = RenderOptions::exact(size, size);
     let (coarse, fine) = (scene::builtin("mirror-glass-coarse")?, scene::builtin("mirror-glass")?);

@@ -2,9 +2,9 @@
 //! defect: unbounded reads and hangs, silent wrong scenes, misleading messages, paths outside the
 //! scene's folder, degenerate geometry. Cases that hung before run under a time limit.
 
-use beam_cpu::mesh;
-use beam_cpu::read::{self, QUOTE_CHARS};
-use beam_cpu::scene::{self, LoadOptions, Scene};
+use beam_scene::mesh;
+use beam_scene::read::{self, QUOTE_CHARS};
+use beam_scene::scene::{self, LoadOptions, Scene};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;

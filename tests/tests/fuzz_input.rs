@@ -4,8 +4,8 @@
 //! with a short error naming the file; none may panic, and each must finish within a time limit
 //! (a watchdog fails the test on a hang). Counts are printed; `BEAM_FUZZ_SHOW=1` prints every error.
 
-use beam_cpu::mesh;
-use beam_cpu::scene::{self, LoadOptions};
+use beam_scene::mesh;
+use beam_scene::scene::{self, LoadOptions};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -240,7 +240,7 @@ const SCENES: [&str; 2] = [
 
 /// Up to 300 vertices and the faces among them of each shared scene mesh, as extra OBJ seeds.
 fn shared_seeds() -> Vec<String> {
-    let Ok(paths) = beam_cpu::scenes::shared_meshes() else { return Vec::new() };
+    let Ok(paths) = beam_scene::scenes::shared_meshes() else { return Vec::new() };
     let mut seeds = Vec::new();
     for p in paths {
         let Ok(text) = std::fs::read_to_string(&p) else { continue };

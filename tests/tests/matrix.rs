@@ -12,11 +12,11 @@ use beam_cpu::nonlinear::{
     BeamRenderer, CpuBeams, Degree, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
 };
 use beam_cpu::render::{Image, Method, RenderOptions, render};
-use beam_cpu::scene::{self, BUILTIN, Scene};
 use beam_gpu::Gpu;
 use beam_gpu::glossy::GpuGather;
 use beam_gpu::nonlinear::GpuBeams;
 use beam_math::glam::Vec3;
+use beam_scene::scene::{self, BUILTIN, Scene};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;
 

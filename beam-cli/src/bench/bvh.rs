@@ -5,9 +5,9 @@ use super::{Tracer, peers};
 use beam_bvh::{BuildOptions, FlatBvh, RayDistribution, TraversalStats, WideBvh};
 use beam_conformance::bvh::scene_light;
 use beam_conformance::generate::{self, uniform};
-use beam_cpu::scene::Camera;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
+use beam_scene::scene::Camera;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
@@ -173,7 +173,7 @@ fn disagreements(t: &dyn Tracer, reference: &dyn Tracer, rays: &Rays) -> usize {
 
 /// Run the benchmark on the OBJ at `scene`, print the table and optionally write JSON.
 pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String> {
-    let mesh = beam_cpu::mesh::load_obj(scene)?;
+    let mesh = beam_scene::mesh::load_obj(scene)?;
     let all = mesh.triangles();
     // Peers get the same triangles our builders keep: degenerate ones removed.
     let tris: Vec<Triangle> = all.iter().copied().filter(|t| t.is_valid()).collect();
@@ -257,7 +257,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
     print_pah(&ours, &wides, &rays);
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?;
-        beam_cpu::io::write_atomic(path, text.as_bytes())?;
+        beam_scene::io::write_atomic(path, text.as_bytes())?;
         println!("wrote {}", path.display());
     }
     Ok(())

@@ -10,7 +10,7 @@ use beam_cpu::glossy::{
     GlossyOptions, LightVolumes, glossy_photons, photon_texel, render_glossy, render_glossy_photons,
 };
 use beam_cpu::render::{Image, difference};
-use beam_cpu::scene;
+use beam_scene::scene;
 use plotters::prelude::*;
 use std::path::Path;
 use std::time::Instant;

@@ -4,9 +4,9 @@
 
 use beam_cpu::nonlinear::{CpuBeams, Degree, NonlinearOptions, render_nonlinear_with};
 use beam_cpu::render::{RenderOptions, difference};
-use beam_cpu::scene;
 use beam_gpu::Gpu;
 use beam_gpu::nonlinear::GpuBeams;
+use beam_scene::scene;
 use std::time::Instant;
 
 /// The built-in scenes of 000's figures.

@@ -2,11 +2,11 @@
 //! the mirror teapot against scene triangles, S-mesh triangles (beams) and atlas resolution, S1 and
 //! S3, beside the ray-traced reference measured in the same run.
 
-use beam_cpu::io::write_atomic;
 use beam_cpu::nonlinear::{Degree, NonlinearOptions, render_nonlinear, render_smooth_reference};
 use beam_cpu::render::RenderOptions;
-use beam_cpu::scene::Material;
-use beam_cpu::scene::showcase::mirror_teapot;
+use beam_scene::io::write_atomic;
+use beam_scene::scene::Material;
+use beam_scene::scene::showcase::mirror_teapot;
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;

@@ -6,9 +6,9 @@
 //! time to the eye beams'.
 
 use beam_cpu::render::{Image, difference, primary_image};
-use beam_cpu::scene::{self, Camera, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::scene::{self, Camera, Scene};
 use rand::SeedableRng;
 use rand_pcg::Pcg32;
 use rayon::prelude::*;
@@ -45,7 +45,7 @@ pub fn load(arg: &str) -> Result<Option<Loaded>, String> {
         _ => None,
     };
     let path = match shared {
-        Some(rel) => match beam_cpu::scenes::scenes_dir().map(|d| d.join(rel)) {
+        Some(rel) => match beam_scene::scenes::scenes_dir().map(|d| d.join(rel)) {
             Ok(p) if p.is_file() => p.display().to_string(),
             Ok(p) => return skip(arg, &format!("{} not found", p.display())),
             Err(e) => return skip(arg, &e),

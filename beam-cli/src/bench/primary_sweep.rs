@@ -5,10 +5,10 @@
 //! on the same flat-shaded image.
 
 use super::primary::{Loaded, camera, flat, load, ours, ray_image};
-use beam_cpu::io::write_atomic;
 use beam_cpu::render::{difference, primary_image};
-use beam_cpu::scene::Camera;
 use beam_math::glam::Vec3;
+use beam_scene::io::write_atomic;
+use beam_scene::scene::Camera;
 use plotters::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;

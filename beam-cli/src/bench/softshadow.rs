@@ -3,8 +3,8 @@
 //! reference, as 001 §5.1 compares them.
 
 use beam_cpu::render::{Image, Method, RenderOptions, Shading, difference, render, side_by_side};
-use beam_cpu::scene::{self, Camera, Light};
 use beam_math::glam::Vec3;
+use beam_scene::scene::{self, Camera, Light};
 use std::path::Path;
 
 /// Refuse sizes and counts the benchmark cannot use: `size` 1 to 16384, at least 1 reference ray,

@@ -8,10 +8,10 @@
 
 use super::emitters::{Emitter, emitters};
 use crate::render::{DEPTH_EPS, dielectric, reflect, shading_eps};
-use crate::scene::{Material, Scene};
 use beam_math::glam::Vec3;
 use beam_math::glossy::{LightBeam, solid_angle};
 use beam_math::{Ray, Triangle};
+use beam_scene::scene::{Material, Scene};
 use rayon::prelude::*;
 
 /// How a scatterer turns the light (002 §1.2: specular micro-facet materials).

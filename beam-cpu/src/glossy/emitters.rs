@@ -10,9 +10,9 @@
 //! instead, the ground truth those bands converge to as `k` grows.
 
 use crate::render::{DEPTH_EPS, shading_eps};
-use crate::scene::{Light, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::scene::{Light, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 

@@ -16,8 +16,8 @@
 use super::gather::{LightVolumes, Occluded, blocked};
 use super::photons::PhotonMaps;
 use crate::render::{IrradianceMap, shading_eps};
-use crate::scene::Scene;
 use beam_math::glam::{Vec2, Vec3};
+use beam_scene::scene::Scene;
 use rayon::prelude::*;
 
 /// Cells per side of a block: the unit of parallel work and of the cone-hierarchy query.

@@ -10,10 +10,10 @@
 use super::beams::{Scatter, scatterings};
 use super::emitters::{area_point, whole};
 use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, reflect, shading_eps};
-use crate::scene::{Light, Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::glossy::solid_angle;
+use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use rayon::prelude::*;

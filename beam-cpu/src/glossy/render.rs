@@ -13,10 +13,10 @@ use super::kernel::PhotonKernel;
 use super::photons::{PhotonMaps, glossy_photons};
 use crate::nonlinear::{BeamRenderer, CpuBeams, Shade, ShadePoint, shade_by_waves};
 use crate::render::{DEPTH_EPS, Image, shading_eps};
-use crate::scene::{Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::glossy::VolumeMethod;
+use beam_scene::scene::{Material, Scene};
 use rayon::prelude::*;
 use std::time::Instant;
 

@@ -6,14 +6,14 @@
 //! [`RAY_CACHE_SIZE`] texels a side): the same rays, evaluated once instead of once per covering
 //! triangle.
 
-use crate::scene::Bump;
-use crate::scene::Scene;
 use beam_bvh::{Control, NodeVisitor};
 use beam_math::collide::{Cone, WatertightRay, cone_sphere};
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::{BeamBounds, BoundingTriangle, BumpBeam};
 use beam_math::nonlinear::{Interpolant, NonlinearBeam};
 use beam_math::{Aabb, Ray, Triangle};
+use beam_scene::scene::Bump;
+use beam_scene::scene::Scene;
 
 /// What a texel's ray hits.
 #[derive(Clone, Copy, Debug, PartialEq)]

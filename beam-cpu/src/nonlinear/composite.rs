@@ -7,8 +7,8 @@
 use super::smesh::SMesh;
 use super::trace::{BeamRenderer, ShadePoint};
 use crate::render::{IrradianceMap, RenderOptions, dielectric};
-use crate::scene::{Material, Scene};
 use beam_math::glam::Vec3;
+use beam_scene::scene::{Material, Scene};
 use rayon::prelude::*;
 
 /// The child beams a texel on a specular S-mesh face is textured from.

@@ -5,9 +5,9 @@
 use super::caustics::caustics_by_photons;
 use super::trace::{BeamRenderer, CpuBeams, ShadePoint};
 use crate::render::{Image, MAX_DEPTH, RenderOptions, shade_point, shading_eps, specular_rays};
-use crate::scene::Scene;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::scene::Scene;
 use rayon::prelude::*;
 
 /// A path of the Whitted reference: its pixel, its next ray and its weight.

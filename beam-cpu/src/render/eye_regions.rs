@@ -8,9 +8,9 @@ use super::hard_shadow::lit_pieces;
 use super::image::Image;
 use super::primary_beam::{point_on_piece, visible_surface};
 use super::shadow_beam::BeamStats;
-use crate::scene::{Camera, Light, Material, Scene};
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::BeamFrame;
+use beam_scene::scene::{Camera, Light, Material, Scene};
 
 /// Tiles of the shading (and of primary rays), in pixels.
 pub const TILE: u32 = 16;

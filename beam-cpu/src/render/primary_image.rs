@@ -5,8 +5,8 @@
 use super::eye_regions::{EyeStats, Fragment, Region, region_fragments, regions};
 use super::image::Image;
 use super::shadow_beam::BeamStats;
-use crate::scene::{Camera, Scene};
 use beam_math::glam::Vec3;
+use beam_scene::scene::{Camera, Scene};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -109,7 +109,7 @@ pub fn primary_image(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::builtin;
+    use beam_scene::scene::builtin;
 
     /// On the closed Cornell box every pixel is covered exactly once, and with a constant shade the
     /// image is that constant up to the coverage error; every triangle facing the camera is seen.

@@ -7,9 +7,9 @@
 
 use super::packet::Packet;
 use super::shaft::{MAX_CANDIDATES, Shaft, gather};
-use crate::scene::{Light, Scene};
 use beam_math::Aabb;
 use beam_math::glam::Vec3;
+use beam_scene::scene::{Light, Scene};
 
 /// Blocks per tile side (a tile of [`super::TILE`]² pixels has blocks of `TILE / BLOCKS` pixels a side).
 pub(crate) const BLOCKS: usize = 4;

@@ -22,9 +22,9 @@ use beam_cpu::nonlinear::{
     shade_by_waves,
 };
 use beam_cpu::render::{IrradianceMap, RenderOptions, Shading, shade_point};
-use beam_cpu::scene::Scene;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 use std::cell::Cell;

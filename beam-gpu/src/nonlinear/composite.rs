@@ -11,8 +11,8 @@ use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
 use beam_cpu::nonlinear::{LevelRadiance, SMesh, ShadePoint};
 use beam_cpu::render::IrradianceMap;
-use beam_cpu::scene::{Material, Scene};
 use beam_math::glam::Vec3;
+use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
 
 /// An S-mesh face for the composite.

@@ -5,8 +5,8 @@
 use super::{Context, Counters, Lights, Surface, Thread};
 use crate::render::eye_regions::{EyeStats, Fragment, Region, TILE, region_fragments};
 use crate::render::renderer::stratified;
-use crate::scene::Camera;
 use beam_math::glam::Vec3;
+use beam_scene::scene::Camera;
 use rand::SeedableRng;
 use rand_pcg::Pcg32;
 use std::time::Instant;
