@@ -576,7 +576,8 @@ pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, S
 /// The GPU gather against the CPU's on an area-light scene (`mirror-glass-coarse`: its area light
 /// as 4 × 4 stratified point emitters, so many beams and shadow beams): at 2,000 random receiver
 /// points the same beams tested, the same shadow masks and irradiance within 1e-3 relative (+1e-5
-/// of the largest); at most 0.2% of the points may differ. The same points gathered in two
+/// of the largest); at most 0.2% of the points may differ, at most 1% of the tree walks (f32
+/// boundaries) and 0.1% of the beams tested. The same points gathered in two
 /// interleaved halves must give every point the same result as the whole batch (an invocation
 /// depends on its own point only).
 pub fn gpu_glossy_gather_area_lights_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
@@ -618,7 +619,13 @@ pub fn gpu_glossy_gather_area_lights_equal_cpu(_: Backend, _: &Config) -> Result
         volumes.tree.nodes.len(),
         points.len()
     );
-    if differ * 500 > points.len() as u64 || walks * 500 > points.len() as u64 {
+    // The cone-tree walk compares f32 bounds; drivers round differently (NVIDIA's Vulkan driver
+    // contracts a·b + c into one FMA, lavapipe does not), so a walk may enter another node at a
+    // boundary (9 of 2,000 on an H100, none on lavapipe) and test a few more or fewer beams (40 of
+    // 1.8 million), which a correct gather must not turn into another result (`differ` above).
+    let walks_off = walks * 100 > points.len() as u64;
+    let tested_off = tested_cpu.abs_diff(tested_gpu) * 1000 > tested_cpu;
+    if differ * 500 > points.len() as u64 || walks_off || tested_off {
         return Err(summary);
     }
     // Batch independence: every other point, then the rest, against the whole batch.
