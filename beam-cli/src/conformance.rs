@@ -45,9 +45,9 @@ pub fn run(backend: Option<&str>, rays: Option<usize>, only: Option<String>) -> 
     let (mut failed, mut skipped) = (0, 0);
     for r in &reports {
         let (status, cases, detail) = match &r.result {
-            Ok(o) if o.cases == 0 && o.note.starts_with("skipped") => {
+            Ok(o) if o.skip_reason().is_some() => {
                 skipped += 1;
-                ("skip", "-".into(), o.note.clone())
+                ("SKIPPED", "-".into(), o.note.clone())
             }
             Ok(o) => ("pass", o.cases.to_string(), format!("{} ({})", o.note, r.cites)),
             Err(e) => {

@@ -2,7 +2,8 @@
 //! of Mesa's software Vulkan (llvmpipe / lavapipe, the GPU of CI): it ends every loop of a SIMD
 //! group of 8 invocations for good once all the loops of that group together have run 65,535
 //! iterations (`LP_MAX_TGSI_LOOP_ITERATIONS`; a nested loop costs its iterations + 2 per entry), and
-//! the shader goes on with wrong values, silently. Skipped, saying why, without an adapter.
+//! the shader goes on with wrong values, silently. Skipped, saying SKIPPED, without an adapter
+//! (a failure under `BEAM_REQUIRE_GPU=1`).
 
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::ShadePoint;
@@ -11,8 +12,17 @@ use beam_gpu::raytrace::RayTracer;
 use beam_gpu::shade::{PointShader, shade_twin};
 use beam_scene::scene::{self, Scene};
 
+/// The adapter, or `None` after printing SKIPPED (a failure instead under `BEAM_REQUIRE_GPU=1`).
 fn adapter() -> Option<Gpu> {
-    Gpu::new().map_err(|e| eprintln!("skipped: {e}")).ok()
+    match Gpu::new() {
+        Ok(gpu) => Some(gpu),
+        Err(e) => {
+            assert!(std::env::var("BEAM_REQUIRE_GPU").as_deref() != Ok("1"), "BEAM_REQUIRE_GPU=1 but {e}");
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "SKIPPED: {e}");
+            None
+        }
+    }
 }
 
 /// The shaded points seen through `size × size` pixels of the scene's camera.

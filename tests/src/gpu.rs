@@ -1,7 +1,7 @@
 //! GPU properties (beam-gpu on whatever adapter wgpu finds: Mesa lavapipe in CI): the WGSL
 //! nonlinear-beam functions against beam-math, the compute ray tracer against the CPU's BVH, the
 //! atlas pipeline's beam textures and the nonlinear images against the CPU renderer's. Each skips,
-//! saying why, only when no adapter exists at all.
+//! saying why, only when no adapter exists at all, and fails instead under `BEAM_REQUIRE_GPU=1`.
 
 use crate::generate::{self, BeamKind, uniform};
 use crate::{Backend, Config, Outcome, Property};
@@ -71,9 +71,14 @@ pub fn properties() -> Vec<Property> {
     ]
 }
 
-/// The adapter, or `Ok(Err(outcome))` saying why the property is skipped.
-fn adapter() -> Result<Gpu, Outcome> {
-    Gpu::new().map_err(|e| Outcome { cases: 0, note: format!("skipped: {e}") })
+/// The adapter; without one, `Ok(Err(outcome))` saying why the property is skipped, or the error
+/// itself when `BEAM_REQUIRE_GPU=1` ([`crate::gpu_required`]).
+fn adapter() -> Result<Result<Gpu, Outcome>, String> {
+    match Gpu::new() {
+        Ok(gpu) => Ok(Ok(gpu)),
+        Err(e) if crate::gpu_required() => Err(format!("BEAM_REQUIRE_GPU=1 but {e}")),
+        Err(e) => Ok(Err(Outcome::skipped(&e))),
+    }
 }
 
 /// Random beams of every kind (diverging, converging, mixed), each as S1, S3 and bump-mapped.
@@ -113,7 +118,7 @@ const TOLERANCE: f32 = 5e-3;
 /// and culls only what the CPU culls. At most 5% of these stress pairs (beams past their focus, mixed
 /// directions) may take the larger branch.
 pub fn gpu_bounding_triangles_match_math(_: Backend, _: &Config) -> Result<Outcome, String> {
-    let gpu = match adapter() {
+    let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
@@ -199,7 +204,7 @@ fn kind(beam: &Beam) -> &'static str {
 /// against beam-math's on 36,000 base points: origins within 1e-5 of the base size, unit
 /// directions within 1e-4 rad (bump tilts use the GPU's sine).
 pub fn gpu_texel_rays_match_math(_: Backend, _: &Config) -> Result<Outcome, String> {
-    let gpu = match adapter() {
+    let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
@@ -236,7 +241,7 @@ pub fn gpu_texel_rays_match_math(_: Backend, _: &Config) -> Result<Outcome, Stri
 /// scene's box, closest and any hits, on three built-ins. Rays exactly on an edge may be decided
 /// differently (the CPU refines in f64): at most 1 in 10⁴; hit distances within 1e-5 relative.
 pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, String> {
-    let gpu = match adapter() {
+    let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
@@ -295,7 +300,7 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
 /// same triangle, or another at the same distance (within 1e-4 relative: a shared edge); and at
 /// most twice the CPU's texels tested, so the bounding triangles are in use and tight. At most 0.1% of the texels may differ.
 pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
-    let gpu = match adapter() {
+    let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
@@ -358,7 +363,7 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
 /// same shading estimator (`TwinShading`), on five built-ins: at most 0.5% of the pixels differ by
 /// more than 4/255 in a channel (sRGB); the mean error is stated.
 pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
-    let gpu = match adapter() {
+    let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
@@ -408,7 +413,7 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
 pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::nonlinear::{ShadePoint, caustics_by_beams};
     use beam_gpu::shade::{PointShader, shade_twin};
-    let gpu = match adapter() {
+    let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
@@ -472,7 +477,7 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
 pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_gpu::nonlinear::GpuComposite;
     use beam_gpu::shade::PointShader;
-    let gpu = match adapter() {
+    let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
@@ -537,7 +542,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
 pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::glossy::{GlossyOptions, LightVolumes, gather_on_cpu};
     use beam_math::glossy::VolumeMethod;
-    let gpu = match adapter() {
+    let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
@@ -583,7 +588,7 @@ pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, S
 pub fn gpu_glossy_gather_area_lights_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::glossy::{GlossyOptions, LightVolumes, gather_on_cpu};
     use beam_math::glossy::VolumeMethod;
-    let gpu = match adapter() {
+    let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
     };

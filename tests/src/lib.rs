@@ -89,6 +89,31 @@ pub struct Outcome {
     pub note: String,
 }
 
+/// How a skipped run's note begins.
+const SKIPPED: &str = "skipped: ";
+
+impl Outcome {
+    /// A run that checked nothing because `reason` (no GPU adapter, say): counted as skipped, never
+    /// as passed.
+    #[must_use]
+    pub fn skipped(reason: &str) -> Self {
+        Self { cases: 0, note: format!("{SKIPPED}{reason}") }
+    }
+
+    /// Why the run was skipped, if it was.
+    #[must_use]
+    pub fn skip_reason(&self) -> Option<&str> {
+        if self.cases == 0 { self.note.strip_prefix(SKIPPED) } else { None }
+    }
+}
+
+/// Whether `BEAM_REQUIRE_GPU=1` is set (as in CI, which has lavapipe): a GPU property then fails
+/// when wgpu finds no adapter instead of being skipped.
+#[must_use]
+pub fn gpu_required() -> bool {
+    std::env::var("BEAM_REQUIRE_GPU").as_deref() == Ok("1")
+}
+
 /// A property: a name, the paper section it checks, the backends it runs on, and its body.
 pub struct Property {
     /// Unique snake-case name (also the `#[test]` name).
@@ -154,12 +179,20 @@ pub fn run_suite(backend: Option<Backend>, config: &Config, mut done: impl FnMut
     out
 }
 
-/// Run one property on one backend and panic with its counterexample if it fails (for `#[test]`).
+/// Run one property on one backend and panic with its counterexample if it fails (for `#[test]`);
+/// a skip prints `SKIPPED` on the terminal.
 pub fn check(name: &str, backend: Backend) {
     let p = properties().into_iter().find(|p| p.name == name).unwrap_or_else(|| panic!("no property named {name}"));
     assert!(p.backends.contains(&backend), "{name} does not run on {backend}");
     match (p.body)(backend, &Config::default()) {
-        Ok(o) => println!("{name} [{backend}]: {} cases, {}", o.cases, o.note),
+        Ok(o) => match o.skip_reason() {
+            // Straight to stderr, past the test harness's capture: a skip must be seen.
+            Some(reason) => {
+                use std::io::Write;
+                let _ = writeln!(std::io::stderr(), "SKIPPED {name} [{backend}]: {reason}");
+            }
+            None => println!("{name} [{backend}]: {} cases, {}", o.cases, o.note),
+        },
         Err(e) => panic!("{name} [{backend}] failed: {e}"),
     }
 }
