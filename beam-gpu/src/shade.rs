@@ -8,11 +8,12 @@
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, output, read_back, storage, uniform};
 use crate::raytrace::RayTracer;
-use beam_cpu::nonlinear::ShadePoint;
-use beam_cpu::render::{DEPTH_EPS, IrradianceMap, shading_eps};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::irradiance_map::IrradianceMap;
+use beam_scene::nonlinear::ShadePoint;
 use beam_scene::scene::{Light, Material, Scene};
+use beam_scene::tolerance::{DEPTH_EPS, shading_eps};
 use bytemuck::{Pod, Zeroable};
 
 /// A point to shade.

@@ -1,17 +1,25 @@
 //! # beam-scene
 //!
-//! What both backends render, and nothing that renders: scenes (TOML files, bare OBJ, built-ins)
+//! What both backends render and share, and nothing that renders: scenes (TOML files, bare OBJ, built-ins)
 //! with their materials, lights, camera and BVH, the meshes they are made of, bounded reads of the
 //! user's files and atomic writes of outputs. `beam-cpu` and `beam-gpu` both build on it.
 //!
 //! - [`scene`]: scenes (TOML files, bare OBJ, built-ins): materials, lights, camera, BVHs.
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
 //! - [`io`]: atomic output files; [`read`]: bounded reads of input files.
+//! - [`options`]: render settings; [`specular`]: the mirror and glass bounce; [`tolerance`]: the
+//!   offsets both backends use; [`irradiance_map`]: caustic irradiance on receiving planes.
+//! - [`nonlinear`]: the host side of the nonlinear beam tree (000) every backend shares.
 
 pub mod io;
+pub mod irradiance_map;
 pub mod mesh;
+pub mod nonlinear;
+pub mod options;
 pub mod read;
 pub mod scene;
 pub mod scenes;
+pub mod specular;
+pub mod tolerance;
 
 pub use beam_math;

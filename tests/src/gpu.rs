@@ -497,7 +497,13 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
         let shader = PointShader::new(&gpu, &scene)?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
         let rest = |points: &[beam_cpu::nonlinear::ShadePoint]| {
-            TwinShading::default().shade_points(&scene, &options.shading, caustics.as_ref(), points)
+            beam_cpu::nonlinear::shade_points(
+                &TwinShading::default(),
+                &scene,
+                &options.shading,
+                caustics.as_ref(),
+                points,
+            )
         };
         let smesh = SMesh::specular(&scene);
         let on_gpu = beam_gpu::buffers::checked(&gpu, || {
@@ -673,12 +679,12 @@ impl BeamRenderer for TwinShading {
         _options: &RenderOptions,
         caustics: Option<&beam_cpu::render::IrradianceMap>,
         points: &[beam_cpu::nonlinear::ShadePoint],
-    ) -> Result<Vec<Vec3>, String> {
+    ) -> Result<Option<Vec<Vec3>>, String> {
         use rayon::prelude::*;
         let twin = |batch: &[beam_cpu::nonlinear::ShadePoint]| {
             Ok(batch.par_iter().map(|s| beam_gpu::shade::shade_twin(scene, caustics, 64, s)).collect())
         };
-        beam_cpu::nonlinear::shade_by_waves(scene, &CpuBeams, &twin, points)
+        beam_cpu::nonlinear::shade_by_waves(scene, &CpuBeams, &twin, points).map(Some)
     }
 
     fn shade_tree(
@@ -688,8 +694,11 @@ impl BeamRenderer for TwinShading {
         options: &RenderOptions,
         caustics: Option<&beam_cpu::render::IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Vec<Vec3>, String> {
+    ) -> Result<Option<Vec<Vec3>>, String> {
         *self.0.lock().map_err(|e| e.to_string())? = (levels.to_vec(), caustics.cloned());
-        beam_cpu::nonlinear::composite_levels(self, scene, smesh, options, caustics, levels)
+        let shade = |points: &[beam_cpu::nonlinear::ShadePoint]| {
+            beam_cpu::nonlinear::shade_points(self, scene, options, caustics, points)
+        };
+        beam_cpu::nonlinear::composite_levels(scene, smesh, levels, &shade).map(Some)
     }
 }

@@ -3,15 +3,12 @@
 //! waves so that a GPU's ray tracer can find every wave's hits at once.
 
 use super::caustics::caustics_by_photons;
-use super::trace::{BeamRenderer, CpuBeams, ShadePoint};
-use crate::render::{Image, MAX_DEPTH, RenderOptions, shade_point, shading_eps, specular_rays};
-use beam_math::Ray;
+use super::trace::CpuBeams;
+use crate::render::{Image, RenderOptions, shade_point};
 use beam_math::glam::Vec3;
+use beam_scene::nonlinear::{BeamRenderer, Path, ShadePoint, trace_waves};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
-
-/// A path of the Whitted reference: its pixel, its next ray and its weight.
-type Path = (usize, Ray, Vec3);
 
 /// The ray-traced ground truth of [`super::render_nonlinear`] on the CPU (see
 /// [`render_smooth_reference_with`]).
@@ -22,7 +19,7 @@ pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions, photons: 
 }
 
 /// The ray-traced ground truth of [`super::render_nonlinear`]: one ray per pixel centre, Whitted
-/// through mirrors and glass (at most [`MAX_DEPTH`] bounces) about the interpolated normals;
+/// through mirrors and glass (at most [`MAX_DEPTH`](crate::render::MAX_DEPTH) bounces) about the interpolated normals;
 /// caustics by about `photons` photons per light ([`caustics_by_photons`]); everything else
 /// shaded alike. The rays of each bounce are traced together by `renderer`.
 pub fn render_smooth_reference_with(
@@ -45,84 +42,4 @@ pub fn render_smooth_reference_with(
     };
     trace_waves(scene, renderer, &shade, paths, 0, &mut image.pixels)?;
     Ok(image)
-}
-
-/// The radiance of every point, as [`shade_point`] would compute it, with `shade` for the
-/// diffuse, glossy and emissive ones (all of them in one batch) and mirror and glass points followed
-/// by Whitted rays traced in waves through `renderer`, the points they end on shaded by `shade` in
-/// one batch per wave.
-pub fn shade_by_waves(
-    scene: &Scene,
-    renderer: &dyn BeamRenderer,
-    shade: &Shade<'_>,
-    points: &[ShadePoint],
-) -> Result<Vec<Vec3>, String> {
-    let eps = shading_eps(scene);
-    let (mut direct, mut paths) = (Vec::new(), Vec::new());
-    for (i, s) in points.iter().enumerate() {
-        match specular_rays(scene, eps, s.prim, s.p, s.d) {
-            Some(rays) => paths.extend(rays.into_iter().flatten().map(|(r, k)| (i, r, k))),
-            None => direct.push((i, *s)),
-        }
-    }
-    let mut out = vec![Vec3::ZERO; points.len()];
-    let batch: Vec<ShadePoint> = direct.iter().map(|d| d.1).collect();
-    for ((i, _), radiance) in direct.iter().zip(shade(&batch)?) {
-        out[*i] = radiance;
-    }
-    trace_waves(scene, renderer, shade, paths, 1, &mut out)?;
-    Ok(out)
-}
-
-/// Where a path ends: its pixel, its weight and the point it hit.
-type End = (usize, Vec3, ShadePoint);
-
-/// Shades a batch of diffuse, glossy or emissive points.
-pub type Shade<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, String> + Sync + 'a;
-
-/// Trace `paths` (at bounce `first` of at most [`MAX_DEPTH`]) wave by wave: each wave's nearest hits
-/// by `renderer`, mirror and glass hits continuing as their [`specular_rays`], every other hit
-/// shaded by `shade` in one batch and added, times its path's weight, to `out[pixel]`.
-fn trace_waves(
-    scene: &Scene,
-    renderer: &dyn BeamRenderer,
-    shade: &Shade<'_>,
-    mut paths: Vec<Path>,
-    first: u32,
-    out: &mut [Vec3],
-) -> Result<(), String> {
-    let eps = shading_eps(scene);
-    for depth in first..=MAX_DEPTH {
-        if paths.is_empty() {
-            break;
-        }
-        let rays: Vec<Ray> = paths.iter().map(|p| p.1).collect();
-        let hits = renderer.closest_hits(scene, &rays)?;
-        // Per path: the paths it continues as, or the point it ends on.
-        let next: Vec<(Vec<Path>, Option<End>)> = paths
-            .par_iter()
-            .zip(hits)
-            .map(|(&(px, ray, weight), hit)| {
-                let Some(hit) = hit else { return (Vec::new(), None) };
-                let (p, d) = (ray.at(hit.t), ray.direction.normalize());
-                match specular_rays(scene, eps, hit.prim, p, d) {
-                    Some(_) if depth == MAX_DEPTH => (Vec::new(), None),
-                    Some(scattered) => {
-                        (scattered.into_iter().flatten().map(|(r, k)| (px, r, weight * k)).collect(), None)
-                    }
-                    None => (Vec::new(), Some((px, weight, ShadePoint { prim: hit.prim, p, d, seed: px as u64 }))),
-                }
-            })
-            .collect();
-        let ends: Vec<ShadePoint> = next.iter().filter_map(|(_, e)| e.map(|e| e.2)).collect();
-        let mut shaded = shade(&ends)?.into_iter();
-        paths = Vec::new();
-        for (more, end) in next {
-            if let Some((px, weight, _)) = end {
-                out[px] += weight * shaded.next().unwrap_or_default();
-            }
-            paths.extend(more);
-        }
-    }
-    Ok(())
 }

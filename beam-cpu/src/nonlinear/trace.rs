@@ -11,28 +11,22 @@
 //! traced by rays. The reference (`reference.rs`) traces the same surfaces with rays about the
 //! interpolated (Phong) normals.
 
-use super::atlas::{BeamTexture, BumpedBeam, TexelBeam, render_beam};
+use super::atlas::render_beam;
 use super::caustics::{CausticStats, caustics_by_beams};
-use super::composite::{Composite, LevelRadiance, TexelRadiance, composite_levels};
-use super::smesh::{SFace, SMesh};
+use super::composite::composite_levels;
 use crate::render::{Image, IrradianceMap, RenderOptions, dielectric, reflect, shade_point};
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::{Mat3, Vec3};
-use beam_math::nonlinear::{BumpBeam, NonlinearBeam, S1, S3};
+use beam_math::nonlinear::{BumpBeam, NonlinearBeam};
+use beam_scene::nonlinear::{
+    Beam, BeamJob, BeamRenderer, BeamTexture, BumpedBeam, Composite, Degree, LevelRadiance, SFace, SMesh, ShadePoint,
+    TexelRadiance, region_size,
+};
 use beam_scene::scene::{Material, Scene};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::time::Instant;
-
-/// The S^n parameterization of the beams (000 §4).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Degree {
-    /// Linear (eq. 3): C⁰ across S-mesh edges, so reflections show kinks (000 Fig. 4).
-    S1,
-    /// Cubic over the vertex normals (eq. 6): C¹ at the S-mesh vertices.
-    S3,
-}
 
 /// Settings of the nonlinear renderer.
 #[derive(Clone, Copy, Debug)]
@@ -40,8 +34,8 @@ pub struct NonlinearOptions {
     /// Beam parameterization.
     pub degree: Degree,
     /// Most texels per side of a beam's region; each beam gets the smallest power of two that
-    /// gives its face at least [`TEXELS_PER_SAMPLE`] texels per pixel covering it, no fewer than 4
-    /// (or than this, when it is below 4). Taken within [`TEXELS`] (a value outside is clamped).
+    /// gives its face at least [`TEXELS_PER_SAMPLE`](beam_scene::nonlinear::TEXELS_PER_SAMPLE) texels per pixel covering it, no fewer than 4
+    /// (or than this, when it is below 4). Taken within [`TEXELS`](beam_scene::nonlinear::TEXELS) (a value outside is clamped).
     pub texels: u32,
     /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays.
     pub bounces: u32,
@@ -75,78 +69,6 @@ pub struct NonlinearStats {
     pub width: u32,
     /// Image height.
     pub height: u32,
-}
-
-/// Texels a beam's region gives each pixel its face covers (directly, or through the parent beams):
-/// 4, two per side, so that bilinear lookups interpolate rather than extrapolate.
-pub const TEXELS_PER_SAMPLE: u32 = 4;
-
-/// The texels per side a beam's region may have: 2 (a base's three corners and its centre) to 4096.
-pub const TEXELS: core::ops::RangeInclusive<u32> = 2..=4096;
-
-/// Texels per side of the region of a beam standing for `pixels` pixels, at most `most` (clamped
-/// to [`TEXELS`]): the smallest power of two whose `size²/2` texels over the base give
-/// [`TEXELS_PER_SAMPLE`] per pixel, and at least 4 unless `most` is smaller.
-#[must_use]
-pub fn region_size(pixels: f32, most: u32) -> u32 {
-    let most = most.clamp(*TEXELS.start(), *TEXELS.end());
-    let size = (2.0 * TEXELS_PER_SAMPLE as f32 * pixels.max(0.0)).sqrt().ceil();
-    // `as` saturates: a NaN or huge count gives 0 or u32::MAX, both clamped below.
-    (size as u32).checked_next_power_of_two().unwrap_or(most).clamp(4.min(most), most)
-}
-
-/// A nonlinear beam of either parameterization.
-#[derive(Clone, Copy, Debug)]
-pub enum Beam {
-    /// Linear (eq. 3).
-    S1(NonlinearBeam<S1>),
-    /// Cubic (eq. 6).
-    S3(NonlinearBeam<S3>),
-    /// Off a bumpy mirror: S1 rays tilted by its bump map (000 §6.3).
-    Bumped(BumpedBeam),
-}
-
-impl Beam {
-    /// The beam off face `f` with boundary directions `dirs`; `None` when degenerate.
-    fn new(degree: Degree, f: &SFace, dirs: [Vec3; 3]) -> Option<Self> {
-        match degree {
-            Degree::S1 => NonlinearBeam::s1(f.v, dirs).map(Self::S1),
-            Degree::S3 => NonlinearBeam::new(f.v, dirs, S3 { normals: f.n }).map(Self::S3),
-        }
-    }
-
-    /// The ray at barycentric point `w` of the base.
-    #[must_use]
-    pub fn ray_at(&self, w: Vec3) -> Ray {
-        self.texel_beam().texel_ray(w)
-    }
-
-    /// What [`render_beam`] needs of it.
-    #[must_use]
-    pub fn texel_beam(&self) -> &dyn TexelBeam {
-        match self {
-            Self::S1(b) => b,
-            Self::S3(b) => b,
-            Self::Bumped(b) => b,
-        }
-    }
-
-    /// The beam rendered on the CPU ([`render_beam`]).
-    #[must_use]
-    pub fn render(&self, scene: &Scene, size: u32, exclude: u32) -> BeamTexture {
-        render_beam(scene, self.texel_beam(), size, exclude)
-    }
-
-    /// Unit direction of the beam's ray through `q` (its nearest projection, 000 §5; for a bumped
-    /// beam, that of its unperturbed S1 beam).
-    fn direction_through(&self, q: Vec3) -> Option<Vec3> {
-        let p = match self {
-            Self::S1(b) => b.project_nearest(q),
-            Self::S3(b) => b.project_nearest(q),
-            Self::Bumped(b) => b.beam.beam.project_nearest(q),
-        }?;
-        self.ray_at(p.bary).direction.try_normalize()
-    }
 }
 
 /// The beams off S-mesh face `f` for light arriving along the unit directions `incoming` at its
@@ -221,76 +143,34 @@ impl Source<'_> {
     }
 }
 
-/// Renders batches of beams into their texel regions: [`CpuBeams`] (each beam by [`render_beam`],
-/// in parallel) or a GPU's per-level atlases (000 §3, in beam-gpu).
-pub trait BeamRenderer: Sync {
-    /// The textures of `jobs`, in order: nearest hits only (radiance zero), as [`render_beam`].
-    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String>;
-
-    /// The nearest hit of every ray (the eye's view; the reference's Whitted rays).
-    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String>;
-
-    /// The radiance of every point as [`shade_point`] computes it (on the CPU unless overridden).
-    fn shade_points(
-        &self,
-        scene: &Scene,
-        options: &RenderOptions,
-        caustics: Option<&IrradianceMap>,
-        points: &[ShadePoint],
-    ) -> Result<Vec<Vec3>, String> {
-        Ok(points.par_iter().map(|s| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed)).collect())
-    }
-
-    /// The radiance flow of a built tree (`levels[0]` the eye's view): the eye's pixels, as
-    /// [`composite_levels`] computes them (on the CPU unless overridden).
-    fn shade_tree(
-        &self,
-        scene: &Scene,
-        smesh: &SMesh,
-        options: &RenderOptions,
-        caustics: Option<&IrradianceMap>,
-        levels: &[LevelRadiance],
-    ) -> Result<Vec<Vec3>, String> {
-        composite_levels(self, scene, smesh, options, caustics, levels)
-    }
-}
-
-/// A point for [`shade_point`]: the radiance leaving point `p` of triangle `prim` towards `−d`
-/// (`d` unit), shadow-ray samples seeded by `seed`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShadePoint {
-    /// The scene triangle.
-    pub prim: u32,
-    /// The point.
-    pub p: Vec3,
-    /// Unit direction of the arriving ray.
-    pub d: Vec3,
-    /// Seed of its samples.
-    pub seed: u64,
-}
-
-/// One beam to render: `size × size` texels, skipping scene triangle `exclude` (its base).
-#[derive(Clone, Copy)]
-pub struct BeamJob<'a> {
-    /// The beam.
-    pub beam: &'a Beam,
-    /// Texels per side of its region.
-    pub size: u32,
-    /// The scene triangle it leaves (never hit by its own rays).
-    pub exclude: u32,
-}
-
 /// The CPU's beam renderer: [`render_beam`] per beam, in parallel; rays through the BVH.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct CpuBeams;
 
 impl BeamRenderer for CpuBeams {
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String> {
-        Ok(jobs.par_iter().map(|j| j.beam.render(scene, j.size, j.exclude)).collect())
+        Ok(jobs.par_iter().map(|j| render_beam(scene, j.beam.texel_beam(), j.size, j.exclude)).collect())
     }
 
     fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
         Ok(rays.par_iter().map(|&ray| scene.wide.closest_hit(ray, f32::INFINITY)).collect())
+    }
+}
+
+/// The radiance of every point: by `renderer` where it shades with `options`, else on the CPU by
+/// [`shade_point`].
+pub fn shade_points(
+    renderer: &dyn BeamRenderer,
+    scene: &Scene,
+    options: &RenderOptions,
+    caustics: Option<&IrradianceMap>,
+    points: &[ShadePoint],
+) -> Result<Vec<Vec3>, String> {
+    match renderer.shade_points(scene, options, caustics, points)? {
+        Some(radiance) => Ok(radiance),
+        None => {
+            Ok(points.par_iter().map(|s| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed)).collect())
+        }
     }
 }
 
@@ -532,7 +412,13 @@ pub fn render_nonlinear_with(
     };
     let flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
     let mut image = Image::new(camera.width, camera.height);
-    image.pixels = renderer.shade_tree(scene, &tree.smesh, &options.shading, tree.caustics.as_ref(), &flow)?;
+    let (shading, caustics) = (&options.shading, tree.caustics.as_ref());
+    image.pixels = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
+        Some(pixels) => pixels,
+        None => composite_levels(scene, &tree.smesh, &flow, &|points| {
+            shade_points(renderer, scene, shading, caustics, points)
+        })?,
+    };
     let all = || levels.iter().flatten();
     let beams = all().count();
     let texels_tested: u64 = all().map(|n| n.tex.texels_tested).sum();

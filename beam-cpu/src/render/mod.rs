@@ -5,7 +5,6 @@ mod coverage;
 mod eye_regions;
 mod hard_shadow;
 mod image;
-mod irradiance_map;
 mod lambert;
 mod packet;
 mod primary_beam;
@@ -13,14 +12,14 @@ mod primary_image;
 mod renderer;
 mod shadow_beam;
 mod shaft;
-mod specular;
 mod tile_shadows;
 
+pub use beam_scene::irradiance_map::IrradianceMap;
+pub use beam_scene::specular::{MAX_DEPTH, dielectric, reflect, refract, specular_rays};
 pub use compare::{Difference, difference, side_by_side};
 pub use eye_regions::{REGION, TILE, primary_coverage};
 pub use hard_shadow::lit_pieces;
 pub use image::{Image, srgb_decode, srgb_encode};
-pub use irradiance_map::IrradianceMap;
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub use primary_image::{PrimaryStats, primary_image};
@@ -29,4 +28,3 @@ pub use renderer::{
     Method, Occluder, RenderOptions, RenderStats, Shading, render, render_with, shade_point, stratified, trace_radiance,
 };
 pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};
-pub use specular::{MAX_DEPTH, dielectric, reflect, refract, specular_rays};

@@ -19,9 +19,7 @@ use beam_math::{Aabb, Triangle};
 
 mod candidates;
 
-/// Occluders are counted only strictly between the point and the light: depths (in units of the
-/// light-plane distance) within `[DEPTH_EPS, 1 − DEPTH_EPS]`.
-pub const DEPTH_EPS: f32 = 1e-4;
+pub use beam_scene::tolerance::DEPTH_EPS;
 
 /// Fuzzy tolerance of the side tests, as a fraction of the light's size (001 App. A).
 const SIDE_EPS: f32 = 1e-6;

@@ -17,13 +17,13 @@ use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::PointShader;
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
-use beam_cpu::nonlinear::{
-    BeamJob, BeamRenderer, BeamTexture, LevelRadiance, SMesh, ShadePoint, TexelHit, composite_levels, cone_candidates,
-    shade_by_waves,
-};
-use beam_cpu::render::{IrradianceMap, RenderOptions, Shading, shade_point};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::irradiance_map::IrradianceMap;
+use beam_scene::nonlinear::{
+    BeamJob, BeamRenderer, BeamTexture, LevelRadiance, SMesh, ShadePoint, TexelHit, cone_candidates, shade_by_waves,
+};
+use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
@@ -96,6 +96,24 @@ struct Placed {
 }
 
 impl<'g> GpuBeams<'g> {
+    /// Exact shading of `points` on the GPU: diffuse, glossy and emissive points by the shading
+    /// pass; mirrors and glass by Whitted rays traced on the GPU in waves, the points they end on
+    /// shaded by the same pass.
+    fn shade_exact(
+        &self,
+        scene: &Scene,
+        caustics: Option<&IrradianceMap>,
+        points: &[ShadePoint],
+    ) -> Result<Vec<Vec3>, String> {
+        let gpu_shade = |batch: &[ShadePoint]| {
+            let start = Instant::now();
+            let out = self.shader.shade(self.gpu, &self.tracer, caustics, self.light_samples, batch);
+            self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
+            out
+        };
+        shade_by_waves(scene, self, &gpu_shade, points)
+    }
+
     /// Upload `scene` and compile the pipeline; pages of up to 4096² texels (less where the adapter
     /// allows less).
     pub fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, String> {
@@ -409,20 +427,12 @@ impl BeamRenderer for GpuBeams<'_> {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         points: &[ShadePoint],
-    ) -> Result<Vec<Vec3>, String> {
-        let cpu = |s: &ShadePoint| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed);
+    ) -> Result<Option<Vec<Vec3>>, String> {
+        // The GPU's shading pass does exact shading (001 eq. 1 by shadow rays) only.
         if options.shading != Shading::Exact {
-            return Ok(points.par_iter().map(cpu).collect());
+            return Ok(None);
         }
-        // Diffuse, glossy and emissive points by the GPU shading pass; mirrors and glass by Whitted
-        // rays traced on the GPU in waves, the points they end on shaded by the same pass.
-        let gpu_shade = |batch: &[ShadePoint]| {
-            let start = Instant::now();
-            let out = self.shader.shade(self.gpu, &self.tracer, caustics, self.light_samples, batch);
-            self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
-            out
-        };
-        shade_by_waves(scene, self, &gpu_shade, points)
+        self.shade_exact(scene, caustics, points).map(Some)
     }
 
     fn shade_tree(
@@ -432,16 +442,16 @@ impl BeamRenderer for GpuBeams<'_> {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Vec<Vec3>, String> {
+    ) -> Result<Option<Vec<Vec3>>, String> {
         if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
-            return composite_levels(self, scene, smesh, options, caustics, levels);
+            return Ok(None);
         }
         let start = Instant::now();
-        // Mirror and glass points past the tree by `shade_points` (Whitted rays in waves), timed there.
+        // Mirror and glass points past the tree by `shade_exact` (Whitted rays in waves), timed there.
         let elsewhere = Cell::new(0.0);
         let rest = |points: &[ShadePoint]| {
             let start = Instant::now();
-            let out = self.shade_points(scene, options, caustics, points);
+            let out = self.shade_exact(scene, caustics, points);
             elsewhere.set(elsewhere.get() + start.elapsed().as_secs_f64());
             out
         };
@@ -458,7 +468,7 @@ impl BeamRenderer for GpuBeams<'_> {
             )
         });
         self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64() - elsewhere.get());
-        pixels
+        pixels.map(Some)
     }
 
     fn closest_hits(&self, _scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {

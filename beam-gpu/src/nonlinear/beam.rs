@@ -2,9 +2,9 @@
 //! directions, threshold plane, μ_b, μ_d, heights; θ2 and τ of eq. 5 for bump-mapped beams) computed
 //! once by beam-math, and the Bernstein control points of eq. 1.
 
-use beam_cpu::nonlinear::Beam;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::{BeamBounds, Interpolant, NonlinearBeam};
+use beam_scene::nonlinear::Beam;
 use bytemuck::{Pod, Zeroable};
 
 /// Most control points of a GPU beam (S3: 10).

@@ -7,10 +7,10 @@
 use super::beam::GpuBeam;
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage};
-use beam_cpu::nonlinear::Beam;
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::BoundingCase;
+use beam_scene::nonlinear::Beam;
 use bytemuck::{Pod, Zeroable};
 
 /// One case: a scene triangle, or a base point in `a`; the beam's index in `a[3]` (as bits).

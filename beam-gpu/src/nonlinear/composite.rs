@@ -9,9 +9,9 @@ use crate::Gpu;
 use crate::buffers::{compute_pipeline, dispatch, max_binding, output, read_back, storage, uniform};
 use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
-use beam_cpu::nonlinear::{LevelRadiance, SMesh, ShadePoint};
-use beam_cpu::render::IrradianceMap;
 use beam_math::glam::Vec3;
+use beam_scene::irradiance_map::IrradianceMap;
+use beam_scene::nonlinear::{LevelRadiance, SMesh, ShadePoint};
 use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
 

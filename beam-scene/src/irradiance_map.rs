@@ -3,8 +3,8 @@
 //! texels; flux carriers (beam texels or photons) are splatted into it with a tent kernel, and a
 //! shade point reads the irradiance back bilinearly.
 
+use crate::scene::{Material, Scene};
 use beam_math::glam::{Vec2, Vec3};
-use beam_scene::scene::{Material, Scene};
 use std::collections::HashMap;
 
 /// One receiving plane's texels.

@@ -1,8 +1,8 @@
 //! The S mesh of 000 §7.1: the base triangles of the secondary beams, with smooth vertex normals.
 
+use crate::scene::Scene;
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
-use beam_scene::scene::Scene;
 use std::collections::HashMap;
 
 /// One S-mesh triangle: a mirror or glass triangle of the scene with its smooth vertex normals.
@@ -27,7 +27,7 @@ impl SFace {
     /// the boundary directions of the face's reflection beam (000 §7.2).
     #[must_use]
     pub fn reflected_directions(&self, eye: Vec3) -> [Vec3; 3] {
-        [0, 1, 2].map(|i| crate::render::reflect((self.v[i] - eye).normalize_or_zero(), self.n[i]))
+        [0, 1, 2].map(|i| crate::specular::reflect((self.v[i] - eye).normalize_or_zero(), self.n[i]))
     }
 
     /// Area.
@@ -83,14 +83,13 @@ mod tests {
 
     #[test]
     fn sphere_normals_are_radial() {
-        let scene = beam_scene::scene::load("mirror-glass").unwrap();
+        let scene = crate::scene::load("mirror-glass").unwrap();
         let s = SMesh::specular(&scene);
         assert!(!s.faces.is_empty());
         // The mirror sphere of the built-in scene: centre (185, 90, 170). Max's weights give a
         // tessellated sphere's exact radial normals.
         let c = Vec3::new(185.0, 90.0, 170.0);
-        for f in s.faces.iter().filter(|f| matches!(scene.material(f.prim), beam_scene::scene::Material::Mirror { .. }))
-        {
+        for f in s.faces.iter().filter(|f| matches!(scene.material(f.prim), crate::scene::Material::Mirror { .. })) {
             for i in 0..3 {
                 let radial = (f.v[i] - c).normalize();
                 assert!(f.n[i].dot(radial).abs() > 0.9999, "{} {} {}", f.n[i].dot(radial), f.v[i], f.prim);

@@ -1,0 +1,183 @@
+//! The beams of the nonlinear beam tree (000 §4, §6.3): S1, S3 or bump-mapped, over one S-mesh
+//! face, and what a backend needs of one to render it into texels ([`TexelBeam`], 000 Algs. 1–4).
+
+use super::smesh::SFace;
+use crate::scene::Bump;
+use beam_math::collide::Cone;
+use beam_math::glam::Vec3;
+use beam_math::nonlinear::{BeamBounds, BoundingTriangle, BumpBeam, Interpolant, NonlinearBeam, S1, S3};
+use beam_math::{Ray, Triangle};
+
+/// The S^n parameterization of the beams (000 §4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Degree {
+    /// Linear (eq. 3): C⁰ across S-mesh edges, so reflections show kinks (000 Fig. 4).
+    S1,
+    /// Cubic over the vertex normals (eq. 6): C¹ at the S-mesh vertices.
+    S3,
+}
+
+/// A nonlinear beam of either parameterization.
+#[derive(Clone, Copy, Debug)]
+pub enum Beam {
+    /// Linear (eq. 3).
+    S1(NonlinearBeam<S1>),
+    /// Cubic (eq. 6).
+    S3(NonlinearBeam<S3>),
+    /// Off a bumpy mirror: S1 rays tilted by its bump map (000 §6.3).
+    Bumped(BumpedBeam),
+}
+
+impl Beam {
+    /// The beam off face `f` with boundary directions `dirs`; `None` when degenerate.
+    pub fn new(degree: Degree, f: &SFace, dirs: [Vec3; 3]) -> Option<Self> {
+        match degree {
+            Degree::S1 => NonlinearBeam::s1(f.v, dirs).map(Self::S1),
+            Degree::S3 => NonlinearBeam::new(f.v, dirs, S3 { normals: f.n }).map(Self::S3),
+        }
+    }
+
+    /// The ray at barycentric point `w` of the base.
+    #[must_use]
+    pub fn ray_at(&self, w: Vec3) -> Ray {
+        self.texel_beam().texel_ray(w)
+    }
+
+    /// What a renderer needs of it.
+    #[must_use]
+    pub fn texel_beam(&self) -> &dyn TexelBeam {
+        match self {
+            Self::S1(b) => b,
+            Self::S3(b) => b,
+            Self::Bumped(b) => b,
+        }
+    }
+
+    /// Unit direction of the beam's ray through `q` (its nearest projection, 000 §5; for a bumped
+    /// beam, that of its unperturbed S1 beam).
+    pub fn direction_through(&self, q: Vec3) -> Option<Vec3> {
+        let p = match self {
+            Self::S1(b) => b.project_nearest(q),
+            Self::S3(b) => b.project_nearest(q),
+            Self::Bumped(b) => b.beam.beam.project_nearest(q),
+        }?;
+        self.ray_at(p.bary).direction.try_normalize()
+    }
+}
+
+/// Distance along `ray` (a ray of `beam`) below which a hit on a triangle sharing a vertex with the
+/// base is the surface meeting itself: S^n ray origins leave the flat base by up to μ_b (eq. 4), and
+/// on a concave surface they start behind the neighbouring S-mesh faces, so hits nearer than 2μ_b
+/// over the ray's rise above the base are skipped (1e-4 of the scene's diagonal `extent` for S1).
+#[must_use]
+pub fn self_hit_distance(beam: &(impl TexelBeam + ?Sized), ray: Ray, extent: f32) -> f32 {
+    self_hit_at(beam.lift(), beam.base_normal(), ray, extent)
+}
+
+/// [`self_hit_distance`] for a beam of lift `lift` and unit base normal `normal`.
+pub fn self_hit_at(lift: f32, normal: Vec3, ray: Ray, extent: f32) -> f32 {
+    let rise = (ray.direction.normalize_or_zero().dot(normal)).max(0.05);
+    (1e-4 * extent).max(2.0 * lift / rise)
+}
+
+/// What a renderer needs of a beam (beam-cpu's `render_beam`, beam-gpu's atlas): its texel rays and their bounds (000 Algs. 1–4).
+pub trait TexelBeam {
+    /// The bounds the bounding triangles are computed from (Alg. 3's `B`).
+    fn s1_or_sn_bounds(&self) -> BeamBounds;
+    /// A cone containing every ray (App. A).
+    fn culling_cone(&self, bounds: &BeamBounds) -> Cone;
+    /// Bounding triangle of `tri` on the base (Algs. 3–4, eq. 5 for bump beams), its vertices
+    /// classified by `inside` (as [`Self::contains_s1`]).
+    fn bounding_triangle_of(
+        &self,
+        bounds: &BeamBounds,
+        tri: &Triangle,
+        inside: &mut dyn FnMut(Vec3) -> bool,
+    ) -> Option<BoundingTriangle>;
+    /// True when `q` lies in the S1 beam through the boundary rays (the classification of Algs.
+    /// 3–4's brute-force case).
+    fn contains_s1(&self, q: Vec3) -> bool;
+    /// The ray at barycentric point `w` of the base.
+    fn texel_ray(&self, w: Vec3) -> Ray;
+    /// Base vertices.
+    fn base(&self) -> [Vec3; 3];
+    /// Unit base normal on the rays' side.
+    fn base_normal(&self) -> Vec3;
+    /// Largest distance of a ray origin from the flat base (μ_b of eq. 4).
+    fn lift(&self) -> f32;
+}
+
+impl<L: Interpolant> TexelBeam for NonlinearBeam<L> {
+    fn s1_or_sn_bounds(&self) -> BeamBounds {
+        self.bounds()
+    }
+    fn culling_cone(&self, bounds: &BeamBounds) -> Cone {
+        self.bounding_cone(&bounds.extremal, 0.0)
+    }
+    fn bounding_triangle_of(
+        &self,
+        bounds: &BeamBounds,
+        tri: &Triangle,
+        inside: &mut dyn FnMut(Vec3) -> bool,
+    ) -> Option<BoundingTriangle> {
+        self.bounding_triangle_with(bounds, tri, inside)
+    }
+    fn contains_s1(&self, q: Vec3) -> bool {
+        NonlinearBeam::contains_s1(self, q)
+    }
+    fn texel_ray(&self, w: Vec3) -> Ray {
+        self.ray_at(w)
+    }
+    fn base(&self) -> [Vec3; 3] {
+        self.base
+    }
+    fn base_normal(&self) -> Vec3 {
+        self.normal
+    }
+    fn lift(&self) -> f32 {
+        self.max_offsets().0
+    }
+}
+
+/// A bump-mapped (perturbed) beam off a bumpy mirror (000 §6.3): S1 rays tilted by the mirror's
+/// bump map, bounded by the D-expanded bounding triangles (eq. 5) and the δ-widened cone.
+#[derive(Clone, Copy, Debug)]
+pub struct BumpedBeam {
+    /// The perturbed beam of beam-math.
+    pub beam: BumpBeam,
+    /// The bump map that tilts its rays.
+    pub bump: Bump,
+}
+
+impl TexelBeam for BumpedBeam {
+    fn s1_or_sn_bounds(&self) -> BeamBounds {
+        self.beam.beam.bounds()
+    }
+    fn culling_cone(&self, _: &BeamBounds) -> Cone {
+        self.beam.bounding_cone()
+    }
+    fn bounding_triangle_of(
+        &self,
+        bounds: &BeamBounds,
+        tri: &Triangle,
+        inside: &mut dyn FnMut(Vec3) -> bool,
+    ) -> Option<BoundingTriangle> {
+        self.beam.bounding_triangle_with(bounds, tri, inside)
+    }
+    fn contains_s1(&self, q: Vec3) -> bool {
+        self.beam.beam.contains_s1(q)
+    }
+    fn texel_ray(&self, w: Vec3) -> Ray {
+        let base = Triangle { v: self.beam.beam.base };
+        self.beam.ray_at(w, self.bump.tilt(&base, self.beam.beam.normal, base.point(w)))
+    }
+    fn base(&self) -> [Vec3; 3] {
+        self.beam.beam.base
+    }
+    fn base_normal(&self) -> Vec3 {
+        self.beam.beam.normal
+    }
+    fn lift(&self) -> f32 {
+        0.0
+    }
+}

@@ -1,0 +1,21 @@
+//! The host side of nonlinear beam tracing (000) that every backend shares: the S mesh over mirror
+//! and glass surfaces, the beams (S1, S3, bump-mapped), what a [`BeamRenderer`] is given and returns
+//! (jobs, texel regions and hits, shade points, the levels of the radiance flow), bounding-cone
+//! culling, and the Whitted waves that follow mirror and glass points past the tree. The renderers
+//! themselves are beam-cpu's and beam-gpu's.
+
+mod beam;
+mod cull;
+mod radiance;
+mod renderer;
+mod smesh;
+mod texture;
+mod waves;
+
+pub use beam::{Beam, BumpedBeam, Degree, TexelBeam, self_hit_at, self_hit_distance};
+pub use cull::cone_candidates;
+pub use radiance::{Composite, LevelRadiance, TexelRadiance, composite, sample_region};
+pub use renderer::BeamRenderer;
+pub use smesh::{SFace, SMesh};
+pub use texture::{BeamJob, BeamTexture, ShadePoint, TEXELS, TEXELS_PER_SAMPLE, TexelHit, region_size};
+pub use waves::{Path, Shade, shade_by_waves, trace_waves};
