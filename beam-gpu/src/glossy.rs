@@ -7,11 +7,11 @@ use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage, uniform};
 use crate::raytrace::RayTracer;
 use beam_bvh::gpu::GpuBvh;
-use beam_cpu::glossy::{BoundingCone, Gathered, GlossyOptions, LightVolumes};
-use beam_cpu::render::shading_eps;
 use beam_math::glam::Vec3;
 use beam_math::glossy::VolumeMethod;
+use beam_scene::glossy::{BoundingCone, ConeNode, Gathered, GlossyOptions, LightVolumes, MAX_EMITTERS};
 use beam_scene::scene::Scene;
+use beam_scene::tolerance::shading_eps;
 use bytemuck::{Pod, Zeroable};
 
 /// A light beam.
@@ -156,10 +156,10 @@ const _: () = assert!(
 );
 
 /// Point emitters (point lights, and area lights' strata) the GPU's shadow mask holds: as many as
-/// the CPU makes at most when it can ([`beam_cpu::glossy::MAX_EMITTERS`]).
+/// the CPU makes at most when it can ([`MAX_EMITTERS`]).
 pub const MAX_LIGHTS: usize = 32;
 
-const _: () = assert!(MAX_LIGHTS == beam_cpu::glossy::MAX_EMITTERS);
+const _: () = assert!(MAX_LIGHTS == MAX_EMITTERS);
 
 /// Points per dispatch.
 const CHUNK: usize = 1 << 20;
@@ -177,7 +177,7 @@ pub const PASS_BUDGET: u32 = 256;
 
 /// For each node of a hierarchy in depth-first order (first child next, `right_or_first` the
 /// second), the node after its subtree.
-fn skips(nodes: &[beam_cpu::glossy::ConeNode]) -> Vec<u32> {
+fn skips(nodes: &[ConeNode]) -> Vec<u32> {
     let mut skip = vec![0u32; nodes.len()];
     for k in (0..nodes.len()).rev() {
         let node = &nodes[k];
@@ -207,7 +207,7 @@ impl GpuGather {
         })
     }
 
-    /// The gather of `volumes` at `points` (point, unit normal), as [`beam_cpu::glossy::gather_on_cpu`]
+    /// The gather of `volumes` at `points` (point, unit normal), as beam-cpu's `gather_on_cpu`
     /// with `options` (exact Gaussian volumes, through the hierarchy; second-order shadows when set).
     pub fn gather(
         &self,

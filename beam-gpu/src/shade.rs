@@ -1,6 +1,6 @@
 //! Shading on the GPU (`shaders/raytrace.wgsl`, entry point `shade`): diffuse, glossy and emissive
 //! points, point lights by one shadow ray each and area lights by stratified shadow rays (the
-//! `Shading::Exact` estimator of [`beam_cpu::render::shade_point`]'s `Method::Ray`, its jitter from a
+//! `Shading::Exact` estimator of beam-cpu's `shade_point`'s `Method::Ray`, its jitter from a
 //! hash of the point's seed), all traced through the GPU BVH, plus the caustic irradiance maps of
 //! the nonlinear renderer, in passes of bounded work ([`PASS_BUDGET`]). CPU twin: [`shade_twin`];
 //! on point-lit scenes it equals `shade_point`.

@@ -6,10 +6,10 @@
 //! (a failure under `BEAM_REQUIRE_GPU=1`).
 
 use beam_bvh::gpu::GpuBvh;
-use beam_cpu::nonlinear::ShadePoint;
 use beam_gpu::Gpu;
 use beam_gpu::raytrace::RayTracer;
 use beam_gpu::shade::{PointShader, shade_twin};
+use beam_scene::nonlinear::ShadePoint;
 use beam_scene::scene::{self, Scene};
 
 /// The adapter, or `None` after printing SKIPPED (a failure instead under `BEAM_REQUIRE_GPU=1`).

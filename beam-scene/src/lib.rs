@@ -9,8 +9,10 @@
 //! - [`io`]: atomic output files; [`read`]: bounded reads of input files.
 //! - [`options`]: render settings; [`specular`]: the mirror and glass bounce; [`tolerance`]: the
 //!   offsets both backends use; [`irradiance_map`]: caustic irradiance on receiving planes.
-//! - [`nonlinear`]: the host side of the nonlinear beam tree (000) every backend shares.
+//! - [`nonlinear`], [`glossy`]: the host side of the nonlinear beam tree (000) and of the glossy
+//!   light volumes (002) that every backend shares.
 
+pub mod glossy;
 pub mod io;
 pub mod irradiance_map;
 pub mod mesh;

@@ -13,10 +13,10 @@
 //! cell. The cells are visited in blocks, each taking the beams whose cones reach it from the cone
 //! hierarchy; negative shadow beams stay per receiver point ([`LightVolumes::shadows`]).
 
-use super::gather::{LightVolumes, Occluded, blocked};
 use super::photons::PhotonMaps;
 use crate::render::{IrradianceMap, shading_eps};
 use beam_math::glam::{Vec2, Vec3};
+use beam_scene::glossy::{LightVolumes, Occluded, blocked};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 

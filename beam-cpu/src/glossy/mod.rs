@@ -4,25 +4,19 @@
 //! for first-order shadows, and the gather at every receiver point the eye sees (specular eq. 1,
 //! glossy eq. 3 with beam-math's Gaussian volumes), through a hierarchy of bounding cones over the
 //! beams (002 §5.2's future work). The ground truth traces photons with the same micro-facet model.
+//! The light volumes themselves (emitters, beams, cone tree, the gather at a point) are beam-scene's,
+//! shared with beam-gpu, and re-exported here.
 
-mod beams;
-mod cones;
-mod emitters;
-mod gather;
+mod direct;
 mod kernel;
 mod photons;
 mod render;
 
-pub use beams::{GlossyBeam, Scatter, is_scatterer, scatterings, trace_light_beams};
-pub use cones::{BoundingCone, ConeNode, ConeTree, GLOSSY_REACH};
-pub use emitters::{
-    AREA_STRATA, Emitter, MAX_EMITTERS, REFERENCE_AREA_RAYS, area_point, area_strata, emitters, reference_direct,
-    stratified, whole,
-};
-pub use gather::{Gathered, LightVolumes, Occluded, covers};
+pub use beam_scene::glossy::*;
+pub use direct::reference_direct;
 pub use kernel::PhotonKernel;
 pub use photons::{PhotonMaps, glossy_photons, photon_texel};
 pub use render::{
-    Gather, GlossyOptions, GlossyStats, gather_on_cpu, render_glossy, render_glossy_photons, render_glossy_reference,
+    Gather, GlossyStats, gather_on_cpu, render_glossy, render_glossy_photons, render_glossy_reference,
     render_glossy_with,
 };

@@ -7,12 +7,11 @@
 //! receiver. The light is checked for occlusion before the scatterer and so is the scattered
 //! photon's path (second-order shadows, which the beams leave out).
 
-use super::beams::{Scatter, scatterings};
-use super::emitters::{area_point, whole};
 use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, reflect, shading_eps};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::glossy::solid_angle;
+use beam_scene::glossy::{Scatter, area_point, scatterings, whole};
 use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
@@ -142,7 +141,7 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
                         }
                         let ray = Ray::new(origin, dir);
                         if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY)
-                            && !super::beams::is_scatterer(&scene.material(hit.prim))
+                            && !beam_scene::glossy::is_scatterer(&scene.material(hit.prim))
                         {
                             let side = PhotonMaps::side(scene, hit.prim, dir);
                             map.sides[side].splat(hit.prim, ray.at(hit.t), flux * tint * weight);

@@ -6,59 +6,17 @@
 //! ([`render_glossy_reference`]) shades the same points with exact shadow rays (area lights sampled
 //! over their area, [`reference_direct`]) and the photon map of [`glossy_photons`].
 
-use super::beams::is_scatterer;
-use super::emitters::{Emitter, reference_direct};
-use super::gather::{Gathered, LightVolumes, Occluded};
+use super::direct::reference_direct;
 use super::kernel::PhotonKernel;
 use super::photons::{PhotonMaps, glossy_photons};
 use crate::nonlinear::{BeamRenderer, CpuBeams, Shade, ShadePoint, shade_by_waves};
 use crate::render::{DEPTH_EPS, Image, shading_eps};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_math::glossy::VolumeMethod;
+use beam_scene::glossy::{Emitter, Gathered, GlossyOptions, LightVolumes, Occluded, is_scatterer};
 use beam_scene::scene::{Material, Scene};
 use rayon::prelude::*;
 use std::time::Instant;
-
-/// Settings of the glossy renderer.
-#[derive(Clone, Copy, Debug)]
-pub struct GlossyOptions {
-    /// Image width (the camera's aspect is kept from its own resolution).
-    pub width: u32,
-    /// Image height.
-    pub height: u32,
-    /// How glossy beams' Gaussian volumes are integrated.
-    pub method: VolumeMethod,
-    /// Gather through the cone hierarchy (`false`: every beam, as 002 does).
-    pub hierarchy: bool,
-    /// Second-order shadows: a scattered beam's light is checked by a shadow ray from the receiver
-    /// to its source point on the scatterer (`false`: left out, as 002 does).
-    pub second_order: bool,
-    /// Scatterer triangles are split into `subdivide²` sub-triangles for their scattered beams (1:
-    /// one beam per triangle, as 002 does).
-    pub subdivide: u32,
-    /// When positive, the scattered irradiance at each receiver point is read through the kernel of a
-    /// photon map of that texel size ([`PhotonKernel`], on the CPU), for comparisons with one; 0:
-    /// at the point itself.
-    pub filter: f32,
-}
-
-impl GlossyOptions {
-    /// Exact Gaussian volumes through the hierarchy, with second-order shadows, scatterers split
-    /// 4 × 4, at `width × height`.
-    #[must_use]
-    pub fn new(width: u32, height: u32) -> Self {
-        Self {
-            width,
-            height,
-            method: VolumeMethod::Exact,
-            hierarchy: true,
-            second_order: true,
-            subdivide: 4,
-            filter: 0.0,
-        }
-    }
-}
 
 /// What a glossy render did.
 #[derive(Clone, Debug, Default, serde::Serialize)]
@@ -124,7 +82,7 @@ fn occlusion(scene: &Scene) -> impl Fn(Vec3, Vec3) -> bool + Sync + '_ {
 /// The scene must have a light that emits (002 traces beams from point sources; area lights are
 /// taken as stratified points).
 fn check_lights(scene: &Scene) -> Result<(), String> {
-    if super::emitters::emitters(scene).is_empty() {
+    if beam_scene::glossy::emitters(scene).is_empty() {
         return Err(format!(
             "scene `{}` has no light to trace light volumes from (a point light, or an area light of positive area)",
             scene.name

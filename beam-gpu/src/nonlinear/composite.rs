@@ -3,7 +3,7 @@
 //! RGBA16F atlas) and only the eye's pixels read back. Diffuse, glossy and emissive points are
 //! shaded by [`PointShader`] straight into the buffer the composite pass reads; mirror and glass
 //! points without child beams (past the last level) come from the caller. CPU twin:
-//! [`beam_cpu::nonlinear::composite_levels`].
+//! beam-cpu's `composite_levels`.
 
 use crate::Gpu;
 use crate::buffers::{compute_pipeline, dispatch, max_binding, output, read_back, storage, uniform};

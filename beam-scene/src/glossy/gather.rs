@@ -7,9 +7,9 @@
 use super::beams::{GlossyBeam, trace_light_beams};
 use super::cones::ConeTree;
 use super::emitters::{Emitter, emitters};
+use crate::scene::Scene;
 use beam_math::glam::Vec3;
 use beam_math::glossy::{LightBeam, VolumeMethod, in_beam};
-use beam_scene::scene::Scene;
 
 /// What the beams give a receiver point.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -53,7 +53,7 @@ pub fn covers(b: &LightBeam, p: Vec3) -> bool {
 pub type Occluded<'a> = Option<&'a (dyn Fn(Vec3, Vec3) -> bool + Sync)>;
 
 /// True when `occluded` says the light from `b`'s source point does not reach `p`.
-pub(super) fn blocked(b: &LightBeam, p: Vec3, occluded: Occluded<'_>) -> bool {
+pub fn blocked(b: &LightBeam, p: Vec3, occluded: Occluded<'_>) -> bool {
     occluded.is_some_and(|o| b.source_point(p).is_some_and(|s| o(p, s)))
 }
 
@@ -82,7 +82,7 @@ impl LightVolumes {
     /// Add beam `i`'s share at point `p` with unit normal `n` to `g`; a scattered beam adds nothing
     /// where `occluded(p, source)` says its light is blocked on the way from its source point
     /// ([`LightBeam::source_point`]).
-    pub(super) fn add(&self, i: usize, p: Vec3, n: Vec3, occluded: Occluded<'_>, g: &mut Gathered) {
+    pub fn add(&self, i: usize, p: Vec3, n: Vec3, occluded: Occluded<'_>, g: &mut Gathered) {
         let b = &self.beams[i];
         g.tested += 1;
         if b.shadow {
@@ -101,7 +101,7 @@ impl LightVolumes {
     /// Scattered beam `i`'s irradiance at `p` (unit normal `n`), second-order shadows left out: eq. 1
     /// or eq. 3 inside its support, zero outside: its own bounding cone (widened by `GLOSSY_REACH·σ`
     /// for glossy beams; see cones.rs), which holds its whole warped volume.
-    pub(super) fn scattered(&self, i: usize, p: Vec3, n: Vec3) -> Vec3 {
+    pub fn scattered(&self, i: usize, p: Vec3, n: Vec3) -> Vec3 {
         let b = &self.beams[i];
         if !self.tree.cones[i].contains(p) {
             return Vec3::ZERO;

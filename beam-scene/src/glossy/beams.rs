@@ -7,11 +7,12 @@
 //! first-order shadows.
 
 use super::emitters::{Emitter, emitters};
-use crate::render::{DEPTH_EPS, dielectric, reflect, shading_eps};
+use crate::scene::{Material, Scene};
+use crate::specular::{dielectric, reflect};
+use crate::tolerance::{DEPTH_EPS, shading_eps};
 use beam_math::glam::Vec3;
 use beam_math::glossy::{LightBeam, solid_angle};
 use beam_math::{Ray, Triangle};
-use beam_scene::scene::{Material, Scene};
 use rayon::prelude::*;
 
 /// How a scatterer turns the light (002 §1.2: specular micro-facet materials).
@@ -106,7 +107,7 @@ pub fn trace_light_beams(scene: &Scene, subdivide: u32) -> (Vec<GlossyBeam>, u64
 
 /// The sub-triangles of a `k × k` barycentric grid over a triangle, as barycentric corners (the
 /// winding of the triangle's own).
-pub(super) fn sub_triangles(k: u32) -> impl Iterator<Item = [Vec3; 3]> {
+pub fn sub_triangles(k: u32) -> impl Iterator<Item = [Vec3; 3]> {
     let w = move |i: u32, j: u32| Vec3::new(1.0 - (i + j) as f32 / k as f32, i as f32 / k as f32, j as f32 / k as f32);
     (0..k).flat_map(move |i| {
         (0..k - i).flat_map(move |j| {

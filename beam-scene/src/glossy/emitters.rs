@@ -6,15 +6,12 @@
 //! mask holds ([`MAX_EMITTERS`]), then smaller. Beams, shadow beams and the renderer's direct light
 //! all use these emitters, so an area light's shadows and caustics are `k²` overlaid point-light
 //! ones (banded where a point source's would be sharp); the photon reference
-//! ([`super::glossy_photons`]) and its direct light ([`reference_direct`]) sample the whole area
+//! (beam-cpu's `glossy_photons`) and its direct light (`reference_direct`) sample the whole area
 //! instead, the ground truth those bands converge to as `k` grows.
 
-use crate::render::{DEPTH_EPS, shading_eps};
-use beam_math::Ray;
+use crate::scene::{Light, Scene};
+use crate::tolerance::shading_eps;
 use beam_math::glam::Vec3;
-use beam_scene::scene::{Light, Scene};
-use rand::{Rng, SeedableRng};
-use rand_pcg::Pcg32;
 
 /// Most emitters the light volumes trace from: the width of the GPU gather's shadow mask.
 pub const MAX_EMITTERS: usize = 32;
@@ -145,39 +142,4 @@ pub fn stratified(scene: &Scene, k: u32) -> Vec<Emitter> {
         }
     }
     out
-}
-
-/// Direct irradiance at `p` (unit normal `n`) from every light of `scene`, every occluder
-/// casting shadows: a point light by one shadow ray, an area light by [`REFERENCE_AREA_RAYS`]
-/// stratified, jittered shadow rays over its area (seeded by `seed`), each weighted by the cosines
-/// at both ends over the squared distance. The ground truth of the emitters' direct light.
-#[must_use]
-pub fn reference_direct(scene: &Scene, p: Vec3, n: Vec3, seed: u64) -> Vec3 {
-    let eps = shading_eps(scene);
-    let q = p + n * eps;
-    let mut rng = Pcg32::seed_from_u64(seed);
-    let k = (REFERENCE_AREA_RAYS as f32).sqrt() as u32;
-    let mut e = Vec3::ZERO;
-    for (i, light) in scene.lights.iter().enumerate() {
-        let Some(whole) = whole(scene, light, i as u32) else { continue };
-        let samples = if matches!(light, Light::Point { .. }) { 1 } else { k * k };
-        for j in 0..samples {
-            let x = if samples == 1 {
-                whole.position
-            } else {
-                let (s, t) = ((j % k) as f32 + rng.random::<f32>(), (j / k) as f32 + rng.random::<f32>());
-                area_point(light, s / k as f32, t / k as f32) + whole.normal * eps
-            };
-            let to = x - q;
-            let r2 = to.length_squared();
-            let d = to / r2.sqrt();
-            let cos = n.dot(d);
-            let falloff = whole.falloff(-d);
-            if !(cos > 0.0 && falloff > 0.0) || scene.wide.any_hit(Ray::new(q, to), 1.0 - DEPTH_EPS) {
-                continue;
-            }
-            e += whole.intensity * (falloff * cos / (r2 * samples as f32));
-        }
-    }
-    e
 }
