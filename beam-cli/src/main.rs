@@ -261,7 +261,7 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
             stats,
             allow_outside_paths,
         } => {
-            let args = render::RenderArgs {
+            let args = plan::RenderArgs {
                 scene: &scene,
                 method: &method,
                 backend: &backend,

@@ -2,11 +2,41 @@
 //! method, output paths that may be written, and the memory the render will need. [`plan`] renders
 //! nothing, so it can be run on any argument vector (the CLI fuzzer does).
 
-use crate::render::RenderArgs;
 use beam_cpu::nonlinear::Degree;
 use beam_cpu::render::{Method, RenderOptions, Shading};
 use beam_math::glossy::VolumeMethod;
 use beam_scene::scene::{self, Scene};
+use std::path::Path;
+
+/// Options of `beam render`.
+pub struct RenderArgs<'a> {
+    pub scene: &'a str,
+    pub method: &'a str,
+    pub backend: &'a str,
+    pub degree: &'a str,
+    pub texels: u32,
+    pub bounces: u32,
+    pub caustic_strata: u32,
+    pub smesh: Option<u32>,
+    pub shading: &'a str,
+    pub spp: u32,
+    pub primary_spp: u32,
+    pub primary_beams: bool,
+    pub volume: &'a str,
+    pub linear_gather: bool,
+    pub subdivide: u32,
+    pub second_order: bool,
+    pub photon_kernel: bool,
+    pub photons: u64,
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub out: &'a Path,
+    pub stats: Option<&'a Path>,
+    /// Let a scene file name meshes outside its folder.
+    pub allow_outside_paths: bool,
+    /// The clap ids of the options given on the command line (not defaulted).
+    pub given: &'a [String],
+}
 
 /// Largest image side, and largest pixel count.
 pub const MAX_SIDE: u32 = 16384;

@@ -1,7 +1,7 @@
 //! `beam render` and `beam compare`.
 
 use crate::output::{erased::Json, write_render};
-use crate::plan::{Kind, Plan};
+use crate::plan::{Kind, Plan, RenderArgs};
 use beam_cpu::glossy::{
     GlossyOptions, LightVolumes, photon_texel, render_glossy, render_glossy_reference, render_glossy_with,
 };
@@ -11,38 +11,7 @@ use beam_cpu::nonlinear::{
 use beam_cpu::render::{Method, render};
 use beam_gpu::nonlinear::GpuBeams;
 use beam_math::glam::Vec3;
-use std::path::Path;
 use std::process::ExitCode;
-
-/// Options of `beam render`.
-pub struct RenderArgs<'a> {
-    pub scene: &'a str,
-    pub method: &'a str,
-    pub backend: &'a str,
-    pub degree: &'a str,
-    pub texels: u32,
-    pub bounces: u32,
-    pub caustic_strata: u32,
-    pub smesh: Option<u32>,
-    pub shading: &'a str,
-    pub spp: u32,
-    pub primary_spp: u32,
-    pub primary_beams: bool,
-    pub volume: &'a str,
-    pub linear_gather: bool,
-    pub subdivide: u32,
-    pub second_order: bool,
-    pub photon_kernel: bool,
-    pub photons: u64,
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    pub out: &'a Path,
-    pub stats: Option<&'a Path>,
-    /// Let a scene file name meshes outside its folder.
-    pub allow_outside_paths: bool,
-    /// The clap ids of the options given on the command line (not defaulted).
-    pub given: &'a [String],
-}
 
 pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     let plan = crate::plan::plan(a, false)?;

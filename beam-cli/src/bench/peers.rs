@@ -20,7 +20,7 @@ pub fn embree_occluder(triangles: &[Triangle]) -> Result<Box<dyn Fn(Ray, f32) ->
 }
 
 /// Embree's closest hit over `triangles`: the index of the triangle hit and the ray parameter.
-pub fn embree_closest(triangles: &[Triangle]) -> Result<Box<super::primary::Hits<'static>>, String> {
+pub fn embree_closest(triangles: &[Triangle]) -> Result<Box<dyn Fn(Ray) -> Option<(u32, f32)> + Sync>, String> {
     let e = Embree::new(triangles)?;
     Ok(Box::new(move |ray: Ray| e.closest_prim(&ray)))
 }

@@ -6,12 +6,11 @@
 //! it, [`stratified`]; N = [`CAUSTIC_STRATA`] by default). The ground truth traces photons from the lights (from uniform
 //! points over an area light's whole area) through the same surfaces about the interpolated normals.
 
-use super::trace::child_beams;
 use crate::glossy::{Emitter, area_point, stratified, whole};
 use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, shading_eps};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{Beam, BeamJob, BeamRenderer, BeamTexture, Degree, SFace, SMesh, TEXELS};
+use beam_scene::nonlinear::{Beam, BeamJob, BeamRenderer, BeamTexture, Degree, SFace, SMesh, TEXELS, child_beams};
 use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;

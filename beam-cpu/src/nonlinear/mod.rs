@@ -15,9 +15,7 @@ pub use caustics::{
 };
 pub use composite::composite_levels;
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
-pub use trace::{
-    CpuBeams, NonlinearOptions, NonlinearStats, child_beams, render_nonlinear, render_nonlinear_with, shade_points,
-};
+pub use trace::{CpuBeams, NonlinearOptions, NonlinearStats, render_nonlinear, render_nonlinear_with, shade_points};
 // The host side of the beam tree, shared with beam-gpu (beam-scene), under the names the CPU
 // renderer's callers use.
 pub use beam_scene::nonlinear::*;

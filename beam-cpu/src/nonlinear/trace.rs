@@ -14,16 +14,15 @@
 use super::atlas::render_beam;
 use super::caustics::{CausticStats, caustics_by_beams};
 use super::composite::composite_levels;
-use crate::render::{Image, IrradianceMap, RenderOptions, dielectric, reflect, shade_point};
+use crate::render::{Image, IrradianceMap, RenderOptions, shade_point};
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::{Mat3, Vec3};
-use beam_math::nonlinear::{BumpBeam, NonlinearBeam};
 use beam_scene::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BeamTexture, BumpedBeam, Composite, Degree, LevelRadiance, SFace, SMesh, ShadePoint,
-    TexelRadiance, region_size,
+    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, LevelRadiance, SFace, SMesh, ShadePoint,
+    TexelRadiance, child_beams, region_size,
 };
-use beam_scene::scene::{Material, Scene};
+use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::time::Instant;
@@ -69,42 +68,6 @@ pub struct NonlinearStats {
     pub width: u32,
     /// Image height.
     pub height: u32,
-}
-
-/// The beams off S-mesh face `f` for light arriving along the unit directions `incoming` at its
-/// vertices (000 §7.2): the mirror reflection about the vertex normals, and for glass the
-/// refraction by Snell's law (`Some(None)` when that beam is degenerate). Under total internal
-/// reflection a boundary direction grazes the surface (the beam clamps it to the transmitted side,
-/// 000 §4); such texels take reflection only. `None` when the reflection beam is degenerate.
-pub fn child_beams(
-    scene: &Scene,
-    f: &SFace,
-    incoming: [Vec3; 3],
-    degree: Degree,
-) -> Option<(Beam, Option<Option<Beam>>)> {
-    // Vertex normals turned against the incoming light.
-    let entering = (incoming[0] + incoming[1] + incoming[2]).dot(scene.normal(f.prim)) < 0.0;
-    let n = f.n.map(|n| if entering { n } else { -n });
-    let dirs = [0, 1, 2].map(|i| reflect(incoming[i], n[i]));
-    let reflected = match scene.material(f.prim) {
-        // Bump beams are S1 beams perturbed by at most δ (000 §6.3).
-        Material::Mirror { bump, .. } if bump.delta > 0.0 => {
-            Beam::Bumped(BumpedBeam { beam: BumpBeam { beam: NonlinearBeam::s1(f.v, dirs)?, delta: bump.delta }, bump })
-        }
-        _ => Beam::new(degree, f, dirs)?,
-    };
-    let refracted = match scene.material(f.prim) {
-        Material::Glass { ior } => Some(Beam::new(
-            degree,
-            f,
-            [0, 1, 2].map(|i| {
-                let d = incoming[i];
-                dielectric(d, n[i], ior, entering).1.unwrap_or(d - d.dot(n[i]) * n[i])
-            }),
-        )),
-        _ => None,
-    };
-    Some((reflected, refracted))
 }
 
 /// Where the light arriving at an S-mesh face comes from: the eye, or a parent beam.

@@ -6,7 +6,7 @@
 //! negative shadow beam (the light rays themselves) behind every scatterer triangle for
 //! first-order shadows.
 
-use super::emitters::{Emitter, emitters};
+use super::emitters::{Emitter, emitters, sub_triangles};
 use crate::scene::{Material, Scene};
 use crate::specular::{dielectric, reflect};
 use crate::tolerance::{DEPTH_EPS, shading_eps};
@@ -103,19 +103,6 @@ pub fn trace_light_beams(scene: &Scene, subdivide: u32) -> (Vec<GlossyBeam>, u64
         .collect();
     let skipped = per.iter().map(|p| p.1).sum();
     (per.into_iter().flat_map(|p| p.0).collect(), skipped)
-}
-
-/// The sub-triangles of a `k × k` barycentric grid over a triangle, as barycentric corners (the
-/// winding of the triangle's own).
-pub fn sub_triangles(k: u32) -> impl Iterator<Item = [Vec3; 3]> {
-    let w = move |i: u32, j: u32| Vec3::new(1.0 - (i + j) as f32 / k as f32, i as f32 / k as f32, j as f32 / k as f32);
-    (0..k).flat_map(move |i| {
-        (0..k - i).flat_map(move |j| {
-            let up = [w(i, j), w(i + 1, j), w(i, j + 1)];
-            let down = (i + j + 1 < k).then(|| [w(i + 1, j), w(i + 1, j + 1), w(i, j + 1)]);
-            std::iter::once(up).chain(down)
-        })
-    })
 }
 
 /// How many times a sub-triangle that the light reaches in part is halved along its edges.

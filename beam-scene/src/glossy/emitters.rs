@@ -131,7 +131,7 @@ pub fn stratified(scene: &Scene, k: u32) -> Vec<Emitter> {
         let share = Emitter { intensity: e.intensity / (k * k) as f32, ..e };
         let at = |p: Vec3| Emitter { position: p + e.normal * eps, ..share };
         match *light {
-            Light::Triangle { v, .. } => out.extend(super::beams::sub_triangles(k).map(|w| {
+            Light::Triangle { v, .. } => out.extend(sub_triangles(k).map(|w| {
                 let c = (w[0] + w[1] + w[2]) / 3.0;
                 at(v[0] * c.x + v[1] * c.y + v[2] * c.z)
             })),
@@ -142,4 +142,17 @@ pub fn stratified(scene: &Scene, k: u32) -> Vec<Emitter> {
         }
     }
     out
+}
+
+/// The sub-triangles of a `k × k` barycentric grid over a triangle, as barycentric corners (the
+/// winding of the triangle's own).
+pub fn sub_triangles(k: u32) -> impl Iterator<Item = [Vec3; 3]> {
+    let w = move |i: u32, j: u32| Vec3::new(1.0 - (i + j) as f32 / k as f32, i as f32 / k as f32, j as f32 / k as f32);
+    (0..k).flat_map(move |i| {
+        (0..k - i).flat_map(move |j| {
+            let up = [w(i, j), w(i + 1, j), w(i, j + 1)];
+            let down = (i + j + 1 < k).then(|| [w(i + 1, j), w(i + 1, j + 1), w(i, j + 1)]);
+            std::iter::once(up).chain(down)
+        })
+    })
 }

@@ -10,7 +10,7 @@ mod emitters;
 mod gather;
 mod options;
 
-pub use beams::{GlossyBeam, Scatter, is_scatterer, scatterings, sub_triangles, trace_light_beams};
+pub use beams::{GlossyBeam, Scatter, is_scatterer, scatterings, trace_light_beams};
 pub use cones::{BoundingCone, ConeNode, ConeTree, GLOSSY_REACH};
 pub use emitters::{
     AREA_STRATA, Emitter, MAX_EMITTERS, REFERENCE_AREA_RAYS, area_point, area_strata, emitters, stratified, whole,

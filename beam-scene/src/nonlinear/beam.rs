@@ -2,7 +2,8 @@
 //! face, and what a backend needs of one to render it into texels ([`TexelBeam`], 000 Algs. 1–4).
 
 use super::smesh::SFace;
-use crate::scene::Bump;
+use crate::scene::{Bump, Material, Scene};
+use crate::specular::{dielectric, reflect};
 use beam_math::collide::Cone;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::{BeamBounds, BoundingTriangle, BumpBeam, Interpolant, NonlinearBeam, S1, S3};
@@ -63,6 +64,42 @@ impl Beam {
         }?;
         self.ray_at(p.bary).direction.try_normalize()
     }
+}
+
+/// The beams off S-mesh face `f` for light arriving along the unit directions `incoming` at its
+/// vertices (000 §7.2): the mirror reflection about the vertex normals, and for glass the
+/// refraction by Snell's law (`Some(None)` when that beam is degenerate). Under total internal
+/// reflection a boundary direction grazes the surface (the beam clamps it to the transmitted side,
+/// 000 §4); such texels take reflection only. `None` when the reflection beam is degenerate.
+pub fn child_beams(
+    scene: &Scene,
+    f: &SFace,
+    incoming: [Vec3; 3],
+    degree: Degree,
+) -> Option<(Beam, Option<Option<Beam>>)> {
+    // Vertex normals turned against the incoming light.
+    let entering = (incoming[0] + incoming[1] + incoming[2]).dot(scene.normal(f.prim)) < 0.0;
+    let n = f.n.map(|n| if entering { n } else { -n });
+    let dirs = [0, 1, 2].map(|i| reflect(incoming[i], n[i]));
+    let reflected = match scene.material(f.prim) {
+        // Bump beams are S1 beams perturbed by at most δ (000 §6.3).
+        Material::Mirror { bump, .. } if bump.delta > 0.0 => {
+            Beam::Bumped(BumpedBeam { beam: BumpBeam { beam: NonlinearBeam::s1(f.v, dirs)?, delta: bump.delta }, bump })
+        }
+        _ => Beam::new(degree, f, dirs)?,
+    };
+    let refracted = match scene.material(f.prim) {
+        Material::Glass { ior } => Some(Beam::new(
+            degree,
+            f,
+            [0, 1, 2].map(|i| {
+                let d = incoming[i];
+                dielectric(d, n[i], ior, entering).1.unwrap_or(d - d.dot(n[i]) * n[i])
+            }),
+        )),
+        _ => None,
+    };
+    Some((reflected, refracted))
 }
 
 /// Distance along `ray` (a ray of `beam`) below which a hit on a triangle sharing a vertex with the
