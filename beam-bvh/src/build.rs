@@ -20,7 +20,8 @@ struct PrimRef {
 /// Nodes with more references than this are built with `rayon::join` on their children.
 const PARALLEL_THRESHOLD: usize = 8192;
 /// Depth after which nodes are split at the median, so trees stay below
-/// `MAX_SPLIT_DEPTH + log2(n)` levels and fit [`crate::flat::STACK_SIZE`].
+/// `MAX_SPLIT_DEPTH + log2(n)` levels and fit [`crate::flat::STACK_SIZE`] and the GPU's
+/// [`crate::gpu::GPU_STACK_SIZE`].
 pub(crate) const MAX_SPLIT_DEPTH: usize = 96;
 /// Largest number of bins.
 const MAX_BINS: usize = 32;

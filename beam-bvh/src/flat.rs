@@ -15,8 +15,8 @@ pub(crate) const STACK_SIZE: usize = 192;
 /// and the right child at `right_or_first`; leaves reference `count` triangles from
 /// `prims[right_or_first..]`.
 ///
-/// Keep in sync with the WGSL twin `BvhNode` in `beam-gpu/shaders/shared/bvh.wgsl`:
-/// `struct BvhNode { min: vec3<f32>, right_or_first: u32, max: vec3<f32>, count: u32 }`.
+/// WGSL twin: `BvhNode` in `beam-gpu/shaders/shared/bvh.wgsl` (layouts compared by
+/// `beam_gpu::interface`'s tests).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct FlatNode {

@@ -10,7 +10,7 @@
 // per pair instead of once per corner, and runs on every core of a software rasterizer, which
 // shades vertices on one thread.) CPU twin: beam_cpu::nonlinear::render_beam.
 
-// Keep in sync with beam_gpu::nonlinear::AtlasParams (16 bytes).
+// Twin of beam_gpu::nonlinear::AtlasParams (16 bytes).
 struct AtlasParams {
     size: vec2<f32>,  // atlas width and height in texels
     extent: f32,      // the scene's diagonal
@@ -40,14 +40,14 @@ fn scene_tri(prim: u32) -> Tri {
 // 1,873; θ1 of eq. 5 914; the bump expansion 20: at most 2,807 for an invocation, and for a SIMD
 // group (divergent branches both run, each loop as long as its longest lane: the sum above already
 // counts every loop at its longest), 1/23 of the cap. No passes needed.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WORKGROUP_SIZE)
 fn bound_triangles(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = id.y * groups.x * 64u + id.x;
+    let i = id.y * groups.x * WORKGROUP_SIZE + id.x;
     if i >= params.pairs { return; }
     let pair = pairs[i];
     let bt = bounding_triangle(beams[pair.x], scene_tri(pair.y));
     bounds_out[i] = vec4<f32>(bt.lower, f32(bt.case_));
-    if bt.case_ != 3u { atomicAdd(&counters[2u * pair.x], 1u); }
+    if bt.case_ != BOUNDING_BEHIND { atomicAdd(&counters[2u * pair.x], 1u); }
 }
 
 struct Fragment {
@@ -78,7 +78,7 @@ fn emit_bounding_triangle(@builtin(vertex_index) vertex: u32, @builtin(instance_
         }
     }
     out.neighbour = neighbour;
-    if bt.w == 3.0 { return out; }
+    if bt.w == f32(BOUNDING_BEHIND) { return out; }
     let size = f32(b.region.z);
     // The texels tested are those with ω ≥ lower − ½ texel (slack); the rasterized triangle is
     // 1.5 texels larger still, clamped to the beam's region (edges parallel, so clamping is a max).
@@ -124,7 +124,7 @@ fn intersect_texel(f: Fragment) -> Hit {
     atomicAdd(&counters[2u * f.beam + 1u], 1u);
     let ray = texel_ray(b, w);
     let len = max(length(ray.direction), 1.17549435e-38);
-    var t_min = 1e-4 * params.extent / len;
+    var t_min = TEXEL_EPS * params.extent / len;
     if f.neighbour == 1u { t_min = self_hit_distance(b, ray, params.extent) / len; }
     let tri = triangles[f.prim];
     let t = intersect_triangle(shear_ray(ray.origin, ray.direction), tri, t_min, 3.0e38);

@@ -4,7 +4,7 @@
 // and Fresnel-weighted for glass. Radiance is stored as half floats (rgb, 8 bytes a texel), as an
 // RGBA16F atlas would hold it. CPU twin: beam_cpu::nonlinear::composite_levels.
 
-// Keep in sync with beam_gpu::nonlinear::composite::GpuFace (128 bytes): an S-mesh face.
+// Twin of beam_gpu::nonlinear::composite::GpuFace (128 bytes): an S-mesh face.
 struct Face {
     v0: vec4<f32>,
     v1: vec4<f32>,
@@ -19,22 +19,22 @@ struct Face {
     material: vec4<f32>,
 }
 
-// Keep in sync with beam_gpu::nonlinear::composite::CompositeRecord (48 bytes).
+// Twin of beam_gpu::nonlinear::composite::CompositeRecord (48 bytes).
 struct Record {
     p: vec3<f32>,
     // Its index in the level's radiance.
     texel: u32,
     d: vec3<f32>,
-    // Index of its shaded radiance, 0xffffffff when composited.
+    // Index of its shaded radiance, NONE when composited.
     src: u32,
     face: u32,
     reflected: u32,
-    // 0xffffffff for none.
+    // NONE for none.
     refracted: u32,
     pad: u32,
 }
 
-// Keep in sync with beam_gpu::nonlinear::composite::CompositeParams (16 bytes).
+// Twin of beam_gpu::nonlinear::composite::CompositeParams (16 bytes).
 struct CompositeParams {
     records: u32,
     pad0: u32,
@@ -50,8 +50,6 @@ struct CompositeParams {
 // Per beam of the level below: its first texel and its texels per side.
 @group(0) @binding(5) var<storage, read> regions: array<vec2<u32>>;
 @group(0) @binding(6) var<storage, read_write> radiance: array<vec2<u32>>;
-
-const NONE: u32 = 0xffffffffu;
 
 fn unpack_rgb(h: vec2<u32>) -> vec3<f32> {
     return vec3<f32>(unpack2x16float(h.x), unpack2x16float(h.y).x);
@@ -131,9 +129,9 @@ fn composite_texel(r: Record) -> vec3<f32> {
     return fresnel * reflected + (1.0 - fresnel) * sample_region(r.refracted, w);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(WORKGROUP_SIZE)
 fn composite(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = id.y * groups.x * 64u + id.x;
+    let i = id.y * groups.x * WORKGROUP_SIZE + id.x;
     if i >= params.records {
         return;
     }

@@ -5,7 +5,7 @@
 // shadow beams mark the lights whose direct light they remove. CPU twin:
 // beam_cpu::glossy::LightVolumes::gather. shared/bvh.wgsl and lib/trace.wgsl are prepended.
 
-// Keep in sync with beam_gpu::glossy::GpuLightBeam (112 bytes).
+// Twin of beam_gpu::glossy::GpuLightBeam (112 bytes).
 struct LightBeam {
     o0: vec3<f32>,
     // Φs / I = Ω, the light's solid angle through the scatterer.
@@ -26,7 +26,7 @@ struct LightBeam {
     pad2: u32,
 }
 
-// Keep in sync with beam_gpu::glossy::GpuCone (32 bytes): cos = −1 holds every point.
+// Twin of beam_gpu::glossy::GpuCone (32 bytes): cos = −1 holds every point.
 struct Cone {
     apex: vec3<f32>,
     cos: f32,
@@ -34,7 +34,7 @@ struct Cone {
     pad: u32,
 }
 
-// Keep in sync with beam_gpu::glossy::GpuConeNode (48 bytes).
+// Twin of beam_gpu::glossy::GpuConeNode (48 bytes).
 struct ConeNode {
     apex: vec3<f32>,
     cos: f32,
@@ -49,7 +49,7 @@ struct ConeNode {
     pad2: u32,
 }
 
-// Keep in sync with beam_gpu::glossy::GatherPoint (32 bytes).
+// Twin of beam_gpu::glossy::GatherPoint (32 bytes).
 struct GatherPoint {
     p: vec3<f32>,
     pad0: u32,
@@ -57,7 +57,7 @@ struct GatherPoint {
     pad1: u32,
 }
 
-// Keep in sync with beam_gpu::glossy::GpuGathered (32 bytes). Also the walk's state between
+// Twin of beam_gpu::glossy::GpuGathered (32 bytes). Also the walk's state between
 // passes: zero before the first.
 struct Gathered {
     irradiance: vec3<f32>,
@@ -70,11 +70,11 @@ struct Gathered {
     pad: u32,
 }
 
-// Keep in sync with beam_gpu::glossy::GatherParams (32 bytes).
+// Twin of beam_gpu::glossy::GatherParams (32 bytes).
 struct GatherParams {
     points: u32,
     nodes: u32,
-    // Bit 0: second-order shadows.
+    // SECOND_ORDER_SHADOWS.
     flags: u32,
     // Offset of shadow-ray ends off the scatterer.
     eps: f32,
@@ -348,7 +348,7 @@ fn add_beam(j: u32, f: vec3<f32>, n: vec3<f32>, g: ptr<function, Gathered>) {
     }
     let b = beams[j];
     if b.shadow == 1u {
-        let bit = 1u << min(b.light, 31u);
+        let bit = 1u << min(b.light, MAX_LIGHTS - 1u);
         if ((*g).shadowed & bit) == 0u {
             let t = flux_triangle(b, f);
             if t.ok && in_front(b, f) && in_beam(t, f) {
@@ -361,12 +361,12 @@ fn add_beam(j: u32, f: vec3<f32>, n: vec3<f32>, g: ptr<function, Gathered>) {
     if e == 0.0 {
         return;
     }
-    if (params.flags & 1u) != 0u {
+    if (params.flags & SECOND_ORDER_SHADOWS) != 0u {
         let s = source_point(b, f);
         if s.w > 0.0 {
             let to = s.xyz - f;
             let len = length(to);
-            if len > params.eps && trace_ray(f, to, 1.0 - max(2.0 * params.eps / len, 1e-4), true).t > 0.5 {
+            if len > params.eps && trace_ray(f, to, 1.0 - max(2.0 * params.eps / len, DEPTH_EPS), true).t > 0.5 {
                 return;
             }
         }
@@ -381,9 +381,9 @@ fn add_beam(j: u32, f: vec3<f32>, n: vec3<f32>, g: ptr<function, Gathered>) {
 // lavapipe) ends every loop of an invocation group for good once all its loops together have run
 // 65,535 iterations, which a walk over many beams passes (the walks of a whole SIMD group cut
 // short, at the same iteration): hence the passes.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WORKGROUP_SIZE)
 fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = id.y * groups.x * 64u + id.x;
+    let i = id.y * groups.x * WORKGROUP_SIZE + id.x;
     if i >= params.points {
         return;
     }

@@ -1,7 +1,7 @@
 // Compute entry points that run the WGSL nonlinear-beam functions on batches of cases, for the
 // conformance suite to compare with beam-math (tests/src/gpu.rs).
 
-// Keep in sync with beam_gpu::nonlinear::CheckCase (48 bytes): a scene triangle for
+// Twin of beam_gpu::nonlinear::CheckCase (48 bytes): a scene triangle for
 // `check_bounding_triangles`, or a base point (a.xyz) for `check_rays`; the beam index in a.w.
 struct CheckCase {
     a: vec4<f32>,
@@ -16,7 +16,7 @@ struct CheckCase {
 // Per case: the bounding triangle's lower bounds (xyz) and case (w). Loops: at most 2,807
 // iterations an invocation or SIMD group (beam_atlas.wgsl's bound_triangles says how), far under
 // llvmpipe's 65,535.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WORKGROUP_SIZE)
 fn check_bounding_triangles(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= arrayLength(&cases) { return; }
@@ -27,7 +27,7 @@ fn check_bounding_triangles(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 // Per case: the texel ray's origin and direction (two results). Loops: 10 iterations (S^3).
-@compute @workgroup_size(64)
+@compute @workgroup_size(WORKGROUP_SIZE)
 fn check_rays(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= arrayLength(&cases) { return; }

@@ -2,12 +2,12 @@
 // twin is beam_bvh::FlatBvh::closest_hit / any_hit (front-to-back stack traversal, watertight test).
 // shared/bvh.wgsl and lib/trace.wgsl (nodes, triangles, trace_ray) are prepended by the host.
 
-// Keep in sync with beam_gpu::raytrace::GpuRay (32 bytes).
+// Twin of beam_gpu::raytrace::GpuRay (32 bytes).
 struct GpuRay {
     origin: vec3<f32>,
     t_max: f32,
     direction: vec3<f32>,
-    // 0: closest hit; 1: any hit.
+    // RAY_CLOSEST or RAY_ANY.
     kind: u32,
 }
 
@@ -18,21 +18,21 @@ struct GpuRay {
 // node once and every triangle once, far past llvmpipe's 65,535 for a mesh of 66K triangles or
 // more, but measured on real scenes at no more than 569 iterations for a SIMD group of 8 rays (see
 // trace_ray): no pass splitting here.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WORKGROUP_SIZE)
 fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= arrayLength(&rays) {
         return;
     }
     let ray = rays[i];
-    hits[i] = trace_ray(ray.origin, ray.direction, ray.t_max, ray.kind == 1u);
+    hits[i] = trace_ray(ray.origin, ray.direction, ray.t_max, ray.kind == RAY_ANY);
 }
 
 // ---- Shading of diffuse, glossy and emissive points (CPU twin: beam_gpu::shade::shade_twin;
 // beam_cpu::render::shade_point with point lights exactly, area lights by stratified shadow rays
 // with the `Shading::Exact` estimator, seeded by a hash instead of PCG32) ----
 
-// Keep in sync with beam_gpu::shade::ShadeInput (32 bytes).
+// Twin of beam_gpu::shade::ShadeInput (32 bytes).
 struct ShadeInput {
     p: vec3<f32>,
     prim: u32,
@@ -40,18 +40,18 @@ struct ShadeInput {
     seed: u32,
 }
 
-// Keep in sync with beam_gpu::shade::PrimShading (32 bytes).
+// Twin of beam_gpu::shade::PrimShading (32 bytes).
 struct PrimShading {
     normal: vec3<f32>,  // unit geometric normal
-    kind: u32,          // 0: diffuse or glossy (color = albedo); 1: emissive (color = radiance)
+    kind: u32,          // SURFACE_REFLECTING (color = albedo), SURFACE_EMISSIVE (color = radiance)
     color: vec3<f32>,
     plane: i32,         // caustic irradiance plane, −1 for none
 }
 
-// Keep in sync with beam_gpu::shade::GpuLight (64 bytes).
+// Twin of beam_gpu::shade::GpuLight (64 bytes).
 struct Light {
     a: vec3<f32>,      // point: position; quad: corner; triangle: v0
-    kind: u32,         // 0: point, 1: quad, 2: triangle
+    kind: u32,         // LIGHT_POINT, LIGHT_QUAD or LIGHT_TRIANGLE
     b: vec3<f32>,      // quad: edge_u; triangle: v1 − v0
     area: f32,
     c: vec3<f32>,      // quad: edge_v; triangle: v2 − v0
@@ -60,7 +60,7 @@ struct Light {
     pad2: u32,
 }
 
-// Keep in sync with beam_gpu::shade::CausticPlane (48 bytes).
+// Twin of beam_gpu::shade::CausticPlane (48 bytes).
 struct CausticPlane {
     origin: vec3<f32>,
     offset: u32,       // first texel in `flux`
@@ -70,7 +70,7 @@ struct CausticPlane {
     height: u32,
 }
 
-// Keep in sync with beam_gpu::shade::ShadeParams (32 bytes).
+// Twin of beam_gpu::shade::ShadeParams (32 bytes).
 struct ShadeParams {
     eps: f32,             // offset of shadow-ray origins off the surface
     inv_texel_area: f32,  // 1 / (irradiance-map texel side)²
@@ -84,7 +84,7 @@ struct ShadeParams {
     pad2: u32,
 }
 
-// Keep in sync with beam_gpu::shade::ShadeState (32 bytes): a point's shading between passes,
+// Twin of beam_gpu::shade::ShadeState (32 bytes): a point's shading between passes,
 // zero before the first.
 struct ShadeState {
     // Irradiance of the lights before `light`.
@@ -99,7 +99,7 @@ struct ShadeState {
     pad1: u32,
 }
 
-// Keep in sync with beam_gpu::shade (a 16-byte header, then one ShadeState per point).
+// Twin of beam_gpu::shade (a 16-byte header, then one ShadeState per point).
 struct ShadeStates {
     // Points a pass left unfinished (the host zeroes it before each pass).
     unfinished: atomic<u32>,
@@ -108,8 +108,6 @@ struct ShadeStates {
     pad2: u32,
     points: array<ShadeState>,
 }
-
-const SHADED: u32 = 0xffffffffu;
 
 @group(0) @binding(4) var<uniform> shade_params: ShadeParams;
 @group(0) @binding(5) var<storage, read> shade_in: array<ShadeInput>;
@@ -165,12 +163,12 @@ fn area_sample(l: Light, ln: vec3<f32>, q: vec3<f32>, n: vec3<f32>, seed: u32, i
         s = (f32(i % k) + s) / f32(k);
         t = (f32(i / k) + t) / f32(k);
     }
-    if l.kind == 2u && s + t > 1.0 {
+    if l.kind == LIGHT_TRIANGLE && s + t > 1.0 {
         s = 1.0 - s;
         t = 1.0 - t;
     }
     let to = l.a + s * l.b + t * l.c - q;
-    if trace_ray(q, to, 1.0 - 1e-4, true).t > 0.5 { return 0.0; }
+    if trace_ray(q, to, 1.0 - DEPTH_EPS, true).t > 0.5 { return 0.0; }
     let r2 = dot(to, to);
     let w = to / sqrt(r2);
     return max(dot(n, w), 0.0) * max(-dot(ln, w), 0.0) / r2;
@@ -184,9 +182,9 @@ fn area_sample(l: Light, ln: vec3<f32>, q: vec3<f32>, n: vec3<f32>, seed: u32, i
 // light, the sample, the sums), stops once it has run `budget` iterations (trace_ray's included) and
 // the host runs passes until no point is left unfinished. A pass runs at most budget + 1 shadow
 // rays' worth of iterations per invocation.
-@compute @workgroup_size(64)
+@compute @workgroup_size(WORKGROUP_SIZE)
 fn shade(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = id.y * groups.x * 64u + id.x;
+    let i = id.y * groups.x * WORKGROUP_SIZE + id.x;
     if i >= shade_params.points {
         return;
     }
@@ -196,7 +194,7 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) 
     }
     let s = shade_in[i];
     let m = prim_shading[s.prim];
-    if m.kind == 1u {
+    if m.kind == SURFACE_EMISSIVE {
         shade_out[i] = vec4<f32>(m.color, 0.0);
         shade_state.points[i].light = SHADED;
         return;
@@ -220,11 +218,11 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) 
         }
         work += 1u;
         let light = lights[st.light];
-        if light.kind == 0u {
+        if light.kind == LIGHT_POINT {
             let to = light.a - q;
             let r2 = dot(to, to);
             let cosine = dot(n, to) / sqrt(r2);
-            if cosine > 0.0 && trace_ray(q, to, 1.0 - 1e-4, true).t < 0.5 {
+            if cosine > 0.0 && trace_ray(q, to, 1.0 - DEPTH_EPS, true).t < 0.5 {
                 st.e += light.power * cosine / r2;
             }
             st.light += 1u;
@@ -232,7 +230,7 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) 
         }
         let ln = normalize(cross(light.b, light.c));
         var center = light.a + 0.5 * (light.b + light.c);
-        if light.kind == 2u { center = light.a + (light.b + light.c) / 3.0; }
+        if light.kind == LIGHT_TRIANGLE { center = light.a + (light.b + light.c) / 3.0; }
         // Only a light facing the point is sampled.
         let facing = dot(ln, q - center) > 0.0;
         if facing && st.sample < spp {

@@ -96,8 +96,8 @@ pub fn compute_pipeline(gpu: &Gpu, shader: &str, entry: &str) -> Result<wgpu::Co
 }
 
 /// An encoder with one dispatch of `groups` workgroups of `pipeline`, `buffers` bound in order at
-/// group 0; past 65,535 groups the dispatch is `65,535 × ⌈groups / 65,535⌉` (the shader folds `y`
-/// into its index).
+/// group 0 (binding `i` the `i`-th); past 65,535 groups the dispatch is `65,535 × ⌈groups / 65,535⌉`
+/// (the shader folds `y` into its index, see [`crate::interface::WORKGROUP_SIZE`]).
 #[must_use]
 pub fn dispatch(
     gpu: &Gpu,

@@ -5,18 +5,19 @@
 
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage, uniform};
+use crate::interface::{SECOND_ORDER_SHADOWS, WORKGROUP_SIZE};
 use crate::raytrace::RayTracer;
 use beam_bvh::gpu::GpuBvh;
 use beam_math::glam::Vec3;
 use beam_math::glossy::VolumeMethod;
-use beam_scene::glossy::{BoundingCone, ConeNode, Gathered, GlossyOptions, LightVolumes, MAX_EMITTERS};
+use beam_scene::glossy::{BoundingCone, ConeNode, Gathered, GlossyOptions, LightVolumes};
 use beam_scene::scene::Scene;
 use beam_scene::tolerance::shading_eps;
 use bytemuck::{Pod, Zeroable};
 
 /// A light beam.
 ///
-/// Keep in sync with the WGSL twin `LightBeam` in `shaders/glossy_gather.wgsl`.
+/// WGSL twin: `LightBeam` in `shaders/glossy_gather.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuLightBeam {
@@ -52,7 +53,7 @@ pub struct GpuLightBeam {
 
 /// A bounding cone.
 ///
-/// Keep in sync with the WGSL twin `Cone` in `shaders/glossy_gather.wgsl`.
+/// WGSL twin: `Cone` in `shaders/glossy_gather.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuCone {
@@ -68,7 +69,7 @@ pub struct GpuCone {
 
 /// A node of the cone hierarchy.
 ///
-/// Keep in sync with the WGSL twin `ConeNode` in `shaders/glossy_gather.wgsl`.
+/// WGSL twin: `ConeNode` in `shaders/glossy_gather.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuConeNode {
@@ -91,7 +92,7 @@ pub struct GpuConeNode {
 
 /// A receiver point.
 ///
-/// Keep in sync with the WGSL twin `GatherPoint` in `shaders/glossy_gather.wgsl`.
+/// WGSL twin: `GatherPoint` in `shaders/glossy_gather.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GatherPoint {
@@ -108,7 +109,7 @@ pub struct GatherPoint {
 /// What a receiver point gathered, and (between the passes of [`GpuGather::gather`]) where its walk
 /// of the hierarchy goes on.
 ///
-/// Keep in sync with the WGSL twin `Gathered` in `shaders/glossy_gather.wgsl`.
+/// WGSL twin: `Gathered` in `shaders/glossy_gather.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuGathered {
@@ -128,7 +129,7 @@ pub struct GpuGathered {
 
 /// Uniforms of the gather.
 ///
-/// Keep in sync with the WGSL twin `GatherParams` in `shaders/glossy_gather.wgsl`.
+/// WGSL twin: `GatherParams` in `shaders/glossy_gather.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GatherParams {
@@ -136,7 +137,7 @@ pub struct GatherParams {
     pub points: u32,
     /// Nodes of the hierarchy.
     pub nodes: u32,
-    /// Bit 0: second-order shadows.
+    /// [`SECOND_ORDER_SHADOWS`] or 0.
     pub flags: u32,
     /// Offset of shadow-ray ends off the scatterer.
     pub eps: f32,
@@ -156,10 +157,8 @@ const _: () = assert!(
 );
 
 /// Point emitters (point lights, and area lights' strata) the GPU's shadow mask holds: as many as
-/// the CPU makes at most when it can ([`MAX_EMITTERS`]).
-pub const MAX_LIGHTS: usize = 32;
-
-const _: () = assert!(MAX_LIGHTS == MAX_EMITTERS);
+/// the CPU makes at most when it can ([`crate::interface::MAX_LIGHTS`]).
+pub const MAX_LIGHTS: usize = crate::interface::MAX_LIGHTS as usize;
 
 /// Points per dispatch.
 const CHUNK: usize = 1 << 20;
@@ -202,7 +201,7 @@ impl GpuGather {
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, String> {
         Ok(Self {
             pipeline: compute_pipeline(gpu, "glossy_gather", "gather")?,
-            tracer: RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?,
+            tracer: RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?,
             eps: shading_eps(scene),
         })
     }
@@ -283,7 +282,7 @@ impl GpuGather {
                 let params = GatherParams {
                     points: chunk.len() as u32,
                     nodes: nodes.len() as u32,
-                    flags: u32::from(options.second_order),
+                    flags: if options.second_order { SECOND_ORDER_SHADOWS } else { 0 },
                     eps: self.eps,
                     budget: PASS_BUDGET,
                     pad: [0; 3],
@@ -310,7 +309,8 @@ impl GpuGather {
                 // least one node or beam).
                 loop {
                     gpu.queue.write_buffer(&unfinished, 0, &[0; 4]);
-                    let encoder = dispatch(gpu, &self.pipeline, &buffers, chunk.len().div_ceil(64) as u32);
+                    let encoder =
+                        dispatch(gpu, &self.pipeline, &buffers, chunk.len().div_ceil(WORKGROUP_SIZE as usize) as u32);
                     let left = read_back(gpu, encoder, &unfinished, 4)?;
                     if u32::from_le_bytes([left[0], left[1], left[2], left[3]]) == 0 {
                         break;

@@ -1,7 +1,8 @@
 //! # beam-gpu
 //!
 //! wgpu + naga pipelines mirroring beam-cpu: headless device set-up, WGSL shaders validated by naga
-//! and translatable to SPIR-V, GLSL, MSL and HLSL, a compute ray tracer over beam-bvh's GPU
+//! and translatable to SPIR-V, GLSL, MSL and HLSL (their constants shared with Rust from one table,
+//! [`interface`], and their structs' layouts checked against the Rust twins), a compute ray tracer over beam-bvh's GPU
 //! layout, and the nonlinear beam pipeline of 000 (bounding triangles in a vertex stage, per-texel
 //! rays in a fragment stage, per-level atlases, the composite), and the gather of the glossy light
 //! volumes of 002. Every entry point has a CPU twin that the conformance suite compares it with.
@@ -9,6 +10,7 @@
 pub mod buffers;
 pub mod device;
 pub mod glossy;
+pub mod interface;
 pub mod nonlinear;
 pub mod raytrace;
 pub mod shade;

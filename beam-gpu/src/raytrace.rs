@@ -4,12 +4,13 @@
 
 use crate::Gpu;
 use crate::buffers::{compute_pipeline, dispatch, output, read_back, storage};
+use crate::interface::{MISS, WORKGROUP_SIZE};
 use beam_bvh::gpu::GpuBvh;
 use bytemuck::{Pod, Zeroable};
 
 /// A ray for the GPU.
 ///
-/// Keep in sync with the WGSL twin `GpuRay` in `shaders/raytrace.wgsl`.
+/// WGSL twin: `GpuRay` in `shaders/raytrace.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuRay {
@@ -19,7 +20,7 @@ pub struct GpuRay {
     pub t_max: f32,
     /// Direction (not necessarily unit; `t` is in its units).
     pub direction: [f32; 3],
-    /// 0: closest hit; 1: any hit.
+    /// [`RAY_CLOSEST`](crate::interface::RAY_CLOSEST) or [`RAY_ANY`](crate::interface::RAY_ANY).
     pub kind: u32,
 }
 
@@ -27,7 +28,7 @@ const _: () = assert!(size_of::<GpuRay>() == 32);
 
 /// A ray's result.
 ///
-/// Keep in sync with the WGSL twin `GpuHit` in `shaders/raytrace.wgsl`.
+/// WGSL twin: `GpuHit` in `shaders/lib/trace.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuHit {
@@ -40,8 +41,8 @@ pub struct GpuHit {
 const _: () = assert!(size_of::<GpuHit>() == 8);
 
 impl GpuHit {
-    /// `prim` of a miss.
-    pub const MISS: u32 = u32::MAX;
+    /// `prim` of a miss ([`crate::interface::MISS`]).
+    pub const MISS: u32 = MISS;
 }
 
 /// The compiled pipeline with a BVH uploaded.
@@ -55,8 +56,8 @@ impl RayTracer {
     /// Compile `raytrace.wgsl` and upload `bvh`.
     pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, String> {
         let pipeline = compute_pipeline(gpu, "raytrace", "trace")?;
-        let nodes = storage(gpu, "nodes", &bvh.nodes, wgpu::BufferUsages::empty());
-        let triangles = storage(gpu, "triangles", &bvh.triangles, wgpu::BufferUsages::empty());
+        let nodes = storage(gpu, "nodes", bvh.nodes(), wgpu::BufferUsages::empty());
+        let triangles = storage(gpu, "triangles", bvh.triangles(), wgpu::BufferUsages::empty());
         Ok(Self { pipeline, nodes, triangles })
     }
 
@@ -71,15 +72,21 @@ impl RayTracer {
         if rays.is_empty() {
             return Ok(Vec::new());
         }
-        // One dispatch: at most 65,535 workgroups of 64 rays.
-        let groups = rays.len().div_ceil(64);
+        // One dispatch: at most 65,535 workgroups (`trace` reads only `id.x`).
+        let groups = rays.len().div_ceil(WORKGROUP_SIZE as usize);
         if groups > 65_535 {
-            return Err(format!("{} rays exceed one dispatch (at most {})", rays.len(), 65_535 * 64));
+            return Err(format!("{} rays exceed one dispatch (at most {})", rays.len(), 65_535 * WORKGROUP_SIZE));
         }
         let ray_buffer = storage(gpu, "rays", rays, wgpu::BufferUsages::empty());
         let size = (rays.len() * size_of::<GpuHit>()) as u64;
         let hits = output(gpu, "hits", size);
         let encoder = dispatch(gpu, &self.pipeline, &[&self.nodes, &self.triangles, &ray_buffer, &hits], groups as u32);
-        Ok(bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &hits, size)?))
+        let hits: Vec<GpuHit> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &hits, size)?);
+        // A miss at t = −1 (of a ray searched from t = 0 on): the traversal's stack overflowed
+        // (lib/trace.wgsl), which GpuBvh::new rules out.
+        if let Some(i) = (0..hits.len()).find(|&i| hits[i].prim == MISS && hits[i].t < 0.0 && rays[i].t_max >= 0.0) {
+            return Err(format!("ray {i}: the GPU traversal stack overflowed"));
+        }
+        Ok(hits)
     }
 }

@@ -7,6 +7,9 @@
 
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, output, read_back, storage, uniform};
+use crate::interface::{
+    LIGHT_POINT, LIGHT_QUAD, LIGHT_TRIANGLE, SURFACE_EMISSIVE, SURFACE_REFLECTING, SURFACE_UNSHADED, WORKGROUP_SIZE,
+};
 use crate::raytrace::RayTracer;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -18,7 +21,7 @@ use bytemuck::{Pod, Zeroable};
 
 /// A point to shade.
 ///
-/// Keep in sync with the WGSL twin `ShadeInput` in `shaders/raytrace.wgsl`.
+/// WGSL twin: `ShadeInput` in `shaders/raytrace.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct ShadeInput {
@@ -34,13 +37,14 @@ pub struct ShadeInput {
 
 /// What shading needs of a scene triangle.
 ///
-/// Keep in sync with the WGSL twin `PrimShading` in `shaders/raytrace.wgsl`.
+/// WGSL twin: `PrimShading` in `shaders/raytrace.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct PrimShading {
     /// Unit geometric normal.
     pub normal: [f32; 3],
-    /// 0: diffuse or glossy (`color` the albedo); 1: emissive (`color` the radiance).
+    /// [`SURFACE_REFLECTING`] (diffuse or glossy, `color` the albedo), [`SURFACE_EMISSIVE`]
+    /// (`color` the radiance) or [`SURFACE_UNSHADED`].
     pub kind: u32,
     /// Albedo or radiance.
     pub color: [f32; 3],
@@ -50,13 +54,13 @@ pub struct PrimShading {
 
 /// A light.
 ///
-/// Keep in sync with the WGSL twin `Light` in `shaders/raytrace.wgsl`.
+/// WGSL twin: `Light` in `shaders/raytrace.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuLight {
     /// Point: position; quad: corner; triangle: first vertex.
     pub a: [f32; 3],
-    /// 0: point, 1: quad, 2: triangle.
+    /// [`LIGHT_POINT`], [`LIGHT_QUAD`] or [`LIGHT_TRIANGLE`].
     pub kind: u32,
     /// Quad: first edge; triangle: `v1 − v0`.
     pub b: [f32; 3],
@@ -77,9 +81,9 @@ impl GpuLight {
     #[must_use]
     pub fn new(light: &Light) -> Self {
         let (a, kind, b, c) = match *light {
-            Light::Point { position, .. } => (position, 0, Vec3::ZERO, Vec3::ZERO),
-            Light::Quad { corner, edge_u, edge_v, .. } => (corner, 1, edge_u, edge_v),
-            Light::Triangle { v, .. } => (v[0], 2, v[1] - v[0], v[2] - v[0]),
+            Light::Point { position, .. } => (position, LIGHT_POINT, Vec3::ZERO, Vec3::ZERO),
+            Light::Quad { corner, edge_u, edge_v, .. } => (corner, LIGHT_QUAD, edge_u, edge_v),
+            Light::Triangle { v, .. } => (v[0], LIGHT_TRIANGLE, v[1] - v[0], v[2] - v[0]),
         };
         Self {
             a: a.to_array(),
@@ -96,7 +100,7 @@ impl GpuLight {
 
 /// One plane of the caustic irradiance maps.
 ///
-/// Keep in sync with the WGSL twin `CausticPlane` in `shaders/raytrace.wgsl`.
+/// WGSL twin: `CausticPlane` in `shaders/raytrace.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct CausticPlane {
@@ -116,7 +120,7 @@ pub struct CausticPlane {
 
 /// Uniforms of the shading pass.
 ///
-/// Keep in sync with the WGSL twin `ShadeParams` in `shaders/raytrace.wgsl`.
+/// WGSL twin: `ShadeParams` in `shaders/raytrace.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct ShadeParams {
@@ -138,8 +142,9 @@ pub struct ShadeParams {
 
 /// A point's shading between passes (zero before the first).
 ///
-/// Keep in sync with the WGSL twin `ShadeState` in `shaders/raytrace.wgsl`, which keeps them after
-/// a 16-byte header (`ShadeStates`: the count of points a pass left unfinished, and padding).
+/// WGSL twin: `ShadeState` in `shaders/raytrace.wgsl` (layouts compared in [`crate::interface`]),
+/// kept after a 16-byte header (`ShadeStates`: the count of points a pass left unfinished, and
+/// padding).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct ShadeState {
@@ -147,7 +152,7 @@ pub struct ShadeState {
     pub e: [f32; 3],
     /// Area light `light`'s sum over its samples before `sample`.
     pub integral: f32,
-    /// The light the point goes on at; `u32::MAX` once shaded.
+    /// The light the point goes on at; [`SHADED`](crate::interface::SHADED) once shaded.
     pub light: u32,
     /// The next sample of area light `light`.
     pub sample: u32,
@@ -176,7 +181,7 @@ const _: () = assert!(
 );
 
 /// Bytes before the first [`ShadeState`] in the state buffer (the unfinished count and padding).
-const STATE_HEADER: u64 = 16;
+pub(crate) const STATE_HEADER: u64 = 16;
 
 /// The shading pass for one scene: its lights uploaded, its triangles' normals and materials kept.
 pub struct PointShader {
@@ -194,9 +199,9 @@ impl PointShader {
         let prims: Vec<PrimShading> = (0..scene.triangles.len() as u32)
             .map(|i| {
                 let (kind, color) = match scene.material(i) {
-                    Material::Emissive { radiance } => (1, radiance),
-                    Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => (0, albedo),
-                    _ => (2, Vec3::ZERO),
+                    Material::Emissive { radiance } => (SURFACE_EMISSIVE, radiance),
+                    Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => (SURFACE_REFLECTING, albedo),
+                    _ => (SURFACE_UNSHADED, Vec3::ZERO),
                 };
                 PrimShading { normal: scene.normal(i).to_array(), kind, color: color.to_array(), plane: -1 }
             })
@@ -335,7 +340,7 @@ impl PointShader {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &bind, &[]);
-                let groups = points.len().div_ceil(64) as u32;
+                let groups = points.len().div_ceil(WORKGROUP_SIZE as usize) as u32;
                 pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
             }
             let left = read_back(gpu, encoder, &state, 4)?;
@@ -393,7 +398,7 @@ pub fn shade_twin(scene: &Scene, caustics: Option<&IrradianceMap>, spp: u32, s: 
     for (j, light) in scene.lights.iter().enumerate() {
         let l = GpuLight::new(light);
         let (a, b, c) = (Vec3::from(l.a), Vec3::from(l.b), Vec3::from(l.c));
-        if l.kind == 0 {
+        if l.kind == LIGHT_POINT {
             let to = a - q;
             let r2 = to.dot(to);
             let cosine = n.dot(to) / r2.sqrt();
@@ -403,7 +408,7 @@ pub fn shade_twin(scene: &Scene, caustics: Option<&IrradianceMap>, spp: u32, s: 
             continue;
         }
         let ln = b.cross(c).normalize();
-        let center = if l.kind == 2 { a + (b + c) / 3.0 } else { a + 0.5 * (b + c) };
+        let center = if l.kind == LIGHT_TRIANGLE { a + (b + c) / 3.0 } else { a + 0.5 * (b + c) };
         if ln.dot(q - center) <= 0.0 {
             continue;
         }
@@ -417,7 +422,7 @@ pub fn shade_twin(scene: &Scene, caustics: Option<&IrradianceMap>, spp: u32, s: 
                 u = ((i % k) as f32 + u) / k as f32;
                 v = ((i / k) as f32 + v) / k as f32;
             }
-            if l.kind == 2 && u + v > 1.0 {
+            if l.kind == LIGHT_TRIANGLE && u + v > 1.0 {
                 (u, v) = (1.0 - u, 1.0 - v);
             }
             let to = a + u * b + v * c - q;

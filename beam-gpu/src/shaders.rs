@@ -4,7 +4,7 @@
 use std::path::Path;
 
 /// Code shared by the shaders (`shaders/shared/*.wgsl`), prepended to each.
-const SHARED: &[(&str, &str)] = &[
+pub(crate) const SHARED: &[(&str, &str)] = &[
     ("shared/bvh.wgsl", include_str!("../shaders/shared/bvh.wgsl")),
     ("shared/nonlinear.wgsl", include_str!("../shaders/shared/nonlinear.wgsl")),
 ];
@@ -20,15 +20,17 @@ pub const SHADERS: &[(&str, &str)] = &[
 
 /// Library code that some shaders include (`shaders/lib/*.wgsl`): name, source, the shaders that
 /// include it.
-const LIBRARY: &[(&str, &str, &[&str])] =
+pub(crate) const LIBRARY: &[(&str, &str, &[&str])] =
     &[("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather"])];
 
-/// The full source of shader `name`: the shared code, the library code it includes, then the shader.
+/// The full source of shader `name`: the constants it shares with Rust ([`crate::interface::wgsl`]),
+/// the shared code, the library code it includes, then the shader.
 #[must_use]
 pub fn source(name: &str) -> Option<String> {
     let (_, body) = SHADERS.iter().find(|(n, _)| *n == name)?;
     let included = LIBRARY.iter().filter(|(_, _, users)| users.contains(&name)).map(|(_, s, _)| *s);
-    let mut out: String = SHARED.iter().map(|(_, s)| *s).chain(included).collect::<Vec<_>>().join("\n");
+    let mut out = crate::interface::wgsl();
+    out.push_str(&SHARED.iter().map(|(_, s)| *s).chain(included).collect::<Vec<_>>().join("\n"));
     out.push('\n');
     out.push_str(body);
     Some(out)

@@ -249,7 +249,7 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in ["cornell", "mirror-glass", "wavy-lake"] {
         let scene = scene::builtin(name)?;
-        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
+        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
         let bounds = scene.bounds();
         let camera = scene.camera.with_size(128, 128);
         let frame = camera.frame();
@@ -422,7 +422,7 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
         let scene = scene::builtin(name)?;
         let point_lit = scene.lights.iter().all(|l| matches!(l, scene::Light::Point { .. }));
         let shader = PointShader::new(&gpu, &scene)?;
-        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
+        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
         let caustics = caustics_by_beams(&scene, Degree::S1, 16, CAUSTIC_STRATA, &CpuBeams)?.map(|c| c.0);
         let options = RenderOptions::exact(128, 128);
         let camera = scene.camera.with_size(128, 128);
@@ -495,7 +495,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
         let (on_cpu, _) = render_nonlinear_with(&scene, &options, &twin)?;
         let (levels, caustics) = twin.0.into_inner().map_err(|e| e.to_string())?;
         let shader = PointShader::new(&gpu, &scene)?;
-        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
+        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
         let rest = |points: &[beam_cpu::nonlinear::ShadePoint]| {
             beam_cpu::nonlinear::shade_points(
                 &TwinShading::default(),

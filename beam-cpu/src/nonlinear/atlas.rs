@@ -9,7 +9,7 @@
 use beam_math::Ray;
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{BeamTexture, TexelBeam, TexelHit, cone_candidates, self_hit_at};
+use beam_scene::nonlinear::{BeamTexture, TEXEL_EPS, TexelBeam, TexelHit, cone_candidates, self_hit_at};
 use beam_scene::scene::Scene;
 
 /// Regions at most this many texels a side keep their texels' rays (about 100 bytes per texel).
@@ -102,7 +102,8 @@ pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, e
                     Some(cached) => *cached.get_or_insert_with(|| TexelRay::new(beam.texel_ray(w))),
                     None => TexelRay::new(beam.texel_ray(w)),
                 };
-                let t_min = if neighbour { self_hit_at(lift, normal, r.ray, extent) } else { 1e-4 * extent } / r.len;
+                let t_min =
+                    if neighbour { self_hit_at(lift, normal, r.ray, extent) } else { TEXEL_EPS * extent } / r.len;
                 let t_max = tex.hits[k].map_or(f32::INFINITY, |h| h.t);
                 if let Some(hit) = r.watertight.intersect(tri, t_min, t_max) {
                     tex.hits[k] = Some(TexelHit { prim: i, t: hit.t });

@@ -2,8 +2,9 @@
 // (nodes) and 1 (triangles); included by the shaders that trace rays (raytrace, glossy_gather).
 // CPU twin: beam_bvh::FlatBvh::closest_hit / any_hit (front-to-back stack traversal, watertight).
 
-// Keep in sync with beam_gpu::raytrace::GpuHit (8 bytes): prim is 0xffffffff on a miss; for an
-// any-hit ray t is 1 when occluded and 0 otherwise.
+// Twin of beam_gpu::raytrace::GpuHit (8 bytes): prim is MISS on a miss; for an any-hit ray t is 1
+// when occluded and 0 otherwise. (The shared constants, TRAVERSAL_STACK, MISS, …, are generated
+// from beam_gpu::interface and prepended by the host.)
 struct GpuHit {
     prim: u32,
     t: f32,
@@ -12,10 +13,6 @@ struct GpuHit {
 @group(0) @binding(0) var<storage, read> nodes: array<BvhNode>;
 @group(0) @binding(1) var<storage, read> triangles: array<BvhTriangle>;
 
-// Pending nodes of one traversal. (The CPU's traversal, beam_bvh::FlatBvh, keeps 192; a deeper
-// tree's nodes beyond 64 pending are skipped here, not traversed: another issue.)
-const STACK: u32 = 64u;
-
 // Loop iterations trace_ray has run in this invocation, as software Vulkan (Mesa llvmpipe /
 // lavapipe) counts them towards its cap of 65,535 per SIMD group: a traversal step each, and per
 // leaf its triangles + 2 (the leaf's loop, entered). Shaders that bound their work per dispatch
@@ -23,13 +20,17 @@ const STACK: u32 = 64u;
 var<private> trace_work: u32;
 
 // The nearest hit before t_max (any hit when `any`) of the ray (origin, direction): GpuHit with
-// prim 0xffffffff on a miss; for `any`, t is 1 when occluded and 0 otherwise.
+// prim MISS on a miss; for `any`, t is 1 when occluded and 0 otherwise.
 fn trace_ray(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any: bool) -> GpuHit {
     let sheared = shear_ray(origin, direction);
     let inv = 1.0 / direction;
     var best = t_max;
-    var prim = 0xffffffffu;
-    var stack: array<u32, 64>;
+    var prim = MISS;
+    // Pending nodes. After popping a node at depth d at most d are pending (one sibling per
+    // ancestor: those pushed after it were popped first, with their subtrees), so pushing the
+    // children of an inner node needs at most the tree's depth + 1 entries, which
+    // beam_bvh::gpu::GpuBvh::new checks against TRAVERSAL_STACK (beam_bvh::gpu::stack_entries).
+    var stack: array<u32, TRAVERSAL_STACK>;
     var sp = 0u;
     if slab(nodes[0], origin, inv, best) < 3.0e38 {
         stack[0] = 0u;
@@ -74,8 +75,11 @@ fn trace_ray(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any: bool) -> 
         let right = node.right_or_first;
         let dl = slab(nodes[left], origin, inv, best);
         let dr = slab(nodes[right], origin, inv, best);
-        if sp + 2u > STACK {
-            continue;
+        // Cannot happen for a tree GpuBvh::new accepted (see `stack`); were it to, the traversal
+        // ends with t = −1, which no hit or miss has (RayTracer::trace reports it), rather than
+        // drop a subtree and answer as if it had been searched.
+        if sp + 2u > TRAVERSAL_STACK {
+            return GpuHit(MISS, -1.0);
         }
         if dl <= dr {
             if dr < 3.0e38 { stack[sp] = right; sp += 1u; }
@@ -86,7 +90,7 @@ fn trace_ray(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any: bool) -> 
         }
     }
     if any {
-        return GpuHit(0xffffffffu, 0.0);
+        return GpuHit(MISS, 0.0);
     }
     return GpuHit(prim, best);
 }

@@ -1,7 +1,7 @@
 // The GPU layout of beam-bvh (beam-bvh/src/gpu.rs) and the watertight ray–triangle test of
 // beam-math (collide/ray_triangle.rs, Woop, Benthin, Wald 2013) in WGSL.
 
-// Keep in sync with beam_bvh::FlatNode (32 bytes).
+// Twin of beam_bvh::FlatNode (32 bytes).
 struct BvhNode {
     min: vec3<f32>,
     right_or_first: u32,
@@ -9,7 +9,7 @@ struct BvhNode {
     count: u32,
 }
 
-// Keep in sync with beam_bvh::gpu::GpuTriangle (48 bytes).
+// Twin of beam_bvh::gpu::GpuTriangle (48 bytes).
 struct BvhTriangle {
     v0: vec3<f32>,
     prim: u32,

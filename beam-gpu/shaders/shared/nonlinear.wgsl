@@ -8,7 +8,7 @@
 // beam-math does (a vertex on the beam's side surface, on the threshold plane, on the base plane)
 // these functions take the larger triangle of the two branches, so they stay conservative.
 
-// Keep in sync with beam_gpu::nonlinear::GpuBeam (576 bytes).
+// Twin of beam_gpu::nonlinear::GpuBeam (576 bytes).
 struct Beam {
     base: array<vec4<f32>, 3>,      // P_i
     dirs: array<vec4<f32>, 3>,      // unit boundary directions d_i
@@ -20,22 +20,21 @@ struct Beam {
     bump: vec4<f32>,                // θ2 = asin(min n·d_i), bump wavelength, lift (self-hits), unused
     region: vec4<u32>,              // atlas x, y, texels per side, excluded scene triangle
     kind: vec4<u32>,                // degree n, control points, bumped (0 or 1), unused
-    origin: array<vec4<f32>, 10>,   // Bernstein control points of O(ω)
-    direction: array<vec4<f32>, 10>, // Bernstein control points of d(ω)
+    origin: array<vec4<f32>, MAX_CONTROL_POINTS>,   // Bernstein control points of O(ω)
+    direction: array<vec4<f32>, MAX_CONTROL_POINTS>, // Bernstein control points of d(ω)
 }
 
-// A bounding triangle {ω : ω_k ≥ lower_k}; case 0 brute force (the whole base), 1 general,
-// 2 unique projection, 3 none (behind the base).
+// A bounding triangle {ω : ω_k ≥ lower_k}; case BOUNDING_BRUTE_FORCE (the whole base),
+// BOUNDING_GENERAL, BOUNDING_UNIQUE_PROJECTION, or BOUNDING_BEHIND (none, behind the base).
+// (The shared constants are generated from beam_gpu::interface and prepended by the host.)
 struct BoundingTriangle {
     lower: vec3<f32>,
     case_: u32,
 }
 
-const BARY_TOLERANCE: f32 = 1e-5;
-// Margins within which f32 does not decide a branch (barycentric units, and base sizes for t).
+// Margins (GPU only) within which f32 does not decide a branch (barycentric units, and base sizes for t).
 const AMBIGUOUS_BARY: f32 = 1e-4;
 const AMBIGUOUS_T: f32 = 1e-4;
-const MIN_RISE: f32 = 0.05;
 
 fn bv(b: Beam, i: u32) -> vec3<f32> { return b.base[i].xyz; }
 fn bd(b: Beam, i: u32) -> vec3<f32> { return b.dirs[i].xyz; }
@@ -100,7 +99,7 @@ fn perturb(d: vec3<f32>, n: vec3<f32>, u: vec3<f32>, tilt: vec2<f32>, delta: f32
     if dot(c, c) > 0.0 { axis = normalize(c); }
     let a = delta * len;
     let rotated = d * cos(a) + cross(axis, d) * sin(a) + axis * dot(axis, d) * (1.0 - cos(a));
-    if dot(rotated, n) >= 0.01 { return rotated; }
+    if dot(rotated, n) >= MIN_ELEVATION { return rotated; }
     return d;
 }
 
@@ -251,9 +250,9 @@ fn s1_solutions(b: Beam, q: vec3<f32>) -> Solutions {
     let n0 = cross(e1, e2);
     let n1 = cross(e1, f2) + cross(f1, e2);
     let n2 = cross(f1, f2);
-    // Rays rise at least MIN_ELEVATION above the base, so |t| ≤ (|q − P1| + base size)/0.01: the
-    // search stops a factor 4 beyond.
-    let limit = 400.0 * (length(r) + base_size(b));
+    // Rays rise at least MIN_ELEVATION above the base, so |t| ≤ (|q − P1| + base size)/MIN_ELEVATION:
+    // the search stops a factor 4 beyond.
+    let limit = 4.0 / MIN_ELEVATION * (length(r) + base_size(b));
     let c = vec4<f32>(dot(n0, r), dot(n1, r) + dot(n0, dd), dot(n2, r) + dot(n1, dd), dot(n2, dd));
     let roots = cubic_roots(c, limit);
     var out: Solutions;
@@ -358,8 +357,8 @@ fn base_tri(b: Beam) -> Tri {
 fn general_case(b: Beam, tri: Tri) -> BoundingTriangle {
     let n = b.normal.xyz;
     let e = enclose_transfers(b, tri, n, -dot(n, bv(b, 0u)), base_tri(b), b.offsets.x, b.heights.xyz);
-    if e.w == 0.0 { return BoundingTriangle(vec3<f32>(0.0), 0u); }
-    return BoundingTriangle(e.xyz, 1u);
+    if e.w == 0.0 { return BoundingTriangle(vec3<f32>(0.0), BOUNDING_BRUTE_FORCE); }
+    return BoundingTriangle(e.xyz, BOUNDING_GENERAL);
 }
 
 // The unique-projection case (transfers onto Π_a(t_top)); case 0 when it does not apply.
@@ -369,7 +368,7 @@ fn unique_projection_case(b: Beam, tri: Tri) -> BoundingTriangle {
         let sol = s1_solutions(b, tri.v[i]);
         for (var k = 0u; k < sol.n; k++) { t_top = max(t_top, sol.s[k].w); }
     }
-    let none = BoundingTriangle(vec3<f32>(0.0), 0u);
+    let none = BoundingTriangle(vec3<f32>(0.0), BOUNDING_BRUTE_FORCE);
     if !(t_top > b.heights.w) || t_top > 3.0e38 { return none; }
     let affine = Tri(array<vec3<f32>, 3>(bv(b, 0u) + t_top * bd(b, 0u), bv(b, 1u) + t_top * bd(b, 1u), bv(b, 2u) + t_top * bd(b, 2u)));
     let pn = b.normal.w * cross(affine.v[1] - affine.v[0], affine.v[2] - affine.v[0]);
@@ -380,7 +379,7 @@ fn unique_projection_case(b: Beam, tri: Tri) -> BoundingTriangle {
     let mu = b.offsets.x + t_top * b.offsets.y;
     let e = enclose_transfers(b, tri, pn, pd, affine, mu, tri_heights(affine));
     if e.w == 0.0 { return none; }
-    return BoundingTriangle(e.xyz, 2u);
+    return BoundingTriangle(e.xyz, BOUNDING_UNIQUE_PROJECTION);
 }
 
 // Barycentric margin added to every computed (non-brute-force) bounding triangle: the f32 rounding
@@ -389,12 +388,12 @@ const F32_MARGIN: f32 = 2e-3;
 
 // 000 Alg. 3 (S1) and Alg. 4 (S^n) for the unperturbed beam.
 fn bounding_triangle_sn(b: Beam, tri: Tri) -> BoundingTriangle {
-    let base = BoundingTriangle(vec3<f32>(0.0), 0u);
+    let base = BoundingTriangle(vec3<f32>(0.0), BOUNDING_BRUTE_FORCE);
     let n = b.normal.xyz;
     let pd = -dot(n, bv(b, 0u));
     let margin = b.offsets.x + AMBIGUOUS_T * base_size(b);
     if dot(n, tri.v[0]) + pd < -margin && dot(n, tri.v[1]) + pd < -margin && dot(n, tri.v[2]) + pd < -margin {
-        return BoundingTriangle(vec3<f32>(0.0), 3u);
+        return BoundingTriangle(vec3<f32>(0.0), BOUNDING_BEHIND);
     }
     let c0 = classify_s1(b, tri.v[0]);
     let c1 = classify_s1(b, tri.v[1]);
@@ -406,7 +405,7 @@ fn bounding_triangle_sn(b: Beam, tri: Tri) -> BoundingTriangle {
     let e = vec3<f32>(dot(tn, tri.v[0]), dot(tn, tri.v[1]), dot(tn, tri.v[2])) + b.threshold.w;
     if min3(e) > eps {
         let u = unique_projection_case(b, tri);
-        if u.case_ == 2u { return u; }
+        if u.case_ == BOUNDING_UNIQUE_PROJECTION { return u; }
     }
     return general_case(b, tri);
 }
@@ -439,7 +438,7 @@ fn theta1(b: Beam, tri: Tri) -> f32 {
 // expanded by D of eq. 5).
 fn bounding_triangle(b: Beam, tri: Tri) -> BoundingTriangle {
     var s1 = bounding_triangle_sn(b, tri);
-    if s1.case_ == 0u || s1.case_ == 3u { return s1; }
+    if s1.case_ == BOUNDING_BRUTE_FORCE || s1.case_ == BOUNDING_BEHIND { return s1; }
     s1.lower -= vec3<f32>(F32_MARGIN);
     if b.kind.z == 0u { return s1; }
     let tau = b.offsets.w;
@@ -447,7 +446,7 @@ fn bounding_triangle(b: Beam, tri: Tri) -> BoundingTriangle {
     var theta3 = theta2;
     if !(theta2 > tau) {
         theta3 = theta1(b, tri);
-        if !(theta3 > tau) { return BoundingTriangle(vec3<f32>(0.0), 0u); }
+        if !(theta3 > tau) { return BoundingTriangle(vec3<f32>(0.0), BOUNDING_BRUTE_FORCE); }
     }
     let n = b.normal.xyz;
     let pd = -dot(n, bv(b, 0u));
@@ -456,7 +455,7 @@ fn bounding_triangle(b: Beam, tri: Tri) -> BoundingTriangle {
         for (var j = 0u; j < 3u; j++) {
             let d = be(b, j);
             let nd = dot(n, d);
-            if nd == 0.0 { return BoundingTriangle(vec3<f32>(0.0), 0u); }
+            if nd == 0.0 { return BoundingTriangle(vec3<f32>(0.0), BOUNDING_BRUTE_FORCE); }
             let t = -(dot(n, tri.v[i]) + pd) / nd;
             reach = max(reach, length(t * d));
         }
@@ -469,5 +468,5 @@ fn bounding_triangle(b: Beam, tri: Tri) -> BoundingTriangle {
 // surface meeting itself (beam_cpu::nonlinear::self_hit_distance).
 fn self_hit_distance(b: Beam, ray: BeamRay, extent: f32) -> f32 {
     let rise = max(dot(normalize(ray.direction), b.normal.xyz), MIN_RISE);
-    return max(1e-4 * extent, 2.0 * b.bump.z / rise);
+    return max(TEXEL_EPS * extent, 2.0 * b.bump.z / rise);
 }

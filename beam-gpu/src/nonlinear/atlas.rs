@@ -13,6 +13,7 @@ use super::beam::GpuBeam;
 use super::composite::GpuComposite;
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, map, max_binding, output, shader_module, storage, uniform};
+use crate::interface::{RAY_CLOSEST, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::PointShader;
 use beam_bvh::Hit;
@@ -33,7 +34,7 @@ use std::time::Instant;
 
 /// Uniforms of the atlas pass.
 ///
-/// Keep in sync with the WGSL twin `AtlasParams` in `shaders/beam_atlas.wgsl`.
+/// WGSL twin: `AtlasParams` in `shaders/beam_atlas.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct AtlasParams {
@@ -153,7 +154,7 @@ impl<'g> GpuBeams<'g> {
         let by_prim: Vec<GpuTriangle> =
             scene.triangles.iter().enumerate().map(|(i, t)| GpuTriangle::new(t, i as u32)).collect();
         let triangles = storage(gpu, "scene triangles", &by_prim, wgpu::BufferUsages::empty());
-        let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles))?;
+        let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
         // A power of two, so that Z-order packing of power-of-two squares fills it.
         let side = gpu.device.limits().max_texture_dimension_2d.clamp(32, 4096);
         let page = 1 << (31 - side.leading_zeros());
@@ -252,7 +253,7 @@ impl<'g> GpuBeams<'g> {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
             pass.set_pipeline(&self.bound);
             pass.set_bind_group(0, &group, &[]);
-            let groups = pairs.len().div_ceil(64).max(1) as u32;
+            let groups = pairs.len().div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
             pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
         }
         let group = bind(
@@ -474,14 +475,14 @@ impl BeamRenderer for GpuBeams<'_> {
     fn closest_hits(&self, _scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
         let start = Instant::now();
         let mut out = Vec::with_capacity(rays.len());
-        for chunk in rays.chunks(65_535 * 64) {
+        for chunk in rays.chunks(65_535 * WORKGROUP_SIZE as usize) {
             let gpu_rays: Vec<GpuRay> = chunk
                 .iter()
                 .map(|r| GpuRay {
                     origin: r.origin.to_array(),
                     t_max: 3.0e38,
                     direction: r.direction.to_array(),
-                    kind: 0,
+                    kind: RAY_CLOSEST,
                 })
                 .collect();
             let hits = checked(self.gpu, || self.tracer.trace(self.gpu, &gpu_rays))?;

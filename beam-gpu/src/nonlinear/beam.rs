@@ -7,12 +7,12 @@ use beam_math::nonlinear::{BeamBounds, Interpolant, NonlinearBeam};
 use beam_scene::nonlinear::Beam;
 use bytemuck::{Pod, Zeroable};
 
-/// Most control points of a GPU beam (S3: 10).
-pub const MAX_CONTROL_POINTS: usize = 10;
+/// Most control points of a GPU beam (S3: 10; [`crate::interface::MAX_CONTROL_POINTS`]).
+pub const MAX_CONTROL_POINTS: usize = crate::interface::MAX_CONTROL_POINTS as usize;
 
 /// A beam for the shaders.
 ///
-/// Keep in sync with the WGSL twin `Beam` in `shaders/shared/nonlinear.wgsl`.
+/// WGSL twin: `Beam` in `shaders/shared/nonlinear.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuBeam {

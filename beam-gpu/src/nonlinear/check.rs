@@ -7,6 +7,7 @@
 use super::beam::GpuBeam;
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage};
+use crate::interface::{BOUNDING_BRUTE_FORCE, BOUNDING_GENERAL, BOUNDING_UNIQUE_PROJECTION, WORKGROUP_SIZE};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::BoundingCase;
@@ -15,7 +16,7 @@ use bytemuck::{Pod, Zeroable};
 
 /// One case: a scene triangle, or a base point in `a`; the beam's index in `a[3]` (as bits).
 ///
-/// Keep in sync with the WGSL twin `CheckCase` in `shaders/nonlinear_check.wgsl`.
+/// WGSL twin: `CheckCase` in `shaders/nonlinear_check.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct CheckCase {
@@ -59,7 +60,7 @@ impl NonlinearCheck {
         if cases.is_empty() {
             return Ok(Vec::new());
         }
-        let groups = cases.len().div_ceil(64);
+        let groups = cases.len().div_ceil(WORKGROUP_SIZE as usize);
         if groups > 65_535 {
             return Err(format!("{} cases exceed one dispatch", cases.len()));
         }
@@ -91,9 +92,9 @@ impl NonlinearCheck {
             .iter()
             .map(|r| {
                 let case = match r[3] as u32 {
-                    0 => BoundingCase::BruteForce,
-                    1 => BoundingCase::General,
-                    2 => BoundingCase::UniqueProjection,
+                    BOUNDING_BRUTE_FORCE => BoundingCase::BruteForce,
+                    BOUNDING_GENERAL => BoundingCase::General,
+                    BOUNDING_UNIQUE_PROJECTION => BoundingCase::UniqueProjection,
                     _ => return None,
                 };
                 Some(([r[0], r[1], r[2]], case))

@@ -7,6 +7,7 @@
 
 use crate::Gpu;
 use crate::buffers::{compute_pipeline, dispatch, max_binding, output, read_back, storage, uniform};
+use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
 use beam_math::glam::Vec3;
@@ -17,7 +18,7 @@ use bytemuck::{Pod, Zeroable};
 
 /// An S-mesh face for the composite.
 ///
-/// Keep in sync with the WGSL twin `Face` in `shaders/composite.wgsl`.
+/// WGSL twin: `Face` in `shaders/composite.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuFace {
@@ -33,7 +34,7 @@ pub struct GpuFace {
 
 /// One texel of a level for the composite pass.
 ///
-/// Keep in sync with the WGSL twin `Record` in `shaders/composite.wgsl`.
+/// WGSL twin: `Record` in `shaders/composite.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct CompositeRecord {
@@ -57,7 +58,7 @@ pub struct CompositeRecord {
 
 /// Uniforms of the composite pass.
 ///
-/// Keep in sync with the WGSL twin `CompositeParams` in `shaders/composite.wgsl`.
+/// WGSL twin: `CompositeParams` in `shaders/composite.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct CompositeParams {
@@ -70,8 +71,8 @@ pub struct CompositeParams {
 const _: () =
     assert!(size_of::<GpuFace>() == 128 && size_of::<CompositeRecord>() == 48 && size_of::<CompositeParams>() == 16);
 
-/// "None" in [`CompositeRecord`].
-pub const NONE: u32 = u32::MAX;
+/// "None" in [`CompositeRecord`] ([`crate::interface::NONE`]).
+pub use crate::interface::NONE;
 
 /// Bytes of a texel of a level's radiance (rgb as half floats, and padding).
 const TEXEL_BYTES: u64 = 8;
@@ -161,7 +162,8 @@ impl GpuComposite {
                 let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
                 let records_buffer = storage(gpu, "records", &records, wgpu::BufferUsages::empty());
                 let buffers = [&params, &records_buffer, &faces, &shaded, &below, &below_regions, &radiance];
-                let composite = dispatch(gpu, &self.pipeline, &buffers, records.len().div_ceil(64) as u32);
+                let composite =
+                    dispatch(gpu, &self.pipeline, &buffers, records.len().div_ceil(WORKGROUP_SIZE as usize) as u32);
                 gpu.queue.submit([encoder.finish(), composite.finish()]);
             }
             let regions: Vec<[u32; 2]> = level.regions.iter().map(|&(first, size)| [first, size]).collect();

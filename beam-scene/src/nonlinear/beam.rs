@@ -113,9 +113,17 @@ pub fn self_hit_distance(beam: &(impl TexelBeam + ?Sized), ray: Ray, extent: f32
 
 /// [`self_hit_distance`] for a beam of lift `lift` and unit base normal `normal`.
 pub fn self_hit_at(lift: f32, normal: Vec3, ray: Ray, extent: f32) -> f32 {
-    let rise = (ray.direction.normalize_or_zero().dot(normal)).max(0.05);
-    (1e-4 * extent).max(2.0 * lift / rise)
+    let rise = (ray.direction.normalize_or_zero().dot(normal)).max(MIN_RISE);
+    (TEXEL_EPS * extent).max(2.0 * lift / rise)
 }
+
+/// The nearest a texel ray's hit may be, as a fraction of the scene's diagonal (WGSL twin in
+/// `beam_gpu::interface`).
+pub const TEXEL_EPS: f32 = 1e-4;
+
+/// The least rise above the base [`self_hit_distance`] divides by (WGSL twin in
+/// `beam_gpu::interface`).
+pub const MIN_RISE: f32 = 0.05;
 
 /// What a renderer needs of a beam (beam-cpu's `render_beam`, beam-gpu's atlas): its texel rays and their bounds (000 Algs. 1–4).
 pub trait TexelBeam {

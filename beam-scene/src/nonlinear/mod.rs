@@ -12,7 +12,7 @@ mod smesh;
 mod texture;
 mod waves;
 
-pub use beam::{Beam, BumpedBeam, Degree, TexelBeam, child_beams, self_hit_at, self_hit_distance};
+pub use beam::{Beam, BumpedBeam, Degree, MIN_RISE, TEXEL_EPS, TexelBeam, child_beams, self_hit_at, self_hit_distance};
 pub use cull::cone_candidates;
 pub use radiance::{Composite, LevelRadiance, TexelRadiance, composite, sample_region};
 pub use renderer::BeamRenderer;

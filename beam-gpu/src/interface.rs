@@ -1,0 +1,155 @@
+//! The numbers the WGSL shaders share with Rust, in one table ([`CONSTANTS`]): the traversal stack
+//! and workgroup sizes, sentinels, the codes of kinds and flags, limits, and the tolerances of the
+//! CPU twins. [`crate::shaders::source`] writes them into every shader as WGSL `const`
+//! declarations ([`wgsl`]); the shaders declare none of them themselves, and the pipelines use the
+//! Rust constants below. The tests of this module check that (`constants_match`), every
+//! `#[repr(C)]` struct against naga's layout of its WGSL twin (`twins`), and every binding index
+//! and element size against the order the pipelines bind their buffers in (`bindings`).
+
+use beam_bvh::gpu::GPU_STACK_SIZE;
+use std::fmt::Write;
+
+#[cfg(test)]
+mod bindings;
+#[cfg(test)]
+mod constants_match;
+#[cfg(test)]
+mod parsed;
+#[cfg(test)]
+mod twins;
+
+/// Invocations per workgroup of every compute entry point (`@workgroup_size(WORKGROUP_SIZE)`): the
+/// pipelines dispatch `⌈items / WORKGROUP_SIZE⌉` groups, and the shaders that take more than 65,535
+/// of them fold `y` into their index (`id.y * groups.x * WORKGROUP_SIZE + id.x`).
+pub const WORKGROUP_SIZE: u32 = 64;
+
+/// Entries of `trace_ray`'s traversal stack ([`beam_bvh::gpu::GPU_STACK_SIZE`], which
+/// [`beam_bvh::gpu::GpuBvh::new`] checks every tree against).
+pub const TRAVERSAL_STACK: u32 = GPU_STACK_SIZE as u32;
+
+/// `prim` of a ray that hit nothing ([`crate::raytrace::GpuHit`]).
+pub const MISS: u32 = u32::MAX;
+
+/// `light` of a point whose shading is done ([`crate::shade::ShadeState`]).
+pub const SHADED: u32 = u32::MAX;
+
+/// "None" in [`crate::nonlinear::CompositeRecord`]: a texel composited rather than shaded, a face
+/// without a refraction beam.
+pub const NONE: u32 = u32::MAX;
+
+/// `kind` of a closest-hit ray ([`crate::raytrace::GpuRay`]).
+pub const RAY_CLOSEST: u32 = 0;
+
+/// `kind` of an any-hit (shadow) ray.
+pub const RAY_ANY: u32 = 1;
+
+/// `kind` of a point light ([`crate::shade::GpuLight`]).
+pub const LIGHT_POINT: u32 = 0;
+
+/// `kind` of a quad light.
+pub const LIGHT_QUAD: u32 = 1;
+
+/// `kind` of a triangle light.
+pub const LIGHT_TRIANGLE: u32 = 2;
+
+/// `kind` of a diffuse or glossy triangle ([`crate::shade::PrimShading`]; `color` the albedo).
+pub const SURFACE_REFLECTING: u32 = 0;
+
+/// `kind` of an emissive triangle (`color` the radiance).
+pub const SURFACE_EMISSIVE: u32 = 1;
+
+/// `kind` of a triangle the shading pass does not shade (mirror, glass).
+pub const SURFACE_UNSHADED: u32 = 2;
+
+/// Bit of [`crate::glossy::GatherParams`]'s `flags`: second-order shadows.
+pub const SECOND_ORDER_SHADOWS: u32 = 1;
+
+/// Point emitters the glossy gather's shadow mask holds (one bit each of a `u32`):
+/// [`beam_scene::glossy::MAX_EMITTERS`].
+pub const MAX_LIGHTS: u32 = beam_scene::glossy::MAX_EMITTERS as u32;
+
+/// Bernstein control points a GPU beam holds (S3: 10; [`crate::nonlinear::GpuBeam`]).
+pub const MAX_CONTROL_POINTS: u32 = 10;
+
+/// Bounding-triangle case: the whole base (brute force).
+pub const BOUNDING_BRUTE_FORCE: u32 = 0;
+
+/// Bounding-triangle case: 000 Alg. 3's general case.
+pub const BOUNDING_GENERAL: u32 = 1;
+
+/// Bounding-triangle case: the unique-projection case.
+pub const BOUNDING_UNIQUE_PROJECTION: u32 = 2;
+
+/// Bounding-triangle case: none, the triangle lies behind the base.
+pub const BOUNDING_BEHIND: u32 = 3;
+
+/// Shadow rays stop this fraction short of their end ([`beam_scene::tolerance::DEPTH_EPS`]).
+pub const DEPTH_EPS: f32 = beam_scene::tolerance::DEPTH_EPS;
+
+/// Barycentric tolerance of a projection inside the base
+/// ([`beam_math::nonlinear::BARY_TOLERANCE`]).
+pub const BARY_TOLERANCE: f32 = beam_math::nonlinear::BARY_TOLERANCE;
+
+/// Least elevation of a beam's rays above its base ([`beam_math::nonlinear::MIN_ELEVATION`]).
+pub const MIN_ELEVATION: f32 = beam_math::nonlinear::MIN_ELEVATION;
+
+/// Least rise of a texel ray in its self-hit distance ([`beam_scene::nonlinear::MIN_RISE`]).
+pub const MIN_RISE: f32 = beam_scene::nonlinear::MIN_RISE;
+
+/// Nearest texel-ray hit, in scene diagonals ([`beam_scene::nonlinear::TEXEL_EPS`]).
+pub const TEXEL_EPS: f32 = beam_scene::nonlinear::TEXEL_EPS;
+
+/// A constant's value, typed as in WGSL.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    /// `u32`.
+    U32(u32),
+    /// `f32`.
+    F32(f32),
+}
+
+/// Every constant the shaders share with Rust: its WGSL name (the Rust constant's) and value.
+pub const CONSTANTS: &[(&str, Value)] = {
+    use Value::{F32, U32};
+    &[
+        ("WORKGROUP_SIZE", U32(WORKGROUP_SIZE)),
+        ("TRAVERSAL_STACK", U32(TRAVERSAL_STACK)),
+        ("MISS", U32(MISS)),
+        ("SHADED", U32(SHADED)),
+        ("NONE", U32(NONE)),
+        ("RAY_CLOSEST", U32(RAY_CLOSEST)),
+        ("RAY_ANY", U32(RAY_ANY)),
+        ("LIGHT_POINT", U32(LIGHT_POINT)),
+        ("LIGHT_QUAD", U32(LIGHT_QUAD)),
+        ("LIGHT_TRIANGLE", U32(LIGHT_TRIANGLE)),
+        ("SURFACE_REFLECTING", U32(SURFACE_REFLECTING)),
+        ("SURFACE_EMISSIVE", U32(SURFACE_EMISSIVE)),
+        ("SURFACE_UNSHADED", U32(SURFACE_UNSHADED)),
+        ("SECOND_ORDER_SHADOWS", U32(SECOND_ORDER_SHADOWS)),
+        ("MAX_LIGHTS", U32(MAX_LIGHTS)),
+        ("MAX_CONTROL_POINTS", U32(MAX_CONTROL_POINTS)),
+        ("BOUNDING_BRUTE_FORCE", U32(BOUNDING_BRUTE_FORCE)),
+        ("BOUNDING_GENERAL", U32(BOUNDING_GENERAL)),
+        ("BOUNDING_UNIQUE_PROJECTION", U32(BOUNDING_UNIQUE_PROJECTION)),
+        ("BOUNDING_BEHIND", U32(BOUNDING_BEHIND)),
+        ("DEPTH_EPS", F32(DEPTH_EPS)),
+        ("BARY_TOLERANCE", F32(BARY_TOLERANCE)),
+        ("MIN_ELEVATION", F32(MIN_ELEVATION)),
+        ("MIN_RISE", F32(MIN_RISE)),
+        ("TEXEL_EPS", F32(TEXEL_EPS)),
+    ]
+};
+
+/// The WGSL declarations of [`CONSTANTS`], one `const NAME: type = value;` a line (floats in
+/// Rust's shortest round-trip form, which the tests check naga reads back bit for bit).
+#[must_use]
+pub fn wgsl() -> String {
+    let mut out = String::from("// Generated from beam_gpu::interface::CONSTANTS.\n");
+    for (name, value) in CONSTANTS {
+        let _ = match value {
+            Value::U32(v) => writeln!(out, "const {name}: u32 = {v}u;"),
+            Value::F32(v) => writeln!(out, "const {name}: f32 = {v:?};"),
+        };
+    }
+    out
+}

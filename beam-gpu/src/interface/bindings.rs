@@ -1,0 +1,81 @@
+//! Every shader's bindings against the order the pipelines bind their buffers in (the slices they
+//! pass to `buffers::dispatch`, binding `i` the `i`-th, and the numbered entries of the shading and
+//! atlas passes), with the Rust type of each binding's element: a WGSL binding at another index, one
+//! missing from the table, or an element of another size fails.
+
+use super::parsed::{Modules, member_size};
+use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
+use crate::nonlinear::{AtlasParams, CheckCase, CompositeParams, CompositeRecord, GpuBeam, GpuFace};
+use crate::raytrace::{GpuHit, GpuRay};
+use crate::shade::{CausticPlane, GpuLight, PrimShading, ShadeInput, ShadeParams};
+use beam_bvh::FlatNode;
+use beam_bvh::gpu::GpuTriangle;
+
+/// `bindings!("shader" => [global: ElementType, …])`: group 0's globals by binding index, each
+/// with the Rust type of its array element (or of the whole buffer); no type for a buffer with a
+/// header (`shade_state`).
+macro_rules! bindings {
+    ($shader:literal => [$($name:ident $(: $t:ty)?),* $(,)?]) => {
+        ($shader, vec![$((stringify!($name), None $(.or(Some(size_of::<$t>())))?)),*])
+    };
+}
+
+type Table = (&'static str, Vec<(&'static str, Option<usize>)>);
+
+fn tables() -> Vec<Table> {
+    vec![
+        bindings!("raytrace" => [
+            nodes: FlatNode, triangles: GpuTriangle, rays: GpuRay, hits: GpuHit, shade_params: ShadeParams,
+            shade_in: ShadeInput, prim_shading: PrimShading, lights: GpuLight, planes: CausticPlane, flux: [f32; 4],
+            shade_out: [f32; 4], shade_state,
+        ]),
+        bindings!("glossy_gather" => [
+            nodes: FlatNode, triangles: GpuTriangle, params: GatherParams, beams: GpuLightBeam, cones: GpuCone,
+            tree: GpuConeNode, points: GatherPoint, gathered: GpuGathered, unfinished: u32,
+        ]),
+        bindings!("beam_atlas" => [
+            params: AtlasParams, beams: GpuBeam, triangles: GpuTriangle, pairs: [u32; 2], bounds_out: [f32; 4],
+            bounds_in: [f32; 4], counters: u32,
+        ]),
+        bindings!("nonlinear_check" => [beams: GpuBeam, cases: CheckCase, results: [f32; 4]]),
+        bindings!("composite" => [
+            params: CompositeParams, records: CompositeRecord, faces: GpuFace, shaded: [f32; 4], below: [u16; 4],
+            regions: [u32; 2], radiance: [u16; 4],
+        ]),
+    ]
+}
+
+/// What differs between a shader's bindings and its table.
+fn differences(modules: &mut Modules, (shader, table): &Table) -> Vec<String> {
+    let module = modules.get(shader);
+    let mut out = Vec::new();
+    let mut bound = vec![false; table.len()];
+    for (_, var) in module.global_variables.iter() {
+        let Some(rb) = &var.binding else { continue };
+        let name = var.name.as_deref().unwrap_or("?");
+        let at = format!("{shader}.wgsl @group({}) @binding({}) {name}", rb.group, rb.binding);
+        match table.get(rb.binding as usize) {
+            _ if rb.group != 0 => out.push(format!("{at}: the pipelines bind group 0 only")),
+            None => out.push(format!("{at}: not in the Rust table")),
+            Some((rust, _)) if *rust != name => out.push(format!("{at}: the Rust table binds {rust} there")),
+            Some((_, size)) => {
+                bound[rb.binding as usize] = true;
+                let wgsl = member_size(module, var.ty);
+                if size.is_some_and(|s| s != wgsl) {
+                    out.push(format!("{at}: elements of {wgsl} bytes in WGSL, {} in Rust", size.unwrap_or(0)));
+                }
+            }
+        }
+    }
+    for ((rust, _), i) in table.iter().zip(0..).filter(|(_, i)| !bound[*i]) {
+        out.push(format!("{shader}.wgsl: the Rust table binds {rust} at {i}, the shader does not"));
+    }
+    out
+}
+
+#[test]
+fn every_binding_matches_the_rust_table() {
+    let mut modules = Modules::default();
+    let errors: Vec<String> = tables().iter().flat_map(|t| differences(&mut modules, t)).collect();
+    assert!(errors.is_empty(), "bindings differ:\n{}", errors.join("\n"));
+}
