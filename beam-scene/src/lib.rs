@@ -7,7 +7,7 @@
 //! - [`scene`]: scenes (TOML files, bare OBJ, built-ins): materials, lights, camera, BVHs.
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
 //! - [`io`]: atomic output files; [`read`]: bounded reads of input files.
-//! - [`options`]: render settings; [`specular`]: the mirror and glass bounce; [`tolerance`]: the
+//! - [`queries`]: ray queries, one vocabulary for all; [`options`]: render settings; [`specular`]: the mirror and glass bounce; [`tolerance`]: the
 //!   offsets both backends use; [`irradiance_map`]: caustic irradiance on receiving planes.
 //! - [`nonlinear`], [`glossy`]: the host side of the nonlinear beam tree (000) and of the glossy
 //!   light volumes (002) that every backend shares.
@@ -18,6 +18,7 @@ pub mod irradiance_map;
 pub mod mesh;
 pub mod nonlinear;
 pub mod options;
+pub mod queries;
 pub mod read;
 pub mod scene;
 pub mod scenes;

@@ -158,11 +158,11 @@ pub fn glossy_cone_hierarchy_is_conservative(_: Backend, _: &Config) -> Result<O
         }
         let points = receiver_points(&scene, 20_000, 33);
         let eps = 1e-3 * extent;
-        let occluded = |p: Vec3, s: Vec3| scene.wide.any_hit(Ray::new(p, s - p), 0.999);
+        let occluded = |ray: Ray, t_max: f32| scene.wide.any_hit(ray, 0.999 * t_max);
         let (mut tested_tree, mut tested_linear, mut lit) = (0u64, 0u64, 0u64);
         for (k, &(p, n)) in points.iter().enumerate() {
             let q = p + n * eps;
-            for occ in [None, Some(&occluded as &(dyn Fn(Vec3, Vec3) -> bool + Sync))] {
+            for occ in [None, Some(&occluded as &beam_scene::queries::AnyHit<'_>)] {
                 let (a, b) = (volumes.gather(q, n, occ), volumes.gather_linear(q, n, occ));
                 if a.irradiance.to_array().map(f32::to_bits) != b.irradiance.to_array().map(f32::to_bits)
                     || a.shadowed != b.shadowed

@@ -7,8 +7,8 @@ use crate::generate::{self, BeamKind, uniform};
 use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BumpedBeam, CAUSTIC_STRATA, CpuBeams, Degree, LevelRadiance, NonlinearOptions, SMesh,
-    render_nonlinear_with,
+    Beam, BeamJob, BeamRasterizer, BumpedBeam, CAUSTIC_STRATA, CpuBeams, Degree, LevelRadiance, NonlinearOptions,
+    SMesh, render_nonlinear_with,
 };
 use beam_cpu::render::RenderOptions;
 use beam_gpu::Gpu;
@@ -660,7 +660,7 @@ pub fn gpu_glossy_gather_area_lights_equal_cpu(_: Backend, _: &Config) -> Result
 #[derive(Default)]
 struct TwinShading(Mutex<(Vec<LevelRadiance>, Option<beam_cpu::render::IrradianceMap>)>);
 
-impl BeamRenderer for TwinShading {
+impl BeamRasterizer for TwinShading {
     fn render_beams(
         &self,
         scene: &scene::Scene,
@@ -668,11 +668,19 @@ impl BeamRenderer for TwinShading {
     ) -> Result<Vec<beam_cpu::nonlinear::BeamTexture>, String> {
         CpuBeams.render_beams(scene, jobs)
     }
+}
 
+impl beam_cpu::nonlinear::RayQueries for TwinShading {
     fn closest_hits(&self, scene: &scene::Scene, rays: &[Ray]) -> Result<Vec<Option<beam_bvh::Hit>>, String> {
         CpuBeams.closest_hits(scene, rays)
     }
 
+    fn any_hits(&self, scene: &scene::Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, String> {
+        CpuBeams.any_hits(scene, segments)
+    }
+}
+
+impl beam_cpu::nonlinear::PointShading for TwinShading {
     fn shade_points(
         &self,
         scene: &scene::Scene,

@@ -14,13 +14,13 @@ pub fn all(triangles: &[Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
 }
 
 /// Embree's any-hit query over `triangles`, as a shadow-ray tracer for the renderer.
-pub fn embree_occluder(triangles: &[Triangle]) -> Result<Box<dyn Fn(Ray, f32) -> bool + Sync>, String> {
+pub fn embree_occluder(triangles: &[Triangle]) -> Result<Box<beam_scene::queries::AnyHit<'static>>, String> {
     let e = Embree::new(triangles)?;
     Ok(Box::new(move |ray: Ray, t_max: f32| e.occluded(&ray, t_max)))
 }
 
 /// Embree's closest hit over `triangles`: the index of the triangle hit and the ray parameter.
-pub fn embree_closest(triangles: &[Triangle]) -> Result<Box<dyn Fn(Ray) -> Option<(u32, f32)> + Sync>, String> {
+pub fn embree_closest(triangles: &[Triangle]) -> Result<Box<beam_scene::queries::ClosestHit<'static>>, String> {
     let e = Embree::new(triangles)?;
     Ok(Box::new(move |ray: Ray| e.closest_prim(&ray)))
 }

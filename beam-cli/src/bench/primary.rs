@@ -8,6 +8,7 @@
 use beam_cpu::render::{Image, difference, primary_image};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::queries::ClosestHit;
 use beam_scene::scene::{self, Camera, Scene};
 use rand::SeedableRng;
 use rand_pcg::Pcg32;
@@ -17,12 +18,6 @@ use std::time::Instant;
 
 /// The default scenes: the shared Sponza and conference room.
 pub const SCENES: [&str; 2] = ["sponza", "conference"];
-
-/// A closest-hit query: the triangle hit and the ray parameter.
-pub type Hits<'a> = dyn Fn(Ray) -> Option<(u32, f32)> + Sync + 'a;
-
-/// A closest-hit tracer by reference.
-pub type ClosestHit<'a> = &'a Hits<'a>;
 
 /// A scene to benchmark: its name for tables and files, the scene, and whether it is a bare mesh
 /// (which gets [`Camera::interior`]).
@@ -94,7 +89,7 @@ pub fn ray_image(
     scene: &Scene,
     camera: &Camera,
     spp: u32,
-    hit: ClosestHit<'_>,
+    hit: &ClosestHit<'_>,
     row_done: &(dyn Fn() + Sync),
 ) -> (Image, f64) {
     let start = Instant::now();
@@ -148,7 +143,7 @@ pub fn run(scenes: &[String], size: u32, out: Option<&Path>) -> Result<(), Strin
         );
         let mut rows: Vec<(String, f64, Image)> = vec![("eye beams (exact)".into(), ps.seconds, exact.clone())];
         #[cfg_attr(not(feature = "peers"), allow(unused_mut))]
-        let mut tracers: Vec<(&str, Box<Hits<'_>>)> = vec![("rays", Box::new(ours(scene)))];
+        let mut tracers: Vec<(&str, Box<ClosestHit<'_>>)> = vec![("rays", Box::new(ours(scene)))];
         #[cfg(feature = "peers")]
         tracers.push(("embree3", super::peers::embree_closest(&scene.triangles)?));
         for (tracer, hit) in &tracers {

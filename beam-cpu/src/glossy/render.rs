@@ -70,12 +70,11 @@ pub fn gather_on_cpu(
 
 /// Second-order shadows: whether a shadow ray from a receiver point to a scatterer's source point
 /// is blocked (stopping short of the source).
-fn occlusion(scene: &Scene) -> impl Fn(Vec3, Vec3) -> bool + Sync + '_ {
+fn occlusion(scene: &Scene) -> impl Fn(Ray, f32) -> bool + Sync + '_ {
     let eps = shading_eps(scene);
-    move |p: Vec3, source: Vec3| {
-        let to = source - p;
-        let length = to.length();
-        length > eps && scene.wide.any_hit(Ray::new(p, to), 1.0 - (2.0 * eps / length).max(DEPTH_EPS))
+    move |ray: Ray, t_max: f32| {
+        let length = ray.direction.length() * t_max;
+        length > eps && scene.wide.any_hit(ray, t_max * (1.0 - (2.0 * eps / length).max(DEPTH_EPS)))
     }
 }
 

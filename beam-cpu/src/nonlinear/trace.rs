@@ -19,8 +19,8 @@ use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::{Mat3, Vec3};
 use beam_scene::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, LevelRadiance, SFace, SMesh, ShadePoint,
-    TexelRadiance, child_beams, region_size,
+    Beam, BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, Composite, Degree, LevelRadiance, PointShading,
+    RayQueries, SFace, SMesh, ShadePoint, TexelRadiance, child_beams, region_size,
 };
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
@@ -110,15 +110,24 @@ impl Source<'_> {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct CpuBeams;
 
-impl BeamRenderer for CpuBeams {
+impl BeamRasterizer for CpuBeams {
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String> {
         Ok(jobs.par_iter().map(|j| render_beam(scene, j.beam.texel_beam(), j.size, j.exclude)).collect())
     }
+}
 
+impl RayQueries for CpuBeams {
     fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
         Ok(rays.par_iter().map(|&ray| scene.wide.closest_hit(ray, f32::INFINITY)).collect())
     }
+
+    fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, String> {
+        Ok(segments.par_iter().map(|&(ray, t_max)| scene.wide.any_hit(ray, t_max)).collect())
+    }
 }
+
+/// The CPU shades with [`shade_point`] itself ([`shade_points`]): the defaults hand it back.
+impl PointShading for CpuBeams {}
 
 /// The radiance of every point: by `renderer` where it shades with `options`, else on the CPU by
 /// [`shade_point`].

@@ -25,6 +25,6 @@ pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub use primary_image::{PrimaryStats, primary_image};
 pub use renderer::shading_eps;
 pub use renderer::{
-    Method, Occluder, RenderOptions, RenderStats, Shading, render, render_with, shade_point, stratified, trace_radiance,
+    Method, RenderOptions, RenderStats, Shading, render, render_with, shade_point, stratified, trace_radiance,
 };
 pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};

@@ -11,6 +11,7 @@ use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::polybeam::Quad;
 use beam_scene::irradiance_map::IrradianceMap;
+use beam_scene::queries::AnyHit;
 use beam_scene::scene::{Light, Material, Scene};
 use beam_scene::specular::{MAX_DEPTH, specular_rays};
 use rand::{Rng, SeedableRng};
@@ -133,14 +134,11 @@ impl core::ops::AddAssign for Counters {
     }
 }
 
-/// A shadow-ray tracer: true when something lies on the ray before `t_max`.
-pub type Occluder<'a> = &'a (dyn Fn(Ray, f32) -> bool + Sync);
-
 struct Context<'a> {
     scene: &'a Scene,
     options: RenderOptions,
     eps: f32,
-    occluded: Occluder<'a>,
+    occluded: &'a AnyHit<'a>,
     /// Irradiance arriving at diffuse surfaces by paths the direct light does not follow (caustics).
     caustics: Option<&'a IrradianceMap>,
 }
@@ -451,7 +449,7 @@ pub fn render(scene: &Scene, options: &RenderOptions, row_done: impl Fn() + Sync
 pub fn render_with(
     scene: &Scene,
     options: &RenderOptions,
-    occluded: Occluder<'_>,
+    occluded: &AnyHit<'_>,
     row_done: impl Fn() + Sync,
 ) -> (Image, RenderStats) {
     let start = Instant::now();

@@ -13,7 +13,7 @@ use super::beam::GpuBeam;
 use super::composite::GpuComposite;
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, map, max_binding, output, shader_module, storage, uniform};
-use crate::interface::{RAY_CLOSEST, WORKGROUP_SIZE};
+use crate::interface::{RAY_ANY, RAY_CLOSEST, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::PointShader;
 use beam_bvh::Hit;
@@ -22,7 +22,8 @@ use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{
-    BeamJob, BeamRenderer, BeamTexture, LevelRadiance, SMesh, ShadePoint, TexelHit, cone_candidates, shade_by_waves,
+    BeamJob, BeamRasterizer, BeamTexture, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint, TexelHit,
+    cone_candidates, shade_by_waves,
 };
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
@@ -330,7 +331,7 @@ fn z_order(index: u32, s: u32) -> (u32, u32) {
     (x * s, y * s)
 }
 
-impl BeamRenderer for GpuBeams<'_> {
+impl BeamRasterizer for GpuBeams<'_> {
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String> {
         let start = Instant::now();
         // Bounding-cone culling on the CPU (000 App. A; the paper culls objects there too).
@@ -421,7 +422,58 @@ impl BeamRenderer for GpuBeams<'_> {
         }
         textures.into_iter().map(|t| t.ok_or_else(|| "a beam was not rendered".to_string())).collect()
     }
+}
 
+impl RayQueries for GpuBeams<'_> {
+    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
+        let start = Instant::now();
+        let mut out = Vec::with_capacity(rays.len());
+        for chunk in rays.chunks(65_535 * WORKGROUP_SIZE as usize) {
+            let gpu_rays: Vec<GpuRay> = chunk
+                .iter()
+                .map(|r| GpuRay {
+                    origin: r.origin.to_array(),
+                    t_max: 3.0e38,
+                    direction: r.direction.to_array(),
+                    kind: RAY_CLOSEST,
+                })
+                .collect();
+            let hits = checked(self.gpu, || self.tracer.trace(self.gpu, &gpu_rays))?;
+            // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
+            out.extend(hits.into_iter().zip(chunk).map(|(h, ray)| {
+                (h.prim != GpuHit::MISS).then_some(())?;
+                let tri = scene.triangles.get(h.prim as usize)?;
+                let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
+                Some(Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
+            }));
+        }
+        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
+        Ok(out)
+    }
+
+    fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, String> {
+        let start = Instant::now();
+        let mut out = Vec::with_capacity(segments.len());
+        for chunk in segments.chunks(65_535 * WORKGROUP_SIZE as usize) {
+            let gpu_rays: Vec<GpuRay> = chunk
+                .iter()
+                .map(|(r, t_max)| GpuRay {
+                    origin: r.origin.to_array(),
+                    t_max: *t_max,
+                    direction: r.direction.to_array(),
+                    kind: RAY_ANY,
+                })
+                .collect();
+            // An any-hit ray's t is 1 when it is occluded, 0 otherwise (`trace_ray`).
+            let hits = checked(self.gpu, || self.tracer.trace(self.gpu, &gpu_rays))?;
+            out.extend(hits.iter().map(|h| h.t == 1.0));
+        }
+        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
+        Ok(out)
+    }
+}
+
+impl PointShading for GpuBeams<'_> {
     fn shade_points(
         &self,
         scene: &Scene,
@@ -470,29 +522,5 @@ impl BeamRenderer for GpuBeams<'_> {
         });
         self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64() - elsewhere.get());
         pixels.map(Some)
-    }
-
-    fn closest_hits(&self, _scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
-        let start = Instant::now();
-        let mut out = Vec::with_capacity(rays.len());
-        for chunk in rays.chunks(65_535 * WORKGROUP_SIZE as usize) {
-            let gpu_rays: Vec<GpuRay> = chunk
-                .iter()
-                .map(|r| GpuRay {
-                    origin: r.origin.to_array(),
-                    t_max: 3.0e38,
-                    direction: r.direction.to_array(),
-                    kind: RAY_CLOSEST,
-                })
-                .collect();
-            let hits = checked(self.gpu, || self.tracer.trace(self.gpu, &gpu_rays))?;
-            // The tracer reports no barycentric weights: u and v are zero.
-            out.extend(
-                hits.into_iter()
-                    .map(|h| (h.prim != GpuHit::MISS).then_some(Hit { prim: h.prim, t: h.t, u: 0.0, v: 0.0 })),
-            );
-        }
-        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
-        Ok(out)
     }
 }

@@ -7,7 +7,9 @@
 use super::beams::{GlossyBeam, trace_light_beams};
 use super::cones::ConeTree;
 use super::emitters::{Emitter, emitters};
+use crate::queries::AnyHit;
 use crate::scene::Scene;
+use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::glossy::{LightBeam, VolumeMethod, in_beam};
 
@@ -48,13 +50,14 @@ pub fn covers(b: &LightBeam, p: Vec3) -> bool {
     b.in_front(p) && b.flux_triangle(plane).is_some_and(|t| in_beam(&t, p))
 }
 
-/// Whether the light from a scatterer's point (second argument) to a receiver point (first) is
-/// blocked: second-order shadows, which 002 leaves out (its §3.2); `None` leaves them out too.
-pub type Occluded<'a> = Option<&'a (dyn Fn(Vec3, Vec3) -> bool + Sync)>;
+/// Whether the light from a scatterer's point to a receiver point is blocked, asked as the segment
+/// from the receiver (ray origin) to the source (parameter 1): second-order shadows, which 002
+/// leaves out (its §3.2); `None` leaves them out too.
+pub type Occluded<'a> = Option<&'a AnyHit<'a>>;
 
 /// True when `occluded` says the light from `b`'s source point does not reach `p`.
 pub fn blocked(b: &LightBeam, p: Vec3, occluded: Occluded<'_>) -> bool {
-    occluded.is_some_and(|o| b.source_point(p).is_some_and(|s| o(p, s)))
+    occluded.is_some_and(|o| b.source_point(p).is_some_and(|s| o(Ray::new(p, s - p), 1.0)))
 }
 
 impl LightVolumes {

@@ -1,29 +1,29 @@
-//! The narrow interface of a nonlinear backend: render a level's beams into texels, find the
-//! nearest hits of rays, and, where it can, shade points and run the radiance flow itself.
+//! The narrow interfaces a nonlinear backend implements, each named for what it does: ray queries
+//! (nearest hits with barycentric weights, any hits), a beam rasterizer (beams and scene triangles
+//! to texels, 000 Alg. 1) and point shading (hit to radiance, where the backend can). A renderer
+//! is their composition ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's `GpuBeams` are two.
 
 use super::radiance::LevelRadiance;
 use super::smesh::SMesh;
 use super::texture::{BeamJob, BeamTexture, ShadePoint};
 use crate::irradiance_map::IrradianceMap;
 use crate::options::RenderOptions;
+use crate::queries::RayQueries;
 use crate::scene::Scene;
-use beam_bvh::Hit;
-use beam_math::Ray;
 use beam_math::glam::Vec3;
 
-/// Renders batches of beams into their texel regions (beam-cpu's `CpuBeams`: each beam in
-/// parallel; beam-gpu's `GpuBeams`: per-level atlases, 000 §3) and traces rays. Shading is optional:
-/// where a backend returns `Ok(None)` the caller shades on the CPU.
-pub trait BeamRenderer: Sync {
-    /// The textures of `jobs`, in order: nearest hits only (000 Alg. 1).
+/// Renders a tree level's beams into their texel regions: the nearest scene hit of every texel's
+/// ray (000 Alg. 1; beam-cpu: each beam in parallel; beam-gpu: per-level atlases, 000 §3).
+pub trait BeamRasterizer: Sync {
+    /// The textures of `jobs`, in order.
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String>;
+}
 
-    /// The nearest hit of every ray (the eye's view; the reference's Whitted rays), with its
-    /// barycentric coordinates.
-    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String>;
-
+/// Shades points where a backend can; `Ok(None)` hands the work back to the caller, which shades on
+/// the CPU (both methods' default).
+pub trait PointShading: Sync {
     /// The radiance of every point as beam-cpu's `shade_point` computes it, or `Ok(None)` when this
-    /// backend does not shade with `options` (the default: the caller shades them on the CPU).
+    /// backend does not shade with `options`.
     fn shade_points(
         &self,
         scene: &Scene,
@@ -36,7 +36,7 @@ pub trait BeamRenderer: Sync {
     }
 
     /// The radiance flow of a built tree (`levels[0]` the eye's view): the eye's pixels, or
-    /// `Ok(None)` when this backend does not run it (the default: beam-cpu's `composite_levels`).
+    /// `Ok(None)` when this backend does not run it (beam-cpu's `composite_levels` then does).
     fn shade_tree(
         &self,
         scene: &Scene,
@@ -49,3 +49,9 @@ pub trait BeamRenderer: Sync {
         Ok(None)
     }
 }
+
+/// What the nonlinear renderer needs of a backend: ray queries, a beam rasterizer and (optional)
+/// point shading. Implemented for every type that has the three.
+pub trait BeamRenderer: RayQueries + BeamRasterizer + PointShading {}
+
+impl<T: RayQueries + BeamRasterizer + PointShading> BeamRenderer for T {}

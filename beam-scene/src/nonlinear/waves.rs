@@ -2,8 +2,8 @@
 //! once: mirror and glass points continue as their specular rays (at most [`MAX_DEPTH`] bounces),
 //! the points the paths end on are shaded in one batch per wave.
 
-use super::renderer::BeamRenderer;
 use super::texture::ShadePoint;
+use crate::queries::RayQueries;
 use crate::scene::Scene;
 use crate::specular::{MAX_DEPTH, specular_rays};
 use crate::tolerance::shading_eps;
@@ -20,7 +20,7 @@ pub type Path = (usize, Ray, Vec3);
 /// one batch per wave.
 pub fn shade_by_waves(
     scene: &Scene,
-    renderer: &dyn BeamRenderer,
+    renderer: &(impl RayQueries + ?Sized),
     shade: &Shade<'_>,
     points: &[ShadePoint],
 ) -> Result<Vec<Vec3>, String> {
@@ -52,7 +52,7 @@ pub type Shade<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, String> + Sync +
 /// shaded by `shade` in one batch and added, times its path's weight, to `out[pixel]`.
 pub fn trace_waves(
     scene: &Scene,
-    renderer: &dyn BeamRenderer,
+    renderer: &(impl RayQueries + ?Sized),
     shade: &Shade<'_>,
     mut paths: Vec<Path>,
     first: u32,
