@@ -55,4 +55,11 @@ impl Gpu {
     pub fn describe(&self) -> String {
         format!("{} ({:?})", self.info.name, self.info.backend)
     }
+
+    /// True on a GPU emulated by the CPU (Mesa's lavapipe, as in CI): correct, but its rasterizer
+    /// is orders of magnitude slower than a real GPU's.
+    #[must_use]
+    pub fn is_software(&self) -> bool {
+        self.info.device_type == wgpu::DeviceType::Cpu
+    }
 }

@@ -73,7 +73,7 @@ pub fn properties() -> Vec<Property> {
 
 /// The adapter; without one, `Ok(Err(outcome))` saying why the property is skipped, or the error
 /// itself when `BEAM_REQUIRE_GPU=1` ([`crate::gpu_required`]).
-fn adapter() -> Result<Result<Gpu, Outcome>, String> {
+pub(crate) fn adapter() -> Result<Result<Gpu, Outcome>, String> {
     match Gpu::new() {
         Ok(gpu) => Ok(Ok(gpu)),
         Err(e) if crate::gpu_required() => Err(format!("BEAM_REQUIRE_GPU=1 but {e}")),

@@ -114,6 +114,31 @@ pub fn gpu_required() -> bool {
     std::env::var("BEAM_REQUIRE_GPU").as_deref() == Ok("1")
 }
 
+/// Runs `f` with `backend`'s nonlinear renderer for `scene`: the CPU's beams, or on `gpu` the GPU's
+/// atlases, ray tracer and shading on wgpu's adapter. Without an adapter `Ok(Err(skipped))`, an
+/// error under `BEAM_REQUIRE_GPU=1`.
+pub fn with_renderer<T>(
+    backend: Backend,
+    scene: &beam_scene::scene::Scene,
+    f: impl FnOnce(&dyn beam_cpu::nonlinear::BeamRenderer) -> Result<T, String>,
+) -> Result<Result<T, Outcome>, String> {
+    if backend != Backend::Gpu {
+        return f(&beam_cpu::nonlinear::CpuBeams).map(Ok);
+    }
+    let gpu = match gpu::adapter()? {
+        Ok(gpu) => gpu,
+        Err(skipped) => return Ok(Err(skipped)),
+    };
+    f(&beam_gpu::nonlinear::GpuBeams::new(&gpu, scene)?).map(Ok)
+}
+
+/// True when `backend` is the GPU and wgpu's adapter is a software one (lavapipe in CI), where the
+/// heaviest cases of a property take minutes.
+#[must_use]
+pub fn software_gpu(backend: Backend) -> bool {
+    backend == Backend::Gpu && beam_gpu::Gpu::new().is_ok_and(|g| g.is_software())
+}
+
 /// A property: a name, the paper section it checks, the backends it runs on, and its body.
 pub struct Property {
     /// Unique snake-case name (also the `#[test]` name).

@@ -1,4 +1,6 @@
-//! Thin `#[test]` wrappers: one per property of beam-gpu (skipped, saying why, without an adapter).
+//! Thin `#[test]` wrappers: one per property that runs on beam-gpu, the GPU-only ones and those whose
+//! body runs on the CPU and the GPU alike (SKIPPED without an adapter, a failure under
+//! `BEAM_REQUIRE_GPU=1`).
 
 beam_conformance::conformance_tests!(
     beam_conformance::Backend::Gpu,
@@ -11,4 +13,6 @@ beam_conformance::conformance_tests!(
     gpu_composite_equals_cpu,
     gpu_glossy_gather_equals_cpu,
     gpu_glossy_gather_area_lights_equal_cpu,
+    nonlinear_texels_equal_ray_hits,
+    nonlinear_images_vs_reference,
 );
