@@ -10,16 +10,15 @@ use core::fmt;
 use std::vec::Vec;
 
 /// Entries of the traversal stack of `trace_ray` (`beam-gpu/shaders/lib/trace.wgsl`, where it is
-/// `TRAVERSAL_STACK`, generated from this constant by `beam_gpu::interface`).
+/// `TRAVERSAL_STACK`, generated from this constant by `beam_gpu::interface`): a private array of 64
+/// `u32` per invocation.
 ///
-/// The builder's trees are at most `MAX_SPLIT_DEPTH + ⌈log2 n⌉` deep (median splits past
-/// `MAX_SPLIT_DEPTH` = 96), so for the fewer than 2²⁷ triangles that fit one GPU storage binding
-/// (48 bytes each, bindings under 4 GiB) they need at most 96 + 27 + 1 = 124 entries: every tree
-/// [`build()`](crate::build()) makes fits. A private array of 128 `u32` (512 bytes) per invocation.
-pub const GPU_STACK_SIZE: usize = 128;
-
-// Depth at most MAX_SPLIT_DEPTH + 27 below 2²⁷ triangles: that + 1 entries.
-const _: () = assert!(crate::build::MAX_SPLIT_DEPTH + 28 <= GPU_STACK_SIZE);
+/// A tree needs its depth + 1 entries ([`stack_entries`]). Real scenes need far fewer (Sponza 23,
+/// Šibenik 24, the conference room 28, the built-ins at most 19), but the builder makes trees up to
+/// `MAX_SPLIT_DEPTH + ⌈log2 n⌉` = 96 + ⌈log2 n⌉ deep over degenerate meshes, and
+/// [`GpuBvh::new`] refuses those rather than make every invocation carry a private array twice the
+/// size (128 entries would hold every tree the builder makes; on an H100 they were no faster).
+pub const GPU_STACK_SIZE: usize = 64;
 
 /// Why a tree cannot go to the GPU.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,8 +1,9 @@
 //! Degenerate, deeply nested meshes against the GPU traversal's stack: stacks of parallel
 //! triangles whose BVH peels one triangle off per level. A tree that needs the whole stack
-//! ([`GPU_STACK_SIZE`] entries) and one the builder makes past the old 64-entry stack trace on the
-//! GPU exactly as on the CPU (same triangle, same distance); a tree one level deeper is refused by
-//! [`GpuBvh::new`]. The GPU halves are skipped, loudly, without an adapter.
+//! ([`GPU_STACK_SIZE`] entries) and one the builder makes within it trace on the GPU exactly as on
+//! the CPU (same triangle, same distance); a tree one level deeper, and one the builder makes past
+//! the stack, are refused by [`GpuBvh::new`]: never a silent miss. The GPU halves are skipped,
+//! loudly, without an adapter.
 
 use beam_bvh::gpu::{GPU_STACK_SIZE, GpuBvh, GpuBvhError, stack_entries};
 use beam_bvh::{BuildOptions, FlatBvh, FlatNode, TreeStats};
@@ -89,7 +90,8 @@ fn adapter() -> Option<Gpu> {
     }
 }
 
-/// Closest hits (same triangle, distance within 1e-5 relative) and any hits (within t = 1) of
+/// Closest hits (same triangle, distance within 1e-5 relative + 1e-6: NVIDIA's FMAs moved a
+/// t of 1.6e-3 by 5e-8) and any hits (within t = 1) of
 /// `rays` on the GPU and the CPU: the number of hits.
 fn gpu_equals_cpu(gpu: &Gpu, bvh: &FlatBvh, tris: &[Triangle], rays: &[Ray]) -> usize {
     let tracer = RayTracer::new(gpu, &GpuBvh::new(bvh, tris).unwrap()).unwrap();
@@ -110,7 +112,12 @@ fn gpu_equals_cpu(gpu: &Gpu, bvh: &FlatBvh, tris: &[Triangle], rays: &[Ray]) -> 
             Some(h) => {
                 hits += 1;
                 assert_eq!(closest[i].prim, h.prim, "ray {i} {ray:?}: GPU {:?}, CPU {h:?}", closest[i]);
-                assert!((closest[i].t - h.t).abs() <= 1e-5 * h.t, "ray {i}: GPU t {}, CPU {}", closest[i].t, h.t);
+                assert!(
+                    (closest[i].t - h.t).abs() <= 1e-5 * h.t + 1e-6,
+                    "ray {i}: GPU t {}, CPU {}",
+                    closest[i].t,
+                    h.t
+                );
             }
         }
         assert_eq!(any[i].t > 0.5, bvh.any_hit(tris, *ray, 1.0), "ray {i} {ray:?}: any hit");
@@ -130,12 +137,21 @@ fn a_tree_needing_the_whole_stack_traces_as_on_the_cpu() {
 }
 
 #[test]
-fn a_built_tree_deeper_than_64_traces_as_on_the_cpu() {
-    let (bvh, tris) = peeled(100);
+fn built_trees_trace_as_on_the_cpu_or_are_refused() {
+    // Within the stack: the GPU traces it as the CPU does.
+    let (bvh, tris) = peeled(60);
     let depth = TreeStats::of(&bvh).depth;
     eprintln!("built tree over {} triangles: depth {depth}, {} stack entries", tris.len(), stack_entries(&bvh));
-    assert!(depth > 64, "depth {depth}");
-    assert_eq!(stack_entries(&bvh), depth + 1);
+    assert!(depth > 32 && stack_entries(&bvh) == depth + 1 && depth < GPU_STACK_SIZE, "depth {depth}");
+    // Past it (the builder allows 96 + log2 n levels): refused, with the depth it would need.
+    let (deep, deep_tris) = peeled(100);
+    let deep_depth = TreeStats::of(&deep).depth;
+    assert!(deep_depth >= GPU_STACK_SIZE, "depth {deep_depth}");
+    assert_eq!(
+        GpuBvh::new(&deep, &deep_tris).unwrap_err(),
+        GpuBvhError::TooDeep { depth: deep_depth, entries: deep_depth + 1, limit: GPU_STACK_SIZE }
+    );
+    eprintln!("built tree of depth {deep_depth} refused");
     let Some(gpu) = adapter() else { return };
     // From x = 0 along +x the deepest triangle is the nearest (t = 2^−k, no ties).
     let hits = gpu_equals_cpu(&gpu, &bvh, &tris, &rays(0.0, 2.0, bvh.nodes[0].bounds(), true));
