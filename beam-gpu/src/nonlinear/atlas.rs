@@ -440,12 +440,17 @@ impl RayQueries for GpuBeams<'_> {
                 .collect();
             let hits = checked(self.gpu, || self.tracer.trace(self.gpu, &gpu_rays))?;
             // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
-            out.extend(hits.into_iter().zip(chunk).map(|(h, ray)| {
-                (h.prim != GpuHit::MISS).then_some(())?;
-                let tri = scene.triangles.get(h.prim as usize)?;
-                let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
-                Some(Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
-            }));
+            let with_weights: Vec<Option<Hit>> = hits
+                .into_par_iter()
+                .zip(chunk)
+                .map(|(h, ray)| {
+                    (h.prim != GpuHit::MISS).then_some(())?;
+                    let tri = scene.triangles.get(h.prim as usize)?;
+                    let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
+                    Some(Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
+                })
+                .collect();
+            out.extend(with_weights);
         }
         self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
         Ok(out)
