@@ -93,7 +93,7 @@ fn emit_bounding_triangle(@builtin(vertex_index) vertex: u32, @builtin(instance_
     return out;
 }
 
-// beam_cpu::nonlinear::BeamTexture::barycentric: texel (x, y) of a size × size region; margin
+// beam_scene::nonlinear::BeamTexture::barycentric: texel (x, y) of a size × size region; margin
 // texels (u + v > 1) take the nearest point of the base's edge.
 fn texel_barycentric(x: u32, y: u32, size: u32) -> vec3<f32> {
     let u = (f32(x) + 0.5) / f32(size);

@@ -56,7 +56,7 @@ fn unpack_rgb(h: vec2<u32>) -> vec3<f32> {
 }
 
 // Bilinear lookup at barycentric w of beam `beam`'s region below, over its rendered texels
-// (x + y ≤ size): beam_cpu::nonlinear::sample_region.
+// (x + y ≤ size): beam_scene::nonlinear::sample_region.
 fn sample_region(beam: u32, w: vec3<f32>) -> vec3<f32> {
     let region = regions[beam];
     let size = region.y;
@@ -96,7 +96,7 @@ fn face_barycentric(f: Face, p: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(w0, w1, 1.0 - w0 - w1);
 }
 
-// Radiance leaving a point of a specular face towards the arriving ray (beam_cpu::nonlinear::composite).
+// Radiance leaving a point of a specular face towards the arriving ray (beam_scene::nonlinear::composite).
 fn composite_texel(r: Record) -> vec3<f32> {
     let f = faces[r.face];
     let w = face_barycentric(f, r.p);
@@ -108,7 +108,7 @@ fn composite_texel(r: Record) -> vec3<f32> {
     if r.refracted == NONE {
         return reflected;
     }
-    // Snell's law and Schlick's Fresnel about the interpolated normal (beam_cpu::render::dielectric).
+    // Snell's law and Schlick's Fresnel about the interpolated normal (beam_scene::specular::dielectric).
     let entering = dot(r.d, f.normal.xyz) < 0.0;
     let interpolated = w.x * f.n0.xyz + w.y * f.n1.xyz + w.z * f.n2.xyz;
     var n = select(vec3<f32>(0.0), normalize(interpolated), dot(interpolated, interpolated) > 0.0);

@@ -119,7 +119,7 @@ struct ShadeStates {
 @group(0) @binding(11) var<storage, read_write> shade_state: ShadeStates;
 
 // Caustic irradiance at p on plane `k`: the flux of the four nearest texels, bilinearly weighted,
-// over the texel area (beam_cpu::render::IrradianceMap::irradiance). Its loop: 4 iterations.
+// over the texel area (beam_scene::irradiance_map::IrradianceMap::irradiance). Its loop: 4 iterations.
 fn caustic_irradiance(k: u32, p: vec3<f32>) -> vec3<f32> {
     let plane = planes[k];
     let q = p - plane.origin;

@@ -75,7 +75,7 @@ fn beam_ray_at(b: Beam, w: vec3<f32>) -> BeamRay {
     return BeamRay(o, d);
 }
 
-// The bump map's tilt at point p of the base (beam_cpu::scene::Bump::tilt): the tangential part
+// The bump map's tilt at point p of the base (beam_scene::scene::Bump::tilt): the tangential part
 // of B(p) = (sin k(y+z), sin k(z+x), sin k(x+y))/√3 in the frame (u, n × u), arguments reduced
 // to one period first.
 fn bump_tilt(b: Beam, p: vec3<f32>) -> vec2<f32> {
@@ -465,7 +465,7 @@ fn bounding_triangle(b: Beam, tri: Tri) -> BoundingTriangle {
 }
 
 // Distance along `ray` below which a hit on a triangle sharing a vertex with the base is the
-// surface meeting itself (beam_cpu::nonlinear::self_hit_distance).
+// surface meeting itself (beam_scene::nonlinear::self_hit_distance).
 fn self_hit_distance(b: Beam, ray: BeamRay, extent: f32) -> f32 {
     let rise = max(dot(normalize(ray.direction), b.normal.xyz), MIN_RISE);
     return max(TEXEL_EPS * extent, 2.0 * b.bump.z / rise);
