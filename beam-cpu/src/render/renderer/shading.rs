@@ -1,0 +1,346 @@
+//! The shading every renderer shares (001 eq. 1 and 2): per shade point, direct light whose
+//! visibility comes from exact shadow beams (001 §5) or stratified shadow rays, the caustic
+//! irradiance, and mirror and glass followed by Whitted rays; per tile, the shade points of a
+//! region with their candidate occluders gathered first.
+
+use super::Counters;
+use crate::render::eye_regions::{Region, TILE};
+use crate::render::lambert::{point_source_irradiance, polygon_irradiance};
+use crate::render::shadow_beam::{DEPTH_EPS, ShadowBeam, ShadowScratch, light_beam, trace_bvh};
+use crate::render::tile_shadows::{BLOCKS, TileShadows};
+use beam_math::Ray;
+use beam_math::glam::Vec3;
+use beam_math::polybeam::Quad;
+use beam_scene::irradiance_map::IrradianceMap;
+use beam_scene::options::{Method, RenderOptions, Shading};
+use beam_scene::queries::AnyHit;
+use beam_scene::scene::{Light, Material, Scene};
+use beam_scene::specular::{MAX_DEPTH, specular_rays};
+use beam_scene::tolerance::shading_eps;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg32;
+use std::time::Instant;
+
+/// What a thread keeps from one shade point to the next: its counters, its shadow-beam buffers and
+/// the candidate occluders of the tile it is shading.
+#[derive(Default)]
+pub(super) struct Thread {
+    pub(super) c: Counters,
+    pub(super) scratch: ShadowScratch,
+    pub(super) tile: TileShadows,
+    /// Block of the tile the current pixel lies in.
+    pub(super) block: usize,
+}
+
+pub(super) struct Context<'a> {
+    pub(super) scene: &'a Scene,
+    pub(super) options: RenderOptions,
+    pub(super) eps: f32,
+    pub(super) occluded: &'a AnyHit<'a>,
+    /// Irradiance arriving at diffuse surfaces by paths the direct light does not follow (caustics).
+    pub(super) caustics: Option<&'a IrradianceMap>,
+}
+
+impl Context<'_> {
+    pub(super) fn radiance(&self, ray: Ray, depth: u32, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
+        t.c.camera_rays += 1;
+        let Some(hit) = self.scene.wide.closest_hit(ray, f32::INFINITY) else {
+            return Vec3::ZERO;
+        };
+        self.shade(hit.prim, ray.at(hit.t), ray.direction.normalize(), depth, Lights::All, rng, t)
+    }
+
+    /// The point that gathers direct light for point `p` of `prim` seen along `d` (offset off the
+    /// surface on the viewer's side) and its normal; `None` unless the material is diffuse or glossy.
+    pub(super) fn gather_point(&self, prim: u32, p: Vec3, d: Vec3) -> Option<(Vec3, Vec3)> {
+        if !matches!(self.scene.material(prim), Material::Diffuse { .. } | Material::Glossy { .. }) {
+            return None;
+        }
+        let n = self.scene.normal(prim);
+        let n = if n.dot(d) < 0.0 { n } else { -n };
+        Some((p + n * self.eps, n))
+    }
+
+    /// Radiance leaving point `p` of triangle `prim` towards `−d`, with the direct light of `lights`
+    /// (at the first surface; every light after a mirror or glass bounce).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn shade(
+        &self,
+        prim: u32,
+        p: Vec3,
+        d: Vec3,
+        depth: u32,
+        lights: Lights,
+        rng: &mut Pcg32,
+        t: &mut Thread,
+    ) -> Vec3 {
+        let mut n = self.scene.normal(prim);
+        let entering = n.dot(d) < 0.0;
+        if !entering {
+            n = -n;
+        }
+        match self.scene.material(prim) {
+            Material::Emissive { radiance } => radiance,
+            Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => {
+                let mut e = self.direct(p + n * self.eps, n, lights, rng, t);
+                if let Some(map) = self.caustics {
+                    e += map.irradiance(prim, p);
+                }
+                albedo / std::f32::consts::PI * e
+            }
+            Material::Mirror { .. } | Material::Glass { .. } | Material::ThinGlass { .. } if depth < MAX_DEPTH => {
+                specular_rays(self.scene, self.eps, prim, p, d)
+                    .into_iter()
+                    .flatten()
+                    .flatten()
+                    .map(|(ray, weight)| weight * self.radiance(ray, depth + 1, rng, t))
+                    .sum()
+            }
+            Material::Mirror { .. } | Material::Glass { .. } | Material::ThinGlass { .. } => Vec3::ZERO,
+        }
+    }
+
+    /// Irradiance at `p` (normal `n`) from `lights`.
+    pub(super) fn direct(&self, p: Vec3, n: Vec3, lights: Lights, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
+        let scene = self.scene;
+        let mut e = Vec3::ZERO;
+        for (index, light) in scene.lights.iter().enumerate() {
+            match *light {
+                Light::Point { .. } if lights == Lights::AreaOnly => {}
+                Light::Point { position, intensity } => {
+                    let to = position - p;
+                    let r2 = to.length_squared();
+                    let cos = n.dot(to) / r2.sqrt();
+                    if cos > 0.0 {
+                        t.c.shadow_rays += 1;
+                        if !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
+                            e += intensity * cos / r2;
+                        }
+                    }
+                }
+                _ => e += light.power() * self.area_light(p, n, index, rng, t),
+            }
+        }
+        e
+    }
+
+    /// Radiance towards `−d` of diffuse or glossy point `q` of `prim` from point light `light`,
+    /// unoccluded: the fragment is known to be lit (001 §4.2).
+    pub(super) fn point_lit(&self, prim: u32, q: Vec3, d: Vec3, light: usize) -> Vec3 {
+        let (Light::Point { position, intensity }, Material::Diffuse { albedo } | Material::Glossy { albedo, .. }) =
+            (self.scene.lights[light], self.scene.material(prim))
+        else {
+            return Vec3::ZERO;
+        };
+        let mut n = self.scene.normal(prim);
+        if n.dot(d) > 0.0 {
+            n = -n;
+        }
+        let to = position - q;
+        let r2 = to.length_squared();
+        albedo / std::f32::consts::PI * intensity * (n.dot(to) / r2.sqrt()).max(0.0) / r2
+    }
+
+    /// Irradiance per unit radiance from area light `index`.
+    pub(super) fn area_light(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
+        let light = &self.scene.lights[index];
+        let polygon = light.polygon();
+        let ln = light.normal();
+        let (area, center) = (light.area(), light.center());
+        if ln.dot(p - center) <= 0.0 {
+            return 0.0;
+        }
+        match self.options.method {
+            Method::Beam => {
+                let start = Instant::now();
+                let Some(beam) = light_beam(p, &polygon, ln) else { return 0.0 };
+                t.c.shadow_beams += 1;
+                let mut traced = ShadowBeam::new(&beam, &mut t.scratch);
+                let tris = &self.scene.triangles;
+                match t.tile.candidates(index, t.block, p) {
+                    Some(packets) => traced.occlude_packets(packets, tris),
+                    None => trace_bvh(&self.scene.bvh, tris, &mut traced),
+                }
+                t.c.beams += traced.stats;
+                let frame = &traced.frame;
+                let e = match self.options.shading {
+                    Shading::Fraction => {
+                        let visible: f32 = traced.pieces().iter().map(Quad::area).sum();
+                        point_source_irradiance(p, n, center, ln, area, (visible / beam.area()).min(1.0))
+                    }
+                    Shading::Exact => traced
+                        .pieces()
+                        .iter()
+                        .map(|q| {
+                            let mut corners = [Vec3::ZERO; 4];
+                            for (c, uv) in corners.iter_mut().zip(q.corners()) {
+                                *c = frame.point(uv);
+                            }
+                            polygon_irradiance(p, n, &corners[..q.len()])
+                        })
+                        .sum(),
+                };
+                t.c.shadow_seconds += start.elapsed().as_secs_f64();
+                e
+            }
+            Method::Ray => {
+                let spp = self.options.spp.max(1);
+                let k = (spp as f32).sqrt() as u32;
+                let (mut visible, mut integral) = (0u32, 0.0f32);
+                for i in 0..spp {
+                    let (s, r) = if i < k * k {
+                        (
+                            ((i % k) as f32 + rng.random::<f32>()) / k as f32,
+                            ((i / k) as f32 + rng.random::<f32>()) / k as f32,
+                        )
+                    } else {
+                        (rng.random::<f32>(), rng.random::<f32>())
+                    };
+                    let q = sample_light(light, s, r);
+                    let to = q - p;
+                    t.c.shadow_rays += 1;
+                    if (self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
+                        continue;
+                    }
+                    visible += 1;
+                    let r2 = to.length_squared();
+                    let w = to / r2.sqrt();
+                    integral += n.dot(w).max(0.0) * (-ln).dot(w).max(0.0) / r2;
+                }
+                match self.options.shading {
+                    Shading::Fraction => point_source_irradiance(p, n, center, ln, area, visible as f32 / spp as f32),
+                    Shading::Exact => area * integral / spp as f32,
+                }
+            }
+        }
+    }
+}
+
+/// A visible surface point of a tile to shade: pixel, weight in it, triangle, point, unit view
+/// direction and the seed of its shadow-ray samples.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Surface {
+    pub(super) x: u32,
+    pub(super) y: u32,
+    pub(super) weight: f32,
+    pub(super) prim: u32,
+    pub(super) q: Vec3,
+    pub(super) d: Vec3,
+    pub(super) seed: u64,
+}
+
+impl Context<'_> {
+    /// Shade the surface points of the tile whose corner is `(x0, y0)` into `pixels`, the
+    /// row-major pixels of `part`, `weight ×` radiance each. With beams, the points' candidate
+    /// occluders are gathered first, a block of the tile at a time ([`TileShadows`]).
+    pub(super) fn shade_tile(
+        &self,
+        surfaces: &[Surface],
+        lights: Lights,
+        (x0, y0): (u32, u32),
+        (pixels, part): (&mut [Vec3], Region),
+        points: &mut Vec<(usize, Vec3)>,
+        t: &mut Thread,
+    ) {
+        if self.options.method == Method::Beam {
+            let start = Instant::now();
+            points.clear();
+            points.extend(
+                surfaces
+                    .iter()
+                    .filter_map(|s| Some((block_of(s.x - x0, s.y - y0), self.gather_point(s.prim, s.q, s.d)?.0))),
+            );
+            t.tile.build(self.scene, points);
+            t.c.shadow_seconds += start.elapsed().as_secs_f64();
+        }
+        let start = Instant::now();
+        let shadow_before = t.c.shadow_seconds;
+        for s in surfaces {
+            t.block = block_of(s.x - x0, s.y - y0);
+            let mut rng = Pcg32::seed_from_u64(s.seed);
+            let l = self.shade(s.prim, s.q, s.d, 0, lights, &mut rng, t);
+            pixels[part.index(s.x, s.y)] += s.weight * l;
+        }
+        t.c.shading_seconds += start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
+    }
+}
+
+/// Which lights a shade point gathers directly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Lights {
+    /// Every light.
+    All,
+    /// Area lights only: point lights come from lit fragments (001 §4.2).
+    AreaOnly,
+}
+
+/// The shading every renderer shares, for one shade point: the radiance leaving point `p` of
+/// triangle `prim` towards `−d`, with direct light by `options.method`, the irradiance of
+/// `caustics` on diffuse surfaces, and mirror and glass followed by rays. `seed` seeds the
+/// shadow-ray samples.
+#[must_use]
+pub fn shade_point(
+    scene: &Scene,
+    options: &RenderOptions,
+    caustics: Option<&IrradianceMap>,
+    prim: u32,
+    p: Vec3,
+    d: Vec3,
+    seed: u64,
+) -> Vec3 {
+    with_context(scene, options, caustics, |ctx| {
+        ctx.shade(prim, p, d, 0, Lights::All, &mut Pcg32::seed_from_u64(seed), &mut Thread::default())
+    })
+}
+
+/// Radiance arriving along `ray` (the background is black), shaded as [`shade_point`].
+#[must_use]
+pub fn trace_radiance(
+    scene: &Scene,
+    options: &RenderOptions,
+    caustics: Option<&IrradianceMap>,
+    ray: Ray,
+    seed: u64,
+) -> Vec3 {
+    with_context(scene, options, caustics, |ctx| {
+        ctx.radiance(ray, 0, &mut Pcg32::seed_from_u64(seed), &mut Thread::default())
+    })
+}
+
+/// Runs `f` with the shading context of `scene`, shadow rays traced by its own BVH.
+fn with_context<R>(
+    scene: &Scene,
+    options: &RenderOptions,
+    caustics: Option<&IrradianceMap>,
+    f: impl FnOnce(&Context<'_>) -> R,
+) -> R {
+    let occluded = |ray, t_max| scene.wide.any_hit(ray, t_max);
+    f(&Context { scene, options: *options, eps: shading_eps(scene), occluded: &occluded, caustics })
+}
+
+/// Offset in the pixel of sample `i` of `k × k` stratified samples, jittered by `rng` (the pixel's
+/// centre when `k == 1`).
+pub fn stratified(i: u32, k: u32, rng: &mut impl Rng) -> (f32, f32) {
+    if k == 1 {
+        return (0.5, 0.5);
+    }
+    (((i % k) as f32 + rng.random::<f32>()) / k as f32, ((i / k) as f32 + rng.random::<f32>()) / k as f32)
+}
+
+/// The block (of [`BLOCKS`]² in a tile) of the pixel at `(x, y)` from the tile's corner.
+pub(super) fn block_of(x: u32, y: u32) -> usize {
+    let side = TILE as usize / BLOCKS;
+    x as usize / side + y as usize / side * BLOCKS
+}
+
+/// A point on an area light from `(s, t) ∈ [0, 1)²` (uniform in area).
+fn sample_light(light: &Light, s: f32, t: f32) -> Vec3 {
+    match *light {
+        Light::Quad { corner, edge_u, edge_v, .. } => corner + s * edge_u + t * edge_v,
+        Light::Triangle { v, .. } => {
+            let (s, t) = if s + t > 1.0 { (1.0 - s, 1.0 - t) } else { (s, t) };
+            v[0] + s * (v[1] - v[0]) + t * (v[2] - v[0])
+        }
+        Light::Point { position, .. } => position,
+    }
+}

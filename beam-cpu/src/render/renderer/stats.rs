@@ -1,0 +1,102 @@
+//! What a render did ([`RenderStats`], written as the stats JSON) and the per-thread counters it is
+//! summed from.
+
+use crate::render::shadow_beam::BeamStats;
+
+/// What a render did.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct RenderStats {
+    /// Wall time of the render, seconds.
+    pub seconds: f64,
+    /// `beam` or `ray`.
+    pub method: String,
+    /// `fraction` (eq. 2) or `exact` (eq. 1).
+    pub shading: String,
+    /// Shadow rays per shade point and light (0 for beams).
+    pub spp: u32,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Triangles rendered.
+    pub triangles: usize,
+    /// Degenerate triangles filtered out at load.
+    pub degenerate_triangles: usize,
+    /// Primary and secondary (mirror, glass) rays.
+    pub camera_rays: u64,
+    /// Shadow rays traced.
+    pub shadow_rays: u64,
+    /// Shadow beams traced.
+    pub shadow_beams: u64,
+    /// BVH nodes tested by shadow beams.
+    pub bvh_steps: u64,
+    /// Beam–triangle splits.
+    pub intersections: u64,
+    /// Hit pieces produced by shadow beams.
+    pub hit_beams: u64,
+    /// `hit_beams / pixels`.
+    pub hit_beams_per_pixel: f64,
+    /// BVH nodes tested by eye beams.
+    pub primary_bvh_steps: u64,
+    /// Eye-beam–triangle splits.
+    pub primary_intersections: u64,
+    /// Hit pieces produced by eye beams.
+    pub primary_hit_beams: u64,
+    /// Distinct triangles seen by the eye beams.
+    pub visible_triangles: u64,
+    /// `primary_hit_beams / visible_triangles` (001 Fig. 5).
+    pub hit_beams_per_visible_triangle: f64,
+    /// Shaded fragments (a visible piece within a pixel) of the eye beams.
+    pub fragments: u64,
+    /// Largest `|1 − Σ coverage|` of a pixel (exact coverage sums to one).
+    pub coverage_error: f64,
+    /// Triangles set up against shadow beams (projected once each).
+    pub triangle_tests: u64,
+    /// Miss pieces made by shadow-beam splits.
+    pub pieces: u64,
+    /// Shafts traced (one per tile and area light), whose candidates replace the shadow beams'
+    /// own BVH traversals.
+    pub shafts: u64,
+    /// BVH nodes tested by the shafts.
+    pub shaft_bvh_steps: u64,
+    /// Thread-seconds spent on primary visibility (rays or eye beams), summed over threads.
+    pub primary_seconds: f64,
+    /// Thread-seconds spent on shadow beams and shafts (or shadow rays' shading), summed over threads.
+    pub shadow_seconds: f64,
+    /// Thread-seconds spent on the rest of the shading, summed over threads.
+    pub shading_seconds: f64,
+}
+
+/// Per-thread accumulators.
+#[derive(Default, Clone, Copy)]
+pub(super) struct Counters {
+    pub(super) camera_rays: u64,
+    pub(super) shadow_rays: u64,
+    pub(super) shadow_beams: u64,
+    pub(super) beams: BeamStats,
+    pub(super) primary: BeamStats,
+    pub(super) fragments: u64,
+    pub(super) coverage_error: f64,
+    pub(super) shafts: u64,
+    pub(super) shaft_bvh_steps: u64,
+    pub(super) primary_seconds: f64,
+    pub(super) shadow_seconds: f64,
+    pub(super) shading_seconds: f64,
+}
+
+impl core::ops::AddAssign for Counters {
+    fn add_assign(&mut self, o: Self) {
+        self.camera_rays += o.camera_rays;
+        self.shadow_rays += o.shadow_rays;
+        self.shadow_beams += o.shadow_beams;
+        self.beams += o.beams;
+        self.primary += o.primary;
+        self.fragments += o.fragments;
+        self.coverage_error = self.coverage_error.max(o.coverage_error);
+        self.shafts += o.shafts;
+        self.shaft_bvh_steps += o.shaft_bvh_steps;
+        self.primary_seconds += o.primary_seconds;
+        self.shadow_seconds += o.shadow_seconds;
+        self.shading_seconds += o.shading_seconds;
+    }
+}
