@@ -19,7 +19,7 @@ pub fn properties() -> Vec<Property> {
         Property {
             name: "bvh_hits_equal_brute_force",
             cites: "BVH issue; 004 App. A.1, A.3",
-            backends: BVH,
+            backends: &[Backend::Bvh, Backend::Gpu],
             body: hits_equal_brute_force,
         },
         Property {
@@ -209,6 +209,31 @@ impl Answers {
         }
     }
 
+    /// The GPU's answers: `bvh` in the GPU layout, traced by beam-gpu's compute ray tracer (its
+    /// hits carry no barycentric weights, which [`compare`] does not read).
+    fn gpu(gpu: &beam_gpu::Gpu, bvh: &FlatBvh, triangles: &[Triangle], set: &RaySet) -> Result<Self, String> {
+        use beam_gpu::interface::{MISS, RAY_ANY, RAY_CLOSEST};
+        use beam_gpu::raytrace::{GpuRay, RayTracer};
+        let tracer = RayTracer::new(gpu, &beam_bvh::gpu::GpuBvh::new(bvh, triangles).map_err(|e| e.to_string())?)?;
+        let ray = |r: &Ray, t_max: f32, kind: u32| GpuRay {
+            origin: r.origin.to_array(),
+            t_max,
+            direction: r.direction.to_array(),
+            kind,
+        };
+        let closest = |rays: &[Ray]| -> Result<Vec<Option<Hit>>, String> {
+            let hits = tracer.trace(gpu, &rays.iter().map(|r| ray(r, 3.0e38, RAY_CLOSEST)).collect::<Vec<_>>())?;
+            Ok(hits.iter().map(|h| (h.prim != MISS).then_some(Hit { prim: h.prim, t: h.t, u: 0.0, v: 0.0 })).collect())
+        };
+        let shadow: Vec<GpuRay> = set.shadow.iter().map(|(r, t_max)| ray(r, *t_max, RAY_ANY)).collect();
+        Ok(Self {
+            camera: closest(&set.camera)?,
+            diffuse: closest(&set.diffuse)?,
+            // An any-hit ray's t is 1 when occluded, 0 otherwise.
+            shadow: tracer.trace(gpu, &shadow)?.iter().map(|h| h.t > 0.5).collect(),
+        })
+    }
+
     fn wide(bvh: &WideBvh, set: &RaySet) -> Self {
         let (rays, t_max) = shadow_rays(set);
         Self {
@@ -288,10 +313,19 @@ fn reference(triangles: &[Triangle], set: &RaySet) -> Reference {
 }
 
 /// For every mesh (the procedural scene and each shared mesh), every builder (SAH, PAH for the
-/// light, PAH for the eye) and both CPU layouts (binary, 4-wide): BVH closest hits equal brute-force closest hits for camera and diffuse
-/// rays (same triangle, or a tie at the same `t`; `t` within 1e-5 relative), and any-hit answers of
-/// shadow rays agree. `Config::rays` rays of each kind per mesh.
-pub fn hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outcome, String> {
+/// light, PAH for the eye) and both CPU layouts (binary, 4-wide) — on the `gpu` backend the GPU
+/// layout traced by beam-gpu's compute ray tracer instead: BVH closest hits equal brute-force
+/// closest hits for camera and diffuse rays (same triangle, or a tie at the same `t`; `t` within
+/// 1e-5 relative), and any-hit answers of shadow rays agree. `Config::rays` rays of each kind per
+/// mesh.
+pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outcome, String> {
+    let gpu = match backend {
+        Backend::Gpu => match crate::gpu::adapter()? {
+            Ok(gpu) => Some(gpu),
+            Err(skipped) => return Ok(skipped),
+        },
+        _ => None,
+    };
     let (cases, skipped) = cases()?;
     let mut notes = Vec::new();
     let mut total = 0u64;
@@ -304,6 +338,12 @@ pub fn hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outcome, St
         let mut ties = 0;
         for (builder, options) in builders(&set, bounds) {
             let bvh = FlatBvh::build(tris, &options);
+            if let Some(gpu) = &gpu {
+                let answers = Answers::gpu(gpu, &bvh, tris, &set)?;
+                ties += compare(&case.name, &format!("{builder} gpu"), &answers, &set, &reference)?;
+                total += 3 * config.rays as u64;
+                continue;
+            }
             ties += compare(&case.name, builder, &Answers::flat(&bvh, tris, &set), &set, &reference)?;
             let wide = WideBvh::new(&bvh, tris);
             ties += compare(&case.name, &format!("{builder} 4-wide"), &Answers::wide(&wide, &set), &set, &reference)?;

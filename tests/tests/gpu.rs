@@ -15,4 +15,5 @@ beam_conformance::conformance_tests!(
     gpu_glossy_gather_area_lights_equal_cpu,
     nonlinear_texels_equal_ray_hits,
     nonlinear_images_vs_reference,
+    bvh_hits_equal_brute_force,
 );
