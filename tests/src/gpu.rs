@@ -13,7 +13,7 @@ use beam_cpu::nonlinear::{
 use beam_cpu::render::RenderOptions;
 use beam_gpu::Gpu;
 use beam_gpu::nonlinear::{GpuBeams, NonlinearCheck};
-use beam_gpu::raytrace::{GpuHit, GpuRay, RayTracer};
+use beam_gpu::raytrace::RayTracer;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::{BoundingCase, BumpBeam};
 use beam_math::{Ray, Triangle};
@@ -237,10 +237,13 @@ pub fn gpu_texel_rays_match_math(_: Backend, _: &Config) -> Result<Outcome, Stri
     })
 }
 
-/// The compute ray tracer against the CPU's BVH traversal: camera rays and random rays through the
-/// scene's box, closest and any hits, on three built-ins. Rays exactly on an edge may be decided
-/// differently (the CPU refines in f64): at most 1 in 10⁴; hit distances within 1e-5 relative.
+/// The GPU's ray queries against the CPU's, both through [`RayQueries`] (`GpuBeams`: the compute
+/// ray tracer, barycentric weights from the hit point; `CpuBeams`: the BVH traversal): camera rays
+/// and random rays through the scene's box for closest hits, random segments for any hits, on
+/// three built-ins. Rays exactly on an edge may be decided differently (the CPU refines in f64):
+/// at most 1 in 10⁴; hit distances within 1e-5 relative, barycentric weights within 1e-4.
 pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, String> {
+    use beam_cpu::nonlinear::RayQueries;
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
@@ -249,47 +252,41 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in ["cornell", "mirror-glass", "wavy-lake"] {
         let scene = scene::builtin(name)?;
-        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
+        let on_gpu = GpuBeams::new(&gpu, &scene)?;
         let bounds = scene.bounds();
         let camera = scene.camera.with_size(128, 128);
         let frame = camera.frame();
-        let mut rays: Vec<_> = (0..128 * 128).map(|i| (camera.pixel_ray(&frame, i), f32::INFINITY, 0)).collect();
+        let mut rays: Vec<Ray> = (0..128 * 128).map(|i| camera.pixel_ray(&frame, i)).collect();
+        let mut segments = Vec::new();
         for k in 0..20_000 {
             let mut p = || bounds.min + (bounds.max - bounds.min) * Vec3::new(rng.random(), rng.random(), rng.random());
             let (a, b) = (p(), p());
-            rays.push((Ray::new(a, b - a), if k % 2 == 0 { f32::INFINITY } else { 1.0 }, (k % 2) as u32));
+            if k % 2 == 0 { rays.push(Ray::new(a, b - a)) } else { segments.push((Ray::new(a, b - a), 1.0)) }
         }
-        let gpu_rays: Vec<GpuRay> = rays
-            .iter()
-            .map(|&(r, t_max, kind)| GpuRay {
-                origin: r.origin.to_array(),
-                t_max: t_max.min(3.0e38),
-                direction: r.direction.to_array(),
-                kind,
-            })
-            .collect();
-        let hits = tracer.trace(&gpu, &gpu_rays)?;
-        let (mut mismatches, mut worst) = (0usize, 0.0f32);
-        for (&(ray, t_max, kind), hit) in rays.iter().zip(&hits) {
-            if kind == 1 {
-                if scene.bvh.any_hit(&scene.triangles, ray, t_max) != (hit.t > 0.5) {
-                    mismatches += 1;
+        let (got, want) = (on_gpu.closest_hits(&scene, &rays)?, CpuBeams.closest_hits(&scene, &rays)?);
+        let (mut mismatches, mut worst_t, mut worst_w) = (0usize, 0.0f32, 0.0f32);
+        for (g, c) in got.iter().zip(&want) {
+            match (g, c) {
+                (None, None) => {}
+                (Some(g), Some(c)) if g.prim == c.prim => {
+                    worst_t = worst_t.max((c.t - g.t).abs() / c.t.max(1.0));
+                    worst_w = worst_w.max((c.u - g.u).abs().max((c.v - g.v).abs()));
                 }
-                continue;
-            }
-            match (scene.bvh.closest_hit(&scene.triangles, ray, t_max), hit.prim) {
-                (None, GpuHit::MISS) => {}
-                (Some(c), p) if p == c.prim => worst = worst.max((c.t - hit.t).abs() / c.t.max(1.0)),
                 // Ties: another triangle at the same distance (shared edges, coplanar faces).
-                (Some(c), p) if p != GpuHit::MISS && (c.t - hit.t).abs() <= 1e-5 * c.t.max(1.0) => {}
+                (Some(g), Some(c)) if (c.t - g.t).abs() <= 1e-5 * c.t.max(1.0) => {}
                 _ => mismatches += 1,
             }
         }
-        if mismatches * 10_000 > rays.len() || worst > 1e-5 {
-            return Err(format!("{name}: {mismatches} mismatches of {}, worst relative Δt {worst:.1e}", rays.len()));
+        let occluded = (on_gpu.any_hits(&scene, &segments)?, CpuBeams.any_hits(&scene, &segments)?);
+        mismatches += occluded.0.iter().zip(&occluded.1).filter(|(a, b)| a != b).count();
+        let n = rays.len() + segments.len();
+        if mismatches * 10_000 > n || worst_t > 1e-5 || worst_w > 1e-4 {
+            return Err(format!(
+                "{name}: {mismatches} mismatches of {n}, worst relative Δt {worst_t:.1e}, Δ(u, v) {worst_w:.1e}"
+            ));
         }
-        total += rays.len() as u64;
-        notes.push(format!("{name} {mismatches} mismatches, Δt ≤ {worst:.1e}"));
+        total += n as u64;
+        notes.push(format!("{name} {mismatches} mismatches, Δt ≤ {worst_t:.1e}, Δ(u, v) ≤ {worst_w:.1e}"));
     }
     Ok(Outcome { cases: total, note: format!("{} ({})", notes.join("; "), gpu.describe()) })
 }
