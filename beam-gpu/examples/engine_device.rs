@@ -6,7 +6,7 @@
 
 use beam_bvh::gpu::GpuBvh;
 use beam_gpu::Gpu;
-use beam_gpu::interface::{MISS, RAY_CLOSEST};
+use beam_gpu::interface::MISS;
 use beam_gpu::raytrace::{GpuRay, RayTracer};
 
 fn main() -> Result<(), String> {
@@ -32,12 +32,7 @@ fn main() -> Result<(), String> {
     let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
     let camera = scene.camera.with_size(64, 64);
     let frame = camera.frame();
-    let rays: Vec<GpuRay> = (0..64 * 64)
-        .map(|i| {
-            let r = camera.pixel_ray(&frame, i);
-            GpuRay { origin: r.origin.to_array(), t_max: 3.0e38, direction: r.direction.to_array(), kind: RAY_CLOSEST }
-        })
-        .collect();
+    let rays: Vec<GpuRay> = (0..64 * 64).map(|i| GpuRay::closest(&camera.pixel_ray(&frame, i))).collect();
     let hits = tracer.trace(&gpu, &rays)?;
     let hit = hits.iter().filter(|h| h.prim != MISS).count();
     println!("{}: {hit} of {} camera rays hit the Cornell box", gpu.describe(), rays.len());

@@ -4,8 +4,9 @@
 
 use crate::Gpu;
 use crate::buffers::{compute_pipeline, dispatch, output, read_back, storage};
-use crate::interface::{MISS, WORKGROUP_SIZE};
+use crate::interface::{MISS, RAY_ANY, RAY_CLOSEST, WORKGROUP_SIZE};
 use beam_bvh::gpu::GpuBvh;
+use beam_math::Ray;
 use bytemuck::{Pod, Zeroable};
 
 /// A ray for the GPU.
@@ -25,6 +26,20 @@ pub struct GpuRay {
 }
 
 const _: () = assert!(size_of::<GpuRay>() == 32);
+
+impl GpuRay {
+    /// A closest-hit query of `ray`, searched to any distance.
+    #[must_use]
+    pub fn closest(ray: &Ray) -> Self {
+        Self { origin: ray.origin.to_array(), t_max: 3.0e38, direction: ray.direction.to_array(), kind: RAY_CLOSEST }
+    }
+
+    /// An any-hit query of `ray` before `t_max` (a shadow ray).
+    #[must_use]
+    pub fn any(ray: &Ray, t_max: f32) -> Self {
+        Self { origin: ray.origin.to_array(), t_max, direction: ray.direction.to_array(), kind: RAY_ANY }
+    }
+}
 
 /// A ray's result.
 ///

@@ -5,13 +5,16 @@
 //! the stack, are refused by [`GpuBvh::new`]: never a silent miss. The GPU halves are skipped,
 //! loudly, without an adapter.
 
+mod common;
+
 use beam_bvh::gpu::{GPU_STACK_SIZE, GpuBvh, GpuBvhError, stack_entries};
 use beam_bvh::{BuildOptions, FlatBvh, FlatNode, TreeStats};
 use beam_gpu::Gpu;
-use beam_gpu::interface::{MISS, RAY_ANY, RAY_CLOSEST};
+use beam_gpu::interface::MISS;
 use beam_gpu::raytrace::{GpuRay, RayTracer};
 use beam_math::glam::Vec3;
 use beam_math::{Aabb, Ray, Triangle};
+use common::adapter;
 
 /// The triangle over the unit right triangle of the y–z plane at `x`.
 fn plane(x: f32) -> Triangle {
@@ -80,29 +83,13 @@ fn rays(near: f32, far: f32, bounds: Aabb, from_near: bool) -> Vec<Ray> {
     out
 }
 
-fn adapter() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(gpu) => Some(gpu),
-        Err(e) => {
-            eprintln!("SKIPPED: no GPU adapter ({e})");
-            None
-        }
-    }
-}
-
 /// Closest hits (same triangle, distance within 1e-5 relative + 1e-6: NVIDIA's FMAs moved a
 /// t of 1.6e-3 by 5e-8) and any hits (within t = 1) of
 /// `rays` on the GPU and the CPU: the number of hits.
 fn gpu_equals_cpu(gpu: &Gpu, bvh: &FlatBvh, tris: &[Triangle], rays: &[Ray]) -> usize {
     let tracer = RayTracer::new(gpu, &GpuBvh::new(bvh, tris).unwrap()).unwrap();
-    let gpu_ray = |r: &Ray, t_max: f32, kind: u32| GpuRay {
-        origin: r.origin.to_array(),
-        t_max,
-        direction: r.direction.to_array(),
-        kind,
-    };
-    let closest: Vec<GpuRay> = rays.iter().map(|r| gpu_ray(r, 3.0e38, RAY_CLOSEST)).collect();
-    let any: Vec<GpuRay> = rays.iter().map(|r| gpu_ray(r, 1.0, RAY_ANY)).collect();
+    let closest: Vec<GpuRay> = rays.iter().map(GpuRay::closest).collect();
+    let any: Vec<GpuRay> = rays.iter().map(|r| GpuRay::any(r, 1.0)).collect();
     let (closest, any) = (tracer.trace(gpu, &closest).unwrap(), tracer.trace(gpu, &any).unwrap());
     let mut hits = 0;
     for (i, ray) in rays.iter().enumerate() {

@@ -5,25 +5,15 @@
 //! the shader goes on with wrong values, silently. Skipped, saying SKIPPED, without an adapter
 //! (a failure under `BEAM_REQUIRE_GPU=1`).
 
+mod common;
+
 use beam_bvh::gpu::GpuBvh;
 use beam_gpu::Gpu;
 use beam_gpu::raytrace::RayTracer;
 use beam_gpu::shade::{PointShader, shade_twin};
 use beam_scene::nonlinear::ShadePoint;
 use beam_scene::scene::{self, Scene};
-
-/// The adapter, or `None` after printing SKIPPED (a failure instead under `BEAM_REQUIRE_GPU=1`).
-fn adapter() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(gpu) => Some(gpu),
-        Err(e) => {
-            assert!(std::env::var("BEAM_REQUIRE_GPU").as_deref() != Ok("1"), "BEAM_REQUIRE_GPU=1 but {e}");
-            use std::io::Write;
-            let _ = writeln!(std::io::stderr(), "SKIPPED: {e}");
-            None
-        }
-    }
-}
+use common::adapter;
 
 /// The shaded points seen through `size × size` pixels of the scene's camera.
 fn points(scene: &Scene, size: u32) -> Vec<ShadePoint> {

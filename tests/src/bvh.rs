@@ -212,20 +212,14 @@ impl Answers {
     /// The GPU's answers: `bvh` in the GPU layout, traced by beam-gpu's compute ray tracer (its
     /// hits carry no barycentric weights, which [`compare`] does not read).
     fn gpu(gpu: &beam_gpu::Gpu, bvh: &FlatBvh, triangles: &[Triangle], set: &RaySet) -> Result<Self, String> {
-        use beam_gpu::interface::{MISS, RAY_ANY, RAY_CLOSEST};
+        use beam_gpu::interface::MISS;
         use beam_gpu::raytrace::{GpuRay, RayTracer};
         let tracer = RayTracer::new(gpu, &beam_bvh::gpu::GpuBvh::new(bvh, triangles).map_err(|e| e.to_string())?)?;
-        let ray = |r: &Ray, t_max: f32, kind: u32| GpuRay {
-            origin: r.origin.to_array(),
-            t_max,
-            direction: r.direction.to_array(),
-            kind,
-        };
         let closest = |rays: &[Ray]| -> Result<Vec<Option<Hit>>, String> {
-            let hits = tracer.trace(gpu, &rays.iter().map(|r| ray(r, 3.0e38, RAY_CLOSEST)).collect::<Vec<_>>())?;
+            let hits = tracer.trace(gpu, &rays.iter().map(GpuRay::closest).collect::<Vec<_>>())?;
             Ok(hits.iter().map(|h| (h.prim != MISS).then_some(Hit { prim: h.prim, t: h.t, u: 0.0, v: 0.0 })).collect())
         };
-        let shadow: Vec<GpuRay> = set.shadow.iter().map(|(r, t_max)| ray(r, *t_max, RAY_ANY)).collect();
+        let shadow: Vec<GpuRay> = set.shadow.iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect();
         Ok(Self {
             camera: closest(&set.camera)?,
             diffuse: closest(&set.diffuse)?,

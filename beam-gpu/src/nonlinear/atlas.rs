@@ -13,7 +13,7 @@ use super::beam::GpuBeam;
 use super::composite::GpuComposite;
 use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, map, max_binding, output, shader_module, storage, uniform};
-use crate::interface::{RAY_ANY, RAY_CLOSEST, WORKGROUP_SIZE};
+use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::PointShader;
 use beam_bvh::Hit;
@@ -98,6 +98,17 @@ struct Placed {
 }
 
 impl<'g> GpuBeams<'g> {
+    /// `rays` traced on the GPU, in dispatches of at most 65,535 workgroups, timed as ray time.
+    fn trace(&self, rays: Vec<GpuRay>) -> Result<Vec<GpuHit>, String> {
+        let start = Instant::now();
+        let mut out = Vec::with_capacity(rays.len());
+        for chunk in rays.chunks(65_535 * WORKGROUP_SIZE as usize) {
+            out.extend(checked(self.gpu, || self.tracer.trace(self.gpu, chunk))?);
+        }
+        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
+        Ok(out)
+    }
+
     /// Exact shading of `points` on the GPU: diffuse, glossy and emissive points by the shading
     /// pass; mirrors and glass by Whitted rays traced on the GPU in waves, the points they end on
     /// shaded by the same pass.
@@ -426,55 +437,24 @@ impl BeamRasterizer for GpuBeams<'_> {
 
 impl RayQueries for GpuBeams<'_> {
     fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
-        let start = Instant::now();
-        let mut out = Vec::with_capacity(rays.len());
-        for chunk in rays.chunks(65_535 * WORKGROUP_SIZE as usize) {
-            let gpu_rays: Vec<GpuRay> = chunk
-                .iter()
-                .map(|r| GpuRay {
-                    origin: r.origin.to_array(),
-                    t_max: 3.0e38,
-                    direction: r.direction.to_array(),
-                    kind: RAY_CLOSEST,
-                })
-                .collect();
-            let hits = checked(self.gpu, || self.tracer.trace(self.gpu, &gpu_rays))?;
-            // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
-            let with_weights: Vec<Option<Hit>> = hits
-                .into_par_iter()
-                .zip(chunk)
-                .map(|(h, ray)| {
-                    (h.prim != GpuHit::MISS).then_some(())?;
-                    let tri = scene.triangles.get(h.prim as usize)?;
-                    let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
-                    Some(Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
-                })
-                .collect();
-            out.extend(with_weights);
-        }
-        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
-        Ok(out)
+        let hits = self.trace(rays.iter().map(GpuRay::closest).collect())?;
+        // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
+        Ok(hits
+            .into_par_iter()
+            .zip(rays)
+            .map(|(h, ray)| {
+                (h.prim != GpuHit::MISS).then_some(())?;
+                let tri = scene.triangles.get(h.prim as usize)?;
+                let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
+                Some(Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
+            })
+            .collect())
     }
 
     fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, String> {
-        let start = Instant::now();
-        let mut out = Vec::with_capacity(segments.len());
-        for chunk in segments.chunks(65_535 * WORKGROUP_SIZE as usize) {
-            let gpu_rays: Vec<GpuRay> = chunk
-                .iter()
-                .map(|(r, t_max)| GpuRay {
-                    origin: r.origin.to_array(),
-                    t_max: *t_max,
-                    direction: r.direction.to_array(),
-                    kind: RAY_ANY,
-                })
-                .collect();
-            // An any-hit ray's t is 1 when it is occluded, 0 otherwise (`trace_ray`).
-            let hits = checked(self.gpu, || self.tracer.trace(self.gpu, &gpu_rays))?;
-            out.extend(hits.iter().map(|h| h.t == 1.0));
-        }
-        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
-        Ok(out)
+        let hits = self.trace(segments.iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?;
+        // An any-hit ray's t is 1 when it is occluded, 0 otherwise (`trace_ray`).
+        Ok(hits.iter().map(|h| h.t == 1.0).collect())
     }
 }
 
