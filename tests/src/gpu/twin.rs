@@ -1,0 +1,66 @@
+//! The CPU renderer with the GPU's shading estimator: the reference GPU images are held to.
+
+use beam_cpu::nonlinear::{BeamJob, BeamRasterizer, CpuBeams, LevelRadiance, SMesh};
+use beam_cpu::render::RenderOptions;
+use beam_math::Ray;
+use beam_math::glam::Vec3;
+use beam_scene::scene;
+use std::sync::Mutex;
+
+/// The CPU renderer with the GPU's shading: [`beam_gpu::shade::shade_twin`] (64 rays per area light)
+/// for diffuse, glossy and emissive points, mirrors and glass by Whitted rays in waves ending on it:
+/// the reference the GPU images must equal. It keeps the last radiance flow it composited (the
+/// levels and the caustics).
+#[derive(Default)]
+pub(super) struct TwinShading(pub(super) Mutex<(Vec<LevelRadiance>, Option<beam_cpu::render::IrradianceMap>)>);
+
+impl BeamRasterizer for TwinShading {
+    fn render_beams(
+        &self,
+        scene: &scene::Scene,
+        jobs: &[BeamJob<'_>],
+    ) -> Result<Vec<beam_cpu::nonlinear::BeamTexture>, String> {
+        CpuBeams.render_beams(scene, jobs)
+    }
+}
+
+impl beam_cpu::nonlinear::RayQueries for TwinShading {
+    fn closest_hits(&self, scene: &scene::Scene, rays: &[Ray]) -> Result<Vec<Option<beam_bvh::Hit>>, String> {
+        CpuBeams.closest_hits(scene, rays)
+    }
+
+    fn any_hits(&self, scene: &scene::Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, String> {
+        CpuBeams.any_hits(scene, segments)
+    }
+}
+
+impl beam_cpu::nonlinear::PointShading for TwinShading {
+    fn shade_points(
+        &self,
+        scene: &scene::Scene,
+        _options: &RenderOptions,
+        caustics: Option<&beam_cpu::render::IrradianceMap>,
+        points: &[beam_cpu::nonlinear::ShadePoint],
+    ) -> Result<Option<Vec<Vec3>>, String> {
+        use rayon::prelude::*;
+        let twin = |batch: &[beam_cpu::nonlinear::ShadePoint]| {
+            Ok(batch.par_iter().map(|s| beam_gpu::shade::shade_twin(scene, caustics, 64, s)).collect())
+        };
+        beam_cpu::nonlinear::shade_by_waves(scene, &CpuBeams, &twin, points).map(Some)
+    }
+
+    fn shade_tree(
+        &self,
+        scene: &scene::Scene,
+        smesh: &SMesh,
+        options: &RenderOptions,
+        caustics: Option<&beam_cpu::render::IrradianceMap>,
+        levels: &[LevelRadiance],
+    ) -> Result<Option<Vec<Vec3>>, String> {
+        *self.0.lock().map_err(|e| e.to_string())? = (levels.to_vec(), caustics.cloned());
+        let shade = |points: &[beam_cpu::nonlinear::ShadePoint]| {
+            beam_cpu::nonlinear::shade_points(self, scene, options, caustics, points)
+        };
+        beam_cpu::nonlinear::composite_levels(scene, smesh, levels, &shade).map(Some)
+    }
+}
