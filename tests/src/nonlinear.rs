@@ -207,12 +207,22 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
         }
         let scene = scene::builtin(name)?;
         let reference = render_smooth_reference(&scene, &shading, 1_000_000);
-        for degree in [Degree::S1, Degree::S3] {
-            let options = NonlinearOptions { degree, texels: 48, bounces: 2, caustic_strata: CAUSTIC_STRATA, shading };
-            let image = match crate::with_renderer(backend, &scene, |r| render_nonlinear_with(&scene, &options, r))? {
-                Ok((image, _)) => image,
-                Err(skipped) => return Ok(skipped),
-            };
+        // One renderer (on the GPU: one device and pipeline set) for both degrees.
+        let images = crate::with_renderer(backend, &scene, |r| {
+            [Degree::S1, Degree::S3]
+                .map(|degree| {
+                    let options =
+                        NonlinearOptions { degree, texels: 48, bounces: 2, caustic_strata: CAUSTIC_STRATA, shading };
+                    Ok((degree, render_nonlinear_with(&scene, &options, r)?.0))
+                })
+                .into_iter()
+                .collect::<Result<Vec<_>, String>>()
+        })?;
+        let images = match images {
+            Ok(images) => images,
+            Err(skipped) => return Ok(skipped),
+        };
+        for (degree, image) in images {
             let d = difference(&image, &reference)?;
             if d.psnr < 33.0 {
                 return Err(format!("{name} {degree:?}: PSNR {:.1} dB", d.psnr));
