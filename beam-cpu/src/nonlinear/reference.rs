@@ -3,12 +3,11 @@
 //! waves so that a GPU's ray tracer can find every wave's hits at once.
 
 use super::caustics::caustics_by_photons;
-use super::trace::CpuBeams;
-use crate::render::{Image, RenderOptions, shade_point};
+use super::trace::{CpuBeams, shade_points};
+use crate::render::{Image, RenderOptions};
 use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{BeamRenderer, Path, ShadePoint, trace_waves};
 use beam_scene::scene::Scene;
-use rayon::prelude::*;
 
 /// The ray-traced ground truth of [`super::render_nonlinear`] on the CPU (see
 /// [`render_smooth_reference_with`]).
@@ -34,12 +33,7 @@ pub fn render_smooth_reference_with(
     let mut image = Image::new(camera.width, camera.height);
     let paths: Vec<Path> = (0..image.pixels.len()).map(|i| (i, camera.pixel_ray(&frame, i), Vec3::ONE)).collect();
     // The ground truth shades exactly, on the CPU.
-    let shade = |points: &[ShadePoint]| {
-        Ok(points
-            .par_iter()
-            .map(|s| shade_point(scene, options, caustics.as_ref(), s.prim, s.p, s.d, s.seed))
-            .collect())
-    };
+    let shade = |points: &[ShadePoint]| shade_points(&CpuBeams, scene, options, caustics.as_ref(), points);
     trace_waves(scene, renderer, &shade, paths, 0, &mut image.pixels)?;
     Ok(image)
 }
