@@ -15,6 +15,25 @@
 //! - Refit after vertices move, and statistics (node visits, triangle tests, SAH cost, depth,
 //!   leaf sizes) as data.
 //! - Degenerate triangles (zero area, NaN or infinite coordinates) are left out and counted.
+//!
+//! ```
+//! use beam_bvh::beam_math::glam::Vec3;
+//! use beam_bvh::beam_math::{Ray, Triangle};
+//! use beam_bvh::{BuildOptions, FlatBvh};
+//!
+//! // Two triangles making the unit square at z = 0.
+//! let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]].map(Vec3::from);
+//! let triangles = vec![Triangle::new(v[0], v[1], v[2]), Triangle::new(v[0], v[2], v[3])];
+//! let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
+//!
+//! let down = Ray::new(Vec3::new(0.25, 0.75, 2.0), Vec3::NEG_Z);
+//! let hit = bvh.closest_hit(&triangles, down, f32::INFINITY).unwrap();
+//! assert_eq!((hit.prim, hit.t), (1, 2.0));
+//! // Any hit before t = 1 (a shadow ray that stops half way): none.
+//! assert!(!bvh.any_hit(&triangles, down, 1.0));
+//! ```
+//!
+//! `cargo run --release -p beam-bvh --example trace` does more: batches, shadow rays, statistics.
 
 mod build;
 mod flat;

@@ -7,6 +7,20 @@
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
 //! - [`glossy`]: glossy light volumes and caustics from point and area lights (002).
 //! - [`nonlinear`]: nonlinear beam tracing of curved mirrors (000).
+//!
+//! Exact soft shadows of the built-in Cornell box, 64×48, by polygon beams:
+//!
+//! ```
+//! use beam_cpu::render::{RenderOptions, render};
+//!
+//! let scene = beam_cpu::beam_scene::scene::builtin("cornell").unwrap();
+//! let (image, stats) = render(&scene, &RenderOptions::exact(64, 48), || {});
+//! assert_eq!(image.pixels.len(), 64 * 48);
+//! assert!(stats.shadow_beams > 0);
+//! // image.save_png("cornell.png".as_ref()) writes it (atomically).
+//! ```
+//!
+//! `cargo run --release -p beam-cpu --example soft_shadows` builds a scene in code instead.
 
 pub mod glossy;
 pub mod nonlinear;

@@ -1,6 +1,6 @@
 //! Reproduction of 000 Fig. 7: the pixel overdraw ratio (bounding-triangle area over the true area
 //! of the projection) of one scene triangle rendered in one diverging S1 beam, for our bounding
-//! triangle (Alg. 3) and for the general case alone (the algorithm of [11]), sweeping the triangle's
+//! triangle (Alg. 3) and for the general case alone (the algorithm of \[11\]), sweeping the triangle's
 //! size at a fixed distance and its distance at a fixed size.
 
 use beam_math::Triangle;
@@ -41,7 +41,7 @@ pub struct OverdrawRow {
     pub ours: f64,
     /// Branch of Alg. 3 that produced our bounding triangle.
     pub ours_case: BoundingCase,
-    /// Overdraw ratio of the general case alone ([11]).
+    /// Overdraw ratio of the general case alone (\[11\]).
     pub general: f64,
     /// Our overdraw with the bounding triangle clipped to the base triangle.
     pub ours_clipped: f64,

@@ -6,6 +6,23 @@
 //! layout, and the nonlinear beam pipeline of 000 (bounding triangles in a vertex stage, per-texel
 //! rays in a fragment stage, per-level atlases, the composite), and the gather of the glossy light
 //! volumes of 002. Every entry point has a CPU twin that the conformance suite compares it with.
+//!
+//! Trace camera rays on the GPU (here a device beam opens; an engine hands its own
+//! `wgpu::Device` and `Queue` to [`Gpu`] instead, see `examples/engine_device.rs`):
+//!
+//! ```
+//! use beam_bvh::gpu::GpuBvh;
+//! use beam_gpu::raytrace::{GpuRay, RayTracer};
+//!
+//! let Ok(gpu) = beam_gpu::Gpu::new() else { return }; // no adapter: nothing to show
+//! let scene = beam_scene::scene::builtin("cornell").unwrap();
+//! let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).unwrap()).unwrap();
+//! let camera = scene.camera.with_size(16, 16);
+//! let frame = camera.frame();
+//! let rays: Vec<GpuRay> = (0..256).map(|i| GpuRay::closest(&camera.pixel_ray(&frame, i))).collect();
+//! let hits = tracer.trace(&gpu, &rays).unwrap();
+//! assert_eq!(hits.len(), 256);
+//! ```
 
 pub mod buffers;
 pub mod device;

@@ -21,7 +21,7 @@ pub struct GpuRay {
     pub t_max: f32,
     /// Direction (not necessarily unit; `t` is in its units).
     pub direction: [f32; 3],
-    /// [`RAY_CLOSEST`](crate::interface::RAY_CLOSEST) or [`RAY_ANY`](crate::interface::RAY_ANY).
+    /// [`RAY_CLOSEST`] or [`RAY_ANY`].
     pub kind: u32,
 }
 

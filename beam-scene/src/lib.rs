@@ -11,6 +11,15 @@
 //!   offsets both backends use; [`irradiance_map`]: caustic irradiance on receiving planes.
 //! - [`nonlinear`], [`glossy`]: the host side of the nonlinear beam tree (000) and of the glossy
 //!   light volumes (002) that every backend shares.
+//!
+//! ```
+//! // The built-in Cornell box; `load` also takes a scene file (TOML, OBJ, glTF) or a shared
+//! // scene's name.
+//! let scene = beam_scene::scene::builtin("cornell").unwrap();
+//! assert!(!scene.triangles.is_empty() && !scene.lights.is_empty());
+//! let (w, h) = (scene.camera.width, scene.camera.height);
+//! assert!(w > 0 && h > 0);
+//! ```
 
 pub mod glossy;
 pub mod io;

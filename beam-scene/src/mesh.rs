@@ -1,4 +1,4 @@
-//! Triangle meshes from OBJ files ([`obj`]) and built-in procedural meshes.
+//! Triangle meshes from OBJ files (`obj`) and built-in procedural meshes.
 
 mod obj;
 mod triangulate;

@@ -116,7 +116,7 @@ const TOLERANCE: f32 = 5e-3;
 /// The WGSL bounding triangles (a compute entry point running the vertex stage's function) against
 /// beam-math's on 36,000 (beam, triangle) pairs — S1, S3 and bump-mapped beams of three kinds,
 /// triangles near and far, small and straddling. Where f32 decides every branch as beam-math's f64
-/// does, the lower bounds are at most [`TOLERANCE`] below beam-math's (clamped at 0: every texel's
+/// does, the lower bounds are at most `TOLERANCE` (5e-3) below beam-math's (clamped at 0: every texel's
 /// ω is ≥ 0); where it
 /// cannot (a vertex within 1e-4 of a side surface, the base or the threshold plane) the shader
 /// takes the larger branch. Always: the GPU triangle contains the CPU's,
@@ -242,7 +242,7 @@ pub fn gpu_texel_rays_match_math(_: Backend, _: &Config) -> Result<Outcome, Stri
     })
 }
 
-/// The GPU's ray queries against the CPU's, both through [`RayQueries`] (`GpuBeams`: the compute
+/// The GPU's ray queries against the CPU's, both through [`RayQueries`](beam_scene::queries::RayQueries) (`GpuBeams`: the compute
 /// ray tracer, barycentric weights from the hit point; `CpuBeams`: the BVH traversal): camera rays
 /// and random rays through the scene's box for closest hits, random segments for any hits, on
 /// three built-ins. Rays exactly on an edge may be decided differently (the CPU refines in f64):

@@ -61,7 +61,7 @@ fn cameras(loaded: &Loaded, n: u32, size: u32, seed: u64) -> Vec<(bool, Camera)>
         .collect()
 }
 
-/// The sweep on each of `scenes`; `cameras_arg` and `size_arg` override [`defaults`]; the plot and
+/// The sweep on each of `scenes`; `cameras_arg` and `size_arg` override the defaults; the plot and
 /// a CSV of every camera go to `out` when given.
 pub fn run(
     scenes: &[String],

@@ -20,7 +20,7 @@ use glam::{Mat3, Vec3};
 pub enum BoundingCase {
     /// The scene triangle straddles the beam boundary: the whole base.
     BruteForce,
-    /// Transfers onto the base plane `Πb` (the algorithm of [11]).
+    /// Transfers onto the base plane `Πb` (the algorithm of \[11\]).
     General,
     /// Transfers onto the affine plane through the top of the triangle, mapped back to the base.
     UniqueProjection,
@@ -159,7 +159,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
         Some(self.general_case(bounds, tri))
     }
 
-    /// Bounding triangle by the general case alone, for every triangle: the algorithm of [11] that
+    /// Bounding triangle by the general case alone, for every triangle: the algorithm of \[11\] that
     /// 000 Fig. 7 compares against. `None` when the triangle is wholly behind the base.
     #[must_use]
     pub fn bounding_triangle_general(&self, bounds: &BeamBounds, tri: &Triangle) -> Option<BoundingTriangle> {

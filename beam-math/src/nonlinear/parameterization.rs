@@ -97,7 +97,7 @@ pub fn indices(n: usize) -> impl Iterator<Item = [usize; 3]> {
 
 /// The two Bézier patches of a beam (`O(ω)` and `d(ω)`) in Bernstein form and double precision:
 /// control points `c_ijk = L_ijk / (n!/(i!j!k!))`, so both patches lie in the convex hull of their
-/// control points (used by [`crate::nonlinear::max_offsets`] and the extremal directions).
+/// control points (used by [`NonlinearBeam::max_offsets`](crate::nonlinear::NonlinearBeam::max_offsets) and the extremal directions).
 #[derive(Clone, Copy, Debug)]
 pub struct Patch {
     /// Degree `n`.

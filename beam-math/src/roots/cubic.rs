@@ -5,7 +5,7 @@ use crate::float::Float;
 
 /// Distinct real roots of `a x³ + b x² + c x + d`, ascending, by isolation between the critical
 /// points (roots of `3a x² + 2b x + c`) and bracketed Newton refinement started from the closed
-/// form's roots ([`closed_form`]). Double and triple roots are found at the critical points and
+/// form's roots (`closed_form`). Double and triple roots are found at the critical points and
 /// reported once. Degrades to [`quadratic`] when `a = 0`.
 #[must_use]
 pub fn cubic(a: f64, b: f64, c: f64, d: f64) -> Roots<3> {

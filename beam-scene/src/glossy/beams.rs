@@ -80,7 +80,7 @@ fn vertex_normals(scene: &Scene, prim: u32) -> [Vec3; 3] {
 /// normals interpolate its own (the micro-polygon step of 002 §4.5: the beams then follow the
 /// smooth surface the normals stand for). Beams are clipped to the part of their scatterer that the
 /// light reaches (shadow rays from the light; sub-triangles across a shadow's edge halved
-/// [`LIT_DEPTH`] times), which 002 leaves out. Degenerate triangles (no solid angle, or a vertex at
+/// `LIT_DEPTH` times), which 002 leaves out. Degenerate triangles (no solid angle, or a vertex at
 /// the light) are skipped and counted.
 #[must_use]
 pub fn trace_light_beams(scene: &Scene, subdivide: u32) -> (Vec<GlossyBeam>, u64) {

@@ -20,7 +20,7 @@ pub const MAX_EMITTERS: usize = 32;
 /// count allows.
 pub const AREA_STRATA: u32 = 4;
 
-/// Shadow rays per area light and receiver point of [`reference_direct`] (16 × 16 strata, jittered).
+/// Shadow rays per area light and receiver point of `beam_cpu::glossy::reference_direct` (16 × 16 strata, jittered).
 pub const REFERENCE_AREA_RAYS: u32 = 256;
 
 /// A point source of light volumes: a point light, or one stratum of an area light.

@@ -73,7 +73,7 @@ impl LightVolumes {
     }
 
     /// The same lights' negative shadow beams alone, with their own cone hierarchy (for a gather that
-    /// takes the scattered beams elsewhere, as [`super::PhotonKernel::splat`] does).
+    /// takes the scattered beams elsewhere, as `beam_cpu`'s `PhotonKernel::splat` does).
     #[must_use]
     pub fn shadows(&self) -> Self {
         let mut beams: Vec<GlossyBeam> = self.beams.iter().filter(|b| b.shadow).copied().collect();
