@@ -11,7 +11,8 @@ use common::{Doc, cornell, primitive, write};
 fn each_container() -> Vec<Scene> {
     let dir = tempfile::tempdir().unwrap();
     let d = cornell();
-    let embedded = write(dir.path(), "box.gltf", d.gltf());
+    // With a byte-order mark, which readers may ignore.
+    let embedded = write(dir.path(), "box.gltf", format!("\u{feff}{}", d.gltf()));
     write(dir.path(), "box data.bin", &d.bin);
     let external = write(dir.path(), "external.GLTF", d.json(Some("box%20data.bin")));
     let binary = write(dir.path(), "box.glb", d.glb());

@@ -39,7 +39,9 @@ fn file_error(path: &Path, message: impl Display) -> String {
 /// of a bare OBJ file; without any light (punctual or emissive), the same light above it.
 pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, String> {
     let data = read_bounded(path, MAX_MESH_BYTES)?;
-    let gltf::Gltf { document, blob } = parse(path, &data)?;
+    // A UTF-8 byte-order mark before the JSON is skipped (glTF asks writers for none).
+    let json_or_glb = data.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&data);
+    let gltf::Gltf { document, blob } = parse(path, json_or_glb)?;
     drop(data);
     let buffers = buffers::load(path, &document, blob, options)?;
     let materials = materials::map_all(path, &document)?;
