@@ -80,6 +80,9 @@ fn malformed_files_name_the_file_and_element() {
     let mut lines = triangle(&TRI, None);
     lines.meshes[0] = r#"{"primitives": [{"attributes": {"POSITION": 0}, "mode": 1}]}"#.into();
     refused(d, "lines.gltf", lines.gltf(), &["no valid triangle"]);
+    let mut no_lights = cornell();
+    no_lights.lights.clear();
+    refused(d, "nolights.gltf", no_lights.gltf(), &["nodes[7].extensions", "light: index out of bounds"]);
     let deep =
         format!(r#"{{"asset": {{"version": "2.0"}}, "extras": {}1{}}}"#, "[".repeat(100_000), "]".repeat(100_000));
     refused(d, "deep.gltf", deep, &["line 1"]);
