@@ -49,7 +49,8 @@ enum Command {
     },
     /// Render a scene (default: the built-in Cornell box, exact soft shadows by beams).
     Render {
-        /// A built-in scene (cornell, mirror-glass, cornell-point), a .toml scene file or an .obj mesh.
+        /// A built-in scene (cornell, mirror-glass, cornell-point), a .toml scene file, a .gltf/.glb
+        /// model or an .obj mesh.
         #[arg(long, default_value = "cornell")]
         scene: String,
         /// Light visibility: `beam` (exact shadow beams) or `ray` (stratified shadow rays); or

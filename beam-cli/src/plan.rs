@@ -236,6 +236,13 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         Some(n) => scene::builtin_with_smesh(a.scene, n)?,
         None => scene::load_with(a.scene, &scene::LoadOptions { allow_outside_paths: a.allow_outside_paths })?,
     };
+    if scene.stats.skipped_lights > 0 {
+        // Said even when `quiet`: the image lacks light the file asked for.
+        eprintln!(
+            "warning: {}: {} directional light(s) skipped (there is no light at infinity here)",
+            scene.name, scene.stats.skipped_lights
+        );
+    }
     let (width, height) = image_size(a.width, a.height, (scene.camera.width, scene.camera.height))?;
     let memory = estimate(kind, width, height, scene.triangles.len(), a.photons);
     crate::limits::admit(&format!("a {width}×{height} {} render", kind.name()), memory, quiet)?;

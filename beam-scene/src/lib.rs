@@ -1,10 +1,10 @@
 //! # beam-scene
 //!
-//! What both backends render and share, and nothing that renders: scenes (TOML files, bare OBJ, built-ins)
-//! with their materials, lights, camera and BVH, the meshes they are made of, bounded reads of the
+//! What both backends render and share, and nothing that renders: scenes (TOML files, glTF 2.0, bare OBJ,
+//! built-ins) with their materials, lights, camera and BVH, the meshes they are made of, bounded reads of the
 //! user's files and atomic writes of outputs. `beam-cpu` and `beam-gpu` both build on it.
 //!
-//! - [`scene`]: scenes (TOML files, bare OBJ, built-ins): materials, lights, camera, BVHs.
+//! - [`scene`]: scenes (TOML files, glTF 2.0, bare OBJ, built-ins): materials, lights, camera, BVHs.
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
 //! - [`io`]: atomic output files; [`read`]: bounded reads of input files.
 //! - [`queries`]: ray queries, one vocabulary for all; [`options`]: render settings; [`specular`]: the mirror and glass bounce; [`tolerance`]: the

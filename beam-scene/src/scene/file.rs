@@ -1,4 +1,5 @@
-//! Loading scene files (TOML, format in [`super::format`]) and bare OBJ files.
+//! Loading scene files (TOML, format in [`super::format`]), glTF 2.0 files ([`super::gltf`]) and
+//! bare OBJ files.
 
 use super::check::{self, finite};
 use super::format::{self, Scale, SceneFile};
@@ -18,8 +19,8 @@ pub struct LoadOptions {
     pub allow_outside_paths: bool,
 }
 
-/// Load a scene by built-in name, `.toml` scene file or bare `.obj` file, with mesh paths kept
-/// inside the scene file's folder.
+/// Load a scene by built-in name, `.toml` scene file, `.gltf`/`.glb` file or bare `.obj` file,
+/// with mesh and buffer paths kept inside the scene file's folder.
 pub fn load(name_or_path: &str) -> Result<Scene, String> {
     load_with(name_or_path, &LoadOptions::default())
 }
@@ -32,9 +33,9 @@ pub fn load_with(name_or_path: &str, options: &LoadOptions) -> Result<Scene, Str
     load_file_with(Path::new(name_or_path), options)
 }
 
-/// Load a `.toml` scene file or a bare `.obj` file (extensions in any case), with mesh paths kept
-/// inside the scene file's folder. Errors name the file and the line (TOML syntax, OBJ lines) or
-/// the element (`meshes[2].material`).
+/// Load a `.toml` scene file, a `.gltf` or `.glb` file or a bare `.obj` file (extensions in any
+/// case), with mesh and buffer paths kept inside the scene file's folder. Errors name the file and
+/// the line (TOML syntax, OBJ lines) or the element (`meshes[2].material`, `mesh 2 primitive 0`).
 pub fn load_file(path: &Path) -> Result<Scene, String> {
     load_file_with(path, &LoadOptions::default())
 }
@@ -45,9 +46,11 @@ pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, Strin
         load_bare_obj(path)
     } else if has_extension(path, "toml") {
         load_toml(path, options)
+    } else if has_extension(path, "gltf") || has_extension(path, "glb") {
+        super::gltf::load_gltf(path, options)
     } else {
         Err(format!(
-            "{}: expected a built-in scene name ({}), a .toml scene or an .obj mesh",
+            "{}: expected a built-in scene name ({}), a .toml scene, a .gltf/.glb model or an .obj mesh",
             path.display(),
             super::BUILTIN.join(", ")
         ))
@@ -128,7 +131,7 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, String> {
 }
 
 /// Bounds of the non-degenerate triangles; an error naming the file when there is none.
-fn valid_bounds(path: &Path, triangles: &[(Triangle, u32)]) -> Result<beam_math::Aabb, String> {
+pub(super) fn valid_bounds(path: &Path, triangles: &[(Triangle, u32)]) -> Result<beam_math::Aabb, String> {
     let bounds = triangles
         .iter()
         .filter(|(t, _)| t.is_valid())
@@ -137,7 +140,7 @@ fn valid_bounds(path: &Path, triangles: &[(Triangle, u32)]) -> Result<beam_math:
 }
 
 /// A camera in front of the box (along +z), framing it.
-fn default_camera(b: beam_math::Aabb) -> Camera {
+pub(super) fn default_camera(b: beam_math::Aabb) -> Camera {
     let c = b.center();
     let r = 0.5 * b.extent().length();
     Camera {
@@ -151,7 +154,7 @@ fn default_camera(b: beam_math::Aabb) -> Camera {
 }
 
 /// A downward-facing quad light above the box, a quarter of its width.
-fn default_light(b: beam_math::Aabb) -> Light {
+pub(super) fn default_light(b: beam_math::Aabb) -> Light {
     let e = b.extent();
     let size = 0.25 * e.x.max(e.z);
     let corner = Vec3::new(b.center().x - 0.5 * size, b.max.y + 0.5 * e.y.max(0.1 * size), b.center().z - 0.5 * size);

@@ -1,5 +1,5 @@
-//! Scenes: triangles with materials, lights and a camera, from a TOML scene file, a bare OBJ file
-//! or a built-in name.
+//! Scenes: triangles with materials, lights and a camera, from a TOML scene file, a glTF 2.0 file,
+//! a bare OBJ file or a built-in name.
 
 mod builtin;
 mod camera;
@@ -7,6 +7,7 @@ mod check;
 mod file;
 pub mod foliage;
 mod format;
+mod gltf;
 pub mod light_volumes;
 mod normals;
 pub mod showcase;
@@ -203,8 +204,11 @@ pub struct SceneStats {
     pub triangles: usize,
     /// Degenerate triangles filtered out (zero area, NaN or infinite coordinates).
     pub degenerate: usize,
-    /// OBJ line (`l`) and point (`p`) elements skipped: they have no area to render.
+    /// OBJ line (`l`) and point (`p`) elements, and glTF point and line primitives, skipped: they
+    /// have no area to render.
     pub skipped_elements: usize,
+    /// glTF directional lights skipped: there is no light at infinity here.
+    pub skipped_lights: usize,
 }
 
 /// A scene ready to render: triangles (degenerate ones removed) with a material each, lights, a
@@ -246,7 +250,12 @@ impl Scene {
         let total = triangles.len();
         let (triangles, material_of): (Vec<Triangle>, Vec<u32>) =
             triangles.into_iter().filter(|(t, _)| t.is_valid()).unzip();
-        let stats = SceneStats { triangles: triangles.len(), degenerate: total - triangles.len(), skipped_elements: 0 };
+        let stats = SceneStats {
+            triangles: triangles.len(),
+            degenerate: total - triangles.len(),
+            skipped_elements: 0,
+            skipped_lights: 0,
+        };
         let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
         let wide = WideBvh::new(&bvh, &triangles);
         let smooth_normals = normals::specular_normals(&triangles, &material_of, &materials);

@@ -1,0 +1,75 @@
+//! glTF materials mapped to ours, from their factors only (textures are not read):
+//!
+//! - an emissive factor (times `KHR_materials_emissive_strength`) above zero → [`Material::Emissive`]
+//!   (its triangles also become area lights);
+//! - `KHR_materials_transmission` factor ≥ ½ → [`Material::Glass`] with the `KHR_materials_ior`
+//!   index (1.5 without it);
+//! - metallic factor ≥ ½: roughness ≤ [`MIRROR_ROUGHNESS`] → [`Material::Mirror`] tinted by the
+//!   base colour, rougher → [`Material::Glossy`] of that albedo with micro-facet variance
+//!   `roughness⁴` (a facet standard deviation of GGX's α = roughness²);
+//! - anything else → [`Material::Diffuse`] of the base colour (alpha ignored).
+//!
+//! A primitive without a material gets the diffuse grey of a bare OBJ file.
+
+use super::error;
+use crate::scene::Material;
+use beam_math::glam::Vec3;
+use std::path::Path;
+
+/// Roughest metal that is still a mirror.
+const MIRROR_ROUGHNESS: f32 = 0.1;
+
+/// What a primitive without a material gets (the grey of a bare OBJ file).
+pub(super) const DEFAULT: Material = Material::Diffuse { albedo: Vec3::splat(0.7) };
+
+/// Our material for each of `document`'s materials, in order, then [`DEFAULT`] (the material of
+/// primitives that name none, at index `document.materials().len()`).
+pub(super) fn map_all(path: &Path, document: &gltf::Document) -> Result<Vec<Material>, String> {
+    let mut out = Vec::with_capacity(document.materials().len() + 1);
+    for m in document.materials() {
+        out.push(map(path, &m)?);
+    }
+    out.push(DEFAULT);
+    Ok(out)
+}
+
+/// Our material for the glTF material `m`, its factors checked (colours finite and ≥ 0, the
+/// index of refraction positive).
+fn map(path: &Path, m: &gltf::Material) -> Result<Material, String> {
+    let element = format!("material {}", m.index().unwrap_or_default());
+    let pbr = m.pbr_metallic_roughness();
+    let [r, g, b, _] = pbr.base_color_factor();
+    let base = colour(path, &element, "baseColorFactor", [r, g, b])?;
+    let strength = m.emissive_strength().unwrap_or(1.0);
+    let emitted = colour(path, &element, "emissiveFactor", m.emissive_factor())?;
+    let radiance = colour(path, &element, "emissive strength × factor", (emitted * strength).to_array())?;
+    let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
+    let transmission = m.transmission().map_or(0.0, |t| t.transmission_factor());
+    if ![metallic, roughness, transmission].iter().all(|x| x.is_finite()) {
+        return Err(error(path, element, "metallic, roughness and transmission factors must be finite"));
+    }
+    Ok(if radiance.max_element() > 0.0 {
+        Material::Emissive { radiance }
+    } else if transmission >= 0.5 {
+        let ior = m.ior().unwrap_or(1.5);
+        if !(ior > 0.0 && ior.is_finite()) {
+            return Err(error(path, element, format!("KHR_materials_ior: ior must be a positive number, not {ior}")));
+        }
+        Material::Glass { ior }
+    } else if metallic >= 0.5 && roughness <= MIRROR_ROUGHNESS {
+        Material::Mirror { tint: base, bump: crate::scene::Bump::NONE }
+    } else if metallic >= 0.5 {
+        Material::Glossy { albedo: base, variance: roughness.clamp(0.0, 1.0).powi(4) }
+    } else {
+        Material::Diffuse { albedo: base }
+    })
+}
+
+/// The colour `field` of material `element`, checked finite and ≥ 0.
+fn colour(path: &Path, element: &str, field: &str, rgb: [f32; 3]) -> Result<Vec3, String> {
+    if rgb.iter().all(|v| v.is_finite() && *v >= 0.0) {
+        Ok(Vec3::from_array(rgb))
+    } else {
+        Err(error(path, element, format!("{field}: each channel must be finite and ≥ 0, not {rgb:?}")))
+    }
+}
