@@ -126,7 +126,7 @@ pub fn compare(a: &Path, b: &Path, out: &Path, scale: f32) -> Result<ExitCode, S
     drop((ia, ib));
     let png = encode_png(3 * plan.width, plan.height, &rgb).map_err(|e| format!("{}: {e}", out.display()))?;
     drop(rgb);
-    write_atomic(out, &png)?;
+    write_atomic(out, &png).map_err(|e| e.to_string())?;
     println!("RMSE {rmse:.5}  PSNR {psnr:.2} dB  max {max:.4}  (sRGB, [0, 1]) -> {}", out.display());
     Ok(ExitCode::SUCCESS)
 }

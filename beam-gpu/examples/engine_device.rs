@@ -28,7 +28,7 @@ fn main() -> Result<(), String> {
 
     // A scene's BVH in the GPU layout (a built-in here; yours through beam_scene or your own
     // triangles), and the nearest hits of a 64 × 64 camera's rays.
-    let scene = beam_scene::scene::builtin("cornell")?;
+    let scene = beam_scene::scene::builtin("cornell").map_err(|e| e.to_string())?;
     let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
     let camera = scene.camera.with_size(64, 64);
     let frame = camera.frame();

@@ -139,7 +139,7 @@ pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, Strin
         for (file, bytes) in files {
             // Through beam-cpu's writer: hidden, unique temporaries that a signal removes.
             let path = out.join(file);
-            beam_scene::io::write_atomic(&path, &bytes)?;
+            beam_scene::io::write_atomic(&path, &bytes).map_err(|e| e.to_string())?;
             written.push(path);
         }
     }

@@ -6,12 +6,14 @@
 //!
 //! - [`scene`]: scenes (TOML files, bare OBJ, built-ins): materials, lights, camera, BVHs.
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
-//! - [`io`]: atomic output files; [`read`]: bounded reads of input files.
+//! - [`io`]: atomic output files; [`read`]: bounded reads of input files; [`error`]: their errors
+//!   ([`SceneError`]) and the backends' ([`BackendError`]).
 //! - [`queries`]: ray queries, one vocabulary for all; [`options`]: render settings; [`specular`]: the mirror and glass bounce; [`tolerance`]: the
 //!   offsets both backends use; [`irradiance_map`]: caustic irradiance on receiving planes.
 //! - [`nonlinear`], [`glossy`]: the host side of the nonlinear beam tree (000) and of the glossy
 //!   light volumes (002) that every backend shares.
 
+pub mod error;
 pub mod glossy;
 pub mod io;
 pub mod irradiance_map;
@@ -26,3 +28,4 @@ pub mod specular;
 pub mod tolerance;
 
 pub use beam_math;
+pub use error::{BackendError, FaceError, SceneError};

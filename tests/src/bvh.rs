@@ -64,7 +64,7 @@ pub fn cases() -> Result<(Vec<Case>, Option<String>), String> {
     match beam_scene::scenes::shared_meshes() {
         Ok(paths) => {
             for p in paths {
-                let m: Mesh = mesh::load_obj(&p)?;
+                let m: Mesh = mesh::load_obj(&p).map_err(|e| e.to_string())?;
                 out.push(Case {
                     name: p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
                     triangles: m.triangles(),
@@ -72,7 +72,7 @@ pub fn cases() -> Result<(Vec<Case>, Option<String>), String> {
             }
             Ok((out, None))
         }
-        Err(reason) => Ok((out, Some(reason))),
+        Err(reason) => Ok((out, Some(reason.to_string()))),
     }
 }
 

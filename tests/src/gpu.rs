@@ -256,7 +256,7 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
     let mut rng = generate::rng(7);
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in ["cornell", "mirror-glass", "wavy-lake"] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let on_gpu = GpuBeams::new(&gpu, &scene)?;
         let bounds = scene.bounds();
         let camera = scene.camera.with_size(128, 128);
@@ -313,7 +313,7 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
         ("bumpy-mirror", Degree::S1),
         ("glass-lens-coarse", Degree::S3),
     ] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let smesh = SMesh::specular(&scene);
         let eye = scene.camera.position;
         let beams: Vec<(Beam, u32)> = smesh
@@ -377,7 +377,7 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
         ("bumpy-mirror", Degree::S1),
         ("wavy-lake-coarse", Degree::S3),
     ] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let options = NonlinearOptions {
             degree,
             texels: 32,
@@ -421,7 +421,7 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
     };
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in ["cornell-point", "wavy-lake-coarse", "cornell", "mirror-glass"] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let point_lit = scene.lights.iter().all(|l| matches!(l, scene::Light::Point { .. }));
         let shader = PointShader::new(&gpu, &scene)?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
@@ -485,7 +485,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
     };
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in ["mirror-glass-coarse", "glass-lens-coarse", "bumpy-mirror", "wavy-lake-coarse"] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let options = NonlinearOptions {
             degree: Degree::S3,
             texels: 32,

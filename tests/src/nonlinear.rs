@@ -66,7 +66,7 @@ pub fn nonlinear_texels_equal_ray_hits(backend: Backend, _: &Config) -> Result<O
         "glass-lens-coarse",
         "wavy-lake-coarse",
     ] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let smesh = SMesh::specular(&scene);
         let eye = scene.camera.position;
         let extent = scene.bvh.nodes[0].bounds().extent().length();
@@ -205,7 +205,7 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
             notes.push(format!("{name} not on a software GPU"));
             continue;
         }
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let reference = render_smooth_reference(&scene, &shading, 1_000_000);
         // One renderer (on the GPU: one device and pipeline set) for both degrees.
         let images = crate::with_renderer(backend, &scene, |r| {
@@ -247,7 +247,10 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_scene::scene::Material;
     let size = 256;
     let shading = RenderOptions::exact(size, size);
-    let (coarse, fine) = (scene::builtin("mirror-glass-coarse")?, scene::builtin("mirror-glass")?);
+    let (coarse, fine) = (
+        scene::builtin("mirror-glass-coarse").map_err(|e| e.to_string())?,
+        scene::builtin("mirror-glass").map_err(|e| e.to_string())?,
+    );
     let mirror_at = |scene: &scene::Scene| -> Vec<bool> {
         let camera = scene.camera.with_size(size, size);
         let frame = camera.frame();
@@ -340,7 +343,7 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
 /// total flux must agree within 1%.
 pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::nonlinear::{CAUSTIC_STRATA, Degree, caustics_by_beams, caustics_by_photons};
-    let scene = scene::builtin("wavy-lake")?;
+    let scene = scene::builtin("wavy-lake").map_err(|e| e.to_string())?;
     let truth = caustics_by_photons(&scene, 16_000_000, 1).ok_or("no caustics")?;
     let photons = caustics_by_photons(&scene, 4_000_000, 2).ok_or("no caustics")?;
     let noise = photons.relative_rms(&truth);
@@ -368,7 +371,7 @@ pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, 
 /// remains, about 1% of it where rays leave the lens's rim, as with a point light).
 pub fn area_light_caustics_converge(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::nonlinear::{CpuBeams, Degree, caustics_by_beams, caustics_by_photons};
-    let scene = scene::builtin("glass-lens-coarse")?;
+    let scene = scene::builtin("glass-lens-coarse").map_err(|e| e.to_string())?;
     let truth = caustics_by_photons(&scene, 16_000_000, 1).ok_or("no caustics")?;
     let mut runs = Vec::new();
     for k in [1, 2, 4] {

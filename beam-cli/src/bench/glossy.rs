@@ -49,7 +49,7 @@ pub fn run(scenes: &[String], size: u32, reference: u64, subdivide: u32, out: &P
     );
     let mut all = Vec::new();
     for name in scenes {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let sharp = GlossyOptions { subdivide, ..GlossyOptions::new(size, size) };
         let truth: Image = render_glossy_photons(&scene, size, size, &glossy_photons(&scene, reference, 7))?;
         let options = GlossyOptions { filter: photon_texel(&scene), ..sharp };

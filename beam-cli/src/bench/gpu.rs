@@ -26,7 +26,7 @@ pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degr
         "scene", "GPU fps", "GPU ms", "atlas ms", "rays ms", "shade ms", "CPU ms", "CPU/GPU", "beams", "PSNR"
     );
     for name in scenes {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let options = NonlinearOptions {
             degree,
             texels: 32,

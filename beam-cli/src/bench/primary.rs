@@ -43,11 +43,11 @@ pub fn load(arg: &str) -> Result<Option<Loaded>, String> {
         Some(rel) => match beam_scene::scenes::scenes_dir().map(|d| d.join(rel)) {
             Ok(p) if p.is_file() => p.display().to_string(),
             Ok(p) => return skip(arg, &format!("{} not found", p.display())),
-            Err(e) => return skip(arg, &e),
+            Err(e) => return skip(arg, &e.to_string()),
         },
         None => arg.to_string(),
     };
-    let scene = scene::load(&path)?;
+    let scene = scene::load(&path).map_err(|e| e.to_string())?;
     let name = Path::new(arg).file_stem().map_or_else(|| arg.to_string(), |s| s.to_string_lossy().into_owned());
     Ok(Some(Loaded { name, scene, mesh: path.ends_with(".obj") }))
 }

@@ -31,7 +31,7 @@ pub fn run(
     out_dir: Option<&Path>,
 ) -> Result<(), String> {
     check(size, reference_spp, light_size)?;
-    let mut scene = scene::load(scene_arg)?;
+    let mut scene = scene::load(scene_arg).map_err(|e| e.to_string())?;
     let bounds = scene.bvh.nodes.first().ok_or("empty scene")?.bounds();
     if scene_arg.ends_with(".obj") {
         // A bare mesh gets the interior view of `beam bench bvh` and a ceiling light, lowered under

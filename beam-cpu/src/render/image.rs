@@ -42,7 +42,7 @@ impl Image {
 
     /// Write as PNG (sRGB), atomically.
     pub fn save_png(&self, path: &Path) -> Result<(), String> {
-        beam_scene::io::write_png(path, self.width, self.height, &self.to_srgb8())
+        beam_scene::io::write_png(path, self.width, self.height, &self.to_srgb8()).map_err(|e| e.to_string())
     }
 
     /// Read an 8-bit PNG (or any format the `image` crate reads) back to linear RGB.

@@ -21,7 +21,7 @@ pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, S
     let (mut total, mut notes) = (0u64, Vec::new());
     let options = GlossyOptions::new(1, 1);
     for name in crate::glossy::SCENES {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
         let points = crate::glossy::receiver_points(&scene, 10_000, 41);
         let on_cpu = gather_on_cpu(&scene, &volumes, &points, &options);
@@ -65,7 +65,7 @@ pub fn gpu_glossy_gather_area_lights_equal_cpu(_: Backend, _: &Config) -> Result
         Err(o) => return Ok(o),
     };
     let name = "mirror-glass-coarse";
-    let scene = scene::builtin(name)?;
+    let scene = scene::builtin(name).map_err(|e| e.to_string())?;
     let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
     if volumes.lights.len() < 16 {
         return Err(format!("{name}: {} emitters, expected an area light's 16", volumes.lights.len()));
