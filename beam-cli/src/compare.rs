@@ -110,7 +110,9 @@ fn picture(a: &image::RgbImage, b: &image::RgbImage, scale: f32) -> Result<Vec<u
     let mut rgb = Vec::with_capacity(9 * w as usize * h as usize);
     for y0 in (0..h).step_by(BAND as usize) {
         let rows = BAND.min(h - y0);
-        rgb.extend(side_by_side(&linear(a, y0, rows), &linear(b, y0, rows), scale)?.to_srgb8());
+        rgb.extend(
+            side_by_side(&linear(a, y0, rows), &linear(b, y0, rows), scale).map_err(|e| e.to_string())?.to_srgb8(),
+        );
     }
     Ok(rgb)
 }

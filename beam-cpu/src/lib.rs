@@ -7,7 +7,9 @@
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
 //! - [`glossy`]: glossy light volumes and caustics from point and area lights (002).
 //! - [`nonlinear`]: nonlinear beam tracing of curved mirrors (000).
+//! - [`error`]: what a render, a comparison or an image file can fail with ([`RenderError`]).
 
+pub mod error;
 pub mod glossy;
 pub mod nonlinear;
 pub mod overdraw;
@@ -15,3 +17,4 @@ pub mod render;
 
 pub use beam_math;
 pub use beam_scene;
+pub use error::RenderError;

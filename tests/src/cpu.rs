@@ -213,7 +213,7 @@ fn images_agree(name: &str, primary_spp: u32) -> Result<Outcome, String> {
     };
     let (beam, _) = render(&scene, &opts(Method::Beam), || {});
     let (ray, _) = render(&scene, &opts(Method::Ray), || {});
-    let d = difference(&beam, &ray)?;
+    let d = difference(&beam, &ray).map_err(|e| e.to_string())?;
     let diffs: Vec<f64> =
         beam.pixels.iter().zip(&ray.pixels).map(|(a, b)| f64::from((*a - *b).element_sum()) / 3.0).collect();
     let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;

@@ -223,11 +223,13 @@ pub fn glossy_beams_match_photon_tracing(_: Backend, _: &Config) -> Result<Outco
         let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         // Read through the photon map's kernel, so that both estimate the same image.
         let options = GlossyOptions { filter: photon_texel(&scene), ..GlossyOptions::new(w, h) };
-        let (beams, _) = render_glossy(&scene, &options)?;
-        let reference = render_glossy_photons(&scene, w, h, &glossy_photons(&scene, 16_000_000, 1))?;
-        let again = render_glossy_photons(&scene, w, h, &glossy_photons(&scene, 16_000_000, 2))?;
-        let d = difference(&beams, &reference)?;
-        let noise = difference(&again, &reference)?;
+        let (beams, _) = render_glossy(&scene, &options).map_err(|e| e.to_string())?;
+        let reference =
+            render_glossy_photons(&scene, w, h, &glossy_photons(&scene, 16_000_000, 1)).map_err(|e| e.to_string())?;
+        let again =
+            render_glossy_photons(&scene, w, h, &glossy_photons(&scene, 16_000_000, 2)).map_err(|e| e.to_string())?;
+        let d = difference(&beams, &reference).map_err(|e| e.to_string())?;
+        let noise = difference(&again, &reference).map_err(|e| e.to_string())?;
         let sum = |i: &beam_cpu::render::Image| i.pixels.iter().map(|p| f64::from(p.x + p.y + p.z)).sum::<f64>();
         let balance = sum(&beams) / sum(&reference);
         if d.psnr < least || (balance - 1.0).abs() > 0.1 {

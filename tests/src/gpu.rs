@@ -268,7 +268,10 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
             let (a, b) = (p(), p());
             if k % 2 == 0 { rays.push(Ray::new(a, b - a)) } else { segments.push((Ray::new(a, b - a), 1.0)) }
         }
-        let (got, want) = (on_gpu.closest_hits(&scene, &rays)?, CpuBeams.closest_hits(&scene, &rays)?);
+        let (got, want) = (
+            on_gpu.closest_hits(&scene, &rays).map_err(|e| e.to_string())?,
+            CpuBeams.closest_hits(&scene, &rays).map_err(|e| e.to_string())?,
+        );
         let (mut mismatches, mut worst_t, mut worst_w) = (0usize, 0.0f32, 0.0f32);
         for (g, c) in got.iter().zip(&want) {
             match (g, c) {
@@ -282,7 +285,10 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
                 _ => mismatches += 1,
             }
         }
-        let occluded = (on_gpu.any_hits(&scene, &segments)?, CpuBeams.any_hits(&scene, &segments)?);
+        let occluded = (
+            on_gpu.any_hits(&scene, &segments).map_err(|e| e.to_string())?,
+            CpuBeams.any_hits(&scene, &segments).map_err(|e| e.to_string())?,
+        );
         mismatches += occluded.0.iter().zip(&occluded.1).filter(|(a, b)| a != b).count();
         let n = rays.len() + segments.len();
         if mismatches * 10_000 > n || worst_t > 1e-5 || worst_w > 1e-4 {
@@ -330,8 +336,8 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
         let jobs: Vec<BeamJob<'_>> =
             beams.iter().map(|(beam, prim)| BeamJob { beam, size: 16, exclude: *prim }).collect();
         let renderer = GpuBeams::new(&gpu, &scene)?;
-        let on_gpu = renderer.render_beams(&scene, &jobs)?;
-        let on_cpu = CpuBeams.render_beams(&scene, &jobs)?;
+        let on_gpu = renderer.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
+        let on_cpu = CpuBeams.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
         let (mut n, mut d) = (0u64, 0u64);
         for (g, c) in on_gpu.iter().zip(&on_cpu) {
             for (a, b) in g.hits.iter().zip(&c.hits) {
@@ -386,8 +392,9 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
             shading: RenderOptions::exact(96, 96),
         };
         let renderer = GpuBeams::new(&gpu, &scene)?;
-        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &renderer)?;
-        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &TwinShading::default())?;
+        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
+        let (on_cpu, _) =
+            render_nonlinear_with(&scene, &options, &TwinShading::default()).map_err(|e| e.to_string())?;
         let (mut differ, mut sum) = (0u64, 0.0f64);
         for (a, b) in on_gpu.pixels.iter().zip(&on_cpu.pixels) {
             let d = (0..3)
@@ -425,7 +432,9 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
         let point_lit = scene.lights.iter().all(|l| matches!(l, scene::Light::Point { .. }));
         let shader = PointShader::new(&gpu, &scene)?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
-        let caustics = caustics_by_beams(&scene, Degree::S1, 16, CAUSTIC_STRATA, &CpuBeams)?.map(|c| c.0);
+        let caustics = caustics_by_beams(&scene, Degree::S1, 16, CAUSTIC_STRATA, &CpuBeams)
+            .map_err(|e| e.to_string())?
+            .map(|c| c.0);
         let options = RenderOptions::exact(128, 128);
         let camera = scene.camera.with_size(128, 128);
         let frame = camera.frame();
@@ -494,7 +503,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
             shading: RenderOptions::exact(64, 64),
         };
         let twin = TwinShading::default();
-        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &twin)?;
+        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &twin).map_err(|e| e.to_string())?;
         let (levels, caustics) = twin.0.into_inner().map_err(|e| e.to_string())?;
         let shader = PointShader::new(&gpu, &scene)?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
@@ -506,6 +515,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
                 caustics.as_ref(),
                 points,
             )
+            .map_err(|e| e.to_string())
         };
         let smesh = SMesh::specular(&scene);
         let on_gpu = beam_gpu::buffers::checked(&gpu, || {

@@ -99,7 +99,9 @@ pub fn nonlinear_texels_equal_ray_hits(backend: Backend, _: &Config) -> Result<O
         }
         let jobs: Vec<BeamJob<'_>> =
             beams.iter().map(|(beam, f)| BeamJob { beam, size: 16, exclude: f.prim }).collect();
-        let textures = match crate::with_renderer(backend, &scene, |r| r.render_beams(&scene, &jobs))? {
+        let textures = match crate::with_renderer(backend, &scene, |r| {
+            r.render_beams(&scene, &jobs).map_err(|e| e.to_string())
+        })? {
             Ok(t) => t,
             Err(skipped) => return Ok(skipped),
         };
@@ -213,7 +215,7 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
                 .map(|degree| {
                     let options =
                         NonlinearOptions { degree, texels: 48, bounces: 2, caustic_strata: CAUSTIC_STRATA, shading };
-                    Ok((degree, render_nonlinear_with(&scene, &options, r)?.0))
+                    Ok((degree, render_nonlinear_with(&scene, &options, r).map_err(|e| e.to_string())?.0))
                 })
                 .into_iter()
                 .collect::<Result<Vec<_>, String>>()
@@ -223,7 +225,7 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
             Err(skipped) => return Ok(skipped),
         };
         for (degree, image) in images {
-            let d = difference(&image, &reference)?;
+            let d = difference(&image, &reference).map_err(|e| e.to_string())?;
             if d.psnr < 33.0 {
                 return Err(format!("{name} {degree:?}: PSNR {:.1} dB", d.psnr));
             }
@@ -349,7 +351,8 @@ pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, 
     let noise = photons.relative_rms(&truth);
     let mut notes = vec![format!("4M photons {noise:.3}")];
     for degree in [Degree::S1, Degree::S3] {
-        let (beams, stats) = caustics_by_beams(&scene, degree, 32, CAUSTIC_STRATA, &beam_cpu::nonlinear::CpuBeams)?
+        let (beams, stats) = caustics_by_beams(&scene, degree, 32, CAUSTIC_STRATA, &beam_cpu::nonlinear::CpuBeams)
+            .map_err(|e| e.to_string())?
             .ok_or("no caustics")?;
         let error = beams.relative_rms(&truth);
         let (a, b) = (beams.total_flux().element_sum(), truth.total_flux().element_sum());
@@ -375,7 +378,8 @@ pub fn area_light_caustics_converge(_: Backend, _: &Config) -> Result<Outcome, S
     let truth = caustics_by_photons(&scene, 16_000_000, 1).ok_or("no caustics")?;
     let mut runs = Vec::new();
     for k in [1, 2, 4] {
-        let (map, stats) = caustics_by_beams(&scene, Degree::S1, 64, k, &CpuBeams)?.ok_or("no caustics")?;
+        let (map, stats) =
+            caustics_by_beams(&scene, Degree::S1, 64, k, &CpuBeams).map_err(|e| e.to_string())?.ok_or("no caustics")?;
         let error = map.relative_rms(&truth);
         let ratio = map.total_flux().element_sum() / truth.total_flux().element_sum();
         runs.push((k, error, ratio, format!("k={k}: {error:.3} ({} beams, flux ratio {ratio:.4})", stats.beams)));

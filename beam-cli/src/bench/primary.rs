@@ -156,14 +156,14 @@ pub fn run(scenes: &[String], size: u32, out: Option<&Path>) -> Result<(), Strin
         }
         println!("{:<18} {:>9} {:>9} {:>8} {:>12}", "method", "seconds", "RMSE", "PSNR dB", "× eye beams");
         for (method, seconds, img) in &rows {
-            let d = difference(img, &exact)?;
+            let d = difference(img, &exact).map_err(|e| e.to_string())?;
             println!("{method:<18} {seconds:>9.3} {:>9.5} {:>8.2} {:>12.3}", d.rmse, d.psnr, seconds / ps.seconds);
         }
         if let Some(dir) = out {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
             for (method, _, img) in &rows {
                 let file = method.split_whitespace().take(3).collect::<Vec<_>>().join("-").replace(['(', ')'], "");
-                img.save_png(&dir.join(format!("primary-{}-{file}.png", loaded.name)))?;
+                img.save_png(&dir.join(format!("primary-{}-{file}.png", loaded.name))).map_err(|e| e.to_string())?;
             }
             println!("images in {}", dir.display());
         }

@@ -117,7 +117,7 @@ pub fn run(
                 pieces: ps.pieces,
                 ray1_s,
                 ray16_s,
-                rmse16: difference(&img16, &exact)?.rmse,
+                rmse16: difference(&img16, &exact).map_err(|e| e.to_string())?.rmse,
             };
             bar.suspend(|| {
                 println!(

@@ -20,6 +20,7 @@ use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{
     BeamJob, BeamRasterizer, BeamTexture, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint, TexelHit,
@@ -117,12 +118,12 @@ impl<'g> GpuBeams<'g> {
         scene: &Scene,
         caustics: Option<&IrradianceMap>,
         points: &[ShadePoint],
-    ) -> Result<Vec<Vec3>, String> {
+    ) -> Result<Vec<Vec3>, BackendError> {
         let gpu_shade = |batch: &[ShadePoint]| {
             let start = Instant::now();
             let out = self.shader.shade(self.gpu, &self.tracer, caustics, self.light_samples, batch);
             self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
-            out
+            out.map_err(gpu)
         };
         shade_by_waves(scene, self, &gpu_shade, points)
     }
@@ -343,7 +344,7 @@ fn z_order(index: u32, s: u32) -> (u32, u32) {
 }
 
 impl BeamRasterizer for GpuBeams<'_> {
-    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String> {
+    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
         let start = Instant::now();
         // Bounding-cone culling on the CPU (000 App. A; the paper culls objects there too).
         let candidates: Vec<Vec<u32>> = jobs
@@ -366,12 +367,17 @@ impl BeamRasterizer for GpuBeams<'_> {
             // Each region takes the power-of-two square around it.
             let s = jobs[i].size.max(1).next_power_of_two();
             if s > self.page {
-                return Err(format!("a beam of {}² texels does not fit a {}² atlas page", jobs[i].size, self.page));
+                return Err(gpu(format!(
+                    "a beam of {}² texels does not fit a {}² atlas page",
+                    jobs[i].size, self.page
+                )));
             }
             let area = u64::from(s) * u64::from(s);
             let n = candidates[i].len();
             if n > max_pairs {
-                return Err(format!("a beam meets {n} scene triangles, more than one GPU binding holds ({max_pairs})"));
+                return Err(gpu(format!(
+                    "a beam meets {n} scene triangles, more than one GPU binding holds ({max_pairs})"
+                )));
             }
             if used + area > capacity || pairs + n > max_pairs {
                 page += 1;
@@ -397,18 +403,19 @@ impl BeamRasterizer for GpuBeams<'_> {
             let mut flat = Vec::new();
             let mut ranges = Vec::with_capacity(members.len());
             for (k, &i) in members.iter().enumerate() {
-                let q = placed[i].as_ref().ok_or("unplaced beam")?;
+                let q = placed[i].as_ref().ok_or_else(|| gpu("unplaced beam".into()))?;
                 beams.push(GpuBeam::new(jobs[i].beam, [q.x, q.y, jobs[i].size], jobs[i].exclude));
                 let first = flat.len() as u32;
                 flat.extend(candidates[i].iter().map(|&prim| [k as u32, prim]));
                 ranges.push((first, flat.len() as u32));
             }
             let prepared = start.elapsed().as_secs_f64();
-            let (texels, counts) = checked(self.gpu, || self.render_page(&beams, &flat, &ranges, page_rows))?;
+            let (texels, counts) =
+                checked(self.gpu, || self.render_page(&beams, &flat, &ranges, page_rows)).map_err(gpu)?;
             let drawn = start.elapsed().as_secs_f64() - prepared;
             let start = Instant::now();
             for (&i, &[kept, tested]) in members.iter().zip(&counts) {
-                let q = placed[i].as_ref().ok_or("unplaced beam")?;
+                let q = placed[i].as_ref().ok_or_else(|| gpu("unplaced beam".into()))?;
                 let size = jobs[i].size;
                 let n = (size * size) as usize;
                 let mut hits = vec![None; n];
@@ -431,13 +438,13 @@ impl BeamRasterizer for GpuBeams<'_> {
                 t.triangles += flat.len() as u64;
             });
         }
-        textures.into_iter().map(|t| t.ok_or_else(|| "a beam was not rendered".to_string())).collect()
+        textures.into_iter().map(|t| t.ok_or_else(|| gpu("a beam was not rendered".into()))).collect()
     }
 }
 
 impl RayQueries for GpuBeams<'_> {
-    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
-        let hits = self.trace(rays.iter().map(GpuRay::closest).collect())?;
+    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
+        let hits = self.trace(rays.iter().map(GpuRay::closest).collect()).map_err(gpu)?;
         // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
         Ok(hits
             .into_par_iter()
@@ -451,8 +458,8 @@ impl RayQueries for GpuBeams<'_> {
             .collect())
     }
 
-    fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, String> {
-        let hits = self.trace(segments.iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?;
+    fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
+        let hits = self.trace(segments.iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect()).map_err(gpu)?;
         // An any-hit ray's t is 1 when it is occluded, 0 otherwise (`trace_ray`).
         Ok(hits.iter().map(|h| h.t == 1.0).collect())
     }
@@ -465,7 +472,7 @@ impl PointShading for GpuBeams<'_> {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         points: &[ShadePoint],
-    ) -> Result<Option<Vec<Vec3>>, String> {
+    ) -> Result<Option<Vec<Vec3>>, BackendError> {
         // The GPU's shading pass does exact shading (001 eq. 1 by shadow rays) only.
         if options.shading != Shading::Exact {
             return Ok(None);
@@ -480,7 +487,7 @@ impl PointShading for GpuBeams<'_> {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<Vec<Vec3>>, String> {
+    ) -> Result<Option<Vec<Vec3>>, BackendError> {
         if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
             return Ok(None);
         }
@@ -491,7 +498,7 @@ impl PointShading for GpuBeams<'_> {
             let start = Instant::now();
             let out = self.shade_exact(scene, caustics, points);
             elsewhere.set(elsewhere.get() + start.elapsed().as_secs_f64());
-            out
+            out.map_err(|e| e.to_string())
         };
         let pixels = checked(self.gpu, || {
             self.composite.run(
@@ -506,6 +513,11 @@ impl PointShading for GpuBeams<'_> {
             )
         });
         self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64() - elsewhere.get());
-        pixels.map(Some)
+        pixels.map(Some).map_err(gpu)
     }
+}
+
+/// A GPU error for the backend traits.
+fn gpu(e: String) -> BackendError {
+    BackendError::new("gpu", e)
 }
