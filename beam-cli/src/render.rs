@@ -69,7 +69,11 @@ struct ReferenceStats<'a> {
 fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     let (scene, shading) = (&plan.scene, plan.options);
     let gpu = gpu_of(plan.gpu)?;
-    let gpu_beams = gpu.as_ref().map(|g| GpuBeams::new(g, scene).map(|b| b.with_light_samples(a.spp))).transpose()?;
+    let gpu_beams = gpu
+        .as_ref()
+        .map(|g| GpuBeams::new(g, scene).map(|b| b.with_light_samples(a.spp)))
+        .transpose()
+        .map_err(|e| e.to_string())?;
     let renderer: &dyn BeamRenderer = match &gpu_beams {
         Some(g) => g,
         None => &CpuBeams,
@@ -158,9 +162,9 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     };
     let (image, stats) = match &gpu {
         Some(g) => {
-            let gather = beam_gpu::glossy::GpuGather::new(g, scene)?;
+            let gather = beam_gpu::glossy::GpuGather::new(g, scene).map_err(|e| e.to_string())?;
             let run = |v: &LightVolumes, points: &[(Vec3, Vec3)]| {
-                gather.gather(g, v, points, &options).map_err(|e| BackendError::new("gpu", e))
+                gather.gather(g, v, points, &options).map_err(BackendError::from)
             };
             render_glossy_with(scene, &options, &CpuBeams, &run).map_err(|e| e.to_string())?
         }
@@ -186,5 +190,5 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
 
 /// The adapter of `--backend gpu` (`None` for `cpu`).
 fn gpu_of(gpu: bool) -> Result<Option<beam_gpu::Gpu>, String> {
-    if gpu { beam_gpu::Gpu::new().map(Some) } else { Ok(None) }
+    if gpu { beam_gpu::Gpu::new().map(Some).map_err(|e| e.to_string()) } else { Ok(None) }
 }

@@ -6,9 +6,11 @@
 //! layout, and the nonlinear beam pipeline of 000 (bounding triangles in a vertex stage, per-texel
 //! rays in a fragment stage, per-level atlases, the composite), and the gather of the glossy light
 //! volumes of 002. Every entry point has a CPU twin that the conformance suite compares it with.
+//! Errors are [`GpuError`]s; as a backend of the renderer's traits they become `BackendError`s.
 
 pub mod buffers;
 pub mod device;
+pub mod error;
 pub mod glossy;
 pub mod interface;
 pub mod nonlinear;
@@ -18,3 +20,4 @@ pub mod shaders;
 
 pub use beam_math;
 pub use device::Gpu;
+pub use error::GpuError;

@@ -45,7 +45,7 @@ fn shading(method: Method, primary_beams: bool) -> RenderOptions {
 /// Render `scene` by `method` on the CPU, or on `gpu` when given, as `beam render` does.
 fn render_cell(scene: &Scene, method: &str, gpu: Option<&Gpu>) -> Result<Image, String> {
     let gpu_beams = match (gpu, method.starts_with("nonlinear")) {
-        (Some(g), true) => Some(GpuBeams::new(g, scene)?.with_light_samples(SPP)),
+        (Some(g), true) => Some(GpuBeams::new(g, scene).map_err(|e| e.to_string())?.with_light_samples(SPP)),
         _ => None,
     };
     let renderer: &dyn BeamRenderer = match &gpu_beams {
@@ -76,9 +76,9 @@ fn render_cell(scene: &Scene, method: &str, gpu: Option<&Gpu>) -> Result<Image, 
         }
         ("glossy", None) => Ok(render_glossy(scene, &glossy).map_err(|e| e.to_string())?.0),
         ("glossy", Some(g)) => {
-            let gather = GpuGather::new(g, scene)?;
+            let gather = GpuGather::new(g, scene).map_err(|e| e.to_string())?;
             let run = |v: &LightVolumes, points: &[(Vec3, Vec3)]| {
-                gather.gather(g, v, points, &glossy).map_err(|e| BackendError::new("gpu", e))
+                gather.gather(g, v, points, &glossy).map_err(BackendError::from)
             };
             Ok(render_glossy_with(scene, &glossy, &CpuBeams, &run).map_err(|e| e.to_string())?.0)
         }

@@ -111,9 +111,9 @@ pub fn run(scenes: &[String], size: u32, reference: u64, subdivide: u32, out: &P
 
 /// Milliseconds of a glossy frame with the gather on the GPU.
 fn gpu_frame(gpu: &beam_gpu::Gpu, scene: &scene::Scene, options: &GlossyOptions) -> Result<f64, String> {
-    let gather = beam_gpu::glossy::GpuGather::new(gpu, scene)?;
+    let gather = beam_gpu::glossy::GpuGather::new(gpu, scene).map_err(|e| e.to_string())?;
     let run = |v: &LightVolumes, points: &[(beam_math::glam::Vec3, beam_math::glam::Vec3)]| {
-        gather.gather(gpu, v, points, options).map_err(|e| BackendError::new("gpu", e))
+        gather.gather(gpu, v, points, options).map_err(BackendError::from)
     };
     beam_cpu::glossy::render_glossy_with(scene, options, &beam_cpu::nonlinear::CpuBeams, &run)
         .map_err(|e| e.to_string())?;

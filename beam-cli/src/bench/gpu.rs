@@ -16,7 +16,7 @@ pub const SCENES: [&str; 6] =
 /// Run the benchmark: `frames` timed GPU frames per scene (after one warm-up frame) and one CPU
 /// frame, at `width × height`.
 pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degree) -> Result<(), String> {
-    let gpu = Gpu::new()?;
+    let gpu = Gpu::new().map_err(|e| e.to_string())?;
     println!(
         "GPU: {}; {width}×{height}, {frames} timed frames per scene, {degree:?}, 2 tree levels, no area-light caustics",
         gpu.describe()
@@ -36,7 +36,7 @@ pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degr
             caustic_strata: 0,
             shading: RenderOptions::exact(width, height),
         };
-        let renderer = GpuBeams::new(&gpu, &scene)?;
+        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let (warm, _) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
         let before = renderer.times();
         let start = Instant::now();
