@@ -110,7 +110,9 @@ fn picture(a: &image::RgbImage, b: &image::RgbImage, scale: f32) -> Result<Vec<u
     let mut rgb = Vec::with_capacity(9 * w as usize * h as usize);
     for y0 in (0..h).step_by(BAND as usize) {
         let rows = BAND.min(h - y0);
-        rgb.extend(side_by_side(&linear(a, y0, rows), &linear(b, y0, rows), scale)?.to_srgb8());
+        rgb.extend(
+            side_by_side(&linear(a, y0, rows), &linear(b, y0, rows), scale).map_err(|e| e.to_string())?.to_srgb8(),
+        );
     }
     Ok(rgb)
 }
@@ -126,7 +128,7 @@ pub fn compare(a: &Path, b: &Path, out: &Path, scale: f32) -> Result<ExitCode, S
     drop((ia, ib));
     let png = encode_png(3 * plan.width, plan.height, &rgb).map_err(|e| format!("{}: {e}", out.display()))?;
     drop(rgb);
-    write_atomic(out, &png)?;
+    write_atomic(out, &png).map_err(|e| e.to_string())?;
     println!("RMSE {rmse:.5}  PSNR {psnr:.2} dB  max {max:.4}  (sRGB, [0, 1]) -> {}", out.display());
     Ok(ExitCode::SUCCESS)
 }

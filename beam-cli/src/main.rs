@@ -227,14 +227,16 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
             done(dry).unwrap_or_else(|| overdraw::run(&out, &csv, points))
         }
         Command::Shaders { emit, out } => {
-            let lang = beam_gpu::shaders::Language::parse(&emit)?;
+            let lang = beam_gpu::shaders::Language::parse(&emit).map_err(|e| e.to_string())?;
             done(dry).unwrap_or_else(|| {
-                beam_gpu::shaders::emit(lang, &out).map(|files| {
-                    for f in &files {
-                        println!("{}", f.display());
-                    }
-                    ExitCode::SUCCESS
-                })
+                beam_gpu::shaders::emit(lang, &out)
+                    .map(|files| {
+                        for f in &files {
+                            println!("{}", f.display());
+                        }
+                        ExitCode::SUCCESS
+                    })
+                    .map_err(|e| e.to_string())
             })
         }
         Command::Render {

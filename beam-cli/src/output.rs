@@ -40,10 +40,10 @@ pub fn write_render(out: &Path, image: &Image, stats: Option<(&Path, &dyn erased
     let png =
         encode_png(image.width, image.height, &image.to_srgb8()).map_err(|e| format!("{}: {e}", out.display()))?;
     match stats {
-        None => write_atomic_all(&[(out, &png)]),
+        None => write_atomic_all(&[(out, &png)]).map_err(|e| e.to_string()),
         Some((path, s)) => {
             let json = s.to_json().map_err(|e| format!("{}: {e}", path.display()))?;
-            write_atomic_all(&[(path, json.as_bytes()), (out, &png)])
+            write_atomic_all(&[(path, json.as_bytes()), (out, &png)]).map_err(|e| e.to_string())
         }
     }
 }

@@ -13,7 +13,7 @@ pub fn run(out: &Path, csv: &Path, points: usize) -> Result<ExitCode, String> {
     let bar = crate::progress::bar(2 * points as u64, "overdraw");
     let rows = sweep(points, || bar.inc(1));
     bar.finish_and_clear();
-    write_atomic(csv, to_csv(&rows).as_bytes())?;
+    write_atomic(csv, to_csv(&rows).as_bytes()).map_err(|e| e.to_string())?;
     plot(out, &rows)?;
     for s in [Sweep::Size, Sweep::Distance] {
         let (ours, general) = range(&rows, s);

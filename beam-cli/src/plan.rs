@@ -233,8 +233,9 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
     crate::output::check_render_outputs(a.out, a.stats)?;
     check_scene_path(a.scene)?;
     let scene = match a.smesh {
-        Some(n) => scene::builtin_with_smesh(a.scene, n)?,
-        None => scene::load_with(a.scene, &scene::LoadOptions { allow_outside_paths: a.allow_outside_paths })?,
+        Some(n) => scene::builtin_with_smesh(a.scene, n).map_err(|e| e.to_string())?,
+        None => scene::load_with(a.scene, &scene::LoadOptions { allow_outside_paths: a.allow_outside_paths })
+            .map_err(|e| e.to_string())?,
     };
     if scene.stats.skipped_lights > 0 {
         // Said even when `quiet`: the image lacks light the file asked for.

@@ -19,7 +19,7 @@ pub fn png(
         draw(&root)?;
         root.present().map_err(|e| e.to_string())?;
     }
-    write_png(path, w, h, &buf)
+    write_png(path, w, h, &buf).map_err(|e| e.to_string())
 }
 
 /// A labelled series: legend label, colour, points.

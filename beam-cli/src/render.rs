@@ -11,6 +11,7 @@ use beam_cpu::nonlinear::{
 use beam_cpu::render::{Method, render};
 use beam_gpu::nonlinear::GpuBeams;
 use beam_math::glam::Vec3;
+use beam_scene::BackendError;
 use std::process::ExitCode;
 
 pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
@@ -68,7 +69,11 @@ struct ReferenceStats<'a> {
 fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     let (scene, shading) = (&plan.scene, plan.options);
     let gpu = gpu_of(plan.gpu)?;
-    let gpu_beams = gpu.as_ref().map(|g| GpuBeams::new(g, scene).map(|b| b.with_light_samples(a.spp))).transpose()?;
+    let gpu_beams = gpu
+        .as_ref()
+        .map(|g| GpuBeams::new(g, scene).map(|b| b.with_light_samples(a.spp)))
+        .transpose()
+        .map_err(|e| e.to_string())?;
     let renderer: &dyn BeamRenderer = match &gpu_beams {
         Some(g) => g,
         None => &CpuBeams,
@@ -76,7 +81,7 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
     let start = std::time::Instant::now();
     if plan.kind == Kind::NonlinearReference {
-        let image = render_smooth_reference_with(scene, &shading, a.photons, renderer)?;
+        let image = render_smooth_reference_with(scene, &shading, a.photons, renderer).map_err(|e| e.to_string())?;
         let stats = reference_stats(plan, &on, a.photons, start);
         write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
         println!(
@@ -97,7 +102,8 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
             shading,
         },
         renderer,
-    )?;
+    )
+    .map_err(|e| e.to_string())?;
     write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
     println!(
         "{}: nonlinear {} on {on} ({} texels per beam side), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {} caustic beams in {:.3} s, {:.3} s in all -> {}",
@@ -134,7 +140,7 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     let gpu = gpu_of(plan.gpu)?;
     let start = std::time::Instant::now();
     if plan.kind == Kind::GlossyReference {
-        let image = render_glossy_reference(scene, width, height, a.photons, 1)?;
+        let image = render_glossy_reference(scene, width, height, a.photons, 1).map_err(|e| e.to_string())?;
         let stats = reference_stats(plan, "CPU", a.photons, start);
         write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
         println!(
@@ -156,11 +162,13 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     };
     let (image, stats) = match &gpu {
         Some(g) => {
-            let gather = beam_gpu::glossy::GpuGather::new(g, scene)?;
-            let run = |v: &LightVolumes, points: &[(Vec3, Vec3)]| gather.gather(g, v, points, &options);
-            render_glossy_with(scene, &options, &CpuBeams, &run)?
+            let gather = beam_gpu::glossy::GpuGather::new(g, scene).map_err(|e| e.to_string())?;
+            let run = |v: &LightVolumes, points: &[(Vec3, Vec3)]| {
+                gather.gather(g, v, points, &options).map_err(BackendError::from)
+            };
+            render_glossy_with(scene, &options, &CpuBeams, &run).map_err(|e| e.to_string())?
         }
-        None => render_glossy(scene, &options)?,
+        None => render_glossy(scene, &options).map_err(|e| e.to_string())?,
     };
     let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
     write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
@@ -182,5 +190,5 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
 
 /// The adapter of `--backend gpu` (`None` for `cpu`).
 fn gpu_of(gpu: bool) -> Result<Option<beam_gpu::Gpu>, String> {
-    if gpu { beam_gpu::Gpu::new().map(Some) } else { Ok(None) }
+    if gpu { beam_gpu::Gpu::new().map(Some).map_err(|e| e.to_string()) } else { Ok(None) }
 }

@@ -10,8 +10,8 @@ use beam_cpu::render::{RenderOptions, render};
 use beam_scene::scene;
 use std::path::{Path, PathBuf};
 
-fn main() -> Result<(), String> {
-    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = tempfile::tempdir()?;
     let model = match std::env::args_os().nth(1) {
         Some(p) => PathBuf::from(p),
         None => write_box(dir.path())?,
@@ -88,7 +88,7 @@ fn cube() -> Vec<[f32; 3]> {
 }
 
 /// Write the Cornell-like box to `dir/box.gltf` and `dir/box.bin`; the model's path.
-fn write_box(dir: &Path) -> Result<PathBuf, String> {
+fn write_box(dir: &Path) -> Result<PathBuf, std::io::Error> {
     let mut m = Model::default();
     #[rustfmt::skip]
     let white = [
@@ -105,7 +105,7 @@ fn write_box(dir: &Path) -> Result<PathBuf, String> {
     let lamp = m.primitive(&[[-0.3, 1.99, -0.3], [0.3, 1.99, -0.3], [0.3, 1.99, 0.3], [-0.3, 1.99, 0.3]], &quads(1), 3);
     let white_box = m.primitive(&cube(), &quads(6), 0);
     let mirror_box = m.primitive(&cube(), &quads(6), 4);
-    std::fs::write(dir.join("box.bin"), &m.bin).map_err(|e| e.to_string())?;
+    std::fs::write(dir.join("box.bin"), &m.bin)?;
     // Turns of 20° and −40° about y: the quaternions (0, sin θ/2, 0, cos θ/2).
     let (s, c) = 10f32.to_radians().sin_cos();
     let (s2, c2) = (-20f32).to_radians().sin_cos();
@@ -135,6 +135,6 @@ fn write_box(dir: &Path) -> Result<PathBuf, String> {
         m.bin.len()
     );
     let path = dir.join("box.gltf");
-    std::fs::write(&path, json).map_err(|e| e.to_string())?;
+    std::fs::write(&path, json)?;
     Ok(path)
 }

@@ -15,7 +15,7 @@ fn quad(corner: Vec3, u: Vec3, v: Vec3, m: u32) -> [(Triangle, u32); 2] {
     [(Triangle::new(corner, corner + u, corner + u + v), m), (Triangle::new(corner, corner + u + v, corner + v), m)]
 }
 
-fn main() -> Result<(), String> {
+fn main() -> Result<(), beam_cpu::RenderError> {
     let white = Material::Diffuse { albedo: Vec3::splat(0.8) };
     let red = Material::Diffuse { albedo: Vec3::new(0.8, 0.2, 0.2) };
     let mut triangles = Vec::new();

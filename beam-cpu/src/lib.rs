@@ -7,6 +7,7 @@
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
 //! - [`glossy`]: glossy light volumes and caustics from point and area lights (002).
 //! - [`nonlinear`]: nonlinear beam tracing of curved mirrors (000).
+//! - [`error`]: what a render, a comparison or an image file can fail with ([`RenderError`]).
 //!
 //! Exact soft shadows of the built-in Cornell box, 64×48, by polygon beams:
 //!
@@ -22,6 +23,7 @@
 //!
 //! `cargo run --release -p beam-cpu --example soft_shadows` builds a scene in code instead.
 
+pub mod error;
 pub mod glossy;
 pub mod nonlinear;
 pub mod overdraw;
@@ -29,3 +31,4 @@ pub mod render;
 
 pub use beam_math;
 pub use beam_scene;
+pub use error::RenderError;

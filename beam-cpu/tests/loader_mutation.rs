@@ -76,7 +76,7 @@ fn mutated_inputs_never_panic() {
             match result {
                 Ok(Ok(())) => loaded += 1,
                 Ok(Err(e)) => {
-                    assert!(e.contains(&format!("case{round}_{k}")), "error does not name the file: {e}");
+                    assert!(e.to_string().contains(&format!("case{round}_{k}")), "error does not name the file: {e}");
                     errors += 1;
                 }
                 Err(_) => panic!("loading {} panicked", path.display()),

@@ -1,6 +1,6 @@
 //! Buffer upload, compute dispatch and readback shared by the pipelines.
 
-use crate::Gpu;
+use crate::{Gpu, GpuError};
 use wgpu::util::DeviceExt;
 
 /// A storage buffer holding `items`; when there are none, zeros the size of one `T` (at least 64
@@ -49,7 +49,7 @@ pub fn read_back(
     mut encoder: wgpu::CommandEncoder,
     source: &wgpu::Buffer,
     size: u64,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, GpuError> {
     let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size,
@@ -62,11 +62,11 @@ pub fn read_back(
 }
 
 /// Wait for the queue and read a `MAP_READ` buffer.
-pub fn map(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, String> {
+pub fn map(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
     let slice = buffer.slice(..);
     slice.map_async(wgpu::MapMode::Read, |_| {});
-    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| format!("GPU wait failed: {e}"))?;
-    let data = slice.get_mapped_range().map_err(|e| format!("GPU readback failed: {e:?}"))?;
+    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(GpuError::Wait)?;
+    let data = slice.get_mapped_range().map_err(GpuError::Readback)?;
     let out = data.to_vec();
     drop(data);
     buffer.unmap();
@@ -74,8 +74,8 @@ pub fn map(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, String> {
 }
 
 /// A shader module of [`crate::shaders`] (its shared code prepended), compiled by the device.
-pub fn shader_module(gpu: &Gpu, shader: &str) -> Result<wgpu::ShaderModule, String> {
-    let source = crate::shaders::source(shader).ok_or_else(|| format!("no shader named `{shader}`"))?;
+pub fn shader_module(gpu: &Gpu, shader: &str) -> Result<wgpu::ShaderModule, GpuError> {
+    let source = crate::shaders::source(shader).ok_or_else(|| GpuError::NoShader { name: shader.to_string() })?;
     Ok(gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(shader),
         source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -83,7 +83,7 @@ pub fn shader_module(gpu: &Gpu, shader: &str) -> Result<wgpu::ShaderModule, Stri
 }
 
 /// The compute pipeline of entry point `entry` of shader `shader`, bindings laid out by the shader.
-pub fn compute_pipeline(gpu: &Gpu, shader: &str, entry: &str) -> Result<wgpu::ComputePipeline, String> {
+pub fn compute_pipeline(gpu: &Gpu, shader: &str, entry: &str) -> Result<wgpu::ComputePipeline, GpuError> {
     let module = shader_module(gpu, shader)?;
     Ok(gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(entry),
@@ -139,13 +139,13 @@ pub fn output(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
 
 /// Run `work` (which submits and waits) with the device's validation and out-of-memory errors
 /// captured and returned instead of panicking.
-pub fn checked<T>(gpu: &Gpu, work: impl FnOnce() -> Result<T, String>) -> Result<T, String> {
+pub fn checked<T>(gpu: &Gpu, work: impl FnOnce() -> Result<T, GpuError>) -> Result<T, GpuError> {
     let memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
     let validation = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let out = work();
     let errors = [pollster::block_on(validation.pop()), pollster::block_on(memory.pop())];
     match errors.into_iter().flatten().next() {
-        Some(e) => Err(format!("{}: {e}", gpu.describe())),
+        Some(source) => Err(GpuError::Device { device: gpu.describe(), source }),
         None => out,
     }
 }

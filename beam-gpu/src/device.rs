@@ -1,6 +1,8 @@
 //! Headless device set-up: an adapter without a window or surface (Mesa lavapipe in CI, a real GPU
 //! where there is one), its name and backend, and a clear error when there is none.
 
+use crate::GpuError;
+
 /// A device and its queue with what the adapter says of itself.
 pub struct Gpu {
     /// The device.
@@ -14,31 +16,28 @@ pub struct Gpu {
 impl Gpu {
     /// The default adapter (`WGPU_BACKEND=vulkan|gl|…` picks a backend) with its own limits.
     /// Errors say that no adapter exists and how to get one (Mesa's lavapipe on Linux).
-    pub fn new() -> Result<Self, String> {
+    pub fn new() -> Result<Self, GpuError> {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
         let adapter = pollster::block_on(
             instance.request_adapter(&wgpu::RequestAdapterOptions { compatible_surface: None, ..Default::default() }),
         )
-        .map_err(|e| {
+        .map_err(|source| {
             // An unknown `WGPU_BACKEND` name is dropped by wgpu, which then finds no adapter: say so
             // rather than advise installing a driver.
             const KNOWN: [&str; 11] =
                 ["vulkan", "vk", "dx12", "d3d12", "metal", "mtl", "opengl", "gles", "gl", "webgpu", "noop"];
             if let Ok(v) = std::env::var("WGPU_BACKEND") {
-                let unknown: Vec<&str> =
-                    v.split(',').map(str::trim).filter(|b| !KNOWN.contains(&b.to_lowercase().as_str())).collect();
+                let unknown: Vec<String> = v
+                    .split(',')
+                    .map(str::trim)
+                    .filter(|b| !KNOWN.contains(&b.to_lowercase().as_str()))
+                    .map(String::from)
+                    .collect();
                 if !unknown.is_empty() {
-                    return format!(
-                        "no GPU adapter: WGPU_BACKEND={v:?} names unknown backend {:?} (expected a comma-separated \
-                         list of vulkan, metal, dx12, gl, webgpu)",
-                        unknown.join(",")
-                    );
+                    return GpuError::UnknownBackend { value: v, unknown };
                 }
             }
-            format!(
-                "no GPU adapter ({e}); on Linux without a GPU install Mesa's software Vulkan driver: \
-                 apt-get install mesa-vulkan-drivers"
-            )
+            GpuError::NoAdapter { source }
         })?;
         let info = adapter.get_info();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -46,7 +45,11 @@ impl Gpu {
             required_limits: adapter.limits(),
             ..Default::default()
         }))
-        .map_err(|e| format!("{} ({:?}): cannot open a device: {e}", info.name, info.backend))?;
+        .map_err(|source| GpuError::OpenDevice {
+            adapter: info.name.clone(),
+            backend: info.backend,
+            source,
+        })?;
         Ok(Self { device, queue, info })
     }
 

@@ -3,10 +3,10 @@
 //! one invocation per receiver point walks the hierarchy, with second-order shadow rays through the
 //! GPU BVH, in passes of bounded work ([`PASS_BUDGET`]). CPU twin: [`LightVolumes::gather`].
 
-use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage, uniform};
 use crate::interface::{SECOND_ORDER_SHADOWS, WORKGROUP_SIZE};
 use crate::raytrace::RayTracer;
+use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
 use beam_math::glam::Vec3;
 use beam_math::glossy::VolumeMethod;
@@ -198,10 +198,10 @@ pub struct GpuGather {
 
 impl GpuGather {
     /// Compile the pass and upload `scene`'s BVH.
-    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, String> {
+    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
         Ok(Self {
             pipeline: compute_pipeline(gpu, "glossy_gather", "gather")?,
-            tracer: RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?,
+            tracer: RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles)?)?,
             eps: shading_eps(scene),
         })
     }
@@ -214,16 +214,12 @@ impl GpuGather {
         volumes: &LightVolumes,
         points: &[(Vec3, Vec3)],
         options: &GlossyOptions,
-    ) -> Result<Vec<Gathered>, String> {
+    ) -> Result<Vec<Gathered>, GpuError> {
         if options.method != VolumeMethod::Exact {
-            return Err("the GPU gather integrates the Gaussian volumes exactly (--volume exact)".into());
+            return Err(GpuError::InexactVolumes);
         }
         if volumes.lights.len() > MAX_LIGHTS {
-            return Err(format!(
-                "the GPU gather takes at most {MAX_LIGHTS} point emitters (point lights, and area lights' strata), \
-                 not {}",
-                volumes.lights.len()
-            ));
+            return Err(GpuError::TooManyEmitters { emitters: volumes.lights.len(), max: MAX_LIGHTS });
         }
         let beams: Vec<GpuLightBeam> = volumes
             .beams

@@ -6,6 +6,7 @@
 //! layout, and the nonlinear beam pipeline of 000 (bounding triangles in a vertex stage, per-texel
 //! rays in a fragment stage, per-level atlases, the composite), and the gather of the glossy light
 //! volumes of 002. Every entry point has a CPU twin that the conformance suite compares it with.
+//! Errors are [`GpuError`]s; as a backend of the renderer's traits they become `BackendError`s.
 //!
 //! Trace camera rays on the GPU (here a device beam opens; an engine hands its own
 //! `wgpu::Device` and `Queue` to [`Gpu`] instead, see `examples/engine_device.rs`):
@@ -26,6 +27,7 @@
 
 pub mod buffers;
 pub mod device;
+pub mod error;
 pub mod glossy;
 pub mod interface;
 pub mod nonlinear;
@@ -35,3 +37,4 @@ pub mod shaders;
 
 pub use beam_math;
 pub use device::Gpu;
+pub use error::GpuError;

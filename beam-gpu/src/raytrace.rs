@@ -2,9 +2,9 @@
 //! closest and any hits for batches of rays. CPU twin: [`beam_bvh::FlatBvh::closest_hit`] and
 //! [`beam_bvh::FlatBvh::any_hit`].
 
-use crate::Gpu;
 use crate::buffers::{compute_pipeline, dispatch, output, read_back, storage};
 use crate::interface::{MISS, RAY_ANY, RAY_CLOSEST, WORKGROUP_SIZE};
+use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
 use beam_math::Ray;
 use bytemuck::{Pod, Zeroable};
@@ -69,7 +69,7 @@ pub struct RayTracer {
 
 impl RayTracer {
     /// Compile `raytrace.wgsl` and upload `bvh`.
-    pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, String> {
+    pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, GpuError> {
         let pipeline = compute_pipeline(gpu, "raytrace", "trace")?;
         let nodes = storage(gpu, "nodes", bvh.nodes(), wgpu::BufferUsages::empty());
         let triangles = storage(gpu, "triangles", bvh.triangles(), wgpu::BufferUsages::empty());
@@ -83,14 +83,14 @@ impl RayTracer {
     }
 
     /// Trace `rays`; one result each.
-    pub fn trace(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<Vec<GpuHit>, String> {
+    pub fn trace(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<Vec<GpuHit>, GpuError> {
         if rays.is_empty() {
             return Ok(Vec::new());
         }
         // One dispatch: at most 65,535 workgroups (`trace` reads only `id.x`).
         let groups = rays.len().div_ceil(WORKGROUP_SIZE as usize);
         if groups > 65_535 {
-            return Err(format!("{} rays exceed one dispatch (at most {})", rays.len(), 65_535 * WORKGROUP_SIZE));
+            return Err(GpuError::TooManyRays { rays: rays.len(), max: 65_535 * WORKGROUP_SIZE });
         }
         let ray_buffer = storage(gpu, "rays", rays, wgpu::BufferUsages::empty());
         let size = (rays.len() * size_of::<GpuHit>()) as u64;
@@ -100,7 +100,7 @@ impl RayTracer {
         // A miss at t = −1 (of a ray searched from t = 0 on): the traversal's stack overflowed
         // (lib/trace.wgsl), which GpuBvh::new rules out.
         if let Some(i) = (0..hits.len()).find(|&i| hits[i].prim == MISS && hits[i].t < 0.0 && rays[i].t_max >= 0.0) {
-            return Err(format!("ray {i}: the GPU traversal stack overflowed"));
+            return Err(GpuError::StackOverflow { ray: i });
         }
         Ok(hits)
     }

@@ -5,12 +5,12 @@
 //! the nonlinear renderer, in passes of bounded work ([`PASS_BUDGET`]). CPU twin: [`shade_twin`];
 //! on point-lit scenes it equals `shade_point`.
 
-use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, output, read_back, storage, uniform};
 use crate::interface::{
     LIGHT_POINT, LIGHT_QUAD, LIGHT_TRIANGLE, SURFACE_EMISSIVE, SURFACE_REFLECTING, SURFACE_UNSHADED, WORKGROUP_SIZE,
 };
 use crate::raytrace::RayTracer;
+use crate::{Gpu, GpuError};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::irradiance_map::IrradianceMap;
@@ -194,7 +194,7 @@ pub struct PointShader {
 
 impl PointShader {
     /// The pass for `scene`.
-    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, String> {
+    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
         let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::new).collect();
         let prims: Vec<PrimShading> = (0..scene.triangles.len() as u32)
             .map(|i| {
@@ -263,7 +263,7 @@ impl PointShader {
         caustics: Option<&IrradianceMap>,
         spp: u32,
         points: &[ShadePoint],
-    ) -> Result<Vec<Vec3>, String> {
+    ) -> Result<Vec<Vec3>, GpuError> {
         if points.is_empty() {
             return Ok(Vec::new());
         }
@@ -287,7 +287,7 @@ impl PointShader {
         spp: u32,
         points: &[ShadePoint],
         extra: usize,
-    ) -> Result<(wgpu::CommandEncoder, wgpu::Buffer), String> {
+    ) -> Result<(wgpu::CommandEncoder, wgpu::Buffer), GpuError> {
         let inputs: Vec<ShadeInput> = points
             .iter()
             .map(|s| ShadeInput { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), seed: seed32(s.seed) })

@@ -1,6 +1,7 @@
 //! The WGSL shaders, their validation by naga, and their translation for engines that take them
 //! into their own pipelines (`beam shaders --emit spv|glsl|msl|hlsl`).
 
+use crate::GpuError;
 use std::path::Path;
 
 /// Code shared by the shaders (`shaders/shared/*.wgsl`), prepended to each.
@@ -37,12 +38,13 @@ pub fn source(name: &str) -> Option<String> {
 }
 
 /// Parse and validate shader `name` with naga.
-pub fn validate(name: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), String> {
-    let src = source(name).ok_or_else(|| format!("no shader named `{name}`"))?;
-    let module = naga::front::wgsl::parse_str(&src).map_err(|e| format!("{name}.wgsl: {}", e.emit_to_string(&src)))?;
+pub fn validate(name: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), GpuError> {
+    let src = source(name).ok_or_else(|| GpuError::NoShader { name: name.to_string() })?;
+    let invalid = |message| GpuError::Shader { name: name.to_string(), message };
+    let module = naga::front::wgsl::parse_str(&src).map_err(|e| invalid(e.emit_to_string(&src)))?;
     let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
         .validate(&module)
-        .map_err(|e| format!("{name}.wgsl: {}", e.emit_to_string(&src)))?;
+        .map_err(|e| invalid(e.emit_to_string(&src)))?;
     Ok((module, info))
 }
 
@@ -61,28 +63,29 @@ pub enum Language {
 
 impl Language {
     /// From `spv`, `glsl`, `msl` or `hlsl`.
-    pub fn parse(s: &str) -> Result<Self, String> {
+    pub fn parse(s: &str) -> Result<Self, GpuError> {
         match s {
             "spv" => Ok(Self::Spirv),
             "glsl" => Ok(Self::Glsl),
             "msl" => Ok(Self::Msl),
             "hlsl" => Ok(Self::Hlsl),
-            _ => Err(format!("unknown shader language `{s}` (spv, glsl, msl, hlsl)")),
+            _ => Err(GpuError::UnknownLanguage { name: s.to_string() }),
         }
     }
 }
 
 /// Translate every shader to `lang` into directory `out` (created), each file written atomically;
 /// returns the files written.
-pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, GpuError> {
+    std::fs::create_dir_all(out).map_err(|source| GpuError::Folder { path: out.to_path_buf(), source })?;
     let mut written = Vec::new();
     for (name, _) in SHADERS {
         let (module, info) = validate(name)?;
+        let failed = |language, source| GpuError::Translate { name: name.to_string(), language, source };
         let files: Vec<(String, Vec<u8>)> = match lang {
             Language::Spirv => {
                 let words = naga::back::spv::write_vec(&module, &info, &naga::back::spv::Options::default(), None)
-                    .map_err(|e| format!("{name}: SPIR-V: {e}"))?;
+                    .map_err(|e| failed("SPIR-V", e.into()))?;
                 vec![(format!("{name}.spv"), words.iter().flat_map(|w| w.to_le_bytes()).collect())]
             }
             Language::Glsl => {
@@ -107,7 +110,7 @@ pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, Strin
                         naga::proc::BoundsCheckPolicies::default(),
                     )
                     .and_then(|mut w| w.write().map(|_| ()))
-                    .map_err(|e| format!("{name}: GLSL: {e}"))?;
+                    .map_err(|e| failed("GLSL", e.into()))?;
                     let stage = match ep.stage {
                         naga::ShaderStage::Vertex => "vert",
                         naga::ShaderStage::Fragment => "frag",
@@ -125,14 +128,14 @@ pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, Strin
                     &naga::back::msl::Options { lang_version: (2, 0), ..Default::default() },
                     &naga::back::msl::PipelineOptions::default(),
                 )
-                .map_err(|e| format!("{name}: MSL: {e}"))?;
+                .map_err(|e| failed("MSL", e.into()))?;
                 vec![(format!("{name}.metal"), text.into_bytes())]
             }
             Language::Hlsl => {
                 let mut text = String::new();
                 naga::back::hlsl::Writer::new(&mut text, &naga::back::hlsl::Options::default(), &Default::default())
                     .write(&module, &info, None)
-                    .map_err(|e| format!("{name}: HLSL: {e}"))?;
+                    .map_err(|e| failed("HLSL", e.into()))?;
                 vec![(format!("{name}.hlsl"), text.into_bytes())]
             }
         };

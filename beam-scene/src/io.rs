@@ -43,6 +43,7 @@
 //! process killed by it (or by a crash or power cut) may still leave `.NAME.beam-tmp-*` files, which
 //! are safe to delete.
 
+use crate::error::{SceneError, Unrestored};
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::Path;
@@ -53,19 +54,29 @@ pub use temporaries::{TEMP_MARKER, remove_temporaries};
 use temporaries::{Temp, interrupted, registry};
 
 /// `path`'s folder (`.` for a bare name) and file name; an error for a path that names no file.
-fn split(path: &Path) -> Result<(&Path, &std::ffi::OsStr), String> {
-    let name = path.file_name().ok_or_else(|| format!("{}: names no file", path.display()))?;
+fn split(path: &Path) -> Result<(&Path, &std::ffi::OsStr), SceneError> {
+    let name = path.file_name().ok_or_else(|| refused(path, "names no file"))?;
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     Ok((dir, name))
 }
 
+/// `path` may not be written, for `reason`.
+fn refused(path: &Path, reason: impl Into<String>) -> SceneError {
+    SceneError::Refused { path: path.to_path_buf(), reason: reason.into() }
+}
+
+/// Writing `path` failed at step `context` (none: the message needs none) with `source`.
+fn write_error(path: &Path, context: Option<String>, source: std::io::Error) -> SceneError {
+    SceneError::Write { path: path.to_path_buf(), context, source }
+}
+
 /// The target's metadata (not following a symbolic link) when it exists, after refusing what may not
 /// be replaced: anything but a regular file, and a read-only or unwritable file.
-fn check_target(path: &Path) -> Result<Option<std::fs::Metadata>, String> {
+fn check_target(path: &Path) -> Result<Option<std::fs::Metadata>, SceneError> {
     let meta = match std::fs::symlink_metadata(path) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(format!("{}: {e}", path.display())),
+        Err(e) => return Err(write_error(path, None, e)),
     };
     let ft = meta.file_type();
     let kind = if ft.is_symlink() {
@@ -78,13 +89,13 @@ fn check_target(path: &Path) -> Result<Option<std::fs::Metadata>, String> {
         special_kind(&ft)
     };
     if !kind.is_empty() {
-        return Err(format!("{}: is {kind}, not a regular file; refusing to replace it", path.display()));
+        return Err(refused(path, format!("is {kind}, not a regular file; refusing to replace it")));
     }
     if meta.permissions().readonly() {
-        return Err(format!("{}: is read-only; refusing to replace it", path.display()));
+        return Err(refused(path, "is read-only; refusing to replace it"));
     }
     // Open for writing without truncating: the mode bits may allow it while ownership does not.
-    OpenOptions::new().write(true).open(path).map_err(|e| format!("{}: not writable: {e}", path.display()))?;
+    OpenOptions::new().write(true).open(path).map_err(|e| write_error(path, Some("not writable".into()), e))?;
     Ok(Some(meta))
 }
 
@@ -109,17 +120,17 @@ fn special_kind(_: &std::fs::FileType) -> &'static str {
 
 /// Check, before any work, that `path` can be written: its folder exists and takes new files, and
 /// the target is absent or a writable regular file. Errors name `path`.
-pub fn check_output(path: &Path) -> Result<(), String> {
+pub fn check_output(path: &Path) -> Result<(), SceneError> {
     let (dir, name) = split(path)?;
-    let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
     match std::fs::metadata(dir) {
         Ok(m) if m.is_dir() => {}
-        Ok(_) => return Err(fail(&format!("{} is not a directory", dir.display()))),
-        Err(e) => return Err(fail(&format!("folder {}: {e}", dir.display()))),
+        Ok(_) => return Err(refused(path, format!("{} is not a directory", dir.display()))),
+        Err(e) => return Err(write_error(path, Some(format!("folder {}", dir.display())), e)),
     }
     check_target(path)?;
     // The folder's mode bits do not tell (root, ACLs, read-only mounts): try a temporary file.
-    Temp::create(dir, name).map_err(|e| fail(&format!("cannot create a file in {}: {e}", dir.display())))?;
+    Temp::create(dir, name)
+        .map_err(|e| write_error(path, Some(format!("cannot create a file in {}", dir.display())), e))?;
     Ok(())
 }
 
@@ -151,27 +162,27 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
 /// (the module's documentation says exactly what is guaranteed): every temporary is written and
 /// synced, and every existing target but the last kept aside, before the first rename, and a failed
 /// rename puts back the targets already replaced. Errors name the path.
-pub fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<(), String> {
+pub fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<(), SceneError> {
     for (i, (a, _)) in files.iter().enumerate() {
         if files[..i].iter().any(|(b, _)| same_file(a, b)) {
-            return Err(format!("{}: named twice as an output", a.display()));
+            return Err(refused(a, "named twice as an output"));
         }
     }
     // 1. Write and sync every temporary.
     let mut temps = Vec::with_capacity(files.len());
     for &(path, bytes) in files {
-        let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+        let fail = |e| write_error(path, None, e);
         let (dir, name) = split(path)?;
         let old = check_target(path)?;
-        let (tmp, mut file) = Temp::create(dir, name).map_err(|e| fail(&e))?;
+        let (tmp, mut file) = Temp::create(dir, name).map_err(fail)?;
         // Pushed first, so that the temporary is removed on every error below.
         temps.push((path, dir, name, tmp));
-        file.write_all(bytes).map_err(|e| fail(&e))?;
+        file.write_all(bytes).map_err(fail)?;
         if let Some(old) = old {
             // A replaced file keeps its mode.
-            file.set_permissions(old.permissions()).map_err(|e| fail(&e))?;
+            file.set_permissions(old.permissions()).map_err(fail)?;
         }
-        file.sync_all().map_err(|e| fail(&e))?;
+        file.sync_all().map_err(fail)?;
     }
     let mut backups: Vec<Option<Temp>> = Vec::with_capacity(temps.len());
     // From here to the end the registry stays locked, so that `remove_temporaries` (a signal)
@@ -180,7 +191,7 @@ pub fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<(), String> {
     let mut guard = registry();
     let reg = &mut *guard;
     if reg.closed {
-        return Err(format!("{}: {}", files[0].0.display(), interrupted()));
+        return Err(write_error(files[0].0, None, interrupted()));
     }
     // 2. Check the targets again (they may have changed while the temporaries were written), and
     // keep every existing one but the last aside, to put it back if a later rename fails.
@@ -188,7 +199,7 @@ pub fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<(), String> {
         let exists = check_target(path)?.is_some();
         let backup = if exists && i + 1 < temps.len() {
             let keep = Temp::backup(reg, dir, name, path);
-            Some(keep.map_err(|e| format!("{}: cannot keep the old file aside: {e}", path.display()))?)
+            Some(keep.map_err(|e| write_error(path, Some("cannot keep the old file aside".into()), e))?)
         } else {
             None
         };
@@ -199,9 +210,8 @@ pub fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<(), String> {
         #[cfg(test)]
         tests::before_rename(i);
         let path = temps[i].0;
-        if let Err(e) = temps[i].3.rename(reg, path) {
-            let mut err = format!("{}: {e}", path.display());
-            let mut all_back = true;
+        if let Err(source) = temps[i].3.rename(reg, path) {
+            let mut unrestored = Vec::new();
             for j in (0..i).rev() {
                 let target = temps[j].0;
                 let undone = match &mut backups[j] {
@@ -209,28 +219,18 @@ pub fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<(), String> {
                     None => std::fs::remove_file(target),
                 };
                 if let Err(e) = undone {
-                    let kept = match &mut backups[j] {
-                        Some(b) => {
-                            b.keep(reg);
-                            format!("; its old content is in {}", b.path.display())
-                        }
-                        None => String::new(),
-                    };
-                    all_back = false;
-                    err.push_str(&format!(
-                        "; and {} was replaced and could not be put back ({e}){kept}",
-                        target.display()
-                    ));
+                    let backup = backups[j].as_mut().map(|b| {
+                        b.keep(reg);
+                        b.path.clone()
+                    });
+                    unrestored.push(Unrestored { path: target.to_path_buf(), source: e, backup });
                 }
-            }
-            if i > 0 && all_back {
-                err.push_str("; the outputs written before it were put back as they were");
             }
             sync_folders(&temps[..i]);
             for b in backups.iter_mut().flatten() {
                 b.remove(reg);
             }
-            return Err(err);
+            return Err(SceneError::Rename { path: path.to_path_buf(), source, earlier: i, unrestored });
         }
     }
     sync_folders(&temps);
@@ -252,23 +252,27 @@ fn sync_folders(temps: &[(&Path, &Path, &std::ffi::OsStr, Temp)]) {
 }
 
 /// Write `bytes` to `path` atomically. Errors name the path.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
     write_atomic_all(&[(path, bytes)])
 }
 
 /// Encode an 8-bit RGB image as PNG bytes.
-pub fn encode_png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, String> {
-    let mut bytes = Vec::new();
-    let encoder = image::codecs::png::PngEncoder::new(&mut bytes);
-    image::ImageEncoder::write_image(encoder, rgb, width, height, image::ExtendedColorType::Rgb8)
-        .map_err(|e| e.to_string())?;
-    Ok(bytes)
+pub fn encode_png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, SceneError> {
+    png(width, height, rgb).map_err(|source| SceneError::Png { path: None, source })
 }
 
 /// Encode an 8-bit RGB image as PNG and write it atomically.
-pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), String> {
-    let bytes = encode_png(width, height, rgb).map_err(|e| format!("{}: {e}", path.display()))?;
+pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), SceneError> {
+    let bytes = png(width, height, rgb).map_err(|source| SceneError::Png { path: Some(path.to_path_buf()), source })?;
     write_atomic(path, &bytes)
+}
+
+/// The PNG encoding of an 8-bit RGB image.
+fn png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, image::ImageError> {
+    let mut bytes = Vec::new();
+    let encoder = image::codecs::png::PngEncoder::new(&mut bytes);
+    image::ImageEncoder::write_image(encoder, rgb, width, height, image::ExtendedColorType::Rgb8)?;
+    Ok(bytes)
 }
 
 #[cfg(test)]
@@ -294,7 +298,7 @@ mod tests {
     /// `write_atomic_all(files)` with `hook` run before each rename.
     fn write_with_hook(files: &[(&Path, &[u8])], hook: impl FnMut(usize) + 'static) -> Result<(), String> {
         BEFORE_RENAME.with(|h| *h.borrow_mut() = Some(Box::new(hook)));
-        let r = write_atomic_all(files);
+        let r = write_atomic_all(files).map_err(|e| e.to_string());
         BEFORE_RENAME.with(|h| *h.borrow_mut() = None);
         r
     }
@@ -408,7 +412,7 @@ mod tests {
         assert_eq!(remove_temporaries(), 2);
         assert_eq!(temporaries(dir.path()).len(), 0);
         drop((a, b));
-        let err = write_atomic(&out, b"new").unwrap_err();
+        let err = write_atomic(&out, b"new").unwrap_err().to_string();
         assert!(err.contains("interrupted"), "{err}");
         assert!(check_output(&out).is_err());
         assert_eq!(std::fs::read(&out).unwrap(), b"old");
@@ -423,7 +427,7 @@ mod tests {
         write_atomic(&p, b"two").unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"two");
         assert_eq!(entries(dir.path()), 1, "no temporary file left behind");
-        let err = write_atomic(&dir.path().join("missing/b.txt"), b"x").unwrap_err();
+        let err = write_atomic(&dir.path().join("missing/b.txt"), b"x").unwrap_err().to_string();
         assert!(err.contains("missing/b.txt") && !err.contains(TEMP_MARKER), "{err}");
         assert!(check_output(&dir.path().join("missing/b.txt")).is_err());
         check_output(&p).unwrap();
@@ -443,23 +447,23 @@ mod tests {
         write_atomic(&p, b"new").unwrap();
         assert_eq!(mode(&p), 0o600);
         std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o444)).unwrap();
-        let err = write_atomic(&p, b"x").unwrap_err();
+        let err = write_atomic(&p, b"x").unwrap_err().to_string();
         assert!(err.contains("read-only") && std::fs::read(&p).unwrap() == b"new", "{err}");
         // A symbolic link is refused, and neither it nor its target changes.
         let target = dir.path().join("target");
         std::fs::write(&target, b"keep").unwrap();
         let link = dir.path().join("link.png");
         std::os::unix::fs::symlink(&target, &link).unwrap();
-        let err = write_atomic(&link, b"x").unwrap_err();
+        let err = write_atomic(&link, b"x").unwrap_err().to_string();
         assert!(err.contains("symbolic link"), "{err}");
         assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
         assert_eq!(std::fs::read(&target).unwrap(), b"keep");
-        assert!(write_atomic(Path::new("/dev/null"), b"x").unwrap_err().contains("device node"));
-        assert!(write_atomic(dir.path(), b"x").unwrap_err().contains("directory"));
+        assert!(write_atomic(Path::new("/dev/null"), b"x").unwrap_err().to_string().contains("device node"));
+        assert!(write_atomic(dir.path(), b"x").unwrap_err().to_string().contains("directory"));
         // Two outputs: a failure on the second replaces neither.
         let q = dir.path().join("b.json");
         std::fs::write(&q, b"old").unwrap();
-        let err = write_atomic_all(&[(&q, b"new"), (&dir.path().join("no/such"), b"x")]).unwrap_err();
+        let err = write_atomic_all(&[(&q, b"new"), (&dir.path().join("no/such"), b"x")]).unwrap_err().to_string();
         assert!(err.contains("no/such"), "{err}");
         assert_eq!(std::fs::read(&q).unwrap(), b"old");
         assert!(write_atomic_all(&[(&q, b"1"), (&dir.path().join(".").join("b.json"), b"2")]).is_err());

@@ -6,7 +6,8 @@
 //!
 //! - [`scene`]: scenes (TOML files, glTF 2.0, bare OBJ, built-ins): materials, lights, camera, BVHs.
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
-//! - [`io`]: atomic output files; [`read`]: bounded reads of input files.
+//! - [`io`]: atomic output files; [`read`]: bounded reads of input files; [`error`]: their errors
+//!   ([`SceneError`]) and the backends' ([`BackendError`]).
 //! - [`queries`]: ray queries, one vocabulary for all; [`options`]: render settings; [`specular`]: the mirror and glass bounce; [`tolerance`]: the
 //!   offsets both backends use; [`irradiance_map`]: caustic irradiance on receiving planes.
 //! - [`nonlinear`], [`glossy`]: the host side of the nonlinear beam tree (000) and of the glossy
@@ -21,6 +22,7 @@
 //! assert!(w > 0 && h > 0);
 //! ```
 
+pub mod error;
 pub mod glossy;
 pub mod io;
 pub mod irradiance_map;
@@ -35,3 +37,4 @@ pub mod specular;
 pub mod tolerance;
 
 pub use beam_math;
+pub use error::{BackendError, FaceError, SceneError};

@@ -6,6 +6,7 @@ mod triangulate;
 pub use obj::{ObjStats, parse_obj};
 pub use triangulate::{MAX_NONCONVEX_CORNERS, triangulate};
 
+use crate::error::SceneError;
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use std::path::Path;
@@ -37,21 +38,17 @@ impl Mesh {
 /// Load every object of an OBJ file into one mesh (faces triangulated in their plane). The file is
 /// read once, bounded by [`MAX_MESH_BYTES`](crate::read::MAX_MESH_BYTES), and must be a regular
 /// file. Errors name the file, and `file:line` for malformed lines, quoting the line.
-pub fn load_obj(path: &Path) -> Result<Mesh, String> {
+pub fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
     load_obj_with(path, true).map(|(mesh, _)| mesh)
 }
 
 /// [`load_obj`], with the counts of skipped elements; `quote_lines`: whether errors may quote a
 /// line of the file (not for files outside a scene's folder).
-pub fn load_obj_with(path: &Path, quote_lines: bool) -> Result<(Mesh, ObjStats), String> {
+pub fn load_obj_with(path: &Path, quote_lines: bool) -> Result<(Mesh, ObjStats), SceneError> {
     let data = crate::read::read_bounded(path, crate::read::MAX_MESH_BYTES)?;
     let (mesh, stats) = parse_obj(path, &data, quote_lines)?;
     if mesh.indices.is_empty() {
-        let skipped = match stats.skipped_elements {
-            0 => String::new(),
-            n => format!(" ({n} line or point elements skipped)"),
-        };
-        return Err(format!("{}: no triangles{skipped}", crate::read::shown(path)));
+        return Err(SceneError::NoTriangles { path: path.to_path_buf(), skipped: stats.skipped_elements });
     }
     Ok((mesh, stats))
 }
@@ -131,8 +128,9 @@ mod tests {
         let bad = dir.path().join("bad.obj");
         std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nf 1 2 9\n").unwrap();
         let e = load_obj(&bad).unwrap_err();
-        assert!(e.contains("bad.obj"), "{e}");
-        assert!(load_obj(&dir.path().join("missing.obj")).unwrap_err().contains("missing.obj"));
+        assert!(matches!(&e, SceneError::Obj { path, line: 3, .. } if *path == bad), "{e:?}");
+        assert!(e.to_string().contains("bad.obj"), "{e}");
+        assert!(load_obj(&dir.path().join("missing.obj")).unwrap_err().to_string().contains("missing.obj"));
     }
 
     #[test]

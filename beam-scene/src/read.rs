@@ -2,6 +2,7 @@
 //! is a regular file (a FIFO would block, `/dev/zero` never ends); paths a scene file names stay
 //! inside the scene's folder unless the user allows otherwise; quoted lines are clipped.
 
+use crate::error::SceneError;
 use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 
@@ -14,28 +15,30 @@ pub const QUOTE_CHARS: usize = 80;
 
 /// The whole content of the regular file at `path`, read once, refused when it is larger than
 /// `limit` bytes or is not a regular file (FIFO, device, folder). Errors name `path`.
-pub fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
-    let fail = |what: String| format!("{}: {what}", shown(path));
+pub fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, SceneError> {
+    let fail = |source| SceneError::Read { path: path.to_path_buf(), source };
+    let not_regular =
+        |meta: &std::fs::Metadata| SceneError::NotRegularFile { path: path.to_path_buf(), kind: kind(meta) };
     // Check before opening: opening a FIFO for reading blocks until a writer appears.
-    let meta = std::fs::metadata(path).map_err(|e| fail(e.to_string()))?;
+    let meta = std::fs::metadata(path).map_err(fail)?;
     if !meta.is_file() {
-        return Err(fail(format!("not a regular file ({})", kind(&meta))));
+        return Err(not_regular(&meta));
     }
     let mut options = std::fs::OpenOptions::new();
     options.read(true);
     non_blocking(&mut options);
-    let file = options.open(path).map_err(|e| fail(e.to_string()))?;
+    let file = options.open(path).map_err(fail)?;
     // Check the opened handle too: the path may have been replaced since.
-    let meta = file.metadata().map_err(|e| fail(e.to_string()))?;
+    let meta = file.metadata().map_err(fail)?;
     if !meta.is_file() {
-        return Err(fail(format!("not a regular file ({})", kind(&meta))));
+        return Err(not_regular(&meta));
     }
-    let too_big = || fail(format!("larger than the {} limit", bytes(limit)));
+    let too_big = || SceneError::TooLarge { path: path.to_path_buf(), limit };
     if meta.len() > limit {
         return Err(too_big());
     }
     let mut data = Vec::with_capacity(meta.len() as usize);
-    file.take(limit + 1).read_to_end(&mut data).map_err(|e| fail(e.to_string()))?;
+    file.take(limit + 1).read_to_end(&mut data).map_err(fail)?;
     if data.len() as u64 > limit {
         return Err(too_big());
     }
@@ -77,7 +80,7 @@ fn kind(meta: &std::fs::Metadata) -> &'static str {
 }
 
 /// `n` bytes in words (`4 MiB`).
-fn bytes(n: u64) -> String {
+pub(crate) fn bytes(n: u64) -> String {
     if n >= 1 << 30 && n % (1 << 30) == 0 {
         format!("{} GiB", n >> 30)
     } else if n >= 1 << 20 && n % (1 << 20) == 0 {
@@ -128,33 +131,28 @@ pub fn clip(text: &str, max: usize) -> String {
 /// Where a file named in a scene file lies: `name` resolved against the scene's folder `dir`.
 /// Unless `allow_outside`, the file (symlinks resolved) must lie inside `dir`; the second value
 /// says whether it does (lines of files outside are not quoted in errors).
-pub fn resolve_inside(dir: &Path, name: &str, allow_outside: bool) -> Result<(PathBuf, bool), String> {
+pub fn resolve_inside(dir: &Path, name: &str, allow_outside: bool) -> Result<(PathBuf, bool), SceneError> {
     if name.len() > 4096 || name.contains('\0') {
-        return Err(format!("`{}`: not a file name", clip(&name.escape_debug().to_string(), QUOTE_CHARS)));
+        return Err(SceneError::NotAFileName { name: name.to_string() });
     }
     let joined = dir.join(name);
-    let outside = |why: &str| {
-        format!(
-            "`{}` {why} the scene file's folder {}; pass --allow-outside-paths to allow it",
-            clip(&name.escape_debug().to_string(), 200),
-            dir.display()
-        )
-    };
-    let root = dir.canonicalize().map_err(|e| format!("{}: {e}", dir.display()))?;
+    let outside =
+        |resolved: bool| SceneError::OutsideFolder { name: name.to_string(), dir: dir.to_path_buf(), resolved };
+    let root = dir.canonicalize().map_err(|source| SceneError::Folder { path: dir.to_path_buf(), source })?;
     match joined.canonicalize() {
         Ok(real) => {
             let inside = real.starts_with(&root);
             if !inside && !allow_outside {
-                return Err(outside("resolves outside"));
+                return Err(outside(true));
             }
             Ok((joined, inside))
         }
         // A missing file: say so only when its name stays inside the folder.
-        Err(e) => {
+        Err(source) => {
             if !allow_outside && !lexically_inside(name) {
-                return Err(outside("is outside"));
+                return Err(outside(false));
             }
-            Err(format!("{}: {e}", shown(&joined)))
+            Err(SceneError::Read { path: joined, source })
         }
     }
 }
@@ -205,11 +203,11 @@ mod tests {
     #[test]
     fn refuses_what_is_not_a_regular_file_and_what_is_too_big() {
         let dir = tempfile::tempdir().unwrap();
-        let e = read_bounded(dir.path(), 10).unwrap_err();
+        let e = read_bounded(dir.path(), 10).unwrap_err().to_string();
         assert!(e.contains("not a regular file"), "{e}");
         let p = dir.path().join("f");
         std::fs::write(&p, "12345").unwrap();
         assert_eq!(read_bounded(&p, 5).unwrap(), b"12345");
-        assert!(read_bounded(&p, 4).unwrap_err().contains("larger than the 4 bytes limit"));
+        assert!(read_bounded(&p, 4).unwrap_err().to_string().contains("larger than the 4 bytes limit"));
     }
 }

@@ -64,7 +64,7 @@ pub fn cases() -> Result<(Vec<Case>, Option<String>), String> {
     match beam_scene::scenes::shared_meshes() {
         Ok(paths) => {
             for p in paths {
-                let m: Mesh = mesh::load_obj(&p)?;
+                let m: Mesh = mesh::load_obj(&p).map_err(|e| e.to_string())?;
                 out.push(Case {
                     name: p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
                     triangles: m.triangles(),
@@ -72,7 +72,7 @@ pub fn cases() -> Result<(Vec<Case>, Option<String>), String> {
             }
             Ok((out, None))
         }
-        Err(reason) => Ok((out, Some(reason))),
+        Err(reason) => Ok((out, Some(reason.to_string()))),
     }
 }
 
@@ -214,9 +214,11 @@ impl Answers {
     fn gpu(gpu: &beam_gpu::Gpu, bvh: &FlatBvh, triangles: &[Triangle], set: &RaySet) -> Result<Self, String> {
         use beam_gpu::interface::MISS;
         use beam_gpu::raytrace::{GpuRay, RayTracer};
-        let tracer = RayTracer::new(gpu, &beam_bvh::gpu::GpuBvh::new(bvh, triangles).map_err(|e| e.to_string())?)?;
+        let tracer = RayTracer::new(gpu, &beam_bvh::gpu::GpuBvh::new(bvh, triangles).map_err(|e| e.to_string())?)
+            .map_err(|e| e.to_string())?;
         let closest = |rays: &[Ray]| -> Result<Vec<Option<Hit>>, String> {
-            let hits = tracer.trace(gpu, &rays.iter().map(GpuRay::closest).collect::<Vec<_>>())?;
+            let hits =
+                tracer.trace(gpu, &rays.iter().map(GpuRay::closest).collect::<Vec<_>>()).map_err(|e| e.to_string())?;
             Ok(hits.iter().map(|h| (h.prim != MISS).then_some(Hit { prim: h.prim, t: h.t, u: 0.0, v: 0.0 })).collect())
         };
         let shadow: Vec<GpuRay> = set.shadow.iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect();
@@ -224,7 +226,7 @@ impl Answers {
             camera: closest(&set.camera)?,
             diffuse: closest(&set.diffuse)?,
             // An any-hit ray's t is 1 when occluded, 0 otherwise.
-            shadow: tracer.trace(gpu, &shadow)?.iter().map(|h| h.t > 0.5).collect(),
+            shadow: tracer.trace(gpu, &shadow).map_err(|e| e.to_string())?.iter().map(|h| h.t > 0.5).collect(),
         })
     }
 

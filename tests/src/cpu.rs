@@ -101,7 +101,7 @@ pub fn soft_shadow_vs_monte_carlo(_: Backend, config: &Config) -> Result<Outcome
     const N: u32 = 65_536;
     let points_per_scene = (config.rays / 10).max(20);
     let (mut meshes, skipped) = cases()?;
-    let cornell = scene::builtin("cornell")?;
+    let cornell = scene::builtin("cornell").map_err(|e| e.to_string())?;
     meshes.insert(0, crate::bvh::Case { name: "cornell".into(), triangles: cornell.triangles.clone() });
     let mut notes = Vec::new();
     let (mut total, mut beyond3, mut worst) = (0u64, 0u64, 0.0f64);
@@ -193,7 +193,7 @@ pub fn hard_shadow_images_agree(_: Backend, _: &Config) -> Result<Outcome, Strin
 /// rays, 256 shadow rays per area light) of a built-in scene at 96²: PSNR ≥ 40 dB and a mean
 /// difference within 3 standard errors of zero (no bias).
 fn images_agree(name: &str, primary_spp: u32) -> Result<Outcome, String> {
-    let mut scene = scene::builtin(name)?;
+    let mut scene = scene::builtin(name).map_err(|e| e.to_string())?;
     // Seen directly, the light (radiance 15) saturates any pixel it covers by more than 1/15, so
     // box-filter noise at its edges would swamp the comparison: dim its surface to radiance 1.
     for m in &mut scene.materials {
@@ -213,7 +213,7 @@ fn images_agree(name: &str, primary_spp: u32) -> Result<Outcome, String> {
     };
     let (beam, _) = render(&scene, &opts(Method::Beam), || {});
     let (ray, _) = render(&scene, &opts(Method::Ray), || {});
-    let d = difference(&beam, &ray)?;
+    let d = difference(&beam, &ray).map_err(|e| e.to_string())?;
     let diffs: Vec<f64> =
         beam.pixels.iter().zip(&ray.pixels).map(|(a, b)| f64::from((*a - *b).element_sum()) / 3.0).collect();
     let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
@@ -253,7 +253,7 @@ pub fn primary_coverage_sums_to_one(_: Backend, _: &Config) -> Result<Outcome, S
         vec![],
         camera,
     );
-    let cornell = scene::builtin("cornell")?;
+    let cornell = scene::builtin("cornell").map_err(|e| e.to_string())?;
     let mut worst = 0.0f32;
     let mut pixels = 0u64;
     for (scene, w, h, closed) in [(&closed, 160, 120, true), (&closed, 512, 384, true), (&cornell, 128, 128, false)] {

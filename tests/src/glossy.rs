@@ -98,7 +98,7 @@ fn scatterer_between(scene: &Scene, p: Vec3, light: Vec3) -> bool {
 pub fn glossy_shadow_beams_equal_shadow_rays(_: Backend, _: &Config) -> Result<Outcome, String> {
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in SCENES {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
         let (mut differ, mut shadowed, mut n) = (0u64, 0u64, 0u64);
         let eps = 1e-3 * scene.bounds().extent().length();
@@ -135,7 +135,7 @@ pub fn glossy_cone_hierarchy_is_conservative(_: Backend, _: &Config) -> Result<O
     let (mut total, mut notes) = (0u64, Vec::new());
     let mut rng = generate::rng(32);
     for name in SCENES {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
         let tree: &ConeTree = &volumes.tree;
         let extent = scene.bounds().extent().length();
@@ -220,14 +220,16 @@ pub fn glossy_beams_match_photon_tracing(_: Backend, _: &Config) -> Result<Outco
     let mut notes = Vec::new();
     let (w, h) = (96, 96);
     for (name, least) in SCENES.into_iter().zip([45.0, 30.0, 45.0]) {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         // Read through the photon map's kernel, so that both estimate the same image.
         let options = GlossyOptions { filter: photon_texel(&scene), ..GlossyOptions::new(w, h) };
-        let (beams, _) = render_glossy(&scene, &options)?;
-        let reference = render_glossy_photons(&scene, w, h, &glossy_photons(&scene, 16_000_000, 1))?;
-        let again = render_glossy_photons(&scene, w, h, &glossy_photons(&scene, 16_000_000, 2))?;
-        let d = difference(&beams, &reference)?;
-        let noise = difference(&again, &reference)?;
+        let (beams, _) = render_glossy(&scene, &options).map_err(|e| e.to_string())?;
+        let reference =
+            render_glossy_photons(&scene, w, h, &glossy_photons(&scene, 16_000_000, 1)).map_err(|e| e.to_string())?;
+        let again =
+            render_glossy_photons(&scene, w, h, &glossy_photons(&scene, 16_000_000, 2)).map_err(|e| e.to_string())?;
+        let d = difference(&beams, &reference).map_err(|e| e.to_string())?;
+        let noise = difference(&again, &reference).map_err(|e| e.to_string())?;
         let sum = |i: &beam_cpu::render::Image| i.pixels.iter().map(|p| f64::from(p.x + p.y + p.z)).sum::<f64>();
         let balance = sum(&beams) / sum(&reference);
         if d.psnr < least || (balance - 1.0).abs() > 0.1 {
@@ -254,7 +256,7 @@ pub fn glossy_splat_equals_integrated_gather(_: Backend, _: &Config) -> Result<O
     let (mut notes, mut cases) = (Vec::new(), 0);
     let mut rng = generate::rng(23);
     for name in SCENES {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
         let texel = photon_texel(&scene);
         let (maps, _) = PhotonKernel::new(&scene, texel).splat(&volumes, None);

@@ -82,7 +82,7 @@ pub(crate) fn adapter() -> Result<Result<Gpu, Outcome>, String> {
     match Gpu::new() {
         Ok(gpu) => Ok(Ok(gpu)),
         Err(e) if crate::gpu_required() => Err(format!("BEAM_REQUIRE_GPU=1 but {e}")),
-        Err(e) => Ok(Err(Outcome::skipped(&e))),
+        Err(e) => Ok(Err(Outcome::skipped(&e.to_string()))),
     }
 }
 
@@ -127,7 +127,7 @@ pub fn gpu_bounding_triangles_match_math(_: Backend, _: &Config) -> Result<Outco
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
-    let check = NonlinearCheck::new(&gpu)?;
+    let check = NonlinearCheck::new(&gpu).map_err(|e| e.to_string())?;
     let beams = random_beams(21, 100);
     let mut rng = generate::rng(22);
     let mut cases = Vec::new();
@@ -141,7 +141,7 @@ pub fn gpu_bounding_triangles_match_math(_: Backend, _: &Config) -> Result<Outco
             cases.push((i as u32, generate::scene_triangle(&mut rng, &s1)));
         }
     }
-    let got = check.bounding_triangles(&gpu, &beams, &cases)?;
+    let got = check.bounding_triangles(&gpu, &beams, &cases).map_err(|e| e.to_string())?;
     let (mut same, mut larger, mut worst) = (0u64, 0u64, 0.0f32);
     // Larger branches: the whole base where beam-math computed one, the general case where it used
     // the unique projection, kept where it culled.
@@ -213,14 +213,14 @@ pub fn gpu_texel_rays_match_math(_: Backend, _: &Config) -> Result<Outcome, Stri
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
-    let check = NonlinearCheck::new(&gpu)?;
+    let check = NonlinearCheck::new(&gpu).map_err(|e| e.to_string())?;
     let beams = random_beams(23, 100);
     let mut rng = generate::rng(24);
     let cases: Vec<(u32, Vec3)> = (0..beams.len())
         .flat_map(|i| (0..40).map(move |_| i as u32))
         .map(|i| (i, generate::barycentric(&mut rng)))
         .collect();
-    let got = check.rays(&gpu, &beams, &cases)?;
+    let got = check.rays(&gpu, &beams, &cases).map_err(|e| e.to_string())?;
     let (mut worst_o, mut worst_d) = (0.0f32, 0.0f32);
     for ((i, w), (o, d)) in cases.iter().zip(&got) {
         let beam = &beams[*i as usize];
@@ -256,8 +256,8 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
     let mut rng = generate::rng(7);
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in ["cornell", "mirror-glass", "wavy-lake"] {
-        let scene = scene::builtin(name)?;
-        let on_gpu = GpuBeams::new(&gpu, &scene)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
+        let on_gpu = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let bounds = scene.bounds();
         let camera = scene.camera.with_size(128, 128);
         let frame = camera.frame();
@@ -268,7 +268,10 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
             let (a, b) = (p(), p());
             if k % 2 == 0 { rays.push(Ray::new(a, b - a)) } else { segments.push((Ray::new(a, b - a), 1.0)) }
         }
-        let (got, want) = (on_gpu.closest_hits(&scene, &rays)?, CpuBeams.closest_hits(&scene, &rays)?);
+        let (got, want) = (
+            on_gpu.closest_hits(&scene, &rays).map_err(|e| e.to_string())?,
+            CpuBeams.closest_hits(&scene, &rays).map_err(|e| e.to_string())?,
+        );
         let (mut mismatches, mut worst_t, mut worst_w) = (0usize, 0.0f32, 0.0f32);
         for (g, c) in got.iter().zip(&want) {
             match (g, c) {
@@ -282,7 +285,10 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
                 _ => mismatches += 1,
             }
         }
-        let occluded = (on_gpu.any_hits(&scene, &segments)?, CpuBeams.any_hits(&scene, &segments)?);
+        let occluded = (
+            on_gpu.any_hits(&scene, &segments).map_err(|e| e.to_string())?,
+            CpuBeams.any_hits(&scene, &segments).map_err(|e| e.to_string())?,
+        );
         mismatches += occluded.0.iter().zip(&occluded.1).filter(|(a, b)| a != b).count();
         let n = rays.len() + segments.len();
         if mismatches * 10_000 > n || worst_t > 1e-5 || worst_w > 1e-4 {
@@ -313,7 +319,7 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
         ("bumpy-mirror", Degree::S1),
         ("glass-lens-coarse", Degree::S3),
     ] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let smesh = SMesh::specular(&scene);
         let eye = scene.camera.position;
         let beams: Vec<(Beam, u32)> = smesh
@@ -329,9 +335,9 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
             .collect();
         let jobs: Vec<BeamJob<'_>> =
             beams.iter().map(|(beam, prim)| BeamJob { beam, size: 16, exclude: *prim }).collect();
-        let renderer = GpuBeams::new(&gpu, &scene)?;
-        let on_gpu = renderer.render_beams(&scene, &jobs)?;
-        let on_cpu = CpuBeams.render_beams(&scene, &jobs)?;
+        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let on_gpu = renderer.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
+        let on_cpu = CpuBeams.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
         let (mut n, mut d) = (0u64, 0u64);
         for (g, c) in on_gpu.iter().zip(&on_cpu) {
             for (a, b) in g.hits.iter().zip(&c.hits) {
@@ -377,7 +383,7 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
         ("bumpy-mirror", Degree::S1),
         ("wavy-lake-coarse", Degree::S3),
     ] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let options = NonlinearOptions {
             degree,
             texels: 32,
@@ -385,9 +391,10 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
             caustic_strata: CAUSTIC_STRATA,
             shading: RenderOptions::exact(96, 96),
         };
-        let renderer = GpuBeams::new(&gpu, &scene)?;
-        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &renderer)?;
-        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &TwinShading::default())?;
+        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
+        let (on_cpu, _) =
+            render_nonlinear_with(&scene, &options, &TwinShading::default()).map_err(|e| e.to_string())?;
         let (mut differ, mut sum) = (0u64, 0.0f64);
         for (a, b) in on_gpu.pixels.iter().zip(&on_cpu.pixels) {
             let d = (0..3)
@@ -421,11 +428,14 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
     };
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in ["cornell-point", "wavy-lake-coarse", "cornell", "mirror-glass"] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let point_lit = scene.lights.iter().all(|l| matches!(l, scene::Light::Point { .. }));
-        let shader = PointShader::new(&gpu, &scene)?;
-        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
-        let caustics = caustics_by_beams(&scene, Degree::S1, 16, CAUSTIC_STRATA, &CpuBeams)?.map(|c| c.0);
+        let shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)
+            .map_err(|e| e.to_string())?;
+        let caustics = caustics_by_beams(&scene, Degree::S1, 16, CAUSTIC_STRATA, &CpuBeams)
+            .map_err(|e| e.to_string())?
+            .map(|c| c.0);
         let options = RenderOptions::exact(128, 128);
         let camera = scene.camera.with_size(128, 128);
         let frame = camera.frame();
@@ -441,7 +451,7 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
                 })
             })
             .collect();
-        let on_gpu = shader.shade(&gpu, &tracer, caustics.as_ref(), 64, &points)?;
+        let on_gpu = shader.shade(&gpu, &tracer, caustics.as_ref(), 64, &points).map_err(|e| e.to_string())?;
         let (mut differ, mut worst, mut sq, mut norm) = (0u64, 0.0f32, 0.0f64, 0.0f64);
         for (s, g) in points.iter().zip(&on_gpu) {
             let twin = shade_twin(&scene, caustics.as_ref(), 64, s);
@@ -485,7 +495,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
     };
     let (mut total, mut notes) = (0u64, Vec::new());
     for name in ["mirror-glass-coarse", "glass-lens-coarse", "bumpy-mirror", "wavy-lake-coarse"] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let options = NonlinearOptions {
             degree: Degree::S3,
             texels: 32,
@@ -494,10 +504,11 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
             shading: RenderOptions::exact(64, 64),
         };
         let twin = TwinShading::default();
-        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &twin)?;
+        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &twin).map_err(|e| e.to_string())?;
         let (levels, caustics) = twin.0.into_inner().map_err(|e| e.to_string())?;
-        let shader = PointShader::new(&gpu, &scene)?;
-        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
+        let shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)
+            .map_err(|e| e.to_string())?;
         let rest = |points: &[beam_cpu::nonlinear::ShadePoint]| {
             beam_cpu::nonlinear::shade_points(
                 &TwinShading::default(),
@@ -519,7 +530,8 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
                 &levels,
                 &rest,
             )
-        })?;
+        })
+        .map_err(|e| e.to_string())?;
         let (mut differ, mut worst) = (0u64, 0.0f32);
         for (g, c) in on_gpu.iter().zip(&on_cpu.pixels) {
             let error = (*g - *c).abs();

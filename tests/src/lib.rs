@@ -129,7 +129,7 @@ pub fn with_renderer<T>(
         Ok(gpu) => gpu,
         Err(skipped) => return Ok(Err(skipped)),
     };
-    f(&beam_gpu::nonlinear::GpuBeams::new(&gpu, scene)?).map(Ok)
+    f(&beam_gpu::nonlinear::GpuBeams::new(&gpu, scene).map_err(|e| e.to_string())?).map(Ok)
 }
 
 /// True when `backend` is the GPU and wgpu's adapter is a software one (lavapipe in CI), where the

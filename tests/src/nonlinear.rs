@@ -66,7 +66,7 @@ pub fn nonlinear_texels_equal_ray_hits(backend: Backend, _: &Config) -> Result<O
         "glass-lens-coarse",
         "wavy-lake-coarse",
     ] {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let smesh = SMesh::specular(&scene);
         let eye = scene.camera.position;
         let extent = scene.bvh.nodes[0].bounds().extent().length();
@@ -99,7 +99,9 @@ pub fn nonlinear_texels_equal_ray_hits(backend: Backend, _: &Config) -> Result<O
         }
         let jobs: Vec<BeamJob<'_>> =
             beams.iter().map(|(beam, f)| BeamJob { beam, size: 16, exclude: f.prim }).collect();
-        let textures = match crate::with_renderer(backend, &scene, |r| r.render_beams(&scene, &jobs))? {
+        let textures = match crate::with_renderer(backend, &scene, |r| {
+            r.render_beams(&scene, &jobs).map_err(|e| e.to_string())
+        })? {
             Ok(t) => t,
             Err(skipped) => return Ok(skipped),
         };
@@ -205,7 +207,7 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
             notes.push(format!("{name} not on a software GPU"));
             continue;
         }
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let reference = render_smooth_reference(&scene, &shading, 1_000_000);
         // One renderer (on the GPU: one device and pipeline set) for both degrees.
         let images = crate::with_renderer(backend, &scene, |r| {
@@ -213,7 +215,7 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
                 .map(|degree| {
                     let options =
                         NonlinearOptions { degree, texels: 48, bounces: 2, caustic_strata: CAUSTIC_STRATA, shading };
-                    Ok((degree, render_nonlinear_with(&scene, &options, r)?.0))
+                    Ok((degree, render_nonlinear_with(&scene, &options, r).map_err(|e| e.to_string())?.0))
                 })
                 .into_iter()
                 .collect::<Result<Vec<_>, String>>()
@@ -223,7 +225,7 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
             Err(skipped) => return Ok(skipped),
         };
         for (degree, image) in images {
-            let d = difference(&image, &reference)?;
+            let d = difference(&image, &reference).map_err(|e| e.to_string())?;
             if d.psnr < 33.0 {
                 return Err(format!("{name} {degree:?}: PSNR {:.1} dB", d.psnr));
             }
@@ -247,7 +249,10 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_scene::scene::Material;
     let size = 256;
     let shading = RenderOptions::exact(size, size);
-    let (coarse, fine) = (scene::builtin("mirror-glass-coarse")?, scene::builtin("mirror-glass")?);
+    let (coarse, fine) = (
+        scene::builtin("mirror-glass-coarse").map_err(|e| e.to_string())?,
+        scene::builtin("mirror-glass").map_err(|e| e.to_string())?,
+    );
     let mirror_at = |scene: &scene::Scene| -> Vec<bool> {
         let camera = scene.camera.with_size(size, size);
         let frame = camera.frame();
@@ -340,13 +345,14 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
 /// total flux must agree within 1%.
 pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::nonlinear::{CAUSTIC_STRATA, Degree, caustics_by_beams, caustics_by_photons};
-    let scene = scene::builtin("wavy-lake")?;
+    let scene = scene::builtin("wavy-lake").map_err(|e| e.to_string())?;
     let truth = caustics_by_photons(&scene, 16_000_000, 1).ok_or("no caustics")?;
     let photons = caustics_by_photons(&scene, 4_000_000, 2).ok_or("no caustics")?;
     let noise = photons.relative_rms(&truth);
     let mut notes = vec![format!("4M photons {noise:.3}")];
     for degree in [Degree::S1, Degree::S3] {
-        let (beams, stats) = caustics_by_beams(&scene, degree, 32, CAUSTIC_STRATA, &beam_cpu::nonlinear::CpuBeams)?
+        let (beams, stats) = caustics_by_beams(&scene, degree, 32, CAUSTIC_STRATA, &beam_cpu::nonlinear::CpuBeams)
+            .map_err(|e| e.to_string())?
             .ok_or("no caustics")?;
         let error = beams.relative_rms(&truth);
         let (a, b) = (beams.total_flux().element_sum(), truth.total_flux().element_sum());
@@ -368,11 +374,12 @@ pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, 
 /// remains, about 1% of it where rays leave the lens's rim, as with a point light).
 pub fn area_light_caustics_converge(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::nonlinear::{CpuBeams, Degree, caustics_by_beams, caustics_by_photons};
-    let scene = scene::builtin("glass-lens-coarse")?;
+    let scene = scene::builtin("glass-lens-coarse").map_err(|e| e.to_string())?;
     let truth = caustics_by_photons(&scene, 16_000_000, 1).ok_or("no caustics")?;
     let mut runs = Vec::new();
     for k in [1, 2, 4] {
-        let (map, stats) = caustics_by_beams(&scene, Degree::S1, 64, k, &CpuBeams)?.ok_or("no caustics")?;
+        let (map, stats) =
+            caustics_by_beams(&scene, Degree::S1, 64, k, &CpuBeams).map_err(|e| e.to_string())?.ok_or("no caustics")?;
         let error = map.relative_rms(&truth);
         let ratio = map.total_flux().element_sum() / truth.total_flux().element_sum();
         runs.push((k, error, ratio, format!("k={k}: {error:.3} ({} beams, flux ratio {ratio:.4})", stats.beams)));

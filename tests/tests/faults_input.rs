@@ -51,12 +51,13 @@ fn scene_text(file: &str, extra: &str) -> String {
 
 fn load(path: &Path) -> Result<Scene, String> {
     let path = path.to_path_buf();
-    within(&path.display().to_string(), move || scene::load_file(&path))
+    within(&path.display().to_string(), move || scene::load_file(&path)).map_err(|e| e.to_string())
 }
 
 fn load_with(path: &Path, allow_outside_paths: bool) -> Result<Scene, String> {
     let path = path.to_path_buf();
     within(&path.display().to_string(), move || scene::load_file_with(&path, &LoadOptions { allow_outside_paths }))
+        .map_err(|e| e.to_string())
 }
 
 fn err(r: Result<Scene, String>) -> String {
@@ -86,7 +87,7 @@ fn devices_and_fifos_are_refused_not_read() {
         let e = err(load(&dir.0.join(name)));
         assert!(e.contains(name) && e.contains("not a regular file"), "{e}");
     }
-    let e = within("/dev/zero", || mesh::load_obj(Path::new("/dev/zero"))).unwrap_err();
+    let e = within("/dev/zero", || mesh::load_obj(Path::new("/dev/zero"))).unwrap_err().to_string();
     assert!(e.contains("/dev/zero: not a regular file (a device)"), "{e}");
     // Named by a scene (allowed outside its folder): still refused.
     let s = dir.write("s.toml", &scene_text("/dev/zero", ""));
@@ -120,7 +121,7 @@ fn oversized_inputs_are_refused_with_the_limit() {
     let e = err(load(&big));
     assert!(e.contains("big.toml: larger than the 4 MiB limit"), "{e}");
     let small = dir.write("small.obj", TRI);
-    let e = read::read_bounded(&small, 10).unwrap_err();
+    let e = read::read_bounded(&small, 10).unwrap_err().to_string();
     assert!(e.contains("small.obj: larger than the 10 bytes limit"), "{e}");
 }
 
@@ -186,7 +187,7 @@ fn non_convex_faces_are_triangulated_in_their_plane() {
     let area: f32 = m.triangles().iter().map(|t| t.area()).sum();
     assert!((area - 10.0 * 2f32.sqrt()).abs() < 1e-4, "area {area}");
     let bow = dir.write("bow.obj", "v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\n# bow tie\nf 1 2 3 4\n");
-    let e = mesh::load_obj(&bow).unwrap_err();
+    let e = mesh::load_obj(&bow).unwrap_err().to_string();
     assert!(e.contains("bow.obj:6:") && e.contains("crosses itself"), "{e}");
 }
 
@@ -241,11 +242,11 @@ fn every_obj_error_names_the_file_and_line() {
         ("v 0 0 \\\n 0\nv 1 0 0\nv 0 1\n", 4, "three numbers"),
     ];
     for (k, (text, line, what)) in cases.iter().enumerate() {
-        let e = mesh::load_obj(&dir.write(&format!("e{k}.obj"), text)).unwrap_err();
+        let e = mesh::load_obj(&dir.write(&format!("e{k}.obj"), text)).unwrap_err().to_string();
         assert!(e.contains(&format!("e{k}.obj:{line}: ")) && e.contains(what), "{text:?}: {e}");
     }
     let long = format!("v 0 0 0\nv 1 0 {}\n", "9".repeat(10_000) + "x");
-    let e = mesh::load_obj(&dir.write("long.obj", &long)).unwrap_err();
+    let e = mesh::load_obj(&dir.write("long.obj", &long)).unwrap_err().to_string();
     assert!(e.contains("long.obj:2:") && e.chars().count() < 2 * QUOTE_CHARS + 120, "{e}");
 }
 

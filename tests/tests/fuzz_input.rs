@@ -4,6 +4,7 @@
 //! with a short error naming the file; none may panic, and each must finish within a time limit
 //! (a watchdog fails the test on a hang). Counts are printed; `BEAM_FUZZ_SHOW=1` prints every error.
 
+use beam_scene::SceneError;
 use beam_scene::mesh;
 use beam_scene::scene::{self, LoadOptions};
 use rand::{Rng, SeedableRng};
@@ -272,7 +273,7 @@ impl Counts {
         name: &str,
         input: &[u8],
         took: Duration,
-        r: std::thread::Result<Result<(), String>>,
+        r: std::thread::Result<Result<(), SceneError>>,
         bad: &mut Vec<String>,
     ) {
         self.cases += 1;
@@ -281,6 +282,7 @@ impl Counts {
         match r {
             Ok(Ok(())) => self.ok += 1,
             Ok(Err(e)) => {
+                let e = e.to_string();
                 self.errors += 1;
                 if std::env::var_os("BEAM_FUZZ_SHOW").is_some() {
                     eprintln!("ERR {}", e.chars().take(160).collect::<String>());

@@ -16,6 +16,7 @@ use beam_gpu::Gpu;
 use beam_gpu::glossy::GpuGather;
 use beam_gpu::nonlinear::GpuBeams;
 use beam_math::glam::Vec3;
+use beam_scene::BackendError;
 use beam_scene::scene::{self, BUILTIN, Scene};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;
@@ -44,7 +45,7 @@ fn shading(method: Method, primary_beams: bool) -> RenderOptions {
 /// Render `scene` by `method` on the CPU, or on `gpu` when given, as `beam render` does.
 fn render_cell(scene: &Scene, method: &str, gpu: Option<&Gpu>) -> Result<Image, String> {
     let gpu_beams = match (gpu, method.starts_with("nonlinear")) {
-        (Some(g), true) => Some(GpuBeams::new(g, scene)?.with_light_samples(SPP)),
+        (Some(g), true) => Some(GpuBeams::new(g, scene).map_err(|e| e.to_string())?.with_light_samples(SPP)),
         _ => None,
     };
     let renderer: &dyn BeamRenderer = match &gpu_beams {
@@ -67,18 +68,21 @@ fn render_cell(scene: &Scene, method: &str, gpu: Option<&Gpu>) -> Result<Image, 
                 caustic_strata: 1,
                 shading: shading(Method::Beam, false),
             };
-            Ok(render_nonlinear_with(scene, &options, renderer)?.0)
+            Ok(render_nonlinear_with(scene, &options, renderer).map_err(|e| e.to_string())?.0)
         }
         ("nonlinear-reference", _) => {
             render_smooth_reference_with(scene, &shading(Method::Beam, false), PHOTONS, renderer)
+                .map_err(|e| e.to_string())
         }
-        ("glossy", None) => Ok(render_glossy(scene, &glossy)?.0),
+        ("glossy", None) => Ok(render_glossy(scene, &glossy).map_err(|e| e.to_string())?.0),
         ("glossy", Some(g)) => {
-            let gather = GpuGather::new(g, scene)?;
-            let run = |v: &LightVolumes, points: &[(Vec3, Vec3)]| gather.gather(g, v, points, &glossy);
-            Ok(render_glossy_with(scene, &glossy, &CpuBeams, &run)?.0)
+            let gather = GpuGather::new(g, scene).map_err(|e| e.to_string())?;
+            let run = |v: &LightVolumes, points: &[(Vec3, Vec3)]| {
+                gather.gather(g, v, points, &glossy).map_err(BackendError::from)
+            };
+            Ok(render_glossy_with(scene, &glossy, &CpuBeams, &run).map_err(|e| e.to_string())?.0)
         }
-        ("glossy-reference", None) => render_glossy_reference(scene, SIZE, SIZE, PHOTONS, 1),
+        ("glossy-reference", None) => render_glossy_reference(scene, SIZE, SIZE, PHOTONS, 1).map_err(|e| e.to_string()),
         _ => Err(format!("unknown method `{method}`")),
     }
 }

@@ -173,7 +173,7 @@ fn disagreements(t: &dyn Tracer, reference: &dyn Tracer, rays: &Rays) -> usize {
 
 /// Run the benchmark on the OBJ at `scene`, print the table and optionally write JSON.
 pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String> {
-    let mesh = beam_scene::mesh::load_obj(scene)?;
+    let mesh = beam_scene::mesh::load_obj(scene).map_err(|e| e.to_string())?;
     let all = mesh.triangles();
     // Peers get the same triangles our builders keep: degenerate ones removed.
     let tris: Vec<Triangle> = all.iter().copied().filter(|t| t.is_valid()).collect();
@@ -257,7 +257,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
     print_pah(&ours, &wides, &rays);
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?;
-        beam_scene::io::write_atomic(path, text.as_bytes())?;
+        beam_scene::io::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string())?;
         println!("wrote {}", path.display());
     }
     Ok(())

@@ -10,6 +10,7 @@ use beam_cpu::glossy::{
     GlossyOptions, LightVolumes, glossy_photons, photon_texel, render_glossy, render_glossy_photons,
 };
 use beam_cpu::render::{Image, difference};
+use beam_scene::BackendError;
 use beam_scene::scene;
 use plotters::prelude::*;
 use std::path::Path;
@@ -28,10 +29,10 @@ struct Measured {
 }
 
 /// Seconds of `f`'s second run (the first warms caches and pipelines), and its result.
-fn timed<T>(mut f: impl FnMut() -> Result<T, String>) -> Result<(f64, T), String> {
-    f()?;
+fn timed<T, E: ToString>(mut f: impl FnMut() -> Result<T, E>) -> Result<(f64, T), String> {
+    f().map_err(|e| e.to_string())?;
     let start = Instant::now();
-    let out = f()?;
+    let out = f().map_err(|e| e.to_string())?;
     Ok((start.elapsed().as_secs_f64(), out))
 }
 
@@ -49,18 +50,19 @@ pub fn run(scenes: &[String], size: u32, reference: u64, subdivide: u32, out: &P
     );
     let mut all = Vec::new();
     for name in scenes {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let sharp = GlossyOptions { subdivide, ..GlossyOptions::new(size, size) };
-        let truth: Image = render_glossy_photons(&scene, size, size, &glossy_photons(&scene, reference, 7))?;
+        let truth: Image = render_glossy_photons(&scene, size, size, &glossy_photons(&scene, reference, 7))
+            .map_err(|e| e.to_string())?;
         let options = GlossyOptions { filter: photon_texel(&scene), ..sharp };
         let (beam_seconds, (image, _)) = timed(|| render_glossy(&scene, &options))?;
-        let d = difference(&image, &truth)?;
+        let d = difference(&image, &truth).map_err(|e| e.to_string())?;
         let mut photons = Vec::new();
         // Doubling up to half the reference's count.
         let mut n = (reference >> 14).max(1_000);
         let matched = loop {
             let (seconds, img) = timed(|| render_glossy_photons(&scene, size, size, &glossy_photons(&scene, n, 1)))?;
-            let e = difference(&img, &truth)?.rmse;
+            let e = difference(&img, &truth).map_err(|e| e.to_string())?.rmse;
             photons.push((n, seconds, e));
             if e <= d.rmse {
                 break Some((n, seconds));
@@ -109,13 +111,15 @@ pub fn run(scenes: &[String], size: u32, reference: u64, subdivide: u32, out: &P
 
 /// Milliseconds of a glossy frame with the gather on the GPU.
 fn gpu_frame(gpu: &beam_gpu::Gpu, scene: &scene::Scene, options: &GlossyOptions) -> Result<f64, String> {
-    let gather = beam_gpu::glossy::GpuGather::new(gpu, scene)?;
+    let gather = beam_gpu::glossy::GpuGather::new(gpu, scene).map_err(|e| e.to_string())?;
     let run = |v: &LightVolumes, points: &[(beam_math::glam::Vec3, beam_math::glam::Vec3)]| {
-        gather.gather(gpu, v, points, options)
+        gather.gather(gpu, v, points, options).map_err(BackendError::from)
     };
-    beam_cpu::glossy::render_glossy_with(scene, options, &beam_cpu::nonlinear::CpuBeams, &run)?;
+    beam_cpu::glossy::render_glossy_with(scene, options, &beam_cpu::nonlinear::CpuBeams, &run)
+        .map_err(|e| e.to_string())?;
     let start = Instant::now();
-    beam_cpu::glossy::render_glossy_with(scene, options, &beam_cpu::nonlinear::CpuBeams, &run)?;
+    beam_cpu::glossy::render_glossy_with(scene, options, &beam_cpu::nonlinear::CpuBeams, &run)
+        .map_err(|e| e.to_string())?;
     Ok(1e3 * start.elapsed().as_secs_f64())
 }
 

@@ -16,7 +16,7 @@ pub const SCENES: [&str; 6] =
 /// Run the benchmark: `frames` timed GPU frames per scene (after one warm-up frame) and one CPU
 /// frame, at `width × height`.
 pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degree) -> Result<(), String> {
-    let gpu = Gpu::new()?;
+    let gpu = Gpu::new().map_err(|e| e.to_string())?;
     println!(
         "GPU: {}; {width}×{height}, {frames} timed frames per scene, {degree:?}, 2 tree levels, no area-light caustics",
         gpu.describe()
@@ -26,7 +26,7 @@ pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degr
         "scene", "GPU fps", "GPU ms", "atlas ms", "rays ms", "shade ms", "CPU ms", "CPU/GPU", "beams", "PSNR"
     );
     for name in scenes {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let options = NonlinearOptions {
             degree,
             texels: 32,
@@ -36,13 +36,13 @@ pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degr
             caustic_strata: 0,
             shading: RenderOptions::exact(width, height),
         };
-        let renderer = GpuBeams::new(&gpu, &scene)?;
-        let (warm, _) = render_nonlinear_with(&scene, &options, &renderer)?;
+        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let (warm, _) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
         let before = renderer.times();
         let start = Instant::now();
         let mut stats = None;
         for _ in 0..frames.max(1) {
-            stats = Some(render_nonlinear_with(&scene, &options, &renderer)?.1);
+            stats = Some(render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?.1);
         }
         let per_frame = start.elapsed().as_secs_f64() / f64::from(frames.max(1));
         let after = renderer.times();
@@ -50,9 +50,9 @@ pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degr
         let rays = (after.ray_seconds - before.ray_seconds) / f64::from(frames.max(1));
         let shade = (after.shade_seconds - before.shade_seconds) / f64::from(frames.max(1));
         let start = Instant::now();
-        let (cpu_image, _) = render_nonlinear_with(&scene, &options, &CpuBeams)?;
+        let (cpu_image, _) = render_nonlinear_with(&scene, &options, &CpuBeams).map_err(|e| e.to_string())?;
         let cpu = start.elapsed().as_secs_f64();
-        let psnr = difference(&warm, &cpu_image)?.psnr;
+        let psnr = difference(&warm, &cpu_image).map_err(|e| e.to_string())?.psnr;
         let beams: u64 = stats.map_or(0, |s| s.beams_per_level.iter().sum());
         println!(
             "{name:<16} {:>9.2} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>9.2} {beams:>9} {:>8}",

@@ -86,7 +86,7 @@ pub fn run(size: u32, out: &Path, csv: &Path) -> Result<(), String> {
             r.s1 / r.rays.max(1e-9)
         );
     }
-    write_atomic(csv, text.as_bytes())?;
+    write_atomic(csv, text.as_bytes()).map_err(|e| e.to_string())?;
     plot(out, &sweeps, &rows)?;
     println!("wrote {} and {}", out.display(), csv.display());
     Ok(())

@@ -43,11 +43,11 @@ pub fn load(arg: &str) -> Result<Option<Loaded>, String> {
         Some(rel) => match beam_scene::scenes::scenes_dir().map(|d| d.join(rel)) {
             Ok(p) if p.is_file() => p.display().to_string(),
             Ok(p) => return skip(arg, &format!("{} not found", p.display())),
-            Err(e) => return skip(arg, &e),
+            Err(e) => return skip(arg, &e.to_string()),
         },
         None => arg.to_string(),
     };
-    let scene = scene::load(&path)?;
+    let scene = scene::load(&path).map_err(|e| e.to_string())?;
     let name = Path::new(arg).file_stem().map_or_else(|| arg.to_string(), |s| s.to_string_lossy().into_owned());
     Ok(Some(Loaded { name, scene, mesh: path.ends_with(".obj") }))
 }
@@ -156,14 +156,14 @@ pub fn run(scenes: &[String], size: u32, out: Option<&Path>) -> Result<(), Strin
         }
         println!("{:<18} {:>9} {:>9} {:>8} {:>12}", "method", "seconds", "RMSE", "PSNR dB", "× eye beams");
         for (method, seconds, img) in &rows {
-            let d = difference(img, &exact)?;
+            let d = difference(img, &exact).map_err(|e| e.to_string())?;
             println!("{method:<18} {seconds:>9.3} {:>9.5} {:>8.2} {:>12.3}", d.rmse, d.psnr, seconds / ps.seconds);
         }
         if let Some(dir) = out {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
             for (method, _, img) in &rows {
                 let file = method.split_whitespace().take(3).collect::<Vec<_>>().join("-").replace(['(', ')'], "");
-                img.save_png(&dir.join(format!("primary-{}-{file}.png", loaded.name)))?;
+                img.save_png(&dir.join(format!("primary-{}-{file}.png", loaded.name))).map_err(|e| e.to_string())?;
             }
             println!("images in {}", dir.display());
         }

@@ -117,7 +117,7 @@ pub fn run(
                 pieces: ps.pieces,
                 ray1_s,
                 ray16_s,
-                rmse16: difference(&img16, &exact)?.rmse,
+                rmse16: difference(&img16, &exact).map_err(|e| e.to_string())?.rmse,
             };
             bar.suspend(|| {
                 println!(
@@ -194,7 +194,7 @@ pub fn run(
             ));
         }
         let (png, csv_path) = (dir.join("primary-sweep.png"), dir.join("primary-sweep.csv"));
-        write_atomic(&csv_path, csv.as_bytes())?;
+        write_atomic(&csv_path, csv.as_bytes()).map_err(|e| e.to_string())?;
         plot(&png, &rows)?;
         println!("wrote {} and {}", png.display(), csv_path.display());
     }

@@ -31,7 +31,7 @@ pub fn run(
     out_dir: Option<&Path>,
 ) -> Result<(), String> {
     check(size, reference_spp, light_size)?;
-    let mut scene = scene::load(scene_arg)?;
+    let mut scene = scene::load(scene_arg).map_err(|e| e.to_string())?;
     let bounds = scene.bvh.nodes.first().ok_or("empty scene")?.bounds();
     if scene_arg.ends_with(".obj") {
         // A bare mesh gets the interior view of `beam bench bvh` and a ceiling light, lowered under
@@ -111,7 +111,7 @@ pub fn run(
     let beam_seconds = rows[0].1;
     println!("\n{:<18} {:>9} {:>10} {:>9} {:>14}", "method", "seconds", "RMSE", "PSNR dB", "beam speed-up");
     for (name, seconds, img, extra) in &rows {
-        let d = difference(img, &reference)?;
+        let d = difference(img, &reference).map_err(|e| e.to_string())?;
         println!(
             "{name:<18} {seconds:>9.3} {:>10.5} {:>9.2} {:>14.2}  {extra}",
             d.rmse,
@@ -121,11 +121,14 @@ pub fn run(
     }
     if let Some(dir) = out_dir {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        reference.save_png(&dir.join("reference.png"))?;
+        reference.save_png(&dir.join("reference.png")).map_err(|e| e.to_string())?;
         for (name, _, img, _) in &rows {
             let file = name.split_whitespace().take(2).collect::<Vec<_>>().join("-").replace(['(', ')'], "");
-            img.save_png(&dir.join(format!("{file}.png")))?;
-            side_by_side(img, &reference, 0.05)?.save_png(&dir.join(format!("{file}-vs-reference.png")))?;
+            img.save_png(&dir.join(format!("{file}.png"))).map_err(|e| e.to_string())?;
+            side_by_side(img, &reference, 0.05)
+                .map_err(|e| e.to_string())?
+                .save_png(&dir.join(format!("{file}-vs-reference.png")))
+                .map_err(|e| e.to_string())?;
         }
         println!("images in {}", dir.display());
     }

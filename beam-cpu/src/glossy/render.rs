@@ -9,13 +9,16 @@
 use super::direct::reference_direct;
 use super::kernel::PhotonKernel;
 use super::photons::{PhotonMaps, glossy_photons};
+use crate::RenderError;
 use crate::nonlinear::{BeamRenderer, CpuBeams, Shade, ShadePoint, shade_by_waves};
 use crate::render::{DEPTH_EPS, Image, shading_eps};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::BackendError;
 use beam_scene::glossy::{Emitter, Gathered, GlossyOptions, LightVolumes, Occluded, is_scatterer};
 use beam_scene::scene::{Material, Scene};
 use rayon::prelude::*;
+use std::sync::PoisonError;
 use std::time::Instant;
 
 /// What a glossy render did.
@@ -45,7 +48,7 @@ pub struct GlossyStats {
 }
 
 /// Gathers many receiver points `(point, unit normal)` at once.
-pub type Gather<'a> = dyn Fn(&LightVolumes, &[(Vec3, Vec3)]) -> Result<Vec<Gathered>, String> + Sync + 'a;
+pub type Gather<'a> = dyn Fn(&LightVolumes, &[(Vec3, Vec3)]) -> Result<Vec<Gathered>, BackendError> + Sync + 'a;
 
 /// The gather on the CPU, in parallel: through the hierarchy or over every beam; second-order
 /// shadows by shadow rays through `scene` when `second_order`.
@@ -80,12 +83,9 @@ fn occlusion(scene: &Scene) -> impl Fn(Ray, f32) -> bool + Sync + '_ {
 
 /// The scene must have a light that emits (002 traces beams from point sources; area lights are
 /// taken as stratified points).
-fn check_lights(scene: &Scene) -> Result<(), String> {
+fn check_lights(scene: &Scene) -> Result<(), RenderError> {
     if beam_scene::glossy::emitters(scene).is_empty() {
-        return Err(format!(
-            "scene `{}` has no light to trace light volumes from (a point light, or an area light of positive area)",
-            scene.name
-        ));
+        return Err(RenderError::NoEmitters { scene: scene.name.clone() });
     }
     Ok(())
 }
@@ -120,7 +120,7 @@ fn render_points(
     height: u32,
     renderer: &dyn BeamRenderer,
     diffuse: &Shade<'_>,
-) -> Result<Image, String> {
+) -> Result<Image, BackendError> {
     let camera = scene.camera.with_size(width, height);
     let frame = camera.frame();
     let rays: Vec<Ray> = (0..(camera.width * camera.height) as usize).map(|i| camera.pixel_ray(&frame, i)).collect();
@@ -134,7 +134,7 @@ fn render_points(
             Some((i, ShadePoint { prim: h.prim, p: ray.at(h.t), d: ray.direction.normalize(), seed: i as u64 }))
         })
         .unzip();
-    let shade = |batch: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
+    let shade = |batch: &[ShadePoint]| -> Result<Vec<Vec3>, BackendError> {
         let (receivers, others): (Vec<usize>, Vec<usize>) =
             (0..batch.len()).partition(|&i| matches!(scene.material(batch[i].prim), Material::Diffuse { .. }));
         let mut out = vec![Vec3::ZERO; batch.len()];
@@ -184,7 +184,7 @@ fn direct(scene: &Scene, emitters: &[Emitter], p: Vec3, n: Vec3, shadowed: u64) 
 }
 
 /// Render `scene` by glossy light volumes on the CPU.
-pub fn render_glossy(scene: &Scene, options: &GlossyOptions) -> Result<(Image, GlossyStats), String> {
+pub fn render_glossy(scene: &Scene, options: &GlossyOptions) -> Result<(Image, GlossyStats), RenderError> {
     let gather = |v: &LightVolumes, points: &[(Vec3, Vec3)]| Ok(gather_on_cpu(scene, v, points, options));
     render_glossy_with(scene, options, &CpuBeams, &gather)
 }
@@ -196,7 +196,7 @@ pub fn render_glossy_with(
     options: &GlossyOptions,
     renderer: &dyn BeamRenderer,
     gather: &Gather<'_>,
-) -> Result<(Image, GlossyStats), String> {
+) -> Result<(Image, GlossyStats), RenderError> {
     check_lights(scene)?;
     let start = Instant::now();
     let volumes = LightVolumes::new(scene, options.method, options.subdivide);
@@ -212,7 +212,7 @@ pub fn render_glossy_with(
         (maps, volumes.shadows(), tested)
     });
     let totals = std::sync::Mutex::new((t.elapsed().as_secs_f64(), 0u64, splatted.as_ref().map_or(0, |s| s.2)));
-    let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
+    let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, BackendError> {
         let at: Vec<(Vec3, Vec3)> = points.iter().map(|s| (s.p, facing(scene, s.prim, s.d))).collect();
         let t = Instant::now();
         let gathered = match &splatted {
@@ -245,7 +245,8 @@ pub fn render_glossy_with(
             .collect())
     };
     let image = render_points(scene, options.width, options.height, renderer, &diffuse)?;
-    let (gather_seconds, receivers, tested) = totals.into_inner().map_err(|e| e.to_string())?;
+    // Nothing panics while holding the lock: a poisoned one still holds the right totals.
+    let (gather_seconds, receivers, tested) = totals.into_inner().unwrap_or_else(PoisonError::into_inner);
     let shadow_beams = volumes.beams.iter().filter(|b| b.shadow).count() as u64;
     let stats = GlossyStats {
         seconds: start.elapsed().as_secs_f64(),
@@ -265,9 +266,9 @@ pub fn render_glossy_with(
 /// The ground truth of [`render_glossy`]: the same eye paths, receivers lit directly with exact
 /// shadow rays (every occluder; area lights sampled over their area, [`reference_direct`]) plus
 /// the scattered light of `map` (from [`glossy_photons`]).
-pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &PhotonMaps) -> Result<Image, String> {
+pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &PhotonMaps) -> Result<Image, RenderError> {
     check_lights(scene)?;
-    let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, String> {
+    let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, BackendError> {
         Ok(points
             .par_iter()
             .map(|s| {
@@ -277,7 +278,7 @@ pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &Photo
             })
             .collect())
     };
-    render_points(scene, width, height, &CpuBeams, &diffuse)
+    Ok(render_points(scene, width, height, &CpuBeams, &diffuse)?)
 }
 
 /// [`render_glossy_photons`] with a fresh photon map of about `photons` photons per light.
@@ -287,7 +288,7 @@ pub fn render_glossy_reference(
     height: u32,
     photons: u64,
     seed: u64,
-) -> Result<Image, String> {
+) -> Result<Image, RenderError> {
     check_lights(scene)?;
     render_glossy_photons(scene, width, height, &glossy_photons(scene, photons, seed))
 }

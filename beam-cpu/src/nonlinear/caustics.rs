@@ -10,6 +10,7 @@ use crate::glossy::{Emitter, area_point, stratified, whole};
 use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, shading_eps};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::BackendError;
 use beam_scene::nonlinear::{Beam, BeamJob, BeamRenderer, BeamTexture, Degree, SFace, SMesh, TEXELS, child_beams};
 use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
@@ -110,7 +111,7 @@ pub fn caustics_by_beams(
     texels: u32,
     strata: u32,
     renderer: &dyn BeamRenderer,
-) -> Result<Option<(IrradianceMap, CausticStats)>, String> {
+) -> Result<Option<(IrradianceMap, CausticStats)>, BackendError> {
     let texels = texels.clamp(*TEXELS.start(), *TEXELS.end());
     let start = std::time::Instant::now();
     let Some((smesh, empty)) = setup(scene) else { return Ok(None) };

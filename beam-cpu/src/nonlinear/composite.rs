@@ -5,6 +5,7 @@
 //! level's radiance on the GPU and reads back only the pixels.
 
 use beam_math::glam::Vec3;
+use beam_scene::BackendError;
 use beam_scene::nonlinear::{LevelRadiance, SMesh, Shade, ShadePoint, composite, sample_region};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
@@ -17,7 +18,7 @@ pub fn composite_levels(
     smesh: &SMesh,
     levels: &[LevelRadiance],
     shade: &Shade<'_>,
-) -> Result<Vec<Vec3>, String> {
+) -> Result<Vec<Vec3>, BackendError> {
     let mut below: Vec<Vec3> = Vec::new();
     let mut below_regions: &[(u32, u32)] = &[];
     for level in levels.iter().rev() {

@@ -4,6 +4,7 @@
 
 use super::caustics::caustics_by_photons;
 use super::trace::{CpuBeams, shade_points};
+use crate::RenderError;
 use crate::render::{Image, RenderOptions};
 use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{BeamRenderer, Path, ShadePoint, trace_waves};
@@ -26,7 +27,7 @@ pub fn render_smooth_reference_with(
     options: &RenderOptions,
     photons: u64,
     renderer: &dyn BeamRenderer,
-) -> Result<Image, String> {
+) -> Result<Image, RenderError> {
     let caustics = caustics_by_photons(scene, photons, options.seed);
     let camera = scene.camera.with_size(options.width, options.height);
     let frame = camera.frame();

@@ -14,10 +14,12 @@
 use super::atlas::render_beam;
 use super::caustics::{CausticStats, caustics_by_beams};
 use super::composite::composite_levels;
+use crate::RenderError;
 use crate::render::{Image, IrradianceMap, RenderOptions, shade_point};
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::{Mat3, Vec3};
+use beam_scene::BackendError;
 use beam_scene::nonlinear::{
     Beam, BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, Composite, Degree, LevelRadiance, PointShading,
     RayQueries, SFace, SMesh, ShadePoint, TexelRadiance, child_beams, region_size,
@@ -111,17 +113,17 @@ impl Source<'_> {
 pub struct CpuBeams;
 
 impl BeamRasterizer for CpuBeams {
-    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String> {
+    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
         Ok(jobs.par_iter().map(|j| render_beam(scene, j.beam.texel_beam(), j.size, j.exclude)).collect())
     }
 }
 
 impl RayQueries for CpuBeams {
-    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
+    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
         Ok(rays.par_iter().map(|&ray| scene.wide.closest_hit(ray, f32::INFINITY)).collect())
     }
 
-    fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, String> {
+    fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
         Ok(segments.par_iter().map(|&(ray, t_max)| scene.wide.any_hit(ray, t_max)).collect())
     }
 }
@@ -137,7 +139,7 @@ pub fn shade_points(
     options: &RenderOptions,
     caustics: Option<&IrradianceMap>,
     points: &[ShadePoint],
-) -> Result<Vec<Vec3>, String> {
+) -> Result<Vec<Vec3>, BackendError> {
     match renderer.shade_points(scene, options, caustics, points)? {
         Some(radiance) => Ok(radiance),
         None => {
@@ -214,7 +216,7 @@ impl Tree<'_> {
     /// The beam tree level by level (000 §7.2–7.3, per-level atlases): each level's beams built from
     /// the light arriving at its faces, rendered in one batch by `renderer`, their texels' hits on
     /// specular faces the requests of the next level. Returns the roots' children and the levels.
-    fn build(&self, renderer: &dyn BeamRenderer, roots: Vec<Request>) -> Result<Built, String> {
+    fn build(&self, renderer: &dyn BeamRenderer, roots: Vec<Request>) -> Result<Built, BackendError> {
         let mut levels: Vec<Vec<Node>> = Vec::new();
         let mut root_children = HashMap::new();
         let mut requests = roots;
@@ -343,7 +345,7 @@ pub fn render_nonlinear_with(
     scene: &Scene,
     options: &NonlinearOptions,
     renderer: &dyn BeamRenderer,
-) -> Result<(Image, NonlinearStats), String> {
+) -> Result<(Image, NonlinearStats), RenderError> {
     let start = Instant::now();
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
     // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.

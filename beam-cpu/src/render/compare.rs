@@ -1,6 +1,7 @@
 //! Image comparison: RMSE and PSNR on 8-bit sRGB values, and a side-by-side picture with an error map.
 
 use super::image::{Image, srgb_decode, srgb_encode};
+use crate::RenderError;
 use beam_math::glam::Vec3;
 
 /// Differences between two images of the same size.
@@ -15,9 +16,9 @@ pub struct Difference {
 }
 
 /// Compare `a` and `b` (same size) on their sRGB encodings.
-pub fn difference(a: &Image, b: &Image) -> Result<Difference, String> {
+pub fn difference(a: &Image, b: &Image) -> Result<Difference, RenderError> {
     if (a.width, a.height) != (b.width, b.height) {
-        return Err(format!("sizes differ: {}×{} and {}×{}", a.width, a.height, b.width, b.height));
+        return Err(RenderError::SizeMismatch { first: (a.width, a.height), second: (b.width, b.height) });
     }
     let (mut sum, mut max) = (0.0f64, 0.0f64);
     for (p, q) in a.pixels.iter().zip(&b.pixels) {
@@ -41,7 +42,7 @@ fn heat(x: f32) -> Vec3 {
 
 /// `a | b | error map`: the error map shows the largest channel difference of each pixel, scaled so
 /// that `scale` (in sRGB units) is full scale.
-pub fn side_by_side(a: &Image, b: &Image, scale: f32) -> Result<Image, String> {
+pub fn side_by_side(a: &Image, b: &Image, scale: f32) -> Result<Image, RenderError> {
     difference(a, b)?;
     let (w, h) = (a.width, a.height);
     let mut out = Image::new(3 * w, h);

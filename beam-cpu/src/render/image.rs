@@ -1,5 +1,6 @@
 //! Linear RGB images and their PNG encoding (sRGB, written atomically).
 
+use crate::RenderError;
 use beam_math::glam::Vec3;
 use std::path::Path;
 
@@ -41,13 +42,14 @@ impl Image {
     }
 
     /// Write as PNG (sRGB), atomically.
-    pub fn save_png(&self, path: &Path) -> Result<(), String> {
-        beam_scene::io::write_png(path, self.width, self.height, &self.to_srgb8())
+    pub fn save_png(&self, path: &Path) -> Result<(), RenderError> {
+        Ok(beam_scene::io::write_png(path, self.width, self.height, &self.to_srgb8())?)
     }
 
     /// Read an 8-bit PNG (or any format the `image` crate reads) back to linear RGB.
-    pub fn load(path: &Path) -> Result<Self, String> {
-        let img = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?.to_rgb8();
+    pub fn load(path: &Path) -> Result<Self, RenderError> {
+        let img = image::open(path).map_err(|source| RenderError::ReadImage { path: path.to_path_buf(), source })?;
+        let img = img.to_rgb8();
         let (width, height) = img.dimensions();
         let pixels = img
             .pixels()

@@ -11,15 +11,16 @@
 
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
-use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, map, max_binding, output, shader_module, storage, uniform};
 use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::PointShader;
+use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{
     BeamJob, BeamRasterizer, BeamTexture, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint, TexelHit,
@@ -99,7 +100,7 @@ struct Placed {
 
 impl<'g> GpuBeams<'g> {
     /// `rays` traced on the GPU, in dispatches of at most 65,535 workgroups, timed as ray time.
-    fn trace(&self, rays: Vec<GpuRay>) -> Result<Vec<GpuHit>, String> {
+    fn trace(&self, rays: Vec<GpuRay>) -> Result<Vec<GpuHit>, GpuError> {
         let start = Instant::now();
         let mut out = Vec::with_capacity(rays.len());
         for chunk in rays.chunks(65_535 * WORKGROUP_SIZE as usize) {
@@ -117,19 +118,19 @@ impl<'g> GpuBeams<'g> {
         scene: &Scene,
         caustics: Option<&IrradianceMap>,
         points: &[ShadePoint],
-    ) -> Result<Vec<Vec3>, String> {
+    ) -> Result<Vec<Vec3>, BackendError> {
         let gpu_shade = |batch: &[ShadePoint]| {
             let start = Instant::now();
             let out = self.shader.shade(self.gpu, &self.tracer, caustics, self.light_samples, batch);
             self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
-            out
+            out.map_err(BackendError::from)
         };
         shade_by_waves(scene, self, &gpu_shade, points)
     }
 
     /// Upload `scene` and compile the pipeline; pages of up to 4096² texels (less where the adapter
     /// allows less).
-    pub fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, String> {
+    pub fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, GpuError> {
         let module = shader_module(gpu, "beam_atlas")?;
         let bound = compute_pipeline(gpu, "beam_atlas", "bound_triangles")?;
         let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -166,7 +167,7 @@ impl<'g> GpuBeams<'g> {
         let by_prim: Vec<GpuTriangle> =
             scene.triangles.iter().enumerate().map(|(i, t)| GpuTriangle::new(t, i as u32)).collect();
         let triangles = storage(gpu, "scene triangles", &by_prim, wgpu::BufferUsages::empty());
-        let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)?;
+        let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles)?)?;
         // A power of two, so that Z-order packing of power-of-two squares fills it.
         let side = gpu.device.limits().max_texture_dimension_2d.clamp(32, 4096);
         let page = 1 << (31 - side.leading_zeros());
@@ -211,7 +212,7 @@ impl<'g> GpuBeams<'g> {
         pairs: &[[u32; 2]],
         ranges: &[(u32, u32)],
         rows: u32,
-    ) -> Result<(Vec<[u32; 2]>, Vec<Counters>), String> {
+    ) -> Result<(Vec<[u32; 2]>, Vec<Counters>), GpuError> {
         let device = &self.gpu.device;
         let extent = wgpu::Extent3d { width: self.page, height: rows, depth_or_array_layers: 1 };
         let texture = |format, usage| {
@@ -343,7 +344,7 @@ fn z_order(index: u32, s: u32) -> (u32, u32) {
 }
 
 impl BeamRasterizer for GpuBeams<'_> {
-    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String> {
+    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
         let start = Instant::now();
         // Bounding-cone culling on the CPU (000 App. A; the paper culls objects there too).
         let candidates: Vec<Vec<u32>> = jobs
@@ -366,12 +367,12 @@ impl BeamRasterizer for GpuBeams<'_> {
             // Each region takes the power-of-two square around it.
             let s = jobs[i].size.max(1).next_power_of_two();
             if s > self.page {
-                return Err(format!("a beam of {}² texels does not fit a {}² atlas page", jobs[i].size, self.page));
+                return Err(GpuError::BeamTooLarge { size: jobs[i].size, page: self.page }.into());
             }
             let area = u64::from(s) * u64::from(s);
             let n = candidates[i].len();
             if n > max_pairs {
-                return Err(format!("a beam meets {n} scene triangles, more than one GPU binding holds ({max_pairs})"));
+                return Err(GpuError::TooManyTriangles { triangles: n, max: max_pairs }.into());
             }
             if used + area > capacity || pairs + n > max_pairs {
                 page += 1;
@@ -397,7 +398,7 @@ impl BeamRasterizer for GpuBeams<'_> {
             let mut flat = Vec::new();
             let mut ranges = Vec::with_capacity(members.len());
             for (k, &i) in members.iter().enumerate() {
-                let q = placed[i].as_ref().ok_or("unplaced beam")?;
+                let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
                 beams.push(GpuBeam::new(jobs[i].beam, [q.x, q.y, jobs[i].size], jobs[i].exclude));
                 let first = flat.len() as u32;
                 flat.extend(candidates[i].iter().map(|&prim| [k as u32, prim]));
@@ -408,7 +409,7 @@ impl BeamRasterizer for GpuBeams<'_> {
             let drawn = start.elapsed().as_secs_f64() - prepared;
             let start = Instant::now();
             for (&i, &[kept, tested]) in members.iter().zip(&counts) {
-                let q = placed[i].as_ref().ok_or("unplaced beam")?;
+                let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
                 let size = jobs[i].size;
                 let n = (size * size) as usize;
                 let mut hits = vec![None; n];
@@ -431,12 +432,12 @@ impl BeamRasterizer for GpuBeams<'_> {
                 t.triangles += flat.len() as u64;
             });
         }
-        textures.into_iter().map(|t| t.ok_or_else(|| "a beam was not rendered".to_string())).collect()
+        textures.into_iter().map(|t| t.ok_or_else(|| GpuError::Internal("a beam was not rendered").into())).collect()
     }
 }
 
 impl RayQueries for GpuBeams<'_> {
-    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, String> {
+    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
         let hits = self.trace(rays.iter().map(GpuRay::closest).collect())?;
         // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
         Ok(hits
@@ -451,7 +452,7 @@ impl RayQueries for GpuBeams<'_> {
             .collect())
     }
 
-    fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, String> {
+    fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
         let hits = self.trace(segments.iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?;
         // An any-hit ray's t is 1 when it is occluded, 0 otherwise (`trace_ray`).
         Ok(hits.iter().map(|h| h.t == 1.0).collect())
@@ -465,7 +466,7 @@ impl PointShading for GpuBeams<'_> {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         points: &[ShadePoint],
-    ) -> Result<Option<Vec<Vec3>>, String> {
+    ) -> Result<Option<Vec<Vec3>>, BackendError> {
         // The GPU's shading pass does exact shading (001 eq. 1 by shadow rays) only.
         if options.shading != Shading::Exact {
             return Ok(None);
@@ -480,7 +481,7 @@ impl PointShading for GpuBeams<'_> {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<Vec<Vec3>>, String> {
+    ) -> Result<Option<Vec<Vec3>>, BackendError> {
         if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
             return Ok(None);
         }
@@ -506,6 +507,6 @@ impl PointShading for GpuBeams<'_> {
             )
         });
         self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64() - elsewhere.get());
-        pixels.map(Some)
+        pixels.map(Some).map_err(BackendError::from)
     }
 }

@@ -5,9 +5,9 @@
 //! with [`Beam::ray_at`].
 
 use super::beam::GpuBeam;
-use crate::Gpu;
 use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage};
 use crate::interface::{BOUNDING_BRUTE_FORCE, BOUNDING_GENERAL, BOUNDING_UNIQUE_PROJECTION, WORKGROUP_SIZE};
+use crate::{Gpu, GpuError};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::BoundingCase;
@@ -42,7 +42,7 @@ pub struct NonlinearCheck {
 
 impl NonlinearCheck {
     /// Compile both entry points.
-    pub fn new(gpu: &Gpu) -> Result<Self, String> {
+    pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
         Ok(Self {
             bounding: compute_pipeline(gpu, "nonlinear_check", "check_bounding_triangles")?,
             rays: compute_pipeline(gpu, "nonlinear_check", "check_rays")?,
@@ -56,13 +56,13 @@ impl NonlinearCheck {
         beams: &[Beam],
         cases: &[CheckCase],
         per_case: usize,
-    ) -> Result<Vec<[f32; 4]>, String> {
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
         if cases.is_empty() {
             return Ok(Vec::new());
         }
         let groups = cases.len().div_ceil(WORKGROUP_SIZE as usize);
         if groups > 65_535 {
-            return Err(format!("{} cases exceed one dispatch", cases.len()));
+            return Err(GpuError::TooManyCases { cases: cases.len() });
         }
         let gpu_beams: Vec<GpuBeam> = beams.iter().map(|b| GpuBeam::new(b, [0, 0, 1], u32::MAX)).collect();
         let beam_buffer = storage(gpu, "beams", &gpu_beams, wgpu::BufferUsages::empty());
@@ -81,7 +81,7 @@ impl NonlinearCheck {
         gpu: &Gpu,
         beams: &[Beam],
         cases: &[(u32, Triangle)],
-    ) -> Result<Vec<GpuBoundingTriangle>, String> {
+    ) -> Result<Vec<GpuBoundingTriangle>, GpuError> {
         let v = |p: Vec3, w: f32| [p.x, p.y, p.z, w];
         let cases: Vec<CheckCase> = cases
             .iter()
@@ -103,7 +103,7 @@ impl NonlinearCheck {
     }
 
     /// The shader's texel ray (origin, direction) of each `(beam index, base point)`.
-    pub fn rays(&self, gpu: &Gpu, beams: &[Beam], cases: &[(u32, Vec3)]) -> Result<Vec<(Vec3, Vec3)>, String> {
+    pub fn rays(&self, gpu: &Gpu, beams: &[Beam], cases: &[(u32, Vec3)]) -> Result<Vec<(Vec3, Vec3)>, GpuError> {
         let cases: Vec<CheckCase> = cases
             .iter()
             .map(|(i, w)| CheckCase { a: [w.x, w.y, w.z, f32::from_bits(*i)], b: [0.0; 4], c: [0.0; 4] })

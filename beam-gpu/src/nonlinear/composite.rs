@@ -5,12 +5,13 @@
 //! points without child beams (past the last level) come from the caller. CPU twin:
 //! beam-cpu's `composite_levels`.
 
-use crate::Gpu;
 use crate::buffers::{compute_pipeline, dispatch, max_binding, output, read_back, storage, uniform};
 use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
+use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
+use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{LevelRadiance, SMesh, ShadePoint};
 use beam_scene::scene::{Material, Scene};
@@ -78,7 +79,7 @@ pub use crate::interface::NONE;
 const TEXEL_BYTES: u64 = 8;
 
 /// Shades a batch of the points the [`PointShader`] does not (mirrors and glass past the tree).
-pub type ShadeRest<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, String> + 'a;
+pub type ShadeRest<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, BackendError> + 'a;
 
 /// The composite pass.
 pub struct GpuComposite {
@@ -87,7 +88,7 @@ pub struct GpuComposite {
 
 impl GpuComposite {
     /// Compile the pass.
-    pub fn new(gpu: &Gpu) -> Result<Self, String> {
+    pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
         Ok(Self { pipeline: compute_pipeline(gpu, "composite", "composite")? })
     }
 
@@ -112,7 +113,7 @@ impl GpuComposite {
         spp: u32,
         levels: &[LevelRadiance],
         rest: &ShadeRest<'_>,
-    ) -> Result<Vec<Vec3>, String> {
+    ) -> Result<Vec<Vec3>, GpuError> {
         let faces = storage(gpu, "faces", &gpu_faces(scene, smesh), wgpu::BufferUsages::empty());
         let prepared = shader.prepare(gpu, caustics);
         // Records, shade inputs and outputs of one dispatch within a binding.

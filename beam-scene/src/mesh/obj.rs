@@ -5,7 +5,8 @@
 
 use super::Mesh;
 use super::triangulate::triangulate;
-use crate::read::{quote, shown};
+use crate::error::SceneError;
+use crate::read::quote;
 use beam_math::glam::Vec3;
 use std::path::Path;
 
@@ -26,7 +27,7 @@ struct Face {
 
 /// The mesh of the OBJ text `data` (from the file `path`, which errors name). `quote_lines`: whether
 /// errors may quote the offending line (clipped to 80 characters).
-pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, ObjStats), String> {
+pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, ObjStats), SceneError> {
     let text = String::from_utf8_lossy(data);
     let mut positions: Vec<Vec3> = Vec::new();
     let mut corners: Vec<i64> = Vec::new();
@@ -54,7 +55,7 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
         };
         let fail = |what: &str| {
             let quoted = if quote_lines { format!(": `{}`", quote(line)) } else { String::new() };
-            Err(format!("{}:{first_line}: {what}{quoted}", shown(path)))
+            Err(SceneError::Obj { path: path.to_path_buf(), line: first_line, message: format!("{what}{quoted}") })
         };
         // Comments run from `#` to the end of the line, after data too.
         let data = line.split_once('#').map_or(line, |(d, _)| d);
@@ -123,17 +124,19 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
         face.clear();
         for &i in &corners[f.start..f.end] {
             if i >= positions.len() as i64 {
-                return Err(format!(
-                    "{}:{}: face corner {} is past the last vertex ({})",
-                    shown(path),
-                    f.line,
-                    i + 1,
-                    positions.len()
-                ));
+                return Err(SceneError::Obj {
+                    path: path.to_path_buf(),
+                    line: f.line,
+                    message: format!("face corner {} is past the last vertex ({})", i + 1, positions.len()),
+                });
             }
             face.push(i as u32);
         }
-        triangulate(&positions, &face, &mut indices).map_err(|e| format!("{}:{}: {e}", shown(path), f.line))?;
+        triangulate(&positions, &face, &mut indices).map_err(|source| SceneError::Face {
+            path: path.to_path_buf(),
+            line: f.line,
+            source,
+        })?;
     }
     Ok((Mesh { positions, indices }, stats))
 }

@@ -1,6 +1,7 @@
 //! Triangulating an OBJ face: a polygon of any number of corners, convex or not, split into
 //! triangles that cover exactly the polygon seen along its best-fit (Newell) normal.
 
+use crate::error::FaceError;
 use beam_math::glam::{DVec2, DVec3, Vec3};
 
 /// Most corners of a non-convex face (ear clipping takes up to cubic time in the corners).
@@ -12,7 +13,7 @@ pub const MAX_NONCONVEX_CORNERS: usize = 256;
 /// itself (seen along its normal) is an error; so is a non-convex one of more than
 /// [`MAX_NONCONVEX_CORNERS`] corners. A polygon with non-finite corners or no area is fanned
 /// (its triangles are degenerate, filtered and counted later).
-pub fn triangulate(positions: &[Vec3], corners: &[u32], out: &mut Vec<[u32; 3]>) -> Result<(), String> {
+pub fn triangulate(positions: &[Vec3], corners: &[u32], out: &mut Vec<[u32; 3]>) -> Result<(), FaceError> {
     let n = corners.len();
     let fan = |out: &mut Vec<[u32; 3]>| out.extend((1..n - 1).map(|i| [corners[0], corners[i], corners[i + 1]]));
     if n == 3 {
@@ -44,10 +45,10 @@ pub fn triangulate(positions: &[Vec3], corners: &[u32], out: &mut Vec<[u32; 3]>)
         return Ok(());
     }
     if n > MAX_NONCONVEX_CORNERS {
-        return Err(format!("a non-convex face of {n} corners (at most {MAX_NONCONVEX_CORNERS} are supported)"));
+        return Err(FaceError::TooManyCorners { corners: n });
     }
     if crosses_itself(&p) {
-        return Err("the face crosses itself (seen along its normal)".to_string());
+        return Err(FaceError::CrossesItself);
     }
     ear_clip(&p, corners, out)
 }
@@ -100,7 +101,7 @@ fn segments_meet(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
 }
 
 /// Ear clipping of the simple counter-clockwise polygon `p` (corners `corners`).
-fn ear_clip(p: &[DVec2], corners: &[u32], out: &mut Vec<[u32; 3]>) -> Result<(), String> {
+fn ear_clip(p: &[DVec2], corners: &[u32], out: &mut Vec<[u32; 3]>) -> Result<(), FaceError> {
     let mut left: Vec<usize> = (0..p.len()).collect();
     let mut i = 0;
     let mut misses = 0;
@@ -122,7 +123,7 @@ fn ear_clip(p: &[DVec2], corners: &[u32], out: &mut Vec<[u32; 3]>) -> Result<(),
             i = (i + 1) % m;
             misses += 1;
             if misses > 2 * m {
-                return Err("the face could not be triangulated (it overlaps itself)".to_string());
+                return Err(FaceError::Overlaps);
             }
         }
     }
@@ -169,7 +170,7 @@ mod tests {
     #[test]
     fn bow_ties_and_stars_are_refused() {
         let bow: Vec<Vec3> = [[0., 0.], [1., 1.], [1., 0.], [0., 1.]].map(|[x, y]| Vec3::new(x, y, 0.0)).to_vec();
-        assert!(triangulate(&bow, &[0, 1, 2, 3], &mut Vec::new()).is_err());
+        assert_eq!(triangulate(&bow, &[0, 1, 2, 3], &mut Vec::new()), Err(FaceError::CrossesItself));
         let star: Vec<Vec3> = (0..5)
             .map(|k| {
                 let a = std::f32::consts::TAU * (2 * k) as f32 / 5.0;

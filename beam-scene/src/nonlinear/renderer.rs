@@ -2,10 +2,13 @@
 //! (nearest hits with barycentric weights, any hits), a beam rasterizer (beams and scene triangles
 //! to texels, 000 Alg. 1) and point shading (hit to radiance, where the backend can). A renderer
 //! is their composition ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's `GpuBeams` are two.
+//! A backend that can fail returns a [`BackendError`] (the CPU's never fails); its message is the
+//! backend's own.
 
 use super::radiance::LevelRadiance;
 use super::smesh::SMesh;
 use super::texture::{BeamJob, BeamTexture, ShadePoint};
+use crate::error::BackendError;
 use crate::irradiance_map::IrradianceMap;
 use crate::options::RenderOptions;
 use crate::queries::RayQueries;
@@ -16,7 +19,7 @@ use beam_math::glam::Vec3;
 /// ray (000 Alg. 1; beam-cpu: each beam in parallel; beam-gpu: per-level atlases, 000 §3).
 pub trait BeamRasterizer: Sync {
     /// The textures of `jobs`, in order.
-    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, String>;
+    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError>;
 }
 
 /// Shades points where a backend can; `Ok(None)` hands the work back to the caller, which shades on
@@ -30,7 +33,7 @@ pub trait PointShading: Sync {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         points: &[ShadePoint],
-    ) -> Result<Option<Vec<Vec3>>, String> {
+    ) -> Result<Option<Vec<Vec3>>, BackendError> {
         let _ = (scene, options, caustics, points);
         Ok(None)
     }
@@ -44,7 +47,7 @@ pub trait PointShading: Sync {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<Vec<Vec3>>, String> {
+    ) -> Result<Option<Vec<Vec3>>, BackendError> {
         let _ = (scene, smesh, options, caustics, levels);
         Ok(None)
     }

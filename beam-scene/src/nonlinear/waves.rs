@@ -3,6 +3,7 @@
 //! the points the paths end on are shaded in one batch per wave.
 
 use super::texture::ShadePoint;
+use crate::error::BackendError;
 use crate::queries::RayQueries;
 use crate::scene::Scene;
 use crate::specular::{MAX_DEPTH, specular_rays};
@@ -23,7 +24,7 @@ pub fn shade_by_waves(
     renderer: &(impl RayQueries + ?Sized),
     shade: &Shade<'_>,
     points: &[ShadePoint],
-) -> Result<Vec<Vec3>, String> {
+) -> Result<Vec<Vec3>, BackendError> {
     let eps = shading_eps(scene);
     let (mut direct, mut paths) = (Vec::new(), Vec::new());
     for (i, s) in points.iter().enumerate() {
@@ -45,7 +46,7 @@ pub fn shade_by_waves(
 type End = (usize, Vec3, ShadePoint);
 
 /// Shades a batch of diffuse, glossy or emissive points.
-pub type Shade<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, String> + Sync + 'a;
+pub type Shade<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, BackendError> + Sync + 'a;
 
 /// Trace `paths` (at bounce `first` of at most [`MAX_DEPTH`]) wave by wave: each wave's nearest hits
 /// by `renderer`, mirror and glass hits continuing as their [`specular_rays`], every other hit
@@ -57,7 +58,7 @@ pub fn trace_waves(
     mut paths: Vec<Path>,
     first: u32,
     out: &mut [Vec3],
-) -> Result<(), String> {
+) -> Result<(), BackendError> {
     let eps = shading_eps(scene);
     for depth in first..=MAX_DEPTH {
         if paths.is_empty() {

@@ -1,6 +1,7 @@
 //! Built-in scenes, so that the default job needs no files.
 
 use super::{Camera, Light, Material, Scene, foliage, light_volumes, showcase};
+use crate::error::SceneError;
 use crate::mesh::{self, Mesh};
 use beam_math::Triangle;
 use beam_math::glam::{Mat3, Vec3};
@@ -27,7 +28,7 @@ pub const BUILTIN: [&str; 17] = [
 ];
 
 /// A built-in scene by name.
-pub fn builtin(name: &str) -> Result<Scene, String> {
+pub fn builtin(name: &str) -> Result<Scene, SceneError> {
     match name {
         "cornell" => Ok(cornell(false, false)),
         "mirror-glass" => Ok(cornell(true, false)),
@@ -49,7 +50,7 @@ pub fn builtin(name: &str) -> Result<Scene, String> {
         "pool-caustics" => Ok(light_volumes::pool_caustics(20)),
         "stained-glass" => Ok(light_volumes::stained_glass()),
         "foliage" => Ok(foliage::foliage(foliage::LEAVES, 1)),
-        _ => Err(format!("unknown built-in scene `{name}` (known: {})", BUILTIN.join(", "))),
+        _ => Err(SceneError::UnknownScene { name: name.to_string() }),
     }
 }
 
@@ -58,16 +59,16 @@ pub const PROCEDURAL: [&str; 4] = ["facing-mirrors", "glass-lens", "mirror-teapo
 
 /// A procedural built-in with its specular surfaces (the S mesh) at resolution `n` (quads per mirror
 /// side, lens rings, teapot profile steps, water quads per side; 2 to 256).
-pub fn builtin_with_smesh(name: &str, n: u32) -> Result<Scene, String> {
+pub fn builtin_with_smesh(name: &str, n: u32) -> Result<Scene, SceneError> {
     if !(2..=256).contains(&n) {
-        return Err(format!("S-mesh resolution {n} out of range (2 to 256)"));
+        return Err(SceneError::SmeshResolution { resolution: n });
     }
     match name {
         "facing-mirrors" => Ok(showcase::facing_mirrors(n)),
         "glass-lens" => Ok(showcase::glass_lens(n)),
         "mirror-teapot" => Ok(showcase::mirror_teapot(n, 16)),
         "wavy-lake" => Ok(showcase::wavy_lake(n)),
-        _ => Err(format!("an S-mesh resolution applies to the built-ins {} only, not `{name}`", PROCEDURAL.join(", "))),
+        _ => Err(SceneError::NotProcedural { name: name.to_string() }),
     }
 }
 
@@ -181,6 +182,6 @@ mod tests {
         assert_eq!(s.stats.degenerate, 0);
         let g = builtin("mirror-glass").unwrap();
         assert!(g.stats.degenerate > 0, "the UV spheres' pole triangles are filtered and counted");
-        assert!(builtin("nope").err().unwrap().contains("cornell"));
+        assert!(builtin("nope").err().unwrap().to_string().contains("cornell"));
     }
 }

@@ -1,6 +1,7 @@
 //! Checks of scene-file text and values: nesting depth before parsing, TOML errors as
 //! `file:line:column`, and values (colours, positions) that must be finite or non-negative.
 
+use crate::error::SceneError;
 use crate::read::{QUOTE_CHARS, clip, visible};
 use std::path::Path;
 
@@ -10,11 +11,17 @@ pub const MAX_DEPTH: usize = 64;
 /// Refuse text whose arrays and inline tables nest deeper than [`MAX_DEPTH`] before the TOML
 /// parser (which recurses) sees it. A cheap scan that skips strings and comments; the error names
 /// the file and line. (Deep dotted keys the parser refuses itself, without recursing.)
-pub fn nesting(path: &Path, text: &str) -> Result<(), String> {
+pub fn nesting(path: &Path, text: &str) -> Result<(), SceneError> {
     let b = text.as_bytes();
     let (mut i, mut line, mut depth) = (0, 1, 0usize);
-    let fail =
-        |line: usize, what: &str| Err(format!("{}:{line}: {what} nest deeper than {MAX_DEPTH} levels", path.display()));
+    let fail = |line: usize, what: &str| {
+        Err(SceneError::Toml {
+            path: path.to_path_buf(),
+            line: Some(line),
+            column: None,
+            message: format!("{what} nest deeper than {MAX_DEPTH} levels"),
+        })
+    };
     while i < b.len() {
         match b[i] {
             b'\n' => line += 1,
@@ -61,13 +68,14 @@ pub fn nesting(path: &Path, text: &str) -> Result<(), String> {
 
 /// A TOML error as `file:line:column: message`, quoting at most [`QUOTE_CHARS`] characters of the
 /// line around the column (the parser's own message quotes the whole line, however long).
-pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> String {
+pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> SceneError {
     let message = match e.message().trim() {
         "" => "not valid TOML".to_string(),
         m => visible(&clip(&m.replace('\n', "; "), 200)),
     };
+    let toml = |line, column, message| SceneError::Toml { path: path.to_path_buf(), line, column, message };
     let Some(span) = e.span() else {
-        return format!("{}: {message}", path.display());
+        return toml(None, None, message);
     };
     // An error at the very end points at the last line, not the empty one after it.
     let end = if text.ends_with('\n') { text.len() - 1 } else { text.len() };
@@ -87,28 +95,33 @@ pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> String {
         quoted.push('…');
     }
     let quoted = visible(quoted.trim());
-    if quoted.is_empty() {
-        format!("{}:{line}:{}: {message}", path.display(), column + 1)
-    } else {
-        format!("{}:{line}:{}: {message}: `{quoted}`", path.display(), column + 1)
-    }
+    let message = if quoted.is_empty() { message } else { format!("{message}: `{quoted}`") };
+    toml(Some(line), Some(column + 1), message)
 }
 
 /// Refuse non-finite values of `element` (a position, a transform).
-pub fn finite(path: &Path, element: &str, values: &[f32]) -> Result<(), String> {
+pub fn finite(path: &Path, element: &str, values: &[f32]) -> Result<(), SceneError> {
     if values.iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
-        Err(format!("{}: {element}: values must be finite, not {values:?}", path.display()))
+        Err(SceneError::Invalid {
+            path: path.to_path_buf(),
+            element: element.to_string(),
+            message: format!("values must be finite, not {values:?}"),
+        })
     }
 }
 
 /// Refuse a colour (albedo, tint, radiance, intensity) of `element` that is not finite and ≥ 0.
-pub fn colour(path: &Path, element: &str, rgb: [f32; 3]) -> Result<(), String> {
+pub fn colour(path: &Path, element: &str, rgb: [f32; 3]) -> Result<(), SceneError> {
     if rgb.iter().all(|v| v.is_finite() && *v >= 0.0) {
         Ok(())
     } else {
-        Err(format!("{}: {element}: each channel must be finite and ≥ 0, not {rgb:?}", path.display()))
+        Err(SceneError::Invalid {
+            path: path.to_path_buf(),
+            element: element.to_string(),
+            message: format!("each channel must be finite and ≥ 0, not {rgb:?}"),
+        })
     }
 }
 
@@ -126,7 +139,7 @@ mod tests {
         let p = Path::new("s.toml");
         assert!(nesting(p, "a = [[1], [2]]\n[[meshes]]\nb = { c = [1.5, 2.5] }\n").is_ok());
         let deep = format!("x = 1\na = {}1{}\n", "[".repeat(100), "]".repeat(100));
-        let e = nesting(p, &deep).unwrap_err();
+        let e = nesting(p, &deep).unwrap_err().to_string();
         assert_eq!(e, "s.toml:2: arrays or tables nest deeper than 64 levels");
         let quoted = format!(
             "a = \"{}\"\nb = '{}'\n# {}\nc = \"\"\"\n{}\"\"\"\n",
@@ -139,7 +152,7 @@ mod tests {
         let dotted = format!("{} = 1\n", ["a"; 100_000].join("."));
         assert!(nesting(p, &dotted).is_ok());
         let e = toml::from_str::<toml::Value>(&dotted).unwrap_err();
-        let m = toml_error(p, &dotted, &e);
+        let m = toml_error(p, &dotted, &e).to_string();
         assert!(m.starts_with("s.toml:1:") && m.len() < 400, "{m}");
     }
 
@@ -148,7 +161,7 @@ mod tests {
         let p = Path::new("s.toml");
         let text = format!("a = 1\nb = [{}\n", "1, ".repeat(10_000));
         let e = toml::from_str::<toml::Value>(&text).unwrap_err();
-        let m = toml_error(p, &text, &e);
+        let m = toml_error(p, &text, &e).to_string();
         assert!(m.starts_with("s.toml:2:") && m.len() < 400, "{m}");
     }
 }

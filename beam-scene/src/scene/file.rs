@@ -4,6 +4,7 @@
 use super::check::{self, finite};
 use super::format::{self, Scale, SceneFile};
 use super::{Camera, Light, Material, Scene};
+use crate::error::SceneError;
 use crate::mesh::{Mesh, load_obj_with};
 use crate::read::{MAX_SCENE_BYTES, has_extension, read_bounded, resolve_inside};
 use beam_math::Triangle;
@@ -21,12 +22,12 @@ pub struct LoadOptions {
 
 /// Load a scene by built-in name, `.toml` scene file, `.gltf`/`.glb` file or bare `.obj` file,
 /// with mesh and buffer paths kept inside the scene file's folder.
-pub fn load(name_or_path: &str) -> Result<Scene, String> {
+pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
     load_with(name_or_path, &LoadOptions::default())
 }
 
 /// [`load`] with `options`.
-pub fn load_with(name_or_path: &str, options: &LoadOptions) -> Result<Scene, String> {
+pub fn load_with(name_or_path: &str, options: &LoadOptions) -> Result<Scene, SceneError> {
     if super::BUILTIN.contains(&name_or_path) {
         return super::builtin(name_or_path);
     }
@@ -36,12 +37,12 @@ pub fn load_with(name_or_path: &str, options: &LoadOptions) -> Result<Scene, Str
 /// Load a `.toml` scene file, a `.gltf` or `.glb` file or a bare `.obj` file (extensions in any
 /// case), with mesh and buffer paths kept inside the scene file's folder. Errors name the file and
 /// the line (TOML syntax, OBJ lines) or the element (`meshes[2].material`, `mesh 2 primitive 0`).
-pub fn load_file(path: &Path) -> Result<Scene, String> {
+pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
     load_file_with(path, &LoadOptions::default())
 }
 
 /// [`load_file`] with `options`.
-pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, String> {
+pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     if has_extension(path, "obj") {
         load_bare_obj(path)
     } else if has_extension(path, "toml") {
@@ -49,26 +50,22 @@ pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, Strin
     } else if has_extension(path, "gltf") || has_extension(path, "glb") {
         super::gltf::load_gltf(path, options)
     } else {
-        Err(format!(
-            "{}: expected a built-in scene name ({}), a .toml scene, a .gltf/.glb model or an .obj mesh",
-            path.display(),
-            super::BUILTIN.join(", ")
-        ))
+        Err(SceneError::UnknownFileType { path: path.to_path_buf() })
     }
 }
 
 /// The scene file's text, read once (bounded), checked for UTF-8 and nesting depth, and parsed.
-fn parse_toml(path: &Path) -> Result<SceneFile, String> {
+fn parse_toml(path: &Path) -> Result<SceneFile, SceneError> {
     let data = read_bounded(path, MAX_SCENE_BYTES)?;
     let text = String::from_utf8(data).map_err(|e| {
         let line = e.as_bytes()[..e.utf8_error().valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
-        format!("{}:{line}: not UTF-8 text", path.display())
+        SceneError::Toml { path: path.to_path_buf(), line: Some(line), column: None, message: "not UTF-8 text".into() }
     })?;
     check::nesting(path, &text)?;
     toml::from_str(&text).map_err(|e| check::toml_error(path, &text, &e))
 }
 
-fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, String> {
+fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let file = parse_toml(path)?;
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -88,8 +85,10 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, String> {
     let mut skipped = 0;
     for (i, m) in file.meshes.iter().enumerate() {
         let element = format!("meshes[{i}]");
-        let &mat = index.get(&m.material).ok_or_else(|| {
-            format!("{}: {element}.material: no material named `{}`", path.display(), check::name(&m.material))
+        let &mat = index.get(&m.material).ok_or_else(|| SceneError::Invalid {
+            path: path.to_path_buf(),
+            element: format!("{element}.material"),
+            message: format!("no material named `{}`", check::name(&m.material)),
         })?;
         let scale = match m.scale {
             None => Vec3::ONE,
@@ -100,7 +99,8 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, String> {
         let t = m.translate.map_or(Vec3::ZERO, Vec3::from_array);
         finite(path, &format!("{element} transform"), &[scale.x, scale.y, scale.z, r.x, r.y, r.z, t.x, t.y, t.z])?;
         let rot = Mat3::from_euler(EulerRot::XYZ, r.x.to_radians(), r.y.to_radians(), r.z.to_radians());
-        let in_scene = |e: String| format!("{}: {element}: {e}", path.display());
+        let in_scene =
+            |e| SceneError::InMesh { path: path.to_path_buf(), element: element.clone(), source: Box::new(e) };
         let (mesh_path, inside) = resolve_inside(dir, &m.file, options.allow_outside_paths).map_err(in_scene)?;
         if !meshes.contains_key(&mesh_path) {
             let (mesh, stats) = load_obj_with(&mesh_path, inside).map_err(in_scene)?;
@@ -131,12 +131,12 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, String> {
 }
 
 /// Bounds of the non-degenerate triangles; an error naming the file when there is none.
-pub(super) fn valid_bounds(path: &Path, triangles: &[(Triangle, u32)]) -> Result<beam_math::Aabb, String> {
+pub(super) fn valid_bounds(path: &Path, triangles: &[(Triangle, u32)]) -> Result<beam_math::Aabb, SceneError> {
     let bounds = triangles
         .iter()
         .filter(|(t, _)| t.is_valid())
         .fold(beam_math::Aabb::EMPTY, |b, (t, _)| b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2]));
-    if bounds.is_valid() { Ok(bounds) } else { Err(format!("{}: no valid triangle", path.display())) }
+    if bounds.is_valid() { Ok(bounds) } else { Err(SceneError::NoValidTriangle { path: path.to_path_buf() }) }
 }
 
 /// A camera in front of the box (along +z), framing it.
@@ -161,7 +161,7 @@ pub(super) fn default_light(b: beam_math::Aabb) -> Light {
     Light::Quad { corner, edge_u: Vec3::X * size, edge_v: Vec3::Z * size, radiance: Vec3::splat(20.0) }
 }
 
-fn load_bare_obj(path: &Path) -> Result<Scene, String> {
+fn load_bare_obj(path: &Path) -> Result<Scene, SceneError> {
     let (mesh, stats) = load_obj_with(path, true)?;
     let triangles: Vec<(Triangle, u32)> = mesh.triangles().into_iter().map(|t| (t, 0)).collect();
     let bounds = valid_bounds(path, &triangles)?;
@@ -208,10 +208,10 @@ mod tests {
     fn errors_name_the_file_and_line_or_element() {
         let dir = tempfile::tempdir().unwrap();
         let bad_syntax = write(dir.path(), "a.toml", "[camera]\nposition = [0, 0\n");
-        let e = load_file(&bad_syntax).err().unwrap();
+        let e = load_file(&bad_syntax).err().unwrap().to_string();
         assert!(e.contains("a.toml:2:"), "{e}");
         let bad_material = write(dir.path(), "b.toml", "[[meshes]]\nfile = \"x.obj\"\nmaterial = \"nope\"\n");
-        let e = load_file(&bad_material).err().unwrap();
+        let e = load_file(&bad_material).err().unwrap().to_string();
         assert!(e.contains("b.toml") && e.contains("meshes[0].material"), "{e}");
         let zero_light = write(
             dir.path(),
@@ -219,10 +219,10 @@ mod tests {
             "[materials.w]\ntype=\"diffuse\"\nalbedo=[1,1,1]\n[[meshes]]\nfile=\"t.obj\"\nmaterial=\"w\"\n[[lights]]\ntype=\"quad\"\ncorner=[0,0,0]\nedge_u=[1,0,0]\nedge_v=[2,0,0]\nradiance=[1,1,1]\n",
         );
         write(dir.path(), "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-        let e = load_file(&zero_light).err().unwrap();
+        let e = load_file(&zero_light).err().unwrap().to_string();
         assert!(e.contains("lights[0]") && e.contains("zero area"), "{e}");
         let bad_obj = write(dir.path(), "d.obj", "v 0 0 0\nv 1 x 0\nf 1 2 3\n");
-        let e = load_file(&bad_obj).err().unwrap();
+        let e = load_file(&bad_obj).err().unwrap().to_string();
         assert!(e.contains("d.obj:2"), "{e}");
     }
 

@@ -30,6 +30,7 @@
 
 use super::check::{colour, finite};
 use super::{Bump, Camera, Light, Material};
+use crate::error::SceneError;
 use beam_math::glam::Vec3;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -111,12 +112,17 @@ pub(super) enum LightFile {
     Triangle { vertices: [[f32; 3]; 3], radiance: [f32; 3] },
 }
 
+/// Field `field` of `element` of the scene file `path` is not `expected`.
+fn out_of_range(path: &Path, element: &str, field: &str, expected: &'static str) -> SceneError {
+    SceneError::OutOfRange { path: path.to_path_buf(), element: format!("{element}.{field}"), expected }
+}
+
 fn vec3(a: [f32; 3]) -> Vec3 {
     Vec3::from_array(a)
 }
 
 /// The material `element` of the scene file `path`, its values checked (colours finite and ≥ 0).
-pub(super) fn material(path: &Path, element: &str, m: &MaterialFile) -> Result<Material, String> {
+pub(super) fn material(path: &Path, element: &str, m: &MaterialFile) -> Result<Material, SceneError> {
     Ok(match *m {
         MaterialFile::Diffuse { albedo } => {
             colour(path, &format!("{element}.albedo"), albedo)?;
@@ -126,22 +132,22 @@ pub(super) fn material(path: &Path, element: &str, m: &MaterialFile) -> Result<M
             colour(path, &format!("{element}.tint"), tint.unwrap_or([1.0; 3]))?;
             let (delta, wavelength) = (bump.unwrap_or(0.0), bump_wavelength.unwrap_or(1.0));
             if !(0.0..=0.5).contains(&delta) {
-                return Err(format!("{}: {element}.bump must be an angle from 0 to 0.5 radians", path.display()));
+                return Err(out_of_range(path, element, "bump", "an angle from 0 to 0.5 radians"));
             }
             if !(wavelength > 0.0 && wavelength.is_finite()) {
-                return Err(format!("{}: {element}.bump_wavelength must be a positive number", path.display()));
+                return Err(out_of_range(path, element, "bump_wavelength", "a positive number"));
             }
             Material::Mirror { tint: vec3(tint.unwrap_or([1.0; 3])), bump: Bump { delta, wavelength } }
         }
         MaterialFile::Glass { ior } => {
             if !(ior > 0.0 && ior.is_finite()) {
-                return Err(format!("{}: {element}.ior must be a positive number", path.display()));
+                return Err(out_of_range(path, element, "ior", "a positive number"));
             }
             Material::Glass { ior }
         }
         MaterialFile::Glossy { albedo, variance } => {
             if !(variance >= 0.0 && variance.is_finite()) {
-                return Err(format!("{}: {element}.variance must be ≥ 0", path.display()));
+                return Err(out_of_range(path, element, "variance", "≥ 0"));
             }
             colour(path, &format!("{element}.albedo"), albedo)?;
             Material::Glossy { albedo: vec3(albedo), variance }
@@ -149,7 +155,7 @@ pub(super) fn material(path: &Path, element: &str, m: &MaterialFile) -> Result<M
         MaterialFile::ThinGlass { tint, sigma } => {
             let sigma = sigma.unwrap_or(0.0);
             if !(sigma >= 0.0 && sigma.is_finite()) {
-                return Err(format!("{}: {element}.sigma must be ≥ 0", path.display()));
+                return Err(out_of_range(path, element, "sigma", "≥ 0"));
             }
             colour(path, &format!("{element}.tint"), tint)?;
             Material::ThinGlass { tint: vec3(tint), sigma }
@@ -163,7 +169,7 @@ pub(super) fn material(path: &Path, element: &str, m: &MaterialFile) -> Result<M
 
 /// The light `element` of the scene file `path`, checked: finite corners or position, a colour
 /// finite and ≥ 0, an area light's area positive.
-pub(super) fn light(path: &Path, element: &str, l: &LightFile) -> Result<Light, String> {
+pub(super) fn light(path: &Path, element: &str, l: &LightFile) -> Result<Light, SceneError> {
     let light = match *l {
         LightFile::Point { position, intensity } => {
             finite(path, &format!("{element}.position"), &position)?;
@@ -181,14 +187,18 @@ pub(super) fn light(path: &Path, element: &str, l: &LightFile) -> Result<Light, 
     let what = if matches!(light, Light::Point { .. }) { "intensity" } else { "radiance" };
     colour(path, &format!("{element}.{what}"), light.power().to_array())?;
     if !matches!(light, Light::Point { .. }) && !(light.area() > 0.0) {
-        return Err(format!("{}: {element}: the area light has zero area", path.display()));
+        return Err(SceneError::Invalid {
+            path: path.to_path_buf(),
+            element: element.to_string(),
+            message: "the area light has zero area".into(),
+        });
     }
     Ok(light)
 }
 
 /// The camera of the scene file `path`, checked: finite, 0 < fov < 180, a non-zero resolution and
 /// an up vector not along the view (nor a view of zero length).
-pub(super) fn camera(path: &Path, c: &CameraFile) -> Result<Camera, String> {
+pub(super) fn camera(path: &Path, c: &CameraFile) -> Result<Camera, SceneError> {
     finite(path, "camera", &[c.position, c.target, c.up.unwrap_or([0.0, 1.0, 0.0])].concat())?;
     let cam = Camera {
         position: vec3(c.position),
@@ -204,11 +214,13 @@ pub(super) fn camera(path: &Path, c: &CameraFile) -> Result<Camera, String> {
         || cam.height == 0
         || !(sideways.length_squared() > 0.0 && sideways.is_finite())
     {
-        return Err(format!(
-            "{}: camera: needs 0 < fov < 180, a non-zero resolution, position ≠ target and an up \
-             vector not along the view",
-            path.display()
-        ));
+        return Err(SceneError::Invalid {
+            path: path.to_path_buf(),
+            element: "camera".into(),
+            message: "needs 0 < fov < 180, a non-zero resolution, position ≠ target and an up vector not along \
+                      the view"
+                .into(),
+        });
     }
     Ok(cam)
 }

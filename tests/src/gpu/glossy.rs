@@ -21,11 +21,14 @@ pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, S
     let (mut total, mut notes) = (0u64, Vec::new());
     let options = GlossyOptions::new(1, 1);
     for name in crate::glossy::SCENES {
-        let scene = scene::builtin(name)?;
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
         let points = crate::glossy::receiver_points(&scene, 10_000, 41);
         let on_cpu = gather_on_cpu(&scene, &volumes, &points, &options);
-        let on_gpu = beam_gpu::glossy::GpuGather::new(&gpu, &scene)?.gather(&gpu, &volumes, &points, &options)?;
+        let on_gpu = beam_gpu::glossy::GpuGather::new(&gpu, &scene)
+            .map_err(|e| e.to_string())?
+            .gather(&gpu, &volumes, &points, &options)
+            .map_err(|e| e.to_string())?;
         let peak = on_cpu.iter().map(|g| g.irradiance.max_element()).fold(0.0f32, f32::max);
         let (mut differ, mut worst, mut lit, mut walks) = (0u64, 0.0f32, 0u64, 0u64);
         for (c, g) in on_cpu.iter().zip(&on_gpu) {
@@ -65,16 +68,16 @@ pub fn gpu_glossy_gather_area_lights_equal_cpu(_: Backend, _: &Config) -> Result
         Err(o) => return Ok(o),
     };
     let name = "mirror-glass-coarse";
-    let scene = scene::builtin(name)?;
+    let scene = scene::builtin(name).map_err(|e| e.to_string())?;
     let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
     if volumes.lights.len() < 16 {
         return Err(format!("{name}: {} emitters, expected an area light's 16", volumes.lights.len()));
     }
     let options = GlossyOptions::new(1, 1);
     let points = crate::glossy::receiver_points(&scene, 2_000, 43);
-    let gather = beam_gpu::glossy::GpuGather::new(&gpu, &scene)?;
+    let gather = beam_gpu::glossy::GpuGather::new(&gpu, &scene).map_err(|e| e.to_string())?;
     let on_cpu = gather_on_cpu(&scene, &volumes, &points, &options);
-    let on_gpu = gather.gather(&gpu, &volumes, &points, &options)?;
+    let on_gpu = gather.gather(&gpu, &volumes, &points, &options).map_err(|e| e.to_string())?;
     let peak = on_cpu.iter().map(|g| g.irradiance.max_element()).fold(0.0f32, f32::max);
     let (mut differ, mut walks, mut worst) = (0u64, 0u64, 0.0f32);
     let (tested_cpu, tested_gpu): (u64, u64) =
@@ -109,7 +112,7 @@ pub fn gpu_glossy_gather_area_lights_equal_cpu(_: Backend, _: &Config) -> Result
     let mut batch_dependent = 0u64;
     for parity in 0..2 {
         let half: Vec<(Vec3, Vec3)> = points.iter().skip(parity).step_by(2).copied().collect();
-        let again = gather.gather(&gpu, &volumes, &half, &options)?;
+        let again = gather.gather(&gpu, &volumes, &half, &options).map_err(|e| e.to_string())?;
         batch_dependent +=
             again.iter().zip(on_gpu.iter().skip(parity).step_by(2)).filter(|(a, b)| a != b).count() as u64;
     }

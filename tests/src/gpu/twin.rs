@@ -4,6 +4,7 @@ use beam_cpu::nonlinear::{BeamJob, BeamRasterizer, CpuBeams, LevelRadiance, SMes
 use beam_cpu::render::RenderOptions;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::BackendError;
 use beam_scene::scene;
 use std::sync::Mutex;
 
@@ -19,17 +20,17 @@ impl BeamRasterizer for TwinShading {
         &self,
         scene: &scene::Scene,
         jobs: &[BeamJob<'_>],
-    ) -> Result<Vec<beam_cpu::nonlinear::BeamTexture>, String> {
+    ) -> Result<Vec<beam_cpu::nonlinear::BeamTexture>, BackendError> {
         CpuBeams.render_beams(scene, jobs)
     }
 }
 
 impl beam_cpu::nonlinear::RayQueries for TwinShading {
-    fn closest_hits(&self, scene: &scene::Scene, rays: &[Ray]) -> Result<Vec<Option<beam_bvh::Hit>>, String> {
+    fn closest_hits(&self, scene: &scene::Scene, rays: &[Ray]) -> Result<Vec<Option<beam_bvh::Hit>>, BackendError> {
         CpuBeams.closest_hits(scene, rays)
     }
 
-    fn any_hits(&self, scene: &scene::Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, String> {
+    fn any_hits(&self, scene: &scene::Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
         CpuBeams.any_hits(scene, segments)
     }
 }
@@ -41,7 +42,7 @@ impl beam_cpu::nonlinear::PointShading for TwinShading {
         _options: &RenderOptions,
         caustics: Option<&beam_cpu::render::IrradianceMap>,
         points: &[beam_cpu::nonlinear::ShadePoint],
-    ) -> Result<Option<Vec<Vec3>>, String> {
+    ) -> Result<Option<Vec<Vec3>>, BackendError> {
         use rayon::prelude::*;
         let twin = |batch: &[beam_cpu::nonlinear::ShadePoint]| {
             Ok(batch.par_iter().map(|s| beam_gpu::shade::shade_twin(scene, caustics, 64, s)).collect())
@@ -56,8 +57,8 @@ impl beam_cpu::nonlinear::PointShading for TwinShading {
         options: &RenderOptions,
         caustics: Option<&beam_cpu::render::IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<Vec<Vec3>>, String> {
-        *self.0.lock().map_err(|e| e.to_string())? = (levels.to_vec(), caustics.cloned());
+    ) -> Result<Option<Vec<Vec3>>, BackendError> {
+        *self.0.lock().map_err(|e| BackendError::new("cpu", e.to_string()))? = (levels.to_vec(), caustics.cloned());
         let shade = |points: &[beam_cpu::nonlinear::ShadePoint]| {
             beam_cpu::nonlinear::shade_points(self, scene, options, caustics, points)
         };

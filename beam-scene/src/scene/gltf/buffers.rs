@@ -3,6 +3,7 @@
 //! a TOML scene's mesh paths ([`resolve_inside`]) and read once, bounded.
 
 use super::error;
+use crate::error::SceneError;
 use crate::read::{MAX_MESH_BYTES, QUOTE_CHARS, clip, read_bounded, resolve_inside};
 use crate::scene::LoadOptions;
 use base64::Engine as _;
@@ -24,7 +25,7 @@ pub(super) fn load(
     document: &gltf::Document,
     blob: Option<Vec<u8>>,
     options: &LoadOptions,
-) -> Result<Vec<Rc<Vec<u8>>>, String> {
+) -> Result<Vec<Rc<Vec<u8>>>, SceneError> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -42,11 +43,12 @@ pub(super) fn load(
             gltf::buffer::Source::Uri(uri) if has_scheme(uri, "data") => Rc::new(data_uri(uri).map_err(fail)?),
             gltf::buffer::Source::Uri(uri) => {
                 let name = file_name(uri).map_err(&fail)?;
-                let (file, _) = resolve_inside(dir, &name, options.allow_outside_paths).map_err(&fail)?;
+                let (file, _) =
+                    resolve_inside(dir, &name, options.allow_outside_paths).map_err(|e| fail(e.to_string()))?;
                 match files.get(&file) {
                     Some(data) => data.clone(),
                     None => {
-                        let data = Rc::new(read_bounded(&file, MAX_MESH_BYTES).map_err(&fail)?);
+                        let data = Rc::new(read_bounded(&file, MAX_MESH_BYTES).map_err(|e| fail(e.to_string()))?);
                         files.insert(file, data.clone());
                         data
                     }

@@ -12,6 +12,7 @@
 //! A primitive without a material gets the diffuse grey of a bare OBJ file.
 
 use super::error;
+use crate::error::SceneError;
 use crate::scene::Material;
 use beam_math::glam::Vec3;
 use std::path::Path;
@@ -24,7 +25,7 @@ pub(super) const DEFAULT: Material = Material::Diffuse { albedo: Vec3::splat(0.7
 
 /// Our material for each of `document`'s materials, in order, then [`DEFAULT`] (the material of
 /// primitives that name none, at index `document.materials().len()`).
-pub(super) fn map_all(path: &Path, document: &gltf::Document) -> Result<Vec<Material>, String> {
+pub(super) fn map_all(path: &Path, document: &gltf::Document) -> Result<Vec<Material>, SceneError> {
     let mut out = Vec::with_capacity(document.materials().len() + 1);
     for m in document.materials() {
         out.push(map(path, &m)?);
@@ -35,7 +36,7 @@ pub(super) fn map_all(path: &Path, document: &gltf::Document) -> Result<Vec<Mate
 
 /// Our material for the glTF material `m`, its factors checked (colours finite and ≥ 0, the
 /// index of refraction positive).
-fn map(path: &Path, m: &gltf::Material) -> Result<Material, String> {
+fn map(path: &Path, m: &gltf::Material) -> Result<Material, SceneError> {
     let element = format!("material {}", m.index().unwrap_or_default());
     let pbr = m.pbr_metallic_roughness();
     let [r, g, b, _] = pbr.base_color_factor();
@@ -66,7 +67,7 @@ fn map(path: &Path, m: &gltf::Material) -> Result<Material, String> {
 }
 
 /// The colour `field` of material `element`, checked finite and ≥ 0.
-fn colour(path: &Path, element: &str, field: &str, rgb: [f32; 3]) -> Result<Vec3, String> {
+fn colour(path: &Path, element: &str, field: &str, rgb: [f32; 3]) -> Result<Vec3, SceneError> {
     if rgb.iter().all(|v| v.is_finite() && *v >= 0.0) {
         Ok(Vec3::from_array(rgb))
     } else {

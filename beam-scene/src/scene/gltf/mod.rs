@@ -16,7 +16,8 @@ mod walk;
 
 use super::file::{LoadOptions, default_camera, default_light, valid_bounds};
 use super::{Camera, Scene};
-use crate::read::{MAX_MESH_BYTES, clip, read_bounded, shown, visible};
+use crate::error::SceneError;
+use crate::read::{MAX_MESH_BYTES, clip, read_bounded, visible};
 use std::fmt::Display;
 use std::path::Path;
 
@@ -25,19 +26,19 @@ use std::path::Path;
 const MAX_GLTF_TRIANGLES: usize = 1 << 27;
 
 /// An error of the glTF file `path` at `element` (`mesh 2 primitive 0`, `node 3`).
-fn error(path: &Path, element: impl Display, message: impl Display) -> String {
-    format!("{}: {element}: {message}", shown(path))
+fn error(path: &Path, element: impl Display, message: impl Display) -> SceneError {
+    SceneError::Gltf { path: path.to_path_buf(), element: Some(element.to_string()), message: message.to_string() }
 }
 
 /// An error of the glTF file `path` as a whole.
-fn file_error(path: &Path, message: impl Display) -> String {
-    format!("{}: {message}", shown(path))
+fn file_error(path: &Path, message: impl Display) -> SceneError {
+    SceneError::Gltf { path: path.to_path_buf(), element: None, message: message.to_string() }
 }
 
 /// Load the glTF 2.0 file `path` (`.gltf` or `.glb`) into a scene: with `options` saying whether
 /// its external buffers may lie outside its folder. Without a camera it gets the framing camera
 /// of a bare OBJ file; without any light (punctual or emissive), the same light above it.
-pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, String> {
+pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let data = read_bounded(path, MAX_MESH_BYTES)?;
     // A UTF-8 byte-order mark before the JSON is skipped (glTF asks writers for none).
     let json_or_glb = data.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&data);
@@ -60,7 +61,7 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Str
 
 /// The document and GLB binary chunk of the file's bytes `data`, validated ([`validate`]). A GLB
 /// header is checked here first: its length must cover the header and lie within the file.
-fn parse(path: &Path, data: &[u8]) -> Result<gltf::Gltf, String> {
+fn parse(path: &Path, data: &[u8]) -> Result<gltf::Gltf, SceneError> {
     if data.starts_with(b"glTF") {
         let length = data.get(8..12).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
         match length {
@@ -90,7 +91,7 @@ fn parse(path: &Path, data: &[u8]) -> Result<gltf::Gltf, String> {
 /// known, required extensions supported, POSITION accessors with `min` and `max` as the
 /// specification demands), after the one check its own validation assumes: each primitive's
 /// POSITION accessor exists.
-fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), String> {
+fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), SceneError> {
     use gltf::json::validation::{Checked, Validate};
     let position = Checked::Valid(gltf::Semantic::Positions);
     for (i, mesh) in root.meshes.iter().enumerate() {

@@ -3,6 +3,7 @@
 //! camera and its `KHR_lights_punctual` light.
 
 use super::{MAX_GLTF_TRIANGLES, error, primitive};
+use crate::error::SceneError;
 use crate::mesh::Mesh;
 use crate::scene::{Camera, Light, Material};
 use beam_math::Triangle;
@@ -36,7 +37,7 @@ pub(super) fn walk(
     document: &gltf::Document,
     buffers: &[Rc<Vec<u8>>],
     materials: &[Material],
-) -> Result<Walked, String> {
+) -> Result<Walked, SceneError> {
     let roots: Vec<gltf::Node> = match document.default_scene().or_else(|| document.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
         None => {
@@ -99,7 +100,7 @@ pub(super) fn walk(
 
 /// The matrix of `node` relative to its parent, its values checked finite (and a rotation
 /// quaternion of non-zero length, normalized).
-fn local_matrix(path: &Path, element: &str, node: &gltf::Node) -> Result<Mat4, String> {
+fn local_matrix(path: &Path, element: &str, node: &gltf::Node) -> Result<Mat4, SceneError> {
     let m = match node.transform() {
         gltf::scene::Transform::Matrix { matrix } => Mat4::from_cols_array_2d(&matrix),
         gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
@@ -120,7 +121,7 @@ fn read_mesh(
     mesh: &gltf::Mesh,
     buffers: &[Rc<Vec<u8>>],
     default: usize,
-) -> Result<(Vec<(Mesh, u32)>, usize), String> {
+) -> Result<(Vec<(Mesh, u32)>, usize), SceneError> {
     let (mut parts, mut skipped) = (Vec::new(), 0);
     for p in mesh.primitives() {
         let element = format!("mesh {} primitive {}", mesh.index(), p.index());
@@ -142,7 +143,7 @@ fn place(
     world: Mat4,
     materials: &[Material],
     walked: &mut Walked,
-) -> Result<(), String> {
+) -> Result<(), SceneError> {
     let count: usize = parts.iter().map(|(m, _)| m.indices.len()).sum();
     if walked.triangles.len() + count > MAX_GLTF_TRIANGLES {
         return Err(error(path, element, format!("the scene has more than {MAX_GLTF_TRIANGLES} triangles")));
@@ -169,7 +170,7 @@ fn place(
 /// Our camera for glTF camera `index` placed by `world` (it looks down its local −z with +y up):
 /// vertical field of view from `yfov`, 512 pixels high and as wide as its aspect ratio says
 /// (square without one); `None` for an orthographic camera.
-fn camera(path: &Path, document: &gltf::Document, index: usize, world: Mat4) -> Result<Option<Camera>, String> {
+fn camera(path: &Path, document: &gltf::Document, index: usize, world: Mat4) -> Result<Option<Camera>, SceneError> {
     let element = format!("camera {index}");
     let json = document.as_json().cameras.get(index);
     let perspective = json.filter(|c| c.type_ == Checked::Valid(gltf::json::camera::Type::Perspective));
