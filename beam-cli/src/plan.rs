@@ -248,6 +248,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         width,
         height,
         seed: 1,
+        region: None,
     };
     Ok(Plan { kind, scene, options, degree, volume, gpu })
 }
