@@ -10,6 +10,7 @@
 
 pub mod glossy;
 pub mod nonlinear;
+mod ordered;
 pub mod overdraw;
 pub mod render;
 
