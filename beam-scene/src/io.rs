@@ -1,5 +1,7 @@
 //! Output files written atomically: to a temporary file in the destination folder, then renamed,
-//! so a failed or interrupted run never leaves a half-written image or table behind.
+//! so a failed or interrupted run never leaves a half-written image or table behind; and the image
+//! formats a render is written in: PNG (8-bit sRGB) and OpenEXR (linear `f32`), each able to say
+//! where a render farm's tile sits in its frame ([`encode_png_placed`], [`encode_exr`]).
 //!
 //! The policy, for every file `beam` writes:
 //! - the target must be absent or an existing, writable regular file: a symbolic link, FIFO, device
@@ -47,8 +49,12 @@ use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::Path;
 
+mod exr_file;
+mod png_file;
 mod temporaries;
 
+pub use exr_file::{encode_exr, read_exr, read_exr_placement};
+pub use png_file::{REGION_KEY, encode_png_placed, read_png_placed, read_png_placement};
 pub use temporaries::{TEMP_MARKER, remove_temporaries};
 use temporaries::{Temp, interrupted, registry};
 
@@ -254,6 +260,17 @@ fn sync_folders(temps: &[(&Path, &Path, &std::ffi::OsStr, Temp)]) {
 /// Write `bytes` to `path` atomically. Errors name the path.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
     write_atomic_all(&[(path, bytes)])
+}
+
+/// `path` opened for reading, after refusing what is not a regular file (a FIFO would block, a
+/// device never end). Errors name the path.
+fn regular_file(path: &Path) -> Result<File, String> {
+    let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => File::open(path).map_err(|e| fail(&e)),
+        Ok(_) => Err(fail(&"not a regular file")),
+        Err(e) => Err(fail(&e)),
+    }
 }
 
 /// Encode an 8-bit RGB image as PNG bytes.

@@ -117,6 +117,55 @@ impl PixelRect {
     }
 }
 
+/// Where an image's pixels sit in a larger frame: a render farm's tile is the pixels `rect` of a
+/// `frame_width × frame_height` frame. Image files carry it (see [`crate::io`]) so that the tiles
+/// can be joined again.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Placement {
+    /// The image's pixels in the frame (non-empty, within it).
+    pub rect: PixelRect,
+    /// Frame width.
+    pub frame_width: u32,
+    /// Frame height.
+    pub frame_height: u32,
+}
+
+impl Placement {
+    /// `rect` of a `frame_width × frame_height` frame; `None` unless it is non-empty and within it.
+    #[must_use]
+    pub fn new(rect: PixelRect, frame_width: u32, frame_height: u32) -> Option<Self> {
+        rect.fits(frame_width, frame_height).then_some(Self { rect, frame_width, frame_height })
+    }
+
+    /// A whole `width × height` frame.
+    #[must_use]
+    pub fn whole(width: u32, height: u32) -> Self {
+        Self { rect: PixelRect::full(width, height), frame_width: width, frame_height: height }
+    }
+
+    /// Whether it is the whole frame.
+    #[must_use]
+    pub fn is_whole(&self) -> bool {
+        self.rect == PixelRect::full(self.frame_width, self.frame_height)
+    }
+
+    /// `x0,y0,x1,y1,W,H`: what [`Self::parse`] reads.
+    #[must_use]
+    pub fn to_text(&self) -> String {
+        let r = self.rect;
+        format!("{},{},{},{},{},{}", r.x0, r.y0, r.x1, r.y1, self.frame_width, self.frame_height)
+    }
+
+    /// `x0,y0,x1,y1,W,H` (decimal, no spaces needed); `None` unless six numbers that make a valid
+    /// placement.
+    #[must_use]
+    pub fn parse(text: &str) -> Option<Self> {
+        let v: Vec<u32> = text.split(',').map(|s| s.trim().parse().ok()).collect::<Option<_>>()?;
+        let &[x0, y0, x1, y1, w, h] = v.as_slice() else { return None };
+        Self::new(PixelRect { x0, y0, x1, y1 }, w, h)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -137,6 +186,17 @@ mod tests {
         assert_eq!(PixelRect::band(0, 0, 9, 48), None);
         assert_eq!(PixelRect::band(0, 49, 9, 48), None);
         assert!(PixelRect::band(u32::MAX - 1, u32::MAX, 9, u32::MAX).is_some());
+    }
+
+    #[test]
+    fn placements_round_trip_as_text() {
+        let p = Placement::new(PixelRect { x0: 0, y0: 12, x1: 64, y1: 24 }, 64, 48).unwrap();
+        assert_eq!(p.to_text(), "0,12,64,24,64,48");
+        assert_eq!(Placement::parse(&p.to_text()), Some(p));
+        for bad in ["", "0,12,64,24,64", "0,12,64,24,64,48,1", "0,12,65,24,64,48", "0,12,0,24,64,48", "a,1,2,3,4,5"] {
+            assert_eq!(Placement::parse(bad), None, "{bad}");
+        }
+        assert!(Placement::whole(3, 2).is_whole() && !p.is_whole());
     }
 
     #[test]

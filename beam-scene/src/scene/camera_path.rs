@@ -71,7 +71,10 @@ mod tests {
         let path = CameraPath::new(vec![key(2, 0.0), key(6, 4.0), key(7, -1.0)]).unwrap();
         let cam = Camera { position: Vec3::ZERO, target: Vec3::Z, up: Vec3::Y, fov_y: 30.0, width: 4, height: 3 };
         let x = |f| path.camera_at(&cam, f).map(|c| c.position.x);
-        assert_eq!([x(0), x(2), x(3), x(6), x(7), x(8)], [Some(0.0), Some(0.0), Some(1.0), Some(4.0), Some(-1.0), None]);
+        assert_eq!(
+            [x(0), x(2), x(3), x(6), x(7), x(8)],
+            [Some(0.0), Some(0.0), Some(1.0), Some(4.0), Some(-1.0), None]
+        );
         let c = path.camera_at(&cam, 5).unwrap();
         assert_eq!((c.target.x, c.fov_y, c.width), (3.0, 30.0, 4));
         assert_eq!(path.last_frame(), 7);

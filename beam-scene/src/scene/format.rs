@@ -208,7 +208,9 @@ pub(super) fn camera(path: &Path, c: &CameraFile) -> Result<(Camera, Option<Came
     let (position, target) = match (c.position, c.target, c.keys.first()) {
         (Some(p), Some(t), None) => (p, t),
         (None, None, Some(k)) => (k.position, k.target),
-        (_, _, None) => return Err(format!("{}: camera: needs position and target, or [[camera.keys]]", path.display())),
+        (_, _, None) => {
+            return Err(format!("{}: camera: needs position and target, or [[camera.keys]]", path.display()));
+        }
         (_, _, Some(_)) => {
             return Err(format!(
                 "{}: camera: give position and target (a still camera) or [[camera.keys]] (an animated one), not both",

@@ -254,7 +254,19 @@ impl Scene {
         let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
         let wide = WideBvh::new(&bvh, &triangles);
         let smooth_normals = normals::specular_normals(&triangles, &material_of, &materials);
-        Self { name, triangles, material_of, materials, lights, camera, camera_path: None, stats, bvh, wide, smooth_normals }
+        Self {
+            name,
+            triangles,
+            material_of,
+            materials,
+            lights,
+            camera,
+            camera_path: None,
+            stats,
+            bvh,
+            wide,
+            smooth_normals,
+        }
     }
 
     /// The camera at frame `frame` of [`Self::camera_path`]; a still camera has frame 0 only. `None`
