@@ -51,6 +51,21 @@ fn beam_and_ray_tiles_equal_the_frame() {
 }
 
 #[test]
+fn a_region_outside_the_frame_renders_nothing() {
+    let scene = scene::builtin("cornell").unwrap();
+    let outside = PixelRect { x0: 40, y0: 2, x1: 50, y1: 9 };
+    for primary_beams in [true, false] {
+        let options = RenderOptions { primary_beams, region: Some(outside), ..RenderOptions::exact(32, 24) };
+        let (image, _) = render(&scene, &options, || {});
+        assert!(image.pixels.is_empty() && image.width * image.height == 0);
+    }
+    let glossy = GlossyOptions { region: Some(outside), subdivide: 1, ..GlossyOptions::new(32, 24) };
+    assert!(render_glossy(&scene::builtin("cardioid-ring").unwrap(), &glossy).unwrap().0.pixels.is_empty());
+    let shading = RenderOptions { region: Some(outside), ..RenderOptions::exact(32, 24) };
+    assert!(render_smooth_reference(&scene::builtin("mirror-glass").unwrap(), &shading, 10).pixels.is_empty());
+}
+
+#[test]
 fn nonlinear_tiles_equal_the_frame() {
     let scene = scene::builtin("mirror-glass").unwrap();
     let (w, h) = (40, 30);

@@ -104,14 +104,17 @@ impl PixelRect {
     /// The row-major indices of the rectangle's pixels in a row-major buffer of a frame `width`
     /// pixels wide.
     pub fn frame_indices(self, width: u32) -> impl Iterator<Item = usize> {
-        let w = width as usize;
-        (self.y0..self.y1).flat_map(move |y| (self.x0..self.x1).map(move |x| y as usize * w + x as usize))
+        let (w, rows) = (width as usize, if self.is_empty() { 0..0 } else { self.y0..self.y1 });
+        rows.flat_map(move |y| (self.x0..self.x1).map(move |x| y as usize * w + x as usize))
     }
 
     /// The rectangle's pixels cut out of a row-major buffer of a frame `width` pixels wide that holds
     /// it, row-major.
     #[must_use]
     pub fn cut<T: Copy>(self, frame: &[T], width: u32) -> Vec<T> {
+        if self.is_empty() {
+            return Vec::new();
+        }
         let (w, x0, x1) = (width as usize, self.x0 as usize, self.x1 as usize);
         (self.y0 as usize..self.y1 as usize).flat_map(|y| &frame[y * w + x0..y * w + x1]).copied().collect()
     }
@@ -211,5 +214,7 @@ mod tests {
         assert_eq!(cut.len(), r.len());
         assert_eq!(cut, r.frame_indices(64).collect::<Vec<_>>());
         assert_eq!(cut[r.index(20, 10)], 10 * 64 + 20);
+        let empty = PixelRect { x0: 9, y0: 0, x1: 3, y1: 5 };
+        assert!(empty.cut(&frame, 64).is_empty() && empty.frame_indices(64).next().is_none());
     }
 }

@@ -50,13 +50,16 @@ pub fn render_with(
     // The pixels asked for, and those computed: whole shading tiles of the frame's grid, since a
     // tile's shade points share their candidate occluders (a pixel gets its whole-frame value only
     // with its tile's others).
-    let crop = Region::from(options.region());
+    let rect = options.region();
+    let crop = Region::from(rect);
     let work = Region::from(PixelRect::from(crop).aligned_out(TILE, camera.width, camera.height));
     let rows_of = |part: Region| crop.y1.min(part.y1).saturating_sub(crop.y0.max(part.y0));
     // Eye beams a region of the frame's grid at a time (the pixels of `work` in it), primary rays a
     // band of TILE rows at a time, in parallel; each returns its pixels, counters and the triangles
     // it saw.
-    let parts: Vec<Traced> = if eye_beams {
+    let parts: Vec<Traced> = if rect.is_empty() {
+        Vec::new()
+    } else if eye_beams {
         let regions = regions_in(camera.width, camera.height, work.into());
         let across = regions.iter().filter(|r| r.y0 == regions[0].y0).count() as u32;
         let first_row = regions.first().map_or(0, |r| r.y0 / REGION);
@@ -85,7 +88,7 @@ pub fn render_with(
             })
             .collect()
     };
-    let mut image = Image::new(crop.x1 - crop.x0, crop.y1 - crop.y0);
+    let mut image = Image::new(rect.width(), rect.height());
     let mut total = Counters::default();
     let mut visible = vec![false; n_prims];
     for part in parts {
