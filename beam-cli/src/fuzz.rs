@@ -9,6 +9,9 @@
 //! `BEAM_FUZZ_CASES` and `BEAM_FUZZ_SEED` change the run.
 
 use crate::{parse_from, run};
+use beam_math::glam::Vec3;
+use beam_scene::io::{encode_exr, encode_png_placed};
+use beam_scene::region::{PixelRect, Placement};
 use clap::error::ErrorKind;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -30,6 +33,12 @@ const BASES: &[&str] = &[
     "render --scene cardioid-ring --method glossy-reference --photons 1000 --width 8 --height 8 --out {d}/o.png",
     "render --scene mirror-glass --method nonlinear-reference --photons 1000 --width 8 --height 8 --out {d}/o.png",
     "render --scene mirror-glass --method nonlinear --backend gpu --spp 4 --width 8 --out {d}/o.png",
+    "render --width 8 --height 8 --tile 1/4 --exposure -1.5 --out {d}/o.exr",
+    "render --scene mirror-glass --method nonlinear --texels 8 --width 8 --height 8 --crop 1,2,7,8 --out {d}/o.png",
+    "render --scene cardioid-ring --method glossy --subdivide 1 --width 8 --height 8 --tile 0/2 --out {d}/o.png",
+    "render --scene {d}/walk.toml --frame 1 --width 8 --height 8 --exposure 2 --out {d}/o.png",
+    "merge {d}/t0.png {d}/t1.png --out {d}/m.png",
+    "merge {d}/t0.exr {d}/t1.exr --out {d}/m.exr",
     "compare {d}/a.png {d}/b.png --out {d}/d.png --scale 0.5",
     "conformance --only bvh_hits_equal_brute_force --backend bvh --rays 10",
     "bench softshadow --size 8 --reference-spp 4 --light-size 0.1 --out-dir {d}",
@@ -102,6 +111,31 @@ const VALUES: &[&str] = &[
     "exact",
     "fraction",
     "tessellated",
+    "0/1",
+    "1/4",
+    "4/4",
+    "0/0",
+    "1/0",
+    "3/2",
+    "/",
+    "1/4294967295",
+    "0,0,8,8",
+    "1,2,7,8",
+    "0,0,9,8",
+    "8,8,8,8",
+    "4294967295,0,4294967295,1",
+    "1,2,3",
+    "-64",
+    "65",
+    "1.5",
+    "o.exr",
+    "O.EXR",
+    "{d}/o.exr",
+    "{d}/t0.png",
+    "{d}/t1.png",
+    "{d}/t0.exr",
+    "{d}/m.png",
+    "{d}/walk.toml",
 ];
 
 /// Options put in, with or without a value.
@@ -127,6 +161,10 @@ const OPTIONS: &[&str] = &[
     "--height",
     "--out",
     "--stats",
+    "--exposure",
+    "--tile",
+    "--crop",
+    "--frame",
     "--size",
     "--scale",
     "--only",
@@ -222,6 +260,20 @@ fn scratch(dir: &Path) {
     };
     png("a.png", 8);
     png("b.png", 8);
+    // The two halves of an 8 × 8 frame, as `beam render --tile i/2` writes them.
+    for (i, rect) in (0..2).filter_map(|i| Some((i, PixelRect::band(i, 2, 8, 8)?))) {
+        let at = Placement::new(rect, 8, 8).unwrap();
+        std::fs::write(dir.join(format!("t{i}.png")), encode_png_placed(&vec![99; rect.len() * 3], at).unwrap())
+            .unwrap();
+        std::fs::write(dir.join(format!("t{i}.exr")), encode_exr(&vec![Vec3::ONE; rect.len()], at).unwrap()).unwrap();
+    }
+    std::fs::write(
+        dir.join("walk.toml"),
+        "[camera]\n[[camera.keys]]\nframe = 0\nposition = [0, 0, 3]\ntarget = [0, 0, 0]\n\
+         [[camera.keys]]\nframe = 2\nposition = [1, 0, 3]\ntarget = [0, 0, 0]\n\
+         [materials.w]\ntype = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n[[meshes]]\nfile = \"m.obj\"\nmaterial = \"w\"\n",
+    )
+    .unwrap();
     std::fs::write(dir.join("m.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     std::fs::create_dir(dir.join("dir.png")).unwrap();
     std::fs::write(dir.join("target.dat"), b"keep").unwrap();

@@ -7,11 +7,13 @@ mod conformance;
 #[cfg(test)]
 mod fuzz;
 mod limits;
+mod merge;
 mod output;
 mod overdraw;
 mod plan;
 mod plot;
 mod progress;
+mod region;
 mod render;
 
 use clap::parser::ValueSource;
@@ -27,6 +29,8 @@ struct Cli {
     command: Command,
 }
 
+// Parsed once per run: `render`'s many options need no box.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     /// Run the conformance suite and print a pass/fail table (exit status 1 on any failure).
@@ -127,10 +131,31 @@ enum Command {
         /// Image height (default: the scene camera's, or keeping its aspect with --width).
         #[arg(long)]
         height: Option<u32>,
-        /// Output PNG (the name must end in .png). Only a new file or a writable regular file is
-        /// written; it is checked before the render starts and replaced atomically.
+        /// Output image: `*.png` (8-bit sRGB, tone-mapped by clamping) or `*.exr` (OpenEXR, linear
+        /// radiance as 32-bit floats). Only a new file or a writable regular file is written; it is
+        /// checked before the render starts and replaced atomically.
         #[arg(long, default_value = "beam.png")]
         out: PathBuf,
+        /// Scale the image by 2^EV before it is written, in PNG (before the sRGB encoding) and EXR
+        /// alike; -64 to 64. With an integer EV an EXR holds radiance × 2^EV exactly.
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_name = "EV")]
+        exposure: f32,
+        /// Render band I of N horizontal bands (I from 0 to N − 1; rows ⌊I·H/N⌋ to ⌊(I+1)·H/N⌋,
+        /// the same split in every process), for a render farm: the output holds the band and
+        /// where it sits in the frame, and `beam merge` joins the bands. Each pixel gets the value
+        /// the whole frame's render gives it, bit for bit; the per-pixel work is done for the band
+        /// only (docs/guide.md, "Render farms", says what each method still does for the whole
+        /// frame).
+        #[arg(long, value_name = "I/N", conflicts_with = "crop")]
+        tile: Option<String>,
+        /// Render the pixels x0 ≤ x < x1, y0 ≤ y < y1 of the frame only (like --tile, a rectangle
+        /// of it; `beam merge` joins rectangles that cover the frame).
+        #[arg(long, value_name = "x0,y0,x1,y1")]
+        crop: Option<String>,
+        /// Frame K of the scene file's animated camera (`[[camera.keys]]`); a still camera has
+        /// frame 0 only.
+        #[arg(long, value_name = "K")]
+        frame: Option<u32>,
         /// Also write statistics as JSON (to a file other than --out; written together with it).
         #[arg(long)]
         stats: Option<PathBuf>,
@@ -138,6 +163,17 @@ enum Command {
         /// symbolic link); by default they must stay inside it.
         #[arg(long)]
         allow_outside_paths: bool,
+    },
+    /// Join the tiles of `beam render --tile` or `--crop` (PNG or EXR) into the whole frame: they
+    /// must share the frame's size, not overlap, and cover it. The result is the file a
+    /// one-process render writes, byte for byte.
+    Merge {
+        /// The tiles, all PNG or all EXR (the format of --out).
+        #[arg(required = true)]
+        tiles: Vec<PathBuf>,
+        /// The whole frame (`*.png` or `*.exr`, as the tiles); not one of the tiles.
+        #[arg(long)]
+        out: PathBuf,
     },
     /// Compare two images: RMSE and PSNR, and a side-by-side picture with an error map.
     Compare {
@@ -261,6 +297,10 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
             width,
             height,
             out,
+            exposure,
+            tile,
+            crop,
+            frame,
             stats,
             allow_outside_paths,
         } => {
@@ -286,6 +326,10 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
                 width,
                 height,
                 out: &out,
+                exposure,
+                tile: tile.as_deref(),
+                crop: crop.as_deref(),
+                frame,
                 stats: stats.as_deref(),
                 allow_outside_paths,
                 given,
@@ -295,6 +339,10 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
                 false => render::run(&args),
             }
         }
+        Command::Merge { tiles, out } => match dry {
+            true => merge::plan(&tiles, &out, true).map(|_| ExitCode::SUCCESS),
+            false => merge::merge(&tiles, &out),
+        },
         Command::Compare { a, b, out, scale } => match dry {
             true => compare::plan(&a, &b, &out, scale, true).map(|_| ExitCode::SUCCESS),
             false => compare::compare(&a, &b, &out, scale),

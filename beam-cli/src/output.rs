@@ -1,23 +1,56 @@
-//! Output paths of `beam render` and `beam compare`, checked before any work and written together
-//! (the policy itself is [`beam_scene::io`]'s: regular files only, atomic, modes kept), and the
-//! signal handling that removes the temporaries of an interrupted write.
+//! Output paths of `beam render`, `beam merge` and `beam compare`, checked before any work and
+//! written together (the policy itself is [`beam_scene::io`]'s: regular files only, atomic, modes
+//! kept), and the signal handling that removes the temporaries of an interrupted write.
 
 use beam_cpu::render::Image;
-use beam_scene::io::{check_output, encode_png, same_file, write_atomic_all};
+use beam_scene::io::{check_output, encode_exr, encode_png_placed, same_file, write_atomic_all};
+use beam_scene::region::Placement;
 use std::path::Path;
 
-/// Refuse an image path whose extension is not `.png` (any case): only PNG is written.
+/// The image formats written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// 8-bit sRGB.
+    Png,
+    /// OpenEXR, linear 32-bit float.
+    Exr,
+}
+
+impl Format {
+    /// The format `path` names by its extension (any case); an error naming `option` otherwise.
+    pub fn of(option: &str, path: &Path) -> Result<Self, String> {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("png") => Ok(Self::Png),
+            Some(e) if e.eq_ignore_ascii_case("exr") => Ok(Self::Exr),
+            other => Err(format!(
+                "{option} {}: {}; name the file *.png (8-bit sRGB) or *.exr (OpenEXR, linear float)",
+                path.display(),
+                other.map_or_else(|| "no extension".to_string(), |e| format!("unknown image format `.{e}`")),
+            )),
+        }
+    }
+
+    /// `PNG` or `OpenEXR`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Png => "PNG",
+            Self::Exr => "OpenEXR",
+        }
+    }
+}
+
+/// Refuse an image path whose extension is not `.png` (any case): for outputs written as PNG only.
 pub fn check_png_name(option: &str, path: &Path) -> Result<(), String> {
-    match path.extension().and_then(|e| e.to_str()) {
-        Some(e) if e.eq_ignore_ascii_case("png") => Ok(()),
+    match Format::of(option, path) {
+        Ok(Format::Png) => Ok(()),
         _ => Err(format!("{option} {}: only PNG is written; name the file *.png", path.display())),
     }
 }
 
-/// `--out` and `--stats` of `beam render`: a `.png` and a JSON file, different files, each in a
-/// writable folder and absent or a writable regular file.
+/// `--out` and `--stats` of `beam render`: a `.png` or `.exr` and a JSON file, different files,
+/// each in a writable folder and absent or a writable regular file.
 pub fn check_render_outputs(out: &Path, stats: Option<&Path>) -> Result<(), String> {
-    check_png_name("--out", out)?;
+    Format::of("--out", out)?;
     if let Some(s) = stats {
         if same_file(out, s) {
             return Err(format!(
@@ -34,16 +67,40 @@ pub fn check_render_outputs(out: &Path, stats: Option<&Path>) -> Result<(), Stri
     Ok(())
 }
 
-/// Write the image to `out` and the statistics to `stats` (when given), both or neither: both are
-/// written and synced under temporary names before either is renamed.
-pub fn write_render(out: &Path, image: &Image, stats: Option<(&Path, &dyn erased::Json)>) -> Result<(), String> {
-    let png =
-        encode_png(image.width, image.height, &image.to_srgb8()).map_err(|e| format!("{}: {e}", out.display()))?;
+/// The bytes of `image` (the pixels of `placement`) in the format `out` names, scaled by
+/// 2^`exposure` first: PNG as 8-bit sRGB, EXR as linear `f32`; each records the placement when it
+/// is not the whole frame.
+pub fn encode_render(out: &Path, image: &Image, placement: Placement, exposure: f32) -> Result<Vec<u8>, String> {
+    let scale = exposure.exp2();
+    let scaled;
+    let image = if scale == 1.0 {
+        image
+    } else {
+        scaled = Image { pixels: image.pixels.iter().map(|&c| c * scale).collect(), ..*image };
+        &scaled
+    };
+    let bytes = match Format::of("--out", out)? {
+        Format::Png => encode_png_placed(&image.to_srgb8(), placement),
+        Format::Exr => encode_exr(&image.pixels, placement),
+    };
+    bytes.map_err(|e| format!("{}: {e}", out.display()))
+}
+
+/// Write `image` (the pixels of `placement`, scaled by 2^`exposure`) to `out` and the statistics to
+/// `stats` (when given), both or neither: both are written and synced under temporary names before
+/// either is renamed.
+pub fn write_render(
+    out: &Path,
+    image: &Image,
+    (placement, exposure): (Placement, f32),
+    stats: Option<(&Path, &dyn erased::Json)>,
+) -> Result<(), String> {
+    let bytes = encode_render(out, image, placement, exposure)?;
     match stats {
-        None => write_atomic_all(&[(out, &png)]).map_err(|e| e.to_string()),
+        None => write_atomic_all(&[(out, &bytes)]).map_err(|e| e.to_string()),
         Some((path, s)) => {
             let json = s.to_json().map_err(|e| format!("{}: {e}", path.display()))?;
-            write_atomic_all(&[(path, json.as_bytes()), (out, &png)]).map_err(|e| e.to_string())
+            write_atomic_all(&[(path, json.as_bytes()), (out, &bytes)]).map_err(|e| e.to_string())
         }
     }
 }

@@ -5,6 +5,7 @@
 use beam_cpu::nonlinear::Degree;
 use beam_cpu::render::{Method, RenderOptions, Shading};
 use beam_math::glossy::VolumeMethod;
+use beam_scene::region::Placement;
 use beam_scene::scene::{self, Scene};
 use std::path::Path;
 
@@ -31,6 +32,14 @@ pub struct RenderArgs<'a> {
     pub width: Option<u32>,
     pub height: Option<u32>,
     pub out: &'a Path,
+    /// Scale of the written image, 2^exposure.
+    pub exposure: f32,
+    /// `--tile I/N`.
+    pub tile: Option<&'a str>,
+    /// `--crop x0,y0,x1,y1`.
+    pub crop: Option<&'a str>,
+    /// `--frame K`.
+    pub frame: Option<u32>,
     pub stats: Option<&'a Path>,
     /// Let a scene file name meshes outside its folder.
     pub allow_outside_paths: bool,
@@ -78,12 +87,18 @@ impl Kind {
     }
 }
 
+/// Largest `|--exposure|`.
+pub const MAX_EXPOSURE: f32 = 64.0;
+
 /// A validated render: everything `beam render` needs but the adapter.
 pub struct Plan {
     pub kind: Kind,
+    /// The scene, its camera at `--frame`.
     pub scene: Scene,
-    /// Size, shading, shadow and primary samples.
+    /// Size, shading, shadow and primary samples, and the region (`--tile`, `--crop`).
     pub options: RenderOptions,
+    /// Where the rendered pixels sit in the frame (the whole frame without `--tile` or `--crop`).
+    pub placement: Placement,
     pub degree: Degree,
     pub volume: VolumeMethod,
     pub gpu: bool,
@@ -227,12 +242,15 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
             a.primary_spp
         ));
     }
+    if !(a.exposure.is_finite() && a.exposure.abs() <= MAX_EXPOSURE) {
+        return Err(format!("--exposure {} out of range (-{MAX_EXPOSURE} to {MAX_EXPOSURE})", a.exposure));
+    }
     if let (Some(0), _) | (_, Some(0)) = (a.width, a.height) {
         return Err(format!("image size out of range: each side must be 1 to {MAX_SIDE}"));
     }
     crate::output::check_render_outputs(a.out, a.stats)?;
     check_scene_path(a.scene)?;
-    let scene = match a.smesh {
+    let mut scene = match a.smesh {
         Some(n) => scene::builtin_with_smesh(a.scene, n).map_err(|e| e.to_string())?,
         None => scene::load_with(a.scene, &scene::LoadOptions { allow_outside_paths: a.allow_outside_paths })
             .map_err(|e| e.to_string())?,
@@ -244,7 +262,11 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
             scene.name, scene.stats.skipped_lights
         );
     }
+    if let Some(k) = a.frame {
+        scene.camera = camera_at(&scene, k)?;
+    }
     let (width, height) = image_size(a.width, a.height, (scene.camera.width, scene.camera.height))?;
+    let region = crate::region::parse(a.tile, a.crop, width, height)?;
     let memory = estimate(kind, width, height, scene.triangles.len(), a.photons);
     crate::limits::admit(&format!("a {width}×{height} {} render", kind.name()), memory, quiet)?;
     let options = RenderOptions {
@@ -256,8 +278,33 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         width,
         height,
         seed: 1,
+        region,
     };
-    Ok(Plan { kind, scene, options, degree, volume, gpu })
+    let placement = region.and_then(|r| Placement::new(r, width, height)).unwrap_or(Placement::whole(width, height));
+    Ok(Plan { kind, scene, options, placement, degree, volume, gpu })
+}
+
+/// The camera of `--frame k`: frame `k` of the scene's camera path, which must have it.
+fn camera_at(scene: &Scene, k: u32) -> Result<scene::Camera, String> {
+    let camera = scene.camera_at(k).ok_or_else(|| match &scene.camera_path {
+        None => format!(
+            "--frame {k}: scene {} has a still camera (no [[camera.keys]] in its [camera]), so only frame 0",
+            scene.name
+        ),
+        Some(path) => format!(
+            "--frame {k} out of range: scene {}'s camera path has frames 0 to {}",
+            scene.name,
+            path.last_frame()
+        ),
+    })?;
+    if !camera.has_view() {
+        return Err(format!(
+            "--frame {k}: the camera of scene {} stands on its target or looks along its up vector at this frame \
+             (between two keys)",
+            scene.name
+        ));
+    }
+    Ok(camera)
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 use crate::output::{erased::Json, write_render};
 use crate::plan::{Kind, Plan, RenderArgs};
 use beam_cpu::glossy::{
-    GlossyOptions, LightVolumes, photon_texel, render_glossy, render_glossy_reference, render_glossy_with,
+    GlossyOptions, LightVolumes, photon_texel, render_glossy, render_glossy_reference_in, render_glossy_with,
 };
 use beam_cpu::nonlinear::{
     BeamRenderer, CpuBeams, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
@@ -23,17 +23,18 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         Kind::Beam | Kind::Ray => {}
     }
     let method = options.method;
-    let bar = crate::progress::bar(u64::from(height), "render");
+    let bar = crate::progress::bar(u64::from(plan.placement.rect.height()), "render");
     let (image, stats) = render(scene, &options, || bar.inc(1));
     bar.finish_and_clear();
-    write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
+    write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
     println!(
-        "{}: {} triangles ({} degenerate filtered), {}×{}, {} ({}{}), {:.3} s -> {}",
+        "{}: {} triangles ({} degenerate filtered), {}×{}{}, {} ({}{}), {:.3} s -> {}",
         scene.name,
         stats.triangles,
         stats.degenerate_triangles,
         width,
         height,
+        part(&plan),
         stats.method,
         stats.shading,
         if method == Method::Ray { format!(", {} spp", stats.spp) } else { String::new() },
@@ -83,7 +84,7 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     if plan.kind == Kind::NonlinearReference {
         let image = render_smooth_reference_with(scene, &shading, a.photons, renderer).map_err(|e| e.to_string())?;
         let stats = reference_stats(plan, &on, a.photons, start);
-        write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
+        write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
         println!(
             "{}: nonlinear reference (rays, smooth mirrors and glass) on {on}, {:.3} s -> {}",
             scene.name,
@@ -104,7 +105,7 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         renderer,
     )
     .map_err(|e| e.to_string())?;
-    write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
+    write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
     println!(
         "{}: nonlinear {} on {on} ({} texels per beam side), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {} caustic beams in {:.3} s, {:.3} s in all -> {}",
         scene.name,
@@ -140,9 +141,10 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     let gpu = gpu_of(plan.gpu)?;
     let start = std::time::Instant::now();
     if plan.kind == Kind::GlossyReference {
-        let image = render_glossy_reference(scene, width, height, a.photons, 1).map_err(|e| e.to_string())?;
+        let image = render_glossy_reference_in(scene, (width, height), plan.placement.rect, a.photons, 1)
+            .map_err(|e| e.to_string())?;
         let stats = reference_stats(plan, "CPU", a.photons, start);
-        write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
+        write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
         println!(
             "{}: glossy reference ({} photons per light), {:.3} s -> {}",
             scene.name,
@@ -158,6 +160,7 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         second_order: a.second_order,
         subdivide: a.subdivide,
         filter: if a.photon_kernel { photon_texel(scene) } else { 0.0 },
+        region: plan.options.region,
         ..GlossyOptions::new(width, height)
     };
     let (image, stats) = match &gpu {
@@ -171,7 +174,7 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         None => render_glossy(scene, &options).map_err(|e| e.to_string())?,
     };
     let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
-    write_render(a.out, &image, a.stats.map(|p| (p, &stats as &dyn Json)))?;
+    write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
     println!(
         "{}: glossy light volumes on {on}, {} beams + {} shadow beams ({:.3} s), {} receiver points, {:.1} beams tested per point ({}), gather {:.3} s, {:.3} s -> {}",
         scene.name,
@@ -186,6 +189,16 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         a.out.display()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// `, pixels x0..x1 × y0..y1` of a tile or crop, or nothing for the whole frame.
+fn part(plan: &Plan) -> String {
+    let r = plan.placement.rect;
+    if plan.placement.is_whole() {
+        String::new()
+    } else {
+        format!(" (pixels {}..{} × {}..{})", r.x0, r.x1, r.y0, r.y1)
+    }
 }
 
 /// The adapter of `--backend gpu` (`None` for `cpu`).

@@ -101,16 +101,19 @@ fn image_sizes_are_checked_without_wrapping() {
 }
 
 #[test]
-fn only_png_is_written_under_a_png_name() {
+fn only_png_and_exr_are_written_under_their_names() {
     let dir = tempfile::tempdir().unwrap();
-    for name in ["x.jpg", "x.png.tmp", "x", "x.exr"] {
+    for name in ["x.jpg", "x.png.tmp", "x", "x.exr.png.jpeg"] {
         let out = dir.path().join(name);
-        refused(&render(&out, &[], &[]), &["--out", name, "PNG"]);
+        refused(&render(&out, &[], &[]), &["--out", name, "*.png", "*.exr"]);
         assert!(!out.exists());
     }
     let upper = dir.path().join("X.PNG");
     ok(&render(&upper, &[], &[]));
     assert_eq!(&std::fs::read(&upper).unwrap()[1..4], b"PNG");
+    let exr = dir.path().join("X.EXR");
+    ok(&render(&exr, &[], &[]));
+    assert_eq!(&std::fs::read(&exr).unwrap()[..4], [0x76, 0x2f, 0x31, 0x01], "the OpenEXR magic number");
 }
 
 #[test]

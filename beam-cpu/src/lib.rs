@@ -26,6 +26,7 @@
 pub mod error;
 pub mod glossy;
 pub mod nonlinear;
+mod ordered;
 pub mod overdraw;
 pub mod render;
 

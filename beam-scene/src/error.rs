@@ -125,6 +125,15 @@ pub enum SceneError {
         /// The path.
         path: PathBuf,
     },
+    /// An image that cannot be encoded, or an image file (PNG, OpenEXR) that cannot be read: the
+    /// codec's message, or a tile placement that does not fit its image.
+    #[error("{}{message}", path.as_ref().map(|p| format!("{}: ", p.display())).unwrap_or_default())]
+    Image {
+        /// The image file, when there is one.
+        path: Option<PathBuf>,
+        /// What is wrong.
+        message: String,
+    },
     /// A glTF file that cannot be loaded: malformed JSON or GLB, a buffer, accessor or index out of
     /// range, a non-finite value, a node cycle, a buffer file outside the model's folder.
     #[error("{}{}: {message}", shown(path), element.as_ref().map(|e| format!(": {e}")).unwrap_or_default())]

@@ -1,5 +1,7 @@
 //! Output files written atomically: to a temporary file in the destination folder, then renamed,
-//! so a failed or interrupted run never leaves a half-written image or table behind.
+//! so a failed or interrupted run never leaves a half-written image or table behind; and the image
+//! formats a render is written in: PNG (8-bit sRGB) and OpenEXR (linear `f32`), each able to say
+//! where a render farm's tile sits in its frame ([`encode_png_placed`], [`encode_exr`]).
 //!
 //! The policy, for every file `beam` writes:
 //! - the target must be absent or an existing, writable regular file: a symbolic link, FIFO, device
@@ -48,8 +50,12 @@ use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::Path;
 
+mod exr_file;
+mod png_file;
 mod temporaries;
 
+pub use exr_file::{encode_exr, read_exr, read_exr_placement};
+pub use png_file::{REGION_KEY, encode_png_placed, read_png_placed, read_png_placement};
 pub use temporaries::{TEMP_MARKER, remove_temporaries};
 use temporaries::{Temp, interrupted, registry};
 
@@ -254,6 +260,22 @@ fn sync_folders(temps: &[(&Path, &Path, &std::ffi::OsStr, Temp)]) {
 /// Write `bytes` to `path` atomically. Errors name the path.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
     write_atomic_all(&[(path, bytes)])
+}
+
+/// `path` opened for reading, after refusing what is not a regular file (a FIFO would block, a
+/// device never end). Errors name the path.
+fn regular_file(path: &Path) -> Result<File, SceneError> {
+    let fail = |source| SceneError::Read { path: path.to_path_buf(), source };
+    let meta = std::fs::metadata(path).map_err(fail)?;
+    if !meta.is_file() {
+        return Err(SceneError::NotRegularFile { path: path.to_path_buf(), kind: crate::read::kind(&meta) });
+    }
+    File::open(path).map_err(fail)
+}
+
+/// An [`SceneError::Image`] error of the file `path`.
+fn image_error(path: &Path, message: impl std::fmt::Display) -> SceneError {
+    SceneError::Image { path: Some(path.to_path_buf()), message: message.to_string() }
 }
 
 /// Encode an 8-bit RGB image as PNG bytes.

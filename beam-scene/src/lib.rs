@@ -8,6 +8,7 @@
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
 //! - [`io`]: atomic output files; [`read`]: bounded reads of input files; [`error`]: their errors
 //!   ([`SceneError`]) and the backends' ([`BackendError`]).
+//! - [`region`]: pixel rectangles of a frame (a render farm's tiles).
 //! - [`queries`]: ray queries, one vocabulary for all; [`options`]: render settings; [`specular`]: the mirror and glass bounce; [`tolerance`]: the
 //!   offsets both backends use; [`irradiance_map`]: caustic irradiance on receiving planes.
 //! - [`nonlinear`], [`glossy`]: the host side of the nonlinear beam tree (000) and of the glossy
@@ -31,6 +32,7 @@ pub mod nonlinear;
 pub mod options;
 pub mod queries;
 pub mod read;
+pub mod region;
 pub mod scene;
 pub mod scenes;
 pub mod specular;

@@ -1,6 +1,8 @@
 //! Render settings: how area lights' visibility and shading are computed, at what size, with what
 //! samples. Both backends read them.
 
+pub use crate::region::PixelRect;
+
 /// How the visibility of area lights is computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
@@ -43,6 +45,10 @@ pub struct RenderOptions {
     pub height: u32,
     /// Seed of the shadow-ray samples.
     pub seed: u64,
+    /// Only these pixels of the `width × height` frame are rendered, each to the value it has in
+    /// the whole frame's render, and the image returned holds just them (a render farm's tile);
+    /// `None`: the whole frame. A rectangle reaching past the frame is cut at its edge.
+    pub region: Option<PixelRect>,
 }
 
 impl RenderOptions {
@@ -59,6 +65,14 @@ impl RenderOptions {
             width,
             height,
             seed: 1,
+            region: None,
         }
+    }
+
+    /// The pixels rendered: [`Self::region`] within the frame, or the whole frame.
+    #[must_use]
+    pub fn region(&self) -> PixelRect {
+        let frame = PixelRect::full(self.width, self.height);
+        self.region.map_or(frame, |r| r.intersect(frame))
     }
 }

@@ -61,7 +61,7 @@ fn non_blocking(options: &mut std::fs::OpenOptions) {
 fn non_blocking(_: &mut std::fs::OpenOptions) {}
 
 /// What kind of file `meta` describes, in words.
-fn kind(meta: &std::fs::Metadata) -> &'static str {
+pub(crate) fn kind(meta: &std::fs::Metadata) -> &'static str {
     let t = meta.file_type();
     #[cfg(unix)]
     {

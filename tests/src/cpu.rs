@@ -210,6 +210,7 @@ fn images_agree(name: &str, primary_spp: u32) -> Result<Outcome, String> {
         width: 96,
         height: 96,
         seed: 5,
+        region: None,
     };
     let (beam, _) = render(&scene, &opts(Method::Beam), || {});
     let (ray, _) = render(&scene, &opts(Method::Ray), || {});

@@ -63,6 +63,7 @@ pub fn run(
         width: size,
         height: size,
         seed,
+        region: None,
     };
     let bar = crate::progress::bar(u64::from(size), "reference");
     let (reference, rs) = render(&scene, &options(Method::Ray, reference_spp, 99), || bar.inc(1));

@@ -15,7 +15,6 @@ use beam_scene::glossy::{Scatter, area_point, scatterings, whole};
 use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use rayon::prelude::*;
 
 /// World size of the photon map's texels for `scene`: 1/512 of its bounding box's largest side.
 #[must_use]
@@ -85,78 +84,75 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
             jobs.push((source, emitter, prim, m, seed));
         }
     }
-    jobs.par_iter()
-        .fold(
-            || empty.clone(),
-            |mut map, &(source, emitter, prim, m, seed)| {
-                let mut rng = Pcg32::seed_from_u64(seed);
-                let tri = scene.triangles[prim as usize];
-                let (area, g) = (tri.area(), scene.normal(prim));
-                let material = scene.material(prim);
-                for _ in 0..m {
-                    let (mut s, mut t) = (rng.random::<f32>(), rng.random::<f32>());
-                    if s + t > 1.0 {
-                        (s, t) = (1.0 - s, 1.0 - t);
-                    }
-                    let p = tri.v[0] * (1.0 - s - t) + tri.v[1] * s + tri.v[2] * t;
-                    let light = match source {
-                        Light::Point { .. } => emitter.position,
-                        _ => area_point(source, rng.random(), rng.random()) + emitter.normal * eps,
+    // In a fixed order, so that every process of a render farm sums the same map.
+    crate::ordered::fold_in_order(
+        &jobs,
+        || empty.clone(),
+        |mut map, &(source, emitter, prim, m, seed)| {
+            let mut rng = Pcg32::seed_from_u64(seed);
+            let tri = scene.triangles[prim as usize];
+            let (area, g) = (tri.area(), scene.normal(prim));
+            let material = scene.material(prim);
+            for _ in 0..m {
+                let (mut s, mut t) = (rng.random::<f32>(), rng.random::<f32>());
+                if s + t > 1.0 {
+                    (s, t) = (1.0 - s, 1.0 - t);
+                }
+                let p = tri.v[0] * (1.0 - s - t) + tri.v[1] * s + tri.v[2] * t;
+                let light = match source {
+                    Light::Point { .. } => emitter.position,
+                    _ => area_point(source, rng.random(), rng.random()) + emitter.normal * eps,
+                };
+                let to = p - light;
+                let r2 = to.length_squared();
+                let d = to / r2.sqrt();
+                let front = g.dot(d) < 0.0;
+                let side = if front { g } else { -g };
+                let o = p + side * eps;
+                if scene.wide.any_hit(Ray::new(light, o - light), 1.0 - DEPTH_EPS) {
+                    continue;
+                }
+                if !front && !matches!(material, Material::ThinGlass { .. }) {
+                    continue;
+                }
+                let n = scene.shading_normal(prim, p) * side.dot(g).signum();
+                let flux = emitter.towards(d) * (g.dot(d).abs() * area / (r2 * m as f32));
+                if flux == Vec3::ZERO {
+                    continue;
+                }
+                for (scatter, tint, sigma) in scatterings(&material) {
+                    let (weight, dir, origin) = match scatter {
+                        Scatter::Reflect => {
+                            let w = match material {
+                                Material::Glass { ior } => dielectric(d, n, ior, true).0,
+                                _ => 1.0,
+                            };
+                            (w, reflect(d, n), o)
+                        }
+                        Scatter::Refract { ior } => match dielectric(d, n, ior, true) {
+                            (fresnel, Some(t)) => (1.0 - fresnel, t, p - side * eps),
+                            (_, None) => (0.0, d, o),
+                        },
+                        Scatter::Transmit => (1.0, d, p - side * eps),
                     };
-                    let to = p - light;
-                    let r2 = to.length_squared();
-                    let d = to / r2.sqrt();
-                    let front = g.dot(d) < 0.0;
-                    let side = if front { g } else { -g };
-                    let o = p + side * eps;
-                    if scene.wide.any_hit(Ray::new(light, o - light), 1.0 - DEPTH_EPS) {
+                    let dir = spread(dir.normalize_or_zero(), sigma, &mut rng);
+                    if weight <= 0.0 || dir == Vec3::ZERO {
                         continue;
                     }
-                    if !front && !matches!(material, Material::ThinGlass { .. }) {
-                        continue;
-                    }
-                    let n = scene.shading_normal(prim, p) * side.dot(g).signum();
-                    let flux = emitter.towards(d) * (g.dot(d).abs() * area / (r2 * m as f32));
-                    if flux == Vec3::ZERO {
-                        continue;
-                    }
-                    for (scatter, tint, sigma) in scatterings(&material) {
-                        let (weight, dir, origin) = match scatter {
-                            Scatter::Reflect => {
-                                let w = match material {
-                                    Material::Glass { ior } => dielectric(d, n, ior, true).0,
-                                    _ => 1.0,
-                                };
-                                (w, reflect(d, n), o)
-                            }
-                            Scatter::Refract { ior } => match dielectric(d, n, ior, true) {
-                                (fresnel, Some(t)) => (1.0 - fresnel, t, p - side * eps),
-                                (_, None) => (0.0, d, o),
-                            },
-                            Scatter::Transmit => (1.0, d, p - side * eps),
-                        };
-                        let dir = spread(dir.normalize_or_zero(), sigma, &mut rng);
-                        if weight <= 0.0 || dir == Vec3::ZERO {
-                            continue;
-                        }
-                        let ray = Ray::new(origin, dir);
-                        if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY)
-                            && !beam_scene::glossy::is_scatterer(&scene.material(hit.prim))
-                        {
-                            let side = PhotonMaps::side(scene, hit.prim, dir);
-                            map.sides[side].splat(hit.prim, ray.at(hit.t), flux * tint * weight);
-                        }
+                    let ray = Ray::new(origin, dir);
+                    if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY)
+                        && !beam_scene::glossy::is_scatterer(&scene.material(hit.prim))
+                    {
+                        let side = PhotonMaps::side(scene, hit.prim, dir);
+                        map.sides[side].splat(hit.prim, ray.at(hit.t), flux * tint * weight);
                     }
                 }
-                map
-            },
-        )
-        .reduce(
-            || empty.clone(),
-            |mut a, b| {
-                a.sides[0].merge(&b.sides[0]);
-                a.sides[1].merge(&b.sides[1]);
-                a
-            },
-        )
+            }
+            map
+        },
+        |a, b| {
+            a.sides[0].merge(&b.sides[0]);
+            a.sides[1].merge(&b.sides[1]);
+        },
+    )
 }

@@ -16,6 +16,7 @@ use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::glossy::{Emitter, Gathered, GlossyOptions, LightVolumes, Occluded, is_scatterer};
+use beam_scene::region::PixelRect;
 use beam_scene::scene::{Material, Scene};
 use rayon::prelude::*;
 use std::sync::PoisonError;
@@ -113,25 +114,28 @@ fn facing(scene: &Scene, prim: u32, d: Vec3) -> Vec3 {
 
 /// Radiance of the eye's points `points` by `shade` for diffuse ones: mirrors, glass and thin panes
 /// by Whitted rays through `renderer`, emitters their radiance, glossy reflectors their diffuse part
-/// under direct light.
+/// under direct light. Only the pixels of `region` (of the `width × height` frame) are traced, each
+/// seeded by its index in the frame, and the image holds just them.
 fn render_points(
     scene: &Scene,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
+    region: PixelRect,
     renderer: &dyn BeamRenderer,
     diffuse: &Shade<'_>,
 ) -> Result<Image, BackendError> {
     let camera = scene.camera.with_size(width, height);
     let frame = camera.frame();
-    let rays: Vec<Ray> = (0..(camera.width * camera.height) as usize).map(|i| camera.pixel_ray(&frame, i)).collect();
-    let hits = renderer.closest_hits(scene, &rays)?;
+    let region = region.intersect(PixelRect::full(camera.width, camera.height));
+    let rays: Vec<(usize, Ray)> =
+        region.frame_indices(camera.width).map(|i| (i, camera.pixel_ray(&frame, i))).collect();
+    let hits = renderer.closest_hits(scene, &rays.iter().map(|r| r.1).collect::<Vec<_>>())?;
     let (pixels, points): (Vec<usize>, Vec<ShadePoint>) = hits
         .iter()
         .zip(&rays)
         .enumerate()
-        .filter_map(|(i, (h, ray))| {
+        .filter_map(|(k, (h, &(i, ray)))| {
             let h = (*h)?;
-            Some((i, ShadePoint { prim: h.prim, p: ray.at(h.t), d: ray.direction.normalize(), seed: i as u64 }))
+            Some((k, ShadePoint { prim: h.prim, p: ray.at(h.t), d: ray.direction.normalize(), seed: i as u64 }))
         })
         .unzip();
     let shade = |batch: &[ShadePoint]| -> Result<Vec<Vec3>, BackendError> {
@@ -155,7 +159,7 @@ fn render_points(
         Ok(out)
     };
     let radiance = shade_by_waves(scene, renderer, &shade, &points)?;
-    let mut image = Image::new(camera.width, camera.height);
+    let mut image = Image::new(region.width(), region.height());
     for (i, c) in pixels.into_iter().zip(radiance) {
         image.pixels[i] = c;
     }
@@ -244,7 +248,7 @@ pub fn render_glossy_with(
             })
             .collect())
     };
-    let image = render_points(scene, options.width, options.height, renderer, &diffuse)?;
+    let image = render_points(scene, (options.width, options.height), options.region(), renderer, &diffuse)?;
     // Nothing panics while holding the lock: a poisoned one still holds the right totals.
     let (gather_seconds, receivers, tested) = totals.into_inner().unwrap_or_else(PoisonError::into_inner);
     let shadow_beams = volumes.beams.iter().filter(|b| b.shadow).count() as u64;
@@ -267,6 +271,17 @@ pub fn render_glossy_with(
 /// shadow rays (every occluder; area lights sampled over their area, [`reference_direct`]) plus
 /// the scattered light of `map` (from [`glossy_photons`]).
 pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &PhotonMaps) -> Result<Image, RenderError> {
+    render_glossy_photons_in(scene, (width, height), PixelRect::full(width, height), map)
+}
+
+/// [`render_glossy_photons`] of the pixels of `region` only (of the `width × height` frame), each
+/// as in the whole frame.
+pub fn render_glossy_photons_in(
+    scene: &Scene,
+    (width, height): (u32, u32),
+    region: PixelRect,
+    map: &PhotonMaps,
+) -> Result<Image, RenderError> {
     check_lights(scene)?;
     let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, BackendError> {
         Ok(points
@@ -278,7 +293,7 @@ pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &Photo
             })
             .collect())
     };
-    Ok(render_points(scene, width, height, &CpuBeams, &diffuse)?)
+    Ok(render_points(scene, (width, height), region, &CpuBeams, &diffuse)?)
 }
 
 /// [`render_glossy_photons`] with a fresh photon map of about `photons` photons per light.
@@ -289,6 +304,18 @@ pub fn render_glossy_reference(
     photons: u64,
     seed: u64,
 ) -> Result<Image, RenderError> {
+    render_glossy_reference_in(scene, (width, height), PixelRect::full(width, height), photons, seed)
+}
+
+/// [`render_glossy_reference`] of the pixels of `region` only (of the `width × height` frame), each
+/// as in the whole frame; the photon map is still the whole scene's.
+pub fn render_glossy_reference_in(
+    scene: &Scene,
+    size: (u32, u32),
+    region: PixelRect,
+    photons: u64,
+    seed: u64,
+) -> Result<Image, RenderError> {
     check_lights(scene)?;
-    render_glossy_photons(scene, width, height, &glossy_photons(scene, photons, seed))
+    render_glossy_photons_in(scene, size, region, &glossy_photons(scene, photons, seed))
 }

@@ -15,7 +15,6 @@ use beam_scene::nonlinear::{Beam, BeamJob, BeamRenderer, BeamTexture, Degree, SF
 use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use rayon::prelude::*;
 
 /// Strata per side of an area light in the caustic pass, by default (`beam render
 /// --caustic-strata`). Each of an area light's `k²` stratum emitters renders its beams with `1/k`
@@ -144,27 +143,24 @@ pub fn caustics_by_beams(
             .iter()
             .map(|(l, f, beams)| (*l, *f, beams, textures.by_ref().take(beams.len()).collect::<Vec<_>>()))
             .collect();
-        let (m, s) = work
-            .par_iter()
-            .fold(
-                || (empty.clone(), CausticStats::default()),
-                |(mut map, mut stats), (e, f, beams, textures)| {
-                    // Whether the emitter reaches each texel's base point, shared by the face's beams.
-                    let mut lit = vec![None; (size(e) * size(e)) as usize];
-                    for ((beam, transmitted), tex) in beams.iter().zip(textures) {
-                        stats.beams += 1;
-                        deposit(scene, f, beam, tex, e, *transmitted, eps, &mut lit, &mut map, &mut stats);
-                    }
-                    (map, stats)
-                },
-            )
-            .reduce(
-                || (empty.clone(), CausticStats::default()),
-                |(mut a, sa), (b, sb)| {
-                    a.merge(&b);
-                    (a, sa + sb)
-                },
-            );
+        // In a fixed order, so that every process of a render farm sums the same map.
+        let (m, s) = crate::ordered::fold_in_order(
+            &work,
+            || (empty.clone(), CausticStats::default()),
+            |(mut map, mut stats), (e, f, beams, textures)| {
+                // Whether the emitter reaches each texel's base point, shared by the face's beams.
+                let mut lit = vec![None; (size(e) * size(e)) as usize];
+                for ((beam, transmitted), tex) in beams.iter().zip(textures) {
+                    stats.beams += 1;
+                    deposit(scene, f, beam, tex, e, *transmitted, eps, &mut lit, &mut map, &mut stats);
+                }
+                (map, stats)
+            },
+            |(a, sa), (b, sb)| {
+                a.merge(&b);
+                *sa = sa.clone() + sb;
+            },
+        );
         map.merge(&m);
         stats = stats + s;
     }
@@ -248,56 +244,50 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
             jobs.push((light, e, f, m, seed ^ salt));
         }
     }
-    let map = jobs
-        .par_iter()
-        .fold(
-            || empty.clone(),
-            |mut map, &(light, e, f, m, seed)| {
-                let mut rng = Pcg32::seed_from_u64(seed);
-                let (area, n) = (f.area(), scene.normal(f.prim));
-                for _ in 0..m {
-                    let (mut s, mut t) = (rng.random::<f32>(), rng.random::<f32>());
-                    if s + t > 1.0 {
-                        (s, t) = (1.0 - s, 1.0 - t);
-                    }
-                    let w = Vec3::new(1.0 - s - t, s, t);
-                    let p = f.v[0] * w.x + f.v[1] * w.y + f.v[2] * w.z;
-                    let from = match light {
-                        Light::Point { position, .. } => *position,
-                        _ => area_point(light, rng.random(), rng.random()) + e.normal * eps,
-                    };
-                    let to = p - from;
-                    let r2 = to.length_squared();
-                    let d = to / r2.sqrt();
-                    if e.falloff(d) <= 0.0 || blocked(scene, f.prim, p, from, eps) {
-                        continue;
-                    }
-                    let flux = e.towards(d) * (n.dot(d).abs() * area / (r2 * m as f32));
-                    let entering = d.dot(n) < 0.0;
-                    let ns = if entering { f.normal_at(w) } else { -f.normal_at(w) };
-                    let (reflect, transmit) = split(scene, f, w, d);
-                    let side = if entering { n } else { -n };
-                    let mut rays = vec![(Ray::new(p + side * eps, crate::render::reflect(d, ns)), reflect)];
-                    if let (Material::Glass { ior }, true) = (scene.material(f.prim), transmit > 0.0) {
-                        if let (_, Some(t)) = dielectric(d, ns, ior, entering) {
-                            rays.push((Ray::new(p - side * eps, t), Vec3::splat(transmit)));
-                        }
-                    }
-                    for (ray, weight) in rays {
-                        if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY) {
-                            map.splat(hit.prim, ray.at(hit.t), flux * weight);
-                        }
+    // In a fixed order, so that every process of a render farm sums the same map.
+    let map = crate::ordered::fold_in_order(
+        &jobs,
+        || empty.clone(),
+        |mut map, &(light, e, f, m, seed)| {
+            let mut rng = Pcg32::seed_from_u64(seed);
+            let (area, n) = (f.area(), scene.normal(f.prim));
+            for _ in 0..m {
+                let (mut s, mut t) = (rng.random::<f32>(), rng.random::<f32>());
+                if s + t > 1.0 {
+                    (s, t) = (1.0 - s, 1.0 - t);
+                }
+                let w = Vec3::new(1.0 - s - t, s, t);
+                let p = f.v[0] * w.x + f.v[1] * w.y + f.v[2] * w.z;
+                let from = match light {
+                    Light::Point { position, .. } => *position,
+                    _ => area_point(light, rng.random(), rng.random()) + e.normal * eps,
+                };
+                let to = p - from;
+                let r2 = to.length_squared();
+                let d = to / r2.sqrt();
+                if e.falloff(d) <= 0.0 || blocked(scene, f.prim, p, from, eps) {
+                    continue;
+                }
+                let flux = e.towards(d) * (n.dot(d).abs() * area / (r2 * m as f32));
+                let entering = d.dot(n) < 0.0;
+                let ns = if entering { f.normal_at(w) } else { -f.normal_at(w) };
+                let (reflect, transmit) = split(scene, f, w, d);
+                let side = if entering { n } else { -n };
+                let mut rays = vec![(Ray::new(p + side * eps, crate::render::reflect(d, ns)), reflect)];
+                if let (Material::Glass { ior }, true) = (scene.material(f.prim), transmit > 0.0) {
+                    if let (_, Some(t)) = dielectric(d, ns, ior, entering) {
+                        rays.push((Ray::new(p - side * eps, t), Vec3::splat(transmit)));
                     }
                 }
-                map
-            },
-        )
-        .reduce(
-            || empty.clone(),
-            |mut a, b| {
-                a.merge(&b);
-                a
-            },
-        );
+                for (ray, weight) in rays {
+                    if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY) {
+                        map.splat(hit.prim, ray.at(hit.t), flux * weight);
+                    }
+                }
+            }
+            map
+        },
+        |a, b| a.merge(&b),
+    );
     Some(map)
 }

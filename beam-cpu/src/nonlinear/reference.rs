@@ -21,7 +21,8 @@ pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions, photons: 
 /// The ray-traced ground truth of [`super::render_nonlinear`]: one ray per pixel centre, Whitted
 /// through mirrors and glass (at most [`MAX_DEPTH`](crate::render::MAX_DEPTH) bounces) about the interpolated normals;
 /// caustics by about `photons` photons per light ([`caustics_by_photons`]); everything else
-/// shaded alike. The rays of each bounce are traced together by `renderer`.
+/// shaded alike. The rays of each bounce are traced together by `renderer`. Only the pixels of
+/// `options.region` are traced (the photons are the whole scene's).
 pub fn render_smooth_reference_with(
     scene: &Scene,
     options: &RenderOptions,
@@ -31,10 +32,12 @@ pub fn render_smooth_reference_with(
     let caustics = caustics_by_photons(scene, photons, options.seed);
     let camera = scene.camera.with_size(options.width, options.height);
     let frame = camera.frame();
-    let mut image = Image::new(camera.width, camera.height);
-    let paths: Vec<Path> = (0..image.pixels.len()).map(|i| (i, camera.pixel_ray(&frame, i), Vec3::ONE)).collect();
+    let crop = options.region();
+    let mut pixels = vec![Vec3::ZERO; camera.width as usize * camera.height as usize];
+    let paths: Vec<Path> =
+        crop.frame_indices(camera.width).map(|i| (i, camera.pixel_ray(&frame, i), Vec3::ONE)).collect();
     // The ground truth shades exactly, on the CPU.
     let shade = |points: &[ShadePoint]| shade_points(&CpuBeams, scene, options, caustics.as_ref(), points);
-    trace_waves(scene, renderer, &shade, paths, 0, &mut image.pixels)?;
-    Ok(image)
+    trace_waves(scene, renderer, &shade, paths, 0, &mut pixels)?;
+    Ok(Image { width: crop.width(), height: crop.height(), pixels: crop.cut(&pixels, camera.width) })
 }

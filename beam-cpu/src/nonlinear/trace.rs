@@ -26,7 +26,7 @@ use beam_scene::nonlinear::{
 };
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
 /// Settings of the nonlinear renderer.
@@ -340,7 +340,9 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, No
 
 /// Render `scene` with its mirror and glass surfaces by nonlinear beams, the eye's view and every
 /// level of the beam tree rendered by `renderer` (the CPU's, or a GPU's atlases); the tree logic and
-/// the shading are shared.
+/// the shading are shared. With `options.shading.region`, the eye's rays and the caustics are still
+/// the whole frame's (a face's beams are built from every pixel that sees it), but only the beams
+/// of faces that the region's pixels see are traced, and only its pixels are shaded.
 pub fn render_nonlinear_with(
     scene: &Scene,
     options: &NonlinearOptions,
@@ -368,14 +370,25 @@ pub fn render_nonlinear_with(
         let fi = *tree.smesh.face_of.get(&h.prim)?;
         Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
     });
-    let Built { roots: children, levels } = tree.build(renderer, Tree::requests(None, seen, 1.0))?;
-    // The eye's view is level 0 of the radiance flow.
+    // A face's beams come from every pixel that sees it, but only the faces that pixels of the
+    // region see are traced on (with their subtrees): the beams of the others reach no pixel of it.
+    let crop = options.shading.region();
+    let in_crop = |i: usize| crop.contains((i % camera.width as usize) as u32, (i / camera.width as usize) as u32);
+    let wanted: HashSet<usize> = (0..hits.len())
+        .filter(|&i| in_crop(i))
+        .filter_map(|i| tree.smesh.face_of.get(&hits[i]?.1.prim).copied())
+        .collect();
+    let mut roots = Tree::requests(None, seen, 1.0);
+    roots.retain(|r| wanted.contains(&r.face));
+    let Built { roots: children, levels } = tree.build(renderer, roots)?;
+    // The eye's view (the region's pixels) is level 0 of the radiance flow.
     let eye = LevelRadiance {
         regions: Vec::new(),
         len: hits.len(),
         texels: hits
             .iter()
             .enumerate()
+            .filter(|&(i, _)| in_crop(i))
             .filter_map(|(i, hit)| {
                 let (ray, hit) = (*hit)?;
                 let point =
@@ -385,14 +398,14 @@ pub fn render_nonlinear_with(
             .collect(),
     };
     let flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
-    let mut image = Image::new(camera.width, camera.height);
     let (shading, caustics) = (&options.shading, tree.caustics.as_ref());
-    image.pixels = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
+    let frame = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
         Some(pixels) => pixels,
         None => composite_levels(scene, &tree.smesh, &flow, &|points| {
             shade_points(renderer, scene, shading, caustics, points)
         })?,
     };
+    let image = Image { width: crop.width(), height: crop.height(), pixels: crop.cut(&frame, camera.width) };
     let all = || levels.iter().flatten();
     let beams = all().count();
     let texels_tested: u64 = all().map(|n| n.tex.texels_tested).sum();
@@ -411,8 +424,8 @@ pub fn render_nonlinear_with(
         texels_rendered,
         texels_shaded: all().map(|n| n.hits.len() as u64).sum(),
         caustics: caustic_stats,
-        width: camera.width,
-        height: camera.height,
+        width: image.width,
+        height: image.height,
     };
     Ok((image, stats))
 }

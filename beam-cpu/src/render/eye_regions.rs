@@ -10,6 +10,7 @@ use super::primary_beam::{point_on_piece, visible_surface};
 use super::shadow_beam::BeamStats;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::BeamFrame;
+use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Light, Material, Scene};
 
 /// Tiles of the shading (and of primary rays), in pixels.
@@ -42,20 +43,58 @@ impl Region {
 
     /// Copy the region's row-major `pixels` into its place in `image`.
     pub(crate) fn paste(&self, pixels: &[Vec3], image: &mut Image) {
-        let w = (self.x1 - self.x0) as usize;
-        for y in self.y0..self.y1 {
-            let row = (y * image.width) as usize + self.x0 as usize;
-            let from = self.index(self.x0, y);
-            image.pixels[row..row + w].copy_from_slice(&pixels[from..from + w]);
+        self.paste_within(pixels, image, Self::from(PixelRect::full(image.width, image.height)));
+    }
+
+    /// Copy the pixels of the region's row-major `pixels` that lie in `crop` (a rectangle of the
+    /// frame) into their place in `image`, which holds `crop`.
+    pub(crate) fn paste_within(&self, pixels: &[Vec3], image: &mut Image, crop: Region) {
+        let (x0, x1) = (self.x0.max(crop.x0), self.x1.min(crop.x1));
+        if x0 >= x1 {
+            return;
         }
+        let w = (x1 - x0) as usize;
+        for y in self.y0.max(crop.y0)..self.y1.min(crop.y1) {
+            let to = crop.index(x0, y);
+            let from = self.index(x0, y);
+            image.pixels[to..to + w].copy_from_slice(&pixels[from..from + w]);
+        }
+    }
+
+    /// The pixels in both (possibly empty).
+    pub(crate) fn intersect(self, o: Self) -> Self {
+        PixelRect::from(self).intersect(o.into()).into()
+    }
+}
+
+impl From<PixelRect> for Region {
+    fn from(r: PixelRect) -> Self {
+        Self { x0: r.x0, y0: r.y0, x1: r.x1, y1: r.y1 }
+    }
+}
+
+impl From<Region> for PixelRect {
+    fn from(r: Region) -> Self {
+        Self { x0: r.x0, y0: r.y0, x1: r.x1, y1: r.y1 }
     }
 }
 
 /// The regions of a `width × height` image, row by row.
 pub(crate) fn regions(width: u32, height: u32) -> Vec<Region> {
+    regions_in(width, height, PixelRect::full(width, height))
+}
+
+/// The regions of a `width × height` image that hold pixels of `within`, row by row: the image's
+/// own grid of [`REGION`]² squares (anchored at its corner, whatever `within` is), so that an eye
+/// beam splits the visible surface at the same lines as in the whole image.
+pub(crate) fn regions_in(width: u32, height: u32, within: PixelRect) -> Vec<Region> {
+    let within = within.intersect(PixelRect::full(width, height));
     let mut out = Vec::new();
-    for y0 in (0..height).step_by(REGION as usize) {
-        for x0 in (0..width).step_by(REGION as usize) {
+    if within.is_empty() {
+        return out;
+    }
+    for y0 in (within.y0 / REGION * REGION..within.y1).step_by(REGION as usize) {
+        for x0 in (within.x0 / REGION * REGION..within.x1).step_by(REGION as usize) {
             out.push(Region { x0, y0, x1: (x0 + REGION).min(width), y1: (y0 + REGION).min(height) });
         }
     }
@@ -98,15 +137,19 @@ pub(crate) struct EyeStats {
     pub(crate) trace_seconds: f64,
 }
 
-/// Every fragment of the exact visible surface seen through the pixels of `region`: calls
-/// `fragment(x, y, coverage, seen)` with the fraction of pixel `(x, y)` a piece covers. With
-/// `point_shadows`, each visible piece of a diffuse or glossy triangle is also connected to every
-/// point light by a beam, and its lit parts come as [`Fragment::Lit`]. Marks the triangles seen in
-/// `seen_prims`.
+/// Every fragment of the exact visible surface seen through the pixels of `region` (one eye beam)
+/// that lies in the pixels of `window` (within `region`): calls `fragment(x, y, coverage, seen)`
+/// with the fraction of pixel `(x, y)` a piece covers. With `point_shadows`, each visible piece of a
+/// diffuse or glossy triangle is also connected to every point light by a beam, and its lit parts
+/// come as [`Fragment::Lit`]. Marks the triangles seen in `seen_prims`. A pixel's fragments do not
+/// depend on `window`: the pieces are the eye beam's through all of `region`, and only the pieces
+/// that reach no pixel of `window` are skipped.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn region_fragments(
     scene: &Scene,
     camera: &Camera,
     region: Region,
+    window: Region,
     point_shadows: bool,
     stats: &mut EyeStats,
     seen_prims: &mut [bool],
@@ -120,9 +163,18 @@ pub(crate) fn region_fragments(
     let pieces = visible_surface(&scene.bvh, &scene.triangles, &frame, lo, hi, &mut stats.primary);
     stats.trace_seconds += start.elapsed().as_secs_f64();
     stats.pieces += pieces.len() as u64;
-    let window = (region.x0, region.y0, region.x1, region.y1);
+    let w = window.intersect(region);
+    let window = (w.x0, w.y0, w.x1, w.y1);
+    // Pieces at least a pixel away from the window have no fragment in it (their lit parts, cut
+    // from them, neither): skipped, shadow beams and all.
+    let (wlo, whi) = (Vec2::new(w.x0 as f32 - 1.0, w.y0 as f32 - 1.0), Vec2::new(w.x1 as f32 + 1.0, w.y1 as f32 + 1.0));
     let mut points = Vec::new();
     for piece in &pieces {
+        let corners = piece.section.vertices().iter().map(|&c| grid.to_pixels(c));
+        let (lo, hi) = corners.fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        if !(lo.x < whi.x && lo.y < whi.y && hi.x > wlo.x && hi.y > wlo.y) {
+            continue;
+        }
         let Some(prim) = piece.prim else {
             pixel_parts(grid, &piece.section, window, |x, y, cov, _| fragment(x, y, cov, Fragment::Background));
             continue;
@@ -167,7 +219,7 @@ pub fn primary_coverage(scene: &Scene, width: u32, height: u32) -> Vec<(f32, f32
     let mut seen = vec![false; scene.triangles.len()];
     for region in regions(width, height) {
         let mut stats = EyeStats::default();
-        region_fragments(scene, &camera, region, false, &mut stats, &mut seen, |x, y, cov, seen| {
+        region_fragments(scene, &camera, region, region, false, &mut stats, &mut seen, |x, y, cov, seen| {
             let o = &mut out[(y * width + x) as usize];
             o.0 += cov;
             if let Fragment::Surface { .. } = seen {

@@ -1,7 +1,8 @@
-//! Linear RGB images and their PNG encoding (sRGB, written atomically).
+//! Linear RGB images and their files (PNG as sRGB, OpenEXR as linear `f32`; written atomically).
 
 use crate::RenderError;
 use beam_math::glam::Vec3;
+use beam_scene::SceneError;
 use std::path::Path;
 
 /// A linear RGB image, row-major from the top-left pixel.
@@ -46,6 +47,16 @@ impl Image {
         Ok(beam_scene::io::write_png(path, self.width, self.height, &self.to_srgb8())?)
     }
 
+    /// Write as OpenEXR (linear RGB, 32-bit floats), atomically.
+    pub fn save_exr(&self, path: &Path) -> Result<(), RenderError> {
+        let whole = beam_scene::region::Placement::whole(self.width, self.height);
+        let bytes = beam_scene::io::encode_exr(&self.pixels, whole).map_err(|e| match e {
+            SceneError::Image { path: None, message } => SceneError::Image { path: Some(path.into()), message },
+            e => e,
+        })?;
+        Ok(beam_scene::io::write_atomic(path, &bytes)?)
+    }
+
     /// Read an 8-bit PNG (or any format the `image` crate reads) back to linear RGB.
     pub fn load(path: &Path) -> Result<Self, RenderError> {
         let img = image::open(path).map_err(|source| RenderError::ReadImage { path: path.to_path_buf(), source })?;
@@ -82,5 +93,10 @@ mod tests {
         let back = Image::load(&p).unwrap();
         assert_eq!((back.width, back.height), (3, 2));
         assert!((back.pixels[4] - img.pixels[4]).abs().max_element() < 0.01);
+        let e = dir.path().join("a.exr");
+        img.pixels[1] = Vec3::new(15.0, 1e-9, 0.1);
+        img.save_exr(&e).unwrap();
+        let (pixels, _) = beam_scene::io::read_exr(&e).unwrap();
+        assert_eq!(pixels, img.pixels);
     }
 }

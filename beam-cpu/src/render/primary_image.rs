@@ -70,7 +70,7 @@ pub fn primary_image(
             let mut seen = vec![false; scene.triangles.len()];
             let mut fragments = 0u64;
             let mut eye = EyeStats::default();
-            region_fragments(scene, camera, region, false, &mut eye, &mut seen, |x, y, cov, f| {
+            region_fragments(scene, camera, region, region, false, &mut eye, &mut seen, |x, y, cov, f| {
                 let i = region.index(x, y);
                 coverage[i] += cov;
                 if let Fragment::Surface { prim, q, d } = f {

@@ -3,9 +3,10 @@
 //! rays, with the same shading, so that the two images differ only by the rays' noise), the parts
 //! assembled and the counters summed (`stats`).
 
-use super::eye_regions::{REGION, Region, TILE, regions};
+use super::eye_regions::{REGION, Region, TILE, regions_in};
 use super::image::Image;
 use beam_scene::queries::AnyHit;
+use beam_scene::region::PixelRect;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -25,7 +26,8 @@ pub use shading::{shade_point, stratified, trace_radiance};
 
 pub use beam_scene::options::{Method, RenderOptions, Shading};
 
-/// Render `scene`; `row_done` is called after each image row (for a progress bar).
+/// Render `scene` (the pixels of `options.region` only, each as in the whole frame); `row_done` is
+/// called after each image row (for a progress bar).
 pub fn render(scene: &Scene, options: &RenderOptions, row_done: impl Fn() + Sync) -> (Image, RenderStats) {
     render_with(scene, options, &|ray, t_max| scene.wide.any_hit(ray, t_max), row_done)
 }
@@ -45,46 +47,59 @@ pub fn render_with(
     let eye_beams = options.method == Method::Beam && options.primary_beams;
     let n_prims = if eye_beams { scene.triangles.len() } else { 0 };
     let trace = Trace { ctx: &ctx, camera: &camera, seed: &pixel_seed, n_prims };
-    // Eye beams a region at a time, primary rays a band of TILE rows at a time, in parallel; each
-    // returns its pixels, counters and the triangles it saw.
-    let parts: Vec<Traced> = if eye_beams {
-        let regions = regions(camera.width, camera.height);
-        let across = camera.width.div_ceil(REGION);
+    // The pixels asked for, and those computed: whole shading tiles of the frame's grid, since a
+    // tile's shade points share their candidate occluders (a pixel gets its whole-frame value only
+    // with its tile's others).
+    let rect = options.region();
+    let crop = Region::from(rect);
+    let work = Region::from(PixelRect::from(crop).aligned_out(TILE, camera.width, camera.height));
+    let rows_of = |part: Region| crop.y1.min(part.y1).saturating_sub(crop.y0.max(part.y0));
+    // Eye beams a region of the frame's grid at a time (the pixels of `work` in it), primary rays a
+    // band of TILE rows at a time, in parallel; each returns its pixels, counters and the triangles
+    // it saw.
+    let parts: Vec<Traced> = if rect.is_empty() {
+        Vec::new()
+    } else if eye_beams {
+        let regions = regions_in(camera.width, camera.height, work.into());
+        let across = regions.iter().filter(|r| r.y0 == regions[0].y0).count() as u32;
+        let first_row = regions.first().map_or(0, |r| r.y0 / REGION);
         let done: Vec<AtomicU32> = (0..camera.height.div_ceil(REGION)).map(|_| AtomicU32::new(0)).collect();
         regions
             .into_par_iter()
             .map(|region| {
-                let traced = trace.eye_region(region);
+                let traced = trace.eye_region(region, region.intersect(work));
                 // A row is done once every region across it is.
-                if done[(region.y0 / REGION) as usize].fetch_add(1, Ordering::Relaxed) + 1 == across {
-                    (region.y0..region.y1).for_each(|_| row_done());
+                let row = (region.y0 / REGION - first_row) as usize;
+                if done[row].fetch_add(1, Ordering::Relaxed) + 1 == across {
+                    (0..rows_of(region)).for_each(|_| row_done());
                 }
                 traced
             })
             .collect()
     } else {
-        (0..camera.height.div_ceil(TILE))
+        (work.y0 / TILE..work.y1.div_ceil(TILE))
             .into_par_iter()
             .map(|ty| {
-                let (y0, x1) = (ty * TILE, camera.width);
-                let traced = trace.ray_band(Region { x0: 0, y0, x1, y1: (y0 + TILE).min(camera.height) });
-                (y0..traced.region.y1).for_each(|_| row_done());
+                let y0 = ty * TILE;
+                let traced =
+                    trace.ray_band(Region { x0: work.x0, y0, x1: work.x1, y1: (y0 + TILE).min(camera.height) });
+                (0..rows_of(traced.region)).for_each(|_| row_done());
                 traced
             })
             .collect()
     };
-    let mut image = Image::new(camera.width, camera.height);
+    let mut image = Image::new(rect.width(), rect.height());
     let mut total = Counters::default();
     let mut visible = vec![false; n_prims];
     for part in parts {
-        part.region.paste(&part.pixels, &mut image);
+        part.region.paste_within(&part.pixels, &mut image, crop);
         total += part.counters;
         for (v, s) in visible.iter_mut().zip(part.seen) {
             *v |= s;
         }
     }
     let visible_triangles = visible.iter().filter(|&&v| v).count() as u64;
-    let pixels = f64::from(camera.width * camera.height);
+    let pixels = (image.pixels.len() as f64).max(1.0);
     let stats = RenderStats {
         seconds: start.elapsed().as_secs_f64(),
         method: match options.method {
@@ -98,8 +113,8 @@ pub fn render_with(
         }
         .into(),
         spp: if options.method == Method::Ray { options.spp } else { 0 },
-        width: camera.width,
-        height: camera.height,
+        width: image.width,
+        height: image.height,
         triangles: scene.stats.triangles,
         degenerate_triangles: scene.stats.degenerate,
         camera_rays: total.camera_rays,

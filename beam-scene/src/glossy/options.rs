@@ -1,5 +1,6 @@
 //! Settings of the glossy light volumes and their gather, read by both backends.
 
+use crate::region::PixelRect;
 use beam_math::glossy::VolumeMethod;
 
 /// Settings of the glossy renderer.
@@ -23,6 +24,9 @@ pub struct GlossyOptions {
     /// photon map of that texel size (beam-cpu's `PhotonKernel`, on the CPU), for comparisons with one; 0:
     /// at the point itself.
     pub filter: f32,
+    /// Only these pixels are rendered, each as in the whole frame, and the image holds just them
+    /// (`None`: the whole frame; cut at the frame's edge).
+    pub region: Option<PixelRect>,
 }
 
 impl GlossyOptions {
@@ -38,6 +42,14 @@ impl GlossyOptions {
             second_order: true,
             subdivide: 4,
             filter: 0.0,
+            region: None,
         }
+    }
+
+    /// The pixels rendered: [`Self::region`] within the frame, or the whole frame.
+    #[must_use]
+    pub fn region(&self) -> PixelRect {
+        let frame = PixelRect::full(self.width, self.height);
+        self.region.map_or(frame, |r| r.intersect(frame))
     }
 }

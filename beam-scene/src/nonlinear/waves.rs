@@ -38,7 +38,17 @@ pub fn shade_by_waves(
     for ((i, _), radiance) in direct.iter().zip(shade(&batch)?) {
         out[*i] = radiance;
     }
-    trace_waves(scene, renderer, shade, paths, 1, &mut out)?;
+    // A point reached through mirrors and glass draws its samples from the seed of the point it was
+    // reached from (not from that point's place in `points`), so that every point's radiance is the
+    // same whatever else is in the batch (a tile of an image shades as the whole image does).
+    let reseeded = |batch: &[ShadePoint]| {
+        let batch: Vec<ShadePoint> = batch
+            .iter()
+            .map(|s| ShadePoint { seed: points.get(s.seed as usize).map_or(s.seed, |p| p.seed), ..*s })
+            .collect();
+        shade(&batch)
+    };
+    trace_waves(scene, renderer, &reseeded, paths, 1, &mut out)?;
     Ok(out)
 }
 

@@ -48,6 +48,19 @@ impl Camera {
         Self { position, target: position + forward, up: Vec3::Y, fov_y: 60.0, width, height }
     }
 
+    /// Whether the camera can see: a field of view strictly between 0° and 180°, a non-zero
+    /// resolution, a position other than the target and an up vector not along the view, all finite.
+    #[must_use]
+    pub fn has_view(&self) -> bool {
+        let sideways = self.up.cross(self.target - self.position);
+        self.fov_y > 0.0
+            && self.fov_y < 180.0
+            && self.width > 0
+            && self.height > 0
+            && sideways.length_squared() > 0.0
+            && sideways.is_finite()
+    }
+
     /// The same camera rendering `width × height` pixels (at least one each way).
     #[must_use]
     pub fn with_size(self, width: u32, height: u32) -> Self {

@@ -121,12 +121,13 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     if lights.is_empty() {
         lights.push(default_light(bounds));
     }
-    let camera = match file.camera {
+    let (camera, camera_path) = match file.camera {
         Some(c) => format::camera(path, &c)?,
-        None => default_camera(bounds),
+        None => (default_camera(bounds), None),
     };
     let mut scene = Scene::new(path.display().to_string(), triangles, materials, lights, camera);
     scene.stats.skipped_elements = skipped;
+    scene.camera_path = camera_path;
     Ok(scene)
 }
 
@@ -224,6 +225,41 @@ mod tests {
         let bad_obj = write(dir.path(), "d.obj", "v 0 0 0\nv 1 x 0\nf 1 2 3\n");
         let e = load_file(&bad_obj).err().unwrap().to_string();
         assert!(e.contains("d.obj:2"), "{e}");
+    }
+
+    #[test]
+    fn camera_keys_make_an_animated_camera() {
+        let dir = tempfile::tempdir().unwrap();
+        write(dir.path(), "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        let body = "[materials.w]\ntype=\"diffuse\"\nalbedo=[1,1,1]\n[[meshes]]\nfile=\"t.obj\"\nmaterial=\"w\"\n";
+        let key =
+            |f: u32, x: f32| format!("[[camera.keys]]\nframe = {f}\nposition = [{x}, 0, 5]\ntarget = [0, 0, 0]\n");
+        let p = write(dir.path(), "a.toml", &format!("{body}[camera]\nfov = 30\n{}{}", key(0, 0.0), key(4, 2.0)));
+        let s = load_file(&p).unwrap();
+        assert_eq!(s.camera.position, Vec3::new(0.0, 0.0, 5.0));
+        assert_eq!(s.camera_at(2).unwrap().position, Vec3::new(1.0, 0.0, 5.0));
+        assert_eq!(s.camera_at(2).unwrap().fov_y, 30.0);
+        assert!(s.camera_at(5).is_none());
+        let still = write(dir.path(), "b.toml", &format!("{body}[camera]\nposition = [0, 0, 5]\ntarget = [0, 0, 0]\n"));
+        let s = load_file(&still).unwrap();
+        assert!(s.camera_path.is_none() && s.camera_at(0) == Some(s.camera) && s.camera_at(1).is_none());
+        let both = write(
+            dir.path(),
+            "c.toml",
+            &format!("{body}[camera]\nposition = [0, 0, 5]\ntarget = [0, 0, 0]\n{}", key(0, 0.0)),
+        );
+        assert!(load_file(&both).err().unwrap().to_string().contains("not both"));
+        let back = write(dir.path(), "d.toml", &format!("{body}{}{}", key(3, 0.0), key(3, 1.0)));
+        let e = load_file(&back).err().unwrap().to_string();
+        assert!(e.contains("camera.keys[1].frame 3") && e.contains("increase"), "{e}");
+        let blind = write(
+            dir.path(),
+            "e.toml",
+            &format!("{body}{}[[camera.keys]]\nframe = 1\nposition = [0, 0, 0]\ntarget = [0, 0, 0]\n", key(0, 0.0)),
+        );
+        assert!(load_file(&blind).err().unwrap().to_string().contains("camera.keys[1]"));
+        let none = write(dir.path(), "f.toml", &format!("{body}[camera]\nfov = 30\n"));
+        assert!(load_file(&none).err().unwrap().to_string().contains("needs position and target"));
     }
 
     #[test]

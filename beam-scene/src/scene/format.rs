@@ -2,12 +2,17 @@
 //!
 //! ```toml
 //! [camera]                      # optional for a scene made of one mesh
-//! position = [0, 1, 4]
+//! position = [0, 1, 4]          # a still camera (or [[camera.keys]] below, not both)
 //! target = [0, 1, 0]
 //! up = [0, 1, 0]                # default [0, 1, 0]
 //! fov = 45                      # vertical, degrees; default 45
 //! width = 512                   # default 512
 //! height = 512                  # default 512
+//!
+//! [[camera.keys]]               # an animated camera (`beam render --frame K`): keyframes in
+//! frame = 0                     # increasing frame order, linearly interpolated; frames run from 0
+//! position = [0, 1, 4]          # to the last key's (held at the first key before it)
+//! target = [0, 1, 0]
 //!
 //! [materials.white]             # type: diffuse | mirror | glass | glossy | emissive
 //! type = "diffuse"
@@ -29,7 +34,7 @@
 //! ```
 
 use super::check::{colour, finite};
-use super::{Bump, Camera, Light, Material};
+use super::{Bump, Camera, CameraKey, CameraPath, Light, Material};
 use crate::error::SceneError;
 use beam_math::glam::Vec3;
 use serde::Deserialize;
@@ -51,12 +56,22 @@ pub(super) struct SceneFile {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CameraFile {
-    pub(super) position: [f32; 3],
-    pub(super) target: [f32; 3],
+    pub(super) position: Option<[f32; 3]>,
+    pub(super) target: Option<[f32; 3]>,
+    #[serde(default)]
+    pub(super) keys: Vec<CameraKeyFile>,
     pub(super) up: Option<[f32; 3]>,
     pub(super) fov: Option<f32>,
     pub(super) width: Option<u32>,
     pub(super) height: Option<u32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CameraKeyFile {
+    pub(super) frame: u32,
+    pub(super) position: [f32; 3],
+    pub(super) target: [f32; 3],
 }
 
 #[derive(Deserialize)]
@@ -196,31 +211,62 @@ pub(super) fn light(path: &Path, element: &str, l: &LightFile) -> Result<Light, 
     Ok(light)
 }
 
-/// The camera of the scene file `path`, checked: finite, 0 < fov < 180, a non-zero resolution and
-/// an up vector not along the view (nor a view of zero length).
-pub(super) fn camera(path: &Path, c: &CameraFile) -> Result<Camera, SceneError> {
-    finite(path, "camera", &[c.position, c.target, c.up.unwrap_or([0.0, 1.0, 0.0])].concat())?;
+/// The camera of the scene file `path` and its path when it has `[[camera.keys]]`, checked:
+/// finite, 0 < fov < 180, a non-zero resolution and an up vector not along the view (nor a view of
+/// zero length) at every key; keys in strictly increasing frame order. The camera is frame 0's.
+pub(super) fn camera(path: &Path, c: &CameraFile) -> Result<(Camera, Option<CameraPath>), SceneError> {
+    let invalid = |element: &str, message: String| SceneError::Invalid {
+        path: path.to_path_buf(),
+        element: element.to_string(),
+        message,
+    };
+    let (position, target) = match (c.position, c.target, c.keys.first()) {
+        (Some(p), Some(t), None) => (p, t),
+        (None, None, Some(k)) => (k.position, k.target),
+        (_, _, None) => return Err(invalid("camera", "needs position and target, or [[camera.keys]]".into())),
+        (_, _, Some(_)) => {
+            return Err(invalid(
+                "camera",
+                "give position and target (a still camera) or [[camera.keys]] (an animated one), not both".into(),
+            ));
+        }
+    };
+    let up = c.up.unwrap_or([0.0, 1.0, 0.0]);
+    finite(path, "camera", &[position, target, up].concat())?;
     let cam = Camera {
-        position: vec3(c.position),
-        target: vec3(c.target),
-        up: vec3(c.up.unwrap_or([0.0, 1.0, 0.0])),
+        position: vec3(position),
+        target: vec3(target),
+        up: vec3(up),
         fov_y: c.fov.unwrap_or(45.0),
         width: c.width.unwrap_or(512),
         height: c.height.unwrap_or(512),
     };
-    let sideways = cam.up.cross(cam.target - cam.position);
-    if !(cam.fov_y > 0.0 && cam.fov_y < 180.0)
-        || cam.width == 0
-        || cam.height == 0
-        || !(sideways.length_squared() > 0.0 && sideways.is_finite())
-    {
-        return Err(SceneError::Invalid {
-            path: path.to_path_buf(),
-            element: "camera".into(),
-            message: "needs 0 < fov < 180, a non-zero resolution, position ≠ target and an up vector not along \
-                      the view"
-                .into(),
-        });
+    let bad_view = |element: &str| {
+        invalid(
+            element,
+            "needs 0 < fov < 180, a non-zero resolution, position ≠ target and an up vector not along the view".into(),
+        )
+    };
+    if !cam.has_view() {
+        return Err(bad_view("camera"));
     }
-    Ok(cam)
+    let mut keys = Vec::with_capacity(c.keys.len());
+    for (i, k) in c.keys.iter().enumerate() {
+        let element = format!("camera.keys[{i}]");
+        finite(path, &element, &[k.position, k.target].concat())?;
+        let key = CameraKey { frame: k.frame, position: vec3(k.position), target: vec3(k.target) };
+        if !(Camera { position: key.position, target: key.target, ..cam }).has_view() {
+            return Err(bad_view(&element));
+        }
+        if let Some(before) = keys.last().filter(|b: &&CameraKey| b.frame >= key.frame) {
+            return Err(invalid(
+                &format!("{element}.frame {}", key.frame),
+                format!("frames must increase (camera.keys[{}] has frame {})", i - 1, before.frame),
+            ));
+        }
+        keys.push(key);
+    }
+    let camera_path = CameraPath::new(keys);
+    let cam = camera_path.as_ref().and_then(|p| p.camera_at(&cam, 0)).unwrap_or(cam);
+    Ok((cam, camera_path))
 }

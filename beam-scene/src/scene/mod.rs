@@ -3,6 +3,7 @@
 
 mod builtin;
 mod camera;
+mod camera_path;
 mod check;
 mod file;
 pub mod foliage;
@@ -14,6 +15,7 @@ pub mod showcase;
 
 pub use builtin::{BUILTIN, PROCEDURAL, builtin, builtin_with_smesh};
 pub use camera::Camera;
+pub use camera_path::{CameraKey, CameraPath};
 pub use file::{LoadOptions, load, load_file, load_file_with, load_with};
 
 use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
@@ -224,8 +226,10 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Lights.
     pub lights: Vec<Light>,
-    /// Camera.
+    /// Camera (at frame 0 of [`Self::camera_path`] when there is one).
     pub camera: Camera,
+    /// The animated camera of a scene file's `[[camera.keys]]`; `None`: a still camera.
+    pub camera_path: Option<CameraPath>,
     /// Load counts.
     pub stats: SceneStats,
     /// Binary BVH (generic traversal for beams).
@@ -259,7 +263,29 @@ impl Scene {
         let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
         let wide = WideBvh::new(&bvh, &triangles);
         let smooth_normals = normals::specular_normals(&triangles, &material_of, &materials);
-        Self { name, triangles, material_of, materials, lights, camera, stats, bvh, wide, smooth_normals }
+        Self {
+            name,
+            triangles,
+            material_of,
+            materials,
+            lights,
+            camera,
+            camera_path: None,
+            stats,
+            bvh,
+            wide,
+            smooth_normals,
+        }
+    }
+
+    /// The camera at frame `frame` of [`Self::camera_path`]; a still camera has frame 0 only. `None`
+    /// past the last frame.
+    #[must_use]
+    pub fn camera_at(&self, frame: u32) -> Option<Camera> {
+        match &self.camera_path {
+            Some(path) => path.camera_at(&self.camera, frame),
+            None => (frame == 0).then_some(self.camera),
+        }
     }
 
     /// Material of triangle `i`.

@@ -33,7 +33,8 @@ pub(super) struct Trace<'a> {
 }
 
 impl Trace<'_> {
-    /// `options.primary_spp` stratified primary rays per pixel of `band`, shaded a tile at a time.
+    /// `options.primary_spp` stratified primary rays per pixel of `band`, shaded a tile at a time
+    /// (`band.x0` on the frame's grid of tiles).
     pub(super) fn ray_band(&self, band: Region) -> Traced {
         let (ctx, camera) = (self.ctx, self.camera);
         let mut t = Thread::default();
@@ -71,19 +72,20 @@ impl Trace<'_> {
         self.finish(band, pixels, t, Vec::new())
     }
 
-    /// The exact visible surface of `region` by one eye beam, its fragments shaded a tile at a time
-    /// (point lights by hard-shadow beams from the visible pieces, 001 §4.2).
-    pub(super) fn eye_region(&self, region: Region) -> Traced {
+    /// The exact visible surface of `region` by one eye beam, its fragments in `window` (whole
+    /// tiles of the frame's grid, within `region`) shaded a tile at a time (point lights by
+    /// hard-shadow beams from the visible pieces, 001 §4.2). Returns the pixels of `window`.
+    pub(super) fn eye_region(&self, region: Region, window: Region) -> Traced {
         let (ctx, camera) = (self.ctx, self.camera);
         let mut t = Thread::default();
-        let mut pixels = vec![Vec3::ZERO; region.len()];
-        let mut coverage = vec![0.0f32; region.len()];
+        let mut pixels = vec![Vec3::ZERO; window.len()];
+        let mut coverage = vec![0.0f32; window.len()];
         let mut seen = vec![false; self.n_prims];
         let start = Instant::now();
         let mut surfaces = Vec::new();
         let mut eye = EyeStats::default();
-        region_fragments(ctx.scene, camera, region, true, &mut eye, &mut seen, |x, y, cov, f| {
-            let i = region.index(x, y);
+        region_fragments(ctx.scene, camera, region, window, true, &mut eye, &mut seen, |x, y, cov, f| {
+            let i = window.index(x, y);
             match f {
                 Fragment::Background => coverage[i] += cov,
                 Fragment::Surface { prim, q, d } => {
@@ -97,8 +99,9 @@ impl Trace<'_> {
                 }
             }
         });
-        // Shade tile by tile, so that neighbouring points share their candidate occluders.
-        let tile_of = |s: &Surface| ((s.y - region.y0) / TILE, (s.x - region.x0) / TILE);
+        // Shade tile by tile (the frame's grid), so that neighbouring points share their candidate
+        // occluders.
+        let tile_of = |s: &Surface| (s.y / TILE, s.x / TILE);
         surfaces.sort_by_key(tile_of);
         t.c.primary += eye.primary;
         t.c.beams += eye.shadow;
@@ -108,11 +111,11 @@ impl Trace<'_> {
         let mut points = Vec::new();
         for tile in surfaces.chunk_by(|a, b| tile_of(a) == tile_of(b)) {
             let (ty, tx) = tile_of(&tile[0]);
-            let origin = (region.x0 + tx * TILE, region.y0 + ty * TILE);
-            ctx.shade_tile(tile, Lights::AreaOnly, origin, (&mut pixels, region), &mut points, &mut t);
+            let origin = (tx * TILE, ty * TILE);
+            ctx.shade_tile(tile, Lights::AreaOnly, origin, (&mut pixels, window), &mut points, &mut t);
         }
         t.c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
-        self.finish(region, pixels, t, seen)
+        self.finish(window, pixels, t, seen)
     }
 
     fn finish(&self, region: Region, pixels: Vec<Vec3>, mut t: Thread, seen: Vec<bool>) -> Traced {

@@ -1,0 +1,105 @@
+//! Render-farm tiles: every renderer, asked for a rectangle of the frame, gives each of its pixels
+//! exactly (bit for bit) the value it has in the whole frame's render. The rectangles are chosen
+//! off the renderers' internal grids (shading tiles of 16 pixels, eye-beam regions of 256).
+
+use beam_cpu::glossy::{GlossyOptions, render_glossy, render_glossy_reference, render_glossy_reference_in};
+use beam_cpu::nonlinear::{Degree, NonlinearOptions, render_nonlinear, render_smooth_reference};
+use beam_cpu::render::{Image, Method, RenderOptions, render};
+use beam_scene::region::PixelRect;
+use beam_scene::scene;
+
+/// Rectangles of a `w × h` frame: the middle of three bands, a crop across grid lines, a single
+/// pixel, the last corner.
+fn rects(w: u32, h: u32) -> Vec<PixelRect> {
+    let mut out: Vec<PixelRect> = PixelRect::band(1, 3, w, h).into_iter().collect();
+    out.push(PixelRect { x0: 5, y0: 7, x1: w - 3, y1: h / 2 + 1 });
+    out.push(PixelRect { x0: w / 2, y0: h / 3, x1: w / 2 + 1, y1: h / 3 + 1 });
+    out.push(PixelRect { x0: w - 1, y0: h - 1, x1: w, y1: h });
+    out
+}
+
+/// `part` equals the pixels of `rect` in `full`, bit for bit.
+#[track_caller]
+fn same(what: &str, full: &Image, rect: PixelRect, part: &Image) {
+    assert_eq!((part.width, part.height), (rect.width(), rect.height()), "{what} {rect:?}");
+    let want = rect.cut(&full.pixels, full.width);
+    for (i, (a, b)) in want.iter().zip(&part.pixels).enumerate() {
+        assert!(
+            a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits),
+            "{what} {rect:?}: pixel {i} is {b} in the tile, {a} in the frame"
+        );
+    }
+}
+
+#[test]
+fn beam_and_ray_tiles_equal_the_frame() {
+    let (w, h) = (300, 40);
+    for (name, method, primary_beams) in [
+        ("cornell", Method::Beam, true),
+        ("cornell-point", Method::Beam, true),
+        ("cornell", Method::Beam, false),
+        ("cornell", Method::Ray, false),
+    ] {
+        let scene = scene::builtin(name).unwrap();
+        let options = RenderOptions { method, primary_beams, spp: 4, primary_spp: 4, ..RenderOptions::exact(w, h) };
+        let (full, _) = render(&scene, &options, || {});
+        for rect in rects(w, h) {
+            let (part, _) = render(&scene, &RenderOptions { region: Some(rect), ..options }, || {});
+            same(&format!("{name} {method:?} eye beams {primary_beams}"), &full, rect, &part);
+        }
+    }
+}
+
+#[test]
+fn a_region_outside_the_frame_renders_nothing() {
+    let scene = scene::builtin("cornell").unwrap();
+    let outside = PixelRect { x0: 40, y0: 2, x1: 50, y1: 9 };
+    for primary_beams in [true, false] {
+        let options = RenderOptions { primary_beams, region: Some(outside), ..RenderOptions::exact(32, 24) };
+        let (image, _) = render(&scene, &options, || {});
+        assert!(image.pixels.is_empty() && image.width * image.height == 0);
+    }
+    let glossy = GlossyOptions { region: Some(outside), subdivide: 1, ..GlossyOptions::new(32, 24) };
+    assert!(render_glossy(&scene::builtin("cardioid-ring").unwrap(), &glossy).unwrap().0.pixels.is_empty());
+    let shading = RenderOptions { region: Some(outside), ..RenderOptions::exact(32, 24) };
+    assert!(render_smooth_reference(&scene::builtin("mirror-glass").unwrap(), &shading, 10).pixels.is_empty());
+}
+
+#[test]
+fn nonlinear_tiles_equal_the_frame() {
+    let scene = scene::builtin("mirror-glass").unwrap();
+    let (w, h) = (40, 30);
+    let options = NonlinearOptions {
+        degree: Degree::S3,
+        texels: 16,
+        bounces: 2,
+        caustic_strata: 1,
+        shading: RenderOptions::exact(w, h),
+    };
+    let (full, _) = render_nonlinear(&scene, &options);
+    let reference = render_smooth_reference(&scene, &options.shading, 2000);
+    for rect in rects(w, h) {
+        let shading = RenderOptions { region: Some(rect), ..options.shading };
+        let (part, _) = render_nonlinear(&scene, &NonlinearOptions { shading, ..options });
+        same("nonlinear", &full, rect, &part);
+        same("nonlinear-reference", &reference, rect, &render_smooth_reference(&scene, &shading, 2000));
+    }
+}
+
+#[test]
+fn glossy_tiles_equal_the_frame() {
+    // Glass and mirrors (eye paths through them) and a glossy ring.
+    for name in ["cardioid-ring", "mirror-glass"] {
+        let scene = scene::builtin(name).unwrap();
+        let (w, h) = (40, 30);
+        let options = GlossyOptions { subdivide: 1, ..GlossyOptions::new(w, h) };
+        let (full, _) = render_glossy(&scene, &options).unwrap();
+        let reference = render_glossy_reference(&scene, w, h, 2000, 1).unwrap();
+        for rect in rects(w, h) {
+            let (part, _) = render_glossy(&scene, &GlossyOptions { region: Some(rect), ..options }).unwrap();
+            same(&format!("{name} glossy"), &full, rect, &part);
+            let part = render_glossy_reference_in(&scene, (w, h), rect, 2000, 1).unwrap();
+            same(&format!("{name} glossy-reference"), &reference, rect, &part);
+        }
+    }
+}

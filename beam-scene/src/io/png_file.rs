@@ -1,0 +1,124 @@
+//! PNG files that know their place in a frame: a render farm's tile carries a tEXt chunk
+//! `beam:region` = `x0,y0,x1,y1,W,H` (its pixels `[x0, x1) × [y0, y1)` of a `W × H` frame) before
+//! its pixel data. A whole image is written without it, byte for byte as [`super::encode_png`]
+//! writes it, and a PNG without it is a whole frame.
+
+use super::{encode_png, image_error, regular_file};
+use crate::error::SceneError;
+use crate::region::Placement;
+use std::io::BufReader;
+use std::path::Path;
+
+/// Keyword of the tEXt chunk that places a tile in its frame.
+pub const REGION_KEY: &str = "beam:region";
+
+/// 8-bit RGB `rgb` (the rectangle of `placement`, row-major) as PNG bytes, with its placement when
+/// it is not the whole frame.
+pub fn encode_png_placed(rgb: &[u8], placement: Placement) -> Result<Vec<u8>, SceneError> {
+    let (w, h) = (placement.rect.width(), placement.rect.height());
+    if placement.is_whole() {
+        return encode_png(w, h, rgb);
+    }
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, w, h);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let fail = |e: png::EncodingError| SceneError::Image { path: None, message: e.to_string() };
+    encoder.add_text_chunk(REGION_KEY.into(), placement.to_text()).map_err(fail)?;
+    let mut writer = encoder.write_header().map_err(fail)?;
+    writer.write_image_data(rgb).map_err(fail)?;
+    writer.finish().map_err(fail)?;
+    Ok(bytes)
+}
+
+/// A PNG file's reader past its header, after refusing what is not a regular file.
+fn open(path: &Path, limit: usize) -> Result<png::Reader<BufReader<std::fs::File>>, SceneError> {
+    let file = regular_file(path)?;
+    let decoder = png::Decoder::new_with_limits(BufReader::new(file), png::Limits { bytes: limit });
+    decoder.read_info().map_err(|e| image_error(path, e))
+}
+
+/// Where the pixels of the PNG file `path` sit: its `beam:region` chunk, else the whole frame of its
+/// size. Reads the header only. Errors name the file: a chunk that does not parse, or whose
+/// rectangle is not the image's size.
+pub fn read_png_placement(path: &Path) -> Result<Placement, SceneError> {
+    let reader = open(path, 1 << 20)?;
+    let info = reader.info();
+    let fail = |e: &str| image_error(path, e);
+    let chunk = info.uncompressed_latin1_text.iter().find(|t| t.keyword == REGION_KEY);
+    let Some(chunk) = chunk else { return Ok(Placement::whole(info.width, info.height)) };
+    let text: String = chunk.text.chars().take(100).collect();
+    let placement = Placement::parse(&chunk.text).ok_or_else(|| {
+        fail(&format!(
+            "its {REGION_KEY} chunk `{}` is not x0,y0,x1,y1,W,H of a rectangle in the frame",
+            text.escape_debug()
+        ))
+    })?;
+    let (w, h) = (placement.rect.width(), placement.rect.height());
+    if (w, h) != (info.width, info.height) {
+        return Err(fail(&format!(
+            "its {REGION_KEY} chunk `{text}` is {w}×{h}, the image {}×{}",
+            info.width, info.height
+        )));
+    }
+    Ok(placement)
+}
+
+/// The 8-bit RGB pixels of the PNG file `path` (row-major) and their placement
+/// ([`read_png_placement`]); decoding allocates at most `limit` bytes. Only 8-bit RGB files (what
+/// `beam render` writes) are read. Errors name the file.
+pub fn read_png_placed(path: &Path, limit: usize) -> Result<(Vec<u8>, Placement), SceneError> {
+    let placement = read_png_placement(path)?;
+    let fail = |e: &dyn std::fmt::Display| image_error(path, e);
+    let mut reader = open(path, limit)?;
+    let (color, depth) = reader.output_color_type();
+    if (color, depth) != (png::ColorType::Rgb, png::BitDepth::Eight) {
+        return Err(fail(&format!("is {color:?} {depth:?}; expected 8-bit RGB, as beam render writes")));
+    }
+    let size = reader.output_buffer_size().ok_or_else(|| fail(&"too large"))?;
+    let mut rgb = vec![0; size];
+    let frame = reader.next_frame(&mut rgb).map_err(|e| fail(&e))?;
+    rgb.truncate(frame.buffer_size());
+    if rgb.len() != placement.rect.len() * 3 {
+        return Err(fail(&"its pixel data does not fill the image"));
+    }
+    Ok((rgb, placement))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::region::PixelRect;
+
+    #[test]
+    fn tiles_keep_their_place_and_whole_images_their_bytes() {
+        let dir = tempfile::tempdir().unwrap();
+        let rect = PixelRect { x0: 2, y0: 1, x1: 5, y1: 3 };
+        let rgb: Vec<u8> = (0..rect.len() * 3).map(|i| i as u8).collect();
+        let tile = Placement::new(rect, 6, 4).unwrap();
+        let p = dir.path().join("t.png");
+        std::fs::write(&p, encode_png_placed(&rgb, tile).unwrap()).unwrap();
+        assert_eq!(read_png_placed(&p, 1 << 20).unwrap(), (rgb.clone(), tile));
+        // Readable by any decoder.
+        assert_eq!(image::open(&p).unwrap().to_rgb8().into_raw(), rgb);
+        let whole = Placement::whole(3, 2);
+        assert_eq!(encode_png_placed(&rgb, whole).unwrap(), encode_png(3, 2, &rgb).unwrap());
+        std::fs::write(&p, encode_png(3, 2, &rgb).unwrap()).unwrap();
+        assert_eq!(read_png_placement(&p).unwrap(), whole);
+        assert!(
+            read_png_placed(&p, 8).unwrap_err().to_string().contains("t.png"),
+            "a limit below the image is an error"
+        );
+        // A chunk that lies about the size, or does not parse.
+        for (text, says) in [("0,0,4,2,6,4", "is 4×2, the image 3×2"), ("0,0,4", "is not x0,y0,x1,y1,W,H")] {
+            let mut bytes = Vec::new();
+            let mut encoder = png::Encoder::new(&mut bytes, 3, 2);
+            encoder.set_color(png::ColorType::Rgb);
+            encoder.add_text_chunk(REGION_KEY.into(), text.into()).unwrap();
+            encoder.write_header().unwrap().write_image_data(&rgb).unwrap();
+            std::fs::write(&p, bytes).unwrap();
+            let e = read_png_placement(&p).unwrap_err().to_string();
+            assert!(e.contains("t.png") && e.contains(says), "{e}");
+        }
+    }
+}
