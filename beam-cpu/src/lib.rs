@@ -33,3 +33,8 @@ pub mod render;
 pub use beam_math;
 pub use beam_scene;
 pub use error::RenderError;
+
+/// The README's library example, compiled as a doctest so that it stays true.
+#[doc = include_str!("../../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeExample;
