@@ -35,7 +35,7 @@ struct Cli {
 enum Command {
     /// Run the conformance suite and print a pass/fail table (exit status 1 on any failure).
     Conformance {
-        /// Only this backend (math, bvh, cpu).
+        /// Only this backend (math, bvh, cpu, gpu).
         #[arg(long)]
         backend: Option<String>,
         /// Rays of each kind per mesh for the BVH properties (default 2,000 or

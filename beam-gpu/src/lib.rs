@@ -15,7 +15,12 @@
 //! use beam_bvh::gpu::GpuBvh;
 //! use beam_gpu::raytrace::{GpuRay, RayTracer};
 //!
-//! let Ok(gpu) = beam_gpu::Gpu::new() else { return }; // no adapter: nothing to show
+//! let gpu = match beam_gpu::Gpu::new() {
+//!     Ok(gpu) => gpu,
+//!     // No adapter: nothing to show, unless one is required (CI sets BEAM_REQUIRE_GPU=1).
+//!     Err(e) if std::env::var("BEAM_REQUIRE_GPU").as_deref() == Ok("1") => panic!("{e}"),
+//!     Err(_) => return,
+//! };
 //! let scene = beam_scene::scene::builtin("cornell").unwrap();
 //! let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).unwrap()).unwrap();
 //! let camera = scene.camera.with_size(16, 16);

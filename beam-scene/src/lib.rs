@@ -15,8 +15,7 @@
 //!   light volumes (002) that every backend shares.
 //!
 //! ```
-//! // The built-in Cornell box; `load` also takes a scene file (TOML, OBJ, glTF) or a shared
-//! // scene's name.
+//! // The built-in Cornell box; `scene::load` also takes the path of a TOML, OBJ or glTF file.
 //! let scene = beam_scene::scene::builtin("cornell").unwrap();
 //! assert!(!scene.triangles.is_empty() && !scene.lights.is_empty());
 //! let (w, h) = (scene.camera.width, scene.camera.height);

@@ -67,19 +67,26 @@ pub fn read_exr_placement(path: &Path) -> Result<Placement, SceneError> {
     placement.ok_or_else(|| fail(&"its data window is empty or not inside its display window"))
 }
 
-/// The EXR file `path`'s RGB pixels (row-major, its data window; any sample type, as `f32`) and
-/// their placement ([`read_exr_placement`]). Errors name the file (one without R, G and B too).
-pub fn read_exr(path: &Path) -> Result<(Vec<Vec3>, Placement), SceneError> {
-    let placement = read_exr_placement(path)?;
+/// The EXR file `path`'s RGB pixels (row-major, its data window; any sample type, as `f32`),
+/// which must sit at `expected` (as [`read_exr_placement`] found it). Decoding allocates at most the
+/// pixels of `expected`, whatever the file says by then. Errors name the file (one without R, G
+/// and B too, or placed elsewhere).
+pub fn read_exr(path: &Path, expected: Placement) -> Result<Vec<Vec3>, SceneError> {
     let fail = |e: &dyn std::fmt::Display| image_error(path, e);
+    if read_exr_placement(path)? != expected {
+        return Err(fail(&"is no longer placed where it was (did the file change?)"));
+    }
+    let n = expected.rect.len();
     let file = regular_file(path)?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
         .rgb_channels(
-            |size, _| (size.width(), vec![Vec3::ZERO; size.area()]),
+            |size, _| (size.width(), vec![Vec3::ZERO; size.area().min(n)]),
             |(w, px): &mut (usize, Vec<Vec3>), p: Vec2<usize>, (r, g, b): (f32, f32, f32)| {
-                px[p.y() * *w + p.x()] = Vec3::new(r, g, b);
+                if let Some(v) = px.get_mut(p.y() * *w + p.x()) {
+                    *v = Vec3::new(r, g, b);
+                }
             },
         )
         .first_valid_layer()
@@ -87,11 +94,11 @@ pub fn read_exr(path: &Path) -> Result<(Vec<Vec3>, Placement), SceneError> {
         .non_parallel()
         .from_buffered(BufReader::new(file))
         .map_err(|e| fail(&e))?;
-    let pixels = image.layer_data.channel_data.pixels.1;
-    if pixels.len() != placement.rect.len() {
+    let (width, pixels) = image.layer_data.channel_data.pixels;
+    if pixels.len() != n || width != expected.rect.width() as usize {
         return Err(fail(&"its pixels do not fill its data window"));
     }
-    Ok((pixels, placement))
+    Ok(pixels)
 }
 
 #[cfg(test)]
@@ -107,13 +114,16 @@ mod tests {
         for placement in [Placement::new(rect, 10, 9).unwrap(), Placement::whole(4, 3)] {
             let p = dir.path().join("a.exr");
             std::fs::write(&p, encode_exr(&pixels, placement).unwrap()).unwrap();
-            let (back, at) = read_exr(&p).unwrap();
-            assert_eq!(at, placement);
+            assert_eq!(read_exr_placement(&p).unwrap(), placement);
+            let back = read_exr(&p, placement).unwrap();
             let bits = |v: &[Vec3]| v.iter().flat_map(|c| c.to_array().map(f32::to_bits)).collect::<Vec<_>>();
             assert_eq!(bits(&back), bits(&pixels));
         }
         assert!(encode_exr(&pixels[1..], Placement::whole(4, 3)).is_err());
+        let elsewhere = Placement::new(PixelRect { x0: 0, y0: 0, x1: 4, y1: 3 }, 10, 9).unwrap();
+        let e = read_exr(&dir.path().join("a.exr"), elsewhere).unwrap_err().to_string();
+        assert!(e.contains("a.exr") && e.contains("no longer placed"), "{e}");
         std::fs::write(dir.path().join("b.exr"), b"not an exr").unwrap();
-        assert!(read_exr(&dir.path().join("b.exr")).unwrap_err().to_string().contains("b.exr"));
+        assert!(read_exr(&dir.path().join("b.exr"), elsewhere).unwrap_err().to_string().contains("b.exr"));
     }
 }

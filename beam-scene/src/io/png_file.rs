@@ -64,25 +64,30 @@ pub fn read_png_placement(path: &Path) -> Result<Placement, SceneError> {
     Ok(placement)
 }
 
-/// The 8-bit RGB pixels of the PNG file `path` (row-major) and their placement
-/// ([`read_png_placement`]); decoding allocates at most `limit` bytes. Only 8-bit RGB files (what
+/// The 8-bit RGB pixels of the PNG file `path` (row-major), which must sit at `expected` (as
+/// [`read_png_placement`] found it). Decoding allocates no more than the pixels of `expected`
+/// (and the decoder's own 1 MiB), whatever the file says by then. Only 8-bit RGB files (what
 /// `beam render` writes) are read. Errors name the file.
-pub fn read_png_placed(path: &Path, limit: usize) -> Result<(Vec<u8>, Placement), SceneError> {
-    let placement = read_png_placement(path)?;
+pub fn read_png_placed(path: &Path, expected: Placement) -> Result<Vec<u8>, SceneError> {
     let fail = |e: &dyn std::fmt::Display| image_error(path, e);
-    let mut reader = open(path, limit)?;
+    if read_png_placement(path)? != expected {
+        return Err(fail(&"is no longer placed where it was (did the file change?)"));
+    }
+    let size = expected.rect.len() * 3;
+    let mut reader = open(path, size + (1 << 20))?;
     let (color, depth) = reader.output_color_type();
     if (color, depth) != (png::ColorType::Rgb, png::BitDepth::Eight) {
         return Err(fail(&format!("is {color:?} {depth:?}; expected 8-bit RGB, as beam render writes")));
     }
-    let size = reader.output_buffer_size().ok_or_else(|| fail(&"too large"))?;
-    let mut rgb = vec![0; size];
-    let frame = reader.next_frame(&mut rgb).map_err(|e| fail(&e))?;
-    rgb.truncate(frame.buffer_size());
-    if rgb.len() != placement.rect.len() * 3 {
+    if reader.output_buffer_size() != Some(size) {
         return Err(fail(&"its pixel data does not fill the image"));
     }
-    Ok((rgb, placement))
+    let mut rgb = vec![0; size];
+    let frame = reader.next_frame(&mut rgb).map_err(|e| fail(&e))?;
+    if frame.buffer_size() != size {
+        return Err(fail(&"its pixel data does not fill the image"));
+    }
+    Ok(rgb)
 }
 
 #[cfg(test)]
@@ -98,17 +103,16 @@ mod tests {
         let tile = Placement::new(rect, 6, 4).unwrap();
         let p = dir.path().join("t.png");
         std::fs::write(&p, encode_png_placed(&rgb, tile).unwrap()).unwrap();
-        assert_eq!(read_png_placed(&p, 1 << 20).unwrap(), (rgb.clone(), tile));
+        assert_eq!(read_png_placement(&p).unwrap(), tile);
+        assert_eq!(read_png_placed(&p, tile).unwrap(), rgb);
         // Readable by any decoder.
         assert_eq!(image::open(&p).unwrap().to_rgb8().into_raw(), rgb);
         let whole = Placement::whole(3, 2);
         assert_eq!(encode_png_placed(&rgb, whole).unwrap(), encode_png(3, 2, &rgb).unwrap());
         std::fs::write(&p, encode_png(3, 2, &rgb).unwrap()).unwrap();
         assert_eq!(read_png_placement(&p).unwrap(), whole);
-        assert!(
-            read_png_placed(&p, 8).unwrap_err().to_string().contains("t.png"),
-            "a limit below the image is an error"
-        );
+        let e = read_png_placed(&p, tile).unwrap_err().to_string();
+        assert!(e.contains("t.png") && e.contains("no longer placed"), "a file placed elsewhere is refused: {e}");
         // A chunk that lies about the size, or does not parse.
         for (text, says) in [("0,0,4,2,6,4", "is 4×2, the image 3×2"), ("0,0,4", "is not x0,y0,x1,y1,W,H")] {
             let mut bytes = Vec::new();

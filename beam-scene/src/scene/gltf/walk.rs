@@ -150,13 +150,14 @@ fn place(
     }
     let mirrored = world.determinant() < 0.0;
     for (mesh, material) in parts {
-        let positions: Vec<Vec3> = mesh.positions.iter().map(|&p| world.transform_point3(p)).collect();
         let emissive = match materials[*material as usize] {
             Material::Emissive { radiance } => Some(radiance),
             _ => None,
         };
         for t in &mesh.indices {
-            let [a, b, c] = t.map(|i| positions[i as usize]);
+            // Through the indices, so that the work follows the triangles placed (bounded above),
+            // not the vertices of a mesh that many nodes place with few triangles.
+            let [a, b, c] = t.map(|i| world.transform_point3(mesh.positions[i as usize]));
             let tri = if mirrored { Triangle::new(a, c, b) } else { Triangle::new(a, b, c) };
             if let (Some(radiance), true) = (emissive, tri.is_valid()) {
                 walked.lights.push(Light::Triangle { v: tri.v, radiance });
