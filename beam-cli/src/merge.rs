@@ -72,6 +72,14 @@ pub fn plan(tiles: &[PathBuf], out: &Path, quiet: bool) -> Result<MergePlan, Str
             p.frame_height
         ));
     }
+    if let Some((t, _)) = placed.iter().find(|(_, p)| p.render != placed[0].1.render) {
+        return Err(format!(
+            "{} and {} are tiles of different renders (another scene, method, option, --frame or \
+             --exposure): merge the tiles of one render",
+            first.display(),
+            t.display()
+        ));
+    }
     if width > MAX_SIDE || height > MAX_SIDE {
         return Err(format!(
             "{}: a {width}×{height} frame is larger than beam renders (each side at most {MAX_SIDE})",

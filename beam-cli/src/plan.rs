@@ -280,8 +280,48 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         seed: 1,
         region,
     };
-    let placement = region.and_then(|r| Placement::new(r, width, height)).unwrap_or(Placement::whole(width, height));
+    let placement = match region {
+        Some(r) => Placement::new(r, width, height)
+            .ok_or_else(|| format!("the region {r:?} is not inside the {width}×{height} frame"))?
+            .of_render(fingerprint(a, (width, height))),
+        None => Placement::whole(width, height),
+    };
     Ok(Plan { kind, scene, options, placement, degree, volume, gpu })
+}
+
+/// What decides a render's pixel values, as one number (64-bit FNV-1a of every option but the
+/// outputs and the region, after defaults, with the frame's size): equal for every tile of one
+/// frame, different (but for a 2⁻⁶⁴ chance) for tiles of another scene, method, option, frame or
+/// exposure, so that `beam merge` joins only tiles of one render. Never 0.
+fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
+    let text = format!(
+        "{}|{}|{}|{}|{}|{}|{}|{:?}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}×{}|{}|{:?}|{}",
+        a.scene,
+        a.method,
+        a.backend,
+        a.degree,
+        a.texels,
+        a.bounces,
+        a.caustic_strata,
+        a.smesh,
+        a.shading,
+        a.spp,
+        a.primary_spp,
+        a.primary_beams,
+        a.volume,
+        a.linear_gather,
+        a.subdivide,
+        a.second_order,
+        a.photon_kernel,
+        a.photons,
+        width,
+        height,
+        a.exposure.to_bits(),
+        a.frame,
+        a.allow_outside_paths,
+    );
+    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
+    hash.max(1)
 }
 
 /// The camera of `--frame k`: frame `k` of the scene's camera path, which must have it.

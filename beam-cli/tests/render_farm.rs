@@ -156,6 +156,17 @@ fn merges_and_regions_that_do_not_fit_are_refused() {
     let small = d.join("small.png");
     ok(&beam(&["render", "--width", "16", "--height", "12", "--tile", "0/2", "--out", s(&small)]));
     refused(&merge(&[t[0].clone(), small], &out), &["different frames", "32×24", "16×12"]);
+    // The same frame and tiling, but another render: another exposure, or another method.
+    for (name, other) in [("bright.png", &["--exposure", "1"][..]), ("rays.png", &["--method", "ray"][..])] {
+        let tile = d.join(name);
+        let mut a = vec!["render", "--width", "32", "--height", "24", "--tile", "2/4", "--out", s(&tile)];
+        a.extend_from_slice(other);
+        ok(&beam(&a));
+        refused(
+            &merge(&[t[0].clone(), t[1].clone(), tile, t[3].clone()], &out),
+            &["tiles of different renders", name, "tile0.png"],
+        );
+    }
     refused(&merge(&[t[0].clone()], &t[0]), &["would replace the tile"]);
     refused(&merge(&[t[0].clone()], &d.join("full.exr")), &["PNG", "OpenEXR"]);
     refused(&merge(&[t[0].clone()], &d.join("full.jpg")), &["--out", "*.png"]);

@@ -121,8 +121,8 @@ impl PixelRect {
 }
 
 /// Where an image's pixels sit in a larger frame: a render farm's tile is the pixels `rect` of a
-/// `frame_width × frame_height` frame. Image files carry it (see [`crate::io`]) so that the tiles
-/// can be joined again.
+/// `frame_width × frame_height` frame, of the render `render`. Image files carry it (see
+/// [`crate::io`]) so that the tiles can be joined again, and only with tiles of the same render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Placement {
     /// The image's pixels in the frame (non-empty, within it).
@@ -131,19 +131,29 @@ pub struct Placement {
     pub frame_width: u32,
     /// Frame height.
     pub frame_height: u32,
+    /// Which render the pixels come from: a fingerprint of everything that decides their values
+    /// (scene, method, options, frame, exposure), equal for every tile of one frame and different
+    /// for tiles of another; 0 where no one said.
+    pub render: u64,
 }
 
 impl Placement {
     /// `rect` of a `frame_width × frame_height` frame; `None` unless it is non-empty and within it.
     #[must_use]
     pub fn new(rect: PixelRect, frame_width: u32, frame_height: u32) -> Option<Self> {
-        rect.fits(frame_width, frame_height).then_some(Self { rect, frame_width, frame_height })
+        rect.fits(frame_width, frame_height).then_some(Self { rect, frame_width, frame_height, render: 0 })
     }
 
     /// A whole `width × height` frame.
     #[must_use]
     pub fn whole(width: u32, height: u32) -> Self {
-        Self { rect: PixelRect::full(width, height), frame_width: width, frame_height: height }
+        Self { rect: PixelRect::full(width, height), frame_width: width, frame_height: height, render: 0 }
+    }
+
+    /// The same placement, of the render `render` (see [`Self::render`]).
+    #[must_use]
+    pub fn of_render(self, render: u64) -> Self {
+        Self { render, ..self }
     }
 
     /// Whether it is the whole frame.
@@ -152,20 +162,25 @@ impl Placement {
         self.rect == PixelRect::full(self.frame_width, self.frame_height)
     }
 
-    /// `x0,y0,x1,y1,W,H`: what [`Self::parse`] reads.
+    /// `x0,y0,x1,y1,W,H,R` (R the render's fingerprint in hexadecimal): what [`Self::parse`] reads.
     #[must_use]
     pub fn to_text(&self) -> String {
         let r = self.rect;
-        format!("{},{},{},{},{},{}", r.x0, r.y0, r.x1, r.y1, self.frame_width, self.frame_height)
+        format!("{},{},{},{},{},{},{:016x}", r.x0, r.y0, r.x1, r.y1, self.frame_width, self.frame_height, self.render)
     }
 
-    /// `x0,y0,x1,y1,W,H` (decimal, no spaces needed); `None` unless six numbers that make a valid
-    /// placement.
+    /// `x0,y0,x1,y1,W,H` (decimal, no spaces needed) and an optional `,R` (hexadecimal, else 0);
+    /// `None` unless they make a valid placement.
     #[must_use]
     pub fn parse(text: &str) -> Option<Self> {
-        let v: Vec<u32> = text.split(',').map(|s| s.trim().parse().ok()).collect::<Option<_>>()?;
+        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
+        let (numbers, render) = match fields.as_slice() {
+            [n @ .., r] if n.len() == 6 => (n, u64::from_str_radix(r, 16).ok()?),
+            n => (n, 0),
+        };
+        let v: Vec<u32> = numbers.iter().map(|s| s.parse().ok()).collect::<Option<_>>()?;
         let &[x0, y0, x1, y1, w, h] = v.as_slice() else { return None };
-        Self::new(PixelRect { x0, y0, x1, y1 }, w, h)
+        Some(Self::new(PixelRect { x0, y0, x1, y1 }, w, h)?.of_render(render))
     }
 }
 
@@ -194,9 +209,20 @@ mod tests {
     #[test]
     fn placements_round_trip_as_text() {
         let p = Placement::new(PixelRect { x0: 0, y0: 12, x1: 64, y1: 24 }, 64, 48).unwrap();
-        assert_eq!(p.to_text(), "0,12,64,24,64,48");
-        assert_eq!(Placement::parse(&p.to_text()), Some(p));
-        for bad in ["", "0,12,64,24,64", "0,12,64,24,64,48,1", "0,12,65,24,64,48", "0,12,0,24,64,48", "a,1,2,3,4,5"] {
+        assert_eq!(p.to_text(), "0,12,64,24,64,48,0000000000000000");
+        assert_eq!(Placement::parse("0,12,64,24,64,48"), Some(p));
+        let q = p.of_render(0xbeef_0000_0000_0001);
+        assert_eq!(q.to_text(), "0,12,64,24,64,48,beef000000000001");
+        assert_eq!(Placement::parse(&q.to_text()), Some(q));
+        for bad in [
+            "",
+            "0,12,64,24,64",
+            "0,12,64,24,64,48,x",
+            "0,12,64,24,64,48,1,2",
+            "0,12,65,24,64,48",
+            "0,12,0,24,64,48",
+            "a,1,2,3,4,5",
+        ] {
             assert_eq!(Placement::parse(bad), None, "{bad}");
         }
         assert!(Placement::whole(3, 2).is_whole() && !p.is_whole());

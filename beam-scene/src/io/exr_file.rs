@@ -6,12 +6,16 @@ use super::{image_error, regular_file};
 use crate::error::SceneError;
 use crate::region::{PixelRect, Placement};
 use beam_math::glam::Vec3;
+use exr::meta::attribute::{AttributeValue, Text};
 use exr::prelude::{
     Encoding, Image, IntegerBounds, Layer, LayerAttributes, ReadChannels, ReadLayers, SpecificChannels, Vec2,
     WritableImage,
 };
 use std::io::{BufReader, Cursor};
 use std::path::Path;
+
+/// Name of the header attribute holding [`Placement::render`] in hexadecimal (absent: 0).
+pub const RENDER_KEY: &str = "beamRender";
 
 /// `pixels` (row-major, the rectangle of `placement`) as EXR bytes, placed in the frame. Errors for
 /// a pixel count that does not match, or a frame too large for the format's 32-bit coordinates.
@@ -36,6 +40,10 @@ pub fn encode_exr(pixels: &[Vec3], placement: Placement) -> Result<Vec<u8>, Scen
     let mut image = Image::from_layer(layer);
     let frame = (placement.frame_width as usize, placement.frame_height as usize);
     image.attributes.display_window = IntegerBounds::new((0, 0), frame);
+    if placement.render != 0 {
+        let render = AttributeValue::Text(Text::from(format!("{:016x}", placement.render).as_str()));
+        image.attributes.other.insert(Text::from(RENDER_KEY), render);
+    }
     let mut bytes = Cursor::new(Vec::new());
     image
         .write()
@@ -64,7 +72,17 @@ pub fn read_exr_placement(path: &Path) -> Result<Placement, SceneError> {
         (Some((x0, x1)), Some((y0, y1)), Some(w), Some(h)) => Placement::new(PixelRect { x0, y0, x1, y1 }, w, h),
         _ => None,
     };
-    placement.ok_or_else(|| fail(&"its data window is empty or not inside its display window"))
+    let placement = placement.ok_or_else(|| fail(&"its data window is empty or not inside its display window"))?;
+    // Written among the image's attributes; a reader may file an unknown one with the layer's.
+    let key = Text::from(RENDER_KEY);
+    let found = header.shared_attributes.other.get(&key).or_else(|| header.own_attributes.other.get(&key));
+    let render = match found {
+        None => 0,
+        Some(AttributeValue::Text(t)) => u64::from_str_radix(&t.to_string(), 16)
+            .map_err(|_| fail(&format!("its {RENDER_KEY} attribute is not a hexadecimal fingerprint")))?,
+        Some(_) => return Err(fail(&format!("its {RENDER_KEY} attribute is not text"))),
+    };
+    Ok(placement.of_render(render))
 }
 
 /// The EXR file `path`'s RGB pixels (row-major, its data window; any sample type, as `f32`),
@@ -111,7 +129,8 @@ mod tests {
         let rect = PixelRect { x0: 3, y0: 5, x1: 7, y1: 8 };
         let pixels: Vec<Vec3> =
             (0..rect.len()).map(|i| Vec3::new(i as f32 * 0.1, 1e-30 * i as f32, 1234.567 + i as f32)).collect();
-        for placement in [Placement::new(rect, 10, 9).unwrap(), Placement::whole(4, 3)] {
+        for placement in [Placement::new(rect, 10, 9).unwrap().of_render(0x1234_5678_9abc_def0), Placement::whole(4, 3)]
+        {
             let p = dir.path().join("a.exr");
             std::fs::write(&p, encode_exr(&pixels, placement).unwrap()).unwrap();
             assert_eq!(read_exr_placement(&p).unwrap(), placement);

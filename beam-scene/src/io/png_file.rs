@@ -1,7 +1,7 @@
 //! PNG files that know their place in a frame: a render farm's tile carries a tEXt chunk
-//! `beam:region` = `x0,y0,x1,y1,W,H` (its pixels `[x0, x1) × [y0, y1)` of a `W × H` frame) before
-//! its pixel data. A whole image is written without it, byte for byte as [`super::encode_png`]
-//! writes it, and a PNG without it is a whole frame.
+//! `beam:region` = `x0,y0,x1,y1,W,H,R` (its pixels `[x0, x1) × [y0, y1)` of a `W × H` frame, of the
+//! render R: [`Placement::render`]) before its pixel data. A whole image is written without it,
+//! byte for byte as [`super::encode_png`] writes it, and a PNG without it is a whole frame.
 
 use super::{encode_png, image_error, regular_file};
 use crate::error::SceneError;
@@ -50,7 +50,7 @@ pub fn read_png_placement(path: &Path) -> Result<Placement, SceneError> {
     let text: String = chunk.text.chars().take(100).collect();
     let placement = Placement::parse(&chunk.text).ok_or_else(|| {
         fail(&format!(
-            "its {REGION_KEY} chunk `{}` is not x0,y0,x1,y1,W,H of a rectangle in the frame",
+            "its {REGION_KEY} chunk `{}` is not x0,y0,x1,y1,W,H[,R] of a rectangle in the frame",
             text.escape_debug()
         ))
     })?;
