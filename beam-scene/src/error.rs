@@ -180,14 +180,15 @@ pub enum SceneError {
         /// The range, in words (`a positive number`).
         expected: &'static str,
     },
-    /// An error in a mesh file a scene file names (or in resolving its name).
+    /// An error in a file a scene file names, or in resolving its name: a mesh of a TOML scene, a
+    /// buffer file of a glTF model.
     #[error("{}: {element}: {source}", path.display())]
     InMesh {
         /// The scene file.
         path: PathBuf,
-        /// The element naming the mesh (`meshes[2]`).
+        /// The element naming the file (`meshes[2]`, `buffer 1`).
         element: String,
-        /// The mesh file's error.
+        /// The named file's error.
         source: Box<SceneError>,
     },
     /// A built-in scene name that does not exist.

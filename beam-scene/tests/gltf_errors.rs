@@ -57,6 +57,14 @@ fn malformed_files_name_the_file_and_element() {
     refused(d, "count.gltf", long.gltf(), &["mesh 0 primitive 0", "accessor 0", "do not fit in buffer view 0"]);
     let tri = triangle(&TRI, None);
     refused(d, "missing.gltf", tri.json(Some("gone.bin")), &["buffer 0", "gone.bin"]);
+    // The buffer file's own error is kept whole, with the system's.
+    match scene::load_file(&d.join("missing.gltf")) {
+        Err(beam_scene::SceneError::InMesh { element, source, .. }) => {
+            assert_eq!(element, "buffer 0");
+            assert!(matches!(*source, beam_scene::SceneError::Read { .. }), "{source:?}");
+        }
+        other => panic!("expected InMesh(Read): {:?}", other.err()),
+    }
     refused(d, "outside.gltf", tri.json(Some("../x.bin")), &["buffer 0", "outside", "--allow-outside-paths"]);
     refused(d, "http.gltf", tri.json(Some("https://example.invalid/x.bin")), &["buffer 0", "`https:`"]);
     refused(d, "nobin.gltf", tri.json(None), &["buffer 0", "GLB binary chunk"]);

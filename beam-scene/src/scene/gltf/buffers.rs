@@ -36,6 +36,12 @@ pub(super) fn load(
     for buffer in document.buffers() {
         let element = format!("buffer {}", buffer.index());
         let fail = |message: String| error(path, &element, message);
+        // The buffer file's own error (not found, too large, outside the folder), kept whole.
+        let inside = |e: SceneError| SceneError::InMesh {
+            path: path.to_path_buf(),
+            element: element.clone(),
+            source: Box::new(e),
+        };
         let data = match buffer.source() {
             gltf::buffer::Source::Bin => blob.clone().ok_or_else(|| {
                 fail("has no URI, so it is the GLB binary chunk, which this file does not have".into())
@@ -43,12 +49,11 @@ pub(super) fn load(
             gltf::buffer::Source::Uri(uri) if has_scheme(uri, "data") => Rc::new(data_uri(uri).map_err(fail)?),
             gltf::buffer::Source::Uri(uri) => {
                 let name = file_name(uri).map_err(&fail)?;
-                let (file, _) =
-                    resolve_inside(dir, &name, options.allow_outside_paths).map_err(|e| fail(e.to_string()))?;
+                let (file, _) = resolve_inside(dir, &name, options.allow_outside_paths).map_err(inside)?;
                 match files.get(&file) {
                     Some(data) => data.clone(),
                     None => {
-                        let data = Rc::new(read_bounded(&file, MAX_MESH_BYTES).map_err(|e| fail(e.to_string()))?);
+                        let data = Rc::new(read_bounded(&file, MAX_MESH_BYTES).map_err(inside)?);
                         files.insert(file, data.clone());
                         data
                     }
