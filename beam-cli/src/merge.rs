@@ -26,11 +26,6 @@ pub struct MergePlan {
     pub tiles: Vec<(PathBuf, Placement)>,
 }
 
-/// `x0..x1 × y0..y1`.
-fn show(r: PixelRect) -> String {
-    format!("pixels {}..{} × {}..{}", r.x0, r.x1, r.y0, r.y1)
-}
-
 /// Check the output path, every tile's header and the memory, before decoding anything.
 pub fn plan(tiles: &[PathBuf], out: &Path, quiet: bool) -> Result<MergePlan, String> {
     let format = Format::of("--out", out)?;
@@ -111,10 +106,10 @@ fn check_tiling(tiles: &[(PathBuf, Placement)], width: u32, height: u32) -> Resu
                 return Err(format!(
                     "tiles {} ({}) and {} ({}) overlap in {}",
                     a.display(),
-                    show(pa.rect),
+                    pa.rect,
                     b.display(),
-                    show(pb.rect),
-                    show(pa.rect.intersect(pb.rect))
+                    pb.rect,
+                    pa.rect.intersect(pb.rect)
                 ));
             }
         }
@@ -140,8 +135,7 @@ fn check_tiling(tiles: &[(PathBuf, Placement)], width: u32, height: u32) -> Resu
             if x0 > x {
                 let gap = PixelRect { x0: x, y0, x1: x0, y1 };
                 return Err(format!(
-                    "the tiles do not cover the {width}×{height} frame: no tile holds {} (a tile is missing)",
-                    show(gap)
+                    "the tiles do not cover the {width}×{height} frame: no tile holds {gap} (a tile is missing)"
                 ));
             }
             x = x.max(x1);

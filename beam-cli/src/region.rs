@@ -56,9 +56,7 @@ fn crop_rect(text: &str, width: u32, height: u32) -> Result<PixelRect, String> {
 
 /// `text` for an error message: at most 40 characters, control characters escaped.
 fn shown(text: &str) -> String {
-    let cut: String = text.chars().take(40).collect();
-    let more = if cut.len() < text.len() { "…" } else { "" };
-    format!("{}{more}", cut.escape_debug())
+    beam_scene::read::visible(&beam_scene::read::clip(text, 40))
 }
 
 #[cfg(test)]

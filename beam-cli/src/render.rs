@@ -194,11 +194,7 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
 /// `, pixels x0..x1 × y0..y1` of a tile or crop, or nothing for the whole frame.
 fn part(plan: &Plan) -> String {
     let r = plan.placement.rect;
-    if plan.placement.is_whole() {
-        String::new()
-    } else {
-        format!(" (pixels {}..{} × {}..{})", r.x0, r.x1, r.y0, r.y1)
-    }
+    if plan.placement.is_whole() { String::new() } else { format!(" ({r})") }
 }
 
 /// The adapter of `--backend gpu` (`None` for `cpu`).

@@ -120,6 +120,13 @@ impl PixelRect {
     }
 }
 
+/// `pixels x0..x1 × y0..y1`, as error messages and reports name a rectangle.
+impl core::fmt::Display for PixelRect {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "pixels {}..{} × {}..{}", self.x0, self.x1, self.y0, self.y1)
+    }
+}
+
 /// Where an image's pixels sit in a larger frame: a render farm's tile is the pixels `rect` of a
 /// `frame_width × frame_height` frame, of the render `render`. Image files carry it (see
 /// [`crate::io`]) so that the tiles can be joined again, and only with tiles of the same render.
