@@ -279,7 +279,8 @@ impl Scene {
     }
 
     /// The camera at frame `frame` of [`Self::camera_path`]; a still camera has frame 0 only. `None`
-    /// past the last frame.
+    /// past the last frame. Between two keys the position and target are interpolated, so the
+    /// camera may stand on its target there: check [`Camera::has_view`] before rendering.
     #[must_use]
     pub fn camera_at(&self, frame: u32) -> Option<Camera> {
         match &self.camera_path {
