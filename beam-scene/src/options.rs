@@ -72,7 +72,6 @@ impl RenderOptions {
     /// The pixels rendered: [`Self::region`] within the frame, or the whole frame.
     #[must_use]
     pub fn region(&self) -> PixelRect {
-        let frame = PixelRect::full(self.width, self.height);
-        self.region.map_or(frame, |r| r.intersect(frame))
+        PixelRect::rendered(self.region, self.width, self.height)
     }
 }

@@ -22,6 +22,14 @@ impl PixelRect {
         Self { x0: 0, y0: 0, x1: width, y1: height }
     }
 
+    /// The pixels a render of a `width × height` frame computes: `region` within the frame, or the
+    /// whole frame without one.
+    #[must_use]
+    pub fn rendered(region: Option<Self>, width: u32, height: u32) -> Self {
+        let frame = Self::full(width, height);
+        region.map_or(frame, |r| r.intersect(frame))
+    }
+
     /// Columns (0 when empty).
     #[must_use]
     pub fn width(self) -> u32 {

@@ -42,8 +42,11 @@ fn open(path: &Path, limit: usize) -> Result<png::Reader<BufReader<std::fs::File
 /// size. Reads the header only. Errors name the file: a chunk that does not parse, or whose
 /// rectangle is not the image's size.
 pub fn read_png_placement(path: &Path) -> Result<Placement, SceneError> {
-    let reader = open(path, 1 << 20)?;
-    let info = reader.info();
+    placement(path, open(path, 1 << 20)?.info())
+}
+
+/// The placement that the header `info` of the PNG file `path` gives (see [`read_png_placement`]).
+fn placement(path: &Path, info: &png::Info<'_>) -> Result<Placement, SceneError> {
     let fail = |e: &str| image_error(path, e);
     let chunk = info.uncompressed_latin1_text.iter().find(|t| t.keyword == REGION_KEY);
     let Some(chunk) = chunk else { return Ok(Placement::whole(info.width, info.height)) };
@@ -70,11 +73,11 @@ pub fn read_png_placement(path: &Path) -> Result<Placement, SceneError> {
 /// `beam render` writes) are read. Errors name the file.
 pub fn read_png_placed(path: &Path, expected: Placement) -> Result<Vec<u8>, SceneError> {
     let fail = |e: &dyn std::fmt::Display| image_error(path, e);
-    if read_png_placement(path)? != expected {
-        return Err(fail(&"is no longer placed where it was (did the file change?)"));
-    }
     let size = expected.rect.len() * 3;
     let mut reader = open(path, size + (1 << 20))?;
+    if placement(path, reader.info())? != expected {
+        return Err(fail(&"is no longer placed where it was (did the file change?)"));
+    }
     let (color, depth) = reader.output_color_type();
     if (color, depth) != (png::ColorType::Rgb, png::BitDepth::Eight) {
         return Err(fail(&format!("is {color:?} {depth:?}; expected 8-bit RGB, as beam render writes")));

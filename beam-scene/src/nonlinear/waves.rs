@@ -41,14 +41,7 @@ pub fn shade_by_waves(
     // A point reached through mirrors and glass draws its samples from the seed of the point it was
     // reached from (not from that point's place in `points`), so that every point's radiance is the
     // same whatever else is in the batch (a tile of an image shades as the whole image does).
-    let reseeded = |batch: &[ShadePoint]| {
-        let batch: Vec<ShadePoint> = batch
-            .iter()
-            .map(|s| ShadePoint { seed: points.get(s.seed as usize).map_or(s.seed, |p| p.seed), ..*s })
-            .collect();
-        shade(&batch)
-    };
-    trace_waves(scene, renderer, &reseeded, paths, 1, &mut out)?;
+    trace_waves(scene, renderer, shade, &|i| points[i].seed, paths, 1, &mut out)?;
     Ok(out)
 }
 
@@ -60,11 +53,13 @@ pub type Shade<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, BackendError> + 
 
 /// Trace `paths` (at bounce `first` of at most [`MAX_DEPTH`]) wave by wave: each wave's nearest hits
 /// by `renderer`, mirror and glass hits continuing as their [`specular_rays`], every other hit
-/// shaded by `shade` in one batch and added, times its path's weight, to `out[pixel]`.
+/// shaded by `shade` in one batch (drawing its samples from the seed `seed(pixel)`) and added, times
+/// its path's weight, to `out[pixel]`.
 pub fn trace_waves(
     scene: &Scene,
     renderer: &(impl RayQueries + ?Sized),
     shade: &Shade<'_>,
+    seed: &(dyn Fn(usize) -> u64 + Sync),
     mut paths: Vec<Path>,
     first: u32,
     out: &mut [Vec3],
@@ -88,7 +83,7 @@ pub fn trace_waves(
                     Some(scattered) => {
                         (scattered.into_iter().flatten().map(|(r, k)| (px, r, weight * k)).collect(), None)
                     }
-                    None => (Vec::new(), Some((px, weight, ShadePoint { prim: hit.prim, p, d, seed: px as u64 }))),
+                    None => (Vec::new(), Some((px, weight, ShadePoint { prim: hit.prim, p, d, seed: seed(px) }))),
                 }
             })
             .collect();
