@@ -21,61 +21,26 @@ pub const TILE: u32 = 16;
 /// a region's edge; regions still come in numbers to share among threads.
 pub const REGION: u32 = 256;
 
-/// A rectangle of pixels `[x0, x1) × [y0, y1)`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Region {
-    pub(crate) x0: u32,
-    pub(crate) y0: u32,
-    pub(crate) x1: u32,
-    pub(crate) y1: u32,
+/// A rectangle of pixels `[x0, x1) × [y0, y1)` of the frame: an eye beam's region, a tile.
+pub(crate) type Region = PixelRect;
+
+/// Copy `region`'s row-major `pixels` into their place in `image`, the whole frame.
+pub(crate) fn paste(region: Region, pixels: &[Vec3], image: &mut Image) {
+    paste_within(region, pixels, image, PixelRect::full(image.width, image.height));
 }
 
-impl Region {
-    /// Pixels in the region.
-    pub(crate) fn len(&self) -> usize {
-        ((self.x1 - self.x0) * (self.y1 - self.y0)) as usize
+/// Copy the pixels of `region`'s row-major `pixels` that lie in `crop` (a rectangle of the frame)
+/// into their place in `image`, which holds `crop`.
+pub(crate) fn paste_within(region: Region, pixels: &[Vec3], image: &mut Image, crop: Region) {
+    let (x0, x1) = (region.x0.max(crop.x0), region.x1.min(crop.x1));
+    if x0 >= x1 {
+        return;
     }
-
-    /// Index of pixel `(x, y)` in a row-major buffer of the region.
-    pub(crate) fn index(&self, x: u32, y: u32) -> usize {
-        ((y - self.y0) * (self.x1 - self.x0) + (x - self.x0)) as usize
-    }
-
-    /// Copy the region's row-major `pixels` into its place in `image`.
-    pub(crate) fn paste(&self, pixels: &[Vec3], image: &mut Image) {
-        self.paste_within(pixels, image, Self::from(PixelRect::full(image.width, image.height)));
-    }
-
-    /// Copy the pixels of the region's row-major `pixels` that lie in `crop` (a rectangle of the
-    /// frame) into their place in `image`, which holds `crop`.
-    pub(crate) fn paste_within(&self, pixels: &[Vec3], image: &mut Image, crop: Region) {
-        let (x0, x1) = (self.x0.max(crop.x0), self.x1.min(crop.x1));
-        if x0 >= x1 {
-            return;
-        }
-        let w = (x1 - x0) as usize;
-        for y in self.y0.max(crop.y0)..self.y1.min(crop.y1) {
-            let to = crop.index(x0, y);
-            let from = self.index(x0, y);
-            image.pixels[to..to + w].copy_from_slice(&pixels[from..from + w]);
-        }
-    }
-
-    /// The pixels in both (possibly empty).
-    pub(crate) fn intersect(self, o: Self) -> Self {
-        PixelRect::from(self).intersect(o.into()).into()
-    }
-}
-
-impl From<PixelRect> for Region {
-    fn from(r: PixelRect) -> Self {
-        Self { x0: r.x0, y0: r.y0, x1: r.x1, y1: r.y1 }
-    }
-}
-
-impl From<Region> for PixelRect {
-    fn from(r: Region) -> Self {
-        Self { x0: r.x0, y0: r.y0, x1: r.x1, y1: r.y1 }
+    let w = (x1 - x0) as usize;
+    for y in region.y0.max(crop.y0)..region.y1.min(crop.y1) {
+        let to = crop.index(x0, y);
+        let from = region.index(x0, y);
+        image.pixels[to..to + w].copy_from_slice(&pixels[from..from + w]);
     }
 }
 

@@ -2,7 +2,7 @@
 //! exact box-filtered pixel coverage, each fragment shaded by a caller's function — the ground truth
 //! that primary rays with N samples per pixel converge to.
 
-use super::eye_regions::{EyeStats, Fragment, Region, region_fragments, regions};
+use super::eye_regions::{EyeStats, Fragment, Region, paste, region_fragments, regions};
 use super::image::Image;
 use super::shadow_beam::BeamStats;
 use beam_math::glam::Vec3;
@@ -88,7 +88,7 @@ pub fn primary_image(
     let mut visible = vec![false; scene.triangles.len()];
     let mut beams = BeamStats::default();
     for part in parts {
-        part.region.paste(&part.pixels, &mut image);
+        paste(part.region, &part.pixels, &mut image);
         beams += part.eye.primary;
         stats.pieces += part.eye.pieces;
         stats.trace_seconds += part.eye.trace_seconds;

@@ -3,10 +3,9 @@
 //! rays, with the same shading, so that the two images differ only by the rays' noise), the parts
 //! assembled and the counters summed (`stats`).
 
-use super::eye_regions::{REGION, Region, TILE, regions_in};
+use super::eye_regions::{REGION, Region, TILE, paste_within, regions_in};
 use super::image::Image;
 use beam_scene::queries::AnyHit;
-use beam_scene::region::PixelRect;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -50,17 +49,16 @@ pub fn render_with(
     // The pixels asked for, and those computed: whole shading tiles of the frame's grid, since a
     // tile's shade points share their candidate occluders (a pixel gets its whole-frame value only
     // with its tile's others).
-    let rect = options.region();
-    let crop = Region::from(rect);
-    let work = Region::from(PixelRect::from(crop).aligned_out(TILE, camera.width, camera.height));
+    let crop = options.region();
+    let work = crop.aligned_out(TILE, camera.width, camera.height);
     let rows_of = |part: Region| crop.y1.min(part.y1).saturating_sub(crop.y0.max(part.y0));
     // Eye beams a region of the frame's grid at a time (the pixels of `work` in it), primary rays a
     // band of TILE rows at a time, in parallel; each returns its pixels, counters and the triangles
     // it saw.
-    let parts: Vec<Traced> = if rect.is_empty() {
+    let parts: Vec<Traced> = if crop.is_empty() {
         Vec::new()
     } else if eye_beams {
-        let regions = regions_in(camera.width, camera.height, work.into());
+        let regions = regions_in(camera.width, camera.height, work);
         let across = regions.iter().filter(|r| r.y0 == regions[0].y0).count() as u32;
         let first_row = regions.first().map_or(0, |r| r.y0 / REGION);
         let done: Vec<AtomicU32> = (0..camera.height.div_ceil(REGION)).map(|_| AtomicU32::new(0)).collect();
@@ -88,11 +86,11 @@ pub fn render_with(
             })
             .collect()
     };
-    let mut image = Image::new(rect.width(), rect.height());
+    let mut image = Image::new(crop.width(), crop.height());
     let mut total = Counters::default();
     let mut visible = vec![false; n_prims];
     for part in parts {
-        part.region.paste_within(&part.pixels, &mut image, crop);
+        paste_within(part.region, &part.pixels, &mut image, crop);
         total += part.counters;
         for (v, s) in visible.iter_mut().zip(part.seen) {
             *v |= s;
