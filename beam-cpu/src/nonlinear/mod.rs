@@ -7,6 +7,7 @@ mod atlas;
 mod caustics;
 mod composite;
 mod reference;
+mod stages;
 mod trace;
 
 pub use atlas::render_beam;
@@ -15,6 +16,7 @@ pub use caustics::{
 };
 pub use composite::composite_levels;
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
+pub use stages::Stage;
 pub use trace::{CpuBeams, NonlinearOptions, NonlinearStats, render_nonlinear, render_nonlinear_with, shade_points};
 // The host side of the beam tree, shared with beam-gpu (beam-scene), under the names the CPU
 // renderer's callers use.

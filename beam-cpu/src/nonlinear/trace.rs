@@ -14,6 +14,7 @@
 use super::atlas::render_beam;
 use super::caustics::{CausticStats, caustics_by_beams};
 use super::composite::composite_levels;
+use super::stages::{Stage, StageClock};
 use crate::RenderError;
 use crate::render::{Image, IrradianceMap, RenderOptions, shade_point};
 use beam_bvh::Hit;
@@ -21,8 +22,8 @@ use beam_math::Ray;
 use beam_math::glam::{Mat3, Vec3};
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    Beam, BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, Composite, Degree, LevelRadiance, PointShading,
-    RayQueries, SFace, SMesh, ShadePoint, TexelRadiance, child_beams, region_size,
+    Beam, BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, Composite, Degree, DeviceWaits, LevelRadiance,
+    PointShading, RayQueries, SFace, SMesh, ShadePoint, TexelRadiance, child_beams, region_size,
 };
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
@@ -66,6 +67,8 @@ pub struct NonlinearStats {
     pub texels_shaded: u64,
     /// The light beams of the caustic pass.
     pub caustics: CausticStats,
+    /// Where the frame's time went, stage by stage, and the host's share of each.
+    pub stages: Vec<Stage>,
     /// Image width and height.
     pub width: u32,
     /// Image height.
@@ -130,6 +133,9 @@ impl RayQueries for CpuBeams {
 
 /// The CPU shades with [`shade_point`] itself ([`shade_points`]): the defaults hand it back.
 impl PointShading for CpuBeams {}
+
+/// No device: all of a CPU frame is host work.
+impl DeviceWaits for CpuBeams {}
 
 /// The radiance of every point: by `renderer` where it shades with `options`, else on the CPU by
 /// [`shade_point`].
@@ -216,7 +222,12 @@ impl Tree<'_> {
     /// The beam tree level by level (000 §7.2–7.3, per-level atlases): each level's beams built from
     /// the light arriving at its faces, rendered in one batch by `renderer`, their texels' hits on
     /// specular faces the requests of the next level. Returns the roots' children and the levels.
-    fn build(&self, renderer: &dyn BeamRenderer, roots: Vec<Request>) -> Result<Built, BackendError> {
+    fn build(
+        &self,
+        renderer: &dyn BeamRenderer,
+        roots: Vec<Request>,
+        clock: &mut StageClock<'_>,
+    ) -> Result<Built, BackendError> {
         let mut levels: Vec<Vec<Node>> = Vec::new();
         let mut root_children = HashMap::new();
         let mut requests = roots;
@@ -260,7 +271,9 @@ impl Tree<'_> {
                 .iter()
                 .map(|(beam, face, _, size)| BeamJob { beam, size: *size, exclude: self.smesh.faces[*face].prim })
                 .collect();
+            clock.lap("tree: beams");
             let textures = renderer.render_beams(self.scene, &jobs)?;
+            clock.lap("tree: rasterize beams");
             let nodes: Vec<Node> = beams
                 .into_par_iter()
                 .zip(textures)
@@ -275,6 +288,7 @@ impl Tree<'_> {
                     Node { beam, face, pixels, tex, hits, children: HashMap::new() }
                 })
                 .collect();
+            clock.lap("tree: texel hits");
             requests = if level < self.options.bounces {
                 nodes
                     .par_iter()
@@ -290,6 +304,7 @@ impl Tree<'_> {
             } else {
                 Vec::new()
             };
+            clock.lap("tree: next level's faces");
             levels.push(nodes);
         }
         Ok(Built { roots: root_children, levels })
@@ -349,9 +364,11 @@ pub fn render_nonlinear_with(
     renderer: &dyn BeamRenderer,
 ) -> Result<(Image, NonlinearStats), RenderError> {
     let start = Instant::now();
+    let mut clock = StageClock::start(renderer);
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
     // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.
     let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
+    clock.lap("caustics");
     let caustic_stats = caustics.as_ref().map(|c| c.1.clone()).unwrap_or_default();
     let tree = Tree {
         scene,
@@ -366,6 +383,7 @@ pub fn render_nonlinear_with(
     let rays: Vec<Ray> = (0..(camera.width * camera.height) as usize).map(|i| camera.pixel_ray(&frame, i)).collect();
     let hits: Vec<Option<(Ray, Hit)>> =
         renderer.closest_hits(scene, &rays)?.into_iter().zip(&rays).map(|(h, &ray)| Some((ray, h?))).collect();
+    clock.lap("eye view");
     let seen = hits.iter().flatten().filter_map(|(ray, h)| {
         let fi = *tree.smesh.face_of.get(&h.prim)?;
         Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
@@ -380,7 +398,8 @@ pub fn render_nonlinear_with(
         .collect();
     let mut roots = Tree::requests(None, seen, 1.0);
     roots.retain(|r| wanted.contains(&r.face));
-    let Built { roots: children, levels } = tree.build(renderer, roots)?;
+    clock.lap("eye view: faces seen");
+    let Built { roots: children, levels } = tree.build(renderer, roots, &mut clock)?;
     // The eye's view (the region's pixels) is level 0 of the radiance flow.
     let eye = LevelRadiance {
         regions: Vec::new(),
@@ -398,6 +417,7 @@ pub fn render_nonlinear_with(
             .collect(),
     };
     let flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
+    clock.lap("radiance flow");
     let (shading, caustics) = (&options.shading, tree.caustics.as_ref());
     let frame = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
         Some(pixels) => pixels,
@@ -405,6 +425,7 @@ pub fn render_nonlinear_with(
             shade_points(renderer, scene, shading, caustics, points)
         })?,
     };
+    clock.lap("shading and composite");
     let image = Image { width: crop.width(), height: crop.height(), pixels: crop.cut(&frame, camera.width) };
     let all = || levels.iter().flatten();
     let beams = all().count();
@@ -424,6 +445,10 @@ pub fn render_nonlinear_with(
         texels_rendered,
         texels_shaded: all().map(|n| n.hits.len() as u64).sum(),
         caustics: caustic_stats,
+        stages: {
+            clock.lap("image");
+            clock.stages()
+        },
         width: image.width,
         height: image.height,
     };

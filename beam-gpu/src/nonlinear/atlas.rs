@@ -23,8 +23,8 @@ use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamTexture, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint, TexelHit,
-    cone_candidates, shade_by_waves,
+    BeamJob, BeamRasterizer, BeamTexture, DeviceWaits, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint,
+    TexelHit, cone_candidates, shade_by_waves,
 };
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
@@ -433,6 +433,12 @@ impl BeamRasterizer for GpuBeams<'_> {
             });
         }
         textures.into_iter().map(|t| t.ok_or_else(|| GpuError::Internal("a beam was not rendered").into())).collect()
+    }
+}
+
+impl DeviceWaits for GpuBeams<'_> {
+    fn waited_seconds(&self) -> f64 {
+        self.gpu.traffic().waited_seconds
     }
 }
 
