@@ -380,23 +380,27 @@ pub fn render_nonlinear_with(
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree.
     let frame = camera.frame();
-    let rays: Vec<Ray> = (0..(camera.width * camera.height) as usize).map(|i| camera.pixel_ray(&frame, i)).collect();
+    let rays: Vec<Ray> =
+        (0..(camera.width * camera.height) as usize).into_par_iter().map(|i| camera.pixel_ray(&frame, i)).collect();
     let hits: Vec<Option<(Ray, Hit)>> =
-        renderer.closest_hits(scene, &rays)?.into_iter().zip(&rays).map(|(h, &ray)| Some((ray, h?))).collect();
+        renderer.closest_hits(scene, &rays)?.into_par_iter().zip(rays).map(|(h, ray)| Some((ray, h?))).collect();
     clock.lap("eye view");
-    let seen = hits.iter().flatten().filter_map(|(ray, h)| {
-        let fi = *tree.smesh.face_of.get(&h.prim)?;
-        Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
-    });
+    // Per pixel, the S-mesh face it sees with the barycentric point and direction there.
+    let on_faces: Vec<Option<(usize, Vec3, Vec3)>> = hits
+        .par_iter()
+        .map(|hit| {
+            let (ray, h) = (*hit)?;
+            let fi = *tree.smesh.face_of.get(&h.prim)?;
+            Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
+        })
+        .collect();
     // A face's beams come from every pixel that sees it, but only the faces that pixels of the
     // region see are traced on (with their subtrees): the beams of the others reach no pixel of it.
     let crop = options.shading.region();
     let in_crop = |i: usize| crop.contains((i % camera.width as usize) as u32, (i / camera.width as usize) as u32);
-    let wanted: HashSet<usize> = (0..hits.len())
-        .filter(|&i| in_crop(i))
-        .filter_map(|i| tree.smesh.face_of.get(&hits[i]?.1.prim).copied())
-        .collect();
-    let mut roots = Tree::requests(None, seen, 1.0);
+    let wanted: HashSet<usize> =
+        on_faces.iter().enumerate().filter(|&(i, _)| in_crop(i)).filter_map(|(_, f)| Some(f.as_ref()?.0)).collect();
+    let mut roots = Tree::requests(None, on_faces.into_iter().flatten(), 1.0);
     roots.retain(|r| wanted.contains(&r.face));
     clock.lap("eye view: faces seen");
     let Built { roots: children, levels } = tree.build(renderer, roots, &mut clock)?;
@@ -405,7 +409,7 @@ pub fn render_nonlinear_with(
         regions: Vec::new(),
         len: hits.len(),
         texels: hits
-            .iter()
+            .par_iter()
             .enumerate()
             .filter(|&(i, _)| in_crop(i))
             .filter_map(|(i, hit)| {
