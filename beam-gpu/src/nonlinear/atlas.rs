@@ -408,21 +408,30 @@ impl BeamRasterizer for GpuBeams<'_> {
             let (texels, counts) = checked(self.gpu, || self.render_page(&beams, &flat, &ranges, page_rows))?;
             let drawn = start.elapsed().as_secs_f64() - prepared;
             let start = Instant::now();
-            for (&i, &[kept, tested]) in members.iter().zip(&counts) {
-                let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
-                let size = jobs[i].size;
-                let n = (size * size) as usize;
-                let mut hits = vec![None; n];
-                for y in 0..size {
-                    for x in 0..size {
-                        let [prim, t] = texels[((q.y + y) * self.page + q.x + x) as usize];
-                        if prim > 0 && x + y < size + 1 {
-                            hits[(y * size + x) as usize] = Some(TexelHit { prim: prim - 1, t: f32::from_bits(t) });
+            let unpacked: Vec<(usize, BeamTexture)> = members
+                .par_iter()
+                .zip(&counts)
+                .map(|(&i, &[kept, tested])| {
+                    let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
+                    let size = jobs[i].size;
+                    let mut hits = vec![None; (size * size) as usize];
+                    for y in 0..size {
+                        let row = ((q.y + y) * self.page + q.x) as usize;
+                        // Texels past the region's diagonal (x + y > size) belong to no beam.
+                        for x in 0..(size + 1 - y).min(size) {
+                            let [prim, t] = texels[row + x as usize];
+                            if prim > 0 {
+                                hits[(y * size + x) as usize] = Some(TexelHit { prim: prim - 1, t: f32::from_bits(t) });
+                            }
                         }
                     }
-                }
-                textures[i] =
-                    Some(BeamTexture { size, hits, triangles_after_culling: kept, texels_tested: u64::from(tested) });
+                    let tex =
+                        BeamTexture { size, hits, triangles_after_culling: kept, texels_tested: u64::from(tested) };
+                    Ok((i, tex))
+                })
+                .collect::<Result<_, GpuError>>()?;
+            for (i, tex) in unpacked {
+                textures[i] = Some(tex);
             }
             self.add_times(|t| {
                 t.atlas_seconds += drawn;
