@@ -27,7 +27,7 @@ use beam_scene::nonlinear::{
 };
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::time::Instant;
 
 /// Settings of the nonlinear renderer.
@@ -196,13 +196,24 @@ struct Request {
 struct Tree<'a> {
     scene: &'a Scene,
     smesh: SMesh,
+    /// Per scene triangle, its S-mesh face ([`NO_FACE`] for none): a lookup per pixel and texel.
+    face_of: Vec<u32>,
     options: NonlinearOptions,
     eye: Vec3,
     /// Irradiance through the specular surfaces from the lights (caustics, nonlinear shadows).
     caustics: Option<IrradianceMap>,
 }
 
+/// [`Tree::face_of`] of a triangle that is no S-mesh face.
+const NO_FACE: u32 = u32::MAX;
+
 impl Tree<'_> {
+    /// The S-mesh face of scene triangle `prim`.
+    fn face(&self, prim: u32) -> Option<usize> {
+        let f = *self.face_of.get(prim as usize)?;
+        (f != NO_FACE).then_some(f as usize)
+    }
+
     /// Requests for the faces that `samples` (face, barycentric point, unit direction of one
     /// pixel's or parent texel's ray, standing for `pixels_per_sample` pixels) land on.
     fn requests(
@@ -295,7 +306,7 @@ impl Tree<'_> {
                     .enumerate()
                     .flat_map_iter(|(i, node)| {
                         let samples = node.hits.iter().filter_map(|&(_, prim, p, d)| {
-                            let g = *self.smesh.face_of.get(&prim)?;
+                            let g = self.face(prim)?;
                             Some((g, self.smesh.faces[g].barycentric(p), d))
                         });
                         Self::requests(Some(i), samples, node.pixels / node.tex.texels() as f32)
@@ -341,7 +352,7 @@ impl Tree<'_> {
 
     /// The composite of a point of scene triangle `prim` whose S-mesh face has child beams.
     fn composite(&self, children: &HashMap<usize, Scattered>, prim: u32) -> Option<Composite> {
-        let face = *self.smesh.face_of.get(&prim)?;
+        let face = self.face(prim)?;
         let sc = children.get(&face)?;
         Some(Composite { face: face as u32, reflected: sc.reflected as u32, refracted: sc.refracted.map(|r| r as u32) })
     }
@@ -370,13 +381,12 @@ pub fn render_nonlinear_with(
     let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
     clock.lap("caustics");
     let caustic_stats = caustics.as_ref().map(|c| c.1.clone()).unwrap_or_default();
-    let tree = Tree {
-        scene,
-        smesh: SMesh::specular(scene),
-        options: *options,
-        eye: camera.position,
-        caustics: caustics.map(|c| c.0),
-    };
+    let smesh = SMesh::specular(scene);
+    let mut face_of = vec![NO_FACE; scene.triangles.len()];
+    for (&prim, &face) in &smesh.face_of {
+        face_of[prim as usize] = face as u32;
+    }
+    let tree = Tree { scene, smesh, face_of, options: *options, eye: camera.position, caustics: caustics.map(|c| c.0) };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree.
     let frame = camera.frame();
@@ -385,23 +395,25 @@ pub fn render_nonlinear_with(
     let hits: Vec<Option<(Ray, Hit)>> =
         renderer.closest_hits(scene, &rays)?.into_par_iter().zip(rays).map(|(h, ray)| Some((ray, h?))).collect();
     clock.lap("eye view");
-    // Per pixel, the S-mesh face it sees with the barycentric point and direction there.
-    let on_faces: Vec<Option<(usize, Vec3, Vec3)>> = hits
-        .par_iter()
-        .map(|hit| {
-            let (ray, h) = (*hit)?;
-            let fi = *tree.smesh.face_of.get(&h.prim)?;
-            Some((fi, tree.smesh.faces[fi].barycentric(ray.at(h.t)), ray.direction.normalize()))
-        })
-        .collect();
+    // Per pixel, the S-mesh face it sees. The eye's beams need only how many pixels see each face
+    // (their directions come from the eye itself, `Source::Eye`).
+    let on_faces: Vec<u32> =
+        hits.par_iter().map(|hit| hit.and_then(|(_, h)| tree.face(h.prim)).map_or(NO_FACE, |f| f as u32)).collect();
     // A face's beams come from every pixel that sees it, but only the faces that pixels of the
     // region see are traced on (with their subtrees): the beams of the others reach no pixel of it.
     let crop = options.shading.region();
     let in_crop = |i: usize| crop.contains((i % camera.width as usize) as u32, (i / camera.width as usize) as u32);
-    let wanted: HashSet<usize> =
-        on_faces.iter().enumerate().filter(|&(i, _)| in_crop(i)).filter_map(|(_, f)| Some(f.as_ref()?.0)).collect();
-    let mut roots = Tree::requests(None, on_faces.into_iter().flatten(), 1.0);
-    roots.retain(|r| wanted.contains(&r.face));
+    let (mut seen_by, mut wanted) = (vec![0u32; tree.smesh.faces.len()], vec![false; tree.smesh.faces.len()]);
+    for (i, &f) in on_faces.iter().enumerate() {
+        if f != NO_FACE {
+            seen_by[f as usize] += 1;
+            wanted[f as usize] |= in_crop(i);
+        }
+    }
+    let roots: Vec<Request> = (0..seen_by.len())
+        .filter(|&f| wanted[f])
+        .map(|face| Request { parent: None, face, samples: Vec::new(), pixels: seen_by[face] as f32 })
+        .collect();
     clock.lap("eye view: faces seen");
     let Built { roots: children, levels } = tree.build(renderer, roots, &mut clock)?;
     // The eye's view (the region's pixels) is level 0 of the radiance flow.
