@@ -35,6 +35,7 @@
 //!
 //! `cargo run --release -p beam-bvh --example trace` does more: batches, shadow rays, statistics.
 
+mod binning;
 mod build;
 mod flat;
 pub mod gpu;

@@ -65,7 +65,7 @@ pub struct BuildOptions {
 
 impl Default for BuildOptions {
     fn default() -> Self {
-        Self { heuristic: Heuristic::Sah, facing: None, bins: 16, max_leaf: 8, traversal_cost: 1.0, parallel: true }
+        Self { heuristic: Heuristic::Sah, facing: None, bins: 32, max_leaf: 8, traversal_cost: 1.0, parallel: true }
     }
 }
 
