@@ -53,7 +53,7 @@ pub struct BuildOptions {
     /// overlap less along them. Uses [`RayDistribution::direction`] of the PAH, or the given
     /// direction with SAH.
     pub facing: Option<Vec3>,
-    /// Bins per partition direction.
+    /// Most bins per partition direction (a node of `n` references uses `min(bins, 4 + n/20)`).
     pub bins: usize,
     /// Largest leaf (a leaf is forced beyond this only for identical centroids).
     pub max_leaf: usize,

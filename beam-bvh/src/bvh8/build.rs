@@ -62,7 +62,7 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
     let mut nodes = Vec::with_capacity(refs.len() / 4 + 1);
     node(&ctx, &mut refs, 0, root, &mut nodes, &mut scratch);
     out.set_tree_bounds(record.bounds.aabb());
-    finish(&mut out, nodes, &refs, triangles);
+    finish(&mut out, nodes, &refs, triangles, options.parallel);
     out
 }
 
@@ -205,10 +205,23 @@ fn append(nodes: &mut Vec<Node8>, sub: Vec<Node8>) -> u32 {
     base
 }
 
+/// `f` of each item, every item a task of its own (the few large children of a node).
 #[cfg(feature = "parallel")]
 fn par_map<T: Send, R: Send>(items: Vec<T>, f: impl Fn(T) -> R + Sync + Send) -> Vec<R> {
     use rayon::prelude::*;
     items.into_par_iter().with_max_len(1).map(f).collect()
+}
+
+/// `f` on every item, in parallel tasks of at least 256 items.
+#[cfg(feature = "parallel")]
+fn par_for_each<T: Send>(items: Vec<T>, f: impl Fn(T) + Sync + Send) {
+    use rayon::prelude::*;
+    items.into_par_iter().with_min_len(256).for_each(f);
+}
+
+#[cfg(not(feature = "parallel"))]
+fn par_for_each<T>(items: Vec<T>, f: impl Fn(T)) {
+    items.into_iter().for_each(f);
 }
 
 #[cfg(not(feature = "parallel"))]
@@ -218,30 +231,47 @@ fn par_map<T, R>(items: Vec<T>, f: impl Fn(T) -> R) -> Vec<R> {
 
 /// Copy each leaf's triangles into blocks of four (in node order, so a node's leaves lie
 /// together), replace leaf slots by block references, and measure the stack a traversal needs.
-fn finish(out: &mut Bvh8, mut nodes: Vec<Node8>, refs: &[PrimRef], triangles: &[Triangle]) {
-    let mut blocks = Vec::with_capacity(refs.len() / 2 + 1);
-    let mut prims = Vec::with_capacity(refs.len() * 2 + 4);
-    for n in &mut nodes {
+fn finish(out: &mut Bvh8, mut nodes: Vec<Node8>, refs: &[PrimRef], triangles: &[Triangle], parallel: bool) {
+    // Each node's leaves take consecutive blocks, from a prefix sum of the nodes' block counts;
+    // then every node fills its own blocks (in parallel for large trees).
+    let mut first_block = Vec::with_capacity(nodes.len() + 1);
+    let mut total = 0usize;
+    for n in &nodes {
+        first_block.push(total);
+        total += n.tris.iter().map(|&c| (c as usize).div_ceil(4)).sum::<usize>();
+    }
+    first_block.push(total);
+    let mut blocks = vec![Tri4::EMPTY; total];
+    let mut prims = vec![u32::MAX; 4 * total];
+    let mut work = Vec::with_capacity(nodes.len());
+    let (mut rest_b, mut rest_p) = (&mut blocks[..], &mut prims[..]);
+    for (i, n) in nodes.iter_mut().enumerate() {
+        let k = first_block[i + 1] - first_block[i];
+        let (b, tail_b) = rest_b.split_at_mut(k);
+        let (p, tail_p) = rest_p.split_at_mut(4 * k);
+        work.push((n, first_block[i], b, p));
+        (rest_b, rest_p) = (tail_b, tail_p);
+    }
+    let fill = |(n, start, b, p): (&mut Node8, usize, &mut [Tri4], &mut [u32])| {
+        let mut next = 0;
         for s in 0..8 {
             let count = n.tris[s] as usize;
             if count == 0 {
                 continue;
             }
             let first = n.child[s] as usize;
-            let leaf = &refs[first..first + count];
-            let start = blocks.len() as u32;
-            for chunk in leaf.chunks(4) {
-                let mut b = Tri4::EMPTY;
-                let mut p = [u32::MAX; 4];
-                for (lane, r) in chunk.iter().enumerate() {
-                    b.set(lane, &triangles[r.index() as usize]);
-                    p[lane] = r.index();
-                }
-                blocks.push(b);
-                prims.extend_from_slice(&p);
+            n.child[s] = Node8::leaf_ref((start + next) as u32, count.div_ceil(4) as u32);
+            for (j, r) in refs[first..first + count].iter().enumerate() {
+                b[next + j / 4].set(j % 4, &triangles[r.index() as usize]);
+                p[4 * next + j] = r.index();
             }
-            n.child[s] = Node8::leaf_ref(start, count.div_ceil(4) as u32);
+            next += count.div_ceil(4);
         }
+    };
+    if parallel && refs.len() > PARALLEL_THRESHOLD {
+        par_for_each(work, fill);
+    } else {
+        work.into_iter().for_each(fill);
     }
     // Children follow their parents, so one reverse pass sees every child's need first.
     let mut need = vec![0usize; nodes.len()];
