@@ -35,7 +35,9 @@
 //!
 //! `cargo run --release -p beam-bvh --example trace` does more: batches, shadow rays, statistics.
 
+mod binning;
 mod build;
+mod bvh8;
 mod flat;
 pub mod gpu;
 mod options;
@@ -46,6 +48,7 @@ mod tree;
 mod wide;
 
 pub use build::build;
+pub use bvh8::{Bvh8, Kernel, Node8, Tri4};
 pub use flat::{FlatBvh, FlatNode};
 pub use options::{BuildOptions, Heuristic, RayDistribution};
 pub use stats::{TraversalStats, TreeStats};

@@ -53,7 +53,7 @@ pub struct BuildOptions {
     /// overlap less along them. Uses [`RayDistribution::direction`] of the PAH, or the given
     /// direction with SAH.
     pub facing: Option<Vec3>,
-    /// Bins per partition direction.
+    /// Most bins per partition direction (a node of `n` references uses `min(bins, 4 + n/20)`).
     pub bins: usize,
     /// Largest leaf (a leaf is forced beyond this only for identical centroids).
     pub max_leaf: usize,
@@ -65,7 +65,7 @@ pub struct BuildOptions {
 
 impl Default for BuildOptions {
     fn default() -> Self {
-        Self { heuristic: Heuristic::Sah, facing: None, bins: 16, max_leaf: 8, traversal_cost: 1.0, parallel: true }
+        Self { heuristic: Heuristic::Sah, facing: None, bins: 32, max_leaf: 8, traversal_cost: 1.0, parallel: true }
     }
 }
 
