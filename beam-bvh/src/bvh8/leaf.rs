@@ -63,19 +63,23 @@ impl ShearRay {
     /// [`WatertightRay::new`]: beam_math::collide::WatertightRay::new
     #[inline(always)]
     pub fn new(ray: Ray) -> Self {
-        let d = ray.direction;
-        let a = d.abs();
-        let kz = if a.x > a.y {
-            if a.x > a.z { 0 } else { 2 }
-        } else if a.y > a.z {
+        let (d, o) = (ray.direction.to_array(), ray.origin.to_array());
+        let a = d.map(f32::abs);
+        let kz = if a[0] > a[1] {
+            if a[0] > a[2] { 0 } else { 2 }
+        } else if a[1] > a[2] {
             1
         } else {
             2
         };
-        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        let o = ray.origin;
-        let s = Vec4::new(d[kx], d[ky], 1.0, 1.0) / Vec4::splat(d[kz]);
-        Self { kz, s: [s.x, s.y, s.z], o: [o[kx], o[ky], o[kz]] }
+        // (d, o) along kx = kz + 1, ky = kz + 2, kz (mod 3).
+        let (x, y, z, ox, oy, oz) = match kz {
+            0 => (d[1], d[2], d[0], o[1], o[2], o[0]),
+            1 => (d[2], d[0], d[1], o[2], o[0], o[1]),
+            _ => (d[0], d[1], d[2], o[0], o[1], o[2]),
+        };
+        let s = Vec4::new(x, y, 1.0, 1.0) / Vec4::splat(z);
+        Self { kz, s: [s.x, s.y, s.z], o: [ox, oy, oz] }
     }
 }
 
