@@ -10,6 +10,7 @@
 mod build;
 mod leaf;
 mod portable;
+mod presplit;
 mod refit;
 #[cfg(target_arch = "x86_64")]
 mod x86;

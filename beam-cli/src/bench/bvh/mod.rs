@@ -159,6 +159,8 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> R
         ("beam-pah-eye", BuildOptions::pah(RayDistribution::Pencil { origin: rays.eye, forward: rays.forward })),
     ];
     let builders = if sah_only { &builders[..1] } else { &builders[..] };
+    // The high-quality mode exists for the 8-wide layout only.
+    let hq = ("beam-hq", BuildOptions::high_quality());
     let mut binaries = Vec::new();
     let mut wides = Vec::new();
     let mut wides8 = Vec::new();
@@ -174,6 +176,9 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> R
         wides.push(Wide4 { name: format!("{name}-4wide"), bvh: wide, build_ms: build_ms + convert_ms });
         binaries.push(Binary { name: (*name).into(), bvh, tris: &tris, build_ms });
     }
+    let mut bvh8 = Bvh8::default();
+    let build8_ms = median_ms(|| bvh8 = Bvh8::build(&tris, &hq.1));
+    let hq = Wide8 { name: format!("{}-8wide", hq.0), bvh: bvh8, build_ms: build8_ms };
     let kernel = wides8[0].bvh.kernel();
     println!("8-wide traversal kernel: {kernel} (run-time dispatch: {})", dispatch_note());
     let mut portable = None;
@@ -188,6 +193,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> R
     let ours: Vec<&dyn Tracer> = wides8
         .iter()
         .map(|o| o as &dyn Tracer)
+        .chain([&hq as &dyn Tracer])
         .chain(portable.iter().map(|o| o as &dyn Tracer))
         .chain(wides.iter().map(|o| o as &dyn Tracer))
         .chain(binaries.iter().map(|o| o as &dyn Tracer))
@@ -220,10 +226,11 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> R
             );
         }
     }
-    let sah4 = wides8.len() + usize::from(portable.is_some());
+    let sah4 = wides8.len() + 1 + usize::from(portable.is_some());
     print_ratios(&rows, ours_count, &tracers, &[0, sah4]);
     let counted: Vec<&dyn Counted> = (0..builders.len())
         .flat_map(|i| [&binaries[i] as &dyn Counted, &wides[i] as &dyn Counted, &wides8[i] as &dyn Counted])
+        .chain([&hq as &dyn Counted])
         .collect();
     print_work(&binaries, &counted, &rays);
     if let Some(path) = json {
