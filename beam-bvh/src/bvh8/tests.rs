@@ -67,7 +67,12 @@ fn check(tris: &[Triangle], bvh: &mut Bvh8, rays: &[Ray], t_any: f32) {
                 }
                 (g, w) => assert_eq!(g.map(|g| g.prim), w.map(|w| w.0), "{k} ray {i}"),
             }
-            assert_eq!(bvh.any_hit(*ray, t_any), want.is_some_and(|w| w.1 <= t_any), "{k} ray {i}");
+            // Any hit: the brute-force answer, except for a hit within rounding of `t_any`, which the
+            // kernels' division-free range test may count either way.
+            let boundary = want.is_some_and(|w| (w.1 - t_any).abs() <= 1e-6 * t_any);
+            if !boundary {
+                assert_eq!(bvh.any_hit(*ray, t_any), want.is_some_and(|w| w.1 <= t_any), "{k} ray {i}");
+            }
             let mut stats = TraversalStats::default();
             let counted = bvh.closest_hit_stats(*ray, f32::INFINITY, &mut stats);
             match (counted, got) {
