@@ -40,8 +40,12 @@ pub(crate) struct PrimRef {
 
 impl PrimRef {
     fn new(t: &Triangle, index: u32) -> Self {
+        Self::with_box(Aabb::from_points(&t.v), index)
+    }
+
+    /// A reference to triangle `index` with box `b` (part of the triangle's box, for a piece).
+    pub fn with_box(b: Aabb, index: u32) -> Self {
         debug_assert!(index < INDEX_BIAS);
-        let b = Aabb::from_points(&t.v);
         Self { lo: b.min.extend(0.0), hi: b.max.extend(f32::from_bits(INDEX_BIAS + index)) }
     }
 

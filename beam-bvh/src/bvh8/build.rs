@@ -48,11 +48,16 @@ struct Child {
 
 /// Build over `triangles`.
 pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
-    let (mut refs, record) = binning::make_refs(triangles, options.parallel);
+    let (mut refs, mut record) = binning::make_refs(triangles, options.parallel);
     let mut out =
         Bvh8 { degenerate: triangles.len() - refs.len(), input_triangles: triangles.len(), ..Bvh8::default() };
     if refs.is_empty() {
         return out;
+    }
+    let presplit = options.presplit > 0.0;
+    if presplit {
+        refs = super::presplit::presplit(refs, triangles, options.presplit, record.bounds.aabb());
+        record = binning::record_of(&refs, options.parallel);
     }
     let mut options = *options;
     options.max_leaf = options.max_leaf.clamp(1, MAX_LEAF);
@@ -62,7 +67,7 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
     let mut nodes = Vec::with_capacity(refs.len() / 4 + 1);
     node(&ctx, &mut refs, 0, root, &mut nodes, &mut scratch);
     out.set_tree_bounds(record.bounds.aabb());
-    finish(&mut out, nodes, &refs, triangles, options.parallel);
+    finish(&mut out, nodes, &mut refs, triangles, FinishOptions { parallel: options.parallel, dedupe: presplit });
     out
 }
 
@@ -231,7 +236,26 @@ fn par_map<T, R>(items: Vec<T>, f: impl Fn(T) -> R) -> Vec<R> {
 
 /// Copy each leaf's triangles into blocks of four (in node order, so a node's leaves lie
 /// together), replace leaf slots by block references, and measure the stack a traversal needs.
-fn finish(out: &mut Bvh8, mut nodes: Vec<Node8>, refs: &[PrimRef], triangles: &[Triangle], parallel: bool) {
+/// How [`finish`] runs.
+struct FinishOptions {
+    parallel: bool,
+    /// Leaves may hold pieces of one triangle more than once (pre-splitting): keep one.
+    dedupe: bool,
+}
+
+fn finish(out: &mut Bvh8, mut nodes: Vec<Node8>, refs: &mut [PrimRef], triangles: &[Triangle], opt: FinishOptions) {
+    if opt.dedupe {
+        for n in &mut nodes {
+            for s in 0..8 {
+                let (first, count) = (n.child[s] as usize, n.tris[s] as usize);
+                if count > 1 {
+                    n.tris[s] = dedupe(&mut refs[first..first + count]) as u8;
+                }
+            }
+        }
+    }
+    let refs = &*refs;
+    let parallel = opt.parallel;
     // Each node's leaves take consecutive blocks, from a prefix sum of the nodes' block counts;
     // then every node fills its own blocks (in parallel for large trees).
     let mut first_block = Vec::with_capacity(nodes.len() + 1);
@@ -286,6 +310,19 @@ fn finish(out: &mut Bvh8, mut nodes: Vec<Node8>, refs: &[PrimRef], triangles: &[
     out.nodes = nodes;
     out.blocks = blocks;
     out.prims = prims;
+}
+
+/// Move one reference of each triangle of `leaf` to its front; returns how many.
+fn dedupe(leaf: &mut [PrimRef]) -> usize {
+    leaf.sort_unstable_by_key(PrimRef::index);
+    let mut unique = 1;
+    for i in 1..leaf.len() {
+        if leaf[i].index() != leaf[unique - 1].index() {
+            leaf[unique] = leaf[i];
+            unique += 1;
+        }
+    }
+    unique
 }
 
 /// Box of a leaf's triangles.

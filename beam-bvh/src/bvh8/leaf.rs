@@ -124,8 +124,33 @@ pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> Bloc
     }
 }
 
+/// Whether `r` hits any triangle of `b` with `t` in `[0, t_max]`. Without the division of
+/// [`intersect4`]: `t = t_scaled / det` is compared as `t_scaled` against `t_max · det`, which
+/// can differ from the scalar test only for `t` within rounding of `t_max`.
 #[inline(always)]
-fn intersect4_along<const KZ: usize>(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> BlockHits {
+pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
+    match r.kz {
+        0 => occludes4_along::<0>(b, r, t_max),
+        1 => occludes4_along::<1>(b, r, t_max),
+        _ => occludes4_along::<2>(b, r, t_max),
+    }
+}
+
+/// The edge functions of four triangles for one ray: the lanes' transformed vertices and `u`,
+/// `v`, `w` (weights of vertices 0, 1, 2).
+struct Edges {
+    abc: [Vec4; 9],
+    u: Vec4,
+    v: Vec4,
+    w: Vec4,
+    /// Lanes with an edge function exactly 0 (the scalar test's double-precision path).
+    fallback: u32,
+    /// Other lanes whose edge functions differ in sign: missed.
+    mixed: u32,
+}
+
+#[inline(always)]
+fn edges<const KZ: usize>(b: &Tri4, r: &ShearRay) -> Edges {
     let (kx, ky, kz) = ((KZ + 1) % 3, (KZ + 2) % 3, KZ);
     let (ox, oy, oz) = (Vec4::splat(r.o[0]), Vec4::splat(r.o[1]), Vec4::splat(r.o[2]));
     let (sx, sy, sz) = (Vec4::splat(r.s[0]), Vec4::splat(r.s[1]), Vec4::splat(r.s[2]));
@@ -148,24 +173,49 @@ fn intersect4_along<const KZ: usize>(b: &Tri4, r: &ShearRay, t_min: f32, t_max: 
     // Outside the fallback lanes no edge function is 0: signs are mixed when any two differ, and
     // `det`, a sum of same-signed values, is not 0.
     let (nu, nv, nw) = (u.cmplt(zero), v.cmplt(zero), w.cmplt(zero));
-    let mixed = (nu ^ nv) | (nu ^ nw);
+    let mixed = ((nu ^ nv) | (nu ^ nw)).bitmask();
+    Edges { abc: [ax, ay, az, bx, by, bz, cx, cy, cz], u, v, w, fallback, mixed }
+}
+
+#[inline(always)]
+fn intersect4_along<const KZ: usize>(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> BlockHits {
+    let Edges { abc, u, v, w, fallback, mixed } = edges::<KZ>(b, r);
     let det = u + v + w;
-    let t_scaled = u * az + v * bz + w * cz;
+    let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
     let inv = Vec4::ONE / det;
     let t = t_scaled * inv;
     // NaN lanes (padding) fail the ordered comparisons.
     let ok = det.abs().cmplt(Vec4::INFINITY) & t.cmpge(Vec4::splat(t_min)) & t.cmple(Vec4::splat(t_max));
     let mut hits = BlockHits {
-        mask: ok.bitmask() & !mixed.bitmask() & !fallback,
+        mask: ok.bitmask() & !mixed & !fallback,
         t: t.to_array(),
         u: (v * inv).to_array(),
         v: (w * inv).to_array(),
     };
     if fallback != 0 {
-        let abc = [ax, ay, az, bx, by, bz, cx, cy, cz].map(|x| x.to_array());
-        fallback_lanes(&abc, t_min, t_max, fallback, &mut hits);
+        fallback_lanes(&abc.map(|x| x.to_array()), t_min, t_max, fallback, &mut hits);
     }
     hits
+}
+
+#[inline(always)]
+fn occludes4_along<const KZ: usize>(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
+    let Edges { abc, u, v, w, fallback, mixed } = edges::<KZ>(b, r);
+    let det = u + v + w;
+    let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
+    // `t_scaled / det` in `[0, t_max]`, with both sides' signs flipped where `det < 0`.
+    let flip = Vec4::select(det.cmplt(Vec4::ZERO), -Vec4::ONE, Vec4::ONE);
+    let (ts, d) = (t_scaled * flip, det.abs());
+    let ok = d.cmplt(Vec4::INFINITY) & ts.cmpge(Vec4::ZERO) & ts.cmple(Vec4::splat(t_max) * d);
+    if ok.bitmask() & !mixed & !fallback != 0 {
+        return true;
+    }
+    if fallback == 0 {
+        return false;
+    }
+    let mut hits = BlockHits { mask: 0, t: [0.0; 4], u: [0.0; 4], v: [0.0; 4] };
+    fallback_lanes(&abc.map(|x| x.to_array()), 0.0, t_max, fallback, &mut hits);
+    hits.mask != 0
 }
 
 /// The lanes whose single-precision edge functions include an exact zero: the rest of the scalar

@@ -10,6 +10,7 @@
 mod build;
 mod leaf;
 mod portable;
+mod presplit;
 mod refit;
 #[cfg(target_arch = "x86_64")]
 mod x86;
@@ -215,7 +216,9 @@ impl Bvh8 {
         self.trace::<false>(ray, t_max).1
     }
 
-    /// True when `ray` hits anything with `t` in `[0, t_max]`.
+    /// True when `ray` hits anything with `t` in `[0, t_max]`. The leaves test the range without
+    /// dividing (`t_scaled` against `t_max · det`), so a hit within rounding of `t_max` may count
+    /// or not; everywhere else the answer is the scalar watertight test's.
     #[must_use]
     pub fn any_hit(&self, ray: Ray, t_max: f32) -> bool {
         self.trace::<true>(ray, t_max).0

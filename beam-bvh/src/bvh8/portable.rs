@@ -2,7 +2,7 @@
 //! (SSE2 on x86-64, NEON on AArch64, scalar elsewhere), hit children pushed farthest first, leaves
 //! through [`intersect4`]. It is the fallback where AVX2 is missing, and the kernel that counts work.
 
-use super::leaf::{ShearRay, intersect4};
+use super::leaf::{ShearRay, intersect4, occludes4};
 use super::{Bvh8, Node8, RayBox};
 use crate::stats::Counter;
 use crate::traverse::Hit;
@@ -44,11 +44,14 @@ pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f3
                         c.triangle();
                     }
                 }
-                let h = intersect4(&bvh.blocks[k], &sr, 0.0, t_best);
-                if h.mask != 0 {
-                    if ANY {
+                if ANY {
+                    if occludes4(&bvh.blocks[k], &sr, t_best) {
                         return (true, None);
                     }
+                    continue;
+                }
+                let h = intersect4(&bvh.blocks[k], &sr, 0.0, t_best);
+                if h.mask != 0 {
                     let l = h.nearest();
                     t_best = h.t[l];
                     best = Some(Hit { prim: bvh.prims[4 * k + l], t: h.t[l], u: h.u[l], v: h.v[l] });

@@ -197,7 +197,8 @@ pub fn builders(set: &RaySet, bounds: Aabb) -> Vec<(&'static str, BuildOptions)>
 
 /// For every mesh (the procedural scene and each shared mesh), every builder (SAH, PAH for the
 /// light, PAH for the eye) and every CPU layout (binary, 4-wide, and 8-wide built by its own
-/// builder and traced by each kernel this CPU runs: portable, AVX2, AVX-512) — on the `gpu`
+/// builder, SAH also in the high-quality mode with pre-split triangles, traced by each kernel
+/// this CPU runs: portable, AVX2, AVX-512) — on the `gpu`
 /// backend the GPU layout traced by beam-gpu's compute ray tracer instead: BVH closest hits equal
 /// brute-force closest hits for camera and diffuse rays (same triangle, or a tie at the same `t`;
 /// `t` within 1e-5 relative), and any-hit answers of shadow rays agree. `Config::rays` rays of each
@@ -232,12 +233,16 @@ pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outco
             let wide = WideBvh::new(&bvh, tris);
             ties += compare(&case.name, &format!("{builder} 4-wide"), &Answers::wide(&wide, &set), &set, &reference)?;
             total += 6 * config.rays as u64;
-            let mut bvh8 = Bvh8::build(tris, &options);
-            for kernel in kernels() {
-                bvh8.set_kernel(kernel);
-                let name = format!("{builder} 8-wide {kernel}");
-                ties += compare(&case.name, &name, &Answers::wide8(&bvh8, &set), &set, &reference)?;
-                total += 3 * config.rays as u64;
+            // The 8-wide layout, by this builder and (SAH) in the high-quality mode too.
+            let hq = (builder == "sah").then(|| ("sah-hq", BuildOptions::high_quality()));
+            for (builder, options) in [(builder, options)].into_iter().chain(hq) {
+                let mut bvh8 = Bvh8::build(tris, &options);
+                for kernel in kernels() {
+                    bvh8.set_kernel(kernel);
+                    let name = format!("{builder} 8-wide {kernel}");
+                    ties += compare(&case.name, &name, &Answers::wide8(&bvh8, &set), &set, &reference)?;
+                    total += 3 * config.rays as u64;
+                }
             }
         }
         let hit_rate = reference.camera.iter().filter(|h| h.is_some()).count() as f64 / set.camera.len() as f64;

@@ -74,34 +74,54 @@ fn make_rays(bvh: &FlatBvh, tris: &[Triangle], width: usize, height: usize) -> R
     Rays { primary, shadow, diffuse, eye: camera.position, forward: frame.forward }
 }
 
-/// Best of `runs` timings of `f`, in seconds.
-fn best_of(runs: usize, mut f: impl FnMut()) -> f64 {
+/// How single-thread rows are timed.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Clock {
+    /// Wall-clock time.
+    Wall,
+    /// The thread's own CPU time: on a shared machine other processes' time slices do not count.
+    Thread,
+}
+
+/// Best of `runs` timings of `f`, in seconds, by `clock`.
+fn best_of(runs: usize, clock: Clock, mut f: impl FnMut()) -> f64 {
     (0..runs)
         .map(|_| {
-            let s = Instant::now();
+            let (s, cpu) = (Instant::now(), thread_cpu_seconds());
             f();
-            s.elapsed().as_secs_f64()
+            match (clock, cpu, thread_cpu_seconds()) {
+                (Clock::Thread, Some(a), Some(b)) => b - a,
+                _ => s.elapsed().as_secs_f64(),
+            }
         })
         .fold(f64::INFINITY, f64::min)
 }
 
+/// CPU time of the calling thread (Linux: `/proc/thread-self/schedstat`, nanoseconds on a CPU).
+pub fn thread_cpu_seconds() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: u64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns as f64 * 1e-9)
+}
+
 const KINDS: [&str; 3] = ["primary", "shadow", "diffuse"];
 
-/// Mrays/s of one tracer on one ray kind with `threads` (1 or all).
-fn throughput(t: &dyn Tracer, rays: &Rays, kind: &str, parallel: bool) -> f64 {
+/// Mrays/s of one tracer on one ray kind with `threads` (1 by `clock`, or all by wall clock).
+fn throughput(t: &dyn Tracer, rays: &Rays, kind: &str, parallel: bool, clock: Clock) -> f64 {
     let sink = |x: bool| std::hint::black_box(x);
+    let wall = Clock::Wall;
     let secs = match (kind, parallel) {
-        ("shadow", false) => best_of(3, || rays.shadow.iter().for_each(|(r, m)| _ = sink(t.occluded(r, *m)))),
+        ("shadow", false) => best_of(3, clock, || rays.shadow.iter().for_each(|(r, m)| _ = sink(t.occluded(r, *m)))),
         ("shadow", true) => {
-            best_of(3, || rays.shadow.par_iter().with_min_len(64).for_each(|(r, m)| _ = sink(t.occluded(r, *m))))
+            best_of(3, wall, || rays.shadow.par_iter().with_min_len(64).for_each(|(r, m)| _ = sink(t.occluded(r, *m))))
         }
         (_, false) => {
             let rs = if kind == "primary" { &rays.primary } else { &rays.diffuse };
-            best_of(3, || rs.iter().for_each(|r| _ = sink(t.closest(r).is_some())))
+            best_of(3, clock, || rs.iter().for_each(|r| _ = sink(t.closest(r).is_some())))
         }
         (_, true) => {
             let rs = if kind == "primary" { &rays.primary } else { &rays.diffuse };
-            best_of(3, || rs.par_iter().with_min_len(64).for_each(|r| _ = sink(t.closest(r).is_some())))
+            best_of(3, wall, || rs.par_iter().with_min_len(64).for_each(|r| _ = sink(t.closest(r).is_some())))
         }
     };
     let n = match kind {
@@ -130,7 +150,7 @@ fn disagreements(t: &dyn Tracer, reference: &dyn Tracer, rays: &Rays) -> usize {
 }
 
 /// Run the benchmark on the OBJ at `scene`, print the table and optionally write JSON.
-pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> Result<(), String> {
+pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, clock: Clock) -> Result<(), String> {
     let mesh = beam_scene::mesh::load_obj(scene).map_err(|e| e.to_string())?;
     let all = mesh.triangles();
     // Peers get the same triangles our builders keep: degenerate ones removed.
@@ -152,6 +172,17 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> R
         rays.shadow.len(),
         rays.diffuse.len()
     );
+    let clock = match clock {
+        Clock::Thread if thread_cpu_seconds().is_none() => {
+            println!("timing: no thread CPU clock here (Linux /proc/thread-self/schedstat): wall clock");
+            Clock::Wall
+        }
+        Clock::Thread => {
+            println!("timing: 1-thread rows by the thread's CPU time (--cpu-time), others by wall clock");
+            Clock::Thread
+        }
+        Clock::Wall => Clock::Wall,
+    };
     let light_dir = Vec3::Y;
     let builders = [
         ("beam-sah", BuildOptions::sah()),
@@ -159,6 +190,8 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> R
         ("beam-pah-eye", BuildOptions::pah(RayDistribution::Pencil { origin: rays.eye, forward: rays.forward })),
     ];
     let builders = if sah_only { &builders[..1] } else { &builders[..] };
+    // The high-quality mode exists for the 8-wide layout only.
+    let hq = ("beam-hq", BuildOptions::high_quality());
     let mut binaries = Vec::new();
     let mut wides = Vec::new();
     let mut wides8 = Vec::new();
@@ -174,6 +207,9 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> R
         wides.push(Wide4 { name: format!("{name}-4wide"), bvh: wide, build_ms: build_ms + convert_ms });
         binaries.push(Binary { name: (*name).into(), bvh, tris: &tris, build_ms });
     }
+    let mut bvh8 = Bvh8::default();
+    let build8_ms = median_ms(|| bvh8 = Bvh8::build(&tris, &hq.1));
+    let hq = Wide8 { name: format!("{}-8wide", hq.0), bvh: bvh8, build_ms: build8_ms };
     let kernel = wides8[0].bvh.kernel();
     println!("8-wide traversal kernel: {kernel} (run-time dispatch: {})", dispatch_note());
     let mut portable = None;
@@ -188,6 +224,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> R
     let ours: Vec<&dyn Tracer> = wides8
         .iter()
         .map(|o| o as &dyn Tracer)
+        .chain([&hq as &dyn Tracer])
         .chain(portable.iter().map(|o| o as &dyn Tracer))
         .chain(wides.iter().map(|o| o as &dyn Tracer))
         .chain(binaries.iter().map(|o| o as &dyn Tracer))
@@ -204,7 +241,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> R
         let wrong = if i == 0 { 0 } else { disagreements(*t, tracers[0], &rays) };
         for parallel in [false, true] {
             let n = if parallel { threads } else { 1 };
-            let m: Vec<f64> = KINDS.iter().map(|k| throughput(*t, &rays, k, parallel)).collect();
+            let m: Vec<f64> = KINDS.iter().map(|k| throughput(*t, &rays, k, parallel, clock)).collect();
             for (k, v) in KINDS.iter().zip(&m) {
                 rows.push(Row { name: t.name(), ray_kind: k, threads: n, build_ms: t.build_ms(), mrays_per_s: *v });
             }
@@ -220,10 +257,11 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool) -> R
             );
         }
     }
-    let sah4 = wides8.len() + usize::from(portable.is_some());
+    let sah4 = wides8.len() + 1 + usize::from(portable.is_some());
     print_ratios(&rows, ours_count, &tracers, &[0, sah4]);
     let counted: Vec<&dyn Counted> = (0..builders.len())
         .flat_map(|i| [&binaries[i] as &dyn Counted, &wides[i] as &dyn Counted, &wides8[i] as &dyn Counted])
+        .chain([&hq as &dyn Counted])
         .collect();
     print_work(&binaries, &counted, &rays);
     if let Some(path) = json {
