@@ -51,7 +51,9 @@ impl Tri4 {
 /// an exact zero can differ, which the tests treat alike.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ShearRay {
-    kz: usize,
+    /// The axes `kx`, `ky`, `kz`: vertex coordinates are read by these indices, so no branch
+    /// depends on the ray's direction (shadow and bounce rays change it from ray to ray).
+    k: [usize; 3],
     s: [f32; 3],
     o: [f32; 3],
 }
@@ -65,21 +67,13 @@ impl ShearRay {
     pub fn new(ray: Ray) -> Self {
         let (d, o) = (ray.direction.to_array(), ray.origin.to_array());
         let a = d.map(f32::abs);
-        let kz = if a[0] > a[1] {
-            if a[0] > a[2] { 0 } else { 2 }
-        } else if a[1] > a[2] {
-            1
-        } else {
-            2
-        };
-        // (d, o) along kx = kz + 1, ky = kz + 2, kz (mod 3).
-        let (x, y, z, ox, oy, oz) = match kz {
-            0 => (d[1], d[2], d[0], o[1], o[2], o[0]),
-            1 => (d[2], d[0], d[1], o[2], o[0], o[1]),
-            _ => (d[0], d[1], d[2], o[0], o[1], o[2]),
-        };
-        let s = Vec4::new(x, y, 1.0, 1.0) / Vec4::splat(z);
-        Self { kz, s: [s.x, s.y, s.z], o: [ox, oy, oz] }
+        // The scalar test's choice (NaN included), as selects rather than branches.
+        let k0 = usize::from(!(a[0] > a[1]));
+        let kz = if a[k0] > a[2] { k0 } else { 2 };
+        // kx = kz + 1, ky = kz + 2 (mod 3).
+        let k = [(kz + 1) % 3, (kz + 2) % 3, kz];
+        let s = Vec4::new(d[k[0]], d[k[1]], 1.0, 1.0) / Vec4::splat(d[k[2]]);
+        Self { k, s: [s.x, s.y, s.z], o: k.map(|i| o[i]) }
     }
 }
 
@@ -116,12 +110,23 @@ impl BlockHits {
 /// Intersect the four triangles of `b` with `r`, keeping hits with `t` in `[t_min, t_max]`.
 #[inline(always)]
 pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> BlockHits {
-    // One copy per dominant axis: constant indices, no bounds checks (the branch is the ray's).
-    match r.kz {
-        0 => intersect4_along::<0>(b, r, t_min, t_max),
-        1 => intersect4_along::<1>(b, r, t_min, t_max),
-        _ => intersect4_along::<2>(b, r, t_min, t_max),
+    let Edges { abc, u, v, w, fallback, mixed } = edges(b, r);
+    let det = u + v + w;
+    let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
+    let inv = Vec4::ONE / det;
+    let t = t_scaled * inv;
+    // NaN lanes (padding) fail the ordered comparisons.
+    let ok = det.abs().cmplt(Vec4::INFINITY) & t.cmpge(Vec4::splat(t_min)) & t.cmple(Vec4::splat(t_max));
+    let mut hits = BlockHits {
+        mask: ok.bitmask() & !mixed & !fallback,
+        t: t.to_array(),
+        u: (v * inv).to_array(),
+        v: (w * inv).to_array(),
+    };
+    if fallback != 0 {
+        fallback_lanes(&abc.map(|x| x.to_array()), t_min, t_max, fallback, &mut hits);
     }
+    hits
 }
 
 /// Whether `r` hits any triangle of `b` with `t` in `[0, t_max]`. Without the division of
@@ -129,11 +134,22 @@ pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> Bloc
 /// can differ from the scalar test only for `t` within rounding of `t_max`.
 #[inline(always)]
 pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
-    match r.kz {
-        0 => occludes4_along::<0>(b, r, t_max),
-        1 => occludes4_along::<1>(b, r, t_max),
-        _ => occludes4_along::<2>(b, r, t_max),
+    let Edges { abc, u, v, w, fallback, mixed } = edges(b, r);
+    let det = u + v + w;
+    let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
+    // `t_scaled / det` in `[0, t_max]`, with both sides' signs flipped where `det < 0`.
+    let flip = Vec4::select(det.cmplt(Vec4::ZERO), -Vec4::ONE, Vec4::ONE);
+    let (ts, d) = (t_scaled * flip, det.abs());
+    let ok = d.cmplt(Vec4::INFINITY) & ts.cmpge(Vec4::ZERO) & ts.cmple(Vec4::splat(t_max) * d);
+    if ok.bitmask() & !mixed & !fallback != 0 {
+        return true;
     }
+    if fallback == 0 {
+        return false;
+    }
+    let mut hits = BlockHits { mask: 0, t: [0.0; 4], u: [0.0; 4], v: [0.0; 4] };
+    fallback_lanes(&abc.map(|x| x.to_array()), 0.0, t_max, fallback, &mut hits);
+    hits.mask != 0
 }
 
 /// The edge functions of four triangles for one ray: the lanes' transformed vertices and `u`,
@@ -150,8 +166,8 @@ struct Edges {
 }
 
 #[inline(always)]
-fn edges<const KZ: usize>(b: &Tri4, r: &ShearRay) -> Edges {
-    let (kx, ky, kz) = ((KZ + 1) % 3, (KZ + 2) % 3, KZ);
+fn edges(b: &Tri4, r: &ShearRay) -> Edges {
+    let [kx, ky, kz] = r.k;
     let (ox, oy, oz) = (Vec4::splat(r.o[0]), Vec4::splat(r.o[1]), Vec4::splat(r.o[2]));
     let (sx, sy, sz) = (Vec4::splat(r.s[0]), Vec4::splat(r.s[1]), Vec4::splat(r.s[2]));
     // Vertex `k` translated to the origin, permuted and sheared: `shear · (v − o)` of the scalar
@@ -175,47 +191,6 @@ fn edges<const KZ: usize>(b: &Tri4, r: &ShearRay) -> Edges {
     let (nu, nv, nw) = (u.cmplt(zero), v.cmplt(zero), w.cmplt(zero));
     let mixed = ((nu ^ nv) | (nu ^ nw)).bitmask();
     Edges { abc: [ax, ay, az, bx, by, bz, cx, cy, cz], u, v, w, fallback, mixed }
-}
-
-#[inline(always)]
-fn intersect4_along<const KZ: usize>(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> BlockHits {
-    let Edges { abc, u, v, w, fallback, mixed } = edges::<KZ>(b, r);
-    let det = u + v + w;
-    let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
-    let inv = Vec4::ONE / det;
-    let t = t_scaled * inv;
-    // NaN lanes (padding) fail the ordered comparisons.
-    let ok = det.abs().cmplt(Vec4::INFINITY) & t.cmpge(Vec4::splat(t_min)) & t.cmple(Vec4::splat(t_max));
-    let mut hits = BlockHits {
-        mask: ok.bitmask() & !mixed & !fallback,
-        t: t.to_array(),
-        u: (v * inv).to_array(),
-        v: (w * inv).to_array(),
-    };
-    if fallback != 0 {
-        fallback_lanes(&abc.map(|x| x.to_array()), t_min, t_max, fallback, &mut hits);
-    }
-    hits
-}
-
-#[inline(always)]
-fn occludes4_along<const KZ: usize>(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
-    let Edges { abc, u, v, w, fallback, mixed } = edges::<KZ>(b, r);
-    let det = u + v + w;
-    let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
-    // `t_scaled / det` in `[0, t_max]`, with both sides' signs flipped where `det < 0`.
-    let flip = Vec4::select(det.cmplt(Vec4::ZERO), -Vec4::ONE, Vec4::ONE);
-    let (ts, d) = (t_scaled * flip, det.abs());
-    let ok = d.cmplt(Vec4::INFINITY) & ts.cmpge(Vec4::ZERO) & ts.cmple(Vec4::splat(t_max) * d);
-    if ok.bitmask() & !mixed & !fallback != 0 {
-        return true;
-    }
-    if fallback == 0 {
-        return false;
-    }
-    let mut hits = BlockHits { mask: 0, t: [0.0; 4], u: [0.0; 4], v: [0.0; 4] };
-    fallback_lanes(&abc.map(|x| x.to_array()), 0.0, t_max, fallback, &mut hits);
-    hits.mask != 0
 }
 
 /// The lanes whose single-precision edge functions include an exact zero: the rest of the scalar

@@ -4,6 +4,7 @@
 mod ours;
 
 use super::{Tracer, peers};
+use crate::bench::cpu_clock::thread_cpu_seconds;
 use beam_bvh::{BuildOptions, Bvh8, FlatBvh, Kernel, RayDistribution, TraversalStats, WideBvh};
 use beam_conformance::bvh::scene_light;
 use beam_conformance::generate::{self, uniform};
@@ -97,13 +98,6 @@ fn best_of(runs: usize, clock: Clock, mut f: impl FnMut()) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// CPU time of the calling thread (Linux: `/proc/thread-self/schedstat`, nanoseconds on a CPU).
-pub fn thread_cpu_seconds() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: u64 = text.split_whitespace().next()?.parse().ok()?;
-    Some(ns as f64 * 1e-9)
-}
-
 const KINDS: [&str; 3] = ["primary", "shadow", "diffuse"];
 
 /// Mrays/s of one tracer on one ray kind with `threads` (1 by `clock`, or all by wall clock).
@@ -174,7 +168,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
     );
     let clock = match clock {
         Clock::Thread if thread_cpu_seconds().is_none() => {
-            println!("timing: no thread CPU clock here (Linux /proc/thread-self/schedstat): wall clock");
+            println!("timing: no thread CPU clock here: wall clock");
             Clock::Wall
         }
         Clock::Thread => {
