@@ -13,7 +13,7 @@ pub fn thread_cpu_seconds() -> Option<f64> {
     // SAFETY: `ts` is a valid, writable `timespec`; `clock_gettime` writes only it and reports
     // failure by its return value.
     let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    (rc == 0).then(|| ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9)
+    (rc == 0).then_some(ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9)
 }
 
 /// Seconds of CPU time the calling thread has used; `None` where the clock is not available.
