@@ -26,17 +26,19 @@ pub fn shade_by_waves(
     points: &[ShadePoint],
 ) -> Result<Vec<Vec3>, BackendError> {
     let eps = shading_eps(scene);
-    let (mut direct, mut paths) = (Vec::new(), Vec::new());
-    for (i, s) in points.iter().enumerate() {
-        match specular_rays(scene, eps, s.prim, s.p, s.d) {
-            Some(rays) => paths.extend(rays.into_iter().flatten().map(|(r, k)| (i, r, k))),
-            None => direct.push((i, *s)),
-        }
-    }
+    // Per point, its specular rays (mirror and glass) or `None` (shaded where it is); in parallel,
+    // in the points' order.
+    let scattered: Vec<_> = points.par_iter().map(|s| specular_rays(scene, eps, s.prim, s.p, s.d)).collect();
+    let direct: Vec<usize> = (0..points.len()).into_par_iter().filter(|&i| scattered[i].is_none()).collect();
+    let paths: Vec<Path> = scattered
+        .into_par_iter()
+        .enumerate()
+        .flat_map_iter(|(i, rays)| rays.into_iter().flatten().flatten().map(move |(r, k)| (i, r, k)))
+        .collect();
     let mut out = vec![Vec3::ZERO; points.len()];
-    let batch: Vec<ShadePoint> = direct.iter().map(|d| d.1).collect();
-    for ((i, _), radiance) in direct.iter().zip(shade(&batch)?) {
-        out[*i] = radiance;
+    let batch: Vec<ShadePoint> = direct.par_iter().map(|&i| points[i]).collect();
+    for (&i, radiance) in direct.iter().zip(shade(&batch)?) {
+        out[i] = radiance;
     }
     // A point reached through mirrors and glass draws its samples from the seed of the point it was
     // reached from (not from that point's place in `points`), so that every point's radiance is the
@@ -69,7 +71,7 @@ pub fn trace_waves(
         if paths.is_empty() {
             break;
         }
-        let rays: Vec<Ray> = paths.iter().map(|p| p.1).collect();
+        let rays: Vec<Ray> = paths.par_iter().map(|p| p.1).collect();
         let hits = renderer.closest_hits(scene, &rays)?;
         // Per path: the paths it continues as, or the point it ends on.
         let next: Vec<(Vec<Path>, Option<End>)> = paths
@@ -87,15 +89,12 @@ pub fn trace_waves(
                 }
             })
             .collect();
-        let ends: Vec<ShadePoint> = next.iter().filter_map(|(_, e)| e.map(|e| e.2)).collect();
-        let mut shaded = shade(&ends)?.into_iter();
-        paths = Vec::new();
-        for (more, end) in next {
-            if let Some((px, weight, _)) = end {
-                out[px] += weight * shaded.next().unwrap_or_default();
-            }
-            paths.extend(more);
+        let ends: Vec<End> = next.par_iter().filter_map(|(_, e)| *e).collect();
+        let points: Vec<ShadePoint> = ends.par_iter().map(|e| e.2).collect();
+        for ((px, weight, _), radiance) in ends.iter().zip(shade(&points)?) {
+            out[*px] += *weight * radiance;
         }
+        paths = next.into_par_iter().flat_map_iter(|(more, _)| more).collect();
     }
     Ok(())
 }
