@@ -7,7 +7,7 @@ use crate::generate::{self, BeamKind, uniform};
 use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::{
-    Beam, BeamJob, BeamRasterizer, BumpedBeam, CAUSTIC_STRATA, CpuBeams, Degree, NonlinearOptions, SMesh,
+    Beam, BeamJob, BeamRasterizer, BumpedBeam, CAUSTIC_STRATA, CpuBeams, Degree, Exclude, NonlinearOptions, SMesh,
     render_nonlinear_with,
 };
 use beam_cpu::render::RenderOptions;
@@ -334,7 +334,7 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
             .flatten()
             .collect();
         let jobs: Vec<BeamJob<'_>> =
-            beams.iter().map(|(beam, prim)| BeamJob { beam, size: 16, exclude: *prim }).collect();
+            beams.iter().map(|(beam, prim)| BeamJob { beam, size: 16, exclude: Exclude::base(*prim) }).collect();
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let on_gpu = renderer.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
         let on_cpu = CpuBeams.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;

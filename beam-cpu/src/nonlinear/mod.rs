@@ -6,6 +6,7 @@
 mod atlas;
 mod caustics;
 mod composite;
+mod lookup;
 mod reference;
 mod trace;
 

@@ -147,8 +147,18 @@ impl GpuComposite {
                     .zip(&sources)
                     .map(|(t, source)| {
                         let c = t.composite;
+                        // The shader looks the children up at `p`'s barycentric coordinates on the
+                        // face: under a coarse S-mesh face, the point of the face where the CPU
+                        // looks the reflection up (the refraction is looked up there too).
+                        let p = match c {
+                            Some(c) if smesh.is_coarse(c.face as usize) => {
+                                let (f, w) = (&smesh.faces[c.face as usize], c.reflected_at);
+                                w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2]
+                            }
+                            _ => t.point.p,
+                        };
                         CompositeRecord {
-                            p: t.point.p.to_array(),
+                            p: p.to_array(),
                             texel: t.texel,
                             d: t.point.d.to_array(),
                             src: source.map_or(NONE, |(on_gpu, i)| (if on_gpu { i } else { direct.len() + i }) as u32),
@@ -188,7 +198,7 @@ fn gpu_faces(scene: &Scene, smesh: &SMesh) -> Vec<GpuFace> {
         .map(|f| GpuFace {
             v: f.v.map(|v| v.extend(0.0).to_array()),
             n: f.n.map(|n| n.extend(0.0).to_array()),
-            normal: scene.normal(f.prim).extend(0.0).to_array(),
+            normal: f.normal.extend(0.0).to_array(),
             material: match scene.material(f.prim) {
                 Material::Mirror { tint, .. } => tint.extend(0.0).to_array(),
                 Material::Glass { ior } => [1.0, 1.0, 1.0, ior],
