@@ -11,154 +11,26 @@
 //! traced by rays. The reference (`reference.rs`) traces the same surfaces with rays about the
 //! interpolated (Phong) normals.
 
-use super::atlas::render_beam;
-use super::caustics::{CausticStats, caustics_by_beams};
+use super::caustics::caustics_by_beams;
 use super::composite::composite_levels;
+use super::cpu_beams::{CpuBeams, shade_points};
 use super::lookup::reproject;
+use super::settings::{NonlinearOptions, NonlinearStats};
+use super::source::Source;
 use crate::RenderError;
-use crate::render::{Image, IrradianceMap, RenderOptions, shade_point, specular_rays};
+use crate::render::{Image, IrradianceMap, specular_rays};
 use beam_bvh::Hit;
 use beam_math::Ray;
-use beam_math::glam::{Mat3, Vec3};
+use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    Beam, BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, Composite, Degree, LevelRadiance, PointShading,
-    RayQueries, SFace, SMesh, ShadePoint, TexelRadiance, child_beams, region_size,
+    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, LevelRadiance, SMesh, ShadePoint, TexelRadiance,
+    child_beams, region_size,
 };
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
-
-/// Settings of the nonlinear renderer.
-#[derive(Clone, Copy, Debug)]
-pub struct NonlinearOptions {
-    /// Beam parameterization.
-    pub degree: Degree,
-    /// Most texels per side of a beam's region; each beam gets the smallest power of two that
-    /// gives its face at least [`TEXELS_PER_SAMPLE`](beam_scene::nonlinear::TEXELS_PER_SAMPLE) texels per pixel covering it, no fewer than 4
-    /// (or than this, when it is below 4). Taken within [`TEXELS`](beam_scene::nonlinear::TEXELS) (a value outside is clamped).
-    pub texels: u32,
-    /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays.
-    pub bounces: u32,
-    /// Strata per side of an area light in the caustic pass (0: area lights cast no caustics;
-    /// at most [`super::MAX_CAUSTIC_STRATA`]); see [`super::caustics_by_beams`].
-    pub caustic_strata: u32,
-    /// Shading of everything the beams and the eye see.
-    pub shading: RenderOptions,
-}
-
-/// What a nonlinear render did (000 §8's statistics).
-#[derive(Clone, Debug, Default, serde::Serialize)]
-pub struct NonlinearStats {
-    /// Wall time, seconds.
-    pub seconds: f64,
-    /// `s1` or `s3`.
-    pub degree: String,
-    /// Beams per level of the beam tree (level 1: beams off the S-mesh faces the eye sees).
-    pub beams_per_level: Vec<u64>,
-    /// S-mesh faces (000 §7.1).
-    pub smesh_faces: u64,
-    /// Of [`Self::smesh_faces`], those of coarse S meshes (given or simplified).
-    pub coarse_smesh_faces: u64,
-    /// Pixels and texels on mirrors and glass shaded by rays rather than textured from child beams
-    /// (past the last level, on slivers, and under a coarse face where no child beam holds their
-    /// scattered ray).
-    pub specular_by_rays: u64,
-    /// Of [`Self::specular_by_rays`], those under a coarse face whose child beams do not hold their
-    /// scattered ray (000 §7.1's S mesh is coarser than the surface's reflections).
-    pub uncovered_by_beams: u64,
-    /// Mean scene triangles per beam after bounding-cone culling.
-    pub triangles_per_beam: f64,
-    /// Texels tested in bounding triangles over texels rendered (the overdraw of 000 Fig. 7).
-    pub overdraw: f64,
-    /// Texels rendered (every beam's region).
-    pub texels_rendered: u64,
-    /// Texels shaded (their ray hit the scene).
-    pub texels_shaded: u64,
-    /// The light beams of the caustic pass.
-    pub caustics: CausticStats,
-    /// Image width and height.
-    pub width: u32,
-    /// Image height.
-    pub height: u32,
-}
-
-/// Where the light arriving at an S-mesh face comes from: the eye, or a parent beam.
-#[derive(Clone, Copy)]
-enum Source<'a> {
-    Eye(Vec3),
-    Beam(&'a Beam),
-}
-
-impl Source<'_> {
-    /// Unit directions of the light arriving at the vertices of `f`: from the eye; from a parent
-    /// beam, the affine fit over `f`'s barycentric coordinates of the directions of the parent's
-    /// texel rays that hit `f` (`samples`: barycentric point, unit direction), exact for the
-    /// directions an S1 parent carries across a flat face; when the samples do not span the face,
-    /// the parent's rays through the vertices (projection, extrapolated past the parent's base).
-    fn directions_to(self, f: &SFace, samples: &[(Vec3, Vec3)]) -> Option<[Vec3; 3]> {
-        let beam = match self {
-            Self::Eye(eye) => {
-                let [a, b, c] = f.v.map(|v| (v - eye).try_normalize());
-                return Some([a?, b?, c?]);
-            }
-            Self::Beam(beam) => beam,
-        };
-        let gram: Mat3 = samples.iter().map(|(w, _)| Mat3::from_cols(*w * w.x, *w * w.y, *w * w.z)).sum();
-        if samples.len() >= 3 && gram.determinant() > 1e-6 * samples.len().pow(3) as f32 {
-            // Least squares for d(w) = Σ wᵢ Dᵢ: (Σ w wᵀ) [D₀ D₁ D₂]ᵀ = Σ w dᵀ.
-            let moment: Mat3 = samples.iter().map(|(w, d)| Mat3::from_cols(*d * w.x, *d * w.y, *d * w.z)).sum();
-            let fit = moment * gram.inverse();
-            let [a, b, c] = [fit.x_axis, fit.y_axis, fit.z_axis].map(Vec3::try_normalize);
-            if let (Some(a), Some(b), Some(c)) = (a, b, c) {
-                return Some([a, b, c]);
-            }
-        }
-        let [a, b, c] = f.v.map(|v| beam.direction_through(v));
-        Some([a?, b?, c?])
-    }
-}
-
-/// The CPU's beam renderer: [`render_beam`] per beam, in parallel; rays through the BVH.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct CpuBeams;
-
-impl BeamRasterizer for CpuBeams {
-    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
-        Ok(jobs.par_iter().map(|j| render_beam(scene, j.beam.texel_beam(), j.size, j.exclude)).collect())
-    }
-}
-
-impl RayQueries for CpuBeams {
-    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
-        Ok(rays.par_iter().map(|&ray| scene.wide.closest_hit(ray, f32::INFINITY)).collect())
-    }
-
-    fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
-        Ok(segments.par_iter().map(|&(ray, t_max)| scene.wide.any_hit(ray, t_max)).collect())
-    }
-}
-
-/// The CPU shades with [`shade_point`] itself ([`shade_points`]): the defaults hand it back.
-impl PointShading for CpuBeams {}
-
-/// The radiance of every point: by `renderer` where it shades with `options`, else on the CPU by
-/// [`shade_point`].
-pub fn shade_points(
-    renderer: &dyn BeamRenderer,
-    scene: &Scene,
-    options: &RenderOptions,
-    caustics: Option<&IrradianceMap>,
-    points: &[ShadePoint],
-) -> Result<Vec<Vec3>, BackendError> {
-    match renderer.shade_points(scene, options, caustics, points)? {
-        Some(radiance) => Ok(radiance),
-        None => {
-            Ok(points.par_iter().map(|s| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed)).collect())
-        }
-    }
-}
 
 /// How many texels outside a child beam's base a coarse face's lookup may fall ([`reproject`])
 /// before its point is traced by rays instead: the one-texel margin its region renders. (On the
