@@ -114,8 +114,8 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         stats.smesh_faces,
         if stats.coarse_smesh_faces > 0 {
             format!(
-                ", {} of them coarse; {} points their child beams do not hold traced by rays",
-                stats.coarse_smesh_faces, stats.uncovered_by_beams
+                ", {} of them coarse ({} too folded for beams); {} points their child beams do not hold traced by rays",
+                stats.coarse_smesh_faces, stats.coarse_faces_by_rays, stats.uncovered_by_beams
             )
         } else {
             String::new()

@@ -35,6 +35,9 @@ pub struct NonlinearStats {
     pub smesh_faces: u64,
     /// Of [`Self::smesh_faces`], those of coarse S meshes (given or simplified).
     pub coarse_smesh_faces: u64,
+    /// Of [`Self::coarse_smesh_faces`], those whose normals spread too far for beams: the points
+    /// under them are traced by rays.
+    pub coarse_faces_by_rays: u64,
     /// Pixels and texels on mirrors and glass shaded by rays rather than textured from child beams
     /// (past the last level, on slivers, and under a coarse face where no child beam holds their
     /// scattered ray).

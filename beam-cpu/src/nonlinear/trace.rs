@@ -125,6 +125,9 @@ impl Tree<'_> {
                         Some(p) => Source::Beam(&parents?[p].beam),
                         None => Source::Eye(self.eye),
                     };
+                    if !self.smesh.spawns_beams(r.face) {
+                        return None;
+                    }
                     let f = &self.smesh.faces[r.face];
                     let incoming = source.directions_to(f, &r.samples)?;
                     let (reflected, refracted) = child_beams(self.scene, f, incoming, self.options.degree)?;
@@ -374,6 +377,7 @@ pub fn render_nonlinear_with(
         beams_per_level: levels.iter().map(|l| l.len() as u64).collect(),
         smesh_faces: tree.smesh.faces.len() as u64,
         coarse_smesh_faces: tree.smesh.coarse_faces() as u64,
+        coarse_faces_by_rays: tree.smesh.faces_by_rays() as u64,
         specular_by_rays,
         uncovered_by_beams: tree.by_rays.load(std::sync::atomic::Ordering::Relaxed),
         triangles_per_beam: all().map(|n| f64::from(n.tex.triangles_after_culling)).sum::<f64>().max(0.0)

@@ -63,7 +63,15 @@ struct Under {
     patch: Range<usize>,
     ring: Range<usize>,
     thickness: f32,
+    /// Its vertex normals spread too far for beams ([`MAX_NORMAL_SPREAD`]).
+    rays_only: bool,
 }
+
+/// Cosine of the widest angle between the vertex normals of a coarse face that spawns beams (90°):
+/// a face folded over a thin part (a simplified handle's tube, normals 120° apart) has beams wider
+/// than a half-space, whose bounding triangles (000 Algs. 3–4) were seen to miss texels; its points
+/// are traced by rays instead. Fine faces always spawn beams.
+pub const MAX_NORMAL_SPREAD: f32 = 0.5;
 
 /// The S mesh of every mirror and glass surface of a scene, and the map from the scene's
 /// triangles onto it.
@@ -147,6 +155,19 @@ impl SMesh {
         s
     }
 
+    /// False for a coarse face whose vertex normals spread wider than [`MAX_NORMAL_SPREAD`]: it
+    /// spawns no beams, and the points under it are traced by rays.
+    #[must_use]
+    pub fn spawns_beams(&self, face: usize) -> bool {
+        self.under.get(face).is_none_or(|u| !u.rays_only)
+    }
+
+    /// Coarse faces that spawn no beams ([`Self::spawns_beams`]).
+    #[must_use]
+    pub fn faces_by_rays(&self) -> usize {
+        self.under.iter().filter(|u| u.rays_only).count()
+    }
+
     /// True when face `face` belongs to a coarse S mesh (it stands for fine triangles under it).
     #[must_use]
     pub fn is_coarse(&self, face: usize) -> bool {
@@ -220,8 +241,10 @@ impl SMesh {
         self.lists.extend_from_slice(patch);
         self.lists.extend_from_slice(ring);
         let (p, r) = (at..at + patch.len(), at + patch.len()..self.lists.len());
+        let n = face.n;
+        let rays_only = n[0].dot(n[1]).min(n[1].dot(n[2])).min(n[2].dot(n[0])) < MAX_NORMAL_SPREAD;
         self.faces.push(face);
-        self.under.push(Under { patch: p, ring: r, thickness });
+        self.under.push(Under { patch: p, ring: r, thickness, rays_only });
     }
 }
 
