@@ -1,10 +1,15 @@
 //! # beam-bvh
 //!
 //! One canonical binary BVH over triangles, built once and converted into layouts, as tinybvh
-//! does: a compact depth-first CPU layout ([`FlatBvh`]) that every traversal runs on, and a
-//! `#[repr(C)]` bytemuck GPU layout ([`gpu`]), and a 4-wide SIMD CPU layout ([`WideBvh`]) for
-//! single-ray speed. The canonical tree references triangles by index; the wide and GPU layouts add
-//! leaf-order copies for memory locality.
+//! does: a compact depth-first CPU layout ([`FlatBvh`]) that every generic (beam) traversal runs
+//! on, a `#[repr(C)]` bytemuck GPU layout ([`gpu`]), and a 4-wide SIMD CPU layout ([`WideBvh`]).
+//! The canonical tree references triangles by index; the wide and GPU layouts add leaf-order
+//! copies for memory locality.
+//!
+//! For single rays at Embree's speed there is [`Bvh8`], built by its own builder straight into
+//! eight-wide nodes, with leaves of four-triangle blocks and traversal kernels picked at run time
+//! ([`Kernel`]: AVX-512, AVX2, or a portable four-lane one), every one watertight like the scalar
+//! test. Its [`BuildOptions::high_quality`] mode pre-splits large triangles.
 //!
 //! - Builders ([`BuildOptions`]): binned SAH; the projected-area heuristic (PAH) of 004 for a
 //!   declared ray distribution (a parallel bundle or a pencil through a point), falling back to SAH
@@ -35,7 +40,9 @@
 //!
 //! `cargo run --release -p beam-bvh --example trace` does more: batches, shadow rays, statistics.
 
+mod binning;
 mod build;
+mod bvh8;
 mod flat;
 pub mod gpu;
 mod options;
@@ -46,6 +53,7 @@ mod tree;
 mod wide;
 
 pub use build::build;
+pub use bvh8::{Bvh8, Kernel, Node8, Tri4};
 pub use flat::{FlatBvh, FlatNode};
 pub use options::{BuildOptions, Heuristic, RayDistribution};
 pub use stats::{TraversalStats, TreeStats};

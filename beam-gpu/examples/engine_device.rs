@@ -26,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let descriptor = wgpu::DeviceDescriptor { required_limits: adapter.limits(), ..Default::default() };
     let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))?;
     // Lend them to beam: it records its own passes on them and waits for its own work only.
-    let gpu = Gpu { device, queue, info: adapter.get_info() };
+    let gpu = Gpu::from_device(device, queue, adapter.get_info());
 
     // A scene's BVH in the GPU layout (a built-in here; yours through beam_scene or your own
     // triangles), and the nearest hits of a 64 × 64 camera's rays.

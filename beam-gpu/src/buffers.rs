@@ -65,11 +65,14 @@ pub fn read_back(
 pub fn map(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
     let slice = buffer.slice(..);
     slice.map_async(wgpu::MapMode::Read, |_| {});
+    let start = std::time::Instant::now();
     gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(GpuError::Wait)?;
+    let waited = start.elapsed();
     let data = slice.get_mapped_range().map_err(GpuError::Readback)?;
     let out = data.to_vec();
     drop(data);
     buffer.unmap();
+    gpu.record(waited, out.len());
     Ok(out)
 }
 

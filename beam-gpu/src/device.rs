@@ -2,8 +2,11 @@
 //! where there is one), its name and backend, and a clear error when there is none.
 
 use crate::GpuError;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
 
-/// A device and its queue with what the adapter says of itself.
+/// A device and its queue with what the adapter says of itself, and how long beam has waited on
+/// it ([`Gpu::traffic`]).
 pub struct Gpu {
     /// The device.
     pub device: wgpu::Device,
@@ -11,6 +14,30 @@ pub struct Gpu {
     pub queue: wgpu::Queue,
     /// Adapter name, backend, driver.
     pub info: wgpu::AdapterInfo,
+    waited_ns: AtomicU64,
+    read_back: AtomicU64,
+}
+
+/// What beam's passes have cost on the host side of the bus so far, summed over its calls: the
+/// time blocked waiting for the device (everything else a caller times is host work) and the bytes
+/// read back.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Traffic {
+    /// Seconds blocked on the device (polling for a readback).
+    pub waited_seconds: f64,
+    /// Bytes copied back to the host.
+    pub bytes_read_back: u64,
+}
+
+impl std::ops::Sub for Traffic {
+    type Output = Self;
+
+    fn sub(self, earlier: Self) -> Self {
+        Self {
+            waited_seconds: self.waited_seconds - earlier.waited_seconds,
+            bytes_read_back: self.bytes_read_back - earlier.bytes_read_back,
+        }
+    }
 }
 
 impl Gpu {
@@ -50,7 +77,29 @@ impl Gpu {
             backend: info.backend,
             source,
         })?;
-        Ok(Self { device, queue, info })
+        Ok(Self::from_device(device, queue, info))
+    }
+
+    /// beam on a device and queue the caller opened (an engine's), `info` its adapter's.
+    #[must_use]
+    pub fn from_device(device: wgpu::Device, queue: wgpu::Queue, info: wgpu::AdapterInfo) -> Self {
+        Self { device, queue, info, waited_ns: AtomicU64::new(0), read_back: AtomicU64::new(0) }
+    }
+
+    /// Waits and readbacks so far; subtract two to get an interval's.
+    #[must_use]
+    pub fn traffic(&self) -> Traffic {
+        Traffic {
+            waited_seconds: Duration::from_nanos(self.waited_ns.load(Ordering::Relaxed)).as_secs_f64(),
+            bytes_read_back: self.read_back.load(Ordering::Relaxed),
+        }
+    }
+
+    /// Count a wait of `waited` that read back `bytes`.
+    pub(crate) fn record(&self, waited: Duration, bytes: usize) {
+        let ns = u64::try_from(waited.as_nanos()).unwrap_or(u64::MAX);
+        self.waited_ns.fetch_add(ns, Ordering::Relaxed);
+        self.read_back.fetch_add(bytes as u64, Ordering::Relaxed);
     }
 
     /// `name (backend)`.

@@ -41,5 +41,5 @@ pub mod shade;
 pub mod shaders;
 
 pub use beam_math;
-pub use device::Gpu;
+pub use device::{Gpu, Traffic};
 pub use error::GpuError;

@@ -18,6 +18,7 @@ use beam_scene::nonlinear::ShadePoint;
 use beam_scene::scene::{Light, Material, Scene};
 use beam_scene::tolerance::{DEPTH_EPS, shading_eps};
 use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
 
 /// A point to shade.
 ///
@@ -289,7 +290,7 @@ impl PointShader {
         extra: usize,
     ) -> Result<(wgpu::CommandEncoder, wgpu::Buffer), GpuError> {
         let inputs: Vec<ShadeInput> = points
-            .iter()
+            .par_iter()
             .map(|s| ShadeInput { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), seed: seed32(s.seed) })
             .collect();
         let params = ShadeParams {

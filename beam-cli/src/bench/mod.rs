@@ -53,6 +53,14 @@ pub enum BenchCommand {
         /// Image width and height of the primary rays.
         #[arg(long, default_value_t = 512)]
         size: usize,
+        /// Only the SAH builder (no PAH rows): a quicker run.
+        #[arg(long)]
+        sah_only: bool,
+        /// Time the single-thread rows by the thread's CPU time instead of the wall clock (Linux),
+        /// so that other processes on a shared machine do not count; the all-core rows stay
+        /// wall-clock.
+        #[arg(long)]
+        cpu_time: bool,
     },
     /// Exact soft shadows by beams against 16/64/256 shadow rays per pixel (and Embree at 256 with
     /// `--features peers`), each with its RMSE against a many-ray reference.
@@ -176,14 +184,15 @@ fn side(option: &str, v: u32) -> Result<(), String> {
 /// Run `beam bench`; with `dry`, only check its arguments.
 pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
     let result = match what {
-        BenchCommand::Bvh { scene, json, size } => {
+        BenchCommand::Bvh { scene, json, size, sah_only, cpu_time } => {
             if !(1..=crate::plan::MAX_SIDE as usize).contains(&size) {
                 return Err(format!("--size {size} out of range (1 to {})", crate::plan::MAX_SIDE));
             }
             if dry {
                 return Ok(ExitCode::SUCCESS);
             }
-            bvh::run(&scene, json.as_deref(), size)
+            let clock = if cpu_time { bvh::Clock::Thread } else { bvh::Clock::Wall };
+            bvh::run(&scene, json.as_deref(), size, sah_only, clock)
         }
         BenchCommand::Gpu { scenes, width, height, frames, degree } => {
             side("--width", width)?;

@@ -161,6 +161,12 @@ pub fn run(
             v.sort_by(f64::total_cmp);
             (v[v.len() - 1], v[v.len() / 2])
         };
+        let fit = Fit::of(rows[first..].iter());
+        let (worst_fit, worst_cam) = rows[first..]
+            .iter()
+            .map(|r| (r.beam_s / fit.at(r.visible), r.camera))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .unwrap_or((0.0, 0));
         println!(
             "{}: eye beams worst {tw:.4} s, median {tm:.4} s; × 16 rays/pixel worst {rw:.2}, median {rm:.2}; \
              × 1 ray/pixel worst {qw:.2}, median {qm:.2}; hit beams per visible triangle worst {hw:.1}, median \
@@ -168,6 +174,14 @@ pub fn run(
             loaded.name,
             sw * 1e6,
             sm * 1e6
+        );
+        println!(
+            "{}: least-squares line t = {:.4} s + {:.2} µs × visible triangles; slowest view against it: \
+             {worst_fit:.2}× (camera {})",
+            loaded.name,
+            fit.a,
+            fit.b * 1e6,
+            if worst_cam == 0 { "view".to_string() } else { worst_cam.to_string() }
         );
     }
     if let (Some(dir), false) = (out, rows.is_empty()) {
@@ -199,6 +213,35 @@ pub fn run(
         println!("wrote {} and {}", png.display(), csv_path.display());
     }
     Ok(())
+}
+
+/// The least-squares line through the views' (visible triangles, eye-beam seconds): what an
+/// output-sensitive method's time should follow (001 Fig. 7). Its intercept is kept ≥ 0.1 ms so
+/// that views seeing nothing are not measured against zero.
+struct Fit {
+    a: f64,
+    b: f64,
+}
+
+impl Fit {
+    fn of<'r>(rows: impl Iterator<Item = &'r Row> + Clone) -> Self {
+        let n = rows.clone().count().max(1) as f64;
+        let mx = rows.clone().map(|r| r.visible as f64).sum::<f64>() / n;
+        let my = rows.clone().map(|r| r.beam_s).sum::<f64>() / n;
+        let sxx: f64 = rows.clone().map(|r| (r.visible as f64 - mx).powi(2)).sum();
+        let sxy: f64 = rows.map(|r| (r.visible as f64 - mx) * (r.beam_s - my)).sum();
+        let b = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+        Self { a: (my - b * mx).max(1e-4), b }
+    }
+
+    /// Seconds the line gives for `visible` triangles.
+    fn at(&self, visible: u64) -> f64 {
+        self.at_f(visible as f64)
+    }
+
+    fn at_f(&self, visible: f64) -> f64 {
+        self.a + self.b * visible
+    }
 }
 
 /// Time against visible triangles, log–log: eye beams filled, 16 rays per pixel hollow, a colour
@@ -244,6 +287,16 @@ fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
                 .map_err(|e| e.to_string())?
                 .label(format!("{name}: 16 rays/pixel"))
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.stroke_width(2)));
+            let fit = Fit::of(rows.iter().filter(|r| r.scene == *name));
+            let line = (0..=64).map(|i| {
+                let v = x0 * 0.7 * (x1 * 2.0 / x0).powf(f64::from(i) / 64.0);
+                (v, fit.at_f(v))
+            });
+            chart
+                .draw_series(LineSeries::new(line, color.stroke_width(1)))
+                .map_err(|e| e.to_string())?
+                .label(format!("{name}: least-squares line"))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color));
         }
         chart
             .configure_series_labels()

@@ -7,7 +7,9 @@ use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
-use beam_scene::nonlinear::{BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, PointShading, RayQueries, ShadePoint};
+use beam_scene::nonlinear::{
+    BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, DeviceWaits, PointShading, RayQueries, ShadePoint,
+};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 
@@ -33,6 +35,9 @@ impl RayQueries for CpuBeams {
 
 /// The CPU shades with [`shade_point`] itself ([`shade_points`]): the defaults hand it back.
 impl PointShading for CpuBeams {}
+
+/// No device: all of a CPU frame is host work.
+impl DeviceWaits for CpuBeams {}
 
 /// The radiance of every point: by `renderer` where it shades with `options`, else on the CPU by
 /// [`shade_point`].

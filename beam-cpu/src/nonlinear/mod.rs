@@ -11,6 +11,7 @@ mod lookup;
 mod reference;
 mod settings;
 mod source;
+mod stages;
 mod trace;
 
 pub use atlas::render_beam;
@@ -21,6 +22,7 @@ pub use composite::composite_levels;
 pub use cpu_beams::{CpuBeams, shade_points};
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
 pub use settings::{NonlinearOptions, NonlinearStats};
+pub use stages::Stage;
 pub use trace::{render_nonlinear, render_nonlinear_with};
 // The host side of the beam tree, shared with beam-gpu (beam-scene), under the names the CPU
 // renderer's callers use.

@@ -1,6 +1,7 @@
 //! The nonlinear renderer's settings and the statistics of a render (000 §8).
 
 use super::caustics::CausticStats;
+use super::stages::Stage;
 use crate::render::RenderOptions;
 use beam_scene::nonlinear::Degree;
 
@@ -55,6 +56,8 @@ pub struct NonlinearStats {
     pub texels_shaded: u64,
     /// The light beams of the caustic pass.
     pub caustics: CausticStats,
+    /// Where the frame's time went, stage by stage, and the host's share of each.
+    pub stages: Vec<Stage>,
     /// Image width and height.
     pub width: u32,
     /// Image height.

@@ -17,6 +17,7 @@ use super::cpu_beams::{CpuBeams, shade_points};
 use super::lookup::reproject;
 use super::settings::{NonlinearOptions, NonlinearStats};
 use super::source::Source;
+use super::stages::StageClock;
 use crate::RenderError;
 use crate::render::{Image, IrradianceMap, specular_rays};
 use beam_bvh::Hit;
@@ -29,7 +30,7 @@ use beam_scene::nonlinear::{
 };
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::time::Instant;
 
 /// How many texels outside a child beam's base a coarse face's lookup may fall ([`reproject`])
@@ -109,7 +110,12 @@ impl Tree<'_> {
     /// The beam tree level by level (000 §7.2–7.3, per-level atlases): each level's beams built from
     /// the light arriving at its faces, rendered in one batch by `renderer`, their texels' hits on
     /// specular faces the requests of the next level. Returns the roots' children and the levels.
-    fn build(&self, renderer: &dyn BeamRenderer, roots: Vec<Request>) -> Result<Built, BackendError> {
+    fn build(
+        &self,
+        renderer: &dyn BeamRenderer,
+        roots: Vec<Request>,
+        clock: &mut StageClock<'_>,
+    ) -> Result<Built, BackendError> {
         let mut levels: Vec<Vec<Node>> = Vec::new();
         let mut root_children = HashMap::new();
         let mut requests = roots;
@@ -156,7 +162,9 @@ impl Tree<'_> {
                 .iter()
                 .map(|(beam, face, _, size)| BeamJob { beam, size: *size, exclude: self.smesh.exclude(*face) })
                 .collect();
+            clock.lap("tree: beams");
             let textures = renderer.render_beams(self.scene, &jobs)?;
+            clock.lap("tree: rasterize beams");
             let nodes: Vec<Node> = beams
                 .into_par_iter()
                 .zip(textures)
@@ -171,6 +179,7 @@ impl Tree<'_> {
                     Node { beam, face, pixels, tex, hits, children: HashMap::new() }
                 })
                 .collect();
+            clock.lap("tree: texel hits");
             requests = if level < self.options.bounces {
                 nodes
                     .par_iter()
@@ -186,6 +195,7 @@ impl Tree<'_> {
             } else {
                 Vec::new()
             };
+            clock.lap("tree: next level's faces");
             levels.push(nodes);
         }
         Ok(Built { roots: root_children, levels })
@@ -299,9 +309,11 @@ pub fn render_nonlinear_with(
     renderer: &dyn BeamRenderer,
 ) -> Result<(Image, NonlinearStats), RenderError> {
     let start = Instant::now();
+    let mut clock = StageClock::start(renderer);
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
     // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.
     let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
+    clock.lap("caustics");
     let caustic_stats = caustics.as_ref().map(|c| c.1.clone()).unwrap_or_default();
     let tree = Tree {
         scene,
@@ -314,30 +326,39 @@ pub fn render_nonlinear_with(
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree.
     let frame = camera.frame();
-    let rays: Vec<Ray> = (0..(camera.width * camera.height) as usize).map(|i| camera.pixel_ray(&frame, i)).collect();
+    let rays: Vec<Ray> =
+        (0..(camera.width * camera.height) as usize).into_par_iter().map(|i| camera.pixel_ray(&frame, i)).collect();
     let hits: Vec<Option<(Ray, Hit)>> =
-        renderer.closest_hits(scene, &rays)?.into_iter().zip(&rays).map(|(h, &ray)| Some((ray, h?))).collect();
-    // Each hit's S face: its own triangle's, or on a coarse S mesh the face its point maps to.
+        renderer.closest_hits(scene, &rays)?.into_par_iter().zip(rays).map(|(h, ray)| Some((ray, h?))).collect();
+    clock.lap("eye view");
+    // Per pixel, the S face it sees: its own triangle's, or on a coarse S mesh the face its point
+    // maps to. The eye's beams need only how many pixels see each face (their directions come from
+    // the eye itself, `Source::Eye`).
     let located: Vec<Option<(usize, Vec3)>> =
         hits.par_iter().map(|h| h.and_then(|(ray, h)| tree.smesh.locate(h.prim, ray.at(h.t)))).collect();
-    let seen = hits
-        .iter()
-        .zip(&located)
-        .filter_map(|(h, l)| Some((l.as_ref()?.0, l.as_ref()?.1, h.as_ref()?.0.direction.normalize())));
     // A face's beams come from every pixel that sees it, but only the faces that pixels of the
     // region see are traced on (with their subtrees): the beams of the others reach no pixel of it.
     let crop = options.shading.region();
     let in_crop = |i: usize| crop.contains((i % camera.width as usize) as u32, (i / camera.width as usize) as u32);
-    let wanted: HashSet<usize> = (0..hits.len()).filter(|&i| in_crop(i)).filter_map(|i| Some(located[i]?.0)).collect();
-    let mut roots = Tree::requests(None, seen, 1.0);
-    roots.retain(|r| wanted.contains(&r.face));
-    let Built { roots: children, levels } = tree.build(renderer, roots)?;
+    let (mut seen_by, mut wanted) = (vec![0u32; tree.smesh.faces.len()], vec![false; tree.smesh.faces.len()]);
+    for (i, l) in located.iter().enumerate() {
+        if let Some((f, _)) = *l {
+            seen_by[f] += 1;
+            wanted[f] |= in_crop(i);
+        }
+    }
+    let roots: Vec<Request> = (0..seen_by.len())
+        .filter(|&f| wanted[f])
+        .map(|face| Request { parent: None, face, samples: Vec::new(), pixels: seen_by[face] as f32 })
+        .collect();
+    clock.lap("eye view: faces seen");
+    let Built { roots: children, levels } = tree.build(renderer, roots, &mut clock)?;
     // The eye's view (the region's pixels) is level 0 of the radiance flow.
     let eye = LevelRadiance {
         regions: Vec::new(),
         len: hits.len(),
         texels: hits
-            .iter()
+            .par_iter()
             .enumerate()
             .filter(|&(i, _)| in_crop(i))
             .filter_map(|(i, hit)| {
@@ -356,6 +377,7 @@ pub fn render_nonlinear_with(
         .flat_map(|l| &l.texels)
         .filter(|t| t.composite.is_none() && scene.smooth_normals.contains_key(&t.point.prim))
         .count() as u64;
+    clock.lap("radiance flow");
     let (shading, caustics) = (&options.shading, tree.caustics.as_ref());
     let frame = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
         Some(pixels) => pixels,
@@ -363,6 +385,7 @@ pub fn render_nonlinear_with(
             shade_points(renderer, scene, shading, caustics, points)
         })?,
     };
+    clock.lap("shading and composite");
     let image = Image { width: crop.width(), height: crop.height(), pixels: crop.cut(&frame, camera.width) };
     let all = || levels.iter().flatten();
     let beams = all().count();
@@ -387,6 +410,10 @@ pub fn render_nonlinear_with(
         texels_rendered,
         texels_shaded: all().map(|n| n.hits.len() as u64).sum(),
         caustics: caustic_stats,
+        stages: {
+            clock.lap("image");
+            clock.stages()
+        },
         width: image.width,
         height: image.height,
     };

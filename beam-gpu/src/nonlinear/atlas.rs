@@ -23,8 +23,8 @@ use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamTexture, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint, TexelHit,
-    cone_candidates, shade_by_waves,
+    BeamJob, BeamRasterizer, BeamTexture, DeviceWaits, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint,
+    TexelHit, cone_candidates, shade_by_waves,
 };
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
@@ -408,21 +408,30 @@ impl BeamRasterizer for GpuBeams<'_> {
             let (texels, counts) = checked(self.gpu, || self.render_page(&beams, &flat, &ranges, page_rows))?;
             let drawn = start.elapsed().as_secs_f64() - prepared;
             let start = Instant::now();
-            for (&i, &[kept, tested]) in members.iter().zip(&counts) {
-                let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
-                let size = jobs[i].size;
-                let n = (size * size) as usize;
-                let mut hits = vec![None; n];
-                for y in 0..size {
-                    for x in 0..size {
-                        let [prim, t] = texels[((q.y + y) * self.page + q.x + x) as usize];
-                        if prim > 0 && x + y < size + 1 {
-                            hits[(y * size + x) as usize] = Some(TexelHit { prim: prim - 1, t: f32::from_bits(t) });
+            let unpacked: Vec<(usize, BeamTexture)> = members
+                .par_iter()
+                .zip(&counts)
+                .map(|(&i, &[kept, tested])| {
+                    let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
+                    let size = jobs[i].size;
+                    let mut hits = vec![None; (size * size) as usize];
+                    for y in 0..size {
+                        let row = ((q.y + y) * self.page + q.x) as usize;
+                        // Texels past the region's diagonal (x + y > size) belong to no beam.
+                        for x in 0..(size + 1 - y).min(size) {
+                            let [prim, t] = texels[row + x as usize];
+                            if prim > 0 {
+                                hits[(y * size + x) as usize] = Some(TexelHit { prim: prim - 1, t: f32::from_bits(t) });
+                            }
                         }
                     }
-                }
-                textures[i] =
-                    Some(BeamTexture { size, hits, triangles_after_culling: kept, texels_tested: u64::from(tested) });
+                    let tex =
+                        BeamTexture { size, hits, triangles_after_culling: kept, texels_tested: u64::from(tested) };
+                    Ok((i, tex))
+                })
+                .collect::<Result<_, GpuError>>()?;
+            for (i, tex) in unpacked {
+                textures[i] = Some(tex);
             }
             self.add_times(|t| {
                 t.atlas_seconds += drawn;
@@ -433,6 +442,12 @@ impl BeamRasterizer for GpuBeams<'_> {
             });
         }
         textures.into_iter().map(|t| t.ok_or_else(|| GpuError::Internal("a beam was not rendered").into())).collect()
+    }
+}
+
+impl DeviceWaits for GpuBeams<'_> {
+    fn waited_seconds(&self) -> f64 {
+        self.gpu.traffic().waited_seconds
     }
 }
 

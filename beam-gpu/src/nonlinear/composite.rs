@@ -16,6 +16,7 @@ use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{LevelRadiance, SMesh, ShadePoint};
 use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
 
 /// An S-mesh face for the composite.
 ///
@@ -126,24 +127,27 @@ impl GpuComposite {
             let radiance = output(gpu, "level radiance", len);
             for texels in level.texels.chunks(chunk) {
                 // Points not composited: on the GPU where the point shader shades them, else by `rest`.
+                let kinds: Vec<Option<bool>> = texels
+                    .par_iter()
+                    .map(|t| t.composite.is_none().then(|| PointShader::shades(scene, t.point.prim)))
+                    .collect();
                 let (mut direct, mut other) = (Vec::new(), Vec::new());
                 // Per texel: composited, or where its shaded radiance lies (direct or other).
                 let sources: Vec<Option<(bool, usize)>> = texels
                     .iter()
-                    .map(|t| {
-                        t.composite.is_none().then(|| {
-                            let on_gpu = PointShader::shades(scene, t.point.prim);
-                            let list = if on_gpu { &mut direct } else { &mut other };
-                            list.push(t.point);
-                            (on_gpu, list.len() - 1)
-                        })
+                    .zip(&kinds)
+                    .map(|(t, kind)| {
+                        let on_gpu = (*kind)?;
+                        let list = if on_gpu { &mut direct } else { &mut other };
+                        list.push(t.point);
+                        Some((on_gpu, list.len() - 1))
                     })
                     .collect();
                 let other_radiance: Vec<[f32; 4]> = rest(&other)?.iter().map(|c| c.extend(0.0).to_array()).collect();
                 let (encoder, shaded) = shader.shade_into(gpu, tracer, &prepared, spp, &direct, other.len())?;
                 gpu.queue.write_buffer(&shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
                 let records: Vec<CompositeRecord> = texels
-                    .iter()
+                    .par_iter()
                     .zip(&sources)
                     .map(|(t, source)| {
                         let c = t.composite;
@@ -184,7 +188,7 @@ impl GpuComposite {
         let encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
         let halves: Vec<[u16; 4]> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &below, len)?);
         Ok(halves
-            .iter()
+            .par_iter()
             .map(|h| Vec3::from_array([h[0], h[1], h[2]].map(|x| half::f16::from_bits(x).to_f32())))
             .collect())
     }

@@ -53,8 +53,17 @@ pub trait PointShading: Sync {
     }
 }
 
-/// What the nonlinear renderer needs of a backend: ray queries, a beam rasterizer and (optional)
-/// point shading. Implemented for every type that has the three.
-pub trait BeamRenderer: RayQueries + BeamRasterizer + PointShading {}
+/// How long a backend has blocked on a device, so that a frame's host work (000 Table 2's CPU
+/// share) is its wall time less these waits. A backend on the CPU has none (the default).
+pub trait DeviceWaits: Sync {
+    /// Seconds spent blocked on the device so far.
+    fn waited_seconds(&self) -> f64 {
+        0.0
+    }
+}
 
-impl<T: RayQueries + BeamRasterizer + PointShading> BeamRenderer for T {}
+/// What the nonlinear renderer needs of a backend: ray queries, a beam rasterizer, (optional)
+/// point shading and its device waits. Implemented for every type that has the four.
+pub trait BeamRenderer: RayQueries + BeamRasterizer + PointShading + DeviceWaits {}
+
+impl<T: RayQueries + BeamRasterizer + PointShading + DeviceWaits> BeamRenderer for T {}

@@ -10,7 +10,6 @@ use crate::scene::{SMeshSource, Scene};
 use beam_math::Triangle;
 use beam_math::collide::closest_point_on_triangle;
 use beam_math::glam::Vec3;
-use std::collections::HashMap;
 use std::ops::Range;
 
 /// One S-mesh triangle: a mirror or glass triangle of the scene, or a face of a coarse S mesh over
@@ -79,8 +78,9 @@ pub const MAX_NORMAL_SPREAD: f32 = 0.5;
 pub struct SMesh {
     /// Its triangles.
     pub faces: Vec<SFace>,
-    /// Per scene triangle that has S faces: its candidates' range in `candidates`.
-    of_prim: HashMap<u32, Range<usize>>,
+    /// Per scene triangle, its candidates' range in `candidates` (empty for a triangle without
+    /// S faces): a dense table, since it is looked up per pixel and per texel.
+    of_prim: Vec<Range<u32>>,
     /// Candidate S faces of the scene triangles.
     candidates: Vec<u32>,
     /// Per face: what its beams skip (empty ranges for a face that is a scene triangle).
@@ -187,10 +187,10 @@ impl SMesh {
     /// S face (not specular, or a sliver traced by rays).
     #[must_use]
     pub fn locate(&self, prim: u32, p: Vec3) -> Option<(usize, Vec3)> {
-        let candidates = &self.candidates[self.of_prim.get(&prim)?.clone()];
-        let face = match candidates {
+        let face = match self.candidates(prim) {
+            [] => return None,
             [f] => *f as usize,
-            _ => *candidates.iter().min_by(|&&a, &&b| {
+            candidates => *candidates.iter().min_by(|&&a, &&b| {
                 let d = |f: u32| closest_point_on_triangle(p, &Triangle { v: self.faces[f as usize].v }).distance(p);
                 d(a).total_cmp(&d(b))
             })? as usize,
@@ -202,7 +202,8 @@ impl SMesh {
     /// a fine S mesh), ascending.
     #[must_use]
     pub fn candidates(&self, prim: u32) -> &[u32] {
-        self.of_prim.get(&prim).map_or(&[], |r| &self.candidates[r.clone()])
+        let r = self.of_prim.get(prim as usize).cloned().unwrap_or_default();
+        &self.candidates[r.start as usize..r.end as usize]
     }
 
     /// What the beams off face `face` skip ([`Exclude`]): the scene triangle it is, or on a coarse
@@ -230,9 +231,12 @@ impl SMesh {
 
     /// Record the candidate faces of scene triangle `prim`.
     pub(super) fn push_candidates(&mut self, prim: u32, faces: &[u32]) {
-        let start = self.candidates.len();
+        let start = self.candidates.len() as u32;
         self.candidates.extend_from_slice(faces);
-        self.of_prim.insert(prim, start..self.candidates.len());
+        if self.of_prim.len() <= prim as usize {
+            self.of_prim.resize(prim as usize + 1, 0..0);
+        }
+        self.of_prim[prim as usize] = start..self.candidates.len() as u32;
     }
 
     /// Append a coarse face with its patch and ring of scene triangles (sorted) and thickness.

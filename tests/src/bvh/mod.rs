@@ -3,12 +3,15 @@
 
 use crate::generate::{self, Rng64, uniform};
 use crate::{Backend, Config, Outcome, Property};
-use beam_bvh::{BuildOptions, FlatBvh, Hit, RayDistribution, WideBvh};
+use beam_bvh::{BuildOptions, Bvh8, FlatBvh, Hit, Kernel, RayDistribution, WideBvh};
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
 use beam_math::{Aabb, Ray, Triangle};
 use beam_scene::mesh::{self, Mesh};
-use rayon::prelude::*;
+
+mod answers;
+
+use answers::{Answers, compare, reference};
 
 const BVH: &[Backend] = &[Backend::Bvh];
 
@@ -192,128 +195,14 @@ pub fn builders(set: &RaySet, bounds: Aabb) -> Vec<(&'static str, BuildOptions)>
     ]
 }
 
-/// A layout's answers: closest hits of camera and diffuse rays, any-hit answers of shadow rays.
-struct Answers {
-    camera: Vec<Option<Hit>>,
-    diffuse: Vec<Option<Hit>>,
-    shadow: Vec<bool>,
-}
-
-impl Answers {
-    fn flat(bvh: &FlatBvh, triangles: &[Triangle], set: &RaySet) -> Self {
-        let (rays, t_max) = shadow_rays(set);
-        Self {
-            camera: bvh.closest_hits(triangles, &set.camera, f32::INFINITY),
-            diffuse: bvh.closest_hits(triangles, &set.diffuse, f32::INFINITY),
-            shadow: bvh.any_hits(triangles, &rays, &t_max),
-        }
-    }
-
-    /// The GPU's answers: `bvh` in the GPU layout, traced by beam-gpu's compute ray tracer (its
-    /// hits carry no barycentric weights, which [`compare`] does not read).
-    fn gpu(gpu: &beam_gpu::Gpu, bvh: &FlatBvh, triangles: &[Triangle], set: &RaySet) -> Result<Self, String> {
-        use beam_gpu::interface::MISS;
-        use beam_gpu::raytrace::{GpuRay, RayTracer};
-        let tracer = RayTracer::new(gpu, &beam_bvh::gpu::GpuBvh::new(bvh, triangles).map_err(|e| e.to_string())?)
-            .map_err(|e| e.to_string())?;
-        let closest = |rays: &[Ray]| -> Result<Vec<Option<Hit>>, String> {
-            let hits =
-                tracer.trace(gpu, &rays.iter().map(GpuRay::closest).collect::<Vec<_>>()).map_err(|e| e.to_string())?;
-            Ok(hits.iter().map(|h| (h.prim != MISS).then_some(Hit { prim: h.prim, t: h.t, u: 0.0, v: 0.0 })).collect())
-        };
-        let shadow: Vec<GpuRay> = set.shadow.iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect();
-        Ok(Self {
-            camera: closest(&set.camera)?,
-            diffuse: closest(&set.diffuse)?,
-            // An any-hit ray's t is 1 when occluded, 0 otherwise.
-            shadow: tracer.trace(gpu, &shadow).map_err(|e| e.to_string())?.iter().map(|h| h.t > 0.5).collect(),
-        })
-    }
-
-    fn wide(bvh: &WideBvh, set: &RaySet) -> Self {
-        let (rays, t_max) = shadow_rays(set);
-        Self {
-            camera: bvh.closest_hits(&set.camera, f32::INFINITY),
-            diffuse: bvh.closest_hits(&set.diffuse, f32::INFINITY),
-            shadow: bvh.any_hits(&rays, &t_max),
-        }
-    }
-}
-
-fn shadow_rays(set: &RaySet) -> (Vec<Ray>, Vec<f32>) {
-    (set.shadow.iter().map(|s| s.0).collect(), set.shadow.iter().map(|s| s.1).collect())
-}
-
-/// Compare one layout's answers with brute force; returns the number of ties accepted.
-fn compare(name: &str, builder: &str, got: &Answers, set: &RaySet, reference: &Reference) -> Result<u64, String> {
-    let mut ties = 0;
-    for (kind, rays, got, want) in [
-        ("camera", &set.camera, &got.camera, &reference.camera),
-        ("diffuse", &set.diffuse, &got.diffuse, &reference.diffuse),
-    ] {
-        for (i, (g, w)) in got.iter().zip(want.iter()).enumerate() {
-            match (g, w) {
-                (None, None) => {}
-                (Some(g), Some(w)) => {
-                    let close = (g.t - w.t).abs() <= 1e-5 * w.t.abs().max(1e-6);
-                    if !close {
-                        return Err(format!(
-                            "{name} [{builder}] {kind} ray {i}: BVH t={} (triangle {}) vs brute force t={} (triangle {})",
-                            g.t, g.prim, w.t, w.prim
-                        ));
-                    }
-                    if g.prim != w.prim {
-                        ties += 1;
-                    }
-                }
-                _ => {
-                    return Err(format!(
-                        "{name} [{builder}] {kind} ray {i}: BVH {g:?} vs brute force {w:?} for {:?}",
-                        rays[i]
-                    ));
-                }
-            }
-        }
-    }
-    for (i, (g, w)) in got.shadow.iter().zip(reference.shadow.iter()).enumerate() {
-        let t_max = set.shadow[i].1;
-        let want = w.is_some_and(|h| h.t <= t_max);
-        let boundary = w.is_some_and(|h| (h.t - t_max).abs() <= 1e-5 * t_max);
-        if *g != want && !boundary {
-            return Err(format!(
-                "{name} [{builder}] shadow ray {i}: BVH occluded={g}, brute force {w:?} (t_max {t_max})"
-            ));
-        }
-    }
-    Ok(ties)
-}
-
-/// Brute-force answers for a ray set.
-struct Reference {
-    camera: Vec<Option<Hit>>,
-    diffuse: Vec<Option<Hit>>,
-    shadow: Vec<Option<Hit>>,
-}
-
-fn reference(triangles: &[Triangle], set: &RaySet) -> Reference {
-    let closest = |rays: &[Ray]| {
-        rays.par_iter().with_min_len(8).map(|r| brute_force_closest(triangles, *r, f32::INFINITY)).collect()
-    };
-    let shadow = set
-        .shadow
-        .par_iter()
-        .with_min_len(8)
-        .map(|(r, t)| brute_force_closest(triangles, *r, t * (1.0 + 1e-5)))
-        .collect();
-    Reference { camera: closest(&set.camera), diffuse: closest(&set.diffuse), shadow }
-}
-
 /// For every mesh (the procedural scene and each shared mesh), every builder (SAH, PAH for the
-/// light, PAH for the eye) and both CPU layouts (binary, 4-wide) — on the `gpu` backend the GPU
-/// layout traced by beam-gpu's compute ray tracer instead: BVH closest hits equal brute-force
-/// closest hits for camera and diffuse rays (same triangle, or a tie at the same `t`; `t` within
-/// 1e-5 relative), and any-hit answers of shadow rays agree. `Config::rays` rays of each kind per
-/// mesh.
+/// light, PAH for the eye) and every CPU layout (binary, 4-wide, and 8-wide built by its own
+/// builder, SAH also in the high-quality mode with pre-split triangles, traced by each kernel
+/// this CPU runs: portable, AVX2, AVX-512) — on the `gpu`
+/// backend the GPU layout traced by beam-gpu's compute ray tracer instead: BVH closest hits equal
+/// brute-force closest hits for camera and diffuse rays (same triangle, or a tie at the same `t`;
+/// `t` within 1e-5 relative), and any-hit answers of shadow rays agree. `Config::rays` rays of each
+/// kind per mesh.
 pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outcome, String> {
     let gpu = match backend {
         Backend::Gpu => match crate::gpu::adapter()? {
@@ -344,6 +233,17 @@ pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outco
             let wide = WideBvh::new(&bvh, tris);
             ties += compare(&case.name, &format!("{builder} 4-wide"), &Answers::wide(&wide, &set), &set, &reference)?;
             total += 6 * config.rays as u64;
+            // The 8-wide layout, by this builder and (SAH) in the high-quality mode too.
+            let hq = (builder == "sah").then(|| ("sah-hq", BuildOptions::high_quality()));
+            for (builder, options) in [(builder, options)].into_iter().chain(hq) {
+                let mut bvh8 = Bvh8::build(tris, &options);
+                for kernel in kernels() {
+                    bvh8.set_kernel(kernel);
+                    let name = format!("{builder} 8-wide {kernel}");
+                    ties += compare(&case.name, &name, &Answers::wide8(&bvh8, &set), &set, &reference)?;
+                    total += 3 * config.rays as u64;
+                }
+            }
         }
         let hit_rate = reference.camera.iter().filter(|h| h.is_some()).count() as f64 / set.camera.len() as f64;
         notes.push(format!(
@@ -360,8 +260,13 @@ pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outco
     Ok(Outcome { cases: total, note: format!("{} rays/kind/mesh; {}", config.rays, notes.join("; ")) })
 }
 
-/// Deform every mesh (a smooth displacement of up to 2% of its size), refit the SAH BVH in both
-/// layouts and compare
+/// The 8-wide kernels this CPU runs.
+fn kernels() -> Vec<Kernel> {
+    [Kernel::Portable, Kernel::Avx2, Kernel::Avx512].into_iter().filter(|k| k.is_available()).collect()
+}
+
+/// Deform every mesh (a smooth displacement of up to 2% of its size), refit the SAH BVH in every
+/// CPU layout and compare
 /// with brute force on the deformed mesh, as in [`hits_equal_brute_force`] (a quarter of the rays).
 pub fn refit_hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outcome, String> {
     let (cases, skipped) = cases()?;
@@ -379,8 +284,10 @@ pub fn refit_hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outco
             }
         }
         let mut wide = WideBvh::new(&bvh, &case.triangles);
+        let mut bvh8 = Bvh8::build(&case.triangles, &BuildOptions::sah());
         bvh.refit(&tris);
         wide.refit(&tris);
+        bvh8.refit(&tris);
         let set = ray_set(&tris, &bvh, n, 200 + k as u64);
         // A refit keeps the tree's triangles: those left out as degenerate at build stay out even if
         // the deformation gave them area, so the reference leaves them out too.
@@ -398,6 +305,11 @@ pub fn refit_hits_equal_brute_force(_: Backend, config: &Config) -> Result<Outco
         compare(&case.name, "sah refit", &Answers::flat(&bvh, &tris, &set), &set, &reference)?;
         compare(&case.name, "sah 4-wide refit", &Answers::wide(&wide, &set), &set, &reference)?;
         total += 6 * n as u64;
+        for kernel in kernels() {
+            bvh8.set_kernel(kernel);
+            compare(&case.name, &format!("sah 8-wide {kernel} refit"), &Answers::wide8(&bvh8, &set), &set, &reference)?;
+            total += 3 * n as u64;
+        }
     }
     let note = match skipped {
         Some(reason) => format!("{n} rays/kind/mesh; shared meshes skipped: {reason}"),

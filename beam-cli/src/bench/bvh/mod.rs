@@ -1,13 +1,16 @@
 //! `beam bench bvh`: build with each of our builders and trace primary, shadow and diffuse rays,
 //! single-threaded and on all cores, beside the peers measured in the same run on the same rays.
 
+mod ours;
+
 use super::{Tracer, peers};
-use beam_bvh::{BuildOptions, FlatBvh, RayDistribution, TraversalStats, WideBvh};
+use beam_bvh::{BuildOptions, Bvh8, FlatBvh, Kernel, RayDistribution, TraversalStats, WideBvh};
 use beam_conformance::bvh::scene_light;
 use beam_conformance::generate::{self, uniform};
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use beam_scene::scene::Camera;
+use ours::{Binary, Counted, Wide4, Wide8};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
@@ -71,79 +74,54 @@ fn make_rays(bvh: &FlatBvh, tris: &[Triangle], width: usize, height: usize) -> R
     Rays { primary, shadow, diffuse, eye: camera.position, forward: frame.forward }
 }
 
-/// Our BVH as a [`Tracer`].
-struct Ours<'a> {
-    name: String,
-    bvh: FlatBvh,
-    tris: &'a [Triangle],
-    build_ms: f64,
+/// How single-thread rows are timed.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Clock {
+    /// Wall-clock time.
+    Wall,
+    /// The thread's own CPU time: on a shared machine other processes' time slices do not count.
+    Thread,
 }
 
-impl Tracer for Ours<'_> {
-    fn name(&self) -> String {
-        self.name.clone()
-    }
-    fn build_ms(&self) -> f64 {
-        self.build_ms
-    }
-    fn closest(&self, ray: &Ray) -> Option<f32> {
-        self.bvh.closest_hit(self.tris, *ray, f32::INFINITY).map(|h| h.t)
-    }
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.bvh.any_hit(self.tris, *ray, t_max)
-    }
-}
-
-/// Our 4-wide layout as a [`Tracer`].
-struct OursWide {
-    name: String,
-    bvh: WideBvh,
-    build_ms: f64,
-}
-
-impl Tracer for OursWide {
-    fn name(&self) -> String {
-        self.name.clone()
-    }
-    fn build_ms(&self) -> f64 {
-        self.build_ms
-    }
-    fn closest(&self, ray: &Ray) -> Option<f32> {
-        self.bvh.closest_hit(*ray, f32::INFINITY).map(|h| h.t)
-    }
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.bvh.any_hit(*ray, t_max)
-    }
-}
-
-/// Best of `runs` timings of `f`, in seconds.
-fn best_of(runs: usize, mut f: impl FnMut()) -> f64 {
+/// Best of `runs` timings of `f`, in seconds, by `clock`.
+fn best_of(runs: usize, clock: Clock, mut f: impl FnMut()) -> f64 {
     (0..runs)
         .map(|_| {
-            let s = Instant::now();
+            let (s, cpu) = (Instant::now(), thread_cpu_seconds());
             f();
-            s.elapsed().as_secs_f64()
+            match (clock, cpu, thread_cpu_seconds()) {
+                (Clock::Thread, Some(a), Some(b)) => b - a,
+                _ => s.elapsed().as_secs_f64(),
+            }
         })
         .fold(f64::INFINITY, f64::min)
 }
 
+/// CPU time of the calling thread (Linux: `/proc/thread-self/schedstat`, nanoseconds on a CPU).
+pub fn thread_cpu_seconds() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: u64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns as f64 * 1e-9)
+}
+
 const KINDS: [&str; 3] = ["primary", "shadow", "diffuse"];
 
-/// Mrays/s of one tracer on one ray kind with `threads` (1 or all).
-fn throughput(t: &dyn Tracer, rays: &Rays, kind: &str, parallel: bool) -> f64 {
+/// Mrays/s of one tracer on one ray kind with `threads` (1 by `clock`, or all by wall clock).
+fn throughput(t: &dyn Tracer, rays: &Rays, kind: &str, parallel: bool, clock: Clock) -> f64 {
     let sink = |x: bool| std::hint::black_box(x);
+    let wall = Clock::Wall;
     let secs = match (kind, parallel) {
-        ("shadow", false) => best_of(3, || rays.shadow.iter().for_each(|(r, m)| _ = sink(t.occluded(r, *m)))),
+        ("shadow", false) => best_of(3, clock, || rays.shadow.iter().for_each(|(r, m)| _ = sink(t.occluded(r, *m)))),
         ("shadow", true) => {
-            best_of(3, || rays.shadow.par_iter().with_min_len(64).for_each(|(r, m)| _ = sink(t.occluded(r, *m))))
+            best_of(3, wall, || rays.shadow.par_iter().with_min_len(64).for_each(|(r, m)| _ = sink(t.occluded(r, *m))))
         }
         (_, false) => {
             let rs = if kind == "primary" { &rays.primary } else { &rays.diffuse };
-            best_of(3, || rs.iter().for_each(|r| _ = sink(t.closest(r).is_some())))
+            best_of(3, clock, || rs.iter().for_each(|r| _ = sink(t.closest(r).is_some())))
         }
         (_, true) => {
             let rs = if kind == "primary" { &rays.primary } else { &rays.diffuse };
-            best_of(3, || rs.par_iter().with_min_len(64).for_each(|r| _ = sink(t.closest(r).is_some())))
+            best_of(3, wall, || rs.par_iter().with_min_len(64).for_each(|r| _ = sink(t.closest(r).is_some())))
         }
     };
     let n = match kind {
@@ -172,7 +150,7 @@ fn disagreements(t: &dyn Tracer, reference: &dyn Tracer, rays: &Rays) -> usize {
 }
 
 /// Run the benchmark on the OBJ at `scene`, print the table and optionally write JSON.
-pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String> {
+pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, clock: Clock) -> Result<(), String> {
     let mesh = beam_scene::mesh::load_obj(scene).map_err(|e| e.to_string())?;
     let all = mesh.triangles();
     // Peers get the same triangles our builders keep: degenerate ones removed.
@@ -194,39 +172,65 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
         rays.shadow.len(),
         rays.diffuse.len()
     );
+    let clock = match clock {
+        Clock::Thread if thread_cpu_seconds().is_none() => {
+            println!("timing: no thread CPU clock here (Linux /proc/thread-self/schedstat): wall clock");
+            Clock::Wall
+        }
+        Clock::Thread => {
+            println!("timing: 1-thread rows by the thread's CPU time (--cpu-time), others by wall clock");
+            Clock::Thread
+        }
+        Clock::Wall => Clock::Wall,
+    };
     let light_dir = Vec3::Y;
     let builders = [
         ("beam-sah", BuildOptions::sah()),
         ("beam-pah-light", BuildOptions::pah(RayDistribution::Parallel { direction: light_dir })),
         ("beam-pah-eye", BuildOptions::pah(RayDistribution::Pencil { origin: rays.eye, forward: rays.forward })),
     ];
-    let mut ours = Vec::new();
+    let builders = if sah_only { &builders[..1] } else { &builders[..] };
+    // The high-quality mode exists for the 8-wide layout only.
+    let hq = ("beam-hq", BuildOptions::high_quality());
+    let mut binaries = Vec::new();
     let mut wides = Vec::new();
+    let mut wides8 = Vec::new();
     for (name, options) in builders {
-        // Median of three builds.
-        let mut times = Vec::new();
         let mut bvh = FlatBvh::default();
-        for _ in 0..3 {
-            let s = Instant::now();
-            bvh = FlatBvh::build(&tris, &options);
-            times.push(s.elapsed().as_secs_f64() * 1e3);
-        }
-        times.sort_by(f64::total_cmp);
+        let build_ms = median_ms(|| bvh = FlatBvh::build(&tris, options));
         let s = Instant::now();
         let wide = WideBvh::new(&bvh, &tris);
         let convert_ms = s.elapsed().as_secs_f64() * 1e3;
-        wides.push(OursWide { name: format!("{name}-4wide"), bvh: wide, build_ms: times[1] + convert_ms });
-        ours.push(Ours { name: name.into(), bvh, tris: &tris, build_ms: times[1] });
+        let mut bvh8 = Bvh8::default();
+        let build8_ms = median_ms(|| bvh8 = Bvh8::build(&tris, options));
+        wides8.push(Wide8 { name: format!("{name}-8wide"), bvh: bvh8, build_ms: build8_ms });
+        wides.push(Wide4 { name: format!("{name}-4wide"), bvh: wide, build_ms: build_ms + convert_ms });
+        binaries.push(Binary { name: (*name).into(), bvh, tris: &tris, build_ms });
+    }
+    let mut bvh8 = Bvh8::default();
+    let build8_ms = median_ms(|| bvh8 = Bvh8::build(&tris, &hq.1));
+    let hq = Wide8 { name: format!("{}-8wide", hq.0), bvh: bvh8, build_ms: build8_ms };
+    let kernel = wides8[0].bvh.kernel();
+    println!("8-wide traversal kernel: {kernel} (run-time dispatch: {})", dispatch_note());
+    let mut portable = None;
+    if kernel != Kernel::Portable {
+        let mut bvh = wides8[0].bvh.clone();
+        bvh.set_kernel(Kernel::Portable);
+        let name = format!("{}-{}", wides8[0].name, "portable");
+        portable = Some(Wide8 { name, bvh, build_ms: wides8[0].build_ms });
     }
     let peer_tracers = peers(&tris)?;
-    let ours_count = ours.len() + wides.len();
-    // The reference for disagreements and ratios is the first: our SAH tree in the 4-wide layout.
-    let tracers: Vec<&dyn Tracer> = wides
+    // The reference for disagreements and ratios is the first: our SAH tree in the 8-wide layout.
+    let ours: Vec<&dyn Tracer> = wides8
         .iter()
         .map(|o| o as &dyn Tracer)
-        .chain(ours.iter().map(|o| o as &dyn Tracer))
-        .chain(peer_tracers.iter().map(|p| p.as_ref()))
+        .chain([&hq as &dyn Tracer])
+        .chain(portable.iter().map(|o| o as &dyn Tracer))
+        .chain(wides.iter().map(|o| o as &dyn Tracer))
+        .chain(binaries.iter().map(|o| o as &dyn Tracer))
         .collect();
+    let ours_count = ours.len();
+    let tracers: Vec<&dyn Tracer> = ours.into_iter().chain(peer_tracers.iter().map(|p| p.as_ref())).collect();
     let mut rows = Vec::new();
     println!();
     println!(
@@ -237,7 +241,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
         let wrong = if i == 0 { 0 } else { disagreements(*t, tracers[0], &rays) };
         for parallel in [false, true] {
             let n = if parallel { threads } else { 1 };
-            let m: Vec<f64> = KINDS.iter().map(|k| throughput(*t, &rays, k, parallel)).collect();
+            let m: Vec<f64> = KINDS.iter().map(|k| throughput(*t, &rays, k, parallel, clock)).collect();
             for (k, v) in KINDS.iter().zip(&m) {
                 rows.push(Row { name: t.name(), ray_kind: k, threads: n, build_ms: t.build_ms(), mrays_per_s: *v });
             }
@@ -253,8 +257,13 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
             );
         }
     }
-    print_ratios(&rows, ours_count, &tracers);
-    print_pah(&ours, &wides, &rays);
+    let sah4 = wides8.len() + 1 + usize::from(portable.is_some());
+    print_ratios(&rows, ours_count, &tracers, &[0, sah4]);
+    let counted: Vec<&dyn Counted> = (0..builders.len())
+        .flat_map(|i| [&binaries[i] as &dyn Counted, &wides[i] as &dyn Counted, &wides8[i] as &dyn Counted])
+        .chain([&hq as &dyn Counted])
+        .collect();
+    print_work(&binaries, &counted, &rays);
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?;
         beam_scene::io::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string())?;
@@ -263,7 +272,30 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize) -> Result<(), String
     Ok(())
 }
 
-fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer]) {
+/// Median of three timings of `f`, in milliseconds.
+fn median_ms(mut f: impl FnMut()) -> f64 {
+    let mut times: Vec<f64> = (0..3)
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[1]
+}
+
+/// What the CPU offers the 8-wide kernels.
+fn dispatch_note() -> String {
+    let has: Vec<String> = [Kernel::Avx512, Kernel::Avx2, Kernel::Portable]
+        .iter()
+        .map(|k| format!("{k} {}", if k.is_available() { "yes" } else { "no" }))
+        .collect();
+    has.join(", ")
+}
+
+/// Ratios of our tracers `compared` (indices into `tracers`) to every peer.
+fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer], compared: &[usize]) {
     if tracers.len() == ours {
         println!("\n(no peers in this build: `--features peers` adds Embree 3 and obvhs)");
         return;
@@ -274,7 +306,7 @@ fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer]) {
     };
     let threads = rows.iter().map(|r| r.threads).max().unwrap_or(1);
     for peer in &tracers[ours..] {
-        for our in &tracers[..1] {
+        for our in compared.iter().filter(|&&i| i < ours).map(|&i| tracers[i]) {
             let mut parts = vec![format!("build {:.2}", peer.build_ms() / our.build_ms())];
             for t in [1, threads] {
                 for k in KINDS {
@@ -288,24 +320,16 @@ fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer]) {
     }
 }
 
-/// PAH vs SAH: box tests and triangle tests per ray for camera and light-directed shadow rays.
-fn print_pah(ours: &[Ours<'_>], wides: &[OursWide], rays: &Rays) {
-    println!("\nPAH vs SAH, work per ray (single thread): box tests / triangle tests; SAH cost of the binary tree");
-    println!("{:<22} {:>18} {:>18} {:>9}", "builder", "primary", "shadow", "SAH cost");
-    for (o, w) in ours.iter().zip(wides) {
-        let (pn, pt, sn, st) = visits(
-            rays,
-            |r, st| _ = o.bvh.closest_hit_stats(o.tris, r, f32::INFINITY, st),
-            |r, m, st| _ = o.bvh.any_hit_stats(o.tris, r, m, st),
-        );
-        let sah = beam_bvh::TreeStats::of(&o.bvh).sah_cost;
-        println!("{:<22} {pn:>9.1} / {pt:>6.2} {sn:>9.1} / {st:>6.2} {sah:>9.1}", o.name);
-        let (pn, pt, sn, st) = visits(
-            rays,
-            |r, st| _ = w.bvh.closest_hit_stats(r, f32::INFINITY, st),
-            |r, m, st| _ = w.bvh.any_hit_stats(r, m, st),
-        );
-        println!("{:<22} {pn:>9.1} / {pt:>6.2} {sn:>9.1} / {st:>6.2}", w.name);
+/// Work per ray of every layout (PAH vs SAH, binary vs wide): box tests / triangle tests for
+/// primary and shadow rays; SAH cost of each binary tree.
+fn print_work(binaries: &[Binary<'_>], counted: &[&dyn Counted], rays: &Rays) {
+    println!("\nwork per ray (single thread): box tests / triangle tests; SAH cost of the binary tree");
+    println!("{:<24} {:>18} {:>18} {:>9}", "layout", "primary", "shadow", "SAH cost");
+    for c in counted {
+        let (pn, pt, sn, st) = visits(rays, |r, st| c.closest_stats(r, st), |r, m, st| c.any_stats(r, m, st));
+        let sah = binaries.iter().find(|b| b.name == c.name()).map(|b| beam_bvh::TreeStats::of(&b.bvh).sah_cost);
+        let sah = sah.map(|s| format!("{s:>9.1}")).unwrap_or_default();
+        println!("{:<24} {pn:>9.1} / {pt:>6.2} {sn:>9.1} / {st:>6.2} {sah}", c.name());
     }
 }
 

@@ -1,0 +1,315 @@
+//! Binned split search shared by the binary and the 8-wide builders (Wald 2007): primitive
+//! references as two `Vec4`s, one pass that bins x, y and z together, a cost sweep under a
+//! pluggable area measure (SAH, or the PAH of 004), and a partition that returns the children's
+//! boxes and centroid boxes so that no node needs another pass over its references.
+//!
+//! Splitting-plane facing (004) adds two directions that are not axes; those go through a slower
+//! generic path with dot products. Both paths bin a reference the same way in the search and in
+//! the partition (one function each), so a split always separates what it measured.
+
+use crate::options::{BuildOptions, Heuristic, RayDistribution};
+use beam_math::Aabb;
+use beam_math::glam::{Vec3, Vec4};
+use beam_math::heuristics::{projected_area_orthographic_fast, projected_area_perspective_fast, surface_area};
+
+mod directions;
+mod partition;
+mod refs;
+
+pub(crate) use partition::{median_split, partition};
+pub(crate) use refs::{Box4, PrimRef, Record, make_refs, record_of};
+
+/// Largest number of bins.
+pub(crate) const MAX_BINS: usize = 32;
+/// Nodes with more references than this bin in parallel chunks.
+pub(crate) const PARALLEL_BINNING: usize = 32_768;
+
+/// Per-build constants.
+pub(crate) struct Context {
+    pub options: BuildOptions,
+    pub(crate) directions: [Vec3; 5],
+    direction_count: usize,
+    /// Leaves are intersected in blocks of `1 << block_shift` triangles: the cost of `n`
+    /// references is that of `⌈n / 2^block_shift⌉` blocks.
+    pub block_shift: u32,
+}
+
+impl Context {
+    pub fn new(options: &BuildOptions, block_shift: u32) -> Self {
+        let mut directions = [Vec3::X, Vec3::Y, Vec3::Z, Vec3::ZERO, Vec3::ZERO];
+        let mut direction_count = 3;
+        if let Some(d) = options.facing.and_then(Vec3::try_normalize) {
+            let u = d.any_orthonormal_vector();
+            directions[3] = u;
+            directions[4] = d.cross(u);
+            direction_count = 5;
+        }
+        let mut options = *options;
+        options.bins = options.bins.clamp(2, MAX_BINS);
+        options.max_leaf = options.max_leaf.max(1);
+        Self { options, directions, direction_count, block_shift }
+    }
+
+    /// Cost units of a leaf of `n` references.
+    #[inline(always)]
+    pub fn blocks(&self, n: usize) -> f32 {
+        ((n + (1 << self.block_shift) - 1) >> self.block_shift) as f32
+    }
+
+    /// The area measure for the children of a node with box `parent`: projected area when the
+    /// distribution applies to the whole node, surface area otherwise (004's fallback).
+    pub fn measure(&self, parent: Aabb) -> Measure {
+        match self.options.heuristic {
+            Heuristic::Sah => Measure::Surface,
+            Heuristic::Pah(RayDistribution::Parallel { direction }) => Measure::Orthographic(direction),
+            Heuristic::Pah(RayDistribution::Pencil { origin, forward }) => {
+                if projected_area_perspective_fast(parent, origin, forward).is_some() {
+                    Measure::Perspective(origin, forward)
+                } else {
+                    Measure::Surface
+                }
+            }
+        }
+    }
+}
+
+/// How a node's area is measured.
+#[derive(Clone, Copy)]
+pub(crate) enum Measure {
+    Surface,
+    Orthographic(Vec3),
+    Perspective(Vec3, Vec3),
+}
+
+impl Measure {
+    /// [`Measure::area`] of a box in `Vec4`s: the surface area without the conversion (the same
+    /// operations as `surface_area`, an empty box included: its clamped extent is 0).
+    #[inline(always)]
+    pub fn area4(self, b: Box4) -> f32 {
+        match self {
+            Measure::Surface => {
+                let e = (b.hi - b.lo).max(Vec4::ZERO);
+                2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+            }
+            _ => self.area(b.aabb()),
+        }
+    }
+
+    pub fn area(self, b: Aabb) -> f32 {
+        if !b.is_valid() {
+            return 0.0;
+        }
+        match self {
+            Measure::Surface => surface_area(b),
+            Measure::Orthographic(d) => projected_area_orthographic_fast(b, d),
+            Measure::Perspective(o, f) => projected_area_perspective_fast(b, o, f).unwrap_or(f32::INFINITY),
+        }
+    }
+}
+
+/// What a split separates along.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Plane {
+    /// Coordinate `axis` of the doubled centroid.
+    Axis(usize),
+    /// The doubled centroid's projection on a direction.
+    Direction(Vec3),
+}
+
+/// The best partition of a node: references with bin `< bin` go left.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Split {
+    pub(crate) plane: Plane,
+    pub(crate) lo: f32,
+    pub(crate) scale: f32,
+    pub(crate) bins: usize,
+    pub(crate) bin: usize,
+    /// `A(L)·blocks(N_L) + A(R)·blocks(N_R)` under the node's measure.
+    pub cost: f32,
+}
+
+impl Split {
+    #[inline(always)]
+    pub(crate) fn bin_of(&self, r: &PrimRef) -> usize {
+        let x = match self.plane {
+            Plane::Axis(a) => r.centroid2().to_array()[a],
+            Plane::Direction(d) => r.centroid2().truncate().dot(d),
+        };
+        bin_index(((x - self.lo) * self.scale).min((self.bins - 1) as f32))
+    }
+}
+
+/// Added to a bin coordinate in `[0, 2^22)`, this puts its value rounded to the nearest integer in
+/// the low mantissa bits: a float-to-integer conversion without the checks of `as`.
+const ROUNDER: f32 = 12_582_912.0;
+
+/// The bin of coordinate `x` (`(c − lo)·scale`, in `[0, bins − 1]`): `x` rounded to the nearest
+/// integer, so the first and last bins are half as wide as the others. The vector binning in
+/// [`find_split`] computes the same for three lanes at once.
+#[inline(always)]
+fn bin_index(x: f32) -> usize {
+    ((x + ROUNDER).to_bits() - ROUNDER.to_bits()) as usize
+}
+
+/// Bin contents of the three axes.
+#[derive(Clone, Copy)]
+pub(crate) struct Bins {
+    bounds: [[Box4; MAX_BINS]; 3],
+    counts: [[u32; MAX_BINS]; 3],
+}
+
+impl Bins {
+    pub const EMPTY: Self = Self { bounds: [[Box4::EMPTY; MAX_BINS]; 3], counts: [[0; MAX_BINS]; 3] };
+
+    fn clear(&mut self, bins: usize) {
+        for a in 0..3 {
+            self.bounds[a][..bins].fill(Box4::EMPTY);
+            self.counts[a][..bins].fill(0);
+        }
+    }
+
+    fn merge_first(&mut self, o: &Self, bins: usize) {
+        for a in 0..3 {
+            for b in 0..bins {
+                self.bounds[a][b] = self.bounds[a][b].union(o.bounds[a][b]);
+                self.counts[a][b] += o.counts[a][b];
+            }
+        }
+    }
+
+    fn merge(mut self, o: Self) -> Self {
+        for a in 0..3 {
+            for b in 0..MAX_BINS {
+                self.bounds[a][b] = self.bounds[a][b].union(o.bounds[a][b]);
+                self.counts[a][b] += o.counts[a][b];
+            }
+        }
+        self
+    }
+}
+
+/// `f` over chunks of `refs` merged with `merge`, in parallel for large slices.
+pub(crate) fn reduce_chunks<T: Send + Sync + Copy>(
+    refs: &[PrimRef],
+    parallel: bool,
+    init: T,
+    f: impl Fn(&[PrimRef]) -> T + Sync + Send,
+    merge: impl Fn(T, T) -> T + Sync + Send,
+) -> T {
+    #[cfg(feature = "parallel")]
+    if parallel && refs.len() > PARALLEL_BINNING {
+        use rayon::prelude::*;
+        return refs.par_chunks(PARALLEL_BINNING / 4).map(&f).reduce(|| init, &merge);
+    }
+    let _ = (parallel, &merge, init);
+    f(refs)
+}
+
+/// The cheapest binned split of `refs` (summarised by `record`) under `measure`, or `None` when
+/// every centroid coincides.
+pub(crate) fn find_split(
+    ctx: &Context,
+    refs: &[PrimRef],
+    record: &Record,
+    measure: Measure,
+    scratch: &mut Bins,
+) -> Option<Split> {
+    // Small nodes need few bins, and most nodes are small: 4 + n/20 as Embree's binner (the
+    // sweep over 32 bins cost as much as the binning itself on small nodes; the trees traced as
+    // fast).
+    let bins = ctx.options.bins.min(4 + refs.len() / 20);
+    if ctx.direction_count > 3 {
+        return directions::find_split(ctx, refs, measure, bins);
+    }
+    let (lo, hi) = (record.centroids.lo, record.centroids.hi);
+    let usable = |a: usize| hi[a] - lo[a] > 1e-20 * (lo[a].abs() + hi[a].abs()).max(1e-30);
+    let last = (bins - 1) as f32;
+    let scale = Vec4::new(
+        if usable(0) { last / (hi.x - lo.x) } else { 0.0 },
+        if usable(1) { last / (hi.y - lo.y) } else { 0.0 },
+        if usable(2) { last / (hi.z - lo.z) } else { 0.0 },
+        0.0,
+    );
+    // `Split::bin_of` (`bin_index` of the clamped coordinate), three lanes at once.
+    let add = |p: &PrimRef, out: &mut Bins| {
+        let b = (((p.centroid2() - lo) * scale).min(Vec4::splat(last)) + ROUNDER).to_array();
+        for a in 0..3 {
+            let k = (b[a].to_bits() - ROUNDER.to_bits()) as usize;
+            out.bounds[a][k] = out.bounds[a][k].union(p.bounds());
+            out.counts[a][k] += 1;
+        }
+    };
+    let bin_chunk = |chunk: &[PrimRef], out: &mut Bins| {
+        out.clear(bins);
+        if chunk.len() < 256 {
+            chunk.iter().for_each(|p| add(p, out));
+            return;
+        }
+        // Neighbours in memory often fall into the same bin: alternating between two sets of
+        // bins halves the chains of read-modify-writes on one bin.
+        let mut other = Bins::EMPTY;
+        other.clear(bins);
+        let pairs = chunk.chunks_exact(2);
+        let rest = pairs.remainder();
+        for pair in pairs {
+            add(&pair[0], out);
+            add(&pair[1], &mut other);
+        }
+        rest.iter().for_each(|p| add(p, out));
+        out.merge_first(&other, bins);
+    };
+    if ctx.options.parallel && refs.len() > PARALLEL_BINNING {
+        let chunk = |c: &[PrimRef]| {
+            let mut out = Bins::EMPTY;
+            bin_chunk(c, &mut out);
+            out
+        };
+        *scratch = reduce_chunks(refs, true, Bins::EMPTY, chunk, Bins::merge);
+    } else {
+        bin_chunk(refs, scratch);
+    }
+    let mut best: Option<Split> = None;
+    for a in 0..3 {
+        if scale[a] == 0.0 {
+            continue;
+        }
+        let probe = Split { plane: Plane::Axis(a), lo: lo[a], scale: scale[a], bins, bin: 0, cost: 0.0 };
+        sweep(ctx, measure, &scratch.bounds[a][..bins], &scratch.counts[a][..bins], refs.len(), probe, &mut best);
+    }
+    best
+}
+
+/// The cost sweep over one direction's bins: from the right, then from the left; keeps the
+/// cheapest split in `best` (the first of equal costs).
+pub(crate) fn sweep(
+    ctx: &Context,
+    measure: Measure,
+    bounds: &[Box4],
+    counts: &[u32],
+    n_total: usize,
+    probe: Split,
+    best: &mut Option<Split>,
+) {
+    let bins = bounds.len();
+    let mut right_cost = [0.0f32; MAX_BINS];
+    let mut acc = Box4::EMPTY;
+    let mut n = 0usize;
+    for b in (1..bins).rev() {
+        acc = acc.union(bounds[b]);
+        n += counts[b] as usize;
+        right_cost[b] = measure.area4(acc) * ctx.blocks(n);
+    }
+    let mut acc = Box4::EMPTY;
+    let mut n = 0usize;
+    for b in 1..bins {
+        acc = acc.union(bounds[b - 1]);
+        n += counts[b - 1] as usize;
+        if n == 0 || n == n_total {
+            continue;
+        }
+        let cost = measure.area4(acc) * ctx.blocks(n) + right_cost[b];
+        if best.as_ref().is_none_or(|s| cost < s.cost) {
+            *best = Some(Split { bin: b, cost, ..probe });
+        }
+    }
+}

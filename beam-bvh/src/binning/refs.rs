@@ -1,0 +1,117 @@
+//! Primitive references and their summaries for the binned builders.
+
+use super::{PARALLEL_BINNING, reduce_chunks};
+use beam_math::glam::Vec4;
+use beam_math::{Aabb, Triangle};
+use std::vec::Vec;
+
+/// `w` of a reference's `hi` holds `INDEX_BIAS + index` as bits: a normal float for every index
+/// below 2^30, so that the `w` lanes the box arithmetic carries along never hold denormals.
+const INDEX_BIAS: u32 = 0x4000_0000;
+
+/// A box as two `Vec4`s (`w` unused).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Box4 {
+    pub lo: Vec4,
+    pub hi: Vec4,
+}
+
+impl Box4 {
+    pub const EMPTY: Self = Self { lo: Vec4::INFINITY, hi: Vec4::NEG_INFINITY };
+
+    #[inline(always)]
+    pub fn union(self, o: Self) -> Self {
+        Self { lo: self.lo.min(o.lo), hi: self.hi.max(o.hi) }
+    }
+
+    #[inline(always)]
+    pub fn aabb(self) -> Aabb {
+        Aabb::new(self.lo.truncate(), self.hi.truncate())
+    }
+}
+
+/// A triangle reference during a build: its box, and its index in `w` of `hi` (see
+/// [`INDEX_BIAS`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PrimRef {
+    pub lo: Vec4,
+    pub hi: Vec4,
+}
+
+impl PrimRef {
+    fn new(t: &Triangle, index: u32) -> Self {
+        Self::with_box(Aabb::from_points(&t.v), index)
+    }
+
+    /// A reference to triangle `index` with box `b` (part of the triangle's box, for a piece).
+    pub fn with_box(b: Aabb, index: u32) -> Self {
+        debug_assert!(index < INDEX_BIAS);
+        Self { lo: b.min.extend(0.0), hi: b.max.extend(f32::from_bits(INDEX_BIAS + index)) }
+    }
+
+    /// Index of the triangle in the input slice.
+    #[inline(always)]
+    pub fn index(&self) -> u32 {
+        self.hi.w.to_bits() - INDEX_BIAS
+    }
+
+    /// Twice the box centre (`lo + hi`: exactly twice `Aabb::center`, one operation fewer).
+    #[inline(always)]
+    pub fn centroid2(&self) -> Vec4 {
+        self.lo + self.hi
+    }
+
+    #[inline(always)]
+    pub fn bounds(&self) -> Box4 {
+        Box4 { lo: self.lo, hi: self.hi }
+    }
+}
+
+/// A node's references summarised: their boxes' union and the box of their doubled centroids.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Record {
+    pub bounds: Box4,
+    pub centroids: Box4,
+}
+
+impl Record {
+    pub(crate) const EMPTY: Self = Self { bounds: Box4::EMPTY, centroids: Box4::EMPTY };
+
+    #[inline(always)]
+    pub(crate) fn add(&mut self, r: &PrimRef) {
+        self.bounds = self.bounds.union(r.bounds());
+        let c = r.centroid2();
+        self.centroids = self.centroids.union(Box4 { lo: c, hi: c });
+    }
+
+    fn merge(self, o: Self) -> Self {
+        Self { bounds: self.bounds.union(o.bounds), centroids: self.centroids.union(o.centroids) }
+    }
+}
+
+/// References of the valid triangles (degenerate ones left out) and their record.
+pub(crate) fn make_refs(triangles: &[Triangle], parallel: bool) -> (Vec<PrimRef>, Record) {
+    let make = |(i, t): (usize, &Triangle)| t.is_valid().then(|| PrimRef::new(t, i as u32));
+    assert!(triangles.len() < INDEX_BIAS as usize, "a BVH holds at most 2^30 triangles");
+    #[cfg(feature = "parallel")]
+    let refs: Vec<PrimRef> = if parallel && triangles.len() > PARALLEL_BINNING {
+        use rayon::prelude::*;
+        triangles.par_iter().enumerate().with_min_len(4096).filter_map(make).collect()
+    } else {
+        triangles.iter().enumerate().filter_map(make).collect()
+    };
+    #[cfg(not(feature = "parallel"))]
+    let refs: Vec<PrimRef> = triangles.iter().enumerate().filter_map(make).collect();
+    let record = record_of(&refs, parallel);
+    (refs, record)
+}
+
+/// The record of `refs`.
+pub(crate) fn record_of(refs: &[PrimRef], parallel: bool) -> Record {
+    let f = |chunk: &[PrimRef]| {
+        let mut r = Record::EMPTY;
+        chunk.iter().for_each(|p| r.add(p));
+        r
+    };
+    reduce_chunks(refs, parallel, Record::EMPTY, f, Record::merge)
+}

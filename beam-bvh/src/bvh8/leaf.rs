@@ -1,0 +1,309 @@
+//! Leaves of the 8-wide layout: triangles in blocks of four, structure of arrays, intersected four
+//! at a time by the watertight test of [`WatertightRay`] (Woop, Benthin, Wald 2013) evaluated lane
+//! by lane with the same operations in the same order. A block therefore answers exactly what the
+//! scalar test answers triangle by triangle, and shared edges stay closed; the rare lanes where an
+//! edge function is exactly 0 take the scalar test's double-precision path, repeated here.
+//!
+//! [`WatertightRay`]: beam_math::collide::WatertightRay
+
+use beam_math::glam::{Vec3, Vec4};
+use beam_math::{Ray, Triangle};
+
+/// Four triangles in structure-of-arrays form: `v[vertex][axis][lane]`. Unused lanes hold NaN
+/// vertices, which no ray hits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(16))]
+pub struct Tri4 {
+    /// Vertex coordinates by vertex, axis and lane.
+    pub v: [[[f32; 4]; 3]; 3],
+}
+
+const _: () = assert!(size_of::<Tri4>() == 144);
+
+impl Tri4 {
+    /// A block with no triangles (every lane NaN).
+    pub const EMPTY: Self = Self { v: [[[f32::NAN; 4]; 3]; 3] };
+
+    /// Set lane `lane` to `t`.
+    pub fn set(&mut self, lane: usize, t: &Triangle) {
+        for (k, p) in t.v.iter().enumerate() {
+            for a in 0..3 {
+                self.v[k][a][lane] = p[a];
+            }
+        }
+    }
+
+    /// The triangle in lane `lane`.
+    #[must_use]
+    pub fn triangle(&self, lane: usize) -> Triangle {
+        let p = |k: usize| Vec3::new(self.v[k][0][lane], self.v[k][1][lane], self.v[k][2][lane]);
+        Triangle::new(p(0), p(1), p(2))
+    }
+}
+
+/// Per-ray constants of the watertight test in the form the lanes use: the dominant axis `kz`,
+/// the shear as scalars, the permuted origin.
+///
+/// The scalar test swaps the other two axes when `d[kz] < 0` to keep the winding; the lanes do
+/// not. Swapping x and y of every vertex negates the three edge functions exactly (each is a
+/// difference of the same two products, taken the other way round), hence also `det` and the
+/// scaled `t`, so `t = t_scaled / det` and the barycentrics come out the same: only the sign of
+/// an exact zero can differ, which the tests treat alike.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShearRay {
+    kz: usize,
+    s: [f32; 3],
+    o: [f32; 3],
+}
+
+impl ShearRay {
+    /// The constants of `ray`, chosen exactly as [`WatertightRay::new`] chooses them (one
+    /// four-lane division gives the three quotients, each rounded as the scalar one is).
+    ///
+    /// [`WatertightRay::new`]: beam_math::collide::WatertightRay::new
+    #[inline(always)]
+    pub fn new(ray: Ray) -> Self {
+        let (d, o) = (ray.direction.to_array(), ray.origin.to_array());
+        let a = d.map(f32::abs);
+        let kz = if a[0] > a[1] {
+            if a[0] > a[2] { 0 } else { 2 }
+        } else if a[1] > a[2] {
+            1
+        } else {
+            2
+        };
+        // (d, o) along kx = kz + 1, ky = kz + 2, kz (mod 3).
+        let (x, y, z, ox, oy, oz) = match kz {
+            0 => (d[1], d[2], d[0], o[1], o[2], o[0]),
+            1 => (d[2], d[0], d[1], o[2], o[0], o[1]),
+            _ => (d[0], d[1], d[2], o[0], o[1], o[2]),
+        };
+        let s = Vec4::new(x, y, 1.0, 1.0) / Vec4::splat(z);
+        Self { kz, s: [s.x, s.y, s.z], o: [ox, oy, oz] }
+    }
+}
+
+/// The lanes of a block that a ray hits within its interval.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BlockHits {
+    /// Bit `i` set when lane `i` is hit.
+    pub mask: u32,
+    /// Ray parameters.
+    pub t: [f32; 4],
+    /// Barycentric weights of vertex 1.
+    pub u: [f32; 4],
+    /// Barycentric weights of vertex 2.
+    pub v: [f32; 4],
+}
+
+impl BlockHits {
+    /// The hit lane of smallest `t` (the last of equal ones, as a sequential scan keeps).
+    #[inline(always)]
+    pub fn nearest(&self) -> usize {
+        let mut best = self.mask.trailing_zeros() as usize;
+        let mut m = self.mask & (self.mask - 1);
+        while m != 0 {
+            let i = m.trailing_zeros() as usize;
+            if self.t[i] <= self.t[best] {
+                best = i;
+            }
+            m &= m - 1;
+        }
+        best
+    }
+}
+
+/// Intersect the four triangles of `b` with `r`, keeping hits with `t` in `[t_min, t_max]`.
+#[inline(always)]
+pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> BlockHits {
+    // One copy per dominant axis: constant indices, no bounds checks (the branch is the ray's).
+    match r.kz {
+        0 => intersect4_along::<0>(b, r, t_min, t_max),
+        1 => intersect4_along::<1>(b, r, t_min, t_max),
+        _ => intersect4_along::<2>(b, r, t_min, t_max),
+    }
+}
+
+/// Whether `r` hits any triangle of `b` with `t` in `[0, t_max]`. Without the division of
+/// [`intersect4`]: `t = t_scaled / det` is compared as `t_scaled` against `t_max · det`, which
+/// can differ from the scalar test only for `t` within rounding of `t_max`.
+#[inline(always)]
+pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
+    match r.kz {
+        0 => occludes4_along::<0>(b, r, t_max),
+        1 => occludes4_along::<1>(b, r, t_max),
+        _ => occludes4_along::<2>(b, r, t_max),
+    }
+}
+
+/// The edge functions of four triangles for one ray: the lanes' transformed vertices and `u`,
+/// `v`, `w` (weights of vertices 0, 1, 2).
+struct Edges {
+    abc: [Vec4; 9],
+    u: Vec4,
+    v: Vec4,
+    w: Vec4,
+    /// Lanes with an edge function exactly 0 (the scalar test's double-precision path).
+    fallback: u32,
+    /// Other lanes whose edge functions differ in sign: missed.
+    mixed: u32,
+}
+
+#[inline(always)]
+fn edges<const KZ: usize>(b: &Tri4, r: &ShearRay) -> Edges {
+    let (kx, ky, kz) = ((KZ + 1) % 3, (KZ + 2) % 3, KZ);
+    let (ox, oy, oz) = (Vec4::splat(r.o[0]), Vec4::splat(r.o[1]), Vec4::splat(r.o[2]));
+    let (sx, sy, sz) = (Vec4::splat(r.s[0]), Vec4::splat(r.s[1]), Vec4::splat(r.s[2]));
+    // Vertex `k` translated to the origin, permuted and sheared: `shear · (v − o)` of the scalar
+    // test, whose matrix rows are `e_kx − Sx·e_kz`, `e_ky − Sy·e_kz`, `Sz·e_kz`.
+    let vertex = |k: usize| {
+        let dx = Vec4::from_array(b.v[k][kx]) - ox;
+        let dy = Vec4::from_array(b.v[k][ky]) - oy;
+        let dz = Vec4::from_array(b.v[k][kz]) - oz;
+        (dx - sx * dz, dy - sy * dz, sz * dz)
+    };
+    let (ax, ay, az) = vertex(0);
+    let (bx, by, bz) = vertex(1);
+    let (cx, cy, cz) = vertex(2);
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    let zero = Vec4::ZERO;
+    let fallback = (u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero)).bitmask();
+    // Outside the fallback lanes no edge function is 0: signs are mixed when any two differ, and
+    // `det`, a sum of same-signed values, is not 0.
+    let (nu, nv, nw) = (u.cmplt(zero), v.cmplt(zero), w.cmplt(zero));
+    let mixed = ((nu ^ nv) | (nu ^ nw)).bitmask();
+    Edges { abc: [ax, ay, az, bx, by, bz, cx, cy, cz], u, v, w, fallback, mixed }
+}
+
+#[inline(always)]
+fn intersect4_along<const KZ: usize>(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> BlockHits {
+    let Edges { abc, u, v, w, fallback, mixed } = edges::<KZ>(b, r);
+    let det = u + v + w;
+    let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
+    let inv = Vec4::ONE / det;
+    let t = t_scaled * inv;
+    // NaN lanes (padding) fail the ordered comparisons.
+    let ok = det.abs().cmplt(Vec4::INFINITY) & t.cmpge(Vec4::splat(t_min)) & t.cmple(Vec4::splat(t_max));
+    let mut hits = BlockHits {
+        mask: ok.bitmask() & !mixed & !fallback,
+        t: t.to_array(),
+        u: (v * inv).to_array(),
+        v: (w * inv).to_array(),
+    };
+    if fallback != 0 {
+        fallback_lanes(&abc.map(|x| x.to_array()), t_min, t_max, fallback, &mut hits);
+    }
+    hits
+}
+
+#[inline(always)]
+fn occludes4_along<const KZ: usize>(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
+    let Edges { abc, u, v, w, fallback, mixed } = edges::<KZ>(b, r);
+    let det = u + v + w;
+    let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
+    // `t_scaled / det` in `[0, t_max]`, with both sides' signs flipped where `det < 0`.
+    let flip = Vec4::select(det.cmplt(Vec4::ZERO), -Vec4::ONE, Vec4::ONE);
+    let (ts, d) = (t_scaled * flip, det.abs());
+    let ok = d.cmplt(Vec4::INFINITY) & ts.cmpge(Vec4::ZERO) & ts.cmple(Vec4::splat(t_max) * d);
+    if ok.bitmask() & !mixed & !fallback != 0 {
+        return true;
+    }
+    if fallback == 0 {
+        return false;
+    }
+    let mut hits = BlockHits { mask: 0, t: [0.0; 4], u: [0.0; 4], v: [0.0; 4] };
+    fallback_lanes(&abc.map(|x| x.to_array()), 0.0, t_max, fallback, &mut hits);
+    hits.mask != 0
+}
+
+/// The lanes whose single-precision edge functions include an exact zero: the rest of the scalar
+/// test after its switch to double precision, from the lanes' transformed vertices `abc`
+/// (a.x, a.y, a.z, b.x, …).
+#[cold]
+#[inline(never)]
+fn fallback_lanes(abc: &[[f32; 4]; 9], t_min: f32, t_max: f32, mut lanes: u32, hits: &mut BlockHits) {
+    while lanes != 0 {
+        let i = lanes.trailing_zeros() as usize;
+        lanes &= lanes - 1;
+        let [ax, ay, az, bx, by, bz, cx, cy, cz] = abc.map(|x| x[i]);
+        let f = |px: f32, py: f32, qx: f32, qy: f32| (px as f64 * qy as f64 - py as f64 * qx as f64) as f32;
+        let (u, v, w) = (f(cx, cy, bx, by), f(ax, ay, cx, cy), f(bx, by, ax, ay));
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            continue;
+        }
+        let det = u + v + w;
+        if det == 0.0 || !det.is_finite() {
+            continue;
+        }
+        let inv = 1.0 / det;
+        let t = (u * az + v * bz + w * cz) * inv;
+        if t >= t_min && t <= t_max {
+            hits.mask |= 1 << i;
+            (hits.t[i], hits.u[i], hits.v[i]) = (t, v * inv, w * inv);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use beam_math::collide::WatertightRay;
+
+    fn rng(seed: u32) -> impl FnMut() -> f32 {
+        let mut s = seed;
+        move || {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (s >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+        }
+    }
+
+    /// Every lane answers bit for bit what the scalar test answers, on shared edges and vertices
+    /// (where the double-precision fallback runs) as elsewhere.
+    #[test]
+    fn lanes_equal_the_scalar_test() {
+        let mut r = rng(5);
+        let mut p = || Vec3::new(r(), r(), r());
+        let mut checked = 0;
+        for i in 0..4000 {
+            // A fan around a shared vertex, with rays aimed at its edges and vertices.
+            let c = p();
+            let tris: Vec<Triangle> = (0..4).map(|_| Triangle::new(c, c + p(), c + p())).collect();
+            let mut block = Tri4::EMPTY;
+            tris.iter().take(1 + i % 4).enumerate().for_each(|(l, t)| block.set(l, t));
+            let origin = p() * 3.0;
+            let target = match i % 3 {
+                0 => c,
+                1 => 0.5 * (tris[0].v[0] + tris[0].v[1]),
+                _ => tris[1].v[2] + 0.1 * p(),
+            };
+            let ray = Ray::new(origin, target - origin);
+            let (wt, sr) = (WatertightRay::new(ray), ShearRay::new(ray));
+            let t_max = if i % 5 == 0 { 0.7 } else { f32::INFINITY };
+            let hits = intersect4(&block, &sr, 0.0, t_max);
+            for l in 0..4 {
+                let want = (l <= i % 4).then(|| wt.intersect(&tris[l], 0.0, t_max)).flatten();
+                let got = (hits.mask & (1 << l) != 0).then(|| (hits.t[l], hits.u[l], hits.v[l]));
+                assert_eq!(got.map(|g| g.0.to_bits()), want.map(|w| w.t.to_bits()), "ray {i} lane {l}");
+                assert_eq!(got.map(|g| (g.1, g.2)), want.map(|w| (w.u, w.v)), "ray {i} lane {l}");
+                checked += usize::from(want.is_some());
+            }
+        }
+        assert!(checked > 1000, "{checked} hits");
+    }
+
+    /// An axis-parallel ray through a vertex: edge functions exactly 0, the double-precision path.
+    #[test]
+    fn exact_zero_edges_take_the_double_precision_path() {
+        let tri = Triangle::new(Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0));
+        let mut block = Tri4::EMPTY;
+        block.set(2, &tri);
+        for ray in [Ray::new(Vec3::ZERO, Vec3::Z), Ray::new(Vec3::new(0.5, 0.0, 3.0), -Vec3::Z)] {
+            let want = WatertightRay::new(ray).intersect(&tri, 0.0, f32::INFINITY).expect("hit on the boundary");
+            let h = intersect4(&block, &ShearRay::new(ray), 0.0, f32::INFINITY);
+            assert_eq!(h.mask, 0b100);
+            assert_eq!((h.t[2], h.u[2], h.v[2]), (want.t, want.u, want.v));
+        }
+    }
+}

@@ -1,0 +1,118 @@
+//! The portable 8-wide traversal: each node's eight boxes as two four-lane halves through glam
+//! (SSE2 on x86-64, NEON on AArch64, scalar elsewhere), hit children pushed farthest first, leaves
+//! through [`intersect4`]. It is the fallback where AVX2 is missing, and the kernel that counts work.
+
+use super::leaf::{ShearRay, intersect4, occludes4};
+use super::{Bvh8, Node8, RayBox};
+use crate::stats::Counter;
+use crate::traverse::Hit;
+use beam_math::Ray;
+use beam_math::glam::Vec4;
+use std::vec::Vec;
+
+/// Stack entries kept inline; deeper trees use a heap stack.
+const INLINE_STACK: usize = 64;
+
+/// Closest hit (`ANY = false`) or any hit (`ANY = true`) of `ray` in `[0, t_max]`.
+pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f32, c: &mut C) -> (bool, Option<Hit>) {
+    if bvh.nodes.is_empty() {
+        return (false, None);
+    }
+    let mut inline = [(0u32, 0.0f32); INLINE_STACK];
+    let mut heap = Vec::new();
+    let stack: &mut [(u32, f32)] = if bvh.stack_need <= INLINE_STACK {
+        &mut inline
+    } else {
+        heap.resize(bvh.stack_need, (0, 0.0));
+        &mut heap
+    };
+    let rb = RayBox::new(ray);
+    let sr = ShearRay::new(ray);
+    let o = rb.origin.map(Vec4::splat);
+    let inv = rb.inv.map(Vec4::splat);
+    let inv_far = rb.inv_far.map(Vec4::splat);
+    let mut t_best = t_max;
+    let mut best: Option<Hit> = None;
+    let mut sp = 0usize;
+    let mut cur = 0u32;
+    loop {
+        if cur & Node8::LEAF != 0 {
+            let (first, count) = Node8::leaf_blocks(cur);
+            for k in first..first + count {
+                for l in 0..4 {
+                    if bvh.prims[4 * k + l] != u32::MAX {
+                        c.triangle();
+                    }
+                }
+                if ANY {
+                    if occludes4(&bvh.blocks[k], &sr, t_best) {
+                        return (true, None);
+                    }
+                    continue;
+                }
+                let h = intersect4(&bvh.blocks[k], &sr, 0.0, t_best);
+                if h.mask != 0 {
+                    let l = h.nearest();
+                    t_best = h.t[l];
+                    best = Some(Hit { prim: bvh.prims[4 * k + l], t: h.t[l], u: h.u[l], v: h.v[l] });
+                }
+            }
+        } else {
+            let n = &bvh.nodes[cur as usize];
+            let mut near = [0.0f32; 8];
+            let mut mask = 0u32;
+            let t_far = Vec4::splat(t_best);
+            for half in 0..2 {
+                let lanes = |k: usize| Vec4::from_slice(&n.bounds[k][4 * half..4 * half + 4]);
+                let near_at = |a: usize| (lanes(rb.near[a]) - o[a]) * inv[a];
+                let far_at = |a: usize| (lanes(rb.far[a]) - o[a]) * inv_far[a];
+                // A NaN distance (origin on a plane of a zero direction component) leaves the
+                // accumulator as it is: glam's `max`/`min` return the second operand then.
+                let tn = near_at(2).max(near_at(1).max(near_at(0).max(Vec4::ZERO)));
+                let tf = far_at(2).min(far_at(1).min(far_at(0).min(t_far)));
+                mask |= tn.cmple(tf).bitmask() << (4 * half);
+                near[4 * half..4 * half + 4].copy_from_slice(&tn.to_array());
+            }
+            for i in 0..8 {
+                if n.child[i] != Node8::UNUSED {
+                    c.node();
+                }
+            }
+            if mask != 0 {
+                // Hit children nearest last, so the nearest is taken next and the rest pushed.
+                let mut order = [0usize; 8];
+                let mut m = 0;
+                let mut bits = mask;
+                while bits != 0 {
+                    let i = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let mut j = m;
+                    while j > 0 && near[order[j - 1]] < near[i] {
+                        order[j] = order[j - 1];
+                        j -= 1;
+                    }
+                    order[j] = i;
+                    m += 1;
+                }
+                for &i in &order[..m - 1] {
+                    stack[sp] = (n.child[i], near[i]);
+                    sp += 1;
+                }
+                cur = n.child[order[m - 1]];
+                continue;
+            }
+        }
+        // Pop the nearest pending node still in front of the best hit.
+        loop {
+            if sp == 0 {
+                return (best.is_some(), best);
+            }
+            sp -= 1;
+            let (r, d) = stack[sp];
+            if d <= t_best {
+                cur = r;
+                break;
+            }
+        }
+    }
+}

@@ -1,0 +1,217 @@
+use super::*;
+use crate::{BuildOptions, RayDistribution};
+use beam_math::collide::WatertightRay;
+
+fn soup(n: usize, seed: u32) -> Vec<Triangle> {
+    let mut s = seed;
+    let mut r = move || {
+        s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (s >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+    };
+    (0..n)
+        .map(|_| {
+            let c = Vec3::new(r(), r(), r()) * 5.0;
+            let mut p = || c + Vec3::new(r(), r(), r()) * 0.4;
+            Triangle::new(p(), p(), p())
+        })
+        .collect()
+}
+
+/// A closed grid of quads (shared edges everywhere) with its diagonals, for watertightness.
+fn grid(n: usize) -> Vec<Triangle> {
+    let mut out = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let o = Vec3::new(i as f32, j as f32, ((i * 7 + j * 3) % 5) as f32 * 0.1);
+            let p = |di: usize, dj: usize| {
+                let (x, y) = (i + di, j + dj);
+                Vec3::new(x as f32, y as f32, ((x * 7 + y * 3) % 5) as f32 * 0.1)
+            };
+            out.push(Triangle::new(o, p(1, 0), p(1, 1)));
+            out.push(Triangle::new(o, p(1, 1), p(0, 1)));
+        }
+    }
+    out
+}
+
+fn brute(tris: &[Triangle], ray: Ray, t_max: f32) -> Option<(u32, f32)> {
+    let wt = WatertightRay::new(ray);
+    let mut best = None;
+    let mut t_best = t_max;
+    for (i, t) in tris.iter().enumerate() {
+        if let Some(h) = wt.intersect(t, 0.0, t_best) {
+            t_best = h.t;
+            best = Some((i as u32, h.t));
+        }
+    }
+    best
+}
+
+fn kernels() -> Vec<Kernel> {
+    [Kernel::Portable, Kernel::Avx2, Kernel::Avx512].into_iter().filter(|k| k.is_available()).collect()
+}
+
+fn check(tris: &[Triangle], bvh: &mut Bvh8, rays: &[Ray], t_any: f32) {
+    for k in kernels() {
+        assert!(bvh.set_kernel(k));
+        for (i, ray) in rays.iter().enumerate() {
+            let want = brute(tris, *ray, f32::INFINITY);
+            let got = bvh.closest_hit(*ray, f32::INFINITY);
+            // The same triangle, or a tie within rounding: a hit a few ulps before a box's entry
+            // distance is found only if that box is entered before the other hit.
+            match (got, want) {
+                (Some(g), Some(w)) => {
+                    assert!((g.t - w.1).abs() <= 1e-6 * w.1, "{k} ray {i}: {g:?} vs {w:?}");
+                    let h = WatertightRay::new(*ray).intersect(&tris[g.prim as usize], 0.0, f32::INFINITY);
+                    assert_eq!(h.map(|h| h.t), Some(g.t), "{k} ray {i}");
+                }
+                (g, w) => assert_eq!(g.map(|g| g.prim), w.map(|w| w.0), "{k} ray {i}"),
+            }
+            // Any hit: the brute-force answer, except for a hit within rounding of `t_any`, which the
+            // kernels' division-free range test may count either way.
+            let boundary = want.is_some_and(|w| (w.1 - t_any).abs() <= 1e-6 * t_any);
+            if !boundary {
+                assert_eq!(bvh.any_hit(*ray, t_any), want.is_some_and(|w| w.1 <= t_any), "{k} ray {i}");
+            }
+            let mut stats = TraversalStats::default();
+            let counted = bvh.closest_hit_stats(*ray, f32::INFINITY, &mut stats);
+            match (counted, got) {
+                (Some(c), Some(g)) => assert!((c.t - g.t).abs() <= 1e-6 * g.t, "{k} ray {i}"),
+                (c, g) => assert_eq!(c, g, "{k} ray {i}"),
+            }
+        }
+    }
+}
+
+#[test]
+fn every_kernel_equals_brute_force() {
+    let tris = soup(3000, 7);
+    let rays: Vec<Ray> = soup(400, 99).iter().map(|t| Ray::new(t.v[0] * 2.0, t.v[1] - t.v[0] * 2.0)).collect();
+    for options in [
+        BuildOptions::sah(),
+        BuildOptions { parallel: false, max_leaf: 16, ..BuildOptions::sah() },
+        BuildOptions { presplit: 1.0, ..BuildOptions::high_quality() },
+        BuildOptions::pah(RayDistribution::Pencil { origin: Vec3::new(0.0, 0.0, 12.0), forward: -Vec3::Z }),
+    ] {
+        let mut bvh = Bvh8::build(&tris, &options);
+        check(&tris, &mut bvh, &rays, 3.0);
+    }
+}
+
+#[test]
+fn shared_edges_stay_closed() {
+    let tris = grid(40);
+    for options in [BuildOptions::sah(), BuildOptions { presplit: 2.0, ..BuildOptions::sah() }] {
+        shared_edges_stay_closed_with(&tris, &options);
+    }
+}
+
+fn shared_edges_stay_closed_with(tris: &[Triangle], options: &BuildOptions) {
+    let mut bvh = Bvh8::build(tris, options);
+    // Rays through inner grid vertices and edge midpoints: exactly on shared edges.
+    let h = |x: usize, y: usize| ((x * 7 + y * 3) % 5) as f32 * 0.1;
+    let eye = Vec3::new(20.0, 20.0, 30.0);
+    let rays: Vec<Ray> = (0..38 * 38 * 2)
+        .map(|i| {
+            let (x, y) = (1 + (i / 2) % 38, 1 + (i / 2) / 38);
+            let target = if i % 2 == 0 {
+                Vec3::new(x as f32, y as f32, h(x, y))
+            } else {
+                Vec3::new(x as f32 + 0.5, y as f32, 0.5 * (h(x, y) + h(x + 1, y)))
+            };
+            Ray::new(eye, target - eye)
+        })
+        .collect();
+    check(tris, &mut bvh, &rays, 1.0);
+    for k in kernels() {
+        bvh.set_kernel(k);
+        assert!(rays.iter().all(|r| bvh.closest_hit(*r, f32::INFINITY).is_some()), "{k}: a ray fell through");
+    }
+}
+
+#[test]
+fn every_valid_triangle_is_in_one_lane() {
+    let mut tris = soup(5000, 3);
+    tris.push(Triangle::new(Vec3::ZERO, Vec3::X, 2.0 * Vec3::X));
+    tris.push(Triangle::new(Vec3::NAN, Vec3::X, Vec3::Y));
+    let bvh = Bvh8::build(&tris, &BuildOptions::sah());
+    assert_eq!(bvh.degenerate, 2);
+    let mut seen: Vec<u32> = bvh.prims.iter().copied().filter(|&p| p != u32::MAX).collect();
+    seen.sort_unstable();
+    assert_eq!(seen, (0..5000).collect::<Vec<_>>());
+    // Pre-split: every triangle in some lane, none twice in a leaf.
+    let hq = Bvh8::build(&tris, &BuildOptions { presplit: 1.0, ..BuildOptions::sah() });
+    let mut seen: Vec<u32> = hq.prims.iter().copied().filter(|&p| p != u32::MAX).collect();
+    assert!(seen.len() > 5000, "some triangles split");
+    seen.sort_unstable();
+    seen.dedup();
+    assert_eq!(seen, (0..5000).collect::<Vec<_>>());
+    for n in &hq.nodes {
+        for s in 0..8 {
+            if n.child[s] & Node8::LEAF != 0 && n.child[s] != Node8::UNUSED {
+                let (first, count) = Node8::leaf_blocks(n.child[s]);
+                let mut lanes: Vec<u32> =
+                    hq.prims[4 * first..4 * (first + count)].iter().copied().filter(|&p| p != u32::MAX).collect();
+                let len = lanes.len();
+                lanes.sort_unstable();
+                lanes.dedup();
+                assert_eq!(lanes.len(), len, "a triangle twice in one leaf");
+            }
+        }
+    }
+    // Child boxes hold their subtrees.
+    for n in &bvh.nodes {
+        for s in 0..8 {
+            let c = n.child[s];
+            if c == Node8::UNUSED {
+                continue;
+            }
+            let b = n.child_bounds(s);
+            let inner = if c & Node8::LEAF != 0 {
+                build::leaf_bounds(&bvh.blocks, &bvh.prims, c)
+            } else {
+                (0..8).map(|i| bvh.nodes[c as usize].child_bounds(i)).fold(Aabb::EMPTY, Aabb::union)
+            };
+            assert!(inner.min.cmpge(b.min).all() && inner.max.cmple(b.max).all());
+        }
+    }
+}
+
+#[test]
+fn tiny_and_empty_trees() {
+    let one = soup(1, 1);
+    let bvh = Bvh8::build(&one, &BuildOptions::sah());
+    let c = one[0].v.iter().sum::<Vec3>() / 3.0;
+    assert_eq!(bvh.closest_hit(Ray::new(c + Vec3::Z * 10.0, -Vec3::Z), f32::INFINITY).map(|h| h.prim), Some(0));
+    let none = Bvh8::build(&[], &BuildOptions::sah());
+    assert!(none.closest_hit(Ray::new(Vec3::ZERO, Vec3::X), f32::INFINITY).is_none());
+    assert!(!none.any_hit(Ray::new(Vec3::ZERO, Vec3::X), 1.0));
+}
+
+#[test]
+fn deep_trees_fall_back_to_a_heap_stack() {
+    // Triangles of doubling size around one point: a chain, deeper than the x86 stack.
+    let tris: Vec<Triangle> = (0..300)
+        .map(|i| {
+            let s = 1.1f32.powi(i);
+            Triangle::new(Vec3::new(-s, -s, 0.0), Vec3::new(s, -s, 0.0), Vec3::new(0.0, s, 0.0))
+        })
+        .collect();
+    let mut bvh = Bvh8::build(&tris, &BuildOptions { max_leaf: 1, ..BuildOptions::sah() });
+    let rays: Vec<Ray> = (0..50).map(|i| Ray::new(Vec3::new(i as f32 * 0.01, 0.0, 5.0), -Vec3::Z)).collect();
+    check(&tris, &mut bvh, &rays, 2.0);
+}
+
+#[test]
+fn refit_follows_moved_triangles() {
+    let mut tris = soup(2000, 11);
+    let mut bvh = Bvh8::build(&tris, &BuildOptions::sah());
+    for t in &mut tris {
+        for v in &mut t.v {
+            *v += Vec3::new((v.y * 0.7).sin(), (v.z * 0.5).cos(), 0.3);
+        }
+    }
+    bvh.refit(&tris);
+    let rays: Vec<Ray> = soup(300, 5).iter().map(|t| Ray::new(t.v[0] * 2.0, t.v[1] - t.v[0] * 2.0)).collect();
+    check(&tris, &mut bvh, &rays, 3.0);
+}

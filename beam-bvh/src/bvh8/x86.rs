@@ -1,0 +1,367 @@
+//! The x86-64 kernels of the 8-wide traversal. A node's eight child boxes take one AVX register
+//! per plane; the hit children are ordered by an eight-lane sorting network on keys that carry
+//! the entry distance in their high bits and the child's slot in the low three, and all but the
+//! nearest are pushed with one vector store. The AVX-512 kernel is the same code compiled with
+//! AVX-512 F/VL enabled (EVEX encoding, 32 vector registers, mask registers for compares).
+//!
+//! This module holds the traversal's `unsafe`: aligned loads from nodes, the stack that is not
+//! initialised before use, and the calls into `#[target_feature]` code after run-time detection.
+#![allow(unsafe_code)]
+
+use super::leaf::{ShearRay, intersect4, occludes4};
+use super::{Bvh8, Kernel, Node8};
+use crate::traverse::Hit;
+use beam_math::Ray;
+use beam_math::glam::Vec3A;
+use core::arch::x86_64::*;
+use core::mem::MaybeUninit;
+
+/// Stack entries of the x86 kernels; trees that need more than this minus 8 (the width of a
+/// push) run the portable kernel.
+pub(super) const STACK_CAPACITY: usize = 256;
+
+/// AVX2 with FMA, POPCNT and BMI1 (every AVX2 CPU has them).
+pub(super) fn has_avx2() -> bool {
+    is_x86_feature_detected!("avx2")
+        && is_x86_feature_detected!("fma")
+        && is_x86_feature_detected!("popcnt")
+        && is_x86_feature_detected!("bmi1")
+}
+
+/// AVX-512 F and VL besides AVX2.
+pub(super) fn has_avx512() -> bool {
+    has_avx2() && is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx512vl")
+}
+
+/// Trace with `bvh`'s kernel (AVX2 or AVX-512).
+pub(super) fn trace<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32) -> (bool, Option<Hit>) {
+    assert!(bvh.stack_need + 8 <= STACK_CAPACITY, "tree too deep for the x86 kernels");
+    match bvh.kernel {
+        // SAFETY: `Bvh8::kernel` is `Avx512` only after `Kernel::is_available` (`has_avx512`)
+        // found every feature `trace_avx512` enables on this CPU.
+        Kernel::Avx512 => unsafe { trace_avx512::<ANY>(bvh, ray, t_max) },
+        // SAFETY: likewise, `Avx2` only after `has_avx2`.
+        Kernel::Avx2 => unsafe { trace_avx2::<ANY>(bvh, ray, t_max) },
+        Kernel::Portable => super::portable::trace::<ANY, ()>(bvh, ray, t_max, &mut ()),
+    }
+}
+
+/// One traversal kernel: the same body compiled with the features given, so that the AVX-512
+/// kernel is more than the AVX2 one called from an AVX-512 function (LLVM does not inline a body
+/// this large into a caller with more features).
+macro_rules! kernel {
+    ($(#[$doc:meta])* $name:ident, $features:literal) => {
+        $(#[$doc])*
+        #[target_feature(enable = $features)]
+        fn $name<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32) -> (bool, Option<Hit>) {
+            if bvh.nodes.is_empty() {
+                return (false, None);
+            }
+            let Some(rb) = FmaBox::new(ray, bvh.scale) else {
+                return super::portable::trace::<ANY, ()>(bvh, ray, t_max, &mut ());
+            };
+            let sr = ShearRay::new(ray);
+            let inv = rb.inv.map(|x| _mm256_set1_ps(x));
+            let c_near = rb.c_near.map(|x| _mm256_set1_ps(x));
+            let c_far = rb.c_far.map(|x| _mm256_set1_ps(x));
+            let iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+            let mut slots = Slots::new();
+            let mut stack = Stack { slots: &mut slots, len: 0 };
+            let mut t_best = t_max;
+            let mut best: Option<Hit> = None;
+            let mut cur = 0u32;
+            loop {
+                if cur & Node8::LEAF != 0 {
+                    let (first, count) = Node8::leaf_blocks(cur);
+                    for k in first..first + count {
+                        if ANY {
+                            if occludes4(&bvh.blocks[k], &sr, t_best) {
+                                return (true, None);
+                            }
+                            continue;
+                        }
+                        let h = intersect4(&bvh.blocks[k], &sr, 0.0, t_best);
+                        if h.mask != 0 {
+                            let l = h.nearest();
+                            t_best = h.t[l];
+                            best = Some(Hit { prim: bvh.prims[4 * k + l], t: h.t[l], u: h.u[l], v: h.v[l] });
+                        }
+                    }
+                } else {
+                    let n = &bvh.nodes[cur as usize];
+                    let near_at = |a: usize| _mm256_fmadd_ps(plane(n, rb.near[a]), inv[a], c_near[a]);
+                    let far_at = |a: usize| _mm256_fmadd_ps(plane(n, rb.far[a]), inv[a], c_far[a]);
+                    let near = _mm256_max_ps(
+                        _mm256_max_ps(near_at(0), near_at(1)),
+                        _mm256_max_ps(near_at(2), _mm256_setzero_ps()),
+                    );
+                    let far = _mm256_min_ps(
+                        _mm256_min_ps(far_at(0), far_at(1)),
+                        _mm256_min_ps(far_at(2), _mm256_set1_ps(t_best)),
+                    );
+                    let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(near, far);
+                    let mask = _mm256_movemask_ps(hit) as u32;
+                    if mask != 0 {
+                        let first = mask.trailing_zeros() as usize;
+                        let rest = mask & (mask - 1);
+                        if rest == 0 {
+                            cur = n.child[first];
+                            continue;
+                        }
+                        if ANY {
+                            // Any hit ends the query: order does not matter, distances are not
+                            // needed.
+                            cur = n.child[first];
+                            let mut m = rest;
+                            while m != 0 {
+                                stack.push(n.child[m.trailing_zeros() as usize], 0);
+                                m &= m - 1;
+                            }
+                            continue;
+                        }
+                        // Keys: the distance's bits (non-negative floats order as integers) with
+                        // the slot in the low three; misses sort last. Truncated distances are
+                        // never above the true ones, so no entry is dropped early.
+                        let bits = _mm256_and_si256(_mm256_castps_si256(near), _mm256_set1_epi32(!7));
+                        let keys = _mm256_or_si256(bits, iota);
+                        let keys = _mm256_blendv_epi8(_mm256_set1_epi32(i32::MAX), keys, _mm256_castps_si256(hit));
+                        if rest & (rest - 1) == 0 {
+                            // Two hits: continue with the nearer, push the other.
+                            let mut k = [0u32; 8];
+                            store8(&mut k, keys);
+                            let second = rest.trailing_zeros() as usize;
+                            let (a, b) = (k[first], k[second]);
+                            let (near_key, far_key) = if a <= b { (a, b) } else { (b, a) };
+                            stack.push(n.child[(far_key & 7) as usize], far_key & !7);
+                            cur = n.child[(near_key & 7) as usize];
+                            continue;
+                        }
+                        // More: the nearest by a min-reduction (the next node's address does not
+                        // wait for the sort), the others sorted and pushed farthest first.
+                        let nearest = hmin(keys);
+                        cur = n.child[(nearest & 7) as usize];
+                        let sorted = sort8(keys);
+                        // `permutevar8x32` reads the low three bits of each index: the slot.
+                        let refs = _mm256_permutevar8x32_epi32(children(n), sorted);
+                        let dists = _mm256_and_si256(sorted, _mm256_set1_epi32(!7));
+                        let count = mask.count_ones() as i32;
+                        // Lane i takes entry count − 1 − i: entries count − 1 down to 1.
+                        let rev = _mm256_sub_epi32(_mm256_set1_epi32(count - 1), iota);
+                        let (r, d) = (_mm256_permutevar8x32_epi32(refs, rev), _mm256_permutevar8x32_epi32(dists, rev));
+                        stack.push8(r, d, count as usize - 1);
+                        continue;
+                    }
+                }
+                // Pop the nearest pending node still in front of the best hit.
+                loop {
+                    let Some((r, d)) = stack.pop() else {
+                        return (best.is_some(), best);
+                    };
+                    if f32::from_bits(d) <= t_best {
+                        cur = r;
+                        break;
+                    }
+                }
+            }
+        }
+    };
+}
+
+kernel!(
+    /// AVX2 with FMA, POPCNT and BMI1.
+    trace_avx2,
+    "avx2,fma,popcnt,bmi1"
+);
+kernel!(
+    /// AVX-512 F/VL besides.
+    trace_avx512,
+    "avx2,fma,popcnt,bmi1,avx512f,avx512vl"
+);
+
+/// Per-ray constants of the box test: one fused multiply-add per plane, `t = b·inv + c`. `c` is
+/// `−o·inv` moved outwards by a margin (`c_near` down, `c_far` up) that covers every rounding on
+/// the way, so a computed near distance never exceeds the exact one and a far one never falls
+/// short: the test only adds boxes, as watertight traversal needs. Direction components below
+/// 2^-60 count as ±2^-60 (the margin covers that too), so no distance is NaN.
+#[derive(Clone, Copy, Debug)]
+struct FmaBox {
+    inv: [f32; 3],
+    c_near: [f32; 3],
+    c_far: [f32; 3],
+    near: [usize; 3],
+    far: [usize; 3],
+}
+
+impl FmaBox {
+    /// `None` for a ray whose constants overflow (an origin beyond 2^60 times the scene, NaN).
+    /// `scale` bounds every coordinate of the tree's boxes.
+    #[inline(always)]
+    fn new(ray: Ray, scale: f32) -> Option<Self> {
+        const TINY: f32 = 1.0 / (1u64 << 60) as f32;
+        // Eight units of rounding of the largest term, `(|b| + |o|)·|inv|`, with b any plane.
+        const MARGIN: f32 = 1.0 / (1 << 21) as f32;
+        let d = Vec3A::from(ray.direction);
+        let d = Vec3A::select(d.abs().cmplt(Vec3A::splat(TINY)), Vec3A::splat(TINY).copysign(d), d);
+        let inv = d.recip();
+        let o = Vec3A::from(ray.origin);
+        let margin = (scale + o.abs()) * inv.abs() * MARGIN;
+        let (c_near, c_far) = (-(o * inv) - margin, -(o * inv) + margin);
+        if !(c_near.is_finite() && c_far.is_finite() && inv.is_finite()) {
+            return None;
+        }
+        let negative = inv.is_negative_bitmask() as usize;
+        let side = |a: usize| (negative >> a) & 1;
+        Some(Self {
+            inv: inv.to_array(),
+            c_near: c_near.to_array(),
+            c_far: c_far.to_array(),
+            near: core::array::from_fn(|a| 2 * a + side(a)),
+            far: core::array::from_fn(|a| 2 * a + 1 - side(a)),
+        })
+    }
+}
+
+/// Plane `k` (< 6, as [`FmaBox`] makes them) of the eight child boxes of `n`.
+#[inline]
+#[target_feature(enable = "avx")]
+fn plane(n: &Node8, k: usize) -> __m256 {
+    debug_assert!(k < 6);
+    // SAFETY: `k < 6` (`FmaBox::near`/`far` hold `2a + side` with `a < 3`, `side ≤ 1`), so the
+    // row is eight f32 inside `n.bounds`, at offset 32·k of a 64-byte aligned `Node8`: 32-byte
+    // aligned for the load.
+    unsafe { _mm256_load_ps(n.bounds.get_unchecked(k).as_ptr()) }
+}
+
+/// The eight child references of `n`.
+#[inline]
+#[target_feature(enable = "avx")]
+fn children(n: &Node8) -> __m256i {
+    // SAFETY: `child` is eight u32 at offset 192 of a 64-byte aligned `Node8`: 32-byte aligned.
+    unsafe { _mm256_load_si256(n.child.as_ptr().cast()) }
+}
+
+/// The smallest of eight signed integers.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn hmin(v: __m256i) -> u32 {
+    let v = _mm256_min_epi32(v, _mm256_permute2x128_si256::<1>(v, v));
+    let v = _mm256_min_epi32(v, _mm256_shuffle_epi32::<0b01_00_11_10>(v));
+    let v = _mm256_min_epi32(v, _mm256_shuffle_epi32::<0b10_11_00_01>(v));
+    _mm256_cvtsi256_si32(v) as u32
+}
+
+/// Store eight lanes.
+#[inline]
+#[target_feature(enable = "avx")]
+fn store8(out: &mut [u32; 8], v: __m256i) {
+    // SAFETY: `out` is eight u32 (an unaligned store).
+    unsafe { _mm256_storeu_si256(out.as_mut_ptr().cast(), v) }
+}
+
+/// Sort eight signed integers ascending: a bitonic network of six compare-exchange stages.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn sort8(v: __m256i) -> __m256i {
+    // Compare-exchange each lane with `partner`; lanes set in `UPPER` keep the larger value.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn cx<const UPPER: i32>(v: __m256i, partner: __m256i) -> __m256i {
+        _mm256_blend_epi32::<UPPER>(_mm256_min_epi32(v, partner), _mm256_max_epi32(v, partner))
+    }
+    let pairs = |v| cx::<0b1010_1010>(v, _mm256_shuffle_epi32::<0b10_11_00_01>(v));
+    let v = pairs(v);
+    let v = cx::<0b1100_1100>(v, _mm256_shuffle_epi32::<0b00_01_10_11>(v));
+    let v = pairs(v);
+    let v = cx::<0b1111_0000>(v, _mm256_permutevar8x32_epi32(v, _mm256_setr_epi32(7, 6, 5, 4, 3, 2, 1, 0)));
+    let v = cx::<0b1100_1100>(v, _mm256_shuffle_epi32::<0b01_00_11_10>(v));
+    pairs(v)
+}
+
+/// Storage of the traversal stack: node references and distance bits, written before they are
+/// read, never initialised as a whole (a 2 KiB memset per ray would cost more than a shallow
+/// traversal).
+struct Slots {
+    refs: [MaybeUninit<u32>; STACK_CAPACITY],
+    dists: [MaybeUninit<u32>; STACK_CAPACITY],
+}
+
+impl Slots {
+    #[inline(always)]
+    fn new() -> Self {
+        Self { refs: [MaybeUninit::uninit(); STACK_CAPACITY], dists: [MaybeUninit::uninit(); STACK_CAPACITY] }
+    }
+}
+
+/// The traversal stack. Its length lives apart from the slots: next to the store of `len = 0`,
+/// LLVM merges the uninitialised arrays into one zeroing memset.
+struct Stack<'a> {
+    slots: &'a mut Slots,
+    len: usize,
+}
+
+impl Stack<'_> {
+    #[inline(always)]
+    fn push(&mut self, r: u32, d: u32) {
+        self.slots.refs[self.len] = MaybeUninit::new(r);
+        self.slots.dists[self.len] = MaybeUninit::new(d);
+        self.len += 1;
+    }
+
+    /// Push the first `count` (< 8) lanes of `r` and `d`.
+    #[inline]
+    #[target_feature(enable = "avx")]
+    fn push8(&mut self, r: __m256i, d: __m256i, count: usize) {
+        assert!(self.len + 8 <= STACK_CAPACITY && count < 8);
+        // SAFETY: `len + 8 ≤ STACK_CAPACITY` (checked above): both 32-byte stores stay inside the
+        // arrays, whose elements have the layout of `u32`.
+        unsafe {
+            _mm256_storeu_si256(self.slots.refs.as_mut_ptr().add(self.len).cast(), r);
+            _mm256_storeu_si256(self.slots.dists.as_mut_ptr().add(self.len).cast(), d);
+        }
+        self.len += count;
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) -> Option<(u32, u32)> {
+        self.len = self.len.checked_sub(1)?;
+        // SAFETY: every slot below the old `len` was written by `push` or `push8` before `len`
+        // grew past it.
+        Some(unsafe { (self.slots.refs[self.len].assume_init(), self.slots.dists[self.len].assume_init()) })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sort8_sorts() {
+        if !has_avx2() {
+            return;
+        }
+        let mut s = 12345u32;
+        for _ in 0..10_000 {
+            let mut v = [0i32; 8];
+            for x in &mut v {
+                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                *x = (s >> 20) as i32;
+            }
+            // SAFETY: AVX2 was detected above.
+            let sorted: [i32; 8] = unsafe { sort_array(v) };
+            let mut want = v;
+            want.sort_unstable();
+            assert_eq!(sorted, want);
+        }
+    }
+
+    #[target_feature(enable = "avx2")]
+    fn sort_array(v: [i32; 8]) -> [i32; 8] {
+        let mut out = [0i32; 8];
+        // SAFETY: `v` and `out` are eight i32 each (unaligned loads and stores).
+        unsafe {
+            let x = sort8(_mm256_loadu_si256(v.as_ptr().cast()));
+            _mm256_storeu_si256(out.as_mut_ptr().cast(), x);
+        }
+        out
+    }
+}
