@@ -20,9 +20,11 @@ use beam_math::{Ray, Triangle};
 use beam_scene::scene::{self, Bump};
 use rand::Rng;
 
+mod coarse;
 mod glossy;
 mod twin;
 
+use coarse::gpu_coarse_smesh_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
 use twin::TwinShading;
 
@@ -57,6 +59,12 @@ pub fn properties() -> Vec<Property> {
             body: gpu_beam_texels_equal_cpu,
         },
         Property { name: "gpu_images_equal_cpu", cites: "000 §3, §7", backends: GPU, body: gpu_images_equal_cpu },
+        Property {
+            name: "gpu_coarse_smesh_equals_cpu",
+            cites: "000 §7.1",
+            backends: GPU,
+            body: gpu_coarse_smesh_equals_cpu,
+        },
         Property { name: "gpu_shading_equals_cpu", cites: "000 §9.2", backends: GPU, body: gpu_shading_equals_cpu },
         Property {
             name: "gpu_glossy_gather_equals_cpu",

@@ -50,8 +50,9 @@ fn v4(v: Vec3, w: f32) -> [f32; 4] {
 
 impl GpuBeam {
     /// `beam` on an atlas region `(x, y, size)`, skipping scene triangle `exclude.prim` (a coarse
-    /// S-mesh face's patch is culled on the host by `cone_candidates`; the shader's self-hit test
-    /// covers the triangles sharing a vertex with the base, not the face's ring).
+    /// S-mesh face's patch is culled on the host by `cone_candidates`; its ring is marked per pair,
+    /// [`crate::interface::PAIR_NEAR`]), its lift for self-hits at least the surface's thickness
+    /// about a coarse face (as `beam_cpu::nonlinear::render_beam` takes it).
     #[must_use]
     pub fn new(beam: &Beam, region: [u32; 3], exclude: Exclude<'_>) -> Self {
         let mut out = match beam {
@@ -68,6 +69,7 @@ impl GpuBeam {
                 g
             }
         };
+        out.bump[2] = out.bump[2].max(exclude.thickness);
         out.region = [region[0], region[1], region[2], exclude.prim];
         out
     }
