@@ -86,6 +86,15 @@ enum Command {
         /// wavy-lake): quads per mirror side, lens rings, teapot profile steps, water quads per side.
         #[arg(long)]
         smesh: Option<u32>,
+        /// Spawn the nonlinear beams from a coarse S mesh (000 §7.1) of about N faces in all,
+        /// simplified from every mirror and glass surface without an S mesh of its own in the scene
+        /// file (meshoptimizer), 4 to 16777216; the fine surfaces are still the ones rendered.
+        #[arg(long, value_name = "N", conflicts_with = "smesh_error")]
+        smesh_target: Option<u32>,
+        /// Like `--smesh-target`, but simplify while the surface moves by at most this fraction of
+        /// its size (above 0, at most 1).
+        #[arg(long, value_name = "E")]
+        smesh_error: Option<f32>,
         /// `exact` (eq. 1, Lambert's polygon formula) or `fraction` (001 eq. 2).
         #[arg(long, default_value = "exact")]
         shading: String,
@@ -284,6 +293,8 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
             bounces,
             caustic_strata,
             smesh,
+            smesh_target,
+            smesh_error,
             shading,
             spp,
             primary_spp,
@@ -313,6 +324,8 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
                 bounces,
                 caustic_strata,
                 smesh,
+                smesh_target,
+                smesh_error,
                 shading: &shading,
                 spp,
                 primary_spp,

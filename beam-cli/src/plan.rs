@@ -19,6 +19,10 @@ pub struct RenderArgs<'a> {
     pub bounces: u32,
     pub caustic_strata: u32,
     pub smesh: Option<u32>,
+    /// `--smesh-target`: faces of the simplified S mesh.
+    pub smesh_target: Option<u32>,
+    /// `--smesh-error`: error of the simplified S mesh.
+    pub smesh_error: Option<f32>,
     pub shading: &'a str,
     pub spp: u32,
     pub primary_spp: u32,
@@ -108,7 +112,7 @@ pub struct Plan {
 fn applies_to(id: &str, gpu: bool, primary_beams: bool) -> Option<&'static [Kind]> {
     use Kind::*;
     Some(match id {
-        "degree" | "texels" | "bounces" | "caustic_strata" => &[Nonlinear],
+        "degree" | "texels" | "bounces" | "caustic_strata" | "smesh_target" | "smesh_error" => &[Nonlinear],
         "shading" => &[Beam, Ray, Nonlinear, NonlinearReference],
         "spp" if gpu => &[Ray, Nonlinear, NonlinearReference],
         "spp" => &[Ray],
@@ -255,6 +259,16 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         None => scene::load_with(a.scene, &scene::LoadOptions { allow_outside_paths: a.allow_outside_paths })
             .map_err(|e| e.to_string())?,
     };
+    let simplify = match (a.smesh_target, a.smesh_error) {
+        (Some(n), _) => Some(scene::Simplify::Faces(n)),
+        (None, Some(e)) => Some(scene::Simplify::Error(e)),
+        (None, None) => None,
+    };
+    if let Some(s) = simplify {
+        let flag = if a.smesh_target.is_some() { "--smesh-target" } else { "--smesh-error" };
+        let value = a.smesh_target.map_or_else(|| format!("{}", a.smesh_error.unwrap_or(0.0)), |n| n.to_string());
+        scene.smesh.rest = Some(s.checked().map_err(|e| format!("{flag} {value} out of range: {e}"))?);
+    }
     if scene.stats.skipped_lights > 0 {
         // Said even when `quiet`: the image lacks light the file asked for.
         eprintln!(
@@ -295,7 +309,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
 /// exposure, so that `beam merge` joins only tiles of one render. Never 0.
 fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
     let text = format!(
-        "{}|{}|{}|{}|{}|{}|{}|{:?}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}×{}|{}|{:?}|{}",
+        "{}|{}|{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}×{}|{}|{:?}|{}",
         a.scene,
         a.method,
         a.backend,
@@ -304,6 +318,8 @@ fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
         a.bounces,
         a.caustic_strata,
         a.smesh,
+        a.smesh_target,
+        a.smesh_error.map(f32::to_bits),
         a.shading,
         a.spp,
         a.primary_spp,

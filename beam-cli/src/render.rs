@@ -107,10 +107,19 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     .map_err(|e| e.to_string())?;
     write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
     println!(
-        "{}: nonlinear {} on {on} ({} texels per beam side), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {} caustic beams in {:.3} s, {:.3} s in all -> {}",
+        "{}: nonlinear {} on {on} ({} texels per beam side, {} S-mesh faces{}), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {} caustic beams in {:.3} s, {:.3} s in all -> {}",
         scene.name,
         stats.degree,
         a.texels,
+        stats.smesh_faces,
+        if stats.coarse_smesh_faces > 0 {
+            format!(
+                ", {} of them coarse ({} too folded for beams); {} points their child beams do not hold traced by rays",
+                stats.coarse_smesh_faces, stats.coarse_faces_by_rays, stats.uncovered_by_beams
+            )
+        } else {
+            String::new()
+        },
         stats.beams_per_level,
         stats.triangles_per_beam,
         stats.overdraw,

@@ -20,7 +20,7 @@ struct AtlasParams {
 @group(0) @binding(0) var<uniform> params: AtlasParams;
 @group(0) @binding(1) var<storage, read> beams: array<Beam>;
 @group(0) @binding(2) var<storage, read> triangles: array<BvhTriangle>;
-@group(0) @binding(3) var<storage, read> pairs: array<vec2<u32>>;   // (beam on the page, scene triangle)
+@group(0) @binding(3) var<storage, read> pairs: array<vec2<u32>>;   // (beam on the page, scene triangle | PAIR_NEAR)
 @group(0) @binding(4) var<storage, read_write> bounds_out: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> bounds_in: array<vec4<f32>>; // lower bounds (xyz), case (w)
 // Per beam on the page: scene triangles not culled as behind its base, texels tested (overdraw).
@@ -45,7 +45,7 @@ fn bound_triangles(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
     let i = id.y * groups.x * WORKGROUP_SIZE + id.x;
     if i >= params.pairs { return; }
     let pair = pairs[i];
-    let bt = bounding_triangle(beams[pair.x], scene_tri(pair.y));
+    let bt = bounding_triangle(beams[pair.x], scene_tri(pair.y & ~PAIR_NEAR));
     bounds_out[i] = vec4<f32>(bt.lower, f32(bt.case_));
     if bt.case_ != BOUNDING_BEHIND { atomicAdd(&counters[2u * pair.x], 1u); }
 }
@@ -62,7 +62,7 @@ struct Fragment {
 fn emit_bounding_triangle(@builtin(vertex_index) vertex: u32, @builtin(instance_index) beam: u32) -> Fragment {
     let b = beams[beam];
     let pair = vertex / 3u;
-    let prim = pairs[pair].y;
+    let prim = pairs[pair].y & ~PAIR_NEAR;
     let bt = bounds_in[pair];
     var out: Fragment;
     out.beam = beam;
@@ -70,7 +70,8 @@ fn emit_bounding_triangle(@builtin(vertex_index) vertex: u32, @builtin(instance_
     out.lower = bt.xyz;
     out.position = vec4<f32>(-2.0, -2.0, 0.0, 1.0);
     let tri = scene_tri(prim);
-    var neighbour = 0u;
+    // A triangle of a coarse face's ring (PAIR_NEAR), or one sharing a vertex with the base.
+    var neighbour = select(0u, 1u, (pairs[pair].y & PAIR_NEAR) != 0u);
     // 3 × 3 iterations (20 counted as llvmpipe counts).
     for (var i = 0u; i < 3u; i++) {
         for (var j = 0u; j < 3u; j++) {

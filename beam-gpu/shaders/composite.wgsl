@@ -19,7 +19,7 @@ struct Face {
     material: vec4<f32>,
 }
 
-// Twin of beam_gpu::nonlinear::composite::CompositeRecord (48 bytes).
+// Twin of beam_gpu::nonlinear::composite::CompositeRecord (64 bytes).
 struct Record {
     p: vec3<f32>,
     // Its index in the level's radiance.
@@ -32,6 +32,9 @@ struct Record {
     // NONE for none.
     refracted: u32,
     pad: u32,
+    // Where the refraction is looked up (p: the reflection; both the hit point on a fine face).
+    refracted_p: vec3<f32>,
+    pad2: u32,
 }
 
 // Twin of beam_gpu::nonlinear::composite::CompositeParams (16 bytes).
@@ -126,7 +129,7 @@ fn composite_texel(r: Record) -> vec3<f32> {
     let r0 = q * q;
     let m = 1.0 - select(-dot(t, n), cos_i, entering);
     let fresnel = r0 + (1.0 - r0) * m * m * m * m * m;
-    return fresnel * reflected + (1.0 - fresnel) * sample_region(r.refracted, w);
+    return fresnel * reflected + (1.0 - fresnel) * sample_region(r.refracted, face_barycentric(f, r.refracted_p));
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)

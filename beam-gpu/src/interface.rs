@@ -99,6 +99,11 @@ pub const MIN_RISE: f32 = beam_scene::nonlinear::MIN_RISE;
 /// Nearest texel-ray hit, in scene diagonals ([`beam_scene::nonlinear::TEXEL_EPS`]).
 pub const TEXEL_EPS: f32 = beam_scene::nonlinear::TEXEL_EPS;
 
+/// Bit of a (beam, triangle) pair's triangle index in `beam_atlas.wgsl` that marks the triangle as
+/// in the beam's ring ([`beam_scene::nonlinear::Exclude::near`]): its hits nearer than the self-hit
+/// distance are the surface meeting itself, as for a triangle sharing a vertex with the base.
+pub const PAIR_NEAR: u32 = 1 << 31;
+
 /// A constant's value, typed as in WGSL.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
@@ -132,6 +137,7 @@ pub const CONSTANTS: &[(&str, Value)] = {
         ("BOUNDING_GENERAL", U32(BOUNDING_GENERAL)),
         ("BOUNDING_UNIQUE_PROJECTION", U32(BOUNDING_UNIQUE_PROJECTION)),
         ("BOUNDING_BEHIND", U32(BOUNDING_BEHIND)),
+        ("PAIR_NEAR", U32(PAIR_NEAR)),
         ("DEPTH_EPS", F32(DEPTH_EPS)),
         ("BARY_TOLERANCE", F32(BARY_TOLERANCE)),
         ("MIN_ELEVATION", F32(MIN_ELEVATION)),

@@ -209,6 +209,34 @@ pub enum SceneError {
         /// The built-in scene asked for.
         name: String,
     },
+    /// An S mesh (`smesh`, `smesh_target`, `smesh_error`) asked of a scene file's mesh whose
+    /// material is not a mirror or glass.
+    #[error("{}: {element}: S meshes are for mirror and glass meshes, not material `{material}`", path.display())]
+    SMeshNotSpecular {
+        /// The scene file.
+        path: PathBuf,
+        /// The element (`meshes[2].smesh`).
+        element: String,
+        /// The mesh's material, as the scene file names it.
+        material: String,
+    },
+    /// A coarse S mesh (`smesh = "coarse.obj"`) that does not lie over its mesh: its bounding box
+    /// reaches farther beyond the mesh's than a quarter of the mesh's size (a missing transform, a
+    /// mesh of another object).
+    #[error(
+        "{}: {element}: the S mesh does not lie over its mesh (its box reaches {distance} beyond the mesh's, more than a quarter of the mesh's size {size})",
+        path.display()
+    )]
+    SMeshFar {
+        /// The scene file.
+        path: PathBuf,
+        /// The element (`meshes[2].smesh`).
+        element: String,
+        /// How far the S mesh's box reaches beyond the mesh's, scene units.
+        distance: f32,
+        /// The diagonal of the mesh's box, scene units.
+        size: f32,
+    },
     /// The shared scenes folder was not found.
     #[error("{}", match beam_scenes {
         Some(dir) => format!("BEAM_SCENES={} is not a folder", dir.display()),

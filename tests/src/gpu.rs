@@ -7,7 +7,7 @@ use crate::generate::{self, BeamKind, uniform};
 use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::{
-    Beam, BeamJob, BeamRasterizer, BumpedBeam, CAUSTIC_STRATA, CpuBeams, Degree, NonlinearOptions, SMesh,
+    Beam, BeamJob, BeamRasterizer, BumpedBeam, CAUSTIC_STRATA, CpuBeams, Degree, Exclude, NonlinearOptions, SMesh,
     render_nonlinear_with,
 };
 use beam_cpu::render::RenderOptions;
@@ -20,9 +20,11 @@ use beam_math::{Ray, Triangle};
 use beam_scene::scene::{self, Bump};
 use rand::Rng;
 
+mod coarse;
 mod glossy;
 mod twin;
 
+use coarse::gpu_coarse_smesh_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
 use twin::TwinShading;
 
@@ -57,6 +59,12 @@ pub fn properties() -> Vec<Property> {
             body: gpu_beam_texels_equal_cpu,
         },
         Property { name: "gpu_images_equal_cpu", cites: "000 §3, §7", backends: GPU, body: gpu_images_equal_cpu },
+        Property {
+            name: "gpu_coarse_smesh_equals_cpu",
+            cites: "000 §7.1",
+            backends: GPU,
+            body: gpu_coarse_smesh_equals_cpu,
+        },
         Property { name: "gpu_shading_equals_cpu", cites: "000 §9.2", backends: GPU, body: gpu_shading_equals_cpu },
         Property {
             name: "gpu_glossy_gather_equals_cpu",
@@ -334,7 +342,7 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
             .flatten()
             .collect();
         let jobs: Vec<BeamJob<'_>> =
-            beams.iter().map(|(beam, prim)| BeamJob { beam, size: 16, exclude: *prim }).collect();
+            beams.iter().map(|(beam, prim)| BeamJob { beam, size: 16, exclude: Exclude::base(*prim) }).collect();
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let on_gpu = renderer.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
         let on_cpu = CpuBeams.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;

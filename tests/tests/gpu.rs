@@ -9,6 +9,7 @@ beam_conformance::conformance_tests!(
     gpu_ray_hits_equal_cpu_hits,
     gpu_beam_texels_equal_cpu,
     gpu_images_equal_cpu,
+    gpu_coarse_smesh_equals_cpu,
     gpu_shading_equals_cpu,
     gpu_composite_equals_cpu,
     gpu_glossy_gather_equals_cpu,

@@ -5,6 +5,7 @@ mod cpu_clock;
 pub mod glossy;
 pub mod gpu;
 pub mod nonlinear;
+pub mod nonlinear_smesh;
 #[cfg(feature = "peers")]
 mod peers;
 pub mod primary;
@@ -151,7 +152,9 @@ pub enum BenchCommand {
         out: PathBuf,
     },
     /// 000 Fig. 10: nonlinear render time (S1, S3) against scene triangles, S-mesh triangles and
-    /// atlas resolution on the mirror teapot, beside the ray-traced reference.
+    /// atlas resolution on the mirror teapot, beside the ray-traced reference. With
+    /// `--smesh-sweep`: PSNR against beams instead, the teapot's S mesh simplified to
+    /// `--targets` faces (000 §7.1), S1 and S3, and the fine S mesh.
     Nonlinear {
         /// Image width and height.
         #[arg(long, default_value_t = 256)]
@@ -162,6 +165,12 @@ pub enum BenchCommand {
         /// Table of every measurement.
         #[arg(long, default_value = "nonlinear-sweep.csv")]
         csv: PathBuf,
+        /// Sweep S-mesh simplification targets (PSNR against beams) instead of the timings.
+        #[arg(long)]
+        smesh_sweep: bool,
+        /// S-mesh face counts of `--smesh-sweep`, 4 to 16777216 each.
+        #[arg(long, value_delimiter = ',', default_value = "100,200,400,700,1000,1500,2500")]
+        targets: Vec<u32>,
     },
 }
 
@@ -208,12 +217,18 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             }
             glossy::run(&scenes, size, reference_photons, subdivide, &out)
         }
-        BenchCommand::Nonlinear { size, out, csv } => {
+        BenchCommand::Nonlinear { size, out, csv, smesh_sweep, targets } => {
             side("--size", size)?;
+            for &t in &targets {
+                beam_scene::scene::Simplify::Faces(t).checked().map_err(|e| format!("--targets {t}: expected {e}"))?;
+            }
             if dry {
                 return Ok(ExitCode::SUCCESS);
             }
-            nonlinear::run(size, &out, &csv)
+            match smesh_sweep {
+                true => nonlinear_smesh::run(size, &targets, &out, &csv),
+                false => nonlinear::run(size, &out, &csv),
+            }
         }
         BenchCommand::Primary { scenes, size, sweep, cameras, sweep_size, seed, out } => {
             side("--size", size)?;

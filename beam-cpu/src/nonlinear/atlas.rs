@@ -9,7 +9,7 @@
 use beam_math::Ray;
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{BeamTexture, TEXEL_EPS, TexelBeam, TexelHit, cone_candidates, self_hit_at};
+use beam_scene::nonlinear::{BeamTexture, Exclude, TEXEL_EPS, TexelBeam, TexelHit, cone_candidates, self_hit_at};
 use beam_scene::scene::Scene;
 
 /// Regions at most this many texels a side keep their texels' rays (about 100 bytes per texel).
@@ -63,9 +63,11 @@ impl InsideMemo {
 }
 
 /// Render `beam` into a `size × size` texel region (000 Alg. 1 with Alg. 3 or 4 for the bounding
-/// triangles): nearest hits of the texels' rays, skipping triangle `exclude` (the beam's own base).
+/// triangles): nearest hits of the texels' rays, skipping the surface under the beam's base
+/// (`exclude`: its own scene triangle, or a coarse S-mesh face's patch), and hits on the triangles
+/// that share a vertex with the base or lie in `exclude`'s ring nearer than the self-hit distance.
 #[must_use]
-pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, exclude: u32) -> BeamTexture {
+pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, exclude: Exclude<'_>) -> BeamTexture {
     let n = size as usize;
     let mut tex = BeamTexture { size, hits: vec![None; n * n], triangles_after_culling: 0, texels_tested: 0 };
     let bounds = beam.s1_or_sn_bounds();
@@ -73,14 +75,15 @@ pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, e
     let extent = scene.bounds().extent().length();
     // Half a texel of slack around the bounding triangle, in barycentric units.
     let slack = 0.5 / size as f32;
-    let (lift, normal) = (beam.lift(), beam.base_normal());
+    // Under a coarse face the fine surface strays from the S^n origins by up to its thickness.
+    let (lift, normal) = (beam.lift().max(exclude.thickness), beam.base_normal());
     let mut memo = InsideMemo::new();
     let mut rays: Vec<Option<TexelRay>> = vec![None; if size <= RAY_CACHE_SIZE { n * n } else { 0 }];
     for i in cone_candidates(scene, &cone, exclude) {
         let tri = &scene.triangles[i as usize];
         let inside = &mut |q| memo.get(q, |q| beam.contains_s1(q));
         let Some(bt) = beam.bounding_triangle_of(&bounds, tri, inside) else { continue };
-        let neighbour = tri.v.iter().any(|v| beam.base().contains(v));
+        let neighbour = tri.v.iter().any(|v| beam.base().contains(v)) || exclude.near(i);
         tex.triangles_after_culling += 1;
         let m = bt.lower - Vec3::splat(slack);
         // Texels with u ≥ m.y, v ≥ m.z, u + v ≤ 1 − m.x.

@@ -11,7 +11,9 @@ use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, shading_eps};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
-use beam_scene::nonlinear::{Beam, BeamJob, BeamRenderer, BeamTexture, Degree, SFace, SMesh, TEXELS, child_beams};
+use beam_scene::nonlinear::{
+    Beam, BeamJob, BeamRenderer, BeamTexture, Degree, Exclude, SFace, SMesh, TEXELS, child_beams,
+};
 use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
@@ -54,12 +56,13 @@ pub fn caustic_texel(scene: &Scene) -> f32 {
     scene.bounds().extent().max_element() / 256.0
 }
 
-/// An emitter, an S-mesh face it lights and the face's light beams (refracted ones marked `true`).
-type LitFace<'a> = (Emitter, &'a SFace, Vec<(Beam, bool)>);
+/// An emitter, an S-mesh face it lights, what its beams skip and the face's light beams (refracted
+/// ones marked `true`).
+type LitFace<'a> = (Emitter, &'a SFace, Exclude<'a>, Vec<(Beam, bool)>);
 
-/// The S mesh and an empty irradiance map of `scene`; `None` without lights or specular faces.
-fn setup(scene: &Scene) -> Option<(SMesh, IrradianceMap)> {
-    let smesh = SMesh::specular(scene);
+/// The S mesh (`smesh`) and an empty irradiance map of `scene`; `None` without lights or specular
+/// faces.
+fn setup(scene: &Scene, smesh: SMesh) -> Option<(SMesh, IrradianceMap)> {
     if scene.lights.is_empty() || smesh.faces.is_empty() {
         return None;
     }
@@ -71,10 +74,9 @@ fn behind(e: &Emitter, f: &SFace) -> bool {
     f.v.iter().all(|&v| e.falloff((v - e.position).normalize_or_zero()) <= 0.0)
 }
 
-/// True when the segment from `p` (on triangle `prim`, offset by `eps` towards `to`) to `to` is
-/// blocked.
-fn blocked(scene: &Scene, prim: u32, p: Vec3, to: Vec3, eps: f32) -> bool {
-    let n = scene.normal(prim);
+/// True when the segment from `p` (on a surface of normal `n`, offset by `eps` towards `to`) to `to`
+/// is blocked.
+fn blocked(scene: &Scene, n: Vec3, p: Vec3, to: Vec3, eps: f32) -> bool {
     let side = if n.dot(to - p) > 0.0 { n } else { -n };
     let o = p + side * eps;
     scene.wide.any_hit(Ray::new(o, to - o), 1.0 - DEPTH_EPS)
@@ -83,7 +85,7 @@ fn blocked(scene: &Scene, prim: u32, p: Vec3, to: Vec3, eps: f32) -> bool {
 /// Fresnel split of light along unit `d` meeting face `f` at barycentric `w`: the weights of its
 /// reflection and its transmission (0 for mirrors; mirrors reflect their tint).
 fn split(scene: &Scene, f: &SFace, w: Vec3, d: Vec3) -> (Vec3, f32) {
-    let entering = d.dot(scene.normal(f.prim)) < 0.0;
+    let entering = d.dot(f.normal) < 0.0;
     let n = if entering { f.normal_at(w) } else { -f.normal_at(w) };
     match scene.material(f.prim) {
         Material::Mirror { tint, .. } => (tint, 0.0),
@@ -100,7 +102,12 @@ fn split(scene: &Scene, f: &SFace, w: Vec3, d: Vec3) -> (Vec3, f32) {
 /// reflection and refraction beams (S1 or S3, `texels` per side, `texels / strata` for a stratum)
 /// from the emitter; every texel strictly inside the base carries the flux `I(d)·cosθ·A/r²` of its
 /// share `A` of the base (less what the Fresnel split sends the other way), unless the emitter is
-/// blocked before the face; its ray's first hit, when diffuse, receives it. Paths with a second
+/// blocked before the face; its ray's first hit, when diffuse, receives it. The faces are the
+/// specular triangles themselves ([`SMesh::specular`]) whatever S mesh the eye's beams spawn from:
+/// on a coarse S mesh each light beam stands for more of the surface, and at equal texels per beam
+/// the irradiance map is coarser and noisier (on the mirror teapot the error outside the specular
+/// surfaces grew 4.5×), while √(fine triangles) texels per side cost 7× the fine faces' pass (the
+/// wide beams' bounding triangles). Paths with a second
 /// specular bounce are not followed. `None` without lights or specular faces; an error when
 /// `renderer` fails. `texels` is taken within [`TEXELS`], `strata` within
 /// `0..=`[`MAX_CAUSTIC_STRATA`].
@@ -113,21 +120,27 @@ pub fn caustics_by_beams(
 ) -> Result<Option<(IrradianceMap, CausticStats)>, BackendError> {
     let texels = texels.clamp(*TEXELS.start(), *TEXELS.end());
     let start = std::time::Instant::now();
-    let Some((smesh, empty)) = setup(scene) else { return Ok(None) };
+    let Some((smesh, empty)) = setup(scene, SMesh::specular(scene)) else { return Ok(None) };
     let strata = strata.min(MAX_CAUSTIC_STRATA);
     let size = |e: &Emitter| if e.is_point() { texels } else { (texels / strata).max(*TEXELS.start()) };
+    // A coarse S-mesh face stands for its patch of fine triangles: its beams get √patch times the
+    // texels per side, so that the light deposits as many texels as through the fine faces.
+    let size_under = |e: &Emitter, ex: &Exclude<'_>| {
+        let k = (ex.patch.len().max(1) as f32).sqrt();
+        ((size(e) as f32 * k).round() as u32).clamp(size(e), *TEXELS.end())
+    };
     let eps = shading_eps(scene);
     // Per emitter and face it lights: its reflection and refraction beams.
     let emitters = stratified(scene, strata.max(1)).into_iter();
     let faces: Vec<LitFace<'_>> = emitters
         .filter(|e| strata > 0 || e.is_point())
-        .flat_map(|e| smesh.faces.iter().map(move |f| (e, f)))
-        .filter(|(e, f)| !behind(e, f))
-        .filter_map(|(e, f)| {
+        .flat_map(|e| smesh.faces.iter().enumerate().map(move |(i, f)| (e, i, f)))
+        .filter(|(e, _, f)| !behind(e, f))
+        .filter_map(|(e, i, f)| {
             let incoming = f.v.map(|v| (v - e.position).normalize_or_zero());
             let (reflected, refracted) = child_beams(scene, f, incoming, degree)?;
             let beams = [Some(reflected), refracted.flatten()].into_iter().flatten().zip([false, true]).collect();
-            Some((e, f, beams))
+            Some((e, f, smesh.exclude(i), beams))
         })
         .collect();
     let mut map = empty.clone();
@@ -136,12 +149,16 @@ pub fn caustics_by_beams(
     for batch in faces.chunks(512) {
         let jobs: Vec<BeamJob<'_>> = batch
             .iter()
-            .flat_map(|(e, f, beams)| beams.iter().map(|(beam, _)| BeamJob { beam, size: size(e), exclude: f.prim }))
+            .flat_map(|(e, _, ex, beams)| {
+                beams.iter().map(|(beam, _)| BeamJob { beam, size: size_under(e, ex), exclude: *ex })
+            })
             .collect();
         let mut textures = renderer.render_beams(scene, &jobs)?.into_iter();
         let work: Vec<_> = batch
             .iter()
-            .map(|(l, f, beams)| (*l, *f, beams, textures.by_ref().take(beams.len()).collect::<Vec<_>>()))
+            .map(|(l, f, ex, beams)| {
+                (*l, (*f, ex.thickness), beams, textures.by_ref().take(beams.len()).collect::<Vec<_>>())
+            })
             .collect();
         // In a fixed order, so that every process of a render farm sums the same map.
         let (m, s) = crate::ordered::fold_in_order(
@@ -149,10 +166,11 @@ pub fn caustics_by_beams(
             || (empty.clone(), CausticStats::default()),
             |(mut map, mut stats), (e, f, beams, textures)| {
                 // Whether the emitter reaches each texel's base point, shared by the face's beams.
-                let mut lit = vec![None; (size(e) * size(e)) as usize];
+                let n = textures.first().map_or(0, |t| t.size as usize);
+                let mut lit = vec![None; n * n];
                 for ((beam, transmitted), tex) in beams.iter().zip(textures) {
                     stats.beams += 1;
-                    deposit(scene, f, beam, tex, e, *transmitted, eps, &mut lit, &mut map, &mut stats);
+                    deposit(scene, *f, beam, tex, e, *transmitted, eps, &mut lit, &mut map, &mut stats);
                 }
                 (map, stats)
             },
@@ -168,12 +186,13 @@ pub fn caustics_by_beams(
     Ok(Some((map, stats)))
 }
 
-/// Splat the flux of one light beam's texels `tex` off face `f` (see [`caustics_by_beams`]);
-/// `lit` caches per texel whether emitter `e` reaches its base point (shadow rays offset by `eps`).
+/// Splat the flux of one light beam's texels `tex` off face `f` (with the thickness of the surface
+/// under it; see [`caustics_by_beams`]); `lit` caches per texel whether emitter `e` reaches its base
+/// point (shadow rays offset by `eps`, plus the thickness).
 #[allow(clippy::too_many_arguments)]
 fn deposit(
     scene: &Scene,
-    f: &SFace,
+    (f, thickness): (&SFace, f32),
     beam: &Beam,
     tex: &BeamTexture,
     e: &Emitter,
@@ -183,7 +202,7 @@ fn deposit(
     map: &mut IrradianceMap,
     stats: &mut CausticStats,
 ) {
-    let n = scene.normal(f.prim);
+    let n = f.normal;
     // Texels whose centre lies strictly inside the base: x + y + 2 ≤ size, n(n−1)/2 of them (the
     // next diagonal's centres lie on the edge, where rays start on the neighbouring faces).
     let inside = u64::from(tex.size) * u64::from(tex.size - 1) / 2;
@@ -203,7 +222,7 @@ fn deposit(
             let weight = if transmitted { Vec3::splat(transmit) } else { reflect } * e.falloff(d);
             if weight == Vec3::ZERO
                 || !*lit[(y * tex.size + x) as usize]
-                    .get_or_insert_with(|| !blocked(scene, f.prim, base, e.position, eps))
+                    .get_or_insert_with(|| !blocked(scene, n, base, e.position, eps + thickness))
             {
                 continue;
             }
@@ -217,7 +236,7 @@ fn deposit(
 }
 
 /// The ground truth of [`caustics_by_beams`]: about `photons` photons from each light, spread over
-/// the S-mesh faces in proportion to the flux they receive (from the light's centre) and placed
+/// the specular triangles (the fine S mesh, [`SMesh::specular`], whatever S mesh the beams use) in proportion to the flux they receive (from the light's centre) and placed
 /// uniformly at random on each face, each leaving a point light's position or a uniform random point
 /// of an area light; each carries `I(d)·cosθ·A/(r²·M)` of its face's `M` photons (`I(d)` the
 /// light's whole intensity `L·A_light·cosθ_light` for an area light), is split by Fresnel about the
@@ -225,7 +244,7 @@ fn deposit(
 /// surface they hit when it is diffuse (second specular bounces are not followed, as for beams).
 #[must_use]
 pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<IrradianceMap> {
-    let (smesh, empty) = setup(scene)?;
+    let (smesh, empty) = setup(scene, SMesh::specular(scene))?;
     let eps = shading_eps(scene);
     let mut jobs = Vec::new();
     for (li, light) in scene.lights.iter().enumerate() {
@@ -234,7 +253,7 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
             let c = (f.v[0] + f.v[1] + f.v[2]) / 3.0;
             let to = c - e.position;
             let falloff = if behind(&e, f) { 0.0 } else { e.falloff(to.normalize_or_zero()).max(1e-3) };
-            scene.normal(f.prim).dot(to).abs() / to.length().powi(3) * f.area() * falloff
+            f.normal.dot(to).abs() / to.length().powi(3) * f.area() * falloff
         };
         let shares: Vec<f32> = smesh.faces.iter().map(share).collect();
         let total: f32 = shares.iter().sum();
@@ -250,7 +269,7 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
         || empty.clone(),
         |mut map, &(light, e, f, m, seed)| {
             let mut rng = Pcg32::seed_from_u64(seed);
-            let (area, n) = (f.area(), scene.normal(f.prim));
+            let (area, n) = (f.area(), f.normal);
             for _ in 0..m {
                 let (mut s, mut t) = (rng.random::<f32>(), rng.random::<f32>());
                 if s + t > 1.0 {
@@ -265,7 +284,7 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
                 let to = p - from;
                 let r2 = to.length_squared();
                 let d = to / r2.sqrt();
-                if e.falloff(d) <= 0.0 || blocked(scene, f.prim, p, from, eps) {
+                if e.falloff(d) <= 0.0 || blocked(scene, n, p, from, eps) {
                     continue;
                 }
                 let flux = e.towards(d) * (n.dot(d).abs() * area / (r2 * m as f32));

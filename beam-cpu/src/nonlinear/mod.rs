@@ -6,7 +6,11 @@
 mod atlas;
 mod caustics;
 mod composite;
+mod cpu_beams;
+mod lookup;
 mod reference;
+mod settings;
+mod source;
 mod stages;
 mod trace;
 
@@ -15,9 +19,11 @@ pub use caustics::{
     CAUSTIC_STRATA, CausticStats, MAX_CAUSTIC_STRATA, caustic_texel, caustics_by_beams, caustics_by_photons,
 };
 pub use composite::composite_levels;
+pub use cpu_beams::{CpuBeams, shade_points};
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
+pub use settings::{NonlinearOptions, NonlinearStats};
 pub use stages::Stage;
-pub use trace::{CpuBeams, NonlinearOptions, NonlinearStats, render_nonlinear, render_nonlinear_with, shade_points};
+pub use trace::{render_nonlinear, render_nonlinear_with};
 // The host side of the beam tree, shared with beam-gpu (beam-scene), under the names the CPU
 // renderer's callers use.
 pub use beam_scene::nonlinear::*;

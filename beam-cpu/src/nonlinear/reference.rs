@@ -3,7 +3,7 @@
 //! waves so that a GPU's ray tracer can find every wave's hits at once.
 
 use super::caustics::caustics_by_photons;
-use super::trace::{CpuBeams, shade_points};
+use super::cpu_beams::{CpuBeams, shade_points};
 use crate::RenderError;
 use crate::render::{Image, RenderOptions};
 use beam_math::glam::Vec3;

@@ -12,7 +12,7 @@
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
 use crate::buffers::{checked, compute_pipeline, map, max_binding, output, shader_module, storage, uniform};
-use crate::interface::WORKGROUP_SIZE;
+use crate::interface::{PAIR_NEAR, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::PointShader;
 use crate::{Gpu, GpuError};
@@ -401,7 +401,10 @@ impl BeamRasterizer for GpuBeams<'_> {
                 let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
                 beams.push(GpuBeam::new(jobs[i].beam, [q.x, q.y, jobs[i].size], jobs[i].exclude));
                 let first = flat.len() as u32;
-                flat.extend(candidates[i].iter().map(|&prim| [k as u32, prim]));
+                // Triangles of a coarse face's ring carry PAIR_NEAR (self-hits, as on the CPU).
+                let exclude = jobs[i].exclude;
+                let near = |prim: u32| if exclude.near(prim) { PAIR_NEAR } else { 0 };
+                flat.extend(candidates[i].iter().map(|&prim| [k as u32, prim | near(prim)]));
                 ranges.push((first, flat.len() as u32));
             }
             let prepared = start.elapsed().as_secs_f64();

@@ -4,7 +4,7 @@
 
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::{BeamBounds, Interpolant, NonlinearBeam};
-use beam_scene::nonlinear::Beam;
+use beam_scene::nonlinear::{Beam, Exclude};
 use bytemuck::{Pod, Zeroable};
 
 /// Most control points of a GPU beam (S3: 10; [`crate::interface::MAX_CONTROL_POINTS`]).
@@ -49,9 +49,12 @@ fn v4(v: Vec3, w: f32) -> [f32; 4] {
 }
 
 impl GpuBeam {
-    /// `beam` on an atlas region `(x, y, size)`, skipping scene triangle `exclude`.
+    /// `beam` on an atlas region `(x, y, size)`, skipping scene triangle `exclude.prim` (a coarse
+    /// S-mesh face's patch is culled on the host by `cone_candidates`; its ring is marked per pair,
+    /// [`crate::interface::PAIR_NEAR`]), its lift for self-hits at least the surface's thickness
+    /// about a coarse face (as `beam_cpu::nonlinear::render_beam` takes it).
     #[must_use]
-    pub fn new(beam: &Beam, region: [u32; 3], exclude: u32) -> Self {
+    pub fn new(beam: &Beam, region: [u32; 3], exclude: Exclude<'_>) -> Self {
         let mut out = match beam {
             Beam::S1(b) => Self::from_beam(b, &b.bounds()),
             Beam::S3(b) => Self::from_beam(b, &b.bounds()),
@@ -66,7 +69,8 @@ impl GpuBeam {
                 g
             }
         };
-        out.region = [region[0], region[1], region[2], exclude];
+        out.bump[2] = out.bump[2].max(exclude.thickness);
+        out.region = [region[0], region[1], region[2], exclude.prim];
         out
     }
 

@@ -11,7 +11,7 @@ use crate::{Gpu, GpuError};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::BoundingCase;
-use beam_scene::nonlinear::Beam;
+use beam_scene::nonlinear::{Beam, Exclude};
 use bytemuck::{Pod, Zeroable};
 
 /// One case: a scene triangle, or a base point in `a`; the beam's index in `a[3]` (as bits).
@@ -64,7 +64,8 @@ impl NonlinearCheck {
         if groups > 65_535 {
             return Err(GpuError::TooManyCases { cases: cases.len() });
         }
-        let gpu_beams: Vec<GpuBeam> = beams.iter().map(|b| GpuBeam::new(b, [0, 0, 1], u32::MAX)).collect();
+        let gpu_beams: Vec<GpuBeam> =
+            beams.iter().map(|b| GpuBeam::new(b, [0, 0, 1], Exclude::base(u32::MAX))).collect();
         let beam_buffer = storage(gpu, "beams", &gpu_beams, wgpu::BufferUsages::empty());
         let case_buffer = storage(gpu, "cases", cases, wgpu::BufferUsages::empty());
         let size = (cases.len() * per_case * 16) as u64;

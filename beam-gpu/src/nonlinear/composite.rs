@@ -40,7 +40,8 @@ pub struct GpuFace {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct CompositeRecord {
-    /// The point its ray hit.
+    /// Where its face's reflection beam is looked up: the point its ray hit, or under a coarse
+    /// S-mesh face the point of the face at [`Composite::reflected_at`](beam_scene::nonlinear::Composite).
     pub p: [f32; 3],
     /// Its index in the level's radiance.
     pub texel: u32,
@@ -56,6 +57,10 @@ pub struct CompositeRecord {
     pub refracted: u32,
     /// Padding.
     pub pad: u32,
+    /// Where its face's refraction beam is looked up (as `p`, at `Composite::refracted_at`).
+    pub refracted_p: [f32; 3],
+    /// Padding.
+    pub pad2: u32,
 }
 
 /// Uniforms of the composite pass.
@@ -71,7 +76,7 @@ pub struct CompositeParams {
 }
 
 const _: () =
-    assert!(size_of::<GpuFace>() == 128 && size_of::<CompositeRecord>() == 48 && size_of::<CompositeParams>() == 16);
+    assert!(size_of::<GpuFace>() == 128 && size_of::<CompositeRecord>() == 64 && size_of::<CompositeParams>() == 16);
 
 /// "None" in [`CompositeRecord`] ([`crate::interface::NONE`]).
 pub use crate::interface::NONE;
@@ -118,7 +123,7 @@ impl GpuComposite {
         let faces = storage(gpu, "faces", &gpu_faces(scene, smesh), wgpu::BufferUsages::empty());
         let prepared = shader.prepare(gpu, caustics);
         // Records, shade inputs and outputs of one dispatch within a binding.
-        let chunk = ((max_binding(gpu) / 48) as usize).clamp(1, 1 << 20);
+        let chunk = ((max_binding(gpu) / 64) as usize).clamp(1, 1 << 20);
         let empty = || storage::<[u32; 2]>(gpu, "empty", &[], wgpu::BufferUsages::empty());
         let (mut below, mut below_regions) = (empty(), empty());
         let mut len = 0;
@@ -151,8 +156,19 @@ impl GpuComposite {
                     .zip(&sources)
                     .map(|(t, source)| {
                         let c = t.composite;
+                        // The shader looks the children up at `p`'s and `refracted_p`'s barycentric
+                        // coordinates on the face: under a coarse S-mesh face, the points of the
+                        // face where the CPU looks the reflection and the refraction up.
+                        let (p, refracted_p) = match c {
+                            Some(c) if smesh.is_coarse(c.face as usize) => {
+                                let f = &smesh.faces[c.face as usize];
+                                let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
+                                (at(c.reflected_at), at(c.refracted_at))
+                            }
+                            _ => (t.point.p, t.point.p),
+                        };
                         CompositeRecord {
-                            p: t.point.p.to_array(),
+                            p: p.to_array(),
                             texel: t.texel,
                             d: t.point.d.to_array(),
                             src: source.map_or(NONE, |(on_gpu, i)| (if on_gpu { i } else { direct.len() + i }) as u32),
@@ -160,6 +176,8 @@ impl GpuComposite {
                             reflected: c.map_or(NONE, |c| c.reflected),
                             refracted: c.and_then(|c| c.refracted).unwrap_or(NONE),
                             pad: 0,
+                            refracted_p: refracted_p.to_array(),
+                            pad2: 0,
                         }
                     })
                     .collect();
@@ -192,7 +210,7 @@ fn gpu_faces(scene: &Scene, smesh: &SMesh) -> Vec<GpuFace> {
         .map(|f| GpuFace {
             v: f.v.map(|v| v.extend(0.0).to_array()),
             n: f.n.map(|n| n.extend(0.0).to_array()),
-            normal: scene.normal(f.prim).extend(0.0).to_array(),
+            normal: f.normal.extend(0.0).to_array(),
             material: match scene.material(f.prim) {
                 Material::Mirror { tint, .. } => tint.extend(0.0).to_array(),
                 Material::Glass { ior } => [1.0, 1.0, 1.0, ior],

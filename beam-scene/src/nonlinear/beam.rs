@@ -57,12 +57,19 @@ impl Beam {
     /// Unit direction of the beam's ray through `q` (its nearest projection, 000 §5; for a bumped
     /// beam, that of its unperturbed S1 beam).
     pub fn direction_through(&self, q: Vec3) -> Option<Vec3> {
+        self.ray_at(self.project(q)?).direction.try_normalize()
+    }
+
+    /// Barycentric coordinates of the base point whose ray passes through `q`: its projection
+    /// (000 §5) least outside the base, in front of it (for a bumped beam, its unperturbed S1
+    /// beam's).
+    pub fn project(&self, q: Vec3) -> Option<Vec3> {
         let p = match self {
             Self::S1(b) => b.project_nearest(q),
             Self::S3(b) => b.project_nearest(q),
             Self::Bumped(b) => b.beam.beam.project_nearest(q),
         }?;
-        self.ray_at(p.bary).direction.try_normalize()
+        Some(p.bary)
     }
 }
 
@@ -78,7 +85,7 @@ pub fn child_beams(
     degree: Degree,
 ) -> Option<(Beam, Option<Option<Beam>>)> {
     // Vertex normals turned against the incoming light.
-    let entering = (incoming[0] + incoming[1] + incoming[2]).dot(scene.normal(f.prim)) < 0.0;
+    let entering = (incoming[0] + incoming[1] + incoming[2]).dot(f.normal) < 0.0;
     let n = f.n.map(|n| if entering { n } else { -n });
     let dirs = [0, 1, 2].map(|i| reflect(incoming[i], n[i]));
     let reflected = match scene.material(f.prim) {

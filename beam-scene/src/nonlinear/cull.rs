@@ -1,21 +1,23 @@
 //! Bounding-cone culling of the scene for one beam (000 App. A): the triangles a beam may meet.
 
+use super::texture::Exclude;
 use crate::scene::Scene;
 use beam_bvh::{Control, NodeVisitor};
 use beam_math::Aabb;
 use beam_math::collide::{Cone, cone_sphere};
 
-/// The scene triangles other than `exclude` that may meet a beam with bounding cone `cone`:
-/// bounding-cone culling (000 App. A) of the BVH's boxes, then of each triangle's bounding sphere.
+/// The scene triangles that may meet a beam with bounding cone `cone`, less those it skips
+/// (`exclude`, the surface under its base): bounding-cone culling (000 App. A) of the BVH's boxes,
+/// then of each triangle's bounding sphere.
 #[must_use]
-pub fn cone_candidates(scene: &Scene, cone: &Cone, exclude: u32) -> Vec<u32> {
+pub fn cone_candidates(scene: &Scene, cone: &Cone, exclude: Exclude<'_>) -> Vec<u32> {
     let mut cull = ConeCull { cone: *cone, prims: Vec::new() };
     scene.bvh.traverse(&mut cull);
     cull.prims.retain(|&i| {
         let tri = &scene.triangles[i as usize];
         let centre = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
         let radius = tri.v.iter().fold(0.0f32, |m, v| m.max(v.distance(centre)));
-        i != exclude && cone_sphere(cone, centre, radius)
+        !exclude.skips(i) && cone_sphere(cone, centre, radius)
     });
     cull.prims
 }

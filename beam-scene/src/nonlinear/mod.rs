@@ -1,13 +1,16 @@
 //! The host side of nonlinear beam tracing (000) that every backend shares: the S mesh over mirror
-//! and glass surfaces, the beams (S1, S3, bump-mapped), what a [`BeamRenderer`] is given and returns
+//! and glass surfaces (their own triangles, or a coarse S mesh given or simplified), the beams (S1, S3, bump-mapped), what a [`BeamRenderer`] is given and returns
 //! (jobs, texel regions and hits, shade points, the levels of the radiance flow), bounding-cone
 //! culling, and the Whitted waves that follow mirror and glass points past the tree. The renderers
 //! themselves are beam-cpu's and beam-gpu's.
 
 mod beam;
+mod coarse;
 mod cull;
+mod nearest;
 mod radiance;
 mod renderer;
+mod simplify;
 mod smesh;
 mod texture;
 mod waves;
@@ -17,6 +20,6 @@ pub use beam::{Beam, BumpedBeam, Degree, MIN_RISE, TEXEL_EPS, TexelBeam, child_b
 pub use cull::cone_candidates;
 pub use radiance::{Composite, LevelRadiance, TexelRadiance, composite, sample_region};
 pub use renderer::{BeamRasterizer, BeamRenderer, DeviceWaits, PointShading};
-pub use smesh::{SFace, SMesh};
-pub use texture::{BeamJob, BeamTexture, ShadePoint, TEXELS, TEXELS_PER_SAMPLE, TexelHit, region_size};
+pub use smesh::{MAX_NORMAL_SPREAD, SFace, SMesh};
+pub use texture::{BeamJob, BeamTexture, Exclude, ShadePoint, TEXELS, TEXELS_PER_SAMPLE, TexelHit, region_size};
 pub use waves::{Path, Shade, shade_by_waves, trace_waves};

@@ -8,8 +8,8 @@ use crate::scene::{Material, Scene};
 use crate::specular::dielectric;
 use beam_math::glam::Vec3;
 
-/// The child beams a texel on a specular S-mesh face is textured from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// The child beams a texel on a specular S-mesh face is textured from, and where.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Composite {
     /// The S-mesh face.
     pub face: u32,
@@ -17,6 +17,11 @@ pub struct Composite {
     pub reflected: u32,
     /// Its refraction beam, for glass.
     pub refracted: Option<u32>,
+    /// Barycentric coordinates on the face where the reflection beam is looked up: the point's
+    /// own on a face that is a scene triangle.
+    pub reflected_at: Vec3,
+    /// Where the refraction beam is looked up.
+    pub refracted_at: Vec3,
 }
 
 /// A texel (or pixel) that hit, and how its radiance is found.
@@ -63,8 +68,10 @@ pub fn sample_region(radiance: &[Vec3], size: u32, w: Vec3) -> Vec3 {
 }
 
 /// Radiance leaving the point of `t` (on a specular face with child beams) towards the arriving ray:
-/// the children's radiance at its barycentric point, `sample(beam, w)`, tinted for a mirror,
-/// Fresnel-weighted for glass (reflection only under total internal reflection).
+/// the children's radiance where `c` looks them up (`sample(beam, w)`, at the point's own
+/// barycentric coordinates on a face that is a scene triangle), tinted for a mirror,
+/// Fresnel-weighted (about the face's interpolated normal there) for glass (reflection only under
+/// total internal reflection).
 #[must_use]
 pub fn composite(
     scene: &Scene,
@@ -74,15 +81,15 @@ pub fn composite(
     sample: impl Fn(u32, Vec3) -> Vec3,
 ) -> Vec3 {
     let f = &smesh.faces[c.face as usize];
-    let w = f.barycentric(point.p);
+    let w = c.reflected_at;
     let reflected = sample(c.reflected, w);
     match (scene.material(f.prim), c.refracted) {
         (Material::Mirror { tint, .. }, _) => tint * reflected,
         (Material::Glass { ior }, Some(refracted)) => {
-            let entering = point.d.dot(scene.normal(f.prim)) < 0.0;
+            let entering = point.d.dot(f.normal) < 0.0;
             let n = if entering { f.normal_at(w) } else { -f.normal_at(w) };
             match dielectric(point.d, n, ior, entering) {
-                (fresnel, Some(_)) => fresnel * reflected + (1.0 - fresnel) * sample(refracted, w),
+                (fresnel, Some(_)) => fresnel * reflected + (1.0 - fresnel) * sample(refracted, c.refracted_at),
                 (_, None) => reflected,
             }
         }

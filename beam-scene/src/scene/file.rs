@@ -3,7 +3,7 @@
 
 use super::check::{self, finite};
 use super::format::{self, Scale, SceneFile};
-use super::{Camera, Light, Material, Scene};
+use super::{Camera, Light, Material, SMeshPlan, Scene, smesh_file};
 use crate::error::SceneError;
 use crate::mesh::{Mesh, load_obj_with};
 use crate::read::{MAX_SCENE_BYTES, has_extension, read_bounded, resolve_inside};
@@ -83,6 +83,8 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     // Each mesh file is read once, however many meshes name it.
     let mut meshes: HashMap<PathBuf, Mesh> = HashMap::new();
     let mut skipped = 0;
+    // S-mesh sources by range of the scene's (valid) triangles.
+    let (mut valid, mut parts) = (0u32, Vec::new());
     for (i, m) in file.meshes.iter().enumerate() {
         let element = format!("meshes[{i}]");
         let &mat = index.get(&m.material).ok_or_else(|| SceneError::Invalid {
@@ -107,10 +109,21 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
             skipped += stats.skipped_elements;
             meshes.insert(mesh_path.clone(), mesh);
         }
+        let first = triangles.len();
         for tri in meshes[&mesh_path].triangles() {
             triangles.push((Triangle { v: tri.v.map(|v| rot * (v * scale) + t) }, mat));
         }
+        let fine: Vec<Triangle> = triangles[first..].iter().map(|(t, _)| *t).collect();
+        let start = valid;
+        valid += fine.iter().filter(|t| t.is_valid()).count() as u32;
+        let material = (&materials[mat as usize], m.material.as_str());
+        let place = |v: Vec3| rot * (v * scale) + t;
+        let allow = options.allow_outside_paths;
+        if let Some(source) = smesh_file::mesh_source(path, dir, allow, &element, m, material, place, &fine)? {
+            parts.push((start..valid, source));
+        }
     }
+    let rest = smesh_file::rest(path, file.smesh.as_ref())?;
     let mut lights = Vec::new();
     for (i, l) in file.lights.iter().enumerate() {
         let element = format!("lights[{i}]");
@@ -128,6 +141,7 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let mut scene = Scene::new(path.display().to_string(), triangles, materials, lights, camera);
     scene.stats.skipped_elements = skipped;
     scene.camera_path = camera_path;
+    scene.smesh = SMeshPlan { parts, rest };
     Ok(scene)
 }
 
@@ -181,6 +195,7 @@ fn load_bare_obj(path: &Path) -> Result<Scene, SceneError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::{SMeshSource, Simplify};
 
     fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
         let p = dir.join(name);
@@ -260,6 +275,59 @@ mod tests {
         assert!(load_file(&blind).err().unwrap().to_string().contains("camera.keys[1]"));
         let none = write(dir.path(), "f.toml", &format!("{body}[camera]\nfov = 30\n"));
         assert!(load_file(&none).err().unwrap().to_string().contains("needs position and target"));
+    }
+
+    #[test]
+    fn smesh_keys_give_coarse_meshes_or_clear_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        // A unit tetrahedron-ish fan and a coarse triangle over it.
+        write(
+            dir.path(),
+            "fine.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 0.1\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n",
+        );
+        write(dir.path(), "coarse.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+        write(dir.path(), "far.obj", "v 10 0 0\nv 11 0 0\nv 11 1 0\nf 1 2 3\n");
+        write(dir.path(), "bad.obj", "v 0 0 0\nv 1 0\nf 1 2 3\n");
+        let materials = "[materials.m]\ntype = \"mirror\"\n[materials.w]\ntype = \"diffuse\"\nalbedo = [1, 1, 1]\n";
+        let scene = |name: &str, mesh: &str, extra: &str| {
+            let text = format!(
+                "{materials}[[meshes]]\nfile = \"fine.obj\"\nmaterial = \"m\"\ntranslate = [2, 0, 0]\n{mesh}\n{extra}"
+            );
+            load_file(&write(dir.path(), name, &text))
+        };
+        let s = scene("a.toml", "smesh = \"coarse.obj\"", "").unwrap();
+        match &s.smesh.parts[..] {
+            [(r, SMeshSource::Given(m))] => {
+                assert_eq!(*r, 0..4);
+                assert_eq!(m.indices.len(), 2);
+                assert_eq!(m.positions[1], Vec3::new(3.0, 0.0, 0.0), "moved with its mesh");
+            }
+            other => panic!("{other:?}"),
+        }
+        let s = scene("b.toml", "smesh_target = 8", "[smesh]\nerror = 0.02\n").unwrap();
+        assert!(matches!(s.smesh.parts[..], [(_, SMeshSource::Simplified(Simplify::Faces(8)))]));
+        assert_eq!(s.smesh.rest, Some(Simplify::Error(0.02)));
+        let err = |name: &str, mesh: &str, extra: &str| scene(name, mesh, extra).err().unwrap().to_string();
+        let e = err("c.toml", "smesh = \"far.obj\"", "");
+        assert!(e.contains("c.toml") && e.contains("meshes[0].smesh") && e.contains("does not lie over"), "{e}");
+        let e = err("d.toml", "smesh = \"bad.obj\"", "");
+        assert!(e.contains("meshes[0].smesh") && e.contains("bad.obj:2"), "{e}");
+        let e = err("e.toml", "smesh = \"none.obj\"", "");
+        assert!(e.contains("meshes[0].smesh") && e.contains("none.obj"), "{e}");
+        let e = err("f.toml", "smesh_target = 2", "");
+        assert!(e.contains("meshes[0].smesh_target must be a face count from 4"), "{e}");
+        let e = err("g.toml", "smesh_target = 8\nsmesh_error = 0.1", "");
+        assert!(e.contains("not both"), "{e}");
+        let e = err("h.toml", "smesh = \"coarse.obj\"\nsmesh_error = 0.1", "");
+        assert!(e.contains("not both"), "{e}");
+        let e = err("i.toml", "", "[smesh]\nerror = 0\n");
+        assert!(e.contains("smesh.error must be an error above 0"), "{e}");
+        let diffuse = format!("{materials}[[meshes]]\nfile = \"fine.obj\"\nmaterial = \"w\"\nsmesh_target = 8\n");
+        let e = load_file(&write(dir.path(), "j.toml", &diffuse)).err().unwrap().to_string();
+        assert!(e.contains("meshes[0].smesh_target") && e.contains("not material `w`"), "{e}");
+        let e = err("k.toml", "smesh = 3", "");
+        assert!(e.contains("k.toml:"), "{e}");
     }
 
     #[test]

@@ -25,6 +25,15 @@
 //! rotate = [0, 90, 0]
 //! scale = 1.0                   # a number or [x, y, z]
 //!
+//! smesh = "bunny-coarse.obj"    # mirror or glass only, optional: a coarse S mesh (000 §7.1) for
+//!                               # the nonlinear beams, in the mesh's own coordinates (transformed
+//!                               # with it); or smesh_target = 300 (faces) or smesh_error = 0.01
+//!                               # (a fraction of its size): the mesh simplified by meshoptimizer
+//!
+//! [smesh]                       # optional: simplify every other mirror and glass mesh for the
+//! target = 1500                 # nonlinear beams to about this many S-mesh faces in all,
+//!                               # or `error = 0.01`
+//!
 //! [[lights]]                    # type: point | quad | triangle
 //! type = "quad"
 //! corner = [-0.5, 2, -0.5]
@@ -51,6 +60,15 @@ pub(super) struct SceneFile {
     pub(super) meshes: Vec<MeshFile>,
     #[serde(default)]
     pub(super) lights: Vec<LightFile>,
+    pub(super) smesh: Option<SMeshFile>,
+}
+
+/// The scene-wide S-mesh simplification (`[smesh]`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SMeshFile {
+    pub(super) target: Option<u32>,
+    pub(super) error: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -117,6 +135,9 @@ pub(super) struct MeshFile {
     pub(super) translate: Option<[f32; 3]>,
     pub(super) rotate: Option<[f32; 3]>,
     pub(super) scale: Option<Scale>,
+    pub(super) smesh: Option<String>,
+    pub(super) smesh_target: Option<u32>,
+    pub(super) smesh_error: Option<f32>,
 }
 
 #[derive(Deserialize)]

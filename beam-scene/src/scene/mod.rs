@@ -12,11 +12,14 @@ mod gltf;
 pub mod light_volumes;
 mod normals;
 pub mod showcase;
+mod smesh_file;
+mod smesh_plan;
 
 pub use builtin::{BUILTIN, PROCEDURAL, builtin, builtin_with_smesh};
 pub use camera::Camera;
 pub use camera_path::{CameraKey, CameraPath};
 pub use file::{LoadOptions, load, load_file, load_file_with, load_with};
+pub use smesh_plan::{MAX_SMESH_FACES, SMeshPlan, SMeshSource, Simplify};
 
 use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
 use beam_math::Triangle;
@@ -239,6 +242,9 @@ pub struct Scene {
     /// Smooth unit vertex normals of each mirror and glass triangle (the curved surface its mesh
     /// approximates).
     pub smooth_normals: std::collections::HashMap<u32, [Vec3; 3]>,
+    /// Where the S meshes of the specular surfaces come from (000 §7.1); by default the specular
+    /// triangles themselves.
+    pub smesh: SMeshPlan,
 }
 
 impl Scene {
@@ -275,6 +281,7 @@ impl Scene {
             bvh,
             wide,
             smooth_normals,
+            smesh: SMeshPlan::default(),
         }
     }
 

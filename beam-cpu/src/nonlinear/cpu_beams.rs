@@ -1,0 +1,57 @@
+//! The CPU's beam renderer: texel regions by [`render_beam`], rays through the BVH, shading by
+//! [`shade_point`].
+
+use super::atlas::render_beam;
+use crate::render::{IrradianceMap, RenderOptions, shade_point};
+use beam_bvh::Hit;
+use beam_math::Ray;
+use beam_math::glam::Vec3;
+use beam_scene::BackendError;
+use beam_scene::nonlinear::{
+    BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, DeviceWaits, PointShading, RayQueries, ShadePoint,
+};
+use beam_scene::scene::Scene;
+use rayon::prelude::*;
+
+/// The CPU's beam renderer: [`render_beam`] per beam, in parallel; rays through the BVH.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CpuBeams;
+
+impl BeamRasterizer for CpuBeams {
+    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
+        Ok(jobs.par_iter().map(|j| render_beam(scene, j.beam.texel_beam(), j.size, j.exclude)).collect())
+    }
+}
+
+impl RayQueries for CpuBeams {
+    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
+        Ok(rays.par_iter().map(|&ray| scene.wide.closest_hit(ray, f32::INFINITY)).collect())
+    }
+
+    fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
+        Ok(segments.par_iter().map(|&(ray, t_max)| scene.wide.any_hit(ray, t_max)).collect())
+    }
+}
+
+/// The CPU shades with [`shade_point`] itself ([`shade_points`]): the defaults hand it back.
+impl PointShading for CpuBeams {}
+
+/// No device: all of a CPU frame is host work.
+impl DeviceWaits for CpuBeams {}
+
+/// The radiance of every point: by `renderer` where it shades with `options`, else on the CPU by
+/// [`shade_point`].
+pub fn shade_points(
+    renderer: &dyn BeamRenderer,
+    scene: &Scene,
+    options: &RenderOptions,
+    caustics: Option<&IrradianceMap>,
+    points: &[ShadePoint],
+) -> Result<Vec<Vec3>, BackendError> {
+    match renderer.shade_points(scene, options, caustics, points)? {
+        Some(radiance) => Ok(radiance),
+        None => {
+            Ok(points.par_iter().map(|s| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed)).collect())
+        }
+    }
+}

@@ -1,0 +1,65 @@
+//! The nonlinear renderer's settings and the statistics of a render (000 §8).
+
+use super::caustics::CausticStats;
+use super::stages::Stage;
+use crate::render::RenderOptions;
+use beam_scene::nonlinear::Degree;
+
+/// Settings of the nonlinear renderer.
+#[derive(Clone, Copy, Debug)]
+pub struct NonlinearOptions {
+    /// Beam parameterization.
+    pub degree: Degree,
+    /// Most texels per side of a beam's region; each beam gets the smallest power of two that
+    /// gives its face at least [`TEXELS_PER_SAMPLE`](beam_scene::nonlinear::TEXELS_PER_SAMPLE) texels per pixel covering it, no fewer than 4
+    /// (or than this, when it is below 4). Taken within [`TEXELS`](beam_scene::nonlinear::TEXELS) (a value outside is clamped).
+    pub texels: u32,
+    /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays.
+    pub bounces: u32,
+    /// Strata per side of an area light in the caustic pass (0: area lights cast no caustics;
+    /// at most [`super::MAX_CAUSTIC_STRATA`]); see [`super::caustics_by_beams`].
+    pub caustic_strata: u32,
+    /// Shading of everything the beams and the eye see.
+    pub shading: RenderOptions,
+}
+
+/// What a nonlinear render did (000 §8's statistics).
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct NonlinearStats {
+    /// Wall time, seconds.
+    pub seconds: f64,
+    /// `s1` or `s3`.
+    pub degree: String,
+    /// Beams per level of the beam tree (level 1: beams off the S-mesh faces the eye sees).
+    pub beams_per_level: Vec<u64>,
+    /// S-mesh faces (000 §7.1).
+    pub smesh_faces: u64,
+    /// Of [`Self::smesh_faces`], those of coarse S meshes (given or simplified).
+    pub coarse_smesh_faces: u64,
+    /// Of [`Self::coarse_smesh_faces`], those whose normals spread too far for beams: the points
+    /// under them are traced by rays.
+    pub coarse_faces_by_rays: u64,
+    /// Pixels and texels on mirrors and glass shaded by rays rather than textured from child beams
+    /// (past the last level, on slivers, and under a coarse face where no child beam holds their
+    /// scattered ray).
+    pub specular_by_rays: u64,
+    /// Of [`Self::specular_by_rays`], those under a coarse face whose child beams do not hold their
+    /// scattered ray (000 §7.1's S mesh is coarser than the surface's reflections).
+    pub uncovered_by_beams: u64,
+    /// Mean scene triangles per beam after bounding-cone culling.
+    pub triangles_per_beam: f64,
+    /// Texels tested in bounding triangles over texels rendered (the overdraw of 000 Fig. 7).
+    pub overdraw: f64,
+    /// Texels rendered (every beam's region).
+    pub texels_rendered: u64,
+    /// Texels shaded (their ray hit the scene).
+    pub texels_shaded: u64,
+    /// The light beams of the caustic pass.
+    pub caustics: CausticStats,
+    /// Where the frame's time went, stage by stage, and the host's share of each.
+    pub stages: Vec<Stage>,
+    /// Image width and height.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+}
