@@ -6,7 +6,7 @@ use beam_cpu::nonlinear::{CpuBeams, Degree, NonlinearOptions, render_nonlinear_w
 use beam_cpu::render::{RenderOptions, difference};
 use beam_gpu::Gpu;
 use beam_gpu::nonlinear::GpuBeams;
-use beam_scene::scene;
+use beam_scene::scene::{self, Simplify};
 use std::time::Instant;
 
 /// The built-in scenes of 000's figures.
@@ -14,11 +14,19 @@ pub const SCENES: [&str; 6] =
     ["mirror-teapot", "mirror-glass", "facing-mirrors", "glass-lens", "wavy-lake", "bumpy-mirror"];
 
 /// Run the benchmark: `frames` timed GPU frames per scene (after one warm-up frame) and one CPU
-/// frame, at `width × height`.
-pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degree) -> Result<(), String> {
+/// frame, at `width × height`; with `smesh`, beams spawn from coarse S meshes simplified so.
+pub fn run(
+    scenes: &[String],
+    width: u32,
+    height: u32,
+    frames: u32,
+    degree: Degree,
+    smesh: Option<Simplify>,
+) -> Result<(), String> {
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
+    let coarse = smesh.map_or_else(String::new, |s| format!(", coarse S meshes ({s:?})"));
     println!(
-        "GPU: {}; {width}×{height}, {frames} timed frames per scene, {degree:?}, 2 tree levels, no area-light caustics",
+        "GPU: {}; {width}×{height}, {frames} timed frames per scene, {degree:?}, 2 tree levels, no area-light caustics{coarse}",
         gpu.describe()
     );
     println!(
@@ -37,7 +45,8 @@ pub fn run(scenes: &[String], width: u32, height: u32, frames: u32, degree: Degr
         "PSNR"
     );
     for name in scenes {
-        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
+        let mut scene = scene::builtin(name).map_err(|e| e.to_string())?;
+        scene.smesh.rest = smesh;
         let options = NonlinearOptions {
             degree,
             texels: 32,

@@ -131,6 +131,10 @@ pub enum BenchCommand {
         /// `s1` or `s3`.
         #[arg(long, default_value = "s3")]
         degree: String,
+        /// Spawn the beams from a coarse S mesh (000 §7.1) of about N faces, simplified from every
+        /// mirror and glass surface (as `beam render --smesh-target`), 4 to 16777216.
+        #[arg(long, value_name = "N")]
+        smesh_target: Option<u32>,
     },
     /// Glossy light volumes (002) against photon tracing at equal RMSE on the three built-ins of
     /// 002's figures, on the CPU and (with an adapter) the GPU; plots RMSE against time.
@@ -195,9 +199,16 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             let clock = if cpu_time { bvh::Clock::Thread } else { bvh::Clock::Wall };
             bvh::run(&scene, json.as_deref(), size, sah_only, clock)
         }
-        BenchCommand::Gpu { scenes, width, height, frames, degree } => {
+        BenchCommand::Gpu { scenes, width, height, frames, degree, smesh_target } => {
             side("--width", width)?;
             side("--height", height)?;
+            let smesh = smesh_target
+                .map(|n| {
+                    beam_scene::scene::Simplify::Faces(n)
+                        .checked()
+                        .map_err(|e| format!("--smesh-target {n} out of range: {e}"))
+                })
+                .transpose()?;
             let scenes = if scenes.is_empty() { gpu::SCENES.map(String::from).to_vec() } else { scenes };
             let degree = match degree.as_str() {
                 "s1" => beam_cpu::nonlinear::Degree::S1,
@@ -207,7 +218,7 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             if dry {
                 return Ok(ExitCode::SUCCESS);
             }
-            gpu::run(&scenes, width, height, frames, degree)
+            gpu::run(&scenes, width, height, frames, degree, smesh)
         }
         BenchCommand::Glossy { scenes, size, reference_photons, subdivide, out } => {
             side("--size", size)?;
