@@ -7,6 +7,7 @@ mod atlas;
 mod caustics;
 mod composite;
 mod cpu_beams;
+mod frame;
 mod lookup;
 mod reference;
 mod settings;
@@ -20,10 +21,10 @@ pub use caustics::{
 };
 pub use composite::composite_levels;
 pub use cpu_beams::{CpuBeams, shade_points};
+pub use frame::{render_nonlinear, render_nonlinear_with};
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
 pub use settings::{NonlinearOptions, NonlinearStats};
 pub use stages::Stage;
-pub use trace::{render_nonlinear, render_nonlinear_with};
 // The host side of the beam tree, shared with beam-gpu (beam-scene), under the names the CPU
 // renderer's callers use.
 pub use beam_scene::nonlinear::*;

@@ -1,0 +1,147 @@
+//! One frame of the nonlinear renderer (000 §7.3): the caustics, the eye's view and the S-mesh
+//! faces it sees, the beam tree level by level ([`Tree`]), the radiance flow and the shading, each
+//! a stage of the frame's [`StageClock`].
+
+use super::caustics::caustics_by_beams;
+use super::composite::composite_levels;
+use super::cpu_beams::{CpuBeams, shade_points};
+use super::settings::{NonlinearOptions, NonlinearStats};
+use super::stages::StageClock;
+use super::trace::{Built, Request, Tree};
+use crate::RenderError;
+use crate::render::Image;
+use beam_bvh::Hit;
+use beam_math::Ray;
+use beam_math::glam::Vec3;
+use beam_scene::nonlinear::{BeamRenderer, Degree, LevelRadiance, SMesh, ShadePoint, TexelRadiance};
+use beam_scene::scene::Scene;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Render `scene` with its mirror and glass surfaces by nonlinear beams on the CPU.
+#[must_use]
+pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, NonlinearStats) {
+    render_nonlinear_with(scene, options, &CpuBeams).unwrap_or_else(|e| unreachable!("the CPU renderer failed: {e}"))
+}
+
+/// Render `scene` with its mirror and glass surfaces by nonlinear beams, the eye's view and every
+/// level of the beam tree rendered by `renderer` (the CPU's, or a GPU's atlases); the tree logic and
+/// the shading are shared. With `options.shading.region`, the eye's rays and the caustics are still
+/// the whole frame's (a face's beams are built from every pixel that sees it), but only the beams
+/// of faces that the region's pixels see are traced, and only its pixels are shaded.
+pub fn render_nonlinear_with(
+    scene: &Scene,
+    options: &NonlinearOptions,
+    renderer: &dyn BeamRenderer,
+) -> Result<(Image, NonlinearStats), RenderError> {
+    let start = Instant::now();
+    let mut clock = StageClock::start(renderer);
+    let camera = scene.camera.with_size(options.shading.width, options.shading.height);
+    // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.
+    let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
+    clock.lap("caustics");
+    let caustic_stats = caustics.as_ref().map(|c| c.1.clone()).unwrap_or_default();
+    let tree = Tree {
+        scene,
+        smesh: SMesh::of(scene),
+        options: *options,
+        eye: camera.position,
+        caustics: caustics.map(|c| c.0),
+        by_rays: std::sync::atomic::AtomicU64::new(0),
+    };
+    // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
+    // the beam tree.
+    let frame = camera.frame();
+    let rays: Vec<Ray> =
+        (0..(camera.width * camera.height) as usize).into_par_iter().map(|i| camera.pixel_ray(&frame, i)).collect();
+    let hits: Vec<Option<(Ray, Hit)>> =
+        renderer.closest_hits(scene, &rays)?.into_par_iter().zip(rays).map(|(h, ray)| Some((ray, h?))).collect();
+    clock.lap("eye view");
+    // Per pixel, the S face it sees: its own triangle's, or on a coarse S mesh the face its point
+    // maps to. The eye's beams need only how many pixels see each face (their directions come from
+    // the eye itself, `Source::Eye`).
+    let located: Vec<Option<(usize, Vec3)>> =
+        hits.par_iter().map(|h| h.and_then(|(ray, h)| tree.smesh.locate(h.prim, ray.at(h.t)))).collect();
+    // A face's beams come from every pixel that sees it, but only the faces that pixels of the
+    // region see are traced on (with their subtrees): the beams of the others reach no pixel of it.
+    let crop = options.shading.region();
+    let in_crop = |i: usize| crop.contains((i % camera.width as usize) as u32, (i / camera.width as usize) as u32);
+    let (mut seen_by, mut wanted) = (vec![0u32; tree.smesh.faces.len()], vec![false; tree.smesh.faces.len()]);
+    for (i, l) in located.iter().enumerate() {
+        if let Some((f, _)) = *l {
+            seen_by[f] += 1;
+            wanted[f] |= in_crop(i);
+        }
+    }
+    let roots: Vec<Request> = (0..seen_by.len())
+        .filter(|&f| wanted[f])
+        .map(|face| Request { parent: None, face, samples: Vec::new(), pixels: seen_by[face] as f32 })
+        .collect();
+    clock.lap("eye view: faces seen");
+    let Built { roots: children, levels } = tree.build(renderer, roots, &mut clock)?;
+    // The eye's view (the region's pixels) is level 0 of the radiance flow.
+    let eye = LevelRadiance {
+        regions: Vec::new(),
+        len: hits.len(),
+        texels: hits
+            .par_iter()
+            .enumerate()
+            .filter(|&(i, _)| in_crop(i))
+            .filter_map(|(i, hit)| {
+                let (ray, hit) = (*hit)?;
+                let point =
+                    ShadePoint { prim: hit.prim, p: ray.at(hit.t), d: ray.direction.normalize(), seed: i as u64 };
+                let composite =
+                    tree.composite(&children, levels.first().map_or(&[][..], |l| &l[..]), &point, located[i]);
+                Some(TexelRadiance { texel: i as u32, point, composite })
+            })
+            .collect(),
+    };
+    let flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
+    let specular_by_rays = flow
+        .iter()
+        .flat_map(|l| &l.texels)
+        .filter(|t| t.composite.is_none() && scene.smooth_normals.contains_key(&t.point.prim))
+        .count() as u64;
+    clock.lap("radiance flow");
+    let (shading, caustics) = (&options.shading, tree.caustics.as_ref());
+    let frame = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
+        Some(pixels) => pixels,
+        None => composite_levels(scene, &tree.smesh, &flow, &|points| {
+            shade_points(renderer, scene, shading, caustics, points)
+        })?,
+    };
+    clock.lap("shading and composite");
+    let image = Image { width: crop.width(), height: crop.height(), pixels: crop.cut(&frame, camera.width) };
+    let all = || levels.iter().flatten();
+    let beams = all().count();
+    let texels_tested: u64 = all().map(|n| n.tex.texels_tested).sum();
+    let texels_rendered: u64 = all().map(|n| n.tex.texels()).sum();
+    let stats = NonlinearStats {
+        seconds: start.elapsed().as_secs_f64(),
+        degree: match options.degree {
+            Degree::S1 => "s1",
+            Degree::S3 => "s3",
+        }
+        .into(),
+        beams_per_level: levels.iter().map(|l| l.len() as u64).collect(),
+        smesh_faces: tree.smesh.faces.len() as u64,
+        coarse_smesh_faces: tree.smesh.coarse_faces() as u64,
+        coarse_faces_by_rays: tree.smesh.faces_by_rays() as u64,
+        specular_by_rays,
+        uncovered_by_beams: tree.by_rays.load(std::sync::atomic::Ordering::Relaxed),
+        triangles_per_beam: all().map(|n| f64::from(n.tex.triangles_after_culling)).sum::<f64>().max(0.0)
+            / beams.max(1) as f64,
+        overdraw: texels_tested as f64 / texels_rendered.max(1) as f64,
+        texels_rendered,
+        texels_shaded: all().map(|n| n.hits.len() as u64).sum(),
+        caustics: caustic_stats,
+        stages: {
+            clock.lap("image");
+            clock.stages()
+        },
+        width: image.width,
+        height: image.height,
+    };
+    Ok((image, stats))
+}
