@@ -43,13 +43,13 @@ pub fn uniform(gpu: &Gpu, label: &str, bytes: &[u8]) -> wgpu::Buffer {
 }
 
 /// Submit `encoder` after copying `size` bytes of `source` into a mappable buffer, wait, and read
-/// them back.
-pub fn read_back(
+/// them back as `T`s (copied once, from where they are mapped).
+pub fn read_back<T: bytemuck::Pod>(
     gpu: &Gpu,
     mut encoder: wgpu::CommandEncoder,
     source: &wgpu::Buffer,
     size: u64,
-) -> Result<Vec<u8>, GpuError> {
+) -> Result<Vec<T>, GpuError> {
     let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size,
@@ -58,21 +58,23 @@ pub fn read_back(
     });
     encoder.copy_buffer_to_buffer(source, 0, &readback, 0, size);
     gpu.queue.submit([encoder.finish()]);
-    map(gpu, &readback)
+    map_with(gpu, &readback, bytemuck::pod_collect_to_vec)
 }
 
-/// Wait for the queue and read a `MAP_READ` buffer.
-pub fn map(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+/// Wait for the queue and hand `read` the bytes of a `MAP_READ` buffer where they are mapped (no
+/// copy: a large readback is unpacked straight from them). Mapped ranges start at an 8-byte
+/// boundary (`wgpu::MAP_ALIGNMENT`).
+pub fn map_with<T>(gpu: &Gpu, buffer: &wgpu::Buffer, read: impl FnOnce(&[u8]) -> T) -> Result<T, GpuError> {
     let slice = buffer.slice(..);
     slice.map_async(wgpu::MapMode::Read, |_| {});
     let start = std::time::Instant::now();
     gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(GpuError::Wait)?;
     let waited = start.elapsed();
     let data = slice.get_mapped_range().map_err(GpuError::Readback)?;
-    let out = data.to_vec();
+    let (out, len) = (read(&data), data.len());
     drop(data);
     buffer.unmap();
-    gpu.record(waited, out.len());
+    gpu.record(waited, len);
     Ok(out)
 }
 

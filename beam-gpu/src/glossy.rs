@@ -307,13 +307,13 @@ impl GpuGather {
                     gpu.queue.write_buffer(&unfinished, 0, &[0; 4]);
                     let encoder =
                         dispatch(gpu, &self.pipeline, &buffers, chunk.len().div_ceil(WORKGROUP_SIZE as usize) as u32);
-                    let left = read_back(gpu, encoder, &unfinished, 4)?;
-                    if u32::from_le_bytes([left[0], left[1], left[2], left[3]]) == 0 {
+                    let left: Vec<u32> = read_back(gpu, encoder, &unfinished, 4)?;
+                    if left.first().is_none_or(|&n| n == 0) {
                         break;
                     }
                 }
                 let encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-                let raw: Vec<GpuGathered> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &result, size)?);
+                let raw: Vec<GpuGathered> = read_back(gpu, encoder, &result, size)?;
                 out.extend(raw.iter().map(|g| Gathered {
                     irradiance: Vec3::from(g.irradiance),
                     shadowed: u64::from(g.shadowed),

@@ -96,7 +96,7 @@ impl RayTracer {
         let size = (rays.len() * size_of::<GpuHit>()) as u64;
         let hits = output(gpu, "hits", size);
         let encoder = dispatch(gpu, &self.pipeline, &[&self.nodes, &self.triangles, &ray_buffer, &hits], groups as u32);
-        let hits: Vec<GpuHit> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &hits, size)?);
+        let hits: Vec<GpuHit> = read_back(gpu, encoder, &hits, size)?;
         // A miss at t = −1 (of a ray searched from t = 0 on): the traversal's stack overflowed
         // (lib/trace.wgsl), which GpuBvh::new rules out.
         if let Some(i) = (0..hits.len()).find(|&i| hits[i].prim == MISS && hits[i].t < 0.0 && rays[i].t_max >= 0.0) {

@@ -272,7 +272,7 @@ impl PointShader {
         checked(gpu, || {
             let (encoder, out) = self.shade_into(gpu, tracer, &prepared, spp, points, 0)?;
             let size = (points.len() * 16) as u64;
-            let radiance: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &out, size)?);
+            let radiance: Vec<[f32; 4]> = read_back(gpu, encoder, &out, size)?;
             Ok(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])).collect())
         })
     }
@@ -344,8 +344,8 @@ impl PointShader {
                 let groups = points.len().div_ceil(WORKGROUP_SIZE as usize) as u32;
                 pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
             }
-            let left = read_back(gpu, encoder, &state, 4)?;
-            if bytemuck::pod_read_unaligned::<u32>(&left[..4]) == 0 {
+            let left: Vec<u32> = read_back(gpu, encoder, &state, 4)?;
+            if left.first().is_none_or(|&n| n == 0) {
                 break;
             }
         }

@@ -11,7 +11,7 @@
 
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
-use crate::buffers::{checked, compute_pipeline, map, max_binding, output, shader_module, storage, uniform};
+use crate::buffers::{checked, compute_pipeline, map_with, max_binding, output, shader_module, storage, uniform};
 use crate::interface::{PAIR_NEAR, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::PointShader;
@@ -204,15 +204,17 @@ impl<'g> GpuBeams<'g> {
     }
 
     /// Render one page of `rows` rows: `beams` with their (beam on the page, scene triangle)
-    /// `pairs`, those of beam `i` at `ranges[i]`. Returns the page's texels (scene triangle + 1, 0
-    /// for a miss, and the bits of `t`) and per beam the triangles kept and the texels tested.
-    fn render_page(
+    /// `pairs`, those of beam `i` at `ranges[i]`. `unpack` reads, where the readback is mapped,
+    /// the page's texels (the scene triangle plus one, 0 for a miss; the bits of `t`) and per beam
+    /// the triangles kept and the texels tested.
+    fn render_page<T>(
         &self,
         beams: &[GpuBeam],
         pairs: &[[u32; 2]],
         ranges: &[(u32, u32)],
         rows: u32,
-    ) -> Result<(Vec<[u32; 2]>, Vec<Counters>), GpuError> {
+        unpack: impl FnOnce(&[[u32; 2]], &[Counters]) -> T,
+    ) -> Result<T, GpuError> {
         let device = &self.gpu.device;
         let extent = wgpu::Extent3d { width: self.page, height: rows, depth_or_array_layers: 1 };
         let texture = |format, usage| {
@@ -327,9 +329,14 @@ impl<'g> GpuBeams<'g> {
         );
         encoder.copy_buffer_to_buffer(&counters, 0, &readback, texel_bytes, beams.len() as u64 * 8);
         self.gpu.queue.submit([encoder.finish()]);
-        let bytes = map(self.gpu, &readback)?;
-        let (texels, counts) = bytes.split_at(texel_bytes as usize);
-        Ok((bytemuck::pod_collect_to_vec(texels), bytemuck::pod_collect_to_vec(counts)))
+        map_with(self.gpu, &readback, |bytes| {
+            let (texels, counts) = bytes.split_at(texel_bytes as usize);
+            // Aligned as mapped ranges are; copied only if a backend mapped them otherwise.
+            match (bytemuck::try_cast_slice(texels), bytemuck::try_cast_slice(counts)) {
+                (Ok(t), Ok(c)) => unpack(t, c),
+                _ => unpack(&bytemuck::pod_collect_to_vec(texels), &bytemuck::pod_collect_to_vec(counts)),
+            }
+        })
     }
 }
 
@@ -408,43 +415,62 @@ impl BeamRasterizer for GpuBeams<'_> {
                 ranges.push((first, flat.len() as u32));
             }
             let prepared = start.elapsed().as_secs_f64();
-            let (texels, counts) = checked(self.gpu, || self.render_page(&beams, &flat, &ranges, page_rows))?;
-            let drawn = start.elapsed().as_secs_f64() - prepared;
-            let start = Instant::now();
-            let unpacked: Vec<(usize, BeamTexture)> = members
-                .par_iter()
-                .zip(&counts)
-                .map(|(&i, &[kept, tested])| {
-                    let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
-                    let size = jobs[i].size;
-                    let mut hits = vec![None; (size * size) as usize];
-                    for y in 0..size {
-                        let row = ((q.y + y) * self.page + q.x) as usize;
-                        // Texels past the region's diagonal (x + y > size) belong to no beam.
-                        for x in 0..(size + 1 - y).min(size) {
-                            let [prim, t] = texels[row + x as usize];
-                            if prim > 0 {
-                                hits[(y * size + x) as usize] = Some(TexelHit { prim: prim - 1, t: f32::from_bits(t) });
-                            }
-                        }
-                    }
-                    let tex =
-                        BeamTexture { size, hits, triangles_after_culling: kept, texels_tested: u64::from(tested) };
-                    Ok((i, tex))
-                })
-                .collect::<Result<_, GpuError>>()?;
+            let unpacking = Cell::new(0.0);
+            let unpack = |texels: &[[u32; 2]], counts: &[Counters]| {
+                let start = Instant::now();
+                let out = self.unpack(jobs, &placed, &members, texels, counts);
+                unpacking.set(start.elapsed().as_secs_f64());
+                out
+            };
+            let unpacked = checked(self.gpu, || self.render_page(&beams, &flat, &ranges, page_rows, unpack))??;
+            let drawn = start.elapsed().as_secs_f64() - prepared - unpacking.get();
             for (i, tex) in unpacked {
                 textures[i] = Some(tex);
             }
             self.add_times(|t| {
                 t.atlas_seconds += drawn;
-                t.prepare_seconds += prepared + start.elapsed().as_secs_f64();
+                t.prepare_seconds += prepared + unpacking.get();
                 t.pages += 1;
                 t.beams += members.len() as u64;
                 t.triangles += flat.len() as u64;
             });
         }
         textures.into_iter().map(|t| t.ok_or_else(|| GpuError::Internal("a beam was not rendered").into())).collect()
+    }
+}
+
+impl GpuBeams<'_> {
+    /// The textures of the beams `members` of one page (`jobs[i]` placed at `placed[i]`) from the
+    /// page's `texels` and per-beam `counts`, as (job index, texture).
+    fn unpack(
+        &self,
+        jobs: &[BeamJob<'_>],
+        placed: &[Option<Placed>],
+        members: &[usize],
+        texels: &[[u32; 2]],
+        counts: &[Counters],
+    ) -> Result<Vec<(usize, BeamTexture)>, GpuError> {
+        members
+            .par_iter()
+            .zip(counts)
+            .map(|(&i, &[kept, tested])| {
+                let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
+                let size = jobs[i].size;
+                let mut hits = vec![None; (size * size) as usize];
+                for y in 0..size {
+                    let row = ((q.y + y) * self.page + q.x) as usize;
+                    // Texels past the region's diagonal (x + y > size) belong to no beam.
+                    for x in 0..(size + 1 - y).min(size) {
+                        let [prim, t] = texels[row + x as usize];
+                        if prim > 0 {
+                            hits[(y * size + x) as usize] = Some(TexelHit { prim: prim - 1, t: f32::from_bits(t) });
+                        }
+                    }
+                }
+                let tex = BeamTexture { size, hits, triangles_after_culling: kept, texels_tested: u64::from(tested) };
+                Ok((i, tex))
+            })
+            .collect()
     }
 }
 

@@ -194,7 +194,7 @@ impl GpuComposite {
             below = radiance;
         }
         let encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        let halves: Vec<[u16; 4]> = bytemuck::pod_collect_to_vec(&read_back(gpu, encoder, &below, len)?);
+        let halves: Vec<[u16; 4]> = read_back(gpu, encoder, &below, len)?;
         Ok(halves
             .par_iter()
             .map(|h| Vec3::from_array([h[0], h[1], h[2]].map(|x| half::f16::from_bits(x).to_f32())))
