@@ -6,8 +6,8 @@ use super::twin::TwinShading;
 use crate::{Config, Outcome};
 use beam_cpu::nonlinear::{CAUSTIC_STRATA, Degree, NonlinearOptions, SMesh, render_nonlinear_with};
 use beam_cpu::render::RenderOptions;
-use beam_gpu::Gpu;
 use beam_gpu::nonlinear::{GpuBeams, GpuFace};
+use beam_gpu::{Gpu, GpuError};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use beam_scene::mesh;
@@ -83,7 +83,8 @@ pub fn narrow_adapter(binding: u64) -> Result<Result<Gpu, Outcome>, String> {
 /// texels — rendered with the atlases, the ray tracer, the shading and the composite on the GPU
 /// (no fallback to the CPU's composite), against the CPU renderer's with the same shading estimator:
 /// at most 0.5% of the pixels differ by more than 4/255 in a channel (sRGB), as in
-/// `gpu_images_equal_cpu`.
+/// `gpu_images_equal_cpu`. A scene whose BVH does not fit a binding (`mirror-glass`) is refused
+/// with [`GpuError::SceneTooLarge`].
 pub fn gpu_images_fit_narrow_bindings(_: crate::Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match narrow_adapter(NARROW_BINDING)? {
         Ok(g) => g,
@@ -100,6 +101,14 @@ pub fn gpu_images_fit_narrow_bindings(_: crate::Backend, _: &Config) -> Result<O
              ({triangle_bytes} B) must",
             scene.triangles.len()
         ));
+    }
+    // What still must fit one binding, the scene's BVH, is refused with a typed error, not a wgpu
+    // validation error.
+    let big = beam_scene::scene::builtin("mirror-glass").map_err(|e| e.to_string())?;
+    match GpuBeams::new(&gpu, &big) {
+        Err(GpuError::SceneTooLarge { .. }) => {}
+        Err(e) => return Err(format!("mirror-glass ({} triangles): {e}", big.triangles.len())),
+        Ok(_) => return Err(format!("mirror-glass ({} triangles) fit {binding} B bindings", big.triangles.len())),
     }
     let (mut pixels, mut notes) = (0u64, Vec::new());
     for degree in [Degree::S1, Degree::S3] {
