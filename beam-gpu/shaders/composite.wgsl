@@ -1,8 +1,10 @@
 // The final composite of 000 §7.3, one tree level per dispatch: every texel that hit either copies
 // its shaded radiance or, on a specular S-mesh face with child beams, samples the children's
 // radiance (the level below, still on the GPU) at the face's barycentric point, tinted for a mirror
-// and Fresnel-weighted for glass. Radiance is stored as half floats (rgb, 8 bytes a texel), as an
-// RGBA16F atlas would hold it. CPU twin: beam_cpu::nonlinear::composite_levels.
+// and Fresnel-weighted for glass. A level's radiance is an RGBA16F texture (rgb as half floats, 8
+// bytes a texel), texel i at (i mod width, i / width): no storage binding bounds its size. Each
+// dispatch binds only the faces and child regions its records reference (compacted by the host).
+// CPU twin: beam_cpu::nonlinear::composite_levels.
 
 // Twin of beam_gpu::nonlinear::composite::GpuFace (128 bytes): an S-mesh face.
 struct Face {
@@ -27,6 +29,7 @@ struct Record {
     d: vec3<f32>,
     // Index of its shaded radiance, NONE when composited.
     src: u32,
+    // Its S-mesh face and its child beams, as indices into this dispatch's `faces` and `regions`.
     face: u32,
     reflected: u32,
     // NONE for none.
@@ -49,13 +52,14 @@ struct CompositeParams {
 @group(0) @binding(1) var<storage, read> records: array<Record>;
 @group(0) @binding(2) var<storage, read> faces: array<Face>;
 @group(0) @binding(3) var<storage, read> shaded: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> below: array<vec2<u32>>;
-// Per beam of the level below: its first texel and its texels per side.
+@group(0) @binding(4) var below: texture_2d<f32>;
+// Per child beam the dispatch's records reference: its first texel below and its texels per side.
 @group(0) @binding(5) var<storage, read> regions: array<vec2<u32>>;
-@group(0) @binding(6) var<storage, read_write> radiance: array<vec2<u32>>;
+@group(0) @binding(6) var radiance: texture_storage_2d<rgba16float, write>;
 
-fn unpack_rgb(h: vec2<u32>) -> vec3<f32> {
-    return vec3<f32>(unpack2x16float(h.x), unpack2x16float(h.y).x);
+// Where texel `index` of a level lies in a texture `width` texels wide.
+fn texel_coords(index: u32, width: u32) -> vec2<u32> {
+    return vec2<u32>(index % width, index / width);
 }
 
 // Bilinear lookup at barycentric w of beam `beam`'s region below, over its rendered texels
@@ -67,6 +71,7 @@ fn sample_region(beam: u32, w: vec3<f32>) -> vec3<f32> {
     let f = vec2<f32>(w.y * n - 0.5, w.z * n - 0.5);
     let f0 = floor(f);
     let a = f - f0;
+    let dims = textureDimensions(below);
     var sum = vec3<f32>(0.0);
     var weight = 0.0;
     // The shader's only loop: 4 iterations, at most twice an invocation (reflected and refracted
@@ -78,8 +83,8 @@ fn sample_region(beam: u32, w: vec3<f32>) -> vec3<f32> {
         let x = u32(clamp(i32(f0.x) + dx, 0, i32(size) - 1));
         let y = u32(clamp(i32(f0.y) + dy, 0, i32(size) - 1));
         let index = region.x + y * size + x;
-        if x + y < size + 1u && k > 0.0 && index < arrayLength(&below) {
-            sum += k * unpack_rgb(below[index]);
+        if x + y < size + 1u && k > 0.0 && index < dims.x * dims.y {
+            sum += k * textureLoad(below, texel_coords(index, dims.x), 0).rgb;
             weight += k;
         }
     }
@@ -145,5 +150,5 @@ fn composite(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgrou
     } else {
         c = composite_texel(r);
     }
-    radiance[r.texel] = vec2<u32>(pack2x16float(c.xy), pack2x16float(vec2<f32>(c.z, 0.0)));
+    textureStore(radiance, texel_coords(r.texel, textureDimensions(radiance).x), vec4<f32>(c, 0.0));
 }

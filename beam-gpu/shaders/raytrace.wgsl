@@ -63,7 +63,7 @@ struct Light {
 // Twin of beam_gpu::shade::CausticPlane (48 bytes).
 struct CausticPlane {
     origin: vec3<f32>,
-    offset: u32,       // first texel in `flux`
+    offset: u32,       // first texel in `flux` (texel i at (i mod width, i / width))
     axis_u: vec3<f32>, // scaled to texels
     width: u32,
     axis_v: vec3<f32>,
@@ -114,7 +114,8 @@ struct ShadeStates {
 @group(0) @binding(6) var<storage, read> prim_shading: array<PrimShading>;
 @group(0) @binding(7) var<storage, read> lights: array<Light>;
 @group(0) @binding(8) var<storage, read> planes: array<CausticPlane>;
-@group(0) @binding(9) var<storage, read> flux: array<vec4<f32>>;
+// The caustic maps' flux (rgb as f32 bits): a texture, so that no storage binding bounds it.
+@group(0) @binding(9) var flux: texture_2d<u32>;
 @group(0) @binding(10) var<storage, read_write> shade_out: array<vec4<f32>>;
 @group(0) @binding(11) var<storage, read_write> shade_state: ShadeStates;
 
@@ -134,7 +135,9 @@ fn caustic_irradiance(k: u32, p: vec3<f32>) -> vec3<f32> {
         let x = i32(c0.x) + dx;
         let y = i32(c0.y) + dy;
         if w > 0.0 && x >= 0 && y >= 0 && x < i32(plane.width) && y < i32(plane.height) {
-            sum += w * flux[plane.offset + u32(y) * plane.width + u32(x)].xyz;
+            let index = plane.offset + u32(y) * plane.width + u32(x);
+            let row = textureDimensions(flux).x;
+            sum += w * bitcast<vec3<f32>>(textureLoad(flux, vec2<u32>(index % row, index / row), 0).xyz);
         }
     }
     return sum * shade_params.inv_texel_area;

@@ -99,14 +99,6 @@ pub enum GpuError {
     /// Writing an output file failed.
     #[error(transparent)]
     Scene(#[from] SceneError),
-    /// More rays than one dispatch of the ray tracer takes.
-    #[error("{rays} rays exceed one dispatch (at most {max})")]
-    TooManyRays {
-        /// Rays asked for.
-        rays: usize,
-        /// The most one dispatch takes.
-        max: u32,
-    },
     /// More cases than one dispatch of the nonlinear check takes.
     #[error("{cases} cases exceed one dispatch")]
     TooManyCases {
@@ -126,6 +118,17 @@ pub enum GpuError {
         size: u32,
         /// The page's texels per side.
         page: u32,
+    },
+    /// A scene whose BVH (its nodes or its triangles) is larger than one storage binding holds: the
+    /// traversal reads the whole tree from one binding.
+    #[error("the scene's BVH {what} take {bytes} bytes, more than one GPU storage binding holds ({max})")]
+    SceneTooLarge {
+        /// `nodes` or `triangles`.
+        what: &'static str,
+        /// Their bytes.
+        bytes: u64,
+        /// The device's largest binding.
+        max: u64,
     },
     /// A beam that meets more scene triangles than one storage binding holds.
     #[error("a beam meets {triangles} scene triangles, more than one GPU binding holds ({max})")]
@@ -179,11 +182,11 @@ mod tests {
         assert!(matches!(&e, GpuError::NoShader { name } if name == "nope"), "{e:?}");
         assert_eq!(e.to_string(), "no shader named `nope`");
         let cases = [
-            (
-                GpuError::TooManyRays { rays: 5_000_000, max: 4_194_240 },
-                "5000000 rays exceed one dispatch (at most 4194240)",
-            ),
             (GpuError::StackOverflow { ray: 7 }, "ray 7: the GPU traversal stack overflowed"),
+            (
+                GpuError::SceneTooLarge { what: "triangles", bytes: 96_000, max: 65_536 },
+                "the scene's BVH triangles take 96000 bytes, more than one GPU storage binding holds (65536)",
+            ),
             (
                 GpuError::BeamTooLarge { size: 5000, page: 4096 },
                 "a beam of 5000² texels does not fit a 4096² atlas page",

@@ -2,7 +2,7 @@
 //! closest and any hits for batches of rays. CPU twin: [`beam_bvh::FlatBvh::closest_hit`] and
 //! [`beam_bvh::FlatBvh::any_hit`].
 
-use crate::buffers::{compute_pipeline, dispatch, output, read_back, storage};
+use crate::buffers::{compute_pipeline, dispatch, max_binding, output, read_back, storage};
 use crate::interface::{MISS, RAY_ANY, RAY_CLOSEST, WORKGROUP_SIZE};
 use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
@@ -68,8 +68,15 @@ pub struct RayTracer {
 }
 
 impl RayTracer {
-    /// Compile `raytrace.wgsl` and upload `bvh`.
+    /// Compile `raytrace.wgsl` and upload `bvh`; its nodes and its triangles must each fit one
+    /// storage binding of `gpu` ([`GpuError::SceneTooLarge`]).
     pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, GpuError> {
+        let max = max_binding(gpu);
+        for (what, bytes) in [("nodes", size_of_val(bvh.nodes())), ("triangles", size_of_val(bvh.triangles()))] {
+            if bytes as u64 > max {
+                return Err(GpuError::SceneTooLarge { what, bytes: bytes as u64, max });
+            }
+        }
         let pipeline = compute_pipeline(gpu, "raytrace", "trace")?;
         let nodes = storage(gpu, "nodes", bvh.nodes(), wgpu::BufferUsages::empty());
         let triangles = storage(gpu, "triangles", bvh.triangles(), wgpu::BufferUsages::empty());
@@ -82,26 +89,37 @@ impl RayTracer {
         (&self.nodes, &self.triangles)
     }
 
-    /// Trace `rays`; one result each.
+    /// Rays of one dispatch on `gpu`: its rays (32 bytes each) within one storage binding, at most
+    /// 65,535 workgroups (`trace` reads only `id.x`).
+    #[must_use]
+    pub fn max_rays(gpu: &Gpu) -> usize {
+        let by_binding = max_binding(gpu) / size_of::<GpuRay>() as u64;
+        (by_binding.min(65_535 * u64::from(WORKGROUP_SIZE)) as usize).max(1)
+    }
+
+    /// Trace `rays`; one result each, in dispatches of at most [`max_rays`](Self::max_rays).
     pub fn trace(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<Vec<GpuHit>, GpuError> {
-        if rays.is_empty() {
-            return Ok(Vec::new());
+        let mut out = Vec::with_capacity(rays.len());
+        for (k, chunk) in rays.chunks(Self::max_rays(gpu)).enumerate() {
+            let hits = self.trace_dispatch(gpu, chunk)?;
+            // A miss at t = −1 (of a ray searched from t = 0 on): the traversal's stack overflowed
+            // (lib/trace.wgsl), which GpuBvh::new rules out.
+            let overflow = |i: &usize| hits[*i].prim == MISS && hits[*i].t < 0.0 && chunk[*i].t_max >= 0.0;
+            if let Some(i) = (0..hits.len()).find(overflow) {
+                return Err(GpuError::StackOverflow { ray: k * Self::max_rays(gpu) + i });
+            }
+            out.extend(hits);
         }
-        // One dispatch: at most 65,535 workgroups (`trace` reads only `id.x`).
+        Ok(out)
+    }
+
+    /// One dispatch over `rays` (at most [`max_rays`](Self::max_rays)).
+    fn trace_dispatch(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<Vec<GpuHit>, GpuError> {
         let groups = rays.len().div_ceil(WORKGROUP_SIZE as usize);
-        if groups > 65_535 {
-            return Err(GpuError::TooManyRays { rays: rays.len(), max: 65_535 * WORKGROUP_SIZE });
-        }
         let ray_buffer = storage(gpu, "rays", rays, wgpu::BufferUsages::empty());
         let size = (rays.len() * size_of::<GpuHit>()) as u64;
         let hits = output(gpu, "hits", size);
         let encoder = dispatch(gpu, &self.pipeline, &[&self.nodes, &self.triangles, &ray_buffer, &hits], groups as u32);
-        let hits: Vec<GpuHit> = read_back(gpu, encoder, &hits, size)?;
-        // A miss at t = −1 (of a ray searched from t = 0 on): the traversal's stack overflowed
-        // (lib/trace.wgsl), which GpuBvh::new rules out.
-        if let Some(i) = (0..hits.len()).find(|&i| hits[i].prim == MISS && hits[i].t < 0.0 && rays[i].t_max >= 0.0) {
-            return Err(GpuError::StackOverflow { ray: i });
-        }
-        Ok(hits)
+        read_back(gpu, encoder, &hits, size)
     }
 }

@@ -5,7 +5,7 @@
 //! the nonlinear renderer, in passes of bounded work ([`PASS_BUDGET`]). CPU twin: [`shade_twin`];
 //! on point-lit scenes it equals `shade_point`.
 
-use crate::buffers::{checked, compute_pipeline, output, read_back, storage, uniform};
+use crate::buffers::{checked, compute_pipeline, max_binding, output, read_back, storage, uniform};
 use crate::interface::{
     LIGHT_POINT, LIGHT_QUAD, LIGHT_TRIANGLE, SURFACE_EMISSIVE, SURFACE_REFLECTING, SURFACE_UNSHADED, WORKGROUP_SIZE,
 };
@@ -107,7 +107,7 @@ impl GpuLight {
 pub struct CausticPlane {
     /// Texel-centre origin.
     pub origin: [f32; 3],
-    /// Its first texel in the flux buffer.
+    /// Its first texel in the flux texture (texel `i` at `(i mod width, i / width)` of it).
     pub offset: u32,
     /// First axis, scaled to texels.
     pub axis_u: [f32; 3],
@@ -250,7 +250,7 @@ impl PointShader {
         ShadeScene {
             prims: storage(gpu, "prim shading", &prims, wgpu::BufferUsages::empty()),
             planes: storage(gpu, "caustic planes", &planes, wgpu::BufferUsages::empty()),
-            flux: storage(gpu, "caustic flux", &flux, wgpu::BufferUsages::empty()),
+            flux: crate::texels::upload(gpu, "caustic flux", &flux, wgpu::TextureFormat::Rgba32Uint),
             inv_texel_area: 1.0 / (texel * texel),
         }
     }
@@ -269,17 +269,30 @@ impl PointShader {
             return Ok(Vec::new());
         }
         let prepared = self.prepare(gpu, caustics);
-        checked(gpu, || {
-            let (encoder, out) = self.shade_into(gpu, tracer, &prepared, spp, points, 0)?;
-            let size = (points.len() * 16) as u64;
-            let radiance: Vec<[f32; 4]> = read_back(gpu, encoder, &out, size)?;
-            Ok(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])).collect())
-        })
+        let mut out = Vec::with_capacity(points.len());
+        for batch in points.chunks(Self::max_points(gpu)) {
+            checked(gpu, || {
+                let (encoder, shaded) = self.shade_into(gpu, tracer, &prepared, spp, batch, 0)?;
+                let size = (batch.len() * 16) as u64;
+                let radiance: Vec<[f32; 4]> = read_back(gpu, encoder, &shaded, size)?;
+                out.extend(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])));
+                Ok(())
+            })?;
+        }
+        Ok(out)
     }
 
-    /// The radiance of `points` shaded, in passes of bounded work ([`PASS_BUDGET`]) submitted and
-    /// waited for, in a buffer (`vec4` each) with room for `extra` more after them; and an encoder
-    /// for the caller's next work.
+    /// Points one [`shade_into`](Self::shade_into) takes on `gpu`: their inputs (32 bytes each) and
+    /// their state (32 bytes each after a 16-byte header) within one storage binding.
+    #[must_use]
+    pub fn max_points(gpu: &Gpu) -> usize {
+        ((max_binding(gpu).saturating_sub(STATE_HEADER) / size_of::<ShadeState>() as u64) as usize).max(1)
+    }
+
+    /// The radiance of `points` (at most [`max_points`](Self::max_points), with `extra` at most as
+    /// many again) shaded, in passes of bounded work ([`PASS_BUDGET`]) submitted and waited for, in a
+    /// buffer (`vec4` each) with room for `extra` more after them; and an encoder for the caller's
+    /// next work.
     pub fn shade_into(
         &self,
         gpu: &Gpu,
@@ -312,7 +325,8 @@ impl PointShader {
         // Zeroed by wgpu: every point starts at its first light.
         let state = output(gpu, "shade state", STATE_HEADER + (points.len() * size_of::<ShadeState>()) as u64);
         let (nodes, triangles) = tracer.buffers();
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = [
+        let flux = scene.flux.create_view(&Default::default());
+        let mut entries: Vec<wgpu::BindGroupEntry<'_>> = [
             (0, nodes),
             (1, triangles),
             (4, &uniform),
@@ -320,13 +334,13 @@ impl PointShader {
             (6, &scene.prims),
             (7, &self.lights),
             (8, &scene.planes),
-            (9, &scene.flux),
             (10, &out),
             (11, &state),
         ]
         .into_iter()
         .map(|(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() })
         .collect();
+        entries.push(wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&flux) });
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shade"),
             layout: &self.pipeline.get_bind_group_layout(0),
@@ -357,7 +371,8 @@ impl PointShader {
 pub struct ShadeScene {
     prims: wgpu::Buffer,
     planes: wgpu::Buffer,
-    flux: wgpu::Buffer,
+    /// The maps' flux texels (rgb as `f32` bits), [`crate::texels`]: no binding bounds their number.
+    flux: wgpu::Texture,
     inv_texel_area: f32,
 }
 

@@ -20,10 +20,12 @@ use beam_math::{Ray, Triangle};
 use beam_scene::scene::{self, Bump};
 use rand::Rng;
 
+mod bindings;
 mod coarse;
 mod glossy;
 mod twin;
 
+use bindings::gpu_images_fit_narrow_bindings;
 use coarse::gpu_coarse_smesh_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
 use twin::TwinShading;
@@ -74,6 +76,12 @@ pub fn properties() -> Vec<Property> {
         },
         Property {
             name: "gpu_composite_equals_cpu", cites: "000 §7.3", backends: GPU, body: gpu_composite_equals_cpu
+        },
+        Property {
+            name: "gpu_images_fit_narrow_bindings",
+            cites: "000 §3, §7.3",
+            backends: GPU,
+            body: gpu_images_fit_narrow_bindings,
         },
         Property {
             name: "gpu_glossy_gather_area_lights_equal_cpu",

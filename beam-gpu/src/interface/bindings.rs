@@ -26,7 +26,7 @@ fn tables() -> Vec<Table> {
     vec![
         bindings!("raytrace" => [
             nodes: FlatNode, triangles: GpuTriangle, rays: GpuRay, hits: GpuHit, shade_params: ShadeParams,
-            shade_in: ShadeInput, prim_shading: PrimShading, lights: GpuLight, planes: CausticPlane, flux: [f32; 4],
+            shade_in: ShadeInput, prim_shading: PrimShading, lights: GpuLight, planes: CausticPlane, flux,
             shade_out: [f32; 4], shade_state,
         ]),
         bindings!("glossy_gather" => [
@@ -39,8 +39,8 @@ fn tables() -> Vec<Table> {
         ]),
         bindings!("nonlinear_check" => [beams: GpuBeam, cases: CheckCase, results: [f32; 4]]),
         bindings!("composite" => [
-            params: CompositeParams, records: CompositeRecord, faces: GpuFace, shaded: [f32; 4], below: [u16; 4],
-            regions: [u32; 2], radiance: [u16; 4],
+            params: CompositeParams, records: CompositeRecord, faces: GpuFace, shaded: [f32; 4], below,
+            regions: [u32; 2], radiance,
         ]),
     ]
 }

@@ -2,7 +2,8 @@
 //! into square regions of atlas pages, one draw per beam (the instance) over the scene triangles its
 //! bounding cone keeps (pulled from a storage buffer by vertex index / 3); the vertex stage emits
 //! each triangle's bounding triangle on the beam's region, the fragment stage intersects the
-//! texel's ray with it, and the depth test keeps the nearest hit. The pages are read back as the
+//! texel's ray with it, and the depth test keeps the nearest hit. A page takes no more beams, and no
+//! more (beam, triangle) pairs, than one storage binding of the device holds. The pages are read back as the
 //! beams' hit textures, which beam-cpu's beam tree needs for the next level's beams. Rays (the eye's
 //! view, the reference's Whitted rays) go to the compute ray tracer; the radiance flows up the tree
 //! on the GPU ([`GpuComposite`]): diffuse, glossy and emissive points shaded by [`PointShader`] (area
@@ -67,6 +68,8 @@ pub struct GpuTimes {
     pub beams: u64,
     /// Scene triangles drawn (vertex-stage bounding triangles computed).
     pub triangles: u64,
+    /// Beam trees composited on the GPU (the others fell back to the CPU's composite).
+    pub gpu_composites: u64,
 }
 
 /// The GPU's beam renderer for one scene: its triangles uploaded, the atlas pipeline compiled.
@@ -99,15 +102,12 @@ struct Placed {
 }
 
 impl<'g> GpuBeams<'g> {
-    /// `rays` traced on the GPU, in dispatches of at most 65,535 workgroups, timed as ray time.
+    /// `rays` traced on the GPU (in dispatches that fit its bindings), timed as ray time.
     fn trace(&self, rays: Vec<GpuRay>) -> Result<Vec<GpuHit>, GpuError> {
         let start = Instant::now();
-        let mut out = Vec::with_capacity(rays.len());
-        for chunk in rays.chunks(65_535 * WORKGROUP_SIZE as usize) {
-            out.extend(checked(self.gpu, || self.tracer.trace(self.gpu, chunk))?);
-        }
+        let out = checked(self.gpu, || self.tracer.trace(self.gpu, &rays));
         self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
-        Ok(out)
+        out
     }
 
     /// Exact shading of `points` on the GPU: diffuse, glossy and emissive points by the shading
@@ -367,9 +367,11 @@ impl BeamRasterizer for GpuBeams<'_> {
         let mut placed: Vec<Option<Placed>> = (0..jobs.len()).map(|_| None).collect();
         let (mut page, mut used) = (0usize, 0u64);
         let capacity = u64::from(self.page) * u64::from(self.page);
-        // A page's pairs and their bounding triangles (16 bytes each) must fit one storage binding.
+        // A page's pairs and their bounding triangles (16 bytes each), and its beams, must each fit
+        // one storage binding.
         let max_pairs = (max_binding(self.gpu) / 16) as usize;
-        let (mut rows, mut pairs) = (vec![0u32], 0usize);
+        let max_beams = ((max_binding(self.gpu) / size_of::<GpuBeam>() as u64) as usize).max(1);
+        let (mut rows, mut pairs, mut beams) = (vec![0u32], 0usize, 0usize);
         for &i in &order {
             // Each region takes the power-of-two square around it.
             let s = jobs[i].size.max(1).next_power_of_two();
@@ -381,12 +383,13 @@ impl BeamRasterizer for GpuBeams<'_> {
             if n > max_pairs {
                 return Err(GpuError::TooManyTriangles { triangles: n, max: max_pairs }.into());
             }
-            if used + area > capacity || pairs + n > max_pairs {
+            if used + area > capacity || pairs + n > max_pairs || beams == max_beams {
                 page += 1;
-                (used, pairs) = (0, 0);
+                (used, pairs, beams) = (0, 0, 0);
                 rows.push(0);
             }
             pairs += n;
+            beams += 1;
             let (x, y) = z_order((used / area) as u32, s);
             used += area;
             rows[page] = rows[page].max(y + s);
@@ -550,7 +553,10 @@ impl PointShading for GpuBeams<'_> {
                 &rest,
             )
         });
-        self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64() - elsewhere.get());
+        self.add_times(|t| {
+            t.shade_seconds += start.elapsed().as_secs_f64() - elsewhere.get();
+            t.gpu_composites += u64::from(pixels.is_ok());
+        });
         pixels.map(Some).map_err(BackendError::from)
     }
 }

@@ -1,14 +1,17 @@
 //! The final composite of 000 §7.3 on the GPU (`shaders/composite.wgsl`): the radiance flow of a
-//! beam tree, deepest level first, with every level's radiance kept on the GPU (half floats, as an
-//! RGBA16F atlas) and only the eye's pixels read back. Diffuse, glossy and emissive points are
+//! beam tree, deepest level first, with every level's radiance kept on the GPU (an RGBA16F texture,
+//! which no storage binding bounds) and only the eye's pixels read back. Each dispatch binds only
+//! the S-mesh faces and child regions its records reference, so no buffer grows with the S mesh
+//! or a level's beams past one storage binding of the device. Diffuse, glossy and emissive points are
 //! shaded by [`PointShader`] straight into the buffer the composite pass reads; mirror and glass
 //! points without child beams (past the last level) come from the caller. CPU twin:
 //! beam-cpu's `composite_levels`.
 
-use crate::buffers::{compute_pipeline, dispatch, max_binding, output, read_back, storage, uniform};
+use crate::buffers::{compute_pipeline, max_binding, storage, uniform};
 use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
+use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
@@ -49,11 +52,11 @@ pub struct CompositeRecord {
     pub d: [f32; 3],
     /// Index of its shaded radiance, [`NONE`] when composited.
     pub src: u32,
-    /// Its S-mesh face.
+    /// Its S-mesh face, as an index into the dispatch's faces (those its records reference).
     pub face: u32,
-    /// Its face's reflection beam in the level below.
+    /// Its face's reflection beam in the level below, as an index into the dispatch's regions.
     pub reflected: u32,
-    /// Its face's refraction beam, [`NONE`] for none.
+    /// Its face's refraction beam, likewise; [`NONE`] for none.
     pub refracted: u32,
     /// Padding.
     pub pad: u32,
@@ -81,11 +84,11 @@ const _: () =
 /// "None" in [`CompositeRecord`] ([`crate::interface::NONE`]).
 pub use crate::interface::NONE;
 
-/// Bytes of a texel of a level's radiance (rgb as half floats, and padding).
-const TEXEL_BYTES: u64 = 8;
-
 /// Shades a batch of the points the [`PointShader`] does not (mirrors and glass past the tree).
 pub type ShadeRest<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, BackendError> + 'a;
+
+/// The format of a level's radiance: rgb as half floats (and an unused alpha), 8 bytes a texel.
+const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// The composite pass.
 pub struct GpuComposite {
@@ -98,16 +101,34 @@ impl GpuComposite {
         Ok(Self { pipeline: compute_pipeline(gpu, "composite", "composite")? })
     }
 
-    /// True when every level's radiance fits one storage binding of the device.
+    /// True when every level's radiance fits one texture of the device (a level is a texture, not a
+    /// storage buffer, so the storage bindings do not bound it).
     #[must_use]
     pub fn fits(gpu: &Gpu, levels: &[LevelRadiance]) -> bool {
-        let limit = max_binding(gpu);
-        levels.iter().all(|l| l.len as u64 * TEXEL_BYTES <= limit)
+        levels.iter().all(|l| texels::fits(gpu, l.len))
+    }
+
+    /// Records of one dispatch: the records (64 bytes each), the S-mesh faces they reference (128
+    /// bytes each, compacted to the dispatch's own) and the regions of their child beams (8 bytes,
+    /// at most two a record) each within one storage binding, as are the shading pass's inputs.
+    fn records_per_dispatch(gpu: &Gpu) -> usize {
+        let by_faces = (max_binding(gpu) / size_of::<GpuFace>() as u64) as usize;
+        by_faces.min(PointShader::max_points(gpu)).clamp(1, 1 << 20)
+    }
+
+    /// A level's radiance: `len` texels ([`crate::texels`]).
+    fn level_texture(gpu: &Gpu, len: usize) -> wgpu::Texture {
+        let usage =
+            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        texels::texture(gpu, "level radiance", len, RADIANCE_FORMAT, usage)
     }
 
     /// The radiance flow of `levels` (`levels[0]` the eye's view) on the GPU: the eye's pixels.
     /// Points the [`PointShader`] shades are shaded on the GPU (`spp` shadow rays per area light,
-    /// the irradiance of `caustics`), the others by `rest`. Call inside [`crate::buffers::checked`].
+    /// the irradiance of `caustics`), the others by `rest`. Every level's radiance is a texture;
+    /// the records go in dispatches of [`records_per_dispatch`](Self::records_per_dispatch), each
+    /// binding only the faces and child regions its records reference. Call inside
+    /// [`crate::buffers::checked`].
     #[allow(clippy::too_many_arguments)]
     pub fn run(
         &self,
@@ -120,16 +141,17 @@ impl GpuComposite {
         levels: &[LevelRadiance],
         rest: &ShadeRest<'_>,
     ) -> Result<Vec<Vec3>, GpuError> {
-        let faces = storage(gpu, "faces", &gpu_faces(scene, smesh), wgpu::BufferUsages::empty());
+        let all_faces = gpu_faces(scene, smesh);
         let prepared = shader.prepare(gpu, caustics);
-        // Records, shade inputs and outputs of one dispatch within a binding.
-        let chunk = ((max_binding(gpu) / 64) as usize).clamp(1, 1 << 20);
-        let empty = || storage::<[u32; 2]>(gpu, "empty", &[], wgpu::BufferUsages::empty());
-        let (mut below, mut below_regions) = (empty(), empty());
+        let chunk = Self::records_per_dispatch(gpu);
+        let mut below = Self::level_texture(gpu, 0);
+        let mut below_regions: &[(u32, u32)] = &[];
+        let mut face_slots = Slots::new(all_faces.len(), "no such S-mesh face");
         let mut len = 0;
         for level in levels.iter().rev() {
-            len = level.len as u64 * TEXEL_BYTES;
-            let radiance = output(gpu, "level radiance", len);
+            len = level.len;
+            let radiance = Self::level_texture(gpu, len);
+            let mut region_slots = Slots::new(below_regions.len(), "no such child beam");
             for texels in level.texels.chunks(chunk) {
                 // Points not composited: on the GPU where the point shader shades them, else by `rest`.
                 let kinds: Vec<Option<bool>> = texels
@@ -151,54 +173,148 @@ impl GpuComposite {
                 let other_radiance: Vec<[f32; 4]> = rest(&other)?.iter().map(|c| c.extend(0.0).to_array()).collect();
                 let (encoder, shaded) = shader.shade_into(gpu, tracer, &prepared, spp, &direct, other.len())?;
                 gpu.queue.write_buffer(&shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
-                let records: Vec<CompositeRecord> = texels
-                    .par_iter()
-                    .zip(&sources)
-                    .map(|(t, source)| {
-                        let c = t.composite;
-                        // The shader looks the children up at `p`'s and `refracted_p`'s barycentric
-                        // coordinates on the face: under a coarse S-mesh face, the points of the
-                        // face where the CPU looks the reflection and the refraction up.
-                        let (p, refracted_p) = match c {
-                            Some(c) if smesh.is_coarse(c.face as usize) => {
-                                let f = &smesh.faces[c.face as usize];
-                                let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
-                                (at(c.reflected_at), at(c.refracted_at))
-                            }
-                            _ => (t.point.p, t.point.p),
-                        };
-                        CompositeRecord {
-                            p: p.to_array(),
-                            texel: t.texel,
-                            d: t.point.d.to_array(),
-                            src: source.map_or(NONE, |(on_gpu, i)| (if on_gpu { i } else { direct.len() + i }) as u32),
-                            face: c.map_or(NONE, |c| c.face),
-                            reflected: c.map_or(NONE, |c| c.reflected),
-                            refracted: c.and_then(|c| c.refracted).unwrap_or(NONE),
-                            pad: 0,
-                            refracted_p: refracted_p.to_array(),
-                            pad2: 0,
+                // The faces and child regions the chunk references, compacted.
+                let mut records = Vec::with_capacity(texels.len());
+                for (t, source) in texels.iter().zip(&sources) {
+                    // The shader looks the children up at `p`'s and `refracted_p`'s barycentric
+                    // coordinates on the face: under a coarse S-mesh face, the points of the face
+                    // where the CPU looks the reflection and the refraction up.
+                    let (p, refracted_p) = match t.composite {
+                        Some(c) if smesh.is_coarse(c.face as usize) => {
+                            let f = &smesh.faces[c.face as usize];
+                            let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
+                            (at(c.reflected_at), at(c.refracted_at))
                         }
+                        _ => (t.point.p, t.point.p),
+                    };
+                    let (face, reflected, refracted) = match t.composite {
+                        Some(c) => (
+                            face_slots.slot(c.face)?,
+                            region_slots.slot(c.reflected)?,
+                            c.refracted.map_or(Ok(NONE), |b| region_slots.slot(b))?,
+                        ),
+                        None => (NONE, NONE, NONE),
+                    };
+                    records.push(CompositeRecord {
+                        p: p.to_array(),
+                        texel: t.texel,
+                        d: t.point.d.to_array(),
+                        src: source.map_or(NONE, |(on_gpu, i)| (if on_gpu { i } else { direct.len() + i }) as u32),
+                        face,
+                        reflected,
+                        refracted,
+                        pad: 0,
+                        refracted_p: refracted_p.to_array(),
+                        pad2: 0,
+                    });
+                }
+                let chunk_faces: Vec<GpuFace> = face_slots.take().iter().map(|&f| all_faces[f as usize]).collect();
+                let chunk_regions: Vec<[u32; 2]> = region_slots
+                    .take()
+                    .iter()
+                    .map(|&b| {
+                        let (first, size) = below_regions[b as usize];
+                        [first, size]
                     })
                     .collect();
                 let params = CompositeParams { records: records.len() as u32, pad: [0; 3] };
-                let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
-                let records_buffer = storage(gpu, "records", &records, wgpu::BufferUsages::empty());
-                let buffers = [&params, &records_buffer, &faces, &shaded, &below, &below_regions, &radiance];
-                let composite =
-                    dispatch(gpu, &self.pipeline, &buffers, records.len().div_ceil(WORKGROUP_SIZE as usize) as u32);
+                let composite = self.dispatch(
+                    gpu,
+                    &params,
+                    [
+                        &storage(gpu, "records", &records, wgpu::BufferUsages::empty()),
+                        &storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty()),
+                        &shaded,
+                        &storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty()),
+                    ],
+                    (&below, &radiance),
+                );
                 gpu.queue.submit([encoder.finish(), composite.finish()]);
             }
-            let regions: Vec<[u32; 2]> = level.regions.iter().map(|&(first, size)| [first, size]).collect();
-            below_regions = storage(gpu, "regions", &regions, wgpu::BufferUsages::empty());
+            below_regions = &level.regions;
             below = radiance;
         }
-        let encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        let halves: Vec<[u16; 4]> = read_back(gpu, encoder, &below, len)?;
-        Ok(halves
+        Ok(texels::read_back::<[u16; 4]>(gpu, &below, len)?
             .par_iter()
             .map(|h| Vec3::from_array([h[0], h[1], h[2]].map(|x| half::f16::from_bits(x).to_f32())))
             .collect())
+    }
+
+    /// One dispatch of the pass over `params.records` records: `buffers` the records, faces, shaded
+    /// radiance and regions (bindings 1, 2, 3 and 5), reading level `below` and writing `radiance`.
+    fn dispatch(
+        &self,
+        gpu: &Gpu,
+        params: &CompositeParams,
+        [records, faces, shaded, regions]: [&wgpu::Buffer; 4],
+        (below, radiance): (&wgpu::Texture, &wgpu::Texture),
+    ) -> wgpu::CommandEncoder {
+        let params_buffer = uniform(gpu, "composite params", bytemuck::bytes_of(params));
+        let below_view = below.create_view(&Default::default());
+        let radiance_view = radiance.create_view(&Default::default());
+        fn buffer(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }
+        }
+        fn view(binding: u32, v: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(v) }
+        }
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("composite"),
+            layout: &self.pipeline.get_bind_group_layout(0),
+            entries: &[
+                buffer(0, &params_buffer),
+                buffer(1, records),
+                buffer(2, faces),
+                buffer(3, shaded),
+                view(4, &below_view),
+                buffer(5, regions),
+                view(6, &radiance_view),
+            ],
+        });
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            let groups = (params.records as usize).div_ceil(WORKGROUP_SIZE as usize) as u32;
+            pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+        }
+        encoder
+    }
+}
+
+/// The compaction of one dispatch's references (to S-mesh faces, or to beams below): each index
+/// referenced gets the next slot, the first time it is met.
+struct Slots {
+    /// Per index: its slot in this dispatch, [`NONE`] when unreferenced.
+    slot: Vec<u32>,
+    /// The indices referenced, by slot.
+    used: Vec<u32>,
+    /// The error for an index out of range.
+    unknown: &'static str,
+}
+
+impl Slots {
+    fn new(len: usize, unknown: &'static str) -> Self {
+        Self { slot: vec![NONE; len], used: Vec::new(), unknown }
+    }
+
+    /// The slot of `index`.
+    fn slot(&mut self, index: u32) -> Result<u32, GpuError> {
+        let slot = self.slot.get_mut(index as usize).ok_or(GpuError::Internal(self.unknown))?;
+        if *slot == NONE {
+            *slot = self.used.len() as u32;
+            self.used.push(index);
+        }
+        Ok(*slot)
+    }
+
+    /// The indices referenced, by slot; the slots cleared for the next dispatch.
+    fn take(&mut self) -> Vec<u32> {
+        for &i in &self.used {
+            self.slot[i as usize] = NONE;
+        }
+        std::mem::take(&mut self.used)
     }
 }
 

@@ -1,0 +1,98 @@
+//! Arrays kept in 2D textures rather than storage buffers, for data that grows with texels (a
+//! level's radiance in the composite, the caustic maps' flux): a storage binding of the device
+//! bounds a buffer (128 MiB on many, less where an engine asks for less), a texture only by its
+//! dimensions. Element `i` lies at `(i mod width, i / width)` of a texture [`width`] texels wide.
+
+use crate::{Gpu, GpuError};
+
+/// Texels per row: a power of two (so that a row of up to 16-byte texels is a multiple of wgpu's
+/// 256-byte copy alignment), at most 4096 and the device's widest texture.
+#[must_use]
+pub fn width(gpu: &Gpu) -> u32 {
+    let widest = gpu.device.limits().max_texture_dimension_2d.clamp(64, 4096);
+    1 << (31 - widest.leading_zeros())
+}
+
+/// Rows of a texture of `len` elements (at least one).
+#[must_use]
+pub fn rows(gpu: &Gpu, len: usize) -> u32 {
+    u32::try_from(len.div_ceil(width(gpu) as usize).max(1)).unwrap_or(u32::MAX)
+}
+
+/// True when `len` elements fit one texture of the device.
+#[must_use]
+pub fn fits(gpu: &Gpu, len: usize) -> bool {
+    rows(gpu, len) <= gpu.device.limits().max_texture_dimension_2d
+}
+
+/// A texture of `len` elements of `format` (zeroed by wgpu).
+#[must_use]
+pub fn texture(
+    gpu: &Gpu,
+    label: &str,
+    len: usize,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width: width(gpu), height: rows(gpu, len), depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+/// A texture holding `items` (each one texel of `format`, which must be as large as `T`).
+#[must_use]
+pub fn upload<T: bytemuck::Pod>(gpu: &Gpu, label: &str, items: &[T], format: wgpu::TextureFormat) -> wgpu::Texture {
+    let out =
+        texture(gpu, label, items.len(), format, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
+    let size = out.size();
+    let mut texels = vec![T::zeroed(); (size.width * size.height) as usize];
+    texels[..items.len()].copy_from_slice(items);
+    gpu.queue.write_texture(
+        out.as_image_copy(),
+        bytemuck::cast_slice(&texels),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(size.width * size_of::<T>() as u32),
+            rows_per_image: Some(size.height),
+        },
+        size,
+    );
+    out
+}
+
+/// The first `len` elements of `texture` (made by [`texture`] with `COPY_SRC`), read back as `T`s
+/// (each one texel).
+pub fn read_back<T: bytemuck::Pod>(gpu: &Gpu, texture: &wgpu::Texture, len: usize) -> Result<Vec<T>, GpuError> {
+    let size = texture.size();
+    let bytes_per_row = size.width * size_of::<T>() as u32;
+    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("texel readback"),
+        size: u64::from(bytes_per_row) * u64::from(size.height),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &readback,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(bytes_per_row),
+                rows_per_image: Some(size.height),
+            },
+        },
+        size,
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let mut out: Vec<T> = crate::buffers::map_with(gpu, &readback, bytemuck::pod_collect_to_vec)?;
+    out.truncate(len);
+    Ok(out)
+}
