@@ -411,15 +411,7 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
         let (on_gpu, _) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
         let (on_cpu, _) =
             render_nonlinear_with(&scene, &options, &TwinShading::default()).map_err(|e| e.to_string())?;
-        let (mut differ, mut sum) = (0u64, 0.0f64);
-        for (a, b) in on_gpu.pixels.iter().zip(&on_cpu.pixels) {
-            let d = (0..3)
-                .map(|k| (beam_cpu::render::srgb_encode(a[k]) - beam_cpu::render::srgb_encode(b[k])).abs())
-                .fold(0.0f32, f32::max);
-            sum += f64::from(d);
-            differ += u64::from(d > 4.0 / 255.0);
-        }
-        let n = on_gpu.pixels.len() as u64;
+        let PixelDifference { differ, sum, n } = PixelDifference::of(&on_gpu, &on_cpu);
         if differ * 200 > n {
             return Err(format!("{name}: {differ} of {n} pixels differ by more than 4/255"));
         }
@@ -567,4 +559,26 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
             .push(format!("{name} ({} levels, {texels} texels): {differ} differ, worst {worst:.1e}", levels.len() - 1));
     }
     Ok(Outcome { cases: total, note: notes.join("; ") })
+}
+
+/// How two images of one render differ, in sRGB: pixels whose largest channel differs by more
+/// than 4/255, the sum of those largest differences, and the pixel count.
+pub(crate) struct PixelDifference {
+    pub differ: u64,
+    pub sum: f64,
+    pub n: u64,
+}
+
+impl PixelDifference {
+    pub(crate) fn of(a: &beam_cpu::render::Image, b: &beam_cpu::render::Image) -> Self {
+        let (mut differ, mut sum) = (0u64, 0.0f64);
+        for (a, b) in a.pixels.iter().zip(&b.pixels) {
+            let d = (0..3)
+                .map(|k| (beam_cpu::render::srgb_encode(a[k]) - beam_cpu::render::srgb_encode(b[k])).abs())
+                .fold(0.0f32, f32::max);
+            sum += f64::from(d);
+            differ += u64::from(d > 4.0 / 255.0);
+        }
+        Self { differ, sum, n: a.pixels.len() as u64 }
+    }
 }

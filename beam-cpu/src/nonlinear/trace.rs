@@ -256,6 +256,10 @@ impl Tree<'_> {
             let located = face;
             let others = self.smesh.candidates(point.prim).iter().map(|&g| g as usize).filter(move |&g| g != located);
             for g in std::iter::once(located).chain(others) {
+                // No lookup lies less than 0 outside: once one lies inside, no other face wins.
+                if best <= 0.0 {
+                    break;
+                }
                 let Some(&c) = children.get(&g) else { continue };
                 let wg = self.smesh.faces[g].barycentric(point.p);
                 let (at_g, outside) = at(c.reflected, rays[0], wg);

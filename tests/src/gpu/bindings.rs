@@ -2,6 +2,7 @@
 //! tree (000 §3, §7.3): every buffer that grows with S-mesh faces, beams or texels must be split or
 //! compacted to fit one binding, and the image must still equal the CPU's.
 
+use super::PixelDifference;
 use super::twin::TwinShading;
 use crate::{Config, Outcome};
 use beam_cpu::nonlinear::{CAUSTIC_STRATA, Degree, NonlinearOptions, SMesh, render_nonlinear_with};
@@ -127,15 +128,7 @@ pub fn gpu_images_fit_narrow_bindings(_: crate::Backend, _: &Config) -> Result<O
         }
         let (on_cpu, _) =
             render_nonlinear_with(&scene, &options, &TwinShading::default()).map_err(|e| e.to_string())?;
-        let (mut differ, mut sum) = (0u64, 0.0f64);
-        for (a, b) in on_gpu.pixels.iter().zip(&on_cpu.pixels) {
-            let d = (0..3)
-                .map(|k| (beam_cpu::render::srgb_encode(a[k]) - beam_cpu::render::srgb_encode(b[k])).abs())
-                .fold(0.0f32, f32::max);
-            sum += f64::from(d);
-            differ += u64::from(d > 4.0 / 255.0);
-        }
-        let n = on_gpu.pixels.len() as u64;
+        let PixelDifference { differ, sum, n } = PixelDifference::of(&on_gpu, &on_cpu);
         if differ * 200 > n {
             return Err(format!("{degree:?}: {differ} of {n} pixels differ by more than 4/255"));
         }

@@ -6,11 +6,11 @@
 //!
 //! [`Composite::reflected_at`]: beam_cpu::nonlinear::Composite
 
-use super::adapter;
 use super::twin::TwinShading;
+use super::{PixelDifference, adapter};
 use crate::{Backend, Config, Outcome};
 use beam_cpu::nonlinear::{Degree, NonlinearOptions, render_nonlinear_with};
-use beam_cpu::render::{RenderOptions, srgb_encode};
+use beam_cpu::render::RenderOptions;
 use beam_gpu::nonlinear::GpuBeams;
 use beam_scene::scene::{self, Simplify};
 
@@ -56,13 +56,7 @@ pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, St
         if c == 0 || g.abs_diff(c) * 50 > c {
             return Err(format!("{name}: {g} beams on the GPU, {c} on the CPU"));
         }
-        let (mut differ, mut sum) = (0u64, 0.0f64);
-        for (a, b) in on_gpu.pixels.iter().zip(&on_cpu.pixels) {
-            let d = (0..3).map(|k| (srgb_encode(a[k]) - srgb_encode(b[k])).abs()).fold(0.0f32, f32::max);
-            sum += f64::from(d);
-            differ += u64::from(d > 4.0 / 255.0);
-        }
-        let n = on_gpu.pixels.len() as u64;
+        let PixelDifference { differ, sum, n } = PixelDifference::of(&on_gpu, &on_cpu);
         if differ * 200 > n {
             return Err(format!(
                 "{name}: {differ} of {n} pixels differ by more than 4/255 (mean {:.2}/255)",
