@@ -158,56 +158,68 @@ impl GpuComposite {
                     .par_iter()
                     .map(|t| t.composite.is_none().then(|| PointShader::shades(scene, t.point.prim)))
                     .collect();
-                let (mut direct, mut other) = (Vec::new(), Vec::new());
-                // Per texel: composited, or where its shaded radiance lies (direct or other).
-                let sources: Vec<Option<(bool, usize)>> = texels
+                let points_of = |gpu_side: bool| -> Vec<ShadePoint> {
+                    texels.par_iter().zip(&kinds).filter(|(_, k)| **k == Some(gpu_side)).map(|(t, _)| t.point).collect()
+                };
+                let (direct, other) = (points_of(true), points_of(false));
+                // Per texel: composited, or where its shaded radiance lies (direct or other): a
+                // running count over the kinds, in the order the two lists were collected.
+                let (mut on, mut off) = (0, 0);
+                let sources: Vec<Option<(bool, usize)>> = kinds
                     .iter()
-                    .zip(&kinds)
-                    .map(|(t, kind)| {
+                    .map(|kind| {
                         let on_gpu = (*kind)?;
-                        let list = if on_gpu { &mut direct } else { &mut other };
-                        list.push(t.point);
-                        Some((on_gpu, list.len() - 1))
+                        let next = if on_gpu { &mut on } else { &mut off };
+                        *next += 1;
+                        Some((on_gpu, *next - 1))
                     })
                     .collect();
                 let other_radiance: Vec<[f32; 4]> = rest(&other)?.iter().map(|c| c.extend(0.0).to_array()).collect();
                 let (encoder, shaded) = shader.shade_into(gpu, tracer, &prepared, spp, &direct, other.len())?;
                 gpu.queue.write_buffer(&shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
-                // The faces and child regions the chunk references, compacted.
-                let mut records = Vec::with_capacity(texels.len());
-                for (t, source) in texels.iter().zip(&sources) {
-                    // The shader looks the children up at `p`'s and `refracted_p`'s barycentric
-                    // coordinates on the face: under a coarse S-mesh face, the points of the face
-                    // where the CPU looks the reflection and the refraction up.
-                    let (p, refracted_p) = match t.composite {
-                        Some(c) if smesh.is_coarse(c.face as usize) => {
-                            let f = &smesh.faces[c.face as usize];
-                            let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
-                            (at(c.reflected_at), at(c.refracted_at))
-                        }
-                        _ => (t.point.p, t.point.p),
-                    };
-                    let (face, reflected, refracted) = match t.composite {
-                        Some(c) => (
+                // The faces and child regions the chunk references, compacted (in the texels'
+                // order, on one thread), then the records (in parallel).
+                let mut slots = Vec::with_capacity(texels.len());
+                for t in texels {
+                    slots.push(match t.composite {
+                        Some(c) => [
                             face_slots.slot(c.face)?,
                             region_slots.slot(c.reflected)?,
                             c.refracted.map_or(Ok(NONE), |b| region_slots.slot(b))?,
-                        ),
-                        None => (NONE, NONE, NONE),
-                    };
-                    records.push(CompositeRecord {
-                        p: p.to_array(),
-                        texel: t.texel,
-                        d: t.point.d.to_array(),
-                        src: source.map_or(NONE, |(on_gpu, i)| (if on_gpu { i } else { direct.len() + i }) as u32),
-                        face,
-                        reflected,
-                        refracted,
-                        pad: 0,
-                        refracted_p: refracted_p.to_array(),
-                        pad2: 0,
+                        ],
+                        None => [NONE; 3],
                     });
                 }
+                let records: Vec<CompositeRecord> = texels
+                    .par_iter()
+                    .zip(&sources)
+                    .zip(&slots)
+                    .map(|((t, source), &[face, reflected, refracted])| {
+                        // The shader looks the children up at `p`'s and `refracted_p`'s barycentric
+                        // coordinates on the face: under a coarse S-mesh face, the points of the
+                        // face where the CPU looks the reflection and the refraction up.
+                        let (p, refracted_p) = match t.composite {
+                            Some(c) if smesh.is_coarse(c.face as usize) => {
+                                let f = &smesh.faces[c.face as usize];
+                                let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
+                                (at(c.reflected_at), at(c.refracted_at))
+                            }
+                            _ => (t.point.p, t.point.p),
+                        };
+                        CompositeRecord {
+                            p: p.to_array(),
+                            texel: t.texel,
+                            d: t.point.d.to_array(),
+                            src: source.map_or(NONE, |(on_gpu, i)| (if on_gpu { i } else { direct.len() + i }) as u32),
+                            face,
+                            reflected,
+                            refracted,
+                            pad: 0,
+                            refracted_p: refracted_p.to_array(),
+                            pad2: 0,
+                        }
+                    })
+                    .collect();
                 let chunk_faces: Vec<GpuFace> = face_slots.take().iter().map(|&f| all_faces[f as usize]).collect();
                 let chunk_regions: Vec<[u32; 2]> = region_slots
                     .take()
