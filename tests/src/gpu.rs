@@ -533,7 +533,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
                 &tracer,
                 &shader,
                 (&scene, &smesh),
-                caustics.as_ref(),
+                &shader.prepare(&gpu, caustics.as_ref()),
                 64,
                 &levels,
                 &rest,

@@ -15,7 +15,7 @@ use super::composite::GpuComposite;
 use crate::buffers::{checked, compute_pipeline, map_with, max_binding, output, shader_module, storage, uniform};
 use crate::interface::{PAIR_NEAR, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
-use crate::shade::PointShader;
+use crate::shade::{PointShader, ShadeScene};
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
@@ -119,9 +119,20 @@ impl<'g> GpuBeams<'g> {
         caustics: Option<&IrradianceMap>,
         points: &[ShadePoint],
     ) -> Result<Vec<Vec3>, BackendError> {
+        self.shade_exact_prepared(scene, &self.shader.prepare(self.gpu, caustics), points)
+    }
+
+    /// [`shade_exact`](Self::shade_exact) with the scene's shading and caustics uploaded once for
+    /// every wave (the caustic flux alone can be tens of megabytes).
+    fn shade_exact_prepared(
+        &self,
+        scene: &Scene,
+        prepared: &ShadeScene,
+        points: &[ShadePoint],
+    ) -> Result<Vec<Vec3>, BackendError> {
         let gpu_shade = |batch: &[ShadePoint]| {
             let start = Instant::now();
-            let out = self.shader.shade(self.gpu, &self.tracer, caustics, self.light_samples, batch);
+            let out = self.shader.shade_prepared(self.gpu, &self.tracer, prepared, self.light_samples, batch);
             self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
             out.map_err(BackendError::from)
         };
@@ -535,9 +546,11 @@ impl PointShading for GpuBeams<'_> {
         let start = Instant::now();
         // Mirror and glass points past the tree by `shade_exact` (Whitted rays in waves), timed there.
         let elsewhere = Cell::new(0.0);
+        // The scene's shading and caustics, uploaded once for the composite and every wave.
+        let prepared = self.shader.prepare(self.gpu, caustics);
         let rest = |points: &[ShadePoint]| {
             let start = Instant::now();
-            let out = self.shade_exact(scene, caustics, points);
+            let out = self.shade_exact_prepared(scene, &prepared, points);
             elsewhere.set(elsewhere.get() + start.elapsed().as_secs_f64());
             out
         };
@@ -547,7 +560,7 @@ impl PointShading for GpuBeams<'_> {
                 &self.tracer,
                 &self.shader,
                 (scene, smesh),
-                caustics,
+                &prepared,
                 self.light_samples,
                 levels,
                 &rest,

@@ -10,12 +10,11 @@
 use crate::buffers::{compute_pipeline, max_binding, storage, uniform};
 use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::RayTracer;
-use crate::shade::PointShader;
+use crate::shade::{PointShader, ShadeScene};
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
-use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{LevelRadiance, SMesh, ShadePoint};
 use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
@@ -125,8 +124,8 @@ impl GpuComposite {
 
     /// The radiance flow of `levels` (`levels[0]` the eye's view) on the GPU: the eye's pixels.
     /// Points the [`PointShader`] shades are shaded on the GPU (`spp` shadow rays per area light,
-    /// the irradiance of `caustics`), the others by `rest`. Every level's radiance is a texture;
-    /// the records go in dispatches of [`records_per_dispatch`](Self::records_per_dispatch), each
+    /// the scene's shading and caustics `prepared` by [`PointShader::prepare`]), the others by
+    /// `rest`. Every level's radiance is a texture; the records go in dispatches of [`records_per_dispatch`](Self::records_per_dispatch), each
     /// binding only the faces and child regions its records reference. Call inside
     /// [`crate::buffers::checked`].
     #[allow(clippy::too_many_arguments)]
@@ -136,13 +135,12 @@ impl GpuComposite {
         tracer: &RayTracer,
         shader: &PointShader,
         (scene, smesh): (&Scene, &SMesh),
-        caustics: Option<&IrradianceMap>,
+        prepared: &ShadeScene,
         spp: u32,
         levels: &[LevelRadiance],
         rest: &ShadeRest<'_>,
     ) -> Result<Vec<Vec3>, GpuError> {
         let all_faces = gpu_faces(scene, smesh);
-        let prepared = shader.prepare(gpu, caustics);
         let chunk = Self::records_per_dispatch(gpu);
         let mut below = Self::level_texture(gpu, 0);
         let mut below_regions: &[(u32, u32)] = &[];
@@ -175,7 +173,7 @@ impl GpuComposite {
                     })
                     .collect();
                 let other_radiance: Vec<[f32; 4]> = rest(&other)?.iter().map(|c| c.extend(0.0).to_array()).collect();
-                let (encoder, shaded) = shader.shade_into(gpu, tracer, &prepared, spp, &direct, other.len())?;
+                let (encoder, shaded) = shader.shade_into(gpu, tracer, prepared, spp, &direct, other.len())?;
                 gpu.queue.write_buffer(&shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
                 // The faces and child regions the chunk references, compacted (in the texels'
                 // order, on one thread), then the records (in parallel).
