@@ -125,9 +125,9 @@ impl GpuComposite {
     /// The radiance flow of `levels` (`levels[0]` the eye's view) on the GPU: the eye's pixels.
     /// Points the [`PointShader`] shades are shaded on the GPU (`spp` shadow rays per area light,
     /// the scene's shading and caustics `prepared` by [`PointShader::prepare`]), the others by
-    /// `rest`. Every level's radiance is a texture; the records go in dispatches of [`records_per_dispatch`](Self::records_per_dispatch), each
-    /// binding only the faces and child regions its records reference. Call inside
-    /// [`crate::buffers::checked`].
+    /// `rest`. Every level's radiance is a texture; the records go in dispatches of at most
+    /// `records_per_dispatch` records, each binding only the faces and child regions its records
+    /// reference. Call inside [`crate::buffers::checked`].
     #[allow(clippy::too_many_arguments)]
     pub fn run(
         &self,
