@@ -219,8 +219,7 @@ impl FlatBvh {
     /// Any-hit answers for many rays, each with its own `t_max` (parallel with `parallel`).
     #[must_use]
     pub fn any_hits(&self, triangles: &[Triangle], rays: &[Ray], t_max: &[f32]) -> Vec<bool> {
-        let pairs: Vec<(Ray, f32)> = rays.iter().copied().zip(t_max.iter().copied()).collect();
-        map_rays(&pairs, |(r, t)| self.any_hit(triangles, *r, *t))
+        map_segments(rays, t_max, |r, t| self.any_hit(triangles, r, t))
     }
 }
 
@@ -235,14 +234,28 @@ pub(crate) fn map_rays<T, R>(items: &[T], f: impl Fn(&T) -> R) -> Vec<R> {
     items.iter().map(f).collect()
 }
 
+/// `f` of each ray and its own `t_max` (in parallel with the `parallel` feature).
+#[cfg(feature = "parallel")]
+pub(crate) fn map_segments<R: Send>(rays: &[Ray], t_max: &[f32], f: impl Fn(Ray, f32) -> R + Sync + Send) -> Vec<R> {
+    use rayon::prelude::*;
+    rays.par_iter().zip(t_max).with_min_len(256).map(|(r, t)| f(*r, *t)).collect()
+}
+
+/// `f` of each ray and its own `t_max`.
+#[cfg(not(feature = "parallel"))]
+pub(crate) fn map_segments<R>(rays: &[Ray], t_max: &[f32], f: impl Fn(Ray, f32) -> R) -> Vec<R> {
+    rays.iter().zip(t_max).map(|(r, t)| f(*r, *t)).collect()
+}
+
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::{BuildOptions, RayDistribution};
     use beam_math::collide::ray_triangle;
     use beam_math::glam::Vec3;
 
-    fn soup(n: usize, seed: u32) -> Vec<Triangle> {
+    /// `n` small random triangles around random centres (a seeded LCG), for tests.
+    pub(crate) fn soup(n: usize, seed: u32) -> Vec<Triangle> {
         let mut s = seed;
         let mut r = move || {
             s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);

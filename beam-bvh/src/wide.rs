@@ -248,8 +248,7 @@ impl WideBvh {
     /// Any-hit answers for many rays, each with its own `t_max`.
     #[must_use]
     pub fn any_hits(&self, rays: &[Ray], t_max: &[f32]) -> Vec<bool> {
-        let pairs: Vec<(Ray, f32)> = rays.iter().copied().zip(t_max.iter().copied()).collect();
-        crate::traverse::map_rays(&pairs, |(r, t)| self.any_hit(*r, *t))
+        crate::traverse::map_segments(rays, t_max, |r, t| self.any_hit(r, t))
     }
 
     /// Refit after the input triangles moved: refresh the leaf-order copies, then every child box

@@ -1,6 +1,8 @@
 //! Primitive references and their summaries for the binned builders.
 
-use super::{PARALLEL_BINNING, reduce_chunks};
+#[cfg(feature = "parallel")]
+use super::PARALLEL_BINNING;
+use super::reduce_chunks;
 use beam_math::glam::Vec4;
 use beam_math::{Aabb, Triangle};
 use std::vec::Vec;

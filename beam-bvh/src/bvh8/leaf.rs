@@ -6,6 +6,8 @@
 //!
 //! [`WatertightRay`]: beam_math::collide::WatertightRay
 
+use super::{Bvh8, Node8};
+use crate::traverse::Hit;
 use beam_math::glam::{Vec3, Vec4};
 use beam_math::{Ray, Triangle};
 
@@ -150,6 +152,37 @@ pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
     let mut hits = BlockHits { mask: 0, t: [0.0; 4], u: [0.0; 4], v: [0.0; 4] };
     fallback_lanes(&abc.map(|x| x.to_array()), 0.0, t_max, fallback, &mut hits);
     hits.mask != 0
+}
+
+/// Test the blocks of leaf `r` of `bvh` (a [`Node8::LEAF`] reference) with `sr`, calling
+/// `on_block` with each block's index before its test. With `ANY`: whether one block is hit within
+/// `[0, t_best]`. Else the nearest hit there replaces `best` and becomes `t_best`; returns false.
+#[inline(always)]
+pub(crate) fn visit_leaf<const ANY: bool>(
+    bvh: &Bvh8,
+    r: u32,
+    sr: &ShearRay,
+    t_best: &mut f32,
+    best: &mut Option<Hit>,
+    mut on_block: impl FnMut(usize),
+) -> bool {
+    let (first, count) = Node8::leaf_blocks(r);
+    for k in first..first + count {
+        on_block(k);
+        if ANY {
+            if occludes4(&bvh.blocks[k], sr, *t_best) {
+                return true;
+            }
+            continue;
+        }
+        let h = intersect4(&bvh.blocks[k], sr, 0.0, *t_best);
+        if h.mask != 0 {
+            let l = h.nearest();
+            *t_best = h.t[l];
+            *best = Some(Hit { prim: bvh.prims[4 * k + l], t: h.t[l], u: h.u[l], v: h.v[l] });
+        }
+    }
+    false
 }
 
 /// The edge functions of four triangles for one ray: the lanes' transformed vertices and `u`,

@@ -1,8 +1,8 @@
 //! The portable 8-wide traversal: each node's eight boxes as two four-lane halves through glam
 //! (SSE2 on x86-64, NEON on AArch64, scalar elsewhere), hit children pushed farthest first, leaves
-//! through [`intersect4`]. It is the fallback where AVX2 is missing, and the kernel that counts work.
+//! through [`visit_leaf`]. It is the fallback where AVX2 is missing, and the kernel that counts work.
 
-use super::leaf::{ShearRay, intersect4, occludes4};
+use super::leaf::{ShearRay, visit_leaf};
 use super::{Bvh8, Node8, RayBox};
 use crate::stats::Counter;
 use crate::traverse::Hit;
@@ -37,25 +37,15 @@ pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f3
     let mut cur = 0u32;
     loop {
         if cur & Node8::LEAF != 0 {
-            let (first, count) = Node8::leaf_blocks(cur);
-            for k in first..first + count {
+            let count = |k: usize| {
                 for l in 0..4 {
                     if bvh.prims[4 * k + l] != u32::MAX {
                         c.triangle();
                     }
                 }
-                if ANY {
-                    if occludes4(&bvh.blocks[k], &sr, t_best) {
-                        return (true, None);
-                    }
-                    continue;
-                }
-                let h = intersect4(&bvh.blocks[k], &sr, 0.0, t_best);
-                if h.mask != 0 {
-                    let l = h.nearest();
-                    t_best = h.t[l];
-                    best = Some(Hit { prim: bvh.prims[4 * k + l], t: h.t[l], u: h.u[l], v: h.v[l] });
-                }
+            };
+            if visit_leaf::<ANY>(bvh, cur, &sr, &mut t_best, &mut best, count) {
+                return (true, None);
             }
         } else {
             let n = &bvh.nodes[cur as usize];

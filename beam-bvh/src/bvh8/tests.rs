@@ -1,21 +1,7 @@
 use super::*;
+use crate::traverse::tests::soup;
 use crate::{BuildOptions, RayDistribution};
 use beam_math::collide::WatertightRay;
-
-fn soup(n: usize, seed: u32) -> Vec<Triangle> {
-    let mut s = seed;
-    let mut r = move || {
-        s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-        (s >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
-    };
-    (0..n)
-        .map(|_| {
-            let c = Vec3::new(r(), r(), r()) * 5.0;
-            let mut p = || c + Vec3::new(r(), r(), r()) * 0.4;
-            Triangle::new(p(), p(), p())
-        })
-        .collect()
-}
 
 /// A closed grid of quads (shared edges everywhere) with its diagonals, for watertightness.
 fn grid(n: usize) -> Vec<Triangle> {

@@ -8,7 +8,7 @@
 //! initialised before use, and the calls into `#[target_feature]` code after run-time detection.
 #![allow(unsafe_code)]
 
-use super::leaf::{ShearRay, intersect4, occludes4};
+use super::leaf::{ShearRay, visit_leaf};
 use super::{Bvh8, Kernel, Node8};
 use crate::traverse::Hit;
 use beam_math::Ray;
@@ -72,20 +72,8 @@ macro_rules! kernel {
             let mut cur = 0u32;
             loop {
                 if cur & Node8::LEAF != 0 {
-                    let (first, count) = Node8::leaf_blocks(cur);
-                    for k in first..first + count {
-                        if ANY {
-                            if occludes4(&bvh.blocks[k], &sr, t_best) {
-                                return (true, None);
-                            }
-                            continue;
-                        }
-                        let h = intersect4(&bvh.blocks[k], &sr, 0.0, t_best);
-                        if h.mask != 0 {
-                            let l = h.nearest();
-                            t_best = h.t[l];
-                            best = Some(Hit { prim: bvh.prims[4 * k + l], t: h.t[l], u: h.u[l], v: h.v[l] });
-                        }
+                    if visit_leaf::<ANY>(bvh, cur, &sr, &mut t_best, &mut best, |_| {}) {
+                        return (true, None);
                     }
                 } else {
                     let n = &bvh.nodes[cur as usize];

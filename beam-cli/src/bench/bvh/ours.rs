@@ -42,36 +42,6 @@ impl Tracer for Binary<'_> {
     }
 }
 
-impl Tracer for Wide4 {
-    fn name(&self) -> String {
-        self.name.clone()
-    }
-    fn build_ms(&self) -> f64 {
-        self.build_ms
-    }
-    fn closest(&self, ray: &Ray) -> Option<f32> {
-        self.bvh.closest_hit(*ray, f32::INFINITY).map(|h| h.t)
-    }
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.bvh.any_hit(*ray, t_max)
-    }
-}
-
-impl Tracer for Wide8 {
-    fn name(&self) -> String {
-        self.name.clone()
-    }
-    fn build_ms(&self) -> f64 {
-        self.build_ms
-    }
-    fn closest(&self, ray: &Ray) -> Option<f32> {
-        self.bvh.closest_hit(*ray, f32::INFINITY).map(|h| h.t)
-    }
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.bvh.any_hit(*ray, t_max)
-    }
-}
-
 /// A layout's work counters: closest hit and any hit of one ray into a statistics sink.
 pub trait Counted {
     fn name(&self) -> String;
@@ -91,26 +61,36 @@ impl Counted for Binary<'_> {
     }
 }
 
-impl Counted for Wide4 {
-    fn name(&self) -> String {
-        self.name.clone()
-    }
-    fn closest_stats(&self, ray: Ray, stats: &mut TraversalStats) {
-        _ = self.bvh.closest_hit_stats(ray, f32::INFINITY, stats);
-    }
-    fn any_stats(&self, ray: Ray, t_max: f32, stats: &mut TraversalStats) {
-        _ = self.bvh.any_hit_stats(ray, t_max, stats);
-    }
+/// [`Tracer`] and [`Counted`] for our wide layouts, whose queries take the ray alone.
+macro_rules! wide_layout {
+    ($($layout:ty),*) => {$(
+        impl Tracer for $layout {
+            fn name(&self) -> String {
+                self.name.clone()
+            }
+            fn build_ms(&self) -> f64 {
+                self.build_ms
+            }
+            fn closest(&self, ray: &Ray) -> Option<f32> {
+                self.bvh.closest_hit(*ray, f32::INFINITY).map(|h| h.t)
+            }
+            fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+                self.bvh.any_hit(*ray, t_max)
+            }
+        }
+
+        impl Counted for $layout {
+            fn name(&self) -> String {
+                self.name.clone()
+            }
+            fn closest_stats(&self, ray: Ray, stats: &mut TraversalStats) {
+                _ = self.bvh.closest_hit_stats(ray, f32::INFINITY, stats);
+            }
+            fn any_stats(&self, ray: Ray, t_max: f32, stats: &mut TraversalStats) {
+                _ = self.bvh.any_hit_stats(ray, t_max, stats);
+            }
+        }
+    )*};
 }
 
-impl Counted for Wide8 {
-    fn name(&self) -> String {
-        self.name.clone()
-    }
-    fn closest_stats(&self, ray: Ray, stats: &mut TraversalStats) {
-        _ = self.bvh.closest_hit_stats(ray, f32::INFINITY, stats);
-    }
-    fn any_stats(&self, ray: Ray, t_max: f32, stats: &mut TraversalStats) {
-        _ = self.bvh.any_hit_stats(ray, t_max, stats);
-    }
-}
+wide_layout!(Wide4, Wide8);
