@@ -27,19 +27,48 @@ impl Cone {
 /// Sphere–cone test of 000 App. A: true when the apex is inside the sphere, or when
 /// `(O − P_C)/‖O − P_C‖ · d_C > cos(θ_C + θ_S)` with `θ_S = asin(R / ‖O − P_C‖)`.
 /// Conservative (never rejects an overlapping sphere); spheres wholly behind the apex are rejected.
+/// To test many spheres against one cone, prepare it once with [`ConeSpheres::new`].
 #[must_use]
 pub fn cone_sphere(cone: &Cone, center: Vec3, radius: f32) -> bool {
-    let v = center - cone.apex;
-    let dist = v.length();
-    if dist <= radius {
-        return true;
+    ConeSpheres::new(cone).meets(center, radius)
+}
+
+/// A cone prepared for many [`cone_sphere`] tests: `cos θ_C` and `sin θ_C` taken once, so that a
+/// test needs one square root and no trigonometry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConeSpheres {
+    apex: Vec3,
+    axis: Vec3,
+    cos: f32,
+    sin: f32,
+}
+
+impl ConeSpheres {
+    /// Prepare `cone`.
+    #[must_use]
+    pub fn new(cone: &Cone) -> Self {
+        Self { apex: cone.apex, axis: cone.axis, cos: cone.angle.cos_(), sin: cone.angle.sin_() }
     }
-    let theta_s = (radius / dist).asin_();
-    let total = cone.angle + theta_s;
-    if total >= core::f32::consts::PI {
-        return true;
+
+    /// [`cone_sphere`] of the sphere at `center` of `radius`. With `d = ‖O − P_C‖`,
+    /// `cos θ_S = √(d² − R²)/d` and `sin θ_S = R/d`, so `d·cos(θ_C + θ_S) = cos θ_C √(d² − R²) −
+    /// sin θ_C R`; `θ_C + θ_S ≥ π` (every direction) exactly when `θ_C ≥ π/2` and `R ≥ d sin θ_C`.
+    /// The comparison is widened by `1e-5·d` so that rounding never rejects a sphere the angles'
+    /// form accepts.
+    #[must_use]
+    pub fn meets(&self, center: Vec3, radius: f32) -> bool {
+        let v = center - self.apex;
+        let d2 = v.length_squared();
+        if d2 <= radius * radius {
+            return true;
+        }
+        let dist = d2.sqrt_();
+        if self.cos <= 0.0 && radius >= dist * self.sin {
+            return true;
+        }
+        let bound = self.cos * (d2 - radius * radius).sqrt_() - self.sin * radius;
+        v.dot(self.axis) + 1e-5 * dist > bound
     }
-    v.dot(cone.axis) / dist > total.cos_()
 }
 
 #[cfg(test)]
@@ -58,5 +87,40 @@ mod tests {
         assert!(cone_sphere(&cone, c, r_touch * 1.01));
         assert!(!cone_sphere(&cone, c, r_touch * 0.99));
         assert!(cone_sphere(&cone, Vec3::new(0.1, 0.0, 0.0), 0.2));
+    }
+
+    /// The angles' form of 000 App. A, as written there.
+    fn by_angles(cone: &Cone, center: Vec3, radius: f32) -> bool {
+        let v = center - cone.apex;
+        let dist = v.length();
+        if dist <= radius {
+            return true;
+        }
+        let total = cone.angle + (radius / dist).asin_();
+        total >= core::f32::consts::PI || v.dot(cone.axis) / dist > total.cos_()
+    }
+
+    #[test]
+    fn prepared_test_keeps_every_sphere_the_angles_keep() {
+        // A seeded grid of cones (half-angles up to 3 rad, past π/2) and spheres: the prepared test
+        // accepts every sphere the angles' form accepts, and disagrees only at the boundary.
+        let mut state = 0x2545_f491_u32;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state as f32 / u32::MAX as f32
+        };
+        let (mut extra, n) = (0, 200_000);
+        for _ in 0..n {
+            let axis = Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize_or(Vec3::Z);
+            let cone = Cone { apex: Vec3::new(next(), next(), next()), axis, angle: 0.01 + 3.0 * next() };
+            let center = Vec3::new(8.0 * next() - 4.0, 8.0 * next() - 4.0, 8.0 * next() - 4.0);
+            let radius = 2.0 * next();
+            let (angles, prepared) = (by_angles(&cone, center, radius), cone_sphere(&cone, center, radius));
+            assert!(prepared || !angles, "{cone:?} {center} {radius}: rejected a sphere the angles keep");
+            extra += usize::from(prepared && !angles);
+        }
+        assert!(extra < n / 1000, "{extra} of {n} extra spheres kept: more than boundary rounding");
     }
 }

@@ -15,7 +15,7 @@ mod ray_triangle;
 
 pub use aabb_aabb::aabb_aabb;
 pub use aabb_planes::aabb_outside_planes;
-pub use cone_sphere::{Cone, cone_sphere};
+pub use cone_sphere::{Cone, ConeSpheres, cone_sphere};
 pub use distance::{closest_point_on_triangle, segment_segment_distance, triangle_triangle_distance};
 pub use frustum::Frustum;
 pub use frustum_aabb::{frustum_aabb, separating_axes};
