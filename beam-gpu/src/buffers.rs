@@ -1,6 +1,7 @@
 //! Buffer upload, compute dispatch and readback shared by the pipelines.
 
 use crate::{Gpu, GpuError};
+use std::time::Instant;
 use wgpu::util::DeviceExt;
 
 /// A storage buffer holding `items`; when there are none, zeros the size of one `T` (at least 64
@@ -10,11 +11,21 @@ use wgpu::util::DeviceExt;
 pub fn storage<T: bytemuck::Pod>(gpu: &Gpu, label: &str, items: &[T], usage: wgpu::BufferUsages) -> wgpu::Buffer {
     let padded = vec![0u8; empty_size::<T>()];
     let contents = if items.is_empty() { &padded[..] } else { bytemuck::cast_slice(items) };
-    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+    let start = Instant::now();
+    let buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
         contents,
         usage: wgpu::BufferUsages::STORAGE | usage,
-    })
+    });
+    gpu.record_upload(start.elapsed(), contents.len());
+    buffer
+}
+
+/// `queue.write_buffer` of `data` into `buffer` at `offset`, counted as an upload.
+pub fn write(gpu: &Gpu, buffer: &wgpu::Buffer, offset: u64, data: &[u8]) {
+    let start = Instant::now();
+    gpu.queue.write_buffer(buffer, offset, data);
+    gpu.record_upload(start.elapsed(), data.len());
 }
 
 /// Bytes of the zeroed stand-in [`storage`] uploads for an empty slice of `T`: one element, at
@@ -35,11 +46,14 @@ pub fn max_binding(gpu: &Gpu) -> u64 {
 /// A uniform buffer holding `bytes`.
 #[must_use]
 pub fn uniform(gpu: &Gpu, label: &str, bytes: &[u8]) -> wgpu::Buffer {
-    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+    let start = Instant::now();
+    let buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
         contents: bytes,
         usage: wgpu::BufferUsages::UNIFORM,
-    })
+    });
+    gpu.record_upload(start.elapsed(), bytes.len());
+    buffer
 }
 
 /// Submit `encoder` after copying `size` bytes of `source` into a mappable buffer, wait, and read
@@ -67,14 +81,14 @@ pub fn read_back<T: bytemuck::Pod>(
 pub fn map_with<T>(gpu: &Gpu, buffer: &wgpu::Buffer, read: impl FnOnce(&[u8]) -> T) -> Result<T, GpuError> {
     let slice = buffer.slice(..);
     slice.map_async(wgpu::MapMode::Read, |_| {});
-    let start = std::time::Instant::now();
+    let start = Instant::now();
     gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(GpuError::Wait)?;
-    let waited = start.elapsed();
+    let (waited, start) = (start.elapsed(), Instant::now());
     let data = slice.get_mapped_range().map_err(GpuError::Readback)?;
     let (out, len) = (read(&data), data.len());
     drop(data);
     buffer.unmap();
-    gpu.record(waited, len);
+    gpu.record(waited, len, start.elapsed());
     Ok(out)
 }
 

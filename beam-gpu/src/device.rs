@@ -16,17 +16,26 @@ pub struct Gpu {
     pub info: wgpu::AdapterInfo,
     waited_ns: AtomicU64,
     read_back: AtomicU64,
+    upload_ns: AtomicU64,
+    uploaded: AtomicU64,
+    unpack_ns: AtomicU64,
 }
 
 /// What beam's passes have cost on the host side of the bus so far, summed over its calls: the
-/// time blocked waiting for the device (everything else a caller times is host work) and the bytes
-/// read back.
+/// time blocked waiting for the device (everything else a caller times is host work), the bytes
+/// read back and uploaded, and the host's time in both.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Traffic {
     /// Seconds blocked on the device (polling for a readback).
     pub waited_seconds: f64,
     /// Bytes copied back to the host.
     pub bytes_read_back: u64,
+    /// Host seconds creating and filling buffers and textures from host data (`crate::buffers`).
+    pub upload_seconds: f64,
+    /// Bytes uploaded.
+    pub bytes_uploaded: u64,
+    /// Host seconds reading mapped readbacks (unpacking them where they are mapped), waits excluded.
+    pub unpack_seconds: f64,
 }
 
 impl std::ops::Sub for Traffic {
@@ -36,8 +45,15 @@ impl std::ops::Sub for Traffic {
         Self {
             waited_seconds: self.waited_seconds - earlier.waited_seconds,
             bytes_read_back: self.bytes_read_back - earlier.bytes_read_back,
+            upload_seconds: self.upload_seconds - earlier.upload_seconds,
+            bytes_uploaded: self.bytes_uploaded - earlier.bytes_uploaded,
+            unpack_seconds: self.unpack_seconds - earlier.unpack_seconds,
         }
     }
+}
+
+fn nanos(d: Duration) -> u64 {
+    u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)
 }
 
 impl Gpu {
@@ -83,23 +99,43 @@ impl Gpu {
     /// beam on a device and queue the caller opened (an engine's), `info` its adapter's.
     #[must_use]
     pub fn from_device(device: wgpu::Device, queue: wgpu::Queue, info: wgpu::AdapterInfo) -> Self {
-        Self { device, queue, info, waited_ns: AtomicU64::new(0), read_back: AtomicU64::new(0) }
+        let zero = || AtomicU64::new(0);
+        Self {
+            device,
+            queue,
+            info,
+            waited_ns: zero(),
+            read_back: zero(),
+            upload_ns: zero(),
+            uploaded: zero(),
+            unpack_ns: zero(),
+        }
     }
 
     /// Waits and readbacks so far; subtract two to get an interval's.
     #[must_use]
     pub fn traffic(&self) -> Traffic {
+        let seconds = |ns: &AtomicU64| Duration::from_nanos(ns.load(Ordering::Relaxed)).as_secs_f64();
         Traffic {
-            waited_seconds: Duration::from_nanos(self.waited_ns.load(Ordering::Relaxed)).as_secs_f64(),
+            waited_seconds: seconds(&self.waited_ns),
             bytes_read_back: self.read_back.load(Ordering::Relaxed),
+            upload_seconds: seconds(&self.upload_ns),
+            bytes_uploaded: self.uploaded.load(Ordering::Relaxed),
+            unpack_seconds: seconds(&self.unpack_ns),
         }
     }
 
-    /// Count a wait of `waited` that read back `bytes`.
-    pub(crate) fn record(&self, waited: Duration, bytes: usize) {
-        let ns = u64::try_from(waited.as_nanos()).unwrap_or(u64::MAX);
-        self.waited_ns.fetch_add(ns, Ordering::Relaxed);
+    /// Count a wait of `waited` that read back `bytes`, unpacked in `unpacking`.
+    pub(crate) fn record(&self, waited: Duration, bytes: usize, unpacking: Duration) {
+        self.waited_ns.fetch_add(nanos(waited), Ordering::Relaxed);
         self.read_back.fetch_add(bytes as u64, Ordering::Relaxed);
+        self.unpack_ns.fetch_add(nanos(unpacking), Ordering::Relaxed);
+    }
+
+    /// Count an upload of `bytes` that took the host `took`.
+    pub(crate) fn record_upload(&self, took: Duration, bytes: usize) {
+        self.upload_ns.fetch_add(nanos(took), Ordering::Relaxed);
+        self.uploaded.fetch_add(bytes as u64, Ordering::Relaxed);
     }
 
     /// `name (backend)`.

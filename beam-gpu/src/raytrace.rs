@@ -8,6 +8,7 @@ use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
 use beam_math::Ray;
 use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
 
 /// A ray for the GPU.
 ///
@@ -99,16 +100,21 @@ impl RayTracer {
 
     /// Trace `rays`; one result each, in dispatches of at most [`max_rays`](Self::max_rays).
     pub fn trace(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<Vec<GpuHit>, GpuError> {
-        let mut out = Vec::with_capacity(rays.len());
+        let mut out: Vec<GpuHit> = Vec::new();
         for (k, chunk) in rays.chunks(Self::max_rays(gpu)).enumerate() {
             let hits = self.trace_dispatch(gpu, chunk)?;
             // A miss at t = −1 (of a ray searched from t = 0 on): the traversal's stack overflowed
             // (lib/trace.wgsl), which GpuBvh::new rules out.
-            let overflow = |i: &usize| hits[*i].prim == MISS && hits[*i].t < 0.0 && chunk[*i].t_max >= 0.0;
-            if let Some(i) = (0..hits.len()).find(overflow) {
+            let overflow = |(h, r): (&GpuHit, &GpuRay)| h.prim == MISS && h.t < 0.0 && r.t_max >= 0.0;
+            if let Some(i) = hits.par_iter().zip(chunk).position_any(overflow) {
                 return Err(GpuError::StackOverflow { ray: k * Self::max_rays(gpu) + i });
             }
-            out.extend(hits);
+            // One dispatch (the common case) hands its hits back as they were read.
+            if out.is_empty() {
+                out = hits;
+            } else {
+                out.extend(hits);
+            }
         }
         Ok(out)
     }

@@ -54,6 +54,7 @@ pub fn upload<T: bytemuck::Pod>(gpu: &Gpu, label: &str, items: &[T], format: wgp
     let size = out.size();
     let mut texels = vec![T::zeroed(); (size.width * size.height) as usize];
     texels[..items.len()].copy_from_slice(items);
+    let start = std::time::Instant::now();
     gpu.queue.write_texture(
         out.as_image_copy(),
         bytemuck::cast_slice(&texels),
@@ -64,6 +65,7 @@ pub fn upload<T: bytemuck::Pod>(gpu: &Gpu, label: &str, items: &[T], format: wgp
         },
         size,
     );
+    gpu.record_upload(start.elapsed(), texels.len() * size_of::<T>());
     out
 }
 

@@ -62,6 +62,9 @@ pub struct GpuTimes {
     pub ray_seconds: f64,
     /// Seconds shading points and compositing the beam tree on the GPU.
     pub shade_seconds: f64,
+    /// Of the composite's, host seconds (not blocked on the device) following the Whitted rays of
+    /// mirror and glass points past the tree's last level.
+    pub whitted_host_seconds: f64,
     /// Atlas pages rendered.
     pub pages: u64,
     /// Beams drawn.
@@ -496,7 +499,7 @@ impl DeviceWaits for GpuBeams<'_> {
 
 impl RayQueries for GpuBeams<'_> {
     fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
-        let hits = self.trace(rays.iter().map(GpuRay::closest).collect())?;
+        let hits = self.trace(rays.par_iter().map(GpuRay::closest).collect())?;
         // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
         Ok(hits
             .into_par_iter()
@@ -511,9 +514,9 @@ impl RayQueries for GpuBeams<'_> {
     }
 
     fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
-        let hits = self.trace(segments.iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?;
+        let hits = self.trace(segments.par_iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?;
         // An any-hit ray's t is 1 when it is occluded, 0 otherwise (`trace_ray`).
-        Ok(hits.iter().map(|h| h.t == 1.0).collect())
+        Ok(hits.par_iter().map(|h| h.t == 1.0).collect())
     }
 }
 
@@ -549,9 +552,12 @@ impl PointShading for GpuBeams<'_> {
         // The scene's shading and caustics, uploaded once for the composite and every wave.
         let prepared = self.shader.prepare(self.gpu, caustics);
         let rest = |points: &[ShadePoint]| {
-            let start = Instant::now();
+            let (start, waited) = (Instant::now(), self.gpu.traffic().waited_seconds);
             let out = self.shade_exact_prepared(scene, &prepared, points);
-            elsewhere.set(elsewhere.get() + start.elapsed().as_secs_f64());
+            let wall = start.elapsed().as_secs_f64();
+            elsewhere.set(elsewhere.get() + wall);
+            let host = wall - (self.gpu.traffic().waited_seconds - waited);
+            self.add_times(|t| t.whitted_host_seconds += host);
             out
         };
         let pixels = checked(self.gpu, || {

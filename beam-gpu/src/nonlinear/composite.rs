@@ -7,7 +7,7 @@
 //! points without child beams (past the last level) come from the caller. CPU twin:
 //! beam-cpu's `composite_levels`.
 
-use crate::buffers::{compute_pipeline, max_binding, storage, uniform};
+use crate::buffers::{compute_pipeline, max_binding, storage, uniform, write};
 use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeScene};
@@ -174,7 +174,7 @@ impl GpuComposite {
                     .collect();
                 let other_radiance: Vec<[f32; 4]> = rest(&other)?.iter().map(|c| c.extend(0.0).to_array()).collect();
                 let (encoder, shaded) = shader.shade_into(gpu, tracer, prepared, spp, &direct, other.len())?;
-                gpu.queue.write_buffer(&shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
+                write(gpu, &shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
                 // The faces and child regions the chunk references, compacted (in the texels'
                 // order, on one thread), then the records (in parallel).
                 let mut slots = Vec::with_capacity(texels.len());

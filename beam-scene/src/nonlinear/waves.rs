@@ -29,12 +29,9 @@ pub fn shade_by_waves(
     // Per point, its specular rays (mirror and glass) or `None` (shaded where it is); in parallel,
     // in the points' order.
     let scattered: Vec<_> = points.par_iter().map(|s| specular_rays(scene, eps, s.prim, s.p, s.d)).collect();
-    let direct: Vec<usize> = (0..points.len()).into_par_iter().filter(|&i| scattered[i].is_none()).collect();
-    let paths: Vec<Path> = scattered
-        .into_par_iter()
-        .enumerate()
-        .flat_map_iter(|(i, rays)| rays.into_iter().flatten().flatten().map(move |(r, k)| (i, r, k)))
-        .collect();
+    let direct: Vec<usize> = gather(&scattered, 0, |i, s| [s.is_none().then_some(i), None]);
+    let paths: Vec<Path> =
+        gather(&scattered, NO_PATH, |i, rays| rays.unwrap_or_default().map(|s| s.map(|(r, k)| (i, r, k))));
     let mut out = vec![Vec3::ZERO; points.len()];
     let batch: Vec<ShadePoint> = direct.par_iter().map(|&i| points[i]).collect();
     for (&i, radiance) in direct.iter().zip(shade(&batch)?) {
@@ -73,28 +70,78 @@ pub fn trace_waves(
         }
         let rays: Vec<Ray> = paths.par_iter().map(|p| p.1).collect();
         let hits = renderer.closest_hits(scene, &rays)?;
-        // Per path: the paths it continues as, or the point it ends on.
-        let next: Vec<(Vec<Path>, Option<End>)> = paths
+        // Per path: the (at most two) paths it continues as, or the point it ends on.
+        let next: Vec<([Option<Path>; 2], Option<End>)> = paths
             .par_iter()
             .zip(hits)
             .map(|(&(px, ray, weight), hit)| {
-                let Some(hit) = hit else { return (Vec::new(), None) };
+                let Some(hit) = hit else { return ([None; 2], None) };
                 let (p, d) = (ray.at(hit.t), ray.direction.normalize());
                 match specular_rays(scene, eps, hit.prim, p, d) {
-                    Some(_) if depth == MAX_DEPTH => (Vec::new(), None),
-                    Some(scattered) => {
-                        (scattered.into_iter().flatten().map(|(r, k)| (px, r, weight * k)).collect(), None)
-                    }
-                    None => (Vec::new(), Some((px, weight, ShadePoint { prim: hit.prim, p, d, seed: seed(px) }))),
+                    Some(_) if depth == MAX_DEPTH => ([None; 2], None),
+                    Some(scattered) => (scattered.map(|s| s.map(|(r, k)| (px, r, weight * k))), None),
+                    None => ([None; 2], Some((px, weight, ShadePoint { prim: hit.prim, p, d, seed: seed(px) }))),
                 }
             })
             .collect();
-        let ends: Vec<End> = next.par_iter().filter_map(|(_, e)| *e).collect();
+        let ends: Vec<End> = gather(&next, (0, Vec3::ZERO, NO_PATH_POINT), |_, (_, e)| [*e, None]);
         let points: Vec<ShadePoint> = ends.par_iter().map(|e| e.2).collect();
         for ((px, weight, _), radiance) in ends.iter().zip(shade(&points)?) {
             out[*px] += *weight * radiance;
         }
-        paths = next.into_par_iter().flat_map_iter(|(more, _)| more).collect();
+        paths = gather(&next, NO_PATH, |_, (more, _)| *more);
     }
     Ok(())
+}
+
+/// Placeholders of [`gather`]'s output before it is filled.
+const NO_PATH: Path = (0, Ray { origin: Vec3::ZERO, direction: Vec3::ZERO }, Vec3::ZERO);
+const NO_PATH_POINT: ShadePoint = ShadePoint { prim: 0, p: Vec3::ZERO, d: Vec3::ZERO, seed: 0 };
+
+/// Items per piece of [`gather`].
+const PIECE: usize = 1 << 14;
+
+/// What `each(i, &items[i])` holds (at most two items), for every `i` in order, gathered by every thread: counted per
+/// piece, then written in place into one vector filled with `placeholder` in parallel (rayon's
+/// unindexed `collect` appends its pieces on one thread, which first-touches every page of the
+/// result there: millions of paths a wave).
+fn gather<S: Sync, T: Copy + Send + Sync>(
+    items: &[S],
+    placeholder: T,
+    each: impl Fn(usize, &S) -> [Option<T>; 2] + Sync,
+) -> Vec<T> {
+    let counts: Vec<usize> = items
+        .par_chunks(PIECE)
+        .enumerate()
+        .map(|(k, piece)| piece.iter().enumerate().map(|(j, s)| each(k * PIECE + j, s).iter().flatten().count()).sum())
+        .collect();
+    let mut out: Vec<T> = (0..counts.iter().sum::<usize>()).into_par_iter().map(|_| placeholder).collect();
+    let mut slots = Vec::with_capacity(counts.len());
+    let mut rest = &mut out[..];
+    for &n in &counts {
+        let (slot, tail) = rest.split_at_mut(n);
+        slots.push(slot);
+        rest = tail;
+    }
+    items.par_chunks(PIECE).enumerate().zip(slots).for_each(|((k, piece), slot)| {
+        let yielded = piece.iter().enumerate().flat_map(|(j, s)| each(k * PIECE + j, s)).flatten();
+        for (dst, t) in slot.iter_mut().zip(yielded) {
+            *dst = t;
+        }
+    });
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gather_keeps_every_item_in_order_across_pieces() {
+        let items: Vec<u64> = (0..3 * PIECE as u64 + 17).collect();
+        let each = |i: usize, &x: &u64| [(x % 3 == 0).then_some((i, x)), (x % 5 == 0).then_some((i, x + 1))];
+        let serial: Vec<(usize, u64)> = items.iter().enumerate().flat_map(|(i, x)| each(i, x)).flatten().collect();
+        assert_eq!(gather(&items, (0, 0), each), serial);
+        assert!(gather(&items[..0], (0, 0), each).is_empty());
+    }
 }
