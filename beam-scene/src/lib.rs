@@ -29,6 +29,7 @@ pub mod irradiance_map;
 pub mod mesh;
 pub mod nonlinear;
 pub mod options;
+pub mod parallel;
 pub mod queries;
 pub mod read;
 pub mod region;

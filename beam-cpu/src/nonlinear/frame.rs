@@ -14,6 +14,7 @@ use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{BeamRenderer, Degree, LevelRadiance, SMesh, ShadePoint, TexelRadiance};
+use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -83,19 +84,20 @@ pub fn render_nonlinear_with(
     let eye = LevelRadiance {
         regions: Vec::new(),
         len: hits.len(),
-        texels: hits
-            .par_iter()
-            .enumerate()
-            .filter(|&(i, _)| in_crop(i))
-            .filter_map(|(i, hit)| {
-                let (ray, hit) = (*hit)?;
-                let point =
-                    ShadePoint { prim: hit.prim, p: ray.at(hit.t), d: ray.direction.normalize(), seed: i as u64 };
-                let composite =
-                    tree.composite(&children, levels.first().map_or(&[][..], |l| &l[..]), &point, located[i]);
-                Some(TexelRadiance { texel: i as u32, point, composite })
-            })
-            .collect(),
+        texels: par_flatten(
+            &hits,
+            TexelRadiance::default(),
+            |i, hit| usize::from(hit.is_some() && in_crop(i)),
+            |i, hit, push| {
+                if let Some((ray, hit)) = hit.filter(|_| in_crop(i)) {
+                    let point =
+                        ShadePoint { prim: hit.prim, p: ray.at(hit.t), d: ray.direction.normalize(), seed: i as u64 };
+                    let composite =
+                        tree.composite(&children, levels.first().map_or(&[][..], |l| &l[..]), &point, located[i]);
+                    push(TexelRadiance { texel: i as u32, point, composite });
+                }
+            },
+        ),
     };
     let flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
     let specular_by_rays = flow

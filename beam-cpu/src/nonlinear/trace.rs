@@ -23,6 +23,7 @@ use beam_scene::nonlinear::{
     Beam, BeamJob, BeamRenderer, BeamTexture, Composite, LevelRadiance, SMesh, ShadePoint, TexelRadiance, child_beams,
     region_size,
 };
+use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -209,18 +210,19 @@ impl Tree<'_> {
                     len += (node.tex.size * node.tex.size) as usize;
                 }
                 let next = levels.get(li + 1).map_or(&[][..], |l| &l[..]);
-                let texels = nodes
-                    .par_iter()
-                    .zip(&regions)
-                    .flat_map_iter(|(node, &(first, _))| {
-                        let prim = self.smesh.faces[node.face].prim;
-                        node.hits.iter().map(move |&(t, hit, p, d)| {
+                let texels = par_flatten(
+                    nodes,
+                    TexelRadiance::default(),
+                    |_, node| node.hits.len(),
+                    |i, node, push| {
+                        let (first, prim) = (regions[i].0, self.smesh.faces[node.face].prim);
+                        for &(t, hit, p, d) in &node.hits {
                             let point = ShadePoint { prim: hit, p, d, seed: u64::from(prim) << 32 | t as u64 };
                             let composite = self.composite(&node.children, next, &point, self.smesh.locate(hit, p));
-                            TexelRadiance { texel: first + t as u32, point, composite }
-                        })
-                    })
-                    .collect();
+                            push(TexelRadiance { texel: first + t as u32, point, composite });
+                        }
+                    },
+                );
                 LevelRadiance { regions, len, texels }
             })
             .collect()

@@ -16,6 +16,7 @@ use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{LevelRadiance, SMesh, ShadePoint};
+use beam_scene::parallel::par_flatten;
 use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
@@ -157,7 +158,17 @@ impl GpuComposite {
                     .map(|t| t.composite.is_none().then(|| PointShader::shades(scene, t.point.prim)))
                     .collect();
                 let points_of = |gpu_side: bool| -> Vec<ShadePoint> {
-                    texels.par_iter().zip(&kinds).filter(|(_, k)| **k == Some(gpu_side)).map(|(t, _)| t.point).collect()
+                    let mine = |i: usize| kinds[i] == Some(gpu_side);
+                    par_flatten(
+                        texels,
+                        ShadePoint::default(),
+                        |i, _| usize::from(mine(i)),
+                        |i, t, push| {
+                            if mine(i) {
+                                push(t.point);
+                            }
+                        },
+                    )
                 };
                 let (direct, other) = (points_of(true), points_of(false));
                 // Per texel: composited, or where its shaded radiance lies (direct or other): a

@@ -25,7 +25,7 @@ pub struct Composite {
 }
 
 /// A texel (or pixel) that hit, and how its radiance is found.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TexelRadiance {
     /// Its index in the level's radiance.
     pub texel: u32,

@@ -76,7 +76,7 @@ pub fn region_size(pixels: f32, most: u32) -> u32 {
 
 /// A point to shade (beam-cpu's `shade_point`, beam-gpu's shading pass): the radiance leaving point `p` of triangle `prim` towards `−d`
 /// (`d` unit), shadow-ray samples seeded by `seed`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ShadePoint {
     /// The scene triangle.
     pub prim: u32,

@@ -4,6 +4,7 @@
 
 use super::texture::ShadePoint;
 use crate::error::BackendError;
+use crate::parallel::par_flatten;
 use crate::queries::RayQueries;
 use crate::scene::Scene;
 use crate::specular::{MAX_DEPTH, specular_rays};
@@ -84,7 +85,7 @@ pub fn trace_waves(
                 }
             })
             .collect();
-        let ends: Vec<End> = gather(&next, (0, Vec3::ZERO, NO_PATH_POINT), |_, (_, e)| [*e, None]);
+        let ends: Vec<End> = gather(&next, (0, Vec3::ZERO, ShadePoint::default()), |_, (_, e)| [*e, None]);
         let points: Vec<ShadePoint> = ends.par_iter().map(|e| e.2).collect();
         for ((px, weight, _), radiance) in ends.iter().zip(shade(&points)?) {
             out[*px] += *weight * radiance;
@@ -94,54 +95,20 @@ pub fn trace_waves(
     Ok(())
 }
 
-/// Placeholders of [`gather`]'s output before it is filled.
+/// A placeholder of [`par_flatten`]'s output before it is filled.
 const NO_PATH: Path = (0, Ray { origin: Vec3::ZERO, direction: Vec3::ZERO }, Vec3::ZERO);
-const NO_PATH_POINT: ShadePoint = ShadePoint { prim: 0, p: Vec3::ZERO, d: Vec3::ZERO, seed: 0 };
 
-/// Items per piece of [`gather`].
-const PIECE: usize = 1 << 14;
-
-/// What `each(i, &items[i])` holds (at most two items), for every `i` in order, gathered by every thread: counted per
-/// piece, then written in place into one vector filled with `placeholder` in parallel (rayon's
-/// unindexed `collect` appends its pieces on one thread, which first-touches every page of the
-/// result there: millions of paths a wave).
+/// What `each(i, &items[i])` holds (at most two items), for every `i` in order, flattened by every
+/// thread ([`par_flatten`]).
 fn gather<S: Sync, T: Copy + Send + Sync>(
     items: &[S],
     placeholder: T,
     each: impl Fn(usize, &S) -> [Option<T>; 2] + Sync,
 ) -> Vec<T> {
-    let counts: Vec<usize> = items
-        .par_chunks(PIECE)
-        .enumerate()
-        .map(|(k, piece)| piece.iter().enumerate().map(|(j, s)| each(k * PIECE + j, s).iter().flatten().count()).sum())
-        .collect();
-    let mut out: Vec<T> = (0..counts.iter().sum::<usize>()).into_par_iter().map(|_| placeholder).collect();
-    let mut slots = Vec::with_capacity(counts.len());
-    let mut rest = &mut out[..];
-    for &n in &counts {
-        let (slot, tail) = rest.split_at_mut(n);
-        slots.push(slot);
-        rest = tail;
-    }
-    items.par_chunks(PIECE).enumerate().zip(slots).for_each(|((k, piece), slot)| {
-        let yielded = piece.iter().enumerate().flat_map(|(j, s)| each(k * PIECE + j, s)).flatten();
-        for (dst, t) in slot.iter_mut().zip(yielded) {
-            *dst = t;
-        }
-    });
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn gather_keeps_every_item_in_order_across_pieces() {
-        let items: Vec<u64> = (0..3 * PIECE as u64 + 17).collect();
-        let each = |i: usize, &x: &u64| [(x % 3 == 0).then_some((i, x)), (x % 5 == 0).then_some((i, x + 1))];
-        let serial: Vec<(usize, u64)> = items.iter().enumerate().flat_map(|(i, x)| each(i, x)).flatten().collect();
-        assert_eq!(gather(&items, (0, 0), each), serial);
-        assert!(gather(&items[..0], (0, 0), each).is_empty());
-    }
+    par_flatten(
+        items,
+        placeholder,
+        |i, s| each(i, s).iter().flatten().count(),
+        |i, s, push| each(i, s).into_iter().flatten().for_each(push),
+    )
 }
