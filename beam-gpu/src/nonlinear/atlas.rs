@@ -367,12 +367,17 @@ fn z_order(index: u32, s: u32) -> (u32, u32) {
 impl BeamRasterizer for GpuBeams<'_> {
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
         let start = Instant::now();
-        // Bounding-cone culling on the CPU (000 App. A; the paper culls objects there too).
+        // Bounding-cone culling on the CPU (000 App. A; the paper culls objects there too), each
+        // kept triangle of a coarse face's ring marked PAIR_NEAR (self-hits, as on the CPU).
         let candidates: Vec<Vec<u32>> = jobs
             .par_iter()
             .map(|j| {
                 let tb = j.beam.texel_beam();
-                cone_candidates(scene, &tb.culling_cone(&tb.s1_or_sn_bounds()), j.exclude)
+                let mut kept = cone_candidates(scene, &tb.culling_cone(&tb.s1_or_sn_bounds()), j.exclude);
+                for prim in &mut kept {
+                    *prim |= if j.exclude.near(*prim) { PAIR_NEAR } else { 0 };
+                }
+                kept
             })
             .collect();
         // Pack power-of-two squares, largest first, in Z order: every square lands aligned.
@@ -425,10 +430,7 @@ impl BeamRasterizer for GpuBeams<'_> {
                 let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
                 beams.push(GpuBeam::new(jobs[i].beam, [q.x, q.y, jobs[i].size], jobs[i].exclude));
                 let first = flat.len() as u32;
-                // Triangles of a coarse face's ring carry PAIR_NEAR (self-hits, as on the CPU).
-                let exclude = jobs[i].exclude;
-                let near = |prim: u32| if exclude.near(prim) { PAIR_NEAR } else { 0 };
-                flat.extend(candidates[i].iter().map(|&prim| [k as u32, prim | near(prim)]));
+                flat.extend(candidates[i].iter().map(|&prim| [k as u32, prim]));
                 ranges.push((first, flat.len() as u32));
             }
             let prepared = start.elapsed().as_secs_f64();
