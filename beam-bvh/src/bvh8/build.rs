@@ -254,13 +254,17 @@ struct FinishOptions {
 }
 
 fn finish(out: &mut Bvh8, mut nodes: Vec<Node8>, refs: &mut [PrimRef], triangles: &[Triangle], opt: FinishOptions) {
-    if opt.dedupe {
-        for n in &mut nodes {
-            for s in 0..8 {
-                let (first, count) = (n.child[s] as usize, n.tris[s] as usize);
-                if count > 1 {
-                    n.tris[s] = dedupe(&mut refs[first..first + count]) as u8;
+    let area = |r: &PrimRef| triangles[r.index() as usize].area();
+    for n in &mut nodes {
+        for s in 0..8 {
+            let (first, count) = (n.child[s] as usize, n.tris[s] as usize);
+            if count > 1 {
+                let leaf = &mut refs[first..first + count];
+                if opt.dedupe {
+                    n.tris[s] = dedupe(leaf) as u8;
                 }
+                // Larger triangles in the first blocks: an any-hit query meets them sooner.
+                leaf[..n.tris[s] as usize].sort_unstable_by(|a, b| area(b).total_cmp(&area(a)));
             }
         }
     }
