@@ -20,13 +20,25 @@ pub(crate) const MAX_SPLIT_DEPTH: usize = 96;
 pub fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh {
     let (mut refs, record) = binning::make_refs(triangles, options.parallel);
     let degenerate = triangles.len() - refs.len();
+    let nodes = build_nodes(triangles, &mut refs, &record, options);
+    Bvh { nodes, prims: refs.iter().map(PrimRef::index).collect(), degenerate, input_triangles: triangles.len() }
+}
+
+/// The binary tree over `refs` (summarised by `record`), which it reorders so that each leaf's
+/// references are the range it names.
+pub(crate) fn build_nodes(
+    triangles: &[Triangle],
+    refs: &mut [PrimRef],
+    record: &Record,
+    options: &BuildOptions,
+) -> Vec<Node> {
     let mut nodes = Vec::with_capacity(2 * refs.len() / options.max_leaf.max(1) + 1);
     if !refs.is_empty() {
         let ctx = Context::new(options, 0);
         let job = Job { ctx: &ctx, triangles };
-        job.node(&mut refs, &record, 0, 0, &mut nodes, &mut Box::new(Bins::EMPTY));
+        job.node(refs, record, 0, 0, &mut nodes, &mut Box::new(Bins::EMPTY));
     }
-    Bvh { nodes, prims: refs.iter().map(PrimRef::index).collect(), degenerate, input_triangles: triangles.len() }
+    nodes
 }
 
 /// What every node of one build shares.

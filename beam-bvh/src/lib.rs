@@ -9,7 +9,7 @@
 //! For single rays at Embree's speed there is [`Bvh8`], built by its own builder straight into
 //! eight-wide nodes, with leaves of four-triangle blocks and traversal kernels picked at run time
 //! ([`Kernel`]: AVX-512, AVX2, or a portable four-lane one), every one watertight like the scalar
-//! test. Its [`BuildOptions::high_quality`] mode pre-splits large triangles.
+//! test. Its [`BuildOptions::high_quality`] mode optimizes the tree by reinsertion first.
 //!
 //! - Builders ([`BuildOptions`]): binned SAH; the projected-area heuristic (PAH) of 004 for a
 //!   declared ray distribution (a parallel bundle or a pencil through a point), falling back to SAH
@@ -47,6 +47,7 @@ mod flat;
 pub mod gpu;
 mod options;
 mod refit;
+mod reinsert;
 mod stats;
 mod traverse;
 mod tree;

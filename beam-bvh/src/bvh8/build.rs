@@ -12,7 +12,7 @@
 use super::{Bvh8, Node8, Tri4};
 use crate::binning::{self, Bins, Context, PrimRef, Record, Split};
 use crate::build::MAX_SPLIT_DEPTH;
-use crate::options::BuildOptions;
+use crate::options::{BuildOptions, Heuristic};
 use beam_math::heuristics::surface_area;
 use beam_math::{Aabb, Triangle};
 use std::vec::Vec;
@@ -61,6 +61,16 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
     }
     let mut options = *options;
     options.max_leaf = options.max_leaf.clamp(1, MAX_LEAF);
+    if options.reinsert && options.heuristic == Heuristic::Sah {
+        // A binary tree of small leaves, optimized, then collapsed: the collapse regroups leaves.
+        let binary = BuildOptions { max_leaf: options.max_leaf.min(MIN_LEAF), ..options };
+        let tree = crate::build::build_nodes(triangles, &mut refs, &record, &binary);
+        let tree = crate::reinsert::optimize(&tree, options.traversal_cost);
+        let (nodes, mut order) = super::collapse::collapse(&tree, &refs, options.max_leaf, options.traversal_cost);
+        out.set_tree_bounds(record.bounds.aabb());
+        finish(&mut out, nodes, &mut order, triangles, FinishOptions { parallel: options.parallel, dedupe: presplit });
+        return out;
+    }
     let ctx = Context::new(&options, 2);
     let mut scratch = Box::new(Bins::EMPTY);
     let root = prepare(&ctx, &refs, 0, refs.len(), record, 0, &mut scratch);
@@ -244,13 +254,17 @@ struct FinishOptions {
 }
 
 fn finish(out: &mut Bvh8, mut nodes: Vec<Node8>, refs: &mut [PrimRef], triangles: &[Triangle], opt: FinishOptions) {
-    if opt.dedupe {
-        for n in &mut nodes {
-            for s in 0..8 {
-                let (first, count) = (n.child[s] as usize, n.tris[s] as usize);
-                if count > 1 {
-                    n.tris[s] = dedupe(&mut refs[first..first + count]) as u8;
+    let area = |r: &PrimRef| triangles[r.index() as usize].area();
+    for n in &mut nodes {
+        for s in 0..8 {
+            let (first, count) = (n.child[s] as usize, n.tris[s] as usize);
+            if count > 1 {
+                let leaf = &mut refs[first..first + count];
+                if opt.dedupe {
+                    n.tris[s] = dedupe(leaf) as u8;
                 }
+                // Larger triangles in the first blocks: an any-hit query meets them sooner.
+                leaf[..n.tris[s] as usize].sort_unstable_by(|a, b| area(b).total_cmp(&area(a)));
             }
         }
     }

@@ -8,6 +8,7 @@
 //! triangle lanes repeat the scalar operations exactly.
 
 mod build;
+mod collapse;
 mod leaf;
 mod portable;
 mod presplit;

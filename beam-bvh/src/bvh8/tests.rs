@@ -77,6 +77,8 @@ fn every_kernel_equals_brute_force() {
         BuildOptions::sah(),
         BuildOptions { parallel: false, max_leaf: 16, ..BuildOptions::sah() },
         BuildOptions { presplit: 1.0, ..BuildOptions::high_quality() },
+        BuildOptions { reinsert: true, ..BuildOptions::sah() },
+        BuildOptions { reinsert: true, presplit: 1.0, max_leaf: 16, parallel: false, ..BuildOptions::sah() },
         BuildOptions::pah(RayDistribution::Pencil { origin: Vec3::new(0.0, 0.0, 12.0), forward: -Vec3::Z }),
     ] {
         let mut bvh = Bvh8::build(&tris, &options);
@@ -87,7 +89,11 @@ fn every_kernel_equals_brute_force() {
 #[test]
 fn shared_edges_stay_closed() {
     let tris = grid(40);
-    for options in [BuildOptions::sah(), BuildOptions { presplit: 2.0, ..BuildOptions::sah() }] {
+    for options in [
+        BuildOptions::sah(),
+        BuildOptions { presplit: 2.0, ..BuildOptions::sah() },
+        BuildOptions { reinsert: true, ..BuildOptions::sah() },
+    ] {
         shared_edges_stay_closed_with(&tris, &options);
     }
 }
@@ -125,6 +131,12 @@ fn every_valid_triangle_is_in_one_lane() {
     let mut seen: Vec<u32> = bvh.prims.iter().copied().filter(|&p| p != u32::MAX).collect();
     seen.sort_unstable();
     assert_eq!(seen, (0..5000).collect::<Vec<_>>());
+    // Reinserted and collapsed: the same.
+    let ri = Bvh8::build(&tris, &BuildOptions { reinsert: true, ..BuildOptions::sah() });
+    assert_eq!(ri.degenerate, 2);
+    let mut seen: Vec<u32> = ri.prims.iter().copied().filter(|&p| p != u32::MAX).collect();
+    seen.sort_unstable();
+    assert_eq!(seen, (0..5000).collect::<Vec<_>>());
     // Pre-split: every triangle in some lane, none twice in a leaf.
     let hq = Bvh8::build(&tris, &BuildOptions { presplit: 1.0, ..BuildOptions::sah() });
     let mut seen: Vec<u32> = hq.prims.iter().copied().filter(|&p| p != u32::MAX).collect();
@@ -146,6 +158,12 @@ fn every_valid_triangle_is_in_one_lane() {
         }
     }
     // Child boxes hold their subtrees.
+    for bvh in [&bvh, &ri] {
+        child_boxes_hold_their_subtrees(bvh);
+    }
+}
+
+fn child_boxes_hold_their_subtrees(bvh: &Bvh8) {
     for n in &bvh.nodes {
         for s in 0..8 {
             let c = n.child[s];

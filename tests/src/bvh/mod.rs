@@ -197,7 +197,7 @@ pub fn builders(set: &RaySet, bounds: Aabb) -> Vec<(&'static str, BuildOptions)>
 
 /// For every mesh (the procedural scene and each shared mesh), every builder (SAH, PAH for the
 /// light, PAH for the eye) and every CPU layout (binary, 4-wide, and 8-wide built by its own
-/// builder, SAH also in the high-quality mode with pre-split triangles, traced by each kernel
+/// builder, SAH also in the high-quality mode (reinsertion) and with pre-split triangles, traced by each kernel
 /// this CPU runs: portable, AVX2, AVX-512) — on the `gpu`
 /// backend the GPU layout traced by beam-gpu's compute ray tracer instead: BVH closest hits equal
 /// brute-force closest hits for camera and diffuse rays (same triangle, or a tie at the same `t`;
@@ -233,9 +233,12 @@ pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outco
             let wide = WideBvh::new(&bvh, tris);
             ties += compare(&case.name, &format!("{builder} 4-wide"), &Answers::wide(&wide, &set), &set, &reference)?;
             total += 6 * config.rays as u64;
-            // The 8-wide layout, by this builder and (SAH) in the high-quality mode too.
-            let hq = (builder == "sah").then(|| ("sah-hq", BuildOptions::high_quality()));
-            for (builder, options) in [(builder, options)].into_iter().chain(hq) {
+            // The 8-wide layout, by this builder and (SAH) in the high-quality mode and pre-split too.
+            let hq = (builder == "sah").then(|| {
+                let presplit = BuildOptions { presplit: 0.3, ..BuildOptions::sah() };
+                [("sah-hq", BuildOptions::high_quality()), ("sah-presplit", presplit)]
+            });
+            for (builder, options) in [(builder, options)].into_iter().chain(hq.into_iter().flatten()) {
                 let mut bvh8 = Bvh8::build(tris, &options);
                 for kernel in kernels() {
                     bvh8.set_kernel(kernel);

@@ -184,7 +184,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
         ("beam-pah-eye", BuildOptions::pah(RayDistribution::Pencil { origin: rays.eye, forward: rays.forward })),
     ];
     let builders = if sah_only { &builders[..1] } else { &builders[..] };
-    // The high-quality mode exists for the 8-wide layout only.
+    // The high-quality mode and pre-splitting exist for the 8-wide layout only.
     let hq = ("beam-hq", BuildOptions::high_quality());
     let mut binaries = Vec::new();
     let mut wides = Vec::new();
@@ -204,6 +204,10 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
     let mut bvh8 = Bvh8::default();
     let build8_ms = median_ms(|| bvh8 = Bvh8::build(&tris, &hq.1));
     let hq = Wide8 { name: format!("{}-8wide", hq.0), bvh: bvh8, build_ms: build8_ms };
+    let ri = ("beam-presplit", BuildOptions { presplit: 0.3, ..BuildOptions::sah() });
+    let mut bvh8 = Bvh8::default();
+    let build8_ms = median_ms(|| bvh8 = Bvh8::build(&tris, &ri.1));
+    let ri = Wide8 { name: format!("{}-8wide", ri.0), bvh: bvh8, build_ms: build8_ms };
     let kernel = wides8[0].bvh.kernel();
     println!("8-wide traversal kernel: {kernel} (run-time dispatch: {})", dispatch_note());
     let mut portable = None;
@@ -218,7 +222,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
     let ours: Vec<&dyn Tracer> = wides8
         .iter()
         .map(|o| o as &dyn Tracer)
-        .chain([&hq as &dyn Tracer])
+        .chain([&hq as &dyn Tracer, &ri as &dyn Tracer])
         .chain(portable.iter().map(|o| o as &dyn Tracer))
         .chain(wides.iter().map(|o| o as &dyn Tracer))
         .chain(binaries.iter().map(|o| o as &dyn Tracer))
@@ -251,11 +255,11 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
             );
         }
     }
-    let sah4 = wides8.len() + 1 + usize::from(portable.is_some());
-    print_ratios(&rows, ours_count, &tracers, &[0, sah4]);
+    let sah4 = wides8.len() + 2 + usize::from(portable.is_some());
+    print_ratios(&rows, ours_count, &tracers, &[0, wides8.len(), wides8.len() + 1, sah4]);
     let counted: Vec<&dyn Counted> = (0..builders.len())
         .flat_map(|i| [&binaries[i] as &dyn Counted, &wides[i] as &dyn Counted, &wides8[i] as &dyn Counted])
-        .chain([&hq as &dyn Counted])
+        .chain([&hq as &dyn Counted, &ri as &dyn Counted])
         .collect();
     print_work(&binaries, &counted, &rays);
     if let Some(path) = json {

@@ -1,0 +1,131 @@
+//! Collapse of a binary tree into eight-wide nodes, for trees that are optimized as binary trees
+//! first ([`crate::reinsert`]). One bottom-up pass decides which subtrees become leaves: the
+//! cheaper of a leaf, `A · ⌈n/4⌉` (blocks of four triangles, as the 8-wide builder costs them),
+//! and the children's optimal costs plus `c_t · A` (a dynamic program over the binary tree, the
+//! leaf half of Ylitie, Karras, Laine, "Efficient Incoherent Ray Traversal on GPUs Through
+//! Compressed Wide BVHs", 2017, §3.1). Then, top down, each eight-wide node opens its child of
+//! largest surface area that is not a leaf until it has eight children, as the 8-wide builder
+//! does, keeping the binary tree's left-to-right order in its slots.
+
+use super::Node8;
+use crate::binning::PrimRef;
+use crate::tree::Node;
+use beam_math::heuristics::surface_area;
+use std::vec::Vec;
+
+/// The eight-wide nodes of `tree` (root first, children after their parents; its leaves index
+/// `refs`) and the references in their new leaf order. Leaf slots hold their first reference and
+/// `tris` their count, as the 8-wide builder leaves them for `finish`. Subtrees of at most
+/// `max_leaf` references may become leaves.
+pub(super) fn collapse(
+    tree: &[Node],
+    refs: &[PrimRef],
+    max_leaf: usize,
+    traversal_cost: f32,
+) -> (Vec<Node8>, Vec<PrimRef>) {
+    let leaf = leaves(tree, max_leaf, traversal_cost);
+    let mut out = Collapse { tree, refs, leaf: &leaf, nodes: Vec::new(), order: Vec::with_capacity(refs.len()) };
+    if tree.is_empty() {
+        return (out.nodes, out.order);
+    }
+    out.node(0);
+    debug_assert_eq!(out.order.len(), refs.len(), "every reference lands in one leaf");
+    (out.nodes, out.order)
+}
+
+/// For each node of `tree`, whether its subtree becomes one leaf (bottom up: children follow
+/// their parents, so a reverse pass sees children first).
+fn leaves(tree: &[Node], max_leaf: usize, traversal_cost: f32) -> Vec<bool> {
+    let mut count = vec![0usize; tree.len()];
+    let mut cost = vec![0f32; tree.len()];
+    let mut leaf = vec![false; tree.len()];
+    for i in (0..tree.len()).rev() {
+        let area = surface_area(tree[i].bounds());
+        let blocks = |n: usize| n.div_ceil(4) as f32;
+        match tree[i] {
+            Node::Leaf { count: c, .. } => {
+                debug_assert!(c as usize <= 4 * Node8::MAX_LEAF_BLOCKS);
+                count[i] = c as usize;
+                cost[i] = area * blocks(c as usize);
+                leaf[i] = true;
+            }
+            Node::Inner { left, right, .. } => {
+                let (l, r) = (left as usize, right as usize);
+                debug_assert!(l > i && r > i, "children follow their parents");
+                count[i] = count[l] + count[r];
+                let inner = traversal_cost * area + cost[l] + cost[r];
+                let as_leaf = area * blocks(count[i]);
+                leaf[i] = count[i] <= max_leaf && as_leaf <= inner;
+                cost[i] = if leaf[i] { as_leaf } else { inner };
+            }
+        }
+    }
+    leaf
+}
+
+/// The collapse in progress.
+struct Collapse<'a> {
+    tree: &'a [Node],
+    refs: &'a [PrimRef],
+    leaf: &'a [bool],
+    nodes: Vec<Node8>,
+    order: Vec<PrimRef>,
+}
+
+impl Collapse<'_> {
+    /// Make the eight-wide node of binary node `i`; returns its index.
+    fn node(&mut self, i: usize) -> u32 {
+        let index = self.nodes.len();
+        self.nodes.push(Node8::EMPTY);
+        let mut kids = [i; 8];
+        let mut count = 1;
+        if self.leaf[i] {
+            // Only the root of a tiny tree: one leaf child.
+            debug_assert!(index == 0);
+        } else {
+            while count < 8 {
+                let open = (0..count)
+                    .filter(|&k| !self.leaf[kids[k]])
+                    .max_by(|&a, &b| self.area(kids[a]).total_cmp(&self.area(kids[b])));
+                let Some(k) = open else { break };
+                let Node::Inner { left, right, .. } = self.tree[kids[k]] else { unreachable!("leaves are not opened") };
+                kids.copy_within(k + 1..count, k + 2);
+                kids[k] = left as usize;
+                kids[k + 1] = right as usize;
+                count += 1;
+            }
+        }
+        for (slot, &k) in kids[..count].iter().enumerate() {
+            self.nodes[index].set_bounds(slot, self.tree[k].bounds());
+            if self.leaf[k] {
+                let first = self.order.len();
+                self.gather(k);
+                let n = self.order.len() - first;
+                debug_assert!((1..=4 * Node8::MAX_LEAF_BLOCKS).contains(&n));
+                self.nodes[index].child[slot] = first as u32;
+                self.nodes[index].tris[slot] = n as u8;
+            } else {
+                let child = self.node(k);
+                self.nodes[index].child[slot] = child;
+            }
+        }
+        index as u32
+    }
+
+    fn area(&self, i: usize) -> f32 {
+        surface_area(self.tree[i].bounds())
+    }
+
+    /// Append the references of the subtree at `i` to the new order.
+    fn gather(&mut self, i: usize) {
+        match self.tree[i] {
+            Node::Leaf { first, count, .. } => {
+                self.order.extend_from_slice(&self.refs[first as usize..(first + count) as usize]);
+            }
+            Node::Inner { left, right, .. } => {
+                self.gather(left as usize);
+                self.gather(right as usize);
+            }
+        }
+    }
+}
