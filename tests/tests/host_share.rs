@@ -52,6 +52,10 @@ fn gpu_frames_count_their_waits_and_readbacks() {
     // At least the eye's hits (48 × 32 of them) and the final pixels came back.
     assert!(traffic.bytes_read_back >= 2 * 48 * 32 * 8, "{} bytes read back", traffic.bytes_read_back);
     assert!(traffic.waited_seconds > 0.0);
+    // At least the eye's rays (32 bytes each) went up, and reading back took host time.
+    assert!(traffic.bytes_uploaded >= 48 * 32 * 32, "{} bytes uploaded", traffic.bytes_uploaded);
+    assert!(traffic.upload_seconds > 0.0 && traffic.unpack_seconds > 0.0, "{traffic:?}");
+    assert!(traffic.upload_seconds + traffic.unpack_seconds < stats.seconds, "{traffic:?}");
     let waited_in_stages: f64 = stats.stages.iter().map(|s| s.seconds - s.host_seconds).sum();
     assert!(
         (waited_in_stages - traffic.waited_seconds).abs() < 1e-6 + 1e-3 * traffic.waited_seconds,
