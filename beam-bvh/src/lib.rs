@@ -56,7 +56,7 @@ mod wide;
 pub use build::build;
 pub use bvh8::{Bvh8, Kernel, Node8, Tri4};
 pub use flat::{FlatBvh, FlatNode};
-pub use options::{BuildOptions, Heuristic, RayDistribution};
+pub use options::{BuildOptions, Collapse, Heuristic, RayDistribution};
 pub use stats::{TraversalStats, TreeStats};
 pub use traverse::{Control, Hit, NodeVisitor};
 pub use tree::{Bvh, Node};

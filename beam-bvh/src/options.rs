@@ -43,6 +43,16 @@ pub enum Heuristic {
     Pah(RayDistribution),
 }
 
+/// How the 8-wide builder turns a binary tree into eight-wide nodes ([`BuildOptions::collapse`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Collapse {
+    /// A bottom-up pass picks leaves, then each node opens its child of largest area until it
+    /// has eight.
+    Greedy,
+    /// The dynamic program of Ylitie et al. 2017 §3.1: the collapse of least SAH cost.
+    Optimal,
+}
+
 /// How to build a BVH.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BuildOptions {
@@ -72,6 +82,10 @@ pub struct BuildOptions {
     /// eight-wide nodes, choosing leaves by a bottom-up cost pass. The binary builder (beams,
     /// GPU) and PAH builds ignore it.
     pub reinsert: bool,
+    /// The 8-wide builder (SAH only): build a binary tree of small leaves first and collapse it
+    /// into eight-wide nodes this way, instead of binning straight into eight-wide nodes. With
+    /// [`BuildOptions::reinsert`] and no collapse given, [`Collapse::Greedy`].
+    pub collapse: Option<Collapse>,
 }
 
 impl Default for BuildOptions {
@@ -85,6 +99,7 @@ impl Default for BuildOptions {
             parallel: true,
             presplit: 0.0,
             reinsert: false,
+            collapse: None,
         }
     }
 }

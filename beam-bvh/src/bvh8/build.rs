@@ -12,7 +12,7 @@
 use super::{Bvh8, Node8, Tri4};
 use crate::binning::{self, Bins, Context, PrimRef, Record, Split};
 use crate::build::MAX_SPLIT_DEPTH;
-use crate::options::{BuildOptions, Heuristic};
+use crate::options::{BuildOptions, Collapse, Heuristic};
 use beam_math::heuristics::surface_area;
 use beam_math::{Aabb, Triangle};
 use std::vec::Vec;
@@ -61,12 +61,15 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
     }
     let mut options = *options;
     options.max_leaf = options.max_leaf.clamp(1, MAX_LEAF);
-    if options.reinsert && options.heuristic == Heuristic::Sah {
+    if (options.reinsert || options.collapse.is_some()) && options.heuristic == Heuristic::Sah {
         // A binary tree of small leaves, optimized, then collapsed: the collapse regroups leaves.
         let binary = BuildOptions { max_leaf: options.max_leaf.min(MIN_LEAF), ..options };
         let tree = crate::build::build_nodes(triangles, &mut refs, &record, &binary);
-        let tree = crate::reinsert::optimize(&tree, options.traversal_cost);
-        let (nodes, mut order) = super::collapse::collapse(&tree, &refs, options.max_leaf, options.traversal_cost);
+        let tree = if options.reinsert { crate::reinsert::optimize(&tree, options.traversal_cost) } else { tree };
+        let (nodes, mut order) = match options.collapse.unwrap_or(Collapse::Greedy) {
+            Collapse::Greedy => super::collapse::collapse(&tree, &refs, options.max_leaf, options.traversal_cost),
+            Collapse::Optimal => super::optimal::collapse(&tree, &refs, options.max_leaf, options.traversal_cost),
+        };
         out.set_tree_bounds(record.bounds.aabb());
         finish(&mut out, nodes, &mut order, triangles, FinishOptions { parallel: options.parallel, dedupe: presplit });
         return out;

@@ -10,6 +10,7 @@
 mod build;
 mod collapse;
 mod leaf;
+mod optimal;
 mod portable;
 mod presplit;
 mod refit;

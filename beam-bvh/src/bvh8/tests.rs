@@ -1,7 +1,8 @@
 use super::*;
 use crate::traverse::tests::soup;
-use crate::{BuildOptions, RayDistribution};
+use crate::{BuildOptions, Collapse, RayDistribution};
 use beam_math::collide::WatertightRay;
+use beam_math::heuristics::surface_area;
 
 /// A closed grid of quads (shared edges everywhere) with its diagonals, for watertightness.
 fn grid(n: usize) -> Vec<Triangle> {
@@ -79,6 +80,9 @@ fn every_kernel_equals_brute_force() {
         BuildOptions { presplit: 1.0, ..BuildOptions::high_quality() },
         BuildOptions { reinsert: true, ..BuildOptions::sah() },
         BuildOptions { reinsert: true, presplit: 1.0, max_leaf: 16, parallel: false, ..BuildOptions::sah() },
+        BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::high_quality() },
+        BuildOptions { collapse: Some(Collapse::Optimal), max_leaf: 16, ..BuildOptions::sah() },
+        BuildOptions { collapse: Some(Collapse::Optimal), max_leaf: 1, ..BuildOptions::sah() },
         BuildOptions::pah(RayDistribution::Pencil { origin: Vec3::new(0.0, 0.0, 12.0), forward: -Vec3::Z }),
     ] {
         let mut bvh = Bvh8::build(&tris, &options);
@@ -93,6 +97,8 @@ fn shared_edges_stay_closed() {
         BuildOptions::sah(),
         BuildOptions { presplit: 2.0, ..BuildOptions::sah() },
         BuildOptions { reinsert: true, ..BuildOptions::sah() },
+        BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::high_quality() },
+        BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::sah() },
     ] {
         shared_edges_stay_closed_with(&tris, &options);
     }
@@ -181,12 +187,61 @@ fn child_boxes_hold_their_subtrees(bvh: &Bvh8) {
     }
 }
 
+/// SAH cost of an eight-wide tree as the collapses count it: `c_t · A` per node (the root's box
+/// is the tree's), `A · blocks` per leaf.
+fn wide_cost(bvh: &Bvh8, traversal_cost: f32) -> f64 {
+    let mut cost = 0.0;
+    let mut stack = vec![(0usize, bvh.bounds)];
+    while let Some((i, b)) = stack.pop() {
+        cost += f64::from(traversal_cost * surface_area(b));
+        let n = &bvh.nodes[i];
+        let used: Vec<usize> = (0..8).filter(|&s| n.child[s] != Node8::UNUSED).collect();
+        assert!(i == 0 || used.len() >= 2, "an inner node of one child");
+        for s in used {
+            if n.child[s] & Node8::LEAF != 0 {
+                let (_, blocks) = Node8::leaf_blocks(n.child[s]);
+                assert_eq!(blocks, usize::from(n.tris[s]).div_ceil(4), "leaf blocks of four");
+                cost += f64::from(surface_area(n.child_bounds(s))) * blocks as f64;
+            } else {
+                stack.push((n.child[s] as usize, n.child_bounds(s)));
+            }
+        }
+    }
+    cost
+}
+
+#[test]
+fn optimal_collapse_is_exact_and_cheapest() {
+    let mut tris = soup(5000, 3);
+    tris.extend(grid(30));
+    let all = tris.len() as u32;
+    for reinsert in [false, true] {
+        for max_leaf in [4, 8, 16] {
+            let options = BuildOptions { reinsert, max_leaf, parallel: false, ..BuildOptions::sah() };
+            let greedy = Bvh8::build(&tris, &BuildOptions { collapse: Some(Collapse::Greedy), ..options });
+            let optimal = Bvh8::build(&tris, &BuildOptions { collapse: Some(Collapse::Optimal), ..options });
+            for bvh in [&greedy, &optimal] {
+                let mut seen: Vec<u32> = bvh.prims.iter().copied().filter(|&p| p != u32::MAX).collect();
+                seen.sort_unstable();
+                assert_eq!(seen, (0..all).collect::<Vec<_>>(), "every triangle in exactly one lane");
+                child_boxes_hold_their_subtrees(bvh);
+            }
+            let (g, o) = (wide_cost(&greedy, 1.0), wide_cost(&optimal, 1.0));
+            assert!(o <= g * (1.0 + 1e-5), "reinsert {reinsert}, leaves ≤ {max_leaf}: optimal {o} > greedy {g}");
+        }
+    }
+}
+
 #[test]
 fn tiny_and_empty_trees() {
     let one = soup(1, 1);
     let bvh = Bvh8::build(&one, &BuildOptions::sah());
     let c = one[0].v.iter().sum::<Vec3>() / 3.0;
     assert_eq!(bvh.closest_hit(Ray::new(c + Vec3::Z * 10.0, -Vec3::Z), f32::INFINITY).map(|h| h.prim), Some(0));
+    let dp = Bvh8::build(&one, &BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::sah() });
+    assert_eq!(dp.closest_hit(Ray::new(c + Vec3::Z * 10.0, -Vec3::Z), f32::INFINITY).map(|h| h.prim), Some(0));
+    let none = Bvh8::build(&[], &BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::sah() });
+    assert!(none.closest_hit(Ray::new(Vec3::ZERO, Vec3::X), f32::INFINITY).is_none());
     let none = Bvh8::build(&[], &BuildOptions::sah());
     assert!(none.closest_hit(Ray::new(Vec3::ZERO, Vec3::X), f32::INFINITY).is_none());
     assert!(!none.any_hit(Ray::new(Vec3::ZERO, Vec3::X), 1.0));

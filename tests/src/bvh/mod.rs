@@ -3,7 +3,7 @@
 
 use crate::generate::{self, Rng64, uniform};
 use crate::{Backend, Config, Outcome, Property};
-use beam_bvh::{BuildOptions, Bvh8, FlatBvh, Hit, Kernel, RayDistribution, WideBvh};
+use beam_bvh::{BuildOptions, Bvh8, Collapse, FlatBvh, Hit, Kernel, RayDistribution, WideBvh};
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
 use beam_math::{Aabb, Ray, Triangle};
@@ -197,7 +197,8 @@ pub fn builders(set: &RaySet, bounds: Aabb) -> Vec<(&'static str, BuildOptions)>
 
 /// For every mesh (the procedural scene and each shared mesh), every builder (SAH, PAH for the
 /// light, PAH for the eye) and every CPU layout (binary, 4-wide, and 8-wide built by its own
-/// builder, SAH also in the high-quality mode (reinsertion) and with pre-split triangles, traced by each kernel
+/// builder, SAH also in the high-quality mode (reinsertion, greedy and optimal collapse), a plain
+/// binary tree collapsed by the dynamic program, and pre-split triangles, traced by each kernel
 /// this CPU runs: portable, AVX2, AVX-512) — on the `gpu`
 /// backend the GPU layout traced by beam-gpu's compute ray tracer instead: BVH closest hits equal
 /// brute-force closest hits for camera and diffuse rays (same triangle, or a tie at the same `t`;
@@ -233,10 +234,19 @@ pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outco
             let wide = WideBvh::new(&bvh, tris);
             ties += compare(&case.name, &format!("{builder} 4-wide"), &Answers::wide(&wide, &set), &set, &reference)?;
             total += 6 * config.rays as u64;
-            // The 8-wide layout, by this builder and (SAH) in the high-quality mode and pre-split too.
+            // The 8-wide layout, by this builder and (SAH) in the high-quality mode, collapsed by
+            // the dynamic program (reinserted or not) and pre-split too.
             let hq = (builder == "sah").then(|| {
                 let presplit = BuildOptions { presplit: 0.3, ..BuildOptions::sah() };
-                [("sah-hq", BuildOptions::high_quality()), ("sah-presplit", presplit)]
+                let dp = Some(Collapse::Optimal);
+                let hq_dp = BuildOptions { collapse: dp, ..BuildOptions::high_quality() };
+                let dp16 = BuildOptions { collapse: dp, max_leaf: 16, ..BuildOptions::sah() };
+                [
+                    ("sah-hq", BuildOptions::high_quality()),
+                    ("sah-hq-dp", hq_dp),
+                    ("sah-dp16", dp16),
+                    ("sah-presplit", presplit),
+                ]
             });
             for (builder, options) in [(builder, options)].into_iter().chain(hq.into_iter().flatten()) {
                 let mut bvh8 = Bvh8::build(tris, &options);

@@ -5,7 +5,7 @@ mod ours;
 
 use super::{Tracer, peers};
 use crate::bench::cpu_clock::thread_cpu_seconds;
-use beam_bvh::{BuildOptions, Bvh8, FlatBvh, Kernel, RayDistribution, TraversalStats, WideBvh};
+use beam_bvh::{BuildOptions, Bvh8, Collapse, FlatBvh, Kernel, RayDistribution, TraversalStats, WideBvh};
 use beam_conformance::bvh::scene_light;
 use beam_conformance::generate::{self, uniform};
 use beam_math::glam::Vec3;
@@ -201,13 +201,24 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
         wides.push(Wide4 { name: format!("{name}-4wide"), bvh: wide, build_ms: build_ms + convert_ms });
         binaries.push(Binary { name: (*name).into(), bvh, tris: &tris, build_ms });
     }
-    let mut bvh8 = Bvh8::default();
-    let build8_ms = median_ms(|| bvh8 = Bvh8::build(&tris, &hq.1));
-    let hq = Wide8 { name: format!("{}-8wide", hq.0), bvh: bvh8, build_ms: build8_ms };
-    let ri = ("beam-presplit", BuildOptions { presplit: 0.3, ..BuildOptions::sah() });
-    let mut bvh8 = Bvh8::default();
-    let build8_ms = median_ms(|| bvh8 = Bvh8::build(&tris, &ri.1));
-    let ri = Wide8 { name: format!("{}-8wide", ri.0), bvh: bvh8, build_ms: build8_ms };
+    // Binary trees collapsed into eight-wide nodes: reinserted (greedy, optimal), and plain
+    // binary SAH trees collapsed by the dynamic program with leaves of up to 16 and 8.
+    let dp = Some(Collapse::Optimal);
+    let modes = [
+        hq,
+        ("beam-hq-dp", BuildOptions { collapse: dp, ..BuildOptions::high_quality() }),
+        ("beam-dp16", BuildOptions { collapse: dp, max_leaf: 16, ..BuildOptions::sah() }),
+        ("beam-dp8", BuildOptions { collapse: dp, ..BuildOptions::sah() }),
+        ("beam-presplit", BuildOptions { presplit: 0.3, ..BuildOptions::sah() }),
+    ];
+    let extra: Vec<Wide8> = modes
+        .iter()
+        .map(|(name, options)| {
+            let mut bvh8 = Bvh8::default();
+            let build_ms = median_ms(|| bvh8 = Bvh8::build(&tris, options));
+            Wide8 { name: format!("{name}-8wide"), bvh: bvh8, build_ms }
+        })
+        .collect();
     let kernel = wides8[0].bvh.kernel();
     println!("8-wide traversal kernel: {kernel} (run-time dispatch: {})", dispatch_note());
     let mut portable = None;
@@ -222,7 +233,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
     let ours: Vec<&dyn Tracer> = wides8
         .iter()
         .map(|o| o as &dyn Tracer)
-        .chain([&hq as &dyn Tracer, &ri as &dyn Tracer])
+        .chain(extra.iter().map(|o| o as &dyn Tracer))
         .chain(portable.iter().map(|o| o as &dyn Tracer))
         .chain(wides.iter().map(|o| o as &dyn Tracer))
         .chain(binaries.iter().map(|o| o as &dyn Tracer))
@@ -259,7 +270,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
     print_ratios(&rows, ours_count, &tracers, &[0, wides8.len(), wides8.len() + 1, sah4]);
     let counted: Vec<&dyn Counted> = (0..builders.len())
         .flat_map(|i| [&binaries[i] as &dyn Counted, &wides[i] as &dyn Counted, &wides8[i] as &dyn Counted])
-        .chain([&hq as &dyn Counted, &ri as &dyn Counted])
+        .chain(extra.iter().map(|o| o as &dyn Counted))
         .collect();
     print_work(&binaries, &counted, &rays);
     if let Some(path) = json {
