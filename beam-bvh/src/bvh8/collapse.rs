@@ -23,14 +23,7 @@ pub(super) fn collapse(
     max_leaf: usize,
     traversal_cost: f32,
 ) -> (Vec<Node8>, Vec<PrimRef>) {
-    let leaf = leaves(tree, max_leaf, traversal_cost);
-    let mut out = Collapse { tree, refs, leaf: &leaf, nodes: Vec::new(), order: Vec::with_capacity(refs.len()) };
-    if tree.is_empty() {
-        return (out.nodes, out.order);
-    }
-    out.node(0);
-    debug_assert_eq!(out.order.len(), refs.len(), "every reference lands in one leaf");
-    (out.nodes, out.order)
+    emit(tree, refs, &Greedy { tree, leaf: leaves(tree, max_leaf, traversal_cost) })
 }
 
 /// For each node of `tree`, whether its subtree becomes one leaf (bottom up: children follow
@@ -63,41 +56,79 @@ fn leaves(tree: &[Node], max_leaf: usize, traversal_cost: f32) -> Vec<bool> {
     leaf
 }
 
-/// The collapse in progress.
-struct Collapse<'a> {
+/// The greedy choice of an eight-wide node's children: open the child of largest surface area
+/// that is not a leaf until there are eight.
+struct Greedy<'a> {
+    tree: &'a [Node],
+    leaf: Vec<bool>,
+}
+
+impl Roots for Greedy<'_> {
+    fn is_leaf(&self, k: usize) -> bool {
+        self.leaf[k]
+    }
+
+    fn roots(&self, i: usize, kids: &mut Vec<usize>) {
+        let area = |k: usize| surface_area(self.tree[k].bounds());
+        kids.push(i);
+        while kids.len() < 8 {
+            let open = (0..kids.len())
+                .filter(|&k| !self.leaf[kids[k]])
+                .max_by(|&a, &b| area(kids[a]).total_cmp(&area(kids[b])));
+            let Some(k) = open else { break };
+            let Node::Inner { left, right, .. } = self.tree[kids[k]] else { unreachable!("leaves are not opened") };
+            kids.splice(k..=k, [left as usize, right as usize]);
+        }
+    }
+}
+
+/// How a collapse picks the children of eight-wide nodes among the binary tree's subtrees.
+pub(super) trait Roots {
+    /// Whether the subtree of binary node `k`, as a child slot, becomes one leaf.
+    fn is_leaf(&self, k: usize) -> bool;
+    /// Push the two to eight binary roots that become the children of the eight-wide node made
+    /// for binary node `i` (not a leaf), in the binary tree's left-to-right order.
+    fn roots(&self, i: usize, kids: &mut Vec<usize>);
+}
+
+/// The eight-wide nodes of `tree` with children picked by `picks` (root first, children after
+/// their parents) and the references in their new leaf order. Leaf slots hold their first
+/// reference and `tris` their count, as the 8-wide builder leaves them for `finish`.
+pub(super) fn emit(tree: &[Node], refs: &[PrimRef], picks: &impl Roots) -> (Vec<Node8>, Vec<PrimRef>) {
+    let mut out = Emit { tree, refs, picks, nodes: Vec::new(), order: Vec::with_capacity(refs.len()) };
+    if !tree.is_empty() {
+        out.node(0);
+    }
+    debug_assert_eq!(out.order.len(), refs.len(), "every reference lands in one leaf");
+    (out.nodes, out.order)
+}
+
+/// The emission in progress.
+struct Emit<'a, R> {
     tree: &'a [Node],
     refs: &'a [PrimRef],
-    leaf: &'a [bool],
+    picks: &'a R,
     nodes: Vec<Node8>,
     order: Vec<PrimRef>,
 }
 
-impl Collapse<'_> {
+impl<R: Roots> Emit<'_, R> {
     /// Make the eight-wide node of binary node `i`; returns its index.
     fn node(&mut self, i: usize) -> u32 {
         let index = self.nodes.len();
         self.nodes.push(Node8::EMPTY);
-        let mut kids = [i; 8];
-        let mut count = 1;
-        if self.leaf[i] {
+        let mut kids = Vec::with_capacity(8);
+        if self.picks.is_leaf(i) {
             // Only the root of a tiny tree: one leaf child.
             debug_assert!(index == 0);
+            kids.push(i);
         } else {
-            while count < 8 {
-                let open = (0..count)
-                    .filter(|&k| !self.leaf[kids[k]])
-                    .max_by(|&a, &b| self.area(kids[a]).total_cmp(&self.area(kids[b])));
-                let Some(k) = open else { break };
-                let Node::Inner { left, right, .. } = self.tree[kids[k]] else { unreachable!("leaves are not opened") };
-                kids.copy_within(k + 1..count, k + 2);
-                kids[k] = left as usize;
-                kids[k + 1] = right as usize;
-                count += 1;
-            }
+            self.picks.roots(i, &mut kids);
+            debug_assert!((2..=8).contains(&kids.len()));
         }
-        for (slot, &k) in kids[..count].iter().enumerate() {
+        for (slot, &k) in kids.iter().enumerate() {
             self.nodes[index].set_bounds(slot, self.tree[k].bounds());
-            if self.leaf[k] {
+            if self.picks.is_leaf(k) {
                 let first = self.order.len();
                 self.gather(k);
                 let n = self.order.len() - first;
@@ -110,10 +141,6 @@ impl Collapse<'_> {
             }
         }
         index as u32
-    }
-
-    fn area(&self, i: usize) -> f32 {
-        surface_area(self.tree[i].bounds())
     }
 
     /// Append the references of the subtree at `i` to the new order.

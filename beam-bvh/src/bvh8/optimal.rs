@@ -15,6 +15,7 @@
 //! [`super::collapse`]'s greedy opening of the same tree.
 
 use super::Node8;
+use super::collapse::{Roots, emit};
 use crate::binning::PrimRef;
 use crate::tree::Node;
 use beam_math::heuristics::surface_area;
@@ -43,14 +44,8 @@ pub(super) fn collapse(
     max_leaf: usize,
     traversal_cost: f32,
 ) -> (Vec<Node8>, Vec<PrimRef>) {
-    if tree.is_empty() {
-        return (Vec::new(), Vec::new());
-    }
     let (choice, internal) = costs(tree, max_leaf, traversal_cost);
-    let mut out = Emit { tree, refs, choice, internal, nodes: Vec::new(), order: Vec::with_capacity(refs.len()) };
-    out.node(0);
-    debug_assert_eq!(out.order.len(), refs.len(), "every reference lands in one leaf");
-    (out.nodes, out.order)
+    emit(tree, refs, &Optimal { tree, choice, internal })
 }
 
 /// The decisions `[n][i − 1]` of every `C(n, i)`, and for each inner node the `k` of
@@ -103,78 +98,37 @@ fn costs(tree: &[Node], max_leaf: usize, traversal_cost: f32) -> (Vec<[Choice; W
     (choice, internal_split)
 }
 
-/// The emission in progress.
-struct Emit<'a> {
+/// The decisions of the dynamic program, followed to pick an eight-wide node's children.
+struct Optimal<'a> {
     tree: &'a [Node],
-    refs: &'a [PrimRef],
     choice: Vec<[Choice; WIDE]>,
     internal: Vec<u8>,
-    nodes: Vec<Node8>,
-    order: Vec<PrimRef>,
 }
 
-impl Emit<'_> {
-    /// Make the eight-wide node of binary node `i`; returns its index.
-    fn node(&mut self, i: usize) -> u32 {
-        let index = self.nodes.len();
-        self.nodes.push(Node8::EMPTY);
-        let mut kids = Vec::with_capacity(WIDE);
-        if self.is_leaf(i) {
-            // Only the root of a tiny tree: one leaf child.
-            debug_assert!(index == 0);
-            kids.push(i);
-        } else {
-            let Node::Inner { left, right, .. } = self.tree[i] else { unreachable!("binary leaves are leaves") };
-            let k = usize::from(self.internal[i]);
-            debug_assert!((1..WIDE).contains(&k));
-            self.roots(left as usize, k, &mut kids);
-            self.roots(right as usize, WIDE - k, &mut kids);
-        }
-        debug_assert!((1..=WIDE).contains(&kids.len()));
-        for (slot, &k) in kids.iter().enumerate() {
-            self.nodes[index].set_bounds(slot, self.tree[k].bounds());
-            if self.is_leaf(k) {
-                let first = self.order.len();
-                self.gather(k);
-                let n = self.order.len() - first;
-                debug_assert!((1..=4 * Node8::MAX_LEAF_BLOCKS).contains(&n));
-                self.nodes[index].child[slot] = first as u32;
-                self.nodes[index].tris[slot] = n as u8;
-            } else {
-                let child = self.node(k);
-                self.nodes[index].child[slot] = child;
-            }
-        }
-        index as u32
-    }
-
-    /// Whether binary node `k` becomes one leaf when it is a root.
+impl Roots for Optimal<'_> {
     fn is_leaf(&self, k: usize) -> bool {
         matches!(self.tree[k], Node::Leaf { .. }) || self.choice[k][0] == Choice::Leaf
     }
 
+    fn roots(&self, i: usize, kids: &mut Vec<usize>) {
+        let Node::Inner { left, right, .. } = self.tree[i] else { unreachable!("binary leaves are leaves") };
+        let k = usize::from(self.internal[i]);
+        debug_assert!((1..WIDE).contains(&k));
+        self.split(left as usize, k, kids);
+        self.split(right as usize, WIDE - k, kids);
+    }
+}
+
+impl Optimal<'_> {
     /// Push the at most `slots` roots of the subtree at `n` in the decision of `C(n, slots)`.
-    fn roots(&self, n: usize, slots: usize, kids: &mut Vec<usize>) {
+    fn split(&self, n: usize, slots: usize, kids: &mut Vec<usize>) {
         match self.choice[n][slots - 1] {
             Choice::Split(k, j) => {
                 let Node::Inner { left, right, .. } = self.tree[n] else { unreachable!("leaves are not split") };
-                self.roots(left as usize, usize::from(k), kids);
-                self.roots(right as usize, usize::from(j), kids);
+                self.split(left as usize, usize::from(k), kids);
+                self.split(right as usize, usize::from(j), kids);
             }
             Choice::Leaf | Choice::Internal => kids.push(n),
-        }
-    }
-
-    /// Append the references of the subtree at `i` to the new order.
-    fn gather(&mut self, i: usize) {
-        match self.tree[i] {
-            Node::Leaf { first, count, .. } => {
-                self.order.extend_from_slice(&self.refs[first as usize..(first + count) as usize]);
-            }
-            Node::Inner { left, right, .. } => {
-                self.gather(left as usize);
-                self.gather(right as usize);
-            }
         }
     }
 }
