@@ -87,15 +87,10 @@ pub(crate) fn optimize(nodes: &[Node], traversal_cost: f32) -> Vec<Node> {
 #[must_use]
 #[cfg(test)]
 pub(crate) fn sah_cost(nodes: &[Node], traversal_cost: f32) -> f64 {
-    let Some(root) = nodes.first() else { return 0.0 };
-    let total: f64 = nodes
-        .iter()
-        .map(|n| match *n {
-            Node::Inner { bounds, .. } => f64::from(traversal_cost * surface_area(bounds)),
-            Node::Leaf { bounds, count, .. } => f64::from(surface_area(bounds)) * f64::from(count),
-        })
-        .sum();
-    total / f64::from(surface_area(root.bounds())).max(f64::MIN_POSITIVE)
+    if nodes.is_empty() {
+        return 0.0;
+    }
+    Tree::new(nodes).cost(traversal_cost)
 }
 
 /// A search entry: a node and the cost its ancestors' boxes would gain (min-heap on that cost).

@@ -66,10 +66,9 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
         let binary = BuildOptions { max_leaf: options.max_leaf.min(MIN_LEAF), ..options };
         let tree = crate::build::build_nodes(triangles, &mut refs, &record, &binary);
         let tree = if options.reinsert { crate::reinsert::optimize(&tree, options.traversal_cost) } else { tree };
-        let (nodes, mut order) = match options.collapse.unwrap_or(Collapse::Greedy) {
-            Collapse::Greedy => super::collapse::collapse(&tree, &refs, options.max_leaf, options.traversal_cost),
-            Collapse::Optimal => super::optimal::collapse(&tree, &refs, options.max_leaf, options.traversal_cost),
-        };
+        let kind = options.collapse.unwrap_or(Collapse::Greedy);
+        let (nodes, mut order) =
+            super::collapse::collapse(&tree, &refs, kind, options.max_leaf, options.traversal_cost);
         out.set_tree_bounds(record.bounds.aabb());
         finish(&mut out, nodes, &mut order, triangles, FinishOptions { parallel: options.parallel, dedupe: presplit });
         return out;

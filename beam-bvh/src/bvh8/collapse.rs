@@ -5,25 +5,33 @@
 //! leaf half of Ylitie, Karras, Laine, "Efficient Incoherent Ray Traversal on GPUs Through
 //! Compressed Wide BVHs", 2017, §3.1). Then, top down, each eight-wide node opens its child of
 //! largest surface area that is not a leaf until it has eight children, as the 8-wide builder
-//! does, keeping the binary tree's left-to-right order in its slots.
+//! does, keeping the binary tree's left-to-right order in its slots. The optimal collapse
+//! (`optimal.rs`) picks leaves and children by the whole dynamic program instead; both are
+//! emitted here.
 
 use super::Node8;
+use super::optimal::Optimal;
 use crate::binning::PrimRef;
+use crate::options::Collapse;
 use crate::tree::Node;
 use beam_math::heuristics::surface_area;
 use std::vec::Vec;
 
 /// The eight-wide nodes of `tree` (root first, children after their parents; its leaves index
-/// `refs`) and the references in their new leaf order. Leaf slots hold their first reference and
-/// `tris` their count, as the 8-wide builder leaves them for `finish`. Subtrees of at most
-/// `max_leaf` references may become leaves.
+/// `refs`) and the references in their new leaf order, collapsed the `kind` way. Leaf slots hold
+/// their first reference and `tris` their count, as the 8-wide builder leaves them for `finish`.
+/// Subtrees of at most `max_leaf` references may become leaves.
 pub(super) fn collapse(
     tree: &[Node],
     refs: &[PrimRef],
+    kind: Collapse,
     max_leaf: usize,
     traversal_cost: f32,
 ) -> (Vec<Node8>, Vec<PrimRef>) {
-    emit(tree, refs, &Greedy { tree, leaf: leaves(tree, max_leaf, traversal_cost) })
+    match kind {
+        Collapse::Greedy => emit(tree, refs, &Greedy { tree, leaf: leaves(tree, max_leaf, traversal_cost) }),
+        Collapse::Optimal => emit(tree, refs, &Optimal::new(tree, max_leaf, traversal_cost)),
+    }
 }
 
 /// For each node of `tree`, whether its subtree becomes one leaf (bottom up: children follow
@@ -94,7 +102,7 @@ pub(super) trait Roots {
 /// The eight-wide nodes of `tree` with children picked by `picks` (root first, children after
 /// their parents) and the references in their new leaf order. Leaf slots hold their first
 /// reference and `tris` their count, as the 8-wide builder leaves them for `finish`.
-pub(super) fn emit(tree: &[Node], refs: &[PrimRef], picks: &impl Roots) -> (Vec<Node8>, Vec<PrimRef>) {
+fn emit(tree: &[Node], refs: &[PrimRef], picks: &impl Roots) -> (Vec<Node8>, Vec<PrimRef>) {
     let mut out = Emit { tree, refs, picks, nodes: Vec::new(), order: Vec::with_capacity(refs.len()) };
     if !tree.is_empty() {
         out.node(0);

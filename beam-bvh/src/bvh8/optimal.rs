@@ -15,8 +15,7 @@
 //! [`super::collapse`]'s greedy opening of the same tree.
 
 use super::Node8;
-use super::collapse::{Roots, emit};
-use crate::binning::PrimRef;
+use super::collapse::Roots;
 use crate::tree::Node;
 use beam_math::heuristics::surface_area;
 use std::vec::Vec;
@@ -33,19 +32,6 @@ enum Choice {
     Internal,
     /// The left child's subtree in at most `k` roots, the right's in at most `j` (`k + j ≤ i`).
     Split(u8, u8),
-}
-
-/// The eight-wide nodes of `tree` (root first, children after their parents; its leaves index
-/// `refs`) and the references in their new leaf order, as [`super::collapse::collapse`] returns
-/// them, with leaves and nodes chosen by the dynamic program.
-pub(super) fn collapse(
-    tree: &[Node],
-    refs: &[PrimRef],
-    max_leaf: usize,
-    traversal_cost: f32,
-) -> (Vec<Node8>, Vec<PrimRef>) {
-    let (choice, internal) = costs(tree, max_leaf, traversal_cost);
-    emit(tree, refs, &Optimal { tree, choice, internal })
 }
 
 /// The decisions `[n][i − 1]` of every `C(n, i)`, and for each inner node the `k` of
@@ -99,7 +85,7 @@ fn costs(tree: &[Node], max_leaf: usize, traversal_cost: f32) -> (Vec<[Choice; W
 }
 
 /// The decisions of the dynamic program, followed to pick an eight-wide node's children.
-struct Optimal<'a> {
+pub(super) struct Optimal<'a> {
     tree: &'a [Node],
     choice: Vec<[Choice; WIDE]>,
     internal: Vec<u8>,
@@ -119,7 +105,13 @@ impl Roots for Optimal<'_> {
     }
 }
 
-impl Optimal<'_> {
+impl<'a> Optimal<'a> {
+    /// The decisions for `tree`, subtrees of at most `max_leaf` references allowed as leaves.
+    pub(super) fn new(tree: &'a [Node], max_leaf: usize, traversal_cost: f32) -> Self {
+        let (choice, internal) = costs(tree, max_leaf, traversal_cost);
+        Self { tree, choice, internal }
+    }
+
     /// Push the at most `slots` roots of the subtree at `n` in the decision of `C(n, slots)`.
     fn split(&self, n: usize, slots: usize, kids: &mut Vec<usize>) {
         match self.choice[n][slots - 1] {
