@@ -55,22 +55,29 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
         return out;
     }
     let presplit = options.presplit > 0.0;
+    let spatial = options.spatial > 0.0 && options.heuristic == Heuristic::Sah;
     if presplit {
         refs = super::presplit::presplit(refs, triangles, options.presplit, record.bounds.aabb());
         record = binning::record_of(&refs, options.parallel);
     }
     let mut options = *options;
     options.max_leaf = options.max_leaf.clamp(1, MAX_LEAF);
-    if (options.reinsert || options.collapse.is_some()) && options.heuristic == Heuristic::Sah {
-        // A binary tree of small leaves, optimized, then collapsed: the collapse regroups leaves.
+    if (options.reinsert || options.collapse.is_some() || spatial) && options.heuristic == Heuristic::Sah {
+        // A binary tree of small leaves (with spatial splits, or of whole triangles), optimized,
+        // then collapsed: the collapse regroups leaves.
         let binary = BuildOptions { max_leaf: options.max_leaf.min(MIN_LEAF), ..options };
-        let tree = crate::build::build_nodes(triangles, &mut refs, &record, &binary);
+        let (tree, refs) = if spatial {
+            super::spatial::build(triangles, refs, record, &binary)
+        } else {
+            (crate::build::build_nodes(triangles, &mut refs, &record, &binary), refs)
+        };
         let tree = if options.reinsert { crate::reinsert::optimize(&tree, options.traversal_cost) } else { tree };
         let kind = options.collapse.unwrap_or(Collapse::Greedy);
         let (nodes, mut order) =
             super::collapse::collapse(&tree, &refs, kind, options.max_leaf, options.traversal_cost);
         out.set_tree_bounds(record.bounds.aabb());
-        finish(&mut out, nodes, &mut order, triangles, FinishOptions { parallel: options.parallel, dedupe: presplit });
+        let dedupe = presplit || spatial;
+        finish(&mut out, nodes, &mut order, triangles, FinishOptions { parallel: options.parallel, dedupe });
         return out;
     }
     let ctx = Context::new(&options, 2);

@@ -11,9 +11,11 @@ mod build;
 mod collapse;
 mod leaf;
 mod optimal;
+mod polygon;
 mod portable;
 mod presplit;
 mod refit;
+mod spatial;
 #[cfg(target_arch = "x86_64")]
 mod x86;
 

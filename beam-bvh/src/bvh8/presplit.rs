@@ -14,14 +14,11 @@
 //! and kept inside the triangle's own box. Queries test the whole triangle in every leaf it
 //! reaches, so hits are unchanged.
 
+use super::polygon::{MAX_VERTICES, Polygon};
 use crate::binning::PrimRef;
-use beam_math::glam::Vec3;
 use beam_math::heuristics::surface_area;
 use beam_math::{Aabb, Triangle};
 use std::vec::Vec;
-
-/// Most vertices of a clipped piece: a triangle cut by up to 13 planes.
-const MAX_VERTICES: usize = 16;
 
 /// `refs` with large triangles split into up to `budget · refs.len()` extra references.
 pub(super) fn presplit(refs: Vec<PrimRef>, triangles: &[Triangle], budget: f32, scene: Aabb) -> Vec<PrimRef> {
@@ -100,59 +97,10 @@ fn grid_plane(b: Aabb, scene: &Aabb) -> Option<(u32, usize, f32)> {
     best.map(|(level, _, a, plane)| (level, a, plane))
 }
 
-/// A convex polygon in 3D (a triangle, clipped).
-#[derive(Clone, Copy)]
-struct Polygon {
-    v: [Vec3; MAX_VERTICES],
-    len: usize,
-}
-
-impl Polygon {
-    fn triangle(t: &Triangle) -> Self {
-        let mut v = [Vec3::ZERO; MAX_VERTICES];
-        v[..3].copy_from_slice(&t.v);
-        Self { v, len: 3 }
-    }
-
-    fn bounds(&self) -> Aabb {
-        Aabb::from_points(&self.v[..self.len])
-    }
-
-    fn push(&mut self, p: Vec3) {
-        if self.len < MAX_VERTICES {
-            self.v[self.len] = p;
-            self.len += 1;
-        }
-    }
-
-    /// The parts with coordinate `axis` at most and at least `plane` (Sutherland–Hodgman); new
-    /// vertices lie exactly on the plane along `axis`.
-    fn cut(&self, axis: usize, plane: f32) -> (Self, Self) {
-        let empty = Self { v: [Vec3::ZERO; MAX_VERTICES], len: 0 };
-        let (mut left, mut right) = (empty, empty);
-        for i in 0..self.len {
-            let (a, b) = (self.v[i], self.v[(i + 1) % self.len]);
-            let (da, db) = (a[axis] - plane, b[axis] - plane);
-            if da <= 0.0 {
-                left.push(a);
-            }
-            if da >= 0.0 {
-                right.push(a);
-            }
-            if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
-                let mut x = a + (b - a) * (da / (da - db));
-                x[axis] = plane;
-                left.push(x);
-                right.push(x);
-            }
-        }
-        (left, right)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use beam_math::glam::Vec3;
 
     /// Every point of a split triangle lies in some piece's box, and no piece leaves the
     /// triangle's box.

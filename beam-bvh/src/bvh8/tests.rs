@@ -83,6 +83,8 @@ fn every_kernel_equals_brute_force() {
         BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::high_quality() },
         BuildOptions { collapse: Some(Collapse::Optimal), max_leaf: 16, ..BuildOptions::sah() },
         BuildOptions { collapse: Some(Collapse::Optimal), max_leaf: 1, ..BuildOptions::sah() },
+        BuildOptions::spatial_splits(),
+        BuildOptions { spatial: 1.0, reinsert: true, parallel: false, ..BuildOptions::sah() },
         BuildOptions::pah(RayDistribution::Pencil { origin: Vec3::new(0.0, 0.0, 12.0), forward: -Vec3::Z }),
     ] {
         let mut bvh = Bvh8::build(&tris, &options);
@@ -99,6 +101,7 @@ fn shared_edges_stay_closed() {
         BuildOptions { reinsert: true, ..BuildOptions::sah() },
         BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::high_quality() },
         BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::sah() },
+        BuildOptions::spatial_splits(),
     ] {
         shared_edges_stay_closed_with(&tris, &options);
     }
@@ -143,13 +146,26 @@ fn every_valid_triangle_is_in_one_lane() {
     let mut seen: Vec<u32> = ri.prims.iter().copied().filter(|&p| p != u32::MAX).collect();
     seen.sort_unstable();
     assert_eq!(seen, (0..5000).collect::<Vec<_>>());
-    // Pre-split: every triangle in some lane, none twice in a leaf.
-    let hq = Bvh8::build(&tris, &BuildOptions { presplit: 1.0, ..BuildOptions::sah() });
+    // Pre-split, or with spatial splits: every triangle in some lane, none twice in a leaf.
+    let presplit = Bvh8::build(&tris, &BuildOptions { presplit: 1.0, ..BuildOptions::sah() });
+    let spatial = Bvh8::build(&tris, &BuildOptions::spatial_splits());
+    for hq in [&presplit, &spatial] {
+        split_triangles_are_kept_once_per_leaf(hq, 5000);
+    }
+    // Child boxes hold their subtrees (a split triangle's leaves hold only their part of it).
+    for bvh in [&bvh, &ri] {
+        child_boxes_hold_their_subtrees(bvh);
+    }
+}
+
+/// Some of the `n` triangles of `hq` lie in several leaves, every one in some leaf, none twice in
+/// one leaf.
+fn split_triangles_are_kept_once_per_leaf(hq: &Bvh8, n: u32) {
     let mut seen: Vec<u32> = hq.prims.iter().copied().filter(|&p| p != u32::MAX).collect();
-    assert!(seen.len() > 5000, "some triangles split");
+    assert!(seen.len() > n as usize, "some triangles split");
     seen.sort_unstable();
     seen.dedup();
-    assert_eq!(seen, (0..5000).collect::<Vec<_>>());
+    assert_eq!(seen, (0..n).collect::<Vec<_>>());
     for n in &hq.nodes {
         for s in 0..8 {
             if n.child[s] & Node8::LEAF != 0 && n.child[s] != Node8::UNUSED {
@@ -162,10 +178,6 @@ fn every_valid_triangle_is_in_one_lane() {
                 assert_eq!(lanes.len(), len, "a triangle twice in one leaf");
             }
         }
-    }
-    // Child boxes hold their subtrees.
-    for bvh in [&bvh, &ri] {
-        child_boxes_hold_their_subtrees(bvh);
     }
 }
 

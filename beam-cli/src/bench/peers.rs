@@ -18,35 +18,45 @@ use std::time::Instant;
 
 /// Every peer, built over `triangles` (degenerate ones already removed by the caller).
 pub fn all(triangles: &[Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
-    let mut out: Vec<Box<dyn Tracer>> = vec![Box::new(Embree::timed(triangles)?), Box::new(Obvhs::new(triangles))];
+    let mut out: Vec<Box<dyn Tracer>> = vec![
+        Box::new(Embree::timed(triangles, false)?),
+        Box::new(Embree::timed(triangles, true)?),
+        Box::new(Obvhs::new(triangles)),
+    ];
     out.extend(tinybvh::all(triangles)?);
     Ok(out)
 }
 
 /// Embree's any-hit query over `triangles`, as a shadow-ray tracer for the renderer.
 pub fn embree_occluder(triangles: &[Triangle]) -> Result<Box<beam_scene::queries::AnyHit<'static>>, String> {
-    let e = Embree::new(triangles)?;
+    let e = Embree::new(triangles, false)?;
     Ok(Box::new(move |ray: Ray, t_max: f32| e.occluded(&ray, t_max)))
 }
 
 /// Embree's closest hit over `triangles`: the index of the triangle hit and the ray parameter.
 pub fn embree_closest(triangles: &[Triangle]) -> Result<Box<beam_scene::queries::ClosestHit<'static>>, String> {
-    let e = Embree::new(triangles)?;
+    let e = Embree::new(triangles, false)?;
     Ok(Box::new(move |ray: Ray| e.closest_prim(&ray)))
 }
 
-/// Embree 3.13 through the `embree3` crate: default (medium) build quality, all threads; in the
-/// BVH benchmark its build time is the median of three.
+/// Embree 3.13 through the `embree3` crate, all threads: default (medium) build quality, or high
+/// quality (`RTC_BUILD_QUALITY_HIGH`: Embree's SAH builder with spatial splits), the peer of our
+/// [`BuildOptions::high_quality`](beam_bvh::BuildOptions::high_quality). In the BVH benchmark its
+/// build time is the median of three.
 struct Embree {
     scene: embree3::Scene<'static>,
     build_ms: f64,
+    high_quality: bool,
 }
 
 impl Embree {
-    fn new(triangles: &[Triangle]) -> Result<Self, String> {
-        use embree3::{BufferUsage, Device, Format, GeometryKind};
+    fn new(triangles: &[Triangle], high_quality: bool) -> Result<Self, String> {
+        use embree3::{BufferUsage, BuildQuality, Device, Format, GeometryKind};
         let device = Device::new().map_err(|e| format!("embree: {e:?}"))?;
         let mut scene = device.create_scene().map_err(|e| format!("embree: {e:?}"))?;
+        if high_quality {
+            scene.set_build_quality(BuildQuality::HIGH);
+        }
         let start = Instant::now();
         let mut geom = device.create_geometry(GeometryKind::TRIANGLE).map_err(|e| format!("embree: {e:?}"))?;
         let n = triangles.len();
@@ -59,15 +69,15 @@ impl Embree {
         let geom = geom.commit();
         scene.attach_geometry(&geom);
         scene.commit();
-        Ok(Self { scene, build_ms: start.elapsed().as_secs_f64() * 1e3 })
+        Ok(Self { scene, build_ms: start.elapsed().as_secs_f64() * 1e3, high_quality })
     }
 
     /// [`Embree::new`] three times, keeping the last scene and the median build time (as ours are
     /// timed: the first build also pays for starting Embree's threads).
-    fn timed(triangles: &[Triangle]) -> Result<Self, String> {
+    fn timed(triangles: &[Triangle], high_quality: bool) -> Result<Self, String> {
         let mut runs = Vec::new();
         for _ in 0..3 {
-            runs.push(Self::new(triangles)?);
+            runs.push(Self::new(triangles, high_quality)?);
         }
         let mut times: Vec<f64> = runs.iter().map(|e| e.build_ms).collect();
         times.sort_by(f64::total_cmp);
@@ -92,7 +102,7 @@ impl Embree {
 
 impl Tracer for Embree {
     fn name(&self) -> String {
-        "embree3".into()
+        if self.high_quality { "embree3-hq" } else { "embree3" }.into()
     }
     fn build_ms(&self) -> f64 {
         self.build_ms

@@ -235,7 +235,7 @@ pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outco
             ties += compare(&case.name, &format!("{builder} 4-wide"), &Answers::wide(&wide, &set), &set, &reference)?;
             total += 6 * config.rays as u64;
             // The 8-wide layout, by this builder and (SAH) in the high-quality mode, collapsed by
-            // the dynamic program (reinserted or not) and pre-split too.
+            // the dynamic program (reinserted or not), pre-split, and with spatial splits.
             let hq = (builder == "sah").then(|| {
                 let presplit = BuildOptions { presplit: 0.3, ..BuildOptions::sah() };
                 let dp = Some(Collapse::Optimal);
@@ -246,6 +246,7 @@ pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outco
                     ("sah-hq-dp", hq_dp),
                     ("sah-dp16", dp16),
                     ("sah-presplit", presplit),
+                    ("sah-sbvh", BuildOptions::spatial_splits()),
                 ]
             });
             for (builder, options) in [(builder, options)].into_iter().chain(hq.into_iter().flatten()) {

@@ -201,8 +201,9 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
         wides.push(Wide4 { name: format!("{name}-4wide"), bvh: wide, build_ms: build_ms + convert_ms });
         binaries.push(Binary { name: (*name).into(), bvh, tris: &tris, build_ms });
     }
-    // Binary trees collapsed into eight-wide nodes: reinserted (greedy, optimal), and plain
-    // binary SAH trees collapsed by the dynamic program with leaves of up to 16 and 8.
+    // Binary trees collapsed into eight-wide nodes: reinserted (greedy, optimal), plain binary
+    // SAH trees collapsed by the dynamic program with leaves of up to 16 and 8, and a tree with
+    // spatial splits.
     let dp = Some(Collapse::Optimal);
     let modes = [
         hq,
@@ -210,6 +211,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
         ("beam-dp16", BuildOptions { collapse: dp, max_leaf: 16, ..BuildOptions::sah() }),
         ("beam-dp8", BuildOptions { collapse: dp, ..BuildOptions::sah() }),
         ("beam-presplit", BuildOptions { presplit: 0.3, ..BuildOptions::sah() }),
+        ("beam-sbvh", BuildOptions::spatial_splits()),
     ];
     let extra: Vec<Wide8> = modes
         .iter()
@@ -266,8 +268,10 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
             );
         }
     }
-    let sah4 = wides8.len() + 2 + usize::from(portable.is_some());
-    print_ratios(&rows, ours_count, &tracers, &[0, wides8.len(), wides8.len() + 1, sah4]);
+    // Ratios for our default build and the static-scene modes (`extra` follows `wides8`).
+    let mode = |name: &str| wides8.len() + modes.iter().position(|(n, _)| *n == name).unwrap_or(usize::MAX / 2);
+    let compared = [0, mode("beam-hq"), mode("beam-hq-dp"), mode("beam-dp8"), mode("beam-sbvh")];
+    print_ratios(&rows, ours_count, &tracers, &compared);
     let counted: Vec<&dyn Counted> = (0..builders.len())
         .flat_map(|i| [&binaries[i] as &dyn Counted, &wides[i] as &dyn Counted, &wides8[i] as &dyn Counted])
         .chain(extra.iter().map(|o| o as &dyn Counted))
