@@ -9,7 +9,8 @@
 //! For single rays at Embree's speed there is [`Bvh8`], built by its own builder straight into
 //! eight-wide nodes, with leaves of four-triangle blocks and traversal kernels picked at run time
 //! ([`Kernel`]: AVX-512, AVX2, or a portable four-lane one), every one watertight like the scalar
-//! test. Its [`BuildOptions::high_quality`] mode optimizes the tree by reinsertion first.
+//! test. For static scenes, [`BuildOptions::high_quality`] optimizes the tree by reinsertion
+//! first, and [`BuildOptions::spatial_splits`] splits triangles across nodes where that pays.
 //!
 //! - Builders ([`BuildOptions`]): binned SAH; the projected-area heuristic (PAH) of 004 for a
 //!   declared ray distribution (a parallel bundle or a pencil through a point), falling back to SAH

@@ -1,5 +1,5 @@
 //! A binary tree with spatial splits (Stich, Friedrich, Dietrich, "Spatial Splits in Bounding
-//! Volume Hierarchies", 2009), for the 8-wide builder's high-quality mode: besides the binned
+//! Volume Hierarchies", 2009), for the 8-wide builder's static-scene modes: besides the binned
 //! object split, a node whose children's boxes overlap (more than [`MIN_OVERLAP`] of the root's
 //! area) also tries a split plane across its box, binned as in §4.2: a reference goes to every bin
 //! its triangle crosses, each time with the box of the triangle's part in that bin (clipped,
