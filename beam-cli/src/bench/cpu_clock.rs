@@ -1,5 +1,6 @@
 //! The calling thread's CPU time, for timing single-thread benchmark rows on a shared machine
-//! (other processes' time slices do not count).
+//! (other processes' time slices do not count), and the CPU time of our own threads (the calling
+//! thread and rayon's workers), for host work beside a software GPU whose threads share the cores.
 //!
 //! `clock_gettime(CLOCK_THREAD_CPUTIME_ID)` brings the thread's run time up to date when read;
 //! `/proc/thread-self/schedstat`, which advances only at scheduler ticks (4 ms at 250 Hz), is too
@@ -20,4 +21,13 @@ pub fn thread_cpu_seconds() -> Option<f64> {
 #[cfg(not(unix))]
 pub fn thread_cpu_seconds() -> Option<f64> {
     None
+}
+
+/// CPU seconds used so far by the calling thread and by each worker of rayon's global pool (the
+/// threads our host code runs on; a driver's own threads are not among them); `None` where the
+/// clock is not available.
+pub fn our_threads_cpu_seconds() -> Option<(f64, f64)> {
+    let main = thread_cpu_seconds()?;
+    let workers: Option<Vec<f64>> = rayon::broadcast(|_| thread_cpu_seconds()).into_iter().collect();
+    Some((main, workers?.iter().sum()))
 }

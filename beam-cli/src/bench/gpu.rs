@@ -2,6 +2,7 @@
 //! tree and the shading on the CPU) against the CPU renderer, measured in the same run on the
 //! built-in nonlinear scenes; each GPU image checked against the CPU's.
 
+use super::cpu_clock::our_threads_cpu_seconds;
 use beam_cpu::nonlinear::{CpuBeams, Degree, NonlinearOptions, render_nonlinear_with};
 use beam_cpu::render::{RenderOptions, difference};
 use beam_gpu::Gpu;
@@ -59,12 +60,14 @@ pub fn run(
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let (warm, _) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
         let (before, traffic) = (renderer.times(), gpu.traffic());
+        let cpu_before = our_threads_cpu_seconds();
         let start = Instant::now();
         let mut stats = None;
         for _ in 0..frames.max(1) {
             stats = Some(render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?.1);
         }
         let per_frame = start.elapsed().as_secs_f64() / f64::from(frames.max(1));
+        let cpu_time = cpu_before.zip(our_threads_cpu_seconds()).map(|((m0, w0), (m1, w1))| (m1 - m0, w1 - w0));
         let (after, traffic) = (renderer.times(), gpu.traffic() - traffic);
         let host = per_frame - traffic.waited_seconds / f64::from(frames.max(1));
         let read_mb = traffic.bytes_read_back as f64 / f64::from(frames.max(1)) / 1e6;
@@ -104,11 +107,22 @@ pub fn run(
             per(after.prepare_seconds - before.prepare_seconds),
             per(after.whitted_host_seconds - before.whitted_host_seconds),
         );
+        if let Some((main, workers)) = cpu_time {
+            println!(
+                "{:<16} host CPU ms per frame: calling thread {:.1}, rayon workers {:.1}",
+                "",
+                per(main),
+                per(workers),
+            );
+        }
     }
     println!(
         "GPU ms: whole frame; host ms: of it, time not blocked on the device (000 Table 2's CPU share: 1 to 25 ms \
          per frame at 1280×1024, with 52 to 3,400 beams per level; by stage: the last timed frame's; inside the GPU backend: \
-         per frame, overlapping the stages (atlas preparation: bounding-cone culling, packing, unpacking)); read MB: bytes read back per frame; atlas ms: \
+         per frame, overlapping the stages (atlas preparation: bounding-cone culling, packing, unpacking); host CPU ms: \
+         CPU time of our threads, which a software GPU's own threads do not inflate as they do the wall-clock host \
+         ms: the calling thread's is a lower bound of the host work, the workers' counts their spin-waits too); \
+         read MB: bytes read back per frame; atlas ms: \
          beam visibility on the GPU (upload, bounding triangles, draws, hit readback); rays ms: the eye's rays \
          and the Whitted rays past the last tree level; shade ms: the GPU shading pass (area lights by 64 \
          shadow rays) and the composite, radiance kept on the GPU; PSNR: GPU image vs the CPU's (exact soft \
