@@ -286,3 +286,51 @@ fn refit_follows_moved_triangles() {
     let rays: Vec<Ray> = soup(300, 5).iter().map(|t| Ray::new(t.v[0] * 2.0, t.v[1] - t.v[0] * 2.0)).collect();
     check(&tris, &mut bvh, &rays, 3.0);
 }
+
+/// Spatial splits on inputs that defeat them: identical triangles (no split separates them),
+/// coplanar ones (a flat box), long slivers crossing many bins beside small triangles, and one
+/// huge triangle over all of them. Every query still equals brute force.
+#[test]
+fn spatial_splits_survive_awkward_inputs() {
+    let flat: Vec<Triangle> = grid(12)
+        .into_iter()
+        .map(|t| {
+            Triangle::new(
+                t.v[0] * Vec3::new(1.0, 1.0, 0.0),
+                t.v[1] * Vec3::new(1.0, 1.0, 0.0),
+                t.v[2] * Vec3::new(1.0, 1.0, 0.0),
+            )
+        })
+        .collect();
+    let same = vec![Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y); 300];
+    let mut mixed = soup(1500, 11);
+    for i in 0..200 {
+        let y = i as f32 * 0.01 - 1.0;
+        mixed.push(Triangle::new(Vec3::new(-3.0, y, 0.0), Vec3::new(3.0, y + 0.001, 0.1), Vec3::new(3.0, y, -0.1)));
+    }
+    mixed.push(Triangle::new(Vec3::new(-50.0, -50.0, 0.3), Vec3::new(50.0, -50.0, 0.2), Vec3::new(0.0, 60.0, -0.1)));
+    for tris in [&flat, &same, &mixed] {
+        // Rays at the triangles' centroids from off their plane, and some at random.
+        let mut rays: Vec<Ray> = tris
+            .iter()
+            .step_by(7)
+            .map(|t| {
+                let c = (t.v[0] + t.v[1] + t.v[2]) / 3.0;
+                let o = c + Vec3::new(0.3, 0.2, 4.0);
+                Ray::new(o, c - o)
+            })
+            .collect();
+        rays.extend(soup(100, 5).iter().map(|t| Ray::new(t.v[0] * 3.0, t.v[1] - t.v[0] * 3.0)));
+        for options in
+            [BuildOptions::spatial_splits(), BuildOptions { spatial: 4.0, parallel: false, ..BuildOptions::sah() }]
+        {
+            let mut bvh = Bvh8::build(tris, &options);
+            check(tris, &mut bvh, &rays, 3.0);
+            let aimed = tris.len().div_ceil(7);
+            assert!(
+                rays[..aimed].iter().all(|r| bvh.closest_hit(*r, f32::INFINITY).is_some()),
+                "a ray aimed at a centroid missed"
+            );
+        }
+    }
+}
