@@ -1,6 +1,7 @@
 //! The `beam` command: runs the conformance suite and the experiments of the beam crates.
 //! Thin by design: it parses arguments and calls the libraries.
 
+mod allocator;
 mod bench;
 mod compare;
 mod conformance;
@@ -243,6 +244,7 @@ where
 }
 
 fn main() -> ExitCode {
+    allocator::keep_freed_memory();
     output::stop_cleanly_on_signals();
     let (cli, given) = parse_from(std::env::args_os()).unwrap_or_else(|e| e.exit());
     let code = match run(cli, &given, false) {
