@@ -55,7 +55,7 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
         return out;
     }
     let presplit = options.presplit > 0.0;
-    let spatial = options.spatial > 0.0 && options.heuristic == Heuristic::Sah;
+    let spatial = options.spatial > 0.0;
     if presplit {
         refs = super::presplit::presplit(refs, triangles, options.presplit, record.bounds.aabb());
         record = binning::record_of(&refs, options.parallel);

@@ -13,7 +13,7 @@
 //! several leaves, whole (queries test the whole triangle wherever they meet it).
 
 use super::polygon::Polygon;
-use crate::binning::{self, Bins, Box4, Context, PrimRef, Record};
+use crate::binning::{self, Bins, Box4, Context, Measure, PrimRef, Record};
 use crate::build::{MAX_SPLIT_DEPTH, join};
 use crate::options::BuildOptions;
 use crate::tree::Node;
@@ -227,7 +227,7 @@ impl Job<'_> {
             let mut acc = Box4::EMPTY;
             for b in (1..SPATIAL_BINS).rev() {
                 acc = acc.union(boxes[b]);
-                right_area[b] = area4(acc);
+                right_area[b] = Measure::Surface.area4(acc);
             }
             let (mut acc, mut n_left) = (Box4::EMPTY, 0usize);
             let mut n_right: usize = exit.iter().map(|&c| c as usize).sum();
@@ -238,7 +238,7 @@ impl Job<'_> {
                 if n_left == 0 || n_right == 0 || n_left == refs.len() || n_right == refs.len() {
                     continue;
                 }
-                let cost = area4(acc) * n_left as f32 + right_area[b] * n_right as f32;
+                let cost = Measure::Surface.area4(acc) * n_left as f32 + right_area[b] * n_right as f32;
                 if best.is_none_or(|s| cost < s.cost) {
                     best = Some(SpatialSplit { bin: b, cost, left: n_left, right: n_right, ..probe });
                 }
@@ -280,6 +280,7 @@ impl Job<'_> {
         let (axis, plane) = (split.axis, split.plane());
         let (mut l, mut r) = (Record::EMPTY, Record::EMPTY);
         let (mut left, mut right) = (Vec::with_capacity(split.left), Vec::with_capacity(split.right));
+        // References the plane cuts, with their two parts.
         let mut straddling = Vec::new();
         for p in refs {
             let (b0, b1) = (split.bin_of(p.lo[axis]), split.bin_of(p.hi[axis]));
@@ -290,29 +291,24 @@ impl Job<'_> {
                 r.add(&p);
                 right.push(p);
             } else {
-                straddling.push(p);
+                let (a, b) = Polygon::triangle(&self.triangles[p.index() as usize]).cut(axis, plane);
+                let piece = |q: &Polygon| PrimRef::with_box(piece_box(q, &p).aabb(), p.index());
+                straddling.push((p, piece(&a), piece(&b)));
             }
         }
         // Sides' boxes and counts with every cut reference split; unsplitting compares against them.
         let (n_l, n_r) = ((left.len() + straddling.len()) as f32, (right.len() + straddling.len()) as f32);
-        let parts: Vec<(PrimRef, PrimRef)> = straddling
-            .iter()
-            .map(|p| {
-                let (a, b) = Polygon::triangle(&self.triangles[p.index() as usize]).cut(axis, plane);
-                let piece = |q: &Polygon| PrimRef::with_box(piece_box(q, p).aabb(), p.index());
-                (piece(&a), piece(&b))
-            })
-            .collect();
         let (mut bl, mut br) = (l.bounds, r.bounds);
-        for (a, b) in &parts {
+        for (_, a, b) in &straddling {
             bl = bl.union(a.bounds());
             br = br.union(b.bounds());
         }
-        let (al, ar) = (area4(bl), area4(br));
+        let area = |b: Box4| Measure::Surface.area4(b);
+        let (al, ar) = (area(bl), area(br));
         let split_cost = al * n_l + ar * n_r;
-        for (p, (a, b)) in straddling.into_iter().zip(parts) {
-            let whole_left = area4(bl.union(p.bounds())) * n_l + ar * (n_r - 1.0);
-            let whole_right = al * (n_l - 1.0) + area4(br.union(p.bounds())) * n_r;
+        for (p, a, b) in straddling {
+            let whole_left = area(bl.union(p.bounds())) * n_l + ar * (n_r - 1.0);
+            let whole_right = al * (n_l - 1.0) + area(br.union(p.bounds())) * n_r;
             let valid = |q: &PrimRef| q.lo.truncate().cmple(q.hi.truncate()).all();
             if whole_left < split_cost.min(whole_right) || !valid(&b) {
                 l.add(&p);
@@ -331,25 +327,27 @@ impl Job<'_> {
     }
 }
 
-/// The box of piece `p` of the triangle of reference `r`: its clipped polygon's box, widened by
-/// 2^-20 of its coordinates' magnitude (rounding in the clipping never leaves part of the
-/// triangle outside every piece) and kept inside `r`'s box; empty for an empty piece.
+/// The box of piece `p` of the triangle of reference `r`: its clipped polygon's box, [`widen`]ed
+/// and kept inside `r`'s box; empty for an empty piece.
 fn piece_box(p: &Polygon, r: &PrimRef) -> Box4 {
     if p.len < 3 {
         return Box4::EMPTY;
     }
     let b = p.bounds();
-    let eps = b.min.abs().max(b.max.abs()).max_element() * (1.0 / (1 << 20) as f32);
-    let lo = (b.min - eps).extend(0.0).max(r.lo);
-    let hi = (b.max + eps).extend(0.0).min(r.hi.truncate().extend(0.0));
-    if lo.cmpgt(hi).any() { Box4::EMPTY } else { Box4 { lo, hi } }
+    clamp(widen(Box4 { lo: b.min.extend(0.0), hi: b.max.extend(0.0) }), r)
+}
+
+/// `b` (not empty) widened by 2^-20 of its coordinates' magnitude, so that rounding in the
+/// clipping never leaves part of a triangle outside every piece's box.
+fn widen(b: Box4) -> Box4 {
+    let eps = b.lo.abs().max(b.hi.abs()).truncate().max_element() * (1.0 / (1 << 20) as f32);
+    Box4 { lo: b.lo - Vec4::splat(eps), hi: b.hi + Vec4::splat(eps) }
 }
 
 /// The boxes of the parts of triangle `t` in bins `first..first + out.len()` of `split`'s axis
 /// (what clipping the triangle to each bin's slab leaves): each vertex in its bin, and each
-/// point where an edge crosses a bin's plane in the bins on both sides of that plane. Widened
-/// by 2^-20 of the coordinates' magnitude, so that rounding of the crossings never leaves part
-/// of the triangle outside every box.
+/// point where an edge crosses a bin's plane in the bins on both sides of that plane; each box
+/// [`widen`]ed.
 fn slab_boxes(t: &Triangle, split: &SpatialSplit, out: &mut [Box4], first: usize) {
     let axis = split.axis;
     let last = first + out.len() - 1;
@@ -375,8 +373,7 @@ fn slab_boxes(t: &Triangle, split: &SpatialSplit, out: &mut [Box4], first: usize
         }
     }
     for o in out.iter_mut().filter(|o| o.lo.x <= o.hi.x) {
-        let eps = o.lo.abs().max(o.hi.abs()).max_element() * (1.0 / (1 << 20) as f32);
-        *o = Box4 { lo: o.lo - Vec4::splat(eps), hi: o.hi + Vec4::splat(eps) };
+        *o = widen(*o);
     }
 }
 
@@ -385,12 +382,6 @@ fn clamp(b: Box4, r: &PrimRef) -> Box4 {
     let lo = b.lo.max(r.lo).truncate().extend(0.0);
     let hi = b.hi.min(r.hi).truncate().extend(0.0);
     if lo.truncate().cmpgt(hi.truncate()).any() { Box4::EMPTY } else { Box4 { lo, hi } }
-}
-
-/// Surface area of a box in `Vec4`s (0 for an empty one).
-fn area4(b: Box4) -> f32 {
-    let e = (b.hi - b.lo).max(Vec4::ZERO);
-    2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
 }
 
 #[cfg(test)]

@@ -269,8 +269,10 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
         }
     }
     // Ratios for our default build and the static-scene modes (`extra` follows `wides8`).
-    let mode = |name: &str| wides8.len() + modes.iter().position(|(n, _)| *n == name).unwrap_or(usize::MAX / 2);
-    let compared = [0, mode("beam-hq"), mode("beam-hq-dp"), mode("beam-dp8"), mode("beam-sbvh")];
+    let modes_compared = ["beam-hq", "beam-hq-dp", "beam-dp8", "beam-sbvh"]
+        .iter()
+        .filter_map(|name| modes.iter().position(|(n, _)| n == name).map(|i| wides8.len() + i));
+    let compared: Vec<usize> = std::iter::once(0).chain(modes_compared).collect();
     print_ratios(&rows, ours_count, &tracers, &compared);
     let counted: Vec<&dyn Counted> = (0..builders.len())
         .flat_map(|i| [&binaries[i] as &dyn Counted, &wides[i] as &dyn Counted, &wides8[i] as &dyn Counted])
