@@ -262,7 +262,8 @@ struct FinishOptions {
     dedupe: bool,
 }
 
-fn finish(out: &mut Bvh8, mut nodes: Vec<Node8>, refs: &mut [PrimRef], triangles: &[Triangle], opt: FinishOptions) {
+fn finish(out: &mut Bvh8, nodes: Vec<Node8>, refs: &mut [PrimRef], triangles: &[Triangle], opt: FinishOptions) {
+    let mut nodes = super::layout::group_siblings(nodes);
     let area = |r: &PrimRef| triangles[r.index() as usize].area();
     for n in &mut nodes {
         for s in 0..8 {

@@ -9,6 +9,7 @@
 
 mod build;
 mod collapse;
+mod layout;
 mod leaf;
 mod optimal;
 mod polygon;
@@ -42,8 +43,14 @@ pub struct Node8 {
     pub child: [u32; 8],
     /// Triangles of a leaf child; 0 for an inner child or an unused slot.
     pub tris: [u8; 8],
+    /// Index of the first inner child: the node's inner children take slots `0..inner` and
+    /// consecutive indices from `base` (`child[s] == base + s`), so a kernel can find the next
+    /// node without loading its reference.
+    pub base: u32,
+    /// Number of inner children (slots `0..inner`); leaves follow them, unused slots come last.
+    pub inner: u8,
     /// Padding to four cache lines.
-    pub pad: [u8; 24],
+    pub pad: [u8; 19],
 }
 
 const _: () = assert!(size_of::<Node8>() == 256);
@@ -67,7 +74,9 @@ impl Node8 {
         ],
         child: [Self::UNUSED; 8],
         tris: [0; 8],
-        pad: [0; 24],
+        base: 0,
+        inner: 0,
+        pad: [0; 19],
     };
 
     /// The reference of a leaf of `blocks` blocks starting at block `first`.

@@ -156,6 +156,31 @@ fn every_valid_triangle_is_in_one_lane() {
     for bvh in [&bvh, &ri] {
         child_boxes_hold_their_subtrees(bvh);
     }
+    let dp = Bvh8::build(&tris, &BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::sah() });
+    for bvh in [&bvh, &ri, &presplit, &spatial, &dp] {
+        siblings_are_grouped(bvh);
+    }
+}
+
+/// Every node lists its inner children first, at `base`, `base + 1`, … after itself, then its
+/// leaves, then unused slots; every node but the root is the child of exactly one node.
+fn siblings_are_grouped(bvh: &Bvh8) {
+    let mut parents = vec![0usize; bvh.nodes.len()];
+    for (i, n) in bvh.nodes.iter().enumerate() {
+        let kind = |s: usize| match n.child[s] {
+            Node8::UNUSED => 2,
+            c if c & Node8::LEAF != 0 => 1,
+            _ => 0,
+        };
+        assert!((1..8).all(|s| kind(s - 1) <= kind(s)), "node {i}: slots out of order");
+        assert_eq!((0..8).filter(|&s| kind(s) == 0).count(), n.inner as usize, "node {i}");
+        for s in 0..n.inner as usize {
+            assert_eq!(n.child[s], n.base + s as u32, "node {i} slot {s}");
+            assert!(n.child[s] as usize > i);
+            parents[n.child[s] as usize] += 1;
+        }
+    }
+    assert!(parents[1..].iter().all(|&p| p == 1));
 }
 
 /// Some of the `n` triangles of `hq` lie in several leaves, every one in some leaf, none twice in
