@@ -141,6 +141,12 @@ fn node(
     } else {
         while count < 8 {
             let open = (0..count).filter(|&i| !kids[i].leaf).max_by(|&a, &b| area(&kids[a]).total_cmp(&area(&kids[b])));
+            // Every child a leaf and slots left: split the leaf whose cut lowers its cost most (no
+            // node is added, so the traversal cost does not count).
+            let open = open.or_else(|| {
+                let gain = |k: &Child| leaf_split_gain(ctx, k);
+                (0..count).filter(|&i| gain(&kids[i]) > 0.0).max_by(|&a, &b| gain(&kids[a]).total_cmp(&gain(&kids[b])))
+            });
             let Some(i) = open else { break };
             let (left, right) = split(ctx, refs, &kids[i], scratch);
             kids[i] = left;
@@ -195,6 +201,18 @@ fn set_slot(n: &mut Node8, slot: usize, offset: usize, k: &Child, child: Option<
             n.child[slot] = (offset + k.begin) as u32;
             n.tris[slot] = (k.end - k.begin) as u8;
         }
+    }
+}
+
+/// How much splitting leaf `k` by its binned cut lowers its cost (area times blocks); 0 for a
+/// child without one.
+fn leaf_split_gain(ctx: &Context, k: &Child) -> f32 {
+    match k.cut {
+        Cut::Binned(s) if k.leaf => {
+            let bounds = k.record.bounds.aabb();
+            ctx.measure(bounds).area(bounds) * ctx.blocks(k.end - k.begin) - s.cost
+        }
+        _ => 0.0,
     }
 }
 

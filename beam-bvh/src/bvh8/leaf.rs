@@ -84,12 +84,12 @@ impl ShearRay {
 pub(crate) struct BlockHits {
     /// Bit `i` set when lane `i` is hit.
     pub mask: u32,
-    /// Ray parameters.
-    pub t: [f32; 4],
+    /// Ray parameters (in registers: read only the lanes of `mask`).
+    pub t: Vec4,
     /// Barycentric weights of vertex 1.
-    pub u: [f32; 4],
+    pub u: Vec4,
     /// Barycentric weights of vertex 2.
-    pub v: [f32; 4],
+    pub v: Vec4,
 }
 
 impl BlockHits {
@@ -119,12 +119,7 @@ pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> Bloc
     let t = t_scaled * inv;
     // NaN lanes (padding) fail the ordered comparisons.
     let ok = det.abs().cmplt(Vec4::INFINITY) & t.cmpge(Vec4::splat(t_min)) & t.cmple(Vec4::splat(t_max));
-    let mut hits = BlockHits {
-        mask: ok.bitmask() & !mixed & !fallback,
-        t: t.to_array(),
-        u: (v * inv).to_array(),
-        v: (w * inv).to_array(),
-    };
+    let mut hits = BlockHits { mask: ok.bitmask() & !mixed & !fallback, t, u: v * inv, v: w * inv };
     if fallback != 0 {
         fallback_lanes(&abc.map(|x| x.to_array()), t_min, t_max, fallback, &mut hits);
     }
@@ -149,7 +144,7 @@ pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
     if fallback == 0 {
         return false;
     }
-    let mut hits = BlockHits { mask: 0, t: [0.0; 4], u: [0.0; 4], v: [0.0; 4] };
+    let mut hits = BlockHits { mask: 0, t: Vec4::ZERO, u: Vec4::ZERO, v: Vec4::ZERO };
     fallback_lanes(&abc.map(|x| x.to_array()), 0.0, t_max, fallback, &mut hits);
     hits.mask != 0
 }
