@@ -112,7 +112,10 @@ impl BlockHits {
 /// Intersect the four triangles of `b` with `r`, keeping hits with `t` in `[t_min, t_max]`.
 #[inline(always)]
 pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> BlockHits {
-    let Edges { abc, u, v, w, fallback, mixed } = edges(b, r);
+    let Edges { abc, u, v, w, fallback, mixed, open } = edges(b, r);
+    if open == 0 {
+        return BlockHits { mask: 0, t: Vec4::ZERO, u: Vec4::ZERO, v: Vec4::ZERO };
+    }
     let det = u + v + w;
     let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
     let inv = Vec4::ONE / det;
@@ -131,7 +134,10 @@ pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> Bloc
 /// can differ from the scalar test only for `t` within rounding of `t_max`.
 #[inline(always)]
 pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
-    let Edges { abc, u, v, w, fallback, mixed } = edges(b, r);
+    let Edges { abc, u, v, w, fallback, mixed, open } = edges(b, r);
+    if open == 0 {
+        return false;
+    }
     let det = u + v + w;
     let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
     // `t_scaled / det` in `[0, t_max]`, with both sides' signs flipped where `det < 0`.
@@ -191,6 +197,9 @@ struct Edges {
     fallback: u32,
     /// Other lanes whose edge functions differ in sign: missed.
     mixed: u32,
+    /// Lanes that may be hit: the fallback lanes and those of one sign (not padding). Most
+    /// blocks a ray meets have none, and skip the rest of the test.
+    open: u32,
 }
 
 #[inline(always)]
@@ -218,7 +227,8 @@ fn edges(b: &Tri4, r: &ShearRay) -> Edges {
     // `det`, a sum of same-signed values, is not 0.
     let (nu, nv, nw) = (u.cmplt(zero), v.cmplt(zero), w.cmplt(zero));
     let mixed = ((nu ^ nv) | (nu ^ nw)).bitmask();
-    Edges { abc: [ax, ay, az, bx, by, bz, cx, cy, cz], u, v, w, fallback, mixed }
+    let open = (!(mixed | u.is_nan_mask().bitmask()) & 0xf) | fallback;
+    Edges { abc: [ax, ay, az, bx, by, bz, cx, cy, cz], u, v, w, fallback, mixed, open }
 }
 
 /// The lanes whose single-precision edge functions include an exact zero: the rest of the scalar
