@@ -117,7 +117,7 @@ macro_rules! kernel {
                             prefetch(bvh, cur);
                             let mut m = rest;
                             while m != 0 {
-                                stack.push(n.child[m.trailing_zeros() as usize], 0);
+                                stack.push_ref(n.child[m.trailing_zeros() as usize]);
                                 m &= m - 1;
                             }
                             continue;
@@ -154,7 +154,15 @@ macro_rules! kernel {
                         continue;
                     }
                 }
-                // Pop the nearest pending node still in front of the best hit.
+                // Pop the nearest pending node still in front of the best hit (any-hit queries
+                // push no distances: every pending node is still to be visited).
+                if ANY {
+                    let Some(r) = stack.pop_ref() else {
+                        return (false, None);
+                    };
+                    cur = r;
+                    continue;
+                }
                 loop {
                     let Some((r, d)) = stack.pop() else {
                         return (best.is_some(), best);
@@ -327,6 +335,22 @@ impl Stack<'_> {
         self.slots.refs[self.len] = MaybeUninit::new(r);
         self.slots.dists[self.len] = MaybeUninit::new(d);
         self.len += 1;
+    }
+
+    /// Push a reference without a distance (read back by [`Stack::pop_ref`] only).
+    #[inline(always)]
+    fn push_ref(&mut self, r: u32) {
+        self.slots.refs[self.len] = MaybeUninit::new(r);
+        self.len += 1;
+    }
+
+    /// Pop a reference pushed by [`Stack::push_ref`].
+    #[inline(always)]
+    fn pop_ref(&mut self) -> Option<u32> {
+        self.len = self.len.checked_sub(1)?;
+        // SAFETY: every slot below the old `len` was written by `push_ref` before `len` grew
+        // past it.
+        Some(unsafe { self.slots.refs[self.len].assume_init() })
     }
 
     /// Push the first `count` (< 8) lanes of `r` and `d`.
