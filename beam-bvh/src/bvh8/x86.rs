@@ -198,6 +198,7 @@ struct FmaBox {
     inv: [f32; 3],
     c_near: [f32; 3],
     c_far: [f32; 3],
+    /// Byte offsets in [`Node8::bounds`] of the plane of each axis the ray meets first and last.
     near: [usize; 3],
     far: [usize; 3],
 }
@@ -216,7 +217,8 @@ impl FmaBox {
         let o = Vec3A::from(ray.origin);
         let margin = (scale + o.abs()) * inv.abs() * MARGIN;
         let (c_near, c_far) = (-(o * inv) - margin, -(o * inv) + margin);
-        if !(c_near.is_finite() && c_far.is_finite() && inv.is_finite()) {
+        // Both constants are finite where their difference is (not ∞ − ∞, nor NaN).
+        if !(c_far - c_near + inv.abs()).cmplt(Vec3A::splat(f32::INFINITY)).all() {
             return None;
         }
         let negative = inv.is_negative_bitmask() as usize;
@@ -225,8 +227,8 @@ impl FmaBox {
             inv: inv.to_array(),
             c_near: c_near.to_array(),
             c_far: c_far.to_array(),
-            near: core::array::from_fn(|a| 2 * a + side(a)),
-            far: core::array::from_fn(|a| 2 * a + 1 - side(a)),
+            near: core::array::from_fn(|a| 32 * (2 * a + side(a))),
+            far: core::array::from_fn(|a| 32 * (2 * a + 1 - side(a))),
         })
     }
 }
@@ -251,15 +253,16 @@ fn prefetch(bvh: &Bvh8, r: u32) {
     }
 }
 
-/// Plane `k` (< 6, as [`FmaBox`] makes them) of the eight child boxes of `n`.
+/// The plane at byte `offset` (32·k, k < 6, as [`FmaBox`] makes them) of the eight child boxes
+/// of `n`.
 #[inline]
 #[target_feature(enable = "avx")]
-fn plane(n: &Node8, k: usize) -> __m256 {
-    debug_assert!(k < 6);
-    // SAFETY: `k < 6` (`FmaBox::near`/`far` hold `2a + side` with `a < 3`, `side ≤ 1`), so the
-    // row is eight f32 inside `n.bounds`, at offset 32·k of a 64-byte aligned `Node8`: 32-byte
-    // aligned for the load.
-    unsafe { _mm256_load_ps(n.bounds.get_unchecked(k).as_ptr()) }
+fn plane(n: &Node8, offset: usize) -> __m256 {
+    debug_assert!(offset < 6 * 32 && offset % 32 == 0);
+    // SAFETY: `offset` is 32·k with `k < 6` (`FmaBox::near`/`far` hold `32·(2a + side)` with
+    // `a < 3`, `side ≤ 1`), so the row is eight f32 inside `n.bounds`, at offset 32·k of a 64-byte
+    // aligned `Node8`: 32-byte aligned for the load.
+    unsafe { _mm256_load_ps(n.bounds.as_ptr().cast::<u8>().add(offset).cast::<f32>()) }
 }
 
 /// The eight child references of `n`.
