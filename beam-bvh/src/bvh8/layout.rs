@@ -7,8 +7,10 @@
 use super::Node8;
 use std::vec::Vec;
 
-/// `nodes` (root first, children after their parents; leaf slots as [`super::build`] leaves
-/// them) renumbered so, with each node's slots ordered inner children, leaves, unused.
+/// `nodes` (root first, children after their parents) renumbered so that every node's inner
+/// children take consecutive indices, with each node's slots ordered inner children, leaves,
+/// unused. Runs before leaves become block references: a leaf slot is one with `tris > 0` (every
+/// leaf has a triangle), an inner child one with `tris == 0`.
 pub(super) fn group_siblings(mut nodes: Vec<Node8>) -> Vec<Node8> {
     if nodes.is_empty() {
         return nodes;

@@ -45,7 +45,9 @@ pub struct Node8 {
     pub tris: [u8; 8],
     /// Index of the first inner child: the node's inner children take slots `0..inner` and
     /// consecutive indices from `base` (`child[s] == base + s`), so a kernel can find the next
-    /// node without loading its reference.
+    /// node without loading its reference. Every build sets it; `inner == 0` is always valid (the
+    /// kernels then load every reference), other values that break this rule give wrong answers
+    /// (never undefined behaviour).
     pub base: u32,
     /// Number of inner children (slots `0..inner`); leaves follow them, unused slots come last.
     pub inner: u8,
@@ -267,7 +269,7 @@ impl Bvh8 {
     fn trace<const ANY: bool>(&self, ray: Ray, t_max: f32) -> (bool, Option<Hit>) {
         match self.kernel {
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2 | Kernel::Avx512 if self.stack_need < x86::STACK_CAPACITY => {
+            Kernel::Avx2 | Kernel::Avx512 if self.stack_need + 8 <= x86::STACK_CAPACITY => {
                 x86::trace::<ANY>(self, ray, t_max)
             }
             _ => portable::trace::<ANY, ()>(self, ray, t_max, &mut ()),

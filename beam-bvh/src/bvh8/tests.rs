@@ -359,3 +359,32 @@ fn spatial_splits_survive_awkward_inputs() {
         }
     }
 }
+
+/// Odd query ranges and directions answer on every kernel what the portable kernel answers, and
+/// a tree whose nodes do not declare their inner children (`inner == 0`) answers the same.
+#[test]
+fn odd_ranges_and_directions_agree_across_kernels() {
+    let tris = grid(12);
+    let mut bvh = Bvh8::build(&tris, &BuildOptions::sah());
+    let mut plain = bvh.clone();
+    for n in &mut plain.nodes {
+        n.inner = 0;
+    }
+    let mut rays: Vec<Ray> =
+        soup(200, 17).iter().map(|t| Ray::new(t.v[0] * 2.0 + Vec3::Z * 3.0, t.v[1] - t.v[0])).collect();
+    rays.push(Ray::new(Vec3::new(3.5, 4.5, 2.0), Vec3::new(0.0, 0.0, f32::NEG_INFINITY)));
+    rays.push(Ray::new(Vec3::new(3.5, 4.5, 2.0), Vec3::new(f32::INFINITY, 0.0, -1.0)));
+    rays.push(Ray::new(Vec3::new(3.0, 4.0, 2.0), Vec3::new(0.0, 0.0, -1.0)));
+    let ranges = [f32::INFINITY, 0.0, -0.0, -1.0, f32::NAN, 1e-30, f32::MAX];
+    let answer = |b: &Bvh8, r: &Ray, t: f32| (b.closest_hit(*r, t).map(|h| (h.prim, h.t.to_bits())), b.any_hit(*r, t));
+    assert!(bvh.set_kernel(Kernel::Portable));
+    let want: Vec<_> = rays.iter().flat_map(|r| ranges.iter().map(|&t| answer(&bvh, r, t))).collect();
+    assert!(want.iter().any(|w| w.0.is_some()) && want.iter().any(|w| w.0.is_none()));
+    for k in kernels() {
+        for b in [&mut bvh, &mut plain] {
+            assert!(b.set_kernel(k));
+            let got: Vec<_> = rays.iter().flat_map(|r| ranges.iter().map(|&t| answer(b, r, t))).collect();
+            assert_eq!(got, want, "{k}");
+        }
+    }
+}

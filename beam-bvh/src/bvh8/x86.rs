@@ -1,7 +1,7 @@
 //! The x86-64 kernels of the 8-wide traversal. A node's eight child boxes take one AVX register
 //! per plane; the hit children are ordered by an eight-lane sorting network on keys that carry
 //! the entry distance in their high bits and the child's slot in the low three, and all but the
-//! nearest are pushed with one vector store. The AVX-512 kernel is the same code compiled with
+//! nearest are pushed with one vector store; any-hit queries push bare references in slot order. The AVX-512 kernel is the same code compiled with
 //! AVX-512 F/VL enabled (EVEX encoding, 32 vector registers, mask registers for compares).
 //!
 //! The entry and exit distances of the boxes are reduced and compared as the integers their bits
@@ -192,7 +192,8 @@ kernel!(
 /// `−o·inv` moved outwards by a margin (`c_near` down, `c_far` up) that covers every rounding on
 /// the way, so a computed near distance never exceeds the exact one and a far one never falls
 /// short: the test only adds boxes, as watertight traversal needs. Direction components below
-/// 2^-60 count as ±2^-60 (the margin covers that too), so no distance is NaN.
+/// 2^-60 count as ±2^-60 (the margin covers that too) and rays with an infinite component run
+/// the portable kernel, so no distance is NaN.
 #[derive(Clone, Copy, Debug)]
 struct FmaBox {
     inv: [f32; 3],
@@ -217,8 +218,10 @@ impl FmaBox {
         let o = Vec3A::from(ray.origin);
         let margin = (scale + o.abs()) * inv.abs() * MARGIN;
         let (c_near, c_far) = (-(o * inv) - margin, -(o * inv) + margin);
-        // Both constants are finite where their difference is (not ∞ − ∞, nor NaN).
-        if !(c_far - c_near + inv.abs()).cmplt(Vec3A::splat(f32::INFINITY)).all() {
+        // Both constants are finite where their difference is (not ∞ − ∞, nor NaN). An infinite
+        // direction component (`inv` 0) would make an unused slot's planes ∞·0 = NaN: portable.
+        let finite = (c_far - c_near + inv.abs()).cmplt(Vec3A::splat(f32::INFINITY));
+        if !(finite & inv.cmpne(Vec3A::ZERO)).all() {
             return None;
         }
         let negative = inv.is_negative_bitmask() as usize;
@@ -237,7 +240,12 @@ impl FmaBox {
 /// not a select, so that the next node's loads need not wait for a load of the reference).
 #[inline(always)]
 fn next(n: &Node8, s: usize) -> u32 {
-    if s < n.inner as usize { n.base + s as u32 } else { n.child[s] }
+    if s < n.inner as usize {
+        debug_assert_eq!(n.child[s], n.base.wrapping_add(s as u32));
+        n.base.wrapping_add(s as u32)
+    } else {
+        n.child[s]
+    }
 }
 
 /// Fetch the four cache lines of node `r` (nothing for a leaf) while the current node is finished.
