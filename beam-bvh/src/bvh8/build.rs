@@ -45,6 +45,8 @@ struct Child {
     depth: usize,
     cut: Cut,
     leaf: bool,
+    /// How much its binned cut lowers its cost as a leaf (area times blocks); 0 without one.
+    gain: f32,
 }
 
 /// Build over `triangles`.
@@ -102,7 +104,7 @@ fn prepare(
     depth: usize,
     scratch: &mut Bins,
 ) -> Child {
-    let child = Child { begin, end, record, depth, cut: Cut::None, leaf: true };
+    let child = Child { begin, end, record, depth, cut: Cut::None, leaf: true, gain: 0.0 };
     let n = end - begin;
     if n <= MIN_LEAF {
         return child;
@@ -117,7 +119,8 @@ fn prepare(
     let area = measure.area(bounds);
     let leaf = n <= ctx.options.max_leaf
         && split.is_none_or(|s| ctx.options.traversal_cost * area + s.cost >= area * ctx.blocks(n));
-    Child { cut: split.map_or(Cut::Median, Cut::Binned), leaf, ..child }
+    let gain = split.map_or(0.0, |s| area * ctx.blocks(n) - s.cost);
+    Child { cut: split.map_or(Cut::Median, Cut::Binned), leaf, gain, ..child }
 }
 
 /// Build the node of `me` (not a leaf) over `refs` (its references, at `offset` in the final
@@ -145,8 +148,8 @@ fn node(
             // Every child a leaf and slots left: split the leaf whose cut lowers its cost most (no
             // node is added, so the traversal cost does not count).
             let open = open.or_else(|| {
-                let gain = |k: &Child| leaf_split_gain(ctx, k);
-                (0..count).filter(|&i| gain(&kids[i]) > 0.0).max_by(|&a, &b| gain(&kids[a]).total_cmp(&gain(&kids[b])))
+                let gain = |i: usize| if kids[i].leaf { kids[i].gain } else { 0.0 };
+                (0..count).filter(|&i| gain(i) > 0.0).max_by(|&a, &b| gain(a).total_cmp(&gain(b)))
             });
             let Some(i) = open else { break };
             let (left, right) = split(ctx, refs, &kids[i], scratch);
@@ -202,18 +205,6 @@ fn set_slot(n: &mut Node8, slot: usize, offset: usize, k: &Child, child: Option<
             n.child[slot] = (offset + k.begin) as u32;
             n.tris[slot] = (k.end - k.begin) as u8;
         }
-    }
-}
-
-/// How much splitting leaf `k` by its binned cut lowers its cost (area times blocks); 0 for a
-/// child without one.
-fn leaf_split_gain(ctx: &Context, k: &Child) -> f32 {
-    match k.cut {
-        Cut::Binned(s) if k.leaf => {
-            let bounds = k.record.bounds.aabb();
-            ctx.measure(bounds).area(bounds) * ctx.blocks(k.end - k.begin) - s.cost
-        }
-        _ => 0.0,
     }
 }
 

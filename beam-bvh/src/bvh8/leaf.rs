@@ -93,6 +93,9 @@ pub(crate) struct BlockHits {
 }
 
 impl BlockHits {
+    /// No lane hit.
+    pub const NONE: Self = Self { mask: 0, t: Vec4::ZERO, u: Vec4::ZERO, v: Vec4::ZERO };
+
     /// The hit lane of smallest `t` (the last of equal ones, as a sequential scan keeps).
     #[inline(always)]
     pub fn nearest(&self) -> usize {
@@ -114,7 +117,7 @@ impl BlockHits {
 pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> BlockHits {
     let Edges { abc, u, v, w, fallback, mixed, open } = edges(b, r);
     if open == 0 {
-        return BlockHits { mask: 0, t: Vec4::ZERO, u: Vec4::ZERO, v: Vec4::ZERO };
+        return BlockHits::NONE;
     }
     let det = u + v + w;
     let t_scaled = u * abc[2] + v * abc[5] + w * abc[8];
@@ -150,7 +153,7 @@ pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
     if fallback == 0 {
         return false;
     }
-    let mut hits = BlockHits { mask: 0, t: Vec4::ZERO, u: Vec4::ZERO, v: Vec4::ZERO };
+    let mut hits = BlockHits::NONE;
     fallback_lanes(&abc.map(|x| x.to_array()), 0.0, t_max, fallback, &mut hits);
     hits.mask != 0
 }
