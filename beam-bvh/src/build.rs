@@ -1,7 +1,7 @@
 //! The binary builder: binned SAH or PAH splits ([`crate::binning`]) top down, depth first with
 //! the left child right after its parent, subtrees in parallel with rayon.
 
-use crate::binning::{self, Bins, Context, PrimRef, Record};
+use crate::binning::{self, Bins, Context, Grid, PrimRef, Record};
 use crate::options::BuildOptions;
 use crate::tree::{Bvh, Node};
 use beam_math::Triangle;
@@ -34,7 +34,7 @@ pub(crate) fn build_nodes(
 ) -> Vec<Node> {
     let mut nodes = Vec::with_capacity(2 * refs.len() / options.max_leaf.max(1) + 1);
     if !refs.is_empty() {
-        let ctx = Context::new(options, 0);
+        let ctx = Context::new(options, 0, Grid::Centred);
         let job = Job { ctx: &ctx, triangles };
         job.node(refs, record, 0, 0, &mut nodes, &mut Box::new(Bins::EMPTY));
     }

@@ -30,7 +30,8 @@ pub(super) fn find_split(ctx: &Context, refs: &[PrimRef], measure: Measure, bins
         (hi - lo > 1e-20 * (lo.abs() + hi.abs()).max(1e-30)).then(|| Split {
             plane: Plane::Direction(dirs[d]),
             lo,
-            scale: (bins - 1) as f32 / (hi - lo),
+            scale: ctx.grid.scale(bins, hi - lo),
+            shift: ctx.grid.shift(),
             bins,
             bin: 0,
             cost: 0.0,

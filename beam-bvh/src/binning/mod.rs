@@ -32,10 +32,47 @@ pub(crate) struct Context {
     /// Leaves are intersected in blocks of `1 << block_shift` triangles: the cost of `n`
     /// references is that of `⌈n / 2^block_shift⌉` blocks.
     pub block_shift: u32,
+    /// Where the candidate planes lie.
+    pub grid: Grid,
+}
+
+/// Where a binned search puts its `bins − 1` candidate planes across the centroids' range.
+/// Neither is better everywhere: with [`Grid::Equal`] the 8-wide builder's Sponza tree costs its
+/// shadow rays 5% fewer box and 16% fewer triangle tests (and traces them 6% faster), its
+/// primary rays 5% more box tests; on the conference room the binary tree that
+/// `Collapse::Optimal` collapses costs primary rays 21% more box tests with it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Grid {
+    /// Bin `k` holds the coordinates nearest to the `k`-th of `bins` points spanning the range:
+    /// the first and last bins are half as wide as the others. The binary builder's.
+    Centred,
+    /// `bins` bins of equal width over the range widened by 1%, as Embree's binner makes them.
+    /// The 8-wide builder's.
+    Equal,
+}
+
+impl Grid {
+    /// The scale from centroid coordinates (less the range's low end) to bin coordinates, for a
+    /// range of width `width`.
+    fn scale(self, bins: usize, width: f32) -> f32 {
+        match self {
+            Grid::Centred => (bins - 1) as f32 / width,
+            Grid::Equal => 0.99 * bins as f32 / width,
+        }
+    }
+
+    /// Subtracted from a bin coordinate before rounding it to the nearest integer: the bin is the
+    /// nearest point (`Centred`) or the floor (`Equal`, but at ties).
+    fn shift(self) -> f32 {
+        match self {
+            Grid::Centred => 0.0,
+            Grid::Equal => 0.5,
+        }
+    }
 }
 
 impl Context {
-    pub fn new(options: &BuildOptions, block_shift: u32) -> Self {
+    pub fn new(options: &BuildOptions, block_shift: u32, grid: Grid) -> Self {
         let mut directions = [Vec3::X, Vec3::Y, Vec3::Z, Vec3::ZERO, Vec3::ZERO];
         let mut direction_count = 3;
         if let Some(d) = options.facing.and_then(Vec3::try_normalize) {
@@ -47,7 +84,7 @@ impl Context {
         let mut options = *options;
         options.bins = options.bins.clamp(2, MAX_BINS);
         options.max_leaf = options.max_leaf.max(1);
-        Self { options, directions, direction_count, block_shift }
+        Self { options, directions, direction_count, block_shift, grid }
     }
 
     /// Cost units of a leaf of `n` references.
@@ -122,6 +159,8 @@ pub(crate) struct Split {
     pub(crate) plane: Plane,
     pub(crate) lo: f32,
     pub(crate) scale: f32,
+    /// [`Grid::shift`].
+    pub(crate) shift: f32,
     pub(crate) bins: usize,
     pub(crate) bin: usize,
     /// `A(L)·blocks(N_L) + A(R)·blocks(N_R)` under the node's measure.
@@ -135,7 +174,7 @@ impl Split {
             Plane::Axis(a) => r.centroid2().to_array()[a],
             Plane::Direction(d) => r.centroid2().truncate().dot(d),
         };
-        bin_index(((x - self.lo) * self.scale).min((self.bins - 1) as f32))
+        bin_index(((x - self.lo) * self.scale - self.shift).min((self.bins - 1) as f32))
     }
 }
 
@@ -143,9 +182,9 @@ impl Split {
 /// the low mantissa bits: a float-to-integer conversion without the checks of `as`.
 const ROUNDER: f32 = 12_582_912.0;
 
-/// The bin of coordinate `x` (`(c − lo)·scale`, in `[0, bins − 1]`): `x` rounded to the nearest
-/// integer, so the first and last bins are half as wide as the others. The vector binning in
-/// [`find_split`] computes the same for three lanes at once.
+/// The bin of bin coordinate `x` less the grid's shift (at most `bins − 1`): `x` rounded to the
+/// nearest integer. The vector binning in [`find_split`] computes the same for three lanes at
+/// once.
 #[inline(always)]
 fn bin_index(x: f32) -> usize {
     ((x + ROUNDER).to_bits() - ROUNDER.to_bits()) as usize
@@ -224,15 +263,17 @@ pub(crate) fn find_split(
     let (lo, hi) = (record.centroids.lo, record.centroids.hi);
     let usable = |a: usize| hi[a] - lo[a] > 1e-20 * (lo[a].abs() + hi[a].abs()).max(1e-30);
     let last = (bins - 1) as f32;
+    let shift = ctx.grid.shift();
     let scale = Vec4::new(
-        if usable(0) { last / (hi.x - lo.x) } else { 0.0 },
-        if usable(1) { last / (hi.y - lo.y) } else { 0.0 },
-        if usable(2) { last / (hi.z - lo.z) } else { 0.0 },
+        if usable(0) { ctx.grid.scale(bins, hi.x - lo.x) } else { 0.0 },
+        if usable(1) { ctx.grid.scale(bins, hi.y - lo.y) } else { 0.0 },
+        if usable(2) { ctx.grid.scale(bins, hi.z - lo.z) } else { 0.0 },
         0.0,
     );
     // `Split::bin_of` (`bin_index` of the clamped coordinate), three lanes at once.
     let add = |p: &PrimRef, out: &mut Bins| {
-        let b = (((p.centroid2() - lo) * scale).min(Vec4::splat(last)) + ROUNDER).to_array();
+        let x = (p.centroid2() - lo) * scale - Vec4::splat(shift);
+        let b = (x.min(Vec4::splat(last)) + ROUNDER).to_array();
         for a in 0..3 {
             let k = (b[a].to_bits() - ROUNDER.to_bits()) as usize;
             out.bounds[a][k] = out.bounds[a][k].union(p.bounds());
@@ -273,7 +314,7 @@ pub(crate) fn find_split(
         if scale[a] == 0.0 {
             continue;
         }
-        let probe = Split { plane: Plane::Axis(a), lo: lo[a], scale: scale[a], bins, bin: 0, cost: 0.0 };
+        let probe = Split { plane: Plane::Axis(a), lo: lo[a], scale: scale[a], shift, bins, bin: 0, cost: 0.0 };
         sweep(ctx, measure, &scratch.bounds[a][..bins], &scratch.counts[a][..bins], refs.len(), probe, &mut best);
     }
     best

@@ -11,7 +11,7 @@
 //! leaves but no faster queries with these kernels: measured on Sponza and the conference room.)
 
 use super::{Bvh8, Node8, Tri4};
-use crate::binning::{self, Bins, Context, PrimRef, Record, Split};
+use crate::binning::{self, Bins, Context, Grid, PrimRef, Record, Split};
 use crate::build::MAX_SPLIT_DEPTH;
 use crate::options::{BuildOptions, Collapse, Heuristic};
 use beam_math::heuristics::surface_area;
@@ -83,7 +83,7 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
         finish(&mut out, nodes, &mut order, triangles, FinishOptions { parallel: options.parallel, dedupe });
         return out;
     }
-    let ctx = Context::new(&options, 2);
+    let ctx = Context::new(&options, 2, Grid::Equal);
     let mut scratch = Box::new(Bins::EMPTY);
     let root = prepare(&ctx, &refs, 0, refs.len(), record, 0, &mut scratch);
     let mut nodes = Vec::with_capacity(refs.len() / 4 + 1);

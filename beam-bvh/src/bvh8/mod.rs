@@ -228,7 +228,7 @@ impl Bvh8 {
     /// The closest hit with `t` in `[0, t_max]`.
     #[must_use]
     pub fn closest_hit(&self, ray: Ray, t_max: f32) -> Option<Hit> {
-        self.trace::<false>(ray, t_max).1
+        self.trace::<false>(ray, t_max)
     }
 
     /// True when `ray` hits anything with `t` in `[0, t_max]`. The leaves test the range without
@@ -236,20 +236,20 @@ impl Bvh8 {
     /// or not; everywhere else the answer is the scalar watertight test's.
     #[must_use]
     pub fn any_hit(&self, ray: Ray, t_max: f32) -> bool {
-        self.trace::<true>(ray, t_max).0
+        self.trace::<true>(ray, t_max).is_some()
     }
 
     /// [`Bvh8::closest_hit`] through the portable kernel, counting child boxes and triangles
     /// tested.
     #[must_use]
     pub fn closest_hit_stats(&self, ray: Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
-        portable::trace::<false, _>(self, ray, t_max, stats).1
+        portable::trace::<false, _>(self, ray, t_max, stats)
     }
 
     /// [`Bvh8::any_hit`] through the portable kernel, counting work.
     #[must_use]
     pub fn any_hit_stats(&self, ray: Ray, t_max: f32, stats: &mut TraversalStats) -> bool {
-        portable::trace::<true, _>(self, ray, t_max, stats).0
+        portable::trace::<true, _>(self, ray, t_max, stats).is_some()
     }
 
     /// Closest hits of many rays (parallel with the `parallel` feature).
@@ -264,8 +264,11 @@ impl Bvh8 {
         crate::traverse::map_segments(rays, t_max, |r, t| self.any_hit(r, t))
     }
 
+    /// The closest hit, or for `ANY` [`OCCLUDED`] when anything is hit (the kernels return one
+    /// `Option<Hit>` in the caller's slot: a `(bool, Option<Hit>)` copied out of a callee's
+    /// narrower stores stalled store forwarding on every ray).
     #[inline]
-    fn trace<const ANY: bool>(&self, ray: Ray, t_max: f32) -> (bool, Option<Hit>) {
+    fn trace<const ANY: bool>(&self, ray: Ray, t_max: f32) -> Option<Hit> {
         match self.kernel {
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2 | Kernel::Avx512 if self.stack_need + 8 <= x86::STACK_CAPACITY => {
@@ -275,6 +278,10 @@ impl Bvh8 {
         }
     }
 }
+
+/// What an any-hit traversal returns for a ray that hits something: only `is_some` means
+/// anything.
+const OCCLUDED: Hit = Hit { prim: u32::MAX, t: 0.0, u: 0.0, v: 0.0 };
 
 /// Per-ray constants of the box tests: origin, reciprocal direction for near planes and a
 /// widened one for far planes, and which plane of each axis the ray meets first (`near[a]`

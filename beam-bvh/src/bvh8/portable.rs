@@ -14,9 +14,9 @@ use std::vec::Vec;
 const INLINE_STACK: usize = 64;
 
 /// Closest hit (`ANY = false`) or any hit (`ANY = true`) of `ray` in `[0, t_max]`.
-pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f32, c: &mut C) -> (bool, Option<Hit>) {
+pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f32, c: &mut C) -> Option<Hit> {
     if bvh.nodes.is_empty() {
-        return (false, None);
+        return None;
     }
     let mut inline = [(0u32, 0.0f32); INLINE_STACK];
     let mut heap = Vec::new();
@@ -45,7 +45,7 @@ pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f3
                 }
             };
             if visit_leaf::<ANY>(bvh, cur, &sr, &mut t_best, &mut best, count) {
-                return (true, None);
+                return Some(super::OCCLUDED);
             }
         } else {
             let n = &bvh.nodes[cur as usize];
@@ -95,7 +95,7 @@ pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f3
         // Pop the nearest pending node still in front of the best hit.
         loop {
             if sp == 0 {
-                return (best.is_some(), best);
+                return best;
             }
             sp -= 1;
             let (r, d) = stack[sp];

@@ -13,7 +13,7 @@
 //! several leaves, whole (queries test the whole triangle wherever they meet it).
 
 use super::polygon::Polygon;
-use crate::binning::{self, Bins, Box4, Context, Measure, PrimRef, Record};
+use crate::binning::{self, Bins, Box4, Context, Grid, Measure, PrimRef, Record};
 use crate::build::{MAX_SPLIT_DEPTH, join};
 use crate::options::BuildOptions;
 use crate::tree::Node;
@@ -48,7 +48,7 @@ pub(super) fn build(
     if refs.is_empty() {
         return out.into_parts();
     }
-    let ctx = Context::new(options, 0);
+    let ctx = Context::new(options, 0, Grid::Centred);
     let root_area = surface_area(record.bounds.aabb());
     let job = Job { ctx: &ctx, triangles, min_overlap: MIN_OVERLAP * root_area };
     let budget = (options.spatial.max(0.0) * refs.len() as f32) as usize;

@@ -360,7 +360,8 @@ fn spatial_splits_survive_awkward_inputs() {
     }
 }
 
-/// Odd query ranges and directions answer on every kernel what the portable kernel answers, and
+/// Odd query ranges and directions answer on every kernel what the portable kernel answers (up to
+/// ties), and
 /// a tree whose nodes do not declare their inner children (`inner == 0`) answers the same.
 #[test]
 fn odd_ranges_and_directions_agree_across_kernels() {
@@ -376,7 +377,17 @@ fn odd_ranges_and_directions_agree_across_kernels() {
     rays.push(Ray::new(Vec3::new(3.5, 4.5, 2.0), Vec3::new(f32::INFINITY, 0.0, -1.0)));
     rays.push(Ray::new(Vec3::new(3.0, 4.0, 2.0), Vec3::new(0.0, 0.0, -1.0)));
     let ranges = [f32::INFINITY, 0.0, -0.0, -1.0, f32::NAN, 1e-30, f32::MAX];
-    let answer = |b: &Bvh8, r: &Ray, t: f32| (b.closest_hit(*r, t).map(|h| (h.prim, h.t.to_bits())), b.any_hit(*r, t));
+    // A ray through an edge or vertex ties between the triangles that meet there and may name
+    // either, depending on the order the kernel visits them: the distance must be equal and the
+    // triangle named must be hit there.
+    let answer = |b: &Bvh8, r: &Ray, t: f32| {
+        let hit = b.closest_hit(*r, t);
+        if let Some(h) = hit {
+            let own = WatertightRay::new(*r).intersect(&tris[h.prim as usize], 0.0, t);
+            assert_eq!(own.map(|o| o.t), Some(h.t), "{h:?}");
+        }
+        (hit.map(|h| h.t.to_bits()), b.any_hit(*r, t))
+    };
     assert!(bvh.set_kernel(Kernel::Portable));
     let want: Vec<_> = rays.iter().flat_map(|r| ranges.iter().map(|&t| answer(&bvh, r, t))).collect();
     assert!(want.iter().any(|w| w.0.is_some()) && want.iter().any(|w| w.0.is_none()));

@@ -1,8 +1,11 @@
 //! The x86-64 kernels of the 8-wide traversal. A node's eight child boxes take one AVX register
 //! per plane; the hit children are ordered by an eight-lane sorting network on keys that carry
 //! the entry distance in their high bits and the child's slot in the low three, and all but the
-//! nearest are pushed with one vector store; any-hit queries push bare references in slot order. The AVX-512 kernel is the same code compiled with
-//! AVX-512 F/VL enabled (EVEX encoding, 32 vector registers, mask registers for compares).
+//! nearest are pushed with one vector store; any-hit queries push bare references in slot order,
+//! gathered to the front of a register by a table of permutations and stored at once (a loop over
+//! the hit children cost a mispredicted branch per node). The AVX-512 kernel is the same code
+//! compiled with AVX-512 F/VL enabled (EVEX encoding, 32 vector registers, mask registers for
+//! compares).
 //!
 //! The entry and exit distances of the boxes are reduced and compared as the integers their bits
 //! spell, as Embree does: an integer `min`/`max` takes one cycle where the float ones take four on
@@ -45,7 +48,7 @@ pub(super) fn has_avx512() -> bool {
 }
 
 /// Trace with `bvh`'s kernel (AVX2 or AVX-512).
-pub(super) fn trace<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32) -> (bool, Option<Hit>) {
+pub(super) fn trace<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32) -> Option<Hit> {
     assert!(bvh.stack_need + 8 <= STACK_CAPACITY, "tree too deep for the x86 kernels");
     match bvh.kernel {
         // SAFETY: `Bvh8::kernel` is `Avx512` only after `Kernel::is_available` (`has_avx512`)
@@ -64,9 +67,9 @@ macro_rules! kernel {
     ($(#[$doc:meta])* $name:ident, $features:literal) => {
         $(#[$doc])*
         #[target_feature(enable = $features)]
-        fn $name<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32) -> (bool, Option<Hit>) {
+        fn $name<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32) -> Option<Hit> {
             if bvh.nodes.is_empty() || !(t_max >= 0.0) {
-                return (false, None);
+                return None;
             }
             let Some(rb) = FmaBox::new(ray, bvh.scale) else {
                 return super::portable::trace::<ANY, ()>(bvh, ray, t_max, &mut ());
@@ -84,7 +87,7 @@ macro_rules! kernel {
             loop {
                 if cur & Node8::LEAF != 0 {
                     if visit_leaf::<ANY>(bvh, cur, &sr, &mut t_best, &mut best, |_| {}) {
-                        return (true, None);
+                        return Some(super::OCCLUDED);
                     }
                 } else {
                     let n = &bvh.nodes[cur as usize];
@@ -115,11 +118,8 @@ macro_rules! kernel {
                             // needed.
                             cur = next(n, first);
                             prefetch(bvh, cur);
-                            let mut m = rest;
-                            while m != 0 {
-                                stack.push_ref(n.child[m.trailing_zeros() as usize]);
-                                m &= m - 1;
-                            }
+                            let pending = _mm256_permutevar8x32_epi32(children(n), compaction(rest));
+                            stack.push_refs(pending, rest.count_ones() as usize);
                             continue;
                         }
                         // Keys: the distance's bits (non-negative floats order as integers) with
@@ -157,15 +157,12 @@ macro_rules! kernel {
                 // Pop the nearest pending node still in front of the best hit (any-hit queries
                 // push no distances: every pending node is still to be visited).
                 if ANY {
-                    let Some(r) = stack.pop_ref() else {
-                        return (false, None);
-                    };
-                    cur = r;
+                    cur = stack.pop_ref()?;
                     continue;
                 }
                 loop {
                     let Some((r, d)) = stack.pop() else {
-                        return (best.is_some(), best);
+                        return best;
                     };
                     if f32::from_bits(d) <= t_best {
                         cur = r;
@@ -214,8 +211,11 @@ impl FmaBox {
         const MARGIN: f32 = 1.0 / (1 << 21) as f32;
         let d = Vec3A::from(ray.direction);
         let d = Vec3A::select(d.abs().cmplt(Vec3A::splat(TINY)), Vec3A::splat(TINY).copysign(d), d);
-        let inv = d.recip();
+        // The plane offsets take the signs of `d`, which `inv` has: the first node's loads, which
+        // wait for the offsets, need not wait for the division.
+        let negative = d.is_negative_bitmask() as usize;
         let o = Vec3A::from(ray.origin);
+        let inv = d.recip();
         let margin = (scale + o.abs()) * inv.abs() * MARGIN;
         let (c_near, c_far) = (-(o * inv) - margin, -(o * inv) + margin);
         // Both constants are finite where their difference is (not ∞ − ∞, nor NaN). An infinite
@@ -224,7 +224,6 @@ impl FmaBox {
         if !(finite & inv.cmpne(Vec3A::ZERO)).all() {
             return None;
         }
-        let negative = inv.is_negative_bitmask() as usize;
         let side = |a: usize| (negative >> a) & 1;
         Some(Self {
             inv: inv.to_array(),
@@ -291,6 +290,34 @@ fn hmin(v: __m256i) -> u32 {
     _mm256_cvtsi256_si32(v) as u32
 }
 
+/// Lane indices that gather the set bits of an eight-bit mask to the front, in ascending order
+/// (the rest zero), one row of eight bytes per mask.
+static COMPACT: [[u8; 8]; 256] = {
+    let mut t = [[0u8; 8]; 256];
+    let mut m = 0;
+    while m < 256 {
+        let (mut bit, mut k) = (0, 0);
+        while bit < 8 {
+            if m >> bit & 1 != 0 {
+                t[m][k] = bit as u8;
+                k += 1;
+            }
+            bit += 1;
+        }
+        m += 1;
+    }
+    t
+};
+
+/// The permutation that moves the lanes set in `mask` (< 256) to the front, in ascending order.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn compaction(mask: u32) -> __m256i {
+    let row = &COMPACT[mask as usize & 0xff];
+    // SAFETY: `row` is eight bytes (an unaligned 64-bit load).
+    _mm256_cvtepu8_epi32(unsafe { _mm_loadl_epi64(row.as_ptr().cast()) })
+}
+
 /// Store eight lanes.
 #[inline]
 #[target_feature(enable = "avx")]
@@ -348,14 +375,19 @@ impl Stack<'_> {
         self.len += 1;
     }
 
-    /// Push a reference without a distance (read back by [`Stack::pop_ref`] only).
-    #[inline(always)]
-    fn push_ref(&mut self, r: u32) {
-        self.slots.refs[self.len] = MaybeUninit::new(r);
-        self.len += 1;
+    /// Push the first `count` (≤ 8) lanes of `r` without distances (read back by
+    /// [`Stack::pop_ref`] only).
+    #[inline]
+    #[target_feature(enable = "avx")]
+    fn push_refs(&mut self, r: __m256i, count: usize) {
+        assert!(self.len + 8 <= STACK_CAPACITY && count <= 8);
+        // SAFETY: `len + 8 ≤ STACK_CAPACITY` (checked above): the 32-byte store stays inside the
+        // array, whose elements have the layout of `u32`.
+        unsafe { _mm256_storeu_si256(self.slots.refs.as_mut_ptr().add(self.len).cast(), r) };
+        self.len += count;
     }
 
-    /// Pop a reference pushed by [`Stack::push_ref`].
+    /// Pop a reference pushed by [`Stack::push_refs`].
     #[inline(always)]
     fn pop_ref(&mut self) -> Option<u32> {
         self.len = self.len.checked_sub(1)?;
