@@ -136,12 +136,14 @@ macro_rules! kernel {
                             let (near_key, far_key) = if a <= b { (a, b) } else { (b, a) };
                             stack.push(n.child[(far_key & 7) as usize], far_key & !7);
                             cur = next(n, (near_key & 7) as usize);
+                            prefetch(bvh, cur);
                             continue;
                         }
                         // More: the nearest by a min-reduction (the next node's address does not
                         // wait for the sort), the others sorted and pushed farthest first.
                         let nearest = hmin(keys);
                         cur = next(n, (nearest & 7) as usize);
+                        prefetch(bvh, cur);
                         let sorted = sort8(keys);
                         // `permutevar8x32` reads the low three bits of each index: the slot.
                         let refs = _mm256_permutevar8x32_epi32(children(n), sorted);
@@ -251,10 +253,15 @@ fn next(n: &Node8, s: usize) -> u32 {
 #[inline]
 #[target_feature(enable = "sse")]
 fn prefetch(bvh: &Bvh8, r: u32) {
+    // A prefetch reads nothing and never faults: any address will do.
     if r & Node8::LEAF == 0 {
-        // A prefetch reads nothing and never faults: any address will do.
         let p = bvh.nodes.as_ptr().wrapping_add(r as usize).cast::<i8>();
         for line in 0..4 {
+            _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64 * line));
+        }
+    } else {
+        let p = bvh.blocks.as_ptr().wrapping_add(Node8::leaf_blocks(r).0).cast::<i8>();
+        for line in 0..3 {
             _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64 * line));
         }
     }
