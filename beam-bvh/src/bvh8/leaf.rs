@@ -115,7 +115,7 @@ impl BlockHits {
 /// Intersect the four triangles of `b` with `r`, keeping hits with `t` in `[t_min, t_max]`.
 #[inline(always)]
 pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> BlockHits {
-    let Edges { abc, u, v, w, fallback, mixed, open } = edges(b, r);
+    let Edges { abc, u, v, w, fallback, same, open } = edges(b, r);
     if open == 0 {
         return BlockHits::NONE;
     }
@@ -125,7 +125,7 @@ pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> Bloc
     let t = t_scaled * inv;
     // NaN lanes (padding) fail the ordered comparisons.
     let ok = det.abs().cmplt(Vec4::INFINITY) & t.cmpge(Vec4::splat(t_min)) & t.cmple(Vec4::splat(t_max));
-    let mut hits = BlockHits { mask: ok.bitmask() & !mixed & !fallback, t, u: v * inv, v: w * inv };
+    let mut hits = BlockHits { mask: ok.bitmask() & same, t, u: v * inv, v: w * inv };
     if fallback != 0 {
         fallback_lanes(&abc.map(|x| x.to_array()), t_min, t_max, fallback, &mut hits);
     }
@@ -137,7 +137,7 @@ pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> Bloc
 /// can differ from the scalar test only for `t` within rounding of `t_max`.
 #[inline(always)]
 pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
-    let Edges { abc, u, v, w, fallback, mixed, open } = edges(b, r);
+    let Edges { abc, u, v, w, fallback, same, open } = edges(b, r);
     if open == 0 {
         return false;
     }
@@ -147,7 +147,7 @@ pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
     let flip = Vec4::select(det.cmplt(Vec4::ZERO), -Vec4::ONE, Vec4::ONE);
     let (ts, d) = (t_scaled * flip, det.abs());
     let ok = d.cmplt(Vec4::INFINITY) & ts.cmpge(Vec4::ZERO) & ts.cmple(Vec4::splat(t_max) * d);
-    if ok.bitmask() & !mixed & !fallback != 0 {
+    if ok.bitmask() & same != 0 {
         return true;
     }
     if fallback == 0 {
@@ -198,10 +198,10 @@ struct Edges {
     w: Vec4,
     /// Lanes with an edge function exactly 0 (the scalar test's double-precision path).
     fallback: u32,
-    /// Other lanes whose edge functions differ in sign: missed.
-    mixed: u32,
-    /// Lanes that may be hit: the fallback lanes and those of one sign (not padding). Most
-    /// blocks a ray meets have none, and skip the rest of the test.
+    /// Lanes whose edge functions are all nonzero and of one sign: hit if `t` is in range.
+    same: u32,
+    /// Lanes that may be hit: `same` and `fallback` (not padding, whose functions are NaN).
+    /// Most blocks a ray meets have none, and skip the rest of the test.
     open: u32,
 }
 
@@ -226,12 +226,11 @@ fn edges(b: &Tri4, r: &ShearRay) -> Edges {
     let w = bx * ay - by * ax;
     let zero = Vec4::ZERO;
     let fallback = (u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero)).bitmask();
-    // Outside the fallback lanes no edge function is 0: signs are mixed when any two differ, and
-    // `det`, a sum of same-signed values, is not 0.
-    let (nu, nv, nw) = (u.cmplt(zero), v.cmplt(zero), w.cmplt(zero));
-    let mixed = ((nu ^ nv) | (nu ^ nw)).bitmask();
-    let open = (!(mixed | u.is_nan_mask().bitmask()) & 0xf) | fallback;
-    Edges { abc: [ax, ay, az, bx, by, bz, cx, cy, cz], u, v, w, fallback, mixed, open }
+    // One sign, none 0: the smallest above 0 or the largest below (NaN lanes are neither).
+    // `det`, a sum of same-signed values, is then not 0.
+    let (lo, hi) = (u.min(v.min(w)), u.max(v.max(w)));
+    let same = (lo.cmpgt(zero) | hi.cmplt(zero)).bitmask();
+    Edges { abc: [ax, ay, az, bx, by, bz, cx, cy, cz], u, v, w, fallback, same, open: same | fallback }
 }
 
 /// The lanes whose single-precision edge functions include an exact zero: the rest of the scalar
