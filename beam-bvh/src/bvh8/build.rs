@@ -274,7 +274,7 @@ struct FinishOptions {
 
 fn finish(out: &mut Bvh8, nodes: Vec<Node8>, refs: &mut [PrimRef], triangles: &[Triangle], opt: FinishOptions) {
     let mut nodes = super::layout::group_siblings(nodes);
-    let area = |r: &PrimRef| triangles[r.index() as usize].area();
+    let mut keyed: Vec<(u32, PrimRef)> = Vec::with_capacity(MAX_LEAF);
     for n in &mut nodes {
         for s in 0..8 {
             let (first, count) = (n.child[s] as usize, n.tris[s] as usize);
@@ -283,8 +283,16 @@ fn finish(out: &mut Bvh8, nodes: Vec<Node8>, refs: &mut [PrimRef], triangles: &[
                 if opt.dedupe {
                     n.tris[s] = dedupe(leaf) as u8;
                 }
-                // Larger triangles in the first blocks: an any-hit query meets them sooner.
-                leaf[..n.tris[s] as usize].sort_unstable_by(|a, b| area(b).total_cmp(&area(a)));
+                // Larger triangles in the first blocks: an any-hit query meets them sooner. Each
+                // area is computed once (as a sort key it was 5% of a build). Areas are not
+                // negative: their bits order as they do.
+                let leaf = &mut leaf[..n.tris[s] as usize];
+                keyed.clear();
+                keyed.extend(leaf.iter().map(|r| (triangles[r.index() as usize].area().to_bits(), *r)));
+                keyed.sort_unstable_by(|a, b| b.0.cmp(&a.0));
+                for (to, (_, r)) in leaf.iter_mut().zip(&keyed) {
+                    *to = *r;
+                }
             }
         }
     }
