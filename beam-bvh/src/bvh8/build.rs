@@ -289,7 +289,7 @@ fn finish(out: &mut Bvh8, nodes: Vec<Node8>, refs: &mut [PrimRef], triangles: &[
                 let leaf = &mut leaf[..n.tris[s] as usize];
                 keyed.clear();
                 keyed.extend(leaf.iter().map(|r| (triangles[r.index() as usize].area().to_bits(), *r)));
-                keyed.sort_unstable_by(|a, b| b.0.cmp(&a.0));
+                keyed.sort_unstable_by_key(|k| core::cmp::Reverse(k.0));
                 for (to, (_, r)) in leaf.iter_mut().zip(&keyed) {
                     *to = *r;
                 }

@@ -84,38 +84,40 @@ pub enum Clock {
     Thread,
 }
 
-/// Best of `runs` timings of `f`, in seconds, by `clock`.
-fn best_of(runs: usize, clock: Clock, mut f: impl FnMut()) -> f64 {
-    (0..runs)
-        .map(|_| {
-            let (s, cpu) = (Instant::now(), thread_cpu_seconds());
-            f();
-            match (clock, cpu, thread_cpu_seconds()) {
-                (Clock::Thread, Some(a), Some(b)) => b - a,
-                _ => s.elapsed().as_secs_f64(),
-            }
-        })
-        .fold(f64::INFINITY, f64::min)
+/// Seconds `f` takes, by `clock`.
+fn seconds(clock: Clock, f: impl FnOnce()) -> f64 {
+    let (s, cpu) = (Instant::now(), thread_cpu_seconds());
+    f();
+    match (clock, cpu, thread_cpu_seconds()) {
+        (Clock::Thread, Some(a), Some(b)) => b - a,
+        _ => s.elapsed().as_secs_f64(),
+    }
 }
 
 const KINDS: [&str; 3] = ["primary", "shadow", "diffuse"];
 
-/// Mrays/s of one tracer on one ray kind with `threads` (1 by `clock`, or all by wall clock).
+/// Timing rounds: every tracer is timed once per round on every ray kind and keeps its best, so
+/// that a drift in the machine's speed (a shared virtual machine) meets all tracers alike rather
+/// than the ones timed last.
+const ROUNDS: usize = 3;
+
+/// Mrays/s of one tracer on one ray kind with `threads` (1 by `clock`, or all by wall clock), from
+/// one pass over the rays.
 fn throughput(t: &dyn Tracer, rays: &Rays, kind: &str, parallel: bool, clock: Clock) -> f64 {
     let sink = |x: bool| std::hint::black_box(x);
     let wall = Clock::Wall;
     let secs = match (kind, parallel) {
-        ("shadow", false) => best_of(3, clock, || rays.shadow.iter().for_each(|(r, m)| _ = sink(t.occluded(r, *m)))),
+        ("shadow", false) => seconds(clock, || rays.shadow.iter().for_each(|(r, m)| _ = sink(t.occluded(r, *m)))),
         ("shadow", true) => {
-            best_of(3, wall, || rays.shadow.par_iter().with_min_len(64).for_each(|(r, m)| _ = sink(t.occluded(r, *m))))
+            seconds(wall, || rays.shadow.par_iter().with_min_len(64).for_each(|(r, m)| _ = sink(t.occluded(r, *m))))
         }
         (_, false) => {
             let rs = if kind == "primary" { &rays.primary } else { &rays.diffuse };
-            best_of(3, clock, || rs.iter().for_each(|r| _ = sink(t.closest(r).is_some())))
+            seconds(clock, || rs.iter().for_each(|r| _ = sink(t.closest(r).is_some())))
         }
         (_, true) => {
             let rs = if kind == "primary" { &rays.primary } else { &rays.diffuse };
-            best_of(3, wall, || rs.par_iter().with_min_len(64).for_each(|r| _ = sink(t.closest(r).is_some())))
+            seconds(wall, || rs.par_iter().with_min_len(64).for_each(|r| _ = sink(t.closest(r).is_some())))
         }
     };
     let n = match kind {
@@ -248,12 +250,22 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
         "{:<22} {:>9} {:>3}  {:>9} {:>9} {:>9}  (Mrays/s)  disagreements",
         "name", "build ms", "T", "primary", "shadow", "diffuse"
     );
+    // best[tracer][threaded][kind], the best of the rounds.
+    let mut best = vec![[[0.0f64; 3]; 2]; tracers.len()];
+    for _ in 0..ROUNDS {
+        for (t, b) in tracers.iter().zip(&mut best) {
+            for (parallel, row) in [false, true].into_iter().zip(b.iter_mut()) {
+                for (kind, v) in KINDS.iter().zip(row.iter_mut()) {
+                    *v = v.max(throughput(*t, &rays, kind, parallel, clock));
+                }
+            }
+        }
+    }
     for (i, t) in tracers.iter().enumerate() {
         let wrong = if i == 0 { 0 } else { disagreements(*t, tracers[0], &rays) };
-        for parallel in [false, true] {
+        for (parallel, m) in [false, true].into_iter().zip(&best[i]) {
             let n = if parallel { threads } else { 1 };
-            let m: Vec<f64> = KINDS.iter().map(|k| throughput(*t, &rays, k, parallel, clock)).collect();
-            for (k, v) in KINDS.iter().zip(&m) {
+            for (k, v) in KINDS.iter().zip(m) {
                 rows.push(Row { name: t.name(), ray_kind: k, threads: n, build_ms: t.build_ms(), mrays_per_s: *v });
             }
             println!(
