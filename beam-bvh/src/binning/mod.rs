@@ -41,7 +41,7 @@ pub(crate) struct Context {
 /// shadow rays 5% fewer box and 16% fewer triangle tests (and traces them 6% faster), its
 /// primary rays 5% more box tests; on the conference room the binary tree that
 /// `Collapse::Optimal` collapses costs primary rays 21% more box tests with it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug)]
 pub(crate) enum Grid {
     /// Bin `k` holds the coordinates nearest to the `k`-th of `bins` points spanning the range:
     /// the first and last bins are half as wide as the others. The binary builder's.

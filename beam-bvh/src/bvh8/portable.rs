@@ -13,7 +13,8 @@ use std::vec::Vec;
 /// Stack entries kept inline; deeper trees use a heap stack.
 const INLINE_STACK: usize = 64;
 
-/// Closest hit (`ANY = false`) or any hit (`ANY = true`) of `ray` in `[0, t_max]`.
+/// Closest hit (`ANY = false`) of `ray` in `[0, t_max]`, or (`ANY = true`) `OCCLUDED` if anything
+/// is hit there.
 pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f32, c: &mut C) -> Option<Hit> {
     if bvh.nodes.is_empty() {
         return None;

@@ -249,7 +249,8 @@ fn next(n: &Node8, s: usize) -> u32 {
     }
 }
 
-/// Fetch the four cache lines of node `r` (nothing for a leaf) while the current node is finished.
+/// Fetch the four cache lines of node `r`, or for a leaf the three of its first block, while the
+/// current node is finished (Embree prefetches leaves too).
 #[inline]
 #[target_feature(enable = "sse")]
 fn prefetch(bvh: &Bvh8, r: u32) {
@@ -448,6 +449,29 @@ mod tests {
             want.sort_unstable();
             assert_eq!(sorted, want);
         }
+    }
+
+    /// The table's permutation moves exactly the set lanes to the front, in ascending order.
+    #[test]
+    fn compaction_gathers_the_set_lanes() {
+        if !has_avx2() {
+            return;
+        }
+        for mask in 0..256u32 {
+            // SAFETY: AVX2 was detected above.
+            let got = unsafe { compact_array(mask) };
+            let want: Vec<i32> = (0..8).filter(|i| mask >> i & 1 != 0).map(|i| 10 + i).collect();
+            assert_eq!(&got[..want.len()], &want[..], "mask {mask:08b}");
+        }
+    }
+
+    #[target_feature(enable = "avx2")]
+    fn compact_array(mask: u32) -> [i32; 8] {
+        let mut out = [0i32; 8];
+        let v = _mm256_setr_epi32(10, 11, 12, 13, 14, 15, 16, 17);
+        // SAFETY: `out` is eight i32 (an unaligned store).
+        unsafe { _mm256_storeu_si256(out.as_mut_ptr().cast(), _mm256_permutevar8x32_epi32(v, compaction(mask))) };
+        out
     }
 
     #[target_feature(enable = "avx2")]
