@@ -115,8 +115,9 @@ impl BlockHits {
 /// Intersect the four triangles of `b` with `r`, keeping hits with `t` in `[t_min, t_max]`.
 #[inline(always)]
 pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> BlockHits {
-    let Edges { abc, u, v, w, fallback, same, open } = edges(b, r);
-    if open == 0 {
+    let Edges { abc, u, v, w, fallback, same } = edges(b, r);
+    // Most blocks a ray meets have no lane that may be hit, and skip the rest of the test.
+    if same | fallback == 0 {
         return BlockHits::NONE;
     }
     let det = u + v + w;
@@ -137,8 +138,9 @@ pub(crate) fn intersect4(b: &Tri4, r: &ShearRay, t_min: f32, t_max: f32) -> Bloc
 /// can differ from the scalar test only for `t` within rounding of `t_max`.
 #[inline(always)]
 pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
-    let Edges { abc, u, v, w, fallback, same, open } = edges(b, r);
-    if open == 0 {
+    let Edges { abc, u, v, w, fallback, same } = edges(b, r);
+    // Most blocks a ray meets have no lane that may be hit, and skip the rest of the test.
+    if same | fallback == 0 {
         return false;
     }
     let det = u + v + w;
@@ -198,11 +200,9 @@ struct Edges {
     w: Vec4,
     /// Lanes with an edge function exactly 0 (the scalar test's double-precision path).
     fallback: u32,
-    /// Lanes whose edge functions are all nonzero and of one sign: hit if `t` is in range.
+    /// Lanes whose edge functions are all nonzero and of one sign: hit if `t` is in range. With
+    /// `fallback`, the lanes that may be hit (never padding, whose functions are NaN).
     same: u32,
-    /// Lanes that may be hit: `same` and `fallback` (not padding, whose functions are NaN).
-    /// Most blocks a ray meets have none, and skip the rest of the test.
-    open: u32,
 }
 
 #[inline(always)]
@@ -230,7 +230,7 @@ fn edges(b: &Tri4, r: &ShearRay) -> Edges {
     // `det`, a sum of same-signed values, is then not 0.
     let (lo, hi) = (u.min(v.min(w)), u.max(v.max(w)));
     let same = (lo.cmpgt(zero) | hi.cmplt(zero)).bitmask();
-    Edges { abc: [ax, ay, az, bx, by, bz, cx, cy, cz], u, v, w, fallback, same, open: same | fallback }
+    Edges { abc: [ax, ay, az, bx, by, bz, cx, cy, cz], u, v, w, fallback, same }
 }
 
 /// The lanes whose single-precision edge functions include an exact zero: the rest of the scalar

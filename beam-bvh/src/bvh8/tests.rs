@@ -361,8 +361,8 @@ fn spatial_splits_survive_awkward_inputs() {
 }
 
 /// Odd query ranges and directions answer on every kernel what the portable kernel answers (up to
-/// ties), and
-/// a tree whose nodes do not declare their inner children (`inner == 0`) answers the same.
+/// ties), and a tree whose nodes do not declare their inner children (`inner == 0`) answers the
+/// same.
 #[test]
 fn odd_ranges_and_directions_agree_across_kernels() {
     let tris = grid(12);

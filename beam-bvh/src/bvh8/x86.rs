@@ -109,15 +109,13 @@ macro_rules! kernel {
                         let first = mask.trailing_zeros() as usize;
                         let rest = mask & (mask - 1);
                         if rest == 0 {
-                            cur = next(n, first);
-                            prefetch(bvh, cur);
+                            cur = next(bvh, n, first);
                             continue;
                         }
                         if ANY {
                             // Any hit ends the query: order does not matter, distances are not
                             // needed.
-                            cur = next(n, first);
-                            prefetch(bvh, cur);
+                            cur = next(bvh, n, first);
                             let pending = _mm256_permutevar8x32_epi32(children(n), compaction(rest));
                             stack.push_refs(pending, rest.count_ones() as usize);
                             continue;
@@ -135,15 +133,13 @@ macro_rules! kernel {
                             let (a, b) = (k[first], k[second]);
                             let (near_key, far_key) = if a <= b { (a, b) } else { (b, a) };
                             stack.push(n.child[(far_key & 7) as usize], far_key & !7);
-                            cur = next(n, (near_key & 7) as usize);
-                            prefetch(bvh, cur);
+                            cur = next(bvh, n, (near_key & 7) as usize);
                             continue;
                         }
                         // More: the nearest by a min-reduction (the next node's address does not
                         // wait for the sort), the others sorted and pushed farthest first.
                         let nearest = hmin(keys);
-                        cur = next(n, (nearest & 7) as usize);
-                        prefetch(bvh, cur);
+                        cur = next(bvh, n, (nearest & 7) as usize);
                         let sorted = sort8(keys);
                         // `permutevar8x32` reads the low three bits of each index: the slot.
                         let refs = _mm256_permutevar8x32_epi32(children(n), sorted);
@@ -237,16 +233,20 @@ impl FmaBox {
     }
 }
 
-/// The reference in slot `s` of `n`: for an inner child computed from [`Node8::base`] (a branch,
-/// not a select, so that the next node's loads need not wait for a load of the reference).
-#[inline(always)]
-fn next(n: &Node8, s: usize) -> u32 {
-    if s < n.inner as usize {
+/// The reference in slot `s` of `n`, prefetched: for an inner child computed from
+/// [`Node8::base`] (a branch, not a select, so that the next node's loads need not wait for a
+/// load of the reference).
+#[inline]
+#[target_feature(enable = "sse")]
+fn next(bvh: &Bvh8, n: &Node8, s: usize) -> u32 {
+    let r = if s < n.inner as usize {
         debug_assert_eq!(n.child[s], n.base.wrapping_add(s as u32));
         n.base.wrapping_add(s as u32)
     } else {
         n.child[s]
-    }
+    };
+    prefetch(bvh, r);
+    r
 }
 
 /// Fetch the four cache lines of node `r`, or for a leaf the three of its first block, while the
