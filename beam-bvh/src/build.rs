@@ -8,7 +8,7 @@ use beam_math::Triangle;
 use std::vec::Vec;
 
 /// Nodes with more references than this are built with `rayon::join` on their children.
-const PARALLEL_THRESHOLD: usize = 8192;
+const PARALLEL_THRESHOLD: usize = 32768;
 /// Depth after which nodes are split at the median, so trees stay below
 /// `MAX_SPLIT_DEPTH + log2(n)` levels and fit [`crate::flat::STACK_SIZE`] and the GPU's
 /// [`crate::gpu::GPU_STACK_SIZE`].
@@ -20,8 +20,22 @@ pub(crate) const MAX_SPLIT_DEPTH: usize = 96;
 pub fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh {
     let (mut refs, record) = binning::make_refs(triangles, options.parallel);
     let degenerate = triangles.len() - refs.len();
-    let nodes = build_nodes(triangles, &mut refs, &record, options);
+    let nodes = build_nodes(triangles, &mut refs, &record, options, Shape::FLAT);
     Bvh { nodes, prims: refs.iter().map(PrimRef::index).collect(), degenerate, input_triangles: triangles.len() }
+}
+
+/// What a binary tree is built for: its binning grid, and whether its leaves are sorted.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Shape {
+    pub grid: Grid,
+    /// Sort each leaf's triangles by area, larger first. A tree collapsed into eight-wide nodes
+    /// is sorted there, once its leaves are regrouped.
+    pub sort_leaves: bool,
+}
+
+impl Shape {
+    /// The binary BVH's own tree ([`build`]).
+    pub const FLAT: Self = Self { grid: Grid::Centred, sort_leaves: true };
 }
 
 /// The binary tree over `refs` (summarised by `record`), which it reorders so that each leaf's
@@ -31,11 +45,12 @@ pub(crate) fn build_nodes(
     refs: &mut [PrimRef],
     record: &Record,
     options: &BuildOptions,
+    shape: Shape,
 ) -> Vec<Node> {
     let mut nodes = Vec::with_capacity(2 * refs.len() / options.max_leaf.max(1) + 1);
     if !refs.is_empty() {
-        let ctx = Context::new(options, 0, Grid::Centred);
-        let job = Job { ctx: &ctx, triangles };
+        let ctx = Context::new(options, 0, shape.grid);
+        let job = Job { ctx: &ctx, triangles, sort_leaves: shape.sort_leaves };
         job.node(refs, record, 0, 0, &mut nodes, &mut Box::new(Bins::EMPTY));
     }
     nodes
@@ -46,6 +61,7 @@ pub(crate) fn build_nodes(
 struct Job<'a> {
     ctx: &'a Context,
     triangles: &'a [Triangle],
+    sort_leaves: bool,
 }
 
 impl Job<'_> {
@@ -65,11 +81,13 @@ impl Job<'_> {
         let index = nodes.len() as u32;
         let n = refs.len();
         let make_leaf = |refs: &mut [PrimRef], nodes: &mut Vec<Node>| {
-            // Larger triangles first: beams split less against them (001 §3.4).
-            refs.sort_unstable_by(|a, b| {
-                let area = |r: &PrimRef| self.triangles[r.index() as usize].area();
-                area(b).total_cmp(&area(a))
-            });
+            if self.sort_leaves {
+                // Larger triangles first: beams split less against them (001 §3.4).
+                refs.sort_unstable_by(|a, b| {
+                    let area = |r: &PrimRef| self.triangles[r.index() as usize].area();
+                    area(b).total_cmp(&area(a))
+                });
+            }
             nodes.push(Node::Leaf { bounds, first: offset as u32, count: refs.len() as u32 });
             index
         };
@@ -96,12 +114,10 @@ impl Job<'_> {
         let left;
         let right;
         if ctx.options.parallel && n > PARALLEL_THRESHOLD {
+            // The left subtree goes straight into `nodes`; only the right one is built apart and
+            // copied after it.
             let (l, r) = join(
-                || {
-                    let mut v = Vec::new();
-                    self.node(left_refs, &left_record, offset, depth + 1, &mut v, &mut Box::new(Bins::EMPTY));
-                    v
-                },
+                || self.node(left_refs, &left_record, offset, depth + 1, nodes, scratch),
                 || {
                     let mut v = Vec::new();
                     let (o, d) = (offset + mid, depth + 1);
@@ -109,7 +125,7 @@ impl Job<'_> {
                     v
                 },
             );
-            left = append(nodes, l);
+            left = l;
             right = append(nodes, r);
         } else {
             left = self.node(left_refs, &left_record, offset, depth + 1, nodes, scratch);

@@ -6,8 +6,9 @@
 //! The canonical tree references triangles by index; the wide and GPU layouts add leaf-order
 //! copies for memory locality.
 //!
-//! For single rays at Embree's speed there is [`Bvh8`], built by its own builder straight into
-//! eight-wide nodes, with leaves of four-triangle blocks and traversal kernels picked at run time
+//! For single rays at Embree's speed there is [`Bvh8`]: eight-wide nodes collapsed from a binary
+//! SAH tree by a dynamic program (or binned straight into them, as Embree builds them), with
+//! leaves of four-triangle blocks and traversal kernels picked at run time
 //! ([`Kernel`]: AVX-512, AVX2, or a portable four-lane one), every one watertight like the scalar
 //! test. For static scenes, [`BuildOptions::high_quality`] optimizes the tree by reinsertion
 //! first, and [`BuildOptions::spatial_splits`] splits triangles across nodes where that pays.

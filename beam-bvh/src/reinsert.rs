@@ -362,7 +362,7 @@ mod tests {
             let tris = soup(n, seed);
             let (mut refs, record) = binning::make_refs(&tris, false);
             let options = BuildOptions { max_leaf, parallel: false, ..BuildOptions::sah() };
-            let nodes = crate::build::build_nodes(&tris, &mut refs, &record, &options);
+            let nodes = crate::build::build_nodes(&tris, &mut refs, &record, &options, crate::build::Shape::FLAT);
             let prims: Vec<u32> = refs.iter().map(|r| r.index()).collect();
             let optimized = optimize(&nodes, 1.0);
             assert_eq!(optimized.len(), nodes.len());

@@ -195,10 +195,12 @@ impl Default for Bvh8 {
 }
 
 impl Bvh8 {
-    /// Build over `triangles`: binned splits with `options`' heuristic, taken straight into
-    /// eight-wide nodes (each node opens its largest child until it has eight, and with slots left
-    /// splits the leaves whose cost that lowers), leaves costed in blocks of four and at most
-    /// `options.max_leaf` (≤ 64) triangles. Degenerate triangles are left out and counted.
+    /// Build over `triangles`, leaves costed in blocks of four and at most `options.max_leaf`
+    /// (≤ 64) triangles. With SAH and [`BuildOptions::collapse`] (the default: the optimal
+    /// collapse), a binary tree of small leaves collapsed into eight-wide nodes; else binned splits
+    /// taken straight into eight-wide nodes (each node opens its largest child until it has eight,
+    /// and with slots left splits the leaves whose cost that lowers). Degenerate triangles are
+    /// left out and counted.
     #[must_use]
     pub fn build(triangles: &[Triangle], options: &BuildOptions) -> Self {
         build::build(triangles, options)

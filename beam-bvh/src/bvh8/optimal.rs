@@ -5,14 +5,15 @@
 //!
 //! - `C(n, 1) = min(C_leaf(n), C_internal(n))`, with `C_leaf(n) = A(n) · ⌈P(n)/4⌉` (blocks of
 //!   four triangles, as the 8-wide builder costs them; infinite beyond `max_leaf` references) and
-//!   `C_internal(n) = c_t · A(n) + C_distribute(n, 8)`;
+//!   `C_internal(n) = c_t · A(n) + C_distribute(n, 8)` (`c_t` as [`super::collapse::NODE_COST`]
+//!   makes it);
 //! - `C(n, i) = min(C(n, i − 1), C_distribute(n, i))` for `i > 1`;
 //! - `C_distribute(n, i) = min_{0<k<i} C(left, k) + C(right, i − k)`.
 //!
 //! The tree is then emitted top down by following the decisions, keeping the binary tree's
 //! left-to-right order in the slots. Its cost (inner nodes `c_t · A`, leaves `A` per block) is
-//! the least over all collapses whose leaves are binary subtrees, so never above
-//! [`super::collapse`]'s greedy opening of the same tree.
+//! the least over all collapses whose leaves are binary subtrees. Trees laid out depth first (as
+//! the binary builder makes them) are solved a subtree per task.
 
 use super::Node8;
 use super::collapse::Roots;
@@ -34,71 +35,145 @@ enum Choice {
     Split(u8, u8),
 }
 
-/// The decisions `[n][i − 1]` of every `C(n, i)`, and for each inner node the `k` of
-/// `C_distribute(n, 8)` (bottom up: children follow their parents, so a reverse pass sees
-/// children first).
-fn costs(tree: &[Node], max_leaf: usize, traversal_cost: f32) -> (Vec<[Choice; WIDE]>, Vec<u8>) {
-    let mut internal_split = vec![0u8; tree.len()];
-    let mut count = vec![0usize; tree.len()];
-    let mut cost = vec![[0f32; WIDE]; tree.len()];
-    let mut choice = vec![[Choice::Leaf; WIDE]; tree.len()];
-    for n in (0..tree.len()).rev() {
-        let area = surface_area(tree[n].bounds());
-        let leaf_cost = |p: usize| if p <= max_leaf { area * p.div_ceil(4) as f32 } else { f32::INFINITY };
-        match tree[n] {
-            Node::Leaf { count: p, .. } => {
-                debug_assert!(p as usize <= 4 * Node8::MAX_LEAF_BLOCKS);
-                count[n] = p as usize;
-                // A binary leaf is never split: any number of slots holds it as one leaf.
-                cost[n] = [area * (p as usize).div_ceil(4) as f32; WIDE];
-            }
-            Node::Inner { left, right, .. } => {
-                let (l, r) = (left as usize, right as usize);
-                debug_assert!(l > n && r > n, "children follow their parents");
-                count[n] = count[l] + count[r];
-                // C_distribute(n, i) for i = 2..=8, with its best k.
-                let mut dist = [(f32::INFINITY, 0u8, 0u8); WIDE];
-                for i in 2..=WIDE {
-                    for k in 1..i {
-                        let c = cost[l][k - 1] + cost[r][i - k - 1];
-                        if c < dist[i - 1].0 {
-                            dist[i - 1] = (c, k as u8, (i - k) as u8);
-                        }
-                    }
-                }
-                let internal = traversal_cost * area + dist[WIDE - 1].0;
-                internal_split[n] = dist[WIDE - 1].1;
-                let leaf = leaf_cost(count[n]);
-                let (c1, d1) = if leaf <= internal { (leaf, Choice::Leaf) } else { (internal, Choice::Internal) };
-                cost[n][0] = c1;
-                choice[n][0] = d1;
-                for i in 2..=WIDE {
-                    let (c, k, j) = dist[i - 1];
-                    (cost[n][i - 1], choice[n][i - 1]) =
-                        if c < cost[n][i - 2] { (c, Choice::Split(k, j)) } else { (cost[n][i - 2], choice[n][i - 2]) };
-                }
+impl Choice {
+    /// One byte: 0, 255, or `k` and `j` (each below 8) as two nibbles.
+    fn encode(self) -> u8 {
+        match self {
+            Choice::Leaf => 0,
+            Choice::Internal => 0xff,
+            Choice::Split(k, j) => k << 4 | j,
+        }
+    }
+
+    fn decode(b: u8) -> Self {
+        match b {
+            0 => Choice::Leaf,
+            0xff => Choice::Internal,
+            b => Choice::Split(b >> 4, b & 0xf),
+        }
+    }
+}
+
+/// The decisions at one binary node: of `C(n, 1..=8)` ([`Choice::encode`]d), and the `k` of
+/// `C_distribute(n, 8)` (inner nodes).
+#[derive(Clone, Copy, Debug, Default)]
+struct Decisions {
+    choice: [u8; WIDE],
+    internal: u8,
+}
+
+/// What a node's parent needs of its solution: `C(n, 1..=8)` and the references below.
+#[derive(Clone, Copy, Debug)]
+struct Costs {
+    cost: [f32; WIDE],
+    count: usize,
+}
+
+/// Subtrees of more binary nodes than this solve their two children in parallel.
+const PARALLEL_NODES: usize = 8192;
+
+/// The solution at binary node `n` from its children's (`None` for a leaf).
+fn solve(node: &Node, children: Option<(&Costs, &Costs)>, max_leaf: usize, node_cost: f32) -> (Costs, Decisions) {
+    let area = surface_area(node.bounds());
+    let Some((l, r)) = children else {
+        let Node::Leaf { count: p, .. } = *node else { unreachable!("inner nodes have children") };
+        debug_assert!(p as usize <= 4 * Node8::MAX_LEAF_BLOCKS);
+        // A binary leaf is never split: any number of slots holds it as one leaf.
+        let cost = [area * (p as usize).div_ceil(4) as f32; WIDE];
+        return (Costs { cost, count: p as usize }, Decisions::default());
+    };
+    let count = l.count + r.count;
+    // C_distribute(n, i) for i = 2..=8, with its best k.
+    let mut dist = [(f32::INFINITY, 0u8, 0u8); WIDE];
+    for i in 2..=WIDE {
+        for k in 1..i {
+            let c = l.cost[k - 1] + r.cost[i - k - 1];
+            if c < dist[i - 1].0 {
+                dist[i - 1] = (c, k as u8, (i - k) as u8);
             }
         }
-        debug_assert!(cost[n].windows(2).all(|w| w[1] <= w[0]), "more slots never cost more");
     }
-    (choice, internal_split)
+    let internal = node_cost * area + dist[WIDE - 1].0;
+    let leaf = if count <= max_leaf { area * count.div_ceil(4) as f32 } else { f32::INFINITY };
+    let mut cost = [0.0; WIDE];
+    let mut choice = [Choice::Leaf; WIDE];
+    (cost[0], choice[0]) = if leaf <= internal { (leaf, Choice::Leaf) } else { (internal, Choice::Internal) };
+    for i in 2..=WIDE {
+        let (c, k, j) = dist[i - 1];
+        (cost[i - 1], choice[i - 1]) =
+            if c < cost[i - 2] { (c, Choice::Split(k, j)) } else { (cost[i - 2], choice[i - 2]) };
+    }
+    debug_assert!(cost.windows(2).all(|w| w[1] <= w[0]), "more slots never cost more");
+    (Costs { cost, count }, Decisions { choice: choice.map(Choice::encode), internal: dist[WIDE - 1].1 })
+}
+
+/// The decisions at every node of `tree`.
+fn solve_all(tree: &[Node], max_leaf: usize, node_cost: f32) -> Vec<Decisions> {
+    let mut out = vec![Decisions::default(); tree.len()];
+    if tree.is_empty() || solve_subtree(tree, 0, &mut out, max_leaf, node_cost).is_some() {
+        return out;
+    }
+    // Not laid out depth first: children follow their parents, so a reverse pass sees children
+    // first.
+    let mut costs = vec![Costs { cost: [0.0; WIDE], count: 0 }; tree.len()];
+    for n in (0..tree.len()).rev() {
+        let children = match tree[n] {
+            Node::Inner { left, right, .. } => {
+                debug_assert!(left as usize > n && right as usize > n, "children follow their parents");
+                Some((&costs[left as usize], &costs[right as usize]))
+            }
+            Node::Leaf { .. } => None,
+        };
+        (costs[n], out[n]) = solve(&tree[n], children, max_leaf, node_cost);
+    }
+    out
+}
+
+/// Solve the subtree rooted at `n` if it is laid out depth first in `out` (its slice of the
+/// decisions, as the binary builder lays trees out: `n`, its left subtree, its right subtree);
+/// returns its costs, or `None` where the layout is another.
+fn solve_subtree(tree: &[Node], n: usize, out: &mut [Decisions], max_leaf: usize, node_cost: f32) -> Option<Costs> {
+    let (me, below) = out.split_first_mut()?;
+    let children = match tree[n] {
+        Node::Leaf { .. } if below.is_empty() => None,
+        Node::Inner { left, right, .. } if left as usize == n + 1 && (left..).contains(&right) => {
+            let (l, r) = (left as usize, right as usize);
+            let parallel = below.len() > PARALLEL_NODES;
+            let (left_out, right_out) = below.split_at_mut_checked(r - l)?;
+            let (a, b) = if parallel {
+                crate::build::join(
+                    || solve_subtree(tree, l, left_out, max_leaf, node_cost),
+                    || solve_subtree(tree, r, right_out, max_leaf, node_cost),
+                )
+            } else {
+                (
+                    solve_subtree(tree, l, left_out, max_leaf, node_cost),
+                    solve_subtree(tree, r, right_out, max_leaf, node_cost),
+                )
+            };
+            Some((a?, b?))
+        }
+        _ => return None,
+    };
+    let (costs, decisions) = solve(&tree[n], children.as_ref().map(|(l, r)| (l, r)), max_leaf, node_cost);
+    *me = decisions;
+    Some(costs)
 }
 
 /// The decisions of the dynamic program, followed to pick an eight-wide node's children.
 pub(super) struct Optimal<'a> {
     tree: &'a [Node],
-    choice: Vec<[Choice; WIDE]>,
-    internal: Vec<u8>,
+    decisions: Vec<Decisions>,
 }
 
 impl Roots for Optimal<'_> {
     fn is_leaf(&self, k: usize) -> bool {
-        matches!(self.tree[k], Node::Leaf { .. }) || self.choice[k][0] == Choice::Leaf
+        matches!(self.tree[k], Node::Leaf { .. }) || Choice::decode(self.decisions[k].choice[0]) == Choice::Leaf
     }
 
     fn roots(&self, i: usize, kids: &mut Vec<usize>) {
         let Node::Inner { left, right, .. } = self.tree[i] else { unreachable!("binary leaves are leaves") };
-        let k = usize::from(self.internal[i]);
+        let k = usize::from(self.decisions[i].internal);
         debug_assert!((1..WIDE).contains(&k));
         self.split(left as usize, k, kids);
         self.split(right as usize, WIDE - k, kids);
@@ -107,20 +182,71 @@ impl Roots for Optimal<'_> {
 
 impl<'a> Optimal<'a> {
     /// The decisions for `tree`, subtrees of at most `max_leaf` references allowed as leaves.
-    pub(super) fn new(tree: &'a [Node], max_leaf: usize, traversal_cost: f32) -> Self {
-        let (choice, internal) = costs(tree, max_leaf, traversal_cost);
-        Self { tree, choice, internal }
+    pub(super) fn new(tree: &'a [Node], max_leaf: usize, node_cost: f32) -> Self {
+        Self { tree, decisions: solve_all(tree, max_leaf, node_cost) }
     }
 
     /// Push the at most `slots` roots of the subtree at `n` in the decision of `C(n, slots)`.
     fn split(&self, n: usize, slots: usize, kids: &mut Vec<usize>) {
-        match self.choice[n][slots - 1] {
+        match Choice::decode(self.decisions[n].choice[slots - 1]) {
             Choice::Split(k, j) => {
                 let Node::Inner { left, right, .. } = self.tree[n] else { unreachable!("leaves are not split") };
                 self.split(left as usize, usize::from(k), kids);
                 self.split(right as usize, usize::from(j), kids);
             }
             Choice::Leaf | Choice::Internal => kids.push(n),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::BuildOptions;
+    use crate::binning::{Grid, make_refs};
+    use crate::build::{Shape, build_nodes};
+    use crate::traverse::tests::soup;
+
+    /// The binary builder's tree in breadth-first order: children still follow their parents,
+    /// but no longer depth first.
+    fn breadth_first(tree: &[Node]) -> (Vec<Node>, Vec<usize>) {
+        let mut order = vec![0usize];
+        let mut i = 0;
+        while i < order.len() {
+            if let Node::Inner { left, right, .. } = tree[order[i]] {
+                order.extend([left as usize, right as usize]);
+            }
+            i += 1;
+        }
+        let mut new_index = vec![0u32; tree.len()];
+        for (to, &from) in order.iter().enumerate() {
+            new_index[from] = to as u32;
+        }
+        let nodes = order
+            .iter()
+            .map(|&n| match tree[n] {
+                Node::Inner { bounds, left, right } => {
+                    Node::Inner { bounds, left: new_index[left as usize], right: new_index[right as usize] }
+                }
+                leaf => leaf,
+            })
+            .collect();
+        (nodes, order)
+    }
+
+    /// The subtree-per-task solution of a depth-first tree equals the reverse pass's over the same
+    /// tree in another order, node for node.
+    #[test]
+    fn both_passes_decide_alike() {
+        let tris = soup(20_000, 9);
+        let (mut refs, record) = make_refs(&tris, false);
+        let options = BuildOptions { max_leaf: 4, parallel: false, ..BuildOptions::sah() };
+        let tree = build_nodes(&tris, &mut refs, &record, &options, Shape { grid: Grid::Equal, sort_leaves: false });
+        let (shuffled, order) = breadth_first(&tree);
+        assert!(tree.len() > 2 * PARALLEL_NODES, "large enough to solve in parallel");
+        let (a, b) = (solve_all(&tree, 8, 1.5), solve_all(&shuffled, 8, 1.5));
+        for (to, &from) in order.iter().enumerate() {
+            assert_eq!((a[from].choice, a[from].internal), (b[to].choice, b[to].internal), "node {from}");
         }
     }
 }

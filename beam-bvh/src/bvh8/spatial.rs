@@ -148,7 +148,8 @@ impl Job<'_> {
         let n = refs.len();
         if budget == 0 || n <= SMALL {
             // No spatial split left to make, or a small node: the in-place binned builder.
-            let nodes = crate::build::build_nodes(self.triangles, &mut refs, &record, &ctx.options);
+            let shape = crate::build::Shape { grid: Grid::Centred, sort_leaves: false };
+            let nodes = crate::build::build_nodes(self.triangles, &mut refs, &record, &ctx.options, shape);
             return out.append(Tree { nodes, refs });
         }
         // Larger than any leaf (`build` gets binary options: leaves of at most four references).

@@ -1,3 +1,4 @@
+use super::collapse::NODE_COST;
 use super::*;
 use crate::traverse::tests::soup;
 use crate::{BuildOptions, Collapse, RayDistribution};
@@ -77,6 +78,8 @@ fn every_kernel_equals_brute_force() {
     for options in [
         BuildOptions::sah(),
         BuildOptions { parallel: false, max_leaf: 16, ..BuildOptions::sah() },
+        BuildOptions { collapse: None, ..BuildOptions::sah() },
+        BuildOptions { collapse: None, parallel: false, max_leaf: 16, ..BuildOptions::sah() },
         BuildOptions { presplit: 1.0, ..BuildOptions::high_quality() },
         BuildOptions { reinsert: true, ..BuildOptions::sah() },
         BuildOptions { reinsert: true, presplit: 1.0, max_leaf: 16, parallel: false, ..BuildOptions::sah() },
@@ -100,7 +103,7 @@ fn shared_edges_stay_closed() {
         BuildOptions { presplit: 2.0, ..BuildOptions::sah() },
         BuildOptions { reinsert: true, ..BuildOptions::sah() },
         BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::high_quality() },
-        BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::sah() },
+        BuildOptions { collapse: None, ..BuildOptions::sah() },
         BuildOptions::spatial_splits(),
     ] {
         shared_edges_stay_closed_with(&tris, &options);
@@ -156,8 +159,8 @@ fn every_valid_triangle_is_in_one_lane() {
     for bvh in [&bvh, &ri] {
         child_boxes_hold_their_subtrees(bvh);
     }
-    let dp = Bvh8::build(&tris, &BuildOptions { collapse: Some(Collapse::Optimal), ..BuildOptions::sah() });
-    for bvh in [&bvh, &ri, &presplit, &spatial, &dp] {
+    let direct = Bvh8::build(&tris, &BuildOptions { collapse: None, ..BuildOptions::sah() });
+    for bvh in [&bvh, &ri, &presplit, &spatial, &direct] {
         siblings_are_grouped(bvh);
     }
 }
@@ -263,7 +266,7 @@ fn optimal_collapse_is_exact_and_cheapest() {
                 assert_eq!(seen, (0..all).collect::<Vec<_>>(), "every triangle in exactly one lane");
                 child_boxes_hold_their_subtrees(bvh);
             }
-            let (g, o) = (wide_cost(&greedy, 1.0), wide_cost(&optimal, 1.0));
+            let (g, o) = (wide_cost(&greedy, NODE_COST), wide_cost(&optimal, NODE_COST));
             assert!(o <= g * (1.0 + 1e-5), "reinsert {reinsert}, leaves ≤ {max_leaf}: optimal {o} > greedy {g}");
         }
     }

@@ -197,8 +197,9 @@ pub fn builders(set: &RaySet, bounds: Aabb) -> Vec<(&'static str, BuildOptions)>
 
 /// For every mesh (the procedural scene and each shared mesh), every builder (SAH, PAH for the
 /// light, PAH for the eye) and every CPU layout (binary, 4-wide, and 8-wide built by its own
-/// builder, SAH also in the high-quality mode (reinsertion, greedy and optimal collapse), a plain
-/// binary tree collapsed by the dynamic program, and pre-split triangles, traced by each kernel
+/// builder (SAH: a binary tree collapsed by the dynamic program), SAH also in the high-quality
+/// mode (reinsertion, greedy and optimal collapse), binned straight into eight-wide nodes, with
+/// pre-split triangles and with spatial splits, traced by each kernel
 /// this CPU runs: portable, AVX2, AVX-512) — on the `gpu`
 /// backend the GPU layout traced by beam-gpu's compute ray tracer instead: BVH closest hits equal
 /// brute-force closest hits for camera and diffuse rays (same triangle, or a tie at the same `t`;
@@ -235,16 +236,17 @@ pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outco
             ties += compare(&case.name, &format!("{builder} 4-wide"), &Answers::wide(&wide, &set), &set, &reference)?;
             total += 6 * config.rays as u64;
             // The 8-wide layout, by this builder and (SAH) in the high-quality mode, collapsed by
-            // the dynamic program (reinserted or not), pre-split, and with spatial splits.
+            // the dynamic program after reinsertion, binned straight into eight-wide nodes,
+            // pre-split, and with spatial splits.
             let hq = (builder == "sah").then(|| {
                 let presplit = BuildOptions { presplit: 0.3, ..BuildOptions::sah() };
                 let dp = Some(Collapse::Optimal);
                 let hq_dp = BuildOptions { collapse: dp, ..BuildOptions::high_quality() };
-                let dp16 = BuildOptions { collapse: dp, max_leaf: 16, ..BuildOptions::sah() };
+                let direct = BuildOptions { collapse: None, ..BuildOptions::sah() };
                 [
                     ("sah-hq", BuildOptions::high_quality()),
                     ("sah-hq-dp", hq_dp),
-                    ("sah-dp16", dp16),
+                    ("sah-direct", direct),
                     ("sah-presplit", presplit),
                     ("sah-sbvh", BuildOptions::spatial_splits()),
                 ]
