@@ -1,14 +1,13 @@
-//! Collapse of a binary tree into eight-wide nodes, for trees that are optimized as binary trees
-//! first ([`crate::reinsert`]). One bottom-up pass decides which subtrees become leaves: the
-//! cheaper of a leaf, `A · ⌈n/4⌉` (blocks of four triangles, as the 8-wide builder costs them),
-//! and the children's optimal costs plus `c_t · A` (`c_t` is [`NODE_COST`] times the build's
-//! traversal cost; a dynamic program over the binary tree, the
-//! leaf half of Ylitie, Karras, Laine, "Efficient Incoherent Ray Traversal on GPUs Through
-//! Compressed Wide BVHs", 2017, §3.1). Then, top down, each eight-wide node opens its child of
-//! largest surface area that is not a leaf until it has eight children, as the 8-wide builder
-//! does, keeping the binary tree's left-to-right order in its slots. The optimal collapse
-//! (`optimal.rs`) picks leaves and children by the whole dynamic program instead; both are
-//! emitted here.
+//! Collapse of a binary tree into eight-wide nodes: the default 8-wide build's second half, and
+//! that of trees optimized as binary trees first ([`crate::reinsert`], spatial splits). The
+//! greedy collapse: one bottom-up pass decides which subtrees become leaves, the cheaper of a
+//! leaf, `A · ⌈n/4⌉` (blocks of four triangles), and the children's optimal costs plus `c_t · A`
+//! with `c_t` [`NODE_COST`] times the build's traversal cost (the leaf half of the dynamic program
+//! of Ylitie, Karras, Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide
+//! BVHs", 2017, §3.1); then, top down, each eight-wide node opens its child of largest surface
+//! area that is not a leaf until it has eight children, keeping the binary tree's left-to-right
+//! order in its slots. The optimal collapse (`optimal.rs`) picks leaves and children by the whole
+//! dynamic program instead; both are emitted here.
 
 use super::Node8;
 use super::optimal::Optimal;

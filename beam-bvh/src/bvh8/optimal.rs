@@ -5,8 +5,8 @@
 //!
 //! - `C(n, 1) = min(C_leaf(n), C_internal(n))`, with `C_leaf(n) = A(n) · ⌈P(n)/4⌉` (blocks of
 //!   four triangles, as the 8-wide builder costs them; infinite beyond `max_leaf` references) and
-//!   `C_internal(n) = c_t · A(n) + C_distribute(n, 8)` (`c_t` as [`super::collapse::NODE_COST`]
-//!   makes it);
+//!   `C_internal(n) = c_t · A(n) + C_distribute(n, 8)` (`c_t`: [`super::collapse::NODE_COST`]
+//!   times the build's traversal cost);
 //! - `C(n, i) = min(C(n, i − 1), C_distribute(n, i))` for `i > 1`;
 //! - `C_distribute(n, i) = min_{0<k<i} C(left, k) + C(right, i − k)`.
 //!
