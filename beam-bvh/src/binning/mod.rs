@@ -37,17 +37,19 @@ pub(crate) struct Context {
 }
 
 /// Where a binned search puts its `bins − 1` candidate planes across the centroids' range.
-/// Neither is better everywhere: with [`Grid::Equal`] the 8-wide builder's Sponza tree costs its
-/// shadow rays 5% fewer box and 16% fewer triangle tests (and traces them 6% faster), its
-/// primary rays 5% more box tests; on the conference room the binary tree that
-/// `Collapse::Optimal` collapses costs primary rays 21% more box tests with it.
+/// Neither is better everywhere: with [`Grid::Equal`] the direct 8-wide builder's Sponza tree
+/// costs its shadow rays 5% fewer box and 16% fewer triangle tests (and traces them 6% faster),
+/// and the collapsed tree's Sponza rays trace 3–4% faster; on the conference room the collapsed
+/// tree costs primary rays 21% more box tests with it and traces 1–5% slower (spatial splits
+/// there: 8–17% faster). Sponza's shadow rays, the slowest against Embree, decide: every 8-wide
+/// tree bins on it (`docs/benchmarks.md`).
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Grid {
     /// Bin `k` holds the coordinates nearest to the `k`-th of `bins` points spanning the range:
-    /// the first and last bins are half as wide as the others. The binary builder's.
+    /// the first and last bins are half as wide as the others. The binary BVH's (beams, GPU).
     Centred,
     /// `bins` bins of equal width over the range widened by 1%, as Embree's binner makes them.
-    /// The 8-wide builder's.
+    /// Every 8-wide tree's.
     Equal,
 }
 

@@ -48,7 +48,7 @@ pub(super) fn build(
     if refs.is_empty() {
         return out.into_parts();
     }
-    let ctx = Context::new(options, 0, Grid::Centred);
+    let ctx = Context::new(options, 0, Grid::Equal);
     let root_area = surface_area(record.bounds.aabb());
     let job = Job { ctx: &ctx, triangles, min_overlap: MIN_OVERLAP * root_area };
     let budget = (options.spatial.max(0.0) * refs.len() as f32) as usize;
@@ -148,7 +148,7 @@ impl Job<'_> {
         let n = refs.len();
         if budget == 0 || n <= SMALL {
             // No spatial split left to make, or a small node: the in-place binned builder.
-            let shape = crate::build::Shape { grid: Grid::Centred, sort_leaves: false };
+            let shape = crate::build::Shape { grid: Grid::Equal, sort_leaves: false };
             let nodes = crate::build::build_nodes(self.triangles, &mut refs, &record, &ctx.options, shape);
             return out.append(Tree { nodes, refs });
         }
