@@ -16,7 +16,7 @@
 //! leaves but no faster queries with these kernels: measured on Sponza and the conference room.)
 
 use super::{Bvh8, Node8, Tri4};
-use crate::binning::{self, Bins, Context, Grid, PrimRef, Record, Split};
+use crate::binning::{self, Bins, Context, PrimRef, Record, Split};
 use crate::build::{MAX_SPLIT_DEPTH, Shape};
 use crate::options::{BuildOptions, Collapse, Heuristic};
 use beam_math::heuristics::surface_area;
@@ -77,8 +77,7 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
         let (tree, refs) = if spatial {
             super::spatial::build(triangles, refs, record, &binary)
         } else {
-            let shape = Shape { grid: Grid::Equal, sort_leaves: false };
-            (crate::build::build_nodes(triangles, &mut refs, &record, &binary, shape), refs)
+            (crate::build::build_nodes(triangles, &mut refs, &record, &binary, Shape::WIDE), refs)
         };
         let tree = if options.reinsert { crate::reinsert::optimize(&tree, options.traversal_cost) } else { tree };
         let kind = options.collapse.unwrap_or(Collapse::Greedy);
@@ -88,7 +87,7 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
         finish(&mut out, nodes, &mut order, triangles, FinishOptions { parallel: options.parallel, dedupe });
         return out;
     }
-    let ctx = Context::new(&options, 2, Grid::Equal);
+    let ctx = Context::new(&options, 2, Shape::WIDE.grid);
     let mut scratch = Box::new(Bins::EMPTY);
     let root = prepare(&ctx, &refs, 0, refs.len(), record, 0, &mut scratch);
     let mut nodes = Vec::with_capacity(refs.len() / 4 + 1);

@@ -73,7 +73,7 @@ struct Costs {
 const PARALLEL_NODES: usize = 8192;
 
 /// The solution at binary node `n` from its children's (`None` for a leaf).
-fn solve(node: &Node, children: Option<(&Costs, &Costs)>, max_leaf: usize, node_cost: f32) -> (Costs, Decisions) {
+fn solve(node: &Node, children: Option<(Costs, Costs)>, max_leaf: usize, node_cost: f32) -> (Costs, Decisions) {
     let area = surface_area(node.bounds());
     let Some((l, r)) = children else {
         let Node::Leaf { count: p, .. } = *node else { unreachable!("inner nodes have children") };
@@ -110,7 +110,7 @@ fn solve(node: &Node, children: Option<(&Costs, &Costs)>, max_leaf: usize, node_
 /// The decisions at every node of `tree`.
 fn solve_all(tree: &[Node], max_leaf: usize, node_cost: f32) -> Vec<Decisions> {
     let mut out = vec![Decisions::default(); tree.len()];
-    if tree.is_empty() || solve_subtree(tree, 0, &mut out, max_leaf, node_cost).is_some() {
+    if solve_subtree(tree, 0, &mut out, max_leaf, node_cost).is_some() {
         return out;
     }
     // Not laid out depth first: children follow their parents, so a reverse pass sees children
@@ -120,7 +120,7 @@ fn solve_all(tree: &[Node], max_leaf: usize, node_cost: f32) -> Vec<Decisions> {
         let children = match tree[n] {
             Node::Inner { left, right, .. } => {
                 debug_assert!(left as usize > n && right as usize > n, "children follow their parents");
-                Some((&costs[left as usize], &costs[right as usize]))
+                Some((costs[left as usize], costs[right as usize]))
             }
             Node::Leaf { .. } => None,
         };
@@ -136,7 +136,7 @@ fn solve_subtree(tree: &[Node], n: usize, out: &mut [Decisions], max_leaf: usize
     let (me, below) = out.split_first_mut()?;
     let children = match tree[n] {
         Node::Leaf { .. } if below.is_empty() => None,
-        Node::Inner { left, right, .. } if left as usize == n + 1 && (left..).contains(&right) => {
+        Node::Inner { left, right, .. } if left as usize == n + 1 && right > left => {
             let (l, r) = (left as usize, right as usize);
             let parallel = below.len() > PARALLEL_NODES;
             let (left_out, right_out) = below.split_at_mut_checked(r - l)?;
@@ -155,7 +155,7 @@ fn solve_subtree(tree: &[Node], n: usize, out: &mut [Decisions], max_leaf: usize
         }
         _ => return None,
     };
-    let (costs, decisions) = solve(&tree[n], children.as_ref().map(|(l, r)| (l, r)), max_leaf, node_cost);
+    let (costs, decisions) = solve(&tree[n], children, max_leaf, node_cost);
     *me = decisions;
     Some(costs)
 }
@@ -203,7 +203,7 @@ impl<'a> Optimal<'a> {
 mod tests {
     use super::*;
     use crate::BuildOptions;
-    use crate::binning::{Grid, make_refs};
+    use crate::binning::make_refs;
     use crate::build::{Shape, build_nodes};
     use crate::traverse::tests::soup;
 
@@ -241,7 +241,7 @@ mod tests {
         let tris = soup(20_000, 9);
         let (mut refs, record) = make_refs(&tris, false);
         let options = BuildOptions { max_leaf: 4, parallel: false, ..BuildOptions::sah() };
-        let tree = build_nodes(&tris, &mut refs, &record, &options, Shape { grid: Grid::Equal, sort_leaves: false });
+        let tree = build_nodes(&tris, &mut refs, &record, &options, Shape::WIDE);
         let (shuffled, order) = breadth_first(&tree);
         assert!(tree.len() > 2 * PARALLEL_NODES, "large enough to solve in parallel");
         let (a, b) = (solve_all(&tree, 8, 1.5), solve_all(&shuffled, 8, 1.5));

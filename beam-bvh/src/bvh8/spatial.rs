@@ -13,8 +13,8 @@
 //! several leaves, whole (queries test the whole triangle wherever they meet it).
 
 use super::polygon::Polygon;
-use crate::binning::{self, Bins, Box4, Context, Grid, Measure, PrimRef, Record};
-use crate::build::{MAX_SPLIT_DEPTH, join};
+use crate::binning::{self, Bins, Box4, Context, Measure, PrimRef, Record};
+use crate::build::{MAX_SPLIT_DEPTH, Shape, join};
 use crate::options::BuildOptions;
 use crate::tree::Node;
 use beam_math::glam::Vec4;
@@ -48,7 +48,7 @@ pub(super) fn build(
     if refs.is_empty() {
         return out.into_parts();
     }
-    let ctx = Context::new(options, 0, Grid::Equal);
+    let ctx = Context::new(options, 0, Shape::WIDE.grid);
     let root_area = surface_area(record.bounds.aabb());
     let job = Job { ctx: &ctx, triangles, min_overlap: MIN_OVERLAP * root_area };
     let budget = (options.spatial.max(0.0) * refs.len() as f32) as usize;
@@ -148,8 +148,7 @@ impl Job<'_> {
         let n = refs.len();
         if budget == 0 || n <= SMALL {
             // No spatial split left to make, or a small node: the in-place binned builder.
-            let shape = crate::build::Shape { grid: Grid::Equal, sort_leaves: false };
-            let nodes = crate::build::build_nodes(self.triangles, &mut refs, &record, &ctx.options, shape);
+            let nodes = crate::build::build_nodes(self.triangles, &mut refs, &record, &ctx.options, Shape::WIDE);
             return out.append(Tree { nodes, refs });
         }
         // Larger than any leaf (`build` gets binary options: leaves of at most four references).
