@@ -50,7 +50,9 @@ pub(crate) fn build_nodes(
     options: &BuildOptions,
     shape: Shape,
 ) -> Vec<Node> {
-    let mut nodes = Vec::with_capacity(2 * refs.len() / options.max_leaf.max(1) + 1);
+    // At most 2n − 1 nodes: reserved whole, so that the vector never moves (pages not reached
+    // are never touched).
+    let mut nodes = Vec::with_capacity(2 * refs.len());
     if !refs.is_empty() {
         let ctx = Context::new(options, 0, shape.grid);
         let job = Job { ctx: &ctx, triangles, sort_leaves: shape.sort_leaves };
@@ -122,7 +124,7 @@ impl Job<'_> {
             let (l, r) = join(
                 || self.node(left_refs, &left_record, offset, depth + 1, nodes, scratch),
                 || {
-                    let mut v = Vec::new();
+                    let mut v = Vec::with_capacity(2 * right_refs.len());
                     let (o, d) = (offset + mid, depth + 1);
                     self.node(right_refs, &right_record, o, d, &mut v, &mut Box::new(Bins::EMPTY));
                     v

@@ -97,8 +97,20 @@ pub(crate) fn make_refs(triangles: &[Triangle], parallel: bool) -> (Vec<PrimRef>
     assert!(triangles.len() < INDEX_BIAS as usize, "a BVH holds at most 2^30 triangles");
     #[cfg(feature = "parallel")]
     let refs: Vec<PrimRef> = if parallel && triangles.len() > PARALLEL_BINNING {
+        // An indexed collect: each thread writes its part in place (a filtered one is gathered
+        // on one thread), and the rare degenerate triangles are dropped after.
         use rayon::prelude::*;
-        triangles.par_iter().enumerate().with_min_len(4096).filter_map(make).collect()
+        let (mut refs, valid): (Vec<PrimRef>, Vec<bool>) = triangles
+            .par_iter()
+            .enumerate()
+            .with_min_len(4096)
+            .map(|(i, t)| (PrimRef::new(t, i as u32), t.is_valid()))
+            .unzip();
+        if valid.contains(&false) {
+            let mut keep = valid.iter();
+            refs.retain(|_| keep.next() == Some(&true));
+        }
+        refs
     } else {
         triangles.iter().enumerate().filter_map(make).collect()
     };

@@ -110,7 +110,14 @@ pub(super) trait Roots {
 /// their parents) and the references in their new leaf order. Leaf slots hold their first
 /// reference and `tris` their count, as the 8-wide builder leaves them for `finish`.
 fn emit(tree: &[Node], refs: &[PrimRef], picks: &impl Roots) -> (Vec<Node8>, Vec<PrimRef>) {
-    let mut out = Emit { tree, refs, picks, nodes: Vec::new(), order: Vec::with_capacity(refs.len()) };
+    let mut out = Emit {
+        tree,
+        refs,
+        picks,
+        nodes: Vec::with_capacity(tree.len() / 4 + 1),
+        order: Vec::with_capacity(refs.len()),
+        scratch: Vec::with_capacity(8),
+    };
     if !tree.is_empty() {
         out.node(0);
     }
@@ -125,6 +132,8 @@ struct Emit<'a, R> {
     picks: &'a R,
     nodes: Vec<Node8>,
     order: Vec<PrimRef>,
+    /// Where [`Roots::roots`] writes a node's children (copied out before the recursion).
+    scratch: Vec<usize>,
 }
 
 impl<R: Roots> Emit<'_, R> {
@@ -132,16 +141,18 @@ impl<R: Roots> Emit<'_, R> {
     fn node(&mut self, i: usize) -> u32 {
         let index = self.nodes.len();
         self.nodes.push(Node8::EMPTY);
-        let mut kids = Vec::with_capacity(8);
+        self.scratch.clear();
         if self.picks.is_leaf(i) {
             // Only the root of a tiny tree: one leaf child.
             debug_assert!(index == 0);
-            kids.push(i);
+            self.scratch.push(i);
         } else {
-            self.picks.roots(i, &mut kids);
-            debug_assert!((2..=8).contains(&kids.len()));
+            self.picks.roots(i, &mut self.scratch);
+            debug_assert!((2..=8).contains(&self.scratch.len()));
         }
-        for (slot, &k) in kids.iter().enumerate() {
+        let mut kids = [0usize; 8];
+        kids[..self.scratch.len()].copy_from_slice(&self.scratch);
+        for (slot, &k) in kids[..self.scratch.len()].iter().enumerate() {
             self.nodes[index].set_bounds(slot, self.tree[k].bounds());
             if self.picks.is_leaf(k) {
                 let first = self.order.len();

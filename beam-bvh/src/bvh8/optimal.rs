@@ -62,11 +62,13 @@ struct Decisions {
     internal: u8,
 }
 
-/// What a node's parent needs of its solution: `C(n, 1..=8)` and the references below.
+/// What a node's parent needs of its solution: `C(n, 1..=8)`, the references below, and the
+/// fewest slots from which more cost no less (`C(n, i) = C(n, 8)` for `i ≥ flat`).
 #[derive(Clone, Copy, Debug)]
 struct Costs {
     cost: [f32; WIDE],
     count: usize,
+    flat: usize,
 }
 
 /// Subtrees of more binary nodes than this solve their two children in parallel.
@@ -80,13 +82,14 @@ fn solve(node: &Node, children: Option<(Costs, Costs)>, max_leaf: usize, node_co
         debug_assert!(p as usize <= 4 * Node8::MAX_LEAF_BLOCKS);
         // A binary leaf is never split: any number of slots holds it as one leaf.
         let cost = [area * (p as usize).div_ceil(4) as f32; WIDE];
-        return (Costs { cost, count: p as usize }, Decisions::default());
+        return (Costs { cost, count: p as usize, flat: 1 }, Decisions::default());
     };
     let count = l.count + r.count;
-    // C_distribute(n, i) for i = 2..=8, with its best k.
+    // C_distribute(n, i) for i = 2..=8, with its best k (the first of equal costs). Beyond
+    // `l.flat` a larger k gives the left no less and the right no more slots: never cheaper.
     let mut dist = [(f32::INFINITY, 0u8, 0u8); WIDE];
     for i in 2..=WIDE {
-        for k in 1..i {
+        for k in 1..i.min(l.flat + 1) {
             let c = l.cost[k - 1] + r.cost[i - k - 1];
             if c < dist[i - 1].0 {
                 dist[i - 1] = (c, k as u8, (i - k) as u8);
@@ -104,7 +107,8 @@ fn solve(node: &Node, children: Option<(Costs, Costs)>, max_leaf: usize, node_co
             if c < cost[i - 2] { (c, Choice::Split(k, j)) } else { (cost[i - 2], choice[i - 2]) };
     }
     debug_assert!(cost.windows(2).all(|w| w[1] <= w[0]), "more slots never cost more");
-    (Costs { cost, count }, Decisions { choice: choice.map(Choice::encode), internal: dist[WIDE - 1].1 })
+    let flat = (1..=WIDE).find(|&i| cost[i - 1] == cost[WIDE - 1]).unwrap_or(WIDE);
+    (Costs { cost, count, flat }, Decisions { choice: choice.map(Choice::encode), internal: dist[WIDE - 1].1 })
 }
 
 /// The decisions at every node of `tree`.
@@ -115,7 +119,7 @@ fn solve_all(tree: &[Node], max_leaf: usize, node_cost: f32) -> Vec<Decisions> {
     }
     // Not laid out depth first: children follow their parents, so a reverse pass sees children
     // first.
-    let mut costs = vec![Costs { cost: [0.0; WIDE], count: 0 }; tree.len()];
+    let mut costs = vec![Costs { cost: [0.0; WIDE], count: 0, flat: 1 }; tree.len()];
     for n in (0..tree.len()).rev() {
         let children = match tree[n] {
             Node::Inner { left, right, .. } => {
