@@ -11,7 +11,8 @@
 //! leaves of four-triangle blocks and traversal kernels picked at run time
 //! ([`Kernel`]: AVX-512, AVX2, or a portable four-lane one), every one watertight like the scalar
 //! test. For static scenes, [`BuildOptions::high_quality`] optimizes the tree by reinsertion
-//! first, and [`BuildOptions::spatial_splits`] splits triangles across nodes where that pays.
+//! first, [`BuildOptions::refine`] does a light pass of it for a few percent more build time,
+//! and [`BuildOptions::spatial_splits`] splits triangles across nodes where that pays.
 //!
 //! - Builders ([`BuildOptions`]): binned SAH; the projected-area heuristic (PAH) of 004 for a
 //!   declared ray distribution (a parallel bundle or a pencil through a point), falling back to SAH
@@ -48,6 +49,7 @@ mod bvh8;
 mod flat;
 pub mod gpu;
 mod options;
+mod refine;
 mod refit;
 mod reinsert;
 mod stats;

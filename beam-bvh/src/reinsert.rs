@@ -18,13 +18,13 @@ use beam_math::heuristics::surface_area;
 use std::collections::BinaryHeap;
 use std::vec::Vec;
 
-const NONE: u32 = u32::MAX;
+pub(crate) const NONE: u32 = u32::MAX;
 
 /// Most passes.
 const MAX_PASSES: usize = 8;
 /// Nodes with a smaller surface area than this fraction of the root's stay where they are: on
 /// Sponza, moving them costs two thirds of the time and gains nothing in queries.
-const MIN_AREA: f32 = 1e-4;
+pub(crate) const MIN_AREA: f32 = 1e-4;
 /// Stop after this many passes in a row that each lower the cost by less than [`MIN_GAIN`].
 const PATIENCE: usize = 1;
 /// Relative cost decrease below which a pass counts as no gain.
@@ -33,21 +33,21 @@ const MIN_GAIN: f64 = 0.002;
 /// A node with its parent link; a leaf (no children, `kids[0] == NONE`) holds references
 /// `first..first + count`.
 #[derive(Clone, Copy, Debug)]
-struct Link {
-    bounds: Aabb,
-    area: f32,
-    parent: u32,
-    kids: [u32; 2],
-    first: u32,
-    count: u32,
+pub(crate) struct Link {
+    pub bounds: Aabb,
+    pub area: f32,
+    pub parent: u32,
+    pub kids: [u32; 2],
+    pub first: u32,
+    pub count: u32,
 }
 
 /// The tree being optimized.
 #[derive(Clone)]
-struct Tree {
-    n: Vec<Link>,
-    root: u32,
-    min_area: f32,
+pub(crate) struct Tree {
+    pub n: Vec<Link>,
+    pub root: u32,
+    pub min_area: f32,
 }
 
 /// `nodes` (root first, as the binary builder makes them) after reinsertion passes, root first
@@ -63,7 +63,7 @@ pub(crate) fn optimize(nodes: &[Node], traversal_cost: f32) -> Vec<Node> {
     let mut best_cost = tree.cost(traversal_cost);
     let mut stalled = 0;
     for _ in 0..MAX_PASSES {
-        tree.pass();
+        tree.pass(usize::MAX);
         let cost = tree.cost(traversal_cost);
         if cost < best_cost * (1.0 - MIN_GAIN) {
             stalled = 0;
@@ -79,7 +79,7 @@ pub(crate) fn optimize(nodes: &[Node], traversal_cost: f32) -> Vec<Node> {
         }
     }
     best.check();
-    best.to_nodes()
+    best.to_nodes(nodes.len(), |l, out| out.push(Node::Leaf { bounds: l.bounds, first: l.first, count: l.count }))
 }
 
 /// The SAH cost of `nodes` relative to its root's box: `Σ_inner c_t·A + Σ_leaf count·A`, over
@@ -157,15 +157,21 @@ impl Tree {
         total / f64::from(self.n[self.root as usize].area).max(f64::MIN_POSITIVE)
     }
 
-    /// One pass: take out each node of at least [`MIN_AREA`] (of the root's), in order of
-    /// decreasing inefficiency (leaves by their area), with its parent, and insert it back where
-    /// the SAH cost is least. That place may be where it was, so no step raises the cost.
-    fn pass(&mut self) {
+    /// One pass: take out each node of at least `min_area` (the `limit` most inefficient of
+    /// them), in order of decreasing inefficiency (leaves by their area), with its parent, and
+    /// insert it back where the SAH cost is least. That place may be where it was, so no step
+    /// raises the cost.
+    pub fn pass(&mut self, limit: usize) {
         let mut candidates: Vec<(f32, u32)> = (0..self.n.len() as u32)
             .filter(|&i| i != self.root && self.n[i as usize].area >= self.min_area)
             .map(|i| (if self.is_leaf(i) { self.n[i as usize].area } else { self.inefficiency(i) }, i))
             .collect();
-        candidates.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+        let by_inefficiency = |a: &(f32, u32), b: &(f32, u32)| b.0.total_cmp(&a.0);
+        if limit < candidates.len() {
+            candidates.select_nth_unstable_by(limit, by_inefficiency);
+            candidates.truncate(limit);
+        }
+        candidates.sort_unstable_by(by_inefficiency);
         let mut heap = BinaryHeap::new();
         for &(_, x) in &candidates {
             if x == self.root {
@@ -275,7 +281,7 @@ impl Tree {
 
     /// Debug checks: every node is reached once from the root, and every box holds its
     /// children's.
-    fn check(&self) {
+    pub fn check(&self) {
         if !cfg!(debug_assertions) {
             return;
         }
@@ -298,9 +304,10 @@ impl Tree {
         debug_assert!(seen.iter().all(|&s| s), "a node left the tree");
     }
 
-    /// The tree as builder nodes: root first, each left child right after its parent.
-    fn to_nodes(&self) -> Vec<Node> {
-        let mut out = Vec::with_capacity(self.n.len());
+    /// The tree as `len` builder nodes: root first, each left child right after its parent;
+    /// `leaf` appends what stands for a leaf (one node, or a whole subtree in the same order).
+    pub fn to_nodes(&self, len: usize, mut leaf: impl FnMut(&Link, &mut Vec<Node>)) -> Vec<Node> {
+        let mut out = Vec::with_capacity(len);
         let mut stack = vec![(self.root, NONE, 0usize)];
         while let Some((i, parent, side)) = stack.pop() {
             let index = out.len() as u32;
@@ -311,7 +318,7 @@ impl Tree {
                 }
             }
             if l.kids[0] == NONE {
-                out.push(Node::Leaf { bounds: l.bounds, first: l.first, count: l.count });
+                leaf(l, &mut out);
             } else {
                 out.push(Node::Inner { bounds: l.bounds, left: NONE, right: NONE });
                 stack.push((l.kids[1], index, 1));
@@ -323,7 +330,7 @@ impl Tree {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::binning;
     use crate::options::BuildOptions;
@@ -332,7 +339,7 @@ mod tests {
 
     /// Every reference lies in exactly one leaf, every box holds its children (leaves: their
     /// triangles), and children follow their parents.
-    fn check_tree(nodes: &[Node], prims: &[u32], tris: &[Triangle]) {
+    pub(crate) fn check_tree(nodes: &[Node], prims: &[u32], tris: &[Triangle]) {
         let mut seen = vec![0u32; prims.len()];
         for (i, node) in nodes.iter().enumerate() {
             match *node {

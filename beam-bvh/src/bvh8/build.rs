@@ -79,7 +79,11 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
         } else {
             (crate::build::build_nodes(triangles, &mut refs, &record, &binary, Shape::WIDE), refs)
         };
-        let tree = if options.reinsert { crate::reinsert::optimize(&tree, options.traversal_cost) } else { tree };
+        let tree = if options.reinsert {
+            crate::reinsert::optimize(&tree, options.traversal_cost)
+        } else {
+            crate::refine::refine(&tree, options.refine).unwrap_or(tree)
+        };
         let kind = options.collapse.unwrap_or(Collapse::Greedy);
         let (nodes, mut order) = super::collapse::collapse(&tree, &refs, kind, &options);
         out.set_tree_bounds(record.bounds.aabb());
