@@ -266,6 +266,24 @@ fn par_for_each<T>(items: Vec<T>, f: impl Fn(T)) {
     items.into_iter().for_each(f);
 }
 
+/// `len` copies of `value`, written by all threads (with `parallel`: the leaf blocks of a large
+/// tree are megabytes).
+#[cfg(feature = "parallel")]
+fn filled<T: Clone + Send + Sync>(len: usize, value: T, parallel: bool) -> Vec<T> {
+    use rayon::prelude::*;
+    if !parallel || len < PARALLEL_THRESHOLD {
+        return vec![value; len];
+    }
+    let mut v = Vec::with_capacity(len);
+    v.par_extend(rayon::iter::repeat_n(value, len).with_min_len(PARALLEL_THRESHOLD));
+    v
+}
+
+#[cfg(not(feature = "parallel"))]
+fn filled<T: Clone>(len: usize, value: T, _parallel: bool) -> Vec<T> {
+    vec![value; len]
+}
+
 #[cfg(not(feature = "parallel"))]
 fn par_map<T, R>(items: Vec<T>, f: impl Fn(T) -> R) -> Vec<R> {
     items.into_iter().map(f).collect()
@@ -281,7 +299,7 @@ struct FinishOptions {
 }
 
 fn finish(out: &mut Bvh8, nodes: Vec<Node8>, refs: &mut [PrimRef], triangles: &[Triangle], opt: FinishOptions) {
-    let mut nodes = super::layout::group_siblings(nodes);
+    let mut nodes = super::layout::group_siblings(nodes, opt.parallel);
     if opt.dedupe {
         for n in &mut nodes {
             for s in 0..8 {
@@ -303,8 +321,8 @@ fn finish(out: &mut Bvh8, nodes: Vec<Node8>, refs: &mut [PrimRef], triangles: &[
         total += n.tris.iter().map(|&c| (c as usize).div_ceil(4)).sum::<usize>();
     }
     first_block.push(total);
-    let mut blocks = vec![Tri4::EMPTY; total];
-    let mut prims = vec![u32::MAX; 4 * total];
+    let mut blocks = filled(total, Tri4::EMPTY, parallel);
+    let mut prims = filled(4 * total, u32::MAX, parallel);
     let mut work = Vec::with_capacity(nodes.len());
     let (mut rest_b, mut rest_p) = (&mut blocks[..], &mut prims[..]);
     for (i, n) in nodes.iter_mut().enumerate() {

@@ -11,13 +11,11 @@ use std::vec::Vec;
 /// children take consecutive indices, with each node's slots ordered inner children, leaves,
 /// unused. Runs before leaves become block references: a leaf slot is one with `tris > 0` (every
 /// leaf has a triangle), an inner child one with `tris == 0`.
-pub(super) fn group_siblings(mut nodes: Vec<Node8>) -> Vec<Node8> {
+pub(super) fn group_siblings(mut nodes: Vec<Node8>, parallel: bool) -> Vec<Node8> {
     if nodes.is_empty() {
         return nodes;
     }
-    for n in &mut nodes {
-        order_slots(n);
-    }
+    for_each(&mut nodes, parallel, order_slots);
     // `order[new] = old`; a node's inner children are appended together when it is reached.
     let mut order = Vec::with_capacity(nodes.len());
     let mut new_index = std::vec![u32::MAX; nodes.len()];
@@ -36,18 +34,38 @@ pub(super) fn group_siblings(mut nodes: Vec<Node8>) -> Vec<Node8> {
         pending.extend(order[first..].iter().rev());
     }
     debug_assert_eq!(order.len(), nodes.len(), "every node is reached from the root once");
-    order
-        .iter()
-        .map(|&old| {
-            let mut n = nodes[old];
-            for s in 0..n.inner as usize {
-                n.child[s] = new_index[n.child[s] as usize];
-            }
-            n.base = if n.inner > 0 { n.child[0] } else { 0 };
-            debug_assert!((0..n.inner as usize).all(|s| n.child[s] == n.base + s as u32));
-            n
-        })
-        .collect()
+    let renumbered = |old: &usize| {
+        let mut n = nodes[*old];
+        for s in 0..n.inner as usize {
+            n.child[s] = new_index[n.child[s] as usize];
+        }
+        n.base = if n.inner > 0 { n.child[0] } else { 0 };
+        debug_assert!((0..n.inner as usize).all(|s| n.child[s] == n.base + s as u32));
+        n
+    };
+    #[cfg(feature = "parallel")]
+    if parallel && nodes.len() > PARALLEL_NODES {
+        use rayon::prelude::*;
+        return order.par_iter().with_min_len(256).map(renumbered).collect();
+    }
+    let _ = parallel;
+    order.iter().map(renumbered).collect()
+}
+
+/// Trees of more nodes than this are laid out by all threads.
+#[cfg(feature = "parallel")]
+const PARALLEL_NODES: usize = 4096;
+
+/// `f` on every node, by all threads for large trees (with `parallel`).
+fn for_each(nodes: &mut [Node8], parallel: bool, f: fn(&mut Node8)) {
+    #[cfg(feature = "parallel")]
+    if parallel && nodes.len() > PARALLEL_NODES {
+        use rayon::prelude::*;
+        nodes.par_iter_mut().with_min_len(256).for_each(f);
+        return;
+    }
+    let _ = parallel;
+    nodes.iter_mut().for_each(f);
 }
 
 /// Reorder the slots of `n`: inner children (in their order), then leaves, then unused slots;
