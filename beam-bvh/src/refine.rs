@@ -7,7 +7,7 @@
 //! Reinserting only the 0.3% most inefficient nodes, once, removes 7–10% of the box tests of
 //! Sponza's and the conference room's rays, much of what the full optimization
 //! ([`crate::BuildOptions::reinsert`]) gains, at a small part of its time: the pass works on the
-//! nodes of at least [`UPPER_AREA`] of the root's area (a quarter of them on Sponza), every
+//! nodes of at least [`UPPER_AREA`] of the root's area (a sixth of them on Sponza), every
 //! smaller subtree a fixed block that is copied back whole. Its cost is that copy: 0.6 ms of
 //! Sponza's 17 ms build, 2.5 ms of the conference room's 85 (the pass itself 0.25 and 0.8).
 
