@@ -24,14 +24,15 @@ pub(crate) const NONE: u32 = u32::MAX;
 const MAX_PASSES: usize = 8;
 /// Nodes with a smaller surface area than this fraction of the root's stay where they are: on
 /// Sponza, moving them costs two thirds of the time and gains nothing in queries.
-pub(crate) const MIN_AREA: f32 = 1e-4;
+const MIN_AREA: f32 = 1e-4;
 /// Stop after this many passes in a row that each lower the cost by less than [`MIN_GAIN`].
 const PATIENCE: usize = 1;
 /// Relative cost decrease below which a pass counts as no gain.
 const MIN_GAIN: f64 = 0.002;
 
 /// A node with its parent link; a leaf (no children, `kids[0] == NONE`) holds references
-/// `first..first + count`.
+/// `first..first + count` (in [`crate::refine`]: a block, the subtree of `count` nodes whose root
+/// is node `first` of the binary tree).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Link {
     pub bounds: Aabb,

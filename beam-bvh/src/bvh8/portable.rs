@@ -1,6 +1,7 @@
 //! The portable 8-wide traversal: each node's eight boxes as two four-lane halves through glam
 //! (SSE2 on x86-64, NEON on AArch64, scalar elsewhere), hit children pushed farthest first
-//! (any-hit queries: in the x86 kernels' slot order), leaves through [`visit_leaf`]. It is the fallback where AVX2 is missing, and the kernel that counts work.
+//! (any-hit queries: in the x86 kernels' slot order), leaves through [`visit_leaf`]. It is the
+//! fallback where AVX2 is missing, and the kernel that counts work.
 
 use super::leaf::{ShearRay, visit_leaf};
 use super::{Bvh8, Node8, RayBox};

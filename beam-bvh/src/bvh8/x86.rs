@@ -4,9 +4,8 @@
 //! nearest are pushed with one vector store; any-hit queries visit the highest hit slot and push
 //! the rest as bare references in slot order, gathered to the front of a register by a table of
 //! permutations and stored at once (a loop over the hit children cost a mispredicted branch per
-//! node). The AVX-512 kernel is the same code
-//! compiled with AVX-512 F/VL enabled (EVEX encoding, 32 vector registers, mask registers for
-//! compares).
+//! node). The AVX-512 kernel is the same code compiled with AVX-512 F/VL enabled (EVEX encoding,
+//! 32 vector registers, mask registers for compares).
 //!
 //! The entry and exit distances of the boxes are reduced and compared as the integers their bits
 //! spell, as Embree does: an integer `min`/`max` takes one cycle where the float ones take four on
