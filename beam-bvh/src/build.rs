@@ -131,7 +131,7 @@ impl Job<'_> {
                 },
             );
             left = l;
-            right = append(nodes, r);
+            right = append(nodes, &r, 0);
         } else {
             left = self.node(left_refs, &left_record, offset, depth + 1, nodes, scratch);
             right = self.node(right_refs, &right_record, offset + mid, depth + 1, nodes, scratch);
@@ -141,11 +141,14 @@ impl Job<'_> {
     }
 }
 
-/// Append a subtree built with local indices; returns its root's new index.
-fn append(nodes: &mut Vec<Node>, sub: Vec<Node>) -> u32 {
+/// Append a subtree whose nodes are numbered from `first` (its root's index; 0 for one built on
+/// its own) to `nodes`, renumbered; returns its root's new index.
+pub(crate) fn append(nodes: &mut Vec<Node>, sub: &[Node], first: u32) -> u32 {
     let base = nodes.len() as u32;
-    nodes.extend(sub.into_iter().map(|n| match n {
-        Node::Inner { bounds, left, right } => Node::Inner { bounds, left: left + base, right: right + base },
+    nodes.extend(sub.iter().map(|&n| match n {
+        Node::Inner { bounds, left, right } => {
+            Node::Inner { bounds, left: left - first + base, right: right - first + base }
+        }
         leaf => leaf,
     }));
     base

@@ -205,8 +205,8 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
     }
     // The static-scene modes and the default's neighbours: reinserted binary trees collapsed
     // greedily and by the dynamic program, the default with leaves of up to 16 and with the light
-    // reinsertion, the tree binned
-    // straight into eight-wide nodes (Embree's way), pre-split triangles, spatial splits.
+    // reinsertion, the tree binned straight into eight-wide nodes (Embree's way), pre-split
+    // triangles, spatial splits.
     let dp = Some(Collapse::Optimal);
     let modes = [
         hq,
