@@ -102,12 +102,12 @@ impl Job<'_> {
         let measure = ctx.measure(bounds);
         // Past MAX_SPLIT_DEPTH, median splits bound the depth (and so the traversal stack).
         let split =
-            if depth < MAX_SPLIT_DEPTH { binning::find_split(ctx, refs, record, measure, scratch) } else { None };
+            if depth < MAX_SPLIT_DEPTH { binning::find_node_split(ctx, refs, record, measure, scratch) } else { None };
         let parent_area = measure.area(bounds);
         let leaf_cost = parent_area * n as f32;
         let (mid, left_record, right_record) = match split {
-            Some(s) if n > ctx.options.max_leaf || ctx.options.traversal_cost * parent_area + s.cost < leaf_cost => {
-                binning::partition(refs, &s)
+            Some(s) if n > ctx.options.max_leaf || ctx.options.traversal_cost * parent_area + s.cost() < leaf_cost => {
+                s.partition(refs)
             }
             // All centroids coincide, or the depth bound: split at the median if the leaf would be
             // too large.

@@ -5,7 +5,8 @@
 //!
 //! Splitting-plane facing (004) adds two directions that are not axes; those go through a slower
 //! generic path with dot products. Both paths bin a reference the same way in the search and in
-//! the partition (one function each), so a split always separates what it measured.
+//! the partition (one function each), so a split always separates what it measured. Nodes of a
+//! few references are not binned: every partition of them is costed (`small.rs`).
 
 use crate::options::{BuildOptions, Heuristic, RayDistribution};
 use beam_math::Aabb;
@@ -15,9 +16,11 @@ use beam_math::heuristics::{projected_area_orthographic_fast, projected_area_per
 mod directions;
 mod partition;
 mod refs;
+mod small;
 
 pub(crate) use partition::{median_split, partition};
 pub(crate) use refs::{Box4, PrimRef, Record, make_refs, record_of};
+use small::{SMALL_MAX, SmallSplit, find_small};
 
 /// Largest number of bins.
 pub(crate) const MAX_BINS: usize = 32;
@@ -244,6 +247,47 @@ pub(crate) fn reduce_chunks<T: Send + Sync + Copy>(
     }
     let _ = (parallel, &merge, init);
     f(refs)
+}
+
+/// A split of a node's references: binned, or exact for a small node.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum NodeSplit {
+    Binned(Split),
+    Small(SmallSplit),
+}
+
+impl NodeSplit {
+    /// `A(L)·blocks(N_L) + A(R)·blocks(N_R)` under the node's measure.
+    pub fn cost(&self) -> f32 {
+        match self {
+            NodeSplit::Binned(s) => s.cost,
+            NodeSplit::Small(s) => s.cost,
+        }
+    }
+
+    /// Partition `refs` (those the split was found for) in place; returns the number on the left
+    /// and the records of both sides.
+    pub fn partition(&self, refs: &mut [PrimRef]) -> (usize, Record, Record) {
+        match self {
+            NodeSplit::Binned(s) => partition(refs, s),
+            NodeSplit::Small(s) => s.partition(refs),
+        }
+    }
+}
+
+/// The cheapest split of `refs` (summarised by `record`) under `measure`: over every partition
+/// for at most [`SMALL_MAX`] references, else binned (`None` when every centroid coincides).
+pub(crate) fn find_node_split(
+    ctx: &Context,
+    refs: &[PrimRef],
+    record: &Record,
+    measure: Measure,
+    scratch: &mut Bins,
+) -> Option<NodeSplit> {
+    if refs.len() <= SMALL_MAX {
+        return Some(NodeSplit::Small(find_small(ctx, refs, measure)));
+    }
+    find_split(ctx, refs, record, measure, scratch).map(NodeSplit::Binned)
 }
 
 /// The cheapest binned split of `refs` (summarised by `record`) under `measure`, or `None` when
