@@ -40,6 +40,18 @@ pub fn peers(triangles: &[beam_math::Triangle]) -> Result<Vec<Box<dyn Tracer>>, 
     }
 }
 
+/// One more build of the peer named `name` over `triangles`, in milliseconds: `None` for a peer
+/// whose build cannot be repeated alone (the BVH bench times Embree's in alternation with ours).
+pub fn peer_build_ms(name: &str, triangles: &[beam_math::Triangle]) -> Option<f64> {
+    #[cfg(feature = "peers")]
+    return peers::build_ms(name, triangles);
+    #[cfg(not(feature = "peers"))]
+    {
+        let _ = (name, triangles);
+        None
+    }
+}
+
 #[derive(Subcommand)]
 pub enum BenchCommand {
     /// Build with each builder and trace primary, shadow and diffuse rays, 1 thread and all cores,

@@ -27,6 +27,16 @@ pub fn all(triangles: &[Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
     Ok(out)
 }
 
+/// One more build of Embree (`embree3` or `embree3-hq`) over `triangles`, in milliseconds.
+pub fn build_ms(name: &str, triangles: &[Triangle]) -> Option<f64> {
+    let high_quality = match name {
+        "embree3" => false,
+        "embree3-hq" => true,
+        _ => return None,
+    };
+    Embree::new(triangles, high_quality).ok().map(|e| e.build_ms)
+}
+
 /// Embree's any-hit query over `triangles`, as a shadow-ray tracer for the renderer.
 pub fn embree_occluder(triangles: &[Triangle]) -> Result<Box<beam_scene::queries::AnyHit<'static>>, String> {
     let e = Embree::new(triangles, false)?;

@@ -3,7 +3,7 @@
 
 mod ours;
 
-use super::{Tracer, peers};
+use super::{Tracer, peer_build_ms, peers};
 use crate::bench::cpu_clock::thread_cpu_seconds;
 use beam_bvh::{BuildOptions, Bvh8, Collapse, FlatBvh, Kernel, RayDistribution, TraversalStats, WideBvh};
 use beam_conformance::bvh::scene_light;
@@ -287,7 +287,8 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
         .iter()
         .filter_map(|name| modes.iter().position(|(n, _)| n == name).map(|i| wides8.len() + i));
     let compared: Vec<usize> = std::iter::once(0).chain(modes_compared).collect();
-    print_ratios(&rows, ours_count, &tracers, &compared);
+    let paired = paired_builds(&tris, &BuildOptions::sah(), &wides8[0].name, &tracers[ours_count..]);
+    print_ratios(&rows, ours_count, &tracers, &compared, &paired);
     let counted: Vec<&dyn Counted> = (0..builders.len())
         .flat_map(|i| [&binaries[i] as &dyn Counted, &wides[i] as &dyn Counted, &wides8[i] as &dyn Counted])
         .chain(extra.iter().map(|o| o as &dyn Counted))
@@ -323,8 +324,62 @@ fn dispatch_note() -> String {
     has.join(", ")
 }
 
-/// Ratios of our tracers `compared` (indices into `tracers`) to every peer.
-fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer], compared: &[usize]) {
+/// Build times of one of our trees and a peer's.
+struct PairedBuild {
+    ours: String,
+    peer: String,
+    ours_ms: f64,
+    peer_ms: f64,
+}
+
+/// Rounds of [`paired_builds`].
+const PAIRED_ROUNDS: usize = 7;
+/// The pause before each build of [`paired_builds`]: the other library's worker threads, which
+/// spin for a while after its build (Embree's TBB pool cost ours 4 ms of Sponza's 17 when it was
+/// built right after), go to sleep first.
+const SETTLE: std::time::Duration = std::time::Duration::from_millis(100);
+
+/// Our tree `name` (built with `options`) and each peer that can rebuild, built in alternation
+/// [`PAIRED_ROUNDS`] times: the median times. The table's build times are each taken at one
+/// moment of the run, and on a shared machine whose speed drifts by 15% within minutes their
+/// ratio moves with it; alternating exposes both builders to the same drift.
+fn paired_builds(tris: &[Triangle], options: &BuildOptions, name: &str, peers: &[&dyn Tracer]) -> Vec<PairedBuild> {
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let mut out = Vec::new();
+    for peer in peers {
+        let peer = peer.name();
+        let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+        for _ in 0..PAIRED_ROUNDS {
+            std::thread::sleep(SETTLE);
+            let Some(ms) = peer_build_ms(&peer, tris) else { break };
+            theirs.push(ms);
+            std::thread::sleep(SETTLE);
+            let s = Instant::now();
+            std::hint::black_box(Bvh8::build(tris, options));
+            ours.push(s.elapsed().as_secs_f64() * 1e3);
+        }
+        if !ours.is_empty() {
+            out.push(PairedBuild { ours: name.into(), peer, ours_ms: median(ours), peer_ms: median(theirs) });
+        }
+    }
+    if !out.is_empty() {
+        println!(
+            "
+builds in alternation ({PAIRED_ROUNDS} rounds, medians; the ratios below use these)"
+        );
+        for p in &out {
+            println!("  {} {:.1} ms, {} {:.1} ms: {:.2}×", p.ours, p.ours_ms, p.peer, p.peer_ms, p.ours_ms / p.peer_ms);
+        }
+    }
+    out
+}
+
+/// Ratios of our tracers `compared` (indices into `tracers`) to every peer; build ratios from
+/// `paired` where it has the pair.
+fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer], compared: &[usize], paired: &[PairedBuild]) {
     if tracers.len() == ours {
         println!("\n(no peers in this build: `--features peers` adds Embree 3 and obvhs)");
         return;
@@ -336,7 +391,9 @@ fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer], compared: &[
     let threads = rows.iter().map(|r| r.threads).max().unwrap_or(1);
     for peer in &tracers[ours..] {
         for our in compared.iter().filter(|&&i| i < ours).map(|&i| tracers[i]) {
-            let mut parts = vec![format!("build {:.2}", peer.build_ms() / our.build_ms())];
+            let pair = paired.iter().find(|p| p.ours == our.name() && p.peer == peer.name());
+            let build = pair.map_or(peer.build_ms() / our.build_ms(), |p| p.peer_ms / p.ours_ms);
+            let mut parts = vec![format!("build {build:.2}")];
             for t in [1, threads] {
                 for k in KINDS {
                     if let (Some(a), Some(b)) = (get(&our.name(), k, t), get(&peer.name(), k, t)) {
