@@ -103,7 +103,7 @@ impl Job<'_> {
         // Past MAX_SPLIT_DEPTH, median splits bound the depth (and so the traversal stack).
         let split =
             if depth < MAX_SPLIT_DEPTH { binning::find_node_split(ctx, refs, record, measure, scratch) } else { None };
-        let parent_area = measure.area(bounds);
+        let parent_area = measure.area4(record.bounds);
         let leaf_cost = parent_area * n as f32;
         let (mid, left_record, right_record) = match split {
             Some(s) if n > ctx.options.max_leaf || ctx.options.traversal_cost * parent_area + s.cost() < leaf_cost => {

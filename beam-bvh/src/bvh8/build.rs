@@ -85,7 +85,8 @@ pub(super) fn build(triangles: &[Triangle], options: &BuildOptions) -> Bvh8 {
             crate::refine::refine(&tree, options.refine).unwrap_or(tree)
         };
         let kind = options.collapse.unwrap_or(Collapse::Greedy);
-        let (nodes, mut order) = super::collapse::collapse(&tree, &refs, kind, &options);
+        let (nodes, order) = super::collapse::collapse(&tree, &refs, kind, &options);
+        let mut order = order.unwrap_or(refs);
         out.set_tree_bounds(record.bounds.aabb());
         let dedupe = presplit || spatial;
         finish(&mut out, nodes, &mut order, triangles, FinishOptions { parallel: options.parallel, dedupe });
@@ -124,7 +125,7 @@ fn prepare(
     } else {
         None
     };
-    let area = measure.area(bounds);
+    let area = measure.area4(record.bounds);
     let leaf = n <= ctx.options.max_leaf
         && split.is_none_or(|s| ctx.options.traversal_cost * area + s.cost >= area * ctx.blocks(n));
     let gain = split.map_or(0.0, |s| area * ctx.blocks(n) - s.cost);

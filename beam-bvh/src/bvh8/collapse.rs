@@ -18,15 +18,16 @@ use beam_math::heuristics::surface_area;
 use std::vec::Vec;
 
 /// The eight-wide nodes of `tree` (root first, children after their parents; its leaves index
-/// `refs`) and the references in their new leaf order, collapsed the `kind` way. Leaf slots hold
-/// their first reference and `tris` their count, as the 8-wide builder leaves them for `finish`.
-/// Subtrees of at most `options.max_leaf` references may become leaves.
+/// `refs`) and the references in their new leaf order, collapsed the `kind` way: `None` where that
+/// is the order of `refs` (leaves met left to right in `refs`' order, as the binary builder lays
+/// them out). Leaf slots hold their first reference and `tris` their count, as the 8-wide builder
+/// leaves them for `finish`. Subtrees of at most `options.max_leaf` references may become leaves.
 pub(super) fn collapse(
     tree: &[Node],
     refs: &[PrimRef],
     kind: Collapse,
     options: &BuildOptions,
-) -> (Vec<Node8>, Vec<PrimRef>) {
+) -> (Vec<Node8>, Option<Vec<PrimRef>>) {
     let max_leaf = options.max_leaf;
     let node_cost = NODE_COST * options.traversal_cost;
     match kind {
@@ -107,21 +108,23 @@ pub(super) trait Roots {
 }
 
 /// The eight-wide nodes of `tree` with children picked by `picks` (root first, children after
-/// their parents) and the references in their new leaf order. Leaf slots hold their first
-/// reference and `tris` their count, as the 8-wide builder leaves them for `finish`.
-fn emit(tree: &[Node], refs: &[PrimRef], picks: &impl Roots) -> (Vec<Node8>, Vec<PrimRef>) {
+/// their parents) and the references in their new leaf order (`None`: that of `refs`). Leaf
+/// slots hold their first reference and `tris` their count, as the 8-wide builder leaves them for
+/// `finish`.
+fn emit(tree: &[Node], refs: &[PrimRef], picks: &impl Roots) -> (Vec<Node8>, Option<Vec<PrimRef>>) {
     let mut out = Emit {
         tree,
         refs,
         picks,
         nodes: Vec::with_capacity(tree.len() / 4 + 1),
-        order: Vec::with_capacity(refs.len()),
+        placed: 0,
+        order: None,
         scratch: Vec::with_capacity(8),
     };
     if !tree.is_empty() {
         out.node(0);
     }
-    debug_assert_eq!(out.order.len(), refs.len(), "every reference lands in one leaf");
+    debug_assert_eq!(out.placed, refs.len(), "every reference lands in one leaf");
     (out.nodes, out.order)
 }
 
@@ -131,7 +134,11 @@ struct Emit<'a, R> {
     refs: &'a [PrimRef],
     picks: &'a R,
     nodes: Vec<Node8>,
-    order: Vec<PrimRef>,
+    /// How many references the leaves emitted so far hold.
+    placed: usize,
+    /// The references in leaf order, copied only from the first leaf met out of `refs`' order:
+    /// until then the first `placed` references of `refs` are the order.
+    order: Option<Vec<PrimRef>>,
     /// Where [`Roots::roots`] writes a node's children (copied out before the recursion).
     scratch: Vec<usize>,
 }
@@ -155,9 +162,9 @@ impl<R: Roots> Emit<'_, R> {
         for (slot, &k) in kids[..self.scratch.len()].iter().enumerate() {
             self.nodes[index].set_bounds(slot, self.tree[k].bounds());
             if self.picks.is_leaf(k) {
-                let first = self.order.len();
+                let first = self.placed;
                 self.gather(k);
-                let n = self.order.len() - first;
+                let n = self.placed - first;
                 debug_assert!((1..=4 * Node8::MAX_LEAF_BLOCKS).contains(&n));
                 self.nodes[index].child[slot] = first as u32;
                 self.nodes[index].tris[slot] = n as u8;
@@ -173,7 +180,18 @@ impl<R: Roots> Emit<'_, R> {
     fn gather(&mut self, i: usize) {
         match self.tree[i] {
             Node::Leaf { first, count, .. } => {
-                self.order.extend_from_slice(&self.refs[first as usize..(first + count) as usize]);
+                let leaf = &self.refs[first as usize..(first + count) as usize];
+                match &mut self.order {
+                    None if first as usize == self.placed => {}
+                    None => {
+                        let mut order = Vec::with_capacity(self.refs.len());
+                        order.extend_from_slice(&self.refs[..self.placed]);
+                        order.extend_from_slice(leaf);
+                        self.order = Some(order);
+                    }
+                    Some(order) => order.extend_from_slice(leaf),
+                }
+                self.placed += count as usize;
             }
             Node::Inner { left, right, .. } => {
                 self.gather(left as usize);
