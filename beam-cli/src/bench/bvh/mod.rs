@@ -333,16 +333,14 @@ struct PairedBuild {
 }
 
 /// Rounds of [`paired_builds`].
-const PAIRED_ROUNDS: usize = 7;
-/// The pause before each build of [`paired_builds`]: the other library's worker threads, which
-/// spin for a while after its build (Embree's TBB pool cost ours 4 ms of Sponza's 17 when it was
-/// built right after), go to sleep first.
-const SETTLE: std::time::Duration = std::time::Duration::from_millis(100);
+const PAIRED_ROUNDS: usize = 11;
 
 /// Our tree `name` (built with `options`) and each peer that can rebuild, built in alternation
 /// [`PAIRED_ROUNDS`] times: the median times. The table's build times are each taken at one
 /// moment of the run, and on a shared machine whose speed drifts by 15% within minutes their
-/// ratio moves with it; alternating exposes both builders to the same drift.
+/// ratio moves with it; alternating exposes both builders to the same drift. Back to back, as
+/// the table's: a pause before each build (to let the other library's idle threads sleep) made
+/// both slower, Sponza's by 50–100% after 100 ms, ours less than Embree's.
 fn paired_builds(tris: &[Triangle], options: &BuildOptions, name: &str, peers: &[&dyn Tracer]) -> Vec<PairedBuild> {
     let median = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
@@ -353,10 +351,8 @@ fn paired_builds(tris: &[Triangle], options: &BuildOptions, name: &str, peers: &
         let peer = peer.name();
         let (mut ours, mut theirs) = (Vec::new(), Vec::new());
         for _ in 0..PAIRED_ROUNDS {
-            std::thread::sleep(SETTLE);
             let Some(ms) = peer_build_ms(&peer, tris) else { break };
             theirs.push(ms);
-            std::thread::sleep(SETTLE);
             let s = Instant::now();
             std::hint::black_box(Bvh8::build(tris, options));
             ours.push(s.elapsed().as_secs_f64() * 1e3);
