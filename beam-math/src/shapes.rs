@@ -53,12 +53,14 @@ impl Aabb {
 
     /// The smallest box containing every point.
     #[must_use]
+    #[inline]
     pub fn from_points(points: &[Vec3]) -> Self {
         points.iter().fold(Self::EMPTY, |b, &p| b.grow(p))
     }
 
     /// This box grown to contain `p`.
     #[must_use]
+    #[inline]
     pub fn grow(self, p: Vec3) -> Self {
         Self { min: self.min.min(p), max: self.max.max(p) }
     }
@@ -145,6 +147,7 @@ impl Triangle {
 
     /// `(v1 − v0) × (v2 − v0)`: twice the area times the unit normal.
     #[must_use]
+    #[inline]
     pub fn scaled_normal(self) -> Vec3 {
         (self.v[1] - self.v[0]).cross(self.v[2] - self.v[0])
     }
@@ -175,11 +178,14 @@ impl Triangle {
         Some(Vec3::new(w0, w1, 1.0 - w0 - w1))
     }
 
-    /// True when every coordinate is finite and the area is positive.
+    /// True when every coordinate is finite and the area is positive. Without branches: BVH
+    /// builders test every input triangle.
     #[must_use]
+    #[inline]
     pub fn is_valid(self) -> bool {
         let n = self.scaled_normal();
-        self.v.iter().all(|v| v.is_finite()) && n.is_finite() && n.length_squared() > 0.0
+        let [a, b, c] = self.v.map(Vec3::is_finite_mask);
+        (a & b & c & n.is_finite_mask()).all() & (n.length_squared() > 0.0)
     }
 }
 
@@ -187,4 +193,31 @@ impl Triangle {
 #[must_use]
 pub fn orient2d(a: Vec2, b: Vec2, c: Vec2) -> f32 {
     (b - a).perp_dot(c - a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The branch-free test is the definition: every coordinate finite, the normal finite and
+    /// not zero, on zero, tiny, huge, infinite and NaN coordinates.
+    #[test]
+    fn is_valid_is_its_definition() {
+        let values = [0.0, 1.0, -2.5, 1e-30, 1e19, -1e20, 3e38, f32::MAX, f32::INFINITY, f32::NEG_INFINITY, f32::NAN];
+        let mut s = 3u32;
+        let mut pick = || {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            values[(s >> 16) as usize % values.len()]
+        };
+        let mut valid = 0;
+        for _ in 0..200_000 {
+            let mut v = || Vec3::new(pick(), pick(), pick());
+            let t = Triangle::new(v(), v(), v());
+            let n = t.scaled_normal();
+            let want = t.v.iter().all(|v| v.is_finite()) && n.is_finite() && n.length_squared() > 0.0;
+            assert_eq!(t.is_valid(), want, "{t:?}");
+            valid += usize::from(want);
+        }
+        assert!(valid > 100, "the test made valid triangles too: {valid}");
+    }
 }

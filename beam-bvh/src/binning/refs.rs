@@ -42,15 +42,10 @@ pub(crate) struct PrimRef {
 
 impl PrimRef {
     /// The reference to triangle `t` (number `index`), or `None` where [`Triangle::is_valid`] is
-    /// false: the same test, without its branches.
+    /// false.
     #[inline(always)]
     fn of_valid(t: &Triangle, index: u32) -> Option<Self> {
-        let [a, b, c] = t.v.map(|v| Vec4::from((v, 0.0)));
-        let n = (b - a).truncate().cross((c - a).truncate());
-        let ok = a.is_finite() & b.is_finite() & c.is_finite() & n.is_finite() & (n.length_squared() > 0.0);
-        debug_assert_eq!(ok, t.is_valid());
-        let hi = a.max(b).max(c);
-        ok.then(|| Self { lo: a.min(b).min(c), hi: hi.with_w(f32::from_bits(INDEX_BIAS + index)) })
+        t.is_valid().then(|| Self::with_box(Aabb::from_points(&t.v), index))
     }
 
     /// A reference to triangle `index` with box `b` (part of the triangle's box, for a piece).
