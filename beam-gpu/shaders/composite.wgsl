@@ -1,7 +1,8 @@
-// The final composite of 000 §7.3, one tree level per dispatch: every texel that hit either copies
-// its shaded radiance or, on a specular S-mesh face with child beams, samples the children's
-// radiance (the level below, still on the GPU) at the face's barycentric point, tinted for a mirror
-// and Fresnel-weighted for glass. A level's radiance is an RGBA16F texture (rgb as half floats, 8
+// The final composite of 000 §7.3, one tree level per dispatch: `scatter` copies every shaded
+// texel's radiance into the level (records are needed only where there is something to composite),
+// and `composite` takes each texel on a specular S-mesh face with child beams and samples the
+// children's radiance (the level below, still on the GPU) at the face's barycentric point, tinted
+// for a mirror and Fresnel-weighted for glass. A level's radiance is an RGBA16F texture (rgb as half floats, 8
 // bytes a texel), texel i at (i mod width, i / width): no storage binding bounds its size. Each
 // dispatch binds only the faces and child regions its records reference (compacted by the host).
 // CPU twin: beam_cpu::nonlinear::composite_levels.
@@ -27,14 +28,13 @@ struct Record {
     // Its index in the level's radiance.
     texel: u32,
     d: vec3<f32>,
-    // Index of its shaded radiance, NONE when composited.
-    src: u32,
     // Its S-mesh face and its child beams, as indices into this dispatch's `faces` and `regions`.
     face: u32,
     reflected: u32,
     // NONE for none.
     refracted: u32,
-    pad: u32,
+    pad0: u32,
+    pad1: u32,
     // Where the refraction is looked up (p: the reflection; both the hit point on a fine face).
     refracted_p: vec3<f32>,
     pad2: u32,
@@ -42,10 +42,12 @@ struct Record {
 
 // Twin of beam_gpu::nonlinear::composite::CompositeParams (16 bytes).
 struct CompositeParams {
+    // Records of `composite`.
     records: u32,
+    // Shaded texels of `scatter`.
+    points: u32,
     pad0: u32,
     pad1: u32,
-    pad2: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: CompositeParams;
@@ -56,6 +58,8 @@ struct CompositeParams {
 // Per child beam the dispatch's records reference: its first texel below and its texels per side.
 @group(0) @binding(5) var<storage, read> regions: array<vec2<u32>>;
 @group(0) @binding(6) var radiance: texture_storage_2d<rgba16float, write>;
+// Per shaded radiance (`shaded[i]`): the texel it is written to.
+@group(0) @binding(7) var<storage, read> targets: array<u32>;
 
 // Where texel `index` of a level lies in a texture `width` texels wide.
 fn texel_coords(index: u32, width: u32) -> vec2<u32> {
@@ -144,11 +148,14 @@ fn composite(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgrou
         return;
     }
     let r = records[i];
-    var c: vec3<f32>;
-    if r.src != NONE {
-        c = shaded[r.src].xyz;
-    } else {
-        c = composite_texel(r);
+    textureStore(radiance, texel_coords(r.texel, textureDimensions(radiance).x), vec4<f32>(composite_texel(r), 0.0));
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn scatter(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = id.y * groups.x * WORKGROUP_SIZE + id.x;
+    if i >= params.points {
+        return;
     }
-    textureStore(radiance, texel_coords(r.texel, textureDimensions(radiance).x), vec4<f32>(c, 0.0));
+    textureStore(radiance, texel_coords(targets[i], textureDimensions(radiance).x), vec4<f32>(shaded[i].xyz, 0.0));
 }

@@ -33,8 +33,7 @@ pub const MISS: u32 = u32::MAX;
 /// `light` of a point whose shading is done ([`crate::shade::ShadeState`]).
 pub const SHADED: u32 = u32::MAX;
 
-/// "None" in [`crate::nonlinear::CompositeRecord`]: a texel composited rather than shaded, a face
-/// without a refraction beam.
+/// "None" in [`crate::nonlinear::CompositeRecord`]: a face without a refraction beam.
 pub const NONE: u32 = u32::MAX;
 
 /// `kind` of a closest-hit ray ([`crate::raytrace::GpuRay`]).

@@ -40,7 +40,7 @@ fn tables() -> Vec<Table> {
         bindings!("nonlinear_check" => [beams: GpuBeam, cases: CheckCase, results: [f32; 4]]),
         bindings!("composite" => [
             params: CompositeParams, records: CompositeRecord, faces: GpuFace, shaded: [f32; 4], below,
-            regions: [u32; 2], radiance,
+            regions: [u32; 2], radiance, targets: u32,
         ]),
     ]
 }

@@ -89,9 +89,11 @@ fn twins() -> Vec<Twin> {
         twin!("composite", GpuFace => Face {
             v[0] => v0, v[1] => v1, v[2] => v2, n[0] => n0, n[1] => n1, n[2] => n2, normal, material
         }),
-        twin!("composite", CompositeRecord => Record { p, texel, d, src, face, reflected, refracted, pad, refracted_p, pad2 }),
+        twin!("composite", CompositeRecord => Record {
+            p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
+        }),
         twin!("composite", CompositeParams => CompositeParams {
-            records, pad[0] => pad0, pad[1] => pad1, pad[2] => pad2
+            records, points, pad[0] => pad0, pad[1] => pad1
         }),
     ]
 }

@@ -3,9 +3,9 @@
 //! which no storage binding bounds) and only the eye's pixels read back. Each dispatch binds only
 //! the S-mesh faces and child regions its records reference, so no buffer grows with the S mesh
 //! or a level's beams past one storage binding of the device. Diffuse, glossy and emissive points are
-//! shaded by [`PointShader`] straight into the buffer the composite pass reads; mirror and glass
-//! points without child beams (past the last level) come from the caller. CPU twin:
-//! beam-cpu's `composite_levels`.
+//! shaded by [`PointShader`], mirror and glass points without child beams (past the last level) by
+//! the caller, and the `scatter` pass writes both to their texels (4 bytes uploaded a point, its
+//! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
 
 use crate::buffers::{compute_pipeline, max_binding, storage, uniform, write};
 use crate::interface::WORKGROUP_SIZE;
@@ -15,7 +15,7 @@ use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
-use beam_scene::nonlinear::{LevelRadiance, SMesh, ShadePoint};
+use beam_scene::nonlinear::{Composite, LevelRadiance, SMesh, ShadePoint, TexelRadiance};
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
@@ -37,7 +37,7 @@ pub struct GpuFace {
     pub material: [f32; 4],
 }
 
-/// One texel of a level for the composite pass.
+/// One composited texel of a level (on a specular face with child beams) for the composite pass.
 ///
 /// WGSL twin: `Record` in `shaders/composite.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
@@ -50,8 +50,6 @@ pub struct CompositeRecord {
     pub texel: u32,
     /// Unit direction of the ray.
     pub d: [f32; 3],
-    /// Index of its shaded radiance, [`NONE`] when composited.
-    pub src: u32,
     /// Its S-mesh face, as an index into the dispatch's faces (those its records reference).
     pub face: u32,
     /// Its face's reflection beam in the level below, as an index into the dispatch's regions.
@@ -59,7 +57,7 @@ pub struct CompositeRecord {
     /// Its face's refraction beam, likewise; [`NONE`] for none.
     pub refracted: u32,
     /// Padding.
-    pub pad: u32,
+    pub pad: [u32; 2],
     /// Where its face's refraction beam is looked up (as `p`, at `Composite::refracted_at`).
     pub refracted_p: [f32; 3],
     /// Padding.
@@ -72,10 +70,12 @@ pub struct CompositeRecord {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct CompositeParams {
-    /// Records of the dispatch.
+    /// Records of the dispatch (`composite`).
     pub records: u32,
+    /// Shaded radiances it writes to their texels (`scatter`).
+    pub points: u32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 const _: () =
@@ -93,12 +93,16 @@ const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// The composite pass.
 pub struct GpuComposite {
     pipeline: wgpu::ComputePipeline,
+    scatter: wgpu::ComputePipeline,
 }
 
 impl GpuComposite {
     /// Compile the pass.
     pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
-        Ok(Self { pipeline: compute_pipeline(gpu, "composite", "composite")? })
+        Ok(Self {
+            pipeline: compute_pipeline(gpu, "composite", "composite")?,
+            scatter: compute_pipeline(gpu, "composite", "scatter")?,
+        })
     }
 
     /// True when every level's radiance fits one texture of the device (a level is a texture, not a
@@ -126,8 +130,8 @@ impl GpuComposite {
     /// The radiance flow of `levels` (`levels[0]` the eye's view) on the GPU: the eye's pixels.
     /// Points the [`PointShader`] shades are shaded on the GPU (`spp` shadow rays per area light,
     /// the scene's shading and caustics `prepared` by [`PointShader::prepare`]), the others by
-    /// `rest`. Every level's radiance is a texture; the records go in dispatches of at most
-    /// `records_per_dispatch` records, each binding only the faces and child regions its records
+    /// `rest`. Every level's radiance is a texture; its texels go in dispatches of at most
+    /// `records_per_dispatch` texels, each binding only the faces and child regions its records
     /// reference. Call inside [`crate::buffers::checked`].
     #[allow(clippy::too_many_arguments)]
     pub fn run(
@@ -157,73 +161,48 @@ impl GpuComposite {
                     .par_iter()
                     .map(|t| t.composite.is_none().then(|| PointShader::shades(scene, t.point.prim)))
                     .collect();
-                let points_of = |gpu_side: bool| -> Vec<ShadePoint> {
-                    let mine = |i: usize| kinds[i] == Some(gpu_side);
-                    par_flatten(
-                        texels,
-                        ShadePoint::default(),
-                        |i, _| usize::from(mine(i)),
-                        |i, t, push| {
-                            if mine(i) {
-                                push(t.point);
-                            }
-                        },
-                    )
-                };
-                let (direct, other) = (points_of(true), points_of(false));
-                // Per texel: composited, or where its shaded radiance lies (direct or other): a
-                // running count over the kinds, in the order the two lists were collected.
-                let (mut on, mut off) = (0, 0);
-                let sources: Vec<Option<(bool, usize)>> = kinds
-                    .iter()
-                    .map(|kind| {
-                        let on_gpu = (*kind)?;
-                        let next = if on_gpu { &mut on } else { &mut off };
-                        *next += 1;
-                        Some((on_gpu, *next - 1))
-                    })
-                    .collect();
+                let direct = of_kind(texels, &kinds, true, |t| t.point);
+                let other = of_kind(texels, &kinds, false, |t| t.point);
+                // Where each shaded radiance goes: the direct points' texels, then the others'.
+                let mut targets = of_kind(texels, &kinds, true, |t| t.texel);
+                targets.extend(of_kind(texels, &kinds, false, |t| t.texel));
                 let other_radiance: Vec<[f32; 4]> = rest(&other)?.iter().map(|c| c.extend(0.0).to_array()).collect();
                 let (encoder, shaded) = shader.shade_into(gpu, tracer, prepared, spp, &direct, other.len())?;
                 write(gpu, &shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
-                // The faces and child regions the chunk references, compacted (in the texels'
-                // order, on one thread), then the records (in parallel).
-                let mut slots = Vec::with_capacity(texels.len());
-                for t in texels {
-                    slots.push(match t.composite {
-                        Some(c) => [
-                            face_slots.slot(c.face)?,
-                            region_slots.slot(c.reflected)?,
-                            c.refracted.map_or(Ok(NONE), |b| region_slots.slot(b))?,
-                        ],
-                        None => [NONE; 3],
-                    });
+                // The composited texels, the faces and child regions they reference compacted (in
+                // the texels' order, on one thread), then their records (in parallel).
+                let composited: Vec<(&TexelRadiance, Composite)> =
+                    texels.iter().filter_map(|t| Some((t, t.composite?))).collect();
+                let mut slots = Vec::with_capacity(composited.len());
+                for (_, c) in &composited {
+                    slots.push([
+                        face_slots.slot(c.face)?,
+                        region_slots.slot(c.reflected)?,
+                        c.refracted.map_or(Ok(NONE), |b| region_slots.slot(b))?,
+                    ]);
                 }
-                let records: Vec<CompositeRecord> = texels
+                let records: Vec<CompositeRecord> = composited
                     .par_iter()
-                    .zip(&sources)
                     .zip(&slots)
-                    .map(|((t, source), &[face, reflected, refracted])| {
+                    .map(|(&(t, c), &[face, reflected, refracted])| {
                         // The shader looks the children up at `p`'s and `refracted_p`'s barycentric
                         // coordinates on the face: under a coarse S-mesh face, the points of the
                         // face where the CPU looks the reflection and the refraction up.
-                        let (p, refracted_p) = match t.composite {
-                            Some(c) if smesh.is_coarse(c.face as usize) => {
-                                let f = &smesh.faces[c.face as usize];
-                                let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
-                                (at(c.reflected_at), at(c.refracted_at))
-                            }
-                            _ => (t.point.p, t.point.p),
+                        let (p, refracted_p) = if smesh.is_coarse(c.face as usize) {
+                            let f = &smesh.faces[c.face as usize];
+                            let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
+                            (at(c.reflected_at), at(c.refracted_at))
+                        } else {
+                            (t.point.p, t.point.p)
                         };
                         CompositeRecord {
                             p: p.to_array(),
                             texel: t.texel,
                             d: t.point.d.to_array(),
-                            src: source.map_or(NONE, |(on_gpu, i)| (if on_gpu { i } else { direct.len() + i }) as u32),
                             face,
                             reflected,
                             refracted,
-                            pad: 0,
+                            pad: [0; 2],
                             refracted_p: refracted_p.to_array(),
                             pad2: 0,
                         }
@@ -238,16 +217,18 @@ impl GpuComposite {
                         [first, size]
                     })
                     .collect();
-                let params = CompositeParams { records: records.len() as u32, pad: [0; 3] };
+                let params =
+                    CompositeParams { records: records.len() as u32, points: targets.len() as u32, pad: [0; 2] };
                 let composite = self.dispatch(
                     gpu,
                     &params,
-                    [
-                        &storage(gpu, "records", &records, wgpu::BufferUsages::empty()),
-                        &storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty()),
-                        &shaded,
-                        &storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty()),
-                    ],
+                    Inputs {
+                        records: &storage(gpu, "records", &records, wgpu::BufferUsages::empty()),
+                        faces: &storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty()),
+                        shaded: &shaded,
+                        regions: &storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty()),
+                        targets: &storage(gpu, "targets", &targets, wgpu::BufferUsages::empty()),
+                    },
                     (&below, &radiance),
                 );
                 gpu.queue.submit([encoder.finish(), composite.finish()]);
@@ -261,13 +242,14 @@ impl GpuComposite {
             .collect())
     }
 
-    /// One dispatch of the pass over `params.records` records: `buffers` the records, faces, shaded
-    /// radiance and regions (bindings 1, 2, 3 and 5), reading level `below` and writing `radiance`.
+    /// One level's chunk on the GPU: `scatter` writes the `params.points` shaded radiances to their
+    /// texels, then `composite` composites the `params.records` records, reading level `below` and
+    /// writing `radiance`. A pass with nothing to do is left out.
     fn dispatch(
         &self,
         gpu: &Gpu,
         params: &CompositeParams,
-        [records, faces, shaded, regions]: [&wgpu::Buffer; 4],
+        inputs: Inputs<'_>,
         (below, radiance): (&wgpu::Texture, &wgpu::Texture),
     ) -> wgpu::CommandEncoder {
         let params_buffer = uniform(gpu, "composite params", bytemuck::bytes_of(params));
@@ -279,29 +261,70 @@ impl GpuComposite {
         fn view(binding: u32, v: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(v) }
         }
-        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("composite"),
-            layout: &self.pipeline.get_bind_group_layout(0),
-            entries: &[
-                buffer(0, &params_buffer),
-                buffer(1, records),
-                buffer(2, faces),
-                buffer(3, shaded),
-                view(4, &below_view),
-                buffer(5, regions),
-                view(6, &radiance_view),
-            ],
-        });
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        {
+        let passes = [
+            (&self.scatter, params.points, vec![buffer(3, inputs.shaded), buffer(7, inputs.targets)]),
+            (
+                &self.pipeline,
+                params.records,
+                vec![
+                    buffer(1, inputs.records),
+                    buffer(2, inputs.faces),
+                    view(4, &below_view),
+                    buffer(5, inputs.regions),
+                ],
+            ),
+        ];
+        for (pipeline, count, mut entries) in passes.into_iter().filter(|p| p.1 > 0) {
+            entries.extend([buffer(0, &params_buffer), view(6, &radiance_view)]);
+            let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("composite"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            });
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &bind, &[]);
-            let groups = (params.records as usize).div_ceil(WORKGROUP_SIZE as usize) as u32;
+            let groups = (count as usize).div_ceil(WORKGROUP_SIZE as usize) as u32;
             pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
         }
         encoder
     }
+}
+
+/// The buffers of one [`GpuComposite::dispatch`].
+struct Inputs<'a> {
+    /// The records (binding 1).
+    records: &'a wgpu::Buffer,
+    /// The S-mesh faces they reference (binding 2).
+    faces: &'a wgpu::Buffer,
+    /// The shaded radiance (binding 3).
+    shaded: &'a wgpu::Buffer,
+    /// The child regions the records reference (binding 5).
+    regions: &'a wgpu::Buffer,
+    /// The texel of each shaded radiance (binding 7).
+    targets: &'a wgpu::Buffer,
+}
+
+/// Of the `texels` whose kind is `Some(gpu_side)` (shaded on the GPU, or by the caller), in order,
+/// what `each` takes of them; flattened by every thread.
+fn of_kind<T: Copy + Send + Sync + Default>(
+    texels: &[TexelRadiance],
+    kinds: &[Option<bool>],
+    gpu_side: bool,
+    each: impl Fn(&TexelRadiance) -> T + Sync,
+) -> Vec<T> {
+    let mine = |i: usize| kinds[i] == Some(gpu_side);
+    par_flatten(
+        texels,
+        T::default(),
+        |i, _| usize::from(mine(i)),
+        |i, t, push| {
+            if mine(i) {
+                push(each(t));
+            }
+        },
+    )
 }
 
 /// The compaction of one dispatch's references (to S-mesh faces, or to beams below): each index
