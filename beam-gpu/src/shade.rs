@@ -318,31 +318,45 @@ impl PointShader {
             .par_iter()
             .map(|s| ShadeInput { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), seed: seed32(s.seed) })
             .collect();
+        let input = storage(gpu, "shade points", &inputs, wgpu::BufferUsages::empty());
+        self.shade_inputs(gpu, tracer, scene, spp, (&input, points.len()), extra)
+    }
+
+    /// [`shade_into`](Self::shade_into) of the first `count` [`ShadeInput`]s of `input`, a buffer
+    /// already on the GPU.
+    pub fn shade_inputs(
+        &self,
+        gpu: &Gpu,
+        tracer: &RayTracer,
+        scene: &ShadeScene,
+        spp: u32,
+        (input, count): (&wgpu::Buffer, usize),
+        extra: usize,
+    ) -> Result<(wgpu::CommandEncoder, wgpu::Buffer), GpuError> {
         let params = ShadeParams {
             eps: self.eps,
             inv_texel_area: scene.inv_texel_area,
             lights: self.light_count,
-            points: points.len() as u32,
+            points: count as u32,
             spp: spp.max(1),
             budget: PASS_BUDGET,
             pad: [0; 2],
         };
         let uniform = uniform(gpu, "shade params", bytemuck::bytes_of(&params));
-        let input = storage(gpu, "shade points", &inputs, wgpu::BufferUsages::empty());
-        let out = output(gpu, "radiance", ((points.len() + extra) * 16) as u64);
+        let out = output(gpu, "radiance", ((count + extra) * 16) as u64);
         let new_encoder = || gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        if points.is_empty() {
+        if count == 0 {
             return Ok((new_encoder(), out));
         }
         // Zeroed by wgpu: every point starts at its first light.
-        let state = output(gpu, "shade state", STATE_HEADER + (points.len() * size_of::<ShadeState>()) as u64);
+        let state = output(gpu, "shade state", STATE_HEADER + (count * size_of::<ShadeState>()) as u64);
         let (nodes, triangles) = tracer.buffers();
         let flux = scene.flux.create_view(&Default::default());
         let mut entries: Vec<wgpu::BindGroupEntry<'_>> = [
             (0, nodes),
             (1, triangles),
             (4, &uniform),
-            (5, &input),
+            (5, input),
             (6, &scene.prims),
             (7, &self.lights),
             (8, &scene.planes),
@@ -367,7 +381,7 @@ impl PointShader {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &bind, &[]);
-                let groups = points.len().div_ceil(WORKGROUP_SIZE as usize) as u32;
+                let groups = count.div_ceil(WORKGROUP_SIZE as usize) as u32;
                 pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
             }
             let left: Vec<u32> = read_back(gpu, encoder, &state, 4)?;

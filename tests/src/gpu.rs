@@ -22,11 +22,13 @@ use rand::Rng;
 
 mod bindings;
 mod coarse;
+mod eye;
 mod glossy;
 mod twin;
 
 use bindings::gpu_images_fit_narrow_bindings;
 use coarse::gpu_coarse_smesh_equals_cpu;
+use eye::gpu_eye_view_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
 use twin::TwinShading;
 
@@ -54,6 +56,7 @@ pub fn properties() -> Vec<Property> {
             backends: GPU,
             body: gpu_ray_hits_equal_cpu_hits,
         },
+        Property { name: "gpu_eye_view_equals_cpu", cites: "000 §7.3", backends: GPU, body: gpu_eye_view_equals_cpu },
         Property {
             name: "gpu_beam_texels_equal_cpu",
             cites: "000 §3, Alg. 1",
@@ -536,6 +539,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
                 &shader.prepare(&gpu, caustics.as_ref()),
                 64,
                 &levels,
+                &[],
                 &rest,
             )
         })

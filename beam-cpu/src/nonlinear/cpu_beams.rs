@@ -8,7 +8,7 @@ use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, DeviceWaits, PointShading, RayQueries, ShadePoint,
+    BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, DeviceWaits, EyeView, PointShading, RayQueries, ShadePoint,
 };
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
@@ -35,6 +35,8 @@ impl RayQueries for CpuBeams {
 
 /// The CPU shades with [`shade_point`] itself ([`shade_points`]): the defaults hand it back.
 impl PointShading for CpuBeams {}
+
+impl EyeView for CpuBeams {}
 
 /// No device: all of a CPU frame is host work.
 impl DeviceWaits for CpuBeams {}

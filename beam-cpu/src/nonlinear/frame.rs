@@ -10,8 +10,6 @@ use super::stages::StageClock;
 use super::trace::{Built, Request, Tree};
 use crate::RenderError;
 use crate::render::Image;
-use beam_bvh::Hit;
-use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{BeamRenderer, Degree, LevelRadiance, SMesh, ShadePoint, TexelRadiance};
 use beam_scene::parallel::par_flatten;
@@ -51,24 +49,21 @@ pub fn render_nonlinear_with(
         by_rays: std::sync::atomic::AtomicU64::new(0),
     };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
-    // the beam tree.
-    let frame = camera.frame();
-    let rays: Vec<Ray> =
-        (0..(camera.width * camera.height) as usize).into_par_iter().map(|i| camera.pixel_ray(&frame, i)).collect();
-    let hits: Vec<Option<(Ray, Hit)>> =
-        renderer.closest_hits(scene, &rays)?.into_par_iter().zip(rays).map(|(h, ray)| Some((ray, h?))).collect();
+    // the beam tree. (A backend that shades the eye's diffuse, glossy and emissive pixels itself may
+    // keep those: they see no S-mesh face.)
+    let hits = renderer.eye_view(scene, &camera, &options.shading)?;
     clock.lap("eye view");
     // Per pixel, the S face it sees: its own triangle's, or on a coarse S mesh the face its point
     // maps to. The eye's beams need only how many pixels see each face (their directions come from
     // the eye itself, `Source::Eye`).
     let located: Vec<Option<(usize, Vec3)>> =
-        hits.par_iter().map(|h| h.and_then(|(ray, h)| tree.smesh.locate(h.prim, ray.at(h.t)))).collect();
+        hits.par_iter().map(|&(_, ray, h)| tree.smesh.locate(h.prim, ray.at(h.t))).collect();
     // A face's beams come from every pixel that sees it, but only the faces that pixels of the
     // region see are traced on (with their subtrees): the beams of the others reach no pixel of it.
     let crop = options.shading.region();
     let in_crop = |i: usize| crop.contains((i % camera.width as usize) as u32, (i / camera.width as usize) as u32);
     let (mut seen_by, mut wanted) = (vec![0u32; tree.smesh.faces.len()], vec![false; tree.smesh.faces.len()]);
-    for (i, l) in located.iter().enumerate() {
+    for (&(i, ..), l) in hits.iter().zip(&located) {
         if let Some((f, _)) = *l {
             seen_by[f] += 1;
             wanted[f] |= in_crop(i);
@@ -83,23 +78,23 @@ pub fn render_nonlinear_with(
     // The eye's view (the region's pixels) is level 0 of the radiance flow.
     let eye = LevelRadiance {
         regions: Vec::new(),
-        len: hits.len(),
+        len: camera.width as usize * camera.height as usize,
         texels: par_flatten(
             &hits,
             TexelRadiance::default(),
-            |i, hit| usize::from(hit.is_some() && in_crop(i)),
-            |i, hit, push| {
-                if let Some((ray, hit)) = hit.filter(|_| in_crop(i)) {
+            |_, &(i, ..)| usize::from(in_crop(i)),
+            |k, &(i, ray, hit), push| {
+                if in_crop(i) {
                     let point =
                         ShadePoint { prim: hit.prim, p: ray.at(hit.t), d: ray.direction.normalize(), seed: i as u64 };
                     let composite =
-                        tree.composite(&children, levels.first().map_or(&[][..], |l| &l[..]), &point, located[i]);
+                        tree.composite(&children, levels.first().map_or(&[][..], |l| &l[..]), &point, located[k]);
                     push(TexelRadiance { texel: i as u32, point, composite });
                 }
             },
         ),
     };
-    let flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
+    let mut flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
     let specular_by_rays = flow
         .iter()
         .flat_map(|l| &l.texels)
@@ -109,9 +104,13 @@ pub fn render_nonlinear_with(
     let (shading, caustics) = (&options.shading, tree.caustics.as_ref());
     let frame = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
         Some(pixels) => pixels,
-        None => composite_levels(scene, &tree.smesh, &flow, &|points| {
-            shade_points(renderer, scene, shading, caustics, points)
-        })?,
+        None => {
+            // Shaded here after all: with the eye's pixels the backend kept.
+            flow[0].texels.extend(renderer.take_kept_eye()?);
+            composite_levels(scene, &tree.smesh, &flow, &|points| {
+                shade_points(renderer, scene, shading, caustics, points)
+            })?
+        }
     };
     clock.lap("shading and composite");
     let image = Image { width: crop.width(), height: crop.height(), pixels: crop.cut(&frame, camera.width) };

@@ -5,7 +5,9 @@
 
 use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
-use crate::nonlinear::{AtlasParams, CheckCase, CompositeParams, CompositeRecord, GpuBeam, GpuFace};
+use crate::nonlinear::{
+    AtlasParams, CheckCase, CompositeParams, CompositeRecord, EyeCounts, EyeHit, EyeParams, GpuBeam, GpuFace,
+};
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, ShadeInput, ShadeParams};
 use beam_bvh::FlatNode;
@@ -41,6 +43,10 @@ fn tables() -> Vec<Table> {
         bindings!("composite" => [
             params: CompositeParams, records: CompositeRecord, faces: GpuFace, shaded: [f32; 4], below,
             regions: [u32; 2], radiance, targets: u32,
+        ]),
+        bindings!("eye" => [
+            nodes: FlatNode, triangles: GpuTriangle, params: EyeParams, plain: u32, kept: ShadeInput, targets: u32,
+            others: EyeHit, counts: EyeCounts,
         ]),
     ]
 }

@@ -5,7 +5,9 @@
 
 use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
-use crate::nonlinear::{AtlasParams, CheckCase, CompositeParams, CompositeRecord, GpuBeam, GpuFace};
+use crate::nonlinear::{
+    AtlasParams, CheckCase, CompositeParams, CompositeRecord, EyeCounts, EyeHit, EyeParams, GpuBeam, GpuFace,
+};
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, STATE_HEADER, ShadeInput, ShadeParams, ShadeState};
 use beam_bvh::FlatNode;
@@ -95,6 +97,13 @@ fn twins() -> Vec<Twin> {
         twin!("composite", CompositeParams => CompositeParams {
             records, points, pad[0] => pad0, pad[1] => pad1
         }),
+        twin!("eye", EyeParams => EyeParams {
+            position, width, forward, height, right, first, up, count, half_width, half_height,
+            pad[0] => pad0, pad[1] => pad1, crop
+        }),
+        twin!("eye", ShadeInput => ShadeInput { p, prim, d, seed }),
+        twin!("eye", EyeHit => EyeHit { pixel, prim, t, pad }),
+        twin!("eye", EyeCounts => EyeCounts { kept, others, overflow, pad }),
     ]
 }
 

@@ -12,6 +12,7 @@
 
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
+use super::eye::{GpuEye, KeptPoints};
 use crate::buffers::{checked, compute_pipeline, map_with, max_binding, output, shader_module, storage, uniform};
 use crate::interface::{PAIR_NEAR, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
@@ -77,11 +78,15 @@ pub struct GpuTimes {
 
 /// The GPU's beam renderer for one scene: its triangles uploaded, the atlas pipeline compiled.
 pub struct GpuBeams<'g> {
-    gpu: &'g Gpu,
+    pub(super) gpu: &'g Gpu,
     bound: wgpu::ComputePipeline,
     pipeline: wgpu::RenderPipeline,
     triangles: wgpu::Buffer,
-    tracer: RayTracer,
+    pub(super) tracer: RayTracer,
+    /// The eye's view on the GPU.
+    pub(super) eye: GpuEye,
+    /// The eye's points its last view kept on the GPU, until the composite shades them.
+    pub(super) kept: Mutex<Option<Vec<KeptPoints>>>,
     /// Shading on the GPU.
     shader: PointShader,
     /// The final composite on the GPU.
@@ -191,6 +196,8 @@ impl<'g> GpuBeams<'g> {
             pipeline,
             triangles,
             tracer,
+            eye: GpuEye::new(gpu, scene)?,
+            kept: Mutex::default(),
             shader: PointShader::new(gpu, scene)?,
             composite: GpuComposite::new(gpu)?,
             light_samples: 64,
@@ -213,7 +220,7 @@ impl<'g> GpuBeams<'g> {
         *self.times.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
     }
 
-    fn add_times(&self, f: impl FnOnce(&mut GpuTimes)) {
+    pub(super) fn add_times(&self, f: impl FnOnce(&mut GpuTimes)) {
         f(&mut self.times.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
     }
 
@@ -549,6 +556,7 @@ impl PointShading for GpuBeams<'_> {
             return Ok(None);
         }
         let start = Instant::now();
+        let kept = self.kept.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take().unwrap_or_default();
         // Mirror and glass points past the tree by `shade_exact` (Whitted rays in waves), timed there.
         let elsewhere = Cell::new(0.0);
         // The scene's shading and caustics, uploaded once for the composite and every wave.
@@ -571,6 +579,7 @@ impl PointShading for GpuBeams<'_> {
                 &prepared,
                 self.light_samples,
                 levels,
+                &kept,
                 &rest,
             )
         });

@@ -7,6 +7,7 @@
 //! the caller, and the `scatter` pass writes both to their texels (4 bytes uploaded a point, its
 //! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
 
+use super::eye::KeptPoints;
 use crate::buffers::{compute_pipeline, max_binding, storage, uniform, write};
 use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::RayTracer;
@@ -115,7 +116,7 @@ impl GpuComposite {
     /// Records of one dispatch: the records (64 bytes each), the S-mesh faces they reference (128
     /// bytes each, compacted to the dispatch's own) and the regions of their child beams (8 bytes,
     /// at most two a record) each within one storage binding, as are the shading pass's inputs.
-    fn records_per_dispatch(gpu: &Gpu) -> usize {
+    pub(crate) fn records_per_dispatch(gpu: &Gpu) -> usize {
         let by_faces = (max_binding(gpu) / size_of::<GpuFace>() as u64) as usize;
         by_faces.min(PointShader::max_points(gpu)).clamp(1, 1 << 20)
     }
@@ -130,7 +131,8 @@ impl GpuComposite {
     /// The radiance flow of `levels` (`levels[0]` the eye's view) on the GPU: the eye's pixels.
     /// Points the [`PointShader`] shades are shaded on the GPU (`spp` shadow rays per area light,
     /// the scene's shading and caustics `prepared` by [`PointShader::prepare`]), the others by
-    /// `rest`. Every level's radiance is a texture; its texels go in dispatches of at most
+    /// `rest`; so are the eye's points `kept` on the GPU by [`GpuEye`](super::GpuEye) (not in
+    /// `levels[0]`). Every level's radiance is a texture; its texels go in dispatches of at most
     /// `records_per_dispatch` texels, each binding only the faces and child regions its records
     /// reference. Call inside [`crate::buffers::checked`].
     #[allow(clippy::too_many_arguments)]
@@ -143,6 +145,7 @@ impl GpuComposite {
         prepared: &ShadeScene,
         spp: u32,
         levels: &[LevelRadiance],
+        kept: &[KeptPoints],
         rest: &ShadeRest<'_>,
     ) -> Result<Vec<Vec3>, GpuError> {
         let all_faces = gpu_faces(scene, smesh);
@@ -151,10 +154,21 @@ impl GpuComposite {
         let mut below_regions: &[(u32, u32)] = &[];
         let mut face_slots = Slots::new(all_faces.len(), "no such S-mesh face");
         let mut len = 0;
-        for level in levels.iter().rev() {
+        for (depth, level) in levels.iter().enumerate().rev() {
             len = level.len;
             let radiance = Self::level_texture(gpu, len);
+            let radiance_view = radiance.create_view(&Default::default());
             let mut region_slots = Slots::new(below_regions.len(), "no such child beam");
+            // The eye's points kept on the GPU: shaded and written to their pixels.
+            for k in kept.iter().filter(|_| depth == 0) {
+                let (mut encoder, shaded) =
+                    shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0)?;
+                let params = CompositeParams { records: 0, points: k.count, pad: [0; 2] };
+                let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
+                let entries = [buffer(0, &params), buffer(3, &shaded), view(6, &radiance_view), buffer(7, &k.targets)];
+                encode(gpu, &mut encoder, &self.scatter, k.count, &entries);
+                gpu.queue.submit([encoder.finish()]);
+            }
             for texels in level.texels.chunks(chunk) {
                 // Points not composited: on the GPU where the point shader shades them, else by `rest`.
                 let kinds: Vec<Option<bool>> = texels
@@ -217,20 +231,26 @@ impl GpuComposite {
                         [first, size]
                     })
                     .collect();
-                let params =
-                    CompositeParams { records: records.len() as u32, points: targets.len() as u32, pad: [0; 2] };
-                let composite = self.dispatch(
-                    gpu,
-                    &params,
-                    Inputs {
-                        records: &storage(gpu, "records", &records, wgpu::BufferUsages::empty()),
-                        faces: &storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty()),
-                        shaded: &shaded,
-                        regions: &storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty()),
-                        targets: &storage(gpu, "targets", &targets, wgpu::BufferUsages::empty()),
-                    },
-                    (&below, &radiance),
-                );
+                let points = (direct.len() + other.len()) as u32;
+                let params = CompositeParams { records: records.len() as u32, points, pad: [0; 2] };
+                let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
+                let below_view = below.create_view(&Default::default());
+                let mut composite = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+                let targets = storage(gpu, "targets", &targets, wgpu::BufferUsages::empty());
+                let entries = [buffer(0, &params), buffer(3, &shaded), view(6, &radiance_view), buffer(7, &targets)];
+                encode(gpu, &mut composite, &self.scatter, points, &entries);
+                let records_buffer = storage(gpu, "records", &records, wgpu::BufferUsages::empty());
+                let faces = storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty());
+                let regions = storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty());
+                let entries = [
+                    buffer(0, &params),
+                    buffer(1, &records_buffer),
+                    buffer(2, &faces),
+                    view(4, &below_view),
+                    buffer(5, &regions),
+                    view(6, &radiance_view),
+                ];
+                encode(gpu, &mut composite, &self.pipeline, records.len() as u32, &entries);
                 gpu.queue.submit([encoder.finish(), composite.finish()]);
             }
             below_regions = &level.regions;
@@ -241,69 +261,40 @@ impl GpuComposite {
             .map(|h| Vec3::from_array([h[0], h[1], h[2]].map(|x| half::f16::from_bits(x).to_f32())))
             .collect())
     }
-
-    /// One level's chunk on the GPU: `scatter` writes the `params.points` shaded radiances to their
-    /// texels, then `composite` composites the `params.records` records, reading level `below` and
-    /// writing `radiance`. A pass with nothing to do is left out.
-    fn dispatch(
-        &self,
-        gpu: &Gpu,
-        params: &CompositeParams,
-        inputs: Inputs<'_>,
-        (below, radiance): (&wgpu::Texture, &wgpu::Texture),
-    ) -> wgpu::CommandEncoder {
-        let params_buffer = uniform(gpu, "composite params", bytemuck::bytes_of(params));
-        let below_view = below.create_view(&Default::default());
-        let radiance_view = radiance.create_view(&Default::default());
-        fn buffer(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-            wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }
-        }
-        fn view(binding: u32, v: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
-            wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(v) }
-        }
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        let passes = [
-            (&self.scatter, params.points, vec![buffer(3, inputs.shaded), buffer(7, inputs.targets)]),
-            (
-                &self.pipeline,
-                params.records,
-                vec![
-                    buffer(1, inputs.records),
-                    buffer(2, inputs.faces),
-                    view(4, &below_view),
-                    buffer(5, inputs.regions),
-                ],
-            ),
-        ];
-        for (pipeline, count, mut entries) in passes.into_iter().filter(|p| p.1 > 0) {
-            entries.extend([buffer(0, &params_buffer), view(6, &radiance_view)]);
-            let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("composite"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            });
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            let groups = (count as usize).div_ceil(WORKGROUP_SIZE as usize) as u32;
-            pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
-        }
-        encoder
-    }
 }
 
-/// The buffers of one [`GpuComposite::dispatch`].
-struct Inputs<'a> {
-    /// The records (binding 1).
-    records: &'a wgpu::Buffer,
-    /// The S-mesh faces they reference (binding 2).
-    faces: &'a wgpu::Buffer,
-    /// The shaded radiance (binding 3).
-    shaded: &'a wgpu::Buffer,
-    /// The child regions the records reference (binding 5).
-    regions: &'a wgpu::Buffer,
-    /// The texel of each shaded radiance (binding 7).
-    targets: &'a wgpu::Buffer,
+/// Binding `binding`: all of buffer `b`.
+fn buffer(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }
+}
+
+/// Binding `binding`: texture view `v`.
+fn view(binding: u32, v: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(v) }
+}
+
+/// A pass of `pipeline` over `count` invocations with `entries` bound, added to `encoder`; none
+/// for none.
+fn encode(
+    gpu: &Gpu,
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    count: u32,
+    entries: &[wgpu::BindGroupEntry<'_>],
+) {
+    if count == 0 {
+        return;
+    }
+    let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("composite"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries,
+    });
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, &bind, &[]);
+    let groups = (count as usize).div_ceil(WORKGROUP_SIZE as usize) as u32;
+    pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
 }
 
 /// Of the `texels` whose kind is `Some(gpu_side)` (shaded on the GPU, or by the caller), in order,

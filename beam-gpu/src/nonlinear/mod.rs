@@ -1,13 +1,16 @@
 //! Nonlinear beam tracing (000) on the GPU: the beams' GPU layout, the atlas pipeline of 000 §3 that
-//! renders every beam of a tree level at once, and compute entry points that check the WGSL
+//! renders every beam of a tree level at once, the eye's view and the final composite, and compute
+//! entry points that check the WGSL
 //! bounding triangles and rays against beam-math.
 
 mod atlas;
 mod beam;
 mod check;
 mod composite;
+mod eye;
 
 pub use atlas::{AtlasParams, GpuBeams, GpuTimes};
 pub use beam::{GpuBeam, MAX_CONTROL_POINTS};
 pub use check::{CheckCase, GpuBoundingTriangle, NonlinearCheck};
 pub use composite::{CompositeParams, CompositeRecord, GpuComposite, GpuFace, NONE, ShadeRest};
+pub use eye::{EyeCounts, EyeHit, EyeParams, GpuEye, KeptPoints};

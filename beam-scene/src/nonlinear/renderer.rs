@@ -1,19 +1,22 @@
 //! The narrow interfaces a nonlinear backend implements, each named for what it does: ray queries
-//! (nearest hits with barycentric weights, any hits), a beam rasterizer (beams and scene triangles
+//! (nearest hits with barycentric weights, any hits), the eye's view, a beam rasterizer (beams and scene triangles
 //! to texels, 000 Alg. 1) and point shading (hit to radiance, where the backend can). A renderer
 //! is their composition ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's `GpuBeams` are two.
 //! A backend that can fail returns a [`BackendError`] (the CPU's never fails); its message is the
 //! backend's own.
 
-use super::radiance::LevelRadiance;
+use super::radiance::{LevelRadiance, TexelRadiance};
 use super::smesh::SMesh;
 use super::texture::{BeamJob, BeamTexture, ShadePoint};
 use crate::error::BackendError;
 use crate::irradiance_map::IrradianceMap;
 use crate::options::RenderOptions;
 use crate::queries::RayQueries;
-use crate::scene::Scene;
+use crate::scene::{Camera, Scene};
+use beam_bvh::Hit;
+use beam_math::Ray;
 use beam_math::glam::Vec3;
+use rayon::prelude::*;
 
 /// Renders a tree level's beams into their texel regions: the nearest scene hit of every texel's
 /// ray (000 Alg. 1; beam-cpu: each beam in parallel; beam-gpu: per-level atlases, 000 §3).
@@ -53,6 +56,47 @@ pub trait PointShading: Sync {
     }
 }
 
+/// The eye's view of a frame (000 §7.3): the roots of the beam tree and the eye's level of the
+/// radiance flow.
+pub trait EyeView: RayQueries {
+    /// The nearest hit of the primary ray through every pixel centre of `camera` (row-major) that
+    /// hits, as `(pixel, ray, hit)` in pixel order. A backend whose [`PointShading::shade_tree`]
+    /// shades the eye's diffuse, glossy and emissive pixels itself may keep those of `options`'
+    /// region and leave them out ([`take_kept_eye`](Self::take_kept_eye) hands them back); every
+    /// mirror and glass hit of the frame is returned.
+    fn eye_view(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        options: &RenderOptions,
+    ) -> Result<Vec<(usize, Ray, Hit)>, BackendError> {
+        let _ = options;
+        eye_by_rays(self, scene, camera)
+    }
+
+    /// The eye's pixels that [`eye_view`](Self::eye_view) kept and no
+    /// [`PointShading::shade_tree`] has shaded since, as texels of the eye's level of the radiance
+    /// flow (for a frame that the caller shades after all); none are kept after.
+    fn take_kept_eye(&self) -> Result<Vec<TexelRadiance>, BackendError> {
+        Ok(Vec::new())
+    }
+}
+
+/// [`EyeView::eye_view`] by `queries`' nearest hits of the pixels' primary rays, keeping none.
+pub fn eye_by_rays(
+    queries: &(impl RayQueries + ?Sized),
+    scene: &Scene,
+    camera: &Camera,
+) -> Result<Vec<(usize, Ray, Hit)>, BackendError> {
+    let frame = camera.frame();
+    let rays: Vec<Ray> = (0..camera.width as usize * camera.height as usize)
+        .into_par_iter()
+        .map(|i| camera.pixel_ray(&frame, i))
+        .collect();
+    let hits = queries.closest_hits(scene, &rays)?;
+    Ok(hits.into_par_iter().zip(rays).enumerate().filter_map(|(i, (h, ray))| Some((i, ray, h?))).collect())
+}
+
 /// How long a backend has blocked on a device, so that a frame's host work (000 Table 2's CPU
 /// share) is its wall time less these waits. A backend on the CPU has none (the default).
 pub trait DeviceWaits: Sync {
@@ -62,8 +106,8 @@ pub trait DeviceWaits: Sync {
     }
 }
 
-/// What the nonlinear renderer needs of a backend: ray queries, a beam rasterizer, (optional)
-/// point shading and its device waits. Implemented for every type that has the four.
-pub trait BeamRenderer: RayQueries + BeamRasterizer + PointShading + DeviceWaits {}
+/// What the nonlinear renderer needs of a backend: ray queries, the eye's view, a beam rasterizer,
+/// (optional) point shading and its device waits. Implemented for every type that has the five.
+pub trait BeamRenderer: RayQueries + EyeView + BeamRasterizer + PointShading + DeviceWaits {}
 
-impl<T: RayQueries + BeamRasterizer + PointShading + DeviceWaits> BeamRenderer for T {}
+impl<T: RayQueries + EyeView + BeamRasterizer + PointShading + DeviceWaits> BeamRenderer for T {}

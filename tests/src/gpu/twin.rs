@@ -27,6 +27,8 @@ impl BeamRasterizer for TwinShading {
 
 impl beam_cpu::nonlinear::DeviceWaits for TwinShading {}
 
+impl beam_scene::nonlinear::EyeView for TwinShading {}
+
 impl beam_cpu::nonlinear::RayQueries for TwinShading {
     fn closest_hits(&self, scene: &scene::Scene, rays: &[Ray]) -> Result<Vec<Option<beam_bvh::Hit>>, BackendError> {
         CpuBeams.closest_hits(scene, rays)
