@@ -182,7 +182,7 @@ impl GpuEye {
         let mut others: Vec<EyeHit> =
             read_all(gpu, Vec::new(), dispatched.iter().zip(&all_counts).map(|((_, _, o, _), c)| (o, hit_bytes(c))))?;
         // Appended in any order: put back in pixel order.
-        others.sort_unstable_by_key(|h| h.pixel);
+        others.par_sort_unstable_by_key(|h| h.pixel);
         let kept = dispatched
             .into_iter()
             .zip(&all_counts)
