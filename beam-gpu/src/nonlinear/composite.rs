@@ -160,7 +160,8 @@ impl GpuComposite {
             let radiance_view = radiance.create_view(&Default::default());
             let mut region_slots = Slots::new(below_regions.len(), "no such child beam");
             // The eye's points kept on the GPU: shaded and written to their pixels.
-            for k in kept.iter().filter(|_| depth == 0) {
+            let kept_here = if depth == 0 { kept } else { &[] };
+            for k in kept_here {
                 let (mut encoder, shaded) =
                     shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0)?;
                 let params = CompositeParams { records: 0, points: k.count, pad: [0; 2] };

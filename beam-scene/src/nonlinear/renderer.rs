@@ -1,9 +1,9 @@
 //! The narrow interfaces a nonlinear backend implements, each named for what it does: ray queries
-//! (nearest hits with barycentric weights, any hits), the eye's view, a beam rasterizer (beams and scene triangles
-//! to texels, 000 Alg. 1) and point shading (hit to radiance, where the backend can). A renderer
-//! is their composition ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's `GpuBeams` are two.
-//! A backend that can fail returns a [`BackendError`] (the CPU's never fails); its message is the
-//! backend's own.
+//! (nearest hits with barycentric weights, any hits), the eye's view, a beam rasterizer (beams and
+//! scene triangles to texels, 000 Alg. 1) and point shading (hit to radiance, where the backend
+//! can). A renderer is their composition ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's
+//! `GpuBeams` are two. A backend that can fail returns a [`BackendError`] (the CPU's never fails);
+//! its message is the backend's own.
 
 use super::radiance::{LevelRadiance, TexelRadiance};
 use super::smesh::SMesh;
