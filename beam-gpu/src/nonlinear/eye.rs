@@ -35,7 +35,7 @@ pub struct EyeParams {
     pub position: [f32; 3],
     /// Image width in pixels.
     pub width: u32,
-    /// Unit view direction ([`beam_scene::scene::CameraFrame`]).
+    /// Unit view direction (of the camera's frame, `Camera::frame`).
     pub forward: [f32; 3],
     /// Image height in pixels.
     pub height: u32,
@@ -120,8 +120,8 @@ impl GpuEye {
         })
     }
 
-    /// The eye's view of `camera` in dispatches of at most [`GpuComposite::records_per_dispatch`]
-    /// pixels: per dispatch, the diffuse, glossy and emissive hits of `crop` kept as shading inputs,
+    /// The eye's view of `camera` in dispatches of as many pixels as a composite dispatch takes
+    /// texels: per dispatch, the diffuse, glossy and emissive hits of `crop` kept as shading inputs,
     /// and every mirror and glass hit of the frame, in pixel order.
     pub fn run(
         &self,
