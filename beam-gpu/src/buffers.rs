@@ -115,8 +115,7 @@ pub fn compute_pipeline(gpu: &Gpu, shader: &str, entry: &str) -> Result<wgpu::Co
 }
 
 /// An encoder with one dispatch of `groups` workgroups of `pipeline`, `buffers` bound in order at
-/// group 0 (binding `i` the `i`-th); past 65,535 groups the dispatch is `65,535 × ⌈groups / 65,535⌉`
-/// (the shader folds `y` into its index, see [`crate::interface::WORKGROUP_SIZE`]).
+/// group 0 (binding `i` the `i`-th) ([`compute_pass`]).
 #[must_use]
 pub fn dispatch(
     gpu: &Gpu,
@@ -124,24 +123,42 @@ pub fn dispatch(
     buffers: &[&wgpu::Buffer],
     groups: u32,
 ) -> wgpu::CommandEncoder {
-    let entries: Vec<_> = buffers
-        .iter()
-        .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
-        .collect();
+    let entries: Vec<_> = buffers.iter().zip(0..).map(|(b, i)| buffer_entry(i, b)).collect();
     let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &pipeline.get_bind_group_layout(0),
         entries: &entries,
     });
     let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
-    }
+    compute_pass(&mut encoder, pipeline, &bind, groups);
     encoder
+}
+
+/// A pass of `groups` workgroups of `pipeline`, `bind` at group 0, added to `encoder`; past 65,535
+/// groups the dispatch is `65,535 × ⌈groups / 65,535⌉` (the shader folds `y` into its index, see
+/// [`crate::interface::WORKGROUP_SIZE`]).
+pub fn compute_pass(
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    bind: &wgpu::BindGroup,
+    groups: u32,
+) {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, bind, &[]);
+    pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+}
+
+/// Binding `binding`: all of buffer `b`.
+#[must_use]
+pub fn buffer_entry(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }
+}
+
+/// Binding `binding`: texture view `v`.
+#[must_use]
+pub fn view_entry(binding: u32, v: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(v) }
 }
 
 /// A buffer of `size` bytes the shaders write (and the host may fill) and [`read_back`] copies from;

@@ -5,7 +5,9 @@
 //! the nonlinear renderer, in passes of bounded work ([`PASS_BUDGET`]). CPU twin: [`shade_twin`];
 //! on point-lit scenes it equals `shade_point`.
 
-use crate::buffers::{checked, compute_pipeline, max_binding, output, read_back, storage, uniform};
+use crate::buffers::{
+    buffer_entry, checked, compute_pass, compute_pipeline, max_binding, output, read_back, storage, uniform, view_entry,
+};
 use crate::interface::{
     LIGHT_POINT, LIGHT_QUAD, LIGHT_TRIANGLE, SURFACE_EMISSIVE, SURFACE_REFLECTING, SURFACE_UNSHADED, WORKGROUP_SIZE,
 };
@@ -364,9 +366,9 @@ impl PointShader {
             (11, &state),
         ]
         .into_iter()
-        .map(|(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() })
+        .map(|(binding, b)| buffer_entry(binding, b))
         .collect();
-        entries.push(wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&flux) });
+        entries.push(view_entry(9, &flux));
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shade"),
             layout: &self.pipeline.get_bind_group_layout(0),
@@ -377,13 +379,7 @@ impl PointShader {
         loop {
             gpu.queue.write_buffer(&state, 0, &[0; 4]);
             let mut encoder = new_encoder();
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                let groups = count.div_ceil(WORKGROUP_SIZE as usize) as u32;
-                pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
-            }
+            compute_pass(&mut encoder, &self.pipeline, &bind, count.div_ceil(WORKGROUP_SIZE as usize) as u32);
             let left: Vec<u32> = read_back(gpu, encoder, &state, 4)?;
             if left.first().is_none_or(|&n| n == 0) {
                 break;

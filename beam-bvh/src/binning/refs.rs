@@ -141,8 +141,9 @@ mod tests {
     use super::*;
     use beam_math::glam::Vec3;
 
-    /// The branch-free test agrees with `Triangle::is_valid` on every kind of bad vertex, on
-    /// zero areas, on areas that underflow and on normals that overflow.
+    /// A reference is made exactly where `Triangle::is_valid` holds, with the triangle's box and
+    /// index, on every kind of bad vertex, on zero areas, on areas that underflow and on normals
+    /// that overflow.
     #[test]
     fn references_are_made_for_exactly_the_valid_triangles() {
         let values = [0.0, 1.0, -2.5, 1e-30, 1e19, -1e20, 3e38, f32::MAX, f32::INFINITY, f32::NEG_INFINITY, f32::NAN];

@@ -13,7 +13,10 @@
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
 use super::eye::{GpuEye, KeptPoints};
-use crate::buffers::{checked, compute_pipeline, map_with, max_binding, output, shader_module, storage, uniform};
+use crate::buffers::{
+    buffer_entry, checked, compute_pass, compute_pipeline, map_with, max_binding, output, shader_module, storage,
+    uniform,
+};
 use crate::interface::{PAIR_NEAR, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::{PointShader, ShadeScene};
@@ -263,10 +266,7 @@ impl<'g> GpuBeams<'g> {
         let bounds = output(self.gpu, "bounding triangles", (pairs.len() * 16) as u64);
         let counters = storage(self.gpu, "counters", &vec![[0u32; 2]; beams.len()], wgpu::BufferUsages::COPY_SRC);
         let bind = |layout: wgpu::BindGroupLayout, entries: &[(u32, &wgpu::Buffer)]| {
-            let entries: Vec<_> = entries
-                .iter()
-                .map(|&(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() })
-                .collect();
+            let entries: Vec<_> = entries.iter().map(|&(binding, b)| buffer_entry(binding, b)).collect();
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("atlas"),
                 layout: &layout,
@@ -274,24 +274,12 @@ impl<'g> GpuBeams<'g> {
             })
         };
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas") });
-        {
-            let group = bind(
-                self.bound.get_bind_group_layout(0),
-                &[
-                    (0, &uniform),
-                    (1, &beam_buffer),
-                    (2, &self.triangles),
-                    (3, &pair_buffer),
-                    (4, &bounds),
-                    (6, &counters),
-                ],
-            );
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(&self.bound);
-            pass.set_bind_group(0, &group, &[]);
-            let groups = pairs.len().div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
-            pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
-        }
+        let group = bind(
+            self.bound.get_bind_group_layout(0),
+            &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (4, &bounds), (6, &counters)],
+        );
+        let groups = pairs.len().div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
+        compute_pass(&mut encoder, &self.bound, &group, groups);
         let group = bind(
             self.pipeline.get_bind_group_layout(0),
             &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (5, &bounds), (6, &counters)],

@@ -8,7 +8,7 @@
 //! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
 
 use super::eye::KeptPoints;
-use crate::buffers::{compute_pipeline, max_binding, storage, uniform, write};
+use crate::buffers::{buffer_entry, compute_pass, compute_pipeline, max_binding, storage, uniform, view_entry, write};
 use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeScene};
@@ -166,7 +166,12 @@ impl GpuComposite {
                     shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0)?;
                 let params = CompositeParams { records: 0, points: k.count, pad: [0; 2] };
                 let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
-                let entries = [buffer(0, &params), buffer(3, &shaded), view(6, &radiance_view), buffer(7, &k.targets)];
+                let entries = [
+                    buffer_entry(0, &params),
+                    buffer_entry(3, &shaded),
+                    view_entry(6, &radiance_view),
+                    buffer_entry(7, &k.targets),
+                ];
                 encode(gpu, &mut encoder, &self.scatter, k.count, &entries);
                 gpu.queue.submit([encoder.finish()]);
             }
@@ -232,24 +237,29 @@ impl GpuComposite {
                         [first, size]
                     })
                     .collect();
-                let points = (direct.len() + other.len()) as u32;
+                let points = targets.len() as u32;
                 let params = CompositeParams { records: records.len() as u32, points, pad: [0; 2] };
                 let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
                 let below_view = below.create_view(&Default::default());
                 let mut composite = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
                 let targets = storage(gpu, "targets", &targets, wgpu::BufferUsages::empty());
-                let entries = [buffer(0, &params), buffer(3, &shaded), view(6, &radiance_view), buffer(7, &targets)];
+                let entries = [
+                    buffer_entry(0, &params),
+                    buffer_entry(3, &shaded),
+                    view_entry(6, &radiance_view),
+                    buffer_entry(7, &targets),
+                ];
                 encode(gpu, &mut composite, &self.scatter, points, &entries);
                 let records_buffer = storage(gpu, "records", &records, wgpu::BufferUsages::empty());
                 let faces = storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty());
                 let regions = storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty());
                 let entries = [
-                    buffer(0, &params),
-                    buffer(1, &records_buffer),
-                    buffer(2, &faces),
-                    view(4, &below_view),
-                    buffer(5, &regions),
-                    view(6, &radiance_view),
+                    buffer_entry(0, &params),
+                    buffer_entry(1, &records_buffer),
+                    buffer_entry(2, &faces),
+                    view_entry(4, &below_view),
+                    buffer_entry(5, &regions),
+                    view_entry(6, &radiance_view),
                 ];
                 encode(gpu, &mut composite, &self.pipeline, records.len() as u32, &entries);
                 gpu.queue.submit([encoder.finish(), composite.finish()]);
@@ -262,16 +272,6 @@ impl GpuComposite {
             .map(|h| Vec3::from_array([h[0], h[1], h[2]].map(|x| half::f16::from_bits(x).to_f32())))
             .collect())
     }
-}
-
-/// Binding `binding`: all of buffer `b`.
-fn buffer(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }
-}
-
-/// Binding `binding`: texture view `v`.
-fn view(binding: u32, v: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(v) }
 }
 
 /// A pass of `pipeline` over `count` invocations with `entries` bound, added to `encoder`; none
@@ -291,11 +291,7 @@ fn encode(
         layout: &pipeline.get_bind_group_layout(0),
         entries,
     });
-    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-    pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, &bind, &[]);
-    let groups = (count as usize).div_ceil(WORKGROUP_SIZE as usize) as u32;
-    pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+    compute_pass(encoder, pipeline, &bind, count.div_ceil(WORKGROUP_SIZE));
 }
 
 /// Of the `texels` whose kind is `Some(gpu_side)` (shaded on the GPU, or by the caller), in order,
