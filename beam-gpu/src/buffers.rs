@@ -75,6 +75,35 @@ pub fn read_back<T: bytemuck::Pod>(
     map_with(gpu, &readback, bytemuck::pod_collect_to_vec)
 }
 
+/// The first `bytes` of each buffer, read back in one copy and one wait after the work `first`,
+/// as `T`s.
+pub fn read_all<'a, T: bytemuck::Pod>(
+    gpu: &Gpu,
+    first: Vec<wgpu::CommandBuffer>,
+    sources: impl Iterator<Item = (&'a wgpu::Buffer, u64)>,
+) -> Result<Vec<T>, GpuError> {
+    let sources: Vec<_> = sources.filter(|(_, bytes)| *bytes > 0).collect();
+    let total: u64 = sources.iter().map(|(_, bytes)| bytes).sum();
+    if total == 0 {
+        gpu.queue.submit(first);
+        return Ok(Vec::new());
+    }
+    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: total,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    let mut at = 0;
+    for (source, bytes) in sources {
+        encoder.copy_buffer_to_buffer(source, 0, &readback, at, bytes);
+        at += bytes;
+    }
+    gpu.queue.submit(first.into_iter().chain([encoder.finish()]));
+    map_with(gpu, &readback, bytemuck::pod_collect_to_vec)
+}
+
 /// Wait for the queue and hand `read` the bytes of a `MAP_READ` buffer where they are mapped (no
 /// copy: a large readback is unpacked straight from them). Mapped ranges start at an 8-byte
 /// boundary (`wgpu::MAP_ALIGNMENT`).

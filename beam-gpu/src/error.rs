@@ -130,6 +130,15 @@ pub enum GpuError {
         /// The device's largest binding.
         max: u64,
     },
+    /// A scene with more mirror and glass triangles than one texture of the device holds (the
+    /// Whitted rays' specular bounces read them from one).
+    #[error("the scene has {triangles} mirror and glass triangles, more than one GPU texture holds ({max})")]
+    TooManySpecular {
+        /// Its mirror and glass triangles.
+        triangles: usize,
+        /// The most one texture holds.
+        max: usize,
+    },
     /// A beam that meets more scene triangles than one storage binding holds.
     #[error("a beam meets {triangles} scene triangles, more than one GPU binding holds ({max})")]
     TooManyTriangles {
@@ -186,6 +195,10 @@ mod tests {
             (
                 GpuError::SceneTooLarge { what: "triangles", bytes: 96_000, max: 65_536 },
                 "the scene's BVH triangles take 96000 bytes, more than one GPU storage binding holds (65536)",
+            ),
+            (
+                GpuError::TooManySpecular { triangles: 3_000_000, max: 2_097_152 },
+                "the scene has 3000000 mirror and glass triangles, more than one GPU texture holds (2097152)",
             ),
             (
                 GpuError::BeamTooLarge { size: 5000, page: 4096 },

@@ -60,6 +60,13 @@ pub const SURFACE_EMISSIVE: u32 = 1;
 /// `kind` of a triangle the shading pass does not shade (mirror, glass).
 pub const SURFACE_UNSHADED: u32 = 2;
 
+/// [`crate::nonlinear::SpecularPrim`]'s `kind`: a mirror (tinted, maybe bump-mapped).
+pub const SPECULAR_MIRROR: u32 = 0;
+/// [`crate::nonlinear::SpecularPrim`]'s `kind`: glass (Fresnel split of reflection and refraction).
+pub const SPECULAR_GLASS: u32 = 1;
+/// [`crate::nonlinear::SpecularPrim`]'s `kind`: a thin pane (the ray passes straight, tinted).
+pub const SPECULAR_THIN: u32 = 2;
+
 /// Bit of [`crate::glossy::GatherParams`]'s `flags`: second-order shadows.
 pub const SECOND_ORDER_SHADOWS: u32 = 1;
 
@@ -129,6 +136,9 @@ pub const CONSTANTS: &[(&str, Value)] = {
         ("SURFACE_REFLECTING", U32(SURFACE_REFLECTING)),
         ("SURFACE_EMISSIVE", U32(SURFACE_EMISSIVE)),
         ("SURFACE_UNSHADED", U32(SURFACE_UNSHADED)),
+        ("SPECULAR_MIRROR", U32(SPECULAR_MIRROR)),
+        ("SPECULAR_GLASS", U32(SPECULAR_GLASS)),
+        ("SPECULAR_THIN", U32(SPECULAR_THIN)),
         ("SECOND_ORDER_SHADOWS", U32(SECOND_ORDER_SHADOWS)),
         ("MAX_LIGHTS", U32(MAX_LIGHTS)),
         ("MAX_CONTROL_POINTS", U32(MAX_CONTROL_POINTS)),

@@ -17,13 +17,14 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("nonlinear_check", include_str!("../shaders/nonlinear_check.wgsl")),
     ("composite", include_str!("../shaders/composite.wgsl")),
     ("eye", include_str!("../shaders/eye.wgsl")),
+    ("whitted", include_str!("../shaders/whitted.wgsl")),
     ("glossy_gather", include_str!("../shaders/glossy_gather.wgsl")),
 ];
 
 /// Library code that some shaders include (`shaders/lib/*.wgsl`): name, source, the shaders that
 /// include it.
 pub(crate) const LIBRARY: &[(&str, &str, &[&str])] =
-    &[("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather", "eye"])];
+    &[("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather", "eye", "whitted"])];
 
 /// The full source of shader `name`: the constants it shares with Rust ([`crate::interface::wgsl`]),
 /// the shared code, the library code it includes, then the shader.

@@ -25,12 +25,14 @@ mod coarse;
 mod eye;
 mod glossy;
 mod twin;
+mod whitted;
 
 use bindings::gpu_images_fit_narrow_bindings;
 use coarse::gpu_coarse_smesh_equals_cpu;
 use eye::gpu_eye_view_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
 use twin::TwinShading;
+use whitted::gpu_whitted_equals_cpu;
 
 const GPU: &[Backend] = &[Backend::Gpu];
 
@@ -63,6 +65,7 @@ pub fn properties() -> Vec<Property> {
             backends: GPU,
             body: gpu_beam_texels_equal_cpu,
         },
+        Property { name: "gpu_whitted_equals_cpu", cites: "000 §7.3", backends: GPU, body: gpu_whitted_equals_cpu },
         Property { name: "gpu_images_equal_cpu", cites: "000 §3, §7", backends: GPU, body: gpu_images_equal_cpu },
         Property {
             name: "gpu_coarse_smesh_equals_cpu",
@@ -493,12 +496,13 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
 
 /// The GPU's final composite (every level's radiance kept on the GPU as half floats, only the
 /// pixels read back) against the CPU's `composite_levels` over the same beam trees (three levels,
-/// 64², shading by `shade_twin` on both sides) on four built-ins with mirrors (tinted and bumpy)
+/// 64², shading by `shade_twin` on both sides, mirror and glass points past the tree by Whitted
+/// rays in waves: on the GPU by `GpuWhitted`) on four built-ins with mirrors (tinted and bumpy)
 /// and glass (Fresnel, total internal reflection): every pixel within 4e-3 relative + 1e-4 (three
 /// half-float roundings and the shading's 1e-4); at most 0.1% may differ by a shadow ray that
 /// grazes an edge. The worst relative error is stated.
 pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_gpu::nonlinear::GpuComposite;
+    use beam_gpu::nonlinear::{GpuComposite, GpuWhitted};
     use beam_gpu::shade::PointShader;
     let gpu = match adapter()? {
         Ok(g) => g,
@@ -520,28 +524,14 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
         let shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)
             .map_err(|e| e.to_string())?;
-        let rest = |points: &[beam_cpu::nonlinear::ShadePoint]| {
-            beam_cpu::nonlinear::shade_points(
-                &TwinShading::default(),
-                &scene,
-                &options.shading,
-                caustics.as_ref(),
-                points,
-            )
+        let whitted = GpuWhitted::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let prepared = shader.prepare(&gpu, caustics.as_ref());
+        let rest = |points: &[beam_cpu::nonlinear::ShadePoint], radiance: (&wgpu::Buffer, usize)| {
+            whitted.shade_into(&gpu, &tracer, &shader, &prepared, 64, points, radiance)
         };
         let smesh = SMesh::specular(&scene);
         let on_gpu = beam_gpu::buffers::checked(&gpu, || {
-            GpuComposite::new(&gpu)?.run(
-                &gpu,
-                &tracer,
-                &shader,
-                (&scene, &smesh),
-                &shader.prepare(&gpu, caustics.as_ref()),
-                64,
-                &levels,
-                &[],
-                &rest,
-            )
+            GpuComposite::new(&gpu)?.run(&gpu, &tracer, &shader, (&scene, &smesh), &prepared, 64, &levels, &[], &rest)
         })
         .map_err(|e| e.to_string())?;
         let (mut differ, mut worst) = (0u64, 0.0f32);

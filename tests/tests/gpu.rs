@@ -13,6 +13,7 @@ beam_conformance::conformance_tests!(
     gpu_coarse_smesh_equals_cpu,
     gpu_shading_equals_cpu,
     gpu_composite_equals_cpu,
+    gpu_whitted_equals_cpu,
     gpu_images_fit_narrow_bindings,
     gpu_glossy_gather_equals_cpu,
     gpu_glossy_gather_area_lights_equal_cpu,

@@ -123,9 +123,9 @@ pub fn run(
          CPU time of our threads, which a software GPU's own threads do not inflate as they do the wall-clock host \
          ms: the calling thread's is a lower bound of the host work, the workers' counts their spin-waits too); \
          read MB: bytes read back per frame; atlas ms: \
-         beam visibility on the GPU (upload, bounding triangles, draws, hit readback); rays ms: the eye's rays \
-         and the Whitted rays past the last tree level; shade ms: the GPU shading pass (area lights by 64 \
-         shadow rays) and the composite, radiance kept on the GPU; PSNR: GPU image vs the CPU's (exact soft \
+         beam visibility on the GPU (upload, bounding triangles, draws, hit readback); rays ms: the eye's rays; \
+         shade ms: the GPU shading pass (area lights by 64 shadow rays), the Whitted rays past the last tree \
+         level and the composite, radiance kept on the GPU; PSNR: GPU image vs the CPU's (exact soft \
          shadows)."
     );
     Ok(())

@@ -79,12 +79,15 @@ fn beam_ray_at(b: Beam, w: vec3<f32>) -> BeamRay {
 // of B(p) = (sin k(y+z), sin k(z+x), sin k(x+y))/√3 in the frame (u, n × u), arguments reduced
 // to one period first.
 fn bump_tilt(b: Beam, p: vec3<f32>) -> vec2<f32> {
+    return tilt_at(b.bump.y, normalize(bv(b, 1u) - bv(b, 0u)), b.normal.xyz, p);
+}
+
+// Bump::tilt of a bump map of wavelength `wavelength` at p, in the frame (u, n × u).
+fn tilt_at(wavelength: f32, u: vec3<f32>, n: vec3<f32>, p: vec3<f32>) -> vec2<f32> {
     let tau = 6.2831855;
-    let l = max(b.bump.y, 1e-30);
+    let l = max(wavelength, 1e-30);
     let s = vec3<f32>(p.y + p.z, p.z + p.x, p.x + p.y) / l;
     let v = sin(tau * (s - floor(s))) / sqrt(3.0);
-    let u = normalize(bv(b, 1u) - bv(b, 0u));
-    let n = b.normal.xyz;
     return vec2<f32>(dot(v, u), dot(v, cross(n, u)));
 }
 

@@ -6,7 +6,8 @@
 use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
-    AtlasParams, CheckCase, CompositeParams, CompositeRecord, EyeCounts, EyeHit, EyeParams, GpuBeam, GpuFace,
+    AtlasParams, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams, GpuBeam,
+    GpuFace, WhittedCounts, WhittedParams, WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, ShadeInput, ShadeParams};
@@ -47,6 +48,11 @@ fn tables() -> Vec<Table> {
         bindings!("eye" => [
             nodes: FlatNode, triangles: GpuTriangle, params: EyeParams, plain: u32, kept: ShadeInput, targets: u32,
             others: EyeHit, counts: EyeCounts,
+        ]),
+        bindings!("whitted" => [
+            nodes: FlatNode, triangles: GpuTriangle, params: WhittedParams, slots: u32, specular,
+            points: ShadeInput, point_dests: u32, paths_in: WhittedPath, paths_out: WhittedPath, ends: ShadeInput,
+            end_weights: EndWeight, counts: WhittedCounts, shaded: [f32; 4], radiance: u32,
         ]),
     ]
 }

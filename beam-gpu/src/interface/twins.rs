@@ -6,7 +6,8 @@
 use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
-    AtlasParams, CheckCase, CompositeParams, CompositeRecord, EyeCounts, EyeHit, EyeParams, GpuBeam, GpuFace,
+    AtlasParams, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams, GpuBeam,
+    GpuFace, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, STATE_HEADER, ShadeInput, ShadeParams, ShadeState};
@@ -104,6 +105,14 @@ fn twins() -> Vec<Twin> {
         twin!("eye", ShadeInput => ShadeInput { p, prim, d, seed }),
         twin!("eye", EyeHit => EyeHit { pixel, prim, t, pad }),
         twin!("eye", EyeCounts => EyeCounts { kept, others, overflow, pad }),
+        twin!("whitted", WhittedParams => WhittedParams { count, first, last, eps }),
+        twin!("whitted", ShadeInput => ShadeInput { p, prim, d, seed }),
+        twin!("whitted", SpecularPrim => SpecularPrim {
+            v0, kind, v1, ior, v2, has_normals, n0, delta, n1, wavelength, n2, pad0, normal, pad1, tint, pad2
+        }),
+        twin!("whitted", WhittedPath => Path { origin, dest, direction, seed, weight, pad }),
+        twin!("whitted", EndWeight => EndWeight { weight, dest }),
+        twin!("whitted", WhittedCounts => WhittedCounts { paths, ends, overflow, pad }),
     ]
 }
 

@@ -13,13 +13,14 @@
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
 use super::eye::{GpuEye, KeptPoints};
+use super::whitted::GpuWhitted;
 use crate::buffers::{
-    buffer_entry, checked, compute_pass, compute_pipeline, map_with, max_binding, output, shader_module, storage,
-    uniform,
+    buffer_entry, checked, compute_pass, compute_pipeline, map_with, max_binding, output, read_all, shader_module,
+    storage, uniform,
 };
 use crate::interface::{PAIR_NEAR, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
-use crate::shade::{PointShader, ShadeScene};
+use crate::shade::PointShader;
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
@@ -29,7 +30,7 @@ use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{
     BeamJob, BeamRasterizer, BeamTexture, DeviceWaits, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint,
-    TexelHit, cone_candidates, shade_by_waves,
+    TexelHit, cone_candidates,
 };
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
@@ -64,7 +65,8 @@ pub struct GpuTimes {
     pub prepare_seconds: f64,
     /// Seconds tracing rays on the GPU (the eye's view, the reference's Whitted rays).
     pub ray_seconds: f64,
-    /// Seconds shading points and compositing the beam tree on the GPU.
+    /// Seconds shading points (mirror and glass ones by Whitted rays past the tree) and compositing
+    /// the beam tree on the GPU.
     pub shade_seconds: f64,
     /// Of the composite's, host seconds (not blocked on the device) following the Whitted rays of
     /// mirror and glass points past the tree's last level.
@@ -94,6 +96,8 @@ pub struct GpuBeams<'g> {
     shader: PointShader,
     /// The final composite on the GPU.
     composite: GpuComposite,
+    /// The Whitted rays past the tree on the GPU.
+    whitted: GpuWhitted,
     /// Shadow rays per area light and shade point.
     light_samples: u32,
     extent: f32,
@@ -122,32 +126,31 @@ impl<'g> GpuBeams<'g> {
     }
 
     /// Exact shading of `points` on the GPU: diffuse, glossy and emissive points by the shading
-    /// pass; mirrors and glass by Whitted rays traced on the GPU in waves, the points they end on
-    /// shaded by the same pass.
-    fn shade_exact(
-        &self,
-        scene: &Scene,
-        caustics: Option<&IrradianceMap>,
-        points: &[ShadePoint],
-    ) -> Result<Vec<Vec3>, BackendError> {
-        self.shade_exact_prepared(scene, &self.shader.prepare(self.gpu, caustics), points)
-    }
-
-    /// [`shade_exact`](Self::shade_exact) with the scene's shading and caustics uploaded once for
-    /// every wave (the caustic flux alone can be tens of megabytes).
-    fn shade_exact_prepared(
-        &self,
-        scene: &Scene,
-        prepared: &ShadeScene,
-        points: &[ShadePoint],
-    ) -> Result<Vec<Vec3>, BackendError> {
-        let gpu_shade = |batch: &[ShadePoint]| {
-            let start = Instant::now();
-            let out = self.shader.shade_prepared(self.gpu, &self.tracer, prepared, self.light_samples, batch);
-            self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
-            out.map_err(BackendError::from)
-        };
-        shade_by_waves(scene, self, &gpu_shade, points)
+    /// pass; mirrors and glass by Whitted rays traced on the GPU in waves ([`GpuWhitted`]), the
+    /// points they end on shaded by the same pass.
+    fn shade_exact(&self, caustics: Option<&IrradianceMap>, points: &[ShadePoint]) -> Result<Vec<Vec3>, GpuError> {
+        let start = Instant::now();
+        let prepared = self.shader.prepare(self.gpu, caustics);
+        let mut out = Vec::with_capacity(points.len());
+        for part in points.chunks(GpuWhitted::per_dispatch(self.gpu)) {
+            let bytes = (part.len() * 16) as u64;
+            let radiance: Vec<[f32; 4]> = checked(self.gpu, || {
+                let radiance = output(self.gpu, "radiance", bytes);
+                self.whitted.shade_into(
+                    self.gpu,
+                    &self.tracer,
+                    &self.shader,
+                    &prepared,
+                    self.light_samples,
+                    part,
+                    (&radiance, 0),
+                )?;
+                read_all(self.gpu, Vec::new(), std::iter::once((&radiance, bytes)))
+            })?;
+            out.extend(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])));
+        }
+        self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
+        Ok(out)
     }
 
     /// Upload `scene` and compile the pipeline; pages of up to 4096² texels (less where the adapter
@@ -203,6 +206,7 @@ impl<'g> GpuBeams<'g> {
             kept: Mutex::default(),
             shader: PointShader::new(gpu, scene)?,
             composite: GpuComposite::new(gpu)?,
+            whitted: GpuWhitted::new(gpu, scene)?,
             light_samples: 64,
             extent: scene.bounds().extent().length(),
             page,
@@ -520,7 +524,7 @@ impl RayQueries for GpuBeams<'_> {
 impl PointShading for GpuBeams<'_> {
     fn shade_points(
         &self,
-        scene: &Scene,
+        _scene: &Scene,
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         points: &[ShadePoint],
@@ -529,7 +533,7 @@ impl PointShading for GpuBeams<'_> {
         if options.shading != Shading::Exact {
             return Ok(None);
         }
-        self.shade_exact(scene, caustics, points).map(Some)
+        self.shade_exact(caustics, points).map(Some).map_err(BackendError::from)
     }
 
     fn shade_tree(
@@ -545,16 +549,21 @@ impl PointShading for GpuBeams<'_> {
         }
         let start = Instant::now();
         let kept = self.kept.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take().unwrap_or_default();
-        // Mirror and glass points past the tree by `shade_exact` (Whitted rays in waves), timed there.
-        let elsewhere = Cell::new(0.0);
+        // Mirror and glass points past the tree by Whitted rays in waves, their host time apart.
         // The scene's shading and caustics, uploaded once for the composite and every wave.
         let prepared = self.shader.prepare(self.gpu, caustics);
-        let rest = |points: &[ShadePoint]| {
+        let rest = |points: &[ShadePoint], radiance: (&wgpu::Buffer, usize)| {
             let (start, waited) = (Instant::now(), self.gpu.traffic().waited_seconds);
-            let out = self.shade_exact_prepared(scene, &prepared, points);
-            let wall = start.elapsed().as_secs_f64();
-            elsewhere.set(elsewhere.get() + wall);
-            let host = wall - (self.gpu.traffic().waited_seconds - waited);
+            let out = self.whitted.shade_into(
+                self.gpu,
+                &self.tracer,
+                &self.shader,
+                &prepared,
+                self.light_samples,
+                points,
+                radiance,
+            );
+            let host = start.elapsed().as_secs_f64() - (self.gpu.traffic().waited_seconds - waited);
             self.add_times(|t| t.whitted_host_seconds += host);
             out
         };
@@ -572,7 +581,7 @@ impl PointShading for GpuBeams<'_> {
             )
         });
         self.add_times(|t| {
-            t.shade_seconds += start.elapsed().as_secs_f64() - elsewhere.get();
+            t.shade_seconds += start.elapsed().as_secs_f64();
             t.gpu_composites += u64::from(pixels.is_ok());
         });
         pixels.map(Some).map_err(BackendError::from)

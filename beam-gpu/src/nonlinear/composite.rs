@@ -8,14 +8,13 @@
 //! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
 
 use super::eye::KeptPoints;
-use crate::buffers::{buffer_entry, compute_pass, compute_pipeline, max_binding, storage, uniform, view_entry, write};
+use crate::buffers::{buffer_entry, compute_pass, compute_pipeline, max_binding, storage, uniform, view_entry};
 use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeScene};
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
 use beam_scene::nonlinear::{Composite, LevelRadiance, SMesh, ShadePoint, TexelRadiance};
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::{Material, Scene};
@@ -85,8 +84,10 @@ const _: () =
 /// "None" in [`CompositeRecord`] ([`crate::interface::NONE`]).
 pub use crate::interface::NONE;
 
-/// Shades a batch of the points the [`PointShader`] does not (mirrors and glass past the tree).
-pub type ShadeRest<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, BackendError> + 'a;
+/// Shades a batch of the points the [`PointShader`] does not (mirrors and glass past the tree): adds
+/// the radiance of point `i` to element `first + i` of a buffer of `vec4<f32>`s (zeroed), as
+/// [`GpuWhitted::shade_into`](super::GpuWhitted::shade_into) does.
+pub type ShadeRest<'a> = dyn Fn(&[ShadePoint], (&wgpu::Buffer, usize)) -> Result<(), GpuError> + 'a;
 
 /// The format of a level's radiance: rgb as half floats (and an unused alpha), 8 bytes a texel.
 const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -186,9 +187,10 @@ impl GpuComposite {
                 // Where each shaded radiance goes: the direct points' texels, then the others'.
                 let mut targets = of_kind(texels, &kinds, true, |t| t.texel);
                 targets.extend(of_kind(texels, &kinds, false, |t| t.texel));
-                let other_radiance: Vec<[f32; 4]> = rest(&other)?.iter().map(|c| c.extend(0.0).to_array()).collect();
                 let (encoder, shaded) = shader.shade_into(gpu, tracer, prepared, spp, &direct, other.len())?;
-                write(gpu, &shaded, (direct.len() * 16) as u64, bytemuck::cast_slice(&other_radiance));
+                if !other.is_empty() {
+                    rest(&other, (&shaded, direct.len()))?;
+                }
                 // The composited texels, the faces and child regions they reference compacted (in
                 // the texels' order, on one thread), then their records (in parallel).
                 let composited: Vec<(&TexelRadiance, Composite)> =

@@ -6,7 +6,7 @@
 
 use super::atlas::GpuBeams;
 use super::composite::GpuComposite;
-use crate::buffers::{checked, compute_pipeline, dispatch, map_with, output, storage, uniform};
+use crate::buffers::{checked, compute_pipeline, dispatch, output, read_all, storage, uniform};
 use crate::interface::WORKGROUP_SIZE;
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeInput};
@@ -190,35 +190,6 @@ impl GpuEye {
             .collect();
         Ok((kept, others))
     }
-}
-
-/// The first `bytes` of each buffer, read back in one copy and one wait after the work `first`,
-/// as `T`s.
-fn read_all<'a, T: Pod>(
-    gpu: &Gpu,
-    first: Vec<wgpu::CommandBuffer>,
-    sources: impl Iterator<Item = (&'a wgpu::Buffer, u64)>,
-) -> Result<Vec<T>, GpuError> {
-    let sources: Vec<_> = sources.filter(|(_, bytes)| *bytes > 0).collect();
-    let total: u64 = sources.iter().map(|(_, bytes)| bytes).sum();
-    if total == 0 {
-        gpu.queue.submit(first);
-        return Ok(Vec::new());
-    }
-    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: total,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-    let mut at = 0;
-    for (source, bytes) in sources {
-        encoder.copy_buffer_to_buffer(source, 0, &readback, at, bytes);
-        at += bytes;
-    }
-    gpu.queue.submit(first.into_iter().chain([encoder.finish()]));
-    map_with(gpu, &readback, bytemuck::pod_collect_to_vec)
 }
 
 impl EyeView for GpuBeams<'_> {

@@ -1,5 +1,5 @@
 //! Nonlinear beam tracing (000) on the GPU: the beams' GPU layout, the atlas pipeline of 000 §3 that
-//! renders every beam of a tree level at once, the eye's view and the final composite, and compute
+//! renders every beam of a tree level at once, the eye's view, the Whitted rays past the tree and the final composite, and compute
 //! entry points that check the WGSL
 //! bounding triangles and rays against beam-math.
 
@@ -8,9 +8,11 @@ mod beam;
 mod check;
 mod composite;
 mod eye;
+mod whitted;
 
 pub use atlas::{AtlasParams, GpuBeams, GpuTimes};
 pub use beam::{GpuBeam, MAX_CONTROL_POINTS};
 pub use check::{CheckCase, GpuBoundingTriangle, NonlinearCheck};
 pub use composite::{CompositeParams, CompositeRecord, GpuComposite, GpuFace, NONE, ShadeRest};
 pub use eye::{EyeCounts, EyeHit, EyeParams, GpuEye, KeptPoints};
+pub use whitted::{EndWeight, GpuWhitted, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath};

@@ -1,0 +1,280 @@
+// Whitted rays past the beam tree, traced in waves on the GPU: mirror and glass points send on
+// their specular rays (at most MAX_DEPTH bounces), the points the paths end on are appended as
+// shading inputs (shaded by raytrace.wgsl's `shade`), and `gather` adds each end's radiance, times
+// its path's weight, to its destination. `start` takes the points to shade, `wave` one wave of paths;
+// both append up to two paths per item (the host sizes the outputs) and zero ends or one. The host
+// zeroes `counts` before a dispatch. CPU twin: beam_scene::nonlinear::shade_by_waves with
+// beam_scene::specular::specular_rays; lib/trace.wgsl is prepended by the host.
+
+// Twin of beam_gpu::nonlinear::WhittedParams (16 bytes).
+struct WhittedParams {
+    // Items of the dispatch, from `first` on.
+    count: u32,
+    first: u32,
+    // 1 on the last wave: specular hits end there, unshaded.
+    last: u32,
+    // Offset of the specular rays' origins off the surface (beam_scene::tolerance::shading_eps).
+    eps: f32,
+}
+
+// Twin of beam_gpu::shade::ShadeInput (32 bytes).
+struct ShadeInput {
+    p: vec3<f32>,
+    prim: u32,
+    d: vec3<f32>,
+    seed: u32,
+}
+
+// Twin of beam_gpu::nonlinear::SpecularPrim (128 bytes): a mirror or glass triangle.
+struct SpecularPrim {
+    v0: vec3<f32>,
+    // SPECULAR_MIRROR, SPECULAR_GLASS or SPECULAR_THIN.
+    kind: u32,
+    v1: vec3<f32>,
+    // A glass's index of refraction.
+    ior: f32,
+    v2: vec3<f32>,
+    // 1 where n0..n2 are smooth vertex normals, 0 for none.
+    has_normals: u32,
+    n0: vec3<f32>,
+    // A mirror's bump map: largest tilt δ (0 for none) and wavelength.
+    delta: f32,
+    n1: vec3<f32>,
+    wavelength: f32,
+    n2: vec3<f32>,
+    pad0: u32,
+    // Unit geometric normal (Scene::normal).
+    normal: vec3<f32>,
+    pad1: u32,
+    // A mirror's or thin pane's tint.
+    tint: vec3<f32>,
+    pad2: u32,
+}
+
+// Twin of beam_gpu::nonlinear::WhittedPath (48 bytes): a path's next ray, where its radiance goes
+// and with what weight.
+struct Path {
+    origin: vec3<f32>,
+    dest: u32,
+    direction: vec3<f32>,
+    // The shading seed of its ends (seed32 of the point it started from).
+    seed: u32,
+    weight: vec3<f32>,
+    pad: u32,
+}
+
+// Twin of beam_gpu::nonlinear::EndWeight (16 bytes): of an appended end, its path's weight and
+// destination.
+struct EndWeight {
+    weight: vec3<f32>,
+    dest: u32,
+}
+
+// Twin of beam_gpu::nonlinear::WhittedCounts (16 bytes).
+struct WhittedCounts {
+    paths: atomic<u32>,
+    ends: atomic<u32>,
+    // 1 + the largest item whose traversal overflowed its stack, 0 for none.
+    overflow: atomic<u32>,
+    pad: u32,
+}
+
+@group(0) @binding(2) var<uniform> params: WhittedParams;
+// Per scene triangle: its index in `specular`, NONE for a triangle that is not a mirror or glass.
+@group(0) @binding(3) var<storage, read> slots: array<u32>;
+// The SpecularPrims, eight texels each (texel i at (i mod width, i / width)): a texture, so that no
+// storage binding bounds their number.
+@group(0) @binding(4) var specular: texture_2d<u32>;
+// `start`: the points to shade and the destination of each.
+@group(0) @binding(5) var<storage, read> points: array<ShadeInput>;
+@group(0) @binding(6) var<storage, read> point_dests: array<u32>;
+// `wave`: the paths to trace.
+@group(0) @binding(7) var<storage, read> paths_in: array<Path>;
+@group(0) @binding(8) var<storage, read_write> paths_out: array<Path>;
+@group(0) @binding(9) var<storage, read_write> ends: array<ShadeInput>;
+@group(0) @binding(10) var<storage, read_write> end_weights: array<EndWeight>;
+@group(0) @binding(11) var<storage, read_write> counts: WhittedCounts;
+// `gather`: the ends' shaded radiance, and the radiance (vec4 per destination, f32 bits) it adds to.
+@group(0) @binding(12) var<storage, read> shaded: array<vec4<f32>>;
+@group(0) @binding(13) var<storage, read_write> radiance: array<atomic<u32>>;
+
+// Texel i of `specular`.
+fn specular_texel(i: u32) -> vec4<u32> {
+    let w = textureDimensions(specular).x;
+    return textureLoad(specular, vec2<u32>(i % w, i / w), 0);
+}
+
+// The SpecularPrim in `slot`.
+fn specular_prim(slot: u32) -> SpecularPrim {
+    var t: array<vec4<u32>, 8>;
+    for (var k = 0u; k < 8u; k++) {
+        t[k] = specular_texel(8u * slot + k);
+    }
+    let f = array<vec3<f32>, 8>(
+        bitcast<vec3<f32>>(t[0].xyz), bitcast<vec3<f32>>(t[1].xyz), bitcast<vec3<f32>>(t[2].xyz),
+        bitcast<vec3<f32>>(t[3].xyz), bitcast<vec3<f32>>(t[4].xyz), bitcast<vec3<f32>>(t[5].xyz),
+        bitcast<vec3<f32>>(t[6].xyz), bitcast<vec3<f32>>(t[7].xyz),
+    );
+    return SpecularPrim(
+        f[0], t[0].w, f[1], bitcast<f32>(t[1].w), f[2], t[2].w, f[3], bitcast<f32>(t[3].w),
+        f[4], bitcast<f32>(t[4].w), f[5], t[5].w, f[6], t[6].w, f[7], t[7].w,
+    );
+}
+
+fn push_path(origin: vec3<f32>, direction: vec3<f32>, weight: vec3<f32>, dest: u32, seed: u32) {
+    let j = atomicAdd(&counts.paths, 1u);
+    paths_out[j] = Path(origin, dest, direction, seed, weight, 0u);
+}
+
+// Triangle::barycentric of p, or none (x = -inf) for a degenerate triangle.
+fn barycentric(s: SpecularPrim, p: vec3<f32>) -> vec3<f32> {
+    let n = cross(s.v1 - s.v0, s.v2 - s.v0);
+    let nn = dot(n, n);
+    if !(nn > 0.0) || nn > 3.0e38 {
+        return vec3<f32>(-3.0e38, 0.0, 0.0);
+    }
+    let w0 = dot(cross(s.v1 - p, s.v2 - p), n) / nn;
+    let w1 = dot(cross(s.v2 - p, s.v0 - p), n) / nn;
+    return vec3<f32>(w0, w1, 1.0 - w0 - w1);
+}
+
+// Scene::shading_normal: the Phong interpolation of the smooth vertex normals, else the geometric
+// normal.
+fn shading_normal(s: SpecularPrim, p: vec3<f32>) -> vec3<f32> {
+    if s.has_normals == 0u {
+        return s.normal;
+    }
+    let w = barycentric(s, p);
+    let m = w.x * s.n0 + w.y * s.n1 + w.z * s.n2;
+    let l = length(m);
+    if w.x == -3.0e38 || !(l > 0.0) || l > 3.0e38 {
+        return s.normal;
+    }
+    return m / l;
+}
+
+// reflect: d mirrored about unit n.
+fn mirrored(d: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    return d - 2.0 * dot(d, n) * n;
+}
+
+// The point p of triangle `prim`, reached along unit d by a path of weight `weight`: a mirror or
+// glass point sends on its specular rays (specular_rays; none on the last wave), any other is
+// appended as an end.
+fn bounce(prim: u32, p: vec3<f32>, d: vec3<f32>, weight: vec3<f32>, dest: u32, seed: u32, last: bool) {
+    let slot = slots[prim];
+    if slot == NONE {
+        let j = atomicAdd(&counts.ends, 1u);
+        ends[j] = ShadeInput(p, prim, d, seed);
+        end_weights[j] = EndWeight(weight, dest);
+        return;
+    }
+    if last {
+        return;
+    }
+    let s = specular_prim(slot);
+    var n = s.normal;
+    let entering = dot(n, d) < 0.0;
+    if !entering {
+        n = -n;
+    }
+    let sn = shading_normal(s, p) * select(-1.0, 1.0, dot(n, s.normal) >= 0.0);
+    let eps = params.eps;
+    if s.kind == SPECULAR_MIRROR {
+        var r = mirrored(d, sn);
+        if s.delta > 0.0 {
+            let e = s.v1 - s.v0;
+            let le = length(e);
+            var u = vec3<f32>(0.0);
+            if le > 0.0 && le < 3.0e38 {
+                u = e / le;
+            }
+            r = perturb(normalize(r), n, u, tilt_at(s.wavelength, u, n, p), s.delta);
+        }
+        push_path(p + n * eps, r, weight * s.tint, dest, seed);
+    } else if s.kind == SPECULAR_GLASS {
+        let reflected = mirrored(d, sn);
+        // Snell's law and Schlick's Fresnel split (beam_scene::specular::dielectric).
+        var eta = s.ior;
+        if entering {
+            eta = 1.0 / s.ior;
+        }
+        let cos_i = -dot(sn, d);
+        let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+        if k >= 0.0 {
+            let t = eta * d + (eta * cos_i - sqrt(k)) * sn;
+            let r0 = ((1.0 - s.ior) / (1.0 + s.ior)) * ((1.0 - s.ior) / (1.0 + s.ior));
+            var cos_t = -dot(t, sn);
+            if entering {
+                cos_t = -dot(sn, d);
+            }
+            let m = 1.0 - cos_t;
+            let fresnel = r0 + (1.0 - r0) * (m * m * m * m * m);
+            push_path(p + n * eps, reflected, weight * fresnel, dest, seed);
+            push_path(p - n * eps, t, weight * (1.0 - fresnel), dest, seed);
+        } else {
+            push_path(p + n * eps, reflected, weight, dest, seed);
+        }
+    } else {
+        push_path(p - n * eps, d, weight * s.tint, dest, seed);
+    }
+}
+
+fn item(id: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return id.y * groups.x * WORKGROUP_SIZE + id.x;
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn start(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let k = item(id, groups);
+    if k >= params.count {
+        return;
+    }
+    let i = params.first + k;
+    let s = points[i];
+    bounce(s.prim, s.p, s.d, vec3<f32>(1.0), point_dests[i], s.seed, false);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn wave(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let k = item(id, groups);
+    if k >= params.count {
+        return;
+    }
+    let path = paths_in[params.first + k];
+    let hit = trace_ray(path.origin, path.direction, 3.0e38, false);
+    if hit.prim == MISS {
+        // A miss at t = −1: the traversal's stack overflowed (lib/trace.wgsl).
+        if hit.t < 0.0 {
+            atomicMax(&counts.overflow, k + 1u);
+        }
+        return;
+    }
+    let p = path.origin + hit.t * path.direction;
+    bounce(hit.prim, p, normalize(path.direction), path.weight, path.dest, path.seed, params.last != 0u);
+}
+
+// Adds f to the f32 whose bits are radiance[i].
+fn add_to(i: u32, f: f32) {
+    var old = atomicLoad(&radiance[i]);
+    loop {
+        let r = atomicCompareExchangeWeak(&radiance[i], old, bitcast<u32>(bitcast<f32>(old) + f));
+        if r.exchanged {
+            break;
+        }
+        old = r.old_value;
+    }
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let k = item(id, groups);
+    if k >= params.count {
+        return;
+    }
+    let e = end_weights[k];
+    let c = e.weight * shaded[k].xyz;
+    add_to(4u * e.dest, c.x);
+    add_to(4u * e.dest + 1u, c.y);
+    add_to(4u * e.dest + 2u, c.z);
+}

@@ -1,0 +1,360 @@
+//! Whitted rays past the beam tree on the GPU (`shaders/whitted.wgsl`): mirror and glass points
+//! send on their specular rays, traced in waves of at most [`MAX_DEPTH`] bounces without leaving
+//! the GPU; the points the paths end on are shaded there by [`PointShader`] and their radiance,
+//! times each path's weight, added to the point it started from. Per wave the host reads back
+//! three counts per dispatch, nothing else. CPU twin: [`shade_by_waves`] with [`specular_rays`].
+//!
+//! [`shade_by_waves`]: beam_scene::nonlinear::shade_by_waves
+//! [`specular_rays`]: beam_scene::specular::specular_rays
+
+use crate::buffers::{
+    buffer_entry, compute_pass, compute_pipeline, max_binding, output, read_all, storage, uniform, view_entry,
+};
+use crate::interface::{NONE, SPECULAR_GLASS, SPECULAR_MIRROR, SPECULAR_THIN, WORKGROUP_SIZE};
+use crate::raytrace::RayTracer;
+use crate::shade::{PointShader, ShadeInput, ShadeScene, seed32};
+use crate::texels;
+use crate::{Gpu, GpuError};
+use beam_math::glam::Vec3;
+use beam_scene::nonlinear::ShadePoint;
+use beam_scene::scene::{Bump, Material, Scene};
+use beam_scene::specular::MAX_DEPTH;
+use beam_scene::tolerance::shading_eps;
+use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
+
+/// Uniforms of one dispatch.
+///
+/// WGSL twin: `WhittedParams` in `shaders/whitted.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct WhittedParams {
+    /// Items of the dispatch.
+    pub count: u32,
+    /// Its first item in the input.
+    pub first: u32,
+    /// 1 on the last wave (specular hits end there, unshaded).
+    pub last: u32,
+    /// Offset of the specular rays' origins off the surface.
+    pub eps: f32,
+}
+
+/// A mirror or glass triangle: what [`specular_rays`](beam_scene::specular::specular_rays) reads.
+///
+/// WGSL twin: `SpecularPrim` in `shaders/whitted.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct SpecularPrim {
+    /// First vertex.
+    pub v0: [f32; 3],
+    /// [`SPECULAR_MIRROR`], [`SPECULAR_GLASS`] or [`SPECULAR_THIN`].
+    pub kind: u32,
+    /// Second vertex.
+    pub v1: [f32; 3],
+    /// A glass's index of refraction.
+    pub ior: f32,
+    /// Third vertex.
+    pub v2: [f32; 3],
+    /// 1 where `n0`–`n2` are smooth vertex normals, 0 for none.
+    pub has_normals: u32,
+    /// Smooth normal of the first vertex.
+    pub n0: [f32; 3],
+    /// A mirror's bump map: its largest tilt δ (0 for none).
+    pub delta: f32,
+    /// Smooth normal of the second vertex.
+    pub n1: [f32; 3],
+    /// The bump map's wavelength.
+    pub wavelength: f32,
+    /// Smooth normal of the third vertex.
+    pub n2: [f32; 3],
+    /// Padding.
+    pub pad0: u32,
+    /// Unit geometric normal ([`Scene::normal`]).
+    pub normal: [f32; 3],
+    /// Padding.
+    pub pad1: u32,
+    /// A mirror's or thin pane's tint.
+    pub tint: [f32; 3],
+    /// Padding.
+    pub pad2: u32,
+}
+
+/// `Rgba32Uint` texels of one [`SpecularPrim`].
+const TEXELS_PER_PRIM: usize = size_of::<SpecularPrim>() / 16;
+
+/// A path: its next ray, the radiance it adds to and with what weight.
+///
+/// WGSL twin: `Path` in `shaders/whitted.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct WhittedPath {
+    /// Origin of its next ray.
+    pub origin: [f32; 3],
+    /// Index of the radiance it adds to.
+    pub dest: u32,
+    /// Direction of its next ray.
+    pub direction: [f32; 3],
+    /// Shading seed of its ends (the 32-bit seed of the point it started from).
+    pub seed: u32,
+    /// Its weight.
+    pub weight: [f32; 3],
+    /// Padding.
+    pub pad: u32,
+}
+
+/// Of a path's end (a shading input): its weight and the radiance it adds to.
+///
+/// WGSL twin: `EndWeight` in `shaders/whitted.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct EndWeight {
+    /// The path's weight.
+    pub weight: [f32; 3],
+    /// Index of the radiance it adds to.
+    pub dest: u32,
+}
+
+/// What one dispatch appended.
+///
+/// WGSL twin: `WhittedCounts` in `shaders/whitted.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct WhittedCounts {
+    /// Paths appended.
+    pub paths: u32,
+    /// Ends appended.
+    pub ends: u32,
+    /// 1 + the largest item whose traversal overflowed its stack, 0 for none.
+    pub overflow: u32,
+    /// Padding.
+    pub pad: u32,
+}
+
+const _: () = assert!(
+    size_of::<WhittedParams>() == 16
+        && size_of::<SpecularPrim>() == 128
+        && size_of::<WhittedPath>() == 48
+        && size_of::<EndWeight>() == 16
+        && size_of::<WhittedCounts>() == 16
+);
+
+/// The Whitted waves for one scene: its mirror and glass triangles uploaded.
+pub struct GpuWhitted {
+    start: wgpu::ComputePipeline,
+    wave: wgpu::ComputePipeline,
+    gather: wgpu::ComputePipeline,
+    /// Per scene triangle: its index in `specular`, or [`NONE`].
+    slots: wgpu::Buffer,
+    /// The [`SpecularPrim`]s, eight `Rgba32Uint` texels each ([`crate::texels`]).
+    specular: wgpu::TextureView,
+    eps: f32,
+}
+
+/// One dispatch's output: paths (room for two per item), ends (one per item), counts.
+struct Appended {
+    paths: wgpu::Buffer,
+    ends: wgpu::Buffer,
+    weights: wgpu::Buffer,
+    counts: wgpu::Buffer,
+}
+
+impl GpuWhitted {
+    /// Compile the passes and upload `scene`'s mirror and glass triangles.
+    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
+        let mut slots = vec![NONE; scene.triangles.len()];
+        let mut specular = Vec::new();
+        for (i, slot) in slots.iter_mut().enumerate() {
+            let (kind, tint, ior, bump) = match scene.material(i as u32) {
+                Material::Mirror { tint, bump } => (SPECULAR_MIRROR, tint, 0.0, bump),
+                Material::Glass { ior } => (SPECULAR_GLASS, Vec3::ONE, ior, Bump::NONE),
+                Material::ThinGlass { tint, .. } => (SPECULAR_THIN, tint, 0.0, Bump::NONE),
+                _ => continue,
+            };
+            let t = &scene.triangles[i];
+            let n = scene.smooth_normals.get(&(i as u32));
+            let vn = |k: usize| n.map_or([0.0; 3], |n| n[k].to_array());
+            *slot = specular.len() as u32;
+            specular.push(SpecularPrim {
+                v0: t.v[0].to_array(),
+                kind,
+                v1: t.v[1].to_array(),
+                ior,
+                v2: t.v[2].to_array(),
+                has_normals: u32::from(n.is_some()),
+                n0: vn(0),
+                delta: bump.delta,
+                n1: vn(1),
+                wavelength: bump.wavelength,
+                n2: vn(2),
+                pad0: 0,
+                normal: scene.normal(i as u32).to_array(),
+                pad1: 0,
+                tint: tint.to_array(),
+                pad2: 0,
+            });
+        }
+        if !texels::fits(gpu, TEXELS_PER_PRIM * specular.len()) {
+            let max = texels::width(gpu) as usize * gpu.device.limits().max_texture_dimension_2d as usize;
+            return Err(GpuError::TooManySpecular { triangles: specular.len(), max: max / TEXELS_PER_PRIM });
+        }
+        Ok(Self {
+            start: compute_pipeline(gpu, "whitted", "start")?,
+            wave: compute_pipeline(gpu, "whitted", "wave")?,
+            gather: compute_pipeline(gpu, "whitted", "gather")?,
+            slots: storage(gpu, "specular slots", &slots, wgpu::BufferUsages::empty()),
+            specular: texels::upload(
+                gpu,
+                "specular triangles",
+                bytemuck::cast_slice::<SpecularPrim, [u32; 4]>(&specular),
+                wgpu::TextureFormat::Rgba32Uint,
+            )
+            .create_view(&Default::default()),
+            eps: shading_eps(scene),
+        })
+    }
+
+    /// Items one dispatch takes: its output paths (two per item) within one storage binding, its
+    /// ends within what [`PointShader::shade_inputs`] takes.
+    #[must_use]
+    pub fn per_dispatch(gpu: &Gpu) -> usize {
+        let by_paths = (max_binding(gpu) / (2 * size_of::<WhittedPath>()) as u64) as usize;
+        by_paths.min(PointShader::max_points(gpu)).clamp(1, 1 << 20)
+    }
+
+    /// Adds the radiance of `points` to `radiance` (a buffer of `vec4<f32>`s), point `i`'s to element
+    /// `first + i`: as the CPU's `shade_by_waves` computes it, diffuse, glossy and emissive points
+    /// (and the ends of the others' specular paths) shaded by `shader` (`spp` shadow rays per area
+    /// light, the scene `prepared`). Call inside [`crate::buffers::checked`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn shade_into(
+        &self,
+        gpu: &Gpu,
+        tracer: &RayTracer,
+        shader: &PointShader,
+        prepared: &ShadeScene,
+        spp: u32,
+        points: &[ShadePoint],
+        (radiance, first): (&wgpu::Buffer, usize),
+    ) -> Result<(), GpuError> {
+        let chunk = Self::per_dispatch(gpu);
+        let mut dispatched = Vec::new();
+        for (k, part) in points.chunks(chunk).enumerate() {
+            let inputs: Vec<ShadeInput> = part
+                .par_iter()
+                .map(|s| ShadeInput { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), seed: seed32(s.seed) })
+                .collect();
+            let base = (first + k * chunk) as u32;
+            let dests: Vec<u32> = (base..base + part.len() as u32).collect();
+            let inputs = storage(gpu, "whitted points", &inputs, wgpu::BufferUsages::empty());
+            let dests = storage(gpu, "whitted destinations", &dests, wgpu::BufferUsages::empty());
+            let entries = [buffer_entry(5, &inputs), buffer_entry(6, &dests)];
+            dispatched.push(self.dispatch(gpu, &self.start, (part.len(), 0, false), &entries));
+        }
+        let mut batches = self.finish(gpu, tracer, shader, prepared, spp, dispatched, radiance)?;
+        for depth in 1..=MAX_DEPTH {
+            if batches.is_empty() {
+                break;
+            }
+            let (nodes, triangles) = tracer.buffers();
+            let mut dispatched = Vec::new();
+            for (paths, count) in &batches {
+                let entries = [buffer_entry(0, nodes), buffer_entry(1, triangles), buffer_entry(7, paths)];
+                for from in (0..*count as usize).step_by(chunk) {
+                    let n = chunk.min(*count as usize - from);
+                    dispatched.push(self.dispatch(gpu, &self.wave, (n, from, depth == MAX_DEPTH), &entries));
+                }
+            }
+            batches = self.finish(gpu, tracer, shader, prepared, spp, dispatched, radiance)?;
+        }
+        Ok(())
+    }
+
+    /// One dispatch of `pipeline` over `count` items from `from`, its outputs made, its `inputs`
+    /// bound; an encoder holding it.
+    fn dispatch(
+        &self,
+        gpu: &Gpu,
+        pipeline: &wgpu::ComputePipeline,
+        (count, from, last): (usize, usize, bool),
+        inputs: &[wgpu::BindGroupEntry<'_>],
+    ) -> (wgpu::CommandEncoder, Appended) {
+        let params = WhittedParams { count: count as u32, first: from as u32, last: u32::from(last), eps: self.eps };
+        let params = uniform(gpu, "whitted params", bytemuck::bytes_of(&params));
+        let bytes = |each: usize, n: usize| (each * n) as u64;
+        // Counts zeroed by wgpu.
+        let out = Appended {
+            paths: output(gpu, "whitted paths", bytes(size_of::<WhittedPath>(), 2 * count)),
+            ends: output(gpu, "whitted ends", bytes(size_of::<ShadeInput>(), count)),
+            weights: output(gpu, "whitted end weights", bytes(size_of::<EndWeight>(), count)),
+            counts: output(gpu, "whitted counts", size_of::<WhittedCounts>() as u64),
+        };
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        {
+            let mut entries = vec![
+                buffer_entry(2, &params),
+                buffer_entry(3, &self.slots),
+                view_entry(4, &self.specular),
+                buffer_entry(8, &out.paths),
+                buffer_entry(9, &out.ends),
+                buffer_entry(10, &out.weights),
+                buffer_entry(11, &out.counts),
+            ];
+            entries.extend_from_slice(inputs);
+            let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("whitted"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            });
+            compute_pass(&mut encoder, pipeline, &bind, (count as u32).div_ceil(WORKGROUP_SIZE));
+        }
+        (encoder, out)
+    }
+
+    /// Submit `dispatched`, read their counts back, shade their ends and add them to `radiance`; the
+    /// paths they appended, each buffer with its count.
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        &self,
+        gpu: &Gpu,
+        tracer: &RayTracer,
+        shader: &PointShader,
+        prepared: &ShadeScene,
+        spp: u32,
+        dispatched: Vec<(wgpu::CommandEncoder, Appended)>,
+        radiance: &wgpu::Buffer,
+    ) -> Result<Vec<(wgpu::Buffer, u32)>, GpuError> {
+        let (encoders, outs): (Vec<_>, Vec<_>) = dispatched.into_iter().map(|(e, o)| (e.finish(), o)).unzip();
+        // One submission with the counts' copy (a second would wait for the first, uncounted).
+        let counts = outs.iter().map(|o| (&o.counts, size_of::<WhittedCounts>() as u64));
+        let counts: Vec<WhittedCounts> = read_all(gpu, encoders, counts)?;
+        if let Some(c) = counts.iter().find(|c| c.overflow > 0) {
+            return Err(GpuError::StackOverflow { ray: c.overflow as usize - 1 });
+        }
+        let mut next = Vec::new();
+        for (out, c) in outs.into_iter().zip(counts) {
+            if c.ends > 0 {
+                let (mut encoder, shaded) =
+                    shader.shade_inputs(gpu, tracer, prepared, spp, (&out.ends, c.ends as usize), 0)?;
+                let params = WhittedParams { count: c.ends, first: 0, last: 0, eps: self.eps };
+                let params = uniform(gpu, "whitted params", bytemuck::bytes_of(&params));
+                let entries = [
+                    buffer_entry(2, &params),
+                    buffer_entry(10, &out.weights),
+                    buffer_entry(12, &shaded),
+                    buffer_entry(13, radiance),
+                ];
+                let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("whitted gather"),
+                    layout: &self.gather.get_bind_group_layout(0),
+                    entries: &entries,
+                });
+                compute_pass(&mut encoder, &self.gather, &bind, c.ends.div_ceil(WORKGROUP_SIZE));
+                gpu.queue.submit([encoder.finish()]);
+            }
+            if c.paths > 0 {
+                next.push((out.paths, c.paths));
+            }
+        }
+        Ok(next)
+    }
+}
