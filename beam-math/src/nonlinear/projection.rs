@@ -177,17 +177,17 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// is halved until the residual decreases, which keeps it converging near folds of the beam
     /// (caustics) where the Jacobian is nearly singular.
     fn newton(&self, q: DVec3, mut w: DVec3, mut t: f64, scale: f64) -> Option<(DVec3, f64)> {
+        // The residual at (w, t) and the ray direction d(w) it was computed with.
         let residual = |w: DVec3, t: f64| {
             let (o, d) = self.patch.eval(w);
-            o + t * d - q
+            (o + t * d - q, d)
         };
-        let mut f = residual(w, t);
+        let (mut f, mut d) = residual(w, t);
         for _ in 0..60 {
             if f.length() <= 1e-12 * scale * (1.0 + t.abs()) {
                 return Some((w, t));
             }
             let [(o1, d1), (o2, d2)] = self.patch.derivatives(w);
-            let (_, d) = self.patch.eval(w);
             let jac = DMat3::from_cols(o1 + t * d1, o2 + t * d2, d);
             if jac.determinant().abs() < 1e-300 {
                 return None;
@@ -201,11 +201,9 @@ impl<L: Interpolant> NonlinearBeam<L> {
                     1.0 - (w.x - lambda * step.x) - (w.y - lambda * step.y),
                 );
                 let t2 = t - lambda * step.z;
-                let f2 = residual(w2, t2);
+                let (f2, dir2) = residual(w2, t2);
                 if f2.length() < f.length() || lambda < 1e-3 {
-                    w = w2;
-                    t = t2;
-                    f = f2;
+                    (w, t, f, d) = (w2, t2, f2, dir2);
                     break;
                 }
                 lambda *= 0.5;
