@@ -17,6 +17,7 @@ use beam_scene::nonlinear::{
 use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
+use rayon::prelude::*;
 
 /// Strata per side of an area light in the caustic pass, by default (`beam render
 /// --caustic-strata`). Each of an area light's `k²` stratum emitters renders its beams with `1/k`
@@ -143,8 +144,7 @@ pub fn caustics_by_beams(
             Some((e, f, smesh.exclude(i), beams))
         })
         .collect();
-    let mut map = empty.clone();
-    let mut stats = CausticStats::default();
+    let (mut map, mut stats) = (empty, CausticStats::default());
     // Batches of faces, so that the beams' textures stay within a few hundred MB.
     for batch in faces.chunks(512) {
         let jobs: Vec<BeamJob<'_>> = batch
@@ -160,35 +160,34 @@ pub fn caustics_by_beams(
                 (*l, (*f, ex.thickness), beams, textures.by_ref().take(beams.len()).collect::<Vec<_>>())
             })
             .collect();
-        // In a fixed order, so that every process of a render farm sums the same map.
-        let (m, s) = crate::ordered::fold_in_order(
-            &work,
-            || (empty.clone(), CausticStats::default()),
-            |(mut map, mut stats), (e, f, beams, textures)| {
+        // Per face, the flux its beams deposit, splatted in the faces' order: every process of a
+        // render farm sums the same map. (Lists of deposits, not a map per chunk of faces: a map
+        // cloned, filled and merged 128 times a batch cost more than the deposits themselves.)
+        let per_face: Vec<_> = work
+            .par_iter()
+            .map(|(e, f, beams, textures)| {
                 // Whether the emitter reaches each texel's base point, shared by the face's beams.
                 let n = textures.first().map_or(0, |t| t.size as usize);
-                let mut lit = vec![None; n * n];
+                let (mut lit, mut deposits) = (vec![None; n * n], Vec::new());
                 for ((beam, transmitted), tex) in beams.iter().zip(textures) {
-                    stats.beams += 1;
-                    deposit(scene, *f, beam, tex, e, *transmitted, eps, &mut lit, &mut map, &mut stats);
+                    deposit(scene, *f, beam, tex, e, *transmitted, eps, &mut lit, &mut deposits);
                 }
-                (map, stats)
-            },
-            |(a, sa), (b, sb)| {
-                a.merge(&b);
-                *sa = sa.clone() + sb;
-            },
-        );
-        map.merge(&m);
-        stats = stats + s;
+                deposits
+            })
+            .collect();
+        stats.beams += work.iter().map(|w| w.2.len() as u64).sum::<u64>();
+        for (prim, p, flux) in per_face.into_iter().flatten() {
+            stats.texels_deposited += u64::from(map.splat(prim, p, flux));
+        }
     }
     stats.seconds = start.elapsed().as_secs_f64();
     Ok(Some((map, stats)))
 }
 
-/// Splat the flux of one light beam's texels `tex` off face `f` (with the thickness of the surface
-/// under it; see [`caustics_by_beams`]); `lit` caches per texel whether emitter `e` reaches its base
-/// point (shadow rays offset by `eps`, plus the thickness).
+/// The flux of one light beam's texels `tex` off face `f` (with the thickness of the surface under
+/// it; see [`caustics_by_beams`]), appended to `out` as (receiving triangle, point, flux) to splat;
+/// `lit` caches per texel whether emitter `e` reaches its base point (shadow rays offset by `eps`,
+/// plus the thickness).
 #[allow(clippy::too_many_arguments)]
 fn deposit(
     scene: &Scene,
@@ -199,8 +198,7 @@ fn deposit(
     transmitted: bool,
     eps: f32,
     lit: &mut [Option<bool>],
-    map: &mut IrradianceMap,
-    stats: &mut CausticStats,
+    out: &mut Vec<(u32, Vec3, Vec3)>,
 ) {
     let n = f.normal;
     // Texels whose centre lies strictly inside the base: x + y + 2 ≤ size, n(n−1)/2 of them (the
@@ -227,10 +225,7 @@ fn deposit(
                 continue;
             }
             let ray = beam.ray_at(w);
-            let flux = e.intensity * weight * (n.dot(d).abs() * share / r2);
-            if map.splat(hit.prim, ray.at(hit.t), flux) {
-                stats.texels_deposited += 1;
-            }
+            out.push((hit.prim, ray.at(hit.t), e.intensity * weight * (n.dot(d).abs() * share / r2)));
         }
     }
 }
