@@ -2,8 +2,8 @@
 // their specular rays (at most MAX_DEPTH bounces), the points the paths end on are appended as
 // shading inputs (shaded by raytrace.wgsl's `shade`), and `gather` adds each end's radiance, times
 // its path's weight, to its destination. `start` takes the points to shade, `wave` one wave of paths;
-// both append up to two paths per item (the host sizes the outputs) and zero ends or one. The host
-// zeroes `counts` before a dispatch. CPU twin: beam_scene::nonlinear::shade_by_waves with
+// both append up to two paths per item (the host sizes the outputs) and zero ends or one; each
+// dispatch gets new, zeroed `counts`. CPU twin: beam_scene::nonlinear::shade_by_waves with
 // beam_scene::specular::specular_rays; lib/trace.wgsl is prepended by the host.
 
 // Twin of beam_gpu::nonlinear::WhittedParams (16 bytes).
@@ -126,7 +126,7 @@ fn push_path(origin: vec3<f32>, direction: vec3<f32>, weight: vec3<f32>, dest: u
     paths_out[j] = Path(origin, dest, direction, seed, weight, 0u);
 }
 
-// Triangle::barycentric of p, or none (x = -inf) for a degenerate triangle.
+// Triangle::barycentric of p, or none (x = −3e38) for a degenerate triangle.
 fn barycentric(s: SpecularPrim, p: vec3<f32>) -> vec3<f32> {
     let n = cross(s.v1 - s.v0, s.v2 - s.v0);
     let nn = dot(n, n);

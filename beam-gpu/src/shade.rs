@@ -270,23 +270,11 @@ impl PointShader {
         if points.is_empty() {
             return Ok(Vec::new());
         }
-        self.shade_prepared(gpu, tracer, &self.prepare(gpu, caustics), spp, points)
-    }
-
-    /// [`shade`](Self::shade) with the scene's shading and caustics already on the GPU
-    /// ([`prepare`](Self::prepare)): for callers that shade several batches of one frame.
-    pub fn shade_prepared(
-        &self,
-        gpu: &Gpu,
-        tracer: &RayTracer,
-        prepared: &ShadeScene,
-        spp: u32,
-        points: &[ShadePoint],
-    ) -> Result<Vec<Vec3>, GpuError> {
+        let prepared = self.prepare(gpu, caustics);
         let mut out = Vec::with_capacity(points.len());
         for batch in points.chunks(Self::max_points(gpu)) {
             checked(gpu, || {
-                let (encoder, shaded) = self.shade_into(gpu, tracer, prepared, spp, batch, 0)?;
+                let (encoder, shaded) = self.shade_into(gpu, tracer, &prepared, spp, batch, 0)?;
                 let size = (batch.len() * 16) as u64;
                 let radiance: Vec<[f32; 4]> = read_back(gpu, encoder, &shaded, size)?;
                 out.extend(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])));
