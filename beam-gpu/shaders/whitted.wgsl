@@ -8,7 +8,8 @@
 
 // Twin of beam_gpu::nonlinear::WhittedParams (16 bytes).
 struct WhittedParams {
-    // Items of the dispatch, from `first` on.
+    // Items of the dispatch. `wave`: its first path in `paths_in`; `start`: the destination of
+    // its first point (point k's is first + k).
     count: u32,
     first: u32,
     // 1 on the last wave: specular hits end there, unshaded.
@@ -85,18 +86,17 @@ struct WhittedCounts {
 // The SpecularPrims, eight texels each (texel i at (i mod width, i / width)): a texture, so that no
 // storage binding bounds their number.
 @group(0) @binding(4) var specular: texture_2d<u32>;
-// `start`: the points to shade and the destination of each.
+// `start`: the points to shade.
 @group(0) @binding(5) var<storage, read> points: array<ShadeInput>;
-@group(0) @binding(6) var<storage, read> point_dests: array<u32>;
 // `wave`: the paths to trace.
-@group(0) @binding(7) var<storage, read> paths_in: array<Path>;
-@group(0) @binding(8) var<storage, read_write> paths_out: array<Path>;
-@group(0) @binding(9) var<storage, read_write> ends: array<ShadeInput>;
-@group(0) @binding(10) var<storage, read_write> end_weights: array<EndWeight>;
-@group(0) @binding(11) var<storage, read_write> counts: WhittedCounts;
+@group(0) @binding(6) var<storage, read> paths_in: array<Path>;
+@group(0) @binding(7) var<storage, read_write> paths_out: array<Path>;
+@group(0) @binding(8) var<storage, read_write> ends: array<ShadeInput>;
+@group(0) @binding(9) var<storage, read_write> end_weights: array<EndWeight>;
+@group(0) @binding(10) var<storage, read_write> counts: WhittedCounts;
 // `gather`: the ends' shaded radiance, and the radiance (vec4 per destination, f32 bits) it adds to.
-@group(0) @binding(12) var<storage, read> shaded: array<vec4<f32>>;
-@group(0) @binding(13) var<storage, read_write> radiance: array<atomic<u32>>;
+@group(0) @binding(11) var<storage, read> shaded: array<vec4<f32>>;
+@group(0) @binding(12) var<storage, read_write> radiance: array<atomic<u32>>;
 
 // Texel i of `specular`.
 fn specular_texel(i: u32) -> vec4<u32> {
@@ -230,9 +230,8 @@ fn start(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) 
     if k >= params.count {
         return;
     }
-    let i = params.first + k;
-    let s = points[i];
-    bounce(s.prim, s.p, s.d, vec3<f32>(1.0), point_dests[i], s.seed, false);
+    let s = points[k];
+    bounce(s.prim, s.p, s.d, vec3<f32>(1.0), params.first + k, s.seed, false);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)

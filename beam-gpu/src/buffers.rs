@@ -178,6 +178,26 @@ pub fn compute_pass(
     pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
 }
 
+/// A pass of `pipeline` over `count` invocations (of [`crate::interface::WORKGROUP_SIZE`] a
+/// workgroup) with `entries` bound at group 0, added to `encoder` ([`compute_pass`]); none for none.
+pub fn encode_pass(
+    gpu: &Gpu,
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    count: u32,
+    entries: &[wgpu::BindGroupEntry<'_>],
+) {
+    if count == 0 {
+        return;
+    }
+    let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries,
+    });
+    compute_pass(encoder, pipeline, &bind, count.div_ceil(crate::interface::WORKGROUP_SIZE));
+}
+
 /// Binding `binding`: all of buffer `b`.
 #[must_use]
 pub fn buffer_entry(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {

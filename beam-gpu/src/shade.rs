@@ -38,6 +38,14 @@ pub struct ShadeInput {
     pub seed: u32,
 }
 
+impl ShadeInput {
+    /// Point `s` for the shader (its seed folded to 32 bits, [`seed32`]).
+    #[must_use]
+    pub fn new(s: &ShadePoint) -> Self {
+        Self { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), seed: seed32(s.seed) }
+    }
+}
+
 /// What shading needs of a scene triangle.
 ///
 /// WGSL twin: `PrimShading` in `shaders/raytrace.wgsl` (layouts compared in [`crate::interface`]).
@@ -304,10 +312,7 @@ impl PointShader {
         points: &[ShadePoint],
         extra: usize,
     ) -> Result<(wgpu::CommandEncoder, wgpu::Buffer), GpuError> {
-        let inputs: Vec<ShadeInput> = points
-            .par_iter()
-            .map(|s| ShadeInput { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), seed: seed32(s.seed) })
-            .collect();
+        let inputs: Vec<ShadeInput> = points.par_iter().map(ShadeInput::new).collect();
         let input = storage(gpu, "shade points", &inputs, wgpu::BufferUsages::empty());
         self.shade_inputs(gpu, tracer, scene, spp, (&input, points.len()), extra)
     }

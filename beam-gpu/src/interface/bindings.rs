@@ -51,7 +51,7 @@ fn tables() -> Vec<Table> {
         ]),
         bindings!("whitted" => [
             nodes: FlatNode, triangles: GpuTriangle, params: WhittedParams, slots: u32, specular,
-            points: ShadeInput, point_dests: u32, paths_in: WhittedPath, paths_out: WhittedPath, ends: ShadeInput,
+            points: ShadeInput, paths_in: WhittedPath, paths_out: WhittedPath, ends: ShadeInput,
             end_weights: EndWeight, counts: WhittedCounts, shaded: [f32; 4], radiance: u32,
         ]),
     ]

@@ -8,8 +8,7 @@
 //! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
 
 use super::eye::KeptPoints;
-use crate::buffers::{buffer_entry, compute_pass, compute_pipeline, max_binding, storage, uniform, view_entry};
-use crate::interface::WORKGROUP_SIZE;
+use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, storage, uniform, view_entry};
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeScene};
 use crate::texels;
@@ -173,7 +172,7 @@ impl GpuComposite {
                     view_entry(6, &radiance_view),
                     buffer_entry(7, &k.targets),
                 ];
-                encode(gpu, &mut encoder, &self.scatter, k.count, &entries);
+                encode_pass(gpu, &mut encoder, &self.scatter, k.count, &entries);
                 gpu.queue.submit([encoder.finish()]);
             }
             for texels in level.texels.chunks(chunk) {
@@ -251,7 +250,7 @@ impl GpuComposite {
                     view_entry(6, &radiance_view),
                     buffer_entry(7, &targets),
                 ];
-                encode(gpu, &mut composite, &self.scatter, points, &entries);
+                encode_pass(gpu, &mut composite, &self.scatter, points, &entries);
                 let records_buffer = storage(gpu, "records", &records, wgpu::BufferUsages::empty());
                 let faces = storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty());
                 let regions = storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty());
@@ -263,7 +262,7 @@ impl GpuComposite {
                     buffer_entry(5, &regions),
                     view_entry(6, &radiance_view),
                 ];
-                encode(gpu, &mut composite, &self.pipeline, records.len() as u32, &entries);
+                encode_pass(gpu, &mut composite, &self.pipeline, records.len() as u32, &entries);
                 gpu.queue.submit([encoder.finish(), composite.finish()]);
             }
             below_regions = &level.regions;
@@ -274,26 +273,6 @@ impl GpuComposite {
             .map(|h| Vec3::from_array([h[0], h[1], h[2]].map(|x| half::f16::from_bits(x).to_f32())))
             .collect())
     }
-}
-
-/// A pass of `pipeline` over `count` invocations with `entries` bound, added to `encoder`; none
-/// for none.
-fn encode(
-    gpu: &Gpu,
-    encoder: &mut wgpu::CommandEncoder,
-    pipeline: &wgpu::ComputePipeline,
-    count: u32,
-    entries: &[wgpu::BindGroupEntry<'_>],
-) {
-    if count == 0 {
-        return;
-    }
-    let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("composite"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries,
-    });
-    compute_pass(encoder, pipeline, &bind, count.div_ceil(WORKGROUP_SIZE));
 }
 
 /// Of the `texels` whose kind is `Some(gpu_side)` (shaded on the GPU, or by the caller), in order,

@@ -8,11 +8,11 @@
 //! [`specular_rays`]: beam_scene::specular::specular_rays
 
 use crate::buffers::{
-    buffer_entry, compute_pass, compute_pipeline, max_binding, output, read_all, storage, uniform, view_entry,
+    buffer_entry, compute_pipeline, encode_pass, max_binding, output, read_all, storage, uniform, view_entry,
 };
-use crate::interface::{NONE, SPECULAR_GLASS, SPECULAR_MIRROR, SPECULAR_THIN, WORKGROUP_SIZE};
+use crate::interface::{NONE, SPECULAR_GLASS, SPECULAR_MIRROR, SPECULAR_THIN};
 use crate::raytrace::RayTracer;
-use crate::shade::{PointShader, ShadeInput, ShadeScene, seed32};
+use crate::shade::{PointShader, ShadeInput, ShadeScene};
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
@@ -31,7 +31,7 @@ use rayon::prelude::*;
 pub struct WhittedParams {
     /// Items of the dispatch.
     pub count: u32,
-    /// Its first item in the input.
+    /// `wave`: its first path in the input; `start`: the destination of its first point.
     pub first: u32,
     /// 1 on the last wave (specular hits end there, unshaded).
     pub last: u32,
@@ -239,16 +239,10 @@ impl GpuWhitted {
         let chunk = Self::per_dispatch(gpu);
         let mut dispatched = Vec::new();
         for (k, part) in points.chunks(chunk).enumerate() {
-            let inputs: Vec<ShadeInput> = part
-                .par_iter()
-                .map(|s| ShadeInput { p: s.p.to_array(), prim: s.prim, d: s.d.to_array(), seed: seed32(s.seed) })
-                .collect();
-            let base = (first + k * chunk) as u32;
-            let dests: Vec<u32> = (base..base + part.len() as u32).collect();
+            let inputs: Vec<ShadeInput> = part.par_iter().map(ShadeInput::new).collect();
             let inputs = storage(gpu, "whitted points", &inputs, wgpu::BufferUsages::empty());
-            let dests = storage(gpu, "whitted destinations", &dests, wgpu::BufferUsages::empty());
-            let entries = [buffer_entry(5, &inputs), buffer_entry(6, &dests)];
-            dispatched.push(self.dispatch(gpu, &self.start, (part.len(), 0, false), &entries));
+            let dest = first + k * chunk;
+            dispatched.push(self.dispatch(gpu, &self.start, (part.len(), dest, false), &[buffer_entry(5, &inputs)]));
         }
         let mut batches = self.finish(gpu, tracer, shader, prepared, spp, dispatched, radiance)?;
         for depth in 1..=MAX_DEPTH {
@@ -258,7 +252,7 @@ impl GpuWhitted {
             let (nodes, triangles) = tracer.buffers();
             let mut dispatched = Vec::new();
             for (paths, count) in &batches {
-                let entries = [buffer_entry(0, nodes), buffer_entry(1, triangles), buffer_entry(7, paths)];
+                let entries = [buffer_entry(0, nodes), buffer_entry(1, triangles), buffer_entry(6, paths)];
                 for from in (0..*count as usize).step_by(chunk) {
                     let n = chunk.min(*count as usize - from);
                     dispatched.push(self.dispatch(gpu, &self.wave, (n, from, depth == MAX_DEPTH), &entries));
@@ -289,24 +283,17 @@ impl GpuWhitted {
             counts: output(gpu, "whitted counts", size_of::<WhittedCounts>() as u64),
         };
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        {
-            let mut entries = vec![
-                buffer_entry(2, &params),
-                buffer_entry(3, &self.slots),
-                view_entry(4, &self.specular),
-                buffer_entry(8, &out.paths),
-                buffer_entry(9, &out.ends),
-                buffer_entry(10, &out.weights),
-                buffer_entry(11, &out.counts),
-            ];
-            entries.extend_from_slice(inputs);
-            let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("whitted"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            });
-            compute_pass(&mut encoder, pipeline, &bind, (count as u32).div_ceil(WORKGROUP_SIZE));
-        }
+        let mut entries = vec![
+            buffer_entry(2, &params),
+            buffer_entry(3, &self.slots),
+            view_entry(4, &self.specular),
+            buffer_entry(7, &out.paths),
+            buffer_entry(8, &out.ends),
+            buffer_entry(9, &out.weights),
+            buffer_entry(10, &out.counts),
+        ];
+        entries.extend_from_slice(inputs);
+        encode_pass(gpu, &mut encoder, pipeline, count as u32, &entries);
         (encoder, out)
     }
 
@@ -339,16 +326,11 @@ impl GpuWhitted {
                 let params = uniform(gpu, "whitted params", bytemuck::bytes_of(&params));
                 let entries = [
                     buffer_entry(2, &params),
-                    buffer_entry(10, &out.weights),
-                    buffer_entry(12, &shaded),
-                    buffer_entry(13, radiance),
+                    buffer_entry(9, &out.weights),
+                    buffer_entry(11, &shaded),
+                    buffer_entry(12, radiance),
                 ];
-                let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("whitted gather"),
-                    layout: &self.gather.get_bind_group_layout(0),
-                    entries: &entries,
-                });
-                compute_pass(&mut encoder, &self.gather, &bind, c.ends.div_ceil(WORKGROUP_SIZE));
+                encode_pass(gpu, &mut encoder, &self.gather, c.ends, &entries);
                 gpu.queue.submit([encoder.finish()]);
             }
             if c.paths > 0 {
