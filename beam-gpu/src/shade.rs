@@ -21,6 +21,7 @@ use beam_scene::scene::{Light, Material, Scene};
 use beam_scene::tolerance::{DEPTH_EPS, shading_eps};
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 /// A point to shade.
 ///
@@ -182,6 +183,9 @@ pub struct ShadeState {
 /// other devices the passes cost one 4-byte read-back each.
 pub const PASS_BUDGET: u32 = 2048;
 
+/// The most shading passes one submission encodes before it reads back how many points are left.
+const MAX_PASSES_AT_ONCE: u32 = 16;
+
 const _: () = assert!(
     size_of::<ShadeInput>() == 32
         && size_of::<PrimShading>() == 32
@@ -201,6 +205,8 @@ pub struct PointShader {
     lights: wgpu::Buffer,
     light_count: u32,
     eps: f32,
+    /// Passes the last shading took: how many the next one encodes in its first submission.
+    passes: AtomicU32,
 }
 
 impl PointShader {
@@ -223,6 +229,7 @@ impl PointShader {
             lights: storage(gpu, "lights", &lights, wgpu::BufferUsages::empty()),
             light_count: lights.len() as u32,
             eps: shading_eps(scene),
+            passes: AtomicU32::new(1),
         })
     }
 
@@ -368,16 +375,30 @@ impl PointShader {
             entries: &entries,
         });
         // Passes until no point is left unfinished (each moves every unfinished point on by at least
-        // one light or shadow ray).
+        // one light or shadow ray). A submission encodes as many passes as the last shading needed,
+        // so that a frame's shadings mostly wait once each: a pass after a point is shaded leaves it
+        // as it is (it only reads its state), so the radiance is the same however many are encoded.
+        // Each pass counts the points it leaves unfinished afresh, copied out after it.
+        let passes = self.passes.load(Ordering::Relaxed).clamp(1, MAX_PASSES_AT_ONCE);
+        let left_after = output(gpu, "shade passes", 4 * u64::from(MAX_PASSES_AT_ONCE));
+        let mut total = 0;
         loop {
-            gpu.queue.write_buffer(&state, 0, &[0; 4]);
             let mut encoder = new_encoder();
-            compute_pass(&mut encoder, &self.pipeline, &bind, count.div_ceil(WORKGROUP_SIZE as usize) as u32);
-            let left: Vec<u32> = read_back(gpu, encoder, &state, 4)?;
-            if left.first().is_none_or(|&n| n == 0) {
-                break;
+            for k in 0..passes {
+                encoder.clear_buffer(&state, 0, Some(4));
+                compute_pass(&mut encoder, &self.pipeline, &bind, count.div_ceil(WORKGROUP_SIZE as usize) as u32);
+                encoder.copy_buffer_to_buffer(&state, 0, &left_after, 4 * u64::from(k), 4);
+            }
+            let left: Vec<u32> = read_back(gpu, encoder, &left_after, 4 * u64::from(passes))?;
+            match left.iter().position(|&n| n == 0).or(left.is_empty().then_some(0)) {
+                Some(k) => {
+                    total += k as u32 + 1;
+                    break;
+                }
+                None => total += passes,
             }
         }
+        self.passes.store(total, Ordering::Relaxed);
         Ok((new_encoder(), out))
     }
 }
