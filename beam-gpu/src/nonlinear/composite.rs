@@ -8,14 +8,14 @@
 //! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
 
 use super::eye::KeptPoints;
+use super::sort::{Sorted, sort};
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, storage, uniform, view_entry};
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeScene};
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{Composite, LevelRadiance, SMesh, ShadePoint, TexelRadiance};
-use beam_scene::parallel::par_flatten;
+use beam_scene::nonlinear::{LevelRadiance, SMesh, ShadePoint};
 use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
@@ -152,13 +152,11 @@ impl GpuComposite {
         let chunk = Self::records_per_dispatch(gpu);
         let mut below = Self::level_texture(gpu, 0);
         let mut below_regions: &[(u32, u32)] = &[];
-        let mut face_slots = Slots::new(all_faces.len(), "no such S-mesh face");
         let mut len = 0;
         for (depth, level) in levels.iter().enumerate().rev() {
             len = level.len;
             let radiance = Self::level_texture(gpu, len);
             let radiance_view = radiance.create_view(&Default::default());
-            let mut region_slots = Slots::new(below_regions.len(), "no such child beam");
             // The eye's points kept on the GPU: shaded and written to their pixels.
             let kept_here = if depth == 0 { kept } else { &[] };
             for k in kept_here {
@@ -176,62 +174,24 @@ impl GpuComposite {
                 gpu.queue.submit([encoder.finish()]);
             }
             for texels in level.texels.chunks(chunk) {
-                // Points not composited: on the GPU where the point shader shades them, else by `rest`.
-                let kinds: Vec<Option<bool>> = texels
-                    .par_iter()
-                    .map(|t| t.composite.is_none().then(|| PointShader::shades(scene, t.point.prim)))
-                    .collect();
-                let direct = of_kind(texels, &kinds, true, |t| t.point);
-                let other = of_kind(texels, &kinds, false, |t| t.point);
-                // Where each shaded radiance goes: the direct points' texels, then the others'.
-                let mut targets = of_kind(texels, &kinds, true, |t| t.texel);
-                targets.extend(of_kind(texels, &kinds, false, |t| t.texel));
-                let (encoder, shaded) = shader.shade_into(gpu, tracer, prepared, spp, &direct, other.len())?;
-                if !other.is_empty() {
-                    rest(&other, (&shaded, direct.len()))?;
+                // Points not composited: on the GPU where the point shader shades them, else by
+                // `rest`; the composited ones' records.
+                let sorted = sort((scene, smesh), texels, (all_faces.len(), below_regions.len()))?;
+                let inputs = storage(gpu, "shade points", &sorted.direct, wgpu::BufferUsages::empty());
+                let (encoder, shaded) = shader.shade_inputs(
+                    gpu,
+                    tracer,
+                    prepared,
+                    spp,
+                    (&inputs, sorted.direct.len()),
+                    sorted.other.len(),
+                )?;
+                if !sorted.other.is_empty() {
+                    rest(&sorted.other, (&shaded, sorted.direct.len()))?;
                 }
-                // The composited texels, the faces and child regions they reference compacted (in
-                // the texels' order, on one thread), then their records (in parallel).
-                let composited: Vec<(&TexelRadiance, Composite)> =
-                    texels.iter().filter_map(|t| Some((t, t.composite?))).collect();
-                let mut slots = Vec::with_capacity(composited.len());
-                for (_, c) in &composited {
-                    slots.push([
-                        face_slots.slot(c.face)?,
-                        region_slots.slot(c.reflected)?,
-                        c.refracted.map_or(Ok(NONE), |b| region_slots.slot(b))?,
-                    ]);
-                }
-                let records: Vec<CompositeRecord> = composited
-                    .par_iter()
-                    .zip(&slots)
-                    .map(|(&(t, c), &[face, reflected, refracted])| {
-                        // The shader looks the children up at `p`'s and `refracted_p`'s barycentric
-                        // coordinates on the face: under a coarse S-mesh face, the points of the
-                        // face where the CPU looks the reflection and the refraction up.
-                        let (p, refracted_p) = if smesh.is_coarse(c.face as usize) {
-                            let f = &smesh.faces[c.face as usize];
-                            let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
-                            (at(c.reflected_at), at(c.refracted_at))
-                        } else {
-                            (t.point.p, t.point.p)
-                        };
-                        CompositeRecord {
-                            p: p.to_array(),
-                            texel: t.texel,
-                            d: t.point.d.to_array(),
-                            face,
-                            reflected,
-                            refracted,
-                            pad: [0; 2],
-                            refracted_p: refracted_p.to_array(),
-                            pad2: 0,
-                        }
-                    })
-                    .collect();
-                let chunk_faces: Vec<GpuFace> = face_slots.take().iter().map(|&f| all_faces[f as usize]).collect();
-                let chunk_regions: Vec<[u32; 2]> = region_slots
-                    .take()
+                let Sorted { targets, records, faces, regions, .. } = sorted;
+                let chunk_faces: Vec<GpuFace> = faces.iter().map(|&f| all_faces[f as usize]).collect();
+                let chunk_regions: Vec<[u32; 2]> = regions
                     .iter()
                     .map(|&b| {
                         let (first, size) = below_regions[b as usize];
@@ -272,62 +232,6 @@ impl GpuComposite {
             .par_iter()
             .map(|h| Vec3::from_array([h[0], h[1], h[2]].map(|x| half::f16::from_bits(x).to_f32())))
             .collect())
-    }
-}
-
-/// Of the `texels` whose kind is `Some(gpu_side)` (shaded on the GPU, or by the caller), in order,
-/// what `each` takes of them; flattened by every thread.
-fn of_kind<T: Copy + Send + Sync + Default>(
-    texels: &[TexelRadiance],
-    kinds: &[Option<bool>],
-    gpu_side: bool,
-    each: impl Fn(&TexelRadiance) -> T + Sync,
-) -> Vec<T> {
-    let mine = |i: usize| kinds[i] == Some(gpu_side);
-    par_flatten(
-        texels,
-        T::default(),
-        |i, _| usize::from(mine(i)),
-        |i, t, push| {
-            if mine(i) {
-                push(each(t));
-            }
-        },
-    )
-}
-
-/// The compaction of one dispatch's references (to S-mesh faces, or to beams below): each index
-/// referenced gets the next slot, the first time it is met.
-struct Slots {
-    /// Per index: its slot in this dispatch, [`NONE`] when unreferenced.
-    slot: Vec<u32>,
-    /// The indices referenced, by slot.
-    used: Vec<u32>,
-    /// The error for an index out of range.
-    unknown: &'static str,
-}
-
-impl Slots {
-    fn new(len: usize, unknown: &'static str) -> Self {
-        Self { slot: vec![NONE; len], used: Vec::new(), unknown }
-    }
-
-    /// The slot of `index`.
-    fn slot(&mut self, index: u32) -> Result<u32, GpuError> {
-        let slot = self.slot.get_mut(index as usize).ok_or(GpuError::Internal(self.unknown))?;
-        if *slot == NONE {
-            *slot = self.used.len() as u32;
-            self.used.push(index);
-        }
-        Ok(*slot)
-    }
-
-    /// The indices referenced, by slot; the slots cleared for the next dispatch.
-    fn take(&mut self) -> Vec<u32> {
-        for &i in &self.used {
-            self.slot[i as usize] = NONE;
-        }
-        std::mem::take(&mut self.used)
     }
 }
 

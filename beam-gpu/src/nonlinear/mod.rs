@@ -8,6 +8,7 @@ mod beam;
 mod check;
 mod composite;
 mod eye;
+mod sort;
 mod whitted;
 
 pub use atlas::{AtlasParams, GpuBeams, GpuTimes};

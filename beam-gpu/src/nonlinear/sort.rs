@@ -1,0 +1,166 @@
+//! A composite dispatch's inputs sorted out of a level's texels by every thread, in two passes
+//! over the texels (count, then fill) and no list in between: the points the shading pass shades
+//! (as its inputs), the points the caller shades (mirrors and glass past the tree), where each
+//! one's radiance goes, and the composite records, the S-mesh faces and child regions they
+//! reference compacted to the dispatch's own.
+
+use super::composite::{CompositeRecord, NONE};
+use crate::GpuError;
+use crate::shade::{PointShader, ShadeInput};
+use beam_math::glam::Vec3;
+use beam_scene::nonlinear::{Composite, SMesh, ShadePoint, TexelRadiance};
+use beam_scene::scene::Scene;
+use bytemuck::Zeroable;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// One dispatch's inputs, each list in the texels' order.
+pub(super) struct Sorted {
+    /// The points the shading pass shades.
+    pub direct: Vec<ShadeInput>,
+    /// The points the caller shades.
+    pub other: Vec<ShadePoint>,
+    /// The texels of `direct`'s points, then of `other`'s.
+    pub targets: Vec<u32>,
+    /// The composited texels.
+    pub records: Vec<CompositeRecord>,
+    /// The S-mesh faces the records reference, by slot (ascending).
+    pub faces: Vec<u32>,
+    /// The child regions (beams of the level below) they reference, by slot (ascending).
+    pub regions: Vec<u32>,
+}
+
+/// Sort `texels`, whose composites reference S-mesh faces below `faces` and child regions below
+/// `regions`.
+pub(super) fn sort(
+    (scene, smesh): (&Scene, &SMesh),
+    texels: &[TexelRadiance],
+    (faces, regions): (usize, usize),
+) -> Result<Sorted, GpuError> {
+    let direct = |t: &TexelRadiance| PointShader::shades(scene, t.point.prim);
+    // Sixteen pieces a thread for balance, as `par_flatten`.
+    let piece = (texels.len() / (16 * rayon::current_num_threads())).clamp(1, 1 << 14);
+    let (face_used, region_used) = (flags(faces), flags(regions));
+    let mark = |flags: &[AtomicBool], i: u32, unknown| -> Result<(), GpuError> {
+        flags.get(i as usize).ok_or(GpuError::Internal(unknown))?.store(true, Ordering::Relaxed);
+        Ok(())
+    };
+    // Per piece: its direct, other and composited texels; the faces and regions used marked.
+    let counts: Vec<[usize; 3]> = texels
+        .par_chunks(piece)
+        .map(|p| {
+            let mut n = [0; 3];
+            for t in p {
+                match &t.composite {
+                    Some(c) => {
+                        mark(&face_used, c.face, "no such S-mesh face")?;
+                        mark(&region_used, c.reflected, "no such child beam")?;
+                        if let Some(b) = c.refracted {
+                            mark(&region_used, b, "no such child beam")?;
+                        }
+                        n[2] += 1;
+                    }
+                    None => n[usize::from(!direct(t))] += 1,
+                }
+            }
+            Ok(n)
+        })
+        .collect::<Result<_, GpuError>>()?;
+    let (face_slot, faces) = slots(&face_used);
+    let (region_slot, regions) = slots(&region_used);
+    let total = |k: usize| counts.iter().map(|n| n[k]).sum::<usize>();
+    let mut out = Sorted {
+        direct: vec![ShadeInput::zeroed(); total(0)],
+        other: vec![ShadePoint::default(); total(1)],
+        targets: vec![0; total(0) + total(1)],
+        records: vec![CompositeRecord::zeroed(); total(2)],
+        faces,
+        regions,
+    };
+    let (direct_targets, other_targets) = out.targets.split_at_mut(total(0));
+    let direct_out = split(&mut out.direct, counts.iter().map(|n| n[0]));
+    let other_out = split(&mut out.other, counts.iter().map(|n| n[1]));
+    let direct_targets = split(direct_targets, counts.iter().map(|n| n[0]));
+    let other_targets = split(other_targets, counts.iter().map(|n| n[1]));
+    let records = split(&mut out.records, counts.iter().map(|n| n[2]));
+    let record = |t: &TexelRadiance, c: &Composite| {
+        // The shader looks the children up at `p`'s and `refracted_p`'s barycentric coordinates on
+        // the face: under a coarse S-mesh face, the points of the face where the CPU looks the
+        // reflection and the refraction up.
+        let (p, refracted_p) = if smesh.is_coarse(c.face as usize) {
+            let f = &smesh.faces[c.face as usize];
+            let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
+            (at(c.reflected_at), at(c.refracted_at))
+        } else {
+            (t.point.p, t.point.p)
+        };
+        CompositeRecord {
+            p: p.to_array(),
+            texel: t.texel,
+            d: t.point.d.to_array(),
+            face: face_slot[c.face as usize],
+            reflected: region_slot[c.reflected as usize],
+            refracted: c.refracted.map_or(NONE, |b| region_slot[b as usize]),
+            pad: [0; 2],
+            refracted_p: refracted_p.to_array(),
+            pad2: 0,
+        }
+    };
+    texels
+        .par_chunks(piece)
+        .zip(direct_out)
+        .zip(other_out)
+        .zip(direct_targets)
+        .zip(other_targets)
+        .zip(records)
+        .for_each(|(((((p, direct_out), other_out), direct_targets), other_targets), records)| {
+            let mut at = [0; 3];
+            for t in p {
+                match &t.composite {
+                    Some(c) => {
+                        records[at[2]] = record(t, c);
+                        at[2] += 1;
+                    }
+                    None if direct(t) => {
+                        (direct_out[at[0]], direct_targets[at[0]]) = (ShadeInput::new(&t.point), t.texel);
+                        at[0] += 1;
+                    }
+                    None => {
+                        (other_out[at[1]], other_targets[at[1]]) = (t.point, t.texel);
+                        at[1] += 1;
+                    }
+                }
+            }
+        });
+    Ok(out)
+}
+
+/// `len` flags, clear.
+fn flags(len: usize) -> Vec<AtomicBool> {
+    (0..len).map(|_| AtomicBool::new(false)).collect()
+}
+
+/// Per index, its slot ([`NONE`] where unused: the used indices numbered in ascending order); and
+/// the used indices by slot.
+fn slots(used: &[AtomicBool]) -> (Vec<u32>, Vec<u32>) {
+    let mut slot = vec![NONE; used.len()];
+    let mut by_slot = Vec::new();
+    for (i, u) in used.iter().enumerate() {
+        if u.load(Ordering::Relaxed) {
+            slot[i] = by_slot.len() as u32;
+            by_slot.push(i as u32);
+        }
+    }
+    (slot, by_slot)
+}
+
+/// `all` split into consecutive slices of `counts` elements.
+fn split<T>(mut all: &mut [T], counts: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+    let mut out = Vec::new();
+    for n in counts {
+        let (head, tail) = all.split_at_mut(n);
+        out.push(head);
+        all = tail;
+    }
+    out
+}
