@@ -78,9 +78,14 @@ impl Interpolant for S3 {
     }
 }
 
-/// `x^e` by repeated multiplication (`core` has no `powi`).
-fn powi(x: f64, e: usize) -> f64 {
-    (0..e).fold(1.0, |acc, _| acc * x)
+/// `x^e` for every `e` up to [`MAX_DEGREE`], each by repeated multiplication (`core` has no
+/// `powi`): `x^e = x^(e−1)·x`.
+fn powers(x: f64) -> [f64; MAX_DEGREE + 1] {
+    let mut p = [1.0; MAX_DEGREE + 1];
+    for e in 1..=MAX_DEGREE {
+        p[e] = p[e - 1] * x;
+    }
+    p
 }
 
 /// `n!/(i!j!k!)`.
@@ -106,6 +111,8 @@ pub struct Patch {
     pub count: usize,
     /// `(i, j, k)` of each control point.
     pub ijk: [[usize; 3]; MAX_COEFFICIENTS],
+    /// `n!/(i!j!k!)` of each control point.
+    pub multinomial: [f64; MAX_COEFFICIENTS],
     /// Origin control points.
     pub origin: [DVec3; MAX_COEFFICIENTS],
     /// Direction control points.
@@ -121,12 +128,14 @@ impl Patch {
             degree,
             count: 0,
             ijk: [[0; 3]; MAX_COEFFICIENTS],
+            multinomial: [0.0; MAX_COEFFICIENTS],
             origin: [DVec3::ZERO; MAX_COEFFICIENTS],
             direction: [DVec3::ZERO; MAX_COEFFICIENTS],
         };
         for ijk in indices(degree) {
             let m = f64::from(multinomial(degree, ijk));
             p.ijk[p.count] = ijk;
+            p.multinomial[p.count] = m;
             p.origin[p.count] = interp.coefficient(ijk, base).as_dvec3() / m;
             p.direction[p.count] = interp.coefficient(ijk, dirs).as_dvec3() / m;
             p.count += 1;
@@ -136,9 +145,10 @@ impl Patch {
 
     /// Bernstein weights `n!/(i!j!k!) ω1^i ω2^j ω3^k` of every control point at `w`.
     fn weights(&self, w: DVec3) -> [f64; MAX_COEFFICIENTS] {
+        let [x, y, z] = [w.x, w.y, w.z].map(powers);
         let mut out = [0.0; MAX_COEFFICIENTS];
-        for (o, ijk) in out.iter_mut().zip(&self.ijk[..self.count]) {
-            *o = f64::from(multinomial(self.degree, *ijk)) * powi(w.x, ijk[0]) * powi(w.y, ijk[1]) * powi(w.z, ijk[2]);
+        for ((o, ijk), m) in out.iter_mut().zip(&self.ijk[..self.count]).zip(&self.multinomial) {
+            *o = m * x[ijk[0]] * y[ijk[1]] * z[ijk[2]];
         }
         out
     }
@@ -159,14 +169,15 @@ impl Patch {
     /// Partial derivatives of `O` and `d` with respect to `ω1` and `ω2` (with `ω3 = 1 − ω1 − ω2`).
     #[must_use]
     pub fn derivatives(&self, w: DVec3) -> [(DVec3, DVec3); 2] {
-        let p = powi;
-        let dp = |x: f64, e: usize| if e == 0 { 0.0 } else { e as f64 * p(x, e - 1) };
+        let [x, y, z] = [w.x, w.y, w.z].map(powers);
+        // `e·x^(e−1)`, 0 for `e = 0`.
+        let d = |p: &[f64; MAX_DEGREE + 1], e: usize| if e == 0 { 0.0 } else { e as f64 * p[e - 1] };
         let mut out = [(DVec3::ZERO, DVec3::ZERO); 2];
         for c in 0..self.count {
             let [i, j, k] = self.ijk[c];
-            let m = f64::from(multinomial(self.degree, [i, j, k]));
-            let d1 = m * (dp(w.x, i) * p(w.y, j) * p(w.z, k) - p(w.x, i) * p(w.y, j) * dp(w.z, k));
-            let d2 = m * (p(w.x, i) * dp(w.y, j) * p(w.z, k) - p(w.x, i) * p(w.y, j) * dp(w.z, k));
+            let m = self.multinomial[c];
+            let d1 = m * (d(&x, i) * y[j] * z[k] - x[i] * y[j] * d(&z, k));
+            let d2 = m * (x[i] * d(&y, j) * z[k] - x[i] * y[j] * d(&z, k));
             out[0].0 += d1 * self.origin[c];
             out[0].1 += d1 * self.direction[c];
             out[1].0 += d2 * self.origin[c];
