@@ -164,13 +164,12 @@ impl Tree<'_> {
                 .into_par_iter()
                 .zip(textures)
                 .map(|((beam, face, pixels, _), tex)| {
-                    let hits = (0..tex.size * tex.size)
-                        .filter_map(|k| {
-                            let hit = tex.hits[k as usize]?;
-                            let ray = beam.ray_at(tex.barycentric(k % tex.size, k / tex.size));
-                            Some((k as usize, hit.prim, ray.at(hit.t), ray.direction.normalize()))
-                        })
-                        .collect();
+                    let mut hits = Vec::with_capacity(tex.hits.iter().filter(|h| h.is_some()).count());
+                    hits.extend((0..tex.size * tex.size).filter_map(|k| {
+                        let hit = tex.hits[k as usize]?;
+                        let ray = beam.ray_at(tex.barycentric(k % tex.size, k / tex.size));
+                        Some((k as usize, hit.prim, ray.at(hit.t), ray.direction.normalize()))
+                    }));
                     Node { beam, face, pixels, tex, hits, children: HashMap::new() }
                 })
                 .collect();

@@ -41,8 +41,13 @@ pub(super) fn sort(
     // Sixteen pieces a thread for balance, as `par_flatten`.
     let piece = (texels.len() / (16 * rayon::current_num_threads())).clamp(1, 1 << 14);
     let (face_used, region_used) = (flags(faces), flags(regions));
+    // A flag is stored only while clear: the threads then share its cache line instead of
+    // taking it from each other at every texel.
     let mark = |flags: &[AtomicBool], i: u32, unknown| -> Result<(), GpuError> {
-        flags.get(i as usize).ok_or(GpuError::Internal(unknown))?.store(true, Ordering::Relaxed);
+        let flag = flags.get(i as usize).ok_or(GpuError::Internal(unknown))?;
+        if !flag.load(Ordering::Relaxed) {
+            flag.store(true, Ordering::Relaxed);
+        }
         Ok(())
     };
     // Per piece: its direct, other and composited texels; the faces and regions used marked.
