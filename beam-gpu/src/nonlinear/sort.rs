@@ -169,3 +169,74 @@ fn split<T>(mut all: &mut [T], counts: impl Iterator<Item = usize>) -> Vec<&mut 
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use beam_scene::scene::{Simplify, builtin};
+
+    /// The sorted lists are the texels filtered one kind at a time, in order, and each record
+    /// references, through its slots, the face and regions of its texel's composite.
+    #[test]
+    fn sorts_like_filtering_one_kind_at_a_time() {
+        // A coarse S mesh over the spheres (records looked up at points of their faces).
+        let mut scene = builtin("mirror-glass").unwrap();
+        scene.smesh.rest = Some(Simplify::Faces(60));
+        let smesh = SMesh::of(&scene);
+        assert!(smesh.coarse_faces() > 0);
+        let shaded = (0..scene.triangles.len() as u32).find(|&p| PointShader::shades(&scene, p)).unwrap();
+        let specular = (0..scene.triangles.len() as u32).find(|&p| !PointShader::shades(&scene, p)).unwrap();
+        let (faces, regions) = (smesh.faces.len(), 40);
+        // Every pattern of kinds, over enough texels for several pieces.
+        let texels: Vec<TexelRadiance> = (0..70_000u32)
+            .map(|i| {
+                let point = ShadePoint {
+                    prim: if i % 3 == 0 { specular } else { shaded },
+                    p: Vec3::new(i as f32, 1.0, 2.0),
+                    d: Vec3::Z,
+                    seed: u64::from(i),
+                };
+                let composite = (i % 5 < 2).then(|| Composite {
+                    face: (i * 7 % faces as u32),
+                    reflected: i % 31,
+                    refracted: (i % 2 == 0).then_some(i % 37 + 3),
+                    reflected_at: Vec3::new(0.2, 0.3, 0.5),
+                    refracted_at: Vec3::new(0.6, 0.2, 0.2),
+                });
+                TexelRadiance { texel: 3 * i + 1, point, composite }
+            })
+            .collect();
+        let s = sort((&scene, &smesh), &texels, (faces, regions)).unwrap();
+        let none = |t: &&TexelRadiance| t.composite.is_none();
+        let direct: Vec<&TexelRadiance> =
+            texels.iter().filter(none).filter(|t| PointShader::shades(&scene, t.point.prim)).collect();
+        let other: Vec<&TexelRadiance> =
+            texels.iter().filter(none).filter(|t| !PointShader::shades(&scene, t.point.prim)).collect();
+        assert!(!direct.is_empty() && !other.is_empty());
+        assert_eq!(s.direct, direct.iter().map(|t| ShadeInput::new(&t.point)).collect::<Vec<_>>());
+        assert_eq!(s.other, other.iter().map(|t| t.point).collect::<Vec<_>>());
+        assert_eq!(s.targets, direct.iter().chain(&other).map(|t| t.texel).collect::<Vec<_>>());
+        let composited: Vec<(&TexelRadiance, Composite)> =
+            texels.iter().filter_map(|t| Some((t, t.composite?))).collect();
+        assert_eq!(s.records.len(), composited.len());
+        assert!(s.faces.is_sorted() && s.regions.is_sorted());
+        for (r, (t, c)) in s.records.iter().zip(&composited) {
+            assert_eq!((r.texel, r.d), (t.texel, t.point.d.to_array()));
+            assert_eq!(s.faces[r.face as usize], c.face);
+            assert_eq!(s.regions[r.reflected as usize], c.reflected);
+            assert_eq!(c.refracted, (r.refracted != NONE).then(|| s.regions[r.refracted as usize]));
+            // Under a coarse face, the points of the face where the children are looked up.
+            let f = &smesh.faces[c.face as usize];
+            let at = |w: Vec3| (w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2]).to_array();
+            let want = if smesh.is_coarse(c.face as usize) {
+                (at(c.reflected_at), at(c.refracted_at))
+            } else {
+                (t.point.p.to_array(), t.point.p.to_array())
+            };
+            assert_eq!((r.p, r.refracted_p), want);
+        }
+        // A reference past the faces or regions is an error, not a panic.
+        assert!(sort((&scene, &smesh), &texels, (faces, 30)).is_err());
+        assert!(sort((&scene, &smesh), &texels, (1, regions)).is_err());
+    }
+}
