@@ -180,7 +180,8 @@ pub struct ShadeState {
 /// (its points then come out wrong, silently). A pass runs at most this plus one ray's traversal
 /// per invocation (at most 569 iterations for a group on the shared scenes, see `lib/trace.wgsl`):
 /// even were the 8 lanes' iterations added up, 8 × (2,048 + 569) = 20,936 stays under the cap. On
-/// other devices the passes cost one 4-byte read-back each.
+/// other devices the passes cost little: a submission encodes as many as the last shading needed and
+/// reads back 4 bytes per pass once, after them.
 pub const PASS_BUDGET: u32 = 2048;
 
 /// The most shading passes one submission encodes before it reads back how many points are left.
