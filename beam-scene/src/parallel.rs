@@ -17,21 +17,14 @@ pub fn par_flatten<S: Sync, T: Copy + Send + Sync>(
     count: impl Fn(usize, &S) -> usize + Sync,
     fill: impl Fn(usize, &S, &mut dyn FnMut(T)) + Sync,
 ) -> Vec<T> {
-    // Sixteen pieces a thread for balance; at most 16,384 items a piece.
-    let piece = (items.len() / (16 * rayon::current_num_threads())).clamp(1, 1 << 14);
+    let piece = piece_len(items.len());
     let counts: Vec<usize> = items
         .par_chunks(piece)
         .enumerate()
         .map(|(k, p)| p.iter().enumerate().map(|(j, s)| count(k * piece + j, s)).sum())
         .collect();
     let mut out: Vec<T> = (0..counts.iter().sum::<usize>()).into_par_iter().map(|_| placeholder).collect();
-    let mut slots = Vec::with_capacity(counts.len());
-    let mut rest = &mut out[..];
-    for &n in &counts {
-        let (slot, tail) = rest.split_at_mut(n);
-        slots.push(slot);
-        rest = tail;
-    }
+    let slots = split_by_counts(&mut out, counts.iter().copied());
     items.par_chunks(piece).enumerate().zip(slots).for_each(|((k, p), slot)| {
         let mut at = 0;
         for (j, s) in p.iter().enumerate() {
@@ -42,6 +35,27 @@ pub fn par_flatten<S: Sync, T: Copy + Send + Sync>(
         }
         debug_assert_eq!(at, slot.len(), "fill handed out fewer items than count said");
     });
+    out
+}
+
+/// Items a piece of a parallel pass over `len` items takes: sixteen pieces a thread for balance,
+/// at most 16,384 items a piece.
+#[must_use]
+pub fn piece_len(len: usize) -> usize {
+    (len / (16 * rayon::current_num_threads())).clamp(1, 1 << 14)
+}
+
+/// `all` split into consecutive slices of `counts` elements each.
+///
+/// # Panics
+/// If the counts add up to more than `all.len()`.
+pub fn split_by_counts<T>(mut all: &mut [T], counts: impl IntoIterator<Item = usize>) -> Vec<&mut [T]> {
+    let mut out = Vec::new();
+    for n in counts {
+        let (head, tail) = all.split_at_mut(n);
+        out.push(head);
+        all = tail;
+    }
     out
 }
 

@@ -9,6 +9,7 @@ use crate::GpuError;
 use crate::shade::{PointShader, ShadeInput};
 use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{Composite, SMesh, ShadePoint, TexelRadiance};
+use beam_scene::parallel::{piece_len, split_by_counts};
 use beam_scene::scene::Scene;
 use bytemuck::Zeroable;
 use rayon::prelude::*;
@@ -38,8 +39,7 @@ pub(super) fn sort(
     (faces, regions): (usize, usize),
 ) -> Result<Sorted, GpuError> {
     let direct = |t: &TexelRadiance| PointShader::shades(scene, t.point.prim);
-    // Sixteen pieces a thread for balance, as `par_flatten`.
-    let piece = (texels.len() / (16 * rayon::current_num_threads())).clamp(1, 1 << 14);
+    let piece = piece_len(texels.len());
     let (face_used, region_used) = (flags(faces), flags(regions));
     // A flag is stored only while clear: the threads then share its cache line instead of
     // taking it from each other at every texel.
@@ -83,11 +83,11 @@ pub(super) fn sort(
         regions,
     };
     let (direct_targets, other_targets) = out.targets.split_at_mut(total(0));
-    let direct_out = split(&mut out.direct, counts.iter().map(|n| n[0]));
-    let other_out = split(&mut out.other, counts.iter().map(|n| n[1]));
-    let direct_targets = split(direct_targets, counts.iter().map(|n| n[0]));
-    let other_targets = split(other_targets, counts.iter().map(|n| n[1]));
-    let records = split(&mut out.records, counts.iter().map(|n| n[2]));
+    let direct_out = split_by_counts(&mut out.direct, counts.iter().map(|n| n[0]));
+    let other_out = split_by_counts(&mut out.other, counts.iter().map(|n| n[1]));
+    let direct_targets = split_by_counts(direct_targets, counts.iter().map(|n| n[0]));
+    let other_targets = split_by_counts(other_targets, counts.iter().map(|n| n[1]));
+    let records = split_by_counts(&mut out.records, counts.iter().map(|n| n[2]));
     let record = |t: &TexelRadiance, c: &Composite| {
         // The shader looks the children up at `p`'s and `refracted_p`'s barycentric coordinates on
         // the face: under a coarse S-mesh face, the points of the face where the CPU looks the
@@ -157,17 +157,6 @@ fn slots(used: &[AtomicBool]) -> (Vec<u32>, Vec<u32>) {
         }
     }
     (slot, by_slot)
-}
-
-/// `all` split into consecutive slices of `counts` elements.
-fn split<T>(mut all: &mut [T], counts: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
-    let mut out = Vec::new();
-    for n in counts {
-        let (head, tail) = all.split_at_mut(n);
-        out.push(head);
-        all = tail;
-    }
-    out
 }
 
 #[cfg(test)]
