@@ -100,6 +100,12 @@ pub fn indices(n: usize) -> impl Iterator<Item = [usize; 3]> {
     (0..=n).rev().flat_map(move |i| (0..=n - i).rev().map(move |j| [i, j, n - i - j]))
 }
 
+/// [`indices`]`(1)`, as a constant.
+const IJK_S1: [[usize; 3]; 3] = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
+/// [`indices`]`(3)`, as a constant.
+const IJK_S3: [[usize; 3]; 10] =
+    [[3, 0, 0], [2, 1, 0], [2, 0, 1], [1, 2, 0], [1, 1, 1], [1, 0, 2], [0, 3, 0], [0, 2, 1], [0, 1, 2], [0, 0, 3]];
+
 /// The two Bézier patches of a beam (`O(ω)` and `d(ω)`) in Bernstein form and double precision:
 /// control points `c_ijk = L_ijk / (n!/(i!j!k!))`, so both patches lie in the convex hull of their
 /// control points (used by [`NonlinearBeam::max_offsets`](crate::nonlinear::NonlinearBeam::max_offsets) and the extremal directions).
@@ -143,25 +149,41 @@ impl Patch {
         p
     }
 
-    /// Bernstein weights `n!/(i!j!k!) ω1^i ω2^j ω3^k` of every control point at `w`.
-    fn weights(&self, w: DVec3) -> [f64; MAX_COEFFICIENTS] {
+    /// Bernstein weights `n!/(i!j!k!) ω1^i ω2^j ω3^k` of the first `min(N, count)` control points
+    /// at `w` (the rest 0).
+    /// `ijk` is `self.ijk` or a constant copy of it.
+    #[inline(always)]
+    fn weights<const N: usize>(&self, w: DVec3, ijk: &[[usize; 3]]) -> [f64; N] {
+        debug_assert_eq!(ijk, &self.ijk[..ijk.len()]);
         let [x, y, z] = [w.x, w.y, w.z].map(powers);
-        let mut out = [0.0; MAX_COEFFICIENTS];
-        for ((o, ijk), m) in out.iter_mut().zip(&self.ijk[..self.count]).zip(&self.multinomial) {
+        let mut out = [0.0; N];
+        for ((o, ijk), m) in out.iter_mut().zip(&ijk[..self.count.min(ijk.len())]).zip(&self.multinomial) {
             *o = m * x[ijk[0]] * y[ijk[1]] * z[ijk[2]];
         }
         out
     }
 
-    /// `(O(ω), d(ω))` of eq. 1 at barycentric coordinates `w`.
+    /// `(O(ω), d(ω))` of eq. 1 at barycentric coordinates `w`: `Σ B_ijk(ω) c_ijk` over the
+    /// Bernstein weights of [`Patch::weights`], in the order of [`indices`]. S1 and S3 patches take
+    /// a loop unrolled for their count (the same operations in the same order, so the same bits).
     #[must_use]
     pub fn eval(&self, w: DVec3) -> (DVec3, DVec3) {
-        let b = self.weights(w);
+        match self.count {
+            3 => self.eval_n::<3>(w, &IJK_S1),
+            10 => self.eval_n::<10>(w, &IJK_S3),
+            _ => self.eval_n::<MAX_COEFFICIENTS>(w, &self.ijk),
+        }
+    }
+
+    /// [`Patch::eval`] over the first `min(N, count)` control points.
+    #[inline(always)]
+    fn eval_n<const N: usize>(&self, w: DVec3, ijk: &[[usize; 3]]) -> (DVec3, DVec3) {
+        let b = self.weights::<N>(w, ijk);
         let mut o = DVec3::ZERO;
         let mut d = DVec3::ZERO;
-        for i in 0..self.count {
-            o += b[i] * self.origin[i];
-            d += b[i] * self.direction[i];
+        for c in 0..N.min(self.count) {
+            o += b[c] * self.origin[c];
+            d += b[c] * self.direction[c];
         }
         (o, d)
     }
@@ -232,8 +254,14 @@ mod tests {
             assert!((lhs - rhs).length() < 1e-5, "{ijk:?}");
         }
         // Weights sum to one (partition of unity).
-        let b = p.weights(DVec3::new(0.1, 0.6, 0.3));
+        let b = p.weights::<MAX_COEFFICIENTS>(DVec3::new(0.1, 0.6, 0.3), &p.ijk);
         assert!((b[..p.count].iter().sum::<f64>() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn constant_indices_are_the_indices() {
+        assert!(indices(1).eq(IJK_S1));
+        assert!(indices(3).eq(IJK_S3));
     }
 
     #[test]
