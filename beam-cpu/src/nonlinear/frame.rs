@@ -95,11 +95,13 @@ pub fn render_nonlinear_with(
         ),
     };
     let mut flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
-    let specular_by_rays = flow
-        .iter()
-        .flat_map(|l| &l.texels)
-        .filter(|t| t.composite.is_none() && scene.smooth_normals.contains_key(&t.point.prim))
-        .count() as u64;
+    // Curved (smooth-normal) mirror and glass points traced by rays, looked up in a dense table.
+    let mut curved = vec![false; scene.triangles.len()];
+    for &prim in scene.smooth_normals.keys() {
+        curved[prim as usize] = true;
+    }
+    let by_rays = |t: &&TexelRadiance| t.composite.is_none() && curved[t.point.prim as usize];
+    let specular_by_rays = flow.iter().map(|l| l.texels.par_iter().filter(by_rays).count()).sum::<usize>() as u64;
     clock.lap("radiance flow");
     let (shading, caustics) = (&options.shading, tree.caustics.as_ref());
     let frame = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
