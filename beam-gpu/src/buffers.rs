@@ -12,11 +12,22 @@ pub fn storage<T: bytemuck::Pod>(gpu: &Gpu, label: &str, items: &[T], usage: wgp
     let padded = vec![0u8; empty_size::<T>()];
     let contents = if items.is_empty() { &padded[..] } else { bytemuck::cast_slice(items) };
     let start = Instant::now();
-    let buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents,
-        usage: wgpu::BufferUsages::STORAGE | usage,
-    });
+    let usage = wgpu::BufferUsages::STORAGE | usage;
+    // Written through the queue's staging buffer: a buffer mapped at creation is zeroed by wgpu
+    // before the contents are copied in (on lavapipe, as long as the copy). `write_buffer` takes
+    // whole four-byte words.
+    let buffer = if contents.len().is_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT as usize) {
+        let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: contents.len() as u64,
+            usage: usage | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        gpu.queue.write_buffer(&buffer, 0, contents);
+        buffer
+    } else {
+        gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+    };
     gpu.record_upload(start.elapsed(), contents.len());
     buffer
 }
