@@ -5,7 +5,10 @@
 //    bounding triangle from storage buffers (vertex index / 3) and emits the triangle on the beam's
 //    atlas region; the fragment stage rebuilds the texel's ray, intersects the scene triangle,
 //    discards misses and writes the hit with its distance as depth, so the depth test keeps each
-//    texel's nearest hit.
+//    texel's nearest hit;
+// 3. `gather_regions` (compute): every beam's texels copied out of the page into one dense list,
+//    region after region, so that only they are read back (a region fills less than half of the
+//    power-of-two square it is packed in).
 // (000 computes the bounding triangle in the vertex stage itself; a compute pass computes it once
 // per pair instead of once per corner, and runs on every core of a software rasterizer, which
 // shades vertices on one thread.) CPU twin: beam_cpu::nonlinear::render_beam.
@@ -135,4 +138,49 @@ fn intersect_texel(f: Fragment) -> Hit {
     let dist = t * len;
     out.depth = dist / (dist + params.extent);
     return out;
+}
+
+// The page's hits (scene triangle + 1, bits of t) for `gather_regions`.
+@group(0) @binding(7) var page_hits: texture_2d<u32>;
+// Per beam on the page, its first texel in `dense`; then the number of texels of them all.
+@group(0) @binding(8) var<storage, read> firsts: array<u32>;
+@group(0) @binding(9) var<storage, read_write> dense: array<vec2<u32>>;
+
+// Texels of the rows from the last one up to, not including, row `s − n` of a region of side `s`
+// (those rows hold 1, 2, …, n texels): n(n + 1)/2.
+fn triangular(n: u32) -> u32 {
+    return n * (n + 1u) / 2u;
+}
+
+// (x, y) of the j-th texel of a region of side s, its texels counted row by row as
+// beam_gpu::nonlinear::atlas unpacks them: row 0 holds s texels, row y ≥ 1 holds s + 1 − y (the
+// texels with x + y ≤ s). Rows 1..s, counted from the last, hold 1, 2, …, s texels, so the row of
+// the r-th texel from the end is the inverse of the triangular numbers; the float root is at most
+// one row off, and one integer step each way puts it right.
+fn region_texel(j: u32, s: u32) -> vec2<u32> {
+    if j < s { return vec2<u32>(j, 0u); }
+    let r = triangular(s) - 1u - (j - s);
+    var n = u32(max(floor((sqrt(8.0 * f32(r) + 1.0) - 1.0) * 0.5), 0.0));
+    if triangular(n + 1u) <= r { n += 1u; }
+    if n > 0u && triangular(n) > r { n -= 1u; }
+    // Row s − n holds n + 1 texels; the r-th from the end is the (r − n(n+1)/2)-th of it from the right.
+    return vec2<u32>(n - (r - triangular(n)), s - n);
+}
+
+// Loops: a binary search over the page's beams, at most 32 halvings (constant bound).
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn gather_regions(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let k = id.y * groups.x * WORKGROUP_SIZE + id.x;
+    let beams_here = arrayLength(&firsts) - 1u;
+    if k >= firsts[beams_here] { return; }
+    // The last beam whose first texel is at most k.
+    var lo = 0u;
+    var hi = beams_here;
+    for (var i = 0u; i < 32u && hi - lo > 1u; i++) {
+        let mid = (lo + hi) / 2u;
+        if firsts[mid] <= k { lo = mid; } else { hi = mid; }
+    }
+    let r = beams[lo].region;
+    let at = region_texel(k - firsts[lo], r.z);
+    dense[k] = textureLoad(page_hits, vec2<u32>(r.x + at.x, r.y + at.y), 0).xy;
 }

@@ -16,7 +16,7 @@ pub fn storage<T: bytemuck::Pod>(gpu: &Gpu, label: &str, items: &[T], usage: wgp
     // Written through the queue's staging buffer: a buffer mapped at creation is zeroed by wgpu
     // before the contents are copied in (on lavapipe, as long as the copy). `write_buffer` takes
     // whole four-byte words.
-    let buffer = if contents.len().is_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT as usize) {
+    let buffer = if contents.len() % wgpu::COPY_BUFFER_ALIGNMENT as usize == 0 {
         let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
             size: contents.len() as u64,

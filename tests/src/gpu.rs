@@ -526,7 +526,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
             .map_err(|e| e.to_string())?;
         let whitted = GpuWhitted::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let prepared = shader.prepare(&gpu, caustics.as_ref());
-        let rest = |points: &[beam_cpu::nonlinear::ShadePoint], radiance: (&wgpu::Buffer, usize)| {
+        let rest = |points: &[beam_gpu::shade::ShadeInput], radiance: (&wgpu::Buffer, usize)| {
             whitted.shade_into(&gpu, &tracer, &shader, &prepared, 64, points, radiance)
         };
         let smesh = SMesh::specular(&scene);

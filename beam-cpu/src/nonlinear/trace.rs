@@ -192,12 +192,16 @@ impl Tree<'_> {
                 .into_par_iter()
                 .zip(textures)
                 .map(|((beam, face, pixels, _), tex)| {
-                    let mut hits = Vec::with_capacity(tex.hits.iter().filter(|h| h.is_some()).count());
-                    hits.extend((0..tex.size * tex.size).filter_map(|k| {
-                        let hit = tex.hits[k as usize]?;
-                        let ray = beam.ray_at(tex.barycentric(k % tex.size, k / tex.size));
-                        Some((k as usize, hit.prim, ray.at(hit.t), ray.direction.normalize()))
-                    }));
+                    // Hits lie in the region's texels (the rest belong to no beam), each a row of one.
+                    let (size, tb) = (tex.size as usize, beam.texel_beam());
+                    let mut hits = Vec::with_capacity(tex.texels() as usize);
+                    for (y, row) in tex.hits.chunks_exact(size.max(1)).enumerate() {
+                        for (x, hit) in row.iter().enumerate() {
+                            let Some(hit) = hit else { continue };
+                            let ray = tb.texel_ray(tex.barycentric(x as u32, y as u32));
+                            hits.push((y * size + x, hit.prim, ray.at(hit.t), ray.direction.normalize()));
+                        }
+                    }
                     Node { beam, face, pixels, tex, hits, children: FaceMap::default() }
                 })
                 .collect();

@@ -38,7 +38,7 @@ fn tables() -> Vec<Table> {
         ]),
         bindings!("beam_atlas" => [
             params: AtlasParams, beams: GpuBeam, triangles: GpuTriangle, pairs: [u32; 2], bounds_out: [f32; 4],
-            bounds_in: [f32; 4], counters: u32,
+            bounds_in: [f32; 4], counters: u32, page_hits, firsts: u32, dense: [u32; 2],
         ]),
         bindings!("nonlinear_check" => [beams: GpuBeam, cases: CheckCase, results: [f32; 4]]),
         bindings!("composite" => [

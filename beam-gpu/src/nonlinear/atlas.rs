@@ -3,8 +3,10 @@
 //! bounding cone keeps (pulled from a storage buffer by vertex index / 3); the vertex stage emits
 //! each triangle's bounding triangle on the beam's region, the fragment stage intersects the
 //! texel's ray with it, and the depth test keeps the nearest hit. A page takes no more beams, and no
-//! more (beam, triangle) pairs, than one storage binding of the device holds. The pages are read back as the
-//! beams' hit textures, which beam-cpu's beam tree needs for the next level's beams. Rays (the eye's
+//! more (beam, triangle) pairs or region texels, than one storage binding of the device holds. A
+//! compute pass gathers each page's regions into one list (a triangular region fills under half of
+//! its power-of-two square), read back as the beams' hit textures, which beam-cpu's beam tree
+//! needs for the next level's beams. Rays (the eye's
 //! view, the reference's Whitted rays) go to the compute ray tracer; the radiance flows up the tree
 //! on the GPU ([`GpuComposite`]): diffuse, glossy and emissive points shaded by [`PointShader`] (area
 //! lights by stratified shadow rays, where the CPU's default is exact), specular ones composited
@@ -16,11 +18,11 @@ use super::eye::{GpuEye, KeptPoints};
 use super::whitted::GpuWhitted;
 use crate::buffers::{
     buffer_entry, checked, compute_pass, compute_pipeline, map_with, max_binding, output, read_all, shader_module,
-    storage, uniform,
+    storage, uniform, view_entry,
 };
 use crate::interface::{PAIR_NEAR, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
-use crate::shade::PointShader;
+use crate::shade::{PointShader, ShadeInput};
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
@@ -30,7 +32,7 @@ use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{
     BeamJob, BeamRasterizer, BeamTexture, DeviceWaits, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint,
-    TexelHit, cone_candidates,
+    TexelHit, cone_candidates, region_texels,
 };
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
@@ -86,6 +88,7 @@ pub struct GpuBeams<'g> {
     pub(super) gpu: &'g Gpu,
     bound: wgpu::ComputePipeline,
     pipeline: wgpu::RenderPipeline,
+    gather: wgpu::ComputePipeline,
     triangles: wgpu::Buffer,
     pub(super) tracer: RayTracer,
     /// The eye's view on the GPU.
@@ -134,6 +137,7 @@ impl<'g> GpuBeams<'g> {
         let mut out = Vec::with_capacity(points.len());
         for part in points.chunks(GpuWhitted::per_dispatch(self.gpu)) {
             let bytes = (part.len() * 16) as u64;
+            let part: Vec<ShadeInput> = part.par_iter().map(ShadeInput::new).collect();
             let radiance: Vec<[f32; 4]> = checked(self.gpu, || {
                 let radiance = output(self.gpu, "radiance", bytes);
                 self.whitted.shade_into(
@@ -142,7 +146,7 @@ impl<'g> GpuBeams<'g> {
                     &self.shader,
                     &prepared,
                     self.light_samples,
-                    part,
+                    &part,
                     (&radiance, 0),
                 )?;
                 read_all(self.gpu, Vec::new(), std::iter::once((&radiance, bytes)))
@@ -158,6 +162,7 @@ impl<'g> GpuBeams<'g> {
     pub fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, GpuError> {
         let module = shader_module(gpu, "beam_atlas")?;
         let bound = compute_pipeline(gpu, "beam_atlas", "bound_triangles")?;
+        let gather = compute_pipeline(gpu, "beam_atlas", "gather_regions")?;
         let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("beam_atlas"),
             layout: None,
@@ -200,6 +205,7 @@ impl<'g> GpuBeams<'g> {
             gpu,
             bound,
             pipeline,
+            gather,
             triangles,
             tracer,
             eye: GpuEye::new(gpu, scene)?,
@@ -233,13 +239,16 @@ impl<'g> GpuBeams<'g> {
 
     /// Render one page of `rows` rows: `beams` with their (beam on the page, scene triangle)
     /// `pairs`, those of beam `i` at `ranges[i]`. `unpack` reads, where the readback is mapped,
-    /// the page's texels (the scene triangle plus one, 0 for a miss; the bits of `t`) and per beam
-    /// the triangles kept and the texels tested.
+    /// the regions' texels (the scene triangle plus one, 0 for a miss; the bits of `t`), beam `i`'s
+    /// from `firsts[i]` on, row by row ([`region_texels`]; `firsts` ends with their total), and
+    /// per beam the triangles kept and the texels tested.
+    #[allow(clippy::too_many_arguments)]
     fn render_page<T>(
         &self,
         beams: &[GpuBeam],
         pairs: &[[u32; 2]],
         ranges: &[(u32, u32)],
+        firsts: &[u32],
         rows: u32,
         unpack: impl FnOnce(&[[u32; 2]], &[Counters]) -> T,
     ) -> Result<T, GpuError> {
@@ -259,7 +268,7 @@ impl<'g> GpuBeams<'g> {
         };
         let hits = texture(
             wgpu::TextureFormat::Rg32Uint,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let depth = texture(wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
         let params =
@@ -319,27 +328,30 @@ impl<'g> GpuBeams<'g> {
                 }
             }
         }
-        let bytes_per_row = self.page * 8;
-        let texel_bytes = u64::from(bytes_per_row) * u64::from(rows);
-        // The texels, then the counters.
+        // The regions' texels gathered into one list, read back with the counters.
+        let texel_count = firsts.last().copied().unwrap_or(0);
+        let texel_bytes = u64::from(texel_count) * 8;
+        let dense = output(self.gpu, "region texels", texel_bytes);
+        let firsts = storage(self.gpu, "region firsts", firsts, wgpu::BufferUsages::empty());
+        let page_view = hits.create_view(&Default::default());
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("atlas gather"),
+            layout: &self.gather.get_bind_group_layout(0),
+            entries: &[
+                buffer_entry(1, &beam_buffer),
+                view_entry(7, &page_view),
+                buffer_entry(8, &firsts),
+                buffer_entry(9, &dense),
+            ],
+        });
+        compute_pass(&mut encoder, &self.gather, &group, texel_count.div_ceil(WORKGROUP_SIZE).max(1));
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("atlas readback"),
             size: texel_bytes + beams.len() as u64 * 8,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        encoder.copy_texture_to_buffer(
-            hits.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &readback,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(bytes_per_row),
-                    rows_per_image: Some(rows),
-                },
-            },
-            extent,
-        );
+        encoder.copy_buffer_to_buffer(&dense, 0, &readback, 0, texel_bytes);
         encoder.copy_buffer_to_buffer(&counters, 0, &readback, texel_bytes, beams.len() as u64 * 8);
         self.gpu.queue.submit([encoder.finish()]);
         map_with(self.gpu, &readback, |bytes| {
@@ -367,33 +379,37 @@ impl BeamRasterizer for GpuBeams<'_> {
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
         let start = Instant::now();
         // Bounding-cone culling on the CPU (000 App. A; the paper culls objects there too), each
-        // kept triangle of a coarse face's ring marked PAIR_NEAR (self-hits, as on the CPU).
-        let candidates: Vec<Vec<u32>> = jobs
+        // kept triangle of a coarse face's ring marked PAIR_NEAR (self-hits, as on the CPU); the
+        // beams for the shader from the same bounds, placed on their regions below.
+        let (candidates, mut gpu_beams): (Vec<Vec<u32>>, Vec<GpuBeam>) = jobs
             .par_iter()
             .map(|j| {
                 let tb = j.beam.texel_beam();
-                let mut kept = cone_candidates(scene, &tb.culling_cone(&tb.s1_or_sn_bounds()), j.exclude);
+                let bounds = tb.s1_or_sn_bounds();
+                let mut kept = cone_candidates(scene, &tb.culling_cone(&bounds), j.exclude);
                 for prim in &mut kept {
                     *prim |= if j.exclude.near(*prim) { PAIR_NEAR } else { 0 };
                 }
-                kept
+                (kept, GpuBeam::new(j.beam, &bounds, [0, 0, j.size], j.exclude))
             })
-            .collect();
+            .unzip();
         // Pack power-of-two squares, largest first, in Z order: every square lands aligned.
         let mut order: Vec<usize> = (0..jobs.len()).collect();
         order.sort_by_key(|&i| std::cmp::Reverse(jobs[i].size.max(1).next_power_of_two()));
         let mut placed: Vec<Option<Placed>> = (0..jobs.len()).map(|_| None).collect();
         let (mut page, mut used) = (0usize, 0u64);
         let capacity = u64::from(self.page) * u64::from(self.page);
-        // A page's pairs and their bounding triangles (16 bytes each), and its beams, must each fit
-        // one storage binding.
+        // A page's pairs and their bounding triangles (16 bytes each), its beams and its regions'
+        // texels (8 bytes each) must each fit one storage binding.
         let max_pairs = (max_binding(self.gpu) / 16) as usize;
         let max_beams = ((max_binding(self.gpu) / size_of::<GpuBeam>() as u64) as usize).max(1);
-        let (mut rows, mut pairs, mut beams) = (vec![0u32], 0usize, 0usize);
+        let max_texels = max_binding(self.gpu) / 8;
+        let (mut rows, mut pairs, mut beams, mut texels) = (vec![0u32], 0usize, 0usize, 0u64);
         for &i in &order {
             // Each region takes the power-of-two square around it.
             let s = jobs[i].size.max(1).next_power_of_two();
-            if s > self.page {
+            let t = region_texels(jobs[i].size);
+            if s > self.page || t > max_texels {
                 return Err(GpuError::BeamTooLarge { size: jobs[i].size, page: self.page }.into());
             }
             let area = u64::from(s) * u64::from(s);
@@ -401,13 +417,14 @@ impl BeamRasterizer for GpuBeams<'_> {
             if n > max_pairs {
                 return Err(GpuError::TooManyTriangles { triangles: n, max: max_pairs }.into());
             }
-            if used + area > capacity || pairs + n > max_pairs || beams == max_beams {
+            if used + area > capacity || pairs + n > max_pairs || beams == max_beams || texels + t > max_texels {
                 page += 1;
-                (used, pairs, beams) = (0, 0, 0);
+                (used, pairs, beams, texels) = (0, 0, 0, 0);
                 rows.push(0);
             }
             pairs += n;
             beams += 1;
+            texels += t;
             let (x, y) = z_order((used / area) as u32, s);
             used += area;
             rows[page] = rows[page].max(y + s);
@@ -425,22 +442,27 @@ impl BeamRasterizer for GpuBeams<'_> {
             let mut beams = Vec::with_capacity(members.len());
             let mut flat = Vec::new();
             let mut ranges = Vec::with_capacity(members.len());
+            let mut firsts = Vec::with_capacity(members.len() + 1);
+            firsts.push(0u32);
             for (k, &i) in members.iter().enumerate() {
                 let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
-                beams.push(GpuBeam::new(jobs[i].beam, [q.x, q.y, jobs[i].size], jobs[i].exclude));
+                gpu_beams[i].region[..2].copy_from_slice(&[q.x, q.y]);
+                beams.push(gpu_beams[i]);
                 let first = flat.len() as u32;
                 flat.extend(candidates[i].iter().map(|&prim| [k as u32, prim]));
                 ranges.push((first, flat.len() as u32));
+                // The page's texels fit one binding, so their count fits 32 bits.
+                firsts.push(firsts[k] + region_texels(jobs[i].size) as u32);
             }
             let prepared = start.elapsed().as_secs_f64();
             let unpacking = Cell::new(0.0);
             let unpack = |texels: &[[u32; 2]], counts: &[Counters]| {
                 let start = Instant::now();
-                let out = self.unpack(jobs, &placed, &members, texels, counts);
+                let out = Self::unpack(jobs, &members, &firsts, texels, counts);
                 unpacking.set(start.elapsed().as_secs_f64());
                 out
             };
-            let unpacked = checked(self.gpu, || self.render_page(&beams, &flat, &ranges, page_rows, unpack))??;
+            let unpacked = checked(self.gpu, || self.render_page(&beams, &flat, &ranges, &firsts, page_rows, unpack))??;
             let drawn = start.elapsed().as_secs_f64() - prepared - unpacking.get();
             for (i, tex) in unpacked {
                 textures[i] = Some(tex);
@@ -458,28 +480,29 @@ impl BeamRasterizer for GpuBeams<'_> {
 }
 
 impl GpuBeams<'_> {
-    /// The textures of the beams `members` of one page (`jobs[i]` placed at `placed[i]`) from the
-    /// page's `texels` and per-beam `counts`, as (job index, texture).
+    /// The textures of the beams `members` of one page (`jobs[i]`) from the regions' `texels`,
+    /// beam `k`'s row by row from `firsts[k]` on, and per-beam `counts`, as (job index, texture).
     fn unpack(
-        &self,
         jobs: &[BeamJob<'_>],
-        placed: &[Option<Placed>],
         members: &[usize],
+        firsts: &[u32],
         texels: &[[u32; 2]],
         counts: &[Counters],
     ) -> Result<Vec<(usize, BeamTexture)>, GpuError> {
         members
             .par_iter()
+            .zip(firsts)
             .zip(counts)
-            .map(|(&i, &[kept, tested])| {
-                let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
+            .map(|((&i, &first), &[kept, tested])| {
                 let size = jobs[i].size;
+                let region = texels
+                    .get(first as usize..first as usize + region_texels(size) as usize)
+                    .ok_or(GpuError::Internal("a region's texels were not read back"))?;
                 let mut hits = vec![None; (size * size) as usize];
+                let mut from = region.iter();
                 for y in 0..size {
-                    let row = ((q.y + y) * self.page + q.x) as usize;
                     // Texels past the region's diagonal (x + y > size) belong to no beam.
-                    for x in 0..(size + 1 - y).min(size) {
-                        let [prim, t] = texels[row + x as usize];
+                    for (x, &[prim, t]) in (0..(size + 1 - y).min(size)).zip(&mut from) {
                         if prim > 0 {
                             hits[(y * size + x) as usize] = Some(TexelHit { prim: prim - 1, t: f32::from_bits(t) });
                         }
@@ -552,7 +575,7 @@ impl PointShading for GpuBeams<'_> {
         // Mirror and glass points past the tree by Whitted rays in waves, their host time apart.
         // The scene's shading and caustics, uploaded once for the composite and every wave.
         let prepared = self.shader.prepare(self.gpu, caustics);
-        let rest = |points: &[ShadePoint], radiance: (&wgpu::Buffer, usize)| {
+        let rest = |points: &[ShadeInput], radiance: (&wgpu::Buffer, usize)| {
             let (start, waited) = (Instant::now(), self.gpu.traffic().waited_seconds);
             let out = self.whitted.shade_into(
                 self.gpu,

@@ -52,15 +52,16 @@ impl GpuBeam {
     /// `beam` on an atlas region `(x, y, size)`, skipping scene triangle `exclude.prim` (a coarse
     /// S-mesh face's patch is culled on the host by `cone_candidates`; its ring is marked per pair,
     /// [`crate::interface::PAIR_NEAR`]), its lift for self-hits at least the surface's thickness
-    /// about a coarse face (as `beam_cpu::nonlinear::render_beam` takes it).
+    /// about a coarse face (as `beam_cpu::nonlinear::render_beam` takes it). `bounds` are the beam's [`s1_or_sn_bounds`](beam_scene::nonlinear::TexelBeam::s1_or_sn_bounds) (for a bumped beam, its S1 beam's),
+    /// which the caller has for bounding-cone culling.
     #[must_use]
-    pub fn new(beam: &Beam, region: [u32; 3], exclude: Exclude<'_>) -> Self {
+    pub fn new(beam: &Beam, bounds: &BeamBounds, region: [u32; 3], exclude: Exclude<'_>) -> Self {
         let mut out = match beam {
-            Beam::S1(b) => Self::from_beam(b, &b.bounds()),
-            Beam::S3(b) => Self::from_beam(b, &b.bounds()),
+            Beam::S1(b) => Self::from_beam(b, bounds),
+            Beam::S3(b) => Self::from_beam(b, bounds),
             Beam::Bumped(b) => {
                 let s1 = &b.beam.beam;
-                let mut g = Self::from_beam(s1, &s1.bounds());
+                let mut g = Self::from_beam(s1, bounds);
                 let min_elevation = s1.dirs.iter().fold(1.0f32, |m, d| m.min(s1.normal.dot(*d)));
                 g.offsets[2] = b.beam.delta;
                 g.offsets[3] = b.beam.delta + b.beam.spread();

@@ -64,8 +64,10 @@ impl NonlinearCheck {
         if groups > 65_535 {
             return Err(GpuError::TooManyCases { cases: cases.len() });
         }
-        let gpu_beams: Vec<GpuBeam> =
-            beams.iter().map(|b| GpuBeam::new(b, [0, 0, 1], Exclude::base(u32::MAX))).collect();
+        let gpu_beams: Vec<GpuBeam> = beams
+            .iter()
+            .map(|b| GpuBeam::new(b, &b.texel_beam().s1_or_sn_bounds(), [0, 0, 1], Exclude::base(u32::MAX)))
+            .collect();
         let beam_buffer = storage(gpu, "beams", &gpu_beams, wgpu::BufferUsages::empty());
         let case_buffer = storage(gpu, "cases", cases, wgpu::BufferUsages::empty());
         let size = (cases.len() * per_case * 16) as u64;

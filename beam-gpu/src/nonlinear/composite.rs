@@ -11,11 +11,11 @@ use super::eye::KeptPoints;
 use super::sort::{Sorted, sort};
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, storage, uniform, view_entry};
 use crate::raytrace::RayTracer;
-use crate::shade::{PointShader, ShadeScene};
+use crate::shade::{PointShader, ShadeInput, ShadeScene};
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{LevelRadiance, SMesh, ShadePoint};
+use beam_scene::nonlinear::{LevelRadiance, SMesh};
 use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
@@ -86,7 +86,7 @@ pub use crate::interface::NONE;
 /// Shades a batch of the points the [`PointShader`] does not (mirrors and glass past the tree): adds
 /// the radiance of point `i` to element `first + i` of a buffer of `vec4<f32>`s (zeroed), as
 /// [`GpuWhitted::shade_into`](super::GpuWhitted::shade_into) does.
-pub type ShadeRest<'a> = dyn Fn(&[ShadePoint], (&wgpu::Buffer, usize)) -> Result<(), GpuError> + 'a;
+pub type ShadeRest<'a> = dyn Fn(&[ShadeInput], (&wgpu::Buffer, usize)) -> Result<(), GpuError> + 'a;
 
 /// The format of a level's radiance: rgb as half floats (and an unused alpha), 8 bytes a texel.
 const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;

@@ -8,7 +8,7 @@ use super::composite::{CompositeRecord, NONE};
 use crate::GpuError;
 use crate::shade::{PointShader, ShadeInput};
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{Composite, SMesh, ShadePoint, TexelRadiance};
+use beam_scene::nonlinear::{Composite, SMesh, TexelRadiance};
 use beam_scene::parallel::{piece_len, split_by_counts};
 use beam_scene::scene::Scene;
 use bytemuck::Zeroable;
@@ -20,7 +20,7 @@ pub(super) struct Sorted {
     /// The points the shading pass shades.
     pub direct: Vec<ShadeInput>,
     /// The points the caller shades.
-    pub other: Vec<ShadePoint>,
+    pub other: Vec<ShadeInput>,
     /// The texels of `direct`'s points, then of `other`'s.
     pub targets: Vec<u32>,
     /// The composited texels.
@@ -76,7 +76,7 @@ pub(super) fn sort(
     let total = |k: usize| counts.iter().map(|n| n[k]).sum::<usize>();
     let mut out = Sorted {
         direct: vec![ShadeInput::zeroed(); total(0)],
-        other: vec![ShadePoint::default(); total(1)],
+        other: vec![ShadeInput::zeroed(); total(1)],
         targets: vec![0; total(0) + total(1)],
         records: vec![CompositeRecord::zeroed(); total(2)],
         faces,
@@ -131,7 +131,7 @@ pub(super) fn sort(
                         at[0] += 1;
                     }
                     None => {
-                        (other_out[at[1]], other_targets[at[1]]) = (t.point, t.texel);
+                        (other_out[at[1]], other_targets[at[1]]) = (ShadeInput::new(&t.point), t.texel);
                         at[1] += 1;
                     }
                 }
@@ -162,6 +162,7 @@ fn slots(used: &[AtomicBool]) -> (Vec<u32>, Vec<u32>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use beam_scene::nonlinear::ShadePoint;
     use beam_scene::scene::{Simplify, builtin};
 
     /// The sorted lists are the texels filtered one kind at a time, in order, and each record
@@ -203,7 +204,7 @@ mod tests {
             texels.iter().filter(none).filter(|t| !PointShader::shades(&scene, t.point.prim)).collect();
         assert!(!direct.is_empty() && !other.is_empty());
         assert_eq!(s.direct, direct.iter().map(|t| ShadeInput::new(&t.point)).collect::<Vec<_>>());
-        assert_eq!(s.other, other.iter().map(|t| t.point).collect::<Vec<_>>());
+        assert_eq!(s.other, other.iter().map(|t| ShadeInput::new(&t.point)).collect::<Vec<_>>());
         assert_eq!(s.targets, direct.iter().chain(&other).map(|t| t.texel).collect::<Vec<_>>());
         let composited: Vec<(&TexelRadiance, Composite)> =
             texels.iter().filter_map(|t| Some((t, t.composite?))).collect();

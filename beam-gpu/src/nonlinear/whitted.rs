@@ -16,12 +16,10 @@ use crate::shade::{PointShader, ShadeInput, ShadeScene};
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::ShadePoint;
 use beam_scene::scene::{Bump, Material, Scene};
 use beam_scene::specular::MAX_DEPTH;
 use beam_scene::tolerance::shading_eps;
 use bytemuck::{Pod, Zeroable};
-use rayon::prelude::*;
 
 /// Uniforms of one dispatch.
 ///
@@ -233,14 +231,13 @@ impl GpuWhitted {
         shader: &PointShader,
         prepared: &ShadeScene,
         spp: u32,
-        points: &[ShadePoint],
+        points: &[ShadeInput],
         (radiance, first): (&wgpu::Buffer, usize),
     ) -> Result<(), GpuError> {
         let chunk = Self::per_dispatch(gpu);
         let mut dispatched = Vec::new();
         for (k, part) in points.chunks(chunk).enumerate() {
-            let inputs: Vec<ShadeInput> = part.par_iter().map(ShadeInput::new).collect();
-            let inputs = storage(gpu, "whitted points", &inputs, wgpu::BufferUsages::empty());
+            let inputs = storage(gpu, "whitted points", part, wgpu::BufferUsages::empty());
             let dest = first + k * chunk;
             dispatched.push(self.dispatch(gpu, &self.start, (part.len(), dest, false), &[buffer_entry(5, &inputs)]));
         }

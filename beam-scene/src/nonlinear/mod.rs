@@ -21,5 +21,7 @@ pub use cull::cone_candidates;
 pub use radiance::{Composite, LevelRadiance, TexelRadiance, composite, sample_region};
 pub use renderer::{BeamRasterizer, BeamRenderer, DeviceWaits, EyeView, PointShading, eye_by_rays};
 pub use smesh::{MAX_NORMAL_SPREAD, SFace, SMesh};
-pub use texture::{BeamJob, BeamTexture, Exclude, ShadePoint, TEXELS, TEXELS_PER_SAMPLE, TexelHit, region_size};
+pub use texture::{
+    BeamJob, BeamTexture, Exclude, ShadePoint, TEXELS, TEXELS_PER_SAMPLE, TexelHit, region_size, region_texels,
+};
 pub use waves::{Path, Shade, shade_by_waves, trace_waves};

@@ -52,8 +52,16 @@ impl BeamTexture {
     /// Texels rendered.
     #[must_use]
     pub fn texels(&self) -> u64 {
-        (0..self.size).map(|y| u64::from((self.size + 1 - y).min(self.size))).sum()
+        region_texels(self.size)
     }
+}
+
+/// Texels rendered in a region of side `size`: row 0 holds `size`, row `y ≥ 1` holds `size + 1 − y`
+/// (the texels with `x + y ≤ size`), `size + size(size + 1)/2 − 1` in all.
+#[must_use]
+pub fn region_texels(size: u32) -> u64 {
+    let s = u64::from(size);
+    (s + s * (s + 1) / 2).saturating_sub(1)
 }
 
 /// Texels a beam's region gives each pixel its face covers (directly, or through the parent beams):
@@ -136,5 +144,20 @@ impl Exclude<'_> {
     #[must_use]
     pub fn near(&self, prim: u32) -> bool {
         self.ring.binary_search(&prim).is_ok()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn region_texels_counts_the_rows() {
+        for size in 0..200u32 {
+            let rows: u64 = (0..size).map(|y| u64::from((size + 1 - y).min(size))).sum();
+            let in_region = (0..size).flat_map(|y| (0..size).map(move |x| (x, y))).filter(|&(x, y)| x + y < size + 1);
+            assert_eq!(region_texels(size), rows, "{size}");
+            assert_eq!(rows, in_region.count() as u64, "{size}");
+        }
     }
 }

@@ -7,7 +7,7 @@ use beam_cpu::nonlinear::{CpuBeams, ShadePoint, shade_by_waves};
 use beam_gpu::buffers::{checked, output, read_all};
 use beam_gpu::nonlinear::GpuWhitted;
 use beam_gpu::raytrace::RayTracer;
-use beam_gpu::shade::{PointShader, shade_twin};
+use beam_gpu::shade::{PointShader, ShadeInput, shade_twin};
 use beam_math::glam::Vec3;
 use beam_scene::scene;
 use rayon::prelude::*;
@@ -45,10 +45,11 @@ pub fn gpu_whitted_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
             .map_err(|e| e.to_string())?;
         let whitted = GpuWhitted::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let bytes = (points.len() * 16) as u64;
+        let inputs: Vec<ShadeInput> = points.iter().map(ShadeInput::new).collect();
         let got: Vec<[f32; 4]> = checked(&gpu, || {
             let radiance = output(&gpu, "radiance", bytes);
             let prepared = shader.prepare(&gpu, None);
-            whitted.shade_into(&gpu, &tracer, &shader, &prepared, spp, &points, (&radiance, 0))?;
+            whitted.shade_into(&gpu, &tracer, &shader, &prepared, spp, &inputs, (&radiance, 0))?;
             read_all(&gpu, Vec::new(), std::iter::once((&radiance, bytes)))
         })
         .map_err(|e| e.to_string())?;
