@@ -14,10 +14,7 @@ pub fn cone_candidates(scene: &Scene, cone: &Cone, exclude: Exclude<'_>) -> Vec<
     let mut cull = ConeCull { cone: ConeSpheres::new(cone), prims: Vec::new() };
     scene.bvh.traverse(&mut cull);
     cull.prims.retain(|&i| {
-        let tri = &scene.triangles[i as usize];
-        let centre = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
-        // One square root: the largest of the corners' distances is the root of the largest square.
-        let radius = tri.v.iter().fold(0.0f32, |m, v| m.max(v.distance_squared(centre))).sqrt();
+        let (centre, radius) = scene.bounding_sphere(i);
         !exclude.skips(i) && cull.cone.meets(centre, radius)
     });
     cull.prims

@@ -245,6 +245,9 @@ pub struct Scene {
     /// Where the S meshes of the specular surfaces come from (000 §7.1); by default the specular
     /// triangles themselves.
     pub smesh: SMeshPlan,
+    /// Per triangle, the bounding sphere [`Scene::bounding_sphere`] returns (made once: beams'
+    /// bounding-cone culling asks for it per beam and candidate triangle).
+    spheres: Vec<(Vec3, f32)>,
 }
 
 impl Scene {
@@ -269,6 +272,7 @@ impl Scene {
         let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
         let wide = WideBvh::new(&bvh, &triangles);
         let smooth_normals = normals::specular_normals(&triangles, &material_of, &materials);
+        let spheres = triangles.iter().map(bounding_sphere).collect();
         Self {
             name,
             triangles,
@@ -282,7 +286,15 @@ impl Scene {
             wide,
             smooth_normals,
             smesh: SMeshPlan::default(),
+            spheres,
         }
+    }
+
+    /// The bounding sphere of triangle `i` (centre, radius): about its centroid, through its
+    /// farthest corner.
+    #[must_use]
+    pub fn bounding_sphere(&self, i: u32) -> (Vec3, f32) {
+        self.spheres[i as usize]
     }
 
     /// The camera at frame `frame` of [`Self::camera_path`]; a still camera has frame 0 only. `None`
@@ -324,4 +336,11 @@ impl Scene {
             .and_then(|(n, w)| (w.x * n[0] + w.y * n[1] + w.z * n[2]).try_normalize())
             .unwrap_or_else(|| self.normal(i))
     }
+}
+
+/// The bounding sphere of `tri` about its centroid, through its farthest corner (one square root:
+/// the largest of the distances is the root of the largest square).
+fn bounding_sphere(tri: &Triangle) -> (Vec3, f32) {
+    let centre = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
+    (centre, tri.v.iter().fold(0.0f32, |m, v| m.max(v.distance_squared(centre))).sqrt())
 }
