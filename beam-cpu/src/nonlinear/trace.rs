@@ -192,7 +192,7 @@ impl Tree<'_> {
                 .into_par_iter()
                 .zip(textures)
                 .map(|((beam, face, pixels, _), tex)| {
-                    // Hits lie in the region's texels (the rest belong to no beam), each a row of one.
+                    // The hit texels in texel order, row by row; room for every texel of the region.
                     let (size, tb) = (tex.size as usize, beam.texel_beam());
                     let mut hits = Vec::with_capacity(tex.texels() as usize);
                     for (y, row) in tex.hits.chunks_exact(size.max(1)).enumerate() {

@@ -164,7 +164,7 @@ impl Patch {
     }
 
     /// `(O(ω), d(ω))` of eq. 1 at barycentric coordinates `w`: `Σ B_ijk(ω) c_ijk` over the
-    /// Bernstein weights of [`Patch::weights`], in the order of [`indices`]. S1 and S3 patches take
+    /// Bernstein weights `B_ijk = n!/(i!j!k!) ω1^i ω2^j ω3^k`, in the order of [`indices`]. S1 and S3 patches take
     /// a loop unrolled for their count (the same operations in the same order, so the same bits).
     #[must_use]
     pub fn eval(&self, w: DVec3) -> (DVec3, DVec3) {
