@@ -26,35 +26,12 @@ use beam_scene::nonlinear::{
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 
-/// Hashes an S-mesh face index by one multiplication (Fibonacci hashing, as rustc's `FxHasher`):
-/// the maps below are looked up once per texel (the default SipHash: glass-lens radiance flow
-/// 192–194 → 182–192 ms, next level's faces 7 → 5 ms). Face indices come from the scene, not from
-/// an adversary.
-#[derive(Default)]
-pub(super) struct FaceHasher(u64);
-
-impl Hasher for FaceHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(u64::from(b));
-        }
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    }
-    fn write_usize(&mut self, x: usize) {
-        self.write_u64(x as u64);
-    }
-}
-
-/// A map keyed by S-mesh face.
-pub(super) type FaceMap<V> = HashMap<usize, V, BuildHasherDefault<FaceHasher>>;
+/// A map keyed by S-mesh face, hashed by rustc's `FxHasher` (one multiplication): the maps below
+/// are looked up once per texel (with the default SipHash: glass-lens radiance flow 192–194 →
+/// 182–192 ms, next level's faces 7 → 5 ms). Face indices come from the scene, not from an
+/// adversary.
+pub(super) type FaceMap<V> = rustc_hash::FxHashMap<usize, V>;
 
 /// How many texels outside a child beam's base a coarse face's lookup may fall ([`reproject`])
 /// before its point is traced by rays instead: the one-texel margin its region renders. (On the

@@ -150,22 +150,22 @@ impl Patch {
     }
 
     /// Bernstein weights `n!/(i!j!k!) ω1^i ω2^j ω3^k` of the first `min(N, count)` control points
-    /// at `w` (the rest 0).
-    /// `ijk` is `self.ijk` or a constant copy of it.
+    /// at `w` (the rest 0); `ijk` is `self.ijk` or a constant copy of its first `N`.
     #[inline(always)]
-    fn weights<const N: usize>(&self, w: DVec3, ijk: &[[usize; 3]]) -> [f64; N] {
-        debug_assert_eq!(ijk, &self.ijk[..ijk.len()]);
+    fn weights<const N: usize>(&self, w: DVec3, ijk: &[[usize; 3]; N]) -> [f64; N] {
+        debug_assert_eq!(ijk[..], self.ijk[..N]);
         let [x, y, z] = [w.x, w.y, w.z].map(powers);
         let mut out = [0.0; N];
-        for ((o, ijk), m) in out.iter_mut().zip(&ijk[..self.count.min(ijk.len())]).zip(&self.multinomial) {
+        for ((o, ijk), m) in out.iter_mut().zip(&ijk[..self.count.min(N)]).zip(&self.multinomial) {
             *o = m * x[ijk[0]] * y[ijk[1]] * z[ijk[2]];
         }
         out
     }
 
     /// `(O(ω), d(ω))` of eq. 1 at barycentric coordinates `w`: `Σ B_ijk(ω) c_ijk` over the
-    /// Bernstein weights `B_ijk = n!/(i!j!k!) ω1^i ω2^j ω3^k`, in the order of [`indices`]. S1 and S3 patches take
-    /// a loop unrolled for their count (the same operations in the same order, so the same bits).
+    /// Bernstein weights `B_ijk = n!/(i!j!k!) ω1^i ω2^j ω3^k`, in the order of [`indices`]. S1 and
+    /// S3 patches take a loop unrolled for their count (the same operations in the same order, so
+    /// the same bits).
     #[must_use]
     pub fn eval(&self, w: DVec3) -> (DVec3, DVec3) {
         match self.count {
@@ -177,7 +177,7 @@ impl Patch {
 
     /// [`Patch::eval`] over the first `min(N, count)` control points.
     #[inline(always)]
-    fn eval_n<const N: usize>(&self, w: DVec3, ijk: &[[usize; 3]]) -> (DVec3, DVec3) {
+    fn eval_n<const N: usize>(&self, w: DVec3, ijk: &[[usize; 3]; N]) -> (DVec3, DVec3) {
         let b = self.weights::<N>(w, ijk);
         let mut o = DVec3::ZERO;
         let mut d = DVec3::ZERO;
