@@ -79,7 +79,7 @@ pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, e
     let (lift, normal) = (beam.lift().max(exclude.thickness), beam.base_normal());
     let mut memo = InsideMemo::new();
     let mut rays: Vec<Option<TexelRay>> = vec![None; if size <= RAY_CACHE_SIZE { n * n } else { 0 }];
-    for i in cone_candidates(scene, &cone, exclude) {
+    for i in cone_candidates(scene, beam, &cone, exclude) {
         let tri = &scene.triangles[i as usize];
         let inside = &mut |q| memo.get(q, |q| beam.contains_s1(q));
         let Some(bt) = beam.bounding_triangle_of(&bounds, tri, inside) else { continue };

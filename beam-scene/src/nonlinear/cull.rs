@@ -1,23 +1,76 @@
 //! Bounding-cone culling of the scene for one beam (000 App. A): the triangles a beam may meet.
 
+use super::beam::{MIN_RISE, TEXEL_EPS, TexelBeam};
 use super::texture::Exclude;
 use crate::scene::Scene;
 use beam_bvh::{Control, NodeVisitor};
-use beam_math::Aabb;
 use beam_math::collide::{Cone, ConeSpheres};
+use beam_math::{Aabb, Triangle};
 
-/// The scene triangles that may meet a beam with bounding cone `cone`, less those it skips
-/// (`exclude`, the surface under its base): bounding-cone culling (000 App. A) of the BVH's boxes,
-/// then of each triangle's bounding sphere.
+/// The scene triangles that may meet `beam`, whose rays lie in its bounding cone `cone`, less those
+/// it skips (`exclude`, the surface under its base): bounding-cone culling (000 App. A) of the
+/// BVH's boxes, then of each triangle's bounding sphere; then the triangles next to the base that
+/// lie wholly below the self-hit floor ([`SelfHitFloor`]).
 #[must_use]
-pub fn cone_candidates(scene: &Scene, cone: &Cone, exclude: Exclude<'_>) -> Vec<u32> {
+pub fn cone_candidates(scene: &Scene, beam: &(impl TexelBeam + ?Sized), cone: &Cone, exclude: Exclude<'_>) -> Vec<u32> {
     let mut cull = ConeCull { cone: ConeSpheres::new(cone), prims: Vec::new() };
     scene.bvh.traverse(&mut cull);
+    let floor = SelfHitFloor::new(beam, cone, exclude.thickness, scene.bounds().extent().length());
     cull.prims.retain(|&i| {
         let (centre, radius) = scene.bounding_sphere(i);
-        !exclude.skips(i) && cull.cone.meets(centre, radius)
+        !exclude.skips(i)
+            && cull.cone.meets(centre, radius)
+            && !floor.is_some_and(|f| f.culls(&scene.triangles[i as usize], exclude.near(i)))
     });
     cull.prims
+}
+
+/// How far below the floor a triangle must lie, as a fraction of the scene's diagonal (f32
+/// rounding of the heights and of the intersection's distance).
+const FLOOR_MARGIN: f32 = 1e-6;
+
+/// The self-hit floor of a beam: the triangles next to its base (sharing a vertex with it, or in a
+/// coarse face's ring) take no hit nearer than the self-hit distance ([`super::self_hit_at`]:
+/// `max(TEXEL_EPS·extent, 2·lift / max(rise, MIN_RISE))` along a ray of rise `d̂·n` over the base
+/// plane). Every ray starts within `μ_b` of the base plane and rises at least `r_min`, the cosine
+/// of the cone's axis's angle to the normal plus the cone's half-angle (a half-line inside a cone
+/// points into it); the distance times the rise grows with the rise, so no such hit lies lower
+/// than `floor = max(TEXEL_EPS·extent·r_min, 2·lift·r_min / max(r_min, MIN_RISE)) − μ_b`. A
+/// triangle next to the base wholly below the floor is never hit: on a convex mirror or a flat
+/// one, every neighbour of the base, each of which would otherwise be tested over the whole region
+/// (000 Alg. 3's brute-force case, as it straddles the beam's side).
+#[derive(Clone, Copy, Debug)]
+struct SelfHitFloor {
+    base: [beam_math::glam::Vec3; 3],
+    normal: beam_math::glam::Vec3,
+    floor: f32,
+}
+
+impl SelfHitFloor {
+    /// The floor of `beam` (rays in `cone`; its self-hits judged with the surface's `thickness` off
+    /// the base plane; `extent` the scene's diagonal); `None` where a ray may run parallel to the
+    /// base or below it.
+    fn new(beam: &(impl TexelBeam + ?Sized), cone: &Cone, thickness: f32, extent: f32) -> Option<Self> {
+        let normal = beam.base_normal();
+        // A milliradian over the angles for acos's rounding near 1.
+        let steepest_away = normal.dot(cone.axis).clamp(-1.0, 1.0).acos() + cone.angle + 1e-3;
+        if !(steepest_away < core::f32::consts::FRAC_PI_2) {
+            return None;
+        }
+        let rise = steepest_away.cos();
+        let mu_b = beam.lift();
+        let lift = mu_b.max(thickness);
+        let climb = (TEXEL_EPS * extent * rise).max(2.0 * lift * rise / rise.max(MIN_RISE));
+        let floor = climb - 1.25 * mu_b - FLOOR_MARGIN * extent;
+        Some(Self { base: beam.base(), normal, floor })
+    }
+
+    /// True when `tri` is next to the base (`near`: in a coarse face's ring) and wholly below the
+    /// floor.
+    fn culls(&self, tri: &Triangle, near: bool) -> bool {
+        (near || tri.v.iter().any(|v| self.base.contains(v)))
+            && tri.v.iter().all(|&v| self.normal.dot(v - self.base[0]) < self.floor)
+    }
 }
 
 /// Collects the triangles of the BVH leaves whose boxes' bounding spheres meet a beam's bounding
@@ -35,5 +88,76 @@ impl NodeVisitor for ConeCull {
     fn leaf(&mut self, prims: &[u32]) -> Control {
         self.prims.extend_from_slice(prims);
         Control::Continue
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nonlinear::self_hit_at;
+    use beam_math::collide::WatertightRay;
+    use beam_math::glam::Vec3;
+    use beam_math::nonlinear::{NonlinearBeam, S3};
+    use rand::{Rng, SeedableRng};
+    use rand_pcg::Pcg32;
+
+    /// No texel ray of an S1 or S3 beam hits a triangle the floor culls beyond the self-hit
+    /// distance; the floor culls a flat neighbour and a convex one, and keeps one folded up.
+    #[test]
+    fn culled_neighbours_are_never_hit() {
+        let base = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let dirs =
+            [Vec3::new(-0.3, -0.2, 1.0), Vec3::new(0.4, -0.1, 1.0), Vec3::new(-0.1, 0.5, 1.0)].map(Vec3::normalize);
+        let normals = [Vec3::new(-0.1, -0.1, 1.0).normalize(), Vec3::Z, Vec3::new(0.05, 0.1, 1.0).normalize()];
+        let extent = 10.0;
+        let mut rng = Pcg32::seed_from_u64(7);
+        let s1 = check(&NonlinearBeam::s1(base, dirs).unwrap(), extent, &mut rng);
+        let s3 = check(&NonlinearBeam::new(base, dirs, S3 { normals }).unwrap(), extent, &mut rng);
+        for (culled, kept) in [s1, s3] {
+            assert!(culled > 50 && kept > 50, "{culled} culled, {kept} kept");
+        }
+        let beam = NonlinearBeam::s1(base, dirs).unwrap();
+        let floor = SelfHitFloor::new(&beam, &beam.culling_cone(&beam.bounds()), 0.0, extent).unwrap();
+        let flat = Triangle::new(Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y);
+        let convex = Triangle::new(Vec3::X, Vec3::new(1.5, 1.0, -0.3), Vec3::Y);
+        let folded_up = Triangle::new(Vec3::X, Vec3::new(1.0, 1.0, 0.2), Vec3::Y);
+        assert!(floor.culls(&flat, false) && floor.culls(&convex, false) && !floor.culls(&folded_up, false));
+        // Only triangles next to the base.
+        let apart = Triangle::new(Vec3::new(2.0, 2.0, -1.0), Vec3::new(3.0, 2.0, -1.0), Vec3::new(2.0, 3.0, -1.0));
+        assert!(!floor.culls(&apart, false) && floor.culls(&apart, true));
+    }
+
+    /// Random neighbours of `beam`'s base checked against its texel rays on a grid: how many were
+    /// culled (never hit) and kept.
+    fn check<L: beam_math::nonlinear::Interpolant>(
+        beam: &NonlinearBeam<L>,
+        extent: f32,
+        rng: &mut Pcg32,
+    ) -> (usize, usize) {
+        let floor = SelfHitFloor::new(beam, &beam.culling_cone(&beam.bounds()), 0.0, extent).unwrap();
+        let (mut culled, mut kept) = (Vec::new(), 0);
+        for k in 0..600 {
+            let mut point = || Vec3::new(rng.random_range(-2.0..3.0), rng.random_range(-2.0..3.0), 0.0);
+            let (a, mut b) = (point(), point());
+            b.z = rng.random_range(-0.3..0.2) * if k % 2 == 0 { 1.0 } else { 1e-3 };
+            let tri = Triangle::new(beam.base[k % 3], a, b);
+            if floor.culls(&tri, false) {
+                culled.push(tri);
+            } else {
+                kept += 1;
+            }
+        }
+        let n = 40;
+        for i in 0..=n {
+            for j in 0..=n - i {
+                let w = Vec3::new((n - i - j) as f32, i as f32, j as f32) / n as f32;
+                let ray = TexelBeam::texel_ray(beam, w);
+                let t_min = self_hit_at(beam.lift(), beam.normal, ray, extent) / ray.direction.length();
+                for tri in &culled {
+                    assert!(WatertightRay::new(ray).intersect(tri, t_min, f32::INFINITY).is_none(), "{tri:?} at {w}");
+                }
+            }
+        }
+        (culled.len(), kept)
     }
 }
