@@ -23,9 +23,9 @@ const LOOKUP_STEPS: u32 = 10;
 /// by its place on the face, reads `beam`'s texture `tex` for its own scattered unit direction
 /// `truth`: twice, the depth `s` of the hit of the texel at the current coordinates (`far`, the
 /// scene's size, where its ray leaves the scene), then the projection of `p + s·truth` onto the
-/// beam (000 §5, at most [`LOOKUP_STEPS`] Newton steps), clamped to the base. Returns the coordinates and how far outside the base the
-/// last projection lay (its most negative coordinate, negated; 0 inside); `w` and 0 when a
-/// projection fails.
+/// beam (000 §5, at most [`LOOKUP_STEPS`] Newton steps), clamped to the base. Returns the
+/// coordinates and how far outside the base the last projection lay (its most negative
+/// coordinate, negated; 0 inside); `w` and 0 when a projection fails.
 #[must_use]
 pub fn reproject(beam: &Beam, tex: &BeamTexture, p: Vec3, truth: Vec3, w: Vec3, far: f32) -> (Vec3, f32) {
     if matches!(beam, Beam::Bumped(_)) || !truth.is_finite() {

@@ -10,7 +10,7 @@ use beam_math::{Aabb, Triangle};
 /// The scene triangles that may meet `beam`, whose rays lie in its bounding cone `cone`, less those
 /// it skips (`exclude`, the surface under its base): bounding-cone culling (000 App. A) of the
 /// BVH's boxes, then of each triangle's bounding sphere; then the triangles next to the base that
-/// lie wholly below the self-hit floor ([`SelfHitFloor`]).
+/// lie wholly below the height that no hit past the self-hit distance reaches (`SelfHitFloor`).
 #[must_use]
 pub fn cone_candidates(scene: &Scene, beam: &(impl TexelBeam + ?Sized), cone: &Cone, exclude: Exclude<'_>) -> Vec<u32> {
     let mut cull = ConeCull { cone: ConeSpheres::new(cone), prims: Vec::new() };
