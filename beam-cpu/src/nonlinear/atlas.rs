@@ -71,7 +71,6 @@ pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, e
     let n = size as usize;
     let mut tex = BeamTexture { size, hits: vec![None; n * n], triangles_after_culling: 0, texels_tested: 0 };
     let bounds = beam.s1_or_sn_bounds();
-    let cone = beam.culling_cone(&bounds);
     let extent = scene.bounds().extent().length();
     // Half a texel of slack around the bounding triangle, in barycentric units.
     let slack = 0.5 / size as f32;
@@ -79,7 +78,7 @@ pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, e
     let (lift, normal) = (beam.lift().max(exclude.thickness), beam.base_normal());
     let mut memo = InsideMemo::new();
     let mut rays: Vec<Option<TexelRay>> = vec![None; if size <= RAY_CACHE_SIZE { n * n } else { 0 }];
-    for i in cone_candidates(scene, beam, &cone, exclude) {
+    for i in cone_candidates(scene, beam, &bounds, exclude) {
         let tri = &scene.triangles[i as usize];
         let inside = &mut |q| memo.get(q, |q| beam.contains_s1(q));
         let Some(bt) = beam.bounding_triangle_of(&bounds, tri, inside) else { continue };

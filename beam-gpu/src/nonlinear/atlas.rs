@@ -386,7 +386,7 @@ impl BeamRasterizer for GpuBeams<'_> {
             .map(|j| {
                 let tb = j.beam.texel_beam();
                 let bounds = tb.s1_or_sn_bounds();
-                let mut kept = cone_candidates(scene, tb, &tb.culling_cone(&bounds), j.exclude);
+                let mut kept = cone_candidates(scene, tb, &bounds, j.exclude);
                 for prim in &mut kept {
                     *prim |= if j.exclude.near(*prim) { PAIR_NEAR } else { 0 };
                 }

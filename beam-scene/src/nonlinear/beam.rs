@@ -127,8 +127,12 @@ pub fn self_hit_distance(beam: &(impl TexelBeam + ?Sized), ray: Ray, extent: f32
 
 /// [`self_hit_distance`] for a beam of lift `lift` and unit base normal `normal`.
 pub fn self_hit_at(lift: f32, normal: Vec3, ray: Ray, extent: f32) -> f32 {
-    let rise = (ray.direction.normalize_or_zero().dot(normal)).max(MIN_RISE);
-    (TEXEL_EPS * extent).max(2.0 * lift / rise)
+    self_hit_at_rise(lift, ray.direction.normalize_or_zero().dot(normal), extent)
+}
+
+/// [`self_hit_at`] for a ray of rise `rise` (its unit direction's dot with the base normal).
+pub(crate) fn self_hit_at_rise(lift: f32, rise: f32, extent: f32) -> f32 {
+    (TEXEL_EPS * extent).max(2.0 * lift / rise.max(MIN_RISE))
 }
 
 /// The nearest a texel ray's hit may be, as a fraction of the scene's diagonal (WGSL twin in

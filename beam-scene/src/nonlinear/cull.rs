@@ -1,21 +1,28 @@
 //! Bounding-cone culling of the scene for one beam (000 App. A): the triangles a beam may meet.
 
-use super::beam::{MIN_RISE, TEXEL_EPS, TexelBeam};
+use super::beam::{TexelBeam, self_hit_at_rise};
 use super::texture::Exclude;
 use crate::scene::Scene;
 use beam_bvh::{Control, NodeVisitor};
 use beam_math::collide::{Cone, ConeSpheres};
+use beam_math::nonlinear::BeamBounds;
 use beam_math::{Aabb, Triangle};
 
-/// The scene triangles that may meet `beam`, whose rays lie in its bounding cone `cone`, less those
-/// it skips (`exclude`, the surface under its base): bounding-cone culling (000 App. A) of the
-/// BVH's boxes, then of each triangle's bounding sphere; then the triangles next to the base that
-/// lie wholly below the height that no hit past the self-hit distance reaches (`SelfHitFloor`).
+/// The scene triangles that may meet `beam` (of bounds `bounds`), less those it skips (`exclude`,
+/// the surface under its base): bounding-cone culling (000 App. A) of the BVH's boxes, then of each
+/// triangle's bounding sphere; then the triangles next to the base that lie wholly below the height
+/// that no hit past the self-hit distance reaches (`SelfHitFloor`).
 #[must_use]
-pub fn cone_candidates(scene: &Scene, beam: &(impl TexelBeam + ?Sized), cone: &Cone, exclude: Exclude<'_>) -> Vec<u32> {
-    let mut cull = ConeCull { cone: ConeSpheres::new(cone), prims: Vec::new() };
+pub fn cone_candidates(
+    scene: &Scene,
+    beam: &(impl TexelBeam + ?Sized),
+    bounds: &BeamBounds,
+    exclude: Exclude<'_>,
+) -> Vec<u32> {
+    let cone = beam.culling_cone(bounds);
+    let mut cull = ConeCull { cone: ConeSpheres::new(&cone), prims: Vec::new() };
     scene.bvh.traverse(&mut cull);
-    let floor = SelfHitFloor::new(beam, cone, exclude.thickness, scene.bounds().extent().length());
+    let floor = SelfHitFloor::new(beam, &cone, exclude.thickness, scene.bounds().extent().length());
     cull.prims.retain(|&i| {
         let (centre, radius) = scene.bounding_sphere(i);
         !exclude.skips(i)
@@ -30,15 +37,15 @@ pub fn cone_candidates(scene: &Scene, beam: &(impl TexelBeam + ?Sized), cone: &C
 const FLOOR_MARGIN: f32 = 1e-6;
 
 /// The self-hit floor of a beam: the triangles next to its base (sharing a vertex with it, or in a
-/// coarse face's ring) take no hit nearer than the self-hit distance ([`super::self_hit_at`]:
-/// `max(TEXEL_EPS·extent, 2·lift / max(rise, MIN_RISE))` along a ray of rise `d̂·n` over the base
-/// plane). Every ray starts within `μ_b` of the base plane and rises at least `r_min`, the cosine
-/// of the cone's axis's angle to the normal plus the cone's half-angle (a half-line inside a cone
-/// points into it); the distance times the rise grows with the rise, so no such hit lies lower
-/// than `floor = max(TEXEL_EPS·extent·r_min, 2·lift·r_min / max(r_min, MIN_RISE)) − μ_b`. A
-/// triangle next to the base wholly below the floor is never hit: on a convex mirror or a flat
-/// one, every neighbour of the base, each of which would otherwise be tested over the whole region
-/// (000 Alg. 3's brute-force case, as it straddles the beam's side).
+/// coarse face's ring) take no hit nearer than the self-hit distance `s(rise)`
+/// ([`super::self_hit_at`]: `max(TEXEL_EPS·extent, 2·lift / max(rise, MIN_RISE))` along a ray of
+/// rise `d̂·n` over the base plane). Every ray starts within `μ_b` of the base plane and rises at
+/// least `r_min`, the cosine of the cone's axis's angle to the normal plus the cone's half-angle (a
+/// half-line inside a cone points into it); the distance times the rise grows with the rise, so no
+/// such hit lies lower than `floor = r_min·s(r_min) − μ_b`. A triangle next to the base wholly
+/// below the floor is never hit: on a convex mirror or a flat one, every neighbour of the base,
+/// each of which would otherwise be tested over the whole region (000 Alg. 3's brute-force case, as
+/// it straddles the beam's side).
 #[derive(Clone, Copy, Debug)]
 struct SelfHitFloor {
     base: [beam_math::glam::Vec3; 3],
@@ -60,7 +67,7 @@ impl SelfHitFloor {
         let rise = steepest_away.cos();
         let mu_b = beam.lift();
         let lift = mu_b.max(thickness);
-        let climb = (TEXEL_EPS * extent * rise).max(2.0 * lift * rise / rise.max(MIN_RISE));
+        let climb = rise * self_hit_at_rise(lift, rise, extent);
         let floor = climb - 1.25 * mu_b - FLOOR_MARGIN * extent;
         Some(Self { base: beam.base(), normal, floor })
     }
