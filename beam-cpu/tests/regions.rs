@@ -22,7 +22,7 @@ fn rects(w: u32, h: u32) -> Vec<PixelRect> {
 #[track_caller]
 fn same(what: &str, full: &Image, rect: PixelRect, part: &Image) {
     assert_eq!((part.width, part.height), (rect.width(), rect.height()), "{what} {rect:?}");
-    let want = rect.cut(&full.pixels, full.width);
+    let want = rect.cut(full.pixels.clone(), full.width);
     for (i, (a, b)) in want.iter().zip(&part.pixels).enumerate() {
         assert!(
             a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits),

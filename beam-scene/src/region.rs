@@ -117,14 +117,25 @@ impl PixelRect {
     }
 
     /// The rectangle's pixels cut out of a row-major buffer of a frame `width` pixels wide that holds
-    /// it, row-major.
+    /// it, row-major: the buffer itself when the rectangle is the whole frame (no copy).
     #[must_use]
-    pub fn cut<T: Copy>(self, frame: &[T], width: u32) -> Vec<T> {
+    pub fn cut<T: Copy>(self, mut frame: Vec<T>, width: u32) -> Vec<T> {
+        let w = width as usize;
+        if self.x0 == 0 && self.y0 == 0 && self.x1 == width && self.y1 as usize * w == frame.len() {
+            return frame;
+        }
         if self.is_empty() {
             return Vec::new();
         }
-        let (w, x0, x1) = (width as usize, self.x0 as usize, self.x1 as usize);
-        (self.y0 as usize..self.y1 as usize).flat_map(|y| &frame[y * w + x0..y * w + x1]).copied().collect()
+        let (x0, x1) = (self.x0 as usize, self.x1 as usize);
+        // Rows move down in place: row k's pixels go to k·(x1 − x0), never past where they are read.
+        let mut end = 0;
+        for y in self.y0 as usize..self.y1 as usize {
+            frame.copy_within(y * w + x0..y * w + x1, end);
+            end += x1 - x0;
+        }
+        frame.truncate(end);
+        frame
     }
 }
 
@@ -251,11 +262,12 @@ mod tests {
         assert_eq!(PixelRect::full(5, 5).aligned_out(0, 5, 5), PixelRect::full(5, 5));
         assert!(r.fits(40, 47) && !r.fits(39, 47) && !PixelRect { x0: 3, x1: 3, ..r }.fits(64, 64));
         let frame: Vec<usize> = (0..64 * 48).collect();
-        let cut = r.cut(&frame, 64);
+        let cut = r.cut(frame.clone(), 64);
         assert_eq!(cut.len(), r.len());
         assert_eq!(cut, r.frame_indices(64).collect::<Vec<_>>());
         assert_eq!(cut[r.index(20, 10)], 10 * 64 + 20);
         let empty = PixelRect { x0: 9, y0: 0, x1: 3, y1: 5 };
-        assert!(empty.cut(&frame, 64).is_empty() && empty.frame_indices(64).next().is_none());
+        assert!(empty.cut(frame.clone(), 64).is_empty() && empty.frame_indices(64).next().is_none());
+        assert_eq!(PixelRect::full(64, 48).cut(frame.clone(), 64), frame);
     }
 }

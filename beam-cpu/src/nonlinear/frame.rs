@@ -115,7 +115,7 @@ pub fn render_nonlinear_with(
         }
     };
     clock.lap("shading and composite");
-    let image = Image { width: crop.width(), height: crop.height(), pixels: crop.cut(&frame, camera.width) };
+    let image = Image { width: crop.width(), height: crop.height(), pixels: crop.cut(frame, camera.width) };
     let all = || levels.iter().flatten();
     let beams = all().count();
     let texels_tested: u64 = all().map(|n| n.tex.texels_tested).sum();

@@ -39,5 +39,5 @@ pub fn render_smooth_reference_with(
     // The ground truth shades exactly, on the CPU.
     let shade = |points: &[ShadePoint]| shade_points(&CpuBeams, scene, options, caustics.as_ref(), points);
     trace_waves(scene, renderer, &shade, &|i| i as u64, paths, 0, &mut pixels)?;
-    Ok(Image { width: crop.width(), height: crop.height(), pixels: crop.cut(&pixels, camera.width) })
+    Ok(Image { width: crop.width(), height: crop.height(), pixels: crop.cut(pixels, camera.width) })
 }
