@@ -10,20 +10,26 @@
 //! of the point at the depth the beam's texel there sees.
 
 use beam_math::glam::Vec3;
+use beam_math::nonlinear::{Polish, Projection};
 use beam_scene::nonlinear::{Beam, BeamTexture};
 
-/// Newton steps of a lookup's projection ([`Beam::project_in`]). On the mirror teapot under an
-/// S mesh of 850 faces, 93% of the projections converge within 5 steps; 9% never converge (points
-/// no ray of the beam reaches) and spent 85% of all steps when they had 60. With 10, the image
-/// against the ray-traced reference keeps its PSNR (33.74 dB at 256²) and the radiance flow takes
-/// about half the time.
-const LOOKUP_STEPS: u32 = 10;
+/// How far a lookup's projection is polished ([`Beam::project_in`]). A lookup needs `ω` to a
+/// fraction of a texel (1/32 of the base at most), far above a residual of 10⁻⁶ of the base's
+/// size. Started from a guess ([`reproject`]), on the mirror teapot under an S mesh of 850 faces,
+/// 98.5% of the projections that converge within 10 steps do so within 5 (93% within 3), and 11%
+/// do not converge (points no ray of the beam reaches), which spent more than half of all steps;
+/// with 5 the radiance flow takes half the time of the corner rays' start with 10 steps
+/// (1280×1024: 0.60 → 0.29 s on 2 cores) and the image keeps its PSNR against the ray-traced
+/// reference (32.96 → 33.00 dB at 256²).
+const LOOKUP: Polish = Polish { steps: 5, tolerance: 1e-6 };
 
 /// Barycentric coordinates on `beam`'s base where point `p` of the fine surface, looked up at `w`
 /// by its place on the face, reads `beam`'s texture `tex` for its own scattered unit direction
 /// `truth`: twice, the depth `s` of the hit of the texel at the current coordinates (`far`, the
 /// scene's size, where its ray leaves the scene), then the projection of `p + s·truth` onto the
-/// beam (000 §5, at most [`LOOKUP_STEPS`] Newton steps), clamped to the base. Returns the
+/// beam (000 §5, polished as [`LOOKUP`] says), clamped to the base. The first projection
+/// starts Newton's method from `w` at parameter `s` (the point lies about `s` along the beam's ray
+/// there), the second from the first's answer ([`Beam::project_in`] with a guess). Returns the
 /// coordinates and how far outside the base the last projection lay (its most negative
 /// coordinate, negated; 0 inside); `w` and 0 when a projection fails.
 #[must_use]
@@ -31,11 +37,14 @@ pub fn reproject(beam: &Beam, tex: &BeamTexture, p: Vec3, truth: Vec3, w: Vec3, 
     if matches!(beam, Beam::Bumped(_)) || !truth.is_finite() {
         return (w, 0.0); // a bump map tilts the rays texel by texel: the face's own coordinates
     }
-    let (mut at, mut outside) = (w, 0.0);
+    let (mut at, mut outside, mut guess) = (w, 0.0, None);
     for _ in 0..2 {
         let s = depth(beam, tex, at).map_or(far, |x| x.distance(p));
-        match beam.project_in(p + truth * s, LOOKUP_STEPS) {
-            Some(next) if next.is_finite() => (at, outside) = (clamped(next), (-next.min_element()).max(0.0)),
+        let start = guess.unwrap_or(Projection { bary: w, t: s });
+        match beam.project_in(p + truth * s, LOOKUP, Some(start)) {
+            Some(next) if next.bary.is_finite() => {
+                (at, outside, guess) = (clamped(next.bary), (-next.bary.min_element()).max(0.0), Some(next));
+            }
             _ => break,
         }
     }

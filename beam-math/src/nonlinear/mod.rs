@@ -20,5 +20,5 @@ pub use bounding_cone::MIN_CONE_ANGLE;
 pub use bounding_triangle::{BeamBounds, BoundingCase, BoundingTriangle, enclosing_triangle, relative_coordinates};
 pub use bump::{BumpBeam, perturb};
 pub use parameterization::{Interpolant, MAX_COEFFICIENTS, MAX_DEGREE, Patch, S1, S3, indices, multinomial};
-pub use projection::{BARY_TOLERANCE, NEWTON_STEPS, Projection, Projections};
+pub use projection::{BARY_TOLERANCE, NEWTON_STEPS, Polish, Projection, Projections};
 pub use threshold::ThresholdPlane;

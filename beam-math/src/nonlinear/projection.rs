@@ -66,6 +66,24 @@ impl Projections {
 /// Newton steps of a projection at full precision.
 pub const NEWTON_STEPS: u32 = 60;
 
+/// How far Newton's method polishes an S^n projection: at most `steps` steps, done where the
+/// residual `|O(ω) + t·d(ω) − Q|` is at most `tolerance · s · (1 + |t|)` (`s` the base's size).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Polish {
+    /// Most Newton steps.
+    pub steps: u32,
+    /// Residual, relative to the base's size, below which a step ends the method.
+    pub tolerance: f64,
+}
+
+impl Polish {
+    /// Full precision: [`NEWTON_STEPS`] steps, residual 10⁻¹² (the tree's directions, 000 §7.2).
+    pub const FULL: Self = Self { steps: NEWTON_STEPS, tolerance: 1e-12 };
+
+    /// Residual below which an answer is accepted after the last step.
+    const ACCEPT: f64 = 1e-7;
+}
+
 /// Tolerance on barycentric coordinates for "inside the base triangle".
 pub const BARY_TOLERANCE: f32 = 1e-5;
 
@@ -124,25 +142,48 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// S1 beam of its corner rays, polished by Newton's method on the full eq. 1.
     #[must_use]
     pub fn project_nearest(&self, q: Vec3) -> Option<Projection> {
-        self.project_nearest_in(q, NEWTON_STEPS)
+        self.project_nearest_in(q, Polish::FULL)
     }
 
-    /// [`Self::project_nearest`] with at most `steps` Newton steps; where they do not converge,
-    /// the last iterate if it meets the final tolerance, else the corner rays' S1 solution, as
-    /// after all [`NEWTON_STEPS`]. For lookups that need `ω` to a fraction of a texel: a point
-    /// that no ray of the S^n beam reaches (beyond a fold of its extrapolated rays, common for a
-    /// point outside the beam) spends every step it is given before it fails.
+    /// [`Self::project_nearest`] polished as `polish` says; where Newton's method does not
+    /// converge, the last iterate if its residual is within 10⁻⁷ of the base's size, else the
+    /// corner rays' S1 solution, as after all [`NEWTON_STEPS`]. For lookups that need `ω` to a
+    /// fraction of a texel: a point that no ray of the S^n beam reaches (beyond a fold of its
+    /// extrapolated rays, common for a point outside the beam) spends every step it is given
+    /// before it fails.
     #[must_use]
-    pub fn project_nearest_in(&self, q: Vec3, steps: u32) -> Option<Projection> {
+    pub fn project_nearest_in(&self, q: Vec3, polish: Polish) -> Option<Projection> {
         let (sol, n) = s1_solutions(self.base.map(|v| v.as_dvec3()), self.dirs.map(|v| v.as_dvec3()), q.as_dvec3());
         let outside = |w: DVec3| (-w.min_element()).max(0.0);
         let &(mut w, mut t) =
             sol[..n].iter().filter(|(_, t)| *t > 0.0).min_by(|a, b| outside(a.0).total_cmp(&outside(b.0)))?;
         if self.degree() > 1 {
-            let scale = self.base.iter().fold(0.0f64, |m, p| m.max(f64::from(p.distance(self.base[0])))).max(1e-30);
-            (w, t) = self.newton(q.as_dvec3(), w, t, scale, steps).filter(|(_, t)| *t > 0.0).unwrap_or((w, t));
+            (w, t) = self.newton(q.as_dvec3(), w, t, polish).filter(|(_, t)| *t > 0.0).unwrap_or((w, t));
         }
         Some(Projection { bary: w.as_vec3(), t: t as f32 })
+    }
+
+    /// [`Self::project_nearest_in`] started from `guess` instead of the corner rays' S1 solution,
+    /// for a point whose projection lies near a known one (a lookup's first projection starts
+    /// from the point's own place on the face, its second from its first): Newton's method needs
+    /// fewer steps and the cubic is not solved. Where it does not converge from `guess` or
+    /// reaches `t ≤ 0`, the corner rays' S1 solution, unpolished: such a point is rarely reached
+    /// from there either, and it would spend every step again. S1 beams solve the cubic as always.
+    #[must_use]
+    pub fn project_nearest_from(&self, q: Vec3, guess: Projection, polish: Polish) -> Option<Projection> {
+        if self.degree() > 1 && guess.bary.is_finite() && guess.t.is_finite() {
+            let (w, t) = (guess.bary.as_dvec3(), f64::from(guess.t));
+            if let Some((w, t)) = self.newton(q.as_dvec3(), w, t, polish).filter(|(_, t)| *t > 0.0) {
+                return Some(Projection { bary: w.as_vec3(), t: t as f32 });
+            }
+            return self.project_nearest_in(q, Polish { steps: 0, ..polish });
+        }
+        self.project_nearest_in(q, polish)
+    }
+
+    /// The base's size for Newton's tolerances: its largest distance from the first vertex.
+    fn scale(&self) -> f64 {
+        self.base.iter().fold(0.0f64, |m, p| m.max(f64::from(p.distance(self.base[0])))).max(1e-30)
     }
 
     /// S^n projection: subdivide the base into `K²` triangles, solve each as an S1 beam through its
@@ -150,7 +191,6 @@ impl<L: Interpolant> NonlinearBeam<L> {
     fn project_sn(&self, q: Vec3, out: &mut Projections) {
         const K: usize = 10;
         let q = q.as_dvec3();
-        let scale = self.base.iter().fold(0.0f64, |m, p| m.max(f64::from(p.distance(self.base[0])))).max(1e-30);
         let corner =
             |i: usize, j: usize| DVec3::new(i as f64 / K as f64, j as f64 / K as f64, (K - i - j) as f64 / K as f64);
         for i in 0..K {
@@ -175,7 +215,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
                         if guess.min_element() < -0.5 {
                             continue;
                         }
-                        if let Some((w, t)) = self.newton(q, guess, t, scale, NEWTON_STEPS) {
+                        if let Some((w, t)) = self.newton(q, guess, t, Polish::FULL) {
                             if w.min_element() >= -f64::from(BARY_TOLERANCE) {
                                 out.push_unique(Projection { bary: w.as_vec3(), t: t as f32 }, 1e-4);
                             }
@@ -186,18 +226,19 @@ impl<L: Interpolant> NonlinearBeam<L> {
         }
     }
 
-    /// Damped Newton's method on `F(ω1, ω2, t) = O(ω) + t·d(ω) − Q` from an initial guess, at most
-    /// `steps` steps: a step is halved until the residual decreases, which keeps it converging
+    /// Damped Newton's method on `F(ω1, ω2, t) = O(ω) + t·d(ω) − Q` from an initial guess, as far as
+    /// `polish` says: a step is halved until the residual decreases, which keeps it converging
     /// near folds of the beam (caustics) where the Jacobian is nearly singular.
-    fn newton(&self, q: DVec3, mut w: DVec3, mut t: f64, scale: f64, steps: u32) -> Option<(DVec3, f64)> {
+    fn newton(&self, q: DVec3, mut w: DVec3, mut t: f64, polish: Polish) -> Option<(DVec3, f64)> {
+        let scale = self.scale();
         // The residual at (w, t) and the ray direction d(w) it was computed with.
         let residual = |w: DVec3, t: f64| {
             let (o, d) = self.patch.eval(w);
             (o + t * d - q, d)
         };
         let (mut f, mut d) = residual(w, t);
-        for _ in 0..steps {
-            if f.length() <= 1e-12 * scale * (1.0 + t.abs()) {
+        for _ in 0..polish.steps {
+            if f.length() <= polish.tolerance * scale * (1.0 + t.abs()) {
                 return Some((w, t));
             }
             let [(o1, d1), (o2, d2)] = self.patch.derivatives(w);
@@ -225,7 +266,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
                 return None;
             }
         }
-        (f.length() <= 1e-7 * scale * (1.0 + t.abs())).then_some((w, t))
+        (f.length() <= Polish::ACCEPT.max(polish.tolerance) * scale * (1.0 + t.abs())).then_some((w, t))
     }
 }
 
@@ -270,11 +311,34 @@ mod tests {
         let s3 = NonlinearBeam::new([Vec3::ZERO, Vec3::X, Vec3::Y], dirs, crate::nonlinear::S3 { normals }).unwrap();
         for w in [Vec3::new(0.2, 0.5, 0.3), Vec3::new(0.6, 0.1, 0.3), Vec3::new(1.2, -0.1, -0.1)] {
             let q = s3.ray_at(w).at(2.0);
-            assert_eq!(s3.project_nearest_in(q, 10), s3.project_nearest(q));
+            assert_eq!(s3.project_nearest_in(q, Polish { steps: 10, ..Polish::FULL }), s3.project_nearest(q));
             // No step: the S1 solution of the corner rays, off the S3 ray through `q`.
-            let s1 = s3.project_nearest_in(q, 0).unwrap();
+            let s1 = s3.project_nearest_in(q, Polish { steps: 0, ..Polish::FULL }).unwrap();
             assert!((s3.ray_at(s1.bary).at(s1.t) - q).length() > 1e-4, "{s1:?} {w}");
         }
+    }
+
+    #[test]
+    fn projection_from_a_guess_finds_the_full_answer() {
+        let dirs = [Vec3::new(-0.3, -0.3, 1.0), Vec3::new(0.4, -0.1, 1.0), Vec3::new(-0.1, 0.5, 1.0)];
+        let normals = [Vec3::new(-0.1, -0.1, 1.0).normalize(), Vec3::Z, Vec3::Z];
+        let s3 = NonlinearBeam::new([Vec3::ZERO, Vec3::X, Vec3::Y], dirs, crate::nonlinear::S3 { normals }).unwrap();
+        let lookup = Polish { steps: 5, tolerance: 1e-6 };
+        for w in [Vec3::new(0.2, 0.5, 0.3), Vec3::new(0.6, 0.1, 0.3), Vec3::new(1.2, -0.1, -0.1)] {
+            let q = s3.ray_at(w).at(2.0);
+            let full = s3.project_nearest(q).unwrap();
+            // From a guess a few hundredths off in ω and 10% off in t.
+            let guess = Projection { bary: w + Vec3::new(0.03, -0.02, -0.01), t: 2.2 };
+            let p = s3.project_nearest_from(q, guess, lookup).unwrap();
+            assert!((p.bary - full.bary).abs().max_element() < 1e-5 && (p.t - full.t).abs() < 1e-5, "{p:?} {full:?}");
+        }
+        // Where Newton's method does not converge from the guess (here in one step from far
+        // off), the corner rays' S1 solution, unpolished.
+        let q = s3.ray_at(Vec3::new(0.2, 0.5, 0.3)).at(2.0);
+        let far_off = Projection { bary: Vec3::new(3.0, -1.0, -1.0), t: 9.0 };
+        let unpolished = s3.project_nearest_in(q, Polish { steps: 0, ..Polish::FULL });
+        assert!(unpolished.is_some() && unpolished != s3.project_nearest(q));
+        assert_eq!(s3.project_nearest_from(q, far_off, Polish { steps: 1, ..lookup }), unpolished);
     }
 
     #[test]

@@ -6,7 +6,9 @@ use crate::scene::{Bump, Material, Scene};
 use crate::specular::{dielectric, reflect};
 use beam_math::collide::Cone;
 use beam_math::glam::Vec3;
-use beam_math::nonlinear::{BeamBounds, BoundingTriangle, BumpBeam, Interpolant, NEWTON_STEPS, NonlinearBeam, S1, S3};
+use beam_math::nonlinear::{
+    BeamBounds, BoundingTriangle, BumpBeam, Interpolant, NonlinearBeam, Polish, Projection, S1, S3,
+};
 use beam_math::{Ray, Triangle};
 
 /// The S^n parameterization of the beams (000 §4).
@@ -64,19 +66,27 @@ impl Beam {
     /// (000 §5) least outside the base, in front of it (for a bumped beam, its unperturbed S1
     /// beam's).
     pub fn project(&self, q: Vec3) -> Option<Vec3> {
-        self.project_in(q, NEWTON_STEPS)
+        self.project_in(q, Polish::FULL, None).map(|p| p.bary)
     }
 
-    /// [`Beam::project`] with at most `steps` Newton steps for S^n beams
-    /// ([`NonlinearBeam::project_nearest_in`]): for lookups, which need the coordinates to a
+    /// [`Beam::project`] with its ray parameter, polished as `polish` says for S^n beams and
+    /// started from `guess` where given ([`NonlinearBeam::project_nearest_from`], else
+    /// [`NonlinearBeam::project_nearest_in`]): for lookups, which need the coordinates to a
     /// fraction of a texel.
-    pub fn project_in(&self, q: Vec3, steps: u32) -> Option<Vec3> {
-        let p = match self {
-            Self::S1(b) => b.project_nearest_in(q, steps),
-            Self::S3(b) => b.project_nearest_in(q, steps),
-            Self::Bumped(b) => b.beam.beam.project_nearest_in(q, steps),
-        }?;
-        Some(p.bary)
+    pub fn project_in(&self, q: Vec3, polish: Polish, guess: Option<Projection>) -> Option<Projection> {
+        fn nearest<L: Interpolant>(
+            b: &NonlinearBeam<L>,
+            q: Vec3,
+            p: Polish,
+            g: Option<Projection>,
+        ) -> Option<Projection> {
+            g.map_or_else(|| b.project_nearest_in(q, p), |g| b.project_nearest_from(q, g, p))
+        }
+        match self {
+            Self::S1(b) => nearest(b, q, polish, guess),
+            Self::S3(b) => nearest(b, q, polish, guess),
+            Self::Bumped(b) => nearest(&b.beam.beam, q, polish, guess),
+        }
     }
 }
 
