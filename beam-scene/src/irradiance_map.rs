@@ -44,8 +44,13 @@ pub struct IrradianceMap {
     /// World size of a texel's side.
     pub texel: f32,
     maps: Vec<PlaneMap>,
-    plane_of: HashMap<u32, usize>,
+    /// Per scene triangle, its plane's index in `maps`, or [`NO_PLANE`] (a dense table: every
+    /// splat and every shade point looks one up; SipHash cost more than the splat itself).
+    plane_of: Vec<u32>,
 }
+
+/// "No map" in [`IrradianceMap`]'s table of planes.
+const NO_PLANE: u32 = u32::MAX;
 
 impl IrradianceMap {
     /// Empty maps over every diffuse and glossy triangle of `scene`, texels of side `texel` (world
@@ -57,7 +62,7 @@ impl IrradianceMap {
         let mut key_of: HashMap<(i32, i32, i32, i64), usize> = HashMap::new();
         // Per plane: origin, in-plane axes, and the bounds of its triangles in those axes.
         let mut bounds: Vec<(Vec3, [Vec3; 2], Vec2, Vec2)> = Vec::new();
-        let mut plane_of = HashMap::new();
+        let mut plane_of = vec![NO_PLANE; scene.triangles.len()];
         for (i, tri) in scene.triangles.iter().enumerate() {
             if !matches!(scene.material(i as u32), Material::Diffuse { .. } | Material::Glossy { .. }) {
                 continue;
@@ -77,7 +82,7 @@ impl IrradianceMap {
                 *lo = lo.min(c);
                 *hi = hi.max(c);
             }
-            plane_of.insert(i as u32, m);
+            plane_of[i] = m as u32;
         }
         let maps = bounds
             .into_iter()
@@ -99,7 +104,7 @@ impl IrradianceMap {
 
     /// Deposit `flux` (watts) arriving at point `p` of triangle `prim`; false when `prim` has no map.
     pub fn splat(&mut self, prim: u32, p: Vec3, flux: Vec3) -> bool {
-        let Some(&m) = self.plane_of.get(&prim) else { return false };
+        let Some(m) = self.plane_of(prim) else { return false };
         let map = &mut self.maps[m];
         for (k, w) in taps(map.size, map.coords(p)) {
             map.flux[k] += w * flux;
@@ -122,7 +127,7 @@ impl IrradianceMap {
     /// texel area, read bilinearly; zero where there is no map.
     #[must_use]
     pub fn irradiance(&self, prim: u32, p: Vec3) -> Vec3 {
-        let Some(&m) = self.plane_of.get(&prim) else { return Vec3::ZERO };
+        let Some(m) = self.plane_of(prim) else { return Vec3::ZERO };
         let map = &self.maps[m];
         let sum: Vec3 = taps(map.size, map.coords(p)).map(|(k, w)| w * map.flux[k]).sum();
         sum / (self.texel * self.texel)
@@ -160,7 +165,8 @@ impl IrradianceMap {
     /// The index (in [`IrradianceMap::grids`]) of the plane of triangle `prim`, if it has one.
     #[must_use]
     pub fn plane_of(&self, prim: u32) -> Option<usize> {
-        self.plane_of.get(&prim).copied()
+        let m = *self.plane_of.get(prim as usize)?;
+        (m != NO_PLANE).then_some(m as usize)
     }
 
     /// Total flux deposited.
