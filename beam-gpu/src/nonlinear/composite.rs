@@ -18,6 +18,7 @@ use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{LevelRadiance, SMesh};
 use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
+use half::slice::{HalfBitsSliceExt, HalfFloatSliceExt};
 use rayon::prelude::*;
 
 /// An S-mesh face for the composite.
@@ -228,10 +229,14 @@ impl GpuComposite {
             below_regions = &level.regions;
             below = radiance;
         }
-        Ok(texels::read_back::<[u16; 4]>(gpu, &below, len)?
-            .par_iter()
-            .map(|h| Vec3::from_array([h[0], h[1], h[2]].map(|x| half::f16::from_bits(x).to_f32())))
-            .collect())
+        // Half floats to f32 a slice at a time (F16C where the CPU has it): 4 M values a frame.
+        let halves = texels::read_back::<[u16; 4]>(gpu, &below, len)?;
+        let bits: &[u16] = bytemuck::cast_slice(&halves);
+        let mut rgba = vec![0.0f32; bits.len()];
+        bits.par_chunks(1 << 14)
+            .zip(rgba.par_chunks_mut(1 << 14))
+            .for_each(|(h, f)| h.reinterpret_cast::<half::f16>().convert_to_f32_slice(f));
+        Ok(rgba.par_chunks_exact(4).map(|c| Vec3::new(c[0], c[1], c[2])).collect())
     }
 }
 
