@@ -213,14 +213,19 @@ impl EyeView for GpuBeams<'_> {
         *self.kept.lock().unwrap_or_else(PoisonError::into_inner) = Some(kept);
         let frame = camera.frame();
         // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
-        Ok(others
-            .par_iter()
-            .filter_map(|h| {
-                let ray = camera.pixel_ray(&frame, h.pixel as usize);
-                let w = scene.triangles.get(h.prim as usize)?.barycentric(ray.at(h.t)).unwrap_or_default();
-                Some((h.pixel as usize, ray, Hit { prim: h.prim, t: h.t, u: w.y, v: w.z }))
-            })
-            .collect())
+        // Written in place by an indexed collect where every hit names a triangle of the scene (a
+        // filtered collect gathers lists and copies them once more).
+        let hit = |h: &EyeHit| {
+            let ray = camera.pixel_ray(&frame, h.pixel as usize);
+            let w = scene.triangles.get(h.prim as usize)?.barycentric(ray.at(h.t)).unwrap_or_default();
+            Some((h.pixel as usize, ray, Hit { prim: h.prim, t: h.t, u: w.y, v: w.z }))
+        };
+        if others.par_iter().any(|h| h.prim as usize >= scene.triangles.len()) {
+            return Ok(others.par_iter().filter_map(hit).collect());
+        }
+        let mut hits = Vec::with_capacity(others.len());
+        others.par_iter().map(|h| hit(h).unwrap_or_else(|| unreachable!("checked above"))).collect_into_vec(&mut hits);
+        Ok(hits)
     }
 
     /// The kept points read back; the shader's seed of each is its pixel.
