@@ -39,6 +39,7 @@ pub mod nonlinear;
 pub mod raytrace;
 pub mod shade;
 pub mod shaders;
+pub mod staging;
 pub mod texels;
 
 pub use beam_math;

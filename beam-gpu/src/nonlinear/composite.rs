@@ -8,10 +8,11 @@
 //! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
 
 use super::eye::KeptPoints;
-use super::sort::{Sorted, sort};
+use super::sort::{Outputs, Plan, plan};
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, storage, uniform, view_entry};
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeInput, ShadeScene};
+use crate::staging::storage_in_place;
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
@@ -20,6 +21,7 @@ use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
 use half::slice::{HalfBitsSliceExt, HalfFloatSliceExt};
 use rayon::prelude::*;
+use wgpu::WriteOnly;
 
 /// An S-mesh face for the composite.
 ///
@@ -177,20 +179,35 @@ impl GpuComposite {
             for texels in level.texels.chunks(chunk) {
                 // Points not composited: on the GPU where the point shader shades them, else by
                 // `rest`; the composited ones' records.
-                let sorted = sort((scene, smesh), texels, (all_faces.len(), below_regions.len()))?;
-                let inputs = storage(gpu, "shade points", &sorted.direct, wgpu::BufferUsages::empty());
-                let (encoder, shaded) = shader.shade_inputs(
-                    gpu,
-                    tracer,
-                    prepared,
-                    spp,
-                    (&inputs, sorted.direct.len()),
-                    sorted.other.len(),
-                )?;
-                if !sorted.other.is_empty() {
-                    rest(&sorted.other, (&shaded, sorted.direct.len()))?;
+                let plan = plan(scene, texels, (all_faces.len(), below_regions.len()))?;
+                let [direct, others, composited] = plan.totals();
+                let mut other = vec![ShadeInput::zeroed(); others];
+                // One pass writes the shading pass's inputs, the targets and the records straight
+                // into the queue's staging memory, and the caller's points into `other`.
+                let none = wgpu::BufferUsages::empty();
+                let (mut filled, mut targets, mut records) = (Ok(()), None, None);
+                let inputs = storage_in_place(gpu, "shade points", direct, none, |direct_out| {
+                    targets = Some(storage_in_place(gpu, "targets", direct + others, none, |targets_out| {
+                        records = Some(storage_in_place(gpu, "records", composited, none, |records_out| {
+                            let out = Outputs {
+                                direct: direct_out,
+                                other: WriteOnly::from_mut(&mut other[..]),
+                                targets: targets_out,
+                                records: records_out,
+                            };
+                            filled = plan.fill((scene, smesh), texels, out);
+                        }));
+                    }));
+                });
+                filled?;
+                let (Some(targets), Some(records_buffer)) = (targets, records) else {
+                    return Err(GpuError::Internal("composite lists not made"));
+                };
+                let (encoder, shaded) = shader.shade_inputs(gpu, tracer, prepared, spp, (&inputs, direct), others)?;
+                if !other.is_empty() {
+                    rest(&other, (&shaded, direct))?;
                 }
-                let Sorted { targets, records, faces, regions, .. } = sorted;
+                let Plan { faces, regions, .. } = plan;
                 let chunk_faces: Vec<GpuFace> = faces.iter().map(|&f| all_faces[f as usize]).collect();
                 let chunk_regions: Vec<[u32; 2]> = regions
                     .iter()
@@ -199,12 +216,11 @@ impl GpuComposite {
                         [first, size]
                     })
                     .collect();
-                let points = targets.len() as u32;
-                let params = CompositeParams { records: records.len() as u32, points, pad: [0; 2] };
+                let points = (direct + others) as u32;
+                let params = CompositeParams { records: composited as u32, points, pad: [0; 2] };
                 let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
                 let below_view = below.create_view(&Default::default());
                 let mut composite = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-                let targets = storage(gpu, "targets", &targets, wgpu::BufferUsages::empty());
                 let entries = [
                     buffer_entry(0, &params),
                     buffer_entry(3, &shaded),
@@ -212,7 +228,6 @@ impl GpuComposite {
                     buffer_entry(7, &targets),
                 ];
                 encode_pass(gpu, &mut composite, &self.scatter, points, &entries);
-                let records_buffer = storage(gpu, "records", &records, wgpu::BufferUsages::empty());
                 let faces = storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty());
                 let regions = storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty());
                 let entries = [
@@ -223,7 +238,7 @@ impl GpuComposite {
                     buffer_entry(5, &regions),
                     view_entry(6, &radiance_view),
                 ];
-                encode_pass(gpu, &mut composite, &self.pipeline, records.len() as u32, &entries);
+                encode_pass(gpu, &mut composite, &self.pipeline, composited as u32, &entries);
                 gpu.queue.submit([encoder.finish(), composite.finish()]);
             }
             below_regions = &level.regions;

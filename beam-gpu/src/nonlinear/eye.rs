@@ -13,8 +13,8 @@ use crate::shade::{PointShader, ShadeInput};
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
-use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_math::{Ray, Triangle};
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{EyeView, ShadePoint, TexelRadiance, eye_by_rays};
 use beam_scene::options::{RenderOptions, Shading};
@@ -215,17 +215,18 @@ impl EyeView for GpuBeams<'_> {
         // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
         // Written in place by an indexed collect where every hit names a triangle of the scene (a
         // filtered collect gathers lists and copies them once more).
-        let hit = |h: &EyeHit| {
+        let hit = |h: &EyeHit, tri: &Triangle| {
             let ray = camera.pixel_ray(&frame, h.pixel as usize);
-            let w = scene.triangles.get(h.prim as usize)?.barycentric(ray.at(h.t)).unwrap_or_default();
-            Some((h.pixel as usize, ray, Hit { prim: h.prim, t: h.t, u: w.y, v: w.z }))
+            let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
+            (h.pixel as usize, ray, Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
         };
-        if others.par_iter().any(|h| h.prim as usize >= scene.triangles.len()) {
-            return Ok(others.par_iter().filter_map(hit).collect());
+        let on = |h: &EyeHit| scene.triangles.get(h.prim as usize);
+        if others.par_iter().all(|h| on(h).is_some()) {
+            let mut hits = Vec::with_capacity(others.len());
+            others.par_iter().map(|h| hit(h, &scene.triangles[h.prim as usize])).collect_into_vec(&mut hits);
+            return Ok(hits);
         }
-        let mut hits = Vec::with_capacity(others.len());
-        others.par_iter().map(|h| hit(h).unwrap_or_else(|| unreachable!("checked above"))).collect_into_vec(&mut hits);
-        Ok(hits)
+        Ok(others.par_iter().filter_map(|h| Some(hit(h, on(h)?))).collect())
     }
 
     /// The kept points read back; the shader's seed of each is its pixel.

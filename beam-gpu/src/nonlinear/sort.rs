@@ -2,42 +2,56 @@
 //! over the texels (count, then fill) and no list in between: the points the shading pass shades
 //! (as its inputs), the points the caller shades (mirrors and glass past the tree), where each
 //! one's radiance goes, and the composite records, the S-mesh faces and child regions they
-//! reference compacted to the dispatch's own.
+//! reference compacted to the dispatch's own. The fill writes wherever its caller says: into the
+//! queue's staging memory for what goes to the GPU ([`crate::staging`]), no list in between.
 
 use super::composite::{CompositeRecord, NONE};
 use crate::GpuError;
 use crate::shade::{PointShader, ShadeInput};
+use crate::staging::split_by_counts;
 use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{Composite, SMesh, TexelRadiance};
-use beam_scene::parallel::{piece_len, split_by_counts};
+use beam_scene::parallel::piece_len;
 use beam_scene::scene::Scene;
-use bytemuck::Zeroable;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
+use wgpu::WriteOnly;
 
-/// One dispatch's inputs, each list in the texels' order.
-pub(super) struct Sorted {
-    /// The points the shading pass shades.
-    pub direct: Vec<ShadeInput>,
-    /// The points the caller shades.
-    pub other: Vec<ShadeInput>,
-    /// The texels of `direct`'s points, then of `other`'s.
-    pub targets: Vec<u32>,
-    /// The composited texels.
-    pub records: Vec<CompositeRecord>,
+/// The first pass over one dispatch's texels: how many of each kind every piece holds, and the
+/// faces and regions the records reference, compacted.
+pub(super) struct Plan {
+    /// Texels per piece of the passes.
+    piece: usize,
+    /// Per piece: its direct, other and composited texels.
+    counts: Vec<[usize; 3]>,
+    face_slot: Vec<u32>,
+    region_slot: Vec<u32>,
     /// The S-mesh faces the records reference, by slot (ascending).
     pub faces: Vec<u32>,
     /// The child regions (beams of the level below) they reference, by slot (ascending).
     pub regions: Vec<u32>,
 }
 
-/// Sort `texels`, whose composites reference S-mesh faces below `faces` and child regions below
-/// `regions`.
-pub(super) fn sort(
-    (scene, smesh): (&Scene, &SMesh),
+/// Where [`Plan::fill`] writes, each list in the texels' order.
+pub(super) struct Outputs<'a> {
+    /// The points the shading pass shades.
+    pub direct: WriteOnly<'a, [ShadeInput]>,
+    /// The points the caller shades.
+    pub other: WriteOnly<'a, [ShadeInput]>,
+    /// The texels of `direct`'s points, then of `other`'s.
+    pub targets: WriteOnly<'a, [u32]>,
+    /// The composited texels.
+    pub records: WriteOnly<'a, [CompositeRecord]>,
+}
+
+/// Count `texels` (of a level whose S mesh has `faces` faces and whose level below has `regions`
+/// regions) by kind: shaded by the shading pass, shaded by the caller, composited. An error for a
+/// record that references a face or region past those.
+pub(super) fn plan(
+    scene: &Scene,
     texels: &[TexelRadiance],
     (faces, regions): (usize, usize),
-) -> Result<Sorted, GpuError> {
+) -> Result<Plan, GpuError> {
     let direct = |t: &TexelRadiance| PointShader::shades(scene, t.point.prim);
     let piece = piece_len(texels.len());
     let (face_used, region_used) = (flags(faces), flags(regions));
@@ -50,7 +64,6 @@ pub(super) fn sort(
         }
         Ok(())
     };
-    // Per piece: its direct, other and composited texels; the faces and regions used marked.
     let counts: Vec<[usize; 3]> = texels
         .par_chunks(piece)
         .map(|p| {
@@ -73,74 +86,97 @@ pub(super) fn sort(
         .collect::<Result<_, GpuError>>()?;
     let (face_slot, faces) = slots(&face_used);
     let (region_slot, regions) = slots(&region_used);
-    let total = |k: usize| counts.iter().map(|n| n[k]).sum::<usize>();
-    let mut out = Sorted {
-        direct: vec![ShadeInput::zeroed(); total(0)],
-        other: vec![ShadeInput::zeroed(); total(1)],
-        targets: vec![0; total(0) + total(1)],
-        records: vec![CompositeRecord::zeroed(); total(2)],
-        faces,
-        regions,
-    };
-    let (direct_targets, other_targets) = out.targets.split_at_mut(total(0));
-    let direct_out = split_by_counts(&mut out.direct, counts.iter().map(|n| n[0]));
-    let other_out = split_by_counts(&mut out.other, counts.iter().map(|n| n[1]));
-    let direct_targets = split_by_counts(direct_targets, counts.iter().map(|n| n[0]));
-    let other_targets = split_by_counts(other_targets, counts.iter().map(|n| n[1]));
-    let records = split_by_counts(&mut out.records, counts.iter().map(|n| n[2]));
-    let record = |t: &TexelRadiance, c: &Composite| {
-        // The shader looks the children up at `p`'s and `refracted_p`'s barycentric coordinates on
-        // the face: under a coarse S-mesh face, the points of the face where the CPU looks the
-        // reflection and the refraction up.
-        let (p, refracted_p) = if smesh.is_coarse(c.face as usize) {
-            let f = &smesh.faces[c.face as usize];
-            let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
-            (at(c.reflected_at), at(c.refracted_at))
-        } else {
-            (t.point.p, t.point.p)
-        };
-        CompositeRecord {
-            p: p.to_array(),
-            texel: t.texel,
-            d: t.point.d.to_array(),
-            face: face_slot[c.face as usize],
-            reflected: region_slot[c.reflected as usize],
-            refracted: c.refracted.map_or(NONE, |b| region_slot[b as usize]),
-            pad: [0; 2],
-            refracted_p: refracted_p.to_array(),
-            pad2: 0,
-        }
-    };
-    texels
-        .par_chunks(piece)
-        .zip(direct_out)
-        .zip(other_out)
-        .zip(direct_targets)
-        .zip(other_targets)
-        .zip(records)
-        .for_each(|(((((p, direct_out), other_out), direct_targets), other_targets), records)| {
-            let mut at = [0; 3];
-            for t in p {
-                match &t.composite {
-                    Some(c) => {
-                        records[at[2]] = record(t, c);
-                        at[2] += 1;
-                    }
-                    None if direct(t) => {
-                        (direct_out[at[0]], direct_targets[at[0]]) = (ShadeInput::new(&t.point), t.texel);
-                        at[0] += 1;
-                    }
-                    None => {
-                        (other_out[at[1]], other_targets[at[1]]) = (ShadeInput::new(&t.point), t.texel);
-                        at[1] += 1;
-                    }
-                }
-            }
-        });
-    Ok(out)
+    Ok(Plan { piece, counts, face_slot, region_slot, faces, regions })
 }
 
-/// `len` flags, clear.
+impl Plan {
+    /// Texels of each kind: shaded by the shading pass, by the caller, composited.
+    pub fn totals(&self) -> [usize; 3] {
+        [0, 1, 2].map(|k| self.counts.iter().map(|n| n[k]).sum())
+    }
+
+    /// The second pass: every texel written to `out`, whose lists hold [`Plan::totals`] elements
+    /// (`targets` the first two together). The same `texels` as [`plan`] counted; an error where
+    /// the lists are too short.
+    pub fn fill(
+        &self,
+        (scene, smesh): (&Scene, &SMesh),
+        texels: &[TexelRadiance],
+        out: Outputs<'_>,
+    ) -> Result<(), GpuError> {
+        let direct = |t: &TexelRadiance| PointShader::shades(scene, t.point.prim);
+        let [n_direct, ..] = self.totals();
+        let short = || GpuError::Internal("composite lists shorter than their texels");
+        let (direct_targets, other_targets) = out.targets.split_at_checked(n_direct).map_err(|_| short())?;
+        let by = |k: usize| self.counts.iter().map(move |n| n[k]);
+        let (direct_out, other_out) = (
+            split_by_counts(out.direct, by(0)).ok_or_else(short)?,
+            split_by_counts(out.other, by(1)).ok_or_else(short)?,
+        );
+        let direct_targets = split_by_counts(direct_targets, by(0)).ok_or_else(short)?;
+        let other_targets = split_by_counts(other_targets, by(1)).ok_or_else(short)?;
+        let records = split_by_counts(out.records, by(2)).ok_or_else(short)?;
+        let record = |t: &TexelRadiance, c: &Composite| {
+            // The shader looks the children up at `p`'s and `refracted_p`'s barycentric
+            // coordinates on the face: under a coarse S-mesh face, the points of the face where
+            // the CPU looks the reflection and the refraction up.
+            let (p, refracted_p) = if smesh.is_coarse(c.face as usize) {
+                let f = &smesh.faces[c.face as usize];
+                let at = |w: Vec3| w.x * f.v[0] + w.y * f.v[1] + w.z * f.v[2];
+                (at(c.reflected_at), at(c.refracted_at))
+            } else {
+                (t.point.p, t.point.p)
+            };
+            CompositeRecord {
+                p: p.to_array(),
+                texel: t.texel,
+                d: t.point.d.to_array(),
+                face: self.face_slot[c.face as usize],
+                reflected: self.region_slot[c.reflected as usize],
+                refracted: c.refracted.map_or(NONE, |b| self.region_slot[b as usize]),
+                pad: [0; 2],
+                refracted_p: refracted_p.to_array(),
+                pad2: 0,
+            }
+        };
+        texels
+            .par_chunks(self.piece)
+            .zip(direct_out)
+            .zip(other_out)
+            .zip(direct_targets)
+            .zip(other_targets)
+            .zip(records)
+            .for_each(|(((((p, direct_out), other_out), direct_targets), other_targets), records)| {
+                let (mut direct_out, mut other_out) = (direct_out.0.into_iter(), other_out.0.into_iter());
+                let (mut direct_targets, mut other_targets) =
+                    (direct_targets.0.into_iter(), other_targets.0.into_iter());
+                let mut records = records.0.into_iter();
+                for t in p {
+                    // Each list holds exactly its kind's count of this piece (`plan`).
+                    match &t.composite {
+                        Some(c) => put(&mut records, record(t, c)),
+                        None if direct(t) => {
+                            put(&mut direct_out, ShadeInput::new(&t.point));
+                            put(&mut direct_targets, t.texel);
+                        }
+                        None => {
+                            put(&mut other_out, ShadeInput::new(&t.point));
+                            put(&mut other_targets, t.texel);
+                        }
+                    }
+                }
+            });
+        Ok(())
+    }
+}
+
+/// Write `value` to the next of `slots`, if any is left.
+fn put<'a, T: Copy + 'a>(slots: &mut impl Iterator<Item = WriteOnly<'a, T>>, value: T) {
+    if let Some(slot) = slots.next() {
+        slot.write(value);
+    }
+}
+
 fn flags(len: usize) -> Vec<AtomicBool> {
     (0..len).map(|_| AtomicBool::new(false)).collect()
 }
@@ -164,6 +200,36 @@ mod tests {
     use super::*;
     use beam_scene::nonlinear::ShadePoint;
     use beam_scene::scene::{Simplify, builtin};
+    use bytemuck::Zeroable;
+
+    /// A dispatch's lists sorted into vectors.
+    struct Sorted {
+        direct: Vec<ShadeInput>,
+        other: Vec<ShadeInput>,
+        targets: Vec<u32>,
+        records: Vec<CompositeRecord>,
+        faces: Vec<u32>,
+        regions: Vec<u32>,
+    }
+
+    fn sort(
+        (scene, smesh): (&Scene, &SMesh),
+        texels: &[TexelRadiance],
+        (faces, regions): (usize, usize),
+    ) -> Result<Sorted, GpuError> {
+        let plan = plan(scene, texels, (faces, regions))?;
+        let [d, o, r] = plan.totals();
+        let (mut direct, mut other) = (vec![ShadeInput::zeroed(); d], vec![ShadeInput::zeroed(); o]);
+        let (mut targets, mut records) = (vec![0; d + o], vec![CompositeRecord::zeroed(); r]);
+        let out = Outputs {
+            direct: WriteOnly::from_mut(&mut direct[..]),
+            other: WriteOnly::from_mut(&mut other[..]),
+            targets: WriteOnly::from_mut(&mut targets[..]),
+            records: WriteOnly::from_mut(&mut records[..]),
+        };
+        plan.fill((scene, smesh), texels, out)?;
+        Ok(Sorted { direct, other, targets, records, faces: plan.faces, regions: plan.regions })
+    }
 
     /// The sorted lists are the texels filtered one kind at a time, in order, and each record
     /// references, through its slots, the face and regions of its texel's composite.
@@ -225,8 +291,19 @@ mod tests {
             };
             assert_eq!((r.p, r.refracted_p), want);
         }
-        // A reference past the faces or regions is an error, not a panic.
+        // A reference past the faces or regions is an error, not a panic; so are lists too short.
         assert!(sort((&scene, &smesh), &texels, (faces, 30)).is_err());
         assert!(sort((&scene, &smesh), &texels, (1, regions)).is_err());
+        let plan = plan(&scene, &texels, (faces, regions)).unwrap();
+        let [d, o, r] = plan.totals();
+        let (mut direct, mut other) = (vec![ShadeInput::zeroed(); d], vec![ShadeInput::zeroed(); o]);
+        let (mut targets, mut records) = (vec![0; d + o], vec![CompositeRecord::zeroed(); r - 1]);
+        let out = Outputs {
+            direct: WriteOnly::from_mut(&mut direct[..]),
+            other: WriteOnly::from_mut(&mut other[..]),
+            targets: WriteOnly::from_mut(&mut targets[..]),
+            records: WriteOnly::from_mut(&mut records[..]),
+        };
+        assert!(plan.fill((&scene, &smesh), &texels, out).is_err());
     }
 }
