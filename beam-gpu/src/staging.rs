@@ -12,52 +12,72 @@ use core::ptr::NonNull;
 use std::time::{Duration, Instant};
 use wgpu::WriteOnly;
 
-/// A storage buffer (with `usage` besides) of `len` elements of `T`, which `fill` writes, every
-/// one, through the queue's staging memory; an element `fill` leaves unwritten is undefined.
-/// Counted as an upload of its bytes (the time without `fill`'s). `len` 0 makes [`storage`]'s
-/// stand-in for an empty slice.
-pub fn storage_in_place<T: bytemuck::Pod>(
-    gpu: &Gpu,
-    label: &str,
+/// A storage buffer (with `usage` besides) of `len` elements of `T` (whole four-byte words) being
+/// written: its elements ([`Staged::slots`]) are the queue's staging memory, or a vector where the
+/// device gives none aligned for `T`. [`Staged::finish`] hands the buffer over; an element left
+/// unwritten is undefined. Several may be written at once (one pass filling several lists).
+pub struct Staged<T> {
+    buffer: wgpu::Buffer,
+    view: Option<wgpu::QueueWriteBufferView>,
+    /// The elements where there is no usable view.
+    items: Vec<T>,
     len: usize,
-    usage: wgpu::BufferUsages,
-    fill: impl FnOnce(WriteOnly<'_, [T]>),
-) -> wgpu::Buffer {
-    let bytes = (len * size_of::<T>()) as u64;
-    let size = wgpu::BufferSize::new(bytes).filter(|_| bytes % wgpu::COPY_BUFFER_ALIGNMENT == 0);
-    let Some(size) = size else {
-        // Empty, or not whole words (no such element type here): through a vector.
-        let mut items = vec![T::zeroed(); len];
-        fill(WriteOnly::from_mut(&mut items[..]));
-        return storage(gpu, label, &items, usage);
-    };
-    let start = Instant::now();
-    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | usage,
-        mapped_at_creation: false,
-    });
-    let mut view = gpu.queue.write_buffer_with(&buffer, 0, size);
-    let filling = match view.as_mut().and_then(|v| elements::<T>(v.slice(..))) {
-        Some(slots) => {
-            let f = Instant::now();
-            fill(slots);
-            f.elapsed()
+    /// Host time spent making the buffer (the upload's, without the writing).
+    took: Duration,
+}
+
+impl<T: bytemuck::Pod> Staged<T> {
+    /// Start the buffer; for `len` 0, [`storage`]'s stand-in for an empty slice.
+    pub fn new(gpu: &Gpu, label: &str, len: usize, usage: wgpu::BufferUsages) -> Self {
+        const { assert!(size_of::<T>() % wgpu::COPY_BUFFER_ALIGNMENT as usize == 0) };
+        let start = Instant::now();
+        let bytes = (len * size_of::<T>()) as u64;
+        let Some(size) = wgpu::BufferSize::new(bytes) else {
+            let buffer = storage::<T>(gpu, label, &[], usage);
+            return Self { buffer, view: None, items: Vec::new(), len, took: Duration::ZERO };
+        };
+        let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | usage,
+            mapped_at_creation: false,
+        });
+        let view = gpu.queue.write_buffer_with(&buffer, 0, size);
+        Self { buffer, view, items: Vec::new(), len, took: start.elapsed() }
+    }
+
+    /// The elements, to be written.
+    pub fn slots(&mut self) -> WriteOnly<'_, [T]> {
+        if self.view.as_mut().is_some_and(|v| elements::<T>(v.slice(..)).is_none()) {
+            // Not aligned for `T`: dropped before anything else is written to the buffer, or its
+            // unwritten bytes would be copied over the vector's.
+            self.view = None;
         }
-        None => {
-            // No staging view, or one not aligned for `T`: through a vector (the view dropped
-            // first, or its unwritten bytes would be copied over the vector's).
-            drop(view.take());
-            let mut items = vec![T::zeroed(); len];
-            fill(WriteOnly::from_mut(&mut items[..]));
-            gpu.queue.write_buffer(&buffer, 0, bytemuck::cast_slice(&items));
-            Duration::ZERO
+        match &mut self.view {
+            // `elements` succeeded on this view above.
+            Some(view) => elements::<T>(view.slice(..)).unwrap_or_default(),
+            None => {
+                self.items.resize(self.len, T::zeroed());
+                WriteOnly::from_mut(&mut self.items[..])
+            }
         }
-    };
-    drop(view);
-    gpu.record_upload(start.elapsed().saturating_sub(filling), bytes as usize);
-    buffer
+    }
+
+    /// The buffer, its elements on their way (with the next submission); counted as an upload of
+    /// their bytes.
+    pub fn finish(self, gpu: &Gpu) -> wgpu::Buffer {
+        let Self { buffer, view, items, len, took } = self;
+        if len == 0 {
+            return buffer; // `storage` counted it
+        }
+        let start = Instant::now();
+        match view {
+            Some(view) => drop(view),
+            None => gpu.queue.write_buffer(&buffer, 0, bytemuck::cast_slice(&items)),
+        }
+        gpu.record_upload(took + start.elapsed(), len * size_of::<T>());
+        buffer
+    }
 }
 
 /// `bytes` as write-only elements of `T`: `None` unless they are a whole number of `T`s and start

@@ -12,7 +12,7 @@ use super::sort::{Outputs, Plan, plan};
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, storage, uniform, view_entry};
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeInput, ShadeScene};
-use crate::staging::storage_in_place;
+use crate::staging::Staged;
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
@@ -185,24 +185,17 @@ impl GpuComposite {
                 // One pass writes the shading pass's inputs, the targets and the records straight
                 // into the queue's staging memory, and the caller's points into `other`.
                 let none = wgpu::BufferUsages::empty();
-                let (mut filled, mut targets, mut records) = (Ok(()), None, None);
-                let inputs = storage_in_place(gpu, "shade points", direct, none, |direct_out| {
-                    targets = Some(storage_in_place(gpu, "targets", direct + others, none, |targets_out| {
-                        records = Some(storage_in_place(gpu, "records", composited, none, |records_out| {
-                            let out = Outputs {
-                                direct: direct_out,
-                                other: WriteOnly::from_mut(&mut other[..]),
-                                targets: targets_out,
-                                records: records_out,
-                            };
-                            filled = plan.fill((scene, smesh), texels, out);
-                        }));
-                    }));
-                });
-                filled?;
-                let (Some(targets), Some(records_buffer)) = (targets, records) else {
-                    return Err(GpuError::Internal("composite lists not made"));
+                let mut inputs = Staged::new(gpu, "shade points", direct, none);
+                let mut targets = Staged::new(gpu, "targets", direct + others, none);
+                let mut records = Staged::new(gpu, "records", composited, none);
+                let out = Outputs {
+                    direct: inputs.slots(),
+                    other: WriteOnly::from_mut(&mut other[..]),
+                    targets: targets.slots(),
+                    records: records.slots(),
                 };
+                plan.fill((scene, smesh), texels, out)?;
+                let (inputs, targets, records_buffer) = (inputs.finish(gpu), targets.finish(gpu), records.finish(gpu));
                 let (encoder, shaded) = shader.shade_inputs(gpu, tracer, prepared, spp, (&inputs, direct), others)?;
                 if !other.is_empty() {
                     rest(&other, (&shaded, direct))?;

@@ -64,6 +64,7 @@ pub(super) fn plan(
         }
         Ok(())
     };
+    // Per piece: its direct, other and composited texels; the faces and regions used marked.
     let counts: Vec<[usize; 3]> = texels
         .par_chunks(piece)
         .map(|p| {
@@ -177,6 +178,7 @@ fn put<'a, T: Copy + 'a>(slots: &mut impl Iterator<Item = WriteOnly<'a, T>>, val
     }
 }
 
+/// `len` flags, clear.
 fn flags(len: usize) -> Vec<AtomicBool> {
     (0..len).map(|_| AtomicBool::new(false)).collect()
 }
@@ -218,9 +220,19 @@ mod tests {
         (faces, regions): (usize, usize),
     ) -> Result<Sorted, GpuError> {
         let plan = plan(scene, texels, (faces, regions))?;
+        fill_vectors(&plan, (scene, smesh), texels, 0)
+    }
+
+    /// `plan` filled into vectors of its totals, the records' `short` elements short.
+    fn fill_vectors(
+        plan: &Plan,
+        (scene, smesh): (&Scene, &SMesh),
+        texels: &[TexelRadiance],
+        short: usize,
+    ) -> Result<Sorted, GpuError> {
         let [d, o, r] = plan.totals();
         let (mut direct, mut other) = (vec![ShadeInput::zeroed(); d], vec![ShadeInput::zeroed(); o]);
-        let (mut targets, mut records) = (vec![0; d + o], vec![CompositeRecord::zeroed(); r]);
+        let (mut targets, mut records) = (vec![0; d + o], vec![CompositeRecord::zeroed(); r - short]);
         let out = Outputs {
             direct: WriteOnly::from_mut(&mut direct[..]),
             other: WriteOnly::from_mut(&mut other[..]),
@@ -228,7 +240,7 @@ mod tests {
             records: WriteOnly::from_mut(&mut records[..]),
         };
         plan.fill((scene, smesh), texels, out)?;
-        Ok(Sorted { direct, other, targets, records, faces: plan.faces, regions: plan.regions })
+        Ok(Sorted { direct, other, targets, records, faces: plan.faces.clone(), regions: plan.regions.clone() })
     }
 
     /// The sorted lists are the texels filtered one kind at a time, in order, and each record
@@ -295,15 +307,6 @@ mod tests {
         assert!(sort((&scene, &smesh), &texels, (faces, 30)).is_err());
         assert!(sort((&scene, &smesh), &texels, (1, regions)).is_err());
         let plan = plan(&scene, &texels, (faces, regions)).unwrap();
-        let [d, o, r] = plan.totals();
-        let (mut direct, mut other) = (vec![ShadeInput::zeroed(); d], vec![ShadeInput::zeroed(); o]);
-        let (mut targets, mut records) = (vec![0; d + o], vec![CompositeRecord::zeroed(); r - 1]);
-        let out = Outputs {
-            direct: WriteOnly::from_mut(&mut direct[..]),
-            other: WriteOnly::from_mut(&mut other[..]),
-            targets: WriteOnly::from_mut(&mut targets[..]),
-            records: WriteOnly::from_mut(&mut records[..]),
-        };
-        assert!(plan.fill((&scene, &smesh), &texels, out).is_err());
+        assert!(fill_vectors(&plan, (&scene, &smesh), &texels, 1).is_err());
     }
 }
