@@ -2,8 +2,9 @@
 //! single-threaded and on all cores, beside the peers measured in the same run on the same rays.
 
 mod ours;
+mod paired;
 
-use super::{Tracer, peer_build_ms, peers};
+use super::{Tracer, peers};
 use crate::bench::cpu_clock::thread_cpu_seconds;
 use beam_bvh::{BuildOptions, Bvh8, Collapse, FlatBvh, Kernel, RayDistribution, TraversalStats, WideBvh};
 use beam_conformance::bvh::scene_light;
@@ -12,6 +13,7 @@ use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use beam_scene::scene::Camera;
 use ours::{Binary, Counted, Wide4, Wide8};
+use paired::Paired;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
@@ -287,7 +289,7 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
         .iter()
         .filter_map(|name| modes.iter().position(|(n, _)| n == name).map(|i| wides8.len() + i));
     let compared: Vec<usize> = std::iter::once(0).chain(modes_compared).collect();
-    let paired = paired_builds(&tris, &BuildOptions::sah(), &wides8[0].name, &tracers[ours_count..]);
+    let paired = paired::alternate(&tris, &BuildOptions::sah(), tracers[0], &tracers[ours_count..], &rays, clock);
     print_ratios(&rows, ours_count, &tracers, &compared, &paired);
     let counted: Vec<&dyn Counted> = (0..builders.len())
         .flat_map(|i| [&binaries[i] as &dyn Counted, &wides[i] as &dyn Counted, &wides8[i] as &dyn Counted])
@@ -324,58 +326,9 @@ fn dispatch_note() -> String {
     has.join(", ")
 }
 
-/// Build times of one of our trees and a peer's.
-struct PairedBuild {
-    ours: String,
-    peer: String,
-    ours_ms: f64,
-    peer_ms: f64,
-}
-
-/// Rounds of [`paired_builds`].
-const PAIRED_ROUNDS: usize = 11;
-
-/// Our tree `name` (built with `options`) and each peer that can rebuild, built in alternation
-/// [`PAIRED_ROUNDS`] times: the median times. The table's build times are each taken at one
-/// moment of the run, and on a shared machine whose speed drifts by 15% within minutes their
-/// ratio moves with it; alternating exposes both builders to the same drift. Back to back, as
-/// the table's: a pause before each build (to let the other library's idle threads sleep) made
-/// both slower, Sponza's by 50–100% after 100 ms, ours less than Embree's.
-fn paired_builds(tris: &[Triangle], options: &BuildOptions, name: &str, peers: &[&dyn Tracer]) -> Vec<PairedBuild> {
-    let median = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
-    let mut out = Vec::new();
-    for peer in peers {
-        let peer = peer.name();
-        let (mut ours, mut theirs) = (Vec::new(), Vec::new());
-        for _ in 0..PAIRED_ROUNDS {
-            let Some(ms) = peer_build_ms(&peer, tris) else { break };
-            theirs.push(ms);
-            let s = Instant::now();
-            std::hint::black_box(Bvh8::build(tris, options));
-            ours.push(s.elapsed().as_secs_f64() * 1e3);
-        }
-        if !ours.is_empty() {
-            out.push(PairedBuild { ours: name.into(), peer, ours_ms: median(ours), peer_ms: median(theirs) });
-        }
-    }
-    if !out.is_empty() {
-        println!(
-            "
-builds in alternation ({PAIRED_ROUNDS} rounds, medians; the ratios below use these)"
-        );
-        for p in &out {
-            println!("  {} {:.1} ms, {} {:.1} ms: {:.2}×", p.ours, p.ours_ms, p.peer, p.peer_ms, p.ours_ms / p.peer_ms);
-        }
-    }
-    out
-}
-
-/// Ratios of our tracers `compared` (indices into `tracers`) to every peer; build ratios from
-/// `paired` where it has the pair.
-fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer], compared: &[usize], paired: &[PairedBuild]) {
+/// Ratios of our tracers `compared` (indices into `tracers`) to every peer; from `paired` (timed
+/// in alternation) where it has the pair, else from the table.
+fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer], compared: &[usize], paired: &[Paired]) {
     if tracers.len() == ours {
         println!("\n(no peers in this build: `--features peers` adds Embree 3 and obvhs)");
         return;
@@ -388,16 +341,24 @@ fn print_ratios(rows: &[Row], ours: usize, tracers: &[&dyn Tracer], compared: &[
     for peer in &tracers[ours..] {
         for our in compared.iter().filter(|&&i| i < ours).map(|&i| tracers[i]) {
             let pair = paired.iter().find(|p| p.ours == our.name() && p.peer == peer.name());
-            let build = pair.map_or(peer.build_ms() / our.build_ms(), |p| p.peer_ms / p.ours_ms);
+            let build = match pair.and_then(|p| p.build_ms) {
+                Some((a, b)) => b / a,
+                None => peer.build_ms() / our.build_ms(),
+            };
             let mut parts = vec![format!("build {build:.2}")];
-            for t in [1, threads] {
-                for k in KINDS {
-                    if let (Some(a), Some(b)) = (get(&our.name(), k, t), get(&peer.name(), k, t)) {
-                        parts.push(format!("{k}/{t}T {:.2}", a / b));
+            for (parallel, t) in [(false, 1), (true, threads)] {
+                for (k, kind) in KINDS.iter().enumerate() {
+                    let ratio = match pair {
+                        Some(p) => Some(p.ratios[usize::from(parallel)][k]),
+                        None => get(&our.name(), kind, t).zip(get(&peer.name(), kind, t)).map(|(a, b)| a / b),
+                    };
+                    if let Some(r) = ratio {
+                        parts.push(format!("{kind}/{t}T {r:.2}"));
                     }
                 }
             }
-            println!("  {} / {}: {}", our.name(), peer.name(), parts.join(", "));
+            let how = if pair.is_some() { " (in alternation)" } else { "" };
+            println!("  {} / {}{how}: {}", our.name(), peer.name(), parts.join(", "));
         }
     }
 }
