@@ -9,6 +9,7 @@
 
 mod build;
 mod collapse;
+mod gather;
 mod layout;
 mod leaf;
 mod optimal;

@@ -3,14 +3,14 @@
 use super::beam::{TexelBeam, self_hit_at_rise};
 use super::texture::Exclude;
 use crate::scene::Scene;
-use beam_bvh::{Control, NodeVisitor};
+use beam_bvh::Node8;
+use beam_math::Triangle;
 use beam_math::collide::{Cone, ConeSpheres};
 use beam_math::nonlinear::BeamBounds;
-use beam_math::{Aabb, Triangle};
 
 /// The scene triangles that may meet `beam` (of bounds `bounds`), less those it skips (`exclude`,
-/// the surface under its base): bounding-cone culling (000 App. A) of the BVH's boxes, then of each
-/// triangle's bounding sphere; then the triangles next to the base that lie wholly below the height
+/// the surface under its base): bounding-cone culling (000 App. A) of the 8-wide BVH's boxes, eight
+/// at a time, then of each triangle's bounding sphere; then the triangles next to the base that lie wholly below the height
 /// that no hit past the self-hit distance reaches (`SelfHitFloor`).
 #[must_use]
 pub fn cone_candidates(
@@ -20,16 +20,22 @@ pub fn cone_candidates(
     exclude: Exclude<'_>,
 ) -> Vec<u32> {
     let cone = beam.culling_cone(bounds);
-    let mut cull = ConeCull { cone: ConeSpheres::new(&cone), prims: Vec::new() };
-    scene.bvh.traverse(&mut cull);
+    let spheres = ConeSpheres::new(&cone);
+    let mut prims = Vec::new();
+    scene.wide.gather(|n| spheres.meets_boxes(bounds_of(n, 0), bounds_of(n, 1)), &mut prims);
     let floor = SelfHitFloor::new(beam, &cone, exclude.thickness, scene.bounds().extent().length());
-    cull.prims.retain(|&i| {
+    prims.retain(|&i| {
         let (centre, radius) = scene.bounding_sphere(i);
         !exclude.skips(i)
-            && cull.cone.meets(centre, radius)
+            && spheres.meets(centre, radius)
             && !floor.is_some_and(|f| f.culls(&scene.triangles[i as usize], exclude.near(i)))
     });
-    cull.prims
+    prims
+}
+
+/// The eight children's box planes of `n`: their minima (`side` 0) or maxima (1) by axis.
+fn bounds_of(n: &Node8, side: usize) -> [&[f32; 8]; 3] {
+    [&n.bounds[side], &n.bounds[2 + side], &n.bounds[4 + side]]
 }
 
 /// How far below the floor a triangle must lie, as a fraction of the scene's diagonal (f32
@@ -77,24 +83,6 @@ impl SelfHitFloor {
     fn culls(&self, tri: &Triangle, near: bool) -> bool {
         (near || tri.v.iter().any(|v| self.base.contains(v)))
             && tri.v.iter().all(|&v| self.normal.dot(v - self.base[0]) < self.floor)
-    }
-}
-
-/// Collects the triangles of the BVH leaves whose boxes' bounding spheres meet a beam's bounding
-/// cone.
-struct ConeCull {
-    cone: ConeSpheres,
-    prims: Vec<u32>,
-}
-
-impl NodeVisitor for ConeCull {
-    fn enter(&mut self, bounds: &Aabb) -> Option<f32> {
-        self.cone.meets(bounds.center(), 0.5 * bounds.extent().length()).then_some(0.0)
-    }
-
-    fn leaf(&mut self, prims: &[u32]) -> Control {
-        self.prims.extend_from_slice(prims);
-        Control::Continue
     }
 }
 

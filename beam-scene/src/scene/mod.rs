@@ -238,7 +238,8 @@ pub struct Scene {
     /// Binary BVH (generic traversal for beams).
     pub bvh: FlatBvh,
     /// 8-wide BVH for single rays (AVX2 or AVX-512 kernels chosen at run time; about twice the
-    /// 4-wide layout's rays per second on the bench's shadow rays).
+    /// 4-wide layout's rays per second on the bench's shadow rays) and for the nonlinear beams'
+    /// bounding-cone culling (eight boxes at a time).
     pub wide: Bvh8,
     /// Smooth unit vertex normals of each mirror and glass triangle (the curved surface its mesh
     /// approximates).

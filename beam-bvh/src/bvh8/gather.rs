@@ -1,0 +1,90 @@
+//! Culling by a volume: the triangles of the leaves that a test on the children's boxes lets
+//! through, eight boxes at a time.
+
+use super::{Bvh8, Node8};
+use std::vec::Vec;
+
+impl Bvh8 {
+    /// Append to `out` the input index of every triangle in the leaves reached from the root
+    /// through the children that `enter` accepts: `enter(node)` returns a mask of the slots to
+    /// visit (bit `s` for `node.child[s]`; unused slots are never visited). For culling by a
+    /// volume (a cone, a frustum), `enter` tests the eight boxes of [`Node8::bounds`] at once. A
+    /// triangle split across leaves (pre-splitting, spatial splits) comes once per leaf reached.
+    pub fn gather(&self, mut enter: impl FnMut(&Node8) -> u32, out: &mut Vec<u32>) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack: Vec<u32> = Vec::with_capacity(8 * self.stack_need.max(1));
+        let mut cur = 0u32;
+        loop {
+            if cur & Node8::LEAF != 0 {
+                let (first, count) = Node8::leaf_blocks(cur);
+                out.extend(self.prims[4 * first..4 * (first + count)].iter().filter(|&&p| p != u32::MAX));
+            } else {
+                let n = &self.nodes[cur as usize];
+                let mut mask = enter(n) & used(n);
+                while mask != 0 {
+                    stack.push(n.child[mask.trailing_zeros() as usize]);
+                    mask &= mask - 1;
+                }
+            }
+            match stack.pop() {
+                Some(next) => cur = next,
+                None => return,
+            }
+        }
+    }
+}
+
+/// The mask of the slots of `n` that hold a child.
+fn used(n: &Node8) -> u32 {
+    n.child.iter().enumerate().fold(0, |m, (s, &c)| m | u32::from(c != Node8::UNUSED) << s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::BuildOptions;
+    use beam_math::Triangle;
+    use beam_math::glam::Vec3;
+
+    fn grid(n: usize) -> Vec<Triangle> {
+        let mut tris = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let p = Vec3::new(i as f32, j as f32, ((i * 7 + j * 3) % 5) as f32 * 0.1);
+                tris.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
+            }
+        }
+        tris
+    }
+
+    /// Accepting every child gathers every triangle once; a box test gathers every triangle
+    /// inside the region it tests and leaves out some of the rest; rejecting every child gathers
+    /// nothing.
+    #[test]
+    fn gathers_what_the_box_test_lets_through() {
+        let tris = grid(40);
+        let bvh = Bvh8::build(&tris, &BuildOptions::sah());
+        let mut all = Vec::new();
+        bvh.gather(|_| 0xff, &mut all);
+        all.sort_unstable();
+        assert_eq!(all, (0..tris.len() as u32).collect::<Vec<_>>());
+
+        // Children whose boxes reach below x = 10.
+        let left = |n: &Node8| (0..8).fold(0, |m, s| m | u32::from(n.bounds[0][s] < 10.0) << s);
+        let mut some = Vec::new();
+        bvh.gather(left, &mut some);
+        assert!(some.len() < tris.len(), "{} of {}", some.len(), tris.len());
+        for (i, t) in tris.iter().enumerate() {
+            if t.v.iter().all(|v| v.x < 10.0) {
+                assert!(some.contains(&(i as u32)), "triangle {i} inside the region was culled");
+            }
+        }
+        let mut none = Vec::new();
+        bvh.gather(|_| 0, &mut none);
+        assert!(none.is_empty());
+        Bvh8::default().gather(|_| 0xff, &mut none);
+        assert!(none.is_empty());
+    }
+}
