@@ -23,6 +23,7 @@ use crate::buffers::{
 use crate::interface::{PAIR_NEAR, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::{PointShader, ShadeInput};
+use crate::staging::{Slots, Staged, split_by_counts};
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
@@ -246,7 +247,7 @@ impl<'g> GpuBeams<'g> {
     fn render_page<T>(
         &self,
         beams: &[GpuBeam],
-        pairs: &[[u32; 2]],
+        (pair_buffer, pair_count): (wgpu::Buffer, usize),
         ranges: &[(u32, u32)],
         firsts: &[u32],
         rows: u32,
@@ -272,11 +273,10 @@ impl<'g> GpuBeams<'g> {
         );
         let depth = texture(wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
         let params =
-            AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pairs.len() as u32 };
+            AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pair_count as u32 };
         let uniform = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
         let beam_buffer = storage(self.gpu, "beams", beams, wgpu::BufferUsages::empty());
-        let pair_buffer = storage(self.gpu, "pairs", pairs, wgpu::BufferUsages::empty());
-        let bounds = output(self.gpu, "bounding triangles", (pairs.len() * 16) as u64);
+        let bounds = output(self.gpu, "bounding triangles", (pair_count * 16) as u64);
         let counters = storage(self.gpu, "counters", &vec![[0u32; 2]; beams.len()], wgpu::BufferUsages::COPY_SRC);
         let bind = |layout: wgpu::BindGroupLayout, entries: &[(u32, &wgpu::Buffer)]| {
             let entries: Vec<_> = entries.iter().map(|&(binding, b)| buffer_entry(binding, b)).collect();
@@ -291,7 +291,7 @@ impl<'g> GpuBeams<'g> {
             self.bound.get_bind_group_layout(0),
             &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (4, &bounds), (6, &counters)],
         );
-        let groups = pairs.len().div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
+        let groups = pair_count.div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
         compute_pass(&mut encoder, &self.bound, &group, groups);
         let group = bind(
             self.pipeline.get_bind_group_layout(0),
@@ -440,20 +440,28 @@ impl BeamRasterizer for GpuBeams<'_> {
                 continue;
             }
             let mut beams = Vec::with_capacity(members.len());
-            let mut flat = Vec::new();
             let mut ranges = Vec::with_capacity(members.len());
             let mut firsts = Vec::with_capacity(members.len() + 1);
             firsts.push(0u32);
+            let mut pair_count = 0u32;
             for (k, &i) in members.iter().enumerate() {
                 let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
                 gpu_beams[i].region[..2].copy_from_slice(&[q.x, q.y]);
                 beams.push(gpu_beams[i]);
-                let first = flat.len() as u32;
-                flat.extend(candidates[i].iter().map(|&prim| [k as u32, prim]));
-                ranges.push((first, flat.len() as u32));
-                // The page's texels fit one binding, so their count fits 32 bits.
+                // The page's pairs fit one binding, so their count fits 32 bits; so do its texels.
+                ranges.push((pair_count, pair_count + candidates[i].len() as u32));
+                pair_count += candidates[i].len() as u32;
                 firsts.push(firsts[k] + region_texels(jobs[i].size) as u32);
             }
+            // The (beam on the page, scene triangle) pairs, written in place, a beam's by a thread.
+            let mut pairs =
+                Staged::<[u32; 2]>::new(self.gpu, "pairs", pair_count as usize, wgpu::BufferUsages::empty());
+            let parts = split_by_counts(pairs.slots(), members.iter().map(|&i| candidates[i].len()))
+                .ok_or(GpuError::Internal("pairs past their buffer"))?;
+            parts.into_par_iter().zip(&members).enumerate().for_each(|(k, (Slots(out), &i))| {
+                out.write_iter(candidates[i].iter().map(|&prim| [k as u32, prim]));
+            });
+            let pairs = (pairs.finish(self.gpu), pair_count as usize);
             let prepared = start.elapsed().as_secs_f64();
             let unpacking = Cell::new(0.0);
             let unpack = |texels: &[[u32; 2]], counts: &[Counters]| {
@@ -462,7 +470,7 @@ impl BeamRasterizer for GpuBeams<'_> {
                 unpacking.set(start.elapsed().as_secs_f64());
                 out
             };
-            let unpacked = checked(self.gpu, || self.render_page(&beams, &flat, &ranges, &firsts, page_rows, unpack))??;
+            let unpacked = checked(self.gpu, || self.render_page(&beams, pairs, &ranges, &firsts, page_rows, unpack))??;
             let drawn = start.elapsed().as_secs_f64() - prepared - unpacking.get();
             for (i, tex) in unpacked {
                 textures[i] = Some(tex);
@@ -472,7 +480,7 @@ impl BeamRasterizer for GpuBeams<'_> {
                 t.prepare_seconds += prepared + unpacking.get();
                 t.pages += 1;
                 t.beams += members.len() as u64;
-                t.triangles += flat.len() as u64;
+                t.triangles += u64::from(pair_count);
             });
         }
         textures.into_iter().map(|t| t.ok_or_else(|| GpuError::Internal("a beam was not rendered").into())).collect()
