@@ -126,17 +126,22 @@ mod tests {
         total >= core::f32::consts::PI || v.dot(cone.axis) / dist > total.cos_()
     }
 
-    #[test]
-    fn prepared_test_keeps_every_sphere_the_angles_keep() {
-        // A seeded grid of cones (half-angles up to 3 rad, past π/2) and spheres: the prepared test
-        // accepts every sphere the angles' form accepts, and disagrees only at the boundary.
-        let mut state = 0x2545_f491_u32;
-        let mut next = || {
+    /// Seeded xorshift numbers in [0, 1].
+    fn uniform(seed: u32) -> impl FnMut() -> f32 {
+        let mut state = seed;
+        move || {
             state ^= state << 13;
             state ^= state >> 17;
             state ^= state << 5;
             state as f32 / u32::MAX as f32
-        };
+        }
+    }
+
+    #[test]
+    fn prepared_test_keeps_every_sphere_the_angles_keep() {
+        // A seeded grid of cones (half-angles up to 3 rad, past π/2) and spheres: the prepared test
+        // accepts every sphere the angles' form accepts, and disagrees only at the boundary.
+        let mut next = uniform(0x2545_f491);
         let (mut extra, n) = (0, 200_000);
         for _ in 0..n {
             let axis = Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize_or(Vec3::Z);
@@ -154,13 +159,7 @@ mod tests {
     /// half-angle, boxes around the apex among them.
     #[test]
     fn box_lanes_answer_as_meets() {
-        let mut state = 0x1234_5679_u32;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            state as f32 / u32::MAX as f32
-        };
+        let mut next = uniform(0x1234_5679);
         let (mut kept, mut total) = (0, 0);
         for _ in 0..20_000 {
             let axis = Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize_or(Vec3::Z);

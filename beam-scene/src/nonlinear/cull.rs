@@ -10,8 +10,8 @@ use beam_math::nonlinear::BeamBounds;
 
 /// The scene triangles that may meet `beam` (of bounds `bounds`), less those it skips (`exclude`,
 /// the surface under its base): bounding-cone culling (000 App. A) of the 8-wide BVH's boxes, eight
-/// at a time, then of each triangle's bounding sphere; then the triangles next to the base that lie wholly below the height
-/// that no hit past the self-hit distance reaches (`SelfHitFloor`).
+/// at a time, then of each triangle's bounding sphere; then the triangles next to the base that
+/// lie wholly below the height that no hit past the self-hit distance reaches (`SelfHitFloor`).
 #[must_use]
 pub fn cone_candidates(
     scene: &Scene,
