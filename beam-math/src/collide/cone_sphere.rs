@@ -54,45 +54,30 @@ impl ConeSpheres {
     /// `cos θ_S = √(d² − R²)/d` and `sin θ_S = R/d`, so `d·cos(θ_C + θ_S) = cos θ_C √(d² − R²) −
     /// sin θ_C R`; `θ_C + θ_S ≥ π` (every direction) exactly when `θ_C ≥ π/2` and `R ≥ d sin θ_C`.
     /// The comparison is widened by `1e-5·d` so that rounding never rejects a sphere the angles'
-    /// form accepts.
+    /// form accepts. Without branches (the square root of a negative number is NaN, and fails its
+    /// comparison, only where the apex is inside the sphere, which passes anyway), so that
+    /// [`ConeSpheres::meets_boxes`] can test its lanes in vector registers.
     #[must_use]
+    #[inline]
     pub fn meets(&self, center: Vec3, radius: f32) -> bool {
         let v = center - self.apex;
         let d2 = v.length_squared();
-        if d2 <= radius * radius {
-            return true;
-        }
         let dist = d2.sqrt_();
-        if self.cos <= 0.0 && radius >= dist * self.sin {
-            return true;
-        }
+        let inside = d2 <= radius * radius;
+        let wide = self.cos <= 0.0 && radius >= dist * self.sin;
         let bound = self.cos * (d2 - radius * radius).sqrt_() - self.sin * radius;
-        v.dot(self.axis) + 1e-5 * dist > bound
+        inside | wide | (v.dot(self.axis) + 1e-5 * dist > bound)
     }
 
     /// [`ConeSpheres::meets`] of the spheres around eight boxes at once, as bit `i` of the
     /// result: box `i` spans `min[a][i]..max[a][i]` on axis `a`, its sphere is centred on it with
-    /// half its diagonal as radius. The same operations as `meets`, lane by lane and without
-    /// branches (a square root of a negative number is NaN, and fails its comparison, only where
-    /// the apex is inside the sphere and the lane passes anyway), so each bit is what `meets`
-    /// answers; with `std` the compiler can test the lanes in vector registers.
+    /// half its diagonal as radius.
     #[must_use]
     pub fn meets_boxes(&self, min: [&[f32; 8]; 3], max: [&[f32; 8]; 3]) -> u32 {
-        let mut hit = [false; 8];
-        for (i, h) in hit.iter_mut().enumerate() {
-            let half = |a: usize| 0.5 * (max[a][i] - min[a][i]);
-            let centre = |a: usize| 0.5 * (min[a][i] + max[a][i]);
-            let (hx, hy, hz) = (half(0), half(1), half(2));
-            let radius = (hx * hx + hy * hy + hz * hz).sqrt_();
-            let (vx, vy, vz) = (centre(0) - self.apex.x, centre(1) - self.apex.y, centre(2) - self.apex.z);
-            let d2 = vx * vx + vy * vy + vz * vz;
-            let dist = d2.sqrt_();
-            let inside = d2 <= radius * radius;
-            let wide = self.cos <= 0.0 && radius >= dist * self.sin;
-            let bound = self.cos * (d2 - radius * radius).sqrt_() - self.sin * radius;
-            let along = vx * self.axis.x + vy * self.axis.y + vz * self.axis.z;
-            *h = inside | wide | (along + 1e-5 * dist > bound);
-        }
+        let hit: [bool; 8] = core::array::from_fn(|i| {
+            let (lo, hi) = (Vec3::new(min[0][i], min[1][i], min[2][i]), Vec3::new(max[0][i], max[1][i], max[2][i]));
+            self.meets(0.5 * (lo + hi), (0.5 * (hi - lo)).length())
+        });
         hit.iter().enumerate().fold(0, |m, (i, &h)| m | u32::from(h) << i)
     }
 }

@@ -306,15 +306,21 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
 
 /// Median of three timings of `f`, in milliseconds.
 fn median_ms(mut f: impl FnMut()) -> f64 {
-    let mut times: Vec<f64> = (0..3)
-        .map(|_| {
-            let s = Instant::now();
-            f();
-            s.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    times[1]
+    median(
+        (0..3)
+            .map(|_| {
+                let s = Instant::now();
+                f();
+                s.elapsed().as_secs_f64() * 1e3
+            })
+            .collect(),
+    )
+}
+
+/// The middle value of `v` (the upper of the two middle ones for an even length).
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
 }
 
 /// What the CPU offers the 8-wide kernels.

@@ -6,7 +6,7 @@
 //! library's idle threads sleep) made both slower, Sponza's by 50–100% after 100 ms, ours less
 //! than Embree's.
 
-use super::{Clock, KINDS, Rays, throughput};
+use super::{Clock, KINDS, Rays, median, throughput};
 use crate::bench::{Tracer, peer_build_ms};
 use beam_bvh::{BuildOptions, Bvh8};
 use beam_math::Triangle;
@@ -24,11 +24,6 @@ pub(super) struct Paired {
     /// `[threaded][kind]`: the median over the rounds of our Mrays/s over the peer's, each
     /// round's two figures taken one after the other.
     pub ratios: [[f64; 3]; 2],
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 /// Our tree `ours` (built with `options`) against every peer, in alternation: builds (median
