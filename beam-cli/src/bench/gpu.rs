@@ -2,7 +2,7 @@
 //! tree and the shading on the CPU) against the CPU renderer, measured in the same run on the
 //! built-in nonlinear scenes; each GPU image checked against the CPU's.
 
-use super::cpu_clock::our_threads_cpu_seconds;
+use beam_cpu::cpu_clock::our_threads_cpu_seconds;
 use beam_cpu::nonlinear::{CpuBeams, Degree, NonlinearOptions, render_nonlinear_with};
 use beam_cpu::render::{RenderOptions, difference};
 use beam_gpu::Gpu;
@@ -96,6 +96,12 @@ pub fn run(
         let parts: Vec<String> =
             stats.stages.iter().map(|s| format!("{} {:.1}", s.name, 1e3 * s.host_seconds)).collect();
         println!("{:<16} host ms by stage: {}", "", parts.join(", "));
+        if stats.stages.iter().any(|s| s.cpu_seconds > 0.0) {
+            let parts: Vec<String> =
+                stats.stages.iter().map(|s| format!("{} {:.1}", s.name, 1e3 * s.cpu_seconds)).collect();
+            let total: f64 = stats.stages.iter().map(|s| s.cpu_seconds).sum();
+            println!("{:<16} host CPU ms by stage ({:.1} in all): {}", "", 1e3 * total, parts.join(", "));
+        }
         let per = |seconds: f64| 1e3 * seconds / f64::from(frames.max(1));
         println!(
             "{:<16} host ms inside the GPU backend: uploads {:.1} ({:.1} MB), readbacks unpacked {:.1}, atlas \
@@ -118,7 +124,8 @@ pub fn run(
     }
     println!(
         "GPU ms: whole frame; host ms: of it, time not blocked on the device (000 Table 2's CPU share: 1 to 25 ms \
-         per frame at 1280×1024, with 52 to 3,400 beams per level; by stage: the last timed frame's; inside the GPU backend: \
+         per frame at 1280×1024, with 52 to 3,400 beams per level; by stage: the last timed frame's (host CPU ms by \
+         stage: the CPU time of our threads in each, which the software GPU's threads do not inflate); inside the GPU backend: \
          per frame, overlapping the stages (atlas preparation: bounding-cone culling, packing, unpacking); host CPU ms: \
          CPU time of our threads, which a software GPU's own threads do not inflate as they do the wall-clock host \
          ms: the calling thread's is a lower bound of the host work, the workers' counts their spin-waits too); \

@@ -1,7 +1,6 @@
 //! `beam bench`: benchmarks that print ratios against peers measured in the same run.
 
 pub mod bvh;
-mod cpu_clock;
 pub mod glossy;
 pub mod gpu;
 pub mod nonlinear;

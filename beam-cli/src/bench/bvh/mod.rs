@@ -5,10 +5,10 @@ mod ours;
 mod paired;
 
 use super::{Tracer, peers};
-use crate::bench::cpu_clock::thread_cpu_seconds;
 use beam_bvh::{BuildOptions, Bvh8, Collapse, FlatBvh, Kernel, RayDistribution, TraversalStats, WideBvh};
 use beam_conformance::bvh::scene_light;
 use beam_conformance::generate::{self, uniform};
+use beam_cpu::cpu_clock::thread_cpu_seconds;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use beam_scene::scene::Camera;
