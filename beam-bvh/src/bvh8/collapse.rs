@@ -39,8 +39,9 @@ pub(super) fn collapse(
 /// An eight-wide node's test costs as much as this many block tests in the collapse's cost model
 /// (times [`BuildOptions::traversal_cost`](crate::BuildOptions::traversal_cost), a binary node's):
 /// with these kernels 1.5 gave rays of every kind faster than 1 on the conference room (shadow
-/// rays 3.6%) and the same on Sponza.
-pub(super) const NODE_COST: f32 = 1.5;
+/// rays 3.6%) and the same on Sponza; 1.75 gives Sponza's shadow rays 1–3% more than 1.5 and
+/// the conference room the same (2.0 no more than 1.75; 3.0 less than 1.5).
+pub(super) const NODE_COST: f32 = 1.75;
 
 /// For each node of `tree`, whether its subtree becomes one leaf (bottom up: children follow
 /// their parents, so a reverse pass sees children first).
