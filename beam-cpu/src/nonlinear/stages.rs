@@ -17,7 +17,8 @@ pub struct Stage {
     pub host_seconds: f64,
     /// CPU seconds of our threads (the calling thread and rayon's workers, spin-waits included)
     /// meanwhile: host work that a software GPU's threads, sharing the cores, do not inflate as
-    /// they inflate `host_seconds`. 0 where the clock is not available.
+    /// they inflate `host_seconds`. 0 where the clocks are not available (off Linux). A lap
+    /// reads one clock per thread, a system call each.
     pub cpu_seconds: f64,
 }
 
@@ -65,11 +66,11 @@ impl<'r> StageClock<'r> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cpu_clock::thread_cpu_seconds;
     use crate::nonlinear::CpuBeams;
 
     /// A stage that computes on the calling thread reports CPU time, and no more than the CPU
-    /// time all our threads used meanwhile; one that only waits reports wall time.
+    /// time all our threads used meanwhile (the workers' clocks are read, not asked, so other
+    /// tests' rayon work cannot hold a lap up); one that only waits reports wall time.
     #[test]
     fn laps_count_the_cpu_time_of_our_threads() {
         let mut clock = StageClock::start(&CpuBeams);
@@ -85,7 +86,7 @@ mod tests {
         clock.lap("wait");
         let stages = clock.stages();
         let (compute, wait) = (&stages[0], &stages[1]);
-        if thread_cpu_seconds().is_some() {
+        if our_threads_cpu_seconds().is_some() {
             assert!(compute.cpu_seconds > 0.0, "{compute:?}");
             assert!(compute.cpu_seconds <= all.unwrap() + 1e-3, "{compute:?} vs {all:?}");
         } else {
