@@ -43,21 +43,9 @@ fn used(n: &Node8) -> u32 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::grid;
     use super::*;
     use crate::BuildOptions;
-    use beam_math::Triangle;
-    use beam_math::glam::Vec3;
-
-    fn grid(n: usize) -> Vec<Triangle> {
-        let mut tris = Vec::new();
-        for i in 0..n {
-            for j in 0..n {
-                let p = Vec3::new(i as f32, j as f32, ((i * 7 + j * 3) % 5) as f32 * 0.1);
-                tris.push(Triangle::new(p, p + Vec3::X, p + Vec3::Y));
-            }
-        }
-        tris
-    }
 
     /// Accepting every child gathers every triangle once; a box test gathers every triangle
     /// inside the region it tests and leaves out some of the rest; rejecting every child gathers

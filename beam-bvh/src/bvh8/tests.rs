@@ -6,7 +6,7 @@ use beam_math::collide::WatertightRay;
 use beam_math::heuristics::surface_area;
 
 /// A closed grid of quads (shared edges everywhere) with its diagonals, for watertightness.
-fn grid(n: usize) -> Vec<Triangle> {
+pub(super) fn grid(n: usize) -> Vec<Triangle> {
     let mut out = Vec::new();
     for i in 0..n {
         for j in 0..n {
