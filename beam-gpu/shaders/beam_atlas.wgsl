@@ -13,26 +13,10 @@
 // per pair instead of once per corner, and runs on every core of a software rasterizer, which
 // shades vertices on one thread.) CPU twin: beam_cpu::nonlinear::render_beam.
 
-// Twin of beam_gpu::nonlinear::AtlasParams (16 bytes).
-struct AtlasParams {
-    size: vec2<f32>,  // atlas width and height in texels
-    extent: f32,      // the scene's diagonal
-    pairs: u32,       // (beam, triangle) pairs on the page
-}
-
-@group(0) @binding(0) var<uniform> params: AtlasParams;
-@group(0) @binding(1) var<storage, read> beams: array<Beam>;
-@group(0) @binding(2) var<storage, read> triangles: array<BvhTriangle>;
-@group(0) @binding(3) var<storage, read> pairs: array<vec2<u32>>;   // (beam on the page, scene triangle | PAIR_NEAR)
 @group(0) @binding(4) var<storage, read_write> bounds_out: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> bounds_in: array<vec4<f32>>; // lower bounds (xyz), case (w)
 // Per beam on the page: scene triangles not culled as behind its base, texels tested (overdraw).
 @group(0) @binding(6) var<storage, read_write> counters: array<atomic<u32>>;
-
-fn scene_tri(prim: u32) -> Tri {
-    let t = triangles[prim];
-    return Tri(array<vec3<f32>, 3>(t.v0, t.v1, t.v2));
-}
 
 // Loop bound (software Vulkan, Mesa llvmpipe / lavapipe, ends every loop of a SIMD group of 8
 // invocations once they have run 65,535 iterations together; a nested loop costs its iterations + 2
@@ -72,16 +56,7 @@ fn emit_bounding_triangle(@builtin(vertex_index) vertex: u32, @builtin(instance_
     out.prim = prim;
     out.lower = bt.xyz;
     out.position = vec4<f32>(-2.0, -2.0, 0.0, 1.0);
-    let tri = scene_tri(prim);
-    // A triangle of a coarse face's ring (PAIR_NEAR), or one sharing a vertex with the base.
-    var neighbour = select(0u, 1u, (pairs[pair].y & PAIR_NEAR) != 0u);
-    // 3 × 3 iterations (20 counted as llvmpipe counts).
-    for (var i = 0u; i < 3u; i++) {
-        for (var j = 0u; j < 3u; j++) {
-            if all(tri.v[i] == bv(b, j)) { neighbour = 1u; }
-        }
-    }
-    out.neighbour = neighbour;
+    out.neighbour = select(0u, 1u, pair_neighbour(b, pairs[pair]));
     if bt.w == f32(BOUNDING_BEHIND) { return out; }
     let size = f32(b.region.z);
     // The texels tested are those with ω ≥ lower − ½ texel (slack); the rasterized triangle is
@@ -97,24 +72,12 @@ fn emit_bounding_triangle(@builtin(vertex_index) vertex: u32, @builtin(instance_
     return out;
 }
 
-// beam_scene::nonlinear::BeamTexture::barycentric: texel (x, y) of a size × size region; margin
-// texels (u + v > 1) take the nearest point of the base's edge.
-fn texel_barycentric(x: u32, y: u32, size: u32) -> vec3<f32> {
-    let u = (f32(x) + 0.5) / f32(size);
-    let v = (f32(y) + 0.5) / f32(size);
-    if u + v <= 1.0 { return vec3<f32>(1.0 - u - v, u, v); }
-    let excess = 0.5 * (u + v - 1.0);
-    let uc = clamp(u - excess, 0.0, 1.0);
-    let vc = clamp(v - excess, 0.0, 1.0);
-    return max(vec3<f32>(1.0 - uc - vc, uc, vc), vec3<f32>(0.0));
-}
-
 struct Hit {
     @location(0) hit: vec2<u32>,  // scene triangle + 1, bits of t
     @builtin(frag_depth) depth: f32,
 }
 
-// Loops: texel_ray's sum over the S^3 coefficients, 10 iterations; nothing scales with the scene.
+// Loops: texel_hit's (lib/atlas.wgsl); nothing scales with the scene.
 @fragment
 fn intersect_texel(f: Fragment) -> Hit {
     let b = beams[f.beam];
@@ -123,19 +86,14 @@ fn intersect_texel(f: Fragment) -> Hit {
     let yi = i32(floor(f.position.y)) - i32(b.region.y);
     if xi < 0 || yi < 0 || xi >= i32(size) || yi >= i32(size) || xi + yi >= i32(size) + 1 { discard; }
     let w = texel_barycentric(u32(xi), u32(yi), size);
-    let slack = 0.5 / f32(size);
-    if any(w < f.lower - vec3<f32>(slack)) { discard; }
+    if !texel_tested(w, f.lower, size) { discard; }
     atomicAdd(&counters[2u * f.beam + 1u], 1u);
-    let ray = texel_ray(b, w);
-    let len = max(length(ray.direction), 1.17549435e-38);
-    var t_min = TEXEL_EPS * params.extent / len;
-    if f.neighbour == 1u { t_min = self_hit_distance(b, ray, params.extent) / len; }
-    let tri = triangles[f.prim];
-    let t = intersect_triangle(shear_ray(ray.origin, ray.direction), tri, t_min, 3.0e38);
+    let hit = texel_hit(b, w, f.prim, f.neighbour == 1u);
+    let t = hit.x;
     if t < 0.0 { discard; }
     var out: Hit;
     out.hit = vec2<u32>(f.prim + 1u, bitcast<u32>(t));
-    let dist = t * len;
+    let dist = t * hit.y;
     out.depth = dist / (dist + params.extent);
     return out;
 }

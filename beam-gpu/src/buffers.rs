@@ -183,7 +183,19 @@ pub fn compute_pass(
     bind: &wgpu::BindGroup,
     groups: u32,
 ) {
-    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+    compute_pass_timed(encoder, pipeline, bind, groups, None);
+}
+
+/// [`compute_pass`], its beginning and end written to timestamp queries where `timestamps` says.
+pub fn compute_pass_timed(
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    bind: &wgpu::BindGroup,
+    groups: u32,
+    timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+) {
+    let mut pass =
+        encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: timestamps });
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, bind, &[]);
     pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);

@@ -86,6 +86,12 @@ impl Gpu {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("beam"),
             required_limits: adapter.limits(),
+            // Timestamps time the atlas passes on the GPU itself (`crate::timestamps`); 64-bit
+            // atomics find the atlas's nearest hits by compute (`shaders/beam_texels.wgsl`).
+            required_features: adapter.features()
+                & (wgpu::Features::TIMESTAMP_QUERY
+                    | wgpu::Features::SHADER_INT64
+                    | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX),
             ..Default::default()
         }))
         .map_err(|source| GpuError::OpenDevice {

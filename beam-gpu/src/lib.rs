@@ -41,6 +41,7 @@ pub mod shade;
 pub mod shaders;
 pub mod staging;
 pub mod texels;
+pub mod timestamps;
 
 pub use beam_math;
 pub use device::{Gpu, Traffic};

@@ -14,6 +14,7 @@ pub(crate) const SHARED: &[(&str, &str)] = &[
 pub const SHADERS: &[(&str, &str)] = &[
     ("raytrace", include_str!("../shaders/raytrace.wgsl")),
     ("beam_atlas", include_str!("../shaders/beam_atlas.wgsl")),
+    ("beam_texels", include_str!("../shaders/beam_texels.wgsl")),
     ("nonlinear_check", include_str!("../shaders/nonlinear_check.wgsl")),
     ("composite", include_str!("../shaders/composite.wgsl")),
     ("eye", include_str!("../shaders/eye.wgsl")),
@@ -21,10 +22,16 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("glossy_gather", include_str!("../shaders/glossy_gather.wgsl")),
 ];
 
+/// Shaders that use 64-bit atomics (wgpu's `SHADER_INT64_ATOMIC_MIN_MAX`): emitted for MSL 2.4 and
+/// HLSL shader model 6.6, and not for GLSL, which naga writes without 64-bit integers.
+pub const INT64_ATOMICS: &[&str] = &["beam_texels"];
+
 /// Library code that some shaders include (`shaders/lib/*.wgsl`): name, source, the shaders that
 /// include it.
-pub(crate) const LIBRARY: &[(&str, &str, &[&str])] =
-    &[("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather", "eye", "whitted"])];
+pub(crate) const LIBRARY: &[(&str, &str, &[&str])] = &[
+    ("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather", "eye", "whitted"]),
+    ("lib/atlas.wgsl", include_str!("../shaders/lib/atlas.wgsl"), &["beam_atlas", "beam_texels"]),
+];
 
 /// The full source of shader `name`: the constants it shares with Rust ([`crate::interface::wgsl`]),
 /// the shared code, the library code it includes, then the shader.
@@ -77,11 +84,16 @@ impl Language {
 }
 
 /// Translate every shader to `lang` into directory `out` (created), each file written atomically;
-/// returns the files written.
+/// returns the files written. GLSL leaves out [`INT64_ATOMICS`] (their pipelines' rasterized twins
+/// stand in for them).
 pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, GpuError> {
     std::fs::create_dir_all(out).map_err(|source| GpuError::Folder { path: out.to_path_buf(), source })?;
     let mut written = Vec::new();
     for (name, _) in SHADERS {
+        let int64 = INT64_ATOMICS.contains(name);
+        if int64 && lang == Language::Glsl {
+            continue;
+        }
         let (module, info) = validate(name)?;
         let failed = |language, source| GpuError::Translate { name: name.to_string(), language, source };
         let files: Vec<(String, Vec<u8>)> = match lang {
@@ -126,8 +138,12 @@ pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, GpuEr
                 let (text, _) = naga::back::msl::write_string(
                     &module,
                     &info,
-                    // MSL 2.0 for instance ids in vertex functions (every Metal GPU since 2017).
-                    &naga::back::msl::Options { lang_version: (2, 0), ..Default::default() },
+                    // MSL 2.0 for instance ids in vertex functions (every Metal GPU since 2017), 2.4
+                    // for 64-bit atomics.
+                    &naga::back::msl::Options {
+                        lang_version: if int64 { (2, 4) } else { (2, 0) },
+                        ..Default::default()
+                    },
                     &naga::back::msl::PipelineOptions::default(),
                 )
                 .map_err(|e| failed("MSL", e.into()))?;
@@ -135,7 +151,10 @@ pub fn emit(lang: Language, out: &Path) -> Result<Vec<std::path::PathBuf>, GpuEr
             }
             Language::Hlsl => {
                 let mut text = String::new();
-                naga::back::hlsl::Writer::new(&mut text, &naga::back::hlsl::Options::default(), &Default::default())
+                let shader_model =
+                    if int64 { naga::back::hlsl::ShaderModel::V6_6 } else { naga::back::hlsl::ShaderModel::V5_1 };
+                let options = naga::back::hlsl::Options { shader_model, ..Default::default() };
+                naga::back::hlsl::Writer::new(&mut text, &options, &Default::default())
                     .write(&module, &info, None)
                     .map_err(|e| failed("HLSL", e.into()))?;
                 vec![(format!("{name}.hlsl"), text.into_bytes())]

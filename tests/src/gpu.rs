@@ -324,8 +324,9 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
     Ok(Outcome { cases: total, note: format!("{} ({})", notes.join("; "), gpu.describe()) })
 }
 
-/// The atlas pipeline (vertex-stage bounding triangles, fragment-stage intersection, depth test)
-/// against the CPU's `render_beam` on the level-1 beams off every third specular face of four
+/// The atlas pipeline (bounding triangles, then the nearest hits by 000's draws — fragment-stage
+/// intersection, depth test — and, where the device has 64-bit atomics, by compute) against the
+/// CPU's `render_beam` on the level-1 beams off every third specular face of four
 /// built-ins (S1, S3, bumped, refracted; 16 texels per side): per texel the same nearest hit — the
 /// same triangle, or another at the same distance (within 1e-4 relative: a shared edge); and at
 /// most twice the CPU's texels tested, so the bounding triangles are in use and tight. At most 0.1% of the texels may differ.
@@ -357,33 +358,43 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
             .collect();
         let jobs: Vec<BeamJob<'_>> =
             beams.iter().map(|(beam, prim)| BeamJob { beam, size: 16, exclude: Exclude::base(*prim) }).collect();
-        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
-        let on_gpu = renderer.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
         let on_cpu = CpuBeams.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
-        let (mut n, mut d) = (0u64, 0u64);
-        for (g, c) in on_gpu.iter().zip(&on_cpu) {
-            for (a, b) in g.hits.iter().zip(&c.hits) {
-                n += 1;
-                let same = match (a, b) {
-                    (None, None) => true,
-                    (Some(a), Some(b)) => a.prim == b.prim || (a.t - b.t).abs() <= 1e-4 * a.t.abs().max(b.t.abs()),
-                    _ => false,
-                };
-                d += u64::from(!same);
+        // Both ways to the nearest hits: by compute (where the device has 64-bit atomics) and by
+        // 000's draws.
+        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let ways = if renderer.by_compute() {
+            vec![renderer.rasterized(), GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?]
+        } else {
+            vec![renderer]
+        };
+        for renderer in ways {
+            let way = if renderer.by_compute() { "compute" } else { "draws" };
+            let on_gpu = renderer.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
+            let (mut n, mut d) = (0u64, 0u64);
+            for (g, c) in on_gpu.iter().zip(&on_cpu) {
+                for (a, b) in g.hits.iter().zip(&c.hits) {
+                    n += 1;
+                    let same = match (a, b) {
+                        (None, None) => true,
+                        (Some(a), Some(b)) => a.prim == b.prim || (a.t - b.t).abs() <= 1e-4 * a.t.abs().max(b.t.abs()),
+                        _ => false,
+                    };
+                    d += u64::from(!same);
+                }
             }
+            if d * 1000 > n {
+                return Err(format!("{name} by {way}: {d} of {n} texels differ"));
+            }
+            // The GPU's bounding triangles are used and tight: texels tested (overdraw) at most
+            // twice the CPU's (the f32 margin and the whole-base fallbacks cost the difference).
+            let tested = |t: &[beam_cpu::nonlinear::BeamTexture]| t.iter().map(|t| t.texels_tested).sum::<u64>();
+            let ratio = tested(&on_gpu) as f64 / tested(&on_cpu).max(1) as f64;
+            if !(ratio <= 2.0) {
+                return Err(format!("{name} by {way}: the GPU tested {ratio:.2}× the CPU's texels"));
+            }
+            texels += n;
+            notes.push(format!("{name} by {way} ({} beams) {d}, overdraw {ratio:.2}× the CPU's", beams.len()));
         }
-        if d * 1000 > n {
-            return Err(format!("{name}: {d} of {n} texels differ"));
-        }
-        // The GPU's bounding triangles are used and tight: texels tested (overdraw) at most twice
-        // the CPU's (the f32 margin and the whole-base fallbacks cost the difference).
-        let tested = |t: &[beam_cpu::nonlinear::BeamTexture]| t.iter().map(|t| t.texels_tested).sum::<u64>();
-        let ratio = tested(&on_gpu) as f64 / tested(&on_cpu).max(1) as f64;
-        if !(ratio <= 2.0) {
-            return Err(format!("{name}: the GPU tested {ratio:.2}× the CPU's texels"));
-        }
-        texels += n;
-        notes.push(format!("{name} ({} beams) {d}, overdraw {ratio:.2}× the CPU's", beams.len()));
     }
     Ok(Outcome { cases: texels, note: format!("texels differing: {}", notes.join(", ")) })
 }

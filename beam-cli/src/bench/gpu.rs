@@ -15,19 +15,26 @@ pub const SCENES: [&str; 6] =
     ["mirror-teapot", "mirror-glass", "facing-mirrors", "glass-lens", "wavy-lake", "bumpy-mirror"];
 
 /// Run the benchmark: `frames` timed GPU frames per scene (after one warm-up frame) and one CPU
-/// frame, at `width × height`; with `smesh`, beams spawn from coarse S meshes simplified so.
+/// frame, at `width × height`; with `smesh`, beams spawn from coarse S meshes simplified so; with
+/// `rasterize`, the atlas's nearest hits by draws even where compute could find them.
 pub fn run(
     scenes: &[String],
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
     frames: u32,
     degree: Degree,
     smesh: Option<Simplify>,
+    rasterize: bool,
 ) -> Result<(), String> {
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     let coarse = smesh.map_or_else(String::new, |s| format!(", coarse S meshes ({s:?})"));
+    let by_compute = GpuBeams::new(&gpu, &scene::builtin("facing-mirrors").map_err(|e| e.to_string())?)
+        .map_err(|e| e.to_string())?
+        .by_compute()
+        && !rasterize;
+    let hits = if by_compute { "nearest hits by compute (64-bit atomics)" } else { "nearest hits by draws" };
     println!(
-        "GPU: {}; {width}×{height}, {frames} timed frames per scene, {degree:?}, 2 tree levels, no area-light caustics{coarse}",
+        "GPU: {}; {width}×{height}, {frames} timed frames per scene, {degree:?}, 2 tree levels, no area-light caustics, \
+         {hits}{coarse}",
         gpu.describe()
     );
     println!(
@@ -58,6 +65,7 @@ pub fn run(
             shading: RenderOptions::exact(width, height),
         };
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let renderer = if rasterize { renderer.rasterized() } else { renderer };
         let (warm, _) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
         let (before, traffic) = (renderer.times(), gpu.traffic());
         let cpu_before = our_threads_cpu_seconds();
@@ -113,6 +121,21 @@ pub fn run(
             per(after.prepare_seconds - before.prepare_seconds),
             per(after.whitted_host_seconds - before.whitted_host_seconds),
         );
+        let passes: Vec<f64> =
+            after.atlas_pass_seconds.iter().zip(before.atlas_pass_seconds).map(|(a, b)| per(a - b)).collect();
+        if passes.iter().any(|&ms| ms > 0.0) {
+            println!(
+                "{:<16} GPU ms in atlas passes (timestamps): bounding triangles {:.1}, {} {:.1}, gather {:.1}; \
+                 {:.0} pages, {:.2} M (beam, triangle) pairs",
+                "",
+                passes[0],
+                if after.pages_by_compute > before.pages_by_compute { "nearest hits" } else { "draws" },
+                passes[1],
+                passes[2],
+                (after.pages - before.pages) as f64 / f64::from(frames.max(1)),
+                (after.triangles - before.triangles) as f64 / f64::from(frames.max(1)) / 1e6,
+            );
+        }
         if let Some((main, workers)) = cpu_time {
             println!(
                 "{:<16} host CPU ms per frame: calling thread {:.1}, rayon workers {:.1}",

@@ -146,6 +146,10 @@ pub enum BenchCommand {
         /// mirror and glass surface (as `beam render --smesh-target`), 4 to 16777216.
         #[arg(long, value_name = "N")]
         smesh_target: Option<u32>,
+        /// Find the beams' nearest hits by rasterization (000's draws, the depth test keeping the
+        /// nearest) even where the device has the 64-bit atomics of the compute pass.
+        #[arg(long)]
+        rasterize: bool,
     },
     /// Glossy light volumes (002) against photon tracing at equal RMSE on the three built-ins of
     /// 002's figures, on the CPU and (with an adapter) the GPU; plots RMSE against time.
@@ -210,7 +214,7 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             let clock = if cpu_time { bvh::Clock::Thread } else { bvh::Clock::Wall };
             bvh::run(&scene, json.as_deref(), size, sah_only, clock)
         }
-        BenchCommand::Gpu { scenes, width, height, frames, degree, smesh_target } => {
+        BenchCommand::Gpu { scenes, width, height, frames, degree, smesh_target, rasterize } => {
             side("--width", width)?;
             side("--height", height)?;
             let smesh = smesh_target
@@ -229,7 +233,7 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             if dry {
                 return Ok(ExitCode::SUCCESS);
             }
-            gpu::run(&scenes, width, height, frames, degree, smesh)
+            gpu::run(&scenes, (width, height), frames, degree, smesh, rasterize)
         }
         BenchCommand::Glossy { scenes, size, reference_photons, subdivide, out } => {
             side("--size", size)?;

@@ -40,6 +40,10 @@ fn tables() -> Vec<Table> {
             params: AtlasParams, beams: GpuBeam, triangles: GpuTriangle, pairs: [u32; 2], bounds_out: [f32; 4],
             bounds_in: [f32; 4], counters: u32, page_hits, firsts: u32, dense: [u32; 2],
         ]),
+        bindings!("beam_texels" => [
+            params: AtlasParams, beams: GpuBeam, triangles: GpuTriangle, pairs: [u32; 2], bounds_in: [f32; 4],
+            counters: u32, firsts: u32, texel_hits: u64,
+        ]),
         bindings!("nonlinear_check" => [beams: GpuBeam, cases: CheckCase, results: [f32; 4]]),
         bindings!("composite" => [
             params: CompositeParams, records: CompositeRecord, faces: GpuFace, shaded: [f32; 4], below,

@@ -17,13 +17,14 @@ use super::composite::GpuComposite;
 use super::eye::{GpuEye, KeptPoints};
 use super::whitted::GpuWhitted;
 use crate::buffers::{
-    buffer_entry, checked, compute_pass, compute_pipeline, map_with, max_binding, output, read_all, shader_module,
-    storage, uniform, view_entry,
+    buffer_entry, checked, compute_pass_timed, compute_pipeline, map_with, max_binding, output, read_all,
+    shader_module, storage, uniform, view_entry,
 };
-use crate::interface::{PAIR_NEAR, WORKGROUP_SIZE};
+use crate::interface::{MAX_TEXEL_REGION, PAIR_NEAR, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::{PointShader, ShadeInput};
 use crate::staging::{Slots, Staged, split_by_counts};
+use crate::timestamps::PassTimer;
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
@@ -82,6 +83,11 @@ pub struct GpuTimes {
     pub triangles: u64,
     /// Beam trees composited on the GPU (the others fell back to the CPU's composite).
     pub gpu_composites: u64,
+    /// The GPU's own seconds in the atlas passes, by timestamp queries (all 0 where the device has
+    /// none): bounding triangles, nearest hits (draws, or the compute pass), gather.
+    pub atlas_pass_seconds: [f64; 3],
+    /// Atlas pages whose nearest hits were found by compute (`shaders/beam_texels.wgsl`).
+    pub pages_by_compute: u64,
 }
 
 /// The GPU's beam renderer for one scene: its triangles uploaded, the atlas pipeline compiled.
@@ -90,6 +96,9 @@ pub struct GpuBeams<'g> {
     bound: wgpu::ComputePipeline,
     pipeline: wgpu::RenderPipeline,
     gather: wgpu::ComputePipeline,
+    /// The nearest hits by compute, where the device has 64-bit atomics (and unless
+    /// [`GpuBeams::rasterized`] asked for rasterization).
+    texels: Option<wgpu::ComputePipeline>,
     triangles: wgpu::Buffer,
     pub(super) tracer: RayTracer,
     /// The eye's view on the GPU.
@@ -195,6 +204,13 @@ impl<'g> GpuBeams<'g> {
             multiview_mask: None,
             cache: None,
         });
+        let int64 = wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX;
+        let texels = gpu
+            .device
+            .features()
+            .contains(int64)
+            .then(|| compute_pipeline(gpu, "beam_texels", "nearest_hits"))
+            .transpose()?;
         let by_prim: Vec<GpuTriangle> =
             scene.triangles.iter().enumerate().map(|(i, t)| GpuTriangle::new(t, i as u32)).collect();
         let triangles = storage(gpu, "scene triangles", &by_prim, wgpu::BufferUsages::empty());
@@ -207,6 +223,7 @@ impl<'g> GpuBeams<'g> {
             bound,
             pipeline,
             gather,
+            texels,
             triangles,
             tracer,
             eye: GpuEye::new(gpu, scene)?,
@@ -228,6 +245,20 @@ impl<'g> GpuBeams<'g> {
         self
     }
 
+    /// This renderer finding the atlas's nearest hits by rasterization (000's way: a draw per beam,
+    /// the depth test keeping the nearest) even where the device could find them by compute.
+    #[must_use]
+    pub fn rasterized(mut self) -> Self {
+        self.texels = None;
+        self
+    }
+
+    /// Whether the atlas's nearest hits are found by compute (64-bit atomics) on this device.
+    #[must_use]
+    pub fn by_compute(&self) -> bool {
+        self.texels.is_some()
+    }
+
     /// Time spent so far.
     #[must_use]
     pub fn times(&self) -> GpuTimes {
@@ -239,10 +270,11 @@ impl<'g> GpuBeams<'g> {
     }
 
     /// Render one page of `rows` rows: `beams` with their (beam on the page, scene triangle)
-    /// `pairs`, those of beam `i` at `ranges[i]`. `unpack` reads, where the readback is mapped,
-    /// the regions' texels (the scene triangle plus one, 0 for a miss; the bits of `t`), beam `i`'s
-    /// from `firsts[i]` on, row by row ([`region_texels`]; `firsts` ends with their total), and
-    /// per beam the triangles kept and the texels tested.
+    /// `pairs`, those of beam `i` at `ranges[i]`, the nearest hits by compute where `by_compute`
+    /// (else by draws). `unpack` reads, where the readback is mapped, the regions' texels (beam
+    /// `i`'s from `firsts[i]` on, row by row, [`region_texels`]; `firsts` ends with their total;
+    /// each texel as [`Self::unpack`] reads it), and per beam the triangles kept and the texels
+    /// tested.
     #[allow(clippy::too_many_arguments)]
     fn render_page<T>(
         &self,
@@ -251,8 +283,103 @@ impl<'g> GpuBeams<'g> {
         ranges: &[(u32, u32)],
         firsts: &[u32],
         rows: u32,
+        by_compute: bool,
         unpack: impl FnOnce(&[[u32; 2]], &[Counters]) -> T,
     ) -> Result<T, GpuError> {
+        let device = &self.gpu.device;
+        let params =
+            AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pair_count as u32 };
+        let uniform = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
+        let beam_buffer = storage(self.gpu, "beams", beams, wgpu::BufferUsages::empty());
+        let bounds = output(self.gpu, "bounding triangles", (pair_count * 16) as u64);
+        let counters = storage(self.gpu, "counters", &vec![[0u32; 2]; beams.len()], wgpu::BufferUsages::COPY_SRC);
+        let texel_count = firsts.last().copied().unwrap_or(0);
+        let texel_bytes = u64::from(texel_count) * 8;
+        let dense = output(self.gpu, "region texels", texel_bytes);
+        let firsts = storage(self.gpu, "region firsts", firsts, wgpu::BufferUsages::empty());
+        let bind = |pipeline: &wgpu::ComputePipeline, entries: &[(u32, &wgpu::Buffer)]| {
+            let entries: Vec<_> = entries.iter().map(|&(binding, b)| buffer_entry(binding, b)).collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("atlas"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            })
+        };
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas") });
+        let group = bind(
+            &self.bound,
+            &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (4, &bounds), (6, &counters)],
+        );
+        let groups = pair_count.div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
+        // The passes' own times on the GPU, where it has timestamp queries.
+        let timer = PassTimer::new(self.gpu, if by_compute { 2 } else { 3 });
+        compute_pass_timed(&mut encoder, &self.bound, &group, groups, timer.as_ref().map(|t| t.compute(0)));
+        match (&self.texels, by_compute) {
+            (Some(texels), true) => {
+                let group = bind(
+                    texels,
+                    &[
+                        (0, &uniform),
+                        (1, &beam_buffer),
+                        (2, &self.triangles),
+                        (3, &pair_buffer),
+                        (4, &bounds),
+                        (5, &counters),
+                        (6, &firsts),
+                        (7, &dense),
+                    ],
+                );
+                compute_pass_timed(&mut encoder, texels, &group, groups, timer.as_ref().map(|t| t.compute(1)));
+            }
+            _ => {
+                let buffers =
+                    PageBuffers { uniform: &uniform, beams: &beam_buffer, pairs: &pair_buffer, bounds: &bounds };
+                let outputs = (&counters, &firsts, &dense);
+                self.draw_page(&mut encoder, buffers, outputs, ranges, rows, texel_count, timer.as_ref());
+            }
+        }
+        let count_bytes = beams.len() as u64 * 8;
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("atlas readback"),
+            size: texel_bytes + count_bytes + timer.as_ref().map_or(0, PassTimer::bytes),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        encoder.copy_buffer_to_buffer(&dense, 0, &readback, 0, texel_bytes);
+        encoder.copy_buffer_to_buffer(&counters, 0, &readback, texel_bytes, count_bytes);
+        if let Some(timer) = &timer {
+            timer.copy_to(&mut encoder, &readback, texel_bytes + count_bytes);
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        map_with(self.gpu, &readback, |bytes| {
+            let (texels, rest) = bytes.split_at(texel_bytes as usize);
+            let (counts, stamps) = rest.split_at(count_bytes as usize);
+            let passes = PassTimer::seconds(self.gpu, stamps);
+            // Compute's nearest hits are the second pass, as the draws are; no gather follows.
+            self.add_times(|t| t.atlas_pass_seconds.iter_mut().zip(&passes).for_each(|(a, s)| *a += s));
+            // Aligned as mapped ranges are; copied only if a backend mapped them otherwise.
+            match (bytemuck::try_cast_slice(texels), bytemuck::try_cast_slice(counts)) {
+                (Ok(t), Ok(c)) => unpack(t, c),
+                _ => unpack(&bytemuck::pod_collect_to_vec(texels), &bytemuck::pod_collect_to_vec(counts)),
+            }
+        })
+    }
+
+    /// 000's way to the nearest hits, added to `encoder`: one draw per beam over its pairs
+    /// (`ranges`) onto a page of `rows` rows, the depth test keeping each texel's nearest hit; then
+    /// the regions' `texel_count` texels gathered from the page into `dense`, at the beams'
+    /// `firsts`. Timed as passes 1 and 2 of `timer`.
+    #[allow(clippy::too_many_arguments)]
+    fn draw_page(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        page: PageBuffers<'_>,
+        (counters, firsts, dense): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
+        ranges: &[(u32, u32)],
+        rows: u32,
+        texel_count: u32,
+        timer: Option<&PassTimer>,
+    ) {
         let device = &self.gpu.device;
         let extent = wgpu::Extent3d { width: self.page, height: rows, depth_or_array_layers: 1 };
         let texture = |format, usage| {
@@ -272,31 +399,22 @@ impl<'g> GpuBeams<'g> {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let depth = texture(wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
-        let params =
-            AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pair_count as u32 };
-        let uniform = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
-        let beam_buffer = storage(self.gpu, "beams", beams, wgpu::BufferUsages::empty());
-        let bounds = output(self.gpu, "bounding triangles", (pair_count * 16) as u64);
-        let counters = storage(self.gpu, "counters", &vec![[0u32; 2]; beams.len()], wgpu::BufferUsages::COPY_SRC);
-        let bind = |layout: wgpu::BindGroupLayout, entries: &[(u32, &wgpu::Buffer)]| {
-            let entries: Vec<_> = entries.iter().map(|&(binding, b)| buffer_entry(binding, b)).collect();
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("atlas"),
-                layout: &layout,
-                entries: &entries,
-            })
-        };
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas") });
-        let group = bind(
-            self.bound.get_bind_group_layout(0),
-            &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (4, &bounds), (6, &counters)],
-        );
-        let groups = pair_count.div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
-        compute_pass(&mut encoder, &self.bound, &group, groups);
-        let group = bind(
-            self.pipeline.get_bind_group_layout(0),
-            &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (5, &bounds), (6, &counters)],
-        );
+        let entries: Vec<_> = [
+            (0, page.uniform),
+            (1, page.beams),
+            (2, &self.triangles),
+            (3, page.pairs),
+            (5, page.bounds),
+            (6, counters),
+        ]
+        .iter()
+        .map(|&(binding, b)| buffer_entry(binding, b))
+        .collect();
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("atlas"),
+            layout: &self.pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
         let hit_view = hits.create_view(&Default::default());
         let depth_view = depth.create_view(&Default::default());
         {
@@ -316,7 +434,7 @@ impl<'g> GpuBeams<'g> {
                     depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: None,
+                timestamp_writes: timer.map(|t| t.render(1)),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
@@ -328,41 +446,30 @@ impl<'g> GpuBeams<'g> {
                 }
             }
         }
-        // The regions' texels gathered into one list, read back with the counters.
-        let texel_count = firsts.last().copied().unwrap_or(0);
-        let texel_bytes = u64::from(texel_count) * 8;
-        let dense = output(self.gpu, "region texels", texel_bytes);
-        let firsts = storage(self.gpu, "region firsts", firsts, wgpu::BufferUsages::empty());
+        // The regions' texels gathered into one list.
         let page_view = hits.create_view(&Default::default());
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("atlas gather"),
             layout: &self.gather.get_bind_group_layout(0),
             entries: &[
-                buffer_entry(1, &beam_buffer),
+                buffer_entry(1, page.beams),
                 view_entry(7, &page_view),
-                buffer_entry(8, &firsts),
-                buffer_entry(9, &dense),
+                buffer_entry(8, firsts),
+                buffer_entry(9, dense),
             ],
         });
-        compute_pass(&mut encoder, &self.gather, &group, texel_count.div_ceil(WORKGROUP_SIZE).max(1));
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("atlas readback"),
-            size: texel_bytes + beams.len() as u64 * 8,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        encoder.copy_buffer_to_buffer(&dense, 0, &readback, 0, texel_bytes);
-        encoder.copy_buffer_to_buffer(&counters, 0, &readback, texel_bytes, beams.len() as u64 * 8);
-        self.gpu.queue.submit([encoder.finish()]);
-        map_with(self.gpu, &readback, |bytes| {
-            let (texels, counts) = bytes.split_at(texel_bytes as usize);
-            // Aligned as mapped ranges are; copied only if a backend mapped them otherwise.
-            match (bytemuck::try_cast_slice(texels), bytemuck::try_cast_slice(counts)) {
-                (Ok(t), Ok(c)) => unpack(t, c),
-                _ => unpack(&bytemuck::pod_collect_to_vec(texels), &bytemuck::pod_collect_to_vec(counts)),
-            }
-        })
+        let groups = texel_count.div_ceil(WORKGROUP_SIZE).max(1);
+        compute_pass_timed(encoder, &self.gather, &group, groups, timer.map(|t| t.compute(2)));
     }
+}
+
+/// A page's uniforms, beams, (beam, triangle) pairs and their bounding triangles on the GPU.
+#[derive(Clone, Copy)]
+struct PageBuffers<'a> {
+    uniform: &'a wgpu::Buffer,
+    beams: &'a wgpu::Buffer,
+    pairs: &'a wgpu::Buffer,
+    bounds: &'a wgpu::Buffer,
 }
 
 /// Position of the `index`-th square of side `s` in Z order (bits of `index` de-interleaved).
@@ -431,6 +538,8 @@ impl BeamRasterizer for GpuBeams<'_> {
             placed[i] = Some(Placed { page, x, y });
         }
         let mut textures: Vec<Option<BeamTexture>> = (0..jobs.len()).map(|_| None).collect();
+        // Nearest hits by compute where the device can, and every region is small enough for it.
+        let by_compute = self.texels.is_some() && jobs.iter().all(|j| j.size <= MAX_TEXEL_REGION);
         self.add_times(|t| t.prepare_seconds += start.elapsed().as_secs_f64());
         for (p, &page_rows) in rows.iter().enumerate() {
             let start = Instant::now();
@@ -466,11 +575,13 @@ impl BeamRasterizer for GpuBeams<'_> {
             let unpacking = Cell::new(0.0);
             let unpack = |texels: &[[u32; 2]], counts: &[Counters]| {
                 let start = Instant::now();
-                let out = Self::unpack(jobs, &members, &firsts, texels, counts);
+                let out = Self::unpack(jobs, &members, &firsts, texels, counts, by_compute);
                 unpacking.set(start.elapsed().as_secs_f64());
                 out
             };
-            let unpacked = checked(self.gpu, || self.render_page(&beams, pairs, &ranges, &firsts, page_rows, unpack))??;
+            let unpacked = checked(self.gpu, || {
+                self.render_page(&beams, pairs, &ranges, &firsts, page_rows, by_compute, unpack)
+            })??;
             let drawn = start.elapsed().as_secs_f64() - prepared - unpacking.get();
             for (i, tex) in unpacked {
                 textures[i] = Some(tex);
@@ -479,6 +590,7 @@ impl BeamRasterizer for GpuBeams<'_> {
                 t.atlas_seconds += drawn;
                 t.prepare_seconds += prepared + unpacking.get();
                 t.pages += 1;
+                t.pages_by_compute += u64::from(by_compute);
                 t.beams += members.len() as u64;
                 t.triangles += u64::from(pair_count);
             });
@@ -490,12 +602,15 @@ impl BeamRasterizer for GpuBeams<'_> {
 impl GpuBeams<'_> {
     /// The textures of the beams `members` of one page (`jobs[i]`) from the regions' `texels`,
     /// beam `k`'s row by row from `firsts[k]` on, and per-beam `counts`, as (job index, texture).
+    /// A texel is (scene triangle + 1, bits of t), 0 for a miss; `inverted` (by compute,
+    /// `beam_texels.wgsl`) each word's bits are inverted, zeroes still a miss.
     fn unpack(
         jobs: &[BeamJob<'_>],
         members: &[usize],
         firsts: &[u32],
         texels: &[[u32; 2]],
         counts: &[Counters],
+        inverted: bool,
     ) -> Result<Vec<(usize, BeamTexture)>, GpuError> {
         members
             .par_iter()
@@ -511,6 +626,7 @@ impl GpuBeams<'_> {
                 for y in 0..size {
                     // Texels past the region's diagonal (x + y > size) belong to no beam.
                     for (x, &[prim, t]) in (0..(size + 1 - y).min(size)).zip(&mut from) {
+                        let [prim, t] = if inverted && prim != 0 { [!prim, !t] } else { [prim, t] };
                         if prim > 0 {
                             hits[(y * size + x) as usize] = Some(TexelHit { prim: prim - 1, t: f32::from_bits(t) });
                         }
