@@ -77,7 +77,7 @@ struct Hit {
     @builtin(frag_depth) depth: f32,
 }
 
-// Loops: texel_hit's (lib/atlas.wgsl); nothing scales with the scene.
+// Loops: texel_query's (lib/atlas.wgsl); nothing scales with the scene.
 @fragment
 fn intersect_texel(f: Fragment) -> Hit {
     let b = beams[f.beam];
@@ -88,12 +88,12 @@ fn intersect_texel(f: Fragment) -> Hit {
     let w = texel_barycentric(u32(xi), u32(yi), size);
     if !texel_tested(w, f.lower, size) { discard; }
     atomicAdd(&counters[2u * f.beam + 1u], 1u);
-    let hit = texel_hit(b, w, f.prim, f.neighbour == 1u);
-    let t = hit.x;
+    let q = texel_query(b, w);
+    let t = texel_hit(q, f.prim, f.neighbour == 1u);
     if t < 0.0 { discard; }
     var out: Hit;
     out.hit = vec2<u32>(f.prim + 1u, bitcast<u32>(t));
-    let dist = t * hit.y;
+    let dist = t * q.len;
     out.depth = dist / (dist + params.extent);
     return out;
 }
@@ -103,27 +103,6 @@ fn intersect_texel(f: Fragment) -> Hit {
 // Per beam on the page, its first texel in `dense`; then the number of texels of them all.
 @group(0) @binding(8) var<storage, read> firsts: array<u32>;
 @group(0) @binding(9) var<storage, read_write> dense: array<vec2<u32>>;
-
-// Texels of the rows from the last one up to, not including, row `s − n` of a region of side `s`
-// (those rows hold 1, 2, …, n texels): n(n + 1)/2.
-fn triangular(n: u32) -> u32 {
-    return n * (n + 1u) / 2u;
-}
-
-// (x, y) of the j-th texel of a region of side s, its texels counted row by row as
-// beam_gpu::nonlinear::atlas unpacks them: row 0 holds s texels, row y ≥ 1 holds s + 1 − y (the
-// texels with x + y ≤ s). Rows 1..s, counted from the last, hold 1, 2, …, s texels, so the row of
-// the r-th texel from the end is the inverse of the triangular numbers; the float root is at most
-// one row off, and one integer step each way puts it right.
-fn region_texel(j: u32, s: u32) -> vec2<u32> {
-    if j < s { return vec2<u32>(j, 0u); }
-    let r = triangular(s) - 1u - (j - s);
-    var n = u32(max(floor((sqrt(8.0 * f32(r) + 1.0) - 1.0) * 0.5), 0.0));
-    if triangular(n + 1u) <= r { n += 1u; }
-    if n > 0u && triangular(n) > r { n -= 1u; }
-    // Row s − n holds n + 1 texels; the r-th from the end is the (r − n(n+1)/2)-th of it from the right.
-    return vec2<u32>(n - (r - triangular(n)), s - n);
-}
 
 // Loops: a binary search over the page's beams, at most 32 halvings (constant bound).
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -110,10 +110,10 @@ pub const TEXEL_EPS: f32 = beam_scene::nonlinear::TEXEL_EPS;
 /// distance are the surface meeting itself, as for a triangle sharing a vertex with the base.
 pub const PAIR_NEAR: u32 = 1 << 31;
 
-/// Largest region side (texels) whose beams `beam_texels.wgsl` renders by compute: its loops over
-/// a region's rows and texels stay within what llvmpipe runs in one loop (`s × (s + 2)` ≤ 65,535);
-/// a tree level with a larger region is rasterized instead.
-pub const MAX_TEXEL_REGION: u32 = 128;
+/// Most (beam, triangle) pairs one workgroup of `beam_texels.wgsl` tests its texels against: its
+/// loop over them stays within what llvmpipe runs in one loop (65,535 iterations); a beam with more
+/// pairs spreads them over several workgroups.
+pub const TEXEL_JOB_PAIRS: u32 = 16_384;
 
 /// A constant's value, typed as in WGSL.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -152,7 +152,7 @@ pub const CONSTANTS: &[(&str, Value)] = {
         ("BOUNDING_UNIQUE_PROJECTION", U32(BOUNDING_UNIQUE_PROJECTION)),
         ("BOUNDING_BEHIND", U32(BOUNDING_BEHIND)),
         ("PAIR_NEAR", U32(PAIR_NEAR)),
-        ("MAX_TEXEL_REGION", U32(MAX_TEXEL_REGION)),
+        ("TEXEL_JOB_PAIRS", U32(TEXEL_JOB_PAIRS)),
         ("DEPTH_EPS", F32(DEPTH_EPS)),
         ("BARY_TOLERANCE", F32(BARY_TOLERANCE)),
         ("MIN_ELEVATION", F32(MIN_ELEVATION)),

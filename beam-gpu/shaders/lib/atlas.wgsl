@@ -19,18 +19,16 @@ fn scene_tri(prim: u32) -> Tri {
     return Tri(array<vec3<f32>, 3>(t.v0, t.v1, t.v2));
 }
 
+// Whether `p` is a corner of beam `b`'s base.
+fn base_corner(b: Beam, p: vec3<f32>) -> bool {
+    return all(p == bv(b, 0u)) || all(p == bv(b, 1u)) || all(p == bv(b, 2u));
+}
+
 // Whether pair `pair`'s triangle is the surface meeting the beam's base: a triangle of a coarse
-// face's ring (PAIR_NEAR), or one sharing a vertex with the base. 3 × 3 iterations (20 counted as
-// llvmpipe counts).
+// face's ring (PAIR_NEAR), or one sharing a vertex with the base. No loops.
 fn pair_neighbour(b: Beam, pair: vec2<u32>) -> bool {
-    let tri = scene_tri(pair.y & ~PAIR_NEAR);
-    var neighbour = (pair.y & PAIR_NEAR) != 0u;
-    for (var i = 0u; i < 3u; i++) {
-        for (var j = 0u; j < 3u; j++) {
-            if all(tri.v[i] == bv(b, j)) { neighbour = true; }
-        }
-    }
-    return neighbour;
+    let t = triangles[pair.y & ~PAIR_NEAR];
+    return (pair.y & PAIR_NEAR) != 0u || base_corner(b, t.v0) || base_corner(b, t.v1) || base_corner(b, t.v2);
 }
 
 // beam_scene::nonlinear::BeamTexture::barycentric: texel (x, y) of a size × size region; margin
@@ -51,14 +49,46 @@ fn texel_tested(w: vec3<f32>, lower: vec3<f32>, size: u32) -> bool {
     return !any(w < lower - vec3<f32>(0.5 / f32(size)));
 }
 
-// The texel ray at base point `w` against scene triangle `prim`: (t, the ray direction's length),
-// t negative for a miss. A neighbour's hits nearer than the self-hit distance are the surface
-// meeting itself. Loops: texel_ray's sum over the S^3 coefficients, 10 iterations.
-fn texel_hit(b: Beam, w: vec3<f32>, prim: u32, neighbour: bool) -> vec2<f32> {
+// A texel's ray at base point `w`, ready for triangle tests: sheared, the length of its
+// direction (t is in those units), and the nearest t of a hit on any triangle and on a neighbour
+// (nearer, a neighbour's hit is the surface meeting itself). Loops: texel_ray's sum over the S^3
+// coefficients, 10 iterations.
+struct TexelQuery {
+    ray: ShearedRay,
+    len: f32,
+    t_min: f32,
+    t_near: f32,
+}
+
+fn texel_query(b: Beam, w: vec3<f32>) -> TexelQuery {
     let ray = texel_ray(b, w);
     let len = max(length(ray.direction), 1.17549435e-38);
-    var t_min = TEXEL_EPS * params.extent / len;
-    if neighbour { t_min = self_hit_distance(b, ray, params.extent) / len; }
-    let t = intersect_triangle(shear_ray(ray.origin, ray.direction), triangles[prim], t_min, 3.0e38);
-    return vec2<f32>(t, len);
+    let t_near = self_hit_distance(b, ray, params.extent) / len;
+    return TexelQuery(shear_ray(ray.origin, ray.direction), len, TEXEL_EPS * params.extent / len, t_near);
+}
+
+// t of query `q`'s hit on scene triangle `prim` (negative for a miss).
+fn texel_hit(q: TexelQuery, prim: u32, neighbour: bool) -> f32 {
+    return intersect_triangle(q.ray, triangles[prim], select(q.t_min, q.t_near, neighbour), 3.0e38);
+}
+
+// Triangular numbers: texels of the rows from the last one up to, not including, row `s − n` of a
+// region of side `s` (those rows hold 1, 2, …, n texels).
+fn triangular(n: u32) -> u32 {
+    return n * (n + 1u) / 2u;
+}
+
+// (x, y) of the j-th texel of a region of side s, its texels counted row by row as
+// beam_gpu::nonlinear::atlas unpacks them: row 0 holds s texels, row y ≥ 1 holds s + 1 − y (the
+// texels with x + y ≤ s). Rows 1..s, counted from the last, hold 1, 2, …, s texels, so the row of
+// the r-th texel from the end is the inverse of the triangular numbers; the float root is at most
+// one row off, and one integer step each way puts it right.
+fn region_texel(j: u32, s: u32) -> vec2<u32> {
+    if j < s { return vec2<u32>(j, 0u); }
+    let r = triangular(s) - 1u - (j - s);
+    var n = u32(max(floor((sqrt(8.0 * f32(r) + 1.0) - 1.0) * 0.5), 0.0));
+    if triangular(n + 1u) <= r { n += 1u; }
+    if n > 0u && triangular(n) > r { n -= 1u; }
+    // Row s − n holds n + 1 texels; the r-th from the end is the (r − n(n+1)/2)-th of it from the right.
+    return vec2<u32>(n - (r - triangular(n)), s - n);
 }

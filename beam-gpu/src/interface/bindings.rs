@@ -42,7 +42,7 @@ fn tables() -> Vec<Table> {
         ]),
         bindings!("beam_texels" => [
             params: AtlasParams, beams: GpuBeam, triangles: GpuTriangle, pairs: [u32; 2], bounds_in: [f32; 4],
-            counters: u32, firsts: u32, texel_hits: u64,
+            counters: u32, firsts: u32, texel_hits: u64, jobs: [u32; 4],
         ]),
         bindings!("nonlinear_check" => [beams: GpuBeam, cases: CheckCase, results: [f32; 4]]),
         bindings!("composite" => [

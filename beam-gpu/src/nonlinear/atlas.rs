@@ -20,7 +20,7 @@ use crate::buffers::{
     buffer_entry, checked, compute_pass_timed, compute_pipeline, map_with, max_binding, output, read_all,
     shader_module, storage, uniform, view_entry,
 };
-use crate::interface::{MAX_TEXEL_REGION, PAIR_NEAR, WORKGROUP_SIZE};
+use crate::interface::{PAIR_NEAR, TEXEL_JOB_PAIRS, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer};
 use crate::shade::{PointShader, ShadeInput};
 use crate::staging::{Slots, Staged, split_by_counts};
@@ -296,7 +296,7 @@ impl<'g> GpuBeams<'g> {
         let texel_count = firsts.last().copied().unwrap_or(0);
         let texel_bytes = u64::from(texel_count) * 8;
         let dense = output(self.gpu, "region texels", texel_bytes);
-        let firsts = storage(self.gpu, "region firsts", firsts, wgpu::BufferUsages::empty());
+        let first_texels = storage(self.gpu, "region firsts", firsts, wgpu::BufferUsages::empty());
         let bind = |pipeline: &wgpu::ComputePipeline, entries: &[(u32, &wgpu::Buffer)]| {
             let entries: Vec<_> = entries.iter().map(|&(binding, b)| buffer_entry(binding, b)).collect();
             device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -316,6 +316,17 @@ impl<'g> GpuBeams<'g> {
         compute_pass_timed(&mut encoder, &self.bound, &group, groups, timer.as_ref().map(|t| t.compute(0)));
         match (&self.texels, by_compute) {
             (Some(texels), true) => {
+                // A job: a workgroup's run of a beam's texels against a run of its pairs.
+                let mut jobs: Vec<[u32; 4]> = Vec::new();
+                for (k, (&(start, end), w)) in ranges.iter().zip(firsts.windows(2)).enumerate() {
+                    for run in 0..(w[1] - w[0]).div_ceil(WORKGROUP_SIZE) {
+                        for p in (start..end).step_by(TEXEL_JOB_PAIRS as usize) {
+                            jobs.push([k as u32, run, p, end.min(p + TEXEL_JOB_PAIRS)]);
+                        }
+                    }
+                }
+                let groups = (jobs.len() as u32).max(1);
+                let jobs = storage(self.gpu, "texel jobs", &jobs, wgpu::BufferUsages::empty());
                 let group = bind(
                     texels,
                     &[
@@ -325,8 +336,9 @@ impl<'g> GpuBeams<'g> {
                         (3, &pair_buffer),
                         (4, &bounds),
                         (5, &counters),
-                        (6, &firsts),
+                        (6, &first_texels),
                         (7, &dense),
+                        (8, &jobs),
                     ],
                 );
                 compute_pass_timed(&mut encoder, texels, &group, groups, timer.as_ref().map(|t| t.compute(1)));
@@ -334,7 +346,7 @@ impl<'g> GpuBeams<'g> {
             _ => {
                 let buffers =
                     PageBuffers { uniform: &uniform, beams: &beam_buffer, pairs: &pair_buffer, bounds: &bounds };
-                let outputs = (&counters, &firsts, &dense);
+                let outputs = (&counters, &first_texels, &dense);
                 self.draw_page(&mut encoder, buffers, outputs, ranges, rows, texel_count, timer.as_ref());
             }
         }
@@ -538,8 +550,7 @@ impl BeamRasterizer for GpuBeams<'_> {
             placed[i] = Some(Placed { page, x, y });
         }
         let mut textures: Vec<Option<BeamTexture>> = (0..jobs.len()).map(|_| None).collect();
-        // Nearest hits by compute where the device can, and every region is small enough for it.
-        let by_compute = self.texels.is_some() && jobs.iter().all(|j| j.size <= MAX_TEXEL_REGION);
+        let by_compute = self.texels.is_some();
         self.add_times(|t| t.prepare_seconds += start.elapsed().as_secs_f64());
         for (p, &page_rows) in rows.iter().enumerate() {
             let start = Instant::now();
