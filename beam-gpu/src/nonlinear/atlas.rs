@@ -113,6 +113,8 @@ pub struct GpuBeams<'g> {
     whitted: GpuWhitted,
     /// Shadow rays per area light and shade point.
     light_samples: u32,
+    /// Most pairs a workgroup of the compute pass tests its texels against.
+    job_pairs: u32,
     extent: f32,
     /// Side of an atlas page in texels.
     page: u32,
@@ -232,6 +234,7 @@ impl<'g> GpuBeams<'g> {
             composite: GpuComposite::new(gpu)?,
             whitted: GpuWhitted::new(gpu, scene)?,
             light_samples: 64,
+            job_pairs: TEXEL_JOB_PAIRS,
             extent: scene.bounds().extent().length(),
             page,
             times: Mutex::default(),
@@ -242,6 +245,15 @@ impl<'g> GpuBeams<'g> {
     #[must_use]
     pub fn with_light_samples(mut self, n: u32) -> Self {
         self.light_samples = n.max(1);
+        self
+    }
+
+    /// This renderer splitting a beam's pairs into runs of at most `n` (1 to [`TEXEL_JOB_PAIRS`], the
+    /// default) in the compute pass, each run a workgroup's; fewer pairs a run spread a beam over
+    /// more workgroups, merged by the atomic max.
+    #[must_use]
+    pub fn with_job_pairs(mut self, n: u32) -> Self {
+        self.job_pairs = n.clamp(1, TEXEL_JOB_PAIRS);
         self
     }
 
@@ -320,8 +332,8 @@ impl<'g> GpuBeams<'g> {
                 let mut jobs: Vec<[u32; 4]> = Vec::new();
                 for (k, (&(start, end), w)) in ranges.iter().zip(firsts.windows(2)).enumerate() {
                     for run in 0..(w[1] - w[0]).div_ceil(WORKGROUP_SIZE) {
-                        for p in (start..end).step_by(TEXEL_JOB_PAIRS as usize) {
-                            jobs.push([k as u32, run, p, end.min(p + TEXEL_JOB_PAIRS)]);
+                        for p in (start..end).step_by(self.job_pairs as usize) {
+                            jobs.push([k as u32, run, p, end.min(p + self.job_pairs)]);
                         }
                     }
                 }
