@@ -27,11 +27,11 @@ pub fn run(
 ) -> Result<(), String> {
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     let coarse = smesh.map_or_else(String::new, |s| format!(", coarse S meshes ({s:?})"));
-    let by_compute = GpuBeams::new(&gpu, &scene::builtin("facing-mirrors").map_err(|e| e.to_string())?)
-        .map_err(|e| e.to_string())?
-        .by_compute()
-        && !rasterize;
-    let hits = if by_compute { "nearest hits by compute (64-bit atomics)" } else { "nearest hits by draws" };
+    let hits = if GpuBeams::can_compute(&gpu) && !rasterize {
+        "nearest hits by compute (64-bit atomics)"
+    } else {
+        "nearest hits by draws"
+    };
     println!(
         "GPU: {}; {width}×{height}, {frames} timed frames per scene, {degree:?}, 2 tree levels, no area-light caustics, \
          {hits}{coarse}",
@@ -129,7 +129,7 @@ pub fn run(
                  {:.0} pages, {:.2} M (beam, triangle) pairs",
                 "",
                 passes[0],
-                if after.pages_by_compute > before.pages_by_compute { "nearest hits" } else { "draws" },
+                if renderer.by_compute() { "nearest hits" } else { "draws" },
                 passes[1],
                 passes[2],
                 (after.pages - before.pages) as f64 / f64::from(frames.max(1)),

@@ -86,8 +86,6 @@ pub struct GpuTimes {
     /// The GPU's own seconds in the atlas passes, by timestamp queries (all 0 where the device has
     /// none): bounding triangles, nearest hits (draws, or the compute pass), gather.
     pub atlas_pass_seconds: [f64; 3],
-    /// Atlas pages whose nearest hits were found by compute (`shaders/beam_texels.wgsl`).
-    pub pages_by_compute: u64,
 }
 
 /// The GPU's beam renderer for one scene: its triangles uploaded, the atlas pipeline compiled.
@@ -206,13 +204,8 @@ impl<'g> GpuBeams<'g> {
             multiview_mask: None,
             cache: None,
         });
-        let int64 = wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX;
-        let texels = gpu
-            .device
-            .features()
-            .contains(int64)
-            .then(|| compute_pipeline(gpu, "beam_texels", "nearest_hits"))
-            .transpose()?;
+        let texels =
+            Self::can_compute(gpu).then(|| compute_pipeline(gpu, "beam_texels", "nearest_hits")).transpose()?;
         let by_prim: Vec<GpuTriangle> =
             scene.triangles.iter().enumerate().map(|(i, t)| GpuTriangle::new(t, i as u32)).collect();
         let triangles = storage(gpu, "scene triangles", &by_prim, wgpu::BufferUsages::empty());
@@ -265,10 +258,17 @@ impl<'g> GpuBeams<'g> {
         self
     }
 
-    /// Whether the atlas's nearest hits are found by compute (64-bit atomics) on this device.
+    /// Whether this renderer finds the atlas's nearest hits by compute.
     #[must_use]
     pub fn by_compute(&self) -> bool {
         self.texels.is_some()
+    }
+
+    /// Whether `gpu` has the 64-bit atomics that finding the atlas's nearest hits by compute takes
+    /// (`SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX`, which [`Gpu::new`] asks for).
+    #[must_use]
+    pub fn can_compute(gpu: &Gpu) -> bool {
+        gpu.device.features().contains(wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX)
     }
 
     /// Time spent so far.
@@ -282,12 +282,11 @@ impl<'g> GpuBeams<'g> {
     }
 
     /// Render one page of `rows` rows: `beams` with their (beam on the page, scene triangle)
-    /// `pairs`, those of beam `i` at `ranges[i]`, the nearest hits by compute where `by_compute`
-    /// (else by draws). `unpack` reads, where the readback is mapped, the regions' texels (beam
+    /// `pairs`, those of beam `i` at `ranges[i]`, the nearest hits by compute where this renderer
+    /// can (else by draws). `unpack` reads, where the readback is mapped, the regions' texels (beam
     /// `i`'s from `firsts[i]` on, row by row, [`region_texels`]; `firsts` ends with their total;
     /// each texel as [`Self::unpack`] reads it), and per beam the triangles kept and the texels
     /// tested.
-    #[allow(clippy::too_many_arguments)]
     fn render_page<T>(
         &self,
         beams: &[GpuBeam],
@@ -295,7 +294,6 @@ impl<'g> GpuBeams<'g> {
         ranges: &[(u32, u32)],
         firsts: &[u32],
         rows: u32,
-        by_compute: bool,
         unpack: impl FnOnce(&[[u32; 2]], &[Counters]) -> T,
     ) -> Result<T, GpuError> {
         let device = &self.gpu.device;
@@ -324,10 +322,10 @@ impl<'g> GpuBeams<'g> {
         );
         let groups = pair_count.div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
         // The passes' own times on the GPU, where it has timestamp queries.
-        let timer = PassTimer::new(self.gpu, if by_compute { 2 } else { 3 });
+        let timer = PassTimer::new(self.gpu, if self.by_compute() { 2 } else { 3 });
         compute_pass_timed(&mut encoder, &self.bound, &group, groups, timer.as_ref().map(|t| t.compute(0)));
-        match (&self.texels, by_compute) {
-            (Some(texels), true) => {
+        match &self.texels {
+            Some(texels) => {
                 // A job: a workgroup's run of a beam's texels against a run of its pairs.
                 let mut jobs: Vec<[u32; 4]> = Vec::new();
                 for (k, (&(start, end), w)) in ranges.iter().zip(firsts.windows(2)).enumerate() {
@@ -355,7 +353,7 @@ impl<'g> GpuBeams<'g> {
                 );
                 compute_pass_timed(&mut encoder, texels, &group, groups, timer.as_ref().map(|t| t.compute(1)));
             }
-            _ => {
+            None => {
                 let buffers =
                     PageBuffers { uniform: &uniform, beams: &beam_buffer, pairs: &pair_buffer, bounds: &bounds };
                 let outputs = (&counters, &first_texels, &dense);
@@ -562,7 +560,7 @@ impl BeamRasterizer for GpuBeams<'_> {
             placed[i] = Some(Placed { page, x, y });
         }
         let mut textures: Vec<Option<BeamTexture>> = (0..jobs.len()).map(|_| None).collect();
-        let by_compute = self.texels.is_some();
+        let by_compute = self.by_compute();
         self.add_times(|t| t.prepare_seconds += start.elapsed().as_secs_f64());
         for (p, &page_rows) in rows.iter().enumerate() {
             let start = Instant::now();
@@ -602,9 +600,7 @@ impl BeamRasterizer for GpuBeams<'_> {
                 unpacking.set(start.elapsed().as_secs_f64());
                 out
             };
-            let unpacked = checked(self.gpu, || {
-                self.render_page(&beams, pairs, &ranges, &firsts, page_rows, by_compute, unpack)
-            })??;
+            let unpacked = checked(self.gpu, || self.render_page(&beams, pairs, &ranges, &firsts, page_rows, unpack))??;
             let drawn = start.elapsed().as_secs_f64() - prepared - unpacking.get();
             for (i, tex) in unpacked {
                 textures[i] = Some(tex);
@@ -613,7 +609,6 @@ impl BeamRasterizer for GpuBeams<'_> {
                 t.atlas_seconds += drawn;
                 t.prepare_seconds += prepared + unpacking.get();
                 t.pages += 1;
-                t.pages_by_compute += u64::from(by_compute);
                 t.beams += members.len() as u64;
                 t.triangles += u64::from(pair_count);
             });
