@@ -11,7 +11,8 @@
 //    power-of-two square it is packed in).
 // (000 computes the bounding triangle in the vertex stage itself; a compute pass computes it once
 // per pair instead of once per corner, and runs on every core of a software rasterizer, which
-// shades vertices on one thread.) CPU twin: beam_cpu::nonlinear::render_beam.
+// shades vertices on one thread.) Where the device has 64-bit atomics, `beam_texels.wgsl` takes
+// the place of passes 2 and 3. CPU twin: beam_cpu::nonlinear::render_beam.
 
 @group(0) @binding(4) var<storage, read_write> bounds_out: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> bounds_in: array<vec4<f32>>; // lower bounds (xyz), case (w)

@@ -124,14 +124,16 @@ pub fn run(
         let passes: Vec<f64> =
             after.atlas_pass_seconds.iter().zip(before.atlas_pass_seconds).map(|(a, b)| per(a - b)).collect();
         if passes.iter().any(|&ms| ms > 0.0) {
+            let hits = if renderer.by_compute() {
+                format!("nearest hits {:.1}", passes[1])
+            } else {
+                format!("draws {:.1}, gather {:.1}", passes[1], passes[2])
+            };
             println!(
-                "{:<16} GPU ms in atlas passes (timestamps): bounding triangles {:.1}, {} {:.1}, gather {:.1}; \
-                 {:.0} pages, {:.2} M (beam, triangle) pairs",
+                "{:<16} GPU ms in atlas passes (timestamps): bounding triangles {:.1}, {hits}; {:.0} pages, {:.2} M \
+                 (beam, triangle) pairs",
                 "",
                 passes[0],
-                if renderer.by_compute() { "nearest hits" } else { "draws" },
-                passes[1],
-                passes[2],
                 (after.pages - before.pages) as f64 / f64::from(frames.max(1)),
                 (after.triangles - before.triangles) as f64 / f64::from(frames.max(1)) / 1e6,
             );
@@ -153,7 +155,9 @@ pub fn run(
          CPU time of our threads, which a software GPU's own threads do not inflate as they do the wall-clock host \
          ms: the calling thread's is a lower bound of the host work, the workers' counts their spin-waits too); \
          read MB: bytes read back per frame; atlas ms: \
-         beam visibility on the GPU (upload, bounding triangles, draws, hit readback); rays ms: the eye's rays; \
+         beam visibility on the GPU (upload, bounding triangles, nearest hits, hit readback; GPU ms in atlas \
+         passes: the device's own time in each, by timestamp queries where the adapter has them); rays ms: the \
+         eye's rays; \
          shade ms: the GPU shading pass (area lights by 64 shadow rays), the Whitted rays past the last tree \
          level and the composite, radiance kept on the GPU; PSNR: GPU image vs the CPU's (exact soft \
          shadows)."
