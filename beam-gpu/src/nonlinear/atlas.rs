@@ -17,50 +17,22 @@
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
 use super::eye::{GpuEye, KeptPoints};
+use super::page::Counters;
 use super::whitted::GpuWhitted;
-use crate::buffers::{
-    buffer_entry, checked, compute_pass_timed, compute_pipeline, map_with, max_binding, output, read_all,
-    shader_module, storage, uniform, view_entry,
-};
-use crate::interface::{PAIR_NEAR, TEXEL_JOB_PAIRS, WORKGROUP_SIZE};
-use crate::raytrace::{GpuHit, GpuRay, RayTracer};
-use crate::shade::{PointShader, ShadeInput};
+use crate::buffers::{checked, compute_pipeline, max_binding, shader_module, storage};
+use crate::interface::{PAIR_NEAR, TEXEL_JOB_PAIRS};
+use crate::raytrace::RayTracer;
+use crate::shade::PointShader;
 use crate::staging::{Slots, Staged, split_by_counts};
-use crate::timestamps::PassTimer;
 use crate::{Gpu, GpuError};
-use beam_bvh::Hit;
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
-use beam_math::Ray;
-use beam_math::glam::Vec3;
 use beam_scene::BackendError;
-use beam_scene::irradiance_map::IrradianceMap;
-use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamTexture, DeviceWaits, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint,
-    TexelHit, cone_candidates, region_texels,
-};
-use beam_scene::options::{RenderOptions, Shading};
+use beam_scene::nonlinear::{BeamJob, BeamRasterizer, BeamTexture, cone_candidates, region_texels};
 use beam_scene::scene::Scene;
-use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 use std::cell::Cell;
 use std::sync::Mutex;
 use std::time::Instant;
-
-/// Uniforms of the atlas pass.
-///
-/// WGSL twin: `AtlasParams` in `shaders/beam_atlas.wgsl` (layouts compared in [`crate::interface`]).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-pub struct AtlasParams {
-    /// Page width and height in texels.
-    pub size: [f32; 2],
-    /// The scene's diagonal (self-hit distances and the depth mapping).
-    pub extent: f32,
-    /// (beam, scene triangle) pairs on the page.
-    pub pairs: u32,
-}
-
-const _: () = assert!(size_of::<AtlasParams>() == 16);
 
 /// Where the GPU renderer spent its time, summed over calls.
 #[derive(Clone, Copy, Debug, Default)]
@@ -93,36 +65,33 @@ pub struct GpuTimes {
 /// The GPU's beam renderer for one scene: its triangles uploaded, the atlas pipeline compiled.
 pub struct GpuBeams<'g> {
     pub(super) gpu: &'g Gpu,
-    bound: wgpu::ComputePipeline,
-    pipeline: wgpu::RenderPipeline,
-    gather: wgpu::ComputePipeline,
+    pub(super) bound: wgpu::ComputePipeline,
+    pub(super) pipeline: wgpu::RenderPipeline,
+    pub(super) gather: wgpu::ComputePipeline,
     /// The nearest hits by compute, where the device has 64-bit atomics (and unless
     /// [`GpuBeams::rasterized`] asked for rasterization).
-    texels: Option<wgpu::ComputePipeline>,
-    triangles: wgpu::Buffer,
+    pub(super) texels: Option<wgpu::ComputePipeline>,
+    pub(super) triangles: wgpu::Buffer,
     pub(super) tracer: RayTracer,
     /// The eye's view on the GPU.
     pub(super) eye: GpuEye,
     /// The eye's points its last view kept on the GPU, until the composite shades them.
     pub(super) kept: Mutex<Option<Vec<KeptPoints>>>,
     /// Shading on the GPU.
-    shader: PointShader,
+    pub(super) shader: PointShader,
     /// The final composite on the GPU.
-    composite: GpuComposite,
+    pub(super) composite: GpuComposite,
     /// The Whitted rays past the tree on the GPU.
-    whitted: GpuWhitted,
+    pub(super) whitted: GpuWhitted,
     /// Shadow rays per area light and shade point.
-    light_samples: u32,
+    pub(super) light_samples: u32,
     /// Most pairs a workgroup of the compute pass tests its texels against.
-    job_pairs: u32,
-    extent: f32,
+    pub(super) job_pairs: u32,
+    pub(super) extent: f32,
     /// Side of an atlas page in texels.
-    page: u32,
+    pub(super) page: u32,
     times: Mutex<GpuTimes>,
 }
-
-/// Per beam of a page: scene triangles kept (not behind its base) and texels tested.
-type Counters = [u32; 2];
 
 /// Where a beam landed: its page and the corner of its region.
 struct Placed {
@@ -132,43 +101,6 @@ struct Placed {
 }
 
 impl<'g> GpuBeams<'g> {
-    /// `rays` traced on the GPU (in dispatches that fit its bindings), timed as ray time.
-    fn trace(&self, rays: Vec<GpuRay>) -> Result<Vec<GpuHit>, GpuError> {
-        let start = Instant::now();
-        let out = checked(self.gpu, || self.tracer.trace(self.gpu, &rays));
-        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
-        out
-    }
-
-    /// Exact shading of `points` on the GPU: diffuse, glossy and emissive points by the shading
-    /// pass; mirrors and glass by Whitted rays traced on the GPU in waves ([`GpuWhitted`]), the
-    /// points they end on shaded by the same pass.
-    fn shade_exact(&self, caustics: Option<&IrradianceMap>, points: &[ShadePoint]) -> Result<Vec<Vec3>, GpuError> {
-        let start = Instant::now();
-        let prepared = self.shader.prepare(self.gpu, caustics);
-        let mut out = Vec::with_capacity(points.len());
-        for part in points.chunks(GpuWhitted::per_dispatch(self.gpu)) {
-            let bytes = (part.len() * 16) as u64;
-            let part: Vec<ShadeInput> = part.par_iter().map(ShadeInput::new).collect();
-            let radiance: Vec<[f32; 4]> = checked(self.gpu, || {
-                let radiance = output(self.gpu, "radiance", bytes);
-                self.whitted.shade_into(
-                    self.gpu,
-                    &self.tracer,
-                    &self.shader,
-                    &prepared,
-                    self.light_samples,
-                    &part,
-                    (&radiance, 0),
-                )?;
-                read_all(self.gpu, Vec::new(), std::iter::once((&radiance, bytes)))
-            })?;
-            out.extend(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])));
-        }
-        self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
-        Ok(out)
-    }
-
     /// Upload `scene` and compile the pipeline; pages of up to 4096² texels (less where the adapter
     /// allows less).
     pub fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, GpuError> {
@@ -282,218 +214,6 @@ impl<'g> GpuBeams<'g> {
     pub(super) fn add_times(&self, f: impl FnOnce(&mut GpuTimes)) {
         f(&mut self.times.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
     }
-
-    /// Render one page of `rows` rows: `beams` with their (beam on the page, scene triangle)
-    /// `pairs`, those of beam `i` at `ranges[i]`, the nearest hits by compute where this renderer
-    /// can (else by draws). `unpack` reads, where the readback is mapped, the regions' texels (beam
-    /// `i`'s from `firsts[i]` on, row by row, [`region_texels`]; `firsts` ends with their total;
-    /// each texel as [`Self::unpack`] reads it), and per beam the triangles kept and the texels
-    /// tested.
-    fn render_page<T>(
-        &self,
-        beams: &[GpuBeam],
-        (pair_buffer, pair_count): (wgpu::Buffer, usize),
-        ranges: &[(u32, u32)],
-        firsts: &[u32],
-        rows: u32,
-        unpack: impl FnOnce(&[[u32; 2]], &[Counters]) -> T,
-    ) -> Result<T, GpuError> {
-        let device = &self.gpu.device;
-        let params =
-            AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pair_count as u32 };
-        let uniform = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
-        let beam_buffer = storage(self.gpu, "beams", beams, wgpu::BufferUsages::empty());
-        let bounds = output(self.gpu, "bounding triangles", (pair_count * 16) as u64);
-        let counters = storage(self.gpu, "counters", &vec![[0u32; 2]; beams.len()], wgpu::BufferUsages::COPY_SRC);
-        let texel_count = firsts.last().copied().unwrap_or(0);
-        let texel_bytes = u64::from(texel_count) * 8;
-        let dense = output(self.gpu, "region texels", texel_bytes);
-        let first_texels = storage(self.gpu, "region firsts", firsts, wgpu::BufferUsages::empty());
-        let bind = |pipeline: &wgpu::ComputePipeline, entries: &[(u32, &wgpu::Buffer)]| {
-            let entries: Vec<_> = entries.iter().map(|&(binding, b)| buffer_entry(binding, b)).collect();
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("atlas"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            })
-        };
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas") });
-        let group = bind(
-            &self.bound,
-            &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (4, &bounds), (6, &counters)],
-        );
-        let groups = pair_count.div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
-        // The passes' own times on the GPU, where it has timestamp queries.
-        let timer = PassTimer::new(self.gpu, if self.by_compute() { 2 } else { 3 });
-        compute_pass_timed(&mut encoder, &self.bound, &group, groups, timer.as_ref().map(|t| t.compute(0)));
-        match &self.texels {
-            Some(texels) => {
-                // A job: a workgroup's run of a beam's texels against a run of its pairs.
-                let mut jobs: Vec<[u32; 4]> = Vec::new();
-                for (k, (&(start, end), w)) in ranges.iter().zip(firsts.windows(2)).enumerate() {
-                    for run in 0..(w[1] - w[0]).div_ceil(WORKGROUP_SIZE) {
-                        for p in (start..end).step_by(self.job_pairs as usize) {
-                            jobs.push([k as u32, run, p, end.min(p + self.job_pairs)]);
-                        }
-                    }
-                }
-                let groups = (jobs.len() as u32).max(1);
-                let jobs = storage(self.gpu, "texel jobs", &jobs, wgpu::BufferUsages::empty());
-                let group = bind(
-                    texels,
-                    &[
-                        (0, &uniform),
-                        (1, &beam_buffer),
-                        (2, &self.triangles),
-                        (3, &pair_buffer),
-                        (4, &bounds),
-                        (5, &counters),
-                        (6, &first_texels),
-                        (7, &dense),
-                        (8, &jobs),
-                    ],
-                );
-                compute_pass_timed(&mut encoder, texels, &group, groups, timer.as_ref().map(|t| t.compute(1)));
-            }
-            None => {
-                let buffers =
-                    PageBuffers { uniform: &uniform, beams: &beam_buffer, pairs: &pair_buffer, bounds: &bounds };
-                let outputs = (&counters, &first_texels, &dense);
-                self.draw_page(&mut encoder, buffers, outputs, ranges, rows, texel_count, timer.as_ref());
-            }
-        }
-        let count_bytes = beams.len() as u64 * 8;
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("atlas readback"),
-            size: texel_bytes + count_bytes + timer.as_ref().map_or(0, PassTimer::bytes),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        encoder.copy_buffer_to_buffer(&dense, 0, &readback, 0, texel_bytes);
-        encoder.copy_buffer_to_buffer(&counters, 0, &readback, texel_bytes, count_bytes);
-        if let Some(timer) = &timer {
-            timer.copy_to(&mut encoder, &readback, texel_bytes + count_bytes);
-        }
-        self.gpu.queue.submit([encoder.finish()]);
-        map_with(self.gpu, &readback, |bytes| {
-            let (texels, rest) = bytes.split_at(texel_bytes as usize);
-            let (counts, stamps) = rest.split_at(count_bytes as usize);
-            let passes = PassTimer::seconds(self.gpu, stamps);
-            // Compute's nearest hits are the second pass, as the draws are; no gather follows.
-            self.add_times(|t| t.atlas_pass_seconds.iter_mut().zip(&passes).for_each(|(a, s)| *a += s));
-            // Aligned as mapped ranges are; copied only if a backend mapped them otherwise.
-            match (bytemuck::try_cast_slice(texels), bytemuck::try_cast_slice(counts)) {
-                (Ok(t), Ok(c)) => unpack(t, c),
-                _ => unpack(&bytemuck::pod_collect_to_vec(texels), &bytemuck::pod_collect_to_vec(counts)),
-            }
-        })
-    }
-
-    /// 000's way to the nearest hits, added to `encoder`: one draw per beam over its pairs
-    /// (`ranges`) onto a page of `rows` rows, the depth test keeping each texel's nearest hit; then
-    /// the regions' `texel_count` texels gathered from the page into `dense`, at the beams'
-    /// `firsts`. Timed as passes 1 and 2 of `timer`.
-    #[allow(clippy::too_many_arguments)]
-    fn draw_page(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        page: PageBuffers<'_>,
-        (counters, firsts, dense): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
-        ranges: &[(u32, u32)],
-        rows: u32,
-        texel_count: u32,
-        timer: Option<&PassTimer>,
-    ) {
-        let device = &self.gpu.device;
-        let extent = wgpu::Extent3d { width: self.page, height: rows, depth_or_array_layers: 1 };
-        let texture = |format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("atlas"),
-                size: extent,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let hits = texture(
-            wgpu::TextureFormat::Rg32Uint,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        );
-        let depth = texture(wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
-        let entries: Vec<_> = [
-            (0, page.uniform),
-            (1, page.beams),
-            (2, &self.triangles),
-            (3, page.pairs),
-            (5, page.bounds),
-            (6, counters),
-        ]
-        .iter()
-        .map(|&(binding, b)| buffer_entry(binding, b))
-        .collect();
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("atlas"),
-            layout: &self.pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
-        let hit_view = hits.create_view(&Default::default());
-        let depth_view = depth.create_view(&Default::default());
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("atlas"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &hit_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: timer.map(|t| t.render(1)),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            for (i, &(start, end)) in ranges.iter().enumerate() {
-                if end > start {
-                    pass.draw(3 * start..3 * end, i as u32..i as u32 + 1);
-                }
-            }
-        }
-        // The regions' texels gathered into one list.
-        let page_view = hits.create_view(&Default::default());
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("atlas gather"),
-            layout: &self.gather.get_bind_group_layout(0),
-            entries: &[
-                buffer_entry(1, page.beams),
-                view_entry(7, &page_view),
-                buffer_entry(8, firsts),
-                buffer_entry(9, dense),
-            ],
-        });
-        let groups = texel_count.div_ceil(WORKGROUP_SIZE).max(1);
-        compute_pass_timed(encoder, &self.gather, &group, groups, timer.map(|t| t.compute(2)));
-    }
-}
-
-/// A page's uniforms, beams, (beam, triangle) pairs and their bounding triangles on the GPU.
-#[derive(Clone, Copy)]
-struct PageBuffers<'a> {
-    uniform: &'a wgpu::Buffer,
-    beams: &'a wgpu::Buffer,
-    pairs: &'a wgpu::Buffer,
-    bounds: &'a wgpu::Buffer,
 }
 
 /// Position of the `index`-th square of side `s` in Z order (bits of `index` de-interleaved).
@@ -616,141 +336,5 @@ impl BeamRasterizer for GpuBeams<'_> {
             });
         }
         textures.into_iter().map(|t| t.ok_or_else(|| GpuError::Internal("a beam was not rendered").into())).collect()
-    }
-}
-
-impl GpuBeams<'_> {
-    /// The textures of the beams `members` of one page (`jobs[i]`) from the regions' `texels`,
-    /// beam `k`'s row by row from `firsts[k]` on, and per-beam `counts`, as (job index, texture).
-    /// A texel is (scene triangle + 1, bits of t), 0 for a miss; `inverted` (by compute,
-    /// `beam_texels.wgsl`) each word's bits are inverted, zeroes still a miss.
-    fn unpack(
-        jobs: &[BeamJob<'_>],
-        members: &[usize],
-        firsts: &[u32],
-        texels: &[[u32; 2]],
-        counts: &[Counters],
-        inverted: bool,
-    ) -> Result<Vec<(usize, BeamTexture)>, GpuError> {
-        members
-            .par_iter()
-            .zip(firsts)
-            .zip(counts)
-            .map(|((&i, &first), &[kept, tested])| {
-                let size = jobs[i].size;
-                let region = texels
-                    .get(first as usize..first as usize + region_texels(size) as usize)
-                    .ok_or(GpuError::Internal("a region's texels were not read back"))?;
-                let mut hits = vec![None; (size * size) as usize];
-                let mut from = region.iter();
-                for y in 0..size {
-                    // Texels past the region's diagonal (x + y > size) belong to no beam.
-                    for (x, &[prim, t]) in (0..(size + 1 - y).min(size)).zip(&mut from) {
-                        let [prim, t] = if inverted && prim != 0 { [!prim, !t] } else { [prim, t] };
-                        if prim > 0 {
-                            hits[(y * size + x) as usize] = Some(TexelHit { prim: prim - 1, t: f32::from_bits(t) });
-                        }
-                    }
-                }
-                let tex = BeamTexture { size, hits, triangles_after_culling: kept, texels_tested: u64::from(tested) };
-                Ok((i, tex))
-            })
-            .collect()
-    }
-}
-
-impl DeviceWaits for GpuBeams<'_> {
-    fn waited_seconds(&self) -> f64 {
-        self.gpu.traffic().waited_seconds
-    }
-}
-
-impl RayQueries for GpuBeams<'_> {
-    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
-        let hits = self.trace(rays.par_iter().map(GpuRay::closest).collect())?;
-        // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
-        Ok(hits
-            .into_par_iter()
-            .zip(rays)
-            .map(|(h, ray)| {
-                (h.prim != GpuHit::MISS).then_some(())?;
-                let tri = scene.triangles.get(h.prim as usize)?;
-                let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
-                Some(Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
-            })
-            .collect())
-    }
-
-    fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
-        let hits = self.trace(segments.par_iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?;
-        // An any-hit ray's t is 1 when it is occluded, 0 otherwise (`trace_ray`).
-        Ok(hits.par_iter().map(|h| h.t == 1.0).collect())
-    }
-}
-
-impl PointShading for GpuBeams<'_> {
-    fn shade_points(
-        &self,
-        _scene: &Scene,
-        options: &RenderOptions,
-        caustics: Option<&IrradianceMap>,
-        points: &[ShadePoint],
-    ) -> Result<Option<Vec<Vec3>>, BackendError> {
-        // The GPU's shading pass does exact shading (001 eq. 1 by shadow rays) only.
-        if options.shading != Shading::Exact {
-            return Ok(None);
-        }
-        self.shade_exact(caustics, points).map(Some).map_err(BackendError::from)
-    }
-
-    fn shade_tree(
-        &self,
-        scene: &Scene,
-        smesh: &SMesh,
-        options: &RenderOptions,
-        caustics: Option<&IrradianceMap>,
-        levels: &[LevelRadiance],
-    ) -> Result<Option<Vec<Vec3>>, BackendError> {
-        if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
-            return Ok(None);
-        }
-        let start = Instant::now();
-        let kept = self.kept.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take().unwrap_or_default();
-        // Mirror and glass points past the tree by Whitted rays in waves, their host time apart.
-        // The scene's shading and caustics, uploaded once for the composite and every wave.
-        let prepared = self.shader.prepare(self.gpu, caustics);
-        let rest = |points: &[ShadeInput], radiance: (&wgpu::Buffer, usize)| {
-            let (start, waited) = (Instant::now(), self.gpu.traffic().waited_seconds);
-            let out = self.whitted.shade_into(
-                self.gpu,
-                &self.tracer,
-                &self.shader,
-                &prepared,
-                self.light_samples,
-                points,
-                radiance,
-            );
-            let host = start.elapsed().as_secs_f64() - (self.gpu.traffic().waited_seconds - waited);
-            self.add_times(|t| t.whitted_host_seconds += host);
-            out
-        };
-        let pixels = checked(self.gpu, || {
-            self.composite.run(
-                self.gpu,
-                &self.tracer,
-                &self.shader,
-                (scene, smesh),
-                &prepared,
-                self.light_samples,
-                levels,
-                &kept,
-                &rest,
-            )
-        });
-        self.add_times(|t| {
-            t.shade_seconds += start.elapsed().as_secs_f64();
-            t.gpu_composites += u64::from(pixels.is_ok());
-        });
-        pixels.map(Some).map_err(BackendError::from)
     }
 }

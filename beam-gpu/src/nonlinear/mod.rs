@@ -8,12 +8,15 @@ mod beam;
 mod check;
 mod composite;
 mod eye;
+mod page;
+mod queries;
 mod sort;
 mod whitted;
 
-pub use atlas::{AtlasParams, GpuBeams, GpuTimes};
+pub use atlas::{GpuBeams, GpuTimes};
 pub use beam::{GpuBeam, MAX_CONTROL_POINTS};
 pub use check::{CheckCase, GpuBoundingTriangle, NonlinearCheck};
 pub use composite::{CompositeParams, CompositeRecord, GpuComposite, GpuFace, NONE, ShadeRest};
 pub use eye::{EyeCounts, EyeHit, EyeParams, GpuEye, KeptPoints};
+pub use page::AtlasParams;
 pub use whitted::{EndWeight, GpuWhitted, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath};

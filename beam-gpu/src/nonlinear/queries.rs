@@ -1,0 +1,156 @@
+//! The ray queries and point shading of [`GpuBeams`] as a backend of the nonlinear renderer: rays
+//! by the compute ray tracer, points by the shading pass and Whitted waves, the beam tree's
+//! radiance by the composite on the GPU.
+
+use super::GpuBeams;
+use super::composite::GpuComposite;
+use super::whitted::GpuWhitted;
+use crate::GpuError;
+use crate::buffers::{checked, output, read_all};
+use crate::raytrace::{GpuHit, GpuRay};
+use crate::shade::ShadeInput;
+use beam_bvh::Hit;
+use beam_math::Ray;
+use beam_math::glam::Vec3;
+use beam_scene::BackendError;
+use beam_scene::irradiance_map::IrradianceMap;
+use beam_scene::nonlinear::{DeviceWaits, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint};
+use beam_scene::options::{RenderOptions, Shading};
+use beam_scene::scene::Scene;
+use rayon::prelude::*;
+use std::time::Instant;
+
+impl GpuBeams<'_> {
+    /// `rays` traced on the GPU (in dispatches that fit its bindings), timed as ray time.
+    fn trace(&self, rays: Vec<GpuRay>) -> Result<Vec<GpuHit>, GpuError> {
+        let start = Instant::now();
+        let out = checked(self.gpu, || self.tracer.trace(self.gpu, &rays));
+        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
+        out
+    }
+
+    /// Exact shading of `points` on the GPU: diffuse, glossy and emissive points by the shading
+    /// pass; mirrors and glass by Whitted rays traced on the GPU in waves ([`GpuWhitted`]), the
+    /// points they end on shaded by the same pass.
+    fn shade_exact(&self, caustics: Option<&IrradianceMap>, points: &[ShadePoint]) -> Result<Vec<Vec3>, GpuError> {
+        let start = Instant::now();
+        let prepared = self.shader.prepare(self.gpu, caustics);
+        let mut out = Vec::with_capacity(points.len());
+        for part in points.chunks(GpuWhitted::per_dispatch(self.gpu)) {
+            let bytes = (part.len() * 16) as u64;
+            let part: Vec<ShadeInput> = part.par_iter().map(ShadeInput::new).collect();
+            let radiance: Vec<[f32; 4]> = checked(self.gpu, || {
+                let radiance = output(self.gpu, "radiance", bytes);
+                self.whitted.shade_into(
+                    self.gpu,
+                    &self.tracer,
+                    &self.shader,
+                    &prepared,
+                    self.light_samples,
+                    &part,
+                    (&radiance, 0),
+                )?;
+                read_all(self.gpu, Vec::new(), std::iter::once((&radiance, bytes)))
+            })?;
+            out.extend(radiance.iter().map(|r| Vec3::new(r[0], r[1], r[2])));
+        }
+        self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
+        Ok(out)
+    }
+}
+
+impl DeviceWaits for GpuBeams<'_> {
+    fn waited_seconds(&self) -> f64 {
+        self.gpu.traffic().waited_seconds
+    }
+}
+
+impl RayQueries for GpuBeams<'_> {
+    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
+        let hits = self.trace(rays.par_iter().map(GpuRay::closest).collect())?;
+        // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
+        Ok(hits
+            .into_par_iter()
+            .zip(rays)
+            .map(|(h, ray)| {
+                (h.prim != GpuHit::MISS).then_some(())?;
+                let tri = scene.triangles.get(h.prim as usize)?;
+                let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
+                Some(Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
+            })
+            .collect())
+    }
+
+    fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
+        let hits = self.trace(segments.par_iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?;
+        // An any-hit ray's t is 1 when it is occluded, 0 otherwise (`trace_ray`).
+        Ok(hits.par_iter().map(|h| h.t == 1.0).collect())
+    }
+}
+
+impl PointShading for GpuBeams<'_> {
+    fn shade_points(
+        &self,
+        _scene: &Scene,
+        options: &RenderOptions,
+        caustics: Option<&IrradianceMap>,
+        points: &[ShadePoint],
+    ) -> Result<Option<Vec<Vec3>>, BackendError> {
+        // The GPU's shading pass does exact shading (001 eq. 1 by shadow rays) only.
+        if options.shading != Shading::Exact {
+            return Ok(None);
+        }
+        self.shade_exact(caustics, points).map(Some).map_err(BackendError::from)
+    }
+
+    fn shade_tree(
+        &self,
+        scene: &Scene,
+        smesh: &SMesh,
+        options: &RenderOptions,
+        caustics: Option<&IrradianceMap>,
+        levels: &[LevelRadiance],
+    ) -> Result<Option<Vec<Vec3>>, BackendError> {
+        if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
+            return Ok(None);
+        }
+        let start = Instant::now();
+        let kept = self.kept.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take().unwrap_or_default();
+        // Mirror and glass points past the tree by Whitted rays in waves, their host time apart.
+        // The scene's shading and caustics, uploaded once for the composite and every wave.
+        let prepared = self.shader.prepare(self.gpu, caustics);
+        let rest = |points: &[ShadeInput], radiance: (&wgpu::Buffer, usize)| {
+            let (start, waited) = (Instant::now(), self.gpu.traffic().waited_seconds);
+            let out = self.whitted.shade_into(
+                self.gpu,
+                &self.tracer,
+                &self.shader,
+                &prepared,
+                self.light_samples,
+                points,
+                radiance,
+            );
+            let host = start.elapsed().as_secs_f64() - (self.gpu.traffic().waited_seconds - waited);
+            self.add_times(|t| t.whitted_host_seconds += host);
+            out
+        };
+        let pixels = checked(self.gpu, || {
+            self.composite.run(
+                self.gpu,
+                &self.tracer,
+                &self.shader,
+                (scene, smesh),
+                &prepared,
+                self.light_samples,
+                levels,
+                &kept,
+                &rest,
+            )
+        });
+        self.add_times(|t| {
+            t.shade_seconds += start.elapsed().as_secs_f64();
+            t.gpu_composites += u64::from(pixels.is_ok());
+        });
+        pixels.map(Some).map_err(BackendError::from)
+    }
+}
