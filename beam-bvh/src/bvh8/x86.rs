@@ -106,12 +106,6 @@ macro_rules! kernel {
                     let miss = _mm256_cmpgt_epi32(near, far);
                     let mask = !(_mm256_movemask_ps(_mm256_castsi256_ps(miss)) as u32) & 0xff;
                     if mask != 0 {
-                        let first = mask.trailing_zeros() as usize;
-                        let rest = mask & (mask - 1);
-                        if rest == 0 {
-                            cur = next(bvh, n, first);
-                            continue;
-                        }
                         if ANY {
                             // Any hit ends the query, so distances are not needed: the highest hit
                             // slot next (a leaf where the node has one: leaves take the last
@@ -123,6 +117,12 @@ macro_rules! kernel {
                             cur = next(bvh, n, last);
                             let pending = _mm256_permutevar8x32_epi32(children(n), compaction(rest));
                             stack.push_refs(pending, rest.count_ones() as usize);
+                            continue;
+                        }
+                        let first = mask.trailing_zeros() as usize;
+                        let rest = mask & (mask - 1);
+                        if rest == 0 {
+                            cur = next(bvh, n, first);
                             continue;
                         }
                         // Keys: the distance's bits (non-negative floats order as integers) with
@@ -219,8 +219,13 @@ impl FmaBox {
         let negative = d.is_negative_bitmask() as usize;
         let o = Vec3A::from(ray.origin);
         let inv = d.recip();
-        let margin = (scale + o.abs()) * inv.abs() * MARGIN;
-        let (c_near, c_far) = (-(o * inv) - margin, -(o * inv) + margin);
+        // `−o·inv ∓ margin` with `margin = (scale + |o|)·|inv|·MARGIN`, as `−(o ± m)·inv` where
+        // `m = (scale + |o|)·MARGIN` takes the sign of `d` (that of `inv`): the origins moved out
+        // are ready before the division is, which leaves one product after it (this prologue's
+        // latency is paid by every ray). Rounding `o ± m` and the product adds two units of the
+        // largest term, within the eight `MARGIN` covers.
+        let m = ((scale + o.abs()) * MARGIN).copysign(d);
+        let (c_near, c_far) = (-((o + m) * inv), -((o - m) * inv));
         // Both constants are finite where their difference is (not ∞ − ∞, nor NaN). An infinite
         // direction component (`inv` 0) would make an unused slot's planes ∞·0 = NaN: portable.
         let finite = (c_far - c_near + inv.abs()).cmplt(Vec3A::splat(f32::INFINITY));
