@@ -189,14 +189,28 @@ impl Patch {
     }
 
     /// Partial derivatives of `O` and `d` with respect to `ω1` and `ω2` (with `ω3 = 1 − ω1 − ω2`).
+    /// S1 and S3 patches take a loop unrolled for their count, as [`Patch::eval`] does (the same
+    /// operations in the same order, so the same bits).
     #[must_use]
     pub fn derivatives(&self, w: DVec3) -> [(DVec3, DVec3); 2] {
+        match self.count {
+            3 => self.derivatives_n::<3>(w, &IJK_S1),
+            10 => self.derivatives_n::<10>(w, &IJK_S3),
+            _ => self.derivatives_n::<MAX_COEFFICIENTS>(w, &self.ijk),
+        }
+    }
+
+    /// [`Patch::derivatives`] over the first `min(N, count)` control points; `ijk` is `self.ijk`
+    /// or a constant copy of its first `N`.
+    #[inline(always)]
+    fn derivatives_n<const N: usize>(&self, w: DVec3, ijk: &[[usize; 3]; N]) -> [(DVec3, DVec3); 2] {
+        debug_assert_eq!(ijk[..], self.ijk[..N]);
         let [x, y, z] = [w.x, w.y, w.z].map(powers);
         // `e·x^(e−1)`, 0 for `e = 0`.
         let d = |p: &[f64; MAX_DEGREE + 1], e: usize| if e == 0 { 0.0 } else { e as f64 * p[e - 1] };
         let mut out = [(DVec3::ZERO, DVec3::ZERO); 2];
-        for c in 0..self.count {
-            let [i, j, k] = self.ijk[c];
+        for c in 0..N.min(self.count) {
+            let [i, j, k] = ijk[c];
             let m = self.multinomial[c];
             let d1 = m * (d(&x, i) * y[j] * z[k] - x[i] * y[j] * d(&z, k));
             let d2 = m * (x[i] * d(&y, j) * z[k] - x[i] * y[j] * d(&z, k));
@@ -277,6 +291,27 @@ mod tests {
         let (o0, d0) = p.eval(w - DVec3::new(h, 0.0, -h));
         assert!(((o1 - o0) / (2.0 * h) - der[0].0).length() < 1e-6);
         assert!(((d1 - d0) / (2.0 * h) - der[0].1).length() < 1e-6);
+    }
+
+    /// The loops unrolled for S1 and S3 give the generic loop's bits.
+    #[test]
+    fn unrolled_patches_equal_the_generic_loop() {
+        let (base, dirs) = sample();
+        let s3 =
+            S3 { normals: [Vec3::new(-0.3, -0.3, 1.0).normalize(), Vec3::Z, Vec3::new(0.1, 0.5, 1.0).normalize()] };
+        let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+        for p in [Patch::new(&S1, &base, &dirs), Patch::new(&s3, &base, &dirs)] {
+            for k in 0..200 {
+                let (a, b) = (f64::from(k % 17) / 8.0 - 0.5, f64::from(k / 17) / 6.0 - 0.4);
+                let w = DVec3::new(a, b, 1.0 - a - b);
+                let (o, d) = p.eval(w);
+                let (go, gd) = p.eval_n::<MAX_COEFFICIENTS>(w, &p.ijk);
+                assert_eq!((bits(o), bits(d)), (bits(go), bits(gd)), "eval at {w}");
+                let got = p.derivatives(w).map(|(o, d)| (bits(o), bits(d)));
+                let want = p.derivatives_n::<MAX_COEFFICIENTS>(w, &p.ijk).map(|(o, d)| (bits(o), bits(d)));
+                assert_eq!(got, want, "derivatives at {w}");
+            }
+        }
     }
 
     #[test]
