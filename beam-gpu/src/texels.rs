@@ -34,9 +34,21 @@ pub fn texture(
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
+    texture_2d(gpu, label, (width(gpu), rows(gpu, len)), format, usage)
+}
+
+/// A 2D texture of `width × height` texels of `format`, one mip level, one sample.
+#[must_use]
+pub fn texture_2d(
+    gpu: &Gpu,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
     gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d { width: width(gpu), height: rows(gpu, len), depth_or_array_layers: 1 },
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,

@@ -327,9 +327,10 @@ pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, St
 /// The atlas pipeline (bounding triangles, then the nearest hits by 000's draws — fragment-stage
 /// intersection, depth test — and, where the device has 64-bit atomics, by compute, its beams'
 /// pairs also split into runs of 7 to exercise the merge) against the CPU's `render_beam` on the
-/// level-1 beams off every third specular face of four built-ins (S1, S3, bumped, refracted; 16 texels per side): per texel the same nearest hit — the
-/// same triangle, or another at the same distance (within 1e-4 relative: a shared edge); and at
-/// most twice the CPU's texels tested, so the bounding triangles are in use and tight. At most 0.1% of the texels may differ.
+/// level-1 beams off every third specular face of four built-ins (S1, S3, bumped, refracted; 16
+/// texels per side): per texel the same nearest hit — the same triangle, or another at the same
+/// distance (within 1e-4 relative: a shared edge); and at most twice the CPU's texels tested, so
+/// the bounding triangles are in use and tight. At most 0.1% of the texels may differ.
 pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
@@ -361,17 +362,11 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
         let on_cpu = CpuBeams.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
         // Every way to the nearest hits: 000's draws; where the device has 64-bit atomics, compute,
         // also with runs of 7 pairs, so that every beam's texels merge over many workgroups.
-        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
-        let ways = if renderer.by_compute() {
-            let fresh = || GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string());
-            vec![
-                (renderer.rasterized(), "draws"),
-                (fresh()?, "compute"),
-                (fresh()?.with_job_pairs(7), "compute, runs of 7"),
-            ]
-        } else {
-            vec![(renderer, "draws")]
-        };
+        let fresh = || GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string());
+        let mut ways = vec![(fresh()?.rasterized(), "draws")];
+        if GpuBeams::can_compute(&gpu) {
+            ways.extend([(fresh()?, "compute"), (fresh()?.with_job_pairs(7), "compute, runs of 7")]);
+        }
         for (renderer, way) in ways {
             let on_gpu = renderer.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
             let (mut n, mut d) = (0u64, 0u64);

@@ -79,7 +79,7 @@ fn triangular(n: u32) -> u32 {
 }
 
 // (x, y) of the j-th texel of a region of side s, its texels counted row by row as
-// beam_gpu::nonlinear::atlas unpacks them: row 0 holds s texels, row y ≥ 1 holds s + 1 − y (the
+// beam_gpu::nonlinear::page unpacks them: row 0 holds s texels, row y ≥ 1 holds s + 1 − y (the
 // texels with x + y ≤ s). Rows 1..s, counted from the last, hold 1, 2, …, s texels, so the row of
 // the r-th texel from the end is the inverse of the triangular numbers; the float root is at most
 // one row off, and one integer step each way puts it right.

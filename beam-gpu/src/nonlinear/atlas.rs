@@ -8,8 +8,9 @@
 //! its power-of-two square), read back as the beams' hit textures, which beam-cpu's beam tree
 //! needs for the next level's beams. Where the device has 64-bit atomics, one compute pass
 //! (`shaders/beam_texels.wgsl`, an invocation per texel) finds the same hits instead of the draws
-//! and the gather: a compute GPU rasterizes on few of its cores, a software one on one thread. Rays (the eye's view, the reference's Whitted rays) go to the
-//! compute ray tracer; the radiance flows up the tree on the GPU ([`GpuComposite`]): diffuse,
+//! and the gather: a compute GPU rasterizes on few of its cores, a software one on one thread.
+//! Rays (the eye's view, the reference's Whitted rays) go to the compute ray tracer; the radiance
+//! flows up the tree on the GPU ([`GpuComposite`]): diffuse,
 //! glossy and emissive points shaded by [`PointShader`] (area lights by stratified shadow rays,
 //! where the CPU's default is exact), specular ones composited from their child beams, only the
 //! pixels read back.

@@ -8,6 +8,7 @@ use super::beam::GpuBeam;
 use crate::GpuError;
 use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, storage, uniform, view_entry};
 use crate::interface::WORKGROUP_SIZE;
+use crate::texels::texture_2d;
 use crate::timestamps::PassTimer;
 use beam_scene::nonlinear::{BeamJob, BeamTexture, TexelHit, region_texels};
 use bytemuck::{Pod, Zeroable};
@@ -59,17 +60,10 @@ impl GpuBeams<'_> {
         let texel_bytes = u64::from(texel_count) * 8;
         let dense = output(self.gpu, "region texels", texel_bytes);
         let first_texels = storage(self.gpu, "region firsts", firsts, wgpu::BufferUsages::empty());
-        let bind = |pipeline: &wgpu::ComputePipeline, entries: &[(u32, &wgpu::Buffer)]| {
-            let entries: Vec<_> = entries.iter().map(|&(binding, b)| buffer_entry(binding, b)).collect();
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("atlas"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            })
-        };
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas") });
         let group = bind(
-            &self.bound,
+            device,
+            &self.bound.get_bind_group_layout(0),
             &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (4, &bounds), (6, &counters)],
         );
         let groups = pair_count.div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
@@ -90,7 +84,8 @@ impl GpuBeams<'_> {
                 let groups = (jobs.len() as u32).max(1);
                 let jobs = storage(self.gpu, "texel jobs", &jobs, wgpu::BufferUsages::empty());
                 let group = bind(
-                    texels,
+                    device,
+                    &texels.get_bind_group_layout(0),
                     &[
                         (0, &uniform),
                         (1, &beam_buffer),
@@ -155,40 +150,24 @@ impl GpuBeams<'_> {
         timer: Option<&PassTimer>,
     ) {
         let device = &self.gpu.device;
-        let extent = wgpu::Extent3d { width: self.page, height: rows, depth_or_array_layers: 1 };
-        let texture = |format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("atlas"),
-                size: extent,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let texture = |format, usage| texture_2d(self.gpu, "atlas", (self.page, rows), format, usage);
         let hits = texture(
             wgpu::TextureFormat::Rg32Uint,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let depth = texture(wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
-        let entries: Vec<_> = [
-            (0, page.uniform),
-            (1, page.beams),
-            (2, &self.triangles),
-            (3, page.pairs),
-            (5, page.bounds),
-            (6, counters),
-        ]
-        .iter()
-        .map(|&(binding, b)| buffer_entry(binding, b))
-        .collect();
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("atlas"),
-            layout: &self.pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
+        let group = bind(
+            device,
+            &self.pipeline.get_bind_group_layout(0),
+            &[
+                (0, page.uniform),
+                (1, page.beams),
+                (2, &self.triangles),
+                (3, page.pairs),
+                (5, page.bounds),
+                (6, counters),
+            ],
+        );
         let hit_view = hits.create_view(&Default::default());
         let depth_view = depth.create_view(&Default::default());
         {
@@ -221,13 +200,12 @@ impl GpuBeams<'_> {
             }
         }
         // The regions' texels gathered into one list.
-        let page_view = hits.create_view(&Default::default());
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("atlas gather"),
             layout: &self.gather.get_bind_group_layout(0),
             entries: &[
                 buffer_entry(1, page.beams),
-                view_entry(7, &page_view),
+                view_entry(7, &hit_view),
                 buffer_entry(8, firsts),
                 buffer_entry(9, dense),
             ],
@@ -273,6 +251,12 @@ impl GpuBeams<'_> {
             })
             .collect()
     }
+}
+
+/// A bind group of `layout` over buffers alone: `(binding, buffer)`.
+fn bind(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, entries: &[(u32, &wgpu::Buffer)]) -> wgpu::BindGroup {
+    let entries: Vec<_> = entries.iter().map(|&(binding, b)| buffer_entry(binding, b)).collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("atlas"), layout, entries: &entries })
 }
 
 /// A page's uniforms, beams, (beam, triangle) pairs and their bounding triangles on the GPU.
