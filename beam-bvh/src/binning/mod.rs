@@ -17,10 +17,12 @@ mod directions;
 mod partition;
 mod refs;
 mod small;
+mod sweep;
 
 pub(crate) use partition::{median_split, partition};
 pub(crate) use refs::{Box4, PrimRef, Record, make_refs, record_of};
 use small::{SMALL_MAX, SmallSplit, find_small};
+use sweep::{sweep, sweep_axes};
 
 /// Largest number of bins.
 pub(crate) const MAX_BINS: usize = 32;
@@ -355,48 +357,24 @@ pub(crate) fn find_split(
     } else {
         bin_chunk(refs, scratch);
     }
+    let probe = |a: usize| Split { plane: Plane::Axis(a), lo: lo[a], scale: scale[a], shift, bins, bin: 0, cost: 0.0 };
     let mut best: Option<Split> = None;
+    if let Measure::Surface = measure {
+        sweep_axes(ctx, scratch, bins, refs.len(), scale, probe, &mut best);
+        return best;
+    }
     for a in 0..3 {
-        if scale[a] == 0.0 {
-            continue;
+        if scale[a] != 0.0 {
+            sweep(
+                ctx,
+                measure,
+                &scratch.bounds[a][..bins],
+                &scratch.counts[a][..bins],
+                refs.len(),
+                probe(a),
+                &mut best,
+            );
         }
-        let probe = Split { plane: Plane::Axis(a), lo: lo[a], scale: scale[a], shift, bins, bin: 0, cost: 0.0 };
-        sweep(ctx, measure, &scratch.bounds[a][..bins], &scratch.counts[a][..bins], refs.len(), probe, &mut best);
     }
     best
-}
-
-/// The cost sweep over one direction's bins: from the right, then from the left; keeps the
-/// cheapest split in `best` (the first of equal costs).
-pub(crate) fn sweep(
-    ctx: &Context,
-    measure: Measure,
-    bounds: &[Box4],
-    counts: &[u32],
-    n_total: usize,
-    probe: Split,
-    best: &mut Option<Split>,
-) {
-    let bins = bounds.len();
-    let mut right_cost = [0.0f32; MAX_BINS];
-    let mut acc = Box4::EMPTY;
-    let mut n = 0usize;
-    for b in (1..bins).rev() {
-        acc = acc.union(bounds[b]);
-        n += counts[b] as usize;
-        right_cost[b] = measure.area4(acc) * ctx.blocks(n);
-    }
-    let mut acc = Box4::EMPTY;
-    let mut n = 0usize;
-    for b in 1..bins {
-        acc = acc.union(bounds[b - 1]);
-        n += counts[b - 1] as usize;
-        if n == 0 || n == n_total {
-            continue;
-        }
-        let cost = measure.area4(acc) * ctx.blocks(n) + right_cost[b];
-        if best.as_ref().is_none_or(|s| cost < s.cost) {
-            *best = Some(Split { bin: b, cost, ..probe });
-        }
-    }
 }

@@ -9,30 +9,21 @@ pub(crate) fn partition(refs: &mut [PrimRef], split: &Split) -> (usize, Record, 
 }
 
 /// Partition `refs` in place by `left`; returns the number on the left and both records.
+///
+/// Branch-free (Lomuto's scheme with an unconditional swap): which side a reference goes to is
+/// data, not a branch to predict, and binned splits send neighbours either way about as often.
+/// The records are two streaming passes after.
 pub(crate) fn partition_by(refs: &mut [PrimRef], left: impl Fn(&PrimRef) -> bool) -> (usize, Record, Record) {
-    let (mut l, mut r) = (Record::EMPTY, Record::EMPTY);
-    let (mut i, mut j) = (0usize, refs.len());
-    // Hoare: refs[..i] go left, refs[j..] go right.
-    loop {
-        while i < j && left(&refs[i]) {
-            l.add(&refs[i]);
-            i += 1;
-        }
-        while i < j && !left(&refs[j - 1]) {
-            r.add(&refs[j - 1]);
-            j -= 1;
-        }
-        if i >= j {
-            break;
-        }
-        refs.swap(i, j - 1);
-        l.add(&refs[i]);
-        r.add(&refs[j - 1]);
-        i += 1;
-        j -= 1;
+    let mut i = 0usize;
+    for j in 0..refs.len() {
+        let x = refs[j];
+        let go = left(&x);
+        refs[j] = refs[i];
+        refs[i] = x;
+        i += usize::from(go);
     }
     debug_assert!(refs[..i].iter().all(&left) && !refs[i..].iter().any(&left));
-    (i, l, r)
+    (i, record_of(&refs[..i], false), record_of(&refs[i..], false))
 }
 
 /// Split `refs` at their median along the longest axis of the centroid box (when binning cannot

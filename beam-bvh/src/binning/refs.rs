@@ -129,9 +129,16 @@ pub(crate) fn make_refs(triangles: &[Triangle], parallel: bool) -> (Vec<PrimRef>
 /// The record of `refs`.
 pub(crate) fn record_of(refs: &[PrimRef], parallel: bool) -> Record {
     let f = |chunk: &[PrimRef]| {
-        let mut r = Record::EMPTY;
-        chunk.iter().for_each(|p| r.add(p));
-        r
+        // Two records in turn: each `min`/`max` waits for the one before it in its own record
+        // only. The merge is exact, so the result is the one record's.
+        let (mut a, mut b) = (Record::EMPTY, Record::EMPTY);
+        let pairs = chunk.chunks_exact(2);
+        pairs.remainder().iter().for_each(|p| a.add(p));
+        for pair in pairs {
+            a.add(&pair[0]);
+            b.add(&pair[1]);
+        }
+        a.merge(b)
     };
     reduce_chunks(refs, parallel, Record::EMPTY, f, Record::merge)
 }
