@@ -10,9 +10,9 @@
 //! SAH tree by a dynamic program (or binned straight into them, as Embree builds them), with
 //! leaves of four-triangle blocks and traversal kernels picked at run time
 //! ([`Kernel`]: AVX-512, AVX2, or a portable four-lane one), every one watertight like the scalar
-//! test. For static scenes, [`BuildOptions::high_quality`] optimizes the tree by reinsertion
-//! first, [`BuildOptions::refine`] does a light pass of it for a few percent more build time,
-//! and [`BuildOptions::spatial_splits`] splits triangles across nodes where that pays.
+//! test. The default build makes a light reinsertion pass ([`BuildOptions::refine`]); for static
+//! scenes, [`BuildOptions::high_quality`] optimizes the tree by full reinsertion first, and
+//! [`BuildOptions::spatial_splits`] splits triangles across nodes where that pays.
 //!
 //! - Builders ([`BuildOptions`]): binned SAH; the projected-area heuristic (PAH) of 004 for a
 //!   declared ray distribution (a parallel bundle or a pencil through a point), falling back to SAH

@@ -85,9 +85,9 @@ pub struct BuildOptions {
     /// The 8-wide builder's light reinsertion (SAH, a binary tree collapsed; ignored with
     /// [`BuildOptions::reinsert`]): this fraction of the binary tree's nodes, the most
     /// inefficient of its upper part, are taken out and inserted back once where the SAH cost is
-    /// least (0: off, the default). 0.003 removes 3–10% of the box tests of Sponza's and the
-    /// conference room's rays (single-threaded, primary rays 5–11% faster, diffuse 5–19%) for
-    /// 5–10% more build time (`docs/benchmarks.md`).
+    /// least (0: off). The default, 0.003, removes 3–10% of the box tests of Sponza's and the
+    /// conference room's rays (single-threaded, shadow rays 2–7% faster, primary 3–8%) for 4–7%
+    /// more build work (`docs/benchmarks.md`).
     pub refine: f32,
     /// The 8-wide builder's spatial splits for static scenes (SAH only; Stich et al. 2009): the
     /// binary tree it collapses may also split a node by a plane across its box, a triangle the
@@ -113,7 +113,7 @@ impl Default for BuildOptions {
             parallel: true,
             presplit: 0.0,
             reinsert: false,
-            refine: 0.0,
+            refine: 0.003,
             spatial: 0.0,
             collapse: Some(Collapse::Optimal),
         }

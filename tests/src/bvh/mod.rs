@@ -197,8 +197,9 @@ pub fn builders(set: &RaySet, bounds: Aabb) -> Vec<(&'static str, BuildOptions)>
 
 /// For every mesh (the procedural scene and each shared mesh), every builder (SAH, PAH for the
 /// light, PAH for the eye) and every CPU layout (binary, 4-wide, and 8-wide built by its own
-/// builder (SAH: a binary tree collapsed by the dynamic program), SAH also in the high-quality
-/// mode (reinsertion, greedy and optimal collapse), with the light reinsertion, binned straight
+/// builder (SAH: a binary tree lightly reinserted and collapsed by the dynamic program), SAH also
+/// in the high-quality mode (reinsertion, greedy and optimal collapse), with more and with no light
+/// reinsertion, binned straight
 /// into eight-wide nodes, with pre-split triangles and with spatial splits, traced by each kernel
 /// this CPU runs: portable, AVX2, AVX-512) — on the `gpu`
 /// backend the GPU layout traced by beam-gpu's compute ray tracer instead: BVH closest hits equal
@@ -237,7 +238,7 @@ pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outco
             total += 6 * config.rays as u64;
             // The 8-wide layout, by this builder and (SAH) in the high-quality mode, collapsed by
             // the dynamic program after reinsertion, binned straight into eight-wide nodes, with
-            // the light reinsertion, pre-split, and with spatial splits.
+            // more and with no light reinsertion, pre-split, and with spatial splits.
             let hq = (builder == "sah").then(|| {
                 let presplit = BuildOptions { presplit: 0.3, ..BuildOptions::sah() };
                 let dp = Some(Collapse::Optimal);
@@ -248,6 +249,7 @@ pub fn hits_equal_brute_force(backend: Backend, config: &Config) -> Result<Outco
                     ("sah-hq-dp", hq_dp),
                     ("sah-direct", direct),
                     ("sah-refine", BuildOptions { refine: 0.02, ..BuildOptions::sah() }),
+                    ("sah-unrefined", BuildOptions { refine: 0.0, ..BuildOptions::sah() }),
                     ("sah-presplit", presplit),
                     ("sah-sbvh", BuildOptions::spatial_splits()),
                 ]

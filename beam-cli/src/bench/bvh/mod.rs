@@ -206,15 +206,15 @@ pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, cloc
         binaries.push(Binary { name: (*name).into(), bvh, tris: &tris, build_ms });
     }
     // The static-scene modes and the default's neighbours: reinserted binary trees collapsed
-    // greedily and by the dynamic program, the default with leaves of up to 16 and with the light
-    // reinsertion, the tree binned straight into eight-wide nodes (Embree's way), pre-split
+    // greedily and by the dynamic program, the default with leaves of up to 16 and without the
+    // light reinsertion, the tree binned straight into eight-wide nodes (Embree's way), pre-split
     // triangles, spatial splits.
     let dp = Some(Collapse::Optimal);
     let modes = [
         hq,
         ("beam-hq-dp", BuildOptions { collapse: dp, ..BuildOptions::high_quality() }),
         ("beam-dp16", BuildOptions { max_leaf: 16, ..BuildOptions::sah() }),
-        ("beam-refine", BuildOptions { refine: 0.003, ..BuildOptions::sah() }),
+        ("beam-unrefined", BuildOptions { refine: 0.0, ..BuildOptions::sah() }),
         ("beam-direct", BuildOptions { collapse: None, ..BuildOptions::sah() }),
         ("beam-presplit", BuildOptions { presplit: 0.3, ..BuildOptions::sah() }),
         ("beam-sbvh", BuildOptions::spatial_splits()),
