@@ -255,12 +255,18 @@ pub(crate) mod tests {
     use beam_math::glam::Vec3;
 
     /// `n` small random triangles around random centres (a seeded LCG), for tests.
-    pub(crate) fn soup(n: usize, seed: u32) -> Vec<Triangle> {
+    /// A linear congruential generator of floats in `[0, 1)` (24 bits each), for tests.
+    pub(crate) fn unit_rng(seed: u32) -> impl FnMut() -> f32 {
         let mut s = seed;
-        let mut r = move || {
+        move || {
             s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (s >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
-        };
+            (s >> 8) as f32 / (1u32 << 24) as f32
+        }
+    }
+
+    pub(crate) fn soup(n: usize, seed: u32) -> Vec<Triangle> {
+        let mut unit = unit_rng(seed);
+        let mut r = move || unit() * 2.0 - 1.0;
         (0..n)
             .map(|_| {
                 let c = Vec3::new(r(), r(), r()) * 5.0;

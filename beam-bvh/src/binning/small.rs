@@ -65,6 +65,7 @@ mod tests {
     use super::*;
     use crate::binning::{Bins, Grid, find_split, partition, record_of};
     use crate::options::BuildOptions;
+    use crate::traverse::tests::unit_rng;
     use beam_math::Triangle;
     use beam_math::glam::Vec3;
 
@@ -73,11 +74,7 @@ mod tests {
     #[test]
     fn small_split_is_exact_and_never_worse_than_binning() {
         let ctx = Context::new(&BuildOptions::sah(), 0, Grid::Equal);
-        let mut s = 7u32;
-        let mut rnd = || {
-            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (s >> 8) as f32 / (1 << 24) as f32
-        };
+        let mut rnd = unit_rng(7);
         let mut scratch = Box::new(Bins::EMPTY);
         for trial in 0..2000 {
             let n = 2 + trial % (SMALL_MAX - 1);

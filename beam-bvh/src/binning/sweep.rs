@@ -105,16 +105,13 @@ mod tests {
     use super::*;
     use crate::binning::{Grid, Plane};
     use crate::options::BuildOptions;
+    use crate::traverse::tests::unit_rng;
 
     /// On random bins (empty ones, single-axis nodes and blocks of four included), the three-lane
     /// sweep picks the split the one-axis sweep picks, at the same cost to the bit.
     #[test]
     fn sweeping_three_axes_at_once_equals_one_at_a_time() {
-        let mut s = 11u32;
-        let mut rnd = || {
-            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (s >> 8) as f32 / (1 << 24) as f32
-        };
+        let mut rnd = unit_rng(11);
         for trial in 0..3000 {
             let ctx = Context::new(&BuildOptions::sah(), (trial % 2) as u32 * 2, Grid::Equal);
             let bins = 2 + trial % (MAX_BINS - 1);

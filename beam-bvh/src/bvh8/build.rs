@@ -1,6 +1,7 @@
 //! The 8-wide builders. By default ([`Collapse::Optimal`]) a binary SAH tree of small leaves is
-//! built first and collapsed into eight-wide nodes by the dynamic program of `optimal.rs` (as are
-//! the reinserted and spatial-split trees). With `collapse: None`, binned splits
+//! built first, lightly reinserted (`refine.rs`, [`BuildOptions::refine`]) and collapsed into
+//! eight-wide nodes by the dynamic program of `optimal.rs` (as are the reinserted and
+//! spatial-split trees). With `collapse: None`, binned splits
 //! ([`crate::binning`]) are taken straight into eight-wide nodes, as Embree's BVH8 builder does
 //! (the rest of this note); about 20% faster to build, but its upper nodes are opened greedily,
 //! and on the conference room that leaves shadow rays 7.3 triangle tests where the collapse's

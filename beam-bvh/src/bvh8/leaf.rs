@@ -264,14 +264,12 @@ fn fallback_lanes(abc: &[[f32; 4]; 9], t_min: f32, t_max: f32, mut lanes: u32, h
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::traverse::tests::unit_rng;
     use beam_math::collide::WatertightRay;
 
     fn rng(seed: u32) -> impl FnMut() -> f32 {
-        let mut s = seed;
-        move || {
-            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (s >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
-        }
+        let mut unit = unit_rng(seed);
+        move || unit() * 2.0 - 1.0
     }
 
     /// Every lane answers bit for bit what the scalar test answers, on shared edges and vertices

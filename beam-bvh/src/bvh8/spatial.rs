@@ -387,15 +387,13 @@ fn clamp(b: Box4, r: &PrimRef) -> Box4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::traverse::tests::unit_rng;
     use beam_math::glam::Vec3;
 
     #[test]
     fn slab_boxes_equal_clipping() {
-        let mut s = 7u32;
-        let mut r = || {
-            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (s >> 8) as f32 / (1u32 << 24) as f32 * 10.0
-        };
+        let mut unit = unit_rng(7);
+        let mut r = || unit() * 10.0;
         for _ in 0..1000 {
             let t = Triangle::new(Vec3::new(r(), r(), r()), Vec3::new(r(), r(), r()), Vec3::new(r(), r(), r()));
             let split = SpatialSplit { axis: 1, lo: 0.0, width: 10.0 / 16.0, bin: 0, cost: 0.0, left: 0, right: 0 };
