@@ -115,6 +115,18 @@ pub const PAIR_NEAR: u32 = 1 << 31;
 /// pairs spreads them over several workgroups.
 pub const TEXEL_JOB_PAIRS: u32 = 16_384;
 
+/// Bit of a scene triangle's kind in `level_points.wgsl`: the shading pass shades it (diffuse,
+/// glossy, emissive; [`crate::shade::PointShader::shades`]).
+pub const LEVEL_PLAIN: u32 = 1;
+
+/// Bit of a scene triangle's kind in `level_points.wgsl`: its normals are interpolated (a curved
+/// mirror or glass, counted as the host counts its points traced by rays).
+pub const LEVEL_CURVED: u32 = 2;
+
+/// Bit of a scene triangle's kind in `level_points.wgsl`: the tree goes on from it (its texels
+/// go to the host, which builds the next level's beams from them).
+pub const LEVEL_CONTINUES: u32 = 4;
+
 /// A constant's value, typed as in WGSL.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
@@ -153,6 +165,9 @@ pub const CONSTANTS: &[(&str, Value)] = {
         ("BOUNDING_BEHIND", U32(BOUNDING_BEHIND)),
         ("PAIR_NEAR", U32(PAIR_NEAR)),
         ("TEXEL_JOB_PAIRS", U32(TEXEL_JOB_PAIRS)),
+        ("LEVEL_PLAIN", U32(LEVEL_PLAIN)),
+        ("LEVEL_CURVED", U32(LEVEL_CURVED)),
+        ("LEVEL_CONTINUES", U32(LEVEL_CONTINUES)),
         ("DEPTH_EPS", F32(DEPTH_EPS)),
         ("BARY_TOLERANCE", F32(BARY_TOLERANCE)),
         ("MIN_ELEVATION", F32(MIN_ELEVATION)),

@@ -20,6 +20,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("eye", include_str!("../shaders/eye.wgsl")),
     ("whitted", include_str!("../shaders/whitted.wgsl")),
     ("glossy_gather", include_str!("../shaders/glossy_gather.wgsl")),
+    ("level_points", include_str!("../shaders/level_points.wgsl")),
 ];
 
 /// Shaders that use 64-bit atomics (wgpu's `SHADER_INT64_ATOMIC_MIN_MAX`): emitted for MSL 2.4 and
@@ -31,6 +32,7 @@ pub const INT64_ATOMICS: &[&str] = &["beam_texels"];
 pub(crate) const LIBRARY: &[(&str, &str, &[&str])] = &[
     ("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather", "eye", "whitted"]),
     ("lib/atlas.wgsl", include_str!("../shaders/lib/atlas.wgsl"), &["beam_atlas", "beam_texels"]),
+    ("lib/region.wgsl", include_str!("../shaders/lib/region.wgsl"), &["beam_atlas", "beam_texels", "level_points"]),
 ];
 
 /// The full source of shader `name`: the constants it shares with Rust ([`crate::interface::wgsl`]),

@@ -24,6 +24,7 @@ mod bindings;
 mod coarse;
 mod eye;
 mod glossy;
+mod level;
 mod twin;
 mod whitted;
 
@@ -31,6 +32,7 @@ use bindings::gpu_images_fit_narrow_bindings;
 use coarse::gpu_coarse_smesh_equals_cpu;
 use eye::gpu_eye_view_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
+use level::{gpu_kept_level_equals_host_texels, gpu_kept_level_images_equal_read_back};
 use twin::TwinShading;
 use whitted::gpu_whitted_equals_cpu;
 
@@ -82,6 +84,18 @@ pub fn properties() -> Vec<Property> {
         },
         Property {
             name: "gpu_composite_equals_cpu", cites: "000 §7.3", backends: GPU, body: gpu_composite_equals_cpu
+        },
+        Property {
+            name: "gpu_kept_level_equals_host_texels",
+            cites: "000 §7.3",
+            backends: GPU,
+            body: gpu_kept_level_equals_host_texels,
+        },
+        Property {
+            name: "gpu_kept_level_images_equal_read_back",
+            cites: "000 §7.3",
+            backends: GPU,
+            body: gpu_kept_level_images_equal_read_back,
         },
         Property {
             name: "gpu_images_fit_narrow_bindings",
@@ -344,19 +358,7 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
         ("glass-lens-coarse", Degree::S3),
     ] {
         let scene = scene::builtin(name).map_err(|e| e.to_string())?;
-        let smesh = SMesh::specular(&scene);
-        let eye = scene.camera.position;
-        let beams: Vec<(Beam, u32)> = smesh
-            .faces
-            .iter()
-            .step_by(3)
-            .filter_map(|f| {
-                let incoming = f.v.map(|v| (v - eye).normalize_or_zero());
-                let (reflected, refracted) = beam_cpu::nonlinear::child_beams(&scene, f, incoming, degree)?;
-                Some([Some(reflected), refracted.flatten()].into_iter().flatten().map(move |b| (b, f.prim)))
-            })
-            .flatten()
-            .collect();
+        let beams = level_one_beams(&scene, degree);
         let jobs: Vec<BeamJob<'_>> =
             beams.iter().map(|(beam, prim)| BeamJob { beam, size: 16, exclude: Exclude::base(*prim) }).collect();
         let on_cpu = CpuBeams.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
@@ -396,6 +398,24 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
         }
     }
     Ok(Outcome { cases: texels, note: format!("texels differing: {}", notes.join(", ")) })
+}
+
+/// The level-1 beams off every third specular S-mesh face of `scene` (the eye's light at its
+/// vertices), with their faces' scene triangles.
+fn level_one_beams(scene: &scene::Scene, degree: Degree) -> Vec<(Beam, u32)> {
+    let smesh = SMesh::specular(scene);
+    let eye = scene.camera.position;
+    smesh
+        .faces
+        .iter()
+        .step_by(3)
+        .filter_map(|f| {
+            let incoming = f.v.map(|v| (v - eye).normalize_or_zero());
+            let (reflected, refracted) = beam_cpu::nonlinear::child_beams(scene, f, incoming, degree)?;
+            Some([Some(reflected), refracted.flatten()].into_iter().flatten().map(move |b| (b, f.prim)))
+        })
+        .flatten()
+        .collect()
 }
 
 /// Nonlinear images (96², two tree levels) with every beam rendered by the GPU's atlases, the eye's
@@ -512,7 +532,7 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
 /// half-float roundings and the shading's 1e-4); at most 0.1% may differ by a shadow ray that
 /// grazes an edge. The worst relative error is stated.
 pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_gpu::nonlinear::{GpuComposite, GpuWhitted};
+    use beam_gpu::nonlinear::{GpuComposite, GpuWhitted, RestPoints};
     use beam_gpu::shade::PointShader;
     let gpu = match adapter()? {
         Ok(g) => g,
@@ -536,7 +556,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
             .map_err(|e| e.to_string())?;
         let whitted = GpuWhitted::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let prepared = shader.prepare(&gpu, caustics.as_ref());
-        let rest = |points: &[beam_gpu::shade::ShadeInput], radiance: (&wgpu::Buffer, usize)| {
+        let rest = |points: RestPoints<'_>, radiance: (&wgpu::Buffer, usize)| {
             whitted.shade_into(&gpu, &tracer, &shader, &prepared, 64, points, radiance)
         };
         let smesh = SMesh::specular(&scene);

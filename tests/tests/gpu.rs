@@ -15,6 +15,8 @@ beam_conformance::conformance_tests!(
     gpu_composite_equals_cpu,
     gpu_whitted_equals_cpu,
     gpu_images_fit_narrow_bindings,
+    gpu_kept_level_equals_host_texels,
+    gpu_kept_level_images_equal_read_back,
     gpu_glossy_gather_equals_cpu,
     gpu_glossy_gather_area_lights_equal_cpu,
     nonlinear_texels_equal_ray_hits,

@@ -11,6 +11,7 @@ use super::trace::{Built, Request, Tree};
 use crate::RenderError;
 use crate::render::Image;
 use beam_math::glam::Vec3;
+use beam_scene::BackendError;
 use beam_scene::nonlinear::{BeamRenderer, Degree, LevelRadiance, SMesh, ShadePoint, TexelRadiance};
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
@@ -74,7 +75,7 @@ pub fn render_nonlinear_with(
         .map(|face| Request { parent: None, face, samples: Vec::new(), pixels: seen_by[face] as f32 })
         .collect();
     clock.lap("eye view: faces seen");
-    let Built { roots: children, levels } = tree.build(renderer, roots, &mut clock)?;
+    let Built { roots: children, levels, kept } = tree.build(renderer, roots, &mut clock)?;
     // The eye's view (the region's pixels) is level 0 of the radiance flow.
     let eye = LevelRadiance {
         regions: Vec::new(),
@@ -101,7 +102,8 @@ pub fn render_nonlinear_with(
         curved[prim as usize] = true;
     }
     let by_rays = |t: &&TexelRadiance| t.composite.is_none() && curved[t.point.prim as usize];
-    let specular_by_rays = flow.iter().map(|l| l.texels.par_iter().filter(by_rays).count()).sum::<usize>() as u64;
+    let specular_by_rays =
+        flow.iter().map(|l| l.texels.par_iter().filter(by_rays).count()).sum::<usize>() as u64 + kept.curved;
     clock.lap("radiance flow");
     let (shading, caustics) = (&options.shading, tree.caustics.as_ref());
     let frame = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
@@ -109,6 +111,10 @@ pub fn render_nonlinear_with(
         None => {
             // Shaded here after all: with the eye's pixels the backend kept.
             flow[0].texels.extend(renderer.take_kept_eye()?);
+            for (level, texels) in renderer.take_kept_levels()? {
+                let past = || BackendError::new("renderer", format!("kept texels of level {level}, past the tree"));
+                flow.get_mut(level).ok_or_else(past)?.texels.extend(texels);
+            }
             composite_levels(scene, &tree.smesh, &flow, &|points| {
                 shade_points(renderer, scene, shading, caustics, points)
             })?
@@ -137,7 +143,7 @@ pub fn render_nonlinear_with(
             / beams.max(1) as f64,
         overdraw: texels_tested as f64 / texels_rendered.max(1) as f64,
         texels_rendered,
-        texels_shaded: all().map(|n| n.hits.len() as u64).sum(),
+        texels_shaded: all().map(|n| n.hits.len() as u64).sum::<u64>() + kept.points,
         caustics: caustic_stats,
         stages: {
             clock.lap("image");

@@ -20,8 +20,8 @@ use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, LevelRadiance, SMesh, ShadePoint, TexelRadiance, child_beams,
-    region_size,
+    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, KeepLevel, KeptTotals, LevelLayout, LevelRadiance, SMesh,
+    ShadePoint, TexelRadiance, child_beams, region_size,
 };
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
@@ -62,10 +62,12 @@ pub(super) struct Node {
     pub(super) children: FaceMap<Scattered>,
 }
 
-/// A built beam tree: the children of the faces the eye sees, and the beams level by level.
+/// A built beam tree: the children of the faces the eye sees, and the beams level by level; what the
+/// renderer kept of the levels (texels none of the nodes hold).
 pub(super) struct Built {
     pub(super) roots: FaceMap<Scattered>,
     pub(super) levels: Vec<Vec<Node>>,
+    pub(super) kept: KeptTotals,
 }
 
 /// The light arriving at one S-mesh face, from which its beams are built: samples (barycentric
@@ -118,6 +120,9 @@ impl Tree<'_> {
     ) -> Result<Built, BackendError> {
         let mut levels: Vec<Vec<Node>> = Vec::new();
         let mut root_children = FaceMap::default();
+        let mut kept_totals = KeptTotals::default();
+        let continues: Vec<bool> =
+            (0..self.scene.triangles.len() as u32).map(|p| !self.smesh.candidates(p).is_empty()).collect();
         let mut requests = roots;
         for level in 1..=self.options.bounces {
             if requests.is_empty() {
@@ -163,18 +168,34 @@ impl Tree<'_> {
                 .map(|(beam, face, _, size)| BeamJob { beam, size: *size, exclude: self.smesh.exclude(*face) })
                 .collect();
             clock.lap("tree: beams");
-            let textures = renderer.render_beams(self.scene, &jobs)?;
+            // A backend that shades the tree itself keeps the texels from which the tree does not
+            // go on; lookups under coarse faces above read the hits all the same.
+            let layout = self.layout(beams.iter().map(|&(_, face, _, size)| (face, size)));
+            let keep = KeepLevel {
+                level: level as usize,
+                layout: &layout,
+                options: &self.options.shading,
+                with_hits: self.smesh.coarse_faces() > 0,
+                continues: if level < self.options.bounces { &continues } else { &[] },
+            };
+            let (textures, kept) = renderer.render_level(self.scene, &jobs, &keep)?;
+            if let Some(k) = kept {
+                kept_totals.points += k.points;
+                kept_totals.curved += k.curved;
+            }
             clock.lap("tree: rasterize beams");
             let nodes: Vec<Node> = beams
                 .into_par_iter()
                 .zip(textures)
                 .map(|((beam, face, pixels, _), tex)| {
-                    // The hit texels in texel order, row by row; room for every texel of the region.
+                    // The hit texels in texel order, row by row; room for every texel of the region
+                    // where the backend kept none, else only those from which the tree goes on.
                     let (size, tb) = (tex.size as usize, beam.texel_beam());
-                    let mut hits = Vec::with_capacity(tex.texels() as usize);
+                    let handed_back = |prim: u32| kept.is_none() || keep.continues.get(prim as usize) == Some(&true);
+                    let mut hits = Vec::with_capacity(if kept.is_none() { tex.texels() as usize } else { 0 });
                     for (y, row) in tex.hits.chunks_exact(size.max(1)).enumerate() {
                         for (x, hit) in row.iter().enumerate() {
-                            let Some(hit) = hit else { continue };
+                            let Some(hit) = hit.filter(|h| handed_back(h.prim)) else { continue };
                             let ray = tb.texel_ray(tex.barycentric(x as u32, y as u32));
                             hits.push((y * size + x, hit.prim, ray.at(hit.t), ray.direction.normalize()));
                         }
@@ -201,7 +222,19 @@ impl Tree<'_> {
             clock.lap("tree: next level's faces");
             levels.push(nodes);
         }
-        Ok(Built { roots: root_children, levels })
+        Ok(Built { roots: root_children, levels, kept: kept_totals })
+    }
+
+    /// The layout of a level of beams `(face, texels per side)` in its radiance, as
+    /// [`Self::radiance_levels`] lays it out.
+    fn layout(&self, beams: impl Iterator<Item = (usize, u32)>) -> LevelLayout {
+        let mut layout = LevelLayout::default();
+        for (face, size) in beams {
+            layout.firsts.push(layout.len as u32);
+            layout.prims.push(self.smesh.faces[face].prim);
+            layout.len += (size * size) as usize;
+        }
+        layout
     }
 
     /// The tree's levels for the radiance flow: per level, every beam's region and every texel
@@ -211,12 +244,8 @@ impl Tree<'_> {
             .iter()
             .enumerate()
             .map(|(li, nodes)| {
-                let mut regions = Vec::with_capacity(nodes.len());
-                let mut len = 0;
-                for node in nodes {
-                    regions.push((len as u32, node.tex.size));
-                    len += (node.tex.size * node.tex.size) as usize;
-                }
+                let LevelLayout { firsts, len, .. } = self.layout(nodes.iter().map(|n| (n.face, n.tex.size)));
+                let regions: Vec<(u32, u32)> = firsts.into_iter().zip(nodes.iter().map(|n| n.tex.size)).collect();
                 let next = levels.get(li + 1).map_or(&[][..], |l| &l[..]);
                 let texels = par_flatten(
                     nodes,

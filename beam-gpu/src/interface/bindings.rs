@@ -7,7 +7,7 @@ use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
     AtlasParams, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams, GpuBeam,
-    GpuFace, WhittedCounts, WhittedParams, WhittedPath,
+    GpuFace, LevelCounts, LevelParams, WhittedCounts, WhittedParams, WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, ShadeInput, ShadeParams};
@@ -52,6 +52,11 @@ fn tables() -> Vec<Table> {
         bindings!("eye" => [
             nodes: FlatNode, triangles: GpuTriangle, params: EyeParams, plain: u32, kept: ShadeInput, targets: u32,
             others: EyeHit, counts: EyeCounts,
+        ]),
+        bindings!("level_points" => [
+            params: LevelParams, beams: GpuBeam, firsts: u32, texels: [u32; 2], placed: [u32; 2], kinds: u32,
+            direct: ShadeInput, direct_targets: u32, other: ShadeInput, other_targets: u32, counts: LevelCounts,
+            host: [u32; 4],
         ]),
         bindings!("whitted" => [
             nodes: FlatNode, triangles: GpuTriangle, params: WhittedParams, slots: u32, specular,

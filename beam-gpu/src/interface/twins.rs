@@ -7,7 +7,7 @@ use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
     AtlasParams, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams, GpuBeam,
-    GpuFace, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
+    GpuFace, LevelCounts, LevelParams, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, STATE_HEADER, ShadeInput, ShadeParams, ShadeState};
@@ -94,6 +94,12 @@ fn twins() -> Vec<Twin> {
         }),
         twin!("composite", CompositeRecord => Record {
             p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
+        }),
+        twin!("level_points", LevelParams => LevelParams { first, count, inverted, beams }),
+        twin!("level_points", LevelCounts => LevelCounts { direct, other, curved, host }),
+        twin!("level_points", ShadeInput => ShadeInput { p, prim, d, seed }),
+        twin!("level_points", GpuBeam => Beam {
+            base, dirs, extremal, normal, threshold, heights, offsets, bump, region, kind, origin, direction
         }),
         twin!("composite", CompositeParams => CompositeParams {
             records, points, pad[0] => pad0, pad[1] => pad1

@@ -18,21 +18,25 @@
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
 use super::eye::{GpuEye, KeptPoints};
+use super::level::{GpuLevelPoints, KeptLevel};
 use super::page::Counters;
 use super::whitted::GpuWhitted;
-use crate::buffers::{checked, compute_pipeline, max_binding, shader_module, storage};
+use crate::buffers::{checked, compute_pipeline, max_binding, read_all, shader_module, storage};
 use crate::interface::{PAIR_NEAR, TEXEL_JOB_PAIRS};
 use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
 use crate::staging::{Slots, Staged, split_by_counts};
-use crate::{Gpu, GpuError};
+use crate::{Gpu, GpuError, texels};
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_scene::BackendError;
-use beam_scene::nonlinear::{BeamJob, BeamRasterizer, BeamTexture, cone_candidates, region_texels};
+use beam_scene::nonlinear::{
+    BeamJob, BeamRasterizer, BeamTexture, KeepLevel, KeptTotals, TexelRadiance, cone_candidates, region_texels,
+};
+use beam_scene::options::Shading;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::cell::Cell;
-use std::sync::Mutex;
+use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
 /// Where the GPU renderer spent its time, summed over calls.
@@ -58,6 +62,8 @@ pub struct GpuTimes {
     pub triangles: u64,
     /// Beam trees composited on the GPU (the others fell back to the CPU's composite).
     pub gpu_composites: u64,
+    /// Tree levels whose points were kept on the GPU ([`super::level`]).
+    pub levels_kept: u64,
     /// The GPU's own seconds in the atlas passes, by timestamp queries (all 0 where the device has
     /// none): bounding triangles, nearest hits (draws, or the compute pass), gather.
     pub atlas_pass_seconds: [f64; 3],
@@ -78,6 +84,12 @@ pub struct GpuBeams<'g> {
     pub(super) eye: GpuEye,
     /// The eye's points its last view kept on the GPU, until the composite shades them.
     pub(super) kept: Mutex<Option<Vec<KeptPoints>>>,
+    /// The tree levels' points on the GPU.
+    pub(super) level: GpuLevelPoints,
+    /// The points of the levels it kept, until the composite shades them.
+    pub(super) kept_levels: Mutex<Vec<KeptLevel>>,
+    /// Whether it keeps the levels' points (unless [`GpuBeams::reading_levels_back`]).
+    keep_levels: bool,
     /// Shading on the GPU.
     pub(super) shader: PointShader,
     /// The final composite on the GPU.
@@ -158,6 +170,9 @@ impl<'g> GpuBeams<'g> {
             tracer,
             eye: GpuEye::new(gpu, scene)?,
             kept: Mutex::default(),
+            level: GpuLevelPoints::new(gpu, scene)?,
+            kept_levels: Mutex::default(),
+            keep_levels: true,
             shader: PointShader::new(gpu, scene)?,
             composite: GpuComposite::new(gpu)?,
             whitted: GpuWhitted::new(gpu, scene)?,
@@ -193,6 +208,15 @@ impl<'g> GpuBeams<'g> {
         self
     }
 
+    /// This renderer reading every tree level's hits back for the host instead of keeping the
+    /// points that need no host on the GPU ([`super::level`]): the way every level went before,
+    /// which the tests compare with.
+    #[must_use]
+    pub fn reading_levels_back(mut self) -> Self {
+        self.keep_levels = false;
+        self
+    }
+
     /// Whether this renderer finds the atlas's nearest hits by compute.
     #[must_use]
     pub fn by_compute(&self) -> bool {
@@ -209,11 +233,11 @@ impl<'g> GpuBeams<'g> {
     /// Time spent so far.
     #[must_use]
     pub fn times(&self) -> GpuTimes {
-        *self.times.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+        *self.times.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
     pub(super) fn add_times(&self, f: impl FnOnce(&mut GpuTimes)) {
-        f(&mut self.times.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
+        f(&mut self.times.lock().unwrap_or_else(PoisonError::into_inner));
     }
 }
 
@@ -229,6 +253,48 @@ fn z_order(index: u32, s: u32) -> (u32, u32) {
 
 impl BeamRasterizer for GpuBeams<'_> {
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
+        Ok(self.render(scene, jobs, None)?.0)
+    }
+
+    /// Kept where the composite will shade the tree (exact shading, the level within one texture),
+    /// unless [`GpuBeams::reading_levels_back`] asked otherwise.
+    fn render_level(
+        &self,
+        scene: &Scene,
+        jobs: &[BeamJob<'_>],
+        keep: &KeepLevel<'_>,
+    ) -> Result<(Vec<BeamTexture>, Option<KeptTotals>), BackendError> {
+        let shaded_here = keep.options.shading == Shading::Exact && texels::fits(self.gpu, keep.layout.len);
+        if !self.keep_levels || !shaded_here {
+            return Ok((self.render(scene, jobs, None)?.0, None));
+        }
+        let (textures, kept) = self.render(scene, jobs, Some(keep))?;
+        let kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
+        let totals = KeptTotals { points: kept.points(), curved: kept.curved };
+        self.add_times(|t| t.levels_kept += 1);
+        let mut levels = self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner);
+        // A frame's first level: what an earlier frame left (one that failed) goes.
+        levels.retain(|l| l.level < keep.level);
+        levels.push(kept);
+        Ok((textures, Some(totals)))
+    }
+
+    fn take_kept_levels(&self) -> Result<Vec<(usize, Vec<TexelRadiance>)>, BackendError> {
+        let levels = std::mem::take(&mut *self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner));
+        let read = |l: &KeptLevel| Ok((l.level, l.read_back(self.gpu)?));
+        Ok(checked(self.gpu, || levels.iter().map(read).collect())?)
+    }
+}
+
+impl GpuBeams<'_> {
+    /// The textures of `jobs`; with `keep`, the level's points kept on the GPU ([`super::level`])
+    /// where it is the last (by `keep.last`, or as no beam's culled triangles continue the tree).
+    fn render(
+        &self,
+        scene: &Scene,
+        jobs: &[BeamJob<'_>],
+        keep: Option<&KeepLevel<'_>>,
+    ) -> Result<(Vec<BeamTexture>, Option<KeptLevel>), BackendError> {
         let start = Instant::now();
         // Bounding-cone culling on the CPU (000 App. A; the paper culls objects there too), each
         // kept triangle of a coarse face's ring marked PAIR_NEAR (self-hits, as on the CPU); the
@@ -283,6 +349,8 @@ impl BeamRasterizer for GpuBeams<'_> {
             placed[i] = Some(Placed { page, x, y });
         }
         let mut textures: Vec<Option<BeamTexture>> = (0..jobs.len()).map(|_| None).collect();
+        let mut kept = keep.map(|k| KeptLevel::new(k.level, k.layout));
+        let kinds = keep.map(|k| self.level.kinds(self.gpu, k.continues));
         let by_compute = self.by_compute();
         self.add_times(|t| t.prepare_seconds += start.elapsed().as_secs_f64());
         for (p, &page_rows) in rows.iter().enumerate() {
@@ -317,13 +385,39 @@ impl BeamRasterizer for GpuBeams<'_> {
             let pairs = (pairs.finish(self.gpu), pair_count as usize);
             let prepared = start.elapsed().as_secs_f64();
             let unpacking = Cell::new(0.0);
+            let with_hits = keep.is_none_or(|k| k.with_hits);
             let unpack = |texels: &[[u32; 2]], counts: &[Counters]| {
                 let start = Instant::now();
+                let texels = with_hits.then_some(texels);
                 let out = Self::unpack(jobs, &members, &firsts, texels, counts, by_compute);
                 unpacking.set(start.elapsed().as_secs_f64());
                 out
             };
-            let unpacked = checked(self.gpu, || self.render_page(&beams, pairs, &ranges, &firsts, page_rows, unpack))??;
+            // Per beam where the level is kept: its first texel in the level, its face's triangle.
+            let placed: Vec<[u32; 2]> = match keep {
+                Some(k) => members.iter().map(|&i| [k.layout.firsts[i], k.layout.prims[i]]).collect(),
+                None => Vec::new(),
+            };
+            let keep_page = keep.zip(kinds.as_ref()).map(|(k, kinds)| (&placed[..], k.with_hits, kinds));
+            let (unpacked, appended) =
+                checked(self.gpu, || self.render_page(&beams, pairs, &ranges, &firsts, page_rows, keep_page, unpack))?;
+            let mut unpacked = unpacked?;
+            if let (Some(kept), Some((appended, counts))) = (kept.as_mut(), appended) {
+                if !with_hits {
+                    // The hits the host builds on, into textures otherwise empty.
+                    let start = Instant::now();
+                    let sources = appended.iter().zip(&counts).map(|(a, c)| (&a.host, u64::from(c.host) * 16));
+                    let host: Vec<[u32; 4]> = checked(self.gpu, || read_all(self.gpu, Vec::new(), sources))?;
+                    let read = start.elapsed().as_secs_f64();
+                    let start = Instant::now();
+                    Self::unpack_host_hits(&mut unpacked, &firsts, &host)?;
+                    self.add_times(|t| {
+                        t.atlas_seconds += read;
+                        t.prepare_seconds += start.elapsed().as_secs_f64();
+                    });
+                }
+                kept.add(appended, &counts);
+            }
             let drawn = start.elapsed().as_secs_f64() - prepared - unpacking.get();
             for (i, tex) in unpacked {
                 textures[i] = Some(tex);
@@ -336,6 +430,7 @@ impl BeamRasterizer for GpuBeams<'_> {
                 t.triangles += u64::from(pair_count);
             });
         }
-        textures.into_iter().map(|t| t.ok_or_else(|| GpuError::Internal("a beam was not rendered").into())).collect()
+        let textures = textures.into_iter().map(|t| t.ok_or(GpuError::Internal("a beam was not rendered")));
+        Ok((textures.collect::<Result<_, _>>()?, kept))
     }
 }

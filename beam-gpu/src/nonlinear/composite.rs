@@ -9,7 +9,8 @@
 
 use super::eye::KeptPoints;
 use super::sort::{Outputs, Plan, plan};
-use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, storage, uniform, view_entry};
+use super::whitted::RestPoints;
+use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, output, storage, uniform, view_entry};
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeInput, ShadeScene};
 use crate::staging::Staged;
@@ -89,7 +90,19 @@ pub use crate::interface::NONE;
 /// Shades a batch of the points the [`PointShader`] does not (mirrors and glass past the tree): adds
 /// the radiance of point `i` to element `first + i` of a buffer of `vec4<f32>`s (zeroed), as
 /// [`GpuWhitted::shade_into`](super::GpuWhitted::shade_into) does.
-pub type ShadeRest<'a> = dyn Fn(&[ShadeInput], (&wgpu::Buffer, usize)) -> Result<(), GpuError> + 'a;
+pub type ShadeRest<'a> = dyn Fn(RestPoints<'_>, (&wgpu::Buffer, usize)) -> Result<(), GpuError> + 'a;
+
+/// Points kept on the GPU for one level of the radiance flow: shaded by the shading pass (`direct`,
+/// the eye's diffuse, glossy and emissive pixels, [`super::GpuEye`], or a kept level's), or by the
+/// caller's [`ShadeRest`] (`rest`, a kept level's mirror and glass points past the tree,
+/// [`super::KeptLevel`]).
+#[derive(Clone, Copy, Default)]
+pub struct KeptHere<'a> {
+    /// Shaded by the shading pass.
+    pub direct: &'a [KeptPoints],
+    /// Shaded by the caller.
+    pub rest: &'a [KeptPoints],
+}
 
 /// The format of a level's radiance: rgb as half floats (and an unused alpha), 8 bytes a texel.
 const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -134,8 +147,9 @@ impl GpuComposite {
     /// The radiance flow of `levels` (`levels[0]` the eye's view) on the GPU: the eye's pixels.
     /// Points the [`PointShader`] shades are shaded on the GPU (`spp` shadow rays per area light,
     /// the scene's shading and caustics `prepared` by [`PointShader::prepare`]), the others by
-    /// `rest`; so are the eye's points `kept` on the GPU by [`GpuEye`](super::GpuEye) (not in
-    /// `levels[0]`). Every level's radiance is a texture; its texels go in dispatches of at most
+    /// `rest`; so are the points kept on the GPU (not in `levels`), `kept[d]` those of `levels[d]`
+    /// (the eye's by [`GpuEye`](super::GpuEye), the tree's by [`super::GpuLevelPoints`]).
+    /// Every level's radiance is a texture; its texels go in dispatches of at most
     /// `records_per_dispatch` texels, each binding only the faces and child regions its records
     /// reference. Call inside [`crate::buffers::checked`].
     #[allow(clippy::too_many_arguments)]
@@ -148,7 +162,7 @@ impl GpuComposite {
         prepared: &ShadeScene,
         spp: u32,
         levels: &[LevelRadiance],
-        kept: &[KeptPoints],
+        kept: &[KeptHere<'_>],
         rest: &ShadeRest<'_>,
     ) -> Result<Vec<Vec3>, GpuError> {
         let all_faces = gpu_faces(scene, smesh);
@@ -160,21 +174,29 @@ impl GpuComposite {
             len = level.len;
             let radiance = Self::level_texture(gpu, len);
             let radiance_view = radiance.create_view(&Default::default());
-            // The eye's points kept on the GPU: shaded and written to their pixels.
-            let kept_here = if depth == 0 { kept } else { &[] };
-            for k in kept_here {
-                let (mut encoder, shaded) =
-                    shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0)?;
+            // The points kept on the GPU: shaded and written to their texels.
+            let here = kept.get(depth).copied().unwrap_or_default();
+            let scatter = |mut encoder: wgpu::CommandEncoder, shaded: &wgpu::Buffer, k: &KeptPoints| {
                 let params = CompositeParams { records: 0, points: k.count, pad: [0; 2] };
                 let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
                 let entries = [
                     buffer_entry(0, &params),
-                    buffer_entry(3, &shaded),
+                    buffer_entry(3, shaded),
                     view_entry(6, &radiance_view),
                     buffer_entry(7, &k.targets),
                 ];
                 encode_pass(gpu, &mut encoder, &self.scatter, k.count, &entries);
                 gpu.queue.submit([encoder.finish()]);
+            };
+            for k in here.direct {
+                let (encoder, shaded) =
+                    shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0)?;
+                scatter(encoder, &shaded, k);
+            }
+            for k in here.rest.iter().filter(|k| k.count > 0) {
+                let shaded = output(gpu, "radiance", u64::from(k.count) * 16);
+                rest(RestPoints::Gpu(&k.inputs, k.count as usize), (&shaded, 0))?;
+                scatter(gpu.device.create_command_encoder(&Default::default()), &shaded, k);
             }
             for texels in level.texels.chunks(chunk) {
                 // Points not composited: on the GPU where the point shader shades them, else by
@@ -198,7 +220,7 @@ impl GpuComposite {
                 let (inputs, targets, records_buffer) = (inputs.finish(gpu), targets.finish(gpu), records.finish(gpu));
                 let (encoder, shaded) = shader.shade_inputs(gpu, tracer, prepared, spp, (&inputs, direct), others)?;
                 if !other.is_empty() {
-                    rest(&other, (&shaded, direct))?;
+                    rest(RestPoints::Host(&other), (&shaded, direct))?;
                 }
                 let Plan { faces, regions, .. } = plan;
                 let chunk_faces: Vec<GpuFace> = faces.iter().map(|&f| all_faces[f as usize]).collect();

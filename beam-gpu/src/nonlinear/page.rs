@@ -5,6 +5,7 @@
 
 use super::GpuBeams;
 use super::beam::GpuBeam;
+use super::level::{Appended, LevelCounts, LevelPage};
 use crate::GpuError;
 use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, storage, uniform, view_entry};
 use crate::interface::WORKGROUP_SIZE;
@@ -33,13 +34,20 @@ const _: () = assert!(size_of::<AtlasParams>() == 16);
 /// Per beam of a page: scene triangles kept (not behind its base) and texels tested.
 pub(super) type Counters = [u32; 2];
 
+/// A page's points of a kept level ([`super::level`]): each dispatch's lists and their counts.
+pub(super) type KeptPage = (Vec<Appended>, Vec<LevelCounts>);
+
 impl GpuBeams<'_> {
     /// Render one page of `rows` rows: `beams` with their (beam on the page, scene triangle)
     /// `pairs`, those of beam `i` at `ranges[i]`, the nearest hits by compute where this renderer
     /// can (else by draws). `unpack` reads, where the readback is mapped, the regions' texels (beam
     /// `i`'s from `firsts[i]` on, row by row, [`region_texels`]; `firsts` ends with their total;
     /// each texel as [`Self::unpack`] reads it), and per beam the triangles kept and the texels
-    /// tested.
+    /// tested. With `keep` (per beam: its first texel in the level's radiance and its face's scene
+    /// triangle; whether to read every texel back all the same; the triangles' kinds), the
+    /// level-points pass makes the page's points ([`super::level`]), returned with their counts,
+    /// and `unpack` is handed the texels only if asked for (else none).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn render_page<T>(
         &self,
         beams: &[GpuBeam],
@@ -47,8 +55,9 @@ impl GpuBeams<'_> {
         ranges: &[(u32, u32)],
         firsts: &[u32],
         rows: u32,
+        keep: Option<(&[[u32; 2]], bool, &wgpu::Buffer)>,
         unpack: impl FnOnce(&[[u32; 2]], &[Counters]) -> T,
-    ) -> Result<T, GpuError> {
+    ) -> Result<(T, Option<KeptPage>), GpuError> {
         let device = &self.gpu.device;
         let params =
             AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pair_count as u32 };
@@ -107,31 +116,54 @@ impl GpuBeams<'_> {
                 self.draw_page(&mut encoder, buffers, outputs, ranges, rows, texel_count, timer.as_ref());
             }
         }
+        // The level's points, where it is kept, made from the texels where they lie.
+        let appended = keep.map(|(placed, _, kinds)| {
+            let page = LevelPage {
+                beams: (&beam_buffer, beams.len()),
+                firsts: &first_texels,
+                texels: (&dense, texel_count),
+                inverted: self.by_compute(),
+            };
+            self.level.encode(self.gpu, &mut encoder, &page, (placed, kinds))
+        });
+        let texel_bytes = if keep.is_some_and(|(_, with_hits, _)| !with_hits) { 0 } else { texel_bytes };
         let count_bytes = beams.len() as u64 * 8;
+        let level_bytes = appended.as_ref().map_or(0, |a| a.len() * size_of::<LevelCounts>()) as u64;
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("atlas readback"),
-            size: texel_bytes + count_bytes + timer.as_ref().map_or(0, PassTimer::bytes),
+            size: texel_bytes + count_bytes + level_bytes + timer.as_ref().map_or(0, PassTimer::bytes),
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        encoder.copy_buffer_to_buffer(&dense, 0, &readback, 0, texel_bytes);
+        if texel_bytes > 0 {
+            encoder.copy_buffer_to_buffer(&dense, 0, &readback, 0, texel_bytes);
+        }
         encoder.copy_buffer_to_buffer(&counters, 0, &readback, texel_bytes, count_bytes);
+        for (k, a) in appended.iter().flatten().enumerate() {
+            let at = texel_bytes + count_bytes + (k * size_of::<LevelCounts>()) as u64;
+            encoder.copy_buffer_to_buffer(&a.counts, 0, &readback, at, size_of::<LevelCounts>() as u64);
+        }
         if let Some(timer) = &timer {
-            timer.copy_to(&mut encoder, &readback, texel_bytes + count_bytes);
+            timer.copy_to(&mut encoder, &readback, texel_bytes + count_bytes + level_bytes);
         }
         self.gpu.queue.submit([encoder.finish()]);
-        map_with(self.gpu, &readback, |bytes| {
+        let out = map_with(self.gpu, &readback, |bytes| {
             let (texels, rest) = bytes.split_at(texel_bytes as usize);
-            let (counts, stamps) = rest.split_at(count_bytes as usize);
+            let (counts, rest) = rest.split_at(count_bytes as usize);
+            let (level_counts, stamps) = rest.split_at(level_bytes as usize);
             let passes = PassTimer::seconds(self.gpu, stamps);
             // Compute's nearest hits are the second pass, as the draws are; no gather follows.
             self.add_times(|t| t.atlas_pass_seconds.iter_mut().zip(&passes).for_each(|(a, s)| *a += s));
+            let level_counts: Vec<LevelCounts> = bytemuck::pod_collect_to_vec(level_counts);
             // Aligned as mapped ranges are; copied only if a backend mapped them otherwise.
-            match (bytemuck::try_cast_slice(texels), bytemuck::try_cast_slice(counts)) {
+            let unpacked = match (bytemuck::try_cast_slice(texels), bytemuck::try_cast_slice(counts)) {
                 (Ok(t), Ok(c)) => unpack(t, c),
                 _ => unpack(&bytemuck::pod_collect_to_vec(texels), &bytemuck::pod_collect_to_vec(counts)),
-            }
-        })
+            };
+            (unpacked, level_counts)
+        })?;
+        let (unpacked, level_counts) = out;
+        Ok((unpacked, appended.map(|a| (a, level_counts))))
     }
 
     /// 000's way to the nearest hits, added to `encoder`: one draw per beam over its pairs
@@ -217,12 +249,13 @@ impl GpuBeams<'_> {
     /// The textures of the beams `members` of one page (`jobs[i]`) from the regions' `texels`,
     /// beam `k`'s row by row from `firsts[k]` on, and per-beam `counts`, as (job index, texture).
     /// A texel is (scene triangle + 1, bits of t), 0 for a miss; `inverted` (by compute,
-    /// `beam_texels.wgsl`) each word's bits are inverted, zeroes still a miss.
+    /// `beam_texels.wgsl`) each word's bits are inverted, zeroes still a miss. Without `texels`
+    /// (a kept level's, not read back), textures without hits.
     pub(super) fn unpack(
         jobs: &[BeamJob<'_>],
         members: &[usize],
         firsts: &[u32],
-        texels: &[[u32; 2]],
+        texels: Option<&[[u32; 2]]>,
         counts: &[Counters],
         inverted: bool,
     ) -> Result<Vec<(usize, BeamTexture)>, GpuError> {
@@ -232,6 +265,10 @@ impl GpuBeams<'_> {
             .zip(counts)
             .map(|((&i, &first), &[kept, tested])| {
                 let size = jobs[i].size;
+                let (triangles_after_culling, texels_tested) = (kept, u64::from(tested));
+                let Some(texels) = texels else {
+                    return Ok((i, BeamTexture { size, hits: Vec::new(), triangles_after_culling, texels_tested }));
+                };
                 let region = texels
                     .get(first as usize..first as usize + region_texels(size) as usize)
                     .ok_or(GpuError::Internal("a region's texels were not read back"))?;
@@ -246,11 +283,57 @@ impl GpuBeams<'_> {
                         }
                     }
                 }
-                let tex = BeamTexture { size, hits, triangles_after_culling: kept, texels_tested: u64::from(tested) };
+                let tex = BeamTexture { size, hits, triangles_after_culling, texels_tested };
                 Ok((i, tex))
             })
             .collect()
     }
+}
+
+impl GpuBeams<'_> {
+    /// Into `textures` (a page's, in the order of its beams' `firsts`), the hits `host` lists:
+    /// (index among the page's texels, triangle, bits of t, 0) each, the texels of a kept level
+    /// that the host builds on ([`super::level`]); the other texels stay misses.
+    pub(super) fn unpack_host_hits(
+        textures: &mut [(usize, BeamTexture)],
+        firsts: &[u32],
+        host: &[[u32; 4]],
+    ) -> Result<(), GpuError> {
+        for &[i, prim, t, _] in host {
+            let beam = firsts.partition_point(|&f| f <= i).saturating_sub(1);
+            let first = firsts.get(beam).copied().unwrap_or(0);
+            let (_, tex) = textures.get_mut(beam).ok_or(GpuError::Internal("a texel for the host past the page"))?;
+            let size = tex.size;
+            let (x, y) = region_texel(i.saturating_sub(first), size);
+            if tex.hits.is_empty() {
+                tex.hits = vec![None; (size * size) as usize];
+            }
+            let slot =
+                tex.hits.get_mut((y * size + x) as usize).ok_or(GpuError::Internal("a texel past its region"))?;
+            *slot = Some(TexelHit { prim, t: f32::from_bits(t) });
+        }
+        Ok(())
+    }
+}
+
+/// `(x, y)` of the `j`-th texel of a region of side `s`, its texels counted row by row (row 0 holds
+/// `s`, row `y ≥ 1` holds `s + 1 − y`), as `region_texel` in `shaders/lib/region.wgsl` finds it:
+/// rows `1..s` counted from the last hold 1, 2, …, s texels, so the row of the `r`-th texel from
+/// the end is the inverse of the triangular numbers (the float root, then an integer step each way).
+fn region_texel(j: u32, s: u32) -> (u32, u32) {
+    if j < s {
+        return (j, 0);
+    }
+    let triangular = |n: u64| n * (n + 1) / 2;
+    let r = triangular(u64::from(s)).saturating_sub(1 + u64::from(j - s));
+    let mut n = ((((8 * r + 1) as f64).sqrt() - 1.0) * 0.5).floor().max(0.0) as u64;
+    if triangular(n + 1) <= r {
+        n += 1;
+    }
+    if n > 0 && triangular(n) > r {
+        n -= 1;
+    }
+    ((n - (r - triangular(n))) as u32, s - n as u32)
 }
 
 /// A bind group of `layout` over buffers alone: `(binding, buffer)`.
@@ -266,4 +349,24 @@ struct PageBuffers<'a> {
     beams: &'a wgpu::Buffer,
     pairs: &'a wgpu::Buffer,
     bounds: &'a wgpu::Buffer,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Counted row by row, every texel of regions of side 1 to 70 comes back where `unpack` puts it.
+    #[test]
+    fn region_texels_invert_the_row_by_row_count() {
+        for s in 1..=70u32 {
+            let mut j = 0;
+            for y in 0..s {
+                for x in 0..(s + 1 - y).min(s) {
+                    assert_eq!(region_texel(j, s), (x, y), "texel {j} of side {s}");
+                    j += 1;
+                }
+            }
+            assert_eq!(u64::from(j), region_texels(s));
+        }
+    }
 }

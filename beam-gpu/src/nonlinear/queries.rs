@@ -3,8 +3,8 @@
 //! radiance by the composite on the GPU.
 
 use super::GpuBeams;
-use super::composite::GpuComposite;
-use super::whitted::GpuWhitted;
+use super::composite::{GpuComposite, KeptHere};
+use super::whitted::{GpuWhitted, RestPoints};
 use crate::GpuError;
 use crate::buffers::{checked, output, read_all};
 use crate::raytrace::{GpuHit, GpuRay};
@@ -47,7 +47,7 @@ impl GpuBeams<'_> {
                     &self.shader,
                     &prepared,
                     self.light_samples,
-                    &part,
+                    RestPoints::Host(&part),
                     (&radiance, 0),
                 )?;
                 read_all(self.gpu, Vec::new(), std::iter::once((&radiance, bytes)))
@@ -116,10 +116,19 @@ impl PointShading for GpuBeams<'_> {
         }
         let start = Instant::now();
         let kept = self.kept.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take().unwrap_or_default();
+        let kept_levels =
+            std::mem::take(&mut *self.kept_levels.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
+        // Per level of the flow (the eye's first), the points kept on the GPU.
+        let mut here = vec![KeptHere::default(); levels.len()];
+        here[0] = KeptHere { direct: &kept, rest: &[] };
+        for l in &kept_levels {
+            let at = here.get_mut(l.level).ok_or(GpuError::Internal("a kept level past the tree"))?;
+            *at = KeptHere { direct: &l.direct, rest: &l.other };
+        }
         // Mirror and glass points past the tree by Whitted rays in waves, their host time apart.
         // The scene's shading and caustics, uploaded once for the composite and every wave.
         let prepared = self.shader.prepare(self.gpu, caustics);
-        let rest = |points: &[ShadeInput], radiance: (&wgpu::Buffer, usize)| {
+        let rest = |points: RestPoints<'_>, radiance: (&wgpu::Buffer, usize)| {
             let (start, waited) = (Instant::now(), self.gpu.traffic().waited_seconds);
             let out = self.whitted.shade_into(
                 self.gpu,
@@ -143,7 +152,7 @@ impl PointShading for GpuBeams<'_> {
                 &prepared,
                 self.light_samples,
                 levels,
-                &kept,
+                &here,
                 &rest,
             )
         });

@@ -136,6 +136,16 @@ const _: () = assert!(
         && size_of::<WhittedCounts>() == 16
 );
 
+/// The points [`GpuWhitted::shade_into`] shades: a batch on the host, or the first `count`
+/// [`ShadeInput`]s of a buffer already on the GPU (at most [`GpuWhitted::per_dispatch`]).
+#[derive(Clone, Copy)]
+pub enum RestPoints<'a> {
+    /// On the host.
+    Host(&'a [ShadeInput]),
+    /// On the GPU: a buffer and how many of its points.
+    Gpu(&'a wgpu::Buffer, usize),
+}
+
 /// The Whitted waves for one scene: its mirror and glass triangles uploaded.
 pub struct GpuWhitted {
     start: wgpu::ComputePipeline,
@@ -231,15 +241,25 @@ impl GpuWhitted {
         shader: &PointShader,
         prepared: &ShadeScene,
         spp: u32,
-        points: &[ShadeInput],
+        points: RestPoints<'_>,
         (radiance, first): (&wgpu::Buffer, usize),
     ) -> Result<(), GpuError> {
         let chunk = Self::per_dispatch(gpu);
         let mut dispatched = Vec::new();
-        for (k, part) in points.chunks(chunk).enumerate() {
-            let inputs = storage(gpu, "whitted points", part, wgpu::BufferUsages::empty());
-            let dest = first + k * chunk;
-            dispatched.push(self.dispatch(gpu, &self.start, (part.len(), dest, false), &[buffer_entry(5, &inputs)]));
+        match points {
+            RestPoints::Host(points) => {
+                for (k, part) in points.chunks(chunk).enumerate() {
+                    let inputs = storage(gpu, "whitted points", part, wgpu::BufferUsages::empty());
+                    let items = (part.len(), first + k * chunk, false);
+                    dispatched.push(self.dispatch(gpu, &self.start, items, &[buffer_entry(5, &inputs)]));
+                }
+            }
+            RestPoints::Gpu(inputs, count) => {
+                if count > chunk {
+                    return Err(GpuError::Internal("more points on the GPU than one Whitted dispatch takes"));
+                }
+                dispatched.push(self.dispatch(gpu, &self.start, (count, first, false), &[buffer_entry(5, inputs)]));
+            }
         }
         let mut batches = self.finish(gpu, tracer, shader, prepared, spp, dispatched, radiance)?;
         for depth in 1..=MAX_DEPTH {

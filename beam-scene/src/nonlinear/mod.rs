@@ -19,7 +19,9 @@ pub use crate::queries::RayQueries;
 pub use beam::{Beam, BumpedBeam, Degree, MIN_RISE, TEXEL_EPS, TexelBeam, child_beams, self_hit_at, self_hit_distance};
 pub use cull::cone_candidates;
 pub use radiance::{Composite, LevelRadiance, TexelRadiance, composite, sample_region};
-pub use renderer::{BeamRasterizer, BeamRenderer, DeviceWaits, EyeView, PointShading, eye_by_rays};
+pub use renderer::{
+    BeamRasterizer, BeamRenderer, DeviceWaits, EyeView, KeepLevel, KeptTotals, LevelLayout, PointShading, eye_by_rays,
+};
 pub use smesh::{MAX_NORMAL_SPREAD, SFace, SMesh};
 pub use texture::{
     BeamJob, BeamTexture, Exclude, ShadePoint, TEXELS, TEXELS_PER_SAMPLE, TexelHit, region_size, region_texels,

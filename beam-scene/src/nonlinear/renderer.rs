@@ -23,6 +23,68 @@ use rayon::prelude::*;
 pub trait BeamRasterizer: Sync {
     /// The textures of `jobs`, in order.
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError>;
+
+    /// [`render_beams`](Self::render_beams) for a level of the beam tree whose texels the backend
+    /// may keep, where its [`PointShading::shade_tree`] shades the tree with `keep.options`: every
+    /// texel that hits a triangle from which the tree does not go on (`keep.continues`) becomes a
+    /// shading point on the backend, at its place in the level's radiance (`keep.layout`), and is
+    /// not handed back; the textures hold the others' hits (all of them `keep.with_hits`, for
+    /// lookups into the level). Returns the textures, and what was kept where it was. The default
+    /// keeps nothing.
+    fn render_level(
+        &self,
+        scene: &Scene,
+        jobs: &[BeamJob<'_>],
+        keep: &KeepLevel<'_>,
+    ) -> Result<(Vec<BeamTexture>, Option<KeptTotals>), BackendError> {
+        let _ = keep;
+        Ok((self.render_beams(scene, jobs)?, None))
+    }
+
+    /// The points that [`render_level`](Self::render_level) kept and no
+    /// [`PointShading::shade_tree`] has shaded since, per level as texels of the level's radiance
+    /// (for a frame that the caller shades after all); none are kept after.
+    fn take_kept_levels(&self) -> Result<Vec<(usize, Vec<TexelRadiance>)>, BackendError> {
+        Ok(Vec::new())
+    }
+}
+
+/// Where a tree level's texels lie in its radiance ([`LevelRadiance`]'s layout): per beam, its
+/// first texel (its region's texels follow row by row, `size²` of them) and the scene triangle of
+/// its S-mesh face (with the texel, the seed of its points' shading: `triangle << 32 | texel`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LevelLayout {
+    /// Per beam, its first texel in the level.
+    pub firsts: Vec<u32>,
+    /// Per beam, its face's scene triangle.
+    pub prims: Vec<u32>,
+    /// Texels of the level.
+    pub len: usize,
+}
+
+/// A level of the beam tree that a backend may keep ([`BeamRasterizer::render_level`]).
+#[derive(Clone, Copy, Debug)]
+pub struct KeepLevel<'a> {
+    /// Which level (1 for the beams off the faces the eye sees).
+    pub level: usize,
+    /// Where its texels lie in its radiance.
+    pub layout: &'a LevelLayout,
+    /// How the frame is shaded.
+    pub options: &'a RenderOptions,
+    /// Whether the textures must hold every hit all the same.
+    pub with_hits: bool,
+    /// Per scene triangle, whether the tree goes on from a texel that hits it (it has an S-mesh
+    /// face, and the level is not the last): such texels are handed back. None past its end.
+    pub continues: &'a [bool],
+}
+
+/// What a backend kept of a level ([`BeamRasterizer::render_level`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct KeptTotals {
+    /// Texels that hit: the level's points.
+    pub points: u64,
+    /// Of them, points on curved (smooth-normal) triangles.
+    pub curved: u64,
 }
 
 /// Shades points where a backend can; `Ok(None)` hands the work back to the caller, which shades on

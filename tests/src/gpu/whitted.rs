@@ -5,7 +5,7 @@ use crate::{Backend, Config, Outcome};
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::{CpuBeams, ShadePoint, shade_by_waves};
 use beam_gpu::buffers::{checked, output, read_all};
-use beam_gpu::nonlinear::GpuWhitted;
+use beam_gpu::nonlinear::{GpuWhitted, RestPoints};
 use beam_gpu::raytrace::RayTracer;
 use beam_gpu::shade::{PointShader, ShadeInput, shade_twin};
 use beam_math::glam::Vec3;
@@ -49,7 +49,7 @@ pub fn gpu_whitted_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
         let got: Vec<[f32; 4]> = checked(&gpu, || {
             let radiance = output(&gpu, "radiance", bytes);
             let prepared = shader.prepare(&gpu, None);
-            whitted.shade_into(&gpu, &tracer, &shader, &prepared, spp, &inputs, (&radiance, 0))?;
+            whitted.shade_into(&gpu, &tracer, &shader, &prepared, spp, RestPoints::Host(&inputs), (&radiance, 0))?;
             read_all(&gpu, Vec::new(), std::iter::once((&radiance, bytes)))
         })
         .map_err(|e| e.to_string())?;

@@ -1,0 +1,107 @@
+// A level of the beam tree kept on the GPU (beam_gpu::nonlinear::level): after a page's nearest
+// hits, every texel of its regions that hit a triangle on which the tree goes on (LEVEL_CONTINUES:
+// a mirror or glass face that spawns the next level's beams) is appended for the host, which
+// builds the next level and the composite from it; every other texel that hit becomes a shading
+// input where it lies, never read back. Its point is the hit of its texel's ray (`texel_ray` at
+// the texel's point of the base, `origin + t·direction`), its direction the ray's unit direction,
+// its seed the host's (`face triangle << 32 | texel`, folded to 32 bits as beam_gpu::shade::seed32
+// folds it). Points the shading pass shades (diffuse, glossy, emissive) and the others (mirror and
+// glass past the tree, for the Whitted rays) are appended to two lists with their texels in the
+// level's radiance. The host zeroes `counts` before a dispatch. CPU twin: the host's texel hits
+// (beam_cpu::nonlinear::trace, `Tree::build`) sorted as beam_gpu::nonlinear::sort sorts them.
+
+// Twin of beam_gpu::nonlinear::LevelParams (16 bytes).
+struct LevelParams {
+    // The dispatch's first texel among the page's regions.
+    first: u32,
+    // Texels of the dispatch.
+    count: u32,
+    // 1 where the texels' words are inverted (nearest hits by compute), else 0.
+    inverted: u32,
+    // Beams on the page.
+    beams: u32,
+}
+
+// Twin of beam_gpu::shade::ShadeInput (32 bytes).
+struct ShadeInput {
+    p: vec3<f32>,
+    prim: u32,
+    d: vec3<f32>,
+    seed: u32,
+}
+
+// Twin of beam_gpu::nonlinear::LevelCounts (16 bytes).
+struct LevelCounts {
+    // Points appended for the shading pass.
+    direct: atomic<u32>,
+    // Points appended for the Whitted rays.
+    other: atomic<u32>,
+    // Points on curved (smooth-normal) triangles, of either list.
+    curved: atomic<u32>,
+    // Texels appended for the host.
+    host: atomic<u32>,
+}
+
+@group(0) @binding(0) var<uniform> params: LevelParams;
+@group(0) @binding(1) var<storage, read> beams: array<Beam>;
+// Per beam on the page, its first texel in `texels`; then the number of texels of them all.
+@group(0) @binding(2) var<storage, read> firsts: array<u32>;
+// Per texel of every region, row by row: (scene triangle + 1, bits of t), (0, 0) for a miss; each
+// word inverted where `params.inverted` (zeroes still a miss).
+@group(0) @binding(3) var<storage, read> texels: array<vec2<u32>>;
+// Per beam on the page: its first texel in the level's radiance, its S-mesh face's scene triangle.
+@group(0) @binding(4) var<storage, read> placed: array<vec2<u32>>;
+// Per scene triangle: LEVEL_PLAIN where the shading pass shades it, | LEVEL_CURVED where its
+// normals are interpolated, | LEVEL_CONTINUES where the tree goes on from it.
+@group(0) @binding(5) var<storage, read> kinds: array<u32>;
+@group(0) @binding(6) var<storage, read_write> direct: array<ShadeInput>;
+@group(0) @binding(7) var<storage, read_write> direct_targets: array<u32>;
+@group(0) @binding(8) var<storage, read_write> other: array<ShadeInput>;
+@group(0) @binding(9) var<storage, read_write> other_targets: array<u32>;
+@group(0) @binding(10) var<storage, read_write> counts: LevelCounts;
+// Per texel for the host: its index among the page's texels, its triangle, the bits of its t, 0.
+@group(0) @binding(11) var<storage, read_write> host: array<vec4<u32>>;
+
+// Loops: a binary search over the page's beams, at most 32 halvings (constant bound), and
+// texel_ray's sum over the S^3 coefficients.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn level_points(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let k = id.y * groups.x * WORKGROUP_SIZE + id.x;
+    if k >= params.count { return; }
+    let i = params.first + k;
+    var word = texels[i];
+    if params.inverted != 0u && word.x != 0u { word = ~word; }
+    if word.x == 0u { return; }
+    let prim = word.x - 1u;
+    let kind = kinds[prim];
+    if (kind & LEVEL_CONTINUES) != 0u {
+        let j = atomicAdd(&counts.host, 1u);
+        host[j] = vec4<u32>(i, prim, word.y, 0u);
+        return;
+    }
+    // The last beam whose first texel is at most i.
+    var lo = 0u;
+    var hi = params.beams;
+    for (var n = 0u; n < 32u && hi - lo > 1u; n++) {
+        let mid = (lo + hi) / 2u;
+        if firsts[mid] <= i { lo = mid; } else { hi = mid; }
+    }
+    let b = beams[lo];
+    let s = b.region.z;
+    let at = region_texel(i - firsts[lo], s);
+    let ray = texel_ray(b, texel_barycentric(at.x, at.y, s));
+    let texel = at.y * s + at.x;
+    let input = ShadeInput(ray.origin + ray.direction * bitcast<f32>(word.y), prim, normalize(ray.direction),
+        texel ^ placed[lo].y);
+    let at_level = placed[lo].x + texel;
+    if (kind & LEVEL_CURVED) != 0u { atomicAdd(&counts.curved, 1u); }
+    if (kind & LEVEL_PLAIN) != 0u {
+        let j = atomicAdd(&counts.direct, 1u);
+        direct[j] = input;
+        direct_targets[j] = at_level;
+    } else {
+        let j = atomicAdd(&counts.other, 1u);
+        other[j] = input;
+        other_targets[j] = at_level;
+    }
+}

@@ -1,0 +1,232 @@
+//! A level of the beam tree kept on the GPU (`shaders/level_points.wgsl`): after an atlas page's
+//! nearest hits, the texels that hit a triangle on which the tree goes on (a mirror or glass face
+//! that spawns the next level's beams) go to the host, which builds the next level and the
+//! composite from them; every other texel that hit becomes a shading input where it lies, at its
+//! place in the level's radiance, so that neither its hit nor its point crosses to the host and
+//! back (000 §7.3 keeps the tree's texels on the GPU). On the tree's last level no triangle goes
+//! on: the whole level stays. The composite shades the kept points ([`super::GpuComposite::run`]):
+//! the diffuse, glossy and emissive ones by the shading pass, the others (mirror and glass past
+//! the tree) by the Whitted rays. CPU twin: the host's texel hits (beam-cpu's `Tree::build`)
+//! sorted as `sort.rs` sorts a level's texels.
+
+use super::composite::GpuComposite;
+use super::eye::KeptPoints;
+use super::whitted::GpuWhitted;
+use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, output, storage, uniform};
+use crate::interface::{LEVEL_CONTINUES, LEVEL_CURVED, LEVEL_PLAIN};
+use crate::shade::{PointShader, ShadeInput};
+use crate::{Gpu, GpuError};
+use beam_math::glam::Vec3;
+use beam_scene::nonlinear::{LevelLayout, ShadePoint, TexelRadiance};
+use beam_scene::scene::Scene;
+use bytemuck::{Pod, Zeroable};
+
+/// Uniforms of one dispatch of the level-points pass.
+///
+/// WGSL twin: `LevelParams` in `shaders/level_points.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct LevelParams {
+    /// The dispatch's first texel among the page's regions.
+    pub first: u32,
+    /// Texels of the dispatch.
+    pub count: u32,
+    /// 1 where the texels' words are inverted (nearest hits by compute), else 0.
+    pub inverted: u32,
+    /// Beams on the page.
+    pub beams: u32,
+}
+
+/// What one dispatch appended.
+///
+/// WGSL twin: `LevelCounts` in `shaders/level_points.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LevelCounts {
+    /// Points appended for the shading pass.
+    pub direct: u32,
+    /// Points appended for the Whitted rays.
+    pub other: u32,
+    /// Points on curved (smooth-normal) triangles, of either list.
+    pub curved: u32,
+    /// Texels appended for the host.
+    pub host: u32,
+}
+
+const _: () = assert!(size_of::<LevelParams>() == 16 && size_of::<LevelCounts>() == 16);
+
+/// One atlas page as the pass reads it: its beams, their first texels in `texels` (and the total),
+/// its regions' texels, and whether their words are inverted.
+pub(super) struct LevelPage<'a> {
+    pub beams: (&'a wgpu::Buffer, usize),
+    pub firsts: &'a wgpu::Buffer,
+    pub texels: (&'a wgpu::Buffer, u32),
+    pub inverted: bool,
+}
+
+/// One dispatch's lists, their counts on the GPU until read back.
+pub(super) struct Appended {
+    direct: (wgpu::Buffer, wgpu::Buffer),
+    other: (wgpu::Buffer, wgpu::Buffer),
+    /// The texels for the host: (index among the page's texels, triangle, bits of t, 0) each.
+    pub host: wgpu::Buffer,
+    /// [`LevelCounts`], zeroed by wgpu.
+    pub counts: wgpu::Buffer,
+}
+
+/// The points of a level kept on the GPU, until the composite shades them.
+#[derive(Default)]
+pub struct KeptLevel {
+    /// The tree level (1 for the eye's children).
+    pub level: usize,
+    /// Per dispatch, the points the shading pass shades.
+    pub direct: Vec<KeptPoints>,
+    /// Per dispatch, the points the Whitted rays shade (at most [`GpuWhitted::per_dispatch`] each).
+    pub other: Vec<KeptPoints>,
+    /// Points on curved triangles.
+    pub curved: u64,
+    /// The level's layout, for the seeds of points read back ([`KeptLevel::read_back`]).
+    layout: LevelLayout,
+}
+
+impl KeptLevel {
+    /// An empty kept level `level` of `layout`.
+    pub(super) fn new(level: usize, layout: &LevelLayout) -> Self {
+        Self { level, layout: layout.clone(), ..Self::default() }
+    }
+
+    /// Points kept.
+    #[must_use]
+    pub fn points(&self) -> u64 {
+        self.direct.iter().chain(&self.other).map(|k| u64::from(k.count)).sum()
+    }
+
+    /// Add the lists of `appended`, whose counts were read back as `counts` (the texels for the
+    /// host are the caller's).
+    pub(super) fn add(&mut self, appended: Vec<Appended>, counts: &[LevelCounts]) {
+        for (a, c) in appended.into_iter().zip(counts) {
+            let kept = |(inputs, targets), count| KeptPoints { inputs, targets, count };
+            self.direct.push(kept(a.direct, c.direct));
+            self.other.push(kept(a.other, c.other));
+            self.curved += u64::from(c.curved);
+        }
+    }
+
+    /// The points as texels of the level's radiance, read back (for a frame the caller shades after
+    /// all), each with the seed the host gives it: its beam's face triangle `<< 32 |` its texel in
+    /// the beam's region (the beam the one whose region holds its texel, by the layout).
+    pub(super) fn read_back(&self, gpu: &Gpu) -> Result<Vec<TexelRadiance>, GpuError> {
+        let lists = || self.direct.iter().chain(&self.other);
+        let inputs = crate::buffers::read_all::<ShadeInput>(
+            gpu,
+            Vec::new(),
+            lists().map(|k| (&k.inputs, u64::from(k.count) * size_of::<ShadeInput>() as u64)),
+        )?;
+        let targets =
+            crate::buffers::read_all::<u32>(gpu, Vec::new(), lists().map(|k| (&k.targets, u64::from(k.count) * 4)))?;
+        let firsts = &self.layout.firsts;
+        inputs
+            .iter()
+            .zip(targets)
+            .map(|(s, texel)| {
+                let beam = firsts.partition_point(|&f| f <= texel).checked_sub(1);
+                let beam = beam.ok_or(GpuError::Internal("a kept point before the level's first beam"))?;
+                let seed = u64::from(self.layout.prims[beam]) << 32 | u64::from(texel - firsts[beam]);
+                let point = ShadePoint { prim: s.prim, p: Vec3::from_array(s.p), d: Vec3::from_array(s.d), seed };
+                Ok(TexelRadiance { texel, point, composite: None })
+            })
+            .collect()
+    }
+}
+
+/// The level-points pass.
+pub struct GpuLevelPoints {
+    pipeline: wgpu::ComputePipeline,
+    /// Per scene triangle: [`LEVEL_PLAIN`] where the shading pass shades it, `|` [`LEVEL_CURVED`]
+    /// where its normals are interpolated.
+    kinds: Vec<u32>,
+}
+
+impl GpuLevelPoints {
+    /// Compile the pass for `scene`'s triangles.
+    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
+        let kinds: Vec<u32> = (0..scene.triangles.len() as u32)
+            .map(|p| {
+                let plain = if PointShader::shades(scene, p) { LEVEL_PLAIN } else { 0 };
+                plain | if scene.smooth_normals.contains_key(&p) { LEVEL_CURVED } else { 0 }
+            })
+            .collect();
+        Ok(Self { pipeline: compute_pipeline(gpu, "level_points", "level_points")?, kinds })
+    }
+
+    /// The triangles' kinds for a level, [`LEVEL_CONTINUES`] where `continues` says the tree goes
+    /// on from a triangle, uploaded.
+    pub(super) fn kinds(&self, gpu: &Gpu, continues: &[bool]) -> wgpu::Buffer {
+        let on = |p: usize| if continues.get(p) == Some(&true) { LEVEL_CONTINUES } else { 0 };
+        let kinds: Vec<u32> = self.kinds.iter().enumerate().map(|(p, k)| k | on(p)).collect();
+        storage(gpu, "triangle kinds", &kinds, wgpu::BufferUsages::empty())
+    }
+
+    /// Texels one dispatch takes: its lists hold as many points as the shading pass, a composite
+    /// dispatch and one Whitted dispatch take.
+    pub(super) fn per_dispatch(gpu: &Gpu) -> usize {
+        GpuComposite::records_per_dispatch(gpu).min(GpuWhitted::per_dispatch(gpu)).max(1)
+    }
+
+    /// The pass over every texel of `page`, added to `encoder` in dispatches of at most
+    /// [`Self::per_dispatch`] texels; `placed` per beam of the page: its first texel in the level's
+    /// radiance and its face's scene triangle; `kinds` the triangles' ([`Self::kinds`]). The
+    /// dispatches' lists, their counts to be read back.
+    pub(super) fn encode(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        page: &LevelPage<'_>,
+        (placed, kinds): (&[[u32; 2]], &wgpu::Buffer),
+    ) -> Vec<Appended> {
+        let placed = storage(gpu, "placed beams", placed, wgpu::BufferUsages::empty());
+        let (texels, count) = page.texels;
+        let chunk = Self::per_dispatch(gpu);
+        (0..count as usize)
+            .step_by(chunk)
+            .map(|first| {
+                let n = chunk.min(count as usize - first);
+                let list = |label| {
+                    (
+                        output(gpu, label, (n * size_of::<ShadeInput>()) as u64),
+                        output(gpu, "level targets", n as u64 * 4),
+                    )
+                };
+                let out = Appended {
+                    direct: list("level points"),
+                    other: list("level points past the tree"),
+                    host: output(gpu, "level texels for the host", n as u64 * 16),
+                    counts: output(gpu, "level counts", size_of::<LevelCounts>() as u64),
+                };
+                let params = LevelParams {
+                    first: first as u32,
+                    count: n as u32,
+                    inverted: u32::from(page.inverted),
+                    beams: page.beams.1 as u32,
+                };
+                let params = uniform(gpu, "level params", bytemuck::bytes_of(&params));
+                let entries = [
+                    buffer_entry(0, &params),
+                    buffer_entry(1, page.beams.0),
+                    buffer_entry(2, page.firsts),
+                    buffer_entry(3, texels),
+                    buffer_entry(4, &placed),
+                    buffer_entry(5, kinds),
+                    buffer_entry(6, &out.direct.0),
+                    buffer_entry(7, &out.direct.1),
+                    buffer_entry(8, &out.other.0),
+                    buffer_entry(9, &out.other.1),
+                    buffer_entry(10, &out.counts),
+                    buffer_entry(11, &out.host),
+                ];
+                encode_pass(gpu, encoder, &self.pipeline, n as u32, &entries);
+                out
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,188 @@
+//! The tree's last level kept on the GPU (beam-gpu's `GpuLevelPoints`) against the host's texel
+//! hits of the same level, and the images rendered that way against those with every level read back.
+
+use super::{PixelDifference, adapter, level_one_beams};
+use crate::{Backend, Config, Outcome};
+use beam_cpu::nonlinear::{
+    BeamJob, BeamRasterizer, CAUSTIC_STRATA, Degree, Exclude, NonlinearOptions, render_nonlinear_with,
+};
+use beam_cpu::render::RenderOptions;
+use beam_gpu::nonlinear::GpuBeams;
+use beam_gpu::shade::PointShader;
+use beam_math::glam::Vec3;
+use beam_scene::nonlinear::{KeepLevel, LevelLayout, TexelHit};
+use beam_scene::scene::{self, Simplify};
+
+/// `render_level` on the level-1 beams off every third specular face of four built-ins (regions of
+/// 16 and 9 texels a side in turn), by draws and by compute, against `render_beams` of the same
+/// renderer, with the tree going on from no triangle, from the specular ones and from all: the
+/// points `take_kept_levels` reads back are the host's texel hits on the other triangles one for
+/// one — the same texels of the level's layout, triangles and seeds, the hit points within 1e-5 of
+/// the scene's size and the directions within 1e-5 (the texel rays made on the GPU, the host's on
+/// the CPU) — and so are the counts of points and of points on curved triangles; the textures hold
+/// exactly the hits on triangles the tree goes on from, or, asked for them, every hit. A renderer
+/// reading levels back keeps none.
+pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outcome, String> {
+    let gpu = match adapter()? {
+        Ok(g) => g,
+        Err(o) => return Ok(o),
+    };
+    let options = RenderOptions::exact(64, 64);
+    let (mut points, mut notes) = (0u64, Vec::new());
+    for (name, degree) in [
+        ("mirror-glass-coarse", Degree::S3),
+        ("facing-mirrors-coarse", Degree::S1),
+        ("bumpy-mirror", Degree::S1),
+        ("glass-lens-coarse", Degree::S3),
+    ] {
+        let scene = scene::builtin(name).map_err(|e| e.to_string())?;
+        let extent = scene.bounds().extent().length();
+        let beams = level_one_beams(&scene, degree);
+        let jobs: Vec<BeamJob<'_>> = beams
+            .iter()
+            .enumerate()
+            .map(|(i, (beam, prim))| BeamJob { beam, size: [16, 9][i % 2], exclude: Exclude::base(*prim) })
+            .collect();
+        let mut layout = LevelLayout::default();
+        for (job, &(_, prim)) in jobs.iter().zip(&beams) {
+            layout.firsts.push(layout.len as u32);
+            layout.prims.push(prim);
+            layout.len += (job.size * job.size) as usize;
+        }
+        let triangles = scene.triangles.len();
+        let specular: Vec<bool> = (0..triangles as u32).map(|p| !PointShader::shades(&scene, p)).collect();
+        let continuing = [("none", vec![false; triangles]), ("specular", specular), ("all", vec![true; triangles])];
+        let keep =
+            |continues, with_hits| KeepLevel { level: 1, layout: &layout, options: &options, with_hits, continues };
+        let fresh = || GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string());
+        let reading_back = fresh()?.reading_levels_back();
+        if reading_back.render_level(&scene, &jobs, &keep(&[], false)).map_err(|e| e.to_string())?.1.is_some() {
+            return Err(format!("{name}: a renderer reading levels back kept a level"));
+        }
+        let mut ways = vec![(fresh()?.rasterized(), "draws")];
+        if GpuBeams::can_compute(&gpu) {
+            ways.push((fresh()?, "compute"));
+        }
+        for (renderer, way) in ways {
+            let textures = renderer.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
+            // The host's texel hits of the level: (texel, triangle, point, direction, seed).
+            let mut all = Vec::new();
+            for (i, (job, tex)) in jobs.iter().zip(&textures).enumerate() {
+                let (size, tb) = (job.size, job.beam.texel_beam());
+                for (k, hit) in tex.hits.iter().enumerate() {
+                    let Some(hit) = hit else { continue };
+                    let (x, y) = (k as u32 % size, k as u32 / size);
+                    let ray = tb.texel_ray(tex.barycentric(x, y));
+                    let seed = u64::from(layout.prims[i]) << 32 | k as u64;
+                    all.push((layout.firsts[i] + k as u32, hit.prim, ray.at(hit.t), ray.direction.normalize(), seed));
+                }
+            }
+            for ((what, continues), with_hits) in continuing.iter().flat_map(|c| [(c, false), (c, true)]) {
+                let fail = |m: String| format!("{name} by {way}, going on from {what} (hits: {with_hits}): {m}");
+                let want: Vec<_> = all.iter().filter(|w| !continues[w.1 as usize]).collect();
+                let curved = want.iter().filter(|w| scene.smooth_normals.contains_key(&w.1)).count() as u64;
+                let level = renderer.render_level(&scene, &jobs, &keep(continues, with_hits));
+                let (kept_textures, Some(totals)) = level.map_err(|e| e.to_string())? else {
+                    return Err(fail("nothing kept".into()));
+                };
+                if (totals.points, totals.curved) != (want.len() as u64, curved) {
+                    return Err(fail(format!("kept {totals:?}, the host has {} ({curved} curved)", want.len())));
+                }
+                // The hits handed back: every one asked for, else those the tree goes on from.
+                let handed = |h: &Option<TexelHit>| h.filter(|h| with_hits || continues[h.prim as usize]);
+                let hits_match = kept_textures.iter().zip(&textures).all(|(k, t)| {
+                    let full = || t.hits.iter().map(handed);
+                    k.size == t.size
+                        && (k.hits.iter().copied().eq(full()) || k.hits.is_empty() && full().all(|h| h.is_none()))
+                });
+                if !hits_match || kept_textures.len() != textures.len() {
+                    return Err(fail("the textures' hits are not those handed back".into()));
+                }
+                let taken = renderer.take_kept_levels().map_err(|e| e.to_string())?;
+                let [(1, got)] = &taken[..] else {
+                    return Err(fail(format!("{} levels taken", taken.len())));
+                };
+                let mut got = got.clone();
+                got.sort_by_key(|t| t.texel);
+                let (mut worst_p, mut worst_d) = (0.0f32, 0.0f32);
+                for (g, &&(texel, prim, p, d, seed)) in got.iter().zip(&want) {
+                    if (g.texel, g.point.prim, g.point.seed) != (texel, prim, seed) || g.composite.is_some() {
+                        return Err(fail(format!("point {g:?}, the host's texel {texel}: triangle {prim}")));
+                    }
+                    worst_p = worst_p.max((g.point.p - p).length() / extent);
+                    worst_d = worst_d.max((g.point.d - d).length());
+                }
+                if got.len() != want.len() || worst_p > 1e-5 || worst_d > 1e-5 {
+                    return Err(fail(format!(
+                        "{} points read back for {}; points up to {worst_p:.1e} apart, directions {worst_d:.1e}",
+                        got.len(),
+                        want.len()
+                    )));
+                }
+                if !renderer.take_kept_levels().map_err(|e| e.to_string())?.is_empty() {
+                    return Err(fail("points kept after they were taken".into()));
+                }
+                if !with_hits {
+                    notes.push(format!("{name} by {way}, on from {what}: {} kept, worst {worst_p:.0e}", got.len()));
+                }
+                points += want.len() as u64;
+            }
+        }
+    }
+    Ok(Outcome { cases: points, note: notes.join("; ") })
+}
+
+/// Nonlinear images (96², two tree levels) by the GPU renderer keeping the levels' points on the GPU
+/// against the same renderer reading every level back (the host makes the points), on four
+/// built-ins (one under a coarse S mesh, whose lookups read every hit of a kept level): every level
+/// is kept, at most 0.1% of the pixels differ by more than 4/255 (the texel rays made on the GPU
+/// instead of the CPU), and the beams per level, the texels shaded and the specular points traced
+/// by rays are the same.
+pub fn gpu_kept_level_images_equal_read_back(_: Backend, _: &Config) -> Result<Outcome, String> {
+    let gpu = match adapter()? {
+        Ok(g) => g,
+        Err(o) => return Ok(o),
+    };
+    let (mut pixels, mut notes) = (0u64, Vec::new());
+    for (name, degree, coarse) in [
+        ("mirror-glass-coarse", Degree::S3, false),
+        ("glass-lens-coarse", Degree::S3, false),
+        ("wavy-lake-coarse", Degree::S1, false),
+        ("mirror-glass", Degree::S3, true),
+    ] {
+        let mut scene = scene::builtin(name).map_err(|e| e.to_string())?;
+        if coarse {
+            scene.smesh.rest = Some(Simplify::Faces(60));
+        }
+        let options = NonlinearOptions {
+            degree,
+            texels: 32,
+            bounces: 2,
+            caustic_strata: CAUSTIC_STRATA,
+            shading: RenderOptions::exact(96, 96),
+        };
+        let kept = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let read_back = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?.reading_levels_back();
+        let (image, stats) = render_nonlinear_with(&scene, &options, &kept).map_err(|e| e.to_string())?;
+        let (want, want_stats) = render_nonlinear_with(&scene, &options, &read_back).map_err(|e| e.to_string())?;
+        let counts =
+            |s: &beam_cpu::nonlinear::NonlinearStats| (s.beams_per_level.clone(), s.texels_shaded, s.specular_by_rays);
+        if counts(&stats) != counts(&want_stats) || kept.times().levels_kept != stats.beams_per_level.len() as u64 {
+            return Err(format!("{name}: kept {:?}, read back {:?}", counts(&stats), counts(&want_stats)));
+        }
+        if coarse != (stats.coarse_smesh_faces > 0) {
+            return Err(format!("{name}: {} coarse S-mesh faces", stats.coarse_smesh_faces));
+        }
+        let PixelDifference { differ, sum, n } = PixelDifference::of(&image, &want);
+        if differ * 1000 > n || image.pixels.iter().all(|p| *p == Vec3::ZERO) {
+            return Err(format!("{name}: {differ} of {n} pixels differ by more than 4/255"));
+        }
+        pixels += n;
+        notes.push(format!(
+            "{name}: {} texels shaded, mean difference {:.2}/255",
+            stats.texels_shaded,
+            255.0 * sum / n as f64
+        ));
+    }
+    Ok(Outcome { cases: pixels, note: notes.join("; ") })
+}
