@@ -1,9 +1,12 @@
 // The eye's view of a frame (000 §7.3, the eye level of the beam tree) on the GPU: per pixel centre
 // of the camera, its primary ray's nearest hit. Diffuse, glossy and emissive hits inside the crop
-// are appended as shading inputs (with their pixels) and stay on the GPU for the composite; mirror
-// and glass hits anywhere in the frame are appended for the host, which builds the beam tree from
-// them. The host zeroes `counts` before a dispatch. CPU twin: beam_scene::scene::Camera::pixel_ray,
-// then the nearest hit (beam_bvh::FlatBvh::closest_hit); lib/trace.wgsl is prepended by the host.
+// are appended as shading inputs (with their pixels) and stay on the GPU for the composite. Mirror
+// and glass hits anywhere in the frame on a triangle that is its own S-mesh face stay too (counted
+// per face: the host builds the beam tree's roots from the counts), and after the tree is built
+// `eye_records` makes the composite records of those inside the crop; the other mirror and glass
+// hits are appended for the host. The host zeroes `counts` before a dispatch. CPU twin:
+// beam_scene::scene::Camera::pixel_ray, then the nearest hit (beam_bvh::FlatBvh::closest_hit);
+// beam_cpu::nonlinear's eye view and composites; lib/trace.wgsl is prepended by the host.
 
 // Twin of beam_gpu::nonlinear::EyeParams (96 bytes): the camera's frame (Camera::frame) and the
 // dispatch's pixels.
@@ -50,17 +53,74 @@ struct EyeCounts {
     others: atomic<u32>,
     // 1 + the largest pixel whose traversal overflowed its stack, 0 for none.
     overflow: atomic<u32>,
+    // Mirror and glass hits kept.
+    specular: atomic<u32>,
+}
+
+// Twin of beam_gpu::nonlinear::CompositeRecord (64 bytes).
+struct Record {
+    p: vec3<f32>,
+    texel: u32,
+    d: vec3<f32>,
+    face: u32,
+    reflected: u32,
+    refracted: u32,
+    pad0: u32,
+    pad1: u32,
+    refracted_p: vec3<f32>,
+    pad2: u32,
+}
+
+// Twin of beam_gpu::nonlinear::RecordCounts (16 bytes).
+struct RecordCounts {
+    // Composite records appended.
+    records: atomic<u32>,
+    // Points appended for the Whitted rays (no child beam).
+    rest: atomic<u32>,
+    // Of them, points on curved (smooth-normal) triangles.
+    curved: atomic<u32>,
     pad: u32,
 }
 
 @group(0) @binding(2) var<uniform> params: EyeParams;
-// Per scene triangle: 1 where the shading pass shades it (diffuse, glossy, emissive), else 0.
-@group(0) @binding(3) var<storage, read> plain: array<u32>;
+// Per scene triangle: LEVEL_PLAIN where the shading pass shades it (diffuse, glossy, emissive), |
+// LEVEL_CURVED where its normals are interpolated.
+@group(0) @binding(3) var<storage, read> kinds: array<u32>;
 @group(0) @binding(4) var<storage, read_write> kept: array<ShadeInput>;
 // Per shading input: its pixel.
 @group(0) @binding(5) var<storage, read_write> targets: array<u32>;
 @group(0) @binding(6) var<storage, read_write> others: array<EyeHit>;
 @group(0) @binding(7) var<storage, read_write> counts: EyeCounts;
+// Per scene triangle: its S-mesh face where it is the face itself, else NONE (hits for the host).
+@group(0) @binding(8) var<storage, read> face_of: array<u32>;
+// Per S-mesh face: the kept pixels that see it, of the frame and of the crop.
+@group(0) @binding(9) var<storage, read_write> seen: array<atomic<u32>>;
+// The mirror and glass hits kept on the GPU.
+@group(0) @binding(10) var<storage, read_write> specular: array<EyeHit>;
+// Per S-mesh face: its reflection beam and refraction beam in the tree's first level, NONE for none.
+@group(0) @binding(11) var<storage, read> children: array<vec2<u32>>;
+@group(0) @binding(12) var<storage, read_write> records: array<Record>;
+@group(0) @binding(13) var<storage, read_write> rest: array<ShadeInput>;
+@group(0) @binding(14) var<storage, read_write> rest_targets: array<u32>;
+@group(0) @binding(15) var<storage, read_write> record_counts: RecordCounts;
+
+// The unnormalized direction of pixel i's primary ray: Camera::image_point at the pixel's centre,
+// in the CPU's order of operations, less the eye.
+fn pixel_direction(i: u32) -> vec3<f32> {
+    let x = i % params.width;
+    let y = i / params.width;
+    let sx = (2.0 * (f32(x) + 0.5) / f32(params.width) - 1.0) * params.half_width;
+    let sy = (1.0 - 2.0 * (f32(y) + 0.5) / f32(params.height)) * params.half_height;
+    let on_plane = params.position + params.forward + params.right * sx + params.up * sy;
+    return on_plane - params.position;
+}
+
+// Whether pixel i lies in the crop.
+fn in_crop(i: u32) -> bool {
+    let x = i % params.width;
+    let y = i / params.width;
+    return x >= params.crop.x && x < params.crop.z && y >= params.crop.y && y < params.crop.w;
+}
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn eye_view(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
@@ -69,13 +129,7 @@ fn eye_view(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
         return;
     }
     let i = params.first + k;
-    let x = i % params.width;
-    let y = i / params.width;
-    // Camera::image_point at the pixel's centre, in the CPU's order of operations.
-    let sx = (2.0 * (f32(x) + 0.5) / f32(params.width) - 1.0) * params.half_width;
-    let sy = (1.0 - 2.0 * (f32(y) + 0.5) / f32(params.height)) * params.half_height;
-    let on_plane = params.position + params.forward + params.right * sx + params.up * sy;
-    let d = on_plane - params.position;
+    let d = pixel_direction(i);
     let hit = trace_ray(params.position, d, 3.0e38, false);
     if hit.prim == MISS {
         // A miss at t = −1: the traversal's stack overflowed (lib/trace.wgsl).
@@ -84,12 +138,49 @@ fn eye_view(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
         }
         return;
     }
-    if plain[hit.prim] == 0u {
-        let j = atomicAdd(&counts.others, 1u);
-        others[j] = EyeHit(i, hit.prim, hit.t, 0u);
-    } else if x >= params.crop.x && x < params.crop.z && y >= params.crop.y && y < params.crop.w {
+    if (kinds[hit.prim] & LEVEL_PLAIN) == 0u {
+        let face = face_of[hit.prim];
+        if face == NONE {
+            let j = atomicAdd(&counts.others, 1u);
+            others[j] = EyeHit(i, hit.prim, hit.t, 0u);
+            return;
+        }
+        atomicAdd(&seen[2u * face], 1u);
+        if in_crop(i) { atomicAdd(&seen[2u * face + 1u], 1u); }
+        let j = atomicAdd(&counts.specular, 1u);
+        specular[j] = EyeHit(i, hit.prim, hit.t, 0u);
+    } else if in_crop(i) {
         let j = atomicAdd(&counts.kept, 1u);
         kept[j] = ShadeInput(params.position + d * hit.t, hit.prim, normalize(d), i);
         targets[j] = i;
     }
+}
+
+// The composite of every kept mirror and glass hit inside the crop (`params.count` of them), once
+// the tree's first level is built: on a face with child beams, a record looking them up at the hit
+// point (a fine face: beam_cpu::nonlinear's `Tree::composite`); else a point for the Whitted rays.
+// The host zeroes `record_counts` before a dispatch. No loops.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn eye_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let k = id.y * groups.x * WORKGROUP_SIZE + id.x;
+    if k >= params.count {
+        return;
+    }
+    let h = specular[k];
+    if !in_crop(h.pixel) {
+        return;
+    }
+    let d = pixel_direction(h.pixel);
+    let p = params.position + d * h.t;
+    let face = face_of[h.prim];
+    let c = children[face];
+    if c.x != NONE {
+        let j = atomicAdd(&record_counts.records, 1u);
+        records[j] = Record(p, h.pixel, normalize(d), face, c.x, c.y, 0u, 0u, p, 0u);
+        return;
+    }
+    if (kinds[h.prim] & LEVEL_CURVED) != 0u { atomicAdd(&record_counts.curved, 1u); }
+    let j = atomicAdd(&record_counts.rest, 1u);
+    rest[j] = ShadeInput(p, h.prim, normalize(d), h.pixel);
+    rest_targets[j] = h.pixel;
 }

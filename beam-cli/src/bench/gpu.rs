@@ -16,17 +16,21 @@ pub const SCENES: [&str; 6] =
 
 /// Run the benchmark: `frames` timed GPU frames per scene (after one warm-up frame) and one CPU
 /// frame, at `width × height`; with `smesh`, beams spawn from coarse S meshes simplified so; with
-/// `rasterize`, the atlas's nearest hits by draws even where compute could find them.
+/// `rasterize`, the atlas's nearest hits by draws even where compute could find them; with
+/// `read_back`, every hit the host could use read back ([`GpuBeams::reading_levels_back`]).
 pub fn run(
     scenes: &[String],
     (width, height): (u32, u32),
     frames: u32,
     degree: Degree,
     smesh: Option<Simplify>,
-    rasterize: bool,
+    (rasterize, read_back): (bool, bool),
 ) -> Result<(), String> {
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
-    let coarse = smesh.map_or_else(String::new, |s| format!(", coarse S meshes ({s:?})"));
+    let mut coarse = smesh.map_or_else(String::new, |s| format!(", coarse S meshes ({s:?})"));
+    if read_back {
+        coarse.push_str(", every hit the host could use read back");
+    }
     let hits = if GpuBeams::can_compute(&gpu) && !rasterize {
         "nearest hits by compute (64-bit atomics)"
     } else {
@@ -66,6 +70,7 @@ pub fn run(
         };
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let renderer = if rasterize { renderer.rasterized() } else { renderer };
+        let renderer = if read_back { renderer.reading_levels_back() } else { renderer };
         let (warm, _) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
         let (before, traffic) = (renderer.times(), gpu.traffic());
         let cpu_before = our_threads_cpu_seconds();
@@ -110,6 +115,10 @@ pub fn run(
             let total: f64 = stats.stages.iter().map(|s| s.cpu_seconds).sum();
             println!("{:<16} host CPU ms by stage ({:.1} in all): {}", "", 1e3 * total, parts.join(", "));
         }
+        println!(
+            "{:<16} mirror and glass pixels of the eye and tree texels kept on the GPU: {} (texels shaded: {})",
+            "", stats.kept_on_backend, stats.texels_shaded
+        );
         let per = |seconds: f64| 1e3 * seconds / f64::from(frames.max(1));
         println!(
             "{:<16} host ms inside the GPU backend: uploads {:.1} ({:.1} MB), readbacks unpacked {:.1}, atlas \

@@ -150,6 +150,10 @@ pub enum BenchCommand {
         /// nearest) even where the device has the 64-bit atomics of the compute pass.
         #[arg(long)]
         rasterize: bool,
+        /// Read every tree level's hits and the eye's mirror and glass hits back for the host, as
+        /// before the GPU kept what needs no host (to compare with).
+        #[arg(long)]
+        read_back: bool,
     },
     /// Glossy light volumes (002) against photon tracing at equal RMSE on the three built-ins of
     /// 002's figures, on the CPU and (with an adapter) the GPU; plots RMSE against time.
@@ -214,7 +218,7 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             let clock = if cpu_time { bvh::Clock::Thread } else { bvh::Clock::Wall };
             bvh::run(&scene, json.as_deref(), size, sah_only, clock)
         }
-        BenchCommand::Gpu { scenes, width, height, frames, degree, smesh_target, rasterize } => {
+        BenchCommand::Gpu { scenes, width, height, frames, degree, smesh_target, rasterize, read_back } => {
             side("--width", width)?;
             side("--height", height)?;
             let smesh = smesh_target
@@ -233,7 +237,7 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             if dry {
                 return Ok(ExitCode::SUCCESS);
             }
-            gpu::run(&scenes, (width, height), frames, degree, smesh, rasterize)
+            gpu::run(&scenes, (width, height), frames, degree, smesh, (rasterize, read_back))
         }
         BenchCommand::Glossy { scenes, size, reference_photons, subdivide, out } => {
             side("--size", size)?;

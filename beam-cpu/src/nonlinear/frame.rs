@@ -10,9 +10,11 @@ use super::stages::StageClock;
 use super::trace::{Built, Request, Tree};
 use crate::RenderError;
 use crate::render::Image;
+use beam_bvh::Hit;
+use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
-use beam_scene::nonlinear::{BeamRenderer, Degree, LevelRadiance, SMesh, ShadePoint, TexelRadiance};
+use beam_scene::nonlinear::{BeamRenderer, Degree, EyeFaces, LevelRadiance, SMesh, ShadePoint, TexelRadiance};
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
@@ -51,37 +53,38 @@ pub fn render_nonlinear_with(
     };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree. (A backend that shades the eye's diffuse, glossy and emissive pixels itself may
-    // keep those: they see no S-mesh face.)
-    let hits = renderer.eye_view(scene, &camera, &options.shading)?;
+    // keep those: they see no S-mesh face; one that composites them may keep mirror and glass hits
+    // on fine faces, counted per face.)
+    let EyeFaces { hits, seen, kept: kept_eye } = renderer.eye_faces(scene, &tree.smesh, &camera, &options.shading)?;
     clock.lap("eye view");
     // Per pixel, the S face it sees: its own triangle's, or on a coarse S mesh the face its point
     // maps to. The eye's beams need only how many pixels see each face (their directions come from
     // the eye itself, `Source::Eye`).
-    let located: Vec<Option<(usize, Vec3)>> =
-        hits.par_iter().map(|&(_, ray, h)| tree.smesh.locate(h.prim, ray.at(h.t))).collect();
+    let locate = |hits: &[(usize, Ray, Hit)]| -> Vec<Option<(usize, Vec3)>> {
+        hits.par_iter().map(|&(_, ray, h)| tree.smesh.locate(h.prim, ray.at(h.t))).collect()
+    };
+    let located = locate(&hits);
     // A face's beams come from every pixel that sees it, but only the faces that pixels of the
     // region see are traced on (with their subtrees): the beams of the others reach no pixel of it.
     let crop = options.shading.region();
     let in_crop = |i: usize| crop.contains((i % camera.width as usize) as u32, (i / camera.width as usize) as u32);
-    let (mut seen_by, mut wanted) = (vec![0u32; tree.smesh.faces.len()], vec![false; tree.smesh.faces.len()]);
+    let mut seen_by = seen.clone();
     for (&(i, ..), l) in hits.iter().zip(&located) {
         if let Some((f, _)) = *l {
-            seen_by[f] += 1;
-            wanted[f] |= in_crop(i);
+            seen_by[f][0] += 1;
+            seen_by[f][1] += u32::from(in_crop(i));
         }
     }
     let roots: Vec<Request> = (0..seen_by.len())
-        .filter(|&f| wanted[f])
-        .map(|face| Request { parent: None, face, samples: Vec::new(), pixels: seen_by[face] as f32 })
+        .filter(|&f| seen_by[f][1] > 0)
+        .map(|face| Request { parent: None, face, samples: Vec::new(), pixels: seen_by[face][0] as f32 })
         .collect();
     clock.lap("eye view: faces seen");
     let Built { roots: children, levels, kept } = tree.build(renderer, roots, &mut clock)?;
     // The eye's view (the region's pixels) is level 0 of the radiance flow.
-    let eye = LevelRadiance {
-        regions: Vec::new(),
-        len: camera.width as usize * camera.height as usize,
-        texels: par_flatten(
-            &hits,
+    let eye_texels = |hits: &[(usize, Ray, Hit)], located: &[Option<(usize, Vec3)>]| {
+        par_flatten(
+            hits,
             TexelRadiance::default(),
             |_, &(i, ..)| usize::from(in_crop(i)),
             |k, &(i, ray, hit), push| {
@@ -93,7 +96,18 @@ pub fn render_nonlinear_with(
                     push(TexelRadiance { texel: i as u32, point, composite });
                 }
             },
-        ),
+        )
+    };
+    let none = u32::MAX;
+    let eye = LevelRadiance {
+        regions: Vec::new(),
+        len: camera.width as usize * camera.height as usize,
+        texels: eye_texels(&hits, &located),
+        children: (0..tree.smesh.faces.len())
+            .map(|f| {
+                children.get(&f).map_or([none; 2], |c| [c.reflected as u32, c.refracted.map_or(none, |r| r as u32)])
+            })
+            .collect(),
     };
     let mut flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
     // Curved (smooth-normal) mirror and glass points traced by rays, looked up in a dense table.
@@ -102,8 +116,14 @@ pub fn render_nonlinear_with(
         curved[prim as usize] = true;
     }
     let by_rays = |t: &&TexelRadiance| t.composite.is_none() && curved[t.point.prim as usize];
-    let specular_by_rays =
-        flow.iter().map(|l| l.texels.par_iter().filter(by_rays).count()).sum::<usize>() as u64 + kept.curved;
+    // The kept pixels of the region on curved faces without child beams are traced by rays too.
+    let kept_by_rays: u64 = (0..seen.len())
+        .filter(|&f| flow[0].children[f][0] == none && curved[tree.smesh.faces[f].prim as usize])
+        .map(|f| u64::from(seen[f][1]))
+        .sum();
+    let specular_by_rays = flow.iter().map(|l| l.texels.par_iter().filter(by_rays).count()).sum::<usize>() as u64
+        + kept.curved
+        + kept_by_rays;
     clock.lap("radiance flow");
     let (shading, caustics) = (&options.shading, tree.caustics.as_ref());
     let frame = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
@@ -111,6 +131,8 @@ pub fn render_nonlinear_with(
         None => {
             // Shaded here after all: with the eye's pixels the backend kept.
             flow[0].texels.extend(renderer.take_kept_eye()?);
+            let kept_hits = renderer.take_kept_eye_hits(scene)?;
+            flow[0].texels.extend(eye_texels(&kept_hits, &locate(&kept_hits)));
             for (level, texels) in renderer.take_kept_levels()? {
                 let past = || BackendError::new("renderer", format!("kept texels of level {level}, past the tree"));
                 flow.get_mut(level).ok_or_else(past)?.texels.extend(texels);
@@ -144,6 +166,7 @@ pub fn render_nonlinear_with(
         overdraw: texels_tested as f64 / texels_rendered.max(1) as f64,
         texels_rendered,
         texels_shaded: all().map(|n| n.hits.len() as u64).sum::<u64>() + kept.points,
+        kept_on_backend: kept_eye + kept.points,
         caustics: caustic_stats,
         stages: {
             clock.lap("image");

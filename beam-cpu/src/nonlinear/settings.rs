@@ -54,6 +54,9 @@ pub struct NonlinearStats {
     pub texels_rendered: u64,
     /// Texels shaded (their ray hit the scene).
     pub texels_shaded: u64,
+    /// Mirror and glass pixels of the eye and texels of the tree that the backend kept where it
+    /// found them, never handed to the host (beam-gpu's composite shades them).
+    pub kept_on_backend: u64,
     /// The light beams of the caustic pass.
     pub caustics: CausticStats,
     /// Where the frame's time went, stage by stage, and the host's share of each.

@@ -44,8 +44,8 @@ const OUTSIDE_TEXELS: f32 = 1.0;
 /// the next level.
 #[derive(Clone, Copy)]
 pub(super) struct Scattered {
-    reflected: usize,
-    refracted: Option<usize>,
+    pub(super) reflected: usize,
+    pub(super) refracted: Option<usize>,
 }
 
 /// A rendered beam of the tree.
@@ -260,7 +260,7 @@ impl Tree<'_> {
                         }
                     },
                 );
-                LevelRadiance { regions, len, texels }
+                LevelRadiance { regions, len, texels, children: Vec::new() }
             })
             .collect()
     }

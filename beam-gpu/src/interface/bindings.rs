@@ -7,7 +7,7 @@ use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
     AtlasParams, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams, GpuBeam,
-    GpuFace, LevelCounts, LevelParams, WhittedCounts, WhittedParams, WhittedPath,
+    GpuFace, LevelCounts, LevelParams, RecordCounts, WhittedCounts, WhittedParams, WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, ShadeInput, ShadeParams};
@@ -50,8 +50,9 @@ fn tables() -> Vec<Table> {
             regions: [u32; 2], radiance, targets: u32,
         ]),
         bindings!("eye" => [
-            nodes: FlatNode, triangles: GpuTriangle, params: EyeParams, plain: u32, kept: ShadeInput, targets: u32,
-            others: EyeHit, counts: EyeCounts,
+            nodes: FlatNode, triangles: GpuTriangle, params: EyeParams, kinds: u32, kept: ShadeInput, targets: u32,
+            others: EyeHit, counts: EyeCounts, face_of: u32, seen: u32, specular: EyeHit, children: [u32; 2],
+            records: CompositeRecord, rest: ShadeInput, rest_targets: u32, record_counts: RecordCounts,
         ]),
         bindings!("level_points" => [
             params: LevelParams, beams: GpuBeam, firsts: u32, texels: [u32; 2], placed: [u32; 2], kinds: u32,

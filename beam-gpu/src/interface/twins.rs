@@ -7,7 +7,7 @@ use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
     AtlasParams, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams, GpuBeam,
-    GpuFace, LevelCounts, LevelParams, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
+    GpuFace, LevelCounts, LevelParams, RecordCounts, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, STATE_HEADER, ShadeInput, ShadeParams, ShadeState};
@@ -110,7 +110,11 @@ fn twins() -> Vec<Twin> {
         }),
         twin!("eye", ShadeInput => ShadeInput { p, prim, d, seed }),
         twin!("eye", EyeHit => EyeHit { pixel, prim, t, pad }),
-        twin!("eye", EyeCounts => EyeCounts { kept, others, overflow, pad }),
+        twin!("eye", EyeCounts => EyeCounts { kept, others, overflow, specular }),
+        twin!("eye", RecordCounts => RecordCounts { records, rest, curved, pad }),
+        twin!("eye", CompositeRecord => Record {
+            p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
+        }),
         twin!("whitted", WhittedParams => WhittedParams { count, first, last, eps }),
         twin!("whitted", ShadeInput => ShadeInput { p, prim, d, seed }),
         twin!("whitted", SpecularPrim => SpecularPrim {

@@ -17,7 +17,7 @@
 
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
-use super::eye::{GpuEye, KeptPoints};
+use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
 use super::level::{GpuLevelPoints, KeptLevel};
 use super::page::Counters;
 use super::whitted::GpuWhitted;
@@ -88,8 +88,12 @@ pub struct GpuBeams<'g> {
     pub(super) level: GpuLevelPoints,
     /// The points of the levels it kept, until the composite shades them.
     pub(super) kept_levels: Mutex<Vec<KeptLevel>>,
-    /// Whether it keeps the levels' points (unless [`GpuBeams::reading_levels_back`]).
-    keep_levels: bool,
+    /// The mirror and glass hits of the eye's last view kept on the GPU, until the composite makes
+    /// their records.
+    pub(super) kept_eye_hits: Mutex<Option<KeptEyeHits>>,
+    /// Whether it keeps the levels' points and the eye's mirror and glass hits (unless
+    /// [`GpuBeams::reading_levels_back`]).
+    pub(super) keep_levels: bool,
     /// Shading on the GPU.
     pub(super) shader: PointShader,
     /// The final composite on the GPU.
@@ -172,6 +176,7 @@ impl<'g> GpuBeams<'g> {
             kept: Mutex::default(),
             level: GpuLevelPoints::new(gpu, scene)?,
             kept_levels: Mutex::default(),
+            kept_eye_hits: Mutex::default(),
             keep_levels: true,
             shader: PointShader::new(gpu, scene)?,
             composite: GpuComposite::new(gpu)?,
@@ -208,9 +213,9 @@ impl<'g> GpuBeams<'g> {
         self
     }
 
-    /// This renderer reading every tree level's hits back for the host instead of keeping the
-    /// points that need no host on the GPU ([`super::level`]): the way every level went before,
-    /// which the tests compare with.
+    /// This renderer reading every tree level's hits and the eye's mirror and glass hits back for
+    /// the host instead of keeping on the GPU what needs no host ([`super::level`],
+    /// [`GpuEye`]): the way every level went before, which the tests compare with.
     #[must_use]
     pub fn reading_levels_back(mut self) -> Self {
         self.keep_levels = false;

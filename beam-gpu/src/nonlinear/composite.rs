@@ -7,7 +7,7 @@
 //! the caller, and the `scatter` pass writes both to their texels (4 bytes uploaded a point, its
 //! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
 
-use super::eye::KeptPoints;
+use super::eye::{EyeRecords, KeptPoints};
 use super::sort::{Outputs, Plan, plan};
 use super::whitted::RestPoints;
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, output, storage, uniform, view_entry};
@@ -102,6 +102,10 @@ pub struct KeptHere<'a> {
     pub direct: &'a [KeptPoints],
     /// Shaded by the caller.
     pub rest: &'a [KeptPoints],
+    /// Composite records made on the GPU, their faces and child beams indexed in the whole S mesh
+    /// and the whole level below (the eye's mirror and glass pixels, [`super::GpuEye::records`]),
+    /// and the points among them without child beams, shaded by the caller.
+    pub records: &'a [EyeRecords],
 }
 
 /// The format of a level's radiance: rgb as half floats (and an unused alpha), 8 bytes a texel.
@@ -193,10 +197,37 @@ impl GpuComposite {
                     shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0)?;
                 scatter(encoder, &shaded, k);
             }
-            for k in here.rest.iter().filter(|k| k.count > 0) {
+            let records_rest = here.records.iter().map(|r| &r.rest);
+            for k in here.rest.iter().chain(records_rest).filter(|k| k.count > 0) {
                 let shaded = output(gpu, "radiance", u64::from(k.count) * 16);
                 rest(RestPoints::Gpu(&k.inputs, k.count as usize), (&shaded, 0))?;
                 scatter(gpu.device.create_command_encoder(&Default::default()), &shaded, k);
+            }
+            if !here.records.is_empty() {
+                // Every face and child region, each within one binding.
+                let regions: Vec<[u32; 2]> = below_regions.iter().map(|&(first, size)| [first, size]).collect();
+                let bytes = (regions.len() * 8).max(all_faces.len() * size_of::<GpuFace>());
+                if bytes as u64 > max_binding(gpu) {
+                    return Err(GpuError::Internal("the S mesh or the level below past one binding"));
+                }
+                let faces = storage(gpu, "faces", &all_faces, wgpu::BufferUsages::empty());
+                let regions = storage(gpu, "regions", &regions, wgpu::BufferUsages::empty());
+                let below_view = below.create_view(&Default::default());
+                let mut encoder = gpu.device.create_command_encoder(&Default::default());
+                for r in here.records {
+                    let params = CompositeParams { records: r.counts.records, points: 0, pad: [0; 2] };
+                    let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
+                    let entries = [
+                        buffer_entry(0, &params),
+                        buffer_entry(1, &r.records),
+                        buffer_entry(2, &faces),
+                        view_entry(4, &below_view),
+                        buffer_entry(5, &regions),
+                        view_entry(6, &radiance_view),
+                    ];
+                    encode_pass(gpu, &mut encoder, &self.pipeline, r.counts.records, &entries);
+                }
+                gpu.queue.submit([encoder.finish()]);
             }
             for texels in level.texels.chunks(chunk) {
                 // Points not composited: on the GPU where the point shader shades them, else by

@@ -5,9 +5,11 @@
 //! twin: [`Camera::pixel_ray`] and the nearest hit of each ray.
 
 use super::atlas::GpuBeams;
-use super::composite::GpuComposite;
-use crate::buffers::{checked, compute_pipeline, dispatch, output, read_all, storage, uniform};
-use crate::interface::WORKGROUP_SIZE;
+use super::composite::{CompositeRecord, GpuComposite, GpuFace};
+use crate::buffers::{
+    buffer_entry, checked, compute_pipeline, encode_pass, max_binding, output, read_all, storage, uniform,
+};
+use crate::interface::{LEVEL_CURVED, LEVEL_PLAIN, NONE};
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeInput};
 use crate::texels;
@@ -16,7 +18,7 @@ use beam_bvh::Hit;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use beam_scene::BackendError;
-use beam_scene::nonlinear::{EyeView, ShadePoint, TexelRadiance, eye_by_rays};
+use beam_scene::nonlinear::{EyeFaces, EyeView, SMesh, ShadePoint, TexelRadiance, eye_by_rays};
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Scene};
@@ -86,11 +88,32 @@ pub struct EyeCounts {
     pub others: u32,
     /// 1 + the largest pixel whose traversal overflowed its stack, 0 for none.
     pub overflow: u32,
+    /// Mirror and glass hits kept.
+    pub specular: u32,
+}
+
+/// What one dispatch of `eye_records` appended.
+///
+/// WGSL twin: `RecordCounts` in `shaders/eye.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct RecordCounts {
+    /// Composite records appended.
+    pub records: u32,
+    /// Points appended for the Whitted rays (no child beam).
+    pub rest: u32,
+    /// Of them, points on curved (smooth-normal) triangles.
+    pub curved: u32,
     /// Padding.
     pub pad: u32,
 }
 
-const _: () = assert!(size_of::<EyeParams>() == 96 && size_of::<EyeHit>() == 16 && size_of::<EyeCounts>() == 16);
+const _: () = assert!(
+    size_of::<EyeParams>() == 96
+        && size_of::<EyeHit>() == 16
+        && size_of::<EyeCounts>() == 16
+        && size_of::<RecordCounts>() == 16
+);
 
 /// The shading inputs one dispatch of the eye's view kept on the GPU.
 pub struct KeptPoints {
@@ -102,93 +125,265 @@ pub struct KeptPoints {
     pub count: u32,
 }
 
+/// The mirror and glass hits of one dispatch of the eye's view kept on the GPU.
+pub struct KeptSpecular {
+    /// [`EyeHit`]s, `count` of them.
+    pub hits: wgpu::Buffer,
+    /// How many.
+    pub count: u32,
+}
+
+/// The S-mesh faces the eye's view maps its mirror and glass hits to on the GPU ([`GpuEye::run`]).
+pub struct EyeFaceMap<'a> {
+    /// Per scene triangle, its S-mesh face where it is the face itself, else [`NONE`].
+    pub face_of: &'a wgpu::Buffer,
+    /// Faces of the S mesh.
+    pub faces: usize,
+}
+
+/// The composite records `eye_records` made of one dispatch's kept mirror and glass hits.
+pub struct EyeRecords {
+    /// [`CompositeRecord`]s (faces and child beams indexed in the whole S mesh and level).
+    pub records: wgpu::Buffer,
+    /// Points for the Whitted rays, with their pixels.
+    pub rest: KeptPoints,
+    /// What was appended.
+    pub counts: RecordCounts,
+}
+
+/// What the eye's view returns ([`GpuEye::run`]).
+pub struct EyeOut {
+    /// Per dispatch, the kept diffuse, glossy and emissive points of the crop.
+    pub kept: Vec<KeptPoints>,
+    /// Per dispatch, the kept mirror and glass hits.
+    pub specular: Vec<KeptSpecular>,
+    /// The hits for the host, in pixel order.
+    pub others: Vec<EyeHit>,
+    /// Per S-mesh face, the kept hits that see it: of the frame, of the crop.
+    pub seen: Vec<[u32; 2]>,
+}
+
 /// The eye's view pass.
 pub struct GpuEye {
     pipeline: wgpu::ComputePipeline,
-    /// Per scene triangle: 1 where the shading pass shades it.
-    plain: wgpu::Buffer,
+    records: wgpu::ComputePipeline,
+    /// Per scene triangle: [`LEVEL_PLAIN`] where the shading pass shades it, `|` [`LEVEL_CURVED`]
+    /// where its normals are interpolated.
+    kinds: wgpu::Buffer,
+    /// Per scene triangle: [`NONE`] (no S-mesh face on the GPU: every mirror and glass hit for
+    /// the host).
+    no_faces: wgpu::Buffer,
 }
 
 impl GpuEye {
-    /// Compile the pass and upload which of `scene`'s triangles the shading pass shades.
+    /// Compile the passes and upload the kinds of `scene`'s triangles.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
-        let plain: Vec<u32> =
-            (0..scene.triangles.len() as u32).map(|p| u32::from(PointShader::shades(scene, p))).collect();
+        let kinds: Vec<u32> = (0..scene.triangles.len() as u32)
+            .map(|p| {
+                let plain = if PointShader::shades(scene, p) { LEVEL_PLAIN } else { 0 };
+                plain | if scene.smooth_normals.contains_key(&p) { LEVEL_CURVED } else { 0 }
+            })
+            .collect();
+        let no_faces = vec![NONE; scene.triangles.len()];
         Ok(Self {
             pipeline: compute_pipeline(gpu, "eye", "eye_view")?,
-            plain: storage(gpu, "plain triangles", &plain, wgpu::BufferUsages::empty()),
+            records: compute_pipeline(gpu, "eye", "eye_records")?,
+            kinds: storage(gpu, "triangle kinds", &kinds, wgpu::BufferUsages::empty()),
+            no_faces: storage(gpu, "no S-mesh faces", &no_faces, wgpu::BufferUsages::empty()),
         })
+    }
+
+    /// The camera's frame and `count` items from pixel `first` on.
+    fn params(camera: &Camera, crop: PixelRect, (first, count): (usize, usize)) -> EyeParams {
+        let frame = camera.frame();
+        EyeParams {
+            position: camera.position.to_array(),
+            width: camera.width,
+            forward: frame.forward.to_array(),
+            height: camera.height,
+            right: frame.right.to_array(),
+            first: first as u32,
+            up: frame.up.to_array(),
+            count: count as u32,
+            half_width: frame.half_width,
+            half_height: frame.half_height,
+            pad: [0; 2],
+            crop: [crop.x0, crop.y0, crop.x1, crop.y1],
+        }
     }
 
     /// The eye's view of `camera` in dispatches of as many pixels as a composite dispatch takes
     /// texels: per dispatch, the diffuse, glossy and emissive hits of `crop` kept as shading inputs,
-    /// and every mirror and glass hit of the frame, in pixel order.
+    /// the mirror and glass hits of the frame on triangles that `faces` maps to S-mesh faces kept
+    /// (and counted per face), and the other mirror and glass hits of the frame, in pixel order.
     pub fn run(
         &self,
         gpu: &Gpu,
         tracer: &RayTracer,
         camera: &Camera,
         crop: PixelRect,
-    ) -> Result<(Vec<KeptPoints>, Vec<EyeHit>), GpuError> {
-        let frame = camera.frame();
+        faces: Option<EyeFaceMap<'_>>,
+    ) -> Result<EyeOut, GpuError> {
         let pixels = camera.width as usize * camera.height as usize;
         let chunk = GpuComposite::records_per_dispatch(gpu);
         let (nodes, triangles) = tracer.buffers();
+        let (face_of, face_count) = faces.map_or((&self.no_faces, 0), |f| (f.face_of, f.faces));
+        // Zeroed by wgpu.
+        let seen = output(gpu, "faces seen", (face_count * 8) as u64);
         let mut dispatched = Vec::new();
         let mut encoders = Vec::new();
         for first in (0..pixels).step_by(chunk) {
             let count = chunk.min(pixels - first);
-            let params = EyeParams {
-                position: camera.position.to_array(),
-                width: camera.width,
-                forward: frame.forward.to_array(),
-                height: camera.height,
-                right: frame.right.to_array(),
-                first: first as u32,
-                up: frame.up.to_array(),
-                count: count as u32,
-                half_width: frame.half_width,
-                half_height: frame.half_height,
-                pad: [0; 2],
-                crop: [crop.x0, crop.y0, crop.x1, crop.y1],
-            };
+            let params = Self::params(camera, crop, (first, count));
             let size = |bytes: usize| (count * bytes) as u64;
             let inputs = output(gpu, "eye points", size(size_of::<ShadeInput>()));
             let targets = output(gpu, "eye targets", size(4));
             let others = output(gpu, "eye hits", size(size_of::<EyeHit>()));
+            let specular = output(gpu, "eye mirror and glass hits", size(size_of::<EyeHit>()));
             // Zeroed by wgpu.
             let counts = output(gpu, "eye counts", size_of::<EyeCounts>() as u64);
             let params = uniform(gpu, "eye params", bytemuck::bytes_of(&params));
-            let groups = count.div_ceil(WORKGROUP_SIZE as usize) as u32;
-            encoders.push(
-                dispatch(
-                    gpu,
-                    &self.pipeline,
-                    &[nodes, triangles, &params, &self.plain, &inputs, &targets, &others, &counts],
-                    groups,
-                )
-                .finish(),
-            );
-            dispatched.push((inputs, targets, others, counts));
+            let entries = [
+                buffer_entry(0, nodes),
+                buffer_entry(1, triangles),
+                buffer_entry(2, &params),
+                buffer_entry(3, &self.kinds),
+                buffer_entry(4, &inputs),
+                buffer_entry(5, &targets),
+                buffer_entry(6, &others),
+                buffer_entry(7, &counts),
+                buffer_entry(8, face_of),
+                buffer_entry(9, &seen),
+                buffer_entry(10, &specular),
+            ];
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            encode_pass(gpu, &mut encoder, &self.pipeline, count as u32, &entries);
+            encoders.push(encoder.finish());
+            dispatched.push((inputs, targets, others, specular, counts));
         }
         // One submission with the counts' copy: a second would wait for the first where it is made
         // (lavapipe), uncounted as a wait on the device.
         let counts = dispatched.iter().map(|(.., counts)| (counts, size_of::<EyeCounts>() as u64));
-        let all_counts: Vec<EyeCounts> = read_all(gpu, encoders, counts)?;
+        let counts = counts.chain(std::iter::once((&seen, (face_count * 8) as u64)));
+        let words: Vec<u32> = read_all(gpu, encoders, counts)?;
+        let (all_counts, seen) = words.split_at(dispatched.len() * 4);
+        let all_counts: Vec<EyeCounts> = bytemuck::pod_collect_to_vec(all_counts);
         if let Some(c) = all_counts.iter().find(|c| c.overflow > 0) {
             return Err(GpuError::StackOverflow { ray: c.overflow as usize - 1 });
         }
-        let hit_bytes = |c: &EyeCounts| u64::from(c.others) * size_of::<EyeHit>() as u64;
-        let mut others: Vec<EyeHit> =
-            read_all(gpu, Vec::new(), dispatched.iter().zip(&all_counts).map(|((_, _, o, _), c)| (o, hit_bytes(c))))?;
+        let hit_bytes = |n: u32| u64::from(n) * size_of::<EyeHit>() as u64;
+        let sources = dispatched.iter().zip(&all_counts).map(|((.., o, _, _), c)| (o, hit_bytes(c.others)));
+        let mut others: Vec<EyeHit> = read_all(gpu, Vec::new(), sources)?;
         // Appended in any order: put back in pixel order.
         others.par_sort_unstable_by_key(|h| h.pixel);
-        let kept = dispatched
+        let (mut kept, mut specular) = (Vec::new(), Vec::new());
+        for ((inputs, targets, _, hits, _), c) in dispatched.into_iter().zip(&all_counts) {
+            kept.push(KeptPoints { inputs, targets, count: c.kept });
+            specular.push(KeptSpecular { hits, count: c.specular });
+        }
+        Ok(EyeOut { kept, specular, others, seen: bytemuck::pod_collect_to_vec(seen) })
+    }
+
+    /// The composite records of the `specular` hits inside `crop` that the eye's view of `camera`
+    /// kept (faces mapped by `face_of`), per dispatch, and the points of faces without child beams
+    /// for the Whitted rays: `children` per S-mesh face, its reflection and refraction beams in the
+    /// tree's first level ([`NONE`] for none).
+    pub fn records(
+        &self,
+        gpu: &Gpu,
+        (camera, crop): (&Camera, PixelRect),
+        specular: &[KeptSpecular],
+        face_of: &wgpu::Buffer,
+        children: &wgpu::Buffer,
+    ) -> Result<Vec<EyeRecords>, GpuError> {
+        let mut encoders = Vec::new();
+        let mut outs = Vec::new();
+        for kept in specular {
+            let count = kept.count as usize;
+            let params = uniform(gpu, "eye params", bytemuck::bytes_of(&Self::params(camera, crop, (0, count))));
+            let records = output(gpu, "eye records", (count * size_of::<CompositeRecord>()) as u64);
+            let inputs = output(gpu, "eye points past the tree", (count * size_of::<ShadeInput>()) as u64);
+            let targets = output(gpu, "eye targets past the tree", count as u64 * 4);
+            // Zeroed by wgpu.
+            let counts = output(gpu, "eye record counts", size_of::<RecordCounts>() as u64);
+            let entries = [
+                buffer_entry(2, &params),
+                buffer_entry(3, &self.kinds),
+                buffer_entry(8, face_of),
+                buffer_entry(10, &kept.hits),
+                buffer_entry(11, children),
+                buffer_entry(12, &records),
+                buffer_entry(13, &inputs),
+                buffer_entry(14, &targets),
+                buffer_entry(15, &counts),
+            ];
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            encode_pass(gpu, &mut encoder, &self.records, count as u32, &entries);
+            encoders.push(encoder.finish());
+            outs.push((records, inputs, targets, counts));
+        }
+        let sources = outs.iter().map(|(.., counts)| (counts, size_of::<RecordCounts>() as u64));
+        let counts: Vec<RecordCounts> = read_all(gpu, encoders, sources)?;
+        Ok(outs
             .into_iter()
-            .zip(&all_counts)
-            .map(|((inputs, targets, ..), c)| KeptPoints { inputs, targets, count: c.kept })
-            .collect();
-        Ok((kept, others))
+            .zip(counts)
+            .map(|((records, inputs, targets, _), counts)| EyeRecords {
+                records,
+                rest: KeptPoints { inputs, targets, count: counts.rest },
+                counts,
+            })
+            .collect())
+    }
+}
+
+/// The mirror and glass hits of a frame's eye view kept on the GPU, until the composite makes
+/// their records.
+pub struct KeptEyeHits {
+    /// Per dispatch of the eye's view.
+    pub lists: Vec<KeptSpecular>,
+    /// Per scene triangle, its S-mesh face where it is the face itself, else [`NONE`].
+    pub face_of: wgpu::Buffer,
+    /// The frame's camera and crop.
+    pub view: (Camera, PixelRect),
+}
+
+impl GpuBeams<'_> {
+    /// The eye's view on the GPU with `faces` (where given, its mirror and glass hits on them kept),
+    /// or `None` where the composite will not shade the frame (shading not exact, the eye's level
+    /// past one texture).
+    fn eye_on_gpu(
+        &self,
+        camera: &Camera,
+        options: &RenderOptions,
+        faces: Option<EyeFaceMap<'_>>,
+    ) -> Result<Option<EyeOut>, GpuError> {
+        let pixels = camera.width as usize * camera.height as usize;
+        if options.shading != Shading::Exact || !texels::fits(self.gpu, pixels) {
+            return Ok(None);
+        }
+        let start = Instant::now();
+        let out = checked(self.gpu, || self.eye.run(self.gpu, &self.tracer, camera, options.region(), faces));
+        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
+        Ok(Some(out?))
+    }
+
+    /// `hits` (the tracer's triangle and t) as `(pixel, ray, hit)` with the barycentric weights of
+    /// each hit point. Written in place by an indexed collect where every hit names a triangle of
+    /// the scene (a filtered collect gathers lists and copies them once more).
+    fn eye_hits(scene: &Scene, camera: &Camera, hits: &[EyeHit]) -> Vec<(usize, Ray, Hit)> {
+        let frame = camera.frame();
+        let hit = |h: &EyeHit, tri: &Triangle| {
+            let ray = camera.pixel_ray(&frame, h.pixel as usize);
+            let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
+            (h.pixel as usize, ray, Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
+        };
+        let on = |h: &EyeHit| scene.triangles.get(h.prim as usize);
+        if hits.par_iter().all(|h| on(h).is_some()) {
+            let mut out = Vec::with_capacity(hits.len());
+            hits.par_iter().map(|h| hit(h, &scene.triangles[h.prim as usize])).collect_into_vec(&mut out);
+            return out;
+        }
+        hits.par_iter().filter_map(|h| Some(hit(h, on(h)?))).collect()
     }
 }
 
@@ -202,31 +397,64 @@ impl EyeView for GpuBeams<'_> {
         camera: &Camera,
         options: &RenderOptions,
     ) -> Result<Vec<(usize, Ray, Hit)>, BackendError> {
-        let pixels = camera.width as usize * camera.height as usize;
-        if options.shading != Shading::Exact || !texels::fits(self.gpu, pixels) {
+        let Some(out) = self.eye_on_gpu(camera, options, None)? else {
             return eye_by_rays(self, scene, camera);
-        }
-        let start = Instant::now();
-        let out = checked(self.gpu, || self.eye.run(self.gpu, &self.tracer, camera, options.region()));
-        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
-        let (kept, others) = out?;
-        *self.kept.lock().unwrap_or_else(PoisonError::into_inner) = Some(kept);
-        let frame = camera.frame();
-        // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
-        // Written in place by an indexed collect where every hit names a triangle of the scene (a
-        // filtered collect gathers lists and copies them once more).
-        let hit = |h: &EyeHit, tri: &Triangle| {
-            let ray = camera.pixel_ray(&frame, h.pixel as usize);
-            let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
-            (h.pixel as usize, ray, Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
         };
-        let on = |h: &EyeHit| scene.triangles.get(h.prim as usize);
-        if others.par_iter().all(|h| on(h).is_some()) {
-            let mut hits = Vec::with_capacity(others.len());
-            others.par_iter().map(|h| hit(h, &scene.triangles[h.prim as usize])).collect_into_vec(&mut hits);
-            return Ok(hits);
+        *self.kept.lock().unwrap_or_else(PoisonError::into_inner) = Some(out.kept);
+        Ok(Self::eye_hits(scene, camera, &out.others))
+    }
+
+    /// Keeps the mirror and glass hits on fine S-mesh faces too (unless
+    /// [`GpuBeams::reading_levels_back`]), where the composite takes the whole S mesh in one
+    /// binding.
+    fn eye_faces(
+        &self,
+        scene: &Scene,
+        smesh: &SMesh,
+        camera: &Camera,
+        options: &RenderOptions,
+    ) -> Result<EyeFaces, BackendError> {
+        let fits = smesh.faces.len() as u64 * size_of::<GpuFace>() as u64 <= max_binding(self.gpu);
+        if !self.keep_levels || !fits {
+            return Ok(EyeFaces {
+                hits: self.eye_view(scene, camera, options)?,
+                seen: vec![[0, 0]; smesh.faces.len()],
+                kept: 0,
+            });
         }
-        Ok(others.par_iter().filter_map(|h| Some(hit(h, on(h)?))).collect())
+        // Per scene triangle, its face where it is a fine S-mesh face of its own.
+        let face_of: Vec<u32> = (0..scene.triangles.len() as u32)
+            .map(|p| match smesh.candidates(p) {
+                &[f] if !smesh.is_coarse(f as usize) => f,
+                _ => NONE,
+            })
+            .collect();
+        let face_of = storage(self.gpu, "S-mesh faces of the triangles", &face_of, wgpu::BufferUsages::empty());
+        let faces = EyeFaceMap { face_of: &face_of, faces: smesh.faces.len() };
+        let Some(out) = self.eye_on_gpu(camera, options, Some(faces))? else {
+            return Ok(EyeFaces {
+                hits: eye_by_rays(self, scene, camera)?,
+                seen: vec![[0, 0]; smesh.faces.len()],
+                kept: 0,
+            });
+        };
+        *self.kept.lock().unwrap_or_else(PoisonError::into_inner) = Some(out.kept);
+        let kept = out.specular.iter().map(|l| u64::from(l.count)).sum();
+        *self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner) =
+            Some(KeptEyeHits { lists: out.specular, face_of, view: (*camera, options.region()) });
+        let seen = out.seen;
+        Ok(EyeFaces { hits: Self::eye_hits(scene, camera, &out.others), seen, kept })
+    }
+
+    /// The kept hits read back.
+    fn take_kept_eye_hits(&self, scene: &Scene) -> Result<Vec<(usize, Ray, Hit)>, BackendError> {
+        let Some(kept) = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner).take() else {
+            return Ok(Vec::new());
+        };
+        let sources = kept.lists.iter().map(|l| (&l.hits, u64::from(l.count) * size_of::<EyeHit>() as u64));
+        let mut hits: Vec<EyeHit> = checked(self.gpu, || read_all(self.gpu, Vec::new(), sources))?;
+        hits.par_sort_unstable_by_key(|h| h.pixel);
+        Ok(Self::eye_hits(scene, &kept.view.0, &hits))
     }
 
     /// The kept points read back; the shader's seed of each is its pixel.

@@ -18,7 +18,10 @@ pub use atlas::{GpuBeams, GpuTimes};
 pub use beam::{GpuBeam, MAX_CONTROL_POINTS};
 pub use check::{CheckCase, GpuBoundingTriangle, NonlinearCheck};
 pub use composite::{CompositeParams, CompositeRecord, GpuComposite, GpuFace, KeptHere, NONE, ShadeRest};
-pub use eye::{EyeCounts, EyeHit, EyeParams, GpuEye, KeptPoints};
+pub use eye::{
+    EyeCounts, EyeFaceMap, EyeHit, EyeOut, EyeParams, EyeRecords, GpuEye, KeptEyeHits, KeptPoints, KeptSpecular,
+    RecordCounts,
+};
 pub use level::{GpuLevelPoints, KeptLevel, LevelCounts, LevelParams};
 pub use page::AtlasParams;
 pub use whitted::{EndWeight, GpuWhitted, RestPoints, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath};

@@ -6,7 +6,7 @@ use super::GpuBeams;
 use super::composite::{GpuComposite, KeptHere};
 use super::whitted::{GpuWhitted, RestPoints};
 use crate::GpuError;
-use crate::buffers::{checked, output, read_all};
+use crate::buffers::{checked, output, read_all, storage};
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::ShadeInput;
 use beam_bvh::Hit;
@@ -118,12 +118,22 @@ impl PointShading for GpuBeams<'_> {
         let kept = self.kept.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take().unwrap_or_default();
         let kept_levels =
             std::mem::take(&mut *self.kept_levels.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
+        // The eye's mirror and glass hits kept on the GPU: their composite records.
+        let eye_hits = self.kept_eye_hits.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take();
+        let records = match (&eye_hits, levels.first()) {
+            (Some(k), Some(eye)) => {
+                let children = storage(self.gpu, "eye children", &eye.children, wgpu::BufferUsages::empty());
+                let (camera, crop) = &k.view;
+                checked(self.gpu, || self.eye.records(self.gpu, (camera, *crop), &k.lists, &k.face_of, &children))?
+            }
+            _ => Vec::new(),
+        };
         // Per level of the flow (the eye's first), the points kept on the GPU.
         let mut here = vec![KeptHere::default(); levels.len()];
-        here[0] = KeptHere { direct: &kept, rest: &[] };
+        here[0] = KeptHere { direct: &kept, rest: &[], records: &records };
         for l in &kept_levels {
             let at = here.get_mut(l.level).ok_or(GpuError::Internal("a kept level past the tree"))?;
-            *at = KeptHere { direct: &l.direct, rest: &l.other };
+            *at = KeptHere { direct: &l.direct, rest: &l.other, records: &[] };
         }
         // Mirror and glass points past the tree by Whitted rays in waves, their host time apart.
         // The scene's shading and caustics, uploaded once for the composite and every wave.

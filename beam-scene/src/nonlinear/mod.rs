@@ -20,7 +20,8 @@ pub use beam::{Beam, BumpedBeam, Degree, MIN_RISE, TEXEL_EPS, TexelBeam, child_b
 pub use cull::cone_candidates;
 pub use radiance::{Composite, LevelRadiance, TexelRadiance, composite, sample_region};
 pub use renderer::{
-    BeamRasterizer, BeamRenderer, DeviceWaits, EyeView, KeepLevel, KeptTotals, LevelLayout, PointShading, eye_by_rays,
+    BeamRasterizer, BeamRenderer, DeviceWaits, EyeFaces, EyeView, KeepLevel, KeptTotals, LevelLayout, PointShading,
+    eye_by_rays,
 };
 pub use smesh::{MAX_NORMAL_SPREAD, SFace, SMesh};
 pub use texture::{

@@ -42,8 +42,12 @@ pub struct LevelRadiance {
     pub regions: Vec<(u32, u32)>,
     /// Texels of the level's radiance (pixels for the eye).
     pub len: usize,
-    /// Its texels that hit.
+    /// Its texels that hit (less those a backend kept, [`super::BeamRasterizer::render_level`],
+    /// [`super::EyeView::eye_faces`]).
     pub texels: Vec<TexelRadiance>,
+    /// Per S-mesh face: its reflection and refraction beams in the level below, [`u32::MAX`] for
+    /// none (the eye's view; for the pixels a backend kept).
+    pub children: Vec<[u32; 2]>,
 }
 
 /// Bilinear lookup at barycentric `w` of a `size × size` region's radiance (row-major), over its

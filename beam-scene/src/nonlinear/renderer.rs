@@ -136,12 +136,47 @@ pub trait EyeView: RayQueries {
         eye_by_rays(self, scene, camera)
     }
 
+    /// [`eye_view`](Self::eye_view) as the roots of the beam tree over `smesh`: the hits handed
+    /// back, and per S-mesh face the pixels the backend kept that see it. A backend whose
+    /// [`PointShading::shade_tree`] composites the eye's pixels itself may keep the mirror and glass
+    /// hits on faces that are scene triangles, counted per face ([`EyeFaces`]); the default keeps
+    /// none of them.
+    fn eye_faces(
+        &self,
+        scene: &Scene,
+        smesh: &SMesh,
+        camera: &Camera,
+        options: &RenderOptions,
+    ) -> Result<EyeFaces, BackendError> {
+        let hits = self.eye_view(scene, camera, options)?;
+        Ok(EyeFaces { hits, seen: vec![[0, 0]; smesh.faces.len()], kept: 0 })
+    }
+
+    /// The mirror and glass hits that [`eye_faces`](Self::eye_faces) kept and no
+    /// [`PointShading::shade_tree`] has composited since, as `(pixel, ray, hit)` (for a frame that
+    /// the caller shades after all); none are kept after.
+    fn take_kept_eye_hits(&self, scene: &Scene) -> Result<Vec<(usize, Ray, Hit)>, BackendError> {
+        let _ = scene;
+        Ok(Vec::new())
+    }
+
     /// The eye's pixels that [`eye_view`](Self::eye_view) kept and no
     /// [`PointShading::shade_tree`] has shaded since, as texels of the eye's level of the radiance
     /// flow (for a frame that the caller shades after all); none are kept after.
     fn take_kept_eye(&self) -> Result<Vec<TexelRadiance>, BackendError> {
         Ok(Vec::new())
     }
+}
+
+/// The eye's view as the roots of the beam tree ([`EyeView::eye_faces`]).
+#[derive(Clone, Debug, Default)]
+pub struct EyeFaces {
+    /// The hits handed back, `(pixel, ray, hit)` in pixel order.
+    pub hits: Vec<(usize, Ray, Hit)>,
+    /// Per S-mesh face: the pixels the backend kept that see it, of the frame and of the region.
+    pub seen: Vec<[u32; 2]>,
+    /// Mirror and glass pixels the backend kept.
+    pub kept: u64,
 }
 
 /// [`EyeView::eye_view`] by `queries`' nearest hits of the pixels' primary rays, keeping none.
