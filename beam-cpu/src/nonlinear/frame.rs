@@ -2,7 +2,7 @@
 //! faces it sees, the beam tree level by level ([`Tree`]), the radiance flow and the shading, each
 //! a stage of the frame's [`StageClock`].
 
-use super::caustics::caustics_by_beams;
+use super::caustics::{CausticStats, caustics_by_beams};
 use super::composite::composite_levels;
 use super::cpu_beams::{CpuBeams, shade_points};
 use super::settings::{NonlinearOptions, NonlinearStats};
@@ -10,6 +10,7 @@ use super::stages::StageClock;
 use super::trace::{Built, Request, Tree};
 use crate::RenderError;
 use crate::render::Image;
+use crate::render::IrradianceMap;
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -36,19 +37,64 @@ pub fn render_nonlinear_with(
     options: &NonlinearOptions,
     renderer: &dyn BeamRenderer,
 ) -> Result<(Image, NonlinearStats), RenderError> {
+    render_nonlinear_frame(scene, options, renderer, None)
+}
+
+/// The caustics of a scene for nonlinear frames (000 §9.2, [`caustics_by_beams`]): the irradiance
+/// through its mirror and glass surfaces from its lights, which depends on neither the camera nor
+/// the beam tree, so frames of a scene whose lights and surfaces stay put share it
+/// ([`render_nonlinear_frame`]).
+#[derive(Clone, Debug, Default)]
+pub struct NonlinearCaustics {
+    map: Option<IrradianceMap>,
+    stats: CausticStats,
+}
+
+impl NonlinearCaustics {
+    /// The caustics of `scene` as a frame with `options` traces them, by `renderer`.
+    pub fn new(scene: &Scene, options: &NonlinearOptions, renderer: &dyn BeamRenderer) -> Result<Self, RenderError> {
+        let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
+        let (map, stats) = caustics.map_or((None, CausticStats::default()), |(m, s)| (Some(m), s));
+        Ok(Self { map, stats })
+    }
+
+    /// What tracing them did.
+    #[must_use]
+    pub fn stats(&self) -> &CausticStats {
+        &self.stats
+    }
+}
+
+/// [`render_nonlinear_with`] with the scene's `caustics` made before ([`NonlinearCaustics::new`],
+/// with the same options), or made for this frame where `None`: an interactive renderer makes
+/// them once while the lights and the mirror and glass surfaces stay put, and renders every frame
+/// (a camera that moves, a new beam tree) with them.
+pub fn render_nonlinear_frame(
+    scene: &Scene,
+    options: &NonlinearOptions,
+    renderer: &dyn BeamRenderer,
+    caustics: Option<&NonlinearCaustics>,
+) -> Result<(Image, NonlinearStats), RenderError> {
     let start = Instant::now();
     let mut clock = StageClock::start(renderer);
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
     // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.
-    let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
+    let made;
+    let caustics = match caustics {
+        Some(given) => given,
+        None => {
+            made = NonlinearCaustics::new(scene, options, renderer)?;
+            &made
+        }
+    };
     clock.lap("caustics");
-    let caustic_stats = caustics.as_ref().map(|c| c.1.clone()).unwrap_or_default();
+    let caustic_stats = caustics.stats.clone();
     let tree = Tree {
         scene,
         smesh: SMesh::of(scene),
         options: *options,
         eye: camera.position,
-        caustics: caustics.map(|c| c.0),
+        caustics: caustics.map.as_ref(),
         by_rays: std::sync::atomic::AtomicU64::new(0),
     };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
@@ -125,7 +171,7 @@ pub fn render_nonlinear_with(
         + kept.curved
         + kept_by_rays;
     clock.lap("radiance flow");
-    let (shading, caustics) = (&options.shading, tree.caustics.as_ref());
+    let (shading, caustics) = (&options.shading, tree.caustics);
     let frame = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
         Some(pixels) => pixels,
         None => {
@@ -176,4 +222,34 @@ pub fn render_nonlinear_with(
         height: image.height,
     };
     Ok((image, stats))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nonlinear::CpuBeams;
+    use beam_scene::options::RenderOptions;
+    use beam_scene::scene::builtin;
+
+    /// A frame with the caustics made before is the frame that makes them: the same pixels, bit
+    /// for bit, and the same caustic statistics (the point-lit wavy lake, whose light beams off the
+    /// water deposit on the lake's bed).
+    #[test]
+    fn frames_sharing_caustics_equal_frames_making_them() {
+        let scene = builtin("wavy-lake").unwrap();
+        let options = NonlinearOptions {
+            degree: Degree::S1,
+            texels: 8,
+            bounces: 2,
+            caustic_strata: 1,
+            shading: RenderOptions::exact(40, 32),
+        };
+        let caustics = NonlinearCaustics::new(&scene, &options, &CpuBeams).unwrap();
+        assert!(caustics.stats().beams > 0 && caustics.stats().texels_deposited > 0, "{:?}", caustics.stats());
+        let (made, made_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
+        let (shared, shared_stats) = render_nonlinear_frame(&scene, &options, &CpuBeams, Some(&caustics)).unwrap();
+        assert_eq!(made.pixels, shared.pixels);
+        let counts = |s: &NonlinearStats| (s.caustics.beams, s.caustics.texels_deposited, s.texels_shaded);
+        assert_eq!(counts(&made_stats), counts(&shared_stats));
+    }
 }

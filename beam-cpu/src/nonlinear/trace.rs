@@ -87,7 +87,7 @@ pub(super) struct Tree<'a> {
     pub(super) options: NonlinearOptions,
     pub(super) eye: Vec3,
     /// Irradiance through the specular surfaces from the lights (caustics, nonlinear shadows).
-    pub(super) caustics: Option<IrradianceMap>,
+    pub(super) caustics: Option<&'a IrradianceMap>,
     /// Points under coarse faces traced by rays: no child beam holds their scattered ray.
     pub(super) by_rays: std::sync::atomic::AtomicU64,
 }
