@@ -84,6 +84,16 @@ pub fn upload<T: bytemuck::Pod>(gpu: &Gpu, label: &str, items: &[T], format: wgp
 /// The first `len` elements of `texture` (made by [`texture`] with `COPY_SRC`), read back as `T`s
 /// (each one texel).
 pub fn read_back<T: bytemuck::Pod>(gpu: &Gpu, texture: &wgpu::Texture, len: usize) -> Result<Vec<T>, GpuError> {
+    read_back_with(gpu, texture, |texels: &[T]| texels.iter().take(len).copied().collect())
+}
+
+/// Hand `read` the texels of `texture` (made by [`texture`] with `COPY_SRC`, `T` a texel) where
+/// they are mapped, row after row: the caller converts them without a copy in between.
+pub fn read_back_with<T: bytemuck::Pod, R>(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+    read: impl FnOnce(&[T]) -> R,
+) -> Result<R, GpuError> {
     let size = texture.size();
     let bytes_per_row = size.width * size_of::<T>() as u32;
     let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -106,7 +116,9 @@ pub fn read_back<T: bytemuck::Pod>(gpu: &Gpu, texture: &wgpu::Texture, len: usiz
         size,
     );
     gpu.queue.submit([encoder.finish()]);
-    let mut out: Vec<T> = crate::buffers::map_with(gpu, &readback, bytemuck::pod_collect_to_vec)?;
-    out.truncate(len);
-    Ok(out)
+    // Mapped ranges are 8-byte aligned; copied only where a backend mapped them otherwise.
+    crate::buffers::map_with(gpu, &readback, |bytes| match bytemuck::try_cast_slice(bytes) {
+        Ok(texels) => read(texels),
+        Err(_) => read(&bytemuck::pod_collect_to_vec(bytes)),
+    })
 }
