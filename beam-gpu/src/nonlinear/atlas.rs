@@ -62,7 +62,7 @@ pub struct GpuTimes {
     pub triangles: u64,
     /// Beam trees composited on the GPU (the others fell back to the CPU's composite).
     pub gpu_composites: u64,
-    /// Tree levels whose points were kept on the GPU ([`super::level`]).
+    /// Tree levels whose points were kept on the GPU ([`super::GpuLevelPoints`]).
     pub levels_kept: u64,
     /// The GPU's own seconds in the atlas passes, by timestamp queries (all 0 where the device has
     /// none): bounding triangles, nearest hits (draws, or the compute pass), gather.
@@ -214,7 +214,7 @@ impl<'g> GpuBeams<'g> {
     }
 
     /// This renderer reading every tree level's hits and the eye's mirror and glass hits back for
-    /// the host instead of keeping on the GPU what needs no host ([`super::level`],
+    /// the host instead of keeping on the GPU what needs no host ([`super::GpuLevelPoints`],
     /// [`GpuEye`]): the way every level went before, which the tests compare with.
     #[must_use]
     pub fn reading_levels_back(mut self) -> Self {
@@ -292,7 +292,7 @@ impl BeamRasterizer for GpuBeams<'_> {
 }
 
 impl GpuBeams<'_> {
-    /// The textures of `jobs`; with `keep`, the level's points kept on the GPU ([`super::level`])
+    /// The textures of `jobs`; with `keep`, the level's points kept on the GPU ([`super::GpuLevelPoints`])
     /// where it is the last (by `keep.last`, or as no beam's culled triangles continue the tree).
     fn render(
         &self,

@@ -6,12 +6,13 @@
 
 use super::atlas::GpuBeams;
 use super::composite::{CompositeRecord, GpuComposite, GpuFace};
+use super::level::triangle_kinds;
 use crate::buffers::{
     buffer_entry, checked, compute_pipeline, encode_pass, max_binding, output, read_all, storage, uniform,
 };
-use crate::interface::{LEVEL_CURVED, LEVEL_PLAIN, NONE};
+use crate::interface::NONE;
 use crate::raytrace::RayTracer;
-use crate::shade::{PointShader, ShadeInput};
+use crate::shade::ShadeInput;
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
@@ -178,12 +179,7 @@ pub struct GpuEye {
 impl GpuEye {
     /// Compile the passes and upload the kinds of `scene`'s triangles.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
-        let kinds: Vec<u32> = (0..scene.triangles.len() as u32)
-            .map(|p| {
-                let plain = if PointShader::shades(scene, p) { LEVEL_PLAIN } else { 0 };
-                plain | if scene.smooth_normals.contains_key(&p) { LEVEL_CURVED } else { 0 }
-            })
-            .collect();
+        let kinds = triangle_kinds(scene);
         let no_faces = vec![NONE; scene.triangles.len()];
         Ok(Self {
             pipeline: compute_pipeline(gpu, "eye", "eye_view")?,
@@ -416,11 +412,7 @@ impl EyeView for GpuBeams<'_> {
     ) -> Result<EyeFaces, BackendError> {
         let fits = smesh.faces.len() as u64 * size_of::<GpuFace>() as u64 <= max_binding(self.gpu);
         if !self.keep_levels || !fits {
-            return Ok(EyeFaces {
-                hits: self.eye_view(scene, camera, options)?,
-                seen: vec![[0, 0]; smesh.faces.len()],
-                kept: 0,
-            });
+            return Ok(EyeFaces::handed_back(self.eye_view(scene, camera, options)?, smesh));
         }
         // Per scene triangle, its face where it is a fine S-mesh face of its own.
         let face_of: Vec<u32> = (0..scene.triangles.len() as u32)
@@ -432,11 +424,7 @@ impl EyeView for GpuBeams<'_> {
         let face_of = storage(self.gpu, "S-mesh faces of the triangles", &face_of, wgpu::BufferUsages::empty());
         let faces = EyeFaceMap { face_of: &face_of, faces: smesh.faces.len() };
         let Some(out) = self.eye_on_gpu(camera, options, Some(faces))? else {
-            return Ok(EyeFaces {
-                hits: eye_by_rays(self, scene, camera)?,
-                seen: vec![[0, 0]; smesh.faces.len()],
-                kept: 0,
-            });
+            return Ok(EyeFaces::handed_back(eye_by_rays(self, scene, camera)?, smesh));
         };
         *self.kept.lock().unwrap_or_else(PoisonError::into_inner) = Some(out.kept);
         let kept = out.specular.iter().map(|l| u64::from(l.count)).sum();

@@ -139,6 +139,17 @@ impl KeptLevel {
     }
 }
 
+/// Per scene triangle of `scene`: [`LEVEL_PLAIN`] where the shading pass shades it, `|`
+/// [`LEVEL_CURVED`] where its normals are interpolated (the eye's and the levels' passes).
+pub(super) fn triangle_kinds(scene: &Scene) -> Vec<u32> {
+    (0..scene.triangles.len() as u32)
+        .map(|p| {
+            let plain = if PointShader::shades(scene, p) { LEVEL_PLAIN } else { 0 };
+            plain | if scene.smooth_normals.contains_key(&p) { LEVEL_CURVED } else { 0 }
+        })
+        .collect()
+}
+
 /// The level-points pass.
 pub struct GpuLevelPoints {
     pipeline: wgpu::ComputePipeline,
@@ -150,13 +161,7 @@ pub struct GpuLevelPoints {
 impl GpuLevelPoints {
     /// Compile the pass for `scene`'s triangles.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
-        let kinds: Vec<u32> = (0..scene.triangles.len() as u32)
-            .map(|p| {
-                let plain = if PointShader::shades(scene, p) { LEVEL_PLAIN } else { 0 };
-                plain | if scene.smooth_normals.contains_key(&p) { LEVEL_CURVED } else { 0 }
-            })
-            .collect();
-        Ok(Self { pipeline: compute_pipeline(gpu, "level_points", "level_points")?, kinds })
+        Ok(Self { pipeline: compute_pipeline(gpu, "level_points", "level_points")?, kinds: triangle_kinds(scene) })
     }
 
     /// The triangles' kinds for a level, [`LEVEL_CONTINUES`] where `continues` says the tree goes

@@ -148,8 +148,7 @@ pub trait EyeView: RayQueries {
         camera: &Camera,
         options: &RenderOptions,
     ) -> Result<EyeFaces, BackendError> {
-        let hits = self.eye_view(scene, camera, options)?;
-        Ok(EyeFaces { hits, seen: vec![[0, 0]; smesh.faces.len()], kept: 0 })
+        Ok(EyeFaces::handed_back(self.eye_view(scene, camera, options)?, smesh))
     }
 
     /// The mirror and glass hits that [`eye_faces`](Self::eye_faces) kept and no
@@ -177,6 +176,14 @@ pub struct EyeFaces {
     pub seen: Vec<[u32; 2]>,
     /// Mirror and glass pixels the backend kept.
     pub kept: u64,
+}
+
+impl EyeFaces {
+    /// Every hit handed back (`hits`), none kept, over the faces of `smesh`.
+    #[must_use]
+    pub fn handed_back(hits: Vec<(usize, Ray, Hit)>, smesh: &SMesh) -> Self {
+        Self { hits, seen: vec![[0, 0]; smesh.faces.len()], kept: 0 }
+    }
 }
 
 /// [`EyeView::eye_view`] by `queries`' nearest hits of the pixels' primary rays, keeping none.

@@ -55,9 +55,12 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
         let keep =
             |continues, with_hits| KeepLevel { level: 1, layout: &layout, options: &options, with_hits, continues };
         let fresh = || GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string());
-        let reading_back = fresh()?.reading_levels_back();
-        if reading_back.render_level(&scene, &jobs, &keep(&[], false)).map_err(|e| e.to_string())?.1.is_some() {
-            return Err(format!("{name}: a renderer reading levels back kept a level"));
+        // (A renderer compiles every pipeline: one scene's is enough for this.)
+        if name == "bumpy-mirror" {
+            let reading_back = fresh()?.reading_levels_back();
+            if reading_back.render_level(&scene, &jobs, &keep(&[], false)).map_err(|e| e.to_string())?.1.is_some() {
+                return Err(format!("{name}: a renderer reading levels back kept a level"));
+            }
         }
         let mut ways = vec![(fresh()?.rasterized(), "draws")];
         if GpuBeams::can_compute(&gpu) {
@@ -77,7 +80,10 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
                     all.push((layout.firsts[i] + k as u32, hit.prim, ray.at(hit.t), ray.direction.normalize(), seed));
                 }
             }
-            for ((what, continues), with_hits) in continuing.iter().flat_map(|c| [(c, false), (c, true)]) {
+            // Every hit asked for with the tree going on from the specular triangles only (a
+            // coarse S mesh's lookups read them): the other two ways add nothing to it.
+            let ways = continuing.iter().flat_map(|c| [(c, false), (c, true)]).filter(|(c, h)| !h || c.0 == "specular");
+            for ((what, continues), with_hits) in ways {
                 let fail = |m: String| format!("{name} by {way}, going on from {what} (hits: {with_hits}): {m}");
                 let want: Vec<_> = all.iter().filter(|w| !continues[w.1 as usize]).collect();
                 let curved = want.iter().filter(|w| scene.smooth_normals.contains_key(&w.1)).count() as u64;
@@ -132,7 +138,7 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
     Ok(Outcome { cases: points, note: notes.join("; ") })
 }
 
-/// Nonlinear images (96², two tree levels) by the GPU renderer keeping on the GPU what needs no host
+/// Nonlinear images (64², two tree levels) by the GPU renderer keeping on the GPU what needs no host
 /// (the levels' points, the eye's mirror and glass hits on fine faces and their composite records)
 /// against the same renderer reading everything back (the host makes them), on four
 /// built-ins (one under a coarse S mesh, whose lookups read every hit of a kept level): every level
@@ -160,7 +166,7 @@ pub fn gpu_kept_level_images_equal_read_back(_: Backend, _: &Config) -> Result<O
             texels: 32,
             bounces: 2,
             caustic_strata: CAUSTIC_STRATA,
-            shading: RenderOptions::exact(96, 96),
+            shading: RenderOptions::exact(64, 64),
         };
         let kept = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let read_back = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?.reading_levels_back();
