@@ -292,8 +292,9 @@ impl BeamRasterizer for GpuBeams<'_> {
 }
 
 impl GpuBeams<'_> {
-    /// The textures of `jobs`; with `keep`, the level's points kept on the GPU ([`super::GpuLevelPoints`])
-    /// where it is the last (by `keep.last`, or as no beam's culled triangles continue the tree).
+    /// The textures of `jobs`; with `keep`, the points of the texels from which the tree does not go
+    /// on kept on the GPU ([`super::GpuLevelPoints`]), the textures holding only the others' hits
+    /// (every hit `keep.with_hits`).
     fn render(
         &self,
         scene: &Scene,
