@@ -4,7 +4,8 @@
 // children's radiance (the level below, still on the GPU) at the face's barycentric point, tinted
 // for a mirror and Fresnel-weighted for glass. A level's radiance is an RGBA16F texture (rgb as half floats, 8
 // bytes a texel), texel i at (i mod width, i / width): no storage binding bounds its size. Each
-// dispatch binds only the faces and child regions its records reference (compacted by the host).
+// dispatch binds only the faces and child regions its records reference (compacted by the host;
+// the eye's records made on the GPU index the whole S mesh and level). lib/record.wgsl is prepended.
 // CPU twin: beam_cpu::nonlinear::composite_levels.
 
 // Twin of beam_gpu::nonlinear::composite::GpuFace (128 bytes): an S-mesh face.
@@ -20,24 +21,6 @@ struct Face {
     normal: vec4<f32>,
     // rgb: a mirror's tint; w: a glass's index of refraction, 0 for a mirror.
     material: vec4<f32>,
-}
-
-// Twin of beam_gpu::nonlinear::composite::CompositeRecord (64 bytes).
-struct Record {
-    p: vec3<f32>,
-    // Its index in the level's radiance.
-    texel: u32,
-    d: vec3<f32>,
-    // Its S-mesh face and its child beams, as indices into this dispatch's `faces` and `regions`.
-    face: u32,
-    reflected: u32,
-    // NONE for none.
-    refracted: u32,
-    pad0: u32,
-    pad1: u32,
-    // Where the refraction is looked up (p: the reflection; both the hit point on a fine face).
-    refracted_p: vec3<f32>,
-    pad2: u32,
 }
 
 // Twin of beam_gpu::nonlinear::composite::CompositeParams (16 bytes).

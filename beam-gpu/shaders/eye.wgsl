@@ -6,7 +6,8 @@
 // `eye_records` makes the composite records of those inside the crop; the other mirror and glass
 // hits are appended for the host. The host zeroes `counts` before a dispatch. CPU twin:
 // beam_scene::scene::Camera::pixel_ray, then the nearest hit (beam_bvh::FlatBvh::closest_hit);
-// beam_cpu::nonlinear's eye view and composites; lib/trace.wgsl is prepended by the host.
+// beam_cpu::nonlinear's eye view and composites; lib/trace.wgsl and lib/record.wgsl are prepended
+// by the host.
 
 // Twin of beam_gpu::nonlinear::EyeParams (96 bytes): the camera's frame (Camera::frame) and the
 // dispatch's pixels.
@@ -57,34 +58,19 @@ struct EyeCounts {
     specular: atomic<u32>,
 }
 
-// Twin of beam_gpu::nonlinear::CompositeRecord (64 bytes).
-struct Record {
-    p: vec3<f32>,
-    texel: u32,
-    d: vec3<f32>,
-    face: u32,
-    reflected: u32,
-    refracted: u32,
-    pad0: u32,
-    pad1: u32,
-    refracted_p: vec3<f32>,
-    pad2: u32,
-}
-
 // Twin of beam_gpu::nonlinear::RecordCounts (16 bytes).
 struct RecordCounts {
     // Composite records appended.
     records: atomic<u32>,
     // Points appended for the Whitted rays (no child beam).
     rest: atomic<u32>,
-    // Of them, points on curved (smooth-normal) triangles.
-    curved: atomic<u32>,
-    pad: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 @group(0) @binding(2) var<uniform> params: EyeParams;
 // Per scene triangle: LEVEL_PLAIN where the shading pass shades it (diffuse, glossy, emissive), |
-// LEVEL_CURVED where its normals are interpolated.
+// LEVEL_CURVED where its normals are interpolated (unread here).
 @group(0) @binding(3) var<storage, read> kinds: array<u32>;
 @group(0) @binding(4) var<storage, read_write> kept: array<ShadeInput>;
 // Per shading input: its pixel.
@@ -179,7 +165,6 @@ fn eye_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
         records[j] = Record(p, h.pixel, normalize(d), face, c.x, c.y, 0u, 0u, p, 0u);
         return;
     }
-    if (kinds[h.prim] & LEVEL_CURVED) != 0u { atomicAdd(&record_counts.curved, 1u); }
     let j = atomicAdd(&record_counts.rest, 1u);
     rest[j] = ShadeInput(p, h.prim, normalize(d), h.pixel);
     rest_targets[j] = h.pixel;

@@ -111,10 +111,7 @@ fn twins() -> Vec<Twin> {
         twin!("eye", ShadeInput => ShadeInput { p, prim, d, seed }),
         twin!("eye", EyeHit => EyeHit { pixel, prim, t, pad }),
         twin!("eye", EyeCounts => EyeCounts { kept, others, overflow, specular }),
-        twin!("eye", RecordCounts => RecordCounts { records, rest, curved, pad }),
-        twin!("eye", CompositeRecord => Record {
-            p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
-        }),
+        twin!("eye", RecordCounts => RecordCounts { records, rest, pad[0] => pad0, pad[1] => pad1 }),
         twin!("whitted", WhittedParams => WhittedParams { count, first, last, eps }),
         twin!("whitted", ShadeInput => ShadeInput { p, prim, d, seed }),
         twin!("whitted", SpecularPrim => SpecularPrim {

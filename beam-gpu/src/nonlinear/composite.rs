@@ -215,7 +215,7 @@ impl GpuComposite {
                 let below_view = below.create_view(&Default::default());
                 let mut encoder = gpu.device.create_command_encoder(&Default::default());
                 for r in here.records {
-                    let params = CompositeParams { records: r.counts.records, points: 0, pad: [0; 2] };
+                    let params = CompositeParams { records: r.count, points: 0, pad: [0; 2] };
                     let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
                     let entries = [
                         buffer_entry(0, &params),
@@ -225,7 +225,7 @@ impl GpuComposite {
                         buffer_entry(5, &regions),
                         view_entry(6, &radiance_view),
                     ];
-                    encode_pass(gpu, &mut encoder, &self.pipeline, r.counts.records, &entries);
+                    encode_pass(gpu, &mut encoder, &self.pipeline, r.count, &entries);
                 }
                 gpu.queue.submit([encoder.finish()]);
             }

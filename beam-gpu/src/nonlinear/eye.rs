@@ -103,10 +103,8 @@ pub struct RecordCounts {
     pub records: u32,
     /// Points appended for the Whitted rays (no child beam).
     pub rest: u32,
-    /// Of them, points on curved (smooth-normal) triangles.
-    pub curved: u32,
     /// Padding.
-    pub pad: u32,
+    pub pad: [u32; 2],
 }
 
 const _: () = assert!(
@@ -146,10 +144,10 @@ pub struct EyeFaceMap<'a> {
 pub struct EyeRecords {
     /// [`CompositeRecord`]s (faces and child beams indexed in the whole S mesh and level).
     pub records: wgpu::Buffer,
+    /// How many.
+    pub count: u32,
     /// Points for the Whitted rays, with their pixels.
     pub rest: KeptPoints,
-    /// What was appended.
-    pub counts: RecordCounts,
 }
 
 /// What the eye's view returns ([`GpuEye::run`]).
@@ -323,10 +321,10 @@ impl GpuEye {
         Ok(outs
             .into_iter()
             .zip(counts)
-            .map(|((records, inputs, targets, _), counts)| EyeRecords {
+            .map(|((records, inputs, targets, _), c)| EyeRecords {
                 records,
-                rest: KeptPoints { inputs, targets, count: counts.rest },
-                counts,
+                count: c.records,
+                rest: KeptPoints { inputs, targets, count: c.rest },
             })
             .collect())
     }
@@ -430,8 +428,7 @@ impl EyeView for GpuBeams<'_> {
         let kept = out.specular.iter().map(|l| u64::from(l.count)).sum();
         *self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner) =
             Some(KeptEyeHits { lists: out.specular, face_of, view: (*camera, options.region()) });
-        let seen = out.seen;
-        Ok(EyeFaces { hits: Self::eye_hits(scene, camera, &out.others), seen, kept })
+        Ok(EyeFaces { hits: Self::eye_hits(scene, camera, &out.others), seen: out.seen, kept })
     }
 
     /// The kept hits read back.
