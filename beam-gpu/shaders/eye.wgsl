@@ -70,7 +70,7 @@ struct RecordCounts {
 
 @group(0) @binding(2) var<uniform> params: EyeParams;
 // Per scene triangle: LEVEL_PLAIN where the shading pass shades it (diffuse, glossy, emissive), |
-// LEVEL_CURVED where its normals are interpolated (unread here).
+// LEVEL_CURVED where its normals are interpolated (unread by `eye_view`).
 @group(0) @binding(3) var<storage, read> kinds: array<u32>;
 @group(0) @binding(4) var<storage, read_write> kept: array<ShadeInput>;
 // Per shading input: its pixel.

@@ -302,7 +302,6 @@ impl GpuEye {
             let counts = output(gpu, "eye record counts", size_of::<RecordCounts>() as u64);
             let entries = [
                 buffer_entry(2, &params),
-                buffer_entry(3, &self.kinds),
                 buffer_entry(8, face_of),
                 buffer_entry(10, &kept.hits),
                 buffer_entry(11, children),
