@@ -120,61 +120,67 @@ pub mod erased {
     }
 }
 
-/// Set, in the signal handler itself, when `SIGINT`, `SIGTERM` or `SIGHUP` has arrived.
+/// Set, in the signal handler itself, to the number of the `SIGINT`, `SIGTERM` or `SIGHUP` that
+/// arrived (0 while none has).
 #[cfg(unix)]
-static STOPPED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+static STOPPED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 
-/// Whether the thread that stops the program on a signal runs.
-#[cfg(unix)]
-static HANDLED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// Stop cleanly on `SIGINT`, `SIGTERM` and `SIGHUP`: a thread waits for one, removes the
-/// temporaries of outputs being written ([`beam_scene::io::remove_temporaries`], which waits for a
-/// group of renames in progress to finish or be undone), and exits with status 128 + the signal's
-/// number (130 for Ctrl-C), also when the work ended meanwhile ([`wait_if_stopped`]). A second
+/// Stop cleanly on `SIGINT`, `SIGTERM` and `SIGHUP`: a thread waits for one and [`stop`]s, and so
+/// does [`wait_if_stopped`] when the work ended meanwhile. The waiting thread's self-pipe is
+/// registered before the flag, so no signal can set the flag unseen by that thread. A second
 /// signal changes nothing: the handlers stay installed until the exit. `SIGKILL` cannot be caught.
 #[cfg(unix)]
 pub fn stop_cleanly_on_signals() {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    use std::sync::atomic::Ordering;
     let warn = |e: &dyn std::fmt::Display| {
         eprintln!("warning: no signal handler ({e}): an interrupted write may leave a temporary");
     };
-    for signal in [SIGINT, SIGTERM, SIGHUP] {
-        if let Err(e) = signal_hook::flag::register(signal, &STOPPED) {
-            return warn(&e);
-        }
-    }
     let mut signals = match signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
         Ok(s) => s,
         Err(e) => return warn(&e),
     };
     let waiter = std::thread::Builder::new().name("signals".into()).spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            let removed = beam_scene::io::remove_temporaries();
-            let name = signal_hook::low_level::signal_name(signal).unwrap_or("a signal");
-            let what = if removed > 0 { "; the unfinished outputs were removed" } else { "" };
-            eprintln!("\nbeam: stopped by {name}{what}");
-            // `_exit`: no at-exit handlers run while other threads (rayon, a GPU driver) still do.
-            signal_hook::low_level::exit(128 + signal);
+            stop(signal);
         }
     });
-    match waiter {
-        Ok(_) => HANDLED.store(true, Ordering::SeqCst),
-        Err(e) => warn(&e),
+    if let Err(e) = waiter {
+        warn(&e);
+    }
+    for signal in [SIGINT, SIGTERM, SIGHUP] {
+        if let Err(e) = signal_hook::flag::register_usize(signal, &STOPPED, signal as usize) {
+            return warn(&e);
+        }
     }
 }
 
-/// When a signal has arrived, wait for [`stop_cleanly_on_signals`]'s thread to end the program
-/// (with status 128 + the signal's number) instead of returning: a signal that came before the end,
-/// however late, gives its status, not the work's.
+/// Remove the temporaries of outputs being written ([`beam_scene::io::remove_temporaries`], which
+/// waits for a group of renames in progress to finish or be undone), say so, and exit with status
+/// 128 + `signal` (130 for Ctrl-C).
 #[cfg(unix)]
-pub fn wait_if_stopped() {
-    use std::sync::atomic::Ordering;
-    if HANDLED.load(Ordering::SeqCst) && STOPPED.load(Ordering::SeqCst) {
+fn stop(signal: i32) -> ! {
+    static STOPPING: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+    if STOPPING.swap(true, std::sync::atomic::Ordering::SeqCst) {
+        // The other caller exits.
         loop {
             std::thread::park();
         }
+    }
+    let removed = beam_scene::io::remove_temporaries();
+    let name = signal_hook::low_level::signal_name(signal).unwrap_or("a signal");
+    let what = if removed > 0 { "; the unfinished outputs were removed" } else { "" };
+    eprintln!("\nbeam: stopped by {name}{what}");
+    // `_exit`: no at-exit handlers run while other threads (rayon, a GPU driver) still do.
+    signal_hook::low_level::exit(128 + signal)
+}
+
+/// When a signal has arrived, [`stop`] instead of returning: a signal that came before the end,
+/// however late, gives its status, not the work's.
+#[cfg(unix)]
+pub fn wait_if_stopped() {
+    let signal = STOPPED.load(std::sync::atomic::Ordering::SeqCst);
+    if signal != 0 {
+        stop(signal as i32);
     }
 }
 
