@@ -1,6 +1,7 @@
 // The nonlinear pipeline of 000 §3 (Alg. 1) in two GPU passes per atlas page:
 // 1. `bound_triangles` (compute): per (beam, scene triangle) pair that survives the beam's
-//    bounding-cone culling, the bounding triangle on the beam base (Algs. 3–4, eq. 5), once;
+//    bounding-cone culling (`beam_cull.wgsl`; NONE for a culled one), the bounding triangle on
+//    the beam base (Algs. 3–4, eq. 5), once;
 // 2. one draw per beam (the instance) over its pairs: the vertex stage pulls the pair and its
 //    bounding triangle from storage buffers (vertex index / 3) and emits the triangle on the beam's
 //    atlas region; the fragment stage rebuilds the texel's ray, intersects the scene triangle,
@@ -33,6 +34,11 @@ fn bound_triangles(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_wo
     let i = id.y * groups.x * WORKGROUP_SIZE + id.x;
     if i >= params.pairs { return; }
     let pair = pairs[i];
+    // A triangle `cull_triangles` (beam_cull.wgsl) culled.
+    if pair.y == NONE {
+        bounds_out[i] = vec4<f32>(0.0, 0.0, 0.0, f32(BOUNDING_BEHIND));
+        return;
+    }
     let bt = bounding_triangle(beams[pair.x], scene_tri(pair.y & ~PAIR_NEAR));
     bounds_out[i] = vec4<f32>(bt.lower, f32(bt.case_));
     if bt.case_ != BOUNDING_BEHIND { atomicAdd(&counters[2u * pair.x], 1u); }
@@ -57,8 +63,8 @@ fn emit_bounding_triangle(@builtin(vertex_index) vertex: u32, @builtin(instance_
     out.prim = prim;
     out.lower = bt.xyz;
     out.position = vec4<f32>(-2.0, -2.0, 0.0, 1.0);
-    out.neighbour = select(0u, 1u, pair_neighbour(b, pairs[pair]));
     if bt.w == f32(BOUNDING_BEHIND) { return out; }
+    out.neighbour = select(0u, 1u, pair_neighbour(b, pairs[pair]));
     let size = f32(b.region.z);
     // The texels tested are those with ω ≥ lower − ½ texel (slack); the rasterized triangle is
     // 1.5 texels larger still, clamped to the beam's region (edges parallel, so clamping is a max).

@@ -14,6 +14,7 @@ pub(crate) const SHARED: &[(&str, &str)] = &[
 pub const SHADERS: &[(&str, &str)] = &[
     ("raytrace", include_str!("../shaders/raytrace.wgsl")),
     ("beam_atlas", include_str!("../shaders/beam_atlas.wgsl")),
+    ("beam_cull", include_str!("../shaders/beam_cull.wgsl")),
     ("beam_texels", include_str!("../shaders/beam_texels.wgsl")),
     ("nonlinear_check", include_str!("../shaders/nonlinear_check.wgsl")),
     ("composite", include_str!("../shaders/composite.wgsl")),
@@ -31,7 +32,7 @@ pub const INT64_ATOMICS: &[&str] = &["beam_texels"];
 /// include it.
 pub(crate) const LIBRARY: &[(&str, &str, &[&str])] = &[
     ("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather", "eye", "whitted"]),
-    ("lib/atlas.wgsl", include_str!("../shaders/lib/atlas.wgsl"), &["beam_atlas", "beam_texels"]),
+    ("lib/atlas.wgsl", include_str!("../shaders/lib/atlas.wgsl"), &["beam_atlas", "beam_cull", "beam_texels"]),
     ("lib/record.wgsl", include_str!("../shaders/lib/record.wgsl"), &["composite", "eye"]),
     ("lib/region.wgsl", include_str!("../shaders/lib/region.wgsl"), &["beam_atlas", "beam_texels", "level_points"]),
 ];

@@ -22,6 +22,7 @@ use rand::Rng;
 
 mod bindings;
 mod coarse;
+mod cull;
 mod eye;
 mod glossy;
 mod level;
@@ -30,6 +31,7 @@ mod whitted;
 
 use bindings::gpu_images_fit_narrow_bindings;
 use coarse::gpu_coarse_smesh_equals_cpu;
+use cull::gpu_cone_culling_equals_host;
 use eye::gpu_eye_view_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
 use level::{gpu_kept_level_equals_host_texels, gpu_kept_level_images_equal_read_back};
@@ -66,6 +68,12 @@ pub fn properties() -> Vec<Property> {
             cites: "000 §3, Alg. 1",
             backends: GPU,
             body: gpu_beam_texels_equal_cpu,
+        },
+        Property {
+            name: "gpu_cone_culling_equals_host",
+            cites: "000 App. A",
+            backends: GPU,
+            body: gpu_cone_culling_equals_host,
         },
         Property { name: "gpu_whitted_equals_cpu", cites: "000 §7.3", backends: GPU, body: gpu_whitted_equals_cpu },
         Property { name: "gpu_images_equal_cpu", cites: "000 §3, §7", backends: GPU, body: gpu_images_equal_cpu },

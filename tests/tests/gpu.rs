@@ -9,6 +9,7 @@ beam_conformance::conformance_tests!(
     gpu_ray_hits_equal_cpu_hits,
     gpu_eye_view_equals_cpu,
     gpu_beam_texels_equal_cpu,
+    gpu_cone_culling_equals_host,
     gpu_images_equal_cpu,
     gpu_coarse_smesh_equals_cpu,
     gpu_shading_equals_cpu,

@@ -10,7 +10,21 @@ impl Bvh8 {
     /// visit (bit `s` for `node.child[s]`; unused slots are never visited). For culling by a
     /// volume (a cone, a frustum), `enter` tests the eight boxes of [`Node8::bounds`] at once. A
     /// triangle split across leaves (pre-splitting, spatial splits) comes once per leaf reached.
-    pub fn gather(&self, mut enter: impl FnMut(&Node8) -> u32, out: &mut Vec<u32>) {
+    pub fn gather(&self, enter: impl FnMut(&Node8) -> u32, out: &mut Vec<u32>) {
+        self.visit_leaves(enter, |first, count| {
+            out.extend(self.prims[4 * first..4 * (first + count)].iter().filter(|&&p| p != u32::MAX));
+        });
+    }
+
+    /// Like [`Bvh8::gather`], but append the leaves' blocks instead of their triangles: block `b`
+    /// holds the triangles `prims[4b..4b + 4]` (`u32::MAX` in an unused lane). For a device that
+    /// culls triangle by triangle what the host culled by boxes.
+    pub fn gather_blocks(&self, enter: impl FnMut(&Node8) -> u32, out: &mut Vec<u32>) {
+        self.visit_leaves(enter, |first, count| out.extend(first as u32..(first + count) as u32));
+    }
+
+    /// Call `leaf(first block, blocks)` for every leaf reached through the children `enter` accepts.
+    fn visit_leaves(&self, mut enter: impl FnMut(&Node8) -> u32, mut leaf: impl FnMut(usize, usize)) {
         if self.nodes.is_empty() {
             return;
         }
@@ -19,7 +33,7 @@ impl Bvh8 {
         loop {
             if cur & Node8::LEAF != 0 {
                 let (first, count) = Node8::leaf_blocks(cur);
-                out.extend(self.prims[4 * first..4 * (first + count)].iter().filter(|&&p| p != u32::MAX));
+                leaf(first, count);
             } else {
                 let n = &self.nodes[cur as usize];
                 let mut mask = enter(n) & used(n);
@@ -69,6 +83,13 @@ mod tests {
                 assert!(some.contains(&(i as u32)), "triangle {i} inside the region was culled");
             }
         }
+        // The same leaves by blocks.
+        let mut blocks = Vec::new();
+        bvh.gather_blocks(left, &mut blocks);
+        let mut lanes: Vec<u32> =
+            blocks.iter().flat_map(|&b| bvh.prims[4 * b as usize..][..4].iter().copied()).collect();
+        lanes.retain(|&p| p != u32::MAX);
+        assert_eq!(lanes, some);
         let mut none = Vec::new();
         bvh.gather(|_| 0, &mut none);
         assert!(none.is_empty());

@@ -6,8 +6,8 @@
 use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
-    AtlasParams, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams, GpuBeam,
-    GpuFace, LevelCounts, LevelParams, RecordCounts, WhittedCounts, WhittedParams, WhittedPath,
+    AtlasParams, BeamCull, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams,
+    GpuBeam, GpuFace, LevelCounts, LevelParams, RecordCounts, WhittedCounts, WhittedParams, WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, ShadeInput, ShadeParams};
@@ -39,6 +39,10 @@ fn tables() -> Vec<Table> {
         bindings!("beam_atlas" => [
             params: AtlasParams, beams: GpuBeam, triangles: GpuTriangle, pairs: [u32; 2], bounds_out: [f32; 4],
             bounds_in: [f32; 4], counters: u32, page_hits, firsts: u32, dense: [u32; 2],
+        ]),
+        bindings!("beam_cull" => [
+            params: AtlasParams, beams: GpuBeam, triangles: GpuTriangle, pairs: [u32; 2], blocks: [u32; 2],
+            block_prims: u32, culls: BeamCull, lists: u32, spheres: [f32; 4], pairs_out: [u32; 2],
         ]),
         bindings!("beam_texels" => [
             params: AtlasParams, beams: GpuBeam, triangles: GpuTriangle, pairs: [u32; 2], bounds_in: [f32; 4],

@@ -6,8 +6,8 @@
 use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
-    AtlasParams, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams, GpuBeam,
-    GpuFace, LevelCounts, LevelParams, RecordCounts, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
+    AtlasParams, BeamCull, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams,
+    GpuBeam, GpuFace, LevelCounts, LevelParams, RecordCounts, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, STATE_HEADER, ShadeInput, ShadeParams, ShadeState};
@@ -87,6 +87,10 @@ fn twins() -> Vec<Twin> {
         twin!("beam_atlas", AtlasParams => AtlasParams { size, extent, pairs }),
         twin!("beam_atlas", GpuBeam => Beam {
             base, dirs, extremal, normal, threshold, heights, offsets, bump, region, kind, origin, direction
+        }),
+        twin!("beam_cull", BeamCull => BeamCull {
+            apex, cos_angle, axis, sin_angle, floor_normal, floor, base0, has_floor, base1, prim, base2, pad,
+            patch_list, ring_list
         }),
         twin!("nonlinear_check", CheckCase => CheckCase { a, b, c }),
         twin!("composite", GpuFace => Face {

@@ -17,12 +17,13 @@
 
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
+use super::cull::{GpuCull, PageCulls};
 use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
 use super::level::{GpuLevelPoints, KeptLevel};
 use super::page::Counters;
 use super::whitted::GpuWhitted;
 use crate::buffers::{checked, compute_pipeline, max_binding, read_all, shader_module, storage};
-use crate::interface::{PAIR_NEAR, TEXEL_JOB_PAIRS};
+use crate::interface::TEXEL_JOB_PAIRS;
 use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
 use crate::staging::{Slots, Staged, split_by_counts};
@@ -30,7 +31,7 @@ use crate::{Gpu, GpuError, texels};
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamTexture, KeepLevel, KeptTotals, TexelRadiance, cone_candidates, region_texels,
+    BeamJob, BeamRasterizer, BeamTexture, KeepLevel, KeptTotals, TexelRadiance, cone_blocks, region_texels,
 };
 use beam_scene::options::Shading;
 use beam_scene::scene::Scene;
@@ -58,7 +59,8 @@ pub struct GpuTimes {
     pub pages: u64,
     /// Beams drawn.
     pub beams: u64,
-    /// Scene triangles drawn (vertex-stage bounding triangles computed).
+    /// (beam, scene triangle) pairs on the pages: four per block of the BVH that the host kept
+    /// for a beam, those the GPU culled included.
     pub triangles: u64,
     /// Beam trees composited on the GPU (the others fell back to the CPU's composite).
     pub gpu_composites: u64,
@@ -79,6 +81,8 @@ pub struct GpuBeams<'g> {
     /// [`GpuBeams::rasterized`] asked for rasterization).
     pub(super) texels: Option<wgpu::ComputePipeline>,
     pub(super) triangles: wgpu::Buffer,
+    /// The per-triangle half of bounding-cone culling.
+    pub(super) cull: GpuCull,
     pub(super) tracer: RayTracer,
     /// The eye's view on the GPU.
     pub(super) eye: GpuEye,
@@ -171,6 +175,7 @@ impl<'g> GpuBeams<'g> {
             gather,
             texels,
             triangles,
+            cull: GpuCull::new(gpu, scene)?,
             tracer,
             eye: GpuEye::new(gpu, scene)?,
             kept: Mutex::default(),
@@ -302,21 +307,19 @@ impl GpuBeams<'_> {
         keep: Option<&KeepLevel<'_>>,
     ) -> Result<(Vec<BeamTexture>, Option<KeptLevel>), BackendError> {
         let start = Instant::now();
-        // Bounding-cone culling on the CPU (000 App. A; the paper culls objects there too), each
-        // kept triangle of a coarse face's ring marked PAIR_NEAR (self-hits, as on the CPU); the
-        // beams for the shader from the same bounds, placed on their regions below.
-        let (candidates, mut gpu_beams): (Vec<Vec<u32>>, Vec<GpuBeam>) = jobs
+        // Bounding-cone culling (000 App. A) by the BVH's boxes here, triangle by triangle on the
+        // GPU (`super::cull`); the beams for the shader from the same bounds, placed on their
+        // regions below.
+        let (culled, mut gpu_beams): (Vec<_>, Vec<GpuBeam>) = jobs
             .par_iter()
             .map(|j| {
                 let tb = j.beam.texel_beam();
                 let bounds = tb.s1_or_sn_bounds();
-                let mut kept = cone_candidates(scene, tb, &bounds, j.exclude);
-                for prim in &mut kept {
-                    *prim |= if j.exclude.near(*prim) { PAIR_NEAR } else { 0 };
-                }
-                (kept, GpuBeam::new(j.beam, &bounds, [0, 0, j.size], j.exclude))
+                (cone_blocks(scene, tb, &bounds, j.exclude), GpuBeam::new(j.beam, &bounds, [0, 0, j.size], j.exclude))
             })
             .unzip();
+        // Four (beam, triangle) pairs per block, some of them culled on the GPU.
+        let pairs_of = |i: usize| 4 * culled[i].1.len();
         // Pack power-of-two squares, largest first, in Z order: every square lands aligned.
         let mut order: Vec<usize> = (0..jobs.len()).collect();
         order.sort_by_key(|&i| std::cmp::Reverse(jobs[i].size.max(1).next_power_of_two()));
@@ -337,7 +340,7 @@ impl GpuBeams<'_> {
                 return Err(GpuError::BeamTooLarge { size: jobs[i].size, page: self.page }.into());
             }
             let area = u64::from(s) * u64::from(s);
-            let n = candidates[i].len();
+            let n = pairs_of(i);
             if n > max_pairs {
                 return Err(GpuError::TooManyTriangles { triangles: n, max: max_pairs }.into());
             }
@@ -369,26 +372,28 @@ impl GpuBeams<'_> {
             let mut beams = Vec::with_capacity(members.len());
             let mut ranges = Vec::with_capacity(members.len());
             let mut firsts = Vec::with_capacity(members.len() + 1);
+            let mut culls = PageCulls::default();
             firsts.push(0u32);
             let mut pair_count = 0u32;
             for (k, &i) in members.iter().enumerate() {
                 let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
                 gpu_beams[i].region[..2].copy_from_slice(&[q.x, q.y]);
                 beams.push(gpu_beams[i]);
+                culls.push(&culled[i].0, jobs[i].exclude);
                 // The page's pairs fit one binding, so their count fits 32 bits; so do its texels.
-                ranges.push((pair_count, pair_count + candidates[i].len() as u32));
-                pair_count += candidates[i].len() as u32;
+                ranges.push((pair_count, pair_count + pairs_of(i) as u32));
+                pair_count += pairs_of(i) as u32;
                 firsts.push(firsts[k] + region_texels(jobs[i].size) as u32);
             }
-            // The (beam on the page, scene triangle) pairs, written in place, a beam's by a thread.
-            let mut pairs =
-                Staged::<[u32; 2]>::new(self.gpu, "pairs", pair_count as usize, wgpu::BufferUsages::empty());
-            let parts = split_by_counts(pairs.slots(), members.iter().map(|&i| candidates[i].len()))
-                .ok_or(GpuError::Internal("pairs past their buffer"))?;
+            // The (beam on the page, block) pairs, written in place, a beam's by a thread.
+            let mut blocks =
+                Staged::<[u32; 2]>::new(self.gpu, "blocks", pair_count as usize / 4, wgpu::BufferUsages::empty());
+            let parts = split_by_counts(blocks.slots(), members.iter().map(|&i| culled[i].1.len()))
+                .ok_or(GpuError::Internal("blocks past their buffer"))?;
             parts.into_par_iter().zip(&members).enumerate().for_each(|(k, (Slots(out), &i))| {
-                out.write_iter(candidates[i].iter().map(|&prim| [k as u32, prim]));
+                out.write_iter(culled[i].1.iter().map(|&block| [k as u32, block]));
             });
-            let pairs = (pairs.finish(self.gpu), pair_count as usize);
+            let pairs = (blocks.finish(self.gpu), &culls, pair_count as usize);
             let prepared = start.elapsed().as_secs_f64();
             let unpacking = Cell::new(0.0);
             let with_hits = keep.is_none_or(|k| k.with_hits);

@@ -7,6 +7,7 @@ mod atlas;
 mod beam;
 mod check;
 mod composite;
+mod cull;
 mod eye;
 mod level;
 mod page;
@@ -18,6 +19,7 @@ pub use atlas::{GpuBeams, GpuTimes};
 pub use beam::{GpuBeam, MAX_CONTROL_POINTS};
 pub use check::{CheckCase, GpuBoundingTriangle, NonlinearCheck};
 pub use composite::{CompositeParams, CompositeRecord, GpuComposite, GpuFace, KeptHere, NONE, ShadeRest};
+pub use cull::BeamCull;
 pub use eye::{
     EyeCounts, EyeFaceMap, EyeHit, EyeOut, EyeParams, EyeRecords, GpuEye, KeptEyeHits, KeptPoints, KeptSpecular,
     RecordCounts,

@@ -5,6 +5,7 @@
 
 use super::GpuBeams;
 use super::beam::GpuBeam;
+use super::cull::PageCulls;
 use super::level::{Appended, LevelCounts, LevelPage};
 use crate::GpuError;
 use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, storage, uniform, view_entry};
@@ -38,8 +39,9 @@ pub(super) type Counters = [u32; 2];
 pub(super) type KeptPage = (Vec<Appended>, Vec<LevelCounts>);
 
 impl GpuBeams<'_> {
-    /// Render one page of `rows` rows: `beams` with their (beam on the page, scene triangle)
-    /// `pairs`, those of beam `i` at `ranges[i]`, the nearest hits by compute where this renderer
+    /// Render one page of `rows` rows: `beams` with their (beam on the page, block) `blocks`,
+    /// made (beam, triangle) pairs by the cull pass with `culls` (four per block, those of beam `i`
+    /// at `ranges[i]`), the nearest hits by compute where this renderer
     /// can (else by draws). `unpack` reads, where the readback is mapped, the regions' texels (beam
     /// `i`'s from `firsts[i]` on, row by row, [`region_texels`]; `firsts` ends with their total;
     /// each texel as [`Self::unpack`] reads it), and per beam the triangles kept and the texels
@@ -51,7 +53,7 @@ impl GpuBeams<'_> {
     pub(super) fn render_page<T>(
         &self,
         beams: &[GpuBeam],
-        (pair_buffer, pair_count): (wgpu::Buffer, usize),
+        (blocks, culls, pair_count): (wgpu::Buffer, &PageCulls, usize),
         ranges: &[(u32, u32)],
         firsts: &[u32],
         rows: u32,
@@ -70,6 +72,8 @@ impl GpuBeams<'_> {
         let dense = output(self.gpu, "region texels", texel_bytes);
         let first_texels = storage(self.gpu, "region firsts", firsts, wgpu::BufferUsages::empty());
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas") });
+        let pair_buffer =
+            self.cull.encode(self.gpu, &mut encoder, (&uniform, &self.triangles, &blocks), culls, pair_count);
         let group = bind(
             device,
             &self.bound.get_bind_group_layout(0),

@@ -50,6 +50,13 @@ impl ConeSpheres {
         Self { apex: cone.apex, axis: cone.axis, cos: cone.angle.cos_(), sin: cone.angle.sin_() }
     }
 
+    /// The apex, unit axis, and cosine and sine of the half-angle, as [`ConeSpheres::meets`] reads
+    /// them (for a shader that tests the same way).
+    #[must_use]
+    pub const fn terms(&self) -> (Vec3, Vec3, f32, f32) {
+        (self.apex, self.axis, self.cos, self.sin)
+    }
+
     /// [`cone_sphere`] of the sphere at `center` of `radius`. With `d = ‖O − P_C‖`,
     /// `cos θ_S = √(d² − R²)/d` and `sin θ_S = R/d`, so `d·cos(θ_C + θ_S) = cos θ_C √(d² − R²) −
     /// sin θ_C R`; `θ_C + θ_S ≥ π` (every direction) exactly when `θ_C ≥ π/2` and `R ≥ d sin θ_C`.

@@ -6,6 +6,7 @@ use crate::scene::Scene;
 use beam_bvh::Node8;
 use beam_math::Triangle;
 use beam_math::collide::{Cone, ConeSpheres};
+use beam_math::glam::Vec3;
 use beam_math::nonlinear::BeamBounds;
 
 /// The scene triangles that may meet `beam` (of bounds `bounds`), less those it skips (`exclude`,
@@ -19,18 +20,66 @@ pub fn cone_candidates(
     bounds: &BeamBounds,
     exclude: Exclude<'_>,
 ) -> Vec<u32> {
-    let cone = beam.culling_cone(bounds);
-    let spheres = ConeSpheres::new(&cone);
-    let mut prims = Vec::new();
-    scene.wide.gather(|n| spheres.meets_boxes(bounds_of(n, 0), bounds_of(n, 1)), &mut prims);
-    let floor = SelfHitFloor::new(beam, &cone, exclude.thickness, scene.bounds().extent().length());
-    prims.retain(|&i| {
-        let (centre, radius) = scene.bounding_sphere(i);
-        !exclude.skips(i)
-            && spheres.meets(centre, radius)
-            && !floor.is_some_and(|f| f.culls(&scene.triangles[i as usize], exclude.near(i)))
-    });
+    let (cull, mut prims) = ConeCull::new(scene, beam, bounds, exclude);
+    scene.wide.gather(|n| cull.spheres.meets_boxes(bounds_of(n, 0), bounds_of(n, 1)), &mut prims);
+    prims.retain(|&i| cull.keeps(scene, i, exclude));
     prims
+}
+
+/// [`cone_candidates`] in two halves, for a device that culls triangle by triangle: the blocks of
+/// the 8-wide BVH's leaves whose boxes meet the beam's bounding cone (block `b`: the triangles
+/// `scene.wide.prims[4b..4b + 4]`), and what each of their triangles is tested with
+/// ([`ConeCull::keeps`] is the host's test).
+#[must_use]
+pub fn cone_blocks(
+    scene: &Scene,
+    beam: &(impl TexelBeam + ?Sized),
+    bounds: &BeamBounds,
+    exclude: Exclude<'_>,
+) -> (ConeCull, Vec<u32>) {
+    let (cull, mut blocks) = ConeCull::new(scene, beam, bounds, exclude);
+    scene.wide.gather_blocks(|n| cull.spheres.meets_boxes(bounds_of(n, 0), bounds_of(n, 1)), &mut blocks);
+    (cull, blocks)
+}
+
+/// How one beam culls a scene triangle its BVH boxes let through: by the triangle's bounding
+/// sphere against the beam's bounding cone, by what the beam skips, and by its self-hit floor.
+#[derive(Clone, Copy, Debug)]
+pub struct ConeCull {
+    /// The bounding cone (000 App. A), prepared for spheres.
+    pub spheres: ConeSpheres,
+    /// The beam's base triangle (neighbours share a vertex with it).
+    pub base: [Vec3; 3],
+    /// The self-hit floor: the base's inner unit normal and the height over `base[0]` below which
+    /// a neighbour lies wholly to be culled; `None` where a ray may run parallel to the base.
+    pub floor: Option<(Vec3, f32)>,
+}
+
+impl ConeCull {
+    /// The culling of `beam` (with `exclude`) in `scene`, and an empty list to gather into.
+    fn new(
+        scene: &Scene,
+        beam: &(impl TexelBeam + ?Sized),
+        bounds: &BeamBounds,
+        exclude: Exclude<'_>,
+    ) -> (Self, Vec<u32>) {
+        let cone = beam.culling_cone(bounds);
+        let floor = SelfHitFloor::new(beam, &cone, exclude.thickness, scene.bounds().extent().length());
+        let cull =
+            Self { spheres: ConeSpheres::new(&cone), base: beam.base(), floor: floor.map(|f| (f.normal, f.floor)) };
+        (cull, Vec::new())
+    }
+
+    /// Whether scene triangle `i` may meet the beam: not skipped (`exclude`), its bounding sphere
+    /// meeting the cone, and not a neighbour of the base wholly below the floor.
+    #[must_use]
+    pub fn keeps(&self, scene: &Scene, i: u32, exclude: Exclude<'_>) -> bool {
+        let (centre, radius) = scene.bounding_sphere(i);
+        let floor = self.floor.map(|(normal, floor)| SelfHitFloor { base: self.base, normal, floor });
+        !exclude.skips(i)
+            && self.spheres.meets(centre, radius)
+            && !floor.is_some_and(|f| f.culls(&scene.triangles[i as usize], exclude.near(i)))
+    }
 }
 
 /// The eight children's box planes of `n`: their minima (`side` 0) or maxima (1) by axis.
@@ -54,8 +103,8 @@ const FLOOR_MARGIN: f32 = 1e-6;
 /// it straddles the beam's side).
 #[derive(Clone, Copy, Debug)]
 struct SelfHitFloor {
-    base: [beam_math::glam::Vec3; 3],
-    normal: beam_math::glam::Vec3,
+    base: [Vec3; 3],
+    normal: Vec3,
     floor: f32,
 }
 

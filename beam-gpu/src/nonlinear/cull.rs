@@ -1,0 +1,206 @@
+//! Bounding-cone culling split as 000 splits it (App. A; objects on the CPU, triangles on the GPU,
+//! `shaders/beam_cull.wgsl`): the host keeps a beam's leaf blocks of the 8-wide BVH whose boxes
+//! meet its cone ([`cone_blocks`]); the page's first pass turns each lane of each kept block into
+//! a (beam, triangle) pair or a culled one, testing what [`ConeCull::keeps`] tests on the host.
+//! The host writes 8 bytes per block of four triangles and tests no triangle; before, it tested
+//! each one and wrote 8 bytes per pair kept.
+//!
+//! [`cone_blocks`]: beam_scene::nonlinear::cone_blocks
+
+use super::GpuBeams;
+use crate::buffers::{checked, compute_pass, compute_pipeline, map_with, output, storage, uniform};
+use crate::interface::{NONE, WORKGROUP_SIZE};
+use crate::{Gpu, GpuError};
+use beam_scene::nonlinear::{BeamJob, ConeCull, Exclude, cone_blocks};
+use beam_scene::scene::Scene;
+use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
+
+/// How one beam culls the triangles of its blocks ([`ConeCull`], and what it skips).
+///
+/// WGSL twin: `BeamCull` in `shaders/beam_cull.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct BeamCull {
+    /// The bounding cone's apex.
+    pub apex: [f32; 3],
+    /// Cosine of its half-angle.
+    pub cos_angle: f32,
+    /// Its unit axis.
+    pub axis: [f32; 3],
+    /// Sine of its half-angle.
+    pub sin_angle: f32,
+    /// The base's inner unit normal (the self-hit floor's).
+    pub floor_normal: [f32; 3],
+    /// The floor's height over the base's first corner.
+    pub floor: f32,
+    /// The base's first corner.
+    pub base0: [f32; 3],
+    /// 1 where the beam has a floor, else 0.
+    pub has_floor: u32,
+    /// The base's second corner.
+    pub base1: [f32; 3],
+    /// The scene triangle of the base, skipped.
+    pub prim: u32,
+    /// The base's third corner.
+    pub base2: [f32; 3],
+    /// Padding.
+    pub pad: u32,
+    /// A coarse face's patch (skipped): its first entry in the page's lists and its length.
+    pub patch_list: [u32; 2],
+    /// A coarse face's ring (hits within the self-hit distance are the surface meeting itself).
+    pub ring_list: [u32; 2],
+}
+
+const _: () = assert!(size_of::<BeamCull>() == 112);
+
+impl BeamCull {
+    /// `cull` with `exclude`'s base triangle, its patch and ring at `patch` and `ring` of the lists.
+    #[must_use]
+    pub fn new(cull: &ConeCull, exclude: Exclude<'_>, patch: [u32; 2], ring: [u32; 2]) -> Self {
+        let (apex, axis, cos_angle, sin_angle) = cull.spheres.terms();
+        let (floor_normal, floor) = cull.floor.unwrap_or_default();
+        Self {
+            apex: apex.into(),
+            cos_angle,
+            axis: axis.into(),
+            sin_angle,
+            floor_normal: floor_normal.into(),
+            floor,
+            base0: cull.base[0].into(),
+            has_floor: u32::from(cull.floor.is_some()),
+            base1: cull.base[1].into(),
+            prim: exclude.prim,
+            base2: cull.base[2].into(),
+            pad: 0,
+            patch_list: patch,
+            ring_list: ring,
+        }
+    }
+}
+
+/// The cull pass and what it reads of the scene.
+pub(super) struct GpuCull {
+    pipeline: wgpu::ComputePipeline,
+    /// The scene triangle in each lane of each block of the 8-wide BVH (`NONE` unused).
+    block_prims: wgpu::Buffer,
+    /// Per scene triangle: its bounding sphere's centre and radius.
+    spheres: wgpu::Buffer,
+}
+
+/// A page's culling: per beam on it, its [`BeamCull`], and the patches and rings they point into.
+#[derive(Default)]
+pub(super) struct PageCulls {
+    pub culls: Vec<BeamCull>,
+    pub lists: Vec<u32>,
+}
+
+impl PageCulls {
+    /// Add a beam culled by `cull` with `exclude`.
+    pub fn push(&mut self, cull: &ConeCull, exclude: Exclude<'_>) {
+        let mut list = |l: &[u32]| {
+            let at = [self.lists.len() as u32, l.len() as u32];
+            self.lists.extend_from_slice(l);
+            at
+        };
+        let (patch, ring) = (list(exclude.patch), list(exclude.ring));
+        self.culls.push(BeamCull::new(cull, exclude, patch, ring));
+    }
+}
+
+impl GpuCull {
+    /// Compile the pass and upload `scene`'s blocks and bounding spheres.
+    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
+        let spheres: Vec<[f32; 4]> = (0..scene.triangles.len() as u32)
+            .map(|i| {
+                let (c, r) = scene.bounding_sphere(i);
+                [c.x, c.y, c.z, r]
+            })
+            .collect();
+        let block_prims: Vec<u32> = scene.wide.prims.iter().map(|&p| if p == u32::MAX { NONE } else { p }).collect();
+        Ok(Self {
+            pipeline: compute_pipeline(gpu, "beam_cull", "cull_triangles")?,
+            block_prims: storage(gpu, "block triangles", &block_prims, wgpu::BufferUsages::empty()),
+            spheres: storage(gpu, "bounding spheres", &spheres, wgpu::BufferUsages::empty()),
+        })
+    }
+
+    /// Add to `encoder` the pass that makes the page's pairs (four per block of `blocks`, the
+    /// count in `params`, `AtlasParams::pairs`) from `culls`; returns their buffer.
+    pub fn encode(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        (params, triangles, blocks): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
+        culls: &PageCulls,
+        pairs: usize,
+    ) -> wgpu::Buffer {
+        let out = output(gpu, "pairs", (pairs * 8) as u64);
+        let culls_buffer = storage(gpu, "beam culls", &culls.culls, wgpu::BufferUsages::empty());
+        let lists = storage(gpu, "patches and rings", &culls.lists, wgpu::BufferUsages::empty());
+        let entries = [
+            (0, params),
+            (2, triangles),
+            (4, blocks),
+            (5, &self.block_prims),
+            (6, &culls_buffer),
+            (7, &lists),
+            (8, &self.spheres),
+            (9, &out),
+        ];
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("beam_cull"),
+            layout: &self.pipeline.get_bind_group_layout(0),
+            entries: &entries.map(|(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }),
+        });
+        compute_pass(encoder, &self.pipeline, &group, pairs.div_ceil(WORKGROUP_SIZE as usize).max(1) as u32);
+        out
+    }
+}
+
+impl GpuBeams<'_> {
+    /// The scene triangles the GPU keeps for each of `jobs` after culling by the BVH's boxes on the
+    /// host and triangle by triangle on the device, each with [`crate::interface::PAIR_NEAR`]
+    /// where it is in the beam's ring; in the order of the beam's blocks. For checks against
+    /// [`beam_scene::nonlinear::cone_candidates`]; all the jobs as one page.
+    pub fn culled_triangles(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<Vec<u32>>, GpuError> {
+        let (culls, blocks): (Vec<ConeCull>, Vec<Vec<u32>>) = jobs
+            .par_iter()
+            .map(|j| {
+                let tb = j.beam.texel_beam();
+                cone_blocks(scene, tb, &tb.s1_or_sn_bounds(), j.exclude)
+            })
+            .unzip();
+        let mut page = PageCulls::default();
+        for (cull, job) in culls.iter().zip(jobs) {
+            page.push(cull, job.exclude);
+        }
+        let pairs: Vec<[u32; 2]> =
+            blocks.iter().enumerate().flat_map(|(k, b)| b.iter().map(move |&b| [k as u32, b])).collect();
+        let slots = pairs.len() * 4;
+        let params = super::AtlasParams { size: [1.0; 2], extent: self.extent, pairs: slots as u32 };
+        checked(self.gpu, || {
+            let params = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
+            let blocks_buffer = storage(self.gpu, "blocks", &pairs, wgpu::BufferUsages::empty());
+            let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+            let buffers = (&params, &self.triangles, &blocks_buffer);
+            let out = self.cull.encode(self.gpu, &mut encoder, buffers, &page, slots);
+            let readback = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pairs readback"),
+                size: (slots * 8).max(8) as u64,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, (slots * 8) as u64);
+            self.gpu.queue.submit([encoder.finish()]);
+            map_with(self.gpu, &readback, |bytes| {
+                let got: Vec<[u32; 2]> = bytemuck::pod_collect_to_vec(&bytes[..slots * 8]);
+                let mut kept = vec![Vec::new(); jobs.len()];
+                for [k, prim] in got.into_iter().filter(|p| p[1] != NONE) {
+                    kept[k as usize].push(prim);
+                }
+                kept
+            })
+        })
+    }
+}
