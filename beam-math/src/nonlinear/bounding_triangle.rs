@@ -115,7 +115,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
         let (mu_b, mu_d) = self.max_offsets();
         BeamBounds {
             extremal: self.extremal_directions(),
-            threshold: self.threshold_plane(),
+            threshold: self.threshold_plane_with((mu_b, mu_d)),
             mu_b,
             mu_d,
             heights: self.heights(),
