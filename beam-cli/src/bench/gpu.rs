@@ -155,7 +155,7 @@ pub fn run(
             };
             println!(
                 "{:<16} GPU ms in atlas passes (timestamps): bounding triangles {:.1}, {hits}; {:.0} pages, {:.2} M \
-                 (beam, triangle) pairs",
+                 (beam, triangle) pairs before the GPU's per-triangle culling",
                 "",
                 passes[0],
                 (after.pages - before.pages) as f64 / f64::from(frames.max(1)),

@@ -20,7 +20,8 @@ pub fn cone_candidates(
     bounds: &BeamBounds,
     exclude: Exclude<'_>,
 ) -> Vec<u32> {
-    let (cull, mut prims) = ConeCull::new(scene, beam, bounds, exclude);
+    let cull = ConeCull::new(scene, beam, bounds, exclude);
+    let mut prims = Vec::new();
     scene.wide.gather(|n| cull.spheres.meets_boxes(bounds_of(n, 0), bounds_of(n, 1)), &mut prims);
     prims.retain(|&i| cull.keeps(scene, i, exclude));
     prims
@@ -37,7 +38,8 @@ pub fn cone_blocks(
     bounds: &BeamBounds,
     exclude: Exclude<'_>,
 ) -> (ConeCull, Vec<u32>) {
-    let (cull, mut blocks) = ConeCull::new(scene, beam, bounds, exclude);
+    let cull = ConeCull::new(scene, beam, bounds, exclude);
+    let mut blocks = Vec::new();
     scene.wide.gather_blocks(|n| cull.spheres.meets_boxes(bounds_of(n, 0), bounds_of(n, 1)), &mut blocks);
     (cull, blocks)
 }
@@ -56,18 +58,11 @@ pub struct ConeCull {
 }
 
 impl ConeCull {
-    /// The culling of `beam` (with `exclude`) in `scene`, and an empty list to gather into.
-    fn new(
-        scene: &Scene,
-        beam: &(impl TexelBeam + ?Sized),
-        bounds: &BeamBounds,
-        exclude: Exclude<'_>,
-    ) -> (Self, Vec<u32>) {
+    /// The culling of `beam` (of bounds `bounds`, skipping `exclude`) in `scene`.
+    fn new(scene: &Scene, beam: &(impl TexelBeam + ?Sized), bounds: &BeamBounds, exclude: Exclude<'_>) -> Self {
         let cone = beam.culling_cone(bounds);
         let floor = SelfHitFloor::new(beam, &cone, exclude.thickness, scene.bounds().extent().length());
-        let cull =
-            Self { spheres: ConeSpheres::new(&cone), base: beam.base(), floor: floor.map(|f| (f.normal, f.floor)) };
-        (cull, Vec::new())
+        Self { spheres: ConeSpheres::new(&cone), base: beam.base(), floor: floor.map(|f| (f.normal, f.floor)) }
     }
 
     /// Whether scene triangle `i` may meet the beam: not skipped (`exclude`), its bounding sphere
