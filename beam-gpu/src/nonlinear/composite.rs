@@ -177,19 +177,12 @@ impl GpuComposite {
         for (depth, level) in levels.iter().enumerate().rev() {
             len = level.len;
             let radiance = Self::level_texture(gpu, len);
-            let radiance_view = radiance.create_view(&Default::default());
+            let views = (below.create_view(&Default::default()), radiance.create_view(&Default::default()));
             // The points kept on the GPU: shaded and written to their texels.
             let here = kept.get(depth).copied().unwrap_or_default();
             let scatter = |mut encoder: wgpu::CommandEncoder, shaded: &wgpu::Buffer, k: &KeptPoints| {
                 let params = CompositeParams { records: 0, points: k.count, pad: [0; 2] };
-                let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
-                let entries = [
-                    buffer_entry(0, &params),
-                    buffer_entry(3, shaded),
-                    view_entry(6, &radiance_view),
-                    buffer_entry(7, &k.targets),
-                ];
-                encode_pass(gpu, &mut encoder, &self.scatter, k.count, &entries);
+                self.encode_scatter(gpu, &mut encoder, &params, shaded, &views.1, &k.targets);
                 gpu.queue.submit([encoder.finish()]);
             };
             for k in here.direct {
@@ -212,20 +205,10 @@ impl GpuComposite {
                 }
                 let faces = storage(gpu, "faces", &all_faces, wgpu::BufferUsages::empty());
                 let regions = storage(gpu, "regions", &regions, wgpu::BufferUsages::empty());
-                let below_view = below.create_view(&Default::default());
                 let mut encoder = gpu.device.create_command_encoder(&Default::default());
                 for r in here.records {
                     let params = CompositeParams { records: r.count, points: 0, pad: [0; 2] };
-                    let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
-                    let entries = [
-                        buffer_entry(0, &params),
-                        buffer_entry(1, &r.records),
-                        buffer_entry(2, &faces),
-                        view_entry(4, &below_view),
-                        buffer_entry(5, &regions),
-                        view_entry(6, &radiance_view),
-                    ];
-                    encode_pass(gpu, &mut encoder, &self.pipeline, r.count, &entries);
+                    self.encode_records(gpu, &mut encoder, &params, &r.records, (&faces, &regions), &views);
                 }
                 gpu.queue.submit([encoder.finish()]);
             }
@@ -264,27 +247,11 @@ impl GpuComposite {
                     .collect();
                 let points = (direct + others) as u32;
                 let params = CompositeParams { records: composited as u32, points, pad: [0; 2] };
-                let params = uniform(gpu, "composite params", bytemuck::bytes_of(&params));
-                let below_view = below.create_view(&Default::default());
                 let mut composite = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-                let entries = [
-                    buffer_entry(0, &params),
-                    buffer_entry(3, &shaded),
-                    view_entry(6, &radiance_view),
-                    buffer_entry(7, &targets),
-                ];
-                encode_pass(gpu, &mut composite, &self.scatter, points, &entries);
+                self.encode_scatter(gpu, &mut composite, &params, &shaded, &views.1, &targets);
                 let faces = storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty());
                 let regions = storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty());
-                let entries = [
-                    buffer_entry(0, &params),
-                    buffer_entry(1, &records_buffer),
-                    buffer_entry(2, &faces),
-                    view_entry(4, &below_view),
-                    buffer_entry(5, &regions),
-                    view_entry(6, &radiance_view),
-                ];
-                encode_pass(gpu, &mut composite, &self.pipeline, composited as u32, &entries);
+                self.encode_records(gpu, &mut composite, &params, &records_buffer, (&faces, &regions), &views);
                 gpu.queue.submit([encoder.finish(), composite.finish()]);
             }
             below_regions = &level.regions;
@@ -306,6 +273,47 @@ impl GpuComposite {
             });
             pixels
         })
+    }
+
+    /// Add to `encoder` the pass that writes `params.points` shaded points (`shaded`) to their
+    /// `targets` texels of the level's radiance (`radiance`).
+    fn encode_scatter(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        params: &CompositeParams,
+        shaded: &wgpu::Buffer,
+        radiance: &wgpu::TextureView,
+        targets: &wgpu::Buffer,
+    ) {
+        let uniform = uniform(gpu, "composite params", bytemuck::bytes_of(params));
+        let entries =
+            [buffer_entry(0, &uniform), buffer_entry(3, shaded), view_entry(6, radiance), buffer_entry(7, targets)];
+        encode_pass(gpu, encoder, &self.scatter, params.points, &entries);
+    }
+
+    /// Add to `encoder` the pass that composites `params.records` records from the child regions
+    /// of the level below (`views.0`, regions and faces as the records index them) into the level's
+    /// radiance (`views.1`).
+    fn encode_records(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        params: &CompositeParams,
+        records: &wgpu::Buffer,
+        (faces, regions): (&wgpu::Buffer, &wgpu::Buffer),
+        views: &(wgpu::TextureView, wgpu::TextureView),
+    ) {
+        let uniform = uniform(gpu, "composite params", bytemuck::bytes_of(params));
+        let entries = [
+            buffer_entry(0, &uniform),
+            buffer_entry(1, records),
+            buffer_entry(2, faces),
+            view_entry(4, &views.0),
+            buffer_entry(5, regions),
+            view_entry(6, &views.1),
+        ];
+        encode_pass(gpu, encoder, &self.pipeline, params.records, &entries);
     }
 }
 

@@ -11,7 +11,8 @@ use super::GpuBeams;
 use crate::buffers::{checked, compute_pass, compute_pipeline, map_with, output, storage, uniform};
 use crate::interface::{NONE, WORKGROUP_SIZE};
 use crate::{Gpu, GpuError};
-use beam_scene::nonlinear::{BeamJob, ConeCull, Exclude, cone_blocks};
+use beam_math::glam::Vec3;
+use beam_scene::nonlinear::{BeamJob, ConeCull, Exclude, SelfHitFloor, cone_blocks};
 use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
@@ -59,19 +60,20 @@ impl BeamCull {
     #[must_use]
     pub fn new(cull: &ConeCull, exclude: Exclude<'_>, patch: [u32; 2], ring: [u32; 2]) -> Self {
         let (apex, axis, cos_angle, sin_angle) = cull.spheres.terms();
-        let (floor_normal, floor) = cull.floor.unwrap_or_default();
+        // Without a floor the shader reads neither the base nor the floor.
+        let f = cull.floor.unwrap_or(SelfHitFloor { base: [Vec3::ZERO; 3], normal: Vec3::ZERO, floor: 0.0 });
         Self {
             apex: apex.into(),
             cos_angle,
             axis: axis.into(),
             sin_angle,
-            floor_normal: floor_normal.into(),
-            floor,
-            base0: cull.base[0].into(),
+            floor_normal: f.normal.into(),
+            floor: f.floor,
+            base0: f.base[0].into(),
             has_floor: u32::from(cull.floor.is_some()),
-            base1: cull.base[1].into(),
+            base1: f.base[1].into(),
             prim: exclude.prim,
-            base2: cull.base[2].into(),
+            base2: f.base[2].into(),
             pad: 0,
             patch_list: patch,
             ring_list: ring,

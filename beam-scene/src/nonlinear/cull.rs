@@ -50,11 +50,8 @@ pub fn cone_blocks(
 pub struct ConeCull {
     /// The bounding cone (000 App. A), prepared for spheres.
     pub spheres: ConeSpheres,
-    /// The beam's base triangle (neighbours share a vertex with it).
-    pub base: [Vec3; 3],
-    /// The self-hit floor: the base's inner unit normal and the height over `base[0]` below which
-    /// a neighbour lies wholly to be culled; `None` where a ray may run parallel to the base.
-    pub floor: Option<(Vec3, f32)>,
+    /// The self-hit floor; `None` where a ray may run parallel to the base.
+    pub floor: Option<SelfHitFloor>,
 }
 
 impl ConeCull {
@@ -62,7 +59,7 @@ impl ConeCull {
     fn new(scene: &Scene, beam: &(impl TexelBeam + ?Sized), bounds: &BeamBounds, exclude: Exclude<'_>) -> Self {
         let cone = beam.culling_cone(bounds);
         let floor = SelfHitFloor::new(beam, &cone, exclude.thickness, scene.bounds().extent().length());
-        Self { spheres: ConeSpheres::new(&cone), base: beam.base(), floor: floor.map(|f| (f.normal, f.floor)) }
+        Self { spheres: ConeSpheres::new(&cone), floor }
     }
 
     /// Whether scene triangle `i` may meet the beam: not skipped (`exclude`), its bounding sphere
@@ -70,10 +67,9 @@ impl ConeCull {
     #[must_use]
     pub fn keeps(&self, scene: &Scene, i: u32, exclude: Exclude<'_>) -> bool {
         let (centre, radius) = scene.bounding_sphere(i);
-        let floor = self.floor.map(|(normal, floor)| SelfHitFloor { base: self.base, normal, floor });
         !exclude.skips(i)
             && self.spheres.meets(centre, radius)
-            && !floor.is_some_and(|f| f.culls(&scene.triangles[i as usize], exclude.near(i)))
+            && !self.floor.is_some_and(|f| f.culls(&scene.triangles[i as usize], exclude.near(i)))
     }
 }
 
@@ -97,10 +93,13 @@ const FLOOR_MARGIN: f32 = 1e-6;
 /// each of which would otherwise be tested over the whole region (000 Alg. 3's brute-force case, as
 /// it straddles the beam's side).
 #[derive(Clone, Copy, Debug)]
-struct SelfHitFloor {
-    base: [Vec3; 3],
-    normal: Vec3,
-    floor: f32,
+pub struct SelfHitFloor {
+    /// The beam's base triangle (a neighbour shares a vertex with it).
+    pub base: [Vec3; 3],
+    /// The base's inner unit normal.
+    pub normal: Vec3,
+    /// The height over `base[0]` below which a neighbour lies wholly to be culled.
+    pub floor: f32,
 }
 
 impl SelfHitFloor {
