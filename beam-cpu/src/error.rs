@@ -36,6 +36,15 @@ pub enum RenderError {
         /// The scene's name.
         scene: String,
     },
+    /// A frame given the S mesh and caustics precomputed for another scene
+    /// (`beam_cpu::nonlinear::NonlinearPrecomputed`).
+    #[error("the S mesh and caustics given were made for a scene of {made_for} triangles, not this one's {scene}")]
+    Precomputed {
+        /// Triangles of the scene they were made for.
+        made_for: usize,
+        /// Triangles of the scene rendered.
+        scene: usize,
+    },
     /// The backend the render ran on failed (ray queries, beam textures, shading, the gather).
     #[error(transparent)]
     Backend(#[from] BackendError),

@@ -203,6 +203,8 @@ pub(crate) const STATE_HEADER: u64 = 16;
 pub struct PointShader {
     pipeline: wgpu::ComputePipeline,
     prims: Vec<PrimShading>,
+    /// [`Self::prepare`] without caustics, made once: it depends on the scene alone.
+    plain: Option<ShadeScene>,
     lights: wgpu::Buffer,
     light_count: u32,
     eps: f32,
@@ -224,14 +226,17 @@ impl PointShader {
                 PrimShading { normal: scene.normal(i).to_array(), kind, color: color.to_array(), plane: -1 }
             })
             .collect();
-        Ok(Self {
+        let mut shader = Self {
             pipeline: compute_pipeline(gpu, "raytrace", "shade")?,
             prims,
+            plain: None,
             lights: storage(gpu, "lights", &lights, wgpu::BufferUsages::empty()),
             light_count: lights.len() as u32,
             eps: shading_eps(scene),
             passes: AtomicU32::new(1),
-        })
+        };
+        shader.plain = Some(shader.prepare(gpu, None));
+        Ok(shader)
     }
 
     /// True when the pass shades points of triangle `prim` (diffuse, glossy, emissive).
@@ -244,6 +249,9 @@ impl PointShader {
     /// [`shade_into`](Self::shade_into).
     #[must_use]
     pub fn prepare(&self, gpu: &Gpu, caustics: Option<&IrradianceMap>) -> ShadeScene {
+        if let (None, Some(plain)) = (caustics, &self.plain) {
+            return plain.clone();
+        }
         let mut planes = Vec::new();
         let mut flux: Vec<[f32; 4]> = Vec::new();
         let mut prims = self.prims.clone();
@@ -405,6 +413,7 @@ impl PointShader {
 }
 
 /// A scene's triangles' shading and caustic irradiance maps on the GPU ([`PointShader::prepare`]).
+#[derive(Clone)]
 pub struct ShadeScene {
     prims: wgpu::Buffer,
     planes: wgpu::Buffer,

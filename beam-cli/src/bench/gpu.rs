@@ -4,7 +4,7 @@
 
 use beam_cpu::cpu_clock::our_threads_cpu_seconds;
 use beam_cpu::nonlinear::{
-    CpuBeams, Degree, NonlinearCaustics, NonlinearOptions, render_nonlinear_frame, render_nonlinear_with,
+    CpuBeams, Degree, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
 };
 use beam_cpu::render::{RenderOptions, difference};
 use beam_gpu::Gpu;
@@ -40,7 +40,7 @@ pub fn run(
     };
     println!(
         "GPU: {}; {width}×{height}, {frames} timed frames per scene, {degree:?}, 2 tree levels, no area-light caustics \
-         (point lights' made once for the frames), {hits}{coarse}",
+         (the S mesh and point lights' caustics made once for the frames), {hits}{coarse}",
         gpu.describe()
     );
     println!(
@@ -73,13 +73,13 @@ pub fn run(
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let renderer = if rasterize { renderer.rasterized() } else { renderer };
         let renderer = if read_back { renderer.reading_levels_back() } else { renderer };
-        // The caustics depend on neither the camera nor the tree: made once, shared by the frames.
+        // The S mesh and the caustics depend on neither the camera nor the tree: made once, shared
+        // by the frames.
         let (start, cpu_start) = (Instant::now(), our_threads_cpu_seconds());
-        let caustics = NonlinearCaustics::new(&scene, &options, &renderer).map_err(|e| e.to_string())?;
-        let caustics_cpu =
-            cpu_start.zip(our_threads_cpu_seconds()).map_or(0.0, |((m0, w0), (m1, w1))| m1 - m0 + w1 - w0);
-        let caustics_seconds = start.elapsed().as_secs_f64();
-        let frame = || render_nonlinear_frame(&scene, &options, &renderer, Some(&caustics)).map_err(|e| e.to_string());
+        let shared = NonlinearPrecomputed::new(&scene, &options, &renderer).map_err(|e| e.to_string())?;
+        let shared_cpu = cpu_start.zip(our_threads_cpu_seconds()).map_or(0.0, |((m0, w0), (m1, w1))| m1 - m0 + w1 - w0);
+        let shared_seconds = start.elapsed().as_secs_f64();
+        let frame = || render_nonlinear_frame(&scene, &options, &renderer, Some(&shared)).map_err(|e| e.to_string());
         let (warm, _) = frame()?;
         let (before, traffic) = (renderer.times(), gpu.traffic());
         let cpu_before = our_threads_cpu_seconds();
@@ -126,13 +126,13 @@ pub fn run(
         }
         println!(
             "{:<16} mirror and glass pixels of the eye and tree texels kept on the GPU: {} (texels shaded: {}); \
-             caustics made once for the frames: {:.1} ms ({:.1} CPU ms, {} light beams)",
+             S mesh and caustics made once for the frames: {:.1} ms ({:.1} CPU ms, {} light beams)",
             "",
             stats.kept_on_backend,
             stats.texels_shaded,
-            1e3 * caustics_seconds,
-            1e3 * caustics_cpu,
-            caustics.stats().beams
+            1e3 * shared_seconds,
+            1e3 * shared_cpu,
+            shared.stats().beams
         );
         let per = |seconds: f64| 1e3 * seconds / f64::from(frames.max(1));
         println!(

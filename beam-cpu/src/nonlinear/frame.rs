@@ -40,61 +40,80 @@ pub fn render_nonlinear_with(
     render_nonlinear_frame(scene, options, renderer, None)
 }
 
-/// The caustics of a scene for nonlinear frames (000 §9.2, [`caustics_by_beams`]): the irradiance
-/// through its mirror and glass surfaces from its lights, which depends on neither the camera nor
-/// the beam tree, so frames of a scene whose lights and surfaces stay put share it
+/// What the nonlinear frames of a scene share while its geometry, materials and lights stay put:
+/// its S mesh (000 §7.1, which a coarse one simplifies from the fine mesh: 55 ms on the mirror
+/// teapot under 850 faces, more than the rest of the frame's host work on most scenes) and its
+/// caustics (000 §9.2, [`caustics_by_beams`]: the irradiance through its mirror and glass surfaces
+/// from its lights). Neither depends on the camera or the beam tree, so an interactive renderer
+/// makes them once and renders every frame (a camera that moves, a new beam tree) with them
 /// ([`render_nonlinear_frame`]).
-#[derive(Clone, Debug, Default)]
-pub struct NonlinearCaustics {
+#[derive(Clone, Debug)]
+pub struct NonlinearPrecomputed {
+    smesh: SMesh,
     map: Option<IrradianceMap>,
     stats: CausticStats,
+    /// The scene's triangle count, checked by the frames that share these.
+    triangles: usize,
 }
 
-impl NonlinearCaustics {
-    /// The caustics of `scene` as a frame with `options` traces them, by `renderer`.
+impl NonlinearPrecomputed {
+    /// The S mesh and the caustics of `scene` as a frame with `options` traces them, the caustics
+    /// by `renderer`.
     pub fn new(scene: &Scene, options: &NonlinearOptions, renderer: &dyn BeamRenderer) -> Result<Self, RenderError> {
         let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
         let (map, stats) = caustics.map_or((None, CausticStats::default()), |(m, s)| (Some(m), s));
-        Ok(Self { map, stats })
+        Ok(Self { smesh: SMesh::of(scene), map, stats, triangles: scene.triangles.len() })
     }
 
-    /// What tracing them did.
+    /// What tracing the caustics did.
     #[must_use]
     pub fn stats(&self) -> &CausticStats {
         &self.stats
     }
+
+    /// The S mesh the beams spawn from.
+    #[must_use]
+    pub fn smesh(&self) -> &SMesh {
+        &self.smesh
+    }
 }
 
-/// [`render_nonlinear_with`] with the scene's `caustics` made before ([`NonlinearCaustics::new`],
-/// with the same options), or made for this frame where `None`: an interactive renderer makes
-/// them once while the lights and the mirror and glass surfaces stay put, and renders every frame
-/// (a camera that moves, a new beam tree) with them.
+/// [`render_nonlinear_with`] with the scene's S mesh and caustics made before
+/// ([`NonlinearPrecomputed::new`] on the same scene, with the same options), or made for this
+/// frame where `None`: an interactive renderer makes them once while the geometry, the materials
+/// and the lights stay put, and renders every frame (a camera that moves, a new beam tree) with
+/// them. Fails with [`RenderError::Precomputed`] where they were made for a scene of another
+/// triangle count.
 pub fn render_nonlinear_frame(
     scene: &Scene,
     options: &NonlinearOptions,
     renderer: &dyn BeamRenderer,
-    caustics: Option<&NonlinearCaustics>,
+    precomputed: Option<&NonlinearPrecomputed>,
 ) -> Result<(Image, NonlinearStats), RenderError> {
     let start = Instant::now();
     let mut clock = StageClock::start(renderer);
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
-    // Pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that shades with them.
+    // The S mesh, and pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that
+    // shades with them.
     let made;
-    let caustics = match caustics {
+    let shared = match precomputed {
+        Some(given) if given.triangles != scene.triangles.len() => {
+            return Err(RenderError::Precomputed { made_for: given.triangles, scene: scene.triangles.len() });
+        }
         Some(given) => given,
         None => {
-            made = NonlinearCaustics::new(scene, options, renderer)?;
+            made = NonlinearPrecomputed::new(scene, options, renderer)?;
             &made
         }
     };
-    clock.lap("caustics");
-    let caustic_stats = caustics.stats.clone();
+    clock.lap("S mesh and caustics");
+    let caustic_stats = shared.stats.clone();
     let tree = Tree {
         scene,
-        smesh: SMesh::of(scene),
+        smesh: &shared.smesh,
         options: *options,
         eye: camera.position,
-        caustics: caustics.map.as_ref(),
+        caustics: shared.map.as_ref(),
         by_rays: std::sync::atomic::AtomicU64::new(0),
     };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
@@ -244,12 +263,36 @@ mod tests {
             caustic_strata: 1,
             shading: RenderOptions::exact(40, 32),
         };
-        let caustics = NonlinearCaustics::new(&scene, &options, &CpuBeams).unwrap();
-        assert!(caustics.stats().beams > 0 && caustics.stats().texels_deposited > 0, "{:?}", caustics.stats());
+        let shared = NonlinearPrecomputed::new(&scene, &options, &CpuBeams).unwrap();
+        assert!(shared.stats().beams > 0 && shared.stats().texels_deposited > 0, "{:?}", shared.stats());
         let (made, made_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
-        let (shared, shared_stats) = render_nonlinear_frame(&scene, &options, &CpuBeams, Some(&caustics)).unwrap();
-        assert_eq!(made.pixels, shared.pixels);
+        let (again, again_stats) = render_nonlinear_frame(&scene, &options, &CpuBeams, Some(&shared)).unwrap();
+        assert_eq!(made.pixels, again.pixels);
         let counts = |s: &NonlinearStats| (s.caustics.beams, s.caustics.texels_deposited, s.texels_shaded);
-        assert_eq!(counts(&made_stats), counts(&shared_stats));
+        assert_eq!(counts(&made_stats), counts(&again_stats));
+    }
+
+    /// A coarse S mesh made once serves every frame: the same pixels, bit for bit, as a frame that
+    /// simplifies it itself; made for another scene, the frame fails instead of indexing it.
+    #[test]
+    fn frames_sharing_a_coarse_smesh_equal_frames_making_it() {
+        let mut scene = builtin("mirror-teapot").unwrap();
+        scene.smesh.rest = Some(beam_scene::scene::Simplify::Faces(60));
+        let options = NonlinearOptions {
+            degree: Degree::S3,
+            texels: 8,
+            bounces: 1,
+            caustic_strata: 0,
+            shading: RenderOptions::exact(32, 24),
+        };
+        let shared = NonlinearPrecomputed::new(&scene, &options, &CpuBeams).unwrap();
+        assert!(shared.smesh().coarse_faces() > 0);
+        let (made, made_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
+        let (again, again_stats) = render_nonlinear_frame(&scene, &options, &CpuBeams, Some(&shared)).unwrap();
+        assert_eq!(made.pixels, again.pixels);
+        assert_eq!(made_stats.coarse_smesh_faces, again_stats.coarse_smesh_faces);
+        let other = builtin("wavy-lake").unwrap();
+        let wrong = render_nonlinear_frame(&other, &options, &CpuBeams, Some(&shared));
+        assert!(matches!(wrong, Err(RenderError::Precomputed { .. })), "{:?}", wrong.map(|_| ()));
     }
 }

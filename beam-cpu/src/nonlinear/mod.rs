@@ -21,7 +21,7 @@ pub use caustics::{
 };
 pub use composite::composite_levels;
 pub use cpu_beams::{CpuBeams, shade_points};
-pub use frame::{NonlinearCaustics, render_nonlinear, render_nonlinear_frame, render_nonlinear_with};
+pub use frame::{NonlinearPrecomputed, render_nonlinear, render_nonlinear_frame, render_nonlinear_with};
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
 pub use settings::{NonlinearOptions, NonlinearStats};
 pub use stages::Stage;

@@ -83,7 +83,7 @@ pub(super) struct Request {
 /// One render's beam tree.
 pub(super) struct Tree<'a> {
     pub(super) scene: &'a Scene,
-    pub(super) smesh: SMesh,
+    pub(super) smesh: &'a SMesh,
     pub(super) options: NonlinearOptions,
     pub(super) eye: Vec3,
     /// Irradiance through the specular surfaces from the lights (caustics, nonlinear shadows).

@@ -190,10 +190,12 @@ impl SMesh {
         let face = match self.candidates(prim) {
             [] => return None,
             [f] => *f as usize,
-            candidates => *candidates.iter().min_by(|&&a, &&b| {
+            // Each candidate's distance once (a comparison's closure would take two per step);
+            // the first of equally near ones, as `min_by` keeps it.
+            candidates => {
                 let d = |f: u32| closest_point_on_triangle(p, &Triangle { v: self.faces[f as usize].v }).distance(p);
-                d(a).total_cmp(&d(b))
-            })? as usize,
+                candidates.iter().map(|&f| (d(f), f)).min_by(|a, b| a.0.total_cmp(&b.0))?.1 as usize
+            }
         };
         Some((face, self.faces[face].barycentric(p)))
     }
