@@ -2,7 +2,9 @@
 //! send on their specular rays, traced in waves of at most [`MAX_DEPTH`] bounces without leaving
 //! the GPU; the points the paths end on are shaded there by [`PointShader`] and their radiance,
 //! times each path's weight, added to the point it started from. Per wave the host reads back
-//! three counts per dispatch, nothing else. CPU twin: [`shade_by_waves`] with [`specular_rays`].
+//! three counts per dispatch, nothing else; the ends of every wave are shaded together after the
+//! last (one shading and its wait, not one a wave). CPU twin: [`shade_by_waves`] with
+//! [`specular_rays`].
 //!
 //! [`shade_by_waves`]: beam_scene::nonlinear::shade_by_waves
 //! [`specular_rays`]: beam_scene::specular::specular_rays
@@ -158,6 +160,13 @@ pub struct GpuWhitted {
     eps: f32,
 }
 
+/// A dispatch's ends: their shading inputs, their paths' weights and destinations, how many.
+struct Ends {
+    inputs: wgpu::Buffer,
+    weights: wgpu::Buffer,
+    count: u32,
+}
+
 /// One dispatch's output: paths (room for two per item), ends (one per item), counts.
 struct Appended {
     paths: wgpu::Buffer,
@@ -261,7 +270,9 @@ impl GpuWhitted {
                 dispatched.push(self.dispatch(gpu, &self.start, (count, first, false), &[buffer_entry(5, inputs)]));
             }
         }
-        let mut batches = self.finish(gpu, tracer, shader, prepared, spp, dispatched, radiance)?;
+        // The paths' ends of every wave, shaded together once the waves are done.
+        let mut ends = Vec::new();
+        let mut batches = self.finish(gpu, dispatched, &mut ends)?;
         for depth in 1..=MAX_DEPTH {
             if batches.is_empty() {
                 break;
@@ -275,9 +286,17 @@ impl GpuWhitted {
                     dispatched.push(self.dispatch(gpu, &self.wave, (n, from, depth == MAX_DEPTH), &entries));
                 }
             }
-            batches = self.finish(gpu, tracer, shader, prepared, spp, dispatched, radiance)?;
+            batches = self.finish(gpu, dispatched, &mut ends)?;
         }
-        Ok(())
+        // As many waves' ends a shading as one takes: each shading waits for the device.
+        let mut batch: Vec<Ends> = Vec::new();
+        for e in ends {
+            if batch.iter().map(|b| b.count).sum::<u32>() as usize + e.count as usize > chunk {
+                self.shade_ends(gpu, (tracer, shader, prepared, spp), &std::mem::take(&mut batch), radiance)?;
+            }
+            batch.push(e);
+        }
+        self.shade_ends(gpu, (tracer, shader, prepared, spp), &batch, radiance)
     }
 
     /// One dispatch of `pipeline` over `count` items from `from`, its outputs made, its `inputs`
@@ -314,18 +333,13 @@ impl GpuWhitted {
         (encoder, out)
     }
 
-    /// Submit `dispatched`, read their counts back, shade their ends and add them to `radiance`; the
-    /// paths they appended, each buffer with its count.
-    #[allow(clippy::too_many_arguments)]
+    /// Submit `dispatched` and read their counts back; their ends go to `ends`, the paths they
+    /// appended are returned, each buffer with its count.
     fn finish(
         &self,
         gpu: &Gpu,
-        tracer: &RayTracer,
-        shader: &PointShader,
-        prepared: &ShadeScene,
-        spp: u32,
         dispatched: Vec<(wgpu::CommandEncoder, Appended)>,
-        radiance: &wgpu::Buffer,
+        ends: &mut Vec<Ends>,
     ) -> Result<Vec<(wgpu::Buffer, u32)>, GpuError> {
         let (encoders, outs): (Vec<_>, Vec<_>) = dispatched.into_iter().map(|(e, o)| (e.finish(), o)).unzip();
         // One submission with the counts' copy (a second would wait for the first, uncounted).
@@ -337,23 +351,56 @@ impl GpuWhitted {
         let mut next = Vec::new();
         for (out, c) in outs.into_iter().zip(counts) {
             if c.ends > 0 {
-                let (mut encoder, shaded) =
-                    shader.shade_inputs(gpu, tracer, prepared, spp, (&out.ends, c.ends as usize), 0)?;
-                let params = WhittedParams { count: c.ends, first: 0, last: 0, eps: self.eps };
-                let params = uniform(gpu, "whitted params", bytemuck::bytes_of(&params));
-                let entries = [
-                    buffer_entry(2, &params),
-                    buffer_entry(9, &out.weights),
-                    buffer_entry(11, &shaded),
-                    buffer_entry(12, radiance),
-                ];
-                encode_pass(gpu, &mut encoder, &self.gather, c.ends, &entries);
-                gpu.queue.submit([encoder.finish()]);
+                ends.push(Ends { inputs: out.ends, weights: out.weights, count: c.ends });
             }
             if c.paths > 0 {
                 next.push((out.paths, c.paths));
             }
         }
         Ok(next)
+    }
+
+    /// Shade the ends of `batch` (at most [`Self::per_dispatch`] in all) in one shading and add
+    /// each, times its path's weight, to its point's element of `radiance`. Several waves' ends are
+    /// first copied into one buffer.
+    fn shade_ends(
+        &self,
+        gpu: &Gpu,
+        (tracer, shader, prepared, spp): (&RayTracer, &PointShader, &ShadeScene, u32),
+        batch: &[Ends],
+        radiance: &wgpu::Buffer,
+    ) -> Result<(), GpuError> {
+        let count: u32 = batch.iter().map(|e| e.count).sum();
+        let joined;
+        let (inputs, weights) = match batch {
+            [] => return Ok(()),
+            [one] => (&one.inputs, &one.weights),
+            _ => {
+                let size = |each: usize| (each * count as usize) as u64;
+                joined = (
+                    output(gpu, "whitted ends", size(size_of::<ShadeInput>())),
+                    output(gpu, "whitted end weights", size(size_of::<EndWeight>())),
+                );
+                let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+                let mut at = 0;
+                for e in batch {
+                    let n = u64::from(e.count);
+                    let (i, w) = (size_of::<ShadeInput>() as u64, size_of::<EndWeight>() as u64);
+                    encoder.copy_buffer_to_buffer(&e.inputs, 0, &joined.0, at * i, n * i);
+                    encoder.copy_buffer_to_buffer(&e.weights, 0, &joined.1, at * w, n * w);
+                    at += n;
+                }
+                gpu.queue.submit([encoder.finish()]);
+                (&joined.0, &joined.1)
+            }
+        };
+        let (mut encoder, shaded) = shader.shade_inputs(gpu, tracer, prepared, spp, (inputs, count as usize), 0)?;
+        let params = WhittedParams { count, first: 0, last: 0, eps: self.eps };
+        let params = uniform(gpu, "whitted params", bytemuck::bytes_of(&params));
+        let entries =
+            [buffer_entry(2, &params), buffer_entry(9, weights), buffer_entry(11, &shaded), buffer_entry(12, radiance)];
+        encode_pass(gpu, &mut encoder, &self.gather, count, &entries);
+        gpu.queue.submit([encoder.finish()]);
+        Ok(())
     }
 }
