@@ -120,7 +120,7 @@ pub fn render_nonlinear_frame(
     // the beam tree. (A backend that shades the eye's diffuse, glossy and emissive pixels itself may
     // keep those: they see no S-mesh face; one that composites them may keep mirror and glass hits
     // on fine faces, counted per face.)
-    let EyeFaces { hits, seen, kept: kept_eye } = renderer.eye_faces(scene, &tree.smesh, &camera, &options.shading)?;
+    let EyeFaces { hits, seen, kept: kept_eye } = renderer.eye_faces(scene, tree.smesh, &camera, &options.shading)?;
     clock.lap("eye view");
     // Per pixel, the S face it sees: its own triangle's, or on a coarse S mesh the face its point
     // maps to. The eye's beams need only how many pixels see each face (their directions come from
@@ -191,7 +191,7 @@ pub fn render_nonlinear_frame(
         + kept_by_rays;
     clock.lap("radiance flow");
     let (shading, caustics) = (&options.shading, tree.caustics);
-    let frame = match renderer.shade_tree(scene, &tree.smesh, shading, caustics, &flow)? {
+    let frame = match renderer.shade_tree(scene, tree.smesh, shading, caustics, &flow)? {
         Some(pixels) => pixels,
         None => {
             // Shaded here after all: with the eye's pixels the backend kept.
@@ -202,7 +202,7 @@ pub fn render_nonlinear_frame(
                 let past = || BackendError::new("renderer", format!("kept texels of level {level}, past the tree"));
                 flow.get_mut(level).ok_or_else(past)?.texels.extend(texels);
             }
-            composite_levels(scene, &tree.smesh, &flow, &|points| {
+            composite_levels(scene, tree.smesh, &flow, &|points| {
                 shade_points(renderer, scene, shading, caustics, points)
             })?
         }
