@@ -204,7 +204,7 @@ pub struct PointShader {
     pipeline: wgpu::ComputePipeline,
     prims: Vec<PrimShading>,
     /// [`Self::prepare`] without caustics, made once: it depends on the scene alone.
-    plain: Option<ShadeScene>,
+    plain: ShadeScene,
     lights: wgpu::Buffer,
     light_count: u32,
     eps: f32,
@@ -226,17 +226,15 @@ impl PointShader {
                 PrimShading { normal: scene.normal(i).to_array(), kind, color: color.to_array(), plane: -1 }
             })
             .collect();
-        let mut shader = Self {
+        Ok(Self {
             pipeline: compute_pipeline(gpu, "raytrace", "shade")?,
+            plain: upload_shading(gpu, prims.clone(), None),
             prims,
-            plain: None,
             lights: storage(gpu, "lights", &lights, wgpu::BufferUsages::empty()),
             light_count: lights.len() as u32,
             eps: shading_eps(scene),
             passes: AtomicU32::new(1),
-        };
-        shader.plain = Some(shader.prepare(gpu, None));
-        Ok(shader)
+        })
     }
 
     /// True when the pass shades points of triangle `prim` (diffuse, glossy, emissive).
@@ -249,35 +247,9 @@ impl PointShader {
     /// [`shade_into`](Self::shade_into).
     #[must_use]
     pub fn prepare(&self, gpu: &Gpu, caustics: Option<&IrradianceMap>) -> ShadeScene {
-        if let (None, Some(plain)) = (caustics, &self.plain) {
-            return plain.clone();
-        }
-        let mut planes = Vec::new();
-        let mut flux: Vec<[f32; 4]> = Vec::new();
-        let mut prims = self.prims.clone();
-        if let Some(map) = caustics {
-            // Which plane each triangle's points read.
-            for (i, p) in prims.iter_mut().enumerate() {
-                p.plane = map.plane_of(i as u32).map_or(-1, |k| k as i32);
-            }
-            for (origin, axes, size, texels) in map.grids() {
-                planes.push(CausticPlane {
-                    origin: origin.to_array(),
-                    offset: flux.len() as u32,
-                    axis_u: axes[0].to_array(),
-                    width: size[0],
-                    axis_v: axes[1].to_array(),
-                    height: size[1],
-                });
-                flux.extend(texels.iter().map(|f| [f.x, f.y, f.z, 0.0]));
-            }
-        }
-        let texel = caustics.map_or(1.0, |m| m.texel);
-        ShadeScene {
-            prims: storage(gpu, "prim shading", &prims, wgpu::BufferUsages::empty()),
-            planes: storage(gpu, "caustic planes", &planes, wgpu::BufferUsages::empty()),
-            flux: crate::texels::upload(gpu, "caustic flux", &flux, wgpu::TextureFormat::Rgba32Uint),
-            inv_texel_area: 1.0 / (texel * texel),
+        match caustics {
+            None => self.plain.clone(),
+            Some(_) => upload_shading(gpu, self.prims.clone(), caustics),
         }
     }
 
@@ -409,6 +381,37 @@ impl PointShader {
         }
         self.passes.store(total, Ordering::Relaxed);
         Ok((new_encoder(), out))
+    }
+}
+
+/// `prims` (the scene's triangles' shading, [`PointShader`]'s) and the irradiance maps of `caustics`
+/// on the GPU ([`PointShader::prepare`]).
+fn upload_shading(gpu: &Gpu, mut prims: Vec<PrimShading>, caustics: Option<&IrradianceMap>) -> ShadeScene {
+    let mut planes = Vec::new();
+    let mut flux: Vec<[f32; 4]> = Vec::new();
+    if let Some(map) = caustics {
+        // Which plane each triangle's points read.
+        for (i, p) in prims.iter_mut().enumerate() {
+            p.plane = map.plane_of(i as u32).map_or(-1, |k| k as i32);
+        }
+        for (origin, axes, size, texels) in map.grids() {
+            planes.push(CausticPlane {
+                origin: origin.to_array(),
+                offset: flux.len() as u32,
+                axis_u: axes[0].to_array(),
+                width: size[0],
+                axis_v: axes[1].to_array(),
+                height: size[1],
+            });
+            flux.extend(texels.iter().map(|f| [f.x, f.y, f.z, 0.0]));
+        }
+    }
+    let texel = caustics.map_or(1.0, |m| m.texel);
+    ShadeScene {
+        prims: storage(gpu, "prim shading", &prims, wgpu::BufferUsages::empty()),
+        planes: storage(gpu, "caustic planes", &planes, wgpu::BufferUsages::empty()),
+        flux: crate::texels::upload(gpu, "caustic flux", &flux, wgpu::TextureFormat::Rgba32Uint),
+        inv_texel_area: 1.0 / (texel * texel),
     }
 }
 

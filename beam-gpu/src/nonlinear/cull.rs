@@ -11,8 +11,7 @@ use super::GpuBeams;
 use crate::buffers::{checked, compute_pass, compute_pipeline, map_with, output, storage, uniform};
 use crate::interface::{NONE, WORKGROUP_SIZE};
 use crate::{Gpu, GpuError};
-use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{BeamJob, ConeCull, Exclude, SelfHitFloor, cone_blocks};
+use beam_scene::nonlinear::{BeamJob, ConeCull, Exclude, cone_blocks};
 use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
@@ -61,7 +60,7 @@ impl BeamCull {
     pub fn new(cull: &ConeCull, exclude: Exclude<'_>, patch: [u32; 2], ring: [u32; 2]) -> Self {
         let (apex, axis, cos_angle, sin_angle) = cull.spheres.terms();
         // Without a floor the shader reads neither the base nor the floor.
-        let f = cull.floor.unwrap_or(SelfHitFloor { base: [Vec3::ZERO; 3], normal: Vec3::ZERO, floor: 0.0 });
+        let f = cull.floor.unwrap_or_default();
         Self {
             apex: apex.into(),
             cos_angle,

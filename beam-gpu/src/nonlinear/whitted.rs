@@ -289,11 +289,13 @@ impl GpuWhitted {
             batches = self.finish(gpu, dispatched, &mut ends)?;
         }
         // As many waves' ends a shading as one takes: each shading waits for the device.
-        let mut batch: Vec<Ends> = Vec::new();
+        let (mut batch, mut points): (Vec<Ends>, usize) = (Vec::new(), 0);
         for e in ends {
-            if batch.iter().map(|b| b.count).sum::<u32>() as usize + e.count as usize > chunk {
+            if points + e.count as usize > chunk {
                 self.shade_ends(gpu, (tracer, shader, prepared, spp), &std::mem::take(&mut batch), radiance)?;
+                points = 0;
             }
+            points += e.count as usize;
             batch.push(e);
         }
         self.shade_ends(gpu, (tracer, shader, prepared, spp), &batch, radiance)

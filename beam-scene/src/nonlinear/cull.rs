@@ -92,7 +92,7 @@ const FLOOR_MARGIN: f32 = 1e-6;
 /// below the floor is never hit: on a convex mirror or a flat one, every neighbour of the base,
 /// each of which would otherwise be tested over the whole region (000 Alg. 3's brute-force case, as
 /// it straddles the beam's side).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct SelfHitFloor {
     /// The beam's base triangle (a neighbour shares a vertex with it).
     pub base: [Vec3; 3],
