@@ -1,6 +1,7 @@
 //! Buffer upload, compute dispatch and readback shared by the pipelines.
 
 use crate::{Gpu, GpuError};
+use std::sync::PoisonError;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
@@ -75,15 +76,10 @@ pub fn read_back<T: bytemuck::Pod>(
     source: &wgpu::Buffer,
     size: u64,
 ) -> Result<Vec<T>, GpuError> {
-    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    encoder.copy_buffer_to_buffer(source, 0, &readback, 0, size);
+    let readback = readback(gpu, size);
+    encoder.copy_buffer_to_buffer(source, 0, readback.buffer(), 0, size);
     gpu.queue.submit([encoder.finish()]);
-    map_with(gpu, &readback, bytemuck::pod_collect_to_vec)
+    map_with(gpu, readback, bytemuck::pod_collect_to_vec)
 }
 
 /// The first `bytes` of each buffer, read back in one copy and one wait after the work `first`,
@@ -99,36 +95,83 @@ pub fn read_all<'a, T: bytemuck::Pod>(
         gpu.queue.submit(first);
         return Ok(Vec::new());
     }
-    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: total,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let readback = readback(gpu, total);
     let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
     let mut at = 0;
     for (source, bytes) in sources {
-        encoder.copy_buffer_to_buffer(source, 0, &readback, at, bytes);
+        encoder.copy_buffer_to_buffer(source, 0, readback.buffer(), at, bytes);
         at += bytes;
     }
     gpu.queue.submit(first.into_iter().chain([encoder.finish()]));
-    map_with(gpu, &readback, bytemuck::pod_collect_to_vec)
+    map_with(gpu, readback, bytemuck::pod_collect_to_vec)
 }
 
-/// Wait for the queue and hand `read` the bytes of a `MAP_READ` buffer where they are mapped (no
-/// copy: a large readback is unpacked straight from them). Mapped ranges start at an 8-byte
-/// boundary (`wgpu::MAP_ALIGNMENT`).
-pub fn map_with<T>(gpu: &Gpu, buffer: &wgpu::Buffer, read: impl FnOnce(&[u8]) -> T) -> Result<T, GpuError> {
-    let slice = buffer.slice(..);
+/// A mappable buffer for a readback of `size` bytes ([`readback`]), used once by [`map_with`].
+pub struct Readback {
+    buffer: wgpu::Buffer,
+    size: u64,
+}
+
+impl Readback {
+    /// The buffer to copy into (its first `size` bytes are read).
+    #[must_use]
+    pub fn buffer(&self) -> &wgpu::Buffer {
+        &self.buffer
+    }
+}
+
+/// Smallest buffer [`readback`] makes; it makes powers of two.
+const READBACK_MIN: u64 = 1 << 16;
+
+/// Most buffers the device keeps for readbacks to come.
+const READBACKS_KEPT: usize = 8;
+
+/// A mappable buffer (`MAP_READ | COPY_DST`) for `size` bytes: one an earlier readback handed back
+/// ([`map_with`]) at most twice as large, else a new one of the next power of two. A frame reads
+/// back the same sizes as the last one (the image, the atlas pages' hits), so its readbacks reuse
+/// the last frame's memory: a fresh buffer's memory is paged in on its first use (on lavapipe
+/// 1–2 ms of host time a frame for the 10 MB image).
+#[must_use]
+pub fn readback(gpu: &Gpu, size: u64) -> Readback {
+    let mut kept = gpu.readbacks.lock().unwrap_or_else(PoisonError::into_inner);
+    let fits = |b: &wgpu::Buffer| b.size() >= size && b.size() <= 2 * size.max(READBACK_MIN);
+    let best = kept.iter().enumerate().filter(|(_, b)| fits(b)).min_by_key(|(_, b)| b.size()).map(|(i, _)| i);
+    let buffer = match best {
+        Some(i) => kept.swap_remove(i),
+        None => gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: size.max(READBACK_MIN).next_power_of_two(),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        }),
+    };
+    Readback { buffer, size }
+}
+
+/// Wait for the queue and hand `read` the bytes of `readback` where they are mapped (no copy: a
+/// large readback is unpacked straight from them); the buffer goes back to the device for the
+/// next readbacks ([`readback`]). Mapped ranges start at an 8-byte boundary (`wgpu::MAP_ALIGNMENT`).
+pub fn map_with<T>(gpu: &Gpu, readback: Readback, read: impl FnOnce(&[u8]) -> T) -> Result<T, GpuError> {
+    let Readback { buffer, size } = readback;
+    // Mapped in whole four-byte words.
+    let slice = buffer.slice(..size.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT).min(buffer.size()));
     slice.map_async(wgpu::MapMode::Read, |_| {});
     let start = Instant::now();
     gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(GpuError::Wait)?;
     let (waited, start) = (start.elapsed(), Instant::now());
     let data = slice.get_mapped_range().map_err(GpuError::Readback)?;
-    let (out, len) = (read(&data), data.len());
+    let bytes = &data[..(size as usize).min(data.len())];
+    let (out, len) = (read(bytes), bytes.len());
     drop(data);
     buffer.unmap();
     gpu.record(waited, len, start.elapsed());
+    let mut kept = gpu.readbacks.lock().unwrap_or_else(PoisonError::into_inner);
+    if kept.len() == READBACKS_KEPT {
+        // The smallest goes: it is the cheapest to make again.
+        let smallest = kept.iter().enumerate().min_by_key(|(_, b)| b.size()).map(|(i, _)| i);
+        smallest.map(|i| kept.swap_remove(i));
+    }
+    kept.push(buffer);
     Ok(out)
 }
 

@@ -2,6 +2,7 @@
 //! where there is one), its name and backend, and a clear error when there is none.
 
 use crate::GpuError;
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
@@ -19,6 +20,8 @@ pub struct Gpu {
     upload_ns: AtomicU64,
     uploaded: AtomicU64,
     unpack_ns: AtomicU64,
+    /// Mappable buffers that readbacks handed back, for the next ones ([`crate::buffers::readback`]).
+    pub(crate) readbacks: Mutex<Vec<wgpu::Buffer>>,
 }
 
 /// What beam's passes have cost on the host side of the bus so far, summed over its calls: the
@@ -115,6 +118,7 @@ impl Gpu {
             upload_ns: zero(),
             uploaded: zero(),
             unpack_ns: zero(),
+            readbacks: Mutex::default(),
         }
     }
 

@@ -96,17 +96,12 @@ pub fn read_back_with<T: bytemuck::Pod, R>(
 ) -> Result<R, GpuError> {
     let size = texture.size();
     let bytes_per_row = size.width * size_of::<T>() as u32;
-    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("texel readback"),
-        size: u64::from(bytes_per_row) * u64::from(size.height),
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let readback = crate::buffers::readback(gpu, u64::from(bytes_per_row) * u64::from(size.height));
     let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
     encoder.copy_texture_to_buffer(
         texture.as_image_copy(),
         wgpu::TexelCopyBufferInfo {
-            buffer: &readback,
+            buffer: readback.buffer(),
             layout: wgpu::TexelCopyBufferLayout {
                 offset: 0,
                 bytes_per_row: Some(bytes_per_row),
@@ -117,7 +112,7 @@ pub fn read_back_with<T: bytemuck::Pod, R>(
     );
     gpu.queue.submit([encoder.finish()]);
     // Mapped ranges are 8-byte aligned; copied only where a backend mapped them otherwise.
-    crate::buffers::map_with(gpu, &readback, |bytes| match bytemuck::try_cast_slice(bytes) {
+    crate::buffers::map_with(gpu, readback, |bytes| match bytemuck::try_cast_slice(bytes) {
         Ok(texels) => read(texels),
         Err(_) => read(&bytemuck::pod_collect_to_vec(bytes)),
     })

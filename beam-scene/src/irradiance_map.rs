@@ -6,6 +6,8 @@
 use crate::scene::{Material, Scene};
 use beam_math::glam::{Vec2, Vec3};
 use std::collections::HashMap;
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// One receiving plane's texels.
 #[derive(Clone, Debug)]
@@ -47,6 +49,9 @@ pub struct IrradianceMap {
     /// Per scene triangle, its plane's index in `maps`, or [`NO_PLANE`] (a dense table: every
     /// splat and every shade point looks one up; SipHash cost more than the splat itself).
     plane_of: Vec<u32>,
+    /// Which texels these are ([`IrradianceMap::content_id`]): assigned on first asking, forgotten
+    /// by every change of the texels.
+    id: OnceLock<u64>,
 }
 
 /// "No map" in [`IrradianceMap`]'s table of planes.
@@ -99,12 +104,23 @@ impl IrradianceMap {
                 }
             })
             .collect();
-        Self { texel, maps, plane_of }
+        Self { texel, maps, plane_of, id: OnceLock::new() }
+    }
+
+    /// A number that names these texels: two maps with the same number hold the same texels (a
+    /// clone keeps its original's; every change of the texels forgets it, and the next asking
+    /// draws a number never given before). A GPU keeps the maps it uploaded under it and uploads
+    /// them again only for another number.
+    #[must_use]
+    pub fn content_id(&self) -> u64 {
+        static NEXT: AtomicU64 = AtomicU64::new(0);
+        *self.id.get_or_init(|| NEXT.fetch_add(1, Ordering::Relaxed))
     }
 
     /// Deposit `flux` (watts) arriving at point `p` of triangle `prim`; false when `prim` has no map.
     pub fn splat(&mut self, prim: u32, p: Vec3, flux: Vec3) -> bool {
         let Some(m) = self.plane_of(prim) else { return false };
+        self.id = OnceLock::new();
         let map = &mut self.maps[m];
         for (k, w) in taps(map.size, map.coords(p)) {
             map.flux[k] += w * flux;
@@ -115,6 +131,7 @@ impl IrradianceMap {
     /// Add `flux` to texel `at` (column, row) of plane `plane` (an index in [`IrradianceMap::grids`]);
     /// outside the grid it is dropped.
     pub fn add_texel(&mut self, plane: usize, at: [usize; 2], flux: Vec3) {
+        self.id = OnceLock::new();
         if let Some(map) = self.maps.get_mut(plane)
             && at[0] < map.size[0] as usize
             && at[1] < map.size[1] as usize
@@ -135,6 +152,7 @@ impl IrradianceMap {
 
     /// Add another map of the same scene and texel size.
     pub fn merge(&mut self, other: &Self) {
+        self.id = OnceLock::new();
         for (a, b) in self.maps.iter_mut().zip(&other.maps) {
             for (x, y) in a.flux.iter_mut().zip(&b.flux) {
                 *x += *y;
@@ -173,5 +191,34 @@ impl IrradianceMap {
     #[must_use]
     pub fn total_flux(&self) -> Vec3 {
         self.maps.iter().flat_map(|m| &m.flux).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::builtin;
+
+    /// Equal numbers name equal texels: a clone keeps its original's number until either changes,
+    /// and every change (a splat, a texel added, a merge) draws a new one.
+    #[test]
+    fn content_ids_name_the_texels() {
+        let scene = builtin("wavy-lake").unwrap();
+        let mut map = IrradianceMap::new(&scene, 0.1);
+        let prim = (0..scene.triangles.len() as u32).find(|&p| map.plane_of(p).is_some()).unwrap();
+        let first = map.content_id();
+        assert_eq!(map.content_id(), first);
+        let clone = map.clone();
+        assert_eq!(clone.content_id(), first);
+        assert!(map.splat(prim, scene.triangles[prim as usize].v[0], Vec3::ONE));
+        let splatted = map.content_id();
+        assert_ne!(splatted, first);
+        assert_eq!(clone.content_id(), first);
+        map.add_texel(0, [0, 0], Vec3::ONE);
+        assert_ne!(map.content_id(), splatted);
+        let added = map.content_id();
+        map.merge(&clone);
+        assert_ne!(map.content_id(), added);
+        assert_ne!(IrradianceMap::new(&scene, 0.1).content_id(), first);
     }
 }

@@ -564,6 +564,18 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
             .map_err(|e| e.to_string())?;
         let whitted = GpuWhitted::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let prepared = shader.prepare(&gpu, caustics.as_ref());
+        if let Some(map) = &caustics {
+            // The same maps are uploaded once; changed, again.
+            if shader.prepare(&gpu, Some(&map.clone())) != prepared {
+                return Err(format!("{name}: the same caustic maps uploaded twice"));
+            }
+            let mut changed = map.clone();
+            changed.add_texel(0, [0, 0], Vec3::ONE);
+            if shader.prepare(&gpu, Some(&changed)) == prepared {
+                return Err(format!("{name}: changed caustic maps not uploaded again"));
+            }
+        }
+        let prepared = shader.prepare(&gpu, caustics.as_ref());
         let rest = |points: RestPoints<'_>, radiance: (&wgpu::Buffer, usize)| {
             whitted.shade_into(&gpu, &tracer, &shader, &prepared, 64, points, radiance)
         };

@@ -8,7 +8,7 @@
 //! [`cone_blocks`]: beam_scene::nonlinear::cone_blocks
 
 use super::GpuBeams;
-use crate::buffers::{checked, compute_pass, compute_pipeline, map_with, output, storage, uniform};
+use crate::buffers::{checked, compute_pass, compute_pipeline, map_with, output, readback, storage, uniform};
 use crate::interface::{NONE, WORKGROUP_SIZE};
 use crate::{Gpu, GpuError};
 use beam_scene::nonlinear::{BeamJob, ConeCull, Exclude, cone_blocks};
@@ -186,15 +186,10 @@ impl GpuBeams<'_> {
             let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
             let buffers = (&params, &self.triangles, &blocks_buffer);
             let out = self.cull.encode(self.gpu, &mut encoder, buffers, &page, slots);
-            let readback = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pairs readback"),
-                size: (slots * 8).max(8) as u64,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, (slots * 8) as u64);
+            let readback = readback(self.gpu, (slots * 8) as u64);
+            encoder.copy_buffer_to_buffer(&out, 0, readback.buffer(), 0, (slots * 8) as u64);
             self.gpu.queue.submit([encoder.finish()]);
-            map_with(self.gpu, &readback, |bytes| {
+            map_with(self.gpu, readback, |bytes| {
                 let got: Vec<[u32; 2]> = bytemuck::pod_collect_to_vec(&bytes[..slots * 8]);
                 let mut kept = vec![Vec::new(); jobs.len()];
                 for [k, prim] in got.into_iter().filter(|p| p[1] != NONE) {

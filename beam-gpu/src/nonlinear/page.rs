@@ -8,7 +8,7 @@ use super::beam::GpuBeam;
 use super::cull::PageCulls;
 use super::level::{Appended, LevelCounts, LevelPage};
 use crate::GpuError;
-use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, storage, uniform, view_entry};
+use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, readback, storage, uniform, view_entry};
 use crate::interface::WORKGROUP_SIZE;
 use crate::texels::texture_2d;
 use crate::timestamps::PassTimer;
@@ -133,25 +133,22 @@ impl GpuBeams<'_> {
         let texel_bytes = if keep.is_some_and(|(_, with_hits, _)| !with_hits) { 0 } else { texel_bytes };
         let count_bytes = beams.len() as u64 * 8;
         let level_bytes = appended.as_ref().map_or(0, |a| a.len() * size_of::<LevelCounts>()) as u64;
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("atlas readback"),
-            size: texel_bytes + count_bytes + level_bytes + timer.as_ref().map_or(0, PassTimer::bytes),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readback =
+            readback(self.gpu, texel_bytes + count_bytes + level_bytes + timer.as_ref().map_or(0, PassTimer::bytes));
+        let into = readback.buffer();
         if texel_bytes > 0 {
-            encoder.copy_buffer_to_buffer(&dense, 0, &readback, 0, texel_bytes);
+            encoder.copy_buffer_to_buffer(&dense, 0, into, 0, texel_bytes);
         }
-        encoder.copy_buffer_to_buffer(&counters, 0, &readback, texel_bytes, count_bytes);
+        encoder.copy_buffer_to_buffer(&counters, 0, into, texel_bytes, count_bytes);
         for (k, a) in appended.iter().flatten().enumerate() {
             let at = texel_bytes + count_bytes + (k * size_of::<LevelCounts>()) as u64;
-            encoder.copy_buffer_to_buffer(&a.counts, 0, &readback, at, size_of::<LevelCounts>() as u64);
+            encoder.copy_buffer_to_buffer(&a.counts, 0, into, at, size_of::<LevelCounts>() as u64);
         }
         if let Some(timer) = &timer {
-            timer.copy_to(&mut encoder, &readback, texel_bytes + count_bytes + level_bytes);
+            timer.copy_to(&mut encoder, into, texel_bytes + count_bytes + level_bytes);
         }
         self.gpu.queue.submit([encoder.finish()]);
-        let out = map_with(self.gpu, &readback, |bytes| {
+        let out = map_with(self.gpu, readback, |bytes| {
             let (texels, rest) = bytes.split_at(texel_bytes as usize);
             let (counts, rest) = rest.split_at(count_bytes as usize);
             let (level_counts, stamps) = rest.split_at(level_bytes as usize);
