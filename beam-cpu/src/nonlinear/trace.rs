@@ -58,6 +58,10 @@ pub(super) struct Node {
     pub(super) tex: BeamTexture,
     /// Per texel that hit: its index, hit triangle, hit point and unit ray direction.
     pub(super) hits: Vec<(usize, u32, Vec3, Vec3)>,
+    /// Per hit, its S-mesh face and barycentric coordinates there ([`SMesh::locate`]), found once
+    /// for the next level's requests and the composite; empty on the last level, whose hits no
+    /// child beam composites.
+    pub(super) located: Vec<Option<(usize, Vec3)>>,
     /// Its children per S-mesh face its texels hit.
     pub(super) children: FaceMap<Scattered>,
 }
@@ -184,7 +188,7 @@ impl Tree<'_> {
                 kept_totals.curved += k.curved;
             }
             clock.lap("tree: rasterize beams");
-            let nodes: Vec<Node> = beams
+            let mut nodes: Vec<Node> = beams
                 .into_par_iter()
                 .zip(textures)
                 .map(|((beam, face, pixels, _), tex)| {
@@ -200,17 +204,20 @@ impl Tree<'_> {
                             hits.push((y * size + x, hit.prim, ray.at(hit.t), ray.direction.normalize()));
                         }
                     }
-                    Node { beam, face, pixels, tex, hits, children: FaceMap::default() }
+                    Node { beam, face, pixels, tex, hits, located: Vec::new(), children: FaceMap::default() }
                 })
                 .collect();
             clock.lap("tree: texel hits");
             requests = if level < self.options.bounces {
+                nodes.par_iter_mut().for_each(|node| {
+                    node.located = node.hits.iter().map(|&(_, prim, p, _)| self.smesh.locate(prim, p)).collect();
+                });
                 nodes
                     .par_iter()
                     .enumerate()
                     .flat_map_iter(|(i, node)| {
-                        let samples = node.hits.iter().filter_map(|&(_, prim, p, d)| {
-                            let (g, w) = self.smesh.locate(prim, p)?;
+                        let samples = node.hits.iter().zip(&node.located).filter_map(|(&(.., d), at)| {
+                            let (g, w) = (*at)?;
                             Some((g, w, d))
                         });
                         Self::requests(Some(i), samples, node.pixels / node.tex.texels() as f32)
@@ -253,9 +260,11 @@ impl Tree<'_> {
                     |_, node| node.hits.len(),
                     |i, node, push| {
                         let (first, prim) = (regions[i].0, self.smesh.faces[node.face].prim);
-                        for &(t, hit, p, d) in &node.hits {
+                        for (k, &(t, hit, p, d)) in node.hits.iter().enumerate() {
                             let point = ShadePoint { prim: hit, p, d, seed: u64::from(prim) << 32 | t as u64 };
-                            let composite = self.composite(&node.children, next, &point, self.smesh.locate(hit, p));
+                            // Without children no lookup composites it (nor on the last level).
+                            let located = if node.children.is_empty() { None } else { node.located.get(k).copied().flatten() };
+                            let composite = self.composite(&node.children, next, &point, located);
                             push(TexelRadiance { texel: first + t as u32, point, composite });
                         }
                     },
