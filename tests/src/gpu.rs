@@ -26,6 +26,7 @@ mod cull;
 mod eye;
 mod glossy;
 mod level;
+mod readback;
 mod twin;
 mod whitted;
 
@@ -35,6 +36,7 @@ use cull::gpu_cone_culling_equals_host;
 use eye::gpu_eye_view_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
 use level::{gpu_kept_level_equals_host_texels, gpu_kept_level_images_equal_read_back};
+use readback::gpu_readbacks_reuse_buffers;
 use twin::TwinShading;
 use whitted::gpu_whitted_equals_cpu;
 
@@ -110,6 +112,12 @@ pub fn properties() -> Vec<Property> {
             cites: "000 §3, §7.3",
             backends: GPU,
             body: gpu_images_fit_narrow_bindings,
+        },
+        Property {
+            name: "gpu_readbacks_reuse_buffers",
+            cites: "000 §7.3 (host work per frame)",
+            backends: GPU,
+            body: gpu_readbacks_reuse_buffers,
         },
         Property {
             name: "gpu_glossy_gather_area_lights_equal_cpu",

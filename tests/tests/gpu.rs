@@ -20,6 +20,7 @@ beam_conformance::conformance_tests!(
     gpu_kept_level_images_equal_read_back,
     gpu_glossy_gather_equals_cpu,
     gpu_glossy_gather_area_lights_equal_cpu,
+    gpu_readbacks_reuse_buffers,
     nonlinear_texels_equal_ray_hits,
     nonlinear_images_vs_reference,
     bvh_hits_equal_brute_force,
