@@ -583,7 +583,6 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
                 return Err(format!("{name}: changed caustic maps not uploaded again"));
             }
         }
-        let prepared = shader.prepare(&gpu, caustics.as_ref());
         let rest = |points: RestPoints<'_>, radiance: (&wgpu::Buffer, usize)| {
             whitted.shade_into(&gpu, &tracer, &shader, &prepared, 64, points, radiance)
         };

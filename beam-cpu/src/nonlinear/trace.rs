@@ -262,9 +262,8 @@ impl Tree<'_> {
                         let (first, prim) = (regions[i].0, self.smesh.faces[node.face].prim);
                         for (k, &(t, hit, p, d)) in node.hits.iter().enumerate() {
                             let point = ShadePoint { prim: hit, p, d, seed: u64::from(prim) << 32 | t as u64 };
-                            // Without children no lookup composites it (nor on the last level).
-                            let located =
-                                if node.children.is_empty() { None } else { node.located.get(k).copied().flatten() };
+                            // Not located on the last level: no child beam composites it.
+                            let located = node.located.get(k).copied().flatten();
                             let composite = self.composite(&node.children, next, &point, located);
                             push(TexelRadiance { texel: first + t as u32, point, composite });
                         }
