@@ -1,8 +1,9 @@
 // Compute entry points that run the WGSL nonlinear-beam functions on batches of cases, for the
-// conformance suite to compare with beam-math (tests/src/gpu.rs).
+// conformance suite to compare with beam-math (tests/src/gpu.rs). lib/lookup.wgsl is prepended.
 
 // Twin of beam_gpu::nonlinear::CheckCase (48 bytes): a scene triangle for
-// `check_bounding_triangles`, or a base point (a.xyz) for `check_rays`; the beam index in a.w.
+// `check_bounding_triangles`, a base point (a.xyz) for `check_rays`, or a point (a.xyz) and a guess
+// (b: ω and t) for `check_lookups`; the beam index in a.w.
 struct CheckCase {
     a: vec4<f32>,
     b: vec4<f32>,
@@ -35,4 +36,16 @@ fn check_rays(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = texel_ray(beams[bitcast<u32>(c.a.w)], c.a.xyz);
     results[2u * i] = vec4<f32>(r.origin, 0.0);
     results[2u * i + 1u] = vec4<f32>(r.direction, 0.0);
+}
+
+// Per case: the lookup's projection of a.xyz from the guess b (lib/lookup.wgsl; two results: ω
+// and t, then how it was found in x). Loops: LOOKUP_STEPS × (11 + 10) iterations.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn check_lookups(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&cases) { return; }
+    let c = cases[i];
+    let l = lookup_project(beams[bitcast<u32>(c.a.w)], c.a.xyz, c.b.xyz, c.b.w);
+    results[2u * i] = l.p;
+    results[2u * i + 1u] = vec4<f32>(f32(l.found), 0.0, 0.0, 0.0);
 }

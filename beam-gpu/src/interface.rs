@@ -127,6 +127,23 @@ pub const LEVEL_CURVED: u32 = 2;
 /// go to the host, which builds the next level's beams from them).
 pub const LEVEL_CONTINUES: u32 = 4;
 
+/// Most Newton steps of a lookup's projection (`lib/lookup.wgsl`; [`beam_scene::nonlinear::LOOKUP`]).
+pub const LOOKUP_STEPS: u32 = beam_scene::nonlinear::LOOKUP.steps;
+
+/// Residual, relative to the base's size, below which a lookup's Newton step ends
+/// ([`beam_scene::nonlinear::LOOKUP`]; the shader adds a floor for f32's rounding).
+#[allow(clippy::cast_possible_truncation)]
+pub const LOOKUP_TOLERANCE: f32 = beam_scene::nonlinear::LOOKUP.tolerance as f32;
+
+/// A lookup's projection (`lib/lookup.wgsl`): none (no corner-ray solution in front of the base).
+pub const LOOKUP_NONE: u32 = 0;
+
+/// A lookup's projection polished by Newton's method (or an S1 beam's, which needs none).
+pub const LOOKUP_POLISHED: u32 = 1;
+
+/// A lookup's projection where Newton's method did not converge: the corner rays' S1 solution.
+pub const LOOKUP_CORNERS: u32 = 2;
+
 /// A constant's value, typed as in WGSL.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
@@ -168,11 +185,16 @@ pub const CONSTANTS: &[(&str, Value)] = {
         ("LEVEL_PLAIN", U32(LEVEL_PLAIN)),
         ("LEVEL_CURVED", U32(LEVEL_CURVED)),
         ("LEVEL_CONTINUES", U32(LEVEL_CONTINUES)),
+        ("LOOKUP_STEPS", U32(LOOKUP_STEPS)),
+        ("LOOKUP_NONE", U32(LOOKUP_NONE)),
+        ("LOOKUP_POLISHED", U32(LOOKUP_POLISHED)),
+        ("LOOKUP_CORNERS", U32(LOOKUP_CORNERS)),
         ("DEPTH_EPS", F32(DEPTH_EPS)),
         ("BARY_TOLERANCE", F32(BARY_TOLERANCE)),
         ("MIN_ELEVATION", F32(MIN_ELEVATION)),
         ("MIN_RISE", F32(MIN_RISE)),
         ("TEXEL_EPS", F32(TEXEL_EPS)),
+        ("LOOKUP_TOLERANCE", F32(LOOKUP_TOLERANCE)),
     ]
 };
 

@@ -26,6 +26,7 @@ mod cull;
 mod eye;
 mod glossy;
 mod level;
+mod lookup;
 mod readback;
 mod twin;
 mod whitted;
@@ -36,6 +37,7 @@ use cull::gpu_cone_culling_equals_host;
 use eye::gpu_eye_view_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
 use level::{gpu_kept_level_equals_host_texels, gpu_kept_level_images_equal_read_back};
+use lookup::gpu_lookup_projections_equal_cpu;
 use readback::gpu_readbacks_reuse_buffers;
 use twin::TwinShading;
 use whitted::gpu_whitted_equals_cpu;
@@ -57,6 +59,12 @@ pub fn properties() -> Vec<Property> {
             cites: "000 eq. 1, §6.3",
             backends: GPU,
             body: gpu_texel_rays_match_math,
+        },
+        Property {
+            name: "gpu_lookup_projections_equal_cpu",
+            cites: "000 §5, §7.1",
+            backends: GPU,
+            body: gpu_lookup_projections_equal_cpu,
         },
         Property {
             name: "gpu_ray_hits_equal_cpu_hits",

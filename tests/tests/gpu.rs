@@ -6,6 +6,7 @@ beam_conformance::conformance_tests!(
     beam_conformance::Backend::Gpu,
     gpu_bounding_triangles_match_math,
     gpu_texel_rays_match_math,
+    gpu_lookup_projections_equal_cpu,
     gpu_ray_hits_equal_cpu_hits,
     gpu_eye_view_equals_cpu,
     gpu_beam_texels_equal_cpu,

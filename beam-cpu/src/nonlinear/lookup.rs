@@ -10,18 +10,8 @@
 //! of the point at the depth the beam's texel there sees.
 
 use beam_math::glam::Vec3;
-use beam_math::nonlinear::{Polish, Projection};
-use beam_scene::nonlinear::{Beam, BeamTexture};
-
-/// How far a lookup's projection is polished ([`Beam::project_in`]). A lookup needs `ω` to a
-/// fraction of a texel (1/32 of the base at most), far above a residual of 10⁻⁶ of the base's
-/// size. Started from a guess ([`reproject`]), on the mirror teapot under an S mesh of 850 faces,
-/// 98.5% of the projections that converge within 10 steps do so within 5 (93% within 3), and 11%
-/// do not converge (points no ray of the beam reaches), which spent more than half of all steps;
-/// with 5 the radiance flow takes half the time of the corner rays' start with 10 steps
-/// (1280×1024: 0.60 → 0.29 s on 2 cores) and the image keeps its PSNR against the ray-traced
-/// reference (32.96 → 33.00 dB at 256²).
-const LOOKUP: Polish = Polish { steps: 5, tolerance: 1e-6 };
+use beam_math::nonlinear::Projection;
+use beam_scene::nonlinear::{Beam, BeamTexture, LOOKUP};
 
 /// Barycentric coordinates on `beam`'s base where point `p` of the fine surface, looked up at `w`
 /// by its place on the face, reads `beam`'s texture `tex` for its own scattered unit direction

@@ -2,19 +2,23 @@
 //! the conformance suite to compare with their CPU twins: `bounding_triangle` with beam-math's
 //! [`NonlinearBeam::bounding_triangle`](beam_math::nonlinear::NonlinearBeam::bounding_triangle) and
 //! [`BumpBeam::bounding_triangle`](beam_math::nonlinear::BumpBeam::bounding_triangle), `texel_ray`
-//! with [`Beam::ray_at`].
+//! with [`Beam::ray_at`], `lookup_project` (`lib/lookup.wgsl`) with [`Beam::project_in`] under
+//! [`LOOKUP`](beam_scene::nonlinear::LOOKUP).
 
 use super::beam::GpuBeam;
 use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage};
-use crate::interface::{BOUNDING_BRUTE_FORCE, BOUNDING_GENERAL, BOUNDING_UNIQUE_PROJECTION, WORKGROUP_SIZE};
+use crate::interface::{
+    BOUNDING_BRUTE_FORCE, BOUNDING_GENERAL, BOUNDING_UNIQUE_PROJECTION, LOOKUP_CORNERS, LOOKUP_POLISHED, WORKGROUP_SIZE,
+};
 use crate::{Gpu, GpuError};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
-use beam_math::nonlinear::BoundingCase;
+use beam_math::nonlinear::{BoundingCase, Projection};
 use beam_scene::nonlinear::{Beam, Exclude};
 use bytemuck::{Pod, Zeroable};
 
-/// One case: a scene triangle, or a base point in `a`; the beam's index in `a[3]` (as bits).
+/// One case: a scene triangle, a base point in `a`, or a point in `a` and a guess in `b` (`ω`, `t`);
+/// the beam's index in `a[3]` (as bits).
 ///
 /// WGSL twin: `CheckCase` in `shaders/nonlinear_check.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]
@@ -34,10 +38,20 @@ const _: () = assert!(size_of::<CheckCase>() == 48);
 /// base).
 pub type GpuBoundingTriangle = Option<([f32; 3], BoundingCase)>;
 
+/// How the shader found a lookup's projection ([`NonlinearCheck::lookups`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LookupFound {
+    /// Polished by Newton's method (an S1 beam's needs none).
+    Polished,
+    /// Newton's method did not converge: the corner rays' S1 solution.
+    Corners,
+}
+
 /// The compiled check pipelines.
 pub struct NonlinearCheck {
     bounding: wgpu::ComputePipeline,
     rays: wgpu::ComputePipeline,
+    lookups: wgpu::ComputePipeline,
 }
 
 impl NonlinearCheck {
@@ -46,6 +60,7 @@ impl NonlinearCheck {
         Ok(Self {
             bounding: compute_pipeline(gpu, "nonlinear_check", "check_bounding_triangles")?,
             rays: compute_pipeline(gpu, "nonlinear_check", "check_rays")?,
+            lookups: compute_pipeline(gpu, "nonlinear_check", "check_lookups")?,
         })
     }
 
@@ -113,5 +128,35 @@ impl NonlinearCheck {
             .collect();
         let out = self.run(gpu, &self.rays, beams, &cases, 2)?;
         Ok(out.chunks_exact(2).map(|p| (Vec3::from_slice(&p[0][..3]), Vec3::from_slice(&p[1][..3]))).collect())
+    }
+
+    /// The shader's lookup projection of each `(beam index, point, guess)`: `ω` and `t`, and how
+    /// it was found; `None` where no corner-ray solution lies in front of the base.
+    pub fn lookups(
+        &self,
+        gpu: &Gpu,
+        beams: &[Beam],
+        cases: &[(u32, Vec3, Projection)],
+    ) -> Result<Vec<Option<(Projection, LookupFound)>>, GpuError> {
+        let cases: Vec<CheckCase> = cases
+            .iter()
+            .map(|(i, q, g)| CheckCase {
+                a: [q.x, q.y, q.z, f32::from_bits(*i)],
+                b: [g.bary.x, g.bary.y, g.bary.z, g.t],
+                c: [0.0; 4],
+            })
+            .collect();
+        let out = self.run(gpu, &self.lookups, beams, &cases, 2)?;
+        Ok(out
+            .chunks_exact(2)
+            .map(|r| {
+                let found = match r[1][0] as u32 {
+                    LOOKUP_POLISHED => LookupFound::Polished,
+                    LOOKUP_CORNERS => LookupFound::Corners,
+                    _ => return None,
+                };
+                Some((Projection { bary: Vec3::from_slice(&r[0][..3]), t: r[0][3] }, found))
+            })
+            .collect())
     }
 }

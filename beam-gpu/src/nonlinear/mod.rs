@@ -17,7 +17,7 @@ mod whitted;
 
 pub use atlas::{GpuBeams, GpuTimes};
 pub use beam::{GpuBeam, MAX_CONTROL_POINTS};
-pub use check::{CheckCase, GpuBoundingTriangle, NonlinearCheck};
+pub use check::{CheckCase, GpuBoundingTriangle, LookupFound, NonlinearCheck};
 pub use composite::{CompositeParams, CompositeRecord, GpuComposite, GpuFace, KeptHere, NONE, ShadeRest};
 pub use cull::BeamCull;
 pub use eye::{

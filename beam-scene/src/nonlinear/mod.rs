@@ -16,7 +16,9 @@ mod texture;
 mod waves;
 
 pub use crate::queries::RayQueries;
-pub use beam::{Beam, BumpedBeam, Degree, MIN_RISE, TEXEL_EPS, TexelBeam, child_beams, self_hit_at, self_hit_distance};
+pub use beam::{
+    Beam, BumpedBeam, Degree, LOOKUP, MIN_RISE, TEXEL_EPS, TexelBeam, child_beams, self_hit_at, self_hit_distance,
+};
 pub use cull::{ConeCull, SelfHitFloor, cone_blocks, cone_candidates};
 pub use radiance::{Composite, LevelRadiance, TexelRadiance, composite, sample_region};
 pub use renderer::{
