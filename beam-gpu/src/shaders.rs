@@ -22,6 +22,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("whitted", include_str!("../shaders/whitted.wgsl")),
     ("glossy_gather", include_str!("../shaders/glossy_gather.wgsl")),
     ("level_points", include_str!("../shaders/level_points.wgsl")),
+    ("lookups", include_str!("../shaders/lookups.wgsl")),
 ];
 
 /// Shaders that use 64-bit atomics (wgpu's `SHADER_INT64_ATOMIC_MIN_MAX`): emitted for MSL 2.4 and
@@ -34,7 +35,7 @@ pub(crate) const LIBRARY: &[(&str, &str, &[&str])] = &[
     ("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather", "eye", "whitted"]),
     ("lib/atlas.wgsl", include_str!("../shaders/lib/atlas.wgsl"), &["beam_atlas", "beam_cull", "beam_texels"]),
     ("lib/record.wgsl", include_str!("../shaders/lib/record.wgsl"), &["composite", "eye"]),
-    ("lib/lookup.wgsl", include_str!("../shaders/lib/lookup.wgsl"), &["nonlinear_check"]),
+    ("lib/lookup.wgsl", include_str!("../shaders/lib/lookup.wgsl"), &["nonlinear_check", "lookups"]),
     ("lib/region.wgsl", include_str!("../shaders/lib/region.wgsl"), &["beam_atlas", "beam_texels", "level_points"]),
 ];
 

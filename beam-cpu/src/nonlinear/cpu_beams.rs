@@ -8,7 +8,8 @@ use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, DeviceWaits, EyeView, PointShading, RayQueries, ShadePoint,
+    BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, ChildLookups, DeviceWaits, EyeView, PointShading, RayQueries,
+    ShadePoint,
 };
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
@@ -40,6 +41,9 @@ impl EyeView for CpuBeams {}
 
 /// No device: all of a CPU frame is host work.
 impl DeviceWaits for CpuBeams {}
+
+/// The host looks the coarse S mesh's points up itself (the trait's default).
+impl ChildLookups for CpuBeams {}
 
 /// The radiance of every point: by `renderer` where it shades with `options`, else on the CPU by
 /// [`shade_point`].

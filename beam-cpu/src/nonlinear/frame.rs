@@ -5,6 +5,7 @@
 use super::caustics::{CausticStats, caustics_by_beams};
 use super::composite::composite_levels;
 use super::cpu_beams::{CpuBeams, shade_points};
+use super::lookup::Lookups;
 use super::settings::{NonlinearOptions, NonlinearStats};
 use super::stages::StageClock;
 use super::trace::{Built, Request, Tree};
@@ -147,34 +148,49 @@ pub fn render_nonlinear_frame(
     clock.lap("eye view: faces seen");
     let Built { roots: children, levels, kept } = tree.build(renderer, roots, &mut clock)?;
     // The eye's view (the region's pixels) is level 0 of the radiance flow.
+    let next = levels.first().map_or(&[][..], |l| &l[..]);
     let eye_texels = |hits: &[(usize, Ray, Hit)], located: &[Option<(usize, Vec3)>]| {
-        par_flatten(
+        let point = |i: usize, ray: Ray, hit: Hit| ShadePoint {
+            prim: hit.prim,
+            p: ray.at(hit.t),
+            d: ray.direction.normalize(),
+            seed: i as u64,
+        };
+        let looked_up = if tree.smesh.coarse_faces() == 0 {
+            Lookups::default()
+        } else {
+            let points: Vec<_> = hits
+                .par_iter()
+                .zip(located)
+                .map(|(&(i, ray, hit), &l)| in_crop(i).then(|| (&children, point(i, ray, hit), l)))
+                .collect();
+            tree.lookups(renderer, next, &points)?
+        };
+        Ok::<_, BackendError>(par_flatten(
             hits,
             TexelRadiance::default(),
             |_, &(i, ..)| usize::from(in_crop(i)),
             |k, &(i, ray, hit), push| {
                 if in_crop(i) {
-                    let point =
-                        ShadePoint { prim: hit.prim, p: ray.at(hit.t), d: ray.direction.normalize(), seed: i as u64 };
-                    let composite =
-                        tree.composite(&children, levels.first().map_or(&[][..], |l| &l[..]), &point, located[k]);
+                    let point = point(i, ray, hit);
+                    let composite = tree.composite(&children, next, &point, located[k], looked_up.of(k));
                     push(TexelRadiance { texel: i as u32, point, composite });
                 }
             },
-        )
+        ))
     };
     let none = u32::MAX;
     let eye = LevelRadiance {
         regions: Vec::new(),
         len: camera.width as usize * camera.height as usize,
-        texels: eye_texels(&hits, &located),
+        texels: eye_texels(&hits, &located)?,
         children: (0..tree.smesh.faces.len())
             .map(|f| {
                 children.get(&f).map_or([none; 2], |c| [c.reflected as u32, c.refracted.map_or(none, |r| r as u32)])
             })
             .collect(),
     };
-    let mut flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(&levels)).collect();
+    let mut flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(renderer, &levels)?).collect();
     // Curved (smooth-normal) mirror and glass points traced by rays, looked up in a dense table.
     let mut curved = vec![false; scene.triangles.len()];
     for &prim in scene.smooth_normals.keys() {
@@ -197,7 +213,7 @@ pub fn render_nonlinear_frame(
             // Shaded here after all: with the eye's pixels the backend kept.
             flow[0].texels.extend(renderer.take_kept_eye()?);
             let kept_hits = renderer.take_kept_eye_hits(scene)?;
-            flow[0].texels.extend(eye_texels(&kept_hits, &locate(&kept_hits)));
+            flow[0].texels.extend(eye_texels(&kept_hits, &locate(&kept_hits))?);
             for (level, texels) in renderer.take_kept_levels()? {
                 let past = || BackendError::new("renderer", format!("kept texels of level {level}, past the tree"));
                 flow.get_mut(level).ok_or_else(past)?.texels.extend(texels);

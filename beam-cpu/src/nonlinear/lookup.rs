@@ -9,9 +9,176 @@
 //! read is the one whose ray reaches what that ray reaches: the projection (000 §5) onto the beam
 //! of the point at the depth the beam's texel there sees.
 
+use super::trace::{FaceMap, Node, Scattered, Tree};
+use crate::render::specular_rays;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::Projection;
-use beam_scene::nonlinear::{Beam, BeamTexture, LOOKUP};
+use beam_scene::BackendError;
+use beam_scene::nonlinear::{Beam, BeamRenderer, BeamTexture, LOOKUP, LookupJob, ShadePoint};
+use rayon::prelude::*;
+
+/// A point to composite ([`Tree::composite`]): the child beams of the faces of its level, the point
+/// and its located face.
+pub(super) type ToComposite<'a> = (&'a FaceMap<Scattered>, ShadePoint, Option<(usize, Vec3)>);
+
+/// One lookup of a composite ([`Tree::composite`]'s `at`): a job for a backend, or its answer
+/// known without one (the face's own coordinates, 0 outside: no child beam, no scattered ray, or
+/// a bump-mapped beam).
+#[derive(Clone, Copy)]
+enum Ask {
+    Job(LookupJob),
+    Known((Vec3, f32)),
+}
+
+/// The lookups of one face of a composite: in its reflection beam, and in its refraction beam.
+#[derive(Clone, Copy)]
+struct FaceAsks {
+    reflected: Ask,
+    refracted: Option<Ask>,
+}
+
+/// The answers for one face of a composite ([`FaceAsks`]): coordinates on the child beam's base
+/// and how far outside it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct FaceAnswer {
+    pub(super) reflected: (Vec3, f32),
+    pub(super) refracted: Option<(Vec3, f32)>,
+}
+
+/// A backend's answers to the lookups of a list of points ([`Tree::lookups`]): per point, those of
+/// its composite's faces with child beams in the composite's order (its located face's first), as
+/// many as were made.
+#[derive(Default)]
+pub(super) struct Lookups {
+    spans: Vec<(u32, u32)>,
+    answers: Vec<FaceAnswer>,
+}
+
+impl Lookups {
+    /// The answers of point `k` (empty where there are none: the host looks it up).
+    pub(super) fn of(&self, k: usize) -> &[FaceAnswer] {
+        self.spans.get(k).map_or(&[], |&(start, len)| &self.answers[start as usize..(start + len) as usize])
+    }
+
+    /// Per point, its faces' asks answered: the jobs' answers `answers` in order.
+    fn answered(asks: &[Vec<FaceAsks>], answers: &[(Vec3, f32)]) -> Self {
+        let mut out = Self::default();
+        let mut jobs = answers.iter();
+        let mut answer = |a: Ask| match a {
+            Ask::Job(_) => jobs.next().copied(),
+            Ask::Known(k) => Some(k),
+        };
+        for faces in asks {
+            let start = out.answers.len() as u32;
+            for f in faces {
+                // A face left unanswered ends the point's answers: the host looks up the rest.
+                let Some(reflected) = answer(f.reflected) else { break };
+                let refracted = match f.refracted.map(&mut answer) {
+                    Some(None) => break,
+                    r => r.flatten(),
+                };
+                out.answers.push(FaceAnswer { reflected, refracted });
+            }
+            out.spans.push((start, out.answers.len() as u32 - start));
+        }
+        out
+    }
+}
+
+impl Tree<'_> {
+    /// The lookups of `point`'s composite ([`Tree::composite`]) in the child beams (nodes of
+    /// `next`) of its located face and, with `candidates`, of the other faces its triangle maps
+    /// to, in the composite's order, where the located face is coarse and has child beams and the
+    /// point a reflected ray; empty where the composite looks nothing up.
+    fn lookup_asks(
+        &self,
+        next: &[Node],
+        (children, point, located): &ToComposite<'_>,
+        candidates: bool,
+    ) -> Vec<FaceAsks> {
+        let Some((face, _)) = *located else { return Vec::new() };
+        if !children.contains_key(&face) || !self.smesh.is_coarse(face) {
+            return Vec::new();
+        }
+        let Some(rays) = specular_rays(self.scene, 0.0, point.prim, point.p, point.d) else { return Vec::new() };
+        if rays[0].is_none() {
+            return Vec::new();
+        }
+        let far = self.scene.bounds().extent().length();
+        // `at` of the composite: a job where `reproject` looks up, else its known answer.
+        let ask = |child: usize, ray: Option<(beam_math::Ray, Vec3)>, w: Vec3| {
+            let truth = ray.map(|(r, _)| r.direction.normalize());
+            match (next.get(child), truth) {
+                (Some(n), Some(truth)) if !matches!(n.beam, Beam::Bumped(_)) && truth.is_finite() => {
+                    Ask::Job(LookupJob { beam: child as u32, p: point.p, truth, w, far })
+                }
+                _ => Ask::Known((w, 0.0)),
+            }
+        };
+        let others = self.smesh.candidates(point.prim).iter().map(|&g| g as usize).filter(|&g| g != face);
+        std::iter::once(face)
+            .chain(others.filter(|_| candidates))
+            .filter_map(|g| {
+                let c = children.get(&g)?;
+                let w = self.smesh.faces[g].barycentric(point.p);
+                Some(FaceAsks {
+                    reflected: ask(c.reflected, rays[0], w),
+                    refracted: c.refracted.map(|t| ask(t, rays[1], w)),
+                })
+            })
+            .collect()
+    }
+
+    /// The lookups of `points` ([`Tree::lookup_asks`]) by `renderer` where it looks up
+    /// ([`beam_scene::nonlinear::ChildLookups`], the GPU), the beams of `next` with their
+    /// textures: first each point's located face's, then all its faces' for the points whose
+    /// first reflection lookup lies outside its beam's base. None where the renderer does not look
+    /// up or the S mesh has no coarse face, and each composite looks up on the host.
+    pub(super) fn lookups(
+        &self,
+        renderer: &dyn BeamRenderer,
+        next: &[Node],
+        points: &[Option<ToComposite<'_>>],
+    ) -> Result<Lookups, BackendError> {
+        if self.smesh.coarse_faces() == 0 || next.is_empty() {
+            return Ok(Lookups::default());
+        }
+        let beams: Vec<(&Beam, &BeamTexture)> = next.iter().map(|n| (&n.beam, &n.tex)).collect();
+        let asks_of = |candidates: bool, wanted: &(dyn Fn(usize) -> bool + Sync)| -> Vec<Vec<FaceAsks>> {
+            points
+                .par_iter()
+                .enumerate()
+                .map(|(k, p)| match p {
+                    Some(p) if wanted(k) => self.lookup_asks(next, p, candidates),
+                    _ => Vec::new(),
+                })
+                .collect()
+        };
+        let answer = |asks: &[Vec<FaceAsks>]| -> Result<Option<Lookups>, BackendError> {
+            let jobs: Vec<LookupJob> = asks
+                .iter()
+                .flatten()
+                .flat_map(|f| [Some(f.reflected), f.refracted])
+                .filter_map(|a| match a {
+                    Some(Ask::Job(j)) => Some(j),
+                    _ => None,
+                })
+                .collect();
+            Ok(renderer.child_lookups(&beams, &jobs)?.map(|answers| Lookups::answered(asks, &answers)))
+        };
+        let Some(first) = answer(&asks_of(false, &|_| true))? else { return Ok(Lookups::default()) };
+        let outside = |k: usize| first.of(k).first().is_some_and(|a| a.reflected.1 > 0.0);
+        let all = answer(&asks_of(true, &outside))?.unwrap_or_default();
+        let mut out = Lookups::default();
+        for k in 0..points.len() {
+            let start = out.answers.len() as u32;
+            let of_all = all.of(k);
+            out.answers.extend_from_slice(if of_all.is_empty() { first.of(k) } else { of_all });
+            out.spans.push((start, out.answers.len() as u32 - start));
+        }
+        Ok(out)
+    }
+}
 
 /// Barycentric coordinates on `beam`'s base where point `p` of the fine surface, looked up at `w`
 /// by its place on the face, reads `beam`'s texture `tex` for its own scattered unit direction

@@ -11,7 +11,7 @@
 //! traced by rays. The reference (`reference.rs`) traces the same surfaces with rays about the
 //! interpolated (Phong) normals.
 
-use super::lookup::reproject;
+use super::lookup::{FaceAnswer, Lookups, reproject};
 use super::settings::NonlinearOptions;
 use super::source::Source;
 use super::stages::StageClock;
@@ -246,7 +246,15 @@ impl Tree<'_> {
 
     /// The tree's levels for the radiance flow: per level, every beam's region and every texel
     /// that hit, composited from its face's children where it has them.
-    pub(super) fn radiance_levels(&self, levels: &[Vec<Node>]) -> Vec<LevelRadiance> {
+    pub(super) fn radiance_levels(
+        &self,
+        renderer: &dyn BeamRenderer,
+        levels: &[Vec<Node>],
+    ) -> Result<Vec<LevelRadiance>, BackendError> {
+        let point = |node: &Node, &(t, hit, p, d): &(usize, u32, Vec3, Vec3)| {
+            let prim = self.smesh.faces[node.face].prim;
+            ShadePoint { prim: hit, p, d, seed: u64::from(prim) << 32 | t as u64 }
+        };
         levels
             .iter()
             .enumerate()
@@ -254,22 +262,43 @@ impl Tree<'_> {
                 let LevelLayout { firsts, len, .. } = self.layout(nodes.iter().map(|n| (n.face, n.tex.size)));
                 let regions: Vec<(u32, u32)> = firsts.into_iter().zip(nodes.iter().map(|n| n.tex.size)).collect();
                 let next = levels.get(li + 1).map_or(&[][..], |l| &l[..]);
+                // Each node's first texel in the level's list of texels that hit.
+                let offsets: Vec<usize> = nodes
+                    .iter()
+                    .scan(0, |at, n| {
+                        *at += n.hits.len();
+                        Some(*at - n.hits.len())
+                    })
+                    .collect();
+                let looked_up = if self.smesh.coarse_faces() == 0 || next.is_empty() {
+                    Lookups::default()
+                } else {
+                    let points: Vec<_> = nodes
+                        .iter()
+                        .flat_map(|n| {
+                            n.hits.iter().enumerate().map(move |(k, h)| {
+                                Some((&n.children, point(n, h), n.located.get(k).copied().flatten()))
+                            })
+                        })
+                        .collect();
+                    self.lookups(renderer, next, &points)?
+                };
                 let texels = par_flatten(
                     nodes,
                     TexelRadiance::default(),
                     |_, node| node.hits.len(),
                     |i, node, push| {
-                        let (first, prim) = (regions[i].0, self.smesh.faces[node.face].prim);
-                        for (k, &(t, hit, p, d)) in node.hits.iter().enumerate() {
-                            let point = ShadePoint { prim: hit, p, d, seed: u64::from(prim) << 32 | t as u64 };
+                        for (k, h) in node.hits.iter().enumerate() {
+                            let point = point(node, h);
                             // Not located on the last level: no child beam composites it.
                             let located = node.located.get(k).copied().flatten();
-                            let composite = self.composite(&node.children, next, &point, located);
-                            push(TexelRadiance { texel: first + t as u32, point, composite });
+                            let answers = looked_up.of(offsets[i] + k);
+                            let composite = self.composite(&node.children, next, &point, located, answers);
+                            push(TexelRadiance { texel: regions[i].0 + h.0 as u32, point, composite });
                         }
                     },
                 );
-                LevelRadiance { regions, len, texels, children: Vec::new() }
+                Ok(LevelRadiance { regions, len, texels, children: Vec::new() })
             })
             .collect()
     }
@@ -280,12 +309,15 @@ impl Tree<'_> {
     /// ([`reproject`]; near an edge, through whichever of the faces its triangle maps to has the
     /// reflection beam that holds its reflected ray). `None` too where no child beam holds the
     /// point's scattered ray within [`OUTSIDE_TEXELS`] of its base: the point is traced by rays.
+    /// `looked_up`: the lookups a backend made ([`Tree::lookups`]), per face with child beams in
+    /// the order tried here (the located face first); the faces past its end are looked up here.
     pub(super) fn composite(
         &self,
         children: &FaceMap<Scattered>,
         next: &[Node],
         point: &ShadePoint,
         located: Option<(usize, Vec3)>,
+        looked_up: &[FaceAnswer],
     ) -> Option<Composite> {
         let (mut face, w) = located?;
         let mut sc = *children.get(&face)?;
@@ -303,6 +335,7 @@ impl Tree<'_> {
             let slack = |child: usize| next.get(child).map_or(0.0, |n| OUTSIDE_TEXELS / n.tex.size as f32);
             let located = face;
             let others = self.smesh.candidates(point.prim).iter().map(|&g| g as usize).filter(move |&g| g != located);
+            let (mut answers, mut refracted) = (looked_up.iter(), None);
             for g in std::iter::once(located).chain(others) {
                 // No lookup lies less than 0 outside: once one lies inside, no other face wins.
                 if best <= 0.0 {
@@ -310,9 +343,11 @@ impl Tree<'_> {
                 }
                 let Some(&c) = children.get(&g) else { continue };
                 let wg = self.smesh.faces[g].barycentric(point.p);
-                let (at_g, outside) = at(c.reflected, rays[0], wg);
+                let known = answers.next();
+                let (at_g, outside) = known.map_or_else(|| at(c.reflected, rays[0], wg), |a| a.reflected);
                 if outside < best - 1e-4 {
                     (best, face, sc, reflected_at, refracted_at) = (outside, g, c, at_g, wg);
+                    refracted = known.and_then(|a| a.refracted);
                 }
             }
             if best > slack(sc.reflected) {
@@ -320,7 +355,7 @@ impl Tree<'_> {
                 return None;
             }
             if let Some(t) = sc.refracted {
-                let (at_t, outside) = at(t, rays[1], refracted_at);
+                let (at_t, outside) = refracted.unwrap_or_else(|| at(t, rays[1], refracted_at));
                 if outside > slack(t) {
                     self.by_rays.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                     return None;

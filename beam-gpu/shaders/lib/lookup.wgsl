@@ -169,3 +169,4 @@ fn lookup_project(b: Beam, q: vec3<f32>, w: vec3<f32>, t: f32) -> Lookup {
     }
     return best;
 }
+

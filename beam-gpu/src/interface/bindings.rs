@@ -7,7 +7,7 @@ use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
     AtlasParams, BeamCull, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams,
-    GpuBeam, GpuFace, LevelCounts, LevelParams, RecordCounts, WhittedCounts, WhittedParams, WhittedPath,
+    GpuBeam, GpuFace, GpuLookupJob, LevelCounts, LevelParams, RecordCounts, WhittedCounts, WhittedParams, WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, ShadeInput, ShadeParams};
@@ -49,6 +49,7 @@ fn tables() -> Vec<Table> {
             counters: u32, firsts: u32, texel_hits: u64, jobs: [u32; 4],
         ]),
         bindings!("nonlinear_check" => [beams: GpuBeam, cases: CheckCase, results: [f32; 4]]),
+        bindings!("lookups" => [beams: GpuBeam, texel_t: f32, jobs: GpuLookupJob, answers: [f32; 4]]),
         bindings!("composite" => [
             params: CompositeParams, records: CompositeRecord, faces: GpuFace, shaded: [f32; 4], below,
             regions: [u32; 2], radiance, targets: u32,

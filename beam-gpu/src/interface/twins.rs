@@ -7,7 +7,8 @@ use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
     AtlasParams, BeamCull, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams,
-    GpuBeam, GpuFace, LevelCounts, LevelParams, RecordCounts, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
+    GpuBeam, GpuFace, GpuLookupJob, LevelCounts, LevelParams, RecordCounts, SpecularPrim, WhittedCounts, WhittedParams,
+    WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, STATE_HEADER, ShadeInput, ShadeParams, ShadeState};
@@ -93,6 +94,7 @@ fn twins() -> Vec<Twin> {
             patch_list, ring_list
         }),
         twin!("nonlinear_check", CheckCase => CheckCase { a, b, c }),
+        twin!("lookups", GpuLookupJob => LookupJob { p, beam, truth, far, w, pad }),
         twin!("composite", GpuFace => Face {
             v[0] => v0, v[1] => v1, v[2] => v2, n[0] => n0, n[1] => n1, n[2] => n2, normal, material
         }),

@@ -20,6 +20,7 @@ use super::composite::GpuComposite;
 use super::cull::{GpuCull, PageCulls};
 use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
 use super::level::{GpuLevelPoints, KeptLevel};
+use super::lookups::GpuLookups;
 use super::page::Counters;
 use super::whitted::GpuWhitted;
 use crate::buffers::{checked, compute_pipeline, max_binding, read_all, shader_module, storage};
@@ -66,6 +67,9 @@ pub struct GpuTimes {
     pub gpu_composites: u64,
     /// Tree levels whose points were kept on the GPU ([`super::GpuLevelPoints`]).
     pub levels_kept: u64,
+    /// Points under coarse S-mesh faces looked up in their child beams on the GPU
+    /// ([`super::GpuLookups`]).
+    pub lookups: u64,
     /// The GPU's own seconds in the atlas passes, by timestamp queries (all 0 where the device has
     /// none): bounding triangles, nearest hits (draws, or the compute pass), gather.
     pub atlas_pass_seconds: [f64; 3],
@@ -102,6 +106,8 @@ pub struct GpuBeams<'g> {
     pub(super) shader: PointShader,
     /// The final composite on the GPU.
     pub(super) composite: GpuComposite,
+    /// The coarse S mesh's lookups.
+    pub(super) lookups: GpuLookups,
     /// The Whitted rays past the tree on the GPU.
     pub(super) whitted: GpuWhitted,
     /// Shadow rays per area light and shade point.
@@ -185,6 +191,7 @@ impl<'g> GpuBeams<'g> {
             keep_levels: true,
             shader: PointShader::new(gpu, scene)?,
             composite: GpuComposite::new(gpu)?,
+            lookups: GpuLookups::new(gpu)?,
             whitted: GpuWhitted::new(gpu, scene)?,
             light_samples: 64,
             job_pairs: TEXEL_JOB_PAIRS,

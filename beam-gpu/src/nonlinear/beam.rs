@@ -75,6 +75,33 @@ impl GpuBeam {
         out
     }
 
+    /// `beam`'s rays alone (base, boundary directions, control points; no bounds, which cost a
+    /// threshold-plane search a beam) on a region `(first texel, 0, size)` of a texel list: what
+    /// the lookups (`shaders/lookups.wgsl`) read. A bumped beam takes its S1 beam's rays.
+    #[must_use]
+    pub fn rays_only(beam: &Beam, region: [u32; 3]) -> Self {
+        fn of<L: Interpolant>(b: &NonlinearBeam<L>, region: [u32; 3]) -> GpuBeam {
+            let p = &b.patch;
+            let count = p.count.min(MAX_CONTROL_POINTS);
+            let mut g = GpuBeam::zeroed();
+            g.base = b.base.map(|v| v4(v, 0.0));
+            g.dirs = b.dirs.map(|v| v4(v, 0.0));
+            g.normal = v4(b.normal, b.winding());
+            g.region = [region[0], region[1], region[2], u32::MAX];
+            g.kind = [p.degree as u32, count as u32, 0, 0];
+            for i in 0..count {
+                g.origin[i] = v4(p.origin[i].as_vec3(), 0.0);
+                g.direction[i] = v4(p.direction[i].as_vec3(), 0.0);
+            }
+            g
+        }
+        match beam {
+            Beam::S1(b) => of(b, region),
+            Beam::S3(b) => of(b, region),
+            Beam::Bumped(b) => of(&b.beam.beam, region),
+        }
+    }
+
     fn from_beam<L: Interpolant>(b: &NonlinearBeam<L>, bounds: &BeamBounds) -> Self {
         let p = &b.patch;
         let count = p.count.min(MAX_CONTROL_POINTS);

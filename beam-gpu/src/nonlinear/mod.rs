@@ -1,5 +1,6 @@
 //! Nonlinear beam tracing (000) on the GPU: the beams' GPU layout, the atlas pipeline of 000 §3 that
-//! renders every beam of a tree level at once, the eye's view, the Whitted rays past the tree and the final composite, and compute
+//! renders every beam of a tree level at once, the eye's view, the Whitted rays past the tree, a
+//! coarse S mesh's lookups and the final composite, and compute
 //! entry points that check the WGSL
 //! bounding triangles and rays against beam-math.
 
@@ -10,6 +11,7 @@ mod composite;
 mod cull;
 mod eye;
 mod level;
+mod lookups;
 mod page;
 mod queries;
 mod sort;
@@ -25,5 +27,6 @@ pub use eye::{
     RecordCounts,
 };
 pub use level::{GpuLevelPoints, KeptLevel, LevelCounts, LevelParams};
+pub use lookups::{GpuLookupJob, GpuLookups};
 pub use page::AtlasParams;
 pub use whitted::{EndWeight, GpuWhitted, RestPoints, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath};

@@ -1,6 +1,6 @@
 //! The ray queries and point shading of [`GpuBeams`] as a backend of the nonlinear renderer: rays
 //! by the compute ray tracer, points by the shading pass and Whitted waves, the beam tree's
-//! radiance by the composite on the GPU.
+//! radiance by the composite on the GPU, a coarse S mesh's lookups by `lookups.wgsl`.
 
 use super::GpuBeams;
 use super::composite::{GpuComposite, KeptHere};
@@ -14,7 +14,9 @@ use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
-use beam_scene::nonlinear::{DeviceWaits, LevelRadiance, PointShading, RayQueries, SMesh, ShadePoint};
+use beam_scene::nonlinear::{
+    Beam, BeamTexture, ChildLookups, DeviceWaits, LevelRadiance, LookupJob, PointShading, RayQueries, SMesh, ShadePoint,
+};
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
@@ -56,6 +58,21 @@ impl GpuBeams<'_> {
         }
         self.add_times(|t| t.shade_seconds += start.elapsed().as_secs_f64());
         Ok(out)
+    }
+}
+
+/// The coarse S mesh's lookups by `lookups.wgsl`, in f32.
+impl ChildLookups for GpuBeams<'_> {
+    fn child_lookups(
+        &self,
+        beams: &[(&Beam, &BeamTexture)],
+        jobs: &[LookupJob],
+    ) -> Result<Option<Vec<(Vec3, f32)>>, BackendError> {
+        let answers = checked(self.gpu, || self.lookups.run(self.gpu, beams, jobs))?;
+        if answers.is_some() {
+            self.add_times(|t| t.lookups += jobs.len() as u64);
+        }
+        Ok(answers)
     }
 }
 

@@ -1,10 +1,11 @@
 //! The narrow interfaces a nonlinear backend implements, each named for what it does: ray queries
 //! (nearest hits with barycentric weights, any hits), the eye's view, a beam rasterizer (beams and
-//! scene triangles to texels, 000 Alg. 1) and point shading (hit to radiance, where the backend
-//! can). A renderer is their composition ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's
+//! scene triangles to texels, 000 Alg. 1), point shading (hit to radiance, where the backend
+//! can) and a coarse S mesh's lookups (where the backend can). A renderer is their composition ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's
 //! `GpuBeams` are two. A backend that can fail returns a [`BackendError`] (the CPU's never fails);
 //! its message is the backend's own.
 
+use super::beam::Beam;
 use super::radiance::{LevelRadiance, TexelRadiance};
 use super::smesh::SMesh;
 use super::texture::{BeamJob, BeamTexture, ShadePoint};
@@ -210,8 +211,42 @@ pub trait DeviceWaits: Sync {
     }
 }
 
-/// What the nonlinear renderer needs of a backend: ray queries, the eye's view, a beam rasterizer,
-/// (optional) point shading and its device waits. Implemented for every type that has the five.
-pub trait BeamRenderer: RayQueries + EyeView + BeamRasterizer + PointShading + DeviceWaits {}
+/// One lookup of a point of a fine surface under a coarse S-mesh face (000 §7.1) in a child beam
+/// of the face: beam-cpu's `reproject` of `p`, at `w` on the face, for its scattered unit
+/// direction `truth`, in beam `beam` of the next level (`far`: the scene's diagonal, the depth
+/// where a texel's ray leaves the scene).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LookupJob {
+    /// The child beam, an index into the next level's beams.
+    pub beam: u32,
+    /// The point.
+    pub p: Vec3,
+    /// Its scattered unit direction.
+    pub truth: Vec3,
+    /// Its barycentric coordinates on the face.
+    pub w: Vec3,
+    /// The depth where a texel's ray leaves the scene.
+    pub far: f32,
+}
 
-impl<T: RayQueries + EyeView + BeamRasterizer + PointShading + DeviceWaits> BeamRenderer for T {}
+/// Lookups on a backend (the GPU's `lookups.wgsl`); by default none, and the host looks the
+/// points up itself.
+pub trait ChildLookups: Sync {
+    /// Each job's coordinates on its beam's base and how far outside the base its last projection
+    /// lay, the beams `beams` (the next level's, with their textures); `None` where the backend
+    /// does not look up.
+    fn child_lookups(
+        &self,
+        _beams: &[(&Beam, &BeamTexture)],
+        _jobs: &[LookupJob],
+    ) -> Result<Option<Vec<(Vec3, f32)>>, BackendError> {
+        Ok(None)
+    }
+}
+
+/// What the nonlinear renderer needs of a backend: ray queries, the eye's view, a beam rasterizer,
+/// (optional) point shading and lookups, and its device waits. Implemented for every type that has
+/// the six.
+pub trait BeamRenderer: RayQueries + EyeView + BeamRasterizer + PointShading + ChildLookups + DeviceWaits {}
+
+impl<T: RayQueries + EyeView + BeamRasterizer + PointShading + ChildLookups + DeviceWaits> BeamRenderer for T {}

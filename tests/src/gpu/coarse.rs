@@ -2,7 +2,8 @@
 //! stand for many fine triangles, rasterized by the GPU's atlases (which must skip the fine patch
 //! under each face and take its ring's near hits for self-hits, as the CPU does), composited on the
 //! GPU where the CPU looks each point's child beams up ([`Composite::reflected_at`] and
-//! `refracted_at`), against the CPU renderer with the same S mesh.
+//! `refracted_at`; each point's first lookup on the GPU too, `lookups.wgsl`), against the CPU
+//! renderer with the same S mesh.
 //!
 //! [`Composite::reflected_at`]: beam_cpu::nonlinear::Composite
 
@@ -25,7 +26,7 @@ const FACES: u32 = 400;
 /// composite) against the CPU renderer's with the GPU's shading estimator (`TwinShading`). At most
 /// 0.5% of the pixels may differ by more than 4/255 in a channel (sRGB), as for the fine S meshes
 /// of `gpu_images_equal_cpu`; both renders must use the coarse faces (beams off them, not rays
-/// alone), and the beam counts must agree within 2%. The mean error and the points under coarse
+/// alone), the GPU's must look points up on the GPU, and the beam counts must agree within 2%. The mean error and the points under coarse
 /// faces traced by rays are stated.
 pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
@@ -63,9 +64,15 @@ pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, St
                 255.0 * sum / n as f64
             ));
         }
+        // The points under coarse faces look their child beams up on the GPU (`lookups.wgsl`).
+        let lookups = renderer.times().lookups;
+        if lookups == 0 {
+            return Err(format!("{name}: no point was looked up on the GPU"));
+        }
         pixels += n;
         notes.push(format!(
-            "{name}: {} faces, {g} / {c} beams (GPU / CPU), {:.2}% differ (mean {:.2}/255), by rays {} / {}",
+            "{name}: {} faces, {g} / {c} beams (GPU / CPU), {lookups} lookups on the GPU, {:.2}% differ (mean \
+             {:.2}/255), by rays {} / {}",
             cpu_stats.coarse_smesh_faces,
             100.0 * differ as f64 / n as f64,
             255.0 * sum / n as f64,

@@ -26,6 +26,7 @@ impl BeamRasterizer for TwinShading {
 }
 
 impl beam_cpu::nonlinear::DeviceWaits for TwinShading {}
+impl beam_cpu::nonlinear::ChildLookups for TwinShading {}
 
 impl beam_scene::nonlinear::EyeView for TwinShading {}
 
