@@ -137,7 +137,7 @@ pub fn run(
         let per = |seconds: f64| 1e3 * seconds / f64::from(frames.max(1));
         println!(
             "{:<16} host ms inside the GPU backend: uploads {:.1} ({:.1} MB), readbacks unpacked {:.1}, atlas \
-             preparation {:.1}, Whitted rays past the tree {:.1}; coarse S-mesh points looked up on the GPU: {:.0}",
+             preparation {:.1}, Whitted rays past the tree {:.1}; coarse S-mesh lookup jobs on the GPU: {:.0}",
             "",
             per(traffic.upload_seconds),
             traffic.bytes_uploaded as f64 / f64::from(frames.max(1)) / 1e6,

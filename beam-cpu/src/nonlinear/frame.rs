@@ -156,15 +156,15 @@ pub fn render_nonlinear_frame(
             d: ray.direction.normalize(),
             seed: i as u64,
         };
-        let looked_up = if tree.smesh.coarse_faces() == 0 {
-            Lookups::default()
-        } else {
+        let looked_up = if tree.looks_up(renderer, next) {
             let points: Vec<_> = hits
                 .par_iter()
                 .zip(located)
                 .map(|(&(i, ray, hit), &l)| in_crop(i).then(|| (&children, point(i, ray, hit), l)))
                 .collect();
             tree.lookups(renderer, next, &points)?
+        } else {
+            Lookups::default()
         };
         Ok::<_, BackendError>(par_flatten(
             hits,

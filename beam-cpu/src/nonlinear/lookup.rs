@@ -129,18 +129,23 @@ impl Tree<'_> {
             .collect()
     }
 
+    /// Whether `renderer` makes the lookups of composites into child beams `next`
+    /// ([`Tree::lookups`]): it looks up, the S mesh has coarse faces and there are child beams.
+    pub(super) fn looks_up(&self, renderer: &dyn BeamRenderer, next: &[Node]) -> bool {
+        renderer.looks_up() && self.smesh.coarse_faces() > 0 && !next.is_empty()
+    }
+
     /// The lookups of `points` ([`Tree::lookup_asks`]) by `renderer` where it looks up
-    /// ([`beam_scene::nonlinear::ChildLookups`], the GPU), the beams of `next` with their
-    /// textures: first each point's located face's, then all its faces' for the points whose
-    /// first reflection lookup lies outside its beam's base. None where the renderer does not look
-    /// up or the S mesh has no coarse face, and each composite looks up on the host.
+    /// ([`Tree::looks_up`]; the GPU), the beams of `next` with their textures: first each point's
+    /// located face's, then all its faces' for the points whose first reflection lookup lies
+    /// outside its beam's base. Empty where it does not, and each composite looks up on the host.
     pub(super) fn lookups(
         &self,
         renderer: &dyn BeamRenderer,
         next: &[Node],
         points: &[Option<ToComposite<'_>>],
     ) -> Result<Lookups, BackendError> {
-        if self.smesh.coarse_faces() == 0 || next.is_empty() {
+        if !self.looks_up(renderer, next) {
             return Ok(Lookups::default());
         }
         let beams: Vec<(&Beam, &BeamTexture)> = next.iter().map(|n| (&n.beam, &n.tex)).collect();
@@ -264,5 +269,88 @@ mod tests {
         // A point whose own ray is the beam's keeps its coordinates.
         let (same, _) = reproject(&beam, &tex, p, beam.ray_at(w).direction.normalize(), w, 100.0);
         assert!((same - w).abs().max_element() < 1e-3, "{same}");
+    }
+}
+
+#[cfg(test)]
+mod batches {
+    use super::*;
+    use crate::nonlinear::{CpuBeams, NonlinearOptions, render_nonlinear_with};
+    use beam_bvh::Hit;
+    use beam_math::Ray;
+    use beam_scene::nonlinear::{
+        BeamJob, BeamRasterizer, ChildLookups, Degree, DeviceWaits, EyeView, PointShading, RayQueries,
+    };
+    use beam_scene::options::RenderOptions;
+    use beam_scene::scene::{Scene, Simplify, builtin};
+    use std::sync::atomic::{AtomicU64, Ordering};
+
+    /// The CPU backend that takes the composites' lookups in batches ([`Tree::lookups`]) and
+    /// answers them with [`reproject`], counting the jobs.
+    #[derive(Default)]
+    struct HostBatches(AtomicU64);
+
+    impl RayQueries for HostBatches {
+        fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
+            CpuBeams.closest_hits(scene, rays)
+        }
+
+        fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
+            CpuBeams.any_hits(scene, segments)
+        }
+    }
+
+    impl BeamRasterizer for HostBatches {
+        fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
+            CpuBeams.render_beams(scene, jobs)
+        }
+    }
+
+    impl EyeView for HostBatches {}
+    impl PointShading for HostBatches {}
+    impl DeviceWaits for HostBatches {}
+
+    impl ChildLookups for HostBatches {
+        fn looks_up(&self) -> bool {
+            true
+        }
+
+        fn child_lookups(
+            &self,
+            beams: &[(&Beam, &BeamTexture)],
+            jobs: &[LookupJob],
+        ) -> Result<Option<Vec<(Vec3, f32)>>, BackendError> {
+            self.0.fetch_add(jobs.len() as u64, Ordering::Relaxed);
+            let at = |j: &LookupJob| {
+                let (beam, tex) = beams[j.beam as usize];
+                reproject(beam, tex, j.p, j.truth, j.w, j.far)
+            };
+            Ok(Some(jobs.iter().map(at).collect()))
+        }
+    }
+
+    /// The composites' lookups gathered in batches and answered by a backend give the image of the
+    /// lookups made in place, bit for bit, and points under coarse faces do go to the backend:
+    /// the mirror teapot and its glass ball, and the glass lens, under coarse S meshes
+    /// (reflections, refractions and candidate faces).
+    #[test]
+    fn batched_lookups_equal_lookups_in_place() {
+        for (name, faces) in [("mirror-teapot", 200), ("glass-lens", 60)] {
+            let mut scene = builtin(name).unwrap();
+            scene.smesh.rest = Some(Simplify::Faces(faces));
+            let options = NonlinearOptions {
+                degree: Degree::S3,
+                texels: 8,
+                bounces: 2,
+                caustic_strata: 0,
+                shading: RenderOptions::exact(48, 36),
+            };
+            let (in_place, in_place_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
+            let batches = HostBatches::default();
+            let (batched, batched_stats) = render_nonlinear_with(&scene, &options, &batches).unwrap();
+            assert!(batches.0.load(Ordering::Relaxed) > 0, "{name}: no lookup went to the backend");
+            assert_eq!(in_place.pixels, batched.pixels, "{name}");
+            assert_eq!(in_place_stats.uncovered_by_beams, batched_stats.uncovered_by_beams, "{name}");
+        }
     }
 }

@@ -270,9 +270,7 @@ impl Tree<'_> {
                         Some(*at - n.hits.len())
                     })
                     .collect();
-                let looked_up = if self.smesh.coarse_faces() == 0 || next.is_empty() {
-                    Lookups::default()
-                } else {
+                let looked_up = if self.looks_up(renderer, next) {
                     let points: Vec<_> = nodes
                         .iter()
                         .flat_map(|n| {
@@ -282,6 +280,8 @@ impl Tree<'_> {
                         })
                         .collect();
                     self.lookups(renderer, next, &points)?
+                } else {
+                    Lookups::default()
                 };
                 let texels = par_flatten(
                     nodes,

@@ -2,8 +2,8 @@
 // Newton's method from a guess, as far as beam_scene::nonlinear::LOOKUP says (LOOKUP_STEPS steps,
 // residual LOOKUP_TOLERANCE of the base's size), else the S1 solution of the corner rays nearest
 // the base. CPU twin: beam_math's NonlinearBeam::project_nearest_from (in f64), the step that a
-// coarse S mesh's composite takes per point and child beam (beam_cpu::nonlinear::lookup::reproject,
-// on the host for now); nonlinear_check's `check_lookups` runs it for the conformance suite.
+// coarse S mesh's composite takes per point and child beam (lookups.wgsl's `reproject`);
+// nonlinear_check's `check_lookups` runs it for the conformance suite.
 
 // Relative rounding of an f32 residual |O + t·d − q| (a few ulps of its terms): where it exceeds
 // LOOKUP_TOLERANCE of the base's size, Newton's method stops at it instead (GPU only).

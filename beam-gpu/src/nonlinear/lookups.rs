@@ -1,7 +1,8 @@
 //! The coarse S mesh's lookups on the GPU (`shaders/lookups.wgsl`): per point of a fine surface
 //! under a coarse face (000 §7.1), where it reads a child beam for its own scattered ray, by
-//! Newton's method on the beam's S^n rays and the texels' depths (beam-cpu's `reproject`, whose
-//! f64 answers these equal within a thousandth of the base; `gpu_lookup_projections_equal_cpu`).
+//! Newton's method on the beam's S^n rays and the texels' depths: beam-cpu's `reproject` in f32
+//! (its projections checked by `gpu_lookup_projections_equal_cpu`, its images by
+//! `gpu_coarse_smesh_equals_cpu`).
 
 use super::beam::GpuBeam;
 use crate::buffers::{checked, compute_pipeline, max_binding, output, read_back, storage};
@@ -71,8 +72,11 @@ impl GpuLookups {
         let gpu_beams: Vec<GpuBeam> = beams
             .iter()
             .map(|(beam, tex)| {
-                let first = depths.len() as u32;
+                let first = depths.len();
                 depths.extend(tex.hits.iter().map(|h| h.map_or(-1.0, |h| h.t)));
+                // size² texels a beam, whatever its list holds (none: every texel misses).
+                depths.resize(first + (tex.size * tex.size) as usize, -1.0);
+                let first = first as u32;
                 GpuBeam::rays_only(beam, [first, 0, tex.size])
             })
             .collect();

@@ -1,8 +1,8 @@
 //! The narrow interfaces a nonlinear backend implements, each named for what it does: ray queries
 //! (nearest hits with barycentric weights, any hits), the eye's view, a beam rasterizer (beams and
 //! scene triangles to texels, 000 Alg. 1), point shading (hit to radiance, where the backend
-//! can) and a coarse S mesh's lookups (where the backend can). A renderer is their composition ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's
-//! `GpuBeams` are two. A backend that can fail returns a [`BackendError`] (the CPU's never fails);
+//! can) and a coarse S mesh's lookups (where it can). A renderer is their composition
+//! ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's `GpuBeams` are two. A backend that can fail returns a [`BackendError`] (the CPU's never fails);
 //! its message is the backend's own.
 
 use super::beam::Beam;
@@ -232,6 +232,11 @@ pub struct LookupJob {
 /// Lookups on a backend (the GPU's `lookups.wgsl`); by default none, and the host looks the
 /// points up itself.
 pub trait ChildLookups: Sync {
+    /// Whether [`Self::child_lookups`] looks up (else the frame gathers no jobs for it).
+    fn looks_up(&self) -> bool {
+        false
+    }
+
     /// Each job's coordinates on its beam's base and how far outside the base its last projection
     /// lay, the beams `beams` (the next level's, with their textures); `None` where the backend
     /// does not look up.

@@ -2,8 +2,8 @@
 //! stand for many fine triangles, rasterized by the GPU's atlases (which must skip the fine patch
 //! under each face and take its ring's near hits for self-hits, as the CPU does), composited on the
 //! GPU where the CPU looks each point's child beams up ([`Composite::reflected_at`] and
-//! `refracted_at`; each point's first lookup on the GPU too, `lookups.wgsl`), against the CPU
-//! renderer with the same S mesh.
+//! `refracted_at`, looked up on the GPU too, `lookups.wgsl`), against the CPU renderer with the
+//! same S mesh.
 //!
 //! [`Composite::reflected_at`]: beam_cpu::nonlinear::Composite
 
@@ -26,8 +26,8 @@ const FACES: u32 = 400;
 /// composite) against the CPU renderer's with the GPU's shading estimator (`TwinShading`). At most
 /// 0.5% of the pixels may differ by more than 4/255 in a channel (sRGB), as for the fine S meshes
 /// of `gpu_images_equal_cpu`; both renders must use the coarse faces (beams off them, not rays
-/// alone), the GPU's must look points up on the GPU, and the beam counts must agree within 2%. The mean error and the points under coarse
-/// faces traced by rays are stated.
+/// alone), the GPU's must look points up on the GPU, and the beam counts must agree within 2%.
+/// The mean error and the points under coarse faces traced by rays are stated.
 pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
@@ -71,7 +71,7 @@ pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, St
         }
         pixels += n;
         notes.push(format!(
-            "{name}: {} faces, {g} / {c} beams (GPU / CPU), {lookups} lookups on the GPU, {:.2}% differ (mean \
+            "{name}: {} faces, {g} / {c} beams (GPU / CPU), {lookups} lookup jobs on the GPU, {:.2}% differ (mean \
              {:.2}/255), by rays {} / {}",
             cpu_stats.coarse_smesh_faces,
             100.0 * differ as f64 / n as f64,
