@@ -87,15 +87,10 @@ impl Lookups {
 
 impl Tree<'_> {
     /// The lookups of `point`'s composite ([`Tree::composite`]) in the child beams (nodes of
-    /// `next`) of its located face and, with `candidates`, of the other faces its triangle maps
-    /// to, in the composite's order, where the located face is coarse and has child beams and the
-    /// point a reflected ray; empty where the composite looks nothing up.
-    fn lookup_asks(
-        &self,
-        next: &[Node],
-        (children, point, located): &ToComposite<'_>,
-        candidates: bool,
-    ) -> Vec<FaceAsks> {
+    /// `next`) of its located face, or with `others` of the other faces its triangle maps to in
+    /// the composite's order, where the located face is coarse and has child beams and the point
+    /// a reflected ray; empty where the composite looks nothing up.
+    fn lookup_asks(&self, next: &[Node], (children, point, located): &ToComposite<'_>, others: bool) -> Vec<FaceAsks> {
         let Some((face, _)) = *located else { return Vec::new() };
         if !children.contains_key(&face) || !self.smesh.is_coarse(face) {
             return Vec::new();
@@ -115,9 +110,10 @@ impl Tree<'_> {
                 _ => Ask::Known((w, 0.0)),
             }
         };
-        let others = self.smesh.candidates(point.prim).iter().map(|&g| g as usize).filter(|&g| g != face);
-        std::iter::once(face)
-            .chain(others.filter(|_| candidates))
+        let candidates = self.smesh.candidates(point.prim).iter().map(|&g| g as usize).filter(|&g| g != face);
+        // The located face alone, or the others alone.
+        let faces = (!others).then_some(face).into_iter().chain(candidates.filter(|_| others));
+        faces
             .filter_map(|g| {
                 let c = children.get(&g)?;
                 let w = self.smesh.faces[g].barycentric(point.p);
@@ -137,7 +133,7 @@ impl Tree<'_> {
 
     /// The lookups of `points` ([`Tree::lookup_asks`]) by `renderer` where it looks up
     /// ([`Tree::looks_up`]; the GPU), the beams of `next` with their textures: first each point's
-    /// located face's, then all its faces' for the points whose first reflection lookup lies
+    /// located face's, then the other faces' for the points whose first reflection lookup lies
     /// outside its beam's base. Empty where it does not, and each composite looks up on the host.
     pub(super) fn lookups(
         &self,
@@ -149,12 +145,12 @@ impl Tree<'_> {
             return Ok(Lookups::default());
         }
         let beams: Vec<(&Beam, &BeamTexture)> = next.iter().map(|n| (&n.beam, &n.tex)).collect();
-        let asks_of = |candidates: bool, wanted: &(dyn Fn(usize) -> bool + Sync)| -> Vec<Vec<FaceAsks>> {
+        let asks_of = |others: bool, wanted: &(dyn Fn(usize) -> bool + Sync)| -> Vec<Vec<FaceAsks>> {
             points
                 .par_iter()
                 .enumerate()
                 .map(|(k, p)| match p {
-                    Some(p) if wanted(k) => self.lookup_asks(next, p, candidates),
+                    Some(p) if wanted(k) => self.lookup_asks(next, p, others),
                     _ => Vec::new(),
                 })
                 .collect()
@@ -173,12 +169,12 @@ impl Tree<'_> {
         };
         let Some(first) = answer(&asks_of(false, &|_| true))? else { return Ok(Lookups::default()) };
         let outside = |k: usize| first.of(k).first().is_some_and(|a| a.reflected.1 > 0.0);
-        let all = answer(&asks_of(true, &outside))?.unwrap_or_default();
+        let rest = answer(&asks_of(true, &outside))?.unwrap_or_default();
         let mut out = Lookups::default();
         for k in 0..points.len() {
             let start = out.answers.len() as u32;
-            let of_all = all.of(k);
-            out.answers.extend_from_slice(if of_all.is_empty() { first.of(k) } else { of_all });
+            out.answers.extend_from_slice(first.of(k));
+            out.answers.extend_from_slice(rest.of(k));
             out.spans.push((start, out.answers.len() as u32 - start));
         }
         Ok(out)

@@ -68,7 +68,7 @@ pub struct GpuTimes {
     /// Tree levels whose points were kept on the GPU ([`super::GpuLevelPoints`]).
     pub levels_kept: u64,
     /// Lookup jobs of points under coarse S-mesh faces in their child beams made on the GPU
-    /// ([`super::GpuLookups`]): reflections and refractions, the second batch's repeats included.
+    /// ([`super::GpuLookups`]): reflections and refractions.
     pub lookups: u64,
     /// The GPU's own seconds in the atlas passes, by timestamp queries (all 0 where the device has
     /// none): bounding triangles, nearest hits (draws, or the compute pass), gather.
