@@ -4,8 +4,8 @@
 
 use glam::{DVec3, Vec3};
 
-/// Highest supported degree `n` (28 coefficients).
-pub const MAX_DEGREE: usize = 6;
+/// Highest supported degree `n` (10 coefficients): 000's S1 and S3.
+pub const MAX_DEGREE: usize = 3;
 /// Coefficients of a degree-`MAX_DEGREE` triangular patch.
 pub const MAX_COEFFICIENTS: usize = (MAX_DEGREE + 1) * (MAX_DEGREE + 2) / 2;
 
