@@ -1,7 +1,7 @@
 //! The nonlinear beam of 000 §4: a base triangle `ΔP1P2P3` with unit boundary directions
 //! `{d1, d2, d3}` and an S^n parameterization of ray origins and directions over the base.
 
-use super::parameterization::{Interpolant, Patch, S1};
+use super::parameterization::{Interpolant, MAX_DEGREE, Patch, S1};
 use crate::float::Float;
 use crate::shapes::{Plane, Ray, Triangle};
 use glam::{DVec3, Vec3};
@@ -28,9 +28,13 @@ pub struct NonlinearBeam<L: Interpolant = S1> {
 impl<L: Interpolant> NonlinearBeam<L> {
     /// A beam from its base, boundary directions and parameterization. The base normal is oriented
     /// towards the mean direction and every direction is normalised and clamped to an elevation of at
-    /// least [`MIN_ELEVATION`] (000 §4). `None` for a degenerate base, zero or non-finite input.
+    /// least [`MIN_ELEVATION`] (000 §4). `None` for a degenerate base, zero or non-finite input,
+    /// or a parameterization of degree 0 or above [`MAX_DEGREE`].
     #[must_use]
     pub fn new(base: [Vec3; 3], dirs: [Vec3; 3], interp: L) -> Option<Self> {
+        if !(1..=MAX_DEGREE).contains(&interp.degree()) {
+            return None;
+        }
         let n = Triangle { v: base }.scaled_normal();
         let mean = dirs[0] + dirs[1] + dirs[2];
         if !n.is_finite() || !mean.is_finite() || base.iter().any(|p| !p.is_finite()) {
@@ -122,6 +126,24 @@ mod tests {
         assert!((beam.dirs[1].z - MIN_ELEVATION).abs() < 1e-6);
         assert!((beam.dirs[1].length() - 1.0).abs() < 1e-6);
         assert!(NonlinearBeam::s1([Vec3::ZERO, Vec3::X, 2.0 * Vec3::X], [Vec3::Z; 3]).is_none());
+    }
+
+    /// A parameterization the patch cannot hold is refused, not evaluated at a lower degree.
+    #[test]
+    fn refuses_degrees_past_the_patch() {
+        #[derive(Clone, Copy)]
+        struct Quartic;
+        impl Interpolant for Quartic {
+            fn degree(&self) -> usize {
+                MAX_DEGREE + 1
+            }
+            fn coefficient(&self, _: [usize; 3], x: &[Vec3; 3]) -> Vec3 {
+                x[0]
+            }
+        }
+        let base = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        assert!(NonlinearBeam::new(base, [Vec3::Z; 3], Quartic).is_none());
+        assert!(NonlinearBeam::new(base, [Vec3::Z; 3], S1).is_some());
     }
 
     #[test]
