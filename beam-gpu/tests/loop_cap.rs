@@ -44,7 +44,7 @@ fn shading_equals_twin(gpu: &Gpu, name: &str, scene: &Scene, spp: u32, size: u32
     let mut differ = Vec::new();
     for (s, g) in points.iter().zip(&on_gpu) {
         let twin = shade_twin(scene, None, spp, s);
-        if (*g - twin).abs().cmpgt(tolerance * twin.abs() + beam_math::glam::Vec3::splat(1e-6)).any() {
+        if (*g - twin).abs().cmpgt(tolerance * twin.abs() + glam::Vec3::splat(1e-6)).any() {
             differ.push(format!("{} GPU {g} CPU {twin}", s.seed));
         }
     }
