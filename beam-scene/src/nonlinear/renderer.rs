@@ -2,8 +2,8 @@
 //! (nearest hits with barycentric weights, any hits), the eye's view, a beam rasterizer (beams and
 //! scene triangles to texels, 000 Alg. 1), point shading (hit to radiance, where the backend
 //! can) and a coarse S mesh's lookups (where it can). A renderer is their composition
-//! ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's `GpuBeams` are two. A backend that can fail returns a [`BackendError`] (the CPU's never fails);
-//! its message is the backend's own.
+//! ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's `GpuBeams` are two. A backend that can
+//! fail returns a [`BackendError`] (the CPU's never fails); its message is the backend's own.
 
 use super::beam::Beam;
 use super::radiance::{LevelRadiance, TexelRadiance};
