@@ -59,7 +59,8 @@ struct LevelCounts {
 @group(0) @binding(8) var<storage, read_write> other: array<ShadeInput>;
 @group(0) @binding(9) var<storage, read_write> other_targets: array<u32>;
 @group(0) @binding(10) var<storage, read_write> counts: LevelCounts;
-// Per texel for the host: its index among the page's texels, its triangle, the bits of its t, 0.
+// Per texel for the host: its beam on the page, its triangle, the bits of its t, and its texel in
+// the beam's square (y · size + x).
 @group(0) @binding(11) var<storage, read_write> host: array<vec4<u32>>;
 
 // Loops: a binary search over the page's beams, at most 32 halvings (constant bound), and
@@ -74,11 +75,6 @@ fn level_points(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
     if word.x == 0u { return; }
     let prim = word.x - 1u;
     let kind = kinds[prim];
-    if (kind & LEVEL_CONTINUES) != 0u {
-        let j = atomicAdd(&counts.host, 1u);
-        host[j] = vec4<u32>(i, prim, word.y, 0u);
-        return;
-    }
     // The last beam whose first texel is at most i.
     var lo = 0u;
     var hi = params.beams;
@@ -89,8 +85,13 @@ fn level_points(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
     let b = beams[lo];
     let s = b.region.z;
     let at = region_texel(i - firsts[lo], s);
-    let ray = texel_ray(b, texel_barycentric(at.x, at.y, s));
     let texel = at.y * s + at.x;
+    if (kind & LEVEL_CONTINUES) != 0u {
+        let j = atomicAdd(&counts.host, 1u);
+        host[j] = vec4<u32>(lo, prim, word.y, texel);
+        return;
+    }
+    let ray = texel_ray(b, texel_barycentric(at.x, at.y, s));
     let input = ShadeInput(ray.origin + ray.direction * bitcast<f32>(word.y), prim, normalize(ray.direction),
         texel ^ placed[lo].y);
     let at_level = placed[lo].x + texel;

@@ -26,6 +26,7 @@ pub mod error;
 pub mod glossy;
 pub mod io;
 pub mod irradiance_map;
+pub mod memo;
 pub mod mesh;
 pub mod nonlinear;
 pub mod options;

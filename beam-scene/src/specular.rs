@@ -16,12 +16,10 @@ pub const MAX_DEPTH: u32 = 6;
 /// itself, tinted. Origins are offset by `eps` off the surface. `None` for other materials.
 #[must_use]
 pub fn specular_rays(scene: &Scene, eps: f32, prim: u32, p: Vec3, d: Vec3) -> Option<[Option<(Ray, Vec3)>; 2]> {
-    let mut n = scene.normal(prim);
-    let entering = n.dot(d) < 0.0;
-    if !entering {
-        n = -n;
-    }
-    let s = scene.shading_normal(prim, p) * n.dot(scene.normal(prim)).signum();
+    let geometric = scene.normal(prim);
+    let entering = geometric.dot(d) < 0.0;
+    let n = if entering { geometric } else { -geometric };
+    let s = scene.shading_normal(prim, p) * n.dot(geometric).signum();
     match scene.material(prim) {
         Material::Mirror { tint, bump } => {
             let mut r = reflect(d, s);

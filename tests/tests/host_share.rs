@@ -1,11 +1,15 @@
 //! A nonlinear frame's time split between host and device (000 Table 2's CPU / GPU column): the
 //! frame's stages add up to its wall time, the GPU renderer's waits on the device are what its
-//! stages' wall time exceeds their host time by, and its readbacks are counted. Skipped, saying
-//! SKIPPED, without an adapter.
+//! stages' wall time exceeds their host time by, and its readbacks are counted; a frame that takes
+//! its beams from the frame before is the frame that makes them. The GPU's skipped, saying SKIPPED,
+//! without an adapter.
 
-use beam_cpu::nonlinear::{CpuBeams, Degree, NonlinearOptions, render_nonlinear_with};
+use beam_cpu::nonlinear::{
+    CpuBeams, Degree, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
+};
 use beam_cpu::render::RenderOptions;
 use beam_gpu::nonlinear::GpuBeams;
+use beam_scene::nonlinear::BeamRenderer;
 use beam_scene::scene;
 
 fn options() -> NonlinearOptions {
@@ -33,17 +37,59 @@ fn cpu_frames_are_all_host_work() {
     }
 }
 
-#[test]
-fn gpu_frames_count_their_waits_and_readbacks() {
-    let gpu = match beam_gpu::Gpu::new() {
-        Ok(gpu) => gpu,
+/// The adapter, or `None` after saying SKIPPED (a failure where `BEAM_REQUIRE_GPU=1`).
+fn gpu() -> Option<beam_gpu::Gpu> {
+    match beam_gpu::Gpu::new() {
+        Ok(gpu) => Some(gpu),
         Err(e) => {
             assert!(!beam_conformance::gpu_required(), "BEAM_REQUIRE_GPU=1 but {e}");
             use std::io::Write;
             let _ = writeln!(std::io::stderr(), "SKIPPED: {e}");
-            return;
+            None
         }
-    };
+    }
+}
+
+/// Frames sharing what they precompute keep their trees' beams for the next frame: a second frame
+/// from the same eye at another size (other regions; the eye's beams the same, deeper ones fitted
+/// to other texels) takes the eye's beams from the first, and its pixels are, bit for bit, those of
+/// a frame that makes them all afresh (`fresh`: a renderer that has rendered nothing). Returns how
+/// many faces' beams the second frame found.
+fn frames_reusing_beams_equal_fresh(renderer: &dyn BeamRenderer, fresh: &dyn BeamRenderer) -> u64 {
+    let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
+    let first = options();
+    let second = NonlinearOptions { shading: RenderOptions { spp: 4, ..RenderOptions::exact(40, 28) }, ..first };
+    let shared = NonlinearPrecomputed::new(&scene, &first, renderer).expect("the precomputed");
+    render_nonlinear_frame(&scene, &first, renderer, Some(&shared)).expect("a first frame");
+    let found = shared.beams_reused();
+    let (reused, stats) = render_nonlinear_frame(&scene, &second, renderer, Some(&shared)).expect("a second frame");
+    let (made, _) = render_nonlinear_with(&scene, &second, fresh).expect("a fresh frame");
+    assert_eq!(reused.pixels, made.pixels, "a frame reusing its beams differs from one making them");
+    let beams = stats.beams_per_level.iter().sum::<u64>();
+    assert!(beams > 0);
+    shared.beams_reused() - found
+}
+
+#[test]
+fn cpu_frames_reusing_beams_equal_fresh_ones() {
+    assert!(frames_reusing_beams_equal_fresh(&CpuBeams, &CpuBeams) > 0, "the second frame found no beam");
+}
+
+#[test]
+fn gpu_frames_reusing_beams_equal_fresh_ones() {
+    let Some(gpu) = gpu() else { return };
+    let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
+    let renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+    let fresh = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+    let before = renderer.times().beams_reused;
+    assert!(frames_reusing_beams_equal_fresh(&renderer, &fresh) > 0, "the second frame found no beam");
+    let prepared = renderer.times().beams_reused - before;
+    assert!(prepared > 0, "the second frame's atlas prepared every beam again");
+}
+
+#[test]
+fn gpu_frames_count_their_waits_and_readbacks() {
+    let Some(gpu) = gpu() else { return };
     let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
     let renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
     let before = gpu.traffic();

@@ -19,19 +19,23 @@ pub const SCENES: [&str; 6] =
 /// Run the benchmark: `frames` timed GPU frames per scene (after one warm-up frame) and one CPU
 /// frame, at `width × height`; with `smesh`, beams spawn from coarse S meshes simplified so; with
 /// `rasterize`, the atlas's nearest hits by draws even where compute could find them; with
-/// `read_back`, every hit the host could use read back ([`GpuBeams::reading_levels_back`]).
+/// `read_back`, every hit the host could use read back ([`GpuBeams::reading_levels_back`]); with
+/// `moving`, the eye moved before every timed frame (no beam reused from the frame before).
 pub fn run(
     scenes: &[String],
     (width, height): (u32, u32),
     frames: u32,
     degree: Degree,
     smesh: Option<Simplify>,
-    (rasterize, read_back): (bool, bool),
+    (rasterize, read_back, moving): (bool, bool, bool),
 ) -> Result<(), String> {
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     let mut coarse = smesh.map_or_else(String::new, |s| format!(", coarse S meshes ({s:?})"));
     if read_back {
         coarse.push_str(", every hit the host could use read back");
+    }
+    if moving {
+        coarse.push_str(", the eye moved before every timed frame");
     }
     let hits = if GpuBeams::can_compute(&gpu) && !rasterize {
         "nearest hits by compute (64-bit atomics)"
@@ -79,18 +83,26 @@ pub fn run(
         let shared = NonlinearPrecomputed::new(&scene, &options, &renderer).map_err(|e| e.to_string())?;
         let shared_cpu = cpu_start.zip(our_threads_cpu_seconds()).map_or(0.0, |((m0, w0), (m1, w1))| m1 - m0 + w1 - w0);
         let shared_seconds = start.elapsed().as_secs_f64();
-        let frame = || render_nonlinear_frame(&scene, &options, &renderer, Some(&shared)).map_err(|e| e.to_string());
-        let (warm, _) = frame()?;
-        let (before, traffic) = (renderer.times(), gpu.traffic());
+        let frame = |scene: &scene::Scene| {
+            render_nonlinear_frame(scene, &options, &renderer, Some(&shared)).map_err(|e| e.to_string())
+        };
+        let (warm, _) = frame(&scene)?;
+        let (still, step) = (scene.camera, 1e-4 * scene.bounds().extent().length() * scene.camera.frame().right);
+        let (before, traffic, reused) = (renderer.times(), gpu.traffic(), shared.beams_reused());
         let cpu_before = our_threads_cpu_seconds();
         let start = Instant::now();
         let mut stats = None;
         for _ in 0..frames.max(1) {
-            stats = Some(frame()?.1);
+            if moving {
+                scene.camera.position += step;
+                scene.camera.target += step;
+            }
+            stats = Some(frame(&scene)?.1);
         }
+        scene.camera = still;
         let per_frame = start.elapsed().as_secs_f64() / f64::from(frames.max(1));
         let cpu_time = cpu_before.zip(our_threads_cpu_seconds()).map(|((m0, w0), (m1, w1))| (m1 - m0, w1 - w0));
-        let (after, traffic) = (renderer.times(), gpu.traffic() - traffic);
+        let (after, traffic, reused) = (renderer.times(), gpu.traffic() - traffic, shared.beams_reused() - reused);
         let host = per_frame - traffic.waited_seconds / f64::from(frames.max(1));
         let read_mb = traffic.bytes_read_back as f64 / f64::from(frames.max(1)) / 1e6;
         let atlas = (after.atlas_seconds - before.atlas_seconds) / f64::from(frames.max(1));
@@ -163,6 +175,12 @@ pub fn run(
                 (after.triangles - before.triangles) as f64 / f64::from(frames.max(1)) / 1e6,
             );
         }
+        println!(
+            "{:<16} reused from the last frame's tree, per frame: {:.0} faces' beams, {:.0} beams' atlas preparations",
+            "",
+            reused as f64 / f64::from(frames.max(1)),
+            (after.beams_reused - before.beams_reused) as f64 / f64::from(frames.max(1)),
+        );
         if let Some((main, workers)) = cpu_time {
             println!(
                 "{:<16} host CPU ms per frame: calling thread {:.1}, rayon workers {:.1}",

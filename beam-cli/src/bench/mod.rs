@@ -154,6 +154,11 @@ pub enum BenchCommand {
         /// before the GPU kept what needs no host (to compare with).
         #[arg(long)]
         read_back: bool,
+        /// Move the eye a little before every timed frame (1e-4 of the scene's diagonal to the
+        /// right), so that no beam of a frame's tree is one of the last frame's: the host's work
+        /// for a camera in motion, where a still one reuses each beam's preparation.
+        #[arg(long)]
+        moving: bool,
     },
     /// Glossy light volumes (002) against photon tracing at equal RMSE on the three built-ins of
     /// 002's figures, on the CPU and (with an adapter) the GPU; plots RMSE against time.
@@ -218,7 +223,7 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             let clock = if cpu_time { bvh::Clock::Thread } else { bvh::Clock::Wall };
             bvh::run(&scene, json.as_deref(), size, sah_only, clock)
         }
-        BenchCommand::Gpu { scenes, width, height, frames, degree, smesh_target, rasterize, read_back } => {
+        BenchCommand::Gpu { scenes, width, height, frames, degree, smesh_target, rasterize, read_back, moving } => {
             side("--width", width)?;
             side("--height", height)?;
             let smesh = smesh_target
@@ -237,7 +242,7 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             if dry {
                 return Ok(ExitCode::SUCCESS);
             }
-            gpu::run(&scenes, (width, height), frames, degree, smesh, (rasterize, read_back))
+            gpu::run(&scenes, (width, height), frames, degree, smesh, (rasterize, read_back, moving))
         }
         BenchCommand::Glossy { scenes, size, reference_photons, subdivide, out } => {
             side("--size", size)?;

@@ -8,7 +8,7 @@ use super::cpu_beams::{CpuBeams, shade_points};
 use super::lookup::Lookups;
 use super::settings::{NonlinearOptions, NonlinearStats};
 use super::stages::StageClock;
-use super::trace::{Built, Request, Tree};
+use super::trace::{BeamMemo, Built, Request, Tree};
 use crate::RenderError;
 use crate::render::Image;
 use crate::render::IrradianceMap;
@@ -20,6 +20,7 @@ use beam_scene::nonlinear::{BeamRenderer, Degree, EyeFaces, LevelRadiance, SMesh
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// Render `scene` with its mirror and glass surfaces by nonlinear beams on the CPU.
@@ -47,14 +48,16 @@ pub fn render_nonlinear_with(
 /// caustics (000 §9.2, [`caustics_by_beams`]: the irradiance through its mirror and glass surfaces
 /// from its lights). Neither depends on the camera or the beam tree, so an interactive renderer
 /// makes them once and renders every frame (a camera that moves, a new beam tree) with them
-/// ([`render_nonlinear_frame`]).
-#[derive(Clone, Debug)]
+/// ([`render_nonlinear_frame`]). The frames keep their trees' beams here too, each frame's for the
+/// next: a beam of the same face and incoming light is made once.
+#[derive(Debug)]
 pub struct NonlinearPrecomputed {
     smesh: SMesh,
     map: Option<IrradianceMap>,
     stats: CausticStats,
     /// The scene's triangle count, checked by the frames that share these.
     triangles: usize,
+    beams: Mutex<BeamMemo>,
 }
 
 impl NonlinearPrecomputed {
@@ -63,7 +66,7 @@ impl NonlinearPrecomputed {
     pub fn new(scene: &Scene, options: &NonlinearOptions, renderer: &dyn BeamRenderer) -> Result<Self, RenderError> {
         let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
         let (map, stats) = caustics.map_or((None, CausticStats::default()), |(m, s)| (Some(m), s));
-        Ok(Self { smesh: SMesh::of(scene), map, stats, triangles: scene.triangles.len() })
+        Ok(Self { smesh: SMesh::of(scene), map, stats, triangles: scene.triangles.len(), beams: Mutex::default() })
     }
 
     /// What tracing the caustics did.
@@ -76,6 +79,13 @@ impl NonlinearPrecomputed {
     #[must_use]
     pub fn smesh(&self) -> &SMesh {
         &self.smesh
+    }
+
+    /// How many beams the frames that shared these found in the last frame's tree so far, rather
+    /// than made.
+    #[must_use]
+    pub fn beams_reused(&self) -> u64 {
+        self.beams.lock().unwrap_or_else(std::sync::PoisonError::into_inner).found()
     }
 }
 
@@ -116,6 +126,7 @@ pub fn render_nonlinear_frame(
         eye: camera.position,
         caustics: shared.map.as_ref(),
         by_rays: std::sync::atomic::AtomicU64::new(0),
+        beams: &shared.beams,
     };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree. (A backend that shades the eye's diffuse, glossy and emissive pixels itself may

@@ -19,13 +19,15 @@ use crate::render::{IrradianceMap, specular_rays};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
+use beam_scene::memo::FrameMemo;
 use beam_scene::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, KeepLevel, KeptTotals, LevelLayout, LevelRadiance, SMesh,
-    ShadePoint, TexelRadiance, child_beams, region_size,
+    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, KeepLevel, KeptTotals, LevelLayout, LevelRadiance,
+    SMesh, ShadePoint, TexelRadiance, child_beams, region_size,
 };
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
+use std::sync::{Arc, Mutex, PoisonError};
 
 /// A map keyed by S-mesh face, hashed by rustc's `FxHasher` (one multiplication): the maps below
 /// are looked up once per texel (with the default SipHash: glass-lens radiance flow 192–194 →
@@ -94,6 +96,25 @@ pub(super) struct Tree<'a> {
     pub(super) caustics: Option<&'a IrradianceMap>,
     /// Points under coarse faces traced by rays: no child beam holds their scattered ray.
     pub(super) by_rays: std::sync::atomic::AtomicU64,
+    /// The beams of this frame's tree and of the last one's, by face and incoming light.
+    pub(super) beams: &'a Mutex<BeamMemo>,
+}
+
+/// A face's beams (reflected, and refracted through glass; `None` where degenerate) by what they
+/// are made of ([`children_key`]), kept from one frame's tree to the next: on the wavy lake's 2,146
+/// beams, 1.6 of the 21 host ms a frame went to their S3 patches.
+pub(crate) type BeamMemo = FrameMemo<[u32; 11], Option<Arc<(Beam, Option<Beam>)>>>;
+
+/// What the beams of S-mesh face `face` are made of: the face (its vertices, normals and material),
+/// the parameterization and the bits of the light's unit directions at its vertices.
+fn children_key(face: usize, degree: Degree, incoming: [Vec3; 3]) -> [u32; 11] {
+    let mut key = [0; 11];
+    key[0] = face as u32;
+    key[1] = degree as u32;
+    for (slot, x) in key[2..].iter_mut().zip(incoming.iter().flat_map(|d| d.to_array())) {
+        *slot = x.to_bits();
+    }
+    key
 }
 
 impl Tree<'_> {
@@ -122,6 +143,7 @@ impl Tree<'_> {
         roots: Vec<Request>,
         clock: &mut StageClock<'_>,
     ) -> Result<Built, BackendError> {
+        self.beams.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
         let mut levels: Vec<Vec<Node>> = Vec::new();
         let mut root_children = FaceMap::default();
         let mut kept_totals = KeptTotals::default();
@@ -133,8 +155,8 @@ impl Tree<'_> {
                 break;
             }
             let parents = levels.last();
-            // The beams of each request (000 §7.2); a face whose beams are degenerate is shaded by rays.
-            let built: Vec<Option<(Beam, Option<Beam>, u32)>> = requests
+            // The light arriving at each request's face (000 §7.2).
+            let incoming: Vec<Option<[Vec3; 3]>> = requests
                 .par_iter()
                 .map(|r| {
                     let source = match r.parent {
@@ -144,19 +166,32 @@ impl Tree<'_> {
                     if !self.smesh.spawns_beams(r.face) {
                         return None;
                     }
-                    let f = &self.smesh.faces[r.face];
-                    let incoming = source.directions_to(f, &r.samples)?;
-                    let (reflected, refracted) = child_beams(self.scene, f, incoming, self.options.degree)?;
-                    let refracted = match refracted {
-                        Some(b) => Some(b?),
-                        None => None,
-                    };
-                    Some((reflected, refracted, region_size(r.pixels, self.options.texels)))
+                    source.directions_to(&self.smesh.faces[r.face], &r.samples)
                 })
                 .collect();
+            // Their beams, those of the last frame's tree found again; a face whose beams are
+            // degenerate is shaded by rays.
+            let lit: Vec<(usize, [Vec3; 3])> =
+                incoming.iter().enumerate().filter_map(|(i, d)| Some((i, (*d)?))).collect();
+            let keys = lit.iter().map(|&(i, d)| children_key(requests[i].face, self.options.degree, d)).collect();
+            let made = self.beams.lock().unwrap_or_else(PoisonError::into_inner).values(keys, |k| {
+                let (i, incoming) = lit[k];
+                let (reflected, refracted) =
+                    child_beams(self.scene, &self.smesh.faces[requests[i].face], incoming, self.options.degree)?;
+                let refracted = match refracted {
+                    Some(b) => Some(b?),
+                    None => None,
+                };
+                Some(Arc::new((reflected, refracted)))
+            });
+            let mut built = vec![None; requests.len()];
+            for (&(i, _), b) in lit.iter().zip(made) {
+                built[i] = b;
+            }
             let mut beams = Vec::new();
             for (r, b) in requests.iter().zip(built) {
-                let Some((reflected, refracted, size)) = b else { continue };
+                let Some(&(reflected, refracted)) = b.as_deref() else { continue };
+                let size = region_size(r.pixels, self.options.texels);
                 let mut push = |beam| {
                     beams.push((beam, r.face, r.pixels, size));
                     beams.len() - 1

@@ -22,6 +22,7 @@ use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
 use super::level::{GpuLevelPoints, KeptLevel};
 use super::lookups::GpuLookups;
 use super::page::Counters;
+use super::prepare::{Preparations, prepared};
 use super::whitted::GpuWhitted;
 use crate::buffers::{checked, compute_pipeline, max_binding, read_all, shader_module, storage};
 use crate::interface::TEXEL_JOB_PAIRS;
@@ -32,7 +33,7 @@ use crate::{Gpu, GpuError, texels};
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamTexture, KeepLevel, KeptTotals, TexelRadiance, cone_blocks, region_texels,
+    BeamJob, BeamRasterizer, BeamTexture, KeepLevel, KeptTotals, TexelRadiance, region_texels,
 };
 use beam_scene::options::Shading;
 use beam_scene::scene::Scene;
@@ -60,6 +61,9 @@ pub struct GpuTimes {
     pub pages: u64,
     /// Beams drawn.
     pub beams: u64,
+    /// Of them, beams whose preparation (bounds, culling by the BVH's boxes) the last frame's tree
+    /// had made.
+    pub beams_reused: u64,
     /// (beam, scene triangle) pairs on the pages: four per block of the BVH that the host kept
     /// for a beam, those the GPU culled included.
     pub triangles: u64,
@@ -117,6 +121,8 @@ pub struct GpuBeams<'g> {
     pub(super) extent: f32,
     /// Side of an atlas page in texels.
     pub(super) page: u32,
+    /// The beams of the last frame's tree and of this one's, made ready for the atlas.
+    preparations: Mutex<Preparations>,
     times: Mutex<GpuTimes>,
 }
 
@@ -197,6 +203,7 @@ impl<'g> GpuBeams<'g> {
             job_pairs: TEXEL_JOB_PAIRS,
             extent: scene.bounds().extent().length(),
             page,
+            preparations: Mutex::default(),
             times: Mutex::default(),
         })
     }
@@ -270,7 +277,7 @@ fn z_order(index: u32, s: u32) -> (u32, u32) {
 
 impl BeamRasterizer for GpuBeams<'_> {
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
-        Ok(self.render(scene, jobs, None)?.0)
+        Ok(self.render(scene, jobs, None, false)?.0)
     }
 
     /// Kept where the composite will shade the tree (exact shading, the level within one texture),
@@ -281,11 +288,14 @@ impl BeamRasterizer for GpuBeams<'_> {
         jobs: &[BeamJob<'_>],
         keep: &KeepLevel<'_>,
     ) -> Result<(Vec<BeamTexture>, Option<KeptTotals>), BackendError> {
+        if keep.level <= 1 {
+            self.preparations.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
+        }
         let shaded_here = keep.options.shading == Shading::Exact && texels::fits(self.gpu, keep.layout.len);
         if !self.keep_levels || !shaded_here {
-            return Ok((self.render(scene, jobs, None)?.0, None));
+            return Ok((self.render(scene, jobs, None, true)?.0, None));
         }
-        let (textures, kept) = self.render(scene, jobs, Some(keep))?;
+        let (textures, kept) = self.render(scene, jobs, Some(keep), true)?;
         let kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
         let totals = KeptTotals { points: kept.points(), curved: kept.curved };
         self.add_times(|t| t.levels_kept += 1);
@@ -306,27 +316,35 @@ impl BeamRasterizer for GpuBeams<'_> {
 impl GpuBeams<'_> {
     /// The textures of `jobs`; with `keep`, the points of the texels from which the tree does not go
     /// on kept on the GPU ([`super::GpuLevelPoints`]), the textures holding only the others' hits
-    /// (every hit `keep.with_hits`).
+    /// (every hit `keep.with_hits`); with `reuse`, beams of a frame's tree, each prepared once for
+    /// this frame and the next ([`Preparations`]).
     fn render(
         &self,
         scene: &Scene,
         jobs: &[BeamJob<'_>],
         keep: Option<&KeepLevel<'_>>,
+        reuse: bool,
     ) -> Result<(Vec<BeamTexture>, Option<KeptLevel>), BackendError> {
         let start = Instant::now();
         // Bounding-cone culling (000 App. A) by the BVH's boxes here, triangle by triangle on the
         // GPU (`super::cull`); the beams for the shader from the same bounds, placed on their
         // regions below.
-        let (culled, mut gpu_beams): (Vec<_>, Vec<GpuBeam>) = jobs
-            .par_iter()
-            .map(|j| {
-                let tb = j.beam.texel_beam();
-                let bounds = tb.s1_or_sn_bounds();
-                (cone_blocks(scene, tb, &bounds, j.exclude), GpuBeam::new(j.beam, &bounds, [0, 0, j.size], j.exclude))
+        let mut memo = reuse.then(|| self.preparations.lock().unwrap_or_else(PoisonError::into_inner));
+        let found = memo.as_ref().map_or(0, |m| m.found());
+        let culled = prepared(scene, jobs, memo.as_deref_mut());
+        let reused = memo.map_or(0, |m| m.found() - found);
+        self.add_times(|t| t.beams_reused += reused);
+        let mut gpu_beams: Vec<GpuBeam> = culled
+            .iter()
+            .zip(jobs)
+            .map(|(p, j)| {
+                let mut beam = p.beam;
+                beam.region[2] = j.size;
+                beam
             })
-            .unzip();
+            .collect();
         // Four (beam, triangle) pairs per block, some of them culled on the GPU.
-        let pairs_of = |i: usize| 4 * culled[i].1.len();
+        let pairs_of = |i: usize| 4 * culled[i].blocks.len();
         // Pack power-of-two squares, largest first, in Z order: every square lands aligned.
         let mut order: Vec<usize> = (0..jobs.len()).collect();
         order.sort_by_key(|&i| std::cmp::Reverse(jobs[i].size.max(1).next_power_of_two()));
@@ -386,7 +404,7 @@ impl GpuBeams<'_> {
                 let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
                 gpu_beams[i].region[..2].copy_from_slice(&[q.x, q.y]);
                 beams.push(gpu_beams[i]);
-                culls.push(&culled[i].0, jobs[i].exclude);
+                culls.push(&culled[i].cull, jobs[i].exclude);
                 // The page's pairs fit one binding, so their count fits 32 bits; so do its texels.
                 ranges.push((pair_count, pair_count + pairs_of(i) as u32));
                 pair_count += pairs_of(i) as u32;
@@ -395,10 +413,10 @@ impl GpuBeams<'_> {
             // The (beam on the page, block) pairs, written in place, a beam's by a thread.
             let mut blocks =
                 Staged::<[u32; 2]>::new(self.gpu, "blocks", pair_count as usize / 4, wgpu::BufferUsages::empty());
-            let parts = split_by_counts(blocks.slots(), members.iter().map(|&i| culled[i].1.len()))
+            let parts = split_by_counts(blocks.slots(), members.iter().map(|&i| culled[i].blocks.len()))
                 .ok_or(GpuError::Internal("blocks past their buffer"))?;
             parts.into_par_iter().zip(&members).enumerate().for_each(|(k, (Slots(out), &i))| {
-                out.write_iter(culled[i].1.iter().map(|&block| [k as u32, block]));
+                out.write_iter(culled[i].blocks.iter().map(|&block| [k as u32, block]));
             });
             let pairs = (blocks.finish(self.gpu), &culls, pair_count as usize);
             let prepared = start.elapsed().as_secs_f64();
@@ -428,7 +446,7 @@ impl GpuBeams<'_> {
                     let host: Vec<[u32; 4]> = checked(self.gpu, || read_all(self.gpu, Vec::new(), sources))?;
                     let read = start.elapsed().as_secs_f64();
                     let start = Instant::now();
-                    Self::unpack_host_hits(&mut unpacked, &firsts, &host)?;
+                    Self::unpack_host_hits(&mut unpacked, &host)?;
                     self.add_times(|t| {
                         t.atlas_seconds += read;
                         t.prepare_seconds += start.elapsed().as_secs_f64();

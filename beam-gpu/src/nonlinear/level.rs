@@ -68,7 +68,8 @@ pub(super) struct LevelPage<'a> {
 pub(super) struct Appended {
     direct: (wgpu::Buffer, wgpu::Buffer),
     other: (wgpu::Buffer, wgpu::Buffer),
-    /// The texels for the host: (index among the page's texels, triangle, bits of t, 0) each.
+    /// The texels for the host: (beam on the page, triangle, bits of t, texel in the beam's square)
+    /// each.
     pub host: wgpu::Buffer,
     /// [`LevelCounts`], zeroed by wgpu.
     pub counts: wgpu::Buffer,

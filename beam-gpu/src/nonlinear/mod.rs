@@ -13,6 +13,7 @@ mod eye;
 mod level;
 mod lookups;
 mod page;
+mod prepare;
 mod queries;
 mod sort;
 mod whitted;

@@ -292,49 +292,21 @@ impl GpuBeams<'_> {
 }
 
 impl GpuBeams<'_> {
-    /// Into `textures` (a page's, in the order of its beams' `firsts`), the hits `host` lists:
-    /// (index among the page's texels, triangle, bits of t, 0) each, the texels of a kept level
-    /// that the host builds on ([`super::level`]); the other texels stay misses.
-    pub(super) fn unpack_host_hits(
-        textures: &mut [(usize, BeamTexture)],
-        firsts: &[u32],
-        host: &[[u32; 4]],
-    ) -> Result<(), GpuError> {
-        for &[i, prim, t, _] in host {
-            let beam = firsts.partition_point(|&f| f <= i).saturating_sub(1);
-            let first = firsts.get(beam).copied().unwrap_or(0);
-            let (_, tex) = textures.get_mut(beam).ok_or(GpuError::Internal("a texel for the host past the page"))?;
-            let size = tex.size;
-            let (x, y) = region_texel(i.saturating_sub(first), size);
+    /// Into `textures` (a page's, in the order of its beams), the hits `host` lists: (beam on the
+    /// page, triangle, bits of t, texel in the beam's square) each, the texels of a kept level that
+    /// the host builds on ([`super::level`]); the other texels stay misses.
+    pub(super) fn unpack_host_hits(textures: &mut [(usize, BeamTexture)], host: &[[u32; 4]]) -> Result<(), GpuError> {
+        for &[beam, prim, t, texel] in host {
+            let (_, tex) =
+                textures.get_mut(beam as usize).ok_or(GpuError::Internal("a texel for the host past the page"))?;
             if tex.hits.is_empty() {
-                tex.hits = vec![None; (size * size) as usize];
+                tex.hits = vec![None; (tex.size * tex.size) as usize];
             }
-            let slot =
-                tex.hits.get_mut((y * size + x) as usize).ok_or(GpuError::Internal("a texel past its region"))?;
+            let slot = tex.hits.get_mut(texel as usize).ok_or(GpuError::Internal("a texel past its region"))?;
             *slot = Some(TexelHit { prim, t: f32::from_bits(t) });
         }
         Ok(())
     }
-}
-
-/// `(x, y)` of the `j`-th texel of a region of side `s`, its texels counted row by row (row 0 holds
-/// `s`, row `y ≥ 1` holds `s + 1 − y`), as `region_texel` in `shaders/lib/region.wgsl` finds it:
-/// rows `1..s` counted from the last hold 1, 2, …, s texels, so the row of the `r`-th texel from
-/// the end is the inverse of the triangular numbers (the float root, then an integer step each way).
-fn region_texel(j: u32, s: u32) -> (u32, u32) {
-    if j < s {
-        return (j, 0);
-    }
-    let triangular = |n: u64| n * (n + 1) / 2;
-    let r = triangular(u64::from(s)).saturating_sub(1 + u64::from(j - s));
-    let mut n = ((((8 * r + 1) as f64).sqrt() - 1.0) * 0.5).floor().max(0.0) as u64;
-    if triangular(n + 1) <= r {
-        n += 1;
-    }
-    if n > 0 && triangular(n) > r {
-        n -= 1;
-    }
-    ((n - (r - triangular(n))) as u32, s - n as u32)
 }
 
 /// A bind group of `layout` over buffers alone: `(binding, buffer)`.
@@ -350,24 +322,4 @@ struct PageBuffers<'a> {
     beams: &'a wgpu::Buffer,
     pairs: &'a wgpu::Buffer,
     bounds: &'a wgpu::Buffer,
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Counted row by row, every texel of regions of side 1 to 70 comes back where `unpack` puts it.
-    #[test]
-    fn region_texels_invert_the_row_by_row_count() {
-        for s in 1..=70u32 {
-            let mut j = 0;
-            for y in 0..s {
-                for x in 0..(s + 1 - y).min(s) {
-                    assert_eq!(region_texel(j, s), (x, y), "texel {j} of side {s}");
-                    j += 1;
-                }
-            }
-            assert_eq!(u64::from(j), region_texels(s));
-        }
-    }
 }

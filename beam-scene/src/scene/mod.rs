@@ -242,8 +242,10 @@ pub struct Scene {
     /// bounding-cone culling (eight boxes at a time).
     pub wide: Bvh8,
     /// Smooth unit vertex normals of each mirror and glass triangle (the curved surface its mesh
-    /// approximates).
-    pub smooth_normals: std::collections::HashMap<u32, [Vec3; 3]>,
+    /// approximates), hashed by `FxHasher` (one multiplication): they are looked up once per point
+    /// a specular surface scatters ([`Scene::shading_normal`]), and triangle indices come from the
+    /// scene, not from an adversary.
+    pub smooth_normals: rustc_hash::FxHashMap<u32, [Vec3; 3]>,
     /// Where the S meshes of the specular surfaces come from (000 §7.1); by default the specular
     /// triangles themselves.
     pub smesh: SMeshPlan,

@@ -4,6 +4,7 @@
 use super::Material;
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
+use rustc_hash::FxHashMap;
 use std::collections::HashMap;
 
 /// Per specular triangle, its three unit vertex normals on the side of its geometric normal: the
@@ -17,7 +18,7 @@ pub fn specular_normals(
     triangles: &[Triangle],
     material_of: &[u32],
     materials: &[Material],
-) -> HashMap<u32, [Vec3; 3]> {
+) -> FxHashMap<u32, [Vec3; 3]> {
     let specular =
         |p: usize| matches!(materials[material_of[p] as usize], Material::Mirror { .. } | Material::Glass { .. });
     let prims: Vec<usize> = (0..triangles.len()).filter(|&p| specular(p)).collect();
