@@ -20,7 +20,7 @@ use beam_scene::nonlinear::{BeamRenderer, Degree, EyeFaces, LevelRadiance, SMesh
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
-use std::sync::Mutex;
+use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
 /// Render `scene` with its mirror and glass surfaces by nonlinear beams on the CPU.
@@ -85,7 +85,7 @@ impl NonlinearPrecomputed {
     /// than made.
     #[must_use]
     pub fn beams_reused(&self) -> u64 {
-        self.beams.lock().unwrap_or_else(std::sync::PoisonError::into_inner).found()
+        self.beams.lock().unwrap_or_else(PoisonError::into_inner).found()
     }
 }
 

@@ -35,7 +35,7 @@ impl Prepared {
 /// The bits a beam and what it skips are made of: base, boundary directions, the S3 vertex normals
 /// or the bump's angle, the kind, and the skipped triangle and thickness (the rest of what a beam
 /// skips follows from its face, which its base is).
-type Key = [u32; 33];
+type Key = [u32; 30];
 
 fn key(job: &BeamJob<'_>) -> Key {
     let (kind, base, dirs, extra) = match job.beam {
@@ -46,13 +46,13 @@ fn key(job: &BeamJob<'_>) -> Key {
             (2, s1.base, s1.dirs, [Vec3::new(b.beam.delta, b.bump.wavelength, 0.0), Vec3::ZERO, Vec3::ZERO])
         }
     };
-    let mut out = [0; 33];
+    let mut out = [0; 30];
     let floats = base.iter().chain(&dirs).chain(&extra).flat_map(|v| v.to_array());
     for (slot, x) in out.iter_mut().zip(floats.chain([job.exclude.thickness])) {
         *slot = x.to_bits();
     }
-    out[31] = kind;
-    out[32] = job.exclude.prim;
+    out[28] = kind;
+    out[29] = job.exclude.prim;
     out
 }
 
