@@ -167,25 +167,24 @@ pub fn render_nonlinear_frame(
             d: ray.direction.normalize(),
             seed: i as u64,
         };
-        let looked_up = if tree.looks_up(renderer, next) {
-            let points: Vec<_> = hits
-                .par_iter()
-                .zip(located)
-                .map(|(&(i, ray, hit), &l)| in_crop(i).then(|| (&children, point(i, ray, hit), l)))
-                .collect();
-            tree.lookups(renderer, next, &points)?
-        } else {
-            Lookups::default()
+        let to_composite =
+            |k: usize, &(i, ray, hit): &(usize, Ray, Hit)| tree.to_composite(&children, point(i, ray, hit), located[k]);
+        let points: Option<Vec<_>> = tree
+            .looks_up(renderer, next)
+            .then(|| hits.par_iter().enumerate().map(|(k, h)| in_crop(h.0).then(|| to_composite(k, h))).collect());
+        let looked_up = match &points {
+            Some(points) => tree.lookups(renderer, next, points)?,
+            None => Lookups::default(),
         };
         Ok::<_, BackendError>(par_flatten(
             hits,
             TexelRadiance::default(),
             |_, &(i, ..)| usize::from(in_crop(i)),
-            |k, &(i, ray, hit), push| {
-                if in_crop(i) {
-                    let point = point(i, ray, hit);
-                    let composite = tree.composite(&children, next, &point, located[k], looked_up.of(k));
-                    push(TexelRadiance { texel: i as u32, point, composite });
+            |k, h, push| {
+                if in_crop(h.0) {
+                    let to = points.as_ref().and_then(|p| p[k]).unwrap_or_else(|| to_composite(k, h));
+                    let composite = tree.composite(next, &to, looked_up.of(k));
+                    push(TexelRadiance { texel: h.0 as u32, point: to.point, composite });
                 }
             },
         ))

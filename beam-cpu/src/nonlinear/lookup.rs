@@ -15,18 +15,28 @@ use beam_math::glam::Vec3;
 use beam_math::nonlinear::Projection;
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{Beam, BeamRenderer, BeamTexture, LOOKUP, LookupJob, ShadePoint};
+use beam_scene::parallel::piece_len;
 use rayon::prelude::*;
 
-/// A point to composite ([`Tree::composite`]): the child beams of the faces of its level, the point
-/// and its located face.
-pub(super) type ToComposite<'a> = (&'a FaceMap<Scattered>, ShadePoint, Option<(usize, Vec3)>);
+/// A point to composite ([`Tree::composite`]), made by [`Tree::to_composite`]: the child beams of
+/// the faces of its level, the point and its located face.
+#[derive(Clone, Copy)]
+pub(super) struct ToComposite<'a> {
+    pub(super) children: &'a FaceMap<Scattered>,
+    pub(super) point: ShadePoint,
+    pub(super) located: Option<(usize, Vec3)>,
+    /// Under a coarse face with child beams, the unit directions of the point's own scattered
+    /// rays (reflected, refracted) that its lookups follow ([`reproject`]), found once for the
+    /// lookups and the composite (on the mirror teapot three times a point before).
+    pub(super) own: Option<[Option<Vec3>; 2]>,
+}
 
-/// One lookup of a composite ([`Tree::composite`]'s `at`): a job for a backend, or its answer
-/// known without one (the face's own coordinates, 0 outside: no child beam, no scattered ray, or
-/// a bump-mapped beam).
+/// One lookup of a composite ([`Tree::composite`]'s `at`): a job for a backend (the next of
+/// [`Asks::jobs`]), or its answer known without one (the face's own coordinates, 0 outside: no
+/// child beam, no scattered ray, or a bump-mapped beam).
 #[derive(Clone, Copy)]
 enum Ask {
-    Job(LookupJob),
+    Job,
     Known((Vec3, f32)),
 }
 
@@ -35,6 +45,15 @@ enum Ask {
 struct FaceAsks {
     reflected: Ask,
     refracted: Option<Ask>,
+}
+
+/// The lookups of a list of points, flat: per point how many faces ask, the faces' asks in order,
+/// and the jobs among them in order. (A list per point was an allocation per point.)
+#[derive(Default)]
+struct Asks {
+    lens: Vec<u32>,
+    faces: Vec<FaceAsks>,
+    jobs: Vec<LookupJob>,
 }
 
 /// The answers for one face of a composite ([`FaceAsks`]): coordinates on the child beam's base
@@ -61,16 +80,20 @@ impl Lookups {
     }
 
     /// Per point, its faces' asks answered: the jobs' answers `answers` in order.
-    fn answered(asks: &[Vec<FaceAsks>], answers: &[(Vec3, f32)]) -> Self {
-        let mut out = Self::default();
+    fn answered(asks: &Asks, answers: &[(Vec3, f32)]) -> Self {
+        let mut out =
+            Self { spans: Vec::with_capacity(asks.lens.len()), answers: Vec::with_capacity(asks.faces.len()) };
         let mut jobs = answers.iter();
         let mut answer = |a: Ask| match a {
-            Ask::Job(_) => jobs.next().copied(),
+            Ask::Job => jobs.next().copied(),
             Ask::Known(k) => Some(k),
         };
-        for faces in asks {
+        let mut faces = &asks.faces[..];
+        for &n in &asks.lens {
+            let (mine, rest) = faces.split_at(n as usize);
+            faces = rest;
             let start = out.answers.len() as u32;
-            for f in faces {
+            for f in mine {
                 // A face left unanswered ends the point's answers: the host looks up the rest.
                 let Some(reflected) = answer(f.reflected) else { break };
                 let refracted = match f.refracted.map(&mut answer) {
@@ -85,44 +108,65 @@ impl Lookups {
     }
 }
 
-impl Tree<'_> {
-    /// The lookups of `point`'s composite ([`Tree::composite`]) in the child beams (nodes of
-    /// `next`) of its located face, or with `others` of the other faces its triangle maps to in
-    /// the composite's order, where the located face is coarse and has child beams and the point
-    /// a reflected ray; empty where the composite looks nothing up.
-    fn lookup_asks(&self, next: &[Node], (children, point, located): &ToComposite<'_>, others: bool) -> Vec<FaceAsks> {
-        let Some((face, _)) = *located else { return Vec::new() };
-        if !children.contains_key(&face) || !self.smesh.is_coarse(face) {
-            return Vec::new();
+impl Asks {
+    /// The lists of `pieces` one after another.
+    fn concat(pieces: Vec<Self>) -> Self {
+        let mut all = Self::default();
+        for p in pieces {
+            all.lens.extend_from_slice(&p.lens);
+            all.faces.extend_from_slice(&p.faces);
+            all.jobs.extend_from_slice(&p.jobs);
         }
-        let Some(rays) = specular_rays(self.scene, 0.0, point.prim, point.p, point.d) else { return Vec::new() };
-        if rays[0].is_none() {
-            return Vec::new();
+        all
+    }
+}
+
+impl Tree<'_> {
+    /// `point`, located at `located` (its S-mesh face and barycentric coordinates there) among
+    /// faces with child beams `children`, ready to composite: with its own scattered rays where
+    /// its face is coarse and has child beams.
+    pub(super) fn to_composite<'a>(
+        &self,
+        children: &'a FaceMap<Scattered>,
+        point: ShadePoint,
+        located: Option<(usize, Vec3)>,
+    ) -> ToComposite<'a> {
+        let own = located
+            .filter(|&(face, _)| self.smesh.is_coarse(face) && children.contains_key(&face))
+            .and_then(|_| specular_rays(self.scene, 0.0, point.prim, point.p, point.d))
+            .map(|rays| rays.map(|r| r.map(|(ray, _)| ray.direction.normalize())));
+        ToComposite { children, point, located, own }
+    }
+
+    /// Add to `out` the lookups of `point`'s composite ([`Tree::composite`]) in the child beams
+    /// (nodes of `next`) of its located face, or with `others` of the other faces its triangle
+    /// maps to in the composite's order, where the located face is coarse and has child beams and
+    /// the point a reflected ray; none where the composite looks nothing up.
+    fn lookup_asks(&self, next: &[Node], to: &ToComposite<'_>, others: bool, out: &mut Asks) {
+        let (Some((face, _)), Some(own)) = (to.located, to.own) else { return };
+        if own[0].is_none() {
+            return;
         }
         let far = self.scene.bounds().extent().length();
+        let p = to.point.p;
         // `at` of the composite: a job where `reproject` looks up, else its known answer.
-        let ask = |child: usize, ray: Option<(beam_math::Ray, Vec3)>, w: Vec3| {
-            let truth = ray.map(|(r, _)| r.direction.normalize());
-            match (next.get(child), truth) {
-                (Some(n), Some(truth)) if !matches!(n.beam, Beam::Bumped(_)) && truth.is_finite() => {
-                    Ask::Job(LookupJob { beam: child as u32, p: point.p, truth, w, far })
-                }
-                _ => Ask::Known((w, 0.0)),
+        let mut ask = |child: usize, truth: Option<Vec3>, w: Vec3| match (next.get(child), truth) {
+            (Some(n), Some(truth)) if !matches!(n.beam, Beam::Bumped(_)) && truth.is_finite() => {
+                out.jobs.push(LookupJob { beam: child as u32, p, truth, w, far });
+                Ask::Job
             }
+            _ => Ask::Known((w, 0.0)),
         };
-        let candidates = self.smesh.candidates(point.prim).iter().map(|&g| g as usize).filter(|&g| g != face);
+        let candidates = self.smesh.candidates(to.point.prim).iter().map(|&g| g as usize).filter(|&g| g != face);
         // The located face alone, or the others alone.
         let faces = (!others).then_some(face).into_iter().chain(candidates.filter(|_| others));
-        faces
-            .filter_map(|g| {
-                let c = children.get(&g)?;
-                let w = self.smesh.faces[g].barycentric(point.p);
-                Some(FaceAsks {
-                    reflected: ask(c.reflected, rays[0], w),
-                    refracted: c.refracted.map(|t| ask(t, rays[1], w)),
-                })
-            })
-            .collect()
+        for g in faces {
+            let Some(c) = to.children.get(&g) else { continue };
+            let w = self.smesh.faces[g].barycentric(p);
+            let reflected = ask(c.reflected, own[0], w);
+            let refracted = c.refracted.map(|t| ask(t, own[1], w));
+            out.faces.push(FaceAsks { reflected, refracted });
+        }
     }
 
     /// Whether `renderer` makes the lookups of composites into child beams `next`
@@ -145,32 +189,33 @@ impl Tree<'_> {
             return Ok(Lookups::default());
         }
         let beams: Vec<(&Beam, &BeamTexture)> = next.iter().map(|n| (&n.beam, &n.tex)).collect();
-        let asks_of = |others: bool, wanted: &(dyn Fn(usize) -> bool + Sync)| -> Vec<Vec<FaceAsks>> {
-            points
-                .par_iter()
-                .enumerate()
-                .map(|(k, p)| match p {
-                    Some(p) if wanted(k) => self.lookup_asks(next, p, others),
-                    _ => Vec::new(),
-                })
-                .collect()
+        let piece = piece_len(points.len());
+        let asks_of = |others: bool, wanted: &(dyn Fn(usize) -> bool + Sync)| -> Asks {
+            let pieces = points.par_chunks(piece).enumerate().map(|(c, chunk)| {
+                let mut asks = Asks { lens: Vec::with_capacity(chunk.len()), ..Asks::default() };
+                for (j, p) in chunk.iter().enumerate() {
+                    let before = asks.faces.len();
+                    if let Some(p) = p
+                        && wanted(c * piece + j)
+                    {
+                        self.lookup_asks(next, p, others, &mut asks);
+                    }
+                    asks.lens.push((asks.faces.len() - before) as u32);
+                }
+                asks
+            });
+            Asks::concat(pieces.collect())
         };
-        let answer = |asks: &[Vec<FaceAsks>]| -> Result<Option<Lookups>, BackendError> {
-            let jobs: Vec<LookupJob> = asks
-                .iter()
-                .flatten()
-                .flat_map(|f| [Some(f.reflected), f.refracted])
-                .filter_map(|a| match a {
-                    Some(Ask::Job(j)) => Some(j),
-                    _ => None,
-                })
-                .collect();
-            Ok(renderer.child_lookups(&beams, &jobs)?.map(|answers| Lookups::answered(asks, &answers)))
+        let answer = |asks: &Asks| -> Result<Option<Lookups>, BackendError> {
+            Ok(renderer.child_lookups(&beams, &asks.jobs)?.map(|answers| Lookups::answered(asks, &answers)))
         };
         let Some(first) = answer(&asks_of(false, &|_| true))? else { return Ok(Lookups::default()) };
         let outside = |k: usize| first.of(k).first().is_some_and(|a| a.reflected.1 > 0.0);
         let rest = answer(&asks_of(true, &outside))?.unwrap_or_default();
-        let mut out = Lookups::default();
+        let mut out = Lookups {
+            spans: Vec::with_capacity(points.len()),
+            answers: Vec::with_capacity(first.answers.len() + rest.answers.len()),
+        };
         for k in 0..points.len() {
             let start = out.answers.len() as u32;
             out.answers.extend_from_slice(first.of(k));

@@ -11,12 +11,11 @@
 //! traced by rays. The reference (`reference.rs`) traces the same surfaces with rays about the
 //! interpolated (Phong) normals.
 
-use super::lookup::{FaceAnswer, Lookups, reproject};
+use super::lookup::{FaceAnswer, Lookups, ToComposite, reproject};
 use super::settings::NonlinearOptions;
 use super::source::Source;
 use super::stages::StageClock;
-use crate::render::{IrradianceMap, specular_rays};
-use beam_math::Ray;
+use crate::render::IrradianceMap;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::memo::FrameMemo;
@@ -305,18 +304,24 @@ impl Tree<'_> {
                         Some(*at - n.hits.len())
                     })
                     .collect();
-                let looked_up = if self.looks_up(renderer, next) {
-                    let points: Vec<_> = nodes
-                        .iter()
-                        .flat_map(|n| {
-                            n.hits.iter().enumerate().map(move |(k, h)| {
-                                Some((&n.children, point(n, h), n.located.get(k).copied().flatten()))
-                            })
-                        })
-                        .collect();
-                    self.lookups(renderer, next, &points)?
-                } else {
-                    Lookups::default()
+                // Not located on the last level: no child beam composites it.
+                let to_composite = |i: usize, k: usize| {
+                    let n = &nodes[i];
+                    self.to_composite(&n.children, point(n, &n.hits[k]), n.located.get(k).copied().flatten())
+                };
+                let points = self.looks_up(renderer, next).then(|| {
+                    par_flatten(
+                        nodes,
+                        None,
+                        |_, n| n.hits.len(),
+                        |i, n, push| {
+                            (0..n.hits.len()).for_each(|k| push(Some(to_composite(i, k))));
+                        },
+                    )
+                });
+                let looked_up = match &points {
+                    Some(points) => self.lookups(renderer, next, points)?,
+                    None => Lookups::default(),
                 };
                 let texels = par_flatten(
                     nodes,
@@ -324,12 +329,10 @@ impl Tree<'_> {
                     |_, node| node.hits.len(),
                     |i, node, push| {
                         for (k, h) in node.hits.iter().enumerate() {
-                            let point = point(node, h);
-                            // Not located on the last level: no child beam composites it.
-                            let located = node.located.get(k).copied().flatten();
-                            let answers = looked_up.of(offsets[i] + k);
-                            let composite = self.composite(&node.children, next, &point, located, answers);
-                            push(TexelRadiance { texel: regions[i].0 + h.0 as u32, point, composite });
+                            let at = offsets[i] + k;
+                            let to = points.as_ref().and_then(|p| p[at]).unwrap_or_else(|| to_composite(i, k));
+                            let composite = self.composite(next, &to, looked_up.of(at));
+                            push(TexelRadiance { texel: regions[i].0 + h.0 as u32, point: to.point, composite });
                         }
                     },
                 );
@@ -338,46 +341,38 @@ impl Tree<'_> {
             .collect()
     }
 
-    /// The composite of `point`, at `located` (its S-mesh face and barycentric coordinates there),
-    /// when the face has child beams in `children` (nodes of `next`): looked up at the point's own
-    /// coordinates, or under a coarse face where the point's own scattered rays reach
+    /// The composite of `to`'s point, at its located face and barycentric coordinates there, when
+    /// the face has child beams (nodes of `next`): looked up at the point's own coordinates, or
+    /// under a coarse face where the point's own scattered rays reach
     /// ([`reproject`]; near an edge, through whichever of the faces its triangle maps to has the
     /// reflection beam that holds its reflected ray). `None` too where no child beam holds the
     /// point's scattered ray within [`OUTSIDE_TEXELS`] of its base: the point is traced by rays.
     /// `looked_up`: the lookups a backend made ([`Tree::lookups`]), per face with child beams in
     /// the order tried here (the located face first); the faces past its end are looked up here.
-    pub(super) fn composite(
-        &self,
-        children: &FaceMap<Scattered>,
-        next: &[Node],
-        point: &ShadePoint,
-        located: Option<(usize, Vec3)>,
-        looked_up: &[FaceAnswer],
-    ) -> Option<Composite> {
-        let (mut face, w) = located?;
-        let mut sc = *children.get(&face)?;
+    pub(super) fn composite(&self, next: &[Node], to: &ToComposite<'_>, looked_up: &[FaceAnswer]) -> Option<Composite> {
+        let (mut face, w) = to.located?;
+        let mut sc = *to.children.get(&face)?;
         let (mut reflected_at, mut refracted_at) = (w, w);
-        if self.smesh.is_coarse(face)
-            && let Some(rays) = specular_rays(self.scene, 0.0, point.prim, point.p, point.d)
-        {
+        if let Some(rays) = to.own {
             let far = self.scene.bounds().extent().length();
-            let at = |child: usize, ray: Option<(Ray, Vec3)>, w: Vec3| match (next.get(child), ray) {
-                (Some(n), Some((r, _))) => reproject(&n.beam, &n.tex, point.p, r.direction.normalize(), w, far),
+            let at = |child: usize, truth: Option<Vec3>, w: Vec3| match (next.get(child), truth) {
+                (Some(n), Some(truth)) => reproject(&n.beam, &n.tex, to.point.p, truth, w, far),
                 _ => (w, 0.0),
             };
             let mut best = f32::INFINITY;
             // How far outside a child's base (barycentric units) a lookup may fall.
             let slack = |child: usize| next.get(child).map_or(0.0, |n| OUTSIDE_TEXELS / n.tex.size as f32);
             let located = face;
-            let others = self.smesh.candidates(point.prim).iter().map(|&g| g as usize).filter(move |&g| g != located);
+            let others =
+                self.smesh.candidates(to.point.prim).iter().map(|&g| g as usize).filter(move |&g| g != located);
             let (mut answers, mut refracted) = (looked_up.iter(), None);
             for g in std::iter::once(located).chain(others) {
                 // No lookup lies less than 0 outside: once one lies inside, no other face wins.
                 if best <= 0.0 {
                     break;
                 }
-                let Some(&c) = children.get(&g) else { continue };
-                let wg = self.smesh.faces[g].barycentric(point.p);
+                let Some(&c) = to.children.get(&g) else { continue };
+                let wg = self.smesh.faces[g].barycentric(to.point.p);
                 let known = answers.next();
                 let (at_g, outside) = known.map_or_else(|| at(c.reflected, rays[0], wg), |a| a.reflected);
                 if outside < best - 1e-4 {

@@ -7,10 +7,13 @@
 use super::beam::GpuBeam;
 use crate::buffers::{checked, compute_pipeline, max_binding, output, read_back, storage};
 use crate::interface::WORKGROUP_SIZE;
+use crate::staging::{Slots, Staged, split_by_counts};
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{Beam, BeamTexture, LookupJob};
+use beam_scene::parallel::piece_len;
 use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
 
 /// One lookup for the shader ([`LookupJob`]).
 ///
@@ -68,22 +71,34 @@ impl GpuLookups {
         if texels * 4 > limit || jobs.len() * 48 > limit || beams.len() * size_of::<GpuBeam>() > limit {
             return Ok(None);
         }
-        let mut depths = Vec::with_capacity(texels);
+        // The beams, their texels' depths (size² a beam, whatever its list holds; -1 where the
+        // texel's ray misses) and the jobs, written in place, in parallel.
+        let mut first = 0;
         let gpu_beams: Vec<GpuBeam> = beams
             .iter()
             .map(|(beam, tex)| {
-                let first = depths.len();
-                depths.extend(tex.hits.iter().map(|h| h.map_or(-1.0, |h| h.t)));
-                // size² texels a beam, whatever its list holds (none: every texel misses).
-                depths.resize(first + (tex.size * tex.size) as usize, -1.0);
-                let first = first as u32;
-                GpuBeam::rays_only(beam, [first, 0, tex.size])
+                let record = GpuBeam::rays_only(beam, [first, 0, tex.size]);
+                first += tex.size * tex.size;
+                record
             })
             .collect();
-        let gpu_jobs: Vec<GpuLookupJob> = jobs.iter().map(GpuLookupJob::from).collect();
-        let beam_buffer = storage(gpu, "lookup beams", &gpu_beams, wgpu::BufferUsages::empty());
-        let depth_buffer = storage(gpu, "lookup depths", &depths, wgpu::BufferUsages::empty());
-        let job_buffer = storage(gpu, "lookup jobs", &gpu_jobs, wgpu::BufferUsages::empty());
+        let none = wgpu::BufferUsages::empty();
+        let mut depths = Staged::<f32>::new(gpu, "lookup depths", texels, none);
+        let squares = split_by_counts(depths.slots(), beams.iter().map(|(_, t)| (t.size * t.size) as usize))
+            .ok_or(GpuError::Internal("lookup depths past their buffer"))?;
+        squares.into_par_iter().zip(beams).for_each(|(Slots(out), (_, tex))| {
+            let hits = tex.hits.iter().map(|h| h.map_or(-1.0, |h| h.t));
+            out.write_iter(hits.chain(std::iter::repeat(-1.0)).take((tex.size * tex.size) as usize));
+        });
+        let mut gpu_jobs = Staged::<GpuLookupJob>::new(gpu, "lookup jobs", jobs.len(), none);
+        let piece = piece_len(jobs.len());
+        let pieces = split_by_counts(gpu_jobs.slots(), jobs.chunks(piece).map(<[_]>::len))
+            .ok_or(GpuError::Internal("lookup jobs past their buffer"))?;
+        pieces.into_par_iter().zip(jobs.par_chunks(piece)).for_each(|(Slots(out), jobs)| {
+            out.write_iter(jobs.iter().map(GpuLookupJob::from));
+        });
+        let beam_buffer = storage(gpu, "lookup beams", &gpu_beams, none);
+        let (depth_buffer, job_buffer) = (depths.finish(gpu), gpu_jobs.finish(gpu));
         let size = (jobs.len() * 16) as u64;
         let answers = output(gpu, "lookup answers", size);
         let groups = jobs.len().div_ceil(WORKGROUP_SIZE as usize) as u32;
