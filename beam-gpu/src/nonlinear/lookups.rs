@@ -66,29 +66,31 @@ impl GpuLookups {
         if jobs.is_empty() {
             return Ok(Some(Vec::new()));
         }
-        let texels: usize = beams.iter().map(|(_, t)| (t.size * t.size) as usize).sum();
+        // A beam's depths: size² whatever its list of hits holds.
+        let square = |tex: &BeamTexture| (tex.size * tex.size) as usize;
+        let texels: usize = beams.iter().map(|(_, t)| square(t)).sum();
         let limit = max_binding(gpu) as usize;
         if texels * 4 > limit || jobs.len() * 48 > limit || beams.len() * size_of::<GpuBeam>() > limit {
             return Ok(None);
         }
-        // The beams, their texels' depths (size² a beam, whatever its list holds; -1 where the
-        // texel's ray misses) and the jobs, written in place, in parallel.
+        // The beams, their texels' depths (-1 where the texel's ray misses) and the jobs, written
+        // in place, in parallel.
         let mut first = 0;
         let gpu_beams: Vec<GpuBeam> = beams
             .iter()
             .map(|(beam, tex)| {
-                let record = GpuBeam::rays_only(beam, [first, 0, tex.size]);
-                first += tex.size * tex.size;
+                let record = GpuBeam::rays_only(beam, [first as u32, 0, tex.size]);
+                first += square(tex);
                 record
             })
             .collect();
         let none = wgpu::BufferUsages::empty();
         let mut depths = Staged::<f32>::new(gpu, "lookup depths", texels, none);
-        let squares = split_by_counts(depths.slots(), beams.iter().map(|(_, t)| (t.size * t.size) as usize))
+        let squares = split_by_counts(depths.slots(), beams.iter().map(|(_, t)| square(t)))
             .ok_or(GpuError::Internal("lookup depths past their buffer"))?;
         squares.into_par_iter().zip(beams).for_each(|(Slots(out), (_, tex))| {
             let hits = tex.hits.iter().map(|h| h.map_or(-1.0, |h| h.t));
-            out.write_iter(hits.chain(std::iter::repeat(-1.0)).take((tex.size * tex.size) as usize));
+            out.write_iter(hits.chain(std::iter::repeat(-1.0)).take(square(tex)));
         });
         let mut gpu_jobs = Staged::<GpuLookupJob>::new(gpu, "lookup jobs", jobs.len(), none);
         let piece = piece_len(jobs.len());
