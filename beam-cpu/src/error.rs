@@ -45,6 +45,11 @@ pub enum RenderError {
         /// Triangles of the scene rendered.
         scene: usize,
     },
+    /// A one-shot render's renderer kept the frame on its device for display rather than read it
+    /// back (beam-gpu's `GpuBeams::displaying`): take it from the renderer, or render with one that
+    /// reads it back.
+    #[error("the renderer kept the frame on its device for display; it was not read back")]
+    FrameKept,
     /// The backend the render ran on failed (ray queries, beam textures, shading, the gather).
     #[error(transparent)]
     Backend(#[from] BackendError),

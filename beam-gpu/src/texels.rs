@@ -87,15 +87,18 @@ pub fn read_back<T: bytemuck::Pod>(gpu: &Gpu, texture: &wgpu::Texture, len: usiz
     read_back_with(gpu, texture, |texels: &[T]| texels.iter().take(len).copied().collect())
 }
 
-/// Hand `read` the texels of `texture` (made by [`texture`] with `COPY_SRC`, `T` a texel) where
-/// they are mapped, row after row: the caller converts them without a copy in between.
+/// Hand `read` the texels of `texture` (with `COPY_SRC`, `T` a texel) row after row: where they
+/// are mapped when a row is a whole number of wgpu's copy alignments (as every texture of
+/// [`texture`] is), so that the caller converts them without a copy in between; else gathered
+/// from the padded rows first.
 pub fn read_back_with<T: bytemuck::Pod, R>(
     gpu: &Gpu,
     texture: &wgpu::Texture,
     read: impl FnOnce(&[T]) -> R,
 ) -> Result<R, GpuError> {
     let size = texture.size();
-    let bytes_per_row = size.width * size_of::<T>() as u32;
+    let row = size.width as usize * size_of::<T>();
+    let bytes_per_row = (row as u32).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
     let readback = crate::buffers::readback(gpu, u64::from(bytes_per_row) * u64::from(size.height));
     let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
     encoder.copy_texture_to_buffer(
@@ -112,8 +115,14 @@ pub fn read_back_with<T: bytemuck::Pod, R>(
     );
     gpu.queue.submit([encoder.finish()]);
     // Mapped ranges are 8-byte aligned; copied only where a backend mapped them otherwise.
-    crate::buffers::map_with(gpu, readback, |bytes| match bytemuck::try_cast_slice(bytes) {
-        Ok(texels) => read(texels),
-        Err(_) => read(&bytemuck::pod_collect_to_vec(bytes)),
+    crate::buffers::map_with(gpu, readback, |bytes| {
+        if row != bytes_per_row as usize {
+            let rows: Vec<u8> = bytes.chunks(bytes_per_row as usize).flat_map(|r| &r[..row]).copied().collect();
+            return read(&bytemuck::pod_collect_to_vec(&rows));
+        }
+        match bytemuck::try_cast_slice(bytes) {
+            Ok(texels) => read(texels),
+            Err(_) => read(&bytemuck::pod_collect_to_vec(bytes)),
+        }
     })
 }

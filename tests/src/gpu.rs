@@ -595,10 +595,32 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
             whitted.shade_into(&gpu, &tracer, &shader, &prepared, 64, points, radiance)
         };
         let smesh = SMesh::specular(&scene);
-        let on_gpu = beam_gpu::buffers::checked(&gpu, || {
-            GpuComposite::new(&gpu)?.run(&gpu, &tracer, &shader, (&scene, &smesh), &prepared, 64, &levels, &[], &rest)
-        })
-        .map_err(|e| e.to_string())?;
+        // The frame read back, and kept for display in a texture of the image's shape: the same
+        // pixels.
+        let composite = GpuComposite::new(&gpu).map_err(|e| e.to_string())?;
+        let frame = |shape| {
+            beam_gpu::buffers::checked(&gpu, || {
+                let frame = composite.run(
+                    &gpu,
+                    &tracer,
+                    &shader,
+                    (&scene, &smesh),
+                    &prepared,
+                    64,
+                    &levels,
+                    &[],
+                    &rest,
+                    shape,
+                )?;
+                Ok((frame.texture().size(), frame.read_back(&gpu)?))
+            })
+            .map_err(|e| e.to_string())
+        };
+        let (_, on_gpu) = frame(None)?;
+        let (size, displayed) = frame(Some((64, 64)))?;
+        if (size.width, size.height) != (64, 64) || displayed != on_gpu {
+            return Err(format!("{name}: the frame kept for display ({size:?}) is not the frame read back"));
+        }
         let (mut differ, mut worst) = (0u64, 0.0f32);
         for (g, c) in on_gpu.iter().zip(&on_cpu.pixels) {
             let error = (*g - *c).abs();

@@ -64,7 +64,7 @@ fn frames_reusing_beams_equal_fresh(renderer: &dyn BeamRenderer, fresh: &dyn Bea
     let found = shared.beams_reused();
     let (reused, stats) = render_nonlinear_frame(&scene, &second, renderer, Some(&shared)).expect("a second frame");
     let (made, _) = render_nonlinear_with(&scene, &second, fresh).expect("a fresh frame");
-    assert_eq!(reused.pixels, made.pixels, "a frame reusing its beams differs from one making them");
+    assert_eq!(reused.map(|r| r.pixels), Some(made.pixels), "a frame reusing its beams differs from one making them");
     let beams = stats.beams_per_level.iter().sum::<u64>();
     assert!(beams > 0);
     shared.beams_reused() - found
@@ -109,4 +109,30 @@ fn gpu_frames_count_their_waits_and_readbacks() {
         traffic.waited_seconds
     );
     assert!(stats.stages.iter().all(|s| s.host_seconds <= s.seconds));
+}
+
+/// A renderer that keeps its frames on the GPU for display reads none back: the frame returns no
+/// image, and its texture, of the image's shape (40 pixels, a row of 320 bytes: not a whole copy
+/// alignment), holds the pixels a renderer that reads them back returns, bit for bit; it is
+/// handed over once.
+#[test]
+fn gpu_frames_kept_for_display_equal_frames_read_back() {
+    let Some(gpu) = gpu() else { return };
+    let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
+    let options = NonlinearOptions { shading: RenderOptions { spp: 4, ..RenderOptions::exact(40, 28) }, ..options() };
+    let reading = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+    let (read, _) = render_nonlinear_with(&scene, &options, &reading).expect("a frame read back");
+    let displaying = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4).displaying();
+    let before = gpu.traffic();
+    let (image, _) = render_nonlinear_frame(&scene, &options, &displaying, None).expect("a frame kept");
+    let read_back = (gpu.traffic() - before).bytes_read_back;
+    assert!(image.is_none(), "a frame kept for display came back as an image");
+    assert!(read_back < 40 * 28 * 8, "{read_back} bytes read back for a frame kept on the GPU");
+    let frame = displaying.take_frame().expect("the frame kept");
+    let size = frame.texture().size();
+    assert_eq!((size.width, size.height), (40, 28));
+    assert_eq!(frame.read_back(&gpu).expect("the frame's pixels"), read.pixels);
+    assert!(displaying.take_frame().is_none(), "the frame was handed over twice");
+    let one_shot = render_nonlinear_with(&scene, &options, &displaying);
+    assert!(matches!(one_shot, Err(beam_cpu::RenderError::FrameKept)), "{:?}", one_shot.map(|_| ()));
 }

@@ -6,7 +6,7 @@ use beam_cpu::cpu_clock::our_threads_cpu_seconds;
 use beam_cpu::nonlinear::{
     CpuBeams, Degree, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
 };
-use beam_cpu::render::{RenderOptions, difference};
+use beam_cpu::render::{Image, RenderOptions, difference};
 use beam_gpu::Gpu;
 use beam_gpu::nonlinear::GpuBeams;
 use beam_scene::scene::{self, Simplify};
@@ -20,20 +20,27 @@ pub const SCENES: [&str; 6] =
 /// frame, at `width × height`; with `smesh`, beams spawn from coarse S meshes simplified so; with
 /// `rasterize`, the atlas's nearest hits by draws even where compute could find them; with
 /// `read_back`, every hit the host could use read back ([`GpuBeams::reading_levels_back`]); with
-/// `moving`, the eye moved before every timed frame (no beam reused from the frame before).
+/// `read_image`, every timed frame's image read back (else kept on the GPU for display,
+/// [`GpuBeams::displaying`]); with `moving`, the eye moved before every timed frame (no beam reused
+/// from the frame before).
 pub fn run(
     scenes: &[String],
     (width, height): (u32, u32),
     frames: u32,
     degree: Degree,
     smesh: Option<Simplify>,
-    (rasterize, read_back, moving): (bool, bool, bool),
+    (rasterize, read_back, read_image, moving): (bool, bool, bool, bool),
 ) -> Result<(), String> {
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     let mut coarse = smesh.map_or_else(String::new, |s| format!(", coarse S meshes ({s:?})"));
     if read_back {
         coarse.push_str(", every hit the host could use read back");
     }
+    coarse.push_str(if read_image {
+        ", every frame's image read back"
+    } else {
+        ", every frame kept on the GPU for display (the warm-up frame's image read back for the PSNR)"
+    });
     if moving {
         coarse.push_str(", the eye moved before every timed frame");
     }
@@ -77,6 +84,7 @@ pub fn run(
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let renderer = if rasterize { renderer.rasterized() } else { renderer };
         let renderer = if read_back { renderer.reading_levels_back() } else { renderer };
+        let renderer = if read_image { renderer } else { renderer.displaying() };
         // The S mesh and the caustics depend on neither the camera nor the tree: made once, shared
         // by the frames.
         let (start, cpu_start) = (Instant::now(), our_threads_cpu_seconds());
@@ -86,7 +94,18 @@ pub fn run(
         let frame = |scene: &scene::Scene| {
             render_nonlinear_frame(scene, &options, &renderer, Some(&shared)).map_err(|e| e.to_string())
         };
+        // The warm-up frame's image, for the PSNR: read back here where the renderer kept it.
         let (warm, _) = frame(&scene)?;
+        let cpu_start = our_threads_cpu_seconds();
+        let warm = match warm {
+            Some(image) => image,
+            None => {
+                let kept = renderer.take_frame().ok_or("the GPU kept no frame")?;
+                Image { width, height, pixels: kept.read_back(&gpu).map_err(|e| e.to_string())? }
+            }
+        };
+        let read_image_cpu =
+            cpu_start.zip(our_threads_cpu_seconds()).map_or(0.0, |((m0, w0), (m1, w1))| m1 - m0 + w1 - w0);
         let (still, step) = (scene.camera, 1e-4 * scene.bounds().extent().length() * scene.camera.frame().right);
         let (before, traffic, reused) = (renderer.times(), gpu.traffic(), shared.beams_reused());
         let cpu_before = our_threads_cpu_seconds();
@@ -98,6 +117,8 @@ pub fn run(
                 scene.camera.target += step;
             }
             stats = Some(frame(&scene)?.1);
+            // Where a display would show it.
+            drop(renderer.take_frame());
         }
         scene.camera = still;
         let per_frame = start.elapsed().as_secs_f64() / f64::from(frames.max(1));
@@ -187,6 +208,13 @@ pub fn run(
                 "",
                 per(main),
                 per(workers),
+            );
+        }
+        if !read_image {
+            println!(
+                "{:<16} the warm-up frame's image read back from the GPU (not in the timed frames): {:.1} host CPU ms",
+                "",
+                1e3 * read_image_cpu
             );
         }
     }

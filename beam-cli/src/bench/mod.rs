@@ -154,6 +154,10 @@ pub enum BenchCommand {
         /// before the GPU kept what needs no host (to compare with).
         #[arg(long)]
         read_back: bool,
+        /// Read every timed frame's image back, as a one-shot render does, rather than keep it on
+        /// the GPU for display (000 §7.3; the warm-up frame's is read back for the PSNR either way).
+        #[arg(long)]
+        read_image: bool,
         /// Move the eye a little before every timed frame (1e-4 of the scene's diagonal to the
         /// right), so that no beam of a frame's tree is one of the last frame's: the host's work
         /// for a camera in motion, where a still one reuses each beam's preparation.
@@ -223,7 +227,18 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             let clock = if cpu_time { bvh::Clock::Thread } else { bvh::Clock::Wall };
             bvh::run(&scene, json.as_deref(), size, sah_only, clock)
         }
-        BenchCommand::Gpu { scenes, width, height, frames, degree, smesh_target, rasterize, read_back, moving } => {
+        BenchCommand::Gpu {
+            scenes,
+            width,
+            height,
+            frames,
+            degree,
+            smesh_target,
+            rasterize,
+            read_back,
+            read_image,
+            moving,
+        } => {
             side("--width", width)?;
             side("--height", height)?;
             let smesh = smesh_target
@@ -242,7 +257,7 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
             if dry {
                 return Ok(ExitCode::SUCCESS);
             }
-            gpu::run(&scenes, (width, height), frames, degree, smesh, (rasterize, read_back, moving))
+            gpu::run(&scenes, (width, height), frames, degree, smesh, (rasterize, read_back, read_image, moving))
         }
         BenchCommand::Glossy { scenes, size, reference_photons, subdivide, out } => {
             side("--size", size)?;

@@ -16,7 +16,9 @@ use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
-use beam_scene::nonlinear::{BeamRenderer, Degree, EyeFaces, LevelRadiance, SMesh, ShadePoint, TexelRadiance};
+use beam_scene::nonlinear::{
+    BeamRenderer, Degree, EyeFaces, FramePixels, LevelRadiance, SMesh, ShadePoint, TexelRadiance,
+};
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
@@ -39,7 +41,10 @@ pub fn render_nonlinear_with(
     options: &NonlinearOptions,
     renderer: &dyn BeamRenderer,
 ) -> Result<(Image, NonlinearStats), RenderError> {
-    render_nonlinear_frame(scene, options, renderer, None)
+    match render_nonlinear_frame(scene, options, renderer, None)? {
+        (Some(image), stats) => Ok((image, stats)),
+        (None, _) => Err(RenderError::FrameKept),
+    }
 }
 
 /// What the nonlinear frames of a scene share while its geometry, materials and lights stay put:
@@ -93,14 +98,15 @@ impl NonlinearPrecomputed {
 /// ([`NonlinearPrecomputed::new`] on the same scene, with the same options), or made for this
 /// frame where `None`: an interactive renderer makes them once while the geometry, the materials
 /// and the lights stay put, and renders every frame (a camera that moves, a new beam tree) with
-/// them. Fails with [`RenderError::Precomputed`] where they were made for a scene of another
-/// triangle count.
+/// them. The image is `None` where the renderer kept the frame on its device for display
+/// ([`FramePixels::Kept`]). Fails with [`RenderError::Precomputed`] where they were made for a
+/// scene of another triangle count.
 pub fn render_nonlinear_frame(
     scene: &Scene,
     options: &NonlinearOptions,
     renderer: &dyn BeamRenderer,
     precomputed: Option<&NonlinearPrecomputed>,
-) -> Result<(Image, NonlinearStats), RenderError> {
+) -> Result<(Option<Image>, NonlinearStats), RenderError> {
     let start = Instant::now();
     let mut clock = StageClock::start(renderer);
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
@@ -218,8 +224,9 @@ pub fn render_nonlinear_frame(
     clock.lap("radiance flow");
     let (shading, caustics) = (&options.shading, tree.caustics);
     let frame = match renderer.shade_tree(scene, tree.smesh, shading, caustics, &flow)? {
-        Some(pixels) => pixels,
-        None => {
+        Some(FramePixels::Read(pixels)) => Some(pixels),
+        Some(FramePixels::Kept) => None,
+        None => Some({
             // Shaded here after all: with the eye's pixels the backend kept.
             flow[0].texels.extend(renderer.take_kept_eye()?);
             let kept_hits = renderer.take_kept_eye_hits(scene)?;
@@ -231,10 +238,10 @@ pub fn render_nonlinear_frame(
             composite_levels(scene, tree.smesh, &flow, &|points| {
                 shade_points(renderer, scene, shading, caustics, points)
             })?
-        }
+        }),
     };
     clock.lap("shading and composite");
-    let image = Image { width: crop.width(), height: crop.height(), pixels: crop.cut(frame, camera.width) };
+    let image = frame.map(|f| Image { width: crop.width(), height: crop.height(), pixels: crop.cut(f, camera.width) });
     let all = || levels.iter().flatten();
     let beams = all().count();
     let texels_tested: u64 = all().map(|n| n.tex.texels_tested).sum();
@@ -263,8 +270,8 @@ pub fn render_nonlinear_frame(
             clock.lap("image");
             clock.stages()
         },
-        width: image.width,
-        height: image.height,
+        width: crop.width(),
+        height: crop.height(),
     };
     Ok((image, stats))
 }
@@ -293,7 +300,7 @@ mod tests {
         assert!(shared.stats().beams > 0 && shared.stats().texels_deposited > 0, "{:?}", shared.stats());
         let (made, made_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
         let (again, again_stats) = render_nonlinear_frame(&scene, &options, &CpuBeams, Some(&shared)).unwrap();
-        assert_eq!(made.pixels, again.pixels);
+        assert_eq!(Some(made.pixels), again.map(|a| a.pixels));
         let counts = |s: &NonlinearStats| (s.caustics.beams, s.caustics.texels_deposited, s.texels_shaded);
         assert_eq!(counts(&made_stats), counts(&again_stats));
     }
@@ -315,7 +322,7 @@ mod tests {
         assert!(shared.smesh().coarse_faces() > 0);
         let (made, made_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
         let (again, again_stats) = render_nonlinear_frame(&scene, &options, &CpuBeams, Some(&shared)).unwrap();
-        assert_eq!(made.pixels, again.pixels);
+        assert_eq!(Some(made.pixels), again.map(|a| a.pixels));
         assert_eq!(made_stats.coarse_smesh_faces, again_stats.coarse_smesh_faces);
         let other = builtin("wavy-lake").unwrap();
         let wrong = render_nonlinear_frame(&other, &options, &CpuBeams, Some(&shared));

@@ -18,6 +18,7 @@
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
 use super::cull::{GpuCull, PageCulls};
+use super::display::GpuFrame;
 use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
 use super::level::{GpuLevelPoints, KeptLevel};
 use super::lookups::GpuLookups;
@@ -106,6 +107,10 @@ pub struct GpuBeams<'g> {
     /// Whether it keeps the levels' points and the eye's mirror and glass hits (unless
     /// [`GpuBeams::reading_levels_back`]).
     pub(super) keep_levels: bool,
+    /// Whether it leaves each frame on the GPU ([`GpuBeams::displaying`]).
+    pub(super) display: bool,
+    /// The last frame it left there, until [`GpuBeams::take_frame`].
+    pub(super) frame: Mutex<Option<GpuFrame>>,
     /// Shading on the GPU.
     pub(super) shader: PointShader,
     /// The final composite on the GPU.
@@ -195,6 +200,8 @@ impl<'g> GpuBeams<'g> {
             kept_levels: Mutex::default(),
             kept_eye_hits: Mutex::default(),
             keep_levels: true,
+            display: false,
+            frame: Mutex::default(),
             shader: PointShader::new(gpu, scene)?,
             composite: GpuComposite::new(gpu)?,
             lookups: GpuLookups::new(gpu)?,

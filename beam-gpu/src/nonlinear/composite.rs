@@ -7,6 +7,7 @@
 //! the caller, and the `scatter` pass writes both to their texels (4 bytes uploaded a point, its
 //! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
 
+use super::display::GpuFrame;
 use super::eye::{EyeRecords, KeptPoints};
 use super::sort::{Outputs, Plan, plan};
 use super::whitted::RestPoints;
@@ -16,12 +17,9 @@ use crate::shade::{PointShader, ShadeInput, ShadeScene};
 use crate::staging::Staged;
 use crate::texels;
 use crate::{Gpu, GpuError};
-use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{LevelRadiance, SMesh};
 use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
-use half::slice::{HalfBitsSliceExt, HalfFloatSliceExt};
-use rayon::prelude::*;
 use wgpu::WriteOnly;
 
 /// An S-mesh face for the composite.
@@ -141,14 +139,18 @@ impl GpuComposite {
         by_faces.min(PointShader::max_points(gpu)).clamp(1, 1 << 20)
     }
 
+    /// How a level's radiance is used: read by the level above, written by the passes, copied out.
+    const LEVEL_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::TEXTURE_BINDING
+        .union(wgpu::TextureUsages::STORAGE_BINDING)
+        .union(wgpu::TextureUsages::COPY_SRC);
+
     /// A level's radiance: `len` texels ([`crate::texels`]).
     fn level_texture(gpu: &Gpu, len: usize) -> wgpu::Texture {
-        let usage =
-            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
-        texels::texture(gpu, "level radiance", len, RADIANCE_FORMAT, usage)
+        texels::texture(gpu, "level radiance", len, RADIANCE_FORMAT, Self::LEVEL_USAGE)
     }
 
-    /// The radiance flow of `levels` (`levels[0]` the eye's view) on the GPU: the eye's pixels.
+    /// The radiance flow of `levels` (`levels[0]` the eye's view) on the GPU: the eye's pixels,
+    /// kept in a texture of `shape` (width, height) where given and it holds the eye's level.
     /// Points the [`PointShader`] shades are shaded on the GPU (`spp` shadow rays per area light,
     /// the scene's shading and caustics `prepared` by [`PointShader::prepare`]), the others by
     /// `rest`; so are the points kept on the GPU (not in `levels`), `kept[d]` those of `levels[d]`
@@ -168,7 +170,8 @@ impl GpuComposite {
         levels: &[LevelRadiance],
         kept: &[KeptHere<'_>],
         rest: &ShadeRest<'_>,
-    ) -> Result<Vec<Vec3>, GpuError> {
+        shape: Option<(u32, u32)>,
+    ) -> Result<GpuFrame, GpuError> {
         let all_faces = gpu_faces(scene, smesh);
         let chunk = Self::records_per_dispatch(gpu);
         let mut below = Self::level_texture(gpu, 0);
@@ -176,7 +179,12 @@ impl GpuComposite {
         let mut len = 0;
         for (depth, level) in levels.iter().enumerate().rev() {
             len = level.len;
-            let radiance = Self::level_texture(gpu, len);
+            let radiance = match shape {
+                Some((width, height)) if depth == 0 && width as usize * height as usize == len => {
+                    texels::texture_2d(gpu, "frame radiance", (width, height), RADIANCE_FORMAT, Self::LEVEL_USAGE)
+                }
+                _ => Self::level_texture(gpu, len),
+            };
             let views = (below.create_view(&Default::default()), radiance.create_view(&Default::default()));
             // The points kept on the GPU: shaded and written to their texels.
             let here = kept.get(depth).copied().unwrap_or_default();
@@ -257,24 +265,7 @@ impl GpuComposite {
             below_regions = &level.regions;
             below = radiance;
         }
-        // Half floats to f32 eight pixels an item (F16C where the CPU has it), straight from where
-        // they are mapped into the pixels: 4 M values a frame. Rayon's indexed collect writes each
-        // item in place, so no pass zeroes the image first (16 MB of page faults on one thread).
-        texels::read_back_with(gpu, &below, |halves: &[[u16; 4]]| {
-            let halves = &halves[..len.min(halves.len())];
-            let eights: Vec<[Vec3; 8]> = halves
-                .par_chunks(8)
-                .map(|h| {
-                    let mut rgba = [0.0f32; 32];
-                    let bits: &[u16] = bytemuck::cast_slice(h);
-                    bits.reinterpret_cast::<half::f16>().convert_to_f32_slice(&mut rgba[..bits.len()]);
-                    std::array::from_fn(|k| Vec3::new(rgba[4 * k], rgba[4 * k + 1], rgba[4 * k + 2]))
-                })
-                .collect();
-            let mut pixels: Vec<Vec3> = bytemuck::allocation::cast_vec(eights);
-            pixels.truncate(halves.len());
-            pixels
-        })
+        Ok(GpuFrame { texture: below, len })
     }
 
     /// Add to `encoder` the pass that writes `params.points` shaded points (`shaded`) to their

@@ -9,6 +9,7 @@ mod beam;
 mod check;
 mod composite;
 mod cull;
+mod display;
 mod eye;
 mod level;
 mod lookups;
@@ -23,6 +24,7 @@ pub use beam::{GpuBeam, MAX_CONTROL_POINTS};
 pub use check::{CheckCase, GpuBoundingTriangle, LookupFound, NonlinearCheck};
 pub use composite::{CompositeParams, CompositeRecord, GpuComposite, GpuFace, KeptHere, NONE, ShadeRest};
 pub use cull::BeamCull;
+pub use display::GpuFrame;
 pub use eye::{
     EyeCounts, EyeFaceMap, EyeHit, EyeOut, EyeParams, EyeRecords, GpuEye, KeptEyeHits, KeptPoints, KeptSpecular,
     RecordCounts,

@@ -15,7 +15,8 @@ use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{
-    Beam, BeamTexture, ChildLookups, DeviceWaits, LevelRadiance, LookupJob, PointShading, RayQueries, SMesh, ShadePoint,
+    Beam, BeamTexture, ChildLookups, DeviceWaits, FramePixels, LevelRadiance, LookupJob, PointShading, RayQueries,
+    SMesh, ShadePoint,
 };
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
@@ -131,7 +132,7 @@ impl PointShading for GpuBeams<'_> {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<Vec<Vec3>>, BackendError> {
+    ) -> Result<Option<FramePixels>, BackendError> {
         if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
             return Ok(None);
         }
@@ -174,8 +175,11 @@ impl PointShading for GpuBeams<'_> {
             self.add_times(|t| t.whitted_host_seconds += host);
             out
         };
+        // A displayed frame's texture has the image's shape; one read back, the texels' layout
+        // (whose rows are whole copy alignments).
+        let shape = self.display.then_some((options.width, options.height));
         let pixels = checked(self.gpu, || {
-            self.composite.run(
+            let frame = self.composite.run(
                 self.gpu,
                 &self.tracer,
                 &self.shader,
@@ -185,7 +189,13 @@ impl PointShading for GpuBeams<'_> {
                 levels,
                 &here,
                 &rest,
-            )
+                shape,
+            )?;
+            if self.display {
+                *self.frame.lock().unwrap_or_else(std::sync::PoisonError::into_inner) = Some(frame);
+                return Ok(FramePixels::Kept);
+            }
+            frame.read_back(self.gpu).map(FramePixels::Read)
         });
         self.add_times(|t| {
             t.shade_seconds += start.elapsed().as_secs_f64();

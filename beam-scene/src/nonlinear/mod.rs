@@ -22,8 +22,8 @@ pub use beam::{
 pub use cull::{ConeCull, SelfHitFloor, cone_blocks, cone_candidates};
 pub use radiance::{Composite, LevelRadiance, TexelRadiance, composite, sample_region};
 pub use renderer::{
-    BeamRasterizer, BeamRenderer, ChildLookups, DeviceWaits, EyeFaces, EyeView, KeepLevel, KeptTotals, LevelLayout,
-    LookupJob, PointShading, eye_by_rays,
+    BeamRasterizer, BeamRenderer, ChildLookups, DeviceWaits, EyeFaces, EyeView, FramePixels, KeepLevel, KeptTotals,
+    LevelLayout, LookupJob, PointShading, eye_by_rays,
 };
 pub use smesh::{MAX_NORMAL_SPREAD, SFace, SMesh};
 pub use texture::{

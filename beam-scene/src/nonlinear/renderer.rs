@@ -88,6 +88,16 @@ pub struct KeptTotals {
     pub curved: u64,
 }
 
+/// Where [`PointShading::shade_tree`] left a frame's pixels.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FramePixels {
+    /// Read back: the eye's pixels, row-major.
+    Read(Vec<Vec3>),
+    /// Kept on the backend's device for display and not read back (000 §7.3 draws its frame where
+    /// it is shown); the backend hands it over itself (beam-gpu's `GpuBeams::take_frame`).
+    Kept,
+}
+
 /// Shades points where a backend can; `Ok(None)` hands the work back to the caller, which shades on
 /// the CPU (both methods' default).
 pub trait PointShading: Sync {
@@ -113,7 +123,7 @@ pub trait PointShading: Sync {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<Vec<Vec3>>, BackendError> {
+    ) -> Result<Option<FramePixels>, BackendError> {
         let _ = (scene, smesh, options, caustics, levels);
         Ok(None)
     }

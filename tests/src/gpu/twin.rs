@@ -1,6 +1,6 @@
 //! The CPU renderer with the GPU's shading estimator: the reference GPU images are held to.
 
-use beam_cpu::nonlinear::{BeamJob, BeamRasterizer, CpuBeams, LevelRadiance, SMesh};
+use beam_cpu::nonlinear::{BeamJob, BeamRasterizer, CpuBeams, FramePixels, LevelRadiance, SMesh};
 use beam_cpu::render::RenderOptions;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -62,11 +62,11 @@ impl beam_cpu::nonlinear::PointShading for TwinShading {
         options: &RenderOptions,
         caustics: Option<&beam_cpu::render::IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<Vec<Vec3>>, BackendError> {
+    ) -> Result<Option<FramePixels>, BackendError> {
         *self.0.lock().map_err(|e| BackendError::new("cpu", e.to_string()))? = (levels.to_vec(), caustics.cloned());
         let shade = |points: &[beam_cpu::nonlinear::ShadePoint]| {
             beam_cpu::nonlinear::shade_points(self, scene, options, caustics, points)
         };
-        beam_cpu::nonlinear::composite_levels(scene, smesh, levels, &shade).map(Some)
+        beam_cpu::nonlinear::composite_levels(scene, smesh, levels, &shade).map(|p| Some(FramePixels::Read(p)))
     }
 }
