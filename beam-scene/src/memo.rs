@@ -7,39 +7,56 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 use std::hash::Hash;
 
-/// The values made during this frame and the last one, by key (`FxHasher`: keys are bits of the
-/// scene's own floats, not an adversary's). A frame's values stay for one more frame; older ones go,
-/// so it holds two frames' values at most.
+/// The values made or found during this frame and the last one, by key (`FxHasher`: keys are bits
+/// of the scene's own floats, not an adversary's), each with the last frame that asked for it. A
+/// frame's values stay for one more frame; older ones go, so it holds two frames' values at most.
+/// One map, so that a value found again costs one probe and no insertion.
 #[derive(Debug)]
 pub struct FrameMemo<K, V> {
-    current: FxHashMap<K, V>,
-    last: FxHashMap<K, V>,
+    values: FxHashMap<K, (V, u64)>,
+    frame: u64,
     found: u64,
 }
 
 impl<K, V> Default for FrameMemo<K, V> {
     fn default() -> Self {
-        Self { current: FxHashMap::default(), last: FxHashMap::default(), found: 0 }
+        Self { values: FxHashMap::default(), frame: 0, found: 0 }
     }
 }
 
 impl<K: Hash + Eq + Send + Sync, V: Clone + Send + Sync> FrameMemo<K, V> {
-    /// A new frame begins: the last frame's values go, this one's become the last.
+    /// A new frame begins: values the last frame did not ask for go.
     pub fn next_frame(&mut self) {
-        self.last = std::mem::take(&mut self.current);
+        self.frame += 1;
+        let last = self.frame - 1;
+        self.values.retain(|_, (_, asked)| *asked >= last);
     }
 
     /// The value of each key of `keys`: found among this frame's and the last one's, else made by
     /// `make(i)` for the `i`-th key (in parallel), and kept for the next frame.
     pub fn values(&mut self, keys: Vec<K>, make: impl Fn(usize) -> V + Sync) -> Vec<V> {
-        let found: Vec<Option<V>> =
-            keys.iter().map(|k| self.current.get(k).or_else(|| self.last.get(k)).cloned()).collect();
-        self.found += found.iter().filter(|f| f.is_some()).count() as u64;
+        let frame = self.frame;
+        let found: Vec<Option<V>> = keys
+            .iter()
+            .map(|k| {
+                self.values.get_mut(k).map(|(v, asked)| {
+                    *asked = frame;
+                    v.clone()
+                })
+            })
+            .collect();
+        let missing = found.iter().filter(|f| f.is_none()).count();
+        self.found += (found.len() - missing) as u64;
+        if missing == 0 {
+            return found.into_iter().flatten().collect();
+        }
         let values: Vec<V> =
-            found.into_par_iter().enumerate().map(|(i, found)| found.unwrap_or_else(|| make(i))).collect();
-        self.current.reserve(keys.len());
-        for (k, v) in keys.into_iter().zip(&values) {
-            self.current.entry(k).or_insert_with(|| v.clone());
+            found.par_iter().enumerate().map(|(i, found)| found.clone().unwrap_or_else(|| make(i))).collect();
+        self.values.reserve(missing);
+        for ((k, v), was) in keys.into_iter().zip(&values).zip(&found) {
+            if was.is_none() {
+                self.values.entry(k).or_insert_with(|| (v.clone(), frame));
+            }
         }
         values
     }
@@ -53,7 +70,7 @@ impl<K: Hash + Eq + Send + Sync, V: Clone + Send + Sync> FrameMemo<K, V> {
     /// How many values it holds (this frame's and the last one's).
     #[must_use]
     pub fn len(&self) -> usize {
-        self.current.len() + self.last.len()
+        self.values.len()
     }
 
     /// Whether it holds none.
@@ -90,6 +107,6 @@ mod tests {
         assert_eq!(made.load(Ordering::Relaxed), 4, "the last frame's values are found");
         frame(&mut memo, vec![1, 3]);
         assert_eq!(made.load(Ordering::Relaxed), 5, "3, unasked for a frame, is made again");
-        assert_eq!((memo.len(), memo.found()), (4, 3));
+        assert_eq!((memo.len(), memo.found()), (3, 3), "1, 2 and 3 held once each");
     }
 }
