@@ -52,8 +52,10 @@ impl GpuFrame {
 
 impl GpuBeams<'_> {
     /// This renderer, leaving each frame's pixels on the GPU for display rather than reading them
-    /// back: `beam_cpu`'s `render_nonlinear_frame` then returns no image, and
-    /// [`take_frame`](Self::take_frame) hands over the frame, in a texture of the image's size.
+    /// back: where the GPU composites the frame (exact shading, each level within one texture of
+    /// the device), `beam_cpu`'s `render_nonlinear_frame` returns no image and
+    /// [`take_frame`](Self::take_frame) hands over the frame, in a texture of the whole image's
+    /// size (pixels outside a `region` black); elsewhere the image comes back as before.
     #[must_use]
     pub fn displaying(mut self) -> Self {
         self.display = true;
