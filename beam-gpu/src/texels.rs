@@ -117,8 +117,13 @@ pub fn read_back_with<T: bytemuck::Pod, R>(
     // Mapped ranges are 8-byte aligned; copied only where a backend mapped them otherwise.
     crate::buffers::map_with(gpu, readback, |bytes| {
         if row != bytes_per_row as usize {
-            let rows: Vec<u8> = bytes.chunks(bytes_per_row as usize).flat_map(|r| &r[..row]).copied().collect();
-            return read(&bytemuck::pod_collect_to_vec(&rows));
+            // One copy: each padded row's texels into their place.
+            let mut texels = vec![T::zeroed(); size.width as usize * size.height as usize];
+            let rows = bytemuck::cast_slice_mut::<T, u8>(&mut texels).chunks_mut(row);
+            for (out, padded) in rows.zip(bytes.chunks(bytes_per_row as usize)) {
+                out.copy_from_slice(&padded[..row]);
+            }
+            return read(&texels);
         }
         match bytemuck::try_cast_slice(bytes) {
             Ok(texels) => read(texels),

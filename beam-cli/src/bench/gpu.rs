@@ -89,7 +89,7 @@ pub fn run(
         // by the frames.
         let (start, cpu_start) = (Instant::now(), our_threads_cpu_seconds());
         let shared = NonlinearPrecomputed::new(&scene, &options, &renderer).map_err(|e| e.to_string())?;
-        let shared_cpu = cpu_start.zip(our_threads_cpu_seconds()).map_or(0.0, |((m0, w0), (m1, w1))| m1 - m0 + w1 - w0);
+        let shared_cpu = cpu_since(cpu_start).map_or(0.0, |(main, workers)| main + workers);
         let shared_seconds = start.elapsed().as_secs_f64();
         let frame = |scene: &scene::Scene| {
             render_nonlinear_frame(scene, &options, &renderer, Some(&shared)).map_err(|e| e.to_string())
@@ -104,8 +104,7 @@ pub fn run(
                 Image { width, height, pixels: kept.read_back(&gpu).map_err(|e| e.to_string())? }
             }
         };
-        let read_image_cpu =
-            cpu_start.zip(our_threads_cpu_seconds()).map_or(0.0, |((m0, w0), (m1, w1))| m1 - m0 + w1 - w0);
+        let read_image_cpu = cpu_since(cpu_start).map_or(0.0, |(main, workers)| main + workers);
         let (still, step) = (scene.camera, 1e-4 * scene.bounds().extent().length() * scene.camera.frame().right);
         let (before, traffic, reused) = (renderer.times(), gpu.traffic(), shared.beams_reused());
         let cpu_before = our_threads_cpu_seconds();
@@ -122,7 +121,7 @@ pub fn run(
         }
         scene.camera = still;
         let per_frame = start.elapsed().as_secs_f64() / f64::from(frames.max(1));
-        let cpu_time = cpu_before.zip(our_threads_cpu_seconds()).map(|((m0, w0), (m1, w1))| (m1 - m0, w1 - w0));
+        let cpu_time = cpu_since(cpu_before);
         let (after, traffic, reused) = (renderer.times(), gpu.traffic() - traffic, shared.beams_reused() - reused);
         let host = per_frame - traffic.waited_seconds / f64::from(frames.max(1));
         let read_mb = traffic.bytes_read_back as f64 / f64::from(frames.max(1)) / 1e6;
@@ -234,4 +233,10 @@ pub fn run(
          shadows)."
     );
     Ok(())
+}
+
+/// The CPU seconds of our threads since `start` (a reading of [`our_threads_cpu_seconds`]): the
+/// calling thread's and the rayon workers'.
+fn cpu_since(start: Option<(f64, f64)>) -> Option<(f64, f64)> {
+    start.zip(our_threads_cpu_seconds()).map(|((m0, w0), (m1, w1))| (m1 - m0, w1 - w0))
 }
