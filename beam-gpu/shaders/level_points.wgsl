@@ -1,7 +1,7 @@
 // A level of the beam tree kept on the GPU (beam_gpu::nonlinear::level): after a page's nearest
 // hits, every texel of its regions that hit a triangle on which the tree goes on (LEVEL_CONTINUES:
-// a mirror or glass face that spawns the next level's beams) is appended for the host, which
-// builds the next level and the composite from it; every other texel that hit becomes a shading
+// a mirror or glass face that spawns the next level's beams) is appended for the host with its
+// point and direction, and the host builds the next level and the composite from it; every other texel that hit becomes a shading
 // input where it lies, never read back. Its point is the hit of its texel's ray (`texel_ray` at
 // the texel's point of the base, `origin + t·direction`), its direction the ray's unit direction,
 // its seed the host's (`face triangle << 32 | texel`, folded to 32 bits as beam_gpu::shade::seed32
@@ -28,6 +28,24 @@ struct ShadeInput {
     prim: u32,
     d: vec3<f32>,
     seed: u32,
+}
+
+// Twin of beam_gpu::nonlinear::HostTexel (48 bytes).
+struct HostTexel {
+    // The hit point.
+    p: vec3<f32>,
+    // The scene triangle hit.
+    prim: u32,
+    // Unit direction of the texel's ray.
+    d: vec3<f32>,
+    // The bits of the hit's t.
+    t: u32,
+    // Its beam on the page.
+    beam: u32,
+    // Its texel in the beam's square (y · size + x).
+    texel: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 // Twin of beam_gpu::nonlinear::LevelCounts (16 bytes).
@@ -59,9 +77,8 @@ struct LevelCounts {
 @group(0) @binding(8) var<storage, read_write> other: array<ShadeInput>;
 @group(0) @binding(9) var<storage, read_write> other_targets: array<u32>;
 @group(0) @binding(10) var<storage, read_write> counts: LevelCounts;
-// Per texel for the host: its beam on the page, its triangle, the bits of its t, and its texel in
-// the beam's square (y · size + x).
-@group(0) @binding(11) var<storage, read_write> host: array<vec4<u32>>;
+// Per texel for the host: its hit, point and direction, beam on the page and texel.
+@group(0) @binding(11) var<storage, read_write> host: array<HostTexel>;
 
 // Loops: a binary search over the page's beams, at most 32 halvings (constant bound), and
 // texel_ray's sum over the S^3 coefficients.
@@ -86,14 +103,15 @@ fn level_points(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
     let s = b.region.z;
     let at = region_texel(i - firsts[lo], s);
     let texel = at.y * s + at.x;
+    let ray = texel_ray(b, texel_barycentric(at.x, at.y, s));
+    let p = ray.origin + ray.direction * bitcast<f32>(word.y);
+    let d = normalize(ray.direction);
     if (kind & LEVEL_CONTINUES) != 0u {
         let j = atomicAdd(&counts.host, 1u);
-        host[j] = vec4<u32>(lo, prim, word.y, texel);
+        host[j] = HostTexel(p, prim, d, word.y, lo, texel, 0u, 0u);
         return;
     }
-    let ray = texel_ray(b, texel_barycentric(at.x, at.y, s));
-    let input = ShadeInput(ray.origin + ray.direction * bitcast<f32>(word.y), prim, normalize(ray.direction),
-        texel ^ placed[lo].y);
+    let input = ShadeInput(p, prim, d, texel ^ placed[lo].y);
     let at_level = placed[lo].x + texel;
     if (kind & LEVEL_CURVED) != 0u { atomicAdd(&counts.curved, 1u); }
     if (kind & LEVEL_PLAIN) != 0u {

@@ -286,7 +286,13 @@ mod tests {
         let dirs = [Vec3::new(-0.1, -0.1, 1.0), Vec3::new(0.2, -0.1, 1.0), Vec3::new(-0.1, 0.2, 1.0)];
         let beam = Beam::S1(NonlinearBeam::s1(base, dirs).unwrap());
         let size = 32;
-        let mut tex = BeamTexture { size, hits: vec![None; 1024], triangles_after_culling: 0, texels_tested: 0 };
+        let mut tex = BeamTexture {
+            size,
+            hits: vec![None; 1024],
+            points: Vec::new(),
+            triangles_after_culling: 0,
+            texels_tested: 0,
+        };
         for y in 0..size {
             for x in 0..size {
                 let ray = beam.ray_at(tex.barycentric(x, y));

@@ -226,9 +226,22 @@ impl Tree<'_> {
                 .into_par_iter()
                 .zip(textures)
                 .map(|((beam, face, pixels, _), tex)| {
-                    // The hit texels in texel order, row by row; room for every texel of the region
-                    // where the backend kept none, else only those from which the tree goes on.
+                    // The hit texels in texel order, row by row: those the backend handed back with
+                    // their points, else found here. Room for every texel of the region where the
+                    // backend kept none, else only those from which the tree goes on.
                     let (size, tb) = (tex.size as usize, beam.texel_beam());
+                    if !tex.points.is_empty() {
+                        let hits = tex.points.iter().map(|t| (t.texel as usize, t.prim, t.p, t.d)).collect();
+                        return Node {
+                            beam,
+                            face,
+                            pixels,
+                            tex,
+                            hits,
+                            located: Vec::new(),
+                            children: FaceMap::default(),
+                        };
+                    }
                     let handed_back = |prim: u32| kept.is_none() || keep.continues.get(prim as usize) == Some(&true);
                     let mut hits = Vec::with_capacity(if kept.is_none() { tex.texels() as usize } else { 0 });
                     for (y, row) in tex.hits.chunks_exact(size.max(1)).enumerate() {

@@ -7,7 +7,8 @@ use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
     AtlasParams, BeamCull, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams,
-    GpuBeam, GpuFace, GpuLookupJob, LevelCounts, LevelParams, RecordCounts, WhittedCounts, WhittedParams, WhittedPath,
+    GpuBeam, GpuFace, GpuLookupJob, HostTexel, LevelCounts, LevelParams, RecordCounts, WhittedCounts, WhittedParams,
+    WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, ShadeInput, ShadeParams};
@@ -62,7 +63,7 @@ fn tables() -> Vec<Table> {
         bindings!("level_points" => [
             params: LevelParams, beams: GpuBeam, firsts: u32, texels: [u32; 2], placed: [u32; 2], kinds: u32,
             direct: ShadeInput, direct_targets: u32, other: ShadeInput, other_targets: u32, counts: LevelCounts,
-            host: [u32; 4],
+            host: HostTexel,
         ]),
         bindings!("whitted" => [
             nodes: FlatNode, triangles: GpuTriangle, params: WhittedParams, slots: u32, specular,

@@ -7,8 +7,8 @@ use super::parsed::{Modules, member_size};
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
     AtlasParams, BeamCull, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams,
-    GpuBeam, GpuFace, GpuLookupJob, LevelCounts, LevelParams, RecordCounts, SpecularPrim, WhittedCounts, WhittedParams,
-    WhittedPath,
+    GpuBeam, GpuFace, GpuLookupJob, HostTexel, LevelCounts, LevelParams, RecordCounts, SpecularPrim, WhittedCounts,
+    WhittedParams, WhittedPath,
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, STATE_HEADER, ShadeInput, ShadeParams, ShadeState};
@@ -104,6 +104,7 @@ fn twins() -> Vec<Twin> {
         twin!("level_points", LevelParams => LevelParams { first, count, inverted, beams }),
         twin!("level_points", LevelCounts => LevelCounts { direct, other, curved, host }),
         twin!("level_points", ShadeInput => ShadeInput { p, prim, d, seed }),
+        twin!("level_points", HostTexel => HostTexel { p, prim, d, t, beam, texel, pad[0] => pad0, pad[1] => pad1 }),
         twin!("level_points", GpuBeam => Beam {
             base, dirs, extremal, normal, threshold, heights, offsets, bump, region, kind, origin, direction
         }),

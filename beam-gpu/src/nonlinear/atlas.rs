@@ -20,7 +20,7 @@ use super::composite::GpuComposite;
 use super::cull::{GpuCull, PageCulls};
 use super::display::GpuFrame;
 use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
-use super::level::{GpuLevelPoints, KeptLevel};
+use super::level::{GpuLevelPoints, HostTexel, KeptLevel};
 use super::lookups::GpuLookups;
 use super::page::Counters;
 use super::prepare::{Preparations, prepared};
@@ -447,13 +447,14 @@ impl GpuBeams<'_> {
             let mut unpacked = unpacked?;
             if let (Some(kept), Some((appended, counts))) = (kept.as_mut(), appended) {
                 if !with_hits {
-                    // The hits the host builds on, into textures otherwise empty.
+                    // The texels the host builds on, with their points, into textures otherwise empty.
                     let start = Instant::now();
-                    let sources = appended.iter().zip(&counts).map(|(a, c)| (&a.host, u64::from(c.host) * 16));
-                    let host: Vec<[u32; 4]> = checked(self.gpu, || read_all(self.gpu, Vec::new(), sources))?;
+                    let size = size_of::<HostTexel>() as u64;
+                    let sources = appended.iter().zip(&counts).map(|(a, c)| (&a.host, u64::from(c.host) * size));
+                    let host: Vec<HostTexel> = checked(self.gpu, || read_all(self.gpu, Vec::new(), sources))?;
                     let read = start.elapsed().as_secs_f64();
                     let start = Instant::now();
-                    Self::unpack_host_hits(&mut unpacked, &host)?;
+                    Self::unpack_host_texels(&mut unpacked, &host)?;
                     self.add_times(|t| {
                         t.atlas_seconds += read;
                         t.prepare_seconds += start.elapsed().as_secs_f64();

@@ -4,7 +4,8 @@
 //! composite from them; every other texel that hit becomes a shading input where it lies, at its
 //! place in the level's radiance, so that neither its hit nor its point crosses to the host and
 //! back (000 §7.3 keeps the tree's texels on the GPU). On the tree's last level no triangle goes
-//! on: the whole level stays. The composite shades the kept points ([`super::GpuComposite::run`]):
+//! on: the whole level stays. The texels for the host carry their points, so the host evaluates
+//! no texel ray for them. The composite shades the kept points ([`super::GpuComposite::run`]):
 //! the diffuse, glossy and emissive ones by the shading pass, the others (mirror and glass past
 //! the tree) by the Whitted rays. CPU twin: the host's texel hits (beam-cpu's `Tree::build`)
 //! sorted as `sort.rs` sorts a level's texels.
@@ -53,7 +54,31 @@ pub struct LevelCounts {
     pub host: u32,
 }
 
+/// A texel handed to the host: its hit, with its ray's point and unit direction found where the
+/// GPU found the hit.
+///
+/// WGSL twin: `HostTexel` in `shaders/level_points.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct HostTexel {
+    /// The hit point.
+    pub p: [f32; 3],
+    /// The scene triangle hit.
+    pub prim: u32,
+    /// Unit direction of the texel's ray.
+    pub d: [f32; 3],
+    /// The bits of the hit's ray parameter t.
+    pub t: u32,
+    /// Its beam on the page.
+    pub beam: u32,
+    /// Its texel in the beam's square (`y · size + x`).
+    pub texel: u32,
+    /// Padding.
+    pub pad: [u32; 2],
+}
+
 const _: () = assert!(size_of::<LevelParams>() == 16 && size_of::<LevelCounts>() == 16);
+const _: () = assert!(size_of::<HostTexel>() == 48);
 
 /// One atlas page as the pass reads it: its beams, their first texels in `texels` (and the total),
 /// its regions' texels, and whether their words are inverted.
@@ -68,8 +93,7 @@ pub(super) struct LevelPage<'a> {
 pub(super) struct Appended {
     direct: (wgpu::Buffer, wgpu::Buffer),
     other: (wgpu::Buffer, wgpu::Buffer),
-    /// The texels for the host: (beam on the page, triangle, bits of t, texel in the beam's square)
-    /// each.
+    /// The texels for the host, [`HostTexel`] each.
     pub host: wgpu::Buffer,
     /// [`LevelCounts`], zeroed by wgpu.
     pub counts: wgpu::Buffer,
@@ -206,7 +230,7 @@ impl GpuLevelPoints {
                 let out = Appended {
                     direct: list("level points"),
                     other: list("level points past the tree"),
-                    host: output(gpu, "level texels for the host", n as u64 * 16),
+                    host: output(gpu, "level texels for the host", (n * size_of::<HostTexel>()) as u64),
                     counts: output(gpu, "level counts", size_of::<LevelCounts>() as u64),
                 };
                 let params = LevelParams {

@@ -29,7 +29,7 @@ pub use eye::{
     EyeCounts, EyeFaceMap, EyeHit, EyeOut, EyeParams, EyeRecords, GpuEye, KeptEyeHits, KeptPoints, KeptSpecular,
     RecordCounts,
 };
-pub use level::{GpuLevelPoints, KeptLevel, LevelCounts, LevelParams};
+pub use level::{GpuLevelPoints, HostTexel, KeptLevel, LevelCounts, LevelParams};
 pub use lookups::{GpuLookupJob, GpuLookups};
 pub use page::AtlasParams;
 pub use whitted::{EndWeight, GpuWhitted, RestPoints, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath};

@@ -6,13 +6,14 @@
 use super::GpuBeams;
 use super::beam::GpuBeam;
 use super::cull::PageCulls;
-use super::level::{Appended, LevelCounts, LevelPage};
+use super::level::{Appended, HostTexel, LevelCounts, LevelPage};
 use crate::GpuError;
 use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, readback, storage, uniform, view_entry};
 use crate::interface::WORKGROUP_SIZE;
 use crate::texels::texture_2d;
 use crate::timestamps::PassTimer;
-use beam_scene::nonlinear::{BeamJob, BeamTexture, TexelHit, region_texels};
+use beam_math::glam::Vec3;
+use beam_scene::nonlinear::{BeamJob, BeamTexture, TexelHit, TexelPoint, region_texels};
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
@@ -268,7 +269,11 @@ impl GpuBeams<'_> {
                 let size = jobs[i].size;
                 let (triangles_after_culling, texels_tested) = (kept, u64::from(tested));
                 let Some(texels) = texels else {
-                    return Ok((i, BeamTexture { size, hits: Vec::new(), triangles_after_culling, texels_tested }));
+                    let points = Vec::new();
+                    return Ok((
+                        i,
+                        BeamTexture { size, hits: Vec::new(), points, triangles_after_culling, texels_tested },
+                    ));
                 };
                 let region = texels
                     .get(first as usize..first as usize + region_texels(size) as usize)
@@ -284,7 +289,7 @@ impl GpuBeams<'_> {
                         }
                     }
                 }
-                let tex = BeamTexture { size, hits, triangles_after_culling, texels_tested };
+                let tex = BeamTexture { size, hits, points: Vec::new(), triangles_after_culling, texels_tested };
                 Ok((i, tex))
             })
             .collect()
@@ -292,19 +297,24 @@ impl GpuBeams<'_> {
 }
 
 impl GpuBeams<'_> {
-    /// Into `textures` (a page's, in the order of its beams), the hits `host` lists: (beam on the
-    /// page, triangle, bits of t, texel in the beam's square) each, the texels of a kept level that
-    /// the host builds on ([`super::level`]); the other texels stay misses.
-    pub(super) fn unpack_host_hits(textures: &mut [(usize, BeamTexture)], host: &[[u32; 4]]) -> Result<(), GpuError> {
-        for &[beam, prim, t, texel] in host {
+    /// Into `textures` (a page's, in the order of its beams, without hits), the texels `host`
+    /// lists as their points, each texture's in texel order: the texels of a kept level that the
+    /// host builds on ([`super::level`]).
+    pub(super) fn unpack_host_texels(
+        textures: &mut [(usize, BeamTexture)],
+        host: &[HostTexel],
+    ) -> Result<(), GpuError> {
+        for h in host {
             let (_, tex) =
-                textures.get_mut(beam as usize).ok_or(GpuError::Internal("a texel for the host past the page"))?;
-            if tex.hits.is_empty() {
-                tex.hits = vec![None; (tex.size * tex.size) as usize];
+                textures.get_mut(h.beam as usize).ok_or(GpuError::Internal("a texel for the host past the page"))?;
+            if h.texel >= tex.size * tex.size {
+                return Err(GpuError::Internal("a texel past its region"));
             }
-            let slot = tex.hits.get_mut(texel as usize).ok_or(GpuError::Internal("a texel past its region"))?;
-            *slot = Some(TexelHit { prim, t: f32::from_bits(t) });
+            let (p, d) = (Vec3::from_array(h.p), Vec3::from_array(h.d));
+            tex.points.push(TexelPoint { texel: h.texel, prim: h.prim, p, d });
         }
+        // Appended by atomics in no set order; a region's texels are distinct.
+        textures.par_iter_mut().for_each(|(_, tex)| tex.points.sort_unstable_by_key(|t| t.texel));
         Ok(())
     }
 }

@@ -27,6 +27,7 @@ pub use renderer::{
 };
 pub use smesh::{MAX_NORMAL_SPREAD, SFace, SMesh};
 pub use texture::{
-    BeamJob, BeamTexture, Exclude, ShadePoint, TEXELS, TEXELS_PER_SAMPLE, TexelHit, region_size, region_texels,
+    BeamJob, BeamTexture, Exclude, ShadePoint, TEXELS, TEXELS_PER_SAMPLE, TexelHit, TexelPoint, region_size,
+    region_texels,
 };
 pub use waves::{Path, Shade, shade_by_waves, trace_waves};

@@ -13,6 +13,20 @@ pub struct TexelHit {
     pub t: f32,
 }
 
+/// A texel's hit handed back with its ray's hit point and unit direction, found where the backend
+/// rendered the texel (the host then evaluates no texel ray for it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TexelPoint {
+    /// The texel in the region's square (`y · size + x`).
+    pub texel: u32,
+    /// The scene triangle hit.
+    pub prim: u32,
+    /// The hit point.
+    pub p: Vec3,
+    /// Unit direction of the texel's ray.
+    pub d: Vec3,
+}
+
 /// A beam's texel region: `size × size` texels over the base's barycentric square, of which those
 /// with `u + v ≤ 1 + 1/size` (the base triangle and a one-texel margin for filtering) are rendered.
 /// Texel `(x, y)` has centre `(u, v) = ((x + ½)/size, (y + ½)/size)` and barycentric coordinates
@@ -21,8 +35,12 @@ pub struct TexelHit {
 pub struct BeamTexture {
     /// Texels per side.
     pub size: u32,
-    /// Nearest hit per texel (row-major), `None` where the ray leaves the scene.
+    /// Nearest hit per texel (row-major), `None` where the ray leaves the scene; of a level the
+    /// backend kept, only the hits handed back (empty where they are in `points`).
     pub hits: Vec<Option<TexelHit>>,
+    /// The hits a backend that kept the level handed back with their points, in texel order:
+    /// where not empty, the host's texel hits (empty: the host finds them in `hits`).
+    pub points: Vec<TexelPoint>,
     /// Scene triangles left after bounding-cone culling.
     pub triangles_after_culling: u32,
     /// Texels inside bounding triangles (rays intersected); overdraw is this over the texels rendered.

@@ -20,8 +20,8 @@ use beam_scene::scene::{self, Simplify};
 /// one — the same texels of the level's layout, triangles and seeds, the hit points within 1e-5 of
 /// the scene's size and the directions within 1e-5 (the texel rays made on the GPU, the host's on
 /// the CPU) — and so are the counts of points and of points on curved triangles; the textures hold
-/// exactly the hits on triangles the tree goes on from, or, asked for them, every hit. A renderer
-/// reading levels back keeps none.
+/// exactly the hits on triangles the tree goes on from, as points in texel order within the same
+/// 1e-5 of the host's, or, asked for them, every hit. A renderer reading levels back keeps none.
 pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
@@ -94,15 +94,31 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
                 if (totals.points, totals.curved) != (want.len() as u64, curved) {
                     return Err(fail(format!("kept {totals:?}, the host has {} ({curved} curved)", want.len())));
                 }
-                // The hits handed back: every one asked for, else those the tree goes on from.
+                // The hits handed back: every one asked for, else those the tree goes on from,
+                // as texel points in texel order, each within 1e-5 of the host's texel ray.
                 let handed = |h: &Option<TexelHit>| h.filter(|h| with_hits || continues[h.prim as usize]);
-                let hits_match = kept_textures.iter().zip(&textures).all(|(k, t)| {
+                let mut worst_points = 0.0f32;
+                let mut hits_match = kept_textures.len() == textures.len();
+                for (i, (k, t)) in kept_textures.iter().zip(&textures).enumerate() {
                     let full = || t.hits.iter().map(handed);
-                    k.size == t.size
-                        && (k.hits.iter().copied().eq(full()) || k.hits.is_empty() && full().all(|h| h.is_none()))
-                });
-                if !hits_match || kept_textures.len() != textures.len() {
-                    return Err(fail("the textures' hits are not those handed back".into()));
+                    hits_match &= k.size == t.size;
+                    if with_hits {
+                        hits_match &= k.hits.iter().copied().eq(full()) && k.points.is_empty();
+                        continue;
+                    }
+                    let square = layout.firsts[i]..layout.firsts[i] + t.size * t.size;
+                    let want: Vec<_> =
+                        all.iter().filter(|w| square.contains(&w.0) && continues[w.1 as usize]).collect();
+                    hits_match &= k.hits.is_empty() && k.points.len() == want.len();
+                    for (g, w) in k.points.iter().zip(want) {
+                        hits_match &= (layout.firsts[i] + g.texel, g.prim) == (w.0, w.1);
+                        worst_points = worst_points.max((g.p - w.2).length() / extent).max((g.d - w.3).length());
+                    }
+                }
+                if !hits_match || worst_points > 1e-5 {
+                    return Err(fail(format!(
+                        "the textures' hits are not those handed back (points {worst_points:.1e})"
+                    )));
                 }
                 let taken = renderer.take_kept_levels().map_err(|e| e.to_string())?;
                 let [(1, got)] = &taken[..] else {
