@@ -44,6 +44,15 @@ struct HostTexel {
     beam: u32,
     // Its texel in the beam's square (y · size + x).
     texel: u32,
+    // Its beam in the level.
+    node: u32,
+    pad: u32,
+}
+
+// Twin of beam_gpu::nonlinear::RecordCounts (16 bytes).
+struct RecordCounts {
+    records: atomic<u32>,
+    rest: atomic<u32>,
     pad0: u32,
     pad1: u32,
 }
@@ -67,8 +76,9 @@ struct LevelCounts {
 // Per texel of every region, row by row: (scene triangle + 1, bits of t), (0, 0) for a miss; each
 // word inverted where `params.inverted` (zeroes still a miss).
 @group(0) @binding(3) var<storage, read> texels: array<vec2<u32>>;
-// Per beam on the page: its first texel in the level's radiance, its S-mesh face's scene triangle.
-@group(0) @binding(4) var<storage, read> placed: array<vec2<u32>>;
+// Per beam on the page: its first texel in the level's radiance, its S-mesh face's scene
+// triangle, its beam in the level.
+@group(0) @binding(4) var<storage, read> placed: array<vec4<u32>>;
 // Per scene triangle: LEVEL_PLAIN where the shading pass shades it, | LEVEL_CURVED where its
 // normals are interpolated, | LEVEL_CONTINUES where the tree goes on from it.
 @group(0) @binding(5) var<storage, read> kinds: array<u32>;
@@ -77,8 +87,19 @@ struct LevelCounts {
 @group(0) @binding(8) var<storage, read_write> other: array<ShadeInput>;
 @group(0) @binding(9) var<storage, read_write> other_targets: array<u32>;
 @group(0) @binding(10) var<storage, read_write> counts: LevelCounts;
-// Per texel for the host: its hit, point and direction, beam on the page and texel.
+// Per texel for the host: its hit, point and direction, beam on the page and texel, beam in the
+// level.
 @group(0) @binding(11) var<storage, read_write> host: array<HostTexel>;
+// `level_records`: per scene triangle, its S-mesh face (a fine one: the triangle itself), else NONE.
+@group(0) @binding(12) var<storage, read> face_of: array<u32>;
+// Per beam of the level: its first texel in the level's radiance, its S-mesh face's triangle.
+@group(0) @binding(13) var<storage, read> nodes: array<vec2<u32>>;
+// Per beam of the level, its first entry in `child_entries`; then their number.
+@group(0) @binding(14) var<storage, read> child_firsts: array<u32>;
+// Per beam, ascending by face: (face, reflection beam, refraction beam or NONE, 0).
+@group(0) @binding(15) var<storage, read> child_entries: array<vec4<u32>>;
+@group(0) @binding(16) var<storage, read_write> records: array<Record>;
+@group(0) @binding(17) var<storage, read_write> record_counts: RecordCounts;
 
 // Loops: a binary search over the page's beams, at most 32 halvings (constant bound), and
 // texel_ray's sum over the S^3 coefficients.
@@ -108,7 +129,7 @@ fn level_points(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
     let d = normalize(ray.direction);
     if (kind & LEVEL_CONTINUES) != 0u {
         let j = atomicAdd(&counts.host, 1u);
-        host[j] = HostTexel(p, prim, d, word.y, lo, texel, 0u, 0u);
+        host[j] = HostTexel(p, prim, d, word.y, lo, texel, placed[lo].z, 0u);
         return;
     }
     let input = ShadeInput(p, prim, d, texel ^ placed[lo].y);
@@ -123,4 +144,42 @@ fn level_points(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
         other[j] = input;
         other_targets[j] = at_level;
     }
+}
+
+// The composite of every texel handed to the host (`params.count` of them, `host`), once the tree's
+// next level is built, on an S mesh of fine faces: on a face with child beams of its beam, a record
+// looking them up at the hit point (beam_cpu::nonlinear's `Tree::composite` on a fine face);
+// else a point for the Whitted rays, appended to `other` with its texel in the level's radiance.
+// The host zeroes `record_counts` before a dispatch. Loops: a binary search over the beam's
+// entries, at most 32 halvings (constant bound).
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn level_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let k = id.y * groups.x * WORKGROUP_SIZE + id.x;
+    if k >= params.count { return; }
+    let h = host[k];
+    let node = nodes[h.node];
+    let at_level = node.x + h.texel;
+    let face = face_of[h.prim];
+    var child = vec2<u32>(NONE, NONE);
+    if face != NONE {
+        var lo = child_firsts[h.node];
+        var hi = child_firsts[h.node + 1u];
+        for (var n = 0u; n < 32u && lo < hi; n++) {
+            let mid = (lo + hi) / 2u;
+            let e = child_entries[mid];
+            if e.x == face {
+                child = e.yz;
+                break;
+            }
+            if e.x < face { lo = mid + 1u; } else { hi = mid; }
+        }
+    }
+    if child.x != NONE {
+        let j = atomicAdd(&record_counts.records, 1u);
+        records[j] = Record(h.p, at_level, h.d, face, child.x, child.y, 0u, 0u, h.p, 0u);
+        return;
+    }
+    let j = atomicAdd(&record_counts.rest, 1u);
+    other[j] = ShadeInput(h.p, h.prim, h.d, h.texel ^ node.y);
+    other_targets[j] = at_level;
 }

@@ -34,7 +34,7 @@ pub const INT64_ATOMICS: &[&str] = &["beam_texels"];
 pub(crate) const LIBRARY: &[(&str, &str, &[&str])] = &[
     ("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather", "eye", "whitted"]),
     ("lib/atlas.wgsl", include_str!("../shaders/lib/atlas.wgsl"), &["beam_atlas", "beam_cull", "beam_texels"]),
-    ("lib/record.wgsl", include_str!("../shaders/lib/record.wgsl"), &["composite", "eye"]),
+    ("lib/record.wgsl", include_str!("../shaders/lib/record.wgsl"), &["composite", "eye", "level_points"]),
     ("lib/lookup.wgsl", include_str!("../shaders/lib/lookup.wgsl"), &["nonlinear_check", "lookups"]),
     ("lib/region.wgsl", include_str!("../shaders/lib/region.wgsl"), &["beam_atlas", "beam_texels", "level_points"]),
 ];

@@ -169,7 +169,8 @@ pub fn run(
         let per = |seconds: f64| 1e3 * seconds / f64::from(frames.max(1));
         println!(
             "{:<16} host ms inside the GPU backend: uploads {:.1} ({:.1} MB), readbacks unpacked {:.1}, atlas \
-             preparation {:.1}, Whitted rays past the tree {:.1}; coarse S-mesh lookup jobs on the GPU: {:.0}",
+             preparation {:.1}, Whitted rays past the tree {:.1}; coarse S-mesh lookup jobs on the GPU: {:.0}; \
+             tree texels composited on the GPU: {:.0}",
             "",
             per(traffic.upload_seconds),
             traffic.bytes_uploaded as f64 / f64::from(frames.max(1)) / 1e6,
@@ -177,6 +178,7 @@ pub fn run(
             per(after.prepare_seconds - before.prepare_seconds),
             per(after.whitted_host_seconds - before.whitted_host_seconds),
             (after.lookups - before.lookups) as f64 / f64::from(frames.max(1)),
+            (after.level_records - before.level_records) as f64 / f64::from(frames.max(1)),
         );
         let passes: Vec<f64> =
             after.atlas_pass_seconds.iter().zip(before.atlas_pass_seconds).map(|(a, b)| per(a - b)).collect();

@@ -163,7 +163,7 @@ pub fn render_nonlinear_frame(
         .map(|face| Request { parent: None, face, samples: Vec::new(), pixels: seen_by[face][0] as f32 })
         .collect();
     clock.lap("eye view: faces seen");
-    let Built { roots: children, levels, kept } = tree.build(renderer, roots, &mut clock)?;
+    let Built { roots: children, levels, kept, records } = tree.build(renderer, roots, &mut clock)?;
     // The eye's view (the region's pixels) is level 0 of the radiance flow.
     let next = levels.first().map_or(&[][..], |l| &l[..]);
     let eye_texels = |hits: &[(usize, Ray, Hit)], located: &[Option<(usize, Vec3)>]| {
@@ -205,8 +205,10 @@ pub fn render_nonlinear_frame(
                 children.get(&f).map_or([none; 2], |c| [c.reflected as u32, c.refracted.map_or(none, |r| r as u32)])
             })
             .collect(),
+        node_children: Default::default(),
     };
-    let mut flow: Vec<LevelRadiance> = std::iter::once(eye).chain(tree.radiance_levels(renderer, &levels)?).collect();
+    let mut flow: Vec<LevelRadiance> =
+        std::iter::once(eye).chain(tree.radiance_levels(renderer, &levels, &records)?).collect();
     // Curved (smooth-normal) mirror and glass points traced by rays, looked up in a dense table.
     let mut curved = vec![false; scene.triangles.len()];
     for &prim in scene.smooth_normals.keys() {
@@ -218,16 +220,30 @@ pub fn render_nonlinear_frame(
         .filter(|&f| flow[0].children[f][0] == none && curved[tree.smesh.faces[f].prim as usize])
         .map(|f| u64::from(seen[f][1]))
         .sum();
+    // So are the texels on curved faces without child beams of the levels the renderer composites.
+    let records_by_rays = levels.iter().zip(&records).filter(|(_, r)| **r).flat_map(|(nodes, _)| nodes);
+    let records_by_rays: usize = records_by_rays
+        .map(|n| {
+            let without = |at: &Option<(usize, Vec3)>| at.is_none_or(|(f, _)| !n.children.contains_key(&f));
+            n.hits.iter().zip(&n.located).filter(|(h, at)| curved[h.1 as usize] && without(at)).count()
+        })
+        .sum();
     let specular_by_rays = flow.iter().map(|l| l.texels.par_iter().filter(by_rays).count()).sum::<usize>() as u64
         + kept.curved
-        + kept_by_rays;
+        + kept_by_rays
+        + records_by_rays as u64;
     clock.lap("radiance flow");
     let (shading, caustics) = (&options.shading, tree.caustics);
     let frame = match renderer.shade_tree(scene, tree.smesh, shading, caustics, &flow)? {
         Some(FramePixels::Read(pixels)) => Some(pixels),
         Some(FramePixels::Kept) => None,
         None => Some({
-            // Shaded here after all: with the eye's pixels the backend kept.
+            // Shaded here after all: with the eye's pixels the backend kept, and the levels' texels
+            // it would have composited.
+            if records.contains(&true) {
+                flow.truncate(1);
+                flow.extend(tree.radiance_levels(renderer, &levels, &[])?);
+            }
             flow[0].texels.extend(renderer.take_kept_eye()?);
             let kept_hits = renderer.take_kept_eye_hits(scene)?;
             flow[0].texels.extend(eye_texels(&kept_hits, &locate(&kept_hits))?);

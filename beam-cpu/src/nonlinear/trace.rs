@@ -21,7 +21,7 @@ use beam_scene::BackendError;
 use beam_scene::memo::FrameMemo;
 use beam_scene::nonlinear::{
     Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, KeepLevel, KeptTotals, LevelLayout, LevelRadiance,
-    SMesh, ShadePoint, TexelRadiance, child_beams, region_size,
+    NodeChildren, SMesh, ShadePoint, TexelRadiance, child_beams, region_size,
 };
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
@@ -68,11 +68,13 @@ pub(super) struct Node {
 }
 
 /// A built beam tree: the children of the faces the eye sees, and the beams level by level; what the
-/// renderer kept of the levels (texels none of the nodes hold).
+/// renderer kept of the levels (texels none of the nodes hold), and per level whether it
+/// composites the texels it handed back itself ([`KeptTotals::records`]).
 pub(super) struct Built {
     pub(super) roots: FaceMap<Scattered>,
     pub(super) levels: Vec<Vec<Node>>,
     pub(super) kept: KeptTotals,
+    pub(super) records: Vec<bool>,
 }
 
 /// The light arriving at one S-mesh face, from which its beams are built: samples (barycentric
@@ -146,6 +148,7 @@ impl Tree<'_> {
         let mut levels: Vec<Vec<Node>> = Vec::new();
         let mut root_children = FaceMap::default();
         let mut kept_totals = KeptTotals::default();
+        let mut records = Vec::new();
         let continues: Vec<bool> =
             (0..self.scene.triangles.len() as u32).map(|p| !self.smesh.candidates(p).is_empty()).collect();
         let mut requests = roots;
@@ -221,6 +224,7 @@ impl Tree<'_> {
                 kept_totals.points += k.points;
                 kept_totals.curved += k.curved;
             }
+            records.push(kept.is_some_and(|k| k.records));
             clock.lap("tree: rasterize beams");
             let mut nodes: Vec<Node> = beams
                 .into_par_iter()
@@ -276,7 +280,7 @@ impl Tree<'_> {
             clock.lap("tree: next level's faces");
             levels.push(nodes);
         }
-        Ok(Built { roots: root_children, levels, kept: kept_totals })
+        Ok(Built { roots: root_children, levels, kept: kept_totals, records })
     }
 
     /// The layout of a level of beams `(face, texels per side)` in its radiance, as
@@ -292,11 +296,13 @@ impl Tree<'_> {
     }
 
     /// The tree's levels for the radiance flow: per level, every beam's region and every texel
-    /// that hit, composited from its face's children where it has them.
+    /// that hit, composited from its face's children where it has them; where `records[level]`,
+    /// the renderer composites the level's texels itself, given their faces' children.
     pub(super) fn radiance_levels(
         &self,
         renderer: &dyn BeamRenderer,
         levels: &[Vec<Node>],
+        records: &[bool],
     ) -> Result<Vec<LevelRadiance>, BackendError> {
         let point = |node: &Node, &(t, hit, p, d): &(usize, u32, Vec3, Vec3)| {
             let prim = self.smesh.faces[node.face].prim;
@@ -308,6 +314,10 @@ impl Tree<'_> {
             .map(|(li, nodes)| {
                 let LevelLayout { firsts, len, .. } = self.layout(nodes.iter().map(|n| (n.face, n.tex.size)));
                 let regions: Vec<(u32, u32)> = firsts.into_iter().zip(nodes.iter().map(|n| n.tex.size)).collect();
+                if records.get(li) == Some(&true) {
+                    let node_children = node_children(nodes);
+                    return Ok(LevelRadiance { regions, len, node_children, ..LevelRadiance::default() });
+                }
                 let next = levels.get(li + 1).map_or(&[][..], |l| &l[..]);
                 // Each node's first texel in the level's list of texels that hit.
                 let offsets: Vec<usize> = nodes
@@ -349,7 +359,7 @@ impl Tree<'_> {
                         }
                     },
                 );
-                Ok(LevelRadiance { regions, len, texels, children: Vec::new() })
+                Ok(LevelRadiance { regions, len, texels, ..LevelRadiance::default() })
             })
             .collect()
     }
@@ -414,4 +424,22 @@ impl Tree<'_> {
             refracted_at,
         })
     }
+}
+
+/// Per node of a level, the child beams of the faces its texels hit, ascending by face.
+fn node_children(nodes: &[Node]) -> NodeChildren {
+    let mut table = NodeChildren { firsts: Vec::with_capacity(nodes.len() + 1), entries: Vec::new() };
+    for node in nodes {
+        table.firsts.push(table.entries.len() as u32);
+        let at = table.entries.len();
+        let none = u32::MAX;
+        table.entries.extend(
+            node.children
+                .iter()
+                .map(|(&face, c)| [face as u32, c.reflected as u32, c.refracted.map_or(none, |r| r as u32)]),
+        );
+        table.entries[at..].sort_unstable_by_key(|e| e[0]);
+    }
+    table.firsts.push(table.entries.len() as u32);
+    table
 }

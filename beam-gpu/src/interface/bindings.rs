@@ -61,9 +61,10 @@ fn tables() -> Vec<Table> {
             records: CompositeRecord, rest: ShadeInput, rest_targets: u32, record_counts: RecordCounts,
         ]),
         bindings!("level_points" => [
-            params: LevelParams, beams: GpuBeam, firsts: u32, texels: [u32; 2], placed: [u32; 2], kinds: u32,
+            params: LevelParams, beams: GpuBeam, firsts: u32, texels: [u32; 2], placed: [u32; 4], kinds: u32,
             direct: ShadeInput, direct_targets: u32, other: ShadeInput, other_targets: u32, counts: LevelCounts,
-            host: HostTexel,
+            host: HostTexel, face_of: u32, nodes: [u32; 2], child_firsts: u32, child_entries: [u32; 4],
+            records: CompositeRecord, record_counts: RecordCounts,
         ]),
         bindings!("whitted" => [
             nodes: FlatNode, triangles: GpuTriangle, params: WhittedParams, slots: u32, specular,

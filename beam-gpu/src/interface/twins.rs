@@ -104,7 +104,11 @@ fn twins() -> Vec<Twin> {
         twin!("level_points", LevelParams => LevelParams { first, count, inverted, beams }),
         twin!("level_points", LevelCounts => LevelCounts { direct, other, curved, host }),
         twin!("level_points", ShadeInput => ShadeInput { p, prim, d, seed }),
-        twin!("level_points", HostTexel => HostTexel { p, prim, d, t, beam, texel, pad[0] => pad0, pad[1] => pad1 }),
+        twin!("level_points", HostTexel => HostTexel { p, prim, d, t, beam, texel, node, pad }),
+        twin!("level_points", CompositeRecord => Record {
+            p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
+        }),
+        twin!("level_points", RecordCounts => RecordCounts { records, rest, pad[0] => pad0, pad[1] => pad1 }),
         twin!("level_points", GpuBeam => Beam {
             base, dirs, extremal, normal, threshold, heights, offsets, bump, region, kind, origin, direction
         }),

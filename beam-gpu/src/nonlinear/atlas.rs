@@ -75,6 +75,9 @@ pub struct GpuTimes {
     /// Lookup jobs of points under coarse S-mesh faces in their child beams made on the GPU
     /// ([`super::GpuLookups`]): reflections and refractions.
     pub lookups: u64,
+    /// Texels that tree levels handed to the host and the GPU composited too
+    /// ([`super::GpuLevelPoints::records`]).
+    pub level_records: u64,
     /// The GPU's own seconds in the atlas passes, by timestamp queries (all 0 where the device has
     /// none): bounding triangles, nearest hits (draws, or the compute pass), gather.
     pub atlas_pass_seconds: [f64; 3],
@@ -304,7 +307,8 @@ impl BeamRasterizer for GpuBeams<'_> {
         }
         let (textures, kept) = self.render(scene, jobs, Some(keep), true)?;
         let kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
-        let totals = KeptTotals { points: kept.points(), curved: kept.curved };
+        // On an S mesh of fine faces, the texels handed back are composited on the GPU too.
+        let totals = KeptTotals { points: kept.points(), curved: kept.curved, records: !keep.with_hits };
         self.add_times(|t| t.levels_kept += 1);
         let mut levels = self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner);
         // A frame's first level: what an earlier frame left (one that failed) goes.
@@ -436,9 +440,10 @@ impl GpuBeams<'_> {
                 unpacking.set(start.elapsed().as_secs_f64());
                 out
             };
-            // Per beam where the level is kept: its first texel in the level, its face's triangle.
-            let placed: Vec<[u32; 2]> = match keep {
-                Some(k) => members.iter().map(|&i| [k.layout.firsts[i], k.layout.prims[i]]).collect(),
+            // Per beam where the level is kept: its first texel in the level, its face's triangle,
+            // its index in the level.
+            let placed: Vec<[u32; 4]> = match keep {
+                Some(k) => members.iter().map(|&i| [k.layout.firsts[i], k.layout.prims[i], i as u32, 0]).collect(),
                 None => Vec::new(),
             };
             let keep_page = keep.zip(kinds.as_ref()).map(|(k, kinds)| (&placed[..], k.with_hits, kinds));
@@ -460,7 +465,7 @@ impl GpuBeams<'_> {
                         t.prepare_seconds += start.elapsed().as_secs_f64();
                     });
                 }
-                kept.add(appended, &counts);
+                kept.add(appended, &counts, !with_hits);
             }
             let drawn = start.elapsed().as_secs_f64() - prepared - unpacking.get();
             for (i, tex) in unpacked {

@@ -93,9 +93,10 @@ pub struct EyeCounts {
     pub specular: u32,
 }
 
-/// What one dispatch of `eye_records` appended.
+/// What one dispatch of `eye_records` (or `level_records`) appended.
 ///
-/// WGSL twin: `RecordCounts` in `shaders/eye.wgsl` (layouts compared in [`crate::interface`]).
+/// WGSL twin: `RecordCounts` in `shaders/eye.wgsl` and `shaders/level_points.wgsl` (layouts
+/// compared in [`crate::interface`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct RecordCounts {
@@ -140,7 +141,8 @@ pub struct EyeFaceMap<'a> {
     pub faces: usize,
 }
 
-/// The composite records `eye_records` made of one dispatch's kept mirror and glass hits.
+/// The composite records `eye_records` made of one dispatch's kept mirror and glass hits (or
+/// `level_records` of one dispatch's texels handed to the host).
 pub struct EyeRecords {
     /// [`CompositeRecord`]s (faces and child beams indexed in the whole S mesh and level).
     pub records: wgpu::Buffer,
@@ -411,14 +413,7 @@ impl EyeView for GpuBeams<'_> {
         if !self.keep_levels || !fits {
             return Ok(EyeFaces::handed_back(self.eye_view(scene, camera, options)?, smesh));
         }
-        // Per scene triangle, its face where it is a fine S-mesh face of its own.
-        let face_of: Vec<u32> = (0..scene.triangles.len() as u32)
-            .map(|p| match smesh.candidates(p) {
-                &[f] if !smesh.is_coarse(f as usize) => f,
-                _ => NONE,
-            })
-            .collect();
-        let face_of = storage(self.gpu, "S-mesh faces of the triangles", &face_of, wgpu::BufferUsages::empty());
+        let face_of = fine_faces(self.gpu, scene, smesh);
         let faces = EyeFaceMap { face_of: &face_of, faces: smesh.faces.len() };
         let Some(out) = self.eye_on_gpu(camera, options, Some(faces))? else {
             return Ok(EyeFaces::handed_back(eye_by_rays(self, scene, camera)?, smesh));
@@ -462,4 +457,16 @@ impl EyeView for GpuBeams<'_> {
             })
             .collect())
     }
+}
+
+/// Per scene triangle of `scene`, its face where it is a fine S-mesh face of its own, else
+/// [`NONE`], uploaded.
+pub(super) fn fine_faces(gpu: &Gpu, scene: &Scene, smesh: &SMesh) -> wgpu::Buffer {
+    let face_of: Vec<u32> = (0..scene.triangles.len() as u32)
+        .map(|p| match smesh.candidates(p) {
+            &[f] if !smesh.is_coarse(f as usize) => f,
+            _ => NONE,
+        })
+        .collect();
+    storage(gpu, "S-mesh faces of the triangles", &face_of, wgpu::BufferUsages::empty())
 }

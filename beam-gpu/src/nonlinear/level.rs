@@ -10,15 +10,15 @@
 //! the tree) by the Whitted rays. CPU twin: the host's texel hits (beam-cpu's `Tree::build`)
 //! sorted as `sort.rs` sorts a level's texels.
 
-use super::composite::GpuComposite;
-use super::eye::KeptPoints;
+use super::composite::{CompositeRecord, GpuComposite};
+use super::eye::{EyeRecords, KeptPoints, RecordCounts};
 use super::whitted::GpuWhitted;
-use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, output, storage, uniform};
+use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, output, read_all, storage, uniform};
 use crate::interface::{LEVEL_CONTINUES, LEVEL_CURVED, LEVEL_PLAIN};
 use crate::shade::{PointShader, ShadeInput};
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{LevelLayout, ShadePoint, TexelRadiance};
+use beam_scene::nonlinear::{LevelLayout, NodeChildren, ShadePoint, TexelRadiance};
 use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 
@@ -73,8 +73,10 @@ pub struct HostTexel {
     pub beam: u32,
     /// Its texel in the beam's square (`y · size + x`).
     pub texel: u32,
+    /// Its beam in the level.
+    pub node: u32,
     /// Padding.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 
 const _: () = assert!(size_of::<LevelParams>() == 16 && size_of::<LevelCounts>() == 16);
@@ -110,6 +112,9 @@ pub struct KeptLevel {
     pub other: Vec<KeptPoints>,
     /// Points on curved triangles.
     pub curved: u64,
+    /// Per dispatch, the texels handed to the host ([`HostTexel`]s) and how many, kept where the
+    /// GPU composites them too ([`GpuLevelPoints::records`]).
+    pub host: Vec<(wgpu::Buffer, u32)>,
     /// The level's layout, for the seeds of points read back ([`KeptLevel::read_back`]).
     layout: LevelLayout,
 }
@@ -126,14 +131,17 @@ impl KeptLevel {
         self.direct.iter().chain(&self.other).map(|k| u64::from(k.count)).sum()
     }
 
-    /// Add the lists of `appended`, whose counts were read back as `counts` (the texels for the
-    /// host are the caller's).
-    pub(super) fn add(&mut self, appended: Vec<Appended>, counts: &[LevelCounts]) {
+    /// Add the lists of `appended`, whose counts were read back as `counts`; the texels for the
+    /// host too where `with_host` (they are the caller's otherwise).
+    pub(super) fn add(&mut self, appended: Vec<Appended>, counts: &[LevelCounts], with_host: bool) {
         for (a, c) in appended.into_iter().zip(counts) {
             let kept = |(inputs, targets), count| KeptPoints { inputs, targets, count };
             self.direct.push(kept(a.direct, c.direct));
             self.other.push(kept(a.other, c.other));
             self.curved += u64::from(c.curved);
+            if with_host && c.host > 0 {
+                self.host.push((a.host, c.host));
+            }
         }
     }
 
@@ -142,13 +150,12 @@ impl KeptLevel {
     /// the beam's region (the beam the one whose region holds its texel, by the layout).
     pub(super) fn read_back(&self, gpu: &Gpu) -> Result<Vec<TexelRadiance>, GpuError> {
         let lists = || self.direct.iter().chain(&self.other);
-        let inputs = crate::buffers::read_all::<ShadeInput>(
+        let inputs = read_all::<ShadeInput>(
             gpu,
             Vec::new(),
             lists().map(|k| (&k.inputs, u64::from(k.count) * size_of::<ShadeInput>() as u64)),
         )?;
-        let targets =
-            crate::buffers::read_all::<u32>(gpu, Vec::new(), lists().map(|k| (&k.targets, u64::from(k.count) * 4)))?;
+        let targets = read_all::<u32>(gpu, Vec::new(), lists().map(|k| (&k.targets, u64::from(k.count) * 4)))?;
         let firsts = &self.layout.firsts;
         inputs
             .iter()
@@ -175,9 +182,10 @@ pub(super) fn triangle_kinds(scene: &Scene) -> Vec<u32> {
         .collect()
 }
 
-/// The level-points pass.
+/// The level-points pass, and the composite records of the texels it hands to the host.
 pub struct GpuLevelPoints {
     pipeline: wgpu::ComputePipeline,
+    records: wgpu::ComputePipeline,
     /// Per scene triangle: [`LEVEL_PLAIN`] where the shading pass shades it, `|` [`LEVEL_CURVED`]
     /// where its normals are interpolated.
     kinds: Vec<u32>,
@@ -186,7 +194,11 @@ pub struct GpuLevelPoints {
 impl GpuLevelPoints {
     /// Compile the pass for `scene`'s triangles.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
-        Ok(Self { pipeline: compute_pipeline(gpu, "level_points", "level_points")?, kinds: triangle_kinds(scene) })
+        Ok(Self {
+            pipeline: compute_pipeline(gpu, "level_points", "level_points")?,
+            records: compute_pipeline(gpu, "level_points", "level_records")?,
+            kinds: triangle_kinds(scene),
+        })
     }
 
     /// The triangles' kinds for a level, [`LEVEL_CONTINUES`] where `continues` says the tree goes
@@ -205,14 +217,14 @@ impl GpuLevelPoints {
 
     /// The pass over every texel of `page`, added to `encoder` in dispatches of at most
     /// [`Self::per_dispatch`] texels; `placed` per beam of the page: its first texel in the level's
-    /// radiance and its face's scene triangle; `kinds` the triangles' ([`Self::kinds`]). The
-    /// dispatches' lists, their counts to be read back.
+    /// radiance, its face's scene triangle and its index in the level (and 0); `kinds` the
+    /// triangles' ([`Self::kinds`]). The dispatches' lists, their counts to be read back.
     pub(super) fn encode(
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         page: &LevelPage<'_>,
-        (placed, kinds): (&[[u32; 2]], &wgpu::Buffer),
+        (placed, kinds): (&[[u32; 4]], &wgpu::Buffer),
     ) -> Vec<Appended> {
         let placed = storage(gpu, "placed beams", placed, wgpu::BufferUsages::empty());
         let (texels, count) = page.texels;
@@ -258,5 +270,67 @@ impl GpuLevelPoints {
                 out
             })
             .collect()
+    }
+
+    /// The composite records of the texels `kept` handed to the host, on an S mesh of fine faces
+    /// (`face_of` per scene triangle: its face, else [`NONE`](crate::interface::NONE)), from the
+    /// child beams of the faces each beam's texels hit (`children`), once the next level is built;
+    /// per dispatch, with the points of faces without child beams for the Whitted rays. CPU twin:
+    /// beam-cpu's `Tree::composite` on a fine face.
+    pub fn records(
+        &self,
+        gpu: &Gpu,
+        kept: &KeptLevel,
+        face_of: &wgpu::Buffer,
+        children: &NodeChildren,
+    ) -> Result<Vec<EyeRecords>, GpuError> {
+        if kept.host.is_empty() {
+            return Ok(Vec::new());
+        }
+        let none = wgpu::BufferUsages::empty();
+        let nodes: Vec<[u32; 2]> = kept.layout.firsts.iter().zip(&kept.layout.prims).map(|(&f, &p)| [f, p]).collect();
+        let nodes = storage(gpu, "level beams", &nodes, none);
+        let firsts = storage(gpu, "child firsts", &children.firsts, none);
+        let entries: Vec<[u32; 4]> = children.entries.iter().map(|&[f, r, t]| [f, r, t, 0]).collect();
+        let entries = storage(gpu, "child entries", &entries, none);
+        let mut encoders = Vec::new();
+        let mut outs = Vec::new();
+        for (host, count) in &kept.host {
+            let count = *count as usize;
+            let params = LevelParams { first: 0, count: count as u32, inverted: 0, beams: 0 };
+            let params = uniform(gpu, "level params", bytemuck::bytes_of(&params));
+            let records = output(gpu, "level records", (count * size_of::<CompositeRecord>()) as u64);
+            let inputs = output(gpu, "level points past the tree", (count * size_of::<ShadeInput>()) as u64);
+            let targets = output(gpu, "level targets past the tree", count as u64 * 4);
+            // Zeroed by wgpu.
+            let counts = output(gpu, "level record counts", size_of::<RecordCounts>() as u64);
+            let bound = [
+                buffer_entry(0, &params),
+                buffer_entry(8, &inputs),
+                buffer_entry(9, &targets),
+                buffer_entry(11, host),
+                buffer_entry(12, face_of),
+                buffer_entry(13, &nodes),
+                buffer_entry(14, &firsts),
+                buffer_entry(15, &entries),
+                buffer_entry(16, &records),
+                buffer_entry(17, &counts),
+            ];
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            encode_pass(gpu, &mut encoder, &self.records, count as u32, &bound);
+            encoders.push(encoder.finish());
+            outs.push((records, inputs, targets, counts));
+        }
+        let sources = outs.iter().map(|(.., counts)| (counts, size_of::<RecordCounts>() as u64));
+        let counts: Vec<RecordCounts> = read_all(gpu, encoders, sources)?;
+        Ok(outs
+            .into_iter()
+            .zip(counts)
+            .map(|((records, inputs, targets, _), c)| EyeRecords {
+                records,
+                count: c.records,
+                rest: KeptPoints { inputs, targets, count: c.rest },
+            })
+            .collect())
     }
 }

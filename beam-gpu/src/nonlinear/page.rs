@@ -46,8 +46,8 @@ impl GpuBeams<'_> {
     /// can (else by draws). `unpack` reads, where the readback is mapped, the regions' texels (beam
     /// `i`'s from `firsts[i]` on, row by row, [`region_texels`]; `firsts` ends with their total;
     /// each texel as [`Self::unpack`] reads it), and per beam the triangles kept and the texels
-    /// tested. With `keep` (per beam: its first texel in the level's radiance and its face's scene
-    /// triangle; whether to read every texel back all the same; the triangles' kinds), the
+    /// tested. With `keep` (per beam: its first texel in the level's radiance, its face's scene
+    /// triangle and its index in the level; whether to read every texel back all the same; the triangles' kinds), the
     /// level-points pass makes the page's points ([`super::level`]), returned with their counts,
     /// and `unpack` is handed the texels only if asked for (else none).
     #[allow(clippy::too_many_arguments)]
@@ -58,7 +58,7 @@ impl GpuBeams<'_> {
         ranges: &[(u32, u32)],
         firsts: &[u32],
         rows: u32,
-        keep: Option<(&[[u32; 2]], bool, &wgpu::Buffer)>,
+        keep: Option<(&[[u32; 4]], bool, &wgpu::Buffer)>,
         unpack: impl FnOnce(&[[u32; 2]], &[Counters]) -> T,
     ) -> Result<(T, Option<KeptPage>), GpuError> {
         let device = &self.gpu.device;

@@ -4,6 +4,8 @@
 
 use super::GpuBeams;
 use super::composite::{GpuComposite, KeptHere};
+use super::eye::fine_faces;
+use super::level::KeptLevel;
 use super::whitted::{GpuWhitted, RestPoints};
 use crate::GpuError;
 use crate::buffers::{checked, output, read_all, storage};
@@ -150,12 +152,36 @@ impl PointShading for GpuBeams<'_> {
             }
             _ => Vec::new(),
         };
+        // The records of the texels the levels handed to the host, where the GPU composites them.
+        let made;
+        let face_of = match &eye_hits {
+            Some(k) => &k.face_of,
+            None => {
+                made = fine_faces(self.gpu, scene, smesh);
+                &made
+            }
+        };
+        let level_records = checked(self.gpu, || {
+            let of = |l: &KeptLevel| {
+                let level = levels.get(l.level).ok_or(GpuError::Internal("a kept level past the tree"))?;
+                if l.host.is_empty() {
+                    return Ok(Vec::new());
+                }
+                if level.node_children.is_empty() {
+                    return Err(GpuError::Internal("texels handed back without their beams' children"));
+                }
+                self.level.records(self.gpu, l, face_of, &level.node_children)
+            };
+            kept_levels.iter().map(of).collect::<Result<Vec<_>, _>>()
+        })?;
+        let composited: u64 = level_records.iter().flatten().map(|r| u64::from(r.count + r.rest.count)).sum();
+        self.add_times(|t| t.level_records += composited);
         // Per level of the flow (the eye's first), the points kept on the GPU.
         let mut here = vec![KeptHere::default(); levels.len()];
         here[0] = KeptHere { direct: &kept, rest: &[], records: &records };
-        for l in &kept_levels {
+        for (l, records) in kept_levels.iter().zip(&level_records) {
             let at = here.get_mut(l.level).ok_or(GpuError::Internal("a kept level past the tree"))?;
-            *at = KeptHere { direct: &l.direct, rest: &l.other, records: &[] };
+            *at = KeptHere { direct: &l.direct, rest: &l.other, records };
         }
         // Mirror and glass points past the tree by Whitted rays in waves, their host time apart.
         // The scene's shading and caustics, uploaded once for the composite and every wave.

@@ -20,7 +20,7 @@ pub use beam::{
     Beam, BumpedBeam, Degree, LOOKUP, MIN_RISE, TEXEL_EPS, TexelBeam, child_beams, self_hit_at, self_hit_distance,
 };
 pub use cull::{ConeCull, SelfHitFloor, cone_blocks, cone_candidates};
-pub use radiance::{Composite, LevelRadiance, TexelRadiance, composite, sample_region};
+pub use radiance::{Composite, LevelRadiance, NodeChildren, TexelRadiance, composite, sample_region};
 pub use renderer::{
     BeamRasterizer, BeamRenderer, ChildLookups, DeviceWaits, EyeFaces, EyeView, FramePixels, KeepLevel, KeptTotals,
     LevelLayout, LookupJob, PointShading, eye_by_rays,

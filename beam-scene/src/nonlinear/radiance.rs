@@ -48,6 +48,29 @@ pub struct LevelRadiance {
     /// Per S-mesh face: its reflection and refraction beams in the level below, [`u32::MAX`] for
     /// none (the eye's view; for the pixels a backend kept).
     pub children: Vec<[u32; 2]>,
+    /// Per beam of a tree level whose handed-back texels the backend composites itself
+    /// ([`super::KeptTotals::records`]; they are then not in `texels`): the child beams of the
+    /// faces they hit. Empty otherwise.
+    pub node_children: NodeChildren,
+}
+
+/// Per beam of a tree level, the child beams of the S-mesh faces its texels hit (the host's
+/// `Tree::composite` on a fine face): what a backend needs to composite those texels itself.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct NodeChildren {
+    /// Per beam, its first entry; then the number of entries.
+    pub firsts: Vec<u32>,
+    /// Per beam, ascending by face: the face, its reflection beam and its refraction beam in the
+    /// level below ([`u32::MAX`] for none).
+    pub entries: Vec<[u32; 3]>,
+}
+
+impl NodeChildren {
+    /// True where there are no beams.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.firsts.is_empty()
+    }
 }
 
 /// Bilinear lookup at barycentric `w` of a `size × size` region's radiance (row-major), over its

@@ -86,6 +86,9 @@ pub struct KeptTotals {
     pub points: u64,
     /// Of them, points on curved (smooth-normal) triangles.
     pub curved: u64,
+    /// Whether the backend composites the texels it handed back itself, given the level's
+    /// [`super::LevelRadiance::node_children`] (on an S mesh of fine faces, from the hits it holds).
+    pub records: bool,
 }
 
 /// Where [`PointShading::shade_tree`] left a frame's pixels.

@@ -155,7 +155,8 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
 }
 
 /// Nonlinear images (64², two tree levels) by the GPU renderer keeping on the GPU what needs no host
-/// (the levels' points, the eye's mirror and glass hits on fine faces and their composite records)
+/// (the levels' points, the eye's mirror and glass hits on fine faces and their composite records,
+/// and where the faces are fine those of the texels the levels hand back)
 /// against the same renderer reading everything back (the host makes them), on four
 /// built-ins (one under a coarse S mesh, whose lookups read every hit of a kept level): every level
 /// is kept, and so are pixels or texels (none read back), at most 0.1% of the pixels differ by
@@ -205,6 +206,11 @@ pub fn gpu_kept_level_images_equal_read_back(_: Backend, _: &Config) -> Result<O
         }
         if coarse != (stats.coarse_smesh_faces > 0) {
             return Err(format!("{name}: {} coarse S-mesh faces", stats.coarse_smesh_faces));
+        }
+        // Level 1's texels on which the tree goes on: composited on the GPU where the faces are fine.
+        let composited = kept.times().level_records;
+        if (!coarse && stats.beams_per_level.len() > 1) != (composited > 0) {
+            return Err(format!("{name}: {composited} texels handed back composited on the GPU"));
         }
         let PixelDifference { differ, sum, n } = PixelDifference::of(&image, &want);
         if differ * 1000 > n || image.pixels.iter().all(|p| *p == Vec3::ZERO) {
