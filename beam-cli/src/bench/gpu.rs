@@ -110,12 +110,16 @@ pub fn run(
         let cpu_before = our_threads_cpu_seconds();
         let start = Instant::now();
         let mut stats = None;
+        // Per timed frame, the CPU time of its stages.
+        let mut frame_cpu = Vec::new();
         for _ in 0..frames.max(1) {
             if moving {
                 scene.camera.position += step;
                 scene.camera.target += step;
             }
-            stats = Some(frame(&scene)?.1);
+            let made = frame(&scene)?.1;
+            frame_cpu.push(made.stages.iter().map(|s| s.cpu_seconds).sum::<f64>());
+            stats = Some(made);
             // Where a display would show it.
             drop(renderer.take_frame());
         }
@@ -155,6 +159,10 @@ pub fn run(
                 stats.stages.iter().map(|s| format!("{} {:.1}", s.name, 1e3 * s.cpu_seconds)).collect();
             let total: f64 = stats.stages.iter().map(|s| s.cpu_seconds).sum();
             println!("{:<16} host CPU ms by stage ({:.1} in all): {}", "", 1e3 * total, parts.join(", "));
+            let each: Vec<String> = frame_cpu.iter().map(|s| format!("{:.1}", 1e3 * s)).collect();
+            frame_cpu.sort_by(f64::total_cmp);
+            let median = frame_cpu[frame_cpu.len() / 2];
+            println!("{:<16} host CPU ms per timed frame: {} (median {:.1})", "", each.join(", "), 1e3 * median);
         }
         println!(
             "{:<16} mirror and glass pixels of the eye and tree texels kept on the GPU: {} (texels shaded: {}); \

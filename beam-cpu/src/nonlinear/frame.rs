@@ -7,6 +7,7 @@ use super::composite::composite_levels;
 use super::cpu_beams::{CpuBeams, shade_points};
 use super::lookup::Lookups;
 use super::settings::{NonlinearOptions, NonlinearStats};
+use super::source::Fit;
 use super::stages::StageClock;
 use super::trace::{BeamMemo, Built, Request, Tree};
 use crate::RenderError;
@@ -160,7 +161,7 @@ pub fn render_nonlinear_frame(
     }
     let roots: Vec<Request> = (0..seen_by.len())
         .filter(|&f| seen_by[f][1] > 0)
-        .map(|face| Request { parent: None, face, samples: Vec::new(), pixels: seen_by[face][0] as f32 })
+        .map(|face| Request { parent: None, face, fit: Fit::default(), pixels: seen_by[face][0] as f32 })
         .collect();
     clock.lap("eye view: faces seen");
     let Built { roots: children, levels, kept, records } = tree.build(renderer, roots, &mut clock)?;

@@ -14,10 +14,10 @@ pub(super) enum Source<'a> {
 impl Source<'_> {
     /// Unit directions of the light arriving at the vertices of `f`: from the eye; from a parent
     /// beam, the affine fit over `f`'s barycentric coordinates of the directions of the parent's
-    /// texel rays that hit `f` (`samples`: barycentric point, unit direction), exact for the
+    /// texel rays that hit `f` (`fit`'s samples: barycentric point, unit direction), exact for the
     /// directions an S1 parent carries across a flat face; when the samples do not span the face,
     /// the parent's rays through the vertices (projection, extrapolated past the parent's base).
-    pub(super) fn directions_to(self, f: &SFace, samples: &[(Vec3, Vec3)]) -> Option<[Vec3; 3]> {
+    pub(super) fn directions_to(self, f: &SFace, fit: &Fit) -> Option<[Vec3; 3]> {
         let beam = match self {
             Self::Eye(eye) => {
                 let [a, b, c] = f.v.map(|v| (v - eye).try_normalize());
@@ -25,10 +25,9 @@ impl Source<'_> {
             }
             Self::Beam(beam) => beam,
         };
-        let gram: Mat3 = samples.iter().map(|(w, _)| Mat3::from_cols(*w * w.x, *w * w.y, *w * w.z)).sum();
-        if samples.len() >= 3 && gram.determinant() > 1e-6 * samples.len().pow(3) as f32 {
+        let Fit { gram, moment, samples } = *fit;
+        if samples >= 3 && gram.determinant() > 1e-6 * samples.pow(3) as f32 {
             // Least squares for d(w) = Σ wᵢ Dᵢ: (Σ w wᵀ) [D₀ D₁ D₂]ᵀ = Σ w dᵀ.
-            let moment: Mat3 = samples.iter().map(|(w, d)| Mat3::from_cols(*d * w.x, *d * w.y, *d * w.z)).sum();
             let fit = moment * gram.inverse();
             let [a, b, c] = [fit.x_axis, fit.y_axis, fit.z_axis].map(Vec3::try_normalize);
             if let (Some(a), Some(b), Some(c)) = (a, b, c) {
@@ -37,5 +36,29 @@ impl Source<'_> {
         }
         let [a, b, c] = f.v.map(|v| beam.direction_through(v));
         Some([a?, b?, c?])
+    }
+}
+
+/// The sums of [`Source::directions_to`]'s least-squares fit over the samples (barycentric point
+/// `w`, unit direction `d`) of the rays arriving at a face, added in the samples' order: Σ w wᵀ,
+/// Σ d wᵀ and their number. A face's samples are summed as they come, never kept.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Fit {
+    gram: Mat3,
+    moment: Mat3,
+    samples: usize,
+}
+
+impl Fit {
+    /// Add the sample at barycentric point `w` with unit direction `d`.
+    pub(super) fn add(&mut self, w: Vec3, d: Vec3) {
+        self.gram += Mat3::from_cols(w * w.x, w * w.y, w * w.z);
+        self.moment += Mat3::from_cols(d * w.x, d * w.y, d * w.z);
+        self.samples += 1;
+    }
+
+    /// How many samples were added.
+    pub(super) fn samples(&self) -> usize {
+        self.samples
     }
 }

@@ -13,7 +13,7 @@
 
 use super::lookup::{FaceAnswer, Lookups, ToComposite, reproject};
 use super::settings::NonlinearOptions;
-use super::source::Source;
+use super::source::{Fit, Source};
 use super::stages::StageClock;
 use crate::render::IrradianceMap;
 use beam_math::glam::Vec3;
@@ -77,13 +77,14 @@ pub(super) struct Built {
     pub(super) records: Vec<bool>,
 }
 
-/// The light arriving at one S-mesh face, from which its beams are built: samples (barycentric
-/// point, unit direction) of the pixels' or the parent texels' rays on it, standing for `pixels`.
+/// The light arriving at one S-mesh face, from which its beams are built: the fit over samples
+/// (barycentric point, unit direction) of the pixels' or the parent texels' rays on it, standing
+/// for `pixels`.
 pub(super) struct Request {
     /// The parent beam (index into the previous level), or the eye.
     pub(super) parent: Option<usize>,
     pub(super) face: usize,
-    pub(super) samples: Vec<(Vec3, Vec3)>,
+    pub(super) fit: Fit,
     pub(super) pixels: f32,
 }
 
@@ -126,12 +127,12 @@ impl Tree<'_> {
         samples: impl Iterator<Item = (usize, Vec3, Vec3)>,
         pixels_per_sample: f32,
     ) -> Vec<Request> {
-        let mut on: FaceMap<Vec<(Vec3, Vec3)>> = FaceMap::default();
+        let mut on: FaceMap<Fit> = FaceMap::default();
         for (fi, w, d) in samples {
-            on.entry(fi).or_default().push((w, d));
+            on.entry(fi).or_default().add(w, d);
         }
         on.into_iter()
-            .map(|(face, samples)| Request { parent, face, pixels: samples.len() as f32 * pixels_per_sample, samples })
+            .map(|(face, fit)| Request { parent, face, pixels: fit.samples() as f32 * pixels_per_sample, fit })
             .collect()
     }
 
@@ -168,7 +169,7 @@ impl Tree<'_> {
                     if !self.smesh.spawns_beams(r.face) {
                         return None;
                     }
-                    source.directions_to(&self.smesh.faces[r.face], &r.samples)
+                    source.directions_to(&self.smesh.faces[r.face], &r.fit)
                 })
                 .collect();
             // Their beams, those of the last frame's tree found again; a face whose beams are
