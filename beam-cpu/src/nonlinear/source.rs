@@ -42,11 +42,18 @@ impl Source<'_> {
 /// The sums of [`Source::directions_to`]'s least-squares fit over the samples (barycentric point
 /// `w`, unit direction `d`) of the rays arriving at a face, added in the samples' order: Σ w wᵀ,
 /// Σ d wᵀ and their number. A face's samples are summed as they come, never kept.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Fit {
     gram: Mat3,
     moment: Mat3,
     samples: usize,
+}
+
+impl Default for Fit {
+    /// No samples: zero sums (not glam's default `Mat3`, the identity).
+    fn default() -> Self {
+        Self { gram: Mat3::ZERO, moment: Mat3::ZERO, samples: 0 }
+    }
 }
 
 impl Fit {
@@ -60,5 +67,31 @@ impl Fit {
     /// How many samples were added.
     pub(super) fn samples(&self) -> usize {
         self.samples
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fit starts from zero sums, and its sums are those of its samples, bit for bit (summed from
+    /// zero in their order, as `Iterator::sum` does).
+    #[test]
+    fn fit_sums_its_samples() {
+        let samples: Vec<(Vec3, Vec3)> = (0..40)
+            .map(|i| {
+                let (u, v) = ((i % 7) as f32 / 7.0, (i / 7) as f32 / 7.0 * (1.0 - (i % 7) as f32 / 7.0));
+                let w = Vec3::new(1.0 - u - v, u, v);
+                (w, (w.x * Vec3::Z + w.y * Vec3::new(0.3, 0.0, 1.0) + w.z * Vec3::new(0.0, 0.3, 1.0)).normalize())
+            })
+            .collect();
+        let mut fit = Fit::default();
+        assert_eq!((fit.gram, fit.moment, fit.samples()), (Mat3::ZERO, Mat3::ZERO, 0));
+        for &(w, d) in &samples {
+            fit.add(w, d);
+        }
+        let gram: Mat3 = samples.iter().map(|(w, _)| Mat3::from_cols(*w * w.x, *w * w.y, *w * w.z)).sum();
+        let moment: Mat3 = samples.iter().map(|(w, d)| Mat3::from_cols(*d * w.x, *d * w.y, *d * w.z)).sum();
+        assert_eq!((fit.gram, fit.moment, fit.samples()), (gram, moment, samples.len()));
     }
 }
