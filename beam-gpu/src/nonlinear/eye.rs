@@ -297,35 +297,62 @@ impl GpuEye {
         for kept in specular {
             let count = kept.count as usize;
             let params = uniform(gpu, "eye params", bytemuck::bytes_of(&Self::params(camera, crop, (0, count))));
-            let records = output(gpu, "eye records", (count * size_of::<CompositeRecord>()) as u64);
-            let inputs = output(gpu, "eye points past the tree", (count * size_of::<ShadeInput>()) as u64);
-            let targets = output(gpu, "eye targets past the tree", count as u64 * 4);
-            // Zeroed by wgpu.
-            let counts = output(gpu, "eye record counts", size_of::<RecordCounts>() as u64);
+            let out = RecordOutputs::new(gpu, count);
             let entries = [
                 buffer_entry(2, &params),
                 buffer_entry(8, face_of),
                 buffer_entry(10, &kept.hits),
                 buffer_entry(11, children),
-                buffer_entry(12, &records),
-                buffer_entry(13, &inputs),
-                buffer_entry(14, &targets),
-                buffer_entry(15, &counts),
+                buffer_entry(12, &out.records),
+                buffer_entry(13, &out.inputs),
+                buffer_entry(14, &out.targets),
+                buffer_entry(15, &out.counts),
             ];
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             encode_pass(gpu, &mut encoder, &self.records, count as u32, &entries);
             encoders.push(encoder.finish());
-            outs.push((records, inputs, targets, counts));
+            outs.push(out);
         }
-        let sources = outs.iter().map(|(.., counts)| (counts, size_of::<RecordCounts>() as u64));
+        RecordOutputs::read(gpu, encoders, outs)
+    }
+}
+
+/// The outputs of one dispatch that makes the composite records of `count` points (`eye_records`,
+/// `level_records`): the records, the points for the Whitted rays and their targets, the counts.
+pub(super) struct RecordOutputs {
+    pub records: wgpu::Buffer,
+    pub inputs: wgpu::Buffer,
+    pub targets: wgpu::Buffer,
+    /// [`RecordCounts`], zeroed by wgpu.
+    pub counts: wgpu::Buffer,
+}
+
+impl RecordOutputs {
+    /// Room for `count` points' records or Whitted points.
+    pub(super) fn new(gpu: &Gpu, count: usize) -> Self {
+        Self {
+            records: output(gpu, "records", (count * size_of::<CompositeRecord>()) as u64),
+            inputs: output(gpu, "points past the tree", (count * size_of::<ShadeInput>()) as u64),
+            targets: output(gpu, "targets past the tree", count as u64 * 4),
+            counts: output(gpu, "record counts", size_of::<RecordCounts>() as u64),
+        }
+    }
+
+    /// Submit `encoders` (which fill `outs`) and read their counts back: the records made.
+    pub(super) fn read(
+        gpu: &Gpu,
+        encoders: Vec<wgpu::CommandBuffer>,
+        outs: Vec<Self>,
+    ) -> Result<Vec<EyeRecords>, GpuError> {
+        let sources = outs.iter().map(|o| (&o.counts, size_of::<RecordCounts>() as u64));
         let counts: Vec<RecordCounts> = read_all(gpu, encoders, sources)?;
         Ok(outs
             .into_iter()
             .zip(counts)
-            .map(|((records, inputs, targets, _), c)| EyeRecords {
-                records,
+            .map(|(o, c)| EyeRecords {
+                records: o.records,
                 count: c.records,
-                rest: KeptPoints { inputs, targets, count: c.rest },
+                rest: KeptPoints { inputs: o.inputs, targets: o.targets, count: c.rest },
             })
             .collect())
     }

@@ -10,8 +10,8 @@
 //! the tree) by the Whitted rays. CPU twin: the host's texel hits (beam-cpu's `Tree::build`)
 //! sorted as `sort.rs` sorts a level's texels.
 
-use super::composite::{CompositeRecord, GpuComposite};
-use super::eye::{EyeRecords, KeptPoints, RecordCounts};
+use super::composite::GpuComposite;
+use super::eye::{EyeRecords, KeptPoints, RecordOutputs};
 use super::whitted::GpuWhitted;
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, output, read_all, storage, uniform};
 use crate::interface::{LEVEL_CONTINUES, LEVEL_CURVED, LEVEL_PLAIN};
@@ -296,41 +296,26 @@ impl GpuLevelPoints {
         let mut encoders = Vec::new();
         let mut outs = Vec::new();
         for (host, count) in &kept.host {
-            let count = *count as usize;
-            let params = LevelParams { first: 0, count: count as u32, inverted: 0, beams: 0 };
+            let params = LevelParams { first: 0, count: *count, inverted: 0, beams: 0 };
             let params = uniform(gpu, "level params", bytemuck::bytes_of(&params));
-            let records = output(gpu, "level records", (count * size_of::<CompositeRecord>()) as u64);
-            let inputs = output(gpu, "level points past the tree", (count * size_of::<ShadeInput>()) as u64);
-            let targets = output(gpu, "level targets past the tree", count as u64 * 4);
-            // Zeroed by wgpu.
-            let counts = output(gpu, "level record counts", size_of::<RecordCounts>() as u64);
+            let out = RecordOutputs::new(gpu, *count as usize);
             let bound = [
                 buffer_entry(0, &params),
-                buffer_entry(8, &inputs),
-                buffer_entry(9, &targets),
+                buffer_entry(8, &out.inputs),
+                buffer_entry(9, &out.targets),
                 buffer_entry(11, host),
                 buffer_entry(12, face_of),
                 buffer_entry(13, &nodes),
                 buffer_entry(14, &firsts),
                 buffer_entry(15, &entries),
-                buffer_entry(16, &records),
-                buffer_entry(17, &counts),
+                buffer_entry(16, &out.records),
+                buffer_entry(17, &out.counts),
             ];
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            encode_pass(gpu, &mut encoder, &self.records, count as u32, &bound);
+            encode_pass(gpu, &mut encoder, &self.records, *count, &bound);
             encoders.push(encoder.finish());
-            outs.push((records, inputs, targets, counts));
+            outs.push(out);
         }
-        let sources = outs.iter().map(|(.., counts)| (counts, size_of::<RecordCounts>() as u64));
-        let counts: Vec<RecordCounts> = read_all(gpu, encoders, sources)?;
-        Ok(outs
-            .into_iter()
-            .zip(counts)
-            .map(|((records, inputs, targets, _), c)| EyeRecords {
-                records,
-                count: c.records,
-                rest: KeptPoints { inputs, targets, count: c.rest },
-            })
-            .collect())
+        RecordOutputs::read(gpu, encoders, outs)
     }
 }
