@@ -218,6 +218,7 @@ impl Tree<'_> {
                 layout: &layout,
                 options: &self.options.shading,
                 with_hits: self.smesh.coarse_faces() > 0,
+                faces: self.smesh.faces.len(),
                 continues: if level < self.options.bounces { &continues } else { &[] },
             };
             let (textures, kept) = renderer.render_level(self.scene, &jobs, &keep)?;

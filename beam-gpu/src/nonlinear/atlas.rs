@@ -16,7 +16,7 @@
 //! pixels read back.
 
 use super::beam::GpuBeam;
-use super::composite::GpuComposite;
+use super::composite::{GpuComposite, GpuFace};
 use super::cull::{GpuCull, PageCulls};
 use super::display::GpuFrame;
 use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
@@ -307,8 +307,8 @@ impl BeamRasterizer for GpuBeams<'_> {
         }
         let (textures, kept) = self.render(scene, jobs, Some(keep), true)?;
         let kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
-        // On an S mesh of fine faces, the texels handed back are composited on the GPU too.
-        let totals = KeptTotals { points: kept.points(), curved: kept.curved, records: !keep.with_hits };
+        let records = self.composites_handed_back(keep);
+        let totals = KeptTotals { points: kept.points(), curved: kept.curved, records };
         self.add_times(|t| t.levels_kept += 1);
         let mut levels = self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner);
         // A frame's first level: what an earlier frame left (one that failed) goes.
@@ -325,6 +325,12 @@ impl BeamRasterizer for GpuBeams<'_> {
 }
 
 impl GpuBeams<'_> {
+    /// Whether the composite makes the records of the texels a level kept as `keep` hands back:
+    /// on an S mesh of fine faces whose faces fit one binding (as the eye's records).
+    fn composites_handed_back(&self, keep: &KeepLevel<'_>) -> bool {
+        !keep.with_hits && keep.faces as u64 * size_of::<GpuFace>() as u64 <= max_binding(self.gpu)
+    }
+
     /// The textures of `jobs`; with `keep`, the points of the texels from which the tree does not go
     /// on kept on the GPU ([`super::GpuLevelPoints`]), the textures holding only the others' hits
     /// (every hit `keep.with_hits`); with `reuse`, beams of a frame's tree, each prepared once for
@@ -465,7 +471,7 @@ impl GpuBeams<'_> {
                         t.prepare_seconds += start.elapsed().as_secs_f64();
                     });
                 }
-                kept.add(appended, &counts, !with_hits);
+                kept.add(appended, &counts, keep.is_some_and(|k| self.composites_handed_back(k)));
             }
             let drawn = start.elapsed().as_secs_f64() - prepared - unpacking.get();
             for (i, tex) in unpacked {

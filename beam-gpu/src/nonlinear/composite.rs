@@ -125,10 +125,16 @@ impl GpuComposite {
     }
 
     /// True when every level's radiance fits one texture of the device (a level is a texture, not a
-    /// storage buffer, so the storage bindings do not bound it).
+    /// storage buffer, so the storage bindings do not bound it), and where the GPU makes a level's
+    /// records ([`LevelRadiance::node_children`]), the regions of the level below fit one binding.
     #[must_use]
     pub fn fits(gpu: &Gpu, levels: &[LevelRadiance]) -> bool {
-        levels.iter().all(|l| texels::fits(gpu, l.len))
+        // A level whose records the GPU makes binds every region of the level below.
+        let below = levels.iter().skip(1).map(|l| Some(l.regions.len())).chain([None]);
+        let records_fit = |(l, below): (&LevelRadiance, Option<usize>)| {
+            l.node_children.is_empty() || below.unwrap_or(0) as u64 * 8 <= max_binding(gpu)
+        };
+        levels.iter().all(|l| texels::fits(gpu, l.len)) && levels.iter().zip(below).all(records_fit)
     }
 
     /// Records of one dispatch: the records (64 bytes each), the S-mesh faces they reference (128

@@ -74,6 +74,8 @@ pub struct KeepLevel<'a> {
     pub options: &'a RenderOptions,
     /// Whether the textures must hold every hit all the same.
     pub with_hits: bool,
+    /// Faces of the S mesh (a backend that composites the texels it hands back indexes them).
+    pub faces: usize,
     /// Per scene triangle, whether the tree goes on from a texel that hits it (it has an S-mesh
     /// face, and the level is not the last): such texels are handed back. None past its end.
     pub continues: &'a [bool],

@@ -52,8 +52,14 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
         let triangles = scene.triangles.len();
         let specular: Vec<bool> = (0..triangles as u32).map(|p| !PointShader::shades(&scene, p)).collect();
         let continuing = [("none", vec![false; triangles]), ("specular", specular), ("all", vec![true; triangles])];
-        let keep =
-            |continues, with_hits| KeepLevel { level: 1, layout: &layout, options: &options, with_hits, continues };
+        let keep = |continues, with_hits| KeepLevel {
+            level: 1,
+            layout: &layout,
+            options: &options,
+            with_hits,
+            faces: 0,
+            continues,
+        };
         let fresh = || GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string());
         // (A renderer compiles every pipeline: one scene's is enough for this.)
         if name == "bumpy-mirror" {
