@@ -235,28 +235,14 @@ impl Tree<'_> {
                     // The hit texels in texel order, row by row: those the backend handed back with
                     // their points, else found here. Room for every texel of the region where the
                     // backend kept none, else only those from which the tree goes on.
-                    let (size, tb) = (tex.size as usize, beam.texel_beam());
-                    if !tex.points.is_empty() {
-                        let hits = tex.points.iter().map(|t| (t.texel as usize, t.prim, t.p, t.d)).collect();
-                        return Node {
-                            beam,
-                            face,
-                            pixels,
-                            tex,
-                            hits,
-                            located: Vec::new(),
-                            children: FaceMap::default(),
-                        };
-                    }
-                    let handed_back = |prim: u32| kept.is_none() || keep.continues.get(prim as usize) == Some(&true);
-                    let mut hits = Vec::with_capacity(if kept.is_none() { tex.texels() as usize } else { 0 });
-                    for (y, row) in tex.hits.chunks_exact(size.max(1)).enumerate() {
-                        for (x, hit) in row.iter().enumerate() {
-                            let Some(hit) = hit.filter(|h| handed_back(h.prim)) else { continue };
-                            let ray = tb.texel_ray(tex.barycentric(x as u32, y as u32));
-                            hits.push((y * size + x, hit.prim, ray.at(hit.t), ray.direction.normalize()));
-                        }
-                    }
+                    let hits = if tex.points.is_empty() {
+                        let room = if kept.is_none() { tex.texels() as usize } else { 0 };
+                        let handed_back =
+                            |prim: u32| kept.is_none() || keep.continues.get(prim as usize) == Some(&true);
+                        Self::texel_hits(&beam, &tex, handed_back, room)
+                    } else {
+                        tex.points.iter().map(|t| (t.texel as usize, t.prim, t.p, t.d)).collect()
+                    };
                     Node { beam, face, pixels, tex, hits, located: Vec::new(), children: FaceMap::default() }
                 })
                 .collect();
@@ -283,6 +269,26 @@ impl Tree<'_> {
             levels.push(nodes);
         }
         Ok(Built { roots: root_children, levels, kept: kept_totals, records })
+    }
+
+    /// The texels of `tex` (`beam`'s) that hit a triangle `handed_back` names, in texel order:
+    /// (texel, triangle, hit point, unit direction of its texel ray), with room for `room`.
+    fn texel_hits(
+        beam: &Beam,
+        tex: &BeamTexture,
+        handed_back: impl Fn(u32) -> bool,
+        room: usize,
+    ) -> Vec<(usize, u32, Vec3, Vec3)> {
+        let (size, tb) = (tex.size as usize, beam.texel_beam());
+        let mut hits = Vec::with_capacity(room);
+        for (y, row) in tex.hits.chunks_exact(size.max(1)).enumerate() {
+            for (x, hit) in row.iter().enumerate() {
+                let Some(hit) = hit.filter(|h| handed_back(h.prim)) else { continue };
+                let ray = tb.texel_ray(tex.barycentric(x as u32, y as u32));
+                hits.push((y * size + x, hit.prim, ray.at(hit.t), ray.direction.normalize()));
+            }
+        }
+        hits
     }
 
     /// The layout of a level of beams `(face, texels per side)` in its radiance, as

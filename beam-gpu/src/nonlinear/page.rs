@@ -47,9 +47,9 @@ impl GpuBeams<'_> {
     /// `i`'s from `firsts[i]` on, row by row, [`region_texels`]; `firsts` ends with their total;
     /// each texel as [`Self::unpack`] reads it), and per beam the triangles kept and the texels
     /// tested. With `keep` (per beam: its first texel in the level's radiance, its face's scene
-    /// triangle and its index in the level; whether to read every texel back all the same; the triangles' kinds), the
-    /// level-points pass makes the page's points ([`super::level`]), returned with their counts,
-    /// and `unpack` is handed the texels only if asked for (else none).
+    /// triangle and its index in the level; whether to read every texel back all the same; the
+    /// triangles' kinds), the level-points pass makes the page's points ([`super::level`]),
+    /// returned with their counts, and `unpack` is handed the texels only if asked for (else none).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn render_page<T>(
         &self,
