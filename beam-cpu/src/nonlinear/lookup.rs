@@ -66,16 +66,31 @@ pub(super) struct FaceAnswer {
 
 /// A backend's answers to the lookups of a list of points ([`Tree::lookups`]): per point, those of
 /// its composite's faces with child beams in the composite's order (its located face's first), as
-/// many as were made.
+/// many as were made: the located faces' answers, then the other faces' (for the points whose
+/// first lookup lay outside its beam's base), kept apart rather than copied into one list.
 #[derive(Default)]
 pub(super) struct Lookups {
+    located: Answers,
+    others: Answers,
+}
+
+impl Lookups {
+    /// The answers of point `k` in order (none where there are none: the host looks it up).
+    pub(super) fn of(&self, k: usize) -> impl Iterator<Item = &FaceAnswer> {
+        self.located.of(k).iter().chain(self.others.of(k))
+    }
+}
+
+/// One round of answers: per point, a span of `answers`.
+#[derive(Default)]
+struct Answers {
     spans: Vec<(u32, u32)>,
     answers: Vec<FaceAnswer>,
 }
 
-impl Lookups {
-    /// The answers of point `k` (empty where there are none: the host looks it up).
-    pub(super) fn of(&self, k: usize) -> &[FaceAnswer] {
+impl Answers {
+    /// The answers of point `k` (empty where there are none).
+    fn of(&self, k: usize) -> &[FaceAnswer] {
         self.spans.get(k).map_or(&[], |&(start, len)| &self.answers[start as usize..(start + len) as usize])
     }
 
@@ -206,23 +221,13 @@ impl Tree<'_> {
             });
             Asks::concat(pieces.collect())
         };
-        let answer = |asks: &Asks| -> Result<Option<Lookups>, BackendError> {
-            Ok(renderer.child_lookups(&beams, &asks.jobs)?.map(|answers| Lookups::answered(asks, &answers)))
+        let answer = |asks: &Asks| -> Result<Option<Answers>, BackendError> {
+            Ok(renderer.child_lookups(&beams, &asks.jobs)?.map(|answers| Answers::answered(asks, &answers)))
         };
-        let Some(first) = answer(&asks_of(false, &|_| true))? else { return Ok(Lookups::default()) };
-        let outside = |k: usize| first.of(k).first().is_some_and(|a| a.reflected.1 > 0.0);
-        let rest = answer(&asks_of(true, &outside))?.unwrap_or_default();
-        let mut out = Lookups {
-            spans: Vec::with_capacity(points.len()),
-            answers: Vec::with_capacity(first.answers.len() + rest.answers.len()),
-        };
-        for k in 0..points.len() {
-            let start = out.answers.len() as u32;
-            out.answers.extend_from_slice(first.of(k));
-            out.answers.extend_from_slice(rest.of(k));
-            out.spans.push((start, out.answers.len() as u32 - start));
-        }
-        Ok(out)
+        let Some(located) = answer(&asks_of(false, &|_| true))? else { return Ok(Lookups::default()) };
+        let outside = |k: usize| located.of(k).first().is_some_and(|a| a.reflected.1 > 0.0);
+        let others = answer(&asks_of(true, &outside))?.unwrap_or_default();
+        Ok(Lookups { located, others })
     }
 }
 

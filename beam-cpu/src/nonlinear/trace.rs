@@ -380,7 +380,12 @@ impl Tree<'_> {
     /// point's scattered ray within [`OUTSIDE_TEXELS`] of its base: the point is traced by rays.
     /// `looked_up`: the lookups a backend made ([`Tree::lookups`]), per face with child beams in
     /// the order tried here (the located face first); the faces past its end are looked up here.
-    pub(super) fn composite(&self, next: &[Node], to: &ToComposite<'_>, looked_up: &[FaceAnswer]) -> Option<Composite> {
+    pub(super) fn composite<'l>(
+        &self,
+        next: &[Node],
+        to: &ToComposite<'_>,
+        looked_up: impl Iterator<Item = &'l FaceAnswer>,
+    ) -> Option<Composite> {
         let (mut face, w) = to.located?;
         let mut sc = *to.children.get(&face)?;
         let (mut reflected_at, mut refracted_at) = (w, w);
@@ -396,7 +401,7 @@ impl Tree<'_> {
             let located = face;
             let others =
                 self.smesh.candidates(to.point.prim).iter().map(|&g| g as usize).filter(move |&g| g != located);
-            let (mut answers, mut refracted) = (looked_up.iter(), None);
+            let (mut answers, mut refracted) = (looked_up, None);
             for g in std::iter::once(located).chain(others) {
                 // No lookup lies less than 0 outside: once one lies inside, no other face wins.
                 if best <= 0.0 {

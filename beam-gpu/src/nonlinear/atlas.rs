@@ -351,15 +351,6 @@ impl GpuBeams<'_> {
         let culled = prepared(scene, jobs, memo.as_deref_mut());
         let reused = memo.map_or(0, |m| m.found() - found);
         self.add_times(|t| t.beams_reused += reused);
-        let mut gpu_beams: Vec<GpuBeam> = culled
-            .iter()
-            .zip(jobs)
-            .map(|(p, j)| {
-                let mut beam = p.beam;
-                beam.region[2] = j.size;
-                beam
-            })
-            .collect();
         // Four (beam, triangle) pairs per block, some of them culled on the GPU.
         let pairs_of = |i: usize| 4 * culled[i].blocks.len();
         // Pack power-of-two squares, largest first, in Z order: every square lands aligned.
@@ -411,22 +402,29 @@ impl GpuBeams<'_> {
             if members.is_empty() {
                 continue;
             }
-            let mut beams = Vec::with_capacity(members.len());
+            // The page's beams on their regions, written in place.
+            let mut beams = Staged::<GpuBeam>::new(self.gpu, "beams", members.len(), wgpu::BufferUsages::empty());
             let mut ranges = Vec::with_capacity(members.len());
             let mut firsts = Vec::with_capacity(members.len() + 1);
             let mut culls = PageCulls::default();
             firsts.push(0u32);
             let mut pair_count = 0u32;
+            let mut regions = Vec::with_capacity(members.len());
             for (k, &i) in members.iter().enumerate() {
                 let q = placed[i].as_ref().ok_or(GpuError::Internal("unplaced beam"))?;
-                gpu_beams[i].region[..2].copy_from_slice(&[q.x, q.y]);
-                beams.push(gpu_beams[i]);
+                regions.push([q.x, q.y, jobs[i].size]);
                 culls.push(&culled[i].cull, jobs[i].exclude);
                 // The page's pairs fit one binding, so their count fits 32 bits; so do its texels.
                 ranges.push((pair_count, pair_count + pairs_of(i) as u32));
                 pair_count += pairs_of(i) as u32;
                 firsts.push(firsts[k] + region_texels(jobs[i].size) as u32);
             }
+            beams.slots().write_iter(members.iter().zip(&regions).map(|(&i, region)| {
+                let mut beam = culled[i].beam;
+                beam.region[..3].copy_from_slice(region);
+                beam
+            }));
+            let beams = (beams.finish(self.gpu), members.len());
             // The (beam on the page, block) pairs, written in place, a beam's by a thread.
             let mut blocks =
                 Staged::<[u32; 2]>::new(self.gpu, "blocks", pair_count as usize / 4, wgpu::BufferUsages::empty());
@@ -454,7 +452,7 @@ impl GpuBeams<'_> {
             };
             let keep_page = keep.zip(kinds.as_ref()).map(|(k, kinds)| (&placed[..], k.with_hits, kinds));
             let (unpacked, appended) =
-                checked(self.gpu, || self.render_page(&beams, pairs, &ranges, &firsts, page_rows, keep_page, unpack))?;
+                checked(self.gpu, || self.render_page(beams, pairs, &ranges, &firsts, page_rows, keep_page, unpack))?;
             let mut unpacked = unpacked?;
             if let (Some(kept), Some((appended, counts))) = (kept.as_mut(), appended) {
                 if !with_hits {

@@ -4,7 +4,6 @@
 //! read back as the beams' hit textures. `atlas.rs` packs the beams onto pages.
 
 use super::GpuBeams;
-use super::beam::GpuBeam;
 use super::cull::PageCulls;
 use super::level::{Appended, HostTexel, LevelCounts, LevelPage};
 use crate::GpuError;
@@ -40,20 +39,21 @@ pub(super) type Counters = [u32; 2];
 pub(super) type KeptPage = (Vec<Appended>, Vec<LevelCounts>);
 
 impl GpuBeams<'_> {
-    /// Render one page of `rows` rows: `beams` with their (beam on the page, block) `blocks`,
-    /// made (beam, triangle) pairs by the cull pass with `culls` (four per block, those of beam `i`
-    /// at `ranges[i]`), the nearest hits by compute where this renderer
-    /// can (else by draws). `unpack` reads, where the readback is mapped, the regions' texels (beam
-    /// `i`'s from `firsts[i]` on, row by row, [`region_texels`]; `firsts` ends with their total;
-    /// each texel as [`Self::unpack`] reads it), and per beam the triangles kept and the texels
-    /// tested. With `keep` (per beam: its first texel in the level's radiance, its face's scene
-    /// triangle and its index in the level; whether to read every texel back all the same; the
-    /// triangles' kinds), the level-points pass makes the page's points ([`super::level`]),
-    /// returned with their counts, and `unpack` is handed the texels only if asked for (else none).
+    /// Render one page of `rows` rows: `beams` (a buffer of [`super::GpuBeam`]s and their count)
+    /// with their (beam on the page, block) `blocks`, made (beam, triangle) pairs by the cull pass
+    /// with `culls` (four per block, those of beam `i` at `ranges[i]`), the nearest hits by compute
+    /// where this renderer can (else by draws). `unpack` reads, where the readback is mapped, the
+    /// regions' texels (beam `i`'s from `firsts[i]` on, row by row, [`region_texels`]; `firsts`
+    /// ends with their total; each texel as [`Self::unpack`] reads it), and per beam the triangles
+    /// kept and the texels tested. With `keep` (per beam: its first texel in the level's radiance,
+    /// its face's scene triangle and its index in the level; whether to read every texel back all
+    /// the same; the triangles' kinds), the level-points pass makes the page's points
+    /// ([`super::level`]), returned with their counts, and `unpack` is handed the texels only if
+    /// asked for (else none).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn render_page<T>(
         &self,
-        beams: &[GpuBeam],
+        (beam_buffer, beam_count): (wgpu::Buffer, usize),
         (blocks, culls, pair_count): (wgpu::Buffer, &PageCulls, usize),
         ranges: &[(u32, u32)],
         firsts: &[u32],
@@ -65,9 +65,8 @@ impl GpuBeams<'_> {
         let params =
             AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pair_count as u32 };
         let uniform = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
-        let beam_buffer = storage(self.gpu, "beams", beams, wgpu::BufferUsages::empty());
         let bounds = output(self.gpu, "bounding triangles", (pair_count * 16) as u64);
-        let counters = storage(self.gpu, "counters", &vec![[0u32; 2]; beams.len()], wgpu::BufferUsages::COPY_SRC);
+        let counters = storage(self.gpu, "counters", &vec![[0u32; 2]; beam_count], wgpu::BufferUsages::COPY_SRC);
         let texel_count = firsts.last().copied().unwrap_or(0);
         let texel_bytes = u64::from(texel_count) * 8;
         let dense = output(self.gpu, "region texels", texel_bytes);
@@ -124,7 +123,7 @@ impl GpuBeams<'_> {
         // The level's points, where it is kept, made from the texels where they lie.
         let appended = keep.map(|(placed, _, kinds)| {
             let page = LevelPage {
-                beams: (&beam_buffer, beams.len()),
+                beams: (&beam_buffer, beam_count),
                 firsts: &first_texels,
                 texels: (&dense, texel_count),
                 inverted: self.by_compute(),
@@ -132,7 +131,7 @@ impl GpuBeams<'_> {
             self.level.encode(self.gpu, &mut encoder, &page, (placed, kinds))
         });
         let texel_bytes = if keep.is_some_and(|(_, with_hits, _)| !with_hits) { 0 } else { texel_bytes };
-        let count_bytes = beams.len() as u64 * 8;
+        let count_bytes = beam_count as u64 * 8;
         let level_bytes = appended.as_ref().map_or(0, |a| a.len() * size_of::<LevelCounts>()) as u64;
         let readback =
             readback(self.gpu, texel_bytes + count_bytes + level_bytes + timer.as_ref().map_or(0, PassTimer::bytes));
@@ -304,6 +303,14 @@ impl GpuBeams<'_> {
         textures: &mut [(usize, BeamTexture)],
         host: &[HostTexel],
     ) -> Result<(), GpuError> {
+        // Counted first: each texture's points grow to their size once.
+        let mut counts = vec![0usize; textures.len()];
+        for h in host {
+            *counts.get_mut(h.beam as usize).ok_or(GpuError::Internal("a texel for the host past the page"))? += 1;
+        }
+        for ((_, tex), n) in textures.iter_mut().zip(counts) {
+            tex.points.reserve_exact(n);
+        }
         for h in host {
             let (_, tex) =
                 textures.get_mut(h.beam as usize).ok_or(GpuError::Internal("a texel for the host past the page"))?;
