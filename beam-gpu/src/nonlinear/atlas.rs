@@ -16,7 +16,7 @@
 //! pixels read back.
 
 use super::beam::GpuBeam;
-use super::composite::{GpuComposite, GpuFace};
+use super::composite::GpuComposite;
 use super::cull::{GpuCull, PageCulls};
 use super::display::GpuFrame;
 use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
@@ -328,7 +328,7 @@ impl GpuBeams<'_> {
     /// Whether the composite makes the records of the texels a level kept as `keep` hands back:
     /// on an S mesh of fine faces whose faces fit one binding (as the eye's records).
     fn composites_handed_back(&self, keep: &KeepLevel<'_>) -> bool {
-        !keep.with_hits && keep.faces as u64 * size_of::<GpuFace>() as u64 <= max_binding(self.gpu)
+        !keep.with_hits && GpuComposite::faces_fit(self.gpu, keep.faces)
     }
 
     /// The textures of `jobs`; with `keep`, the points of the texels from which the tree does not go
@@ -394,6 +394,7 @@ impl GpuBeams<'_> {
         let mut kept = keep.map(|k| KeptLevel::new(k.level, k.layout));
         let kinds = keep.map(|k| self.level.kinds(self.gpu, k.continues));
         let by_compute = self.by_compute();
+        let composited_here = keep.is_some_and(|k| self.composites_handed_back(k));
         self.add_times(|t| t.prepare_seconds += start.elapsed().as_secs_f64());
         for (p, &page_rows) in rows.iter().enumerate() {
             let start = Instant::now();
@@ -469,7 +470,7 @@ impl GpuBeams<'_> {
                         t.prepare_seconds += start.elapsed().as_secs_f64();
                     });
                 }
-                kept.add(appended, &counts, keep.is_some_and(|k| self.composites_handed_back(k)));
+                kept.add(appended, &counts, composited_here);
             }
             let drawn = start.elapsed().as_secs_f64() - prepared - unpacking.get();
             for (i, tex) in unpacked {

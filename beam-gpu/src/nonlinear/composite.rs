@@ -129,12 +129,16 @@ impl GpuComposite {
     /// records ([`LevelRadiance::node_children`]), the regions of the level below fit one binding.
     #[must_use]
     pub fn fits(gpu: &Gpu, levels: &[LevelRadiance]) -> bool {
-        // A level whose records the GPU makes binds every region of the level below.
-        let below = levels.iter().skip(1).map(|l| Some(l.regions.len())).chain([None]);
-        let records_fit = |(l, below): (&LevelRadiance, Option<usize>)| {
-            l.node_children.is_empty() || below.unwrap_or(0) as u64 * 8 <= max_binding(gpu)
-        };
+        let below = levels.iter().skip(1).map(|l| l.regions.len()).chain([0]);
+        let records_fit =
+            |(l, below): (&LevelRadiance, usize)| l.node_children.is_empty() || below as u64 * 8 <= max_binding(gpu);
         levels.iter().all(|l| texels::fits(gpu, l.len)) && levels.iter().zip(below).all(records_fit)
+    }
+
+    /// True when `faces` S-mesh faces fit one storage binding, as the composite of records made on
+    /// the GPU (the eye's, a level's) binds them.
+    pub(crate) fn faces_fit(gpu: &Gpu, faces: usize) -> bool {
+        faces as u64 * size_of::<GpuFace>() as u64 <= max_binding(gpu)
     }
 
     /// Records of one dispatch: the records (64 bytes each), the S-mesh faces they reference (128

@@ -5,11 +5,9 @@
 //! twin: [`Camera::pixel_ray`] and the nearest hit of each ray.
 
 use super::atlas::GpuBeams;
-use super::composite::{CompositeRecord, GpuComposite, GpuFace};
+use super::composite::{CompositeRecord, GpuComposite};
 use super::level::triangle_kinds;
-use crate::buffers::{
-    buffer_entry, checked, compute_pipeline, encode_pass, max_binding, output, read_all, storage, uniform,
-};
+use crate::buffers::{buffer_entry, checked, compute_pipeline, encode_pass, output, read_all, storage, uniform};
 use crate::interface::NONE;
 use crate::raytrace::RayTracer;
 use crate::shade::ShadeInput;
@@ -436,8 +434,7 @@ impl EyeView for GpuBeams<'_> {
         camera: &Camera,
         options: &RenderOptions,
     ) -> Result<EyeFaces, BackendError> {
-        let fits = smesh.faces.len() as u64 * size_of::<GpuFace>() as u64 <= max_binding(self.gpu);
-        if !self.keep_levels || !fits {
+        if !self.keep_levels || !GpuComposite::faces_fit(self.gpu, smesh.faces.len()) {
             return Ok(EyeFaces::handed_back(self.eye_view(scene, camera, options)?, smesh));
         }
         let face_of = fine_faces(self.gpu, scene, smesh);

@@ -312,8 +312,8 @@ impl GpuBeams<'_> {
             tex.points.reserve_exact(n);
         }
         for h in host {
-            let (_, tex) =
-                textures.get_mut(h.beam as usize).ok_or(GpuError::Internal("a texel for the host past the page"))?;
+            // Every `h.beam` is within `textures`: counted above.
+            let (_, tex) = &mut textures[h.beam as usize];
             if h.texel >= tex.size * tex.size {
                 return Err(GpuError::Internal("a texel past its region"));
             }
