@@ -166,7 +166,7 @@ impl Tree<'_> {
         let p = to.point.p;
         // `at` of the composite: a job where `reproject` looks up, else its known answer.
         let mut ask = |child: usize, truth: Option<Vec3>, w: Vec3| match (next.get(child), truth) {
-            (Some(n), Some(truth)) if !matches!(n.beam, Beam::Bumped(_)) && truth.is_finite() => {
+            (Some(n), Some(truth)) if !matches!(*n.beam, Beam::Bumped(_)) && truth.is_finite() => {
                 out.jobs.push(LookupJob { beam: child as u32, p, truth, w, far });
                 Ask::Job
             }
@@ -203,7 +203,7 @@ impl Tree<'_> {
         if !self.looks_up(renderer, next) {
             return Ok(Lookups::default());
         }
-        let beams: Vec<(&Beam, &BeamTexture)> = next.iter().map(|n| (&n.beam, &n.tex)).collect();
+        let beams: Vec<(&Beam, &BeamTexture)> = next.iter().map(|n| (&*n.beam, &n.tex)).collect();
         let piece = piece_len(points.len());
         let asks_of = |others: bool, wanted: &(dyn Fn(usize) -> bool + Sync)| -> Asks {
             let pieces = points.par_chunks(piece).enumerate().map(|(c, chunk)| {

@@ -49,9 +49,27 @@ pub(super) struct Scattered {
     pub(super) refracted: Option<usize>,
 }
 
+/// One of a face's beams as [`BeamMemo`] holds them: shared, not copied (a beam is ~0.9 KB, and
+/// a level of the glass lens holds 5,592 of them).
+#[derive(Clone)]
+pub(super) struct TreeBeam {
+    beams: Arc<(Beam, Option<Beam>)>,
+    refracted: bool,
+}
+
+impl std::ops::Deref for TreeBeam {
+    type Target = Beam;
+    fn deref(&self) -> &Beam {
+        match (&self.beams.1, self.refracted) {
+            (Some(refracted), true) => refracted,
+            _ => &self.beams.0,
+        }
+    }
+}
+
 /// A rendered beam of the tree.
 pub(super) struct Node {
-    pub(super) beam: Beam,
+    pub(super) beam: TreeBeam,
     /// Its base: the S-mesh face it leaves.
     pub(super) face: usize,
     /// Pixels it covers (directly, or through its parents).
@@ -191,15 +209,15 @@ impl Tree<'_> {
             for (&(i, _), b) in lit.iter().zip(made) {
                 built[i] = b;
             }
-            let mut beams = Vec::new();
+            let mut beams = Vec::with_capacity(2 * lit.len());
             for (r, b) in requests.iter().zip(built) {
-                let Some(&(reflected, refracted)) = b.as_deref() else { continue };
+                let Some(b) = b else { continue };
                 let size = region_size(r.pixels, self.options.texels);
-                let mut push = |beam| {
-                    beams.push((beam, r.face, r.pixels, size));
+                let mut push = |refracted| {
+                    beams.push((TreeBeam { beams: b.clone(), refracted }, r.face, r.pixels, size));
                     beams.len() - 1
                 };
-                let scattered = Scattered { reflected: push(reflected), refracted: refracted.map(push) };
+                let scattered = Scattered { reflected: push(false), refracted: b.1.is_some().then(|| push(true)) };
                 match (r.parent, levels.last_mut()) {
                     (Some(p), Some(parents)) => parents[p].children.insert(r.face, scattered),
                     _ => root_children.insert(r.face, scattered),

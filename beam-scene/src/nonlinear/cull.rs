@@ -58,7 +58,8 @@ impl ConeCull {
     /// The culling of `beam` (of bounds `bounds`, skipping `exclude`) in `scene`.
     fn new(scene: &Scene, beam: &(impl TexelBeam + ?Sized), bounds: &BeamBounds, exclude: Exclude<'_>) -> Self {
         let cone = beam.culling_cone(bounds);
-        let floor = SelfHitFloor::new(beam, &cone, exclude.thickness, scene.bounds().extent().length());
+        let extent = scene.bounds().extent().length();
+        let floor = SelfHitFloor::new(beam, (&cone, bounds.mu_b), exclude.thickness, extent);
         Self { spheres: ConeSpheres::new(&cone), floor }
     }
 
@@ -103,10 +104,11 @@ pub struct SelfHitFloor {
 }
 
 impl SelfHitFloor {
-    /// The floor of `beam` (rays in `cone`; its self-hits judged with the surface's `thickness` off
-    /// the base plane; `extent` the scene's diagonal); `None` where a ray may run parallel to the
-    /// base or below it.
-    fn new(beam: &(impl TexelBeam + ?Sized), cone: &Cone, thickness: f32, extent: f32) -> Option<Self> {
+    /// The floor of `beam` (rays in `cone`, their origins within `mu_b` of the base plane: its
+    /// [`TexelBeam::lift`], taken from its bounds; its self-hits judged with the surface's
+    /// `thickness` off the base plane; `extent` the scene's diagonal); `None` where a ray may run
+    /// parallel to the base or below it.
+    fn new(beam: &(impl TexelBeam + ?Sized), (cone, mu_b): (&Cone, f32), thickness: f32, extent: f32) -> Option<Self> {
         let normal = beam.base_normal();
         // A milliradian over the angles for acos's rounding near 1.
         let steepest_away = normal.dot(cone.axis).clamp(-1.0, 1.0).acos() + cone.angle + 1e-3;
@@ -114,7 +116,6 @@ impl SelfHitFloor {
             return None;
         }
         let rise = steepest_away.cos();
-        let mu_b = beam.lift();
         let lift = mu_b.max(thickness);
         let climb = rise * self_hit_at_rise(lift, rise, extent);
         let floor = climb - 1.25 * mu_b - FLOOR_MARGIN * extent;
@@ -155,7 +156,8 @@ mod tests {
             assert!(culled > 50 && kept > 50, "{culled} culled, {kept} kept");
         }
         let beam = NonlinearBeam::s1(base, dirs).unwrap();
-        let floor = SelfHitFloor::new(&beam, &beam.culling_cone(&beam.bounds()), 0.0, extent).unwrap();
+        let bounds = beam.bounds();
+        let floor = SelfHitFloor::new(&beam, (&beam.culling_cone(&bounds), bounds.mu_b), 0.0, extent).unwrap();
         let flat = Triangle::new(Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y);
         let convex = Triangle::new(Vec3::X, Vec3::new(1.5, 1.0, -0.3), Vec3::Y);
         let folded_up = Triangle::new(Vec3::X, Vec3::new(1.0, 1.0, 0.2), Vec3::Y);
@@ -172,7 +174,8 @@ mod tests {
         extent: f32,
         rng: &mut Pcg32,
     ) -> (usize, usize) {
-        let floor = SelfHitFloor::new(beam, &beam.culling_cone(&beam.bounds()), 0.0, extent).unwrap();
+        let bounds = beam.bounds();
+        let floor = SelfHitFloor::new(beam, (&beam.culling_cone(&bounds), bounds.mu_b), 0.0, extent).unwrap();
         let (mut culled, mut kept) = (Vec::new(), 0);
         for k in 0..600 {
             let mut point = || Vec3::new(rng.random_range(-2.0..3.0), rng.random_range(-2.0..3.0), 0.0);
