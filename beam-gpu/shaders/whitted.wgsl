@@ -267,10 +267,11 @@ fn add_to(i: u32, f: f32) {
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn gather(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let k = item(id, groups);
-    if k >= params.count {
+    let i = item(id, groups);
+    if i >= params.count {
         return;
     }
+    let k = params.first + i;
     let e = end_weights[k];
     let c = e.weight * shaded[k].xyz;
     add_to(4u * e.dest, c.x);

@@ -556,7 +556,7 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
 /// half-float roundings and the shading's 1e-4); at most 0.1% may differ by a shadow ray that
 /// grazes an edge. The worst relative error is stated.
 pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_gpu::nonlinear::{GpuComposite, GpuWhitted, RestPoints};
+    use beam_gpu::nonlinear::{GpuComposite, GpuWhitted, RestJob};
     use beam_gpu::shade::PointShader;
     let gpu = match adapter()? {
         Ok(g) => g,
@@ -591,9 +591,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
                 return Err(format!("{name}: changed caustic maps not uploaded again"));
             }
         }
-        let rest = |points: RestPoints<'_>, radiance: (&wgpu::Buffer, usize)| {
-            whitted.shade_into(&gpu, &tracer, &shader, &prepared, 64, points, radiance)
-        };
+        let rest = |jobs: &[RestJob<'_>]| whitted.shade_into(&gpu, &tracer, (&shader, &prepared, 64), jobs);
         let smesh = SMesh::specular(&scene);
         // The frame read back, and kept for display in a texture of the image's shape: the same
         // pixels.

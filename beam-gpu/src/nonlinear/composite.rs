@@ -10,7 +10,7 @@
 use super::display::GpuFrame;
 use super::eye::{EyeRecords, KeptPoints};
 use super::sort::{Outputs, Plan, plan};
-use super::whitted::RestPoints;
+use super::whitted::{RestJob, RestPoints};
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, output, storage, uniform, view_entry};
 use crate::raytrace::RayTracer;
 use crate::shade::{PointShader, ShadeInput, ShadeScene};
@@ -85,10 +85,10 @@ const _: () =
 /// "None" in [`CompositeRecord`] ([`crate::interface::NONE`]).
 pub use crate::interface::NONE;
 
-/// Shades a batch of the points the [`PointShader`] does not (mirrors and glass past the tree): adds
-/// the radiance of point `i` to element `first + i` of a buffer of `vec4<f32>`s (zeroed), as
-/// [`GpuWhitted::shade_into`](super::GpuWhitted::shade_into) does.
-pub type ShadeRest<'a> = dyn Fn(RestPoints<'_>, (&wgpu::Buffer, usize)) -> Result<(), GpuError> + 'a;
+/// Shades batches of the points the [`PointShader`] does not (mirrors and glass past the tree): adds
+/// the radiance of each job's point `i` to element `first + i` of its buffer of `vec4<f32>`s
+/// (zeroed), as [`GpuWhitted::shade_into`](super::GpuWhitted::shade_into) does.
+pub type ShadeRest<'a> = dyn Fn(&[RestJob<'_>]) -> Result<(), GpuError> + 'a;
 
 /// Points kept on the GPU for one level of the radiance flow: shaded by the shading pass (`direct`,
 /// the eye's diffuse, glossy and emissive pixels, [`super::GpuEye`], or a kept level's), or by the
@@ -184,6 +184,28 @@ impl GpuComposite {
     ) -> Result<GpuFrame, GpuError> {
         let all_faces = gpu_faces(scene, smesh);
         let chunk = Self::records_per_dispatch(gpu);
+        // Every level's kept mirror and glass points past the tree first, in one set of Whitted
+        // waves (they need nothing of the tree's radiance): per level, each one's radiance.
+        let rests: Vec<Vec<&KeptPoints>> = kept
+            .iter()
+            .map(|here| {
+                let records_rest = here.records.iter().map(|r| &r.rest);
+                here.rest.iter().chain(records_rest).filter(|k| k.count > 0).collect()
+            })
+            .collect();
+        let shaded_rests: Vec<Vec<wgpu::Buffer>> = rests
+            .iter()
+            .map(|ks| ks.iter().map(|k| output(gpu, "radiance", u64::from(k.count) * 16)).collect())
+            .collect();
+        let jobs: Vec<RestJob<'_>> = rests
+            .iter()
+            .flatten()
+            .zip(shaded_rests.iter().flatten())
+            .map(|(k, radiance)| RestJob { points: RestPoints::Gpu(&k.inputs, k.count as usize), radiance, first: 0 })
+            .collect();
+        if !jobs.is_empty() {
+            rest(&jobs)?;
+        }
         let mut below = Self::level_texture(gpu, 0);
         let mut below_regions: &[(u32, u32)] = &[];
         let mut len = 0;
@@ -208,11 +230,9 @@ impl GpuComposite {
                     shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0)?;
                 scatter(encoder, &shaded, k);
             }
-            let records_rest = here.records.iter().map(|r| &r.rest);
-            for k in here.rest.iter().chain(records_rest).filter(|k| k.count > 0) {
-                let shaded = output(gpu, "radiance", u64::from(k.count) * 16);
-                rest(RestPoints::Gpu(&k.inputs, k.count as usize), (&shaded, 0))?;
-                scatter(gpu.device.create_command_encoder(&Default::default()), &shaded, k);
+            for (k, shaded) in rests.get(depth).into_iter().flatten().zip(shaded_rests.get(depth).into_iter().flatten())
+            {
+                scatter(gpu.device.create_command_encoder(&Default::default()), shaded, k);
             }
             if !here.records.is_empty() {
                 // Every face and child region, each within one binding.
@@ -252,7 +272,7 @@ impl GpuComposite {
                 let (inputs, targets, records_buffer) = (inputs.finish(gpu), targets.finish(gpu), records.finish(gpu));
                 let (encoder, shaded) = shader.shade_inputs(gpu, tracer, prepared, spp, (&inputs, direct), others)?;
                 if !other.is_empty() {
-                    rest(RestPoints::Host(&other), (&shaded, direct))?;
+                    rest(&[RestJob { points: RestPoints::Host(&other), radiance: &shaded, first: direct }])?;
                 }
                 let Plan { faces, regions, .. } = plan;
                 let chunk_faces: Vec<GpuFace> = faces.iter().map(|&f| all_faces[f as usize]).collect();

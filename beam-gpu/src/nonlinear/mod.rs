@@ -32,4 +32,6 @@ pub use eye::{
 pub use level::{GpuLevelPoints, HostTexel, KeptLevel, LevelCounts, LevelParams};
 pub use lookups::{GpuLookupJob, GpuLookups};
 pub use page::AtlasParams;
-pub use whitted::{EndWeight, GpuWhitted, RestPoints, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath};
+pub use whitted::{
+    EndWeight, GpuWhitted, RestJob, RestPoints, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
+};

@@ -6,7 +6,7 @@ use super::GpuBeams;
 use super::composite::{GpuComposite, KeptHere};
 use super::eye::fine_faces;
 use super::level::KeptLevel;
-use super::whitted::{GpuWhitted, RestPoints};
+use super::whitted::{GpuWhitted, RestJob, RestPoints};
 use crate::GpuError;
 use crate::buffers::{checked, output, read_all, storage};
 use crate::raytrace::{GpuHit, GpuRay};
@@ -46,14 +46,12 @@ impl GpuBeams<'_> {
             let part: Vec<ShadeInput> = part.par_iter().map(ShadeInput::new).collect();
             let radiance: Vec<[f32; 4]> = checked(self.gpu, || {
                 let radiance = output(self.gpu, "radiance", bytes);
+                let job = RestJob { points: RestPoints::Host(&part), radiance: &radiance, first: 0 };
                 self.whitted.shade_into(
                     self.gpu,
                     &self.tracer,
-                    &self.shader,
-                    &prepared,
-                    self.light_samples,
-                    RestPoints::Host(&part),
-                    (&radiance, 0),
+                    (&self.shader, &prepared, self.light_samples),
+                    &[job],
                 )?;
                 read_all(self.gpu, Vec::new(), std::iter::once((&radiance, bytes)))
             })?;
@@ -186,17 +184,10 @@ impl PointShading for GpuBeams<'_> {
         // Mirror and glass points past the tree by Whitted rays in waves, their host time apart.
         // The scene's shading and caustics, uploaded once for the composite and every wave.
         let prepared = self.shader.prepare(self.gpu, caustics);
-        let rest = |points: RestPoints<'_>, radiance: (&wgpu::Buffer, usize)| {
+        let rest = |jobs: &[RestJob<'_>]| {
             let (start, waited) = (Instant::now(), self.gpu.traffic().waited_seconds);
-            let out = self.whitted.shade_into(
-                self.gpu,
-                &self.tracer,
-                &self.shader,
-                &prepared,
-                self.light_samples,
-                points,
-                radiance,
-            );
+            let out =
+                self.whitted.shade_into(self.gpu, &self.tracer, (&self.shader, &prepared, self.light_samples), jobs);
             let host = start.elapsed().as_secs_f64() - (self.gpu.traffic().waited_seconds - waited);
             self.add_times(|t| t.whitted_host_seconds += host);
             out

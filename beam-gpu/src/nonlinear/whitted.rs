@@ -31,7 +31,8 @@ use bytemuck::{Pod, Zeroable};
 pub struct WhittedParams {
     /// Items of the dispatch.
     pub count: u32,
-    /// `wave`: its first path in the input; `start`: the destination of its first point.
+    /// `wave`: its first path in the input; `start`: the destination of its first point;
+    /// `gather`: its first end.
     pub first: u32,
     /// 1 on the last wave (specular hits end there, unshaded).
     pub last: u32,
@@ -148,6 +149,18 @@ pub enum RestPoints<'a> {
     Gpu(&'a wgpu::Buffer, usize),
 }
 
+/// A batch of points for [`GpuWhitted::shade_into`] and where their radiance goes: point `i`'s
+/// is added to element `first + i` of `radiance` (a buffer of `vec4<f32>`s).
+#[derive(Clone, Copy)]
+pub struct RestJob<'a> {
+    /// The points.
+    pub points: RestPoints<'a>,
+    /// The buffer their radiance is added to.
+    pub radiance: &'a wgpu::Buffer,
+    /// The element of the first point's.
+    pub first: usize,
+}
+
 /// The Whitted waves for one scene: its mirror and glass triangles uploaded.
 pub struct GpuWhitted {
     start: wgpu::ComputePipeline,
@@ -238,36 +251,37 @@ impl GpuWhitted {
         by_paths.min(PointShader::max_points(gpu)).clamp(1, 1 << 20)
     }
 
-    /// Adds the radiance of `points` to `radiance` (a buffer of `vec4<f32>`s), point `i`'s to element
-    /// `first + i`: as the CPU's `shade_by_waves` computes it, diffuse, glossy and emissive points
-    /// (and the ends of the others' specular paths) shaded by `shader` (`spp` shadow rays per area
-    /// light, the scene `prepared`). Call inside [`crate::buffers::checked`].
-    #[allow(clippy::too_many_arguments)]
+    /// Adds the radiance of each job's points to its buffer ([`RestJob`]): as the CPU's
+    /// `shade_by_waves` computes it, diffuse, glossy and emissive points (and the ends of the
+    /// others' specular paths) shaded by `shader` (`spp` shadow rays per area light, the scene
+    /// `prepared`). Every job's paths go in the same waves, each one submission and one wait for
+    /// its counts, and their ends in as few shadings as hold them. Call inside
+    /// [`crate::buffers::checked`].
     pub fn shade_into(
         &self,
         gpu: &Gpu,
         tracer: &RayTracer,
-        shader: &PointShader,
-        prepared: &ShadeScene,
-        spp: u32,
-        points: RestPoints<'_>,
-        (radiance, first): (&wgpu::Buffer, usize),
+        (shader, prepared, spp): (&PointShader, &ShadeScene, u32),
+        jobs: &[RestJob<'_>],
     ) -> Result<(), GpuError> {
         let chunk = Self::per_dispatch(gpu);
         let mut dispatched = Vec::new();
-        match points {
-            RestPoints::Host(points) => {
-                for (k, part) in points.chunks(chunk).enumerate() {
-                    let inputs = storage(gpu, "whitted points", part, wgpu::BufferUsages::empty());
-                    let items = (part.len(), first + k * chunk, false);
-                    dispatched.push(self.dispatch(gpu, &self.start, items, &[buffer_entry(5, &inputs)]));
+        for (j, job) in jobs.iter().enumerate() {
+            match job.points {
+                RestPoints::Host(points) => {
+                    for (k, part) in points.chunks(chunk).enumerate() {
+                        let inputs = storage(gpu, "whitted points", part, wgpu::BufferUsages::empty());
+                        let items = (part.len(), job.first + k * chunk, false);
+                        dispatched.push((self.dispatch(gpu, &self.start, items, &[buffer_entry(5, &inputs)]), j));
+                    }
                 }
-            }
-            RestPoints::Gpu(inputs, count) => {
-                if count > chunk {
-                    return Err(GpuError::Internal("more points on the GPU than one Whitted dispatch takes"));
+                RestPoints::Gpu(inputs, count) => {
+                    if count > chunk {
+                        return Err(GpuError::Internal("more points on the GPU than one Whitted dispatch takes"));
+                    }
+                    let items = (count, job.first, false);
+                    dispatched.push((self.dispatch(gpu, &self.start, items, &[buffer_entry(5, inputs)]), j));
                 }
-                dispatched.push(self.dispatch(gpu, &self.start, (count, first, false), &[buffer_entry(5, inputs)]));
             }
         }
         // The paths' ends of every wave, shaded together once the waves are done.
@@ -279,26 +293,27 @@ impl GpuWhitted {
             }
             let (nodes, triangles) = tracer.buffers();
             let mut dispatched = Vec::new();
-            for (paths, count) in &batches {
+            for (paths, count, j) in &batches {
                 let entries = [buffer_entry(0, nodes), buffer_entry(1, triangles), buffer_entry(6, paths)];
                 for from in (0..*count as usize).step_by(chunk) {
                     let n = chunk.min(*count as usize - from);
-                    dispatched.push(self.dispatch(gpu, &self.wave, (n, from, depth == MAX_DEPTH), &entries));
+                    dispatched.push((self.dispatch(gpu, &self.wave, (n, from, depth == MAX_DEPTH), &entries), *j));
                 }
             }
             batches = self.finish(gpu, dispatched, &mut ends)?;
         }
-        // As many waves' ends a shading as one takes: each shading waits for the device.
-        let (mut batch, mut points): (Vec<Ends>, usize) = (Vec::new(), 0);
+        // By job, as many ends a shading as one takes: each shading waits for the device.
+        ends.sort_by_key(|(_, j)| *j);
+        let (mut batch, mut points): (Vec<(Ends, usize)>, usize) = (Vec::new(), 0);
         for e in ends {
-            if points + e.count as usize > chunk {
-                self.shade_ends(gpu, (tracer, shader, prepared, spp), &std::mem::take(&mut batch), radiance)?;
+            if points + e.0.count as usize > chunk {
+                self.shade_ends(gpu, (tracer, shader, prepared, spp), &std::mem::take(&mut batch), jobs)?;
                 points = 0;
             }
-            points += e.count as usize;
+            points += e.0.count as usize;
             batch.push(e);
         }
-        self.shade_ends(gpu, (tracer, shader, prepared, spp), &batch, radiance)
+        self.shade_ends(gpu, (tracer, shader, prepared, spp), &batch, jobs)
     }
 
     /// One dispatch of `pipeline` over `count` items from `from`, its outputs made, its `inputs`
@@ -335,48 +350,48 @@ impl GpuWhitted {
         (encoder, out)
     }
 
-    /// Submit `dispatched` and read their counts back; their ends go to `ends`, the paths they
-    /// appended are returned, each buffer with its count.
+    /// Submit `dispatched` (each with its job) and read their counts back; their ends go to
+    /// `ends`, the paths they appended are returned, each buffer with its count and job.
     fn finish(
         &self,
         gpu: &Gpu,
-        dispatched: Vec<(wgpu::CommandEncoder, Appended)>,
-        ends: &mut Vec<Ends>,
-    ) -> Result<Vec<(wgpu::Buffer, u32)>, GpuError> {
-        let (encoders, outs): (Vec<_>, Vec<_>) = dispatched.into_iter().map(|(e, o)| (e.finish(), o)).unzip();
+        dispatched: Vec<((wgpu::CommandEncoder, Appended), usize)>,
+        ends: &mut Vec<(Ends, usize)>,
+    ) -> Result<Vec<(wgpu::Buffer, u32, usize)>, GpuError> {
+        let (encoders, outs): (Vec<_>, Vec<_>) = dispatched.into_iter().map(|((e, o), j)| (e.finish(), (o, j))).unzip();
         // One submission with the counts' copy (a second would wait for the first, uncounted).
-        let counts = outs.iter().map(|o| (&o.counts, size_of::<WhittedCounts>() as u64));
+        let counts = outs.iter().map(|(o, _)| (&o.counts, size_of::<WhittedCounts>() as u64));
         let counts: Vec<WhittedCounts> = read_all(gpu, encoders, counts)?;
         if let Some(c) = counts.iter().find(|c| c.overflow > 0) {
             return Err(GpuError::StackOverflow { ray: c.overflow as usize - 1 });
         }
         let mut next = Vec::new();
-        for (out, c) in outs.into_iter().zip(counts) {
+        for ((out, j), c) in outs.into_iter().zip(counts) {
             if c.ends > 0 {
-                ends.push(Ends { inputs: out.ends, weights: out.weights, count: c.ends });
+                ends.push((Ends { inputs: out.ends, weights: out.weights, count: c.ends }, j));
             }
             if c.paths > 0 {
-                next.push((out.paths, c.paths));
+                next.push((out.paths, c.paths, j));
             }
         }
         Ok(next)
     }
 
-    /// Shade the ends of `batch` (at most [`Self::per_dispatch`] in all) in one shading and add
-    /// each, times its path's weight, to its point's element of `radiance`. Several waves' ends are
-    /// first copied into one buffer.
+    /// Shade the ends of `batch` (at most [`Self::per_dispatch`] in all, each with its job, a
+    /// job's together) in one shading and add each, times its path's weight, to its point's element
+    /// of its job's radiance. Several waves' ends are first copied into one buffer.
     fn shade_ends(
         &self,
         gpu: &Gpu,
         (tracer, shader, prepared, spp): (&RayTracer, &PointShader, &ShadeScene, u32),
-        batch: &[Ends],
-        radiance: &wgpu::Buffer,
+        batch: &[(Ends, usize)],
+        jobs: &[RestJob<'_>],
     ) -> Result<(), GpuError> {
-        let count: u32 = batch.iter().map(|e| e.count).sum();
+        let count: u32 = batch.iter().map(|(e, _)| e.count).sum();
         let joined;
         let (inputs, weights) = match batch {
             [] => return Ok(()),
-            [one] => (&one.inputs, &one.weights),
+            [(one, _)] => (&one.inputs, &one.weights),
             _ => {
                 let size = |each: usize| (each * count as usize) as u64;
                 joined = (
@@ -385,7 +400,7 @@ impl GpuWhitted {
                 );
                 let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
                 let mut at = 0;
-                for e in batch {
+                for (e, _) in batch {
                     let n = u64::from(e.count);
                     let (i, w) = (size_of::<ShadeInput>() as u64, size_of::<EndWeight>() as u64);
                     encoder.copy_buffer_to_buffer(&e.inputs, 0, &joined.0, at * i, n * i);
@@ -397,11 +412,22 @@ impl GpuWhitted {
             }
         };
         let (mut encoder, shaded) = shader.shade_inputs(gpu, tracer, prepared, spp, (inputs, count as usize), 0)?;
-        let params = WhittedParams { count, first: 0, last: 0, eps: self.eps };
-        let params = uniform(gpu, "whitted params", bytemuck::bytes_of(&params));
-        let entries =
-            [buffer_entry(2, &params), buffer_entry(9, weights), buffer_entry(11, &shaded), buffer_entry(12, radiance)];
-        encode_pass(gpu, &mut encoder, &self.gather, count, &entries);
+        // A gather per job: its ends lie together.
+        let mut first = 0;
+        for run in batch.chunk_by(|a, b| a.1 == b.1) {
+            let n: u32 = run.iter().map(|(e, _)| e.count).sum();
+            let radiance = jobs.get(run[0].1).ok_or(GpuError::Internal("a Whitted end without its job"))?.radiance;
+            let params = WhittedParams { count: n, first, last: 0, eps: self.eps };
+            let params = uniform(gpu, "whitted params", bytemuck::bytes_of(&params));
+            let entries = [
+                buffer_entry(2, &params),
+                buffer_entry(9, weights),
+                buffer_entry(11, &shaded),
+                buffer_entry(12, radiance),
+            ];
+            encode_pass(gpu, &mut encoder, &self.gather, n, &entries);
+            first += n;
+        }
         gpu.queue.submit([encoder.finish()]);
         Ok(())
     }
