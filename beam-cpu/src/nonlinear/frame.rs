@@ -226,7 +226,7 @@ pub fn render_nonlinear_frame(
     let records_by_rays: usize = records_by_rays
         .map(|n| {
             let without = |at: &Option<(usize, Vec3)>| at.is_none_or(|(f, _)| !n.children.contains_key(&f));
-            n.hits.iter().zip(&n.located).filter(|(h, at)| curved[h.1 as usize] && without(at)).count()
+            n.hits.iter().zip(&n.located).filter(|(h, at)| curved[h.prim as usize] && without(at)).count()
         })
         .sum();
     let specular_by_rays = flow.iter().map(|l| l.texels.par_iter().filter(by_rays).count()).sum::<usize>() as u64

@@ -21,7 +21,7 @@ use beam_scene::BackendError;
 use beam_scene::memo::FrameMemo;
 use beam_scene::nonlinear::{
     Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, KeepLevel, KeptTotals, LevelLayout, LevelRadiance,
-    NodeChildren, SMesh, ShadePoint, TexelRadiance, child_beams, region_size,
+    NodeChildren, SMesh, ShadePoint, TexelPoint, TexelRadiance, child_beams, region_size,
 };
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
@@ -75,8 +75,9 @@ pub(super) struct Node {
     /// Pixels it covers (directly, or through its parents).
     pub(super) pixels: f32,
     pub(super) tex: BeamTexture,
-    /// Per texel that hit: its index, hit triangle, hit point and unit ray direction.
-    pub(super) hits: Vec<(usize, u32, Vec3, Vec3)>,
+    /// Per texel that hit: its index, hit triangle, hit point and unit ray direction (the
+    /// texture's `points`, moved here, where the backend handed them back).
+    pub(super) hits: Vec<TexelPoint>,
     /// Per hit, its S-mesh face and barycentric coordinates there ([`SMesh::locate`]), found once
     /// for the next level's requests and the composite; empty on the last level, whose hits no
     /// child beam composites.
@@ -249,7 +250,7 @@ impl Tree<'_> {
             let mut nodes: Vec<Node> = beams
                 .into_par_iter()
                 .zip(textures)
-                .map(|((beam, face, pixels, _), tex)| {
+                .map(|((beam, face, pixels, _), mut tex)| {
                     // The hit texels in texel order, row by row: those the backend handed back with
                     // their points, else found here. Room for every texel of the region where the
                     // backend kept none, else only those from which the tree goes on.
@@ -259,7 +260,7 @@ impl Tree<'_> {
                             |prim: u32| kept.is_none() || keep.continues.get(prim as usize) == Some(&true);
                         Self::texel_hits(&beam, &tex, handed_back, room)
                     } else {
-                        tex.points.iter().map(|t| (t.texel as usize, t.prim, t.p, t.d)).collect()
+                        std::mem::take(&mut tex.points)
                     };
                     Node { beam, face, pixels, tex, hits, located: Vec::new(), children: FaceMap::default() }
                 })
@@ -267,15 +268,15 @@ impl Tree<'_> {
             clock.lap("tree: texel hits");
             requests = if level < self.options.bounces {
                 nodes.par_iter_mut().for_each(|node| {
-                    node.located = node.hits.iter().map(|&(_, prim, p, _)| self.smesh.locate(prim, p)).collect();
+                    node.located = node.hits.iter().map(|h| self.smesh.locate(h.prim, h.p)).collect();
                 });
                 nodes
                     .par_iter()
                     .enumerate()
                     .flat_map_iter(|(i, node)| {
-                        let samples = node.hits.iter().zip(&node.located).filter_map(|(&(.., d), at)| {
+                        let samples = node.hits.iter().zip(&node.located).filter_map(|(h, at)| {
                             let (g, w) = (*at)?;
-                            Some((g, w, d))
+                            Some((g, w, h.d))
                         });
                         Self::requests(Some(i), samples, node.pixels / node.tex.texels() as f32)
                     })
@@ -289,21 +290,17 @@ impl Tree<'_> {
         Ok(Built { roots: root_children, levels, kept: kept_totals, records })
     }
 
-    /// The texels of `tex` (`beam`'s) that hit a triangle `handed_back` names, in texel order:
-    /// (texel, triangle, hit point, unit direction of its texel ray), with room for `room`.
-    fn texel_hits(
-        beam: &Beam,
-        tex: &BeamTexture,
-        handed_back: impl Fn(u32) -> bool,
-        room: usize,
-    ) -> Vec<(usize, u32, Vec3, Vec3)> {
+    /// The texels of `tex` (`beam`'s) that hit a triangle `handed_back` names, in texel order,
+    /// each with its hit point and the unit direction of its texel ray; with room for `room`.
+    fn texel_hits(beam: &Beam, tex: &BeamTexture, handed_back: impl Fn(u32) -> bool, room: usize) -> Vec<TexelPoint> {
         let (size, tb) = (tex.size as usize, beam.texel_beam());
         let mut hits = Vec::with_capacity(room);
         for (y, row) in tex.hits.chunks_exact(size.max(1)).enumerate() {
             for (x, hit) in row.iter().enumerate() {
                 let Some(hit) = hit.filter(|h| handed_back(h.prim)) else { continue };
                 let ray = tb.texel_ray(tex.barycentric(x as u32, y as u32));
-                hits.push((y * size + x, hit.prim, ray.at(hit.t), ray.direction.normalize()));
+                let texel = (y * size + x) as u32;
+                hits.push(TexelPoint { texel, prim: hit.prim, p: ray.at(hit.t), d: ray.direction.normalize() });
             }
         }
         hits
@@ -330,9 +327,9 @@ impl Tree<'_> {
         levels: &[Vec<Node>],
         records: &[bool],
     ) -> Result<Vec<LevelRadiance>, BackendError> {
-        let point = |node: &Node, &(t, hit, p, d): &(usize, u32, Vec3, Vec3)| {
+        let point = |node: &Node, h: &TexelPoint| {
             let prim = self.smesh.faces[node.face].prim;
-            ShadePoint { prim: hit, p, d, seed: u64::from(prim) << 32 | t as u64 }
+            ShadePoint { prim: h.prim, p: h.p, d: h.d, seed: u64::from(prim) << 32 | u64::from(h.texel) }
         };
         levels
             .iter()
@@ -381,7 +378,7 @@ impl Tree<'_> {
                             let at = offsets[i] + k;
                             let to = points.as_ref().and_then(|p| p[at]).unwrap_or_else(|| to_composite(i, k));
                             let composite = self.composite(next, &to, looked_up.of(at));
-                            push(TexelRadiance { texel: regions[i].0 + h.0 as u32, point: to.point, composite });
+                            push(TexelRadiance { texel: regions[i].0 + h.texel, point: to.point, composite });
                         }
                     },
                 );
