@@ -185,22 +185,18 @@ impl GpuComposite {
         let all_faces = gpu_faces(scene, smesh);
         let chunk = Self::records_per_dispatch(gpu);
         // Every level's kept mirror and glass points past the tree first, in one set of Whitted
-        // waves (they need nothing of the tree's radiance): per level, each one's radiance.
-        let rests: Vec<Vec<&KeptPoints>> = kept
+        // waves (they need nothing of the tree's radiance): per level, the points and their radiance.
+        let rests: Vec<Vec<(&KeptPoints, wgpu::Buffer)>> = kept
             .iter()
             .map(|here| {
                 let records_rest = here.records.iter().map(|r| &r.rest);
-                here.rest.iter().chain(records_rest).filter(|k| k.count > 0).collect()
+                let points = here.rest.iter().chain(records_rest).filter(|k| k.count > 0);
+                points.map(|k| (k, output(gpu, "radiance", u64::from(k.count) * 16))).collect()
             })
-            .collect();
-        let shaded_rests: Vec<Vec<wgpu::Buffer>> = rests
-            .iter()
-            .map(|ks| ks.iter().map(|k| output(gpu, "radiance", u64::from(k.count) * 16)).collect())
             .collect();
         let jobs: Vec<RestJob<'_>> = rests
             .iter()
             .flatten()
-            .zip(shaded_rests.iter().flatten())
             .map(|(k, radiance)| RestJob { points: RestPoints::Gpu(&k.inputs, k.count as usize), radiance, first: 0 })
             .collect();
         if !jobs.is_empty() {
@@ -230,8 +226,7 @@ impl GpuComposite {
                     shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0)?;
                 scatter(encoder, &shaded, k);
             }
-            for (k, shaded) in rests.get(depth).into_iter().flatten().zip(shaded_rests.get(depth).into_iter().flatten())
-            {
+            for (k, shaded) in rests.get(depth).into_iter().flatten() {
                 scatter(gpu.device.create_command_encoder(&Default::default()), shaded, k);
             }
             if !here.records.is_empty() {

@@ -3,7 +3,8 @@
 //! the GPU; the points the paths end on are shaded there by [`PointShader`] and their radiance,
 //! times each path's weight, added to the point it started from. Per wave the host reads back
 //! three counts per dispatch, nothing else; the ends of every wave are shaded together after the
-//! last (one shading and its wait, not one a wave). CPU twin: [`shade_by_waves`] with
+//! last (one shading and its wait, not one a wave), and so are the paths and ends of every batch
+//! of points given in one call ([`RestJob`]). CPU twin: [`shade_by_waves`] with
 //! [`specular_rays`].
 //!
 //! [`shade_by_waves`]: beam_scene::nonlinear::shade_by_waves

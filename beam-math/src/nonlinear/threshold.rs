@@ -55,7 +55,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
     /// The triangles' distance is no more than that of any corner of one from its own corner of
     /// the other, so a step whose nearest pair of corners lies within the margin (a thousandth
     /// below it, for rounding) is doubled without computing the distance; and no less than their
-    /// gap along either one's normal ([`separation`]), so a step whose gap clears the margin (by a
+    /// gap along either one's normal (a separating axis), so a step whose gap clears the margin (by a
     /// thousandth, for rounding) is taken without computing it either: the same `t_res`.
     #[must_use]
     pub fn threshold_plane_with(&self, (mu_b, mu_d): (f32, f32)) -> ThresholdPlane {
