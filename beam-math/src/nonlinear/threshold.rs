@@ -69,6 +69,7 @@ impl<L: Interpolant> NonlinearBeam<L> {
         let size = self.base.iter().fold(0.0f32, |m, p| m.max(p.distance(self.base[0])));
         let margin = (mu_b + t_max * mu_d).max(1e-4 * size);
         let low = self.affine_triangle(t_max);
+        let low_normal = unit_normal(&low);
         let mut step = 1e-3 * size.max(t_max * 1e-3);
         let mut t_res = f32::INFINITY;
         for _ in 0..64 {
@@ -76,7 +77,8 @@ impl<L: Interpolant> NonlinearBeam<L> {
             let high = self.affine_triangle(t);
             let corners = (0..3).fold(f32::INFINITY, |m, i| m.min(high.v[i].distance(low.v[i])));
             if corners >= 0.999 * margin
-                && (separation(&high, &low) > 1.001 * margin || triangle_triangle_distance(&high, &low) > margin)
+                && (separation(&high, (&low, low_normal)) > 1.001 * margin
+                    || triangle_triangle_distance(&high, &low) > margin)
             {
                 t_res = t;
                 break;
@@ -91,21 +93,24 @@ impl<L: Interpolant> NonlinearBeam<L> {
 }
 
 /// A lower bound of the distance between `a` and `b`: the larger gap between their projections
-/// on either one's unit normal (a separating axis; any unit axis gives a lower bound, as each
-/// triangle is the convex hull of its corners). Not a number where both are degenerate.
-fn separation(a: &Triangle, b: &Triangle) -> f32 {
+/// on `a`'s unit normal and on `b`'s, `b_normal` ([`unit_normal`], taken once for a `b` tested
+/// against many `a`s): separating axes (any unit axis gives a lower bound, as each triangle is the
+/// convex hull of its corners). Not a number where both are degenerate.
+fn separation(a: &Triangle, (b, b_normal): (&Triangle, Vec3)) -> f32 {
     let gap = |n: Vec3| {
         let (pa, pb) = (a.v.map(|v| n.dot(v)), b.v.map(|v| n.dot(v)));
         let (lo_a, hi_a) = (pa[0].min(pa[1]).min(pa[2]), pa[0].max(pa[1]).max(pa[2]));
         let (lo_b, hi_b) = (pb[0].min(pb[1]).min(pb[2]), pb[0].max(pb[1]).max(pb[2]));
         (lo_a - hi_b).max(lo_b - hi_a)
     };
-    // A normal that rounding left short of unit length (a triangle next to degenerate) is no axis.
-    let normal = |t: &Triangle| {
-        let n = (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0]).normalize_or_zero();
-        if (n.length_squared() - 1.0).abs() < 1e-4 { n } else { Vec3::NAN }
-    };
-    gap(normal(a)).max(gap(normal(b)))
+    gap(unit_normal(a)).max(gap(b_normal))
+}
+
+/// The unit normal of `t`; not a number where rounding left it short of unit length (a triangle
+/// next to degenerate is no axis).
+fn unit_normal(t: &Triangle) -> Vec3 {
+    let n = (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0]).normalize_or_zero();
+    if (n.length_squared() - 1.0).abs() < 1e-4 { n } else { Vec3::NAN }
 }
 
 #[cfg(test)]
@@ -186,14 +191,14 @@ mod tests {
                 1 => Triangle { v: a.v.map(|p| p + 0.5 * v()) },
                 _ => Triangle { v: [a.v[0], a.v[0] + v(), a.v[0]] },
             };
-            let (lower, dist) = (separation(&a, &b), triangle_triangle_distance(&a, &b));
+            let (lower, dist) = (separation(&a, (&b, unit_normal(&b))), triangle_triangle_distance(&a, &b));
             assert!(!(lower > dist * (1.0 + 1e-4) + 1e-6), "{lower} > {dist} for {a:?}, {b:?}");
             separated += usize::from(lower > 0.0);
         }
         assert!(separated > 300, "{separated}");
         let a = Triangle { v: [Vec3::ZERO, Vec3::X, Vec3::Y] };
         let up = Triangle { v: a.v.map(|p| p + 0.25 * Vec3::Z) };
-        assert!((separation(&a, &up) - 0.25).abs() < 1e-6);
+        assert!((separation(&a, (&up, unit_normal(&up))) - 0.25).abs() < 1e-6);
     }
 
     /// `t_res` by the distance at every doubling step (the search without the corner shortcut).
