@@ -89,11 +89,22 @@ pub fn read_all<'a, T: bytemuck::Pod>(
     first: Vec<wgpu::CommandBuffer>,
     sources: impl Iterator<Item = (&'a wgpu::Buffer, u64)>,
 ) -> Result<Vec<T>, GpuError> {
+    map_all(gpu, first, sources, bytemuck::pod_collect_to_vec)
+}
+
+/// As [`read_all`], but `read` is handed the bytes where they are mapped (one after another, none
+/// where there are none) instead of a copy.
+pub fn map_all<'a, T>(
+    gpu: &Gpu,
+    first: Vec<wgpu::CommandBuffer>,
+    sources: impl Iterator<Item = (&'a wgpu::Buffer, u64)>,
+    read: impl FnOnce(&[u8]) -> T,
+) -> Result<T, GpuError> {
     let sources: Vec<_> = sources.filter(|(_, bytes)| *bytes > 0).collect();
     let total: u64 = sources.iter().map(|(_, bytes)| bytes).sum();
     if total == 0 {
         gpu.queue.submit(first);
-        return Ok(Vec::new());
+        return Ok(read(&[]));
     }
     let readback = readback(gpu, total);
     let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
@@ -103,7 +114,7 @@ pub fn read_all<'a, T: bytemuck::Pod>(
         at += bytes;
     }
     gpu.queue.submit(first.into_iter().chain([encoder.finish()]));
-    map_with(gpu, readback, bytemuck::pod_collect_to_vec)
+    map_with(gpu, readback, read)
 }
 
 /// A mappable buffer for a readback of `size` bytes ([`readback`]), used once by [`map_with`].

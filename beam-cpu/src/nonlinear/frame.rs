@@ -229,7 +229,7 @@ pub fn render_nonlinear_frame(
             n.hits.iter().zip(&n.located).filter(|(h, at)| curved[h.prim as usize] && without(at)).count()
         })
         .sum();
-    let specular_by_rays = flow.iter().map(|l| l.texels.par_iter().filter(by_rays).count()).sum::<usize>() as u64
+    let specular_by_rays = flow.iter().map(|l| l.texels.iter().filter(by_rays).count()).sum::<usize>() as u64
         + kept.curved
         + kept_by_rays
         + records_by_rays as u64;

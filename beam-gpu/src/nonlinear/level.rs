@@ -162,7 +162,7 @@ impl KeptLevel {
             .zip(targets)
             .map(|(s, texel)| {
                 let beam = firsts.partition_point(|&f| f <= texel).checked_sub(1);
-                let beam = beam.ok_or(GpuError::Internal("a kept point before the level's first beam"))?;
+                let beam = beam.ok_or_else(|| GpuError::Internal("a kept point before the level's first beam"))?;
                 let seed = u64::from(self.layout.prims[beam]) << 32 | u64::from(texel - firsts[beam]);
                 let point = ShadePoint { prim: s.prim, p: Vec3::from_array(s.p), d: Vec3::from_array(s.d), seed };
                 Ok(TexelRadiance { texel, point, composite: None })

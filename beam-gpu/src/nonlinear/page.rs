@@ -276,7 +276,7 @@ impl GpuBeams<'_> {
                 };
                 let region = texels
                     .get(first as usize..first as usize + region_texels(size) as usize)
-                    .ok_or(GpuError::Internal("a region's texels were not read back"))?;
+                    .ok_or_else(|| GpuError::Internal("a region's texels were not read back"))?;
                 let mut hits = vec![None; (size * size) as usize];
                 let mut from = region.iter();
                 for y in 0..size {
@@ -296,17 +296,26 @@ impl GpuBeams<'_> {
 }
 
 impl GpuBeams<'_> {
-    /// Into `textures` (a page's, in the order of its beams, without hits), the texels `host`
-    /// lists as their points, each texture's in texel order: the texels of a kept level that the
-    /// host builds on ([`super::level`]).
-    pub(super) fn unpack_host_texels(
-        textures: &mut [(usize, BeamTexture)],
-        host: &[HostTexel],
-    ) -> Result<(), GpuError> {
+    /// Into `textures` (a page's, in the order of its beams, without hits), the texels listed as
+    /// [`HostTexel`]s in `host` (bytes as read back, unpacked where they are mapped) as their
+    /// points, each texture's in texel order: the texels of a kept level that the host builds on
+    /// ([`super::level`]).
+    pub(super) fn unpack_host_texels(textures: &mut [(usize, BeamTexture)], host: &[u8]) -> Result<(), GpuError> {
+        // Mapped ranges start 8-byte aligned; a copy where the bytes are not aligned all the same.
+        let copied: Vec<HostTexel>;
+        let host: &[HostTexel] = match bytemuck::try_cast_slice(host) {
+            Ok(host) => host,
+            Err(_) => {
+                copied = bytemuck::pod_collect_to_vec(host);
+                &copied
+            }
+        };
         // Counted first: each texture's points grow to their size once.
         let mut counts = vec![0usize; textures.len()];
         for h in host {
-            *counts.get_mut(h.beam as usize).ok_or(GpuError::Internal("a texel for the host past the page"))? += 1;
+            *counts
+                .get_mut(h.beam as usize)
+                .ok_or_else(|| GpuError::Internal("a texel for the host past the page"))? += 1;
         }
         for ((_, tex), n) in textures.iter_mut().zip(counts) {
             tex.points.reserve_exact(n);
@@ -320,8 +329,11 @@ impl GpuBeams<'_> {
             let (p, d) = (Vec3::from_array(h.p), Vec3::from_array(h.d));
             tex.points.push(TexelPoint { texel: h.texel, prim: h.prim, p, d });
         }
-        // Appended by atomics in no set order; a region's texels are distinct.
-        textures.par_iter_mut().for_each(|(_, tex)| tex.points.sort_unstable_by_key(|t| t.texel));
+        // Appended by atomics in no set order; a region's texels are distinct. (Tens of texels a
+        // region: sorted here, not handed to the workers.)
+        for (_, tex) in textures.iter_mut() {
+            tex.points.sort_unstable_by_key(|t| t.texel);
+        }
         Ok(())
     }
 }

@@ -58,7 +58,7 @@ pub(super) fn plan(
     // A flag is stored only while clear: the threads then share its cache line instead of
     // taking it from each other at every texel.
     let mark = |flags: &[AtomicBool], i: u32, unknown| -> Result<(), GpuError> {
-        let flag = flags.get(i as usize).ok_or(GpuError::Internal(unknown))?;
+        let flag = flags.get(i as usize).ok_or_else(|| GpuError::Internal(unknown))?;
         if !flag.load(Ordering::Relaxed) {
             flag.store(true, Ordering::Relaxed);
         }
