@@ -2,6 +2,7 @@
 //! tree and the shading on the CPU) against the CPU renderer, measured in the same run on the
 //! built-in nonlinear scenes; each GPU image checked against the CPU's.
 
+use super::median;
 use beam_cpu::cpu_clock::our_threads_cpu_seconds;
 use beam_cpu::nonlinear::{
     CpuBeams, Degree, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
@@ -110,15 +111,15 @@ pub fn run(
         let cpu_before = our_threads_cpu_seconds();
         let start = Instant::now();
         let mut stats = None;
-        // Per timed frame, the CPU time of its stages.
-        let mut frame_cpu = Vec::new();
+        // Per timed frame, the CPU time of each of its stages.
+        let mut frame_cpu: Vec<Vec<f64>> = Vec::new();
         for _ in 0..frames.max(1) {
             if moving {
                 scene.camera.position += step;
                 scene.camera.target += step;
             }
             let made = frame(&scene)?.1;
-            frame_cpu.push(made.stages.iter().map(|s| s.cpu_seconds).sum::<f64>());
+            frame_cpu.push(made.stages.iter().map(|s| s.cpu_seconds).collect());
             stats = Some(made);
             // Where a display would show it.
             drop(renderer.take_frame());
@@ -155,13 +156,16 @@ pub fn run(
             stats.stages.iter().map(|s| format!("{} {:.1}", s.name, 1e3 * s.host_seconds)).collect();
         println!("{:<16} host ms by stage: {}", "", parts.join(", "));
         if stats.stages.iter().any(|s| s.cpu_seconds > 0.0) {
-            let parts: Vec<String> =
-                stats.stages.iter().map(|s| format!("{} {:.1}", s.name, 1e3 * s.cpu_seconds)).collect();
-            let total: f64 = stats.stages.iter().map(|s| s.cpu_seconds).sum();
+            // Each stage's median over the timed frames (every frame has the same stages).
+            let stage_median = |k: usize| median(frame_cpu.iter().filter_map(|f| f.get(k).copied()).collect());
+            let parts: Vec<String> = (stats.stages.iter().enumerate())
+                .map(|(k, s)| format!("{} {:.1}", s.name, 1e3 * stage_median(k)))
+                .collect();
+            let total: f64 = (0..stats.stages.len()).map(stage_median).sum();
             println!("{:<16} host CPU ms by stage ({:.1} in all): {}", "", 1e3 * total, parts.join(", "));
-            let each: Vec<String> = frame_cpu.iter().map(|s| format!("{:.1}", 1e3 * s)).collect();
-            frame_cpu.sort_by(f64::total_cmp);
-            let median = frame_cpu[frame_cpu.len() / 2];
+            let totals: Vec<f64> = frame_cpu.iter().map(|f| f.iter().sum()).collect();
+            let each: Vec<String> = totals.iter().map(|s| format!("{:.1}", 1e3 * s)).collect();
+            let median = median(totals);
             println!("{:<16} host CPU ms per timed frame: {} (median {:.1})", "", each.join(", "), 1e3 * median);
         }
         println!(
@@ -230,7 +234,8 @@ pub fn run(
     println!(
         "GPU ms: whole frame; host ms: of it, time not blocked on the device (000 Table 2's CPU share: 1 to 25 ms \
          per frame at 1280×1024, with 52 to 3,400 beams per level; by stage: the last timed frame's (host CPU ms by \
-         stage: the CPU time of our threads in each, which the software GPU's threads do not inflate); inside the GPU backend: \
+         stage: the CPU time of our threads in each, which the software GPU's threads do not inflate, the median \
+         of the timed frames', in all: the sum of those medians); inside the GPU backend: \
          per frame, overlapping the stages (atlas preparation: bounding-cone culling, packing, unpacking); host CPU ms: \
          CPU time of our threads, which a software GPU's own threads do not inflate as they do the wall-clock host \
          ms: the calling thread's is a lower bound of the host work, the workers' counts their spin-waits too); \

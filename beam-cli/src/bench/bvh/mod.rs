@@ -4,7 +4,7 @@
 mod ours;
 mod paired;
 
-use super::{Tracer, peers};
+use super::{Tracer, median, peers};
 use beam_bvh::{BuildOptions, Bvh8, Collapse, FlatBvh, Kernel, RayDistribution, TraversalStats, WideBvh};
 use beam_conformance::bvh::scene_light;
 use beam_conformance::generate::{self, uniform};
@@ -315,12 +315,6 @@ fn median_ms(mut f: impl FnMut()) -> f64 {
             })
             .collect(),
     )
-}
-
-/// The middle value of `v` (the upper of the two middle ones for an even length).
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 /// What the CPU offers the 8-wide kernels.
