@@ -109,7 +109,7 @@ fn separation(a: &Triangle, (b, b_normal): (&Triangle, Vec3)) -> f32 {
 /// The unit normal of `t`; not a number where rounding left it short of unit length (a triangle
 /// next to degenerate is no axis).
 fn unit_normal(t: &Triangle) -> Vec3 {
-    let n = (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0]).normalize_or_zero();
+    let n = t.scaled_normal().normalize_or_zero();
     if (n.length_squared() - 1.0).abs() < 1e-4 { n } else { Vec3::NAN }
 }
 

@@ -17,9 +17,10 @@ use rayon::prelude::*;
 /// GPU's shading pass with 16 rays per area light) against `shade_by_waves` on the CPU with the
 /// shading pass's twin, on five built-ins with tinted, bump-mapped and curved (Phong-normal)
 /// mirrors, glass (Fresnel, total internal reflection) and stained glass; on every second scene the
-/// points go as two jobs of one call, into two buffers, the second from its fourth element. Per channel within 1e-4
-/// relative + 1e-5; at most 0.5% of the points may differ (a path whose rounding sends it past an
-/// edge, or a shadow ray that grazes one). The worst relative error is stated.
+/// points go as two jobs of one call, into two buffers, the second from its fourth element. Per
+/// channel within 1e-4 relative + 1e-5; at most 0.5% of the points may differ (a path whose
+/// rounding sends it past an edge, or a shadow ray that grazes one). The worst relative error is
+/// stated.
 pub fn gpu_whitted_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
