@@ -4,7 +4,8 @@
 // and glass hits anywhere in the frame on a triangle that is its own S-mesh face stay too (counted
 // per face: the host builds the beam tree's roots from the counts), and after the tree is built
 // `eye_records` makes the composite records of those inside the crop; the other mirror and glass
-// hits are appended for the host. The host zeroes `counts` before a dispatch. CPU twin:
+// hits are appended for the host, each with the coarse S-mesh face its point lies nearest
+// (`nearest_face`). The host zeroes `counts` before a dispatch. CPU twin:
 // beam_scene::scene::Camera::pixel_ray, then the nearest hit (beam_bvh::FlatBvh::closest_hit);
 // beam_cpu::nonlinear's eye view and composites; lib/trace.wgsl and lib/record.wgsl are prepended
 // by the host.
@@ -43,7 +44,9 @@ struct EyeHit {
     pixel: u32,
     prim: u32,
     t: f32,
-    pad: u32,
+    // For the host: the S-mesh face its point lies nearest among its triangle's candidates
+    // (`nearest_face`), NONE for none.
+    face: u32,
 }
 
 // Twin of beam_gpu::nonlinear::EyeCounts (16 bytes).
@@ -89,6 +92,11 @@ struct RecordCounts {
 @group(0) @binding(13) var<storage, read_write> rest: array<ShadeInput>;
 @group(0) @binding(14) var<storage, read_write> rest_targets: array<u32>;
 @group(0) @binding(15) var<storage, read_write> record_counts: RecordCounts;
+// Per scene triangle p: at 2p and 2p + 1, the start and end in this array of its candidate S-mesh
+// faces (beam_scene::nonlinear::SMesh::candidates).
+@group(0) @binding(16) var<storage, read> candidates: array<u32>;
+// Per S-mesh face: its three vertices (w unused).
+@group(0) @binding(17) var<storage, read> corners: array<vec4<f32>>;
 
 // The unnormalized direction of pixel i's primary ray: Camera::image_point at the pixel's centre,
 // in the CPU's order of operations, less the eye.
@@ -106,6 +114,81 @@ fn in_crop(i: u32) -> bool {
     let x = i % params.width;
     let y = i / params.width;
     return x >= params.crop.x && x < params.crop.z && y >= params.crop.y && y < params.crop.w;
+}
+
+// The point of triangle abc nearest p (beam_math::collide::closest_point_on_triangle, Ericson
+// §5.1.5, in its order of operations).
+fn closest_point_on_triangle(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec3<f32> {
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = dot(ab, ap);
+    let d2 = dot(ac, ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let d3 = dot(ab, bp);
+    let d4 = dot(ac, bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let d5 = dot(ab, cp);
+    let d6 = dot(ac, cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// The squared distance from p to S-mesh face f.
+fn face_distance_squared(f: u32, p: vec3<f32>) -> f32 {
+    let q = closest_point_on_triangle(p, corners[3u * f].xyz, corners[3u * f + 1u].xyz, corners[3u * f + 2u].xyz);
+    let e = q - p;
+    return dot(e, e);
+}
+
+// The candidate face of triangle `prim` nearest p, the first of equally near ones (SMesh::locate's
+// choice: a NaN distance loses to a number); NONE for a triangle without candidates. Loops: once
+// per candidate (a handful: the faces a fine triangle's points lie nearest).
+fn nearest_face(prim: u32, p: vec3<f32>) -> u32 {
+    if 2u * prim + 1u >= arrayLength(&candidates) {
+        return NONE;
+    }
+    let start = candidates[2u * prim];
+    let end = min(candidates[2u * prim + 1u], arrayLength(&candidates));
+    if start >= end || 3u * candidates[start] + 2u >= arrayLength(&corners) {
+        return NONE;
+    }
+    var best = candidates[start];
+    var best_squared = face_distance_squared(best, p);
+    for (var k = start + 1u; k < end; k++) {
+        let f = candidates[k];
+        if 3u * f + 2u >= arrayLength(&corners) {
+            continue;
+        }
+        let s = face_distance_squared(f, p);
+        let nan = best_squared != best_squared;
+        if (s < best_squared && sqrt(s) < sqrt(best_squared)) || (nan && s == s) {
+            best = f;
+            best_squared = s;
+        }
+    }
+    return best;
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -128,13 +211,13 @@ fn eye_view(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
         let face = face_of[hit.prim];
         if face == NONE {
             let j = atomicAdd(&counts.others, 1u);
-            others[j] = EyeHit(i, hit.prim, hit.t, 0u);
+            others[j] = EyeHit(i, hit.prim, hit.t, nearest_face(hit.prim, params.position + d * hit.t));
             return;
         }
         atomicAdd(&seen[2u * face], 1u);
         if in_crop(i) { atomicAdd(&seen[2u * face + 1u], 1u); }
         let j = atomicAdd(&counts.specular, 1u);
-        specular[j] = EyeHit(i, hit.prim, hit.t, 0u);
+        specular[j] = EyeHit(i, hit.prim, hit.t, face);
     } else if in_crop(i) {
         let j = atomicAdd(&counts.kept, 1u);
         kept[j] = ShadeInput(params.position + d * hit.t, hit.prim, normalize(d), i);

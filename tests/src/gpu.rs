@@ -32,7 +32,7 @@ mod twin;
 mod whitted;
 
 use bindings::gpu_images_fit_narrow_bindings;
-use coarse::gpu_coarse_smesh_equals_cpu;
+use coarse::{gpu_coarse_smesh_equals_cpu, gpu_eye_locates_as_cpu};
 use cull::gpu_cone_culling_equals_host;
 use eye::gpu_eye_view_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
@@ -93,6 +93,7 @@ pub fn properties() -> Vec<Property> {
             backends: GPU,
             body: gpu_coarse_smesh_equals_cpu,
         },
+        Property { name: "gpu_eye_locates_as_cpu", cites: "000 §7.1", backends: GPU, body: gpu_eye_locates_as_cpu },
         Property { name: "gpu_shading_equals_cpu", cites: "000 §9.2", backends: GPU, body: gpu_shading_equals_cpu },
         Property {
             name: "gpu_glossy_gather_equals_cpu",

@@ -13,6 +13,7 @@ beam_conformance::conformance_tests!(
     gpu_cone_culling_equals_host,
     gpu_images_equal_cpu,
     gpu_coarse_smesh_equals_cpu,
+    gpu_eye_locates_as_cpu,
     gpu_shading_equals_cpu,
     gpu_composite_equals_cpu,
     gpu_whitted_equals_cpu,

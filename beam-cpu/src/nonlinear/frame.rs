@@ -139,15 +139,21 @@ pub fn render_nonlinear_frame(
     // the beam tree. (A backend that shades the eye's diffuse, glossy and emissive pixels itself may
     // keep those: they see no S-mesh face; one that composites them may keep mirror and glass hits
     // on fine faces, counted per face.)
-    let EyeFaces { hits, seen, kept: kept_eye } = renderer.eye_faces(scene, tree.smesh, &camera, &options.shading)?;
+    let EyeFaces { hits, seen, kept: kept_eye, faces } =
+        renderer.eye_faces(scene, tree.smesh, &camera, &options.shading)?;
     clock.lap("eye view");
     // Per pixel, the S face it sees: its own triangle's, or on a coarse S mesh the face its point
-    // maps to. The eye's beams need only how many pixels see each face (their directions come from
-    // the eye itself, `Source::Eye`).
+    // maps to (chosen by the backend where it located the hits). The eye's beams need only how
+    // many pixels see each face (their directions come from the eye itself, `Source::Eye`).
     let locate = |hits: &[(usize, Ray, Hit)]| -> Vec<Option<(usize, Vec3)>> {
         hits.par_iter().map(|&(_, ray, h)| tree.smesh.locate(h.prim, ray.at(h.t))).collect()
     };
-    let located = locate(&hits);
+    let located = if faces.len() == hits.len() {
+        let on = |(&(_, ray, h), &f): (&(usize, Ray, Hit), &u32)| tree.smesh.locate_on(h.prim, f, ray.at(h.t));
+        hits.par_iter().zip(&faces).map(on).collect()
+    } else {
+        locate(&hits)
+    };
     // A face's beams come from every pixel that sees it, but only the faces that pixels of the
     // region see are traced on (with their subtrees): the beams of the others reach no pixel of it.
     let crop = options.shading.region();

@@ -59,6 +59,7 @@ fn tables() -> Vec<Table> {
             nodes: FlatNode, triangles: GpuTriangle, params: EyeParams, kinds: u32, kept: ShadeInput, targets: u32,
             others: EyeHit, counts: EyeCounts, face_of: u32, seen: u32, specular: EyeHit, children: [u32; 2],
             records: CompositeRecord, rest: ShadeInput, rest_targets: u32, record_counts: RecordCounts,
+            candidates: u32, corners: [f32; 4],
         ]),
         bindings!("level_points" => [
             params: LevelParams, beams: GpuBeam, firsts: u32, texels: [u32; 2], placed: [u32; 4], kinds: u32,

@@ -120,7 +120,7 @@ fn twins() -> Vec<Twin> {
             pad[0] => pad0, pad[1] => pad1, crop
         }),
         twin!("eye", ShadeInput => ShadeInput { p, prim, d, seed }),
-        twin!("eye", EyeHit => EyeHit { pixel, prim, t, pad }),
+        twin!("eye", EyeHit => EyeHit { pixel, prim, t, face }),
         twin!("eye", EyeCounts => EyeCounts { kept, others, overflow, specular }),
         twin!("eye", RecordCounts => RecordCounts { records, rest, pad[0] => pad0, pad[1] => pad1 }),
         twin!("whitted", WhittedParams => WhittedParams { count, first, last, eps }),

@@ -71,8 +71,9 @@ pub struct EyeHit {
     /// The ray parameter of the hit (the ray from the eye through the pixel's centre on the image
     /// plane at distance 1).
     pub t: f32,
-    /// Padding.
-    pub pad: u32,
+    /// The S-mesh face its point maps to: a kept hit's triangle's own, a handed-back hit's
+    /// nearest candidate ([`LocateTable`]; [`SMesh::locate_on`]); [`NONE`] for none.
+    pub face: u32,
 }
 
 /// What one dispatch appended.
@@ -135,8 +136,59 @@ pub struct KeptSpecular {
 pub struct EyeFaceMap<'a> {
     /// Per scene triangle, its S-mesh face where it is the face itself, else [`NONE`].
     pub face_of: &'a wgpu::Buffer,
+    /// The candidates that locate the other hits (none: the host locates them).
+    pub locate: Option<&'a LocateTable>,
     /// Faces of the S mesh.
     pub faces: usize,
+}
+
+/// An S mesh's candidates and corners on the GPU, for `eye.wgsl`'s `nearest_face`: the choice
+/// of [`SMesh::locate`] for the points of the mirror and glass hits handed to the host, so that
+/// the host does not make it (the mirror teapot's eye view hands back 182 K points a frame under
+/// its 850 coarse faces, about five candidates each).
+pub struct LocateTable {
+    /// Per scene triangle `p`, at `2p` and `2p + 1`, the range in this buffer of its candidates.
+    candidates: wgpu::Buffer,
+    /// Per face, its three vertices (`[f32; 4]`, w unused).
+    corners: wgpu::Buffer,
+}
+
+impl LocateTable {
+    /// [`Self::new`] where `smesh` has coarse faces; `None` for an S mesh of fine faces, whose
+    /// points the host locates without a search (a triangle is its own face).
+    pub fn coarse(gpu: &Gpu, scene: &Scene, smesh: &SMesh) -> Option<Self> {
+        (smesh.coarse_faces() > 0).then(|| Self::new(gpu, scene, smesh))
+    }
+
+    /// The candidates of `scene`'s triangles among the faces of `smesh`, uploaded.
+    pub fn new(gpu: &Gpu, scene: &Scene, smesh: &SMesh) -> Self {
+        let triangles = scene.triangles.len() as u32;
+        let mut table = Vec::with_capacity(2 * triangles as usize);
+        let mut lists = Vec::new();
+        for p in 0..triangles {
+            let start = 2 * triangles + lists.len() as u32;
+            lists.extend_from_slice(smesh.candidates(p));
+            table.extend([start, 2 * triangles + lists.len() as u32]);
+        }
+        table.extend(lists);
+        let corners: Vec<[f32; 4]> = smesh.faces.iter().flat_map(|f| f.v.map(|v| v.extend(0.0).to_array())).collect();
+        Self::upload(gpu, &table, &corners)
+    }
+
+    /// No candidates: every hit's face [`NONE`].
+    fn none(gpu: &Gpu) -> Self {
+        Self::upload(gpu, &[0, 0], &[[0.0; 4]; 3])
+    }
+
+    fn upload(gpu: &Gpu, table: &[u32], corners: &[[f32; 4]]) -> Self {
+        let none = wgpu::BufferUsages::empty();
+        let table = if table.is_empty() { &[0, 0][..] } else { table };
+        let corners = if corners.is_empty() { &[[0.0; 4]; 3][..] } else { corners };
+        Self {
+            candidates: storage(gpu, "S-mesh candidates of the triangles", table, none),
+            corners: storage(gpu, "S-mesh corners", corners, none),
+        }
+    }
 }
 
 /// The composite records `eye_records` made of one dispatch's kept mirror and glass hits (or
@@ -172,6 +224,8 @@ pub struct GpuEye {
     /// Per scene triangle: [`NONE`] (no S-mesh face on the GPU: every mirror and glass hit for
     /// the host).
     no_faces: wgpu::Buffer,
+    /// No candidates (no hit located).
+    no_locate: LocateTable,
 }
 
 impl GpuEye {
@@ -184,6 +238,7 @@ impl GpuEye {
             records: compute_pipeline(gpu, "eye", "eye_records")?,
             kinds: storage(gpu, "triangle kinds", &kinds, wgpu::BufferUsages::empty()),
             no_faces: storage(gpu, "no S-mesh faces", &no_faces, wgpu::BufferUsages::empty()),
+            no_locate: LocateTable::none(gpu),
         })
     }
 
@@ -221,7 +276,8 @@ impl GpuEye {
         let pixels = camera.width as usize * camera.height as usize;
         let chunk = GpuComposite::records_per_dispatch(gpu);
         let (nodes, triangles) = tracer.buffers();
-        let (face_of, face_count) = faces.map_or((&self.no_faces, 0), |f| (f.face_of, f.faces));
+        let (face_of, locate, face_count) = faces.map_or((&self.no_faces, None, 0), |f| (f.face_of, f.locate, f.faces));
+        let locate = locate.unwrap_or(&self.no_locate);
         // Zeroed by wgpu.
         let seen = output(gpu, "faces seen", (face_count * 8) as u64);
         let mut dispatched = Vec::new();
@@ -249,6 +305,8 @@ impl GpuEye {
                 buffer_entry(8, face_of),
                 buffer_entry(9, &seen),
                 buffer_entry(10, &specular),
+                buffer_entry(16, &locate.candidates),
+                buffer_entry(17, &locate.corners),
             ];
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             encode_pass(gpu, &mut encoder, &self.pipeline, count as u32, &entries);
@@ -438,7 +496,8 @@ impl EyeView for GpuBeams<'_> {
             return Ok(EyeFaces::handed_back(self.eye_view(scene, camera, options)?, smesh));
         }
         let face_of = fine_faces(self.gpu, scene, smesh);
-        let faces = EyeFaceMap { face_of: &face_of, faces: smesh.faces.len() };
+        let locate = LocateTable::coarse(self.gpu, scene, smesh);
+        let faces = EyeFaceMap { face_of: &face_of, locate: locate.as_ref(), faces: smesh.faces.len() };
         let Some(out) = self.eye_on_gpu(camera, options, Some(faces))? else {
             return Ok(EyeFaces::handed_back(eye_by_rays(self, scene, camera)?, smesh));
         };
@@ -446,7 +505,12 @@ impl EyeView for GpuBeams<'_> {
         let kept = out.specular.iter().map(|l| u64::from(l.count)).sum();
         *self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner) =
             Some(KeptEyeHits { lists: out.specular, face_of, view: (*camera, options.region()) });
-        Ok(EyeFaces { hits: Self::eye_hits(scene, camera, &out.others), seen: out.seen, kept })
+        // A face per hit where every hit names a scene triangle (else `eye_hits` drops some, and
+        // the caller locates them all).
+        let hits = Self::eye_hits(scene, camera, &out.others);
+        let faces =
+            if hits.len() == out.others.len() { out.others.iter().map(|h| h.face).collect() } else { Vec::new() };
+        Ok(EyeFaces { hits, seen: out.seen, kept, faces })
     }
 
     /// The kept hits read back.

@@ -27,7 +27,7 @@ pub use cull::BeamCull;
 pub use display::GpuFrame;
 pub use eye::{
     EyeCounts, EyeFaceMap, EyeHit, EyeOut, EyeParams, EyeRecords, GpuEye, KeptEyeHits, KeptPoints, KeptSpecular,
-    RecordCounts,
+    LocateTable, RecordCounts,
 };
 pub use level::{GpuLevelPoints, HostTexel, KeptLevel, LevelCounts, LevelParams};
 pub use lookups::{GpuLookupJob, GpuLookups};

@@ -192,13 +192,17 @@ pub struct EyeFaces {
     pub seen: Vec<[u32; 2]>,
     /// Mirror and glass pixels the backend kept.
     pub kept: u64,
+    /// Per hit handed back, the S-mesh face the backend chose among its triangle's candidates
+    /// ([`SMesh::locate_on`]; [`u32::MAX`] for none), or empty where it did not locate them and
+    /// the caller does ([`SMesh::locate`]).
+    pub faces: Vec<u32>,
 }
 
 impl EyeFaces {
-    /// Every hit handed back (`hits`), none kept, over the faces of `smesh`.
+    /// Every hit handed back (`hits`), none kept or located, over the faces of `smesh`.
     #[must_use]
     pub fn handed_back(hits: Vec<(usize, Ray, Hit)>, smesh: &SMesh) -> Self {
-        Self { hits, seen: vec![[0, 0]; smesh.faces.len()], kept: 0 }
+        Self { hits, seen: vec![[0, 0]; smesh.faces.len()], kept: 0, faces: Vec::new() }
     }
 }
 

@@ -10,9 +10,12 @@
 use super::twin::TwinShading;
 use super::{PixelDifference, adapter};
 use crate::{Backend, Config, Outcome};
-use beam_cpu::nonlinear::{Degree, NonlinearOptions, render_nonlinear_with};
+use beam_cpu::nonlinear::{Degree, EyeView, NonlinearOptions, render_nonlinear_with};
 use beam_cpu::render::RenderOptions;
 use beam_gpu::nonlinear::GpuBeams;
+use beam_math::Triangle;
+use beam_math::collide::closest_point_on_triangle;
+use beam_scene::nonlinear::SMesh;
 use beam_scene::scene::{self, Simplify};
 
 /// Image side: small, for lavapipe.
@@ -81,4 +84,54 @@ pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, St
         ));
     }
     Ok(Outcome { cases: pixels, note: notes.join("; ") })
+}
+
+/// The eye's view on the GPU locates the mirror and glass hits it hands back under the coarse
+/// faces (`eye.wgsl`'s `nearest_face`) as the host would (`SMesh::locate`): on the mirror teapot
+/// at 128×96 with 400 coarse faces, every hit handed back carries a face, and it is the host's,
+/// or a candidate of its triangle no farther from the point (a tie within 1e-6 of the scene's
+/// size, rounded otherwise in f32 on the GPU). Hits on triangles with several candidates must be
+/// among them.
+pub fn gpu_eye_locates_as_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+    let gpu = match adapter()? {
+        Ok(g) => g,
+        Err(o) => return Ok(o),
+    };
+    let mut scene = scene::builtin("mirror-teapot").map_err(|e| e.to_string())?;
+    scene.smesh.rest = Some(Simplify::Faces(FACES));
+    let smesh = SMesh::of(&scene);
+    let (width, height) = (128, 96);
+    let camera = scene.camera.with_size(width, height);
+    let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+    let eye = renderer.eye_faces(&scene, &smesh, &camera, &RenderOptions::exact(width, height));
+    let eye = eye.map_err(|e| e.to_string())?;
+    if eye.faces.len() != eye.hits.len() {
+        return Err(format!("{} faces for {} hits handed back", eye.faces.len(), eye.hits.len()));
+    }
+    let extent = scene.bounds().extent().length();
+    let distance = |f: usize, p| closest_point_on_triangle(p, &Triangle { v: smesh.faces[f].v }).distance(p);
+    let (mut several, mut ties) = (0u64, 0u64);
+    for (&(i, ray, hit), &face) in eye.hits.iter().zip(&eye.faces) {
+        let p = ray.at(hit.t);
+        let want = smesh.locate(hit.prim, p).map(|(f, _)| f);
+        let got = (face != u32::MAX).then_some(face as usize);
+        several += u64::from(smesh.candidates(hit.prim).len() > 1);
+        match (want, got) {
+            (Some(w), Some(g)) if w == g => {}
+            (Some(w), Some(g)) if smesh.candidates(hit.prim).contains(&(g as u32)) => {
+                if distance(g, p) > distance(w, p) + 1e-6 * extent {
+                    return Err(format!("pixel {i}: face {g} on the GPU, {w} nearer on the host"));
+                }
+                ties += 1;
+            }
+            _ => return Err(format!("pixel {i}: face {got:?} on the GPU, {want:?} on the host")),
+        }
+    }
+    if several == 0 {
+        return Err("no hit handed back on a triangle with several candidate faces".into());
+    }
+    Ok(Outcome {
+        cases: eye.hits.len() as u64,
+        note: format!("{} hits located, {several} among several faces, {ties} ties", eye.hits.len()),
+    })
 }
