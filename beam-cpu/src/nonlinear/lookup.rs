@@ -158,7 +158,7 @@ impl Tree<'_> {
     /// maps to in the composite's order, where the located face is coarse and has child beams and
     /// the point a reflected ray; none where the composite looks nothing up.
     fn lookup_asks(&self, next: &[Node], to: &ToComposite<'_>, others: bool, out: &mut Asks) {
-        let (Some((face, _)), Some(own)) = (to.located, to.own) else { return };
+        let (Some((face, at)), Some(own)) = (to.located, to.own) else { return };
         if own[0].is_none() {
             return;
         }
@@ -177,7 +177,8 @@ impl Tree<'_> {
         let faces = (!others).then_some(face).into_iter().chain(candidates.filter(|_| others));
         for g in faces {
             let Some(c) = to.children.get(&g) else { continue };
-            let w = self.smesh.faces[g].barycentric(p);
+            // The located face's coordinates were found with it (`SMesh::locate`).
+            let w = if g == face { at } else { self.smesh.faces[g].barycentric(p) };
             let reflected = ask(c.reflected, own[0], w);
             let refracted = c.refracted.map(|t| ask(t, own[1], w));
             out.faces.push(FaceAsks { reflected, refracted });

@@ -423,7 +423,8 @@ impl Tree<'_> {
                     break;
                 }
                 let Some(&c) = to.children.get(&g) else { continue };
-                let wg = self.smesh.faces[g].barycentric(to.point.p);
+                // The located face's coordinates were found with it (`SMesh::locate`).
+                let wg = if g == located { w } else { self.smesh.faces[g].barycentric(to.point.p) };
                 let known = answers.next();
                 let (at_g, outside) = known.map_or_else(|| at(c.reflected, rays[0], wg), |a| a.reflected);
                 if outside < best - 1e-4 {
