@@ -134,6 +134,7 @@ pub fn render_nonlinear_frame(
         caustics: shared.map.as_ref(),
         by_rays: std::sync::atomic::AtomicU64::new(0),
         beams: &shared.beams,
+        far: scene.bounds().extent().length(),
     };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree. (A backend that shades the eye's diffuse, glossy and emissive pixels itself may

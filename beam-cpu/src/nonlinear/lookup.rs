@@ -162,8 +162,7 @@ impl Tree<'_> {
         if own[0].is_none() {
             return;
         }
-        let far = self.scene.bounds().extent().length();
-        let p = to.point.p;
+        let (far, p) = (self.far, to.point.p);
         // `at` of the composite: a job where `reproject` looks up, else its known answer.
         let mut ask = |child: usize, truth: Option<Vec3>, w: Vec3| match (next.get(child), truth) {
             (Some(n), Some(truth)) if !matches!(*n.beam, Beam::Bumped(_)) && truth.is_finite() => {

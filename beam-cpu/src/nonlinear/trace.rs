@@ -119,6 +119,9 @@ pub(super) struct Tree<'a> {
     pub(super) by_rays: std::sync::atomic::AtomicU64,
     /// The beams of this frame's tree and of the last one's, by face and incoming light.
     pub(super) beams: &'a Mutex<BeamMemo>,
+    /// The scene's diagonal: the depth where a texel's ray leaves the scene ([`reproject`]),
+    /// found once (a lookup and a composite a point read it).
+    pub(super) far: f32,
 }
 
 /// A face's beams (reflected, and refracted through glass; `None` where degenerate) by what they
@@ -405,9 +408,8 @@ impl Tree<'_> {
         let mut sc = *to.children.get(&face)?;
         let (mut reflected_at, mut refracted_at) = (w, w);
         if let Some(rays) = to.own {
-            let far = self.scene.bounds().extent().length();
             let at = |child: usize, truth: Option<Vec3>, w: Vec3| match (next.get(child), truth) {
-                (Some(n), Some(truth)) => reproject(&n.beam, &n.tex, to.point.p, truth, w, far),
+                (Some(n), Some(truth)) => reproject(&n.beam, &n.tex, to.point.p, truth, w, self.far),
                 _ => (w, 0.0),
             };
             let mut best = f32::INFINITY;
