@@ -165,7 +165,7 @@ impl Tree<'_> {
         let (far, p) = (self.far, to.point.p);
         // `at` of the composite: a job where `reproject` looks up, else its known answer.
         let mut ask = |child: usize, truth: Option<Vec3>, w: Vec3| match (next.get(child), truth) {
-            (Some(n), Some(truth)) if !matches!(*n.beam, Beam::Bumped(_)) && truth.is_finite() => {
+            (Some(n), Some(truth)) if !n.bumped && truth.is_finite() => {
                 out.jobs.push(LookupJob { beam: child as u32, p, truth, w, far });
                 Ask::Job
             }

@@ -70,6 +70,9 @@ impl std::ops::Deref for TreeBeam {
 /// A rendered beam of the tree.
 pub(super) struct Node {
     pub(super) beam: TreeBeam,
+    /// Whether it is bump-mapped (a composite into it reads the face's own coordinates): known
+    /// here, so that a lookup per point does not follow the beam's pointer to find out.
+    pub(super) bumped: bool,
     /// Its base: the S-mesh face it leaves.
     pub(super) face: usize,
     /// Pixels it covers (directly, or through its parents).
@@ -265,7 +268,8 @@ impl Tree<'_> {
                     } else {
                         std::mem::take(&mut tex.points)
                     };
-                    Node { beam, face, pixels, tex, hits, located: Vec::new(), children: FaceMap::default() }
+                    let bumped = matches!(*beam, Beam::Bumped(_));
+                    Node { beam, bumped, face, pixels, tex, hits, located: Vec::new(), children: FaceMap::default() }
                 })
                 .collect();
             clock.lap("tree: texel hits");
