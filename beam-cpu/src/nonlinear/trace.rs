@@ -259,14 +259,18 @@ impl Tree<'_> {
                 .map(|((beam, face, pixels, _), mut tex)| {
                     // The hit texels in texel order, row by row: those the backend handed back with
                     // their points, else found here. Room for every texel of the region where the
-                    // backend kept none, else only those from which the tree goes on.
-                    let hits = if tex.points.is_empty() {
+                    // backend kept none, else only those from which the tree goes on (none past
+                    // the last level: its textures, which a coarse face's lookups read, are not
+                    // scanned for them).
+                    let hits = if !tex.points.is_empty() {
+                        std::mem::take(&mut tex.points)
+                    } else if kept.is_some() && keep.continues.is_empty() {
+                        Vec::new()
+                    } else {
                         let room = if kept.is_none() { tex.texels() as usize } else { 0 };
                         let handed_back =
                             |prim: u32| kept.is_none() || keep.continues.get(prim as usize) == Some(&true);
                         Self::texel_hits(&beam, &tex, handed_back, room)
-                    } else {
-                        std::mem::take(&mut tex.points)
                     };
                     let bumped = matches!(*beam, Beam::Bumped(_));
                     Node { beam, bumped, face, pixels, tex, hits, located: Vec::new(), children: FaceMap::default() }
