@@ -177,9 +177,11 @@ impl LocateTable {
 
     /// No candidates: every hit's face [`NONE`].
     fn none(gpu: &Gpu) -> Self {
-        Self::upload(gpu, &[0, 0], &[[0.0; 4]; 3])
+        Self::upload(gpu, &[], &[])
     }
 
+    /// `table` and `corners` uploaded; an empty one as the smallest one with no candidate (a
+    /// binding is never empty).
     fn upload(gpu: &Gpu, table: &[u32], corners: &[[f32; 4]]) -> Self {
         let none = wgpu::BufferUsages::empty();
         let table = if table.is_empty() { &[0, 0][..] } else { table };

@@ -90,8 +90,8 @@ pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, St
 /// faces (`eye.wgsl`'s `nearest_face`) as the host would (`SMesh::locate`): on the mirror teapot
 /// at 128×96 with 400 coarse faces, every hit handed back carries a face, and it is the host's,
 /// or a candidate of its triangle no farther from the point (a tie within 1e-6 of the scene's
-/// size, rounded otherwise in f32 on the GPU). Hits on triangles with several candidates must be
-/// among them.
+/// size, rounded otherwise in f32 on the GPU). Some hits must lie on triangles with several
+/// candidates (else the GPU chose nothing).
 pub fn gpu_eye_locates_as_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
