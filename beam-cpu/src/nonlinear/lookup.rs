@@ -124,9 +124,14 @@ impl Answers {
 }
 
 impl Asks {
-    /// The lists of `pieces` one after another.
+    /// The lists of `pieces` one after another (each list made at its full length once).
     fn concat(pieces: Vec<Self>) -> Self {
-        let mut all = Self::default();
+        let total = |len: fn(&Self) -> usize| pieces.iter().map(len).sum::<usize>();
+        let mut all = Self {
+            lens: Vec::with_capacity(total(|p| p.lens.len())),
+            faces: Vec::with_capacity(total(|p| p.faces.len())),
+            jobs: Vec::with_capacity(total(|p| p.jobs.len())),
+        };
         for p in pieces {
             all.lens.extend_from_slice(&p.lens);
             all.faces.extend_from_slice(&p.faces);
@@ -207,7 +212,11 @@ impl Tree<'_> {
         let piece = piece_len(points.len());
         let asks_of = |others: bool, wanted: &(dyn Fn(usize) -> bool + Sync)| -> Asks {
             let pieces = points.par_chunks(piece).enumerate().map(|(c, chunk)| {
-                let mut asks = Asks { lens: Vec::with_capacity(chunk.len()), ..Asks::default() };
+                // Room for a face and a job a point (a point under a coarse face asks its located
+                // face first: one reflection lookup, and a refraction through glass).
+                let n = chunk.len();
+                let mut asks =
+                    Asks { lens: Vec::with_capacity(n), faces: Vec::with_capacity(n), jobs: Vec::with_capacity(n) };
                 for (j, p) in chunk.iter().enumerate() {
                     let before = asks.faces.len();
                     if let Some(p) = p
