@@ -163,24 +163,25 @@ fn face_distance_squared(f: u32, p: vec3<f32>) -> f32 {
 }
 
 // The candidate face of triangle `prim` nearest p, the first of equally near ones (SMesh::locate's
-// choice: a NaN distance loses to a number); NONE for a triangle without candidates. Loops: once
-// per candidate (a handful: the faces a fine triangle's points lie nearest).
+// choice: a lone candidate without a distance; a NaN distance loses to a number); NONE for a
+// triangle without candidates. Loops: once per candidate (a handful: the faces a fine triangle's
+// points lie nearest), within the table.
 fn nearest_face(prim: u32, p: vec3<f32>) -> u32 {
     if 2u * prim + 1u >= arrayLength(&candidates) {
         return NONE;
     }
     let start = candidates[2u * prim];
     let end = min(candidates[2u * prim + 1u], arrayLength(&candidates));
-    if start >= end || 3u * candidates[start] + 2u >= arrayLength(&corners) {
+    if start >= end {
         return NONE;
     }
     var best = candidates[start];
+    if end - start == 1u {
+        return best;
+    }
     var best_squared = face_distance_squared(best, p);
     for (var k = start + 1u; k < end; k++) {
         let f = candidates[k];
-        if 3u * f + 2u >= arrayLength(&corners) {
-            continue;
-        }
         let s = face_distance_squared(f, p);
         let nan = best_squared != best_squared;
         if (s < best_squared && sqrt(s) < sqrt(best_squared)) || (nan && s == s) {

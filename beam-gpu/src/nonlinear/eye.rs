@@ -154,14 +154,15 @@ pub struct LocateTable {
 }
 
 impl LocateTable {
-    /// [`Self::new`] where `smesh` has coarse faces; `None` for an S mesh of fine faces, whose
-    /// points the host locates without a search (a triangle is its own face).
+    /// The candidates of `scene`'s triangles among the faces of `smesh`, uploaded, where `smesh`
+    /// has coarse faces; `None` for an S mesh of fine faces, whose points the host locates
+    /// without a search (a triangle is its own face).
     pub fn coarse(gpu: &Gpu, scene: &Scene, smesh: &SMesh) -> Option<Self> {
         (smesh.coarse_faces() > 0).then(|| Self::new(gpu, scene, smesh))
     }
 
     /// The candidates of `scene`'s triangles among the faces of `smesh`, uploaded.
-    pub fn new(gpu: &Gpu, scene: &Scene, smesh: &SMesh) -> Self {
+    fn new(gpu: &Gpu, scene: &Scene, smesh: &SMesh) -> Self {
         let triangles = scene.triangles.len() as u32;
         let mut table = Vec::with_capacity(2 * triangles as usize);
         let mut lists = Vec::new();
