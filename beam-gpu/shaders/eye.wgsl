@@ -2,13 +2,15 @@
 // of the camera, its primary ray's nearest hit. Diffuse, glossy and emissive hits inside the crop
 // are appended as shading inputs (with their pixels) and stay on the GPU for the composite. Mirror
 // and glass hits anywhere in the frame on a triangle that is its own S-mesh face stay too (counted
-// per face: the host builds the beam tree's roots from the counts), and after the tree is built
-// `eye_records` makes the composite records of those inside the crop; the other mirror and glass
-// hits are appended for the host, each with the coarse S-mesh face its point lies nearest
-// (`nearest_face`). The host zeroes `counts` before a dispatch. CPU twin:
-// beam_scene::scene::Camera::pixel_ray, then the nearest hit (beam_bvh::FlatBvh::closest_hit);
-// beam_cpu::nonlinear's eye view and composites; lib/trace.wgsl and lib/record.wgsl are prepended
-// by the host.
+// per face: the host builds the beam tree's roots from the counts), and so do those under a coarse
+// S-mesh face, at the candidate face their point lies nearest (`nearest_face`). After the tree's
+// first level is built, `eye_records` makes the composite records of those inside the crop (under
+// a coarse face from the point's own scattered rays, `coarse_record`). The other mirror and glass
+// hits (on triangles without an S-mesh face) are appended for the host. The host zeroes `counts`
+// before a dispatch. CPU twin: beam_scene::scene::Camera::pixel_ray, then the nearest hit
+// (beam_bvh::FlatBvh::closest_hit); beam_cpu::nonlinear's eye view and composites (`Tree::locate`,
+// `Tree::composite`); lib/trace.wgsl, lib/record.wgsl, lib/lookup.wgsl, lib/reproject.wgsl and
+// lib/specular.wgsl are prepended by the host.
 
 // Twin of beam_gpu::nonlinear::EyeParams (96 bytes): the camera's frame (Camera::frame) and the
 // dispatch's pixels.
@@ -25,8 +27,9 @@ struct EyeParams {
     count: u32,
     half_width: f32,
     half_height: f32,
-    pad0: u32,
-    pad1: u32,
+    // `eye_records`: the scene's diagonal, where a texel's ray leaves the scene (lib/reproject.wgsl).
+    far: f32,
+    pad: u32,
     // The crop: pixels x0..x1 × y0..y1 as (x0, y0, x1, y1).
     crop: vec4<u32>,
 }
@@ -44,8 +47,8 @@ struct EyeHit {
     pixel: u32,
     prim: u32,
     t: f32,
-    // For the host: the S-mesh face its point lies nearest among its triangle's candidates
-    // (`nearest_face`), NONE for none.
+    // Its S-mesh face: its triangle's own, or the candidate its point lies nearest
+    // (`nearest_face`); NONE for none (a hit for the host).
     face: u32,
 }
 
@@ -67,8 +70,10 @@ struct RecordCounts {
     records: atomic<u32>,
     // Points appended for the Whitted rays (no child beam).
     rest: atomic<u32>,
-    pad0: u32,
-    pad1: u32,
+    // Of those, points under a coarse face whose child beams do not hold their scattered rays.
+    uncovered: atomic<u32>,
+    // Of those, points under a coarse face on triangles with interpolated normals.
+    curved: atomic<u32>,
 }
 
 @group(0) @binding(2) var<uniform> params: EyeParams;
@@ -97,6 +102,13 @@ struct RecordCounts {
 @group(0) @binding(16) var<storage, read> candidates: array<u32>;
 // Per S-mesh face: its three vertices (w unused).
 @group(0) @binding(17) var<storage, read> corners: array<vec4<f32>>;
+// `eye_records` under coarse faces: the tree's first level of beams (their rays and regions in
+// `texel_t`, lib/reproject.wgsl), and the mirror and glass triangles (lib/specular.wgsl).
+@group(0) @binding(18) var<storage, read> beams: array<Beam>;
+@group(0) @binding(19) var<storage, read> texel_t: array<f32>;
+// Per scene triangle: its index in `specular_prims`, NONE for a triangle that is not a mirror or glass.
+@group(0) @binding(20) var<storage, read> slots: array<u32>;
+@group(0) @binding(21) var specular_prims: texture_2d<u32>;
 
 // The unnormalized direction of pixel i's primary ray: Camera::image_point at the pixel's centre,
 // in the CPU's order of operations, less the eye.
@@ -209,10 +221,13 @@ fn eye_view(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
         return;
     }
     if (kinds[hit.prim] & LEVEL_PLAIN) == 0u {
-        let face = face_of[hit.prim];
+        var face = face_of[hit.prim];
+        if face == NONE {
+            face = nearest_face(hit.prim, params.position + d * hit.t);
+        }
         if face == NONE {
             let j = atomicAdd(&counts.others, 1u);
-            others[j] = EyeHit(i, hit.prim, hit.t, nearest_face(hit.prim, params.position + d * hit.t));
+            others[j] = EyeHit(i, hit.prim, hit.t, NONE);
             return;
         }
         atomicAdd(&seen[2u * face], 1u);
@@ -226,10 +241,139 @@ fn eye_view(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     }
 }
 
+// Barycentric coordinates of p in S-mesh face f's plane (SFace::barycentric: the centre for a
+// degenerate face).
+fn face_barycentric(f: u32, p: vec3<f32>) -> vec3<f32> {
+    let a = corners[3u * f].xyz;
+    let b = corners[3u * f + 1u].xyz;
+    let c = corners[3u * f + 2u].xyz;
+    let n = cross(b - a, c - a);
+    let nn = dot(n, n);
+    if !(nn > 0.0) || nn > 3.0e38 {
+        return vec3<f32>(1.0 / 3.0);
+    }
+    let w0 = dot(cross(b - p, c - p), n) / nn;
+    let w1 = dot(cross(c - p, a - p), n) / nn;
+    return vec3<f32>(w0, w1, 1.0 - w0 - w1);
+}
+
+// The point of S-mesh face f at barycentric w.
+fn face_point(f: u32, w: vec3<f32>) -> vec3<f32> {
+    return w.x * corners[3u * f].xyz + w.y * corners[3u * f + 1u].xyz + w.z * corners[3u * f + 2u].xyz;
+}
+
+// The unit directions of a point's own scattered rays (beam_scene::specular::specular_rays about
+// its triangle's shading normal): reflected (or passed through a thin pane) in `reflected`,
+// refracted in `refracted` (w 1 where there is one). `specular` false for a triangle that is not a
+// mirror or glass. A bump-mapped mirror's tilt is left out: its child beams are bumped, and no
+// lookup follows the point's ray into them.
+struct OwnRays {
+    reflected: vec3<f32>,
+    refracted: vec4<f32>,
+    specular: bool,
+}
+
+fn own_rays(prim: u32, p: vec3<f32>, d: vec3<f32>) -> OwnRays {
+    let slot = slots[prim];
+    if slot == NONE {
+        return OwnRays(vec3<f32>(0.0), vec4<f32>(0.0), false);
+    }
+    let s = specular_prim(slot);
+    let side = facing(s, p, d);
+    if s.kind == SPECULAR_THIN {
+        return OwnRays(normalize(d), vec4<f32>(0.0), true);
+    }
+    var t = vec4<f32>(0.0);
+    if s.kind == SPECULAR_GLASS {
+        t = refracted(d, side.sn, select(s.ior, 1.0 / s.ior, side.entering));
+        t = vec4<f32>(normalize(t.xyz), t.w);
+    }
+    return OwnRays(normalize(mirrored(d, side.sn)), t, true);
+}
+
+// Where point p, at w on its face, reads child beam `beam` for its own scattered unit direction
+// (xyz) and how far outside the beam's base (w): lib/reproject.wgsl's `reproject`, or w and 0 for
+// a bumped beam or a direction that is not finite (beam_cpu::nonlinear's `reproject`).
+fn look_up(beam: u32, p: vec3<f32>, truth: vec3<f32>, w: vec3<f32>) -> vec4<f32> {
+    let b = beams[beam];
+    if b.kind.z != 0u || !all(abs(truth) < vec3<f32>(3.0e38)) {
+        return vec4<f32>(w, 0.0);
+    }
+    return reproject(b, p, truth, w, params.far);
+}
+
+// How far outside child beam `beam`'s base a lookup may fall: OUTSIDE_TEXELS of its texels.
+fn slack(beam: u32) -> f32 {
+    return OUTSIDE_TEXELS / f32(beams[beam].region.z);
+}
+
+// The composite record of pixel `pixel`'s point p on triangle `prim` (unit direction d) under
+// coarse face `located`, which has child beams (beam_cpu::nonlinear's `Tree::composite`): the
+// located face first, then its triangle's other candidates with child beams until a lookup lies
+// inside its reflection beam's base; the face whose reflection lookup lies least outside wins (by
+// more than LOOKUP_PREFERENCE), and its refraction is looked up from the face's own coordinates.
+// False where a lookup lies more than `slack` outside: the point is for the Whitted rays. Loops:
+// once per candidate, and reproject's.
+fn coarse_record(pixel: u32, prim: u32, located: u32, p: vec3<f32>, d: vec3<f32>) -> bool {
+    var face = located;
+    var c = children[located];
+    var reflected_at = face_barycentric(located, p);
+    var refracted_at = reflected_at;
+    let own = own_rays(prim, p, d);
+    if own.specular {
+        var best = 3.0e38;
+        let start = candidates[2u * prim];
+        let end = min(candidates[2u * prim + 1u], arrayLength(&candidates));
+        // The located face, then the other candidates in order.
+        for (var k = start; k <= end; k++) {
+            if best <= 0.0 {
+                break;
+            }
+            var g = located;
+            if k > start {
+                g = candidates[k - 1u];
+                if g == located {
+                    continue;
+                }
+            }
+            let cg = children[g];
+            if cg.x == NONE {
+                continue;
+            }
+            let wg = face_barycentric(g, p);
+            let at = look_up(cg.x, p, own.reflected, wg);
+            if at.w < best - LOOKUP_PREFERENCE {
+                best = at.w;
+                face = g;
+                c = cg;
+                reflected_at = at.xyz;
+                refracted_at = wg;
+            }
+        }
+        if best > slack(c.x) {
+            return false;
+        }
+        if c.y != NONE {
+            var at = vec4<f32>(refracted_at, 0.0);
+            if own.refracted.w > 0.0 {
+                at = look_up(c.y, p, own.refracted.xyz, refracted_at);
+            }
+            if at.w > slack(c.y) {
+                return false;
+            }
+            refracted_at = at.xyz;
+        }
+    }
+    let j = atomicAdd(&record_counts.records, 1u);
+    records[j] = Record(face_point(face, reflected_at), pixel, d, face, c.x, c.y, 0u, 0u, face_point(face, refracted_at), 0u);
+    return true;
+}
+
 // The composite of every kept mirror and glass hit inside the crop (`params.count` of them), once
 // the tree's first level is built: on a face with child beams, a record looking them up at the hit
-// point (a fine face: beam_cpu::nonlinear's `Tree::composite`); else a point for the Whitted rays.
-// The host zeroes `record_counts` before a dispatch. No loops.
+// point (a fine face: beam_cpu::nonlinear's `Tree::composite`) or where its own scattered rays
+// reach (a coarse face, `coarse_record`); else a point for the Whitted rays. The host zeroes
+// `record_counts` before a dispatch. Loops: `coarse_record`'s.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn eye_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let k = id.y * groups.x * WORKGROUP_SIZE + id.x;
@@ -242,12 +386,21 @@ fn eye_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
     }
     let d = pixel_direction(h.pixel);
     let p = params.position + d * h.t;
-    let face = face_of[h.prim];
-    let c = children[face];
+    let c = children[h.face];
+    let coarse = face_of[h.prim] == NONE;
     if c.x != NONE {
-        let j = atomicAdd(&record_counts.records, 1u);
-        records[j] = Record(p, h.pixel, normalize(d), face, c.x, c.y, 0u, 0u, p, 0u);
-        return;
+        if !coarse {
+            let j = atomicAdd(&record_counts.records, 1u);
+            records[j] = Record(p, h.pixel, normalize(d), h.face, c.x, c.y, 0u, 0u, p, 0u);
+            return;
+        }
+        if coarse_record(h.pixel, h.prim, h.face, p, normalize(d)) {
+            return;
+        }
+        atomicAdd(&record_counts.uncovered, 1u);
+    }
+    if coarse && (kinds[h.prim] & LEVEL_CURVED) != 0u {
+        atomicAdd(&record_counts.curved, 1u);
     }
     let j = atomicAdd(&record_counts.rest, 1u);
     rest[j] = ShadeInput(p, h.prim, normalize(d), h.pixel);

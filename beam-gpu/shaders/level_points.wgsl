@@ -53,8 +53,9 @@ struct HostTexel {
 struct RecordCounts {
     records: atomic<u32>,
     rest: atomic<u32>,
-    pad0: u32,
-    pad1: u32,
+    // Points under coarse faces (eye.wgsl's; none here).
+    uncovered: u32,
+    curved: u32,
 }
 
 // Twin of beam_gpu::nonlinear::LevelCounts (16 bytes).

@@ -1,7 +1,8 @@
 // The coarse S mesh's lookups (000 §7.1, §7.3) on the GPU: per point of a fine surface under a
-// coarse face, where it reads the face's child beam for its own scattered ray (lib/lookup.wgsl's
+// coarse face, where it reads the face's child beam for its own scattered ray (lib/reproject.wgsl's
 // `reproject`). The host gathers the points and finishes each composite with the answers. CPU
-// twin: beam_cpu::nonlinear::lookup::reproject. lib/lookup.wgsl is prepended.
+// twin: beam_cpu::nonlinear::lookup::reproject. lib/lookup.wgsl and lib/reproject.wgsl are
+// prepended.
 
 // Twin of beam_gpu::nonlinear::GpuLookupJob (48 bytes).
 struct LookupJob {
@@ -23,74 +24,6 @@ struct LookupJob {
 @group(0) @binding(1) var<storage, read> texel_t: array<f32>;
 @group(0) @binding(2) var<storage, read> jobs: array<LookupJob>;
 @group(0) @binding(3) var<storage, read_write> answers: array<vec4<f32>>;
-
-// The hit point of the rendered texel nearest w (beam_cpu's lookup `depth`) in xyz, and
-// in w 1 where it hits, else 0. Loops: at most 2·size iterations.
-fn lookup_depth(b: Beam, w: vec3<f32>) -> vec4<f32> {
-    let n = b.region.z;
-    let x0 = min(u32(max(floor(w.y * f32(n)), 0.0)), n - 1u);
-    let y0 = min(u32(max(floor(w.z * f32(n)), 0.0)), n - 1u);
-    var x = x0;
-    var y = y0;
-    while !(x + y < n + 1u) && x + y > 0u {
-        if x >= y { x -= 1u; } else { y -= 1u; }
-    }
-    let t = texel_t[b.region.x + y * n + x];
-    if !(t >= 0.0) {
-        return vec4<f32>(0.0);
-    }
-    let ray = beam_ray_at(b, texel_barycentric(x, y, n));
-    return vec4<f32>(ray.origin + t * ray.direction, 1.0);
-}
-
-// Barycentric coordinates of texel (x, y) of a region of side n (BeamTexture::barycentric): its
-// centre, margin texels moved onto the base's edge.
-fn texel_barycentric(x: u32, y: u32, n: u32) -> vec3<f32> {
-    var u = (f32(x) + 0.5) / f32(n);
-    var v = (f32(y) + 0.5) / f32(n);
-    if u + v <= 1.0 {
-        return vec3<f32>(1.0 - u - v, u, v);
-    }
-    let excess = 0.5 * (u + v - 1.0);
-    u = clamp(u - excess, 0.0, 1.0);
-    v = clamp(v - excess, 0.0, 1.0);
-    return max(vec3<f32>(1.0 - u - v, u, v), vec3<f32>(0.0));
-}
-
-// w moved onto the base triangle (negative coordinates to 0, then scaled to sum 1).
-fn lookup_clamped(w: vec3<f32>) -> vec3<f32> {
-    let c = max(w, vec3<f32>(0.0));
-    let sum = c.x + c.y + c.z;
-    return select(vec3<f32>(1.0 / 3.0), c / sum, sum > 0.0);
-}
-
-// Where point p of the fine surface, at w on its face, reads beam b for its own scattered unit
-// direction `truth` (beam_cpu::nonlinear::lookup::reproject): twice, the depth s of the texel at
-// the current coordinates (`far` where it hits nothing), then the projection of p + s·truth onto
-// the beam from the last answer (the first from (w, s)), clamped to the base. Returns the
-// coordinates (xyz) and how far outside the base the last projection lay (w); w and 0 where a
-// projection fails. Loops: 2 iterations.
-fn reproject(b: Beam, p: vec3<f32>, truth: vec3<f32>, w: vec3<f32>, far: f32) -> vec4<f32> {
-    var at = w;
-    var outside = 0.0;
-    var guess = vec4<f32>(0.0);
-    var have_guess = false;
-    for (var round = 0u; round < 2u; round++) {
-        let hit = lookup_depth(b, at);
-        let s = select(far, distance(hit.xyz, p), hit.w > 0.0);
-        let start = select(vec4<f32>(w, s), guess, have_guess);
-        let l = lookup_project(b, p + truth * s, start.xyz, start.w);
-        let finite = all(abs(l.p.xyz) < vec3<f32>(3.0e38));
-        if l.found == LOOKUP_NONE || !finite {
-            break;
-        }
-        at = lookup_clamped(l.p.xyz);
-        outside = max(-min3(l.p.xyz), 0.0);
-        guess = l.p;
-        have_guess = true;
-    }
-    return vec4<f32>(at, outside);
-}
 
 // Per job: the coordinates (xyz) and how far outside the base (w). Loops: reproject's.
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -4,7 +4,8 @@
 // its path's weight, to its destination. `start` takes the points to shade, `wave` one wave of paths;
 // both append up to two paths per item (the host sizes the outputs) and zero ends or one; each
 // dispatch gets new, zeroed `counts`. CPU twin: beam_scene::nonlinear::shade_by_waves with
-// beam_scene::specular::specular_rays; lib/trace.wgsl is prepended by the host.
+// beam_scene::specular::specular_rays; lib/trace.wgsl and lib/specular.wgsl are prepended by
+// the host.
 
 // Twin of beam_gpu::nonlinear::WhittedParams (16 bytes).
 struct WhittedParams {
@@ -24,32 +25,6 @@ struct ShadeInput {
     prim: u32,
     d: vec3<f32>,
     seed: u32,
-}
-
-// Twin of beam_gpu::nonlinear::SpecularPrim (128 bytes): a mirror or glass triangle.
-struct SpecularPrim {
-    v0: vec3<f32>,
-    // SPECULAR_MIRROR, SPECULAR_GLASS or SPECULAR_THIN.
-    kind: u32,
-    v1: vec3<f32>,
-    // A glass's index of refraction.
-    ior: f32,
-    v2: vec3<f32>,
-    // 1 where n0..n2 are smooth vertex normals, 0 for none.
-    has_normals: u32,
-    n0: vec3<f32>,
-    // A mirror's bump map: largest tilt δ (0 for none) and wavelength.
-    delta: f32,
-    n1: vec3<f32>,
-    wavelength: f32,
-    n2: vec3<f32>,
-    pad0: u32,
-    // Unit geometric normal (Scene::normal).
-    normal: vec3<f32>,
-    pad1: u32,
-    // A mirror's or thin pane's tint.
-    tint: vec3<f32>,
-    pad2: u32,
 }
 
 // Twin of beam_gpu::nonlinear::WhittedPath (48 bytes): a path's next ray, where its radiance goes
@@ -81,11 +56,11 @@ struct WhittedCounts {
 }
 
 @group(0) @binding(2) var<uniform> params: WhittedParams;
-// Per scene triangle: its index in `specular`, NONE for a triangle that is not a mirror or glass.
+// Per scene triangle: its index in `specular_prims`, NONE for a triangle that is not a mirror or glass.
 @group(0) @binding(3) var<storage, read> slots: array<u32>;
 // The SpecularPrims, eight texels each (texel i at (i mod width, i / width)): a texture, so that no
 // storage binding bounds their number.
-@group(0) @binding(4) var specular: texture_2d<u32>;
+@group(0) @binding(4) var specular_prims: texture_2d<u32>;
 // `start`: the points to shade.
 @group(0) @binding(5) var<storage, read> points: array<ShadeInput>;
 // `wave`: the paths to trace.
@@ -98,64 +73,9 @@ struct WhittedCounts {
 @group(0) @binding(11) var<storage, read> shaded: array<vec4<f32>>;
 @group(0) @binding(12) var<storage, read_write> radiance: array<atomic<u32>>;
 
-// Texel i of `specular`.
-fn specular_texel(i: u32) -> vec4<u32> {
-    let w = textureDimensions(specular).x;
-    return textureLoad(specular, vec2<u32>(i % w, i / w), 0);
-}
-
-// The SpecularPrim in `slot`.
-fn specular_prim(slot: u32) -> SpecularPrim {
-    var t: array<vec4<u32>, 8>;
-    for (var k = 0u; k < 8u; k++) {
-        t[k] = specular_texel(8u * slot + k);
-    }
-    let f = array<vec3<f32>, 8>(
-        bitcast<vec3<f32>>(t[0].xyz), bitcast<vec3<f32>>(t[1].xyz), bitcast<vec3<f32>>(t[2].xyz),
-        bitcast<vec3<f32>>(t[3].xyz), bitcast<vec3<f32>>(t[4].xyz), bitcast<vec3<f32>>(t[5].xyz),
-        bitcast<vec3<f32>>(t[6].xyz), bitcast<vec3<f32>>(t[7].xyz),
-    );
-    return SpecularPrim(
-        f[0], t[0].w, f[1], bitcast<f32>(t[1].w), f[2], t[2].w, f[3], bitcast<f32>(t[3].w),
-        f[4], bitcast<f32>(t[4].w), f[5], t[5].w, f[6], t[6].w, f[7], t[7].w,
-    );
-}
-
 fn push_path(origin: vec3<f32>, direction: vec3<f32>, weight: vec3<f32>, dest: u32, seed: u32) {
     let j = atomicAdd(&counts.paths, 1u);
     paths_out[j] = Path(origin, dest, direction, seed, weight, 0u);
-}
-
-// Triangle::barycentric of p, or none (x = −3e38) for a degenerate triangle.
-fn barycentric(s: SpecularPrim, p: vec3<f32>) -> vec3<f32> {
-    let n = cross(s.v1 - s.v0, s.v2 - s.v0);
-    let nn = dot(n, n);
-    if !(nn > 0.0) || nn > 3.0e38 {
-        return vec3<f32>(-3.0e38, 0.0, 0.0);
-    }
-    let w0 = dot(cross(s.v1 - p, s.v2 - p), n) / nn;
-    let w1 = dot(cross(s.v2 - p, s.v0 - p), n) / nn;
-    return vec3<f32>(w0, w1, 1.0 - w0 - w1);
-}
-
-// Scene::shading_normal: the Phong interpolation of the smooth vertex normals, else the geometric
-// normal.
-fn shading_normal(s: SpecularPrim, p: vec3<f32>) -> vec3<f32> {
-    if s.has_normals == 0u {
-        return s.normal;
-    }
-    let w = barycentric(s, p);
-    let m = w.x * s.n0 + w.y * s.n1 + w.z * s.n2;
-    let l = length(m);
-    if w.x == -3.0e38 || !(l > 0.0) || l > 3.0e38 {
-        return s.normal;
-    }
-    return m / l;
-}
-
-// reflect: d mirrored about unit n.
-fn mirrored(d: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
-    return d - 2.0 * dot(d, n) * n;
 }
 
 // The point p of triangle `prim`, reached along unit d by a path of weight `weight`: a mirror or
@@ -173,12 +93,9 @@ fn bounce(prim: u32, p: vec3<f32>, d: vec3<f32>, weight: vec3<f32>, dest: u32, s
         return;
     }
     let s = specular_prim(slot);
-    var n = s.normal;
-    let entering = dot(n, d) < 0.0;
-    if !entering {
-        n = -n;
-    }
-    let sn = shading_normal(s, p) * select(-1.0, 1.0, dot(n, s.normal) >= 0.0);
+    let side = facing(s, p, d);
+    let n = side.n;
+    let sn = side.sn;
     let eps = params.eps;
     if s.kind == SPECULAR_MIRROR {
         var r = mirrored(d, sn);
@@ -195,19 +112,11 @@ fn bounce(prim: u32, p: vec3<f32>, d: vec3<f32>, weight: vec3<f32>, dest: u32, s
     } else if s.kind == SPECULAR_GLASS {
         let reflected = mirrored(d, sn);
         // Snell's law and Schlick's Fresnel split (beam_scene::specular::dielectric).
-        var eta = s.ior;
-        if entering {
-            eta = 1.0 / s.ior;
-        }
-        let cos_i = -dot(sn, d);
-        let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
-        if k >= 0.0 {
-            let t = eta * d + (eta * cos_i - sqrt(k)) * sn;
+        let t4 = refracted(d, sn, select(s.ior, 1.0 / s.ior, side.entering));
+        if t4.w > 0.0 {
+            let t = t4.xyz;
             let r0 = ((1.0 - s.ior) / (1.0 + s.ior)) * ((1.0 - s.ior) / (1.0 + s.ior));
-            var cos_t = -dot(t, sn);
-            if entering {
-                cos_t = -dot(sn, d);
-            }
+            let cos_t = select(-dot(t, sn), -dot(sn, d), side.entering);
             let m = 1.0 - cos_t;
             let fresnel = r0 + (1.0 - r0) * (m * m * m * m * m);
             push_path(p + n * eps, reflected, weight * fresnel, dest, seed);

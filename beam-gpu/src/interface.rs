@@ -144,6 +144,14 @@ pub const LOOKUP_POLISHED: u32 = 1;
 /// A lookup's projection where Newton's method did not converge: the corner rays' S1 solution.
 pub const LOOKUP_CORNERS: u32 = 2;
 
+/// How many texels outside a child beam's base a coarse face's lookup may fall before its point is
+/// traced by rays (`eye.wgsl`; [`beam_scene::nonlinear::OUTSIDE_TEXELS`]).
+pub const OUTSIDE_TEXELS: f32 = beam_scene::nonlinear::OUTSIDE_TEXELS;
+
+/// How much less outside its beam's base another candidate face's lookup must lie to be taken
+/// (`eye.wgsl`; [`beam_scene::nonlinear::LOOKUP_PREFERENCE`]).
+pub const LOOKUP_PREFERENCE: f32 = beam_scene::nonlinear::LOOKUP_PREFERENCE;
+
 /// A constant's value, typed as in WGSL.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
@@ -195,6 +203,8 @@ pub const CONSTANTS: &[(&str, Value)] = {
         ("MIN_RISE", F32(MIN_RISE)),
         ("TEXEL_EPS", F32(TEXEL_EPS)),
         ("LOOKUP_TOLERANCE", F32(LOOKUP_TOLERANCE)),
+        ("OUTSIDE_TEXELS", F32(OUTSIDE_TEXELS)),
+        ("LOOKUP_PREFERENCE", F32(LOOKUP_PREFERENCE)),
     ]
 };
 

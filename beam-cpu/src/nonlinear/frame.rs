@@ -140,21 +140,15 @@ pub fn render_nonlinear_frame(
     // the beam tree. (A backend that shades the eye's diffuse, glossy and emissive pixels itself may
     // keep those: they see no S-mesh face; one that composites them may keep mirror and glass hits
     // on fine faces, counted per face.)
-    let EyeFaces { hits, seen, kept: kept_eye, faces } =
-        renderer.eye_faces(scene, tree.smesh, &camera, &options.shading)?;
+    let EyeFaces { hits, seen, kept: kept_eye } = renderer.eye_faces(scene, tree.smesh, &camera, &options.shading)?;
     clock.lap("eye view");
-    // Per pixel, the S face it sees: its own triangle's, or on a coarse S mesh the face its point
-    // maps to (chosen by the backend where it located the hits). The eye's beams need only how
-    // many pixels see each face (their directions come from the eye itself, `Source::Eye`).
+    // Per pixel handed back, the S face it sees: its own triangle's, or on a coarse S mesh the
+    // face its point maps to. The eye's beams need only how many pixels see each face (their
+    // directions come from the eye itself, `Source::Eye`).
     let locate = |hits: &[(usize, Ray, Hit)]| -> Vec<Option<(usize, Vec3)>> {
         hits.par_iter().map(|&(_, ray, h)| tree.smesh.locate(h.prim, ray.at(h.t))).collect()
     };
-    let located = if faces.len() == hits.len() {
-        let on = |(&(_, ray, h), &f): (&(usize, Ray, Hit), &u32)| tree.smesh.locate_on(h.prim, f, ray.at(h.t));
-        hits.par_iter().zip(&faces).map(on).collect()
-    } else {
-        locate(&hits)
-    };
+    let located = locate(&hits);
     // A face's beams come from every pixel that sees it, but only the faces that pixels of the
     // region see are traced on (with their subtrees): the beams of the others reach no pixel of it.
     let crop = options.shading.region();
@@ -223,8 +217,10 @@ pub fn render_nonlinear_frame(
         curved[prim as usize] = true;
     }
     let by_rays = |t: &&TexelRadiance| t.composite.is_none() && curved[t.point.prim as usize];
-    // The kept pixels of the region on curved faces without child beams are traced by rays too.
+    // The kept pixels of the region on curved fine faces without child beams are traced by rays
+    // too (the backend counts those under coarse faces, `take_eye_by_rays`).
     let kept_by_rays: u64 = (0..seen.len())
+        .filter(|&f| !tree.smesh.is_coarse(f))
         .filter(|&f| flow[0].children[f][0] == none && curved[tree.smesh.faces[f].prim as usize])
         .map(|f| u64::from(seen[f][1]))
         .sum();
@@ -265,6 +261,7 @@ pub fn render_nonlinear_frame(
         }),
     };
     clock.lap("shading and composite");
+    let eye_by_rays = renderer.take_eye_by_rays();
     let image = frame.map(|f| Image { width: crop.width(), height: crop.height(), pixels: crop.cut(f, camera.width) });
     let all = || levels.iter().flatten();
     let beams = all().count();
@@ -281,8 +278,8 @@ pub fn render_nonlinear_frame(
         smesh_faces: tree.smesh.faces.len() as u64,
         coarse_smesh_faces: tree.smesh.coarse_faces() as u64,
         coarse_faces_by_rays: tree.smesh.faces_by_rays() as u64,
-        specular_by_rays,
-        uncovered_by_beams: tree.by_rays.load(std::sync::atomic::Ordering::Relaxed),
+        specular_by_rays: specular_by_rays + eye_by_rays.curved,
+        uncovered_by_beams: tree.by_rays.load(std::sync::atomic::Ordering::Relaxed) + eye_by_rays.uncovered,
         triangles_per_beam: all().map(|n| f64::from(n.tex.triangles_after_culling)).sum::<f64>().max(0.0)
             / beams.max(1) as f64,
         overdraw: texels_tested as f64 / texels_rendered.max(1) as f64,

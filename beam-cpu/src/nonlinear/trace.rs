@@ -20,8 +20,9 @@ use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::memo::FrameMemo;
 use beam_scene::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, KeepLevel, KeptTotals, LevelLayout, LevelRadiance,
-    NodeChildren, SMesh, ShadePoint, TexelPoint, TexelRadiance, child_beams, region_size,
+    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, KeepLevel, KeptTotals, LOOKUP_PREFERENCE, LevelLayout,
+    LevelRadiance, NodeChildren, OUTSIDE_TEXELS, SMesh, ShadePoint, TexelPoint, TexelRadiance, child_beams,
+    region_size,
 };
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
@@ -33,13 +34,6 @@ use std::sync::{Arc, Mutex, PoisonError};
 /// 182–192 ms, next level's faces 7 → 5 ms). Face indices come from the scene, not from an
 /// adversary.
 pub(super) type FaceMap<V> = rustc_hash::FxHashMap<usize, V>;
-
-/// How many texels outside a child beam's base a coarse face's lookup may fall ([`reproject`])
-/// before its point is traced by rays instead: the one-texel margin its region renders. (On the
-/// mirror teapot with 850 S faces, before folded faces were traced by rays, 0.5, 1 and 2 texels
-/// traced 6,938, 6,080 and 4,921 points, and the image was 33.00, 32.81 and 32.46 dB from the
-/// reference without caustics.)
-const OUTSIDE_TEXELS: f32 = 1.0;
 
 /// The child beams of one S-mesh face: indices of its reflection and, for glass, its refraction in
 /// the next level.
@@ -437,7 +431,7 @@ impl Tree<'_> {
                 let wg = if g == located { w } else { self.smesh.faces[g].barycentric(to.point.p) };
                 let known = answers.next();
                 let (at_g, outside) = known.map_or_else(|| at(c.reflected, rays[0], wg), |a| a.reflected);
-                if outside < best - 1e-4 {
+                if outside < best - LOOKUP_PREFERENCE {
                     (best, face, sc, reflected_at, refracted_at) = (outside, g, c, at_g, wg);
                     refracted = known.and_then(|a| a.refracted);
                 }

@@ -59,7 +59,7 @@ fn tables() -> Vec<Table> {
             nodes: FlatNode, triangles: GpuTriangle, params: EyeParams, kinds: u32, kept: ShadeInput, targets: u32,
             others: EyeHit, counts: EyeCounts, face_of: u32, seen: u32, specular: EyeHit, children: [u32; 2],
             records: CompositeRecord, rest: ShadeInput, rest_targets: u32, record_counts: RecordCounts,
-            candidates: u32, corners: [f32; 4],
+            candidates: u32, corners: [f32; 4], beams: GpuBeam, texel_t: f32, slots: u32, specular_prims,
         ]),
         bindings!("level_points" => [
             params: LevelParams, beams: GpuBeam, firsts: u32, texels: [u32; 2], placed: [u32; 4], kinds: u32,
@@ -68,7 +68,7 @@ fn tables() -> Vec<Table> {
             records: CompositeRecord, record_counts: RecordCounts,
         ]),
         bindings!("whitted" => [
-            nodes: FlatNode, triangles: GpuTriangle, params: WhittedParams, slots: u32, specular,
+            nodes: FlatNode, triangles: GpuTriangle, params: WhittedParams, slots: u32, specular_prims,
             points: ShadeInput, paths_in: WhittedPath, paths_out: WhittedPath, ends: ShadeInput,
             end_weights: EndWeight, counts: WhittedCounts, shaded: [f32; 4], radiance: u32,
         ]),

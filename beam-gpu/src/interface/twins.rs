@@ -108,7 +108,7 @@ fn twins() -> Vec<Twin> {
         twin!("level_points", CompositeRecord => Record {
             p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
         }),
-        twin!("level_points", RecordCounts => RecordCounts { records, rest, pad[0] => pad0, pad[1] => pad1 }),
+        twin!("level_points", RecordCounts => RecordCounts { records, rest, uncovered, curved }),
         twin!("level_points", GpuBeam => Beam {
             base, dirs, extremal, normal, threshold, heights, offsets, bump, region, kind, origin, direction
         }),
@@ -116,13 +116,12 @@ fn twins() -> Vec<Twin> {
             records, points, pad[0] => pad0, pad[1] => pad1
         }),
         twin!("eye", EyeParams => EyeParams {
-            position, width, forward, height, right, first, up, count, half_width, half_height,
-            pad[0] => pad0, pad[1] => pad1, crop
+            position, width, forward, height, right, first, up, count, half_width, half_height, far, pad, crop
         }),
         twin!("eye", ShadeInput => ShadeInput { p, prim, d, seed }),
         twin!("eye", EyeHit => EyeHit { pixel, prim, t, face }),
         twin!("eye", EyeCounts => EyeCounts { kept, others, overflow, specular }),
-        twin!("eye", RecordCounts => RecordCounts { records, rest, pad[0] => pad0, pad[1] => pad1 }),
+        twin!("eye", RecordCounts => RecordCounts { records, rest, uncovered, curved }),
         twin!("whitted", WhittedParams => WhittedParams { count, first, last, eps }),
         twin!("whitted", ShadeInput => ShadeInput { p, prim, d, seed }),
         twin!("whitted", SpecularPrim => SpecularPrim {

@@ -21,7 +21,7 @@ use super::cull::{GpuCull, PageCulls};
 use super::display::GpuFrame;
 use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
 use super::level::{GpuLevelPoints, HostTexel, KeptLevel};
-use super::lookups::GpuLookups;
+use super::lookups::{GpuLookups, LookupBeams};
 use super::page::Counters;
 use super::prepare::{Preparations, prepared};
 use super::whitted::GpuWhitted;
@@ -34,7 +34,7 @@ use crate::{Gpu, GpuError, texels};
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamTexture, KeepLevel, KeptTotals, TexelRadiance, region_texels,
+    BeamJob, BeamRasterizer, BeamTexture, EyeByRays, KeepLevel, KeptTotals, TexelRadiance, region_texels,
 };
 use beam_scene::options::Shading;
 use beam_scene::scene::Scene;
@@ -107,6 +107,11 @@ pub struct GpuBeams<'g> {
     /// The mirror and glass hits of the eye's last view kept on the GPU, until the composite makes
     /// their records.
     pub(super) kept_eye_hits: Mutex<Option<KeptEyeHits>>,
+    /// The first level of the last frame's tree as the eye's records under coarse S-mesh faces
+    /// look it up (kept on a coarse S mesh only), until the composite makes them.
+    pub(super) first_level: Mutex<Option<LookupBeams>>,
+    /// What the last composite of the eye's hits under coarse faces traced by rays.
+    pub(super) eye_by_rays: Mutex<EyeByRays>,
     /// Whether it keeps the levels' points and the eye's mirror and glass hits (unless
     /// [`GpuBeams::reading_levels_back`]).
     pub(super) keep_levels: bool,
@@ -202,6 +207,8 @@ impl<'g> GpuBeams<'g> {
             level: GpuLevelPoints::new(gpu, scene)?,
             kept_levels: Mutex::default(),
             kept_eye_hits: Mutex::default(),
+            first_level: Mutex::default(),
+            eye_by_rays: Mutex::default(),
             keep_levels: true,
             display: false,
             frame: Mutex::default(),
@@ -307,6 +314,13 @@ impl BeamRasterizer for GpuBeams<'_> {
         }
         let (textures, kept) = self.render(scene, jobs, Some(keep), true)?;
         let kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
+        if keep.level == 1 {
+            // The eye's records under coarse faces look their points up in it (every hit read back).
+            let beams: Vec<_> = jobs.iter().map(|j| j.beam).zip(&textures).collect();
+            let first =
+                if keep.with_hits { checked(self.gpu, || LookupBeams::upload(self.gpu, &beams))? } else { None };
+            *self.first_level.lock().unwrap_or_else(PoisonError::into_inner) = first;
+        }
         let records = self.composites_handed_back(keep);
         let totals = KeptTotals { points: kept.points(), curved: kept.curved, records };
         self.add_times(|t| t.levels_kept += 1);

@@ -77,7 +77,8 @@ impl GpuBeam {
 
     /// `beam`'s rays alone (base, boundary directions, control points; no bounds, which cost a
     /// threshold-plane search a beam) on a region `(first texel, 0, size)` of a texel list: what
-    /// the lookups (`shaders/lookups.wgsl`) read. A bumped beam takes its S1 beam's rays.
+    /// the lookups (`lib/reproject.wgsl`) read. A bumped beam takes its S1 beam's rays, marked
+    /// bumped (`kind.z` 1: a lookup into it reads the face's own coordinates).
     #[must_use]
     pub fn rays_only(beam: &Beam, region: [u32; 3]) -> Self {
         fn of<L: Interpolant>(b: &NonlinearBeam<L>, region: [u32; 3]) -> GpuBeam {
@@ -98,7 +99,11 @@ impl GpuBeam {
         match beam {
             Beam::S1(b) => of(b, region),
             Beam::S3(b) => of(b, region),
-            Beam::Bumped(b) => of(&b.beam.beam, region),
+            Beam::Bumped(b) => {
+                let mut g = of(&b.beam.beam, region);
+                g.kind[2] = 1;
+                g
+            }
         }
     }
 

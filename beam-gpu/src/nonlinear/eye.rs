@@ -7,7 +7,11 @@
 use super::atlas::GpuBeams;
 use super::composite::{CompositeRecord, GpuComposite};
 use super::level::triangle_kinds;
-use crate::buffers::{buffer_entry, checked, compute_pipeline, encode_pass, output, read_all, storage, uniform};
+use super::lookups::LookupBeams;
+use super::whitted::GpuWhitted;
+use crate::buffers::{
+    buffer_entry, checked, compute_pipeline, encode_pass, output, read_all, storage, uniform, view_entry,
+};
 use crate::interface::NONE;
 use crate::raytrace::RayTracer;
 use crate::shade::ShadeInput;
@@ -17,7 +21,7 @@ use beam_bvh::Hit;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use beam_scene::BackendError;
-use beam_scene::nonlinear::{EyeFaces, EyeView, SMesh, ShadePoint, TexelRadiance, eye_by_rays};
+use beam_scene::nonlinear::{EyeByRays, EyeFaces, EyeView, SMesh, ShadePoint, TexelRadiance, eye_by_rays};
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Scene};
@@ -52,8 +56,11 @@ pub struct EyeParams {
     pub half_width: f32,
     /// Half height of the image plane at distance 1.
     pub half_height: f32,
+    /// `eye_records`: the scene's diagonal, where a texel's ray leaves the scene (beam-cpu's
+    /// `reproject`).
+    pub far: f32,
     /// Padding.
-    pub pad: [u32; 2],
+    pub pad: u32,
     /// The crop, `[x0, y0, x1, y1]`: only its diffuse, glossy and emissive hits are kept.
     pub crop: [u32; 4],
 }
@@ -71,8 +78,9 @@ pub struct EyeHit {
     /// The ray parameter of the hit (the ray from the eye through the pixel's centre on the image
     /// plane at distance 1).
     pub t: f32,
-    /// The S-mesh face its point maps to: a kept hit's triangle's own, a handed-back hit's
-    /// nearest candidate ([`LocateTable`]; [`SMesh::locate_on`]); [`NONE`] for none.
+    /// The S-mesh face its point maps to: its triangle's own, or the candidate it lies nearest
+    /// under a coarse face ([`LocateTable`]; [`SMesh::locate`]'s choice); [`NONE`] for none (a hit
+    /// handed back).
     pub face: u32,
 }
 
@@ -103,8 +111,11 @@ pub struct RecordCounts {
     pub records: u32,
     /// Points appended for the Whitted rays (no child beam).
     pub rest: u32,
-    /// Padding.
-    pub pad: [u32; 2],
+    /// Of those, points under a coarse S-mesh face whose child beams do not hold their scattered
+    /// rays (`eye_records`).
+    pub uncovered: u32,
+    /// Of those, points under a coarse S-mesh face on triangles with interpolated normals.
+    pub curved: u32,
 }
 
 const _: () = assert!(
@@ -203,6 +214,9 @@ pub struct EyeRecords {
     pub count: u32,
     /// Points for the Whitted rays, with their pixels.
     pub rest: KeptPoints,
+    /// Of those, under coarse faces: how many no child beam held
+    /// ([`RecordCounts::uncovered`]), and how many lie on curved triangles.
+    pub coarse_by_rays: [u32; 2],
 }
 
 /// What the eye's view returns ([`GpuEye::run`]).
@@ -229,6 +243,8 @@ pub struct GpuEye {
     no_faces: wgpu::Buffer,
     /// No candidates (no hit located).
     no_locate: LocateTable,
+    /// No beams to look up.
+    no_beams: LookupBeams,
 }
 
 impl GpuEye {
@@ -242,6 +258,7 @@ impl GpuEye {
             kinds: storage(gpu, "triangle kinds", &kinds, wgpu::BufferUsages::empty()),
             no_faces: storage(gpu, "no S-mesh faces", &no_faces, wgpu::BufferUsages::empty()),
             no_locate: LocateTable::none(gpu),
+            no_beams: LookupBeams::upload(gpu, &[])?.ok_or(GpuError::Internal("no beams past a binding"))?,
         })
     }
 
@@ -259,7 +276,8 @@ impl GpuEye {
             count: count as u32,
             half_width: frame.half_width,
             half_height: frame.half_height,
-            pad: [0; 2],
+            far: 0.0,
+            pad: 0,
             crop: [crop.x0, crop.y0, crop.x1, crop.y1],
         }
     }
@@ -339,33 +357,47 @@ impl GpuEye {
         Ok(EyeOut { kept, specular, others, seen: bytemuck::pod_collect_to_vec(seen) })
     }
 
-    /// The composite records of the `specular` hits inside `crop` that the eye's view of `camera`
-    /// kept (faces mapped by `face_of`), per dispatch, and the points of faces without child beams
-    /// for the Whitted rays: `children` per S-mesh face, its reflection and refraction beams in the
-    /// tree's first level ([`NONE`] for none).
+    /// The composite records of the hits inside the crop that the eye's view `kept`, per dispatch,
+    /// and the points of faces without child beams (or whose child beams do not hold a point's
+    /// scattered rays, under a coarse face) for the Whitted rays: `children` per S-mesh face, its
+    /// reflection and refraction beams in the tree's first level `first` ([`NONE`] for none); a
+    /// point under a coarse face looks them up ([`LookupBeams`], where the first level has beams)
+    /// for its own scattered rays, off the mirror and glass triangles of `specular`, in a scene
+    /// whose diagonal is `far`.
     pub fn records(
         &self,
         gpu: &Gpu,
-        (camera, crop): (&Camera, PixelRect),
-        specular: &[KeptSpecular],
-        face_of: &wgpu::Buffer,
+        kept: &KeptEyeHits,
         children: &wgpu::Buffer,
+        (first, specular, far): (Option<&LookupBeams>, &GpuWhitted, f32),
     ) -> Result<Vec<EyeRecords>, GpuError> {
+        let (camera, crop) = &kept.view;
+        let locate = kept.locate.as_ref().unwrap_or(&self.no_locate);
+        let first = first.unwrap_or(&self.no_beams);
+        let (slots, prims) = specular.specular_prims();
         let mut encoders = Vec::new();
         let mut outs = Vec::new();
-        for kept in specular {
-            let count = kept.count as usize;
-            let params = uniform(gpu, "eye params", bytemuck::bytes_of(&Self::params(camera, crop, (0, count))));
+        for list in &kept.lists {
+            let count = list.count as usize;
+            let params = EyeParams { far, ..Self::params(camera, *crop, (0, count)) };
+            let params = uniform(gpu, "eye params", bytemuck::bytes_of(&params));
             let out = RecordOutputs::new(gpu, count);
             let entries = [
                 buffer_entry(2, &params),
-                buffer_entry(8, face_of),
-                buffer_entry(10, &kept.hits),
+                buffer_entry(3, &self.kinds),
+                buffer_entry(8, &kept.face_of),
+                buffer_entry(10, &list.hits),
                 buffer_entry(11, children),
                 buffer_entry(12, &out.records),
                 buffer_entry(13, &out.inputs),
                 buffer_entry(14, &out.targets),
                 buffer_entry(15, &out.counts),
+                buffer_entry(16, &locate.candidates),
+                buffer_entry(17, &locate.corners),
+                buffer_entry(18, &first.beams),
+                buffer_entry(19, &first.depths),
+                buffer_entry(20, slots),
+                view_entry(21, prims),
             ];
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             encode_pass(gpu, &mut encoder, &self.records, count as u32, &entries);
@@ -412,6 +444,7 @@ impl RecordOutputs {
                 records: o.records,
                 count: c.records,
                 rest: KeptPoints { inputs: o.inputs, targets: o.targets, count: c.rest },
+                coarse_by_rays: [c.uncovered, c.curved],
             })
             .collect())
     }
@@ -424,6 +457,8 @@ pub struct KeptEyeHits {
     pub lists: Vec<KeptSpecular>,
     /// Per scene triangle, its S-mesh face where it is the face itself, else [`NONE`].
     pub face_of: wgpu::Buffer,
+    /// The candidates that located the hits under coarse faces (none on a fine S mesh).
+    pub locate: Option<LocateTable>,
     /// The frame's camera and crop.
     pub view: (Camera, PixelRect),
 }
@@ -485,8 +520,9 @@ impl EyeView for GpuBeams<'_> {
         Ok(Self::eye_hits(scene, camera, &out.others))
     }
 
-    /// Keeps the mirror and glass hits on fine S-mesh faces too (unless
-    /// [`GpuBeams::reading_levels_back`]), where the composite takes the whole S mesh in one
+    /// Keeps the mirror and glass hits on S-mesh faces too, fine or coarse, each at its face
+    /// (under a coarse one, the candidate its point lies nearest), unless
+    /// [`GpuBeams::reading_levels_back`], where the composite takes the whole S mesh in one
     /// binding.
     fn eye_faces(
         &self,
@@ -507,13 +543,8 @@ impl EyeView for GpuBeams<'_> {
         *self.kept.lock().unwrap_or_else(PoisonError::into_inner) = Some(out.kept);
         let kept = out.specular.iter().map(|l| u64::from(l.count)).sum();
         *self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner) =
-            Some(KeptEyeHits { lists: out.specular, face_of, view: (*camera, options.region()) });
-        // A face per hit where every hit names a scene triangle (else `eye_hits` drops some, and
-        // the caller locates them all).
-        let hits = Self::eye_hits(scene, camera, &out.others);
-        let faces =
-            if hits.len() == out.others.len() { out.others.iter().map(|h| h.face).collect() } else { Vec::new() };
-        Ok(EyeFaces { hits, seen: out.seen, kept, faces })
+            Some(KeptEyeHits { lists: out.specular, face_of, locate, view: (*camera, options.region()) });
+        Ok(EyeFaces { hits: Self::eye_hits(scene, camera, &out.others), seen: out.seen, kept })
     }
 
     /// The kept hits read back.
@@ -525,6 +556,10 @@ impl EyeView for GpuBeams<'_> {
         let mut hits: Vec<EyeHit> = checked(self.gpu, || read_all(self.gpu, Vec::new(), sources))?;
         hits.par_sort_unstable_by_key(|h| h.pixel);
         Ok(Self::eye_hits(scene, &kept.view.0, &hits))
+    }
+
+    fn take_eye_by_rays(&self) -> EyeByRays {
+        std::mem::take(&mut *self.eye_by_rays.lock().unwrap_or_else(PoisonError::into_inner))
     }
 
     /// The kept points read back; the shader's seed of each is its pixel.

@@ -66,15 +66,53 @@ impl GpuLookups {
         if jobs.is_empty() {
             return Ok(Some(Vec::new()));
         }
+        if jobs.len() * size_of::<GpuLookupJob>() > max_binding(gpu) as usize {
+            return Ok(None);
+        }
+        let Some(level) = LookupBeams::upload(gpu, beams)? else { return Ok(None) };
+        // The jobs, written in place, in parallel.
+        let none = wgpu::BufferUsages::empty();
+        let mut gpu_jobs = Staged::<GpuLookupJob>::new(gpu, "lookup jobs", jobs.len(), none);
+        let piece = piece_len(jobs.len());
+        let pieces = split_by_counts(gpu_jobs.slots(), jobs.chunks(piece).map(<[_]>::len))
+            .ok_or(GpuError::Internal("lookup jobs past their buffer"))?;
+        pieces.into_par_iter().zip(jobs.par_chunks(piece)).for_each(|(Slots(out), jobs)| {
+            out.write_iter(jobs.iter().map(GpuLookupJob::from));
+        });
+        let job_buffer = gpu_jobs.finish(gpu);
+        let size = (jobs.len() * 16) as u64;
+        let answers = output(gpu, "lookup answers", size);
+        let groups = jobs.len().div_ceil(WORKGROUP_SIZE as usize) as u32;
+        let out: Vec<[f32; 4]> = checked(gpu, || {
+            let buffers = [&level.beams, &level.depths, &job_buffer, &answers];
+            let encoder = crate::buffers::dispatch(gpu, &self.pipeline, &buffers, groups);
+            read_back(gpu, encoder, &answers, size)
+        })?;
+        Ok(Some(out.iter().map(|a| (Vec3::new(a[0], a[1], a[2]), a[3])).collect()))
+    }
+}
+
+/// A tree level's beams as a lookup reads them (`lib/reproject.wgsl`): their rays
+/// ([`GpuBeam::rays_only`], each on its region of `depths`), and per texel of their regions the
+/// ray parameter of its nearest hit (−1 where it hits nothing).
+pub struct LookupBeams {
+    /// [`GpuBeam`]s.
+    pub beams: wgpu::Buffer,
+    /// Per texel, `f32`: `size²` a beam, row-major, in the beams' order.
+    pub depths: wgpu::Buffer,
+}
+
+impl LookupBeams {
+    /// `beams` with their textures, uploaded (the depths written in place, in parallel); `None`
+    /// where their texels or the beams do not fit one storage binding.
+    pub fn upload(gpu: &Gpu, beams: &[(&Beam, &BeamTexture)]) -> Result<Option<Self>, GpuError> {
         // A beam's depths: size² whatever its list of hits holds.
         let square = |tex: &BeamTexture| (tex.size * tex.size) as usize;
         let texels: usize = beams.iter().map(|(_, t)| square(t)).sum();
         let limit = max_binding(gpu) as usize;
-        if texels * 4 > limit || jobs.len() * 48 > limit || beams.len() * size_of::<GpuBeam>() > limit {
+        if texels * 4 > limit || beams.len() * size_of::<GpuBeam>() > limit {
             return Ok(None);
         }
-        // The beams, their texels' depths (-1 where the texel's ray misses) and the jobs, written
-        // in place, in parallel.
         let mut first = 0;
         let gpu_beams: Vec<GpuBeam> = beams
             .iter()
@@ -85,30 +123,14 @@ impl GpuLookups {
             })
             .collect();
         let none = wgpu::BufferUsages::empty();
-        let mut depths = Staged::<f32>::new(gpu, "lookup depths", texels, none);
+        let mut depths = Staged::<f32>::new(gpu, "lookup depths", texels.max(1), none);
         let squares = split_by_counts(depths.slots(), beams.iter().map(|(_, t)| square(t)))
             .ok_or(GpuError::Internal("lookup depths past their buffer"))?;
         squares.into_par_iter().zip(beams).for_each(|(Slots(out), (_, tex))| {
             let hits = tex.hits.iter().map(|h| h.map_or(-1.0, |h| h.t));
             out.write_iter(hits.chain(std::iter::repeat(-1.0)).take(square(tex)));
         });
-        let mut gpu_jobs = Staged::<GpuLookupJob>::new(gpu, "lookup jobs", jobs.len(), none);
-        let piece = piece_len(jobs.len());
-        let pieces = split_by_counts(gpu_jobs.slots(), jobs.chunks(piece).map(<[_]>::len))
-            .ok_or(GpuError::Internal("lookup jobs past their buffer"))?;
-        pieces.into_par_iter().zip(jobs.par_chunks(piece)).for_each(|(Slots(out), jobs)| {
-            out.write_iter(jobs.iter().map(GpuLookupJob::from));
-        });
-        let beam_buffer = storage(gpu, "lookup beams", &gpu_beams, none);
-        let (depth_buffer, job_buffer) = (depths.finish(gpu), gpu_jobs.finish(gpu));
-        let size = (jobs.len() * 16) as u64;
-        let answers = output(gpu, "lookup answers", size);
-        let groups = jobs.len().div_ceil(WORKGROUP_SIZE as usize) as u32;
-        let out: Vec<[f32; 4]> = checked(gpu, || {
-            let buffers = [&beam_buffer, &depth_buffer, &job_buffer, &answers];
-            let encoder = crate::buffers::dispatch(gpu, &self.pipeline, &buffers, groups);
-            read_back(gpu, encoder, &answers, size)
-        })?;
-        Ok(Some(out.iter().map(|a| (Vec3::new(a[0], a[1], a[2]), a[3])).collect()))
+        let gpu_beams = if gpu_beams.is_empty() { vec![GpuBeam::zeroed()] } else { gpu_beams };
+        Ok(Some(Self { beams: storage(gpu, "lookup beams", &gpu_beams, none), depths: depths.finish(gpu) }))
     }
 }

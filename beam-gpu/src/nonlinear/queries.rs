@@ -17,8 +17,8 @@ use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{
-    Beam, BeamTexture, ChildLookups, DeviceWaits, FramePixels, LevelRadiance, LookupJob, PointShading, RayQueries,
-    SMesh, ShadePoint,
+    Beam, BeamTexture, ChildLookups, DeviceWaits, EyeByRays, FramePixels, LevelRadiance, LookupJob, PointShading,
+    RayQueries, SMesh, ShadePoint,
 };
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
@@ -136,6 +136,18 @@ impl PointShading for GpuBeams<'_> {
         if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
             return Ok(None);
         }
+        // The eye's hits under coarse faces look the tree's first level up: where it did not fit
+        // one binding, the host composites the frame.
+        let first_level = self.first_level.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take();
+        let coarse = self
+            .kept_eye_hits
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .as_ref()
+            .is_some_and(|k| k.locate.is_some());
+        if coarse && levels.len() > 1 && first_level.is_none() {
+            return Ok(None);
+        }
         let start = Instant::now();
         let kept = self.kept.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take().unwrap_or_default();
         let kept_levels =
@@ -145,11 +157,16 @@ impl PointShading for GpuBeams<'_> {
         let records = match (&eye_hits, levels.first()) {
             (Some(k), Some(eye)) => {
                 let children = storage(self.gpu, "eye children", &eye.children, wgpu::BufferUsages::empty());
-                let (camera, crop) = &k.view;
-                checked(self.gpu, || self.eye.records(self.gpu, (camera, *crop), &k.lists, &k.face_of, &children))?
+                let far = scene.bounds().extent().length();
+                checked(self.gpu, || {
+                    self.eye.records(self.gpu, k, &children, (first_level.as_ref(), &self.whitted, far))
+                })?
             }
             _ => Vec::new(),
         };
+        let by_rays = |i: usize| records.iter().map(|r| u64::from(r.coarse_by_rays[i])).sum();
+        *self.eye_by_rays.lock().unwrap_or_else(std::sync::PoisonError::into_inner) =
+            EyeByRays { uncovered: by_rays(0), curved: by_rays(1) };
         // The records of the texels the levels handed to the host, where the GPU composites them.
         let made;
         let face_of = match &eye_hits {

@@ -190,6 +190,12 @@ struct Appended {
 }
 
 impl GpuWhitted {
+    /// The scene's mirror and glass triangles: per scene triangle its slot ([`NONE`] for none),
+    /// and the [`SpecularPrim`]s in their texture (what `lib/specular.wgsl` reads).
+    pub(super) fn specular_prims(&self) -> (&wgpu::Buffer, &wgpu::TextureView) {
+        (&self.slots, &self.specular)
+    }
+
     /// Compile the passes and upload `scene`'s mirror and glass triangles.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
         let mut slots = vec![NONE; scene.triangles.len()];

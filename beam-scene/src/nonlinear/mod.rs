@@ -17,13 +17,14 @@ mod waves;
 
 pub use crate::queries::RayQueries;
 pub use beam::{
-    Beam, BumpedBeam, Degree, LOOKUP, MIN_RISE, TEXEL_EPS, TexelBeam, child_beams, self_hit_at, self_hit_distance,
+    Beam, BumpedBeam, Degree, LOOKUP, LOOKUP_PREFERENCE, MIN_RISE, OUTSIDE_TEXELS, TEXEL_EPS, TexelBeam, child_beams,
+    self_hit_at, self_hit_distance,
 };
 pub use cull::{ConeCull, SelfHitFloor, cone_blocks, cone_candidates};
 pub use radiance::{Composite, LevelRadiance, NodeChildren, TexelRadiance, composite, sample_region};
 pub use renderer::{
-    BeamRasterizer, BeamRenderer, ChildLookups, DeviceWaits, EyeFaces, EyeView, FramePixels, KeepLevel, KeptTotals,
-    LevelLayout, LookupJob, PointShading, eye_by_rays,
+    BeamRasterizer, BeamRenderer, ChildLookups, DeviceWaits, EyeByRays, EyeFaces, EyeView, FramePixels, KeepLevel,
+    KeptTotals, LevelLayout, LookupJob, PointShading, eye_by_rays,
 };
 pub use smesh::{MAX_NORMAL_SPREAD, SFace, SMesh};
 pub use texture::{

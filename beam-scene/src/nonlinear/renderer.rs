@@ -155,8 +155,8 @@ pub trait EyeView: RayQueries {
     /// [`eye_view`](Self::eye_view) as the roots of the beam tree over `smesh`: the hits handed
     /// back, and per S-mesh face the pixels the backend kept that see it. A backend whose
     /// [`PointShading::shade_tree`] composites the eye's pixels itself may keep the mirror and glass
-    /// hits on faces that are scene triangles, counted per face ([`EyeFaces`]); the default keeps
-    /// none of them.
+    /// hits on S-mesh faces, each counted at its face ([`EyeFaces`]; under a coarse face, the one
+    /// [`SMesh::locate`] chooses); the default keeps none of them.
     fn eye_faces(
         &self,
         scene: &Scene,
@@ -181,6 +181,23 @@ pub trait EyeView: RayQueries {
     fn take_kept_eye(&self) -> Result<Vec<TexelRadiance>, BackendError> {
         Ok(Vec::new())
     }
+
+    /// Of the mirror and glass hits under coarse S-mesh faces that [`eye_faces`](Self::eye_faces)
+    /// kept, those the last [`PointShading::shade_tree`] sent to the rays since the last call
+    /// (counted as beam-cpu's composite counts its own); zero after.
+    fn take_eye_by_rays(&self) -> EyeByRays {
+        EyeByRays::default()
+    }
+}
+
+/// Kept mirror and glass hits under coarse S-mesh faces that a backend's composite traced by rays
+/// ([`EyeView::take_eye_by_rays`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EyeByRays {
+    /// Under a face with child beams, none of which holds the point's scattered rays.
+    pub uncovered: u64,
+    /// On a triangle with interpolated normals (a curved mirror or glass).
+    pub curved: u64,
 }
 
 /// The eye's view as the roots of the beam tree ([`EyeView::eye_faces`]).
@@ -192,17 +209,13 @@ pub struct EyeFaces {
     pub seen: Vec<[u32; 2]>,
     /// Mirror and glass pixels the backend kept.
     pub kept: u64,
-    /// Per hit handed back, the S-mesh face the backend chose among its triangle's candidates
-    /// ([`SMesh::locate_on`]; [`u32::MAX`] for none), or empty where it did not locate them and
-    /// the caller does ([`SMesh::locate`]).
-    pub faces: Vec<u32>,
 }
 
 impl EyeFaces {
     /// Every hit handed back (`hits`), none kept or located, over the faces of `smesh`.
     #[must_use]
     pub fn handed_back(hits: Vec<(usize, Ray, Hit)>, smesh: &SMesh) -> Self {
-        Self { hits, seen: vec![[0, 0]; smesh.faces.len()], kept: 0, faces: Vec::new() }
+        Self { hits, seen: vec![[0, 0]; smesh.faces.len()], kept: 0 }
     }
 }
 
