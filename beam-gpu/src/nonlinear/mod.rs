@@ -30,7 +30,7 @@ pub use eye::{
     LocateTable, RecordCounts,
 };
 pub use level::{GpuLevelPoints, HostTexel, KeptLevel, LevelCounts, LevelParams};
-pub use lookups::{GpuLookupJob, GpuLookups};
+pub use lookups::{GpuLookupJob, GpuLookups, LookupBeams};
 pub use page::AtlasParams;
 pub use whitted::{
     EndWeight, GpuWhitted, RestJob, RestPoints, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
