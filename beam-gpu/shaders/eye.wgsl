@@ -5,12 +5,12 @@
 // per face: the host builds the beam tree's roots from the counts), and so do those under a coarse
 // S-mesh face, at the candidate face their point lies nearest (`nearest_face`). After the tree's
 // first level is built, `eye_records` makes the composite records of those inside the crop (under
-// a coarse face from the point's own scattered rays, `coarse_record`). The other mirror and glass
+// a coarse face from the point's own scattered rays, lib/coarse.wgsl). The other mirror and glass
 // hits (on triangles without an S-mesh face) are appended for the host. The host zeroes `counts`
 // before a dispatch. CPU twin: beam_scene::scene::Camera::pixel_ray, then the nearest hit
 // (beam_bvh::FlatBvh::closest_hit); beam_cpu::nonlinear's eye view and composites (`Tree::locate`,
-// `Tree::composite`); lib/trace.wgsl, lib/record.wgsl, lib/lookup.wgsl, lib/reproject.wgsl and
-// lib/specular.wgsl are prepended by the host.
+// `Tree::composite`); lib/trace.wgsl, lib/record.wgsl, lib/lookup.wgsl, lib/reproject.wgsl,
+// lib/specular.wgsl and lib/coarse.wgsl are prepended by the host.
 
 // Twin of beam_gpu::nonlinear::EyeParams (96 bytes): the camera's frame (Camera::frame) and the
 // dispatch's pixels.
@@ -64,7 +64,7 @@ struct EyeCounts {
     specular: atomic<u32>,
 }
 
-// Twin of beam_gpu::nonlinear::RecordCounts (16 bytes).
+// Twin of beam_gpu::nonlinear::RecordCounts (32 bytes).
 struct RecordCounts {
     // Composite records appended.
     records: atomic<u32>,
@@ -74,6 +74,11 @@ struct RecordCounts {
     uncovered: atomic<u32>,
     // Of those, points under a coarse face on triangles with interpolated normals.
     curved: atomic<u32>,
+    // Records made under coarse faces.
+    coarse: atomic<u32>,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 @group(0) @binding(2) var<uniform> params: EyeParams;
@@ -104,7 +109,7 @@ struct RecordCounts {
 @group(0) @binding(17) var<storage, read> corners: array<vec4<f32>>;
 // `eye_records` under coarse faces: the tree's first level of beams (their rays and regions in
 // `texel_t`, lib/reproject.wgsl), and the mirror and glass triangles (lib/specular.wgsl).
-@group(0) @binding(18) var<storage, read> beams: array<Beam>;
+@group(0) @binding(18) var<storage, read> child_beams: array<Beam>;
 @group(0) @binding(19) var<storage, read> texel_t: array<f32>;
 // Per scene triangle: its index in `specular_prims`, NONE for a triangle that is not a mirror or glass.
 @group(0) @binding(20) var<storage, read> slots: array<u32>;
@@ -126,82 +131,6 @@ fn in_crop(i: u32) -> bool {
     let x = i % params.width;
     let y = i / params.width;
     return x >= params.crop.x && x < params.crop.z && y >= params.crop.y && y < params.crop.w;
-}
-
-// The point of triangle abc nearest p (beam_math::collide::closest_point_on_triangle, Ericson
-// §5.1.5, in its order of operations).
-fn closest_point_on_triangle(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec3<f32> {
-    let ab = b - a;
-    let ac = c - a;
-    let ap = p - a;
-    let d1 = dot(ab, ap);
-    let d2 = dot(ac, ap);
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return a;
-    }
-    let bp = p - b;
-    let d3 = dot(ab, bp);
-    let d4 = dot(ac, bp);
-    if d3 >= 0.0 && d4 <= d3 {
-        return b;
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return a + ab * (d1 / (d1 - d3));
-    }
-    let cp = p - c;
-    let d5 = dot(ab, cp);
-    let d6 = dot(ac, cp);
-    if d6 >= 0.0 && d5 <= d6 {
-        return c;
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return a + ac * (d2 / (d2 - d6));
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    }
-    let denom = 1.0 / (va + vb + vc);
-    return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-// The squared distance from p to S-mesh face f.
-fn face_distance_squared(f: u32, p: vec3<f32>) -> f32 {
-    let q = closest_point_on_triangle(p, corners[3u * f].xyz, corners[3u * f + 1u].xyz, corners[3u * f + 2u].xyz);
-    let e = q - p;
-    return dot(e, e);
-}
-
-// The candidate face of triangle `prim` nearest p, the first of equally near ones (SMesh::locate's
-// choice: a lone candidate without a distance; a NaN distance loses to a number); NONE for a
-// triangle without candidates. Loops: once per candidate (a handful: the faces a fine triangle's
-// points lie nearest), within the table.
-fn nearest_face(prim: u32, p: vec3<f32>) -> u32 {
-    if 2u * prim + 1u >= arrayLength(&candidates) {
-        return NONE;
-    }
-    let start = candidates[2u * prim];
-    let end = min(candidates[2u * prim + 1u], arrayLength(&candidates));
-    if start >= end {
-        return NONE;
-    }
-    var best = candidates[start];
-    if end - start == 1u {
-        return best;
-    }
-    var best_squared = face_distance_squared(best, p);
-    for (var k = start + 1u; k < end; k++) {
-        let f = candidates[k];
-        let s = face_distance_squared(f, p);
-        let nan = best_squared != best_squared;
-        if (s < best_squared && sqrt(s) < sqrt(best_squared)) || (nan && s == s) {
-            best = f;
-            best_squared = s;
-        }
-    }
-    return best;
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -241,139 +170,16 @@ fn eye_view(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroup
     }
 }
 
-// Barycentric coordinates of p in S-mesh face f's plane (SFace::barycentric: the centre for a
-// degenerate face).
-fn face_barycentric(f: u32, p: vec3<f32>) -> vec3<f32> {
-    let a = corners[3u * f].xyz;
-    let b = corners[3u * f + 1u].xyz;
-    let c = corners[3u * f + 2u].xyz;
-    let n = cross(b - a, c - a);
-    let nn = dot(n, n);
-    if !(nn > 0.0) || nn > 3.0e38 {
-        return vec3<f32>(1.0 / 3.0);
-    }
-    let w0 = dot(cross(b - p, c - p), n) / nn;
-    let w1 = dot(cross(c - p, a - p), n) / nn;
-    return vec3<f32>(w0, w1, 1.0 - w0 - w1);
-}
-
-// The point of S-mesh face f at barycentric w.
-fn face_point(f: u32, w: vec3<f32>) -> vec3<f32> {
-    return w.x * corners[3u * f].xyz + w.y * corners[3u * f + 1u].xyz + w.z * corners[3u * f + 2u].xyz;
-}
-
-// The unit directions of a point's own scattered rays (beam_scene::specular::specular_rays about
-// its triangle's shading normal): reflected (or passed through a thin pane) in `reflected`,
-// refracted in `refracted` (w 1 where there is one). `specular` false for a triangle that is not a
-// mirror or glass. A bump-mapped mirror's tilt is left out: its child beams are bumped, and no
-// lookup follows the point's ray into them.
-struct OwnRays {
-    reflected: vec3<f32>,
-    refracted: vec4<f32>,
-    specular: bool,
-}
-
-fn own_rays(prim: u32, p: vec3<f32>, d: vec3<f32>) -> OwnRays {
-    let slot = slots[prim];
-    if slot == NONE {
-        return OwnRays(vec3<f32>(0.0), vec4<f32>(0.0), false);
-    }
-    let s = specular_prim(slot);
-    let side = facing(s, p, d);
-    if s.kind == SPECULAR_THIN {
-        return OwnRays(normalize(d), vec4<f32>(0.0), true);
-    }
-    var t = vec4<f32>(0.0);
-    if s.kind == SPECULAR_GLASS {
-        t = refracted(d, side.sn, select(s.ior, 1.0 / s.ior, side.entering));
-        t = vec4<f32>(normalize(t.xyz), t.w);
-    }
-    return OwnRays(normalize(mirrored(d, side.sn)), t, true);
-}
-
-// Where point p, at w on its face, reads child beam `beam` for its own scattered unit direction
-// (xyz) and how far outside the beam's base (w): lib/reproject.wgsl's `reproject`, or w and 0 for
-// a bumped beam or a direction that is not finite (beam_cpu::nonlinear's `reproject`).
-fn look_up(beam: u32, p: vec3<f32>, truth: vec3<f32>, w: vec3<f32>) -> vec4<f32> {
-    let b = beams[beam];
-    if b.kind.z != 0u || !all(abs(truth) < vec3<f32>(3.0e38)) {
-        return vec4<f32>(w, 0.0);
-    }
-    return reproject(b, p, truth, w, params.far);
-}
-
-// How far outside child beam `beam`'s base a lookup may fall: OUTSIDE_TEXELS of its texels.
-fn slack(beam: u32) -> f32 {
-    return OUTSIDE_TEXELS / f32(beams[beam].region.z);
-}
-
-// The composite record of pixel `pixel`'s point p on triangle `prim` (unit direction d) under
-// coarse face `located`, which has child beams (beam_cpu::nonlinear's `Tree::composite`): the
-// located face first, then its triangle's other candidates with child beams until a lookup lies
-// inside its reflection beam's base; the face whose reflection lookup lies least outside wins (by
-// more than LOOKUP_PREFERENCE), and its refraction is looked up from the face's own coordinates.
-// False where a lookup lies more than `slack` outside: the point is for the Whitted rays. Loops:
-// once per candidate, and reproject's.
-fn coarse_record(pixel: u32, prim: u32, located: u32, p: vec3<f32>, d: vec3<f32>) -> bool {
-    var face = located;
-    var c = children[located];
-    var reflected_at = face_barycentric(located, p);
-    var refracted_at = reflected_at;
-    let own = own_rays(prim, p, d);
-    if own.specular {
-        var best = 3.0e38;
-        let start = candidates[2u * prim];
-        let end = min(candidates[2u * prim + 1u], arrayLength(&candidates));
-        // The located face, then the other candidates in order.
-        for (var k = start; k <= end; k++) {
-            if best <= 0.0 {
-                break;
-            }
-            var g = located;
-            if k > start {
-                g = candidates[k - 1u];
-                if g == located {
-                    continue;
-                }
-            }
-            let cg = children[g];
-            if cg.x == NONE {
-                continue;
-            }
-            let wg = face_barycentric(g, p);
-            let at = look_up(cg.x, p, own.reflected, wg);
-            if at.w < best - LOOKUP_PREFERENCE {
-                best = at.w;
-                face = g;
-                c = cg;
-                reflected_at = at.xyz;
-                refracted_at = wg;
-            }
-        }
-        if best > slack(c.x) {
-            return false;
-        }
-        if c.y != NONE {
-            var at = vec4<f32>(refracted_at, 0.0);
-            if own.refracted.w > 0.0 {
-                at = look_up(c.y, p, own.refracted.xyz, refracted_at);
-            }
-            if at.w > slack(c.y) {
-                return false;
-            }
-            refracted_at = at.xyz;
-        }
-    }
-    let j = atomicAdd(&record_counts.records, 1u);
-    records[j] = Record(face_point(face, reflected_at), pixel, d, face, c.x, c.y, 0u, 0u, face_point(face, refracted_at), 0u);
-    return true;
+// The child beams of S-mesh face `face` in the tree's first level (lib/coarse.wgsl).
+fn children_of(context: u32, face: u32) -> vec2<u32> {
+    return children[face];
 }
 
 // The composite of every kept mirror and glass hit inside the crop (`params.count` of them), once
 // the tree's first level is built: on a face with child beams, a record looking them up at the hit
 // point (a fine face: beam_cpu::nonlinear's `Tree::composite`) or where its own scattered rays
-// reach (a coarse face, `coarse_record`); else a point for the Whitted rays. The host zeroes
-// `record_counts` before a dispatch. Loops: `coarse_record`'s.
+// reach (a coarse face, lib/coarse.wgsl); else a point for the Whitted rays. The host zeroes
+// `record_counts` before a dispatch. Loops: `coarse_composite`'s.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn eye_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let k = id.y * groups.x * WORKGROUP_SIZE + id.x;
@@ -394,7 +200,11 @@ fn eye_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
             records[j] = Record(p, h.pixel, normalize(d), h.face, c.x, c.y, 0u, 0u, p, 0u);
             return;
         }
-        if coarse_record(h.pixel, h.prim, h.face, p, normalize(d)) {
+        let r = coarse_composite(0u, h.prim, h.face, p, normalize(d), params.far);
+        if r.found {
+            atomicAdd(&record_counts.coarse, 1u);
+            let j = atomicAdd(&record_counts.records, 1u);
+            records[j] = Record(r.reflected_p, h.pixel, normalize(d), r.face, r.children.x, r.children.y, 0u, 0u, r.refracted_p, 0u);
             return;
         }
         atomicAdd(&record_counts.uncovered, 1u);

@@ -9,8 +9,10 @@
 // glass past the tree, for the Whitted rays) are appended to two lists with their texels in the
 // level's radiance. The host zeroes `counts` before a dispatch. CPU twin: the host's texel hits
 // (beam_cpu::nonlinear::trace, `Tree::build`) sorted as beam_gpu::nonlinear::sort sorts them.
+// lib/record.wgsl, lib/region.wgsl, lib/lookup.wgsl, lib/reproject.wgsl, lib/specular.wgsl and
+// lib/coarse.wgsl are prepended by the host.
 
-// Twin of beam_gpu::nonlinear::LevelParams (16 bytes).
+// Twin of beam_gpu::nonlinear::LevelParams (32 bytes).
 struct LevelParams {
     // The dispatch's first texel among the page's regions.
     first: u32,
@@ -20,6 +22,11 @@ struct LevelParams {
     inverted: u32,
     // Beams on the page.
     beams: u32,
+    // `level_records`: the scene's diagonal, where a texel's ray leaves the scene (lib/reproject.wgsl).
+    far: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // Twin of beam_gpu::shade::ShadeInput (32 bytes).
@@ -49,13 +56,20 @@ struct HostTexel {
     pad: u32,
 }
 
-// Twin of beam_gpu::nonlinear::RecordCounts (16 bytes).
+// Twin of beam_gpu::nonlinear::RecordCounts (32 bytes).
 struct RecordCounts {
     records: atomic<u32>,
     rest: atomic<u32>,
-    // Points under coarse faces (eye.wgsl's; none here).
-    uncovered: u32,
-    curved: u32,
+    // Of those, texels under a coarse face whose child beams do not hold their scattered rays.
+    uncovered: atomic<u32>,
+    // Of those, the ones on triangles with interpolated normals (the host counts the others on
+    // curved triangles: they have no child beams at the face it located them on).
+    curved: atomic<u32>,
+    // Records made under coarse faces.
+    coarse: atomic<u32>,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // Twin of beam_gpu::nonlinear::LevelCounts (16 bytes).
@@ -101,6 +115,14 @@ struct LevelCounts {
 @group(0) @binding(15) var<storage, read> child_entries: array<vec4<u32>>;
 @group(0) @binding(16) var<storage, read_write> records: array<Record>;
 @group(0) @binding(17) var<storage, read_write> record_counts: RecordCounts;
+// `level_records` under coarse faces (lib/coarse.wgsl): the S mesh's candidates and corners, the
+// next level's beams (their rays and regions in `texel_t`), the mirror and glass triangles.
+@group(0) @binding(18) var<storage, read> candidates: array<u32>;
+@group(0) @binding(19) var<storage, read> corners: array<vec4<f32>>;
+@group(0) @binding(20) var<storage, read> child_beams: array<Beam>;
+@group(0) @binding(21) var<storage, read> texel_t: array<f32>;
+@group(0) @binding(22) var<storage, read> slots: array<u32>;
+@group(0) @binding(23) var specular_prims: texture_2d<u32>;
 
 // Loops: a binary search over the page's beams, at most 32 halvings (constant bound), and
 // texel_ray's sum over the S^3 coefficients.
@@ -147,12 +169,29 @@ fn level_points(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
     }
 }
 
-// The composite of every texel handed to the host (`params.count` of them, `host`), once the tree's
-// next level is built, on an S mesh of fine faces: on a face with child beams of its beam, a record
-// looking them up at the hit point (beam_cpu::nonlinear's `Tree::composite` on a fine face);
-// else a point for the Whitted rays, appended to `other` with its texel in the level's radiance.
-// The host zeroes `record_counts` before a dispatch. Loops: a binary search over the beam's
+// The child beams of S-mesh face `face` for the texels of beam `node` of the level (lib/coarse.wgsl):
+// its entry in `child_entries`, (NONE, NONE) for none. Loops: a binary search over the beam's
 // entries, at most 32 halvings (constant bound).
+fn children_of(node: u32, face: u32) -> vec2<u32> {
+    var lo = child_firsts[node];
+    var hi = child_firsts[node + 1u];
+    for (var n = 0u; n < 32u && lo < hi; n++) {
+        let mid = (lo + hi) / 2u;
+        let e = child_entries[mid];
+        if e.x == face {
+            return e.yz;
+        }
+        if e.x < face { lo = mid + 1u; } else { hi = mid; }
+    }
+    return vec2<u32>(NONE, NONE);
+}
+
+// The composite of every texel handed to the host (`params.count` of them, `host`), once the tree's
+// next level is built: on a face with child beams of its beam, a record looking them up at the hit
+// point (a fine face: beam_cpu::nonlinear's `Tree::composite`) or where its own scattered rays
+// reach (under a coarse face, at the candidate it lies nearest: lib/coarse.wgsl); else a point for
+// the Whitted rays, appended to `other` with its texel in the level's radiance. The host zeroes
+// `record_counts` before a dispatch. Loops: `children_of`'s and `coarse_composite`'s.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn level_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let k = id.y * groups.x * WORKGROUP_SIZE + id.x;
@@ -160,25 +199,32 @@ fn level_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_work
     let h = host[k];
     let node = nodes[h.node];
     let at_level = node.x + h.texel;
-    let face = face_of[h.prim];
+    var face = face_of[h.prim];
+    let coarse = face == NONE;
+    if coarse {
+        face = nearest_face(h.prim, h.p);
+    }
     var child = vec2<u32>(NONE, NONE);
     if face != NONE {
-        var lo = child_firsts[h.node];
-        var hi = child_firsts[h.node + 1u];
-        for (var n = 0u; n < 32u && lo < hi; n++) {
-            let mid = (lo + hi) / 2u;
-            let e = child_entries[mid];
-            if e.x == face {
-                child = e.yz;
-                break;
-            }
-            if e.x < face { lo = mid + 1u; } else { hi = mid; }
-        }
+        child = children_of(h.node, face);
     }
     if child.x != NONE {
-        let j = atomicAdd(&record_counts.records, 1u);
-        records[j] = Record(h.p, at_level, h.d, face, child.x, child.y, 0u, 0u, h.p, 0u);
-        return;
+        if !coarse {
+            let j = atomicAdd(&record_counts.records, 1u);
+            records[j] = Record(h.p, at_level, h.d, face, child.x, child.y, 0u, 0u, h.p, 0u);
+            return;
+        }
+        let r = coarse_composite(h.node, h.prim, face, h.p, h.d, params.far);
+        if r.found {
+            atomicAdd(&record_counts.coarse, 1u);
+            let j = atomicAdd(&record_counts.records, 1u);
+            records[j] = Record(r.reflected_p, at_level, h.d, r.face, r.children.x, r.children.y, 0u, 0u, r.refracted_p, 0u);
+            return;
+        }
+        atomicAdd(&record_counts.uncovered, 1u);
+        if (kinds[h.prim] & LEVEL_CURVED) != 0u {
+            atomicAdd(&record_counts.curved, 1u);
+        }
     }
     let j = atomicAdd(&record_counts.rest, 1u);
     other[j] = ShadeInput(h.p, h.prim, h.d, h.texel ^ node.y);

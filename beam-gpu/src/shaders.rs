@@ -35,10 +35,19 @@ pub(crate) const LIBRARY: &[(&str, &str, &[&str])] = &[
     ("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather", "eye", "whitted"]),
     ("lib/atlas.wgsl", include_str!("../shaders/lib/atlas.wgsl"), &["beam_atlas", "beam_cull", "beam_texels"]),
     ("lib/record.wgsl", include_str!("../shaders/lib/record.wgsl"), &["composite", "eye", "level_points"]),
-    ("lib/lookup.wgsl", include_str!("../shaders/lib/lookup.wgsl"), &["nonlinear_check", "lookups", "eye"]),
-    ("lib/reproject.wgsl", include_str!("../shaders/lib/reproject.wgsl"), &["lookups", "eye"]),
-    ("lib/specular.wgsl", include_str!("../shaders/lib/specular.wgsl"), &["eye", "whitted"]),
-    ("lib/region.wgsl", include_str!("../shaders/lib/region.wgsl"), &["beam_atlas", "beam_texels", "level_points"]),
+    (
+        "lib/lookup.wgsl",
+        include_str!("../shaders/lib/lookup.wgsl"),
+        &["nonlinear_check", "lookups", "eye", "level_points"],
+    ),
+    ("lib/reproject.wgsl", include_str!("../shaders/lib/reproject.wgsl"), &["lookups", "eye", "level_points"]),
+    ("lib/specular.wgsl", include_str!("../shaders/lib/specular.wgsl"), &["eye", "whitted", "level_points"]),
+    ("lib/coarse.wgsl", include_str!("../shaders/lib/coarse.wgsl"), &["eye", "level_points"]),
+    (
+        "lib/region.wgsl",
+        include_str!("../shaders/lib/region.wgsl"),
+        &["beam_atlas", "beam_texels", "level_points", "lookups", "eye"],
+    ),
 ];
 
 /// The full source of shader `name`: the constants it shares with Rust ([`crate::interface::wgsl`]),

@@ -181,14 +181,15 @@ pub fn run(
         let per = |seconds: f64| 1e3 * seconds / f64::from(frames.max(1));
         println!(
             "{:<16} host ms inside the GPU backend: uploads {:.1} ({:.1} MB), readbacks unpacked {:.1}, atlas \
-             preparation {:.1}, Whitted rays past the tree {:.1}; coarse S-mesh lookup jobs on the GPU: {:.0}; \
-             tree texels composited on the GPU: {:.0}",
+             preparation {:.1}, Whitted rays past the tree {:.1}; points under coarse S-mesh faces composited on \
+             the GPU: {:.0} (lookup jobs for the host: {:.0}); tree texels composited on the GPU: {:.0}",
             "",
             per(traffic.upload_seconds),
             traffic.bytes_uploaded as f64 / f64::from(frames.max(1)) / 1e6,
             per(traffic.unpack_seconds),
             per(after.prepare_seconds - before.prepare_seconds),
             per(after.whitted_host_seconds - before.whitted_host_seconds),
+            (after.coarse_records - before.coarse_records) as f64 / f64::from(frames.max(1)),
             (after.lookups - before.lookups) as f64 / f64::from(frames.max(1)),
             (after.level_records - before.level_records) as f64 / f64::from(frames.max(1)),
         );

@@ -218,7 +218,7 @@ pub fn render_nonlinear_frame(
     }
     let by_rays = |t: &&TexelRadiance| t.composite.is_none() && curved[t.point.prim as usize];
     // The kept pixels of the region on curved fine faces without child beams are traced by rays
-    // too (the backend counts those under coarse faces, `take_eye_by_rays`).
+    // too (the backend counts those under coarse faces, `take_coarse_by_rays`).
     let kept_by_rays: u64 = (0..seen.len())
         .filter(|&f| !tree.smesh.is_coarse(f))
         .filter(|&f| flow[0].children[f][0] == none && curved[tree.smesh.faces[f].prim as usize])
@@ -261,7 +261,7 @@ pub fn render_nonlinear_frame(
         }),
     };
     clock.lap("shading and composite");
-    let eye_by_rays = renderer.take_eye_by_rays();
+    let coarse_by_rays = renderer.take_coarse_by_rays();
     let image = frame.map(|f| Image { width: crop.width(), height: crop.height(), pixels: crop.cut(f, camera.width) });
     let all = || levels.iter().flatten();
     let beams = all().count();
@@ -278,8 +278,8 @@ pub fn render_nonlinear_frame(
         smesh_faces: tree.smesh.faces.len() as u64,
         coarse_smesh_faces: tree.smesh.coarse_faces() as u64,
         coarse_faces_by_rays: tree.smesh.faces_by_rays() as u64,
-        specular_by_rays: specular_by_rays + eye_by_rays.curved,
-        uncovered_by_beams: tree.by_rays.load(std::sync::atomic::Ordering::Relaxed) + eye_by_rays.uncovered,
+        specular_by_rays: specular_by_rays + coarse_by_rays.curved,
+        uncovered_by_beams: tree.by_rays.load(std::sync::atomic::Ordering::Relaxed) + coarse_by_rays.uncovered,
         triangles_per_beam: all().map(|n| f64::from(n.tex.triangles_after_culling)).sum::<f64>().max(0.0)
             / beams.max(1) as f64,
         overdraw: texels_tested as f64 / texels_rendered.max(1) as f64,

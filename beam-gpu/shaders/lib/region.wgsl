@@ -1,6 +1,7 @@
 // The texels of a beam's region (beam_scene::nonlinear::BeamTexture): a texel's point on the base,
 // and the row-by-row order in which a page lists its regions' texels (beam_gpu::nonlinear::page).
-// Shared by the atlas's passes and the level's points (level_points.wgsl).
+// Shared by the atlas's passes, the level's points (level_points.wgsl) and the lookups
+// (lib/reproject.wgsl).
 
 // beam_scene::nonlinear::BeamTexture::barycentric: texel (x, y) of a size × size region; margin
 // texels (u + v > 1) take the nearest point of the base's edge.

@@ -4,7 +4,7 @@
 // beam_cpu::nonlinear::lookup::reproject. The including shader binds `texel_t`: per texel of the
 // beams' regions (a beam's region.x: its first of size² texels, row-major as beam_scene's
 // BeamTexture), the ray parameter of its nearest hit, negative where it hits nothing. Included by
-// lookups.wgsl and eye.wgsl, after lib/lookup.wgsl.
+// lookups.wgsl, eye.wgsl and level_points.wgsl, with lib/lookup.wgsl and lib/region.wgsl.
 
 // The hit point of the rendered texel nearest w (beam_cpu's lookup `depth`) in xyz, and
 // in w 1 where it hits, else 0. Loops: at most 2·size iterations.
@@ -23,20 +23,6 @@ fn lookup_depth(b: Beam, w: vec3<f32>) -> vec4<f32> {
     }
     let ray = beam_ray_at(b, texel_barycentric(x, y, n));
     return vec4<f32>(ray.origin + t * ray.direction, 1.0);
-}
-
-// Barycentric coordinates of texel (x, y) of a region of side n (BeamTexture::barycentric): its
-// centre, margin texels moved onto the base's edge.
-fn texel_barycentric(x: u32, y: u32, n: u32) -> vec3<f32> {
-    var u = (f32(x) + 0.5) / f32(n);
-    var v = (f32(y) + 0.5) / f32(n);
-    if u + v <= 1.0 {
-        return vec3<f32>(1.0 - u - v, u, v);
-    }
-    let excess = 0.5 * (u + v - 1.0);
-    u = clamp(u - excess, 0.0, 1.0);
-    v = clamp(v - excess, 0.0, 1.0);
-    return max(vec3<f32>(1.0 - u - v, u, v), vec3<f32>(0.0));
 }
 
 // w moved onto the base triangle (negative coordinates to 0, then scaled to sum 1).

@@ -59,13 +59,14 @@ fn tables() -> Vec<Table> {
             nodes: FlatNode, triangles: GpuTriangle, params: EyeParams, kinds: u32, kept: ShadeInput, targets: u32,
             others: EyeHit, counts: EyeCounts, face_of: u32, seen: u32, specular: EyeHit, children: [u32; 2],
             records: CompositeRecord, rest: ShadeInput, rest_targets: u32, record_counts: RecordCounts,
-            candidates: u32, corners: [f32; 4], beams: GpuBeam, texel_t: f32, slots: u32, specular_prims,
+            candidates: u32, corners: [f32; 4], child_beams: GpuBeam, texel_t: f32, slots: u32, specular_prims,
         ]),
         bindings!("level_points" => [
             params: LevelParams, beams: GpuBeam, firsts: u32, texels: [u32; 2], placed: [u32; 4], kinds: u32,
             direct: ShadeInput, direct_targets: u32, other: ShadeInput, other_targets: u32, counts: LevelCounts,
             host: HostTexel, face_of: u32, nodes: [u32; 2], child_firsts: u32, child_entries: [u32; 4],
-            records: CompositeRecord, record_counts: RecordCounts,
+            records: CompositeRecord, record_counts: RecordCounts, candidates: u32, corners: [f32; 4],
+            child_beams: GpuBeam, texel_t: f32, slots: u32, specular_prims,
         ]),
         bindings!("whitted" => [
             nodes: FlatNode, triangles: GpuTriangle, params: WhittedParams, slots: u32, specular_prims,

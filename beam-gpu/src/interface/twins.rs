@@ -101,14 +101,18 @@ fn twins() -> Vec<Twin> {
         twin!("composite", CompositeRecord => Record {
             p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
         }),
-        twin!("level_points", LevelParams => LevelParams { first, count, inverted, beams }),
+        twin!("level_points", LevelParams => LevelParams {
+            first, count, inverted, beams, far, pad[0] => pad0, pad[1] => pad1, pad[2] => pad2
+        }),
         twin!("level_points", LevelCounts => LevelCounts { direct, other, curved, host }),
         twin!("level_points", ShadeInput => ShadeInput { p, prim, d, seed }),
         twin!("level_points", HostTexel => HostTexel { p, prim, d, t, beam, texel, node, pad }),
         twin!("level_points", CompositeRecord => Record {
             p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
         }),
-        twin!("level_points", RecordCounts => RecordCounts { records, rest, uncovered, curved }),
+        twin!("level_points", RecordCounts => RecordCounts {
+            records, rest, uncovered, curved, coarse, pad[0] => pad0, pad[1] => pad1, pad[2] => pad2
+        }),
         twin!("level_points", GpuBeam => Beam {
             base, dirs, extremal, normal, threshold, heights, offsets, bump, region, kind, origin, direction
         }),
@@ -121,7 +125,9 @@ fn twins() -> Vec<Twin> {
         twin!("eye", ShadeInput => ShadeInput { p, prim, d, seed }),
         twin!("eye", EyeHit => EyeHit { pixel, prim, t, face }),
         twin!("eye", EyeCounts => EyeCounts { kept, others, overflow, specular }),
-        twin!("eye", RecordCounts => RecordCounts { records, rest, uncovered, curved }),
+        twin!("eye", RecordCounts => RecordCounts {
+            records, rest, uncovered, curved, coarse, pad[0] => pad0, pad[1] => pad1, pad[2] => pad2
+        }),
         twin!("whitted", WhittedParams => WhittedParams { count, first, last, eps }),
         twin!("whitted", ShadeInput => ShadeInput { p, prim, d, seed }),
         twin!("whitted", SpecularPrim => SpecularPrim {

@@ -34,7 +34,7 @@ use crate::{Gpu, GpuError, texels};
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamTexture, EyeByRays, KeepLevel, KeptTotals, TexelRadiance, region_texels,
+    BeamJob, BeamRasterizer, BeamTexture, CoarseByRays, KeepLevel, KeptTotals, TexelRadiance, region_texels,
 };
 use beam_scene::options::Shading;
 use beam_scene::scene::Scene;
@@ -78,6 +78,9 @@ pub struct GpuTimes {
     /// Texels that tree levels handed to the host and the GPU composited too
     /// ([`super::GpuLevelPoints::records`]).
     pub level_records: u64,
+    /// Points under coarse S-mesh faces (the eye's and the levels') whose composite records the
+    /// GPU made, each looking its child beams up for its own scattered rays.
+    pub coarse_records: u64,
     /// The GPU's own seconds in the atlas passes, by timestamp queries (all 0 where the device has
     /// none): bounding triangles, nearest hits (draws, or the compute pass), gather.
     pub atlas_pass_seconds: [f64; 3],
@@ -107,11 +110,12 @@ pub struct GpuBeams<'g> {
     /// The mirror and glass hits of the eye's last view kept on the GPU, until the composite makes
     /// their records.
     pub(super) kept_eye_hits: Mutex<Option<KeptEyeHits>>,
-    /// The first level of the last frame's tree as the eye's records under coarse S-mesh faces
-    /// look it up (kept on a coarse S mesh only), until the composite makes them.
-    pub(super) first_level: Mutex<Option<LookupBeams>>,
+    /// The levels of the last frame's tree as the records of points under coarse S-mesh faces
+    /// in the level above (the eye's, for the first) look them up, by level (kept on a coarse S
+    /// mesh only), until the composite makes them.
+    pub(super) child_levels: Mutex<Vec<(usize, LookupBeams)>>,
     /// What the last composite of the eye's hits under coarse faces traced by rays.
-    pub(super) eye_by_rays: Mutex<EyeByRays>,
+    pub(super) coarse_by_rays: Mutex<CoarseByRays>,
     /// Whether it keeps the levels' points and the eye's mirror and glass hits (unless
     /// [`GpuBeams::reading_levels_back`]).
     pub(super) keep_levels: bool,
@@ -207,8 +211,8 @@ impl<'g> GpuBeams<'g> {
             level: GpuLevelPoints::new(gpu, scene)?,
             kept_levels: Mutex::default(),
             kept_eye_hits: Mutex::default(),
-            first_level: Mutex::default(),
-            eye_by_rays: Mutex::default(),
+            child_levels: Mutex::default(),
+            coarse_by_rays: Mutex::default(),
             keep_levels: true,
             display: false,
             frame: Mutex::default(),
@@ -314,13 +318,17 @@ impl BeamRasterizer for GpuBeams<'_> {
         }
         let (textures, kept) = self.render(scene, jobs, Some(keep), true)?;
         let kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
-        if keep.level == 1 {
-            // The eye's records under coarse faces look their points up in it (every hit read back).
+        // On a coarse S mesh (every hit read back), the records of the level above look their
+        // points up in it (the eye's, for the first).
+        let mut child_levels = self.child_levels.lock().unwrap_or_else(PoisonError::into_inner);
+        child_levels.retain(|(l, _)| *l < keep.level);
+        if keep.with_hits {
             let beams: Vec<_> = jobs.iter().map(|j| j.beam).zip(&textures).collect();
-            let first =
-                if keep.with_hits { checked(self.gpu, || LookupBeams::upload(self.gpu, &beams))? } else { None };
-            *self.first_level.lock().unwrap_or_else(PoisonError::into_inner) = first;
+            if let Some(level) = checked(self.gpu, || LookupBeams::upload(self.gpu, &beams))? {
+                child_levels.push((keep.level, level));
+            }
         }
+        drop(child_levels);
         let records = self.composites_handed_back(keep);
         let totals = KeptTotals { points: kept.points(), curved: kept.curved, records };
         self.add_times(|t| t.levels_kept += 1);
@@ -340,9 +348,9 @@ impl BeamRasterizer for GpuBeams<'_> {
 
 impl GpuBeams<'_> {
     /// Whether the composite makes the records of the texels a level kept as `keep` hands back:
-    /// on an S mesh of fine faces whose faces fit one binding (as the eye's records).
+    /// on an S mesh whose faces fit one binding (as the eye's records).
     fn composites_handed_back(&self, keep: &KeepLevel<'_>) -> bool {
-        !keep.with_hits && GpuComposite::faces_fit(self.gpu, keep.faces)
+        GpuComposite::faces_fit(self.gpu, keep.faces)
     }
 
     /// The textures of `jobs`; with `keep`, the points of the texels from which the tree does not go

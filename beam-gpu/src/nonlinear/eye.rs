@@ -21,7 +21,7 @@ use beam_bvh::Hit;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use beam_scene::BackendError;
-use beam_scene::nonlinear::{EyeByRays, EyeFaces, EyeView, SMesh, ShadePoint, TexelRadiance, eye_by_rays};
+use beam_scene::nonlinear::{CoarseByRays, EyeFaces, EyeView, SMesh, ShadePoint, TexelRadiance, eye_by_rays};
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Scene};
@@ -114,15 +114,21 @@ pub struct RecordCounts {
     /// Of those, points under a coarse S-mesh face whose child beams do not hold their scattered
     /// rays (`eye_records`).
     pub uncovered: u32,
-    /// Of those, points under a coarse S-mesh face on triangles with interpolated normals.
+    /// Of those, points under a coarse S-mesh face on triangles with interpolated normals
+    /// (`eye_records`: every one; `level_records`: the uncovered ones, as the host counts the
+    /// others).
     pub curved: u32,
+    /// Records made under coarse S-mesh faces.
+    pub coarse: u32,
+    /// Padding.
+    pub pad: [u32; 3],
 }
 
 const _: () = assert!(
     size_of::<EyeParams>() == 96
         && size_of::<EyeHit>() == 16
         && size_of::<EyeCounts>() == 16
-        && size_of::<RecordCounts>() == 16
+        && size_of::<RecordCounts>() == 32
 );
 
 /// The shading inputs one dispatch of the eye's view kept on the GPU.
@@ -162,6 +168,35 @@ pub struct LocateTable {
     candidates: wgpu::Buffer,
     /// Per face, its three vertices (`[f32; 4]`, w unused).
     corners: wgpu::Buffer,
+}
+
+/// What the composite records of points under coarse S-mesh faces read (`lib/coarse.wgsl`): the
+/// S mesh's candidates and corners, the child level's beams, the scene's mirror and glass
+/// triangles, and the scene's diagonal (where a texel's ray leaves the scene).
+pub struct CoarseBindings<'a> {
+    /// Per scene triangle, its kind ([`LEVEL_CURVED`](crate::interface::LEVEL_CURVED) counts
+    /// the points on curved triangles that go to the rays).
+    pub(super) kinds: &'a wgpu::Buffer,
+    locate: &'a LocateTable,
+    child_level: &'a LookupBeams,
+    specular: (&'a wgpu::Buffer, &'a wgpu::TextureView),
+    /// The scene's diagonal.
+    pub far: f32,
+}
+
+impl CoarseBindings<'_> {
+    /// Their entries from binding `first` on, in `lib/coarse.wgsl`'s order: `candidates`,
+    /// `corners`, `child_beams`, `texel_t`, `slots`, `specular_prims`.
+    pub(super) fn entries(&self, first: u32) -> [wgpu::BindGroupEntry<'_>; 6] {
+        [
+            buffer_entry(first, &self.locate.candidates),
+            buffer_entry(first + 1, &self.locate.corners),
+            buffer_entry(first + 2, &self.child_level.beams),
+            buffer_entry(first + 3, &self.child_level.depths),
+            buffer_entry(first + 4, self.specular.0),
+            view_entry(first + 5, self.specular.1),
+        ]
+    }
 }
 
 impl LocateTable {
@@ -214,9 +249,10 @@ pub struct EyeRecords {
     pub count: u32,
     /// Points for the Whitted rays, with their pixels.
     pub rest: KeptPoints,
-    /// Of those, under coarse faces: how many no child beam held
-    /// ([`RecordCounts::uncovered`]), and how many lie on curved triangles.
-    pub coarse_by_rays: [u32; 2],
+    /// Under coarse faces: the records made, and of the points for the Whitted rays those no
+    /// child beam held and those on curved triangles ([`RecordCounts`]'s `coarse`, `uncovered`,
+    /// `curved`).
+    pub coarse: [u32; 3],
 }
 
 /// What the eye's view returns ([`GpuEye::run`]).
@@ -357,24 +393,40 @@ impl GpuEye {
         Ok(EyeOut { kept, specular, others, seen: bytemuck::pod_collect_to_vec(seen) })
     }
 
+    /// What a composite under coarse faces reads ([`CoarseBindings`]): `locate` and the child
+    /// level `child_level` where given (stand-ins with no candidate and no beam otherwise), the
+    /// mirror and glass triangles of `specular`, the diagonal `far`.
+    pub fn coarse<'a>(
+        &'a self,
+        locate: Option<&'a LocateTable>,
+        child_level: Option<&'a LookupBeams>,
+        specular: &'a GpuWhitted,
+        far: f32,
+    ) -> CoarseBindings<'a> {
+        CoarseBindings {
+            kinds: &self.kinds,
+            locate: locate.unwrap_or(&self.no_locate),
+            child_level: child_level.unwrap_or(&self.no_beams),
+            specular: specular.specular_prims(),
+            far,
+        }
+    }
+
     /// The composite records of the hits inside the crop that the eye's view `kept`, per dispatch,
     /// and the points of faces without child beams (or whose child beams do not hold a point's
     /// scattered rays, under a coarse face) for the Whitted rays: `children` per S-mesh face, its
-    /// reflection and refraction beams in the tree's first level `first` ([`NONE`] for none); a
-    /// point under a coarse face looks them up ([`LookupBeams`], where the first level has beams)
-    /// for its own scattered rays, off the mirror and glass triangles of `specular`, in a scene
-    /// whose diagonal is `far`.
+    /// reflection and refraction beams in the tree's first level ([`NONE`] for none), which a
+    /// point under a coarse face looks up for its own scattered rays (`coarse`, its child level
+    /// the tree's first).
     pub fn records(
         &self,
         gpu: &Gpu,
         kept: &KeptEyeHits,
         children: &wgpu::Buffer,
-        (first, specular, far): (Option<&LookupBeams>, &GpuWhitted, f32),
+        coarse: &CoarseBindings<'_>,
     ) -> Result<Vec<EyeRecords>, GpuError> {
         let (camera, crop) = &kept.view;
-        let locate = kept.locate.as_ref().unwrap_or(&self.no_locate);
-        let first = first.unwrap_or(&self.no_beams);
-        let (slots, prims) = specular.specular_prims();
+        let far = coarse.far;
         let mut encoders = Vec::new();
         let mut outs = Vec::new();
         for list in &kept.lists {
@@ -392,13 +444,8 @@ impl GpuEye {
                 buffer_entry(13, &out.inputs),
                 buffer_entry(14, &out.targets),
                 buffer_entry(15, &out.counts),
-                buffer_entry(16, &locate.candidates),
-                buffer_entry(17, &locate.corners),
-                buffer_entry(18, &first.beams),
-                buffer_entry(19, &first.depths),
-                buffer_entry(20, slots),
-                view_entry(21, prims),
             ];
+            let entries: Vec<_> = entries.into_iter().chain(coarse.entries(16)).collect();
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             encode_pass(gpu, &mut encoder, &self.records, count as u32, &entries);
             encoders.push(encoder.finish());
@@ -444,7 +491,7 @@ impl RecordOutputs {
                 records: o.records,
                 count: c.records,
                 rest: KeptPoints { inputs: o.inputs, targets: o.targets, count: c.rest },
-                coarse_by_rays: [c.uncovered, c.curved],
+                coarse: [c.coarse, c.uncovered, c.curved],
             })
             .collect())
     }
@@ -558,8 +605,8 @@ impl EyeView for GpuBeams<'_> {
         Ok(Self::eye_hits(scene, &kept.view.0, &hits))
     }
 
-    fn take_eye_by_rays(&self) -> EyeByRays {
-        std::mem::take(&mut *self.eye_by_rays.lock().unwrap_or_else(PoisonError::into_inner))
+    fn take_coarse_by_rays(&self) -> CoarseByRays {
+        std::mem::take(&mut *self.coarse_by_rays.lock().unwrap_or_else(PoisonError::into_inner))
     }
 
     /// The kept points read back; the shader's seed of each is its pixel.

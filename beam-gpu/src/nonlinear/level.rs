@@ -11,7 +11,7 @@
 //! sorted as `sort.rs` sorts a level's texels.
 
 use super::composite::GpuComposite;
-use super::eye::{EyeRecords, KeptPoints, RecordOutputs};
+use super::eye::{CoarseBindings, EyeRecords, KeptPoints, RecordOutputs};
 use super::whitted::GpuWhitted;
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, output, read_all, storage, uniform};
 use crate::interface::{LEVEL_CONTINUES, LEVEL_CURVED, LEVEL_PLAIN};
@@ -36,6 +36,11 @@ pub struct LevelParams {
     pub inverted: u32,
     /// Beams on the page.
     pub beams: u32,
+    /// `level_records`: the scene's diagonal, where a texel's ray leaves the scene (beam-cpu's
+    /// `reproject`).
+    pub far: f32,
+    /// Padding.
+    pub pad: [u32; 3],
 }
 
 /// What one dispatch appended.
@@ -79,7 +84,7 @@ pub struct HostTexel {
     pub pad: u32,
 }
 
-const _: () = assert!(size_of::<LevelParams>() == 16 && size_of::<LevelCounts>() == 16);
+const _: () = assert!(size_of::<LevelParams>() == 32 && size_of::<LevelCounts>() == 16);
 const _: () = assert!(size_of::<HostTexel>() == 48);
 
 /// One atlas page as the pass reads it: its beams, their first texels in `texels` (and the total),
@@ -250,6 +255,8 @@ impl GpuLevelPoints {
                     count: n as u32,
                     inverted: u32::from(page.inverted),
                     beams: page.beams.1 as u32,
+                    far: 0.0,
+                    pad: [0; 3],
                 };
                 let params = uniform(gpu, "level params", bytemuck::bytes_of(&params));
                 let entries = [
@@ -272,17 +279,18 @@ impl GpuLevelPoints {
             .collect()
     }
 
-    /// The composite records of the texels `kept` handed to the host, on an S mesh of fine faces
-    /// (`face_of` per scene triangle: its face, else [`NONE`](crate::interface::NONE)), from the
+    /// The composite records of the texels `kept` handed to the host (`face_of` per scene
+    /// triangle: its face where it is a fine one, else [`NONE`](crate::interface::NONE)), from the
     /// child beams of the faces each beam's texels hit (`children`), once the next level is built;
-    /// per dispatch, with the points of faces without child beams for the Whitted rays. CPU twin:
-    /// beam-cpu's `Tree::composite` on a fine face.
+    /// under a coarse face, where the texel's own scattered rays read them (`coarse`, its child
+    /// level the next); per dispatch, with the points of faces without child beams (or whose child
+    /// beams do not hold their rays) for the Whitted rays. CPU twin: beam-cpu's `Tree::composite`.
     pub fn records(
         &self,
         gpu: &Gpu,
         kept: &KeptLevel,
-        face_of: &wgpu::Buffer,
-        children: &NodeChildren,
+        (face_of, children): (&wgpu::Buffer, &NodeChildren),
+        coarse: &CoarseBindings<'_>,
     ) -> Result<Vec<EyeRecords>, GpuError> {
         if kept.host.is_empty() {
             return Ok(Vec::new());
@@ -296,11 +304,12 @@ impl GpuLevelPoints {
         let mut encoders = Vec::new();
         let mut outs = Vec::new();
         for (host, count) in &kept.host {
-            let params = LevelParams { first: 0, count: *count, inverted: 0, beams: 0 };
+            let params = LevelParams { first: 0, count: *count, inverted: 0, beams: 0, far: coarse.far, pad: [0; 3] };
             let params = uniform(gpu, "level params", bytemuck::bytes_of(&params));
             let out = RecordOutputs::new(gpu, *count as usize);
             let bound = [
                 buffer_entry(0, &params),
+                buffer_entry(5, coarse.kinds),
                 buffer_entry(8, &out.inputs),
                 buffer_entry(9, &out.targets),
                 buffer_entry(11, host),
@@ -311,6 +320,7 @@ impl GpuLevelPoints {
                 buffer_entry(16, &out.records),
                 buffer_entry(17, &out.counts),
             ];
+            let bound: Vec<_> = bound.into_iter().chain(coarse.entries(18)).collect();
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             encode_pass(gpu, &mut encoder, &self.records, *count, &bound);
             encoders.push(encoder.finish());

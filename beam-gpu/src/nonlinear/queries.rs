@@ -17,12 +17,13 @@ use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::nonlinear::{
-    Beam, BeamTexture, ChildLookups, DeviceWaits, EyeByRays, FramePixels, LevelRadiance, LookupJob, PointShading,
+    Beam, BeamTexture, ChildLookups, CoarseByRays, DeviceWaits, FramePixels, LevelRadiance, LookupJob, PointShading,
     RayQueries, SMesh, ShadePoint,
 };
 use beam_scene::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
+use std::sync::PoisonError;
 use std::time::Instant;
 
 impl GpuBeams<'_> {
@@ -136,37 +137,41 @@ impl PointShading for GpuBeams<'_> {
         if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
             return Ok(None);
         }
-        // The eye's hits under coarse faces look the tree's first level up: where it did not fit
-        // one binding, the host composites the frame.
-        let first_level = self.first_level.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take();
-        let coarse = self
-            .kept_eye_hits
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .as_ref()
-            .is_some_and(|k| k.locate.is_some());
-        if coarse && levels.len() > 1 && first_level.is_none() {
-            return Ok(None);
+        // Points under coarse faces (the eye's, a level's) look their child beams up in the level
+        // below theirs, and their faces among the eye's candidates: where a level did not fit one
+        // binding, the host composites the frame.
+        if smesh.coarse_faces() > 0 {
+            let eye = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner);
+            let child_levels = self.child_levels.lock().unwrap_or_else(PoisonError::into_inner);
+            let has = |l: usize| l >= levels.len() || child_levels.iter().any(|(c, _)| *c == l);
+            let located = eye.as_ref().is_some_and(|k| k.locate.is_some());
+            let kept_levels = self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner);
+            let ready = eye.as_ref().is_none_or(|_| located && has(1))
+                && kept_levels.iter().all(|l| l.host.is_empty() || (located && has(l.level + 1)));
+            if !ready {
+                return Ok(None);
+            }
         }
         let start = Instant::now();
-        let kept = self.kept.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take().unwrap_or_default();
-        let kept_levels =
-            std::mem::take(&mut *self.kept_levels.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
+        let kept = self.kept.lock().unwrap_or_else(PoisonError::into_inner).take().unwrap_or_default();
+        let kept_levels = std::mem::take(&mut *self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner));
+        let child_levels = std::mem::take(&mut *self.child_levels.lock().unwrap_or_else(PoisonError::into_inner));
+        let eye_hits = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner).take();
+        let far = scene.bounds().extent().length();
+        // What the records under coarse faces of level `level` (0: the eye's) read.
+        let coarse = |level: usize| {
+            let child_level = child_levels.iter().find(|(l, _)| *l == level + 1).map(|(_, b)| b);
+            let locate = eye_hits.as_ref().and_then(|k| k.locate.as_ref());
+            self.eye.coarse(locate, child_level, &self.whitted, far)
+        };
         // The eye's mirror and glass hits kept on the GPU: their composite records.
-        let eye_hits = self.kept_eye_hits.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take();
         let records = match (&eye_hits, levels.first()) {
             (Some(k), Some(eye)) => {
                 let children = storage(self.gpu, "eye children", &eye.children, wgpu::BufferUsages::empty());
-                let far = scene.bounds().extent().length();
-                checked(self.gpu, || {
-                    self.eye.records(self.gpu, k, &children, (first_level.as_ref(), &self.whitted, far))
-                })?
+                checked(self.gpu, || self.eye.records(self.gpu, k, &children, &coarse(0)))?
             }
             _ => Vec::new(),
         };
-        let by_rays = |i: usize| records.iter().map(|r| u64::from(r.coarse_by_rays[i])).sum();
-        *self.eye_by_rays.lock().unwrap_or_else(std::sync::PoisonError::into_inner) =
-            EyeByRays { uncovered: by_rays(0), curved: by_rays(1) };
         // The records of the texels the levels handed to the host, where the GPU composites them.
         let made;
         let face_of = match &eye_hits {
@@ -185,12 +190,19 @@ impl PointShading for GpuBeams<'_> {
                 if level.node_children.is_empty() {
                     return Err(GpuError::Internal("texels handed back without their beams' children"));
                 }
-                self.level.records(self.gpu, l, face_of, &level.node_children)
+                self.level.records(self.gpu, l, (face_of, &level.node_children), &coarse(l.level))
             };
             kept_levels.iter().map(of).collect::<Result<Vec<_>, _>>()
         })?;
         let composited: u64 = level_records.iter().flatten().map(|r| u64::from(r.count + r.rest.count)).sum();
-        self.add_times(|t| t.level_records += composited);
+        let all_records = || records.iter().chain(level_records.iter().flatten());
+        let coarse_count = |i: usize| all_records().map(|r| u64::from(r.coarse[i])).sum::<u64>();
+        self.add_times(|t| {
+            t.level_records += composited;
+            t.coarse_records += coarse_count(0);
+        });
+        *self.coarse_by_rays.lock().unwrap_or_else(PoisonError::into_inner) =
+            CoarseByRays { uncovered: coarse_count(1), curved: coarse_count(2) };
         // Per level of the flow (the eye's first), the points kept on the GPU.
         let mut here = vec![KeptHere::default(); levels.len()];
         here[0] = KeptHere { direct: &kept, rest: &[], records: &records };
@@ -226,7 +238,7 @@ impl PointShading for GpuBeams<'_> {
                 shape,
             )?;
             if self.display {
-                *self.frame.lock().unwrap_or_else(std::sync::PoisonError::into_inner) = Some(frame);
+                *self.frame.lock().unwrap_or_else(PoisonError::into_inner) = Some(frame);
                 return Ok(FramePixels::Kept);
             }
             frame.read_back(self.gpu).map(FramePixels::Read)

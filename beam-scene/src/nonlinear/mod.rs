@@ -23,7 +23,7 @@ pub use beam::{
 pub use cull::{ConeCull, SelfHitFloor, cone_blocks, cone_candidates};
 pub use radiance::{Composite, LevelRadiance, NodeChildren, TexelRadiance, composite, sample_region};
 pub use renderer::{
-    BeamRasterizer, BeamRenderer, ChildLookups, DeviceWaits, EyeByRays, EyeFaces, EyeView, FramePixels, KeepLevel,
+    BeamRasterizer, BeamRenderer, ChildLookups, CoarseByRays, DeviceWaits, EyeFaces, EyeView, FramePixels, KeepLevel,
     KeptTotals, LevelLayout, LookupJob, PointShading, eye_by_rays,
 };
 pub use smesh::{MAX_NORMAL_SPREAD, SFace, SMesh};

@@ -182,21 +182,24 @@ pub trait EyeView: RayQueries {
         Ok(Vec::new())
     }
 
-    /// Of the mirror and glass hits under coarse S-mesh faces that [`eye_faces`](Self::eye_faces)
-    /// kept, those the last [`PointShading::shade_tree`] sent to the rays since the last call
-    /// (counted as beam-cpu's composite counts its own); zero after.
-    fn take_eye_by_rays(&self) -> EyeByRays {
-        EyeByRays::default()
+    /// Of the mirror and glass points under coarse S-mesh faces that the backend composites
+    /// itself (the hits [`eye_faces`](Self::eye_faces) kept, the texels of levels whose
+    /// [`KeptTotals::records`] it makes), those the last [`PointShading::shade_tree`] sent to the
+    /// rays since the last call, as beam-cpu's composite counts its own; zero after.
+    fn take_coarse_by_rays(&self) -> CoarseByRays {
+        CoarseByRays::default()
     }
 }
 
-/// Kept mirror and glass hits under coarse S-mesh faces that a backend's composite traced by rays
-/// ([`EyeView::take_eye_by_rays`]).
+/// Mirror and glass points under coarse S-mesh faces that a backend's composite traced by rays
+/// ([`EyeView::take_coarse_by_rays`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct EyeByRays {
+pub struct CoarseByRays {
     /// Under a face with child beams, none of which holds the point's scattered rays.
     pub uncovered: u64,
-    /// On a triangle with interpolated normals (a curved mirror or glass).
+    /// On a triangle with interpolated normals (a curved mirror or glass), but for a level's
+    /// texels without child beams at the face the caller located them on (the caller counts
+    /// those).
     pub curved: u64,
 }
 

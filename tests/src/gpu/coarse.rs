@@ -67,15 +67,16 @@ pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, St
                 255.0 * sum / n as f64
             ));
         }
-        // The points under coarse faces look their child beams up on the GPU (`lookups.wgsl`).
-        let lookups = renderer.times().lookups;
-        if lookups == 0 {
-            return Err(format!("{name}: no point was looked up on the GPU"));
+        // The points under coarse faces (the eye's and the first level's) look their child
+        // beams up on the GPU, where their composite records are made (`lib/coarse.wgsl`).
+        let composited = renderer.times().coarse_records;
+        if composited == 0 {
+            return Err(format!("{name}: no point under a coarse face was composited on the GPU"));
         }
         pixels += n;
         notes.push(format!(
-            "{name}: {} faces, {g} / {c} beams (GPU / CPU), {lookups} lookup jobs on the GPU, {:.2}% differ (mean \
-             {:.2}/255), by rays {} / {}",
+            "{name}: {} faces, {g} / {c} beams (GPU / CPU), {composited} points composited on the GPU, {:.2}% \
+             differ (mean {:.2}/255), by rays {} / {}",
             cpu_stats.coarse_smesh_faces,
             100.0 * differ as f64 / n as f64,
             255.0 * sum / n as f64,
