@@ -26,8 +26,8 @@ pub use composite::{CompositeParams, CompositeRecord, GpuComposite, GpuFace, Kep
 pub use cull::BeamCull;
 pub use display::GpuFrame;
 pub use eye::{
-    EyeCounts, EyeFaceMap, EyeHit, EyeOut, EyeParams, EyeRecords, GpuEye, KeptEyeHits, KeptPoints, KeptSpecular,
-    LocateTable, RecordCounts,
+    CoarseBindings, EyeCounts, EyeFaceMap, EyeHit, EyeOut, EyeParams, EyeRecords, GpuEye, KeptEyeHits, KeptPoints,
+    KeptSpecular, LocateTable, RecordCounts,
 };
 pub use level::{GpuLevelPoints, HostTexel, KeptLevel, LevelCounts, LevelParams};
 pub use lookups::{GpuLookupJob, GpuLookups, LookupBeams};
