@@ -9,7 +9,7 @@ use super::lookup::Lookups;
 use super::settings::{NonlinearOptions, NonlinearStats};
 use super::source::Fit;
 use super::stages::StageClock;
-use super::trace::{BeamMemo, Built, Request, Tree};
+use super::trace::{BeamMemo, Built, Request, ThroughMemo, Tree};
 use crate::RenderError;
 use crate::render::Image;
 use crate::render::IrradianceMap;
@@ -64,6 +64,7 @@ pub struct NonlinearPrecomputed {
     /// The scene's triangle count, checked by the frames that share these.
     triangles: usize,
     beams: Mutex<BeamMemo>,
+    through: Mutex<ThroughMemo>,
 }
 
 impl NonlinearPrecomputed {
@@ -72,7 +73,14 @@ impl NonlinearPrecomputed {
     pub fn new(scene: &Scene, options: &NonlinearOptions, renderer: &dyn BeamRenderer) -> Result<Self, RenderError> {
         let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
         let (map, stats) = caustics.map_or((None, CausticStats::default()), |(m, s)| (Some(m), s));
-        Ok(Self { smesh: SMesh::of(scene), map, stats, triangles: scene.triangles.len(), beams: Mutex::default() })
+        Ok(Self {
+            smesh: SMesh::of(scene),
+            map,
+            stats,
+            triangles: scene.triangles.len(),
+            beams: Mutex::default(),
+            through: Mutex::default(),
+        })
     }
 
     /// What tracing the caustics did.
@@ -134,6 +142,7 @@ pub fn render_nonlinear_frame(
         caustics: shared.map.as_ref(),
         by_rays: std::sync::atomic::AtomicU64::new(0),
         beams: &shared.beams,
+        through: &shared.through,
         far: scene.bounds().extent().length(),
     };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of

@@ -6,40 +6,45 @@ use beam_scene::nonlinear::{Beam, SFace};
 
 /// Where the light arriving at an S-mesh face comes from: the eye, or a parent beam.
 #[derive(Clone, Copy)]
-pub(super) enum Source<'a> {
+pub(super) enum Source {
     Eye(Vec3),
-    Beam(&'a Beam),
+    Parent,
 }
 
-impl Source<'_> {
-    /// Unit directions of the light arriving at the vertices of `f`: from the eye; from a parent
-    /// beam, the affine fit over `f`'s barycentric coordinates of the directions of the parent's
-    /// texel rays that hit `f` (`fit`'s samples: barycentric point, unit direction), exact for the
-    /// directions an S1 parent carries across a flat face; when the samples do not span the face,
-    /// the parent's rays through the vertices (projection, extrapolated past the parent's base).
-    pub(super) fn directions_to(self, f: &SFace, fit: &Fit) -> Option<[Vec3; 3]> {
-        let beam = match self {
-            Self::Eye(eye) => {
-                let [a, b, c] = f.v.map(|v| (v - eye).try_normalize());
-                return Some([a?, b?, c?]);
-            }
-            Self::Beam(beam) => beam,
-        };
+impl Source {
+    /// Unit directions of the light arriving at the vertices of `f` where they need no projection:
+    /// `Some` of those from the eye, or from a parent beam of the affine fit over `f`'s barycentric
+    /// coordinates of the directions of the parent's texel rays that hit `f` (`fit`'s samples:
+    /// barycentric point, unit direction), exact for the directions an S1 parent carries across a
+    /// flat face; `None` where the samples do not span the face, and the directions are the
+    /// parent's rays through the vertices ([`through`]).
+    pub(super) fn fitted(self, f: &SFace, fit: &Fit) -> Option<Option<[Vec3; 3]>> {
+        if let Self::Eye(eye) = self {
+            let [a, b, c] = f.v.map(|v| (v - eye).try_normalize());
+            return Some(a.zip(b).zip(c).map(|((a, b), c)| [a, b, c]));
+        }
         let Fit { gram, moment, samples } = *fit;
         if samples >= 3 && gram.determinant() > 1e-6 * samples.pow(3) as f32 {
             // Least squares for d(w) = Σ wᵢ Dᵢ: (Σ w wᵀ) [D₀ D₁ D₂]ᵀ = Σ w dᵀ.
             let fit = moment * gram.inverse();
             let [a, b, c] = [fit.x_axis, fit.y_axis, fit.z_axis].map(Vec3::try_normalize);
             if let (Some(a), Some(b), Some(c)) = (a, b, c) {
-                return Some([a, b, c]);
+                return Some(Some([a, b, c]));
             }
         }
-        let [a, b, c] = f.v.map(|v| beam.direction_through(v));
-        Some([a?, b?, c?])
+        None
     }
 }
 
-/// The sums of [`Source::directions_to`]'s least-squares fit over the samples (barycentric point
+/// Unit directions of `beam`'s rays through the vertices of `f` (projection, 000 §5, extrapolated
+/// past the beam's base): three Newton projections, which the tree keeps from one frame to the
+/// next ([`super::trace::ThroughMemo`]).
+pub(super) fn through(beam: &Beam, f: &SFace) -> Option<[Vec3; 3]> {
+    let [a, b, c] = f.v.map(|v| beam.direction_through(v));
+    Some([a?, b?, c?])
+}
+
+/// The sums of [`Source::fitted`]'s least-squares fit over the samples (barycentric point
 /// `w`, unit direction `d`) of the rays arriving at a face, added in the samples' order: Σ w wᵀ,
 /// Σ d wᵀ and their number. A face's samples are summed as they come, never kept.
 #[derive(Clone, Copy, Debug, PartialEq)]

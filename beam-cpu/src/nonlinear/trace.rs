@@ -13,7 +13,7 @@
 
 use super::lookup::{FaceAnswer, Lookups, ToComposite, reproject};
 use super::settings::NonlinearOptions;
-use super::source::{Fit, Source};
+use super::source::{Fit, Source, through};
 use super::stages::StageClock;
 use crate::render::IrradianceMap;
 use beam_math::glam::Vec3;
@@ -49,6 +49,8 @@ pub(super) struct Scattered {
 pub(super) struct TreeBeam {
     beams: Arc<(Beam, Option<Beam>)>,
     refracted: bool,
+    /// What the beams are made of ([`children_key`]).
+    key: [u32; 11],
 }
 
 impl std::ops::Deref for TreeBeam {
@@ -116,6 +118,9 @@ pub(super) struct Tree<'a> {
     pub(super) by_rays: std::sync::atomic::AtomicU64,
     /// The beams of this frame's tree and of the last one's, by face and incoming light.
     pub(super) beams: &'a Mutex<BeamMemo>,
+    /// The parents' rays through their children's faces' vertices, of this frame's tree and of
+    /// the last one's.
+    pub(super) through: &'a Mutex<ThroughMemo>,
     /// The scene's diagonal: the depth where a texel's ray leaves the scene ([`reproject`]),
     /// found once (a lookup and a composite a point read it).
     pub(super) far: f32,
@@ -125,6 +130,22 @@ pub(super) struct Tree<'a> {
 /// are made of ([`children_key`]), kept from one frame's tree to the next: on the wavy lake's 2,146
 /// beams, 1.6 of the 21 host ms a frame went to their S3 patches.
 pub(crate) type BeamMemo = FrameMemo<[u32; 11], Option<Arc<(Beam, Option<Beam>)>>>;
+
+/// The unit directions of a parent beam's rays through the vertices of a face its texels hit
+/// where they do not span it ([`through`]: three Newton projections), by the parent
+/// ([`through_key`]), kept from one frame's tree to the next: on the mirror teapot under 850
+/// coarse faces, 6 of the 28 host ms a frame with the eye still.
+pub(crate) type ThroughMemo = FrameMemo<[u32; 13], Option<[Vec3; 3]>>;
+
+/// What a parent beam's rays through face `face`'s vertices are a function of: the parent (its
+/// beams' key, and whether it is the refracted one) and the face.
+fn through_key(parent: &TreeBeam, face: usize) -> [u32; 13] {
+    let mut key = [0; 13];
+    key[..11].copy_from_slice(&parent.key);
+    key[11] = u32::from(parent.refracted);
+    key[12] = face as u32;
+    key
+}
 
 /// What the beams of S-mesh face `face` are made of: the face (its vertices, normals and material),
 /// the parameterization and the bits of the light's unit directions at its vertices.
@@ -165,6 +186,7 @@ impl Tree<'_> {
         clock: &mut StageClock<'_>,
     ) -> Result<Built, BackendError> {
         self.beams.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
+        self.through.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
         let mut levels: Vec<Vec<Node>> = Vec::new();
         let mut root_children = FaceMap::default();
         let mut kept_totals = KeptTotals::default();
@@ -177,26 +199,44 @@ impl Tree<'_> {
                 break;
             }
             let parents = levels.last();
-            // The light arriving at each request's face (000 §7.2).
-            let incoming: Vec<Option<[Vec3; 3]>> = requests
+            // The light arriving at each request's face (000 §7.2): from the eye, or fitted to its
+            // parent's texel rays on it, else its parent's rays through its vertices (those the
+            // last frame's tree found for the same parent and face found again).
+            let fitted: Vec<Option<Option<[Vec3; 3]>>> = requests
                 .par_iter()
                 .map(|r| {
                     let source = match r.parent {
-                        Some(p) => Source::Beam(&parents?[p].beam),
+                        Some(p) => parents?.get(p).map(|_| Source::Parent)?,
                         None => Source::Eye(self.eye),
                     };
                     if !self.smesh.spawns_beams(r.face) {
-                        return None;
+                        return Some(None);
                     }
-                    source.directions_to(&self.smesh.faces[r.face], &r.fit)
+                    source.fitted(&self.smesh.faces[r.face], &r.fit)
                 })
                 .collect();
+            let projected: Vec<(usize, &TreeBeam)> = fitted
+                .iter()
+                .enumerate()
+                .filter(|(_, f)| f.is_none())
+                .filter_map(|(i, _)| Some((i, &parents?[requests[i].parent?].beam)))
+                .collect();
+            let keys = projected.iter().map(|&(i, parent)| through_key(parent, requests[i].face)).collect();
+            let found = self.through.lock().unwrap_or_else(PoisonError::into_inner).values(keys, |k| {
+                let (i, parent) = projected[k];
+                through(parent, &self.smesh.faces[requests[i].face])
+            });
+            let mut incoming: Vec<Option<[Vec3; 3]>> = fitted.into_iter().map(Option::flatten).collect();
+            for (&(i, _), d) in projected.iter().zip(found) {
+                incoming[i] = d;
+            }
             // Their beams, those of the last frame's tree found again; a face whose beams are
             // degenerate is shaded by rays.
             let lit: Vec<(usize, [Vec3; 3])> =
                 incoming.iter().enumerate().filter_map(|(i, d)| Some((i, (*d)?))).collect();
-            let keys = lit.iter().map(|&(i, d)| children_key(requests[i].face, self.options.degree, d)).collect();
-            let made = self.beams.lock().unwrap_or_else(PoisonError::into_inner).values(keys, |k| {
+            let keys: Vec<[u32; 11]> =
+                lit.iter().map(|&(i, d)| children_key(requests[i].face, self.options.degree, d)).collect();
+            let made = self.beams.lock().unwrap_or_else(PoisonError::into_inner).values(keys.clone(), |k| {
                 let (i, incoming) = lit[k];
                 let (reflected, refracted) =
                     child_beams(self.scene, &self.smesh.faces[requests[i].face], incoming, self.options.degree)?;
@@ -207,15 +247,15 @@ impl Tree<'_> {
                 Some(Arc::new((reflected, refracted)))
             });
             let mut built = vec![None; requests.len()];
-            for (&(i, _), b) in lit.iter().zip(made) {
-                built[i] = b;
+            for ((&(i, _), b), key) in lit.iter().zip(made).zip(keys) {
+                built[i] = b.map(|b| (b, key));
             }
             let mut beams = Vec::with_capacity(2 * lit.len());
             for (r, b) in requests.iter().zip(built) {
-                let Some(b) = b else { continue };
+                let Some((b, key)) = b else { continue };
                 let size = region_size(r.pixels, self.options.texels);
                 let mut push = |refracted| {
-                    beams.push((TreeBeam { beams: b.clone(), refracted }, r.face, r.pixels, size));
+                    beams.push((TreeBeam { beams: b.clone(), refracted, key }, r.face, r.pixels, size));
                     beams.len() - 1
                 };
                 let scattered = Scattered { reflected: push(false), refracted: b.1.is_some().then(|| push(true)) };
