@@ -7,7 +7,9 @@
 // its seed the host's (`face triangle << 32 | texel`, folded to 32 bits as beam_gpu::shade::seed32
 // folds it). Points the shading pass shades (diffuse, glossy, emissive) and the others (mirror and
 // glass past the tree, for the Whitted rays) are appended to two lists with their texels in the
-// level's radiance. The host zeroes `counts` before a dispatch. CPU twin: the host's texel hits
+// level's radiance. Under a coarse S mesh, every texel's depth is written to `depths` too, where
+// the lookups of the level above read them, and the texels for the host carry the face their
+// point lies nearest. The host zeroes `counts` before a dispatch. CPU twin: the host's texel hits
 // (beam_cpu::nonlinear::trace, `Tree::build`) sorted as beam_gpu::nonlinear::sort sorts them.
 // lib/record.wgsl, lib/region.wgsl, lib/lookup.wgsl, lib/reproject.wgsl, lib/specular.wgsl and
 // lib/coarse.wgsl are prepended by the host.
@@ -24,9 +26,11 @@ struct LevelParams {
     beams: u32,
     // `level_records`: the scene's diagonal, where a texel's ray leaves the scene (lib/reproject.wgsl).
     far: f32,
+    // `level_points`: 1 where every texel's depth goes to `depths` (the level's lookups read them
+    // there, under a coarse S mesh), else 0.
+    depths: u32,
     pad0: u32,
     pad1: u32,
-    pad2: u32,
 }
 
 // Twin of beam_gpu::shade::ShadeInput (32 bytes).
@@ -53,7 +57,9 @@ struct HostTexel {
     texel: u32,
     // Its beam in the level.
     node: u32,
-    pad: u32,
+    // The S-mesh face its point lies nearest among its triangle's candidates, NONE for none (a
+    // fine S mesh's texels: the host knows their faces).
+    face: u32,
 }
 
 // Twin of beam_gpu::nonlinear::RecordCounts (32 bytes).
@@ -123,6 +129,9 @@ struct LevelCounts {
 @group(0) @binding(21) var<storage, read> texel_t: array<f32>;
 @group(0) @binding(22) var<storage, read> slots: array<u32>;
 @group(0) @binding(23) var specular_prims: texture_2d<u32>;
+// `level_points` where `params.depths`: per texel of the level (its place in the level's radiance),
+// the ray parameter of its nearest hit, −1 where it hits nothing (lib/reproject.wgsl's `texel_t`).
+@group(0) @binding(24) var<storage, read_write> depths: array<f32>;
 
 // Loops: a binary search over the page's beams, at most 32 halvings (constant bound), and
 // texel_ray's sum over the S^3 coefficients.
@@ -133,9 +142,7 @@ fn level_points(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
     let i = params.first + k;
     var word = texels[i];
     if params.inverted != 0u && word.x != 0u { word = ~word; }
-    if word.x == 0u { return; }
-    let prim = word.x - 1u;
-    let kind = kinds[prim];
+    if word.x == 0u && params.depths == 0u { return; }
     // The last beam whose first texel is at most i.
     var lo = 0u;
     var hi = params.beams;
@@ -147,12 +154,18 @@ fn level_points(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
     let s = b.region.z;
     let at = region_texel(i - firsts[lo], s);
     let texel = at.y * s + at.x;
+    if params.depths != 0u {
+        depths[placed[lo].x + texel] = select(-1.0, bitcast<f32>(word.y), word.x != 0u);
+    }
+    if word.x == 0u { return; }
+    let prim = word.x - 1u;
+    let kind = kinds[prim];
     let ray = texel_ray(b, texel_barycentric(at.x, at.y, s));
     let p = ray.origin + ray.direction * bitcast<f32>(word.y);
     let d = normalize(ray.direction);
     if (kind & LEVEL_CONTINUES) != 0u {
         let j = atomicAdd(&counts.host, 1u);
-        host[j] = HostTexel(p, prim, d, word.y, lo, texel, placed[lo].z, 0u);
+        host[j] = HostTexel(p, prim, d, word.y, lo, texel, placed[lo].z, nearest_face(prim, p));
         return;
     }
     let input = ShadeInput(p, prim, d, texel ^ placed[lo].y);
@@ -202,7 +215,7 @@ fn level_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_work
     var face = face_of[h.prim];
     let coarse = face == NONE;
     if coarse {
-        face = nearest_face(h.prim, h.p);
+        face = h.face;
     }
     var child = vec2<u32>(NONE, NONE);
     if face != NONE {

@@ -102,11 +102,11 @@ fn twins() -> Vec<Twin> {
             p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
         }),
         twin!("level_points", LevelParams => LevelParams {
-            first, count, inverted, beams, far, pad[0] => pad0, pad[1] => pad1, pad[2] => pad2
+            first, count, inverted, beams, far, depths, pad[0] => pad0, pad[1] => pad1
         }),
         twin!("level_points", LevelCounts => LevelCounts { direct, other, curved, host }),
         twin!("level_points", ShadeInput => ShadeInput { p, prim, d, seed }),
-        twin!("level_points", HostTexel => HostTexel { p, prim, d, t, beam, texel, node, pad }),
+        twin!("level_points", HostTexel => HostTexel { p, prim, d, t, beam, texel, node, face }),
         twin!("level_points", CompositeRecord => Record {
             p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
         }),

@@ -20,12 +20,12 @@ use super::composite::GpuComposite;
 use super::cull::{GpuCull, PageCulls};
 use super::display::GpuFrame;
 use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
-use super::level::{GpuLevelPoints, HostTexel, KeptLevel};
+use super::level::{GpuLevelPoints, HostTexel, KeptLevel, LevelKeep};
 use super::lookups::{GpuLookups, LookupBeams};
 use super::page::Counters;
 use super::prepare::{Preparations, prepared};
 use super::whitted::GpuWhitted;
-use crate::buffers::{checked, compute_pipeline, map_all, max_binding, shader_module, storage};
+use crate::buffers::{checked, compute_pipeline, map_all, max_binding, output, shader_module, storage};
 use crate::interface::TEXEL_JOB_PAIRS;
 use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
@@ -317,12 +317,15 @@ impl BeamRasterizer for GpuBeams<'_> {
             return Ok((self.render(scene, jobs, None, true)?.0, None));
         }
         let (textures, kept) = self.render(scene, jobs, Some(keep), true)?;
-        let kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
+        let mut kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
         // On a coarse S mesh (every hit read back), the records of the level above look their
         // points up in it (the eye's, for the first).
         let mut child_levels = self.child_levels.lock().unwrap_or_else(PoisonError::into_inner);
         child_levels.retain(|(l, _)| *l < keep.level);
-        if keep.with_hits {
+        if let Some(depths) = kept.depths.take() {
+            let regions = keep.layout.firsts.iter().zip(jobs).map(|(&first, j)| (j.beam, [first, 0, j.size]));
+            child_levels.push((keep.level, LookupBeams::on_regions(self.gpu, regions, depths)));
+        } else if keep.with_hits {
             let beams: Vec<_> = jobs.iter().map(|j| j.beam).zip(&textures).collect();
             if let Some(level) = checked(self.gpu, || LookupBeams::upload(self.gpu, &beams))? {
                 child_levels.push((keep.level, level));
@@ -417,6 +420,17 @@ impl GpuBeams<'_> {
         let kinds = keep.map(|k| self.level.kinds(self.gpu, k.continues));
         let by_compute = self.by_compute();
         let composited_here = keep.is_some_and(|k| self.composites_handed_back(k));
+        // Under a coarse S mesh, the level's depths for the lookups of the level above, written
+        // where they lie (then no hit but the host's is read back), where they fit one binding
+        // and the GPU composites the level above (its points located by the eye's candidates).
+        let eye = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner);
+        let locate = eye.as_ref().and_then(|e| e.locate.as_ref());
+        let depths = keep.filter(|k| {
+            let fits = k.layout.len as u64 * 4 <= max_binding(self.gpu);
+            k.with_hits && fits && composited_here && locate.is_some()
+        });
+        let depths = depths.map(|k| output(self.gpu, "level depths", k.layout.len.max(1) as u64 * 4));
+        let locate = self.eye.locate_or_none(locate);
         self.add_times(|t| t.prepare_seconds += start.elapsed().as_secs_f64());
         for (p, &page_rows) in rows.iter().enumerate() {
             let start = Instant::now();
@@ -459,7 +473,7 @@ impl GpuBeams<'_> {
             let pairs = (blocks.finish(self.gpu), &culls, pair_count as usize);
             let prepared = start.elapsed().as_secs_f64();
             let unpacking = Cell::new(0.0);
-            let with_hits = keep.is_none_or(|k| k.with_hits);
+            let with_hits = keep.is_none_or(|k| k.with_hits) && depths.is_none();
             let unpack = |texels: &[[u32; 2]], counts: &[Counters]| {
                 let start = Instant::now();
                 let texels = with_hits.then_some(texels);
@@ -473,9 +487,16 @@ impl GpuBeams<'_> {
                 Some(k) => members.iter().map(|&i| [k.layout.firsts[i], k.layout.prims[i], i as u32, 0]).collect(),
                 None => Vec::new(),
             };
-            let keep_page = keep.zip(kinds.as_ref()).map(|(k, kinds)| (&placed[..], k.with_hits, kinds));
-            let (unpacked, appended) =
-                checked(self.gpu, || self.render_page(beams, pairs, &ranges, &firsts, page_rows, keep_page, unpack))?;
+            let keep_page = kinds.as_ref().map(|kinds| LevelKeep {
+                placed: &placed,
+                kinds,
+                with_hits,
+                locate,
+                depths: depths.as_ref(),
+            });
+            let (unpacked, appended) = checked(self.gpu, || {
+                self.render_page(beams, pairs, &ranges, &firsts, page_rows, keep_page.as_ref(), unpack)
+            })?;
             let mut unpacked = unpacked?;
             if let (Some(kept), Some((appended, counts))) = (kept.as_mut(), appended) {
                 if !with_hits {
@@ -511,6 +532,9 @@ impl GpuBeams<'_> {
             });
         }
         let textures = textures.into_iter().map(|t| t.ok_or_else(|| GpuError::Internal("a beam was not rendered")));
+        if let (Some(kept), Some(depths)) = (kept.as_mut(), depths) {
+            kept.depths = Some(depths);
+        }
         Ok((textures.collect::<Result<_, _>>()?, kept))
     }
 }

@@ -222,6 +222,16 @@ impl LocateTable {
         Self::upload(gpu, &table, &corners)
     }
 
+    /// Per scene triangle `p`, at `2p` and `2p + 1`, the range in this buffer of its candidates.
+    pub(super) fn candidates(&self) -> &wgpu::Buffer {
+        &self.candidates
+    }
+
+    /// Per face, its three vertices.
+    pub(super) fn corners(&self) -> &wgpu::Buffer {
+        &self.corners
+    }
+
     /// No candidates: every hit's face [`NONE`].
     fn none(gpu: &Gpu) -> Self {
         Self::upload(gpu, &[], &[])
@@ -391,6 +401,11 @@ impl GpuEye {
             specular.push(KeptSpecular { hits, count: c.specular });
         }
         Ok(EyeOut { kept, specular, others, seen: bytemuck::pod_collect_to_vec(seen) })
+    }
+
+    /// `locate` where given, else the stand-in with no candidate.
+    pub(super) fn locate_or_none<'a>(&'a self, locate: Option<&'a LocateTable>) -> &'a LocateTable {
+        locate.unwrap_or(&self.no_locate)
     }
 
     /// What a composite under coarse faces reads ([`CoarseBindings`]): `locate` and the child

@@ -11,7 +11,7 @@
 //! sorted as `sort.rs` sorts a level's texels.
 
 use super::composite::GpuComposite;
-use super::eye::{CoarseBindings, EyeRecords, KeptPoints, RecordOutputs};
+use super::eye::{CoarseBindings, EyeRecords, KeptPoints, LocateTable, RecordOutputs};
 use super::whitted::GpuWhitted;
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, output, read_all, storage, uniform};
 use crate::interface::{LEVEL_CONTINUES, LEVEL_CURVED, LEVEL_PLAIN};
@@ -39,8 +39,11 @@ pub struct LevelParams {
     /// `level_records`: the scene's diagonal, where a texel's ray leaves the scene (beam-cpu's
     /// `reproject`).
     pub far: f32,
+    /// `level_points`: 1 where every texel's depth is written for the lookups of the level
+    /// above (under a coarse S mesh), else 0.
+    pub depths: u32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 /// What one dispatch appended.
@@ -80,8 +83,9 @@ pub struct HostTexel {
     pub texel: u32,
     /// Its beam in the level.
     pub node: u32,
-    /// Padding.
-    pub pad: u32,
+    /// The S-mesh face its point lies nearest among its triangle's candidates
+    /// ([`NONE`](crate::interface::NONE) for none, and on a fine S mesh).
+    pub face: u32,
 }
 
 const _: () = assert!(size_of::<LevelParams>() == 32 && size_of::<LevelCounts>() == 16);
@@ -122,6 +126,8 @@ pub struct KeptLevel {
     pub host: Vec<(wgpu::Buffer, u32)>,
     /// The level's layout, for the seeds of points read back ([`KeptLevel::read_back`]).
     layout: LevelLayout,
+    /// Under a coarse S mesh, its texels' depths written on the GPU ([`LevelKeep::depths`]).
+    pub depths: Option<wgpu::Buffer>,
 }
 
 impl KeptLevel {
@@ -194,6 +200,24 @@ pub struct GpuLevelPoints {
     /// Per scene triangle: [`LEVEL_PLAIN`] where the shading pass shades it, `|` [`LEVEL_CURVED`]
     /// where its normals are interpolated.
     kinds: Vec<u32>,
+    /// No depths to write (a binding is never empty).
+    no_depths: wgpu::Buffer,
+}
+
+/// How a page's texels are kept ([`GpuLevelPoints::encode`]).
+pub(super) struct LevelKeep<'a> {
+    /// Per beam of the page: its first texel in the level's radiance, its face's scene triangle,
+    /// its index in the level, and 0.
+    pub placed: &'a [[u32; 4]],
+    /// The triangles' kinds ([`GpuLevelPoints::kinds`]).
+    pub kinds: &'a wgpu::Buffer,
+    /// Whether the host reads every hit back.
+    pub with_hits: bool,
+    /// The S mesh's candidates, which locate the texels for the host (none on a fine S mesh).
+    pub locate: &'a LocateTable,
+    /// Where given, the level's depths (`f32` per texel of its radiance), written for the lookups
+    /// of the level above ([`super::LookupBeams`]).
+    pub depths: Option<&'a wgpu::Buffer>,
 }
 
 impl GpuLevelPoints {
@@ -203,6 +227,7 @@ impl GpuLevelPoints {
             pipeline: compute_pipeline(gpu, "level_points", "level_points")?,
             records: compute_pipeline(gpu, "level_points", "level_records")?,
             kinds: triangle_kinds(scene),
+            no_depths: output(gpu, "no depths", 4),
         })
     }
 
@@ -220,18 +245,18 @@ impl GpuLevelPoints {
         GpuComposite::records_per_dispatch(gpu).min(GpuWhitted::per_dispatch(gpu)).max(1)
     }
 
-    /// The pass over every texel of `page`, added to `encoder` in dispatches of at most
-    /// [`Self::per_dispatch`] texels; `placed` per beam of the page: its first texel in the level's
-    /// radiance, its face's scene triangle and its index in the level (and 0); `kinds` the
-    /// triangles' ([`Self::kinds`]). The dispatches' lists, their counts to be read back.
+    /// The pass over every texel of `page`, kept as `keep` says, added to `encoder` in dispatches
+    /// of at most [`Self::per_dispatch`] texels. The dispatches' lists, their counts to be read
+    /// back.
     pub(super) fn encode(
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         page: &LevelPage<'_>,
-        (placed, kinds): (&[[u32; 4]], &wgpu::Buffer),
+        keep: &LevelKeep<'_>,
     ) -> Vec<Appended> {
-        let placed = storage(gpu, "placed beams", placed, wgpu::BufferUsages::empty());
+        let placed = storage(gpu, "placed beams", keep.placed, wgpu::BufferUsages::empty());
+        let depths = keep.depths.unwrap_or(&self.no_depths);
         let (texels, count) = page.texels;
         let chunk = Self::per_dispatch(gpu);
         (0..count as usize)
@@ -256,7 +281,8 @@ impl GpuLevelPoints {
                     inverted: u32::from(page.inverted),
                     beams: page.beams.1 as u32,
                     far: 0.0,
-                    pad: [0; 3],
+                    depths: u32::from(keep.depths.is_some()),
+                    pad: [0; 2],
                 };
                 let params = uniform(gpu, "level params", bytemuck::bytes_of(&params));
                 let entries = [
@@ -265,13 +291,16 @@ impl GpuLevelPoints {
                     buffer_entry(2, page.firsts),
                     buffer_entry(3, texels),
                     buffer_entry(4, &placed),
-                    buffer_entry(5, kinds),
+                    buffer_entry(5, keep.kinds),
                     buffer_entry(6, &out.direct.0),
                     buffer_entry(7, &out.direct.1),
                     buffer_entry(8, &out.other.0),
                     buffer_entry(9, &out.other.1),
                     buffer_entry(10, &out.counts),
                     buffer_entry(11, &out.host),
+                    buffer_entry(18, keep.locate.candidates()),
+                    buffer_entry(19, keep.locate.corners()),
+                    buffer_entry(24, depths),
                 ];
                 encode_pass(gpu, encoder, &self.pipeline, n as u32, &entries);
                 out
@@ -304,7 +333,8 @@ impl GpuLevelPoints {
         let mut encoders = Vec::new();
         let mut outs = Vec::new();
         for (host, count) in &kept.host {
-            let params = LevelParams { first: 0, count: *count, inverted: 0, beams: 0, far: coarse.far, pad: [0; 3] };
+            let params =
+                LevelParams { first: 0, count: *count, inverted: 0, beams: 0, far: coarse.far, depths: 0, pad: [0; 2] };
             let params = uniform(gpu, "level params", bytemuck::bytes_of(&params));
             let out = RecordOutputs::new(gpu, *count as usize);
             let bound = [

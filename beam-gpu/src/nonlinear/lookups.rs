@@ -103,6 +103,16 @@ pub struct LookupBeams {
 }
 
 impl LookupBeams {
+    /// `beams`, each on its region `(first texel, 0, size)` of `depths`, which the GPU wrote (a
+    /// kept level's, [`super::GpuLevelPoints`]).
+    pub fn on_regions<'b>(gpu: &Gpu, beams: impl Iterator<Item = (&'b Beam, [u32; 3])>, depths: wgpu::Buffer) -> Self {
+        let mut gpu_beams: Vec<GpuBeam> = beams.map(|(beam, region)| GpuBeam::rays_only(beam, region)).collect();
+        if gpu_beams.is_empty() {
+            gpu_beams.push(GpuBeam::zeroed());
+        }
+        Self { beams: storage(gpu, "lookup beams", &gpu_beams, wgpu::BufferUsages::empty()), depths }
+    }
+
     /// `beams` with their textures, uploaded (the depths written in place, in parallel); `None`
     /// where their texels or the beams do not fit one storage binding.
     pub fn upload(gpu: &Gpu, beams: &[(&Beam, &BeamTexture)]) -> Result<Option<Self>, GpuError> {

@@ -5,7 +5,7 @@
 
 use super::GpuBeams;
 use super::cull::PageCulls;
-use super::level::{Appended, HostTexel, LevelCounts, LevelPage};
+use super::level::{Appended, HostTexel, LevelCounts, LevelKeep, LevelPage};
 use crate::GpuError;
 use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, readback, storage, uniform, view_entry};
 use crate::interface::WORKGROUP_SIZE;
@@ -58,7 +58,7 @@ impl GpuBeams<'_> {
         ranges: &[(u32, u32)],
         firsts: &[u32],
         rows: u32,
-        keep: Option<(&[[u32; 4]], bool, &wgpu::Buffer)>,
+        keep: Option<&LevelKeep<'_>>,
         unpack: impl FnOnce(&[[u32; 2]], &[Counters]) -> T,
     ) -> Result<(T, Option<KeptPage>), GpuError> {
         let device = &self.gpu.device;
@@ -121,16 +121,16 @@ impl GpuBeams<'_> {
             }
         }
         // The level's points, where it is kept, made from the texels where they lie.
-        let appended = keep.map(|(placed, _, kinds)| {
+        let appended = keep.map(|keep| {
             let page = LevelPage {
                 beams: (&beam_buffer, beam_count),
                 firsts: &first_texels,
                 texels: (&dense, texel_count),
                 inverted: self.by_compute(),
             };
-            self.level.encode(self.gpu, &mut encoder, &page, (placed, kinds))
+            self.level.encode(self.gpu, &mut encoder, &page, keep)
         });
-        let texel_bytes = if keep.is_some_and(|(_, with_hits, _)| !with_hits) { 0 } else { texel_bytes };
+        let texel_bytes = if keep.is_some_and(|k| !k.with_hits) { 0 } else { texel_bytes };
         let count_bytes = beam_count as u64 * 8;
         let level_bytes = appended.as_ref().map_or(0, |a| a.len() * size_of::<LevelCounts>()) as u64;
         let readback =
