@@ -313,7 +313,7 @@ impl Tree<'_> {
             clock.lap("tree: texel hits");
             requests = if level < self.options.bounces {
                 nodes.par_iter_mut().for_each(|node| {
-                    node.located = node.hits.iter().map(|h| self.smesh.locate(h.prim, h.p)).collect();
+                    node.located = node.hits.iter().map(|h| self.smesh.locate_on(h.prim, h.face, h.p)).collect();
                 });
                 nodes
                     .par_iter()
@@ -345,7 +345,8 @@ impl Tree<'_> {
                 let Some(hit) = hit.filter(|h| handed_back(h.prim)) else { continue };
                 let ray = tb.texel_ray(tex.barycentric(x as u32, y as u32));
                 let texel = (y * size + x) as u32;
-                hits.push(TexelPoint { texel, prim: hit.prim, p: ray.at(hit.t), d: ray.direction.normalize() });
+                let (p, d) = (ray.at(hit.t), ray.direction.normalize());
+                hits.push(TexelPoint { texel, prim: hit.prim, p, d, face: u32::MAX });
             }
         }
         hits

@@ -327,7 +327,7 @@ impl GpuBeams<'_> {
                 return Err(GpuError::Internal("a texel past its region"));
             }
             let (p, d) = (Vec3::from_array(h.p), Vec3::from_array(h.d));
-            tex.points.push(TexelPoint { texel: h.texel, prim: h.prim, p, d });
+            tex.points.push(TexelPoint { texel: h.texel, prim: h.prim, p, d, face: h.face });
         }
         // Appended by atomics in no set order; a region's texels are distinct. (Tens of texels a
         // region: sorted here, not handed to the workers.)

@@ -195,6 +195,18 @@ impl SMesh {
         Some((face, self.faces[face].barycentric(p)))
     }
 
+    /// [`Self::locate`] where a backend chose `face` ([`TexelPoint::face`](super::TexelPoint):
+    /// beam-gpu's kept levels, in f32 as here): its coordinates there when it is one of the
+    /// candidates of `prim`, else the face `locate` chooses (a backend's choice is never taken on
+    /// trust; [`u32::MAX`] for none made).
+    #[must_use]
+    pub fn locate_on(&self, prim: u32, face: u32, p: Vec3) -> Option<(usize, Vec3)> {
+        match self.faces.get(face as usize) {
+            Some(f) if self.candidates(prim).contains(&face) => Some((face as usize, f.barycentric(p))),
+            _ => self.locate(prim, p),
+        }
+    }
+
     /// The face of `candidates` nearest `p`, the first of equally near ones: the least distance
     /// `d` by `f32::total_cmp`, as `min_by` keeps it. Each candidate's squared distance once;
     /// its root only where it may be nearer than the nearest so far (the root is monotone, so a
@@ -422,5 +434,26 @@ mod tests {
             assert_eq!(s.nearest(&twice, a), least(&twice, a));
         }
         assert!(checked > 1000, "{checked} points");
+    }
+
+    /// A backend's choice of face is taken where it is one of the triangle's candidates, and
+    /// replaced by `locate`'s where it is not.
+    #[test]
+    fn locate_on_takes_only_candidates() {
+        let mut scene = crate::scene::showcase::mirror_teapot(12, 8);
+        scene.smesh = SMeshPlan { parts: Vec::new(), rest: Some(Simplify::Faces(300)) };
+        let s = SMesh::of(&scene);
+        let prim = (0..scene.triangles.len() as u32).find(|&p| s.candidates(p).len() >= 2).unwrap();
+        let p = scene.triangles[prim as usize].v.iter().sum::<Vec3>() / 3.0;
+        for &g in s.candidates(prim) {
+            assert_eq!(s.locate_on(prim, g, p), Some((g as usize, s.faces[g as usize].barycentric(p))));
+        }
+        let other = (0..s.faces.len() as u32).find(|g| !s.candidates(prim).contains(g)).unwrap();
+        for g in [other, u32::MAX] {
+            assert_eq!(s.locate_on(prim, g, p), s.locate(prim, p));
+        }
+        // A triangle without S faces has none, whatever the backend says.
+        let plain = (0..scene.triangles.len() as u32).find(|&p| s.candidates(p).is_empty()).unwrap();
+        assert_eq!(s.locate_on(plain, 0, p), None);
     }
 }

@@ -25,6 +25,10 @@ pub struct TexelPoint {
     pub p: Vec3,
     /// Unit direction of the texel's ray.
     pub d: Vec3,
+    /// The S-mesh face the backend located its point on among its triangle's candidates (beam-gpu,
+    /// under a coarse S mesh: the nearest, as [`SMesh::locate`](super::SMesh::locate) chooses),
+    /// [`u32::MAX`] where it did not (the caller locates it, [`SMesh::locate_on`](super::SMesh::locate_on)).
+    pub face: u32,
 }
 
 /// A beam's texel region: `size × size` texels over the base's barycentric square, of which those
