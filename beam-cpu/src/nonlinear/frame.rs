@@ -148,7 +148,7 @@ pub fn render_nonlinear_frame(
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree. (A backend that shades the eye's diffuse, glossy and emissive pixels itself may
     // keep those: they see no S-mesh face; one that composites them may keep mirror and glass hits
-    // on fine faces, counted per face.)
+    // on S-mesh faces, counted per face.)
     let EyeFaces { hits, seen, kept: kept_eye } = renderer.eye_faces(scene, tree.smesh, &camera, &options.shading)?;
     clock.lap("eye view");
     // Per pixel handed back, the S face it sees: its own triangle's, or on a coarse S mesh the

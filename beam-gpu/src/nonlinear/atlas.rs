@@ -318,8 +318,8 @@ impl BeamRasterizer for GpuBeams<'_> {
         }
         let (textures, kept) = self.render(scene, jobs, Some(keep), true)?;
         let mut kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
-        // On a coarse S mesh (every hit read back), the records of the level above look their
-        // points up in it (the eye's, for the first).
+        // On a coarse S mesh the records of the level above (the eye's, for the first) look their
+        // points up in this one: in the depths written on the GPU, else in every hit read back.
         let mut child_levels = self.child_levels.lock().unwrap_or_else(PoisonError::into_inner);
         child_levels.retain(|(l, _)| *l < keep.level);
         if let Some(depths) = kept.depths.take() {

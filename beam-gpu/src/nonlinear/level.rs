@@ -126,7 +126,8 @@ pub struct KeptLevel {
     pub host: Vec<(wgpu::Buffer, u32)>,
     /// The level's layout, for the seeds of points read back ([`KeptLevel::read_back`]).
     layout: LevelLayout,
-    /// Under a coarse S mesh, its texels' depths, written on the GPU for the lookups of the level above.
+    /// Under a coarse S mesh, its texels' depths, written on the GPU for the lookups of the level
+    /// above.
     pub depths: Option<wgpu::Buffer>,
 }
 
