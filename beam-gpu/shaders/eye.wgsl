@@ -8,9 +8,9 @@
 // a coarse face from the point's own scattered rays, lib/coarse.wgsl). The other mirror and glass
 // hits (on triangles without an S-mesh face) are appended for the host. The host zeroes `counts`
 // before a dispatch. CPU twin: beam_scene::scene::Camera::pixel_ray, then the nearest hit
-// (beam_bvh::FlatBvh::closest_hit); beam_cpu::nonlinear's eye view and composites (`Tree::locate`,
+// (beam_bvh::FlatBvh::closest_hit); beam_cpu::nonlinear's eye view and composites (`SMesh::locate`,
 // `Tree::composite`); lib/trace.wgsl, lib/record.wgsl, lib/lookup.wgsl, lib/reproject.wgsl,
-// lib/specular.wgsl and lib/coarse.wgsl are prepended by the host.
+// lib/specular.wgsl, lib/coarse.wgsl and lib/region.wgsl are prepended by the host.
 
 // Twin of beam_gpu::nonlinear::EyeParams (96 bytes): the camera's frame (Camera::frame) and the
 // dispatch's pixels.

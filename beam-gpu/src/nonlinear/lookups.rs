@@ -94,7 +94,8 @@ impl GpuLookups {
 
 /// A tree level's beams as a lookup reads them (`lib/reproject.wgsl`): their rays
 /// ([`GpuBeam::rays_only`], each on its region of `depths`), and per texel of their regions the
-/// ray parameter of its nearest hit (−1 where it hits nothing).
+/// ray parameter of its nearest hit (−1 where it hits nothing; the texels past a region's
+/// triangle, which no lookup reads, are left as they are).
 pub struct LookupBeams {
     /// [`GpuBeam`]s.
     pub beams: wgpu::Buffer,
