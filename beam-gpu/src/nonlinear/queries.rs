@@ -157,7 +157,7 @@ impl PointShading for GpuBeams<'_> {
         let kept_levels = std::mem::take(&mut *self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner));
         let child_levels = std::mem::take(&mut *self.child_levels.lock().unwrap_or_else(PoisonError::into_inner));
         let eye_hits = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner).take();
-        let far = scene.bounds().extent().length();
+        let far = self.extent;
         // What the records under coarse faces of level `level` (0: the eye's) read.
         let coarse = |level: usize| {
             let child_level = child_levels.iter().find(|(l, _)| *l == level + 1).map(|(_, b)| b);

@@ -2,7 +2,7 @@
 //! stand for many fine triangles, rasterized by the GPU's atlases (which must skip the fine patch
 //! under each face and take its ring's near hits for self-hits, as the CPU does), composited on the
 //! GPU where the CPU looks each point's child beams up ([`Composite::reflected_at`] and
-//! `refracted_at`, looked up on the GPU too, `lookups.wgsl`), against the CPU renderer with the
+//! `refracted_at`, looked up on the GPU too, `lib/coarse.wgsl`), against the CPU renderer with the
 //! same S mesh.
 //!
 //! [`Composite::reflected_at`]: beam_cpu::nonlinear::Composite
@@ -23,6 +23,13 @@ const SIZE: u32 = 64;
 /// Faces of the simplified S mesh over the teapot and the glass ball (about 6,800 fine triangles).
 const FACES: u32 = 400;
 
+/// The mirror teapot with its specular surfaces' S mesh simplified to about [`FACES`] faces.
+fn coarse_teapot() -> Result<scene::Scene, String> {
+    let mut scene = scene::builtin("mirror-teapot").map_err(|e| e.to_string())?;
+    scene.smesh.rest = Some(Simplify::Faces(FACES));
+    Ok(scene)
+}
+
 /// The mirror teapot (a mirror teapot and a glass ball) at 64² with its specular surfaces' S mesh
 /// simplified to about 400 faces, S1 and S3, two tree levels, area-light caustics off (they are
 /// traced on the fine mesh either way): the GPU's image (its ray tracer, atlases, shading and
@@ -36,8 +43,7 @@ pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, St
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
-    let mut scene = scene::builtin("mirror-teapot").map_err(|e| e.to_string())?;
-    scene.smesh.rest = Some(Simplify::Faces(FACES));
+    let scene = coarse_teapot()?;
     let (mut pixels, mut notes) = (0u64, Vec::new());
     for degree in [Degree::S1, Degree::S3] {
         let options = NonlinearOptions {
@@ -99,8 +105,7 @@ pub fn gpu_eye_locates_as_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
         Ok(g) => g,
         Err(o) => return Ok(o),
     };
-    let mut scene = scene::builtin("mirror-teapot").map_err(|e| e.to_string())?;
-    scene.smesh.rest = Some(Simplify::Faces(FACES));
+    let scene = coarse_teapot()?;
     let smesh = SMesh::of(&scene);
     let (width, height) = (128, 96);
     let camera = scene.camera.with_size(width, height);
