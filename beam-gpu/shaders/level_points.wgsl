@@ -1,7 +1,9 @@
 // A level of the beam tree kept on the GPU (beam_gpu::nonlinear::level): after a page's nearest
 // hits, every texel of its regions that hit a triangle on which the tree goes on (LEVEL_CONTINUES:
 // a mirror or glass face that spawns the next level's beams) is appended for the host with its
-// point and direction, and the host builds the next level and the composite from it; every other texel that hit becomes a shading
+// point and direction, and the host builds the next level and the composite from it (where
+// `params.fits`, the fit of the next level's beams is summed here, lib/fit.wgsl, and the host
+// reads back only those sums); every other texel that hit becomes a shading
 // input where it lies, never read back. Its point is the hit of its texel's ray (`texel_ray` at
 // the texel's point of the base, `origin + t·direction`), its direction the ray's unit direction,
 // its seed the host's (`face triangle << 32 | texel`, folded to 32 bits as beam_gpu::shade::seed32
@@ -12,7 +14,7 @@
 // point lies nearest. The host zeroes `counts` before a dispatch. CPU twin: the host's texel hits
 // (beam_cpu::nonlinear::trace, `Tree::build`) sorted as beam_gpu::nonlinear::sort sorts them.
 // lib/record.wgsl, lib/region.wgsl, lib/lookup.wgsl, lib/reproject.wgsl, lib/specular.wgsl and
-// lib/coarse.wgsl are prepended by the host.
+// lib/coarse.wgsl and lib/fit.wgsl are prepended by the host.
 
 // Twin of beam_gpu::nonlinear::LevelParams (32 bytes).
 struct LevelParams {
@@ -29,8 +31,12 @@ struct LevelParams {
     // `level_points`: 1 where every texel's depth goes to `depths` (the level's lookups read them
     // there, under a coarse S mesh), else 0.
     depths: u32,
-    pad0: u32,
-    pad1: u32,
+    // Slots of the level's fit table (lib/fit.wgsl), 0 where the host sums the fits: then
+    // `level_points` sums them there, and `level_records` counts the texels on curved triangles
+    // without child beams at their face, which the host does not see.
+    fits: u32,
+    // Faces of the S mesh (the fit table's keys).
+    faces: u32,
 }
 
 // Twin of beam_gpu::shade::ShadeInput (32 bytes).
@@ -68,8 +74,8 @@ struct RecordCounts {
     rest: atomic<u32>,
     // Of those, texels under a coarse face whose child beams do not hold their scattered rays.
     uncovered: atomic<u32>,
-    // Of those, the ones on triangles with interpolated normals (the host counts the others on
-    // curved triangles: they have no child beams at the face it located them on).
+    // Of those, the ones on triangles with interpolated normals; and where `params.fits`, the
+    // texels on such triangles without child beams at their face (elsewhere the host counts those).
     curved: atomic<u32>,
     // Records made under coarse faces.
     coarse: atomic<u32>,
@@ -132,6 +138,8 @@ struct LevelCounts {
 // `level_points` where `params.depths`: per texel of the level (its place in the level's radiance),
 // the ray parameter of its nearest hit, −1 where it hits nothing (lib/reproject.wgsl's `texel_t`).
 @group(0) @binding(24) var<storage, read_write> depths: array<f32>;
+// `level_points` where `params.fits`: the level's fit table (lib/fit.wgsl).
+@group(0) @binding(25) var<storage, read_write> fits: array<atomic<u32>>;
 
 // Loops: a binary search over the page's beams, at most 32 halvings (constant bound), and
 // texel_ray's sum over the S^3 coefficients.
@@ -164,8 +172,12 @@ fn level_points(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workg
     let p = ray.origin + ray.direction * bitcast<f32>(word.y);
     let d = normalize(ray.direction);
     if (kind & LEVEL_CONTINUES) != 0u {
+        let face = nearest_face(prim, p);
         let j = atomicAdd(&counts.host, 1u);
-        host[j] = HostTexel(p, prim, d, word.y, lo, texel, placed[lo].z, nearest_face(prim, p));
+        host[j] = HostTexel(p, prim, d, word.y, lo, texel, placed[lo].z, face);
+        if params.fits != 0u && face != NONE {
+            fit_sample(placed[lo].z * params.faces + face + 1u, params.fits, face_barycentric(face, p), d);
+        }
         return;
     }
     let input = ShadeInput(p, prim, d, texel ^ placed[lo].y);
@@ -238,6 +250,8 @@ fn level_records(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_work
         if (kinds[h.prim] & LEVEL_CURVED) != 0u {
             atomicAdd(&record_counts.curved, 1u);
         }
+    } else if params.fits != 0u && (kinds[h.prim] & LEVEL_CURVED) != 0u {
+        atomicAdd(&record_counts.curved, 1u);
     }
     let j = atomicAdd(&record_counts.rest, 1u);
     other[j] = ShadeInput(h.p, h.prim, h.d, h.texel ^ node.y);

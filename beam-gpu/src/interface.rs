@@ -152,6 +152,25 @@ pub const OUTSIDE_TEXELS: f32 = beam_scene::nonlinear::OUTSIDE_TEXELS;
 /// (`eye.wgsl`; [`beam_scene::nonlinear::LOOKUP_PREFERENCE`]).
 pub const LOOKUP_PREFERENCE: f32 = beam_scene::nonlinear::LOOKUP_PREFERENCE;
 
+/// Words of a slot of a level's fit table (`lib/fit.wgsl`, [`crate::nonlinear::FitTable`]): its
+/// key, its number of samples, and the fit's 15 sums as (low, high) word pairs.
+pub const FIT_WORDS: u32 = 32;
+
+/// Most slots a sample of a level's fit table probes for its key's (`lib/fit.wgsl`).
+pub const FIT_PROBES: u32 = 128;
+
+/// A fit term's fixed-point scale (`lib/fit.wgsl`): 2²², so that f32's 24-bit significand of a
+/// term below 1 keeps its bits down to about 2⁻²².
+pub const FIT_SCALE: f32 = 4_194_304.0;
+
+/// Largest magnitude of a fit term (`lib/fit.wgsl`): products of barycentric coordinates and unit
+/// directions, which stay below 2 but for points far outside their face, clamped there.
+pub const FIT_LIMIT: f32 = 3.99;
+
+/// Added to each fixed-point fit term (`lib/fit.wgsl`), so that it is never negative:
+/// `FIT_LIMIT · FIT_SCALE` < `FIT_BIAS`, and a sum's low word only carries upwards.
+pub const FIT_BIAS: u32 = 1 << 24;
+
 /// A constant's value, typed as in WGSL.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
@@ -205,6 +224,11 @@ pub const CONSTANTS: &[(&str, Value)] = {
         ("LOOKUP_TOLERANCE", F32(LOOKUP_TOLERANCE)),
         ("OUTSIDE_TEXELS", F32(OUTSIDE_TEXELS)),
         ("LOOKUP_PREFERENCE", F32(LOOKUP_PREFERENCE)),
+        ("FIT_WORDS", U32(FIT_WORDS)),
+        ("FIT_PROBES", U32(FIT_PROBES)),
+        ("FIT_SCALE", F32(FIT_SCALE)),
+        ("FIT_LIMIT", F32(FIT_LIMIT)),
+        ("FIT_BIAS", U32(FIT_BIAS)),
     ]
 };
 

@@ -43,6 +43,7 @@ pub(crate) const LIBRARY: &[(&str, &str, &[&str])] = &[
     ("lib/reproject.wgsl", include_str!("../shaders/lib/reproject.wgsl"), &["lookups", "eye", "level_points"]),
     ("lib/specular.wgsl", include_str!("../shaders/lib/specular.wgsl"), &["eye", "whitted", "level_points"]),
     ("lib/coarse.wgsl", include_str!("../shaders/lib/coarse.wgsl"), &["eye", "level_points"]),
+    ("lib/fit.wgsl", include_str!("../shaders/lib/fit.wgsl"), &["level_points"]),
     (
         "lib/region.wgsl",
         include_str!("../shaders/lib/region.wgsl"),

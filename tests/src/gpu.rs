@@ -36,7 +36,9 @@ use coarse::{gpu_coarse_smesh_equals_cpu, gpu_eye_locates_as_cpu};
 use cull::gpu_cone_culling_equals_host;
 use eye::gpu_eye_view_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
-use level::{gpu_kept_level_equals_host_texels, gpu_kept_level_images_equal_read_back};
+use level::{
+    gpu_kept_level_equals_host_texels, gpu_kept_level_images_equal_read_back, gpu_summed_fits_equal_host_fits,
+};
 use lookup::gpu_lookup_projections_equal_cpu;
 use readback::gpu_readbacks_reuse_buffers;
 use twin::TwinShading;
@@ -109,6 +111,12 @@ pub fn properties() -> Vec<Property> {
             cites: "000 §7.3",
             backends: GPU,
             body: gpu_kept_level_equals_host_texels,
+        },
+        Property {
+            name: "gpu_summed_fits_equal_host_fits",
+            cites: "000 §7.2",
+            backends: GPU,
+            body: gpu_summed_fits_equal_host_fits,
         },
         Property {
             name: "gpu_kept_level_images_equal_read_back",

@@ -20,6 +20,7 @@ beam_conformance::conformance_tests!(
     gpu_images_fit_narrow_bindings,
     gpu_kept_level_equals_host_texels,
     gpu_kept_level_images_equal_read_back,
+    gpu_summed_fits_equal_host_fits,
     gpu_glossy_gather_equals_cpu,
     gpu_glossy_gather_area_lights_equal_cpu,
     gpu_readbacks_reuse_buffers,

@@ -69,8 +69,14 @@ impl InsideMemo {
 #[must_use]
 pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, exclude: Exclude<'_>) -> BeamTexture {
     let n = size as usize;
-    let mut tex =
-        BeamTexture { size, hits: vec![None; n * n], points: Vec::new(), triangles_after_culling: 0, texels_tested: 0 };
+    let mut tex = BeamTexture {
+        size,
+        hits: vec![None; n * n],
+        points: Vec::new(),
+        fits: Vec::new(),
+        triangles_after_culling: 0,
+        texels_tested: 0,
+    };
     let bounds = beam.s1_or_sn_bounds();
     let extent = scene.bounds().extent().length();
     // Half a texel of slack around the bounding triangle, in barycentric units.

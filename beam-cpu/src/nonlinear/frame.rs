@@ -7,9 +7,8 @@ use super::composite::composite_levels;
 use super::cpu_beams::{CpuBeams, shade_points};
 use super::lookup::Lookups;
 use super::settings::{NonlinearOptions, NonlinearStats};
-use super::source::Fit;
 use super::stages::StageClock;
-use super::trace::{BeamMemo, Built, Request, ThroughMemo, Tree};
+use super::trace::{BeamMemo, Built, Node, Request, ThroughMemo, Tree};
 use crate::RenderError;
 use crate::render::Image;
 use crate::render::IrradianceMap;
@@ -18,7 +17,7 @@ use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    BeamRenderer, Degree, EyeFaces, FramePixels, LevelRadiance, SMesh, ShadePoint, TexelRadiance,
+    BeamRenderer, Degree, EyeFaces, Fit, FramePixels, LevelRadiance, SMesh, ShadePoint, TexelRadiance,
 };
 use beam_scene::parallel::par_flatten;
 use beam_scene::scene::Scene;
@@ -174,10 +173,12 @@ pub fn render_nonlinear_frame(
         .map(|face| Request { parent: None, face, fit: Fit::default(), pixels: seen_by[face][0] as f32 })
         .collect();
     clock.lap("eye view: faces seen");
-    let Built { roots: children, levels, kept, records } = tree.build(renderer, roots, &mut clock)?;
-    // The eye's view (the region's pixels) is level 0 of the radiance flow.
-    let next = levels.first().map_or(&[][..], |l| &l[..]);
-    let eye_texels = |hits: &[(usize, Ray, Hit)], located: &[Option<(usize, Vec3)>]| {
+    let Built { roots: children, mut levels, kept, records } = tree.build(renderer, roots, &mut clock)?;
+    // The eye's view (the region's pixels) is level 0 of the radiance flow, `next` the tree's first.
+    fn first(levels: &[Vec<Node>]) -> &[Node] {
+        levels.first().map_or(&[], Vec::as_slice)
+    }
+    let eye_texels = |hits: &[(usize, Ray, Hit)], located: &[Option<(usize, Vec3)>], next: &[Node]| {
         let point = |i: usize, ray: Ray, hit: Hit| ShadePoint {
             prim: hit.prim,
             p: ray.at(hit.t),
@@ -210,7 +211,7 @@ pub fn render_nonlinear_frame(
     let eye = LevelRadiance {
         regions: Vec::new(),
         len: camera.width as usize * camera.height as usize,
-        texels: eye_texels(&hits, &located)?,
+        texels: eye_texels(&hits, &located, first(&levels))?,
         children: (0..tree.smesh.faces.len())
             .map(|f| {
                 children.get(&f).map_or([none; 2], |c| [c.reflected as u32, c.refracted.map_or(none, |r| r as u32)])
@@ -254,12 +255,13 @@ pub fn render_nonlinear_frame(
             // Shaded here after all: with the eye's pixels the backend kept, and the levels' texels
             // it would have composited.
             if records.contains(&true) {
+                tree.kept_level_points(renderer, &mut levels)?;
                 flow.truncate(1);
                 flow.extend(tree.radiance_levels(renderer, &levels, &[])?);
             }
             flow[0].texels.extend(renderer.take_kept_eye()?);
             let kept_hits = renderer.take_kept_eye_hits(scene)?;
-            flow[0].texels.extend(eye_texels(&kept_hits, &locate(&kept_hits))?);
+            flow[0].texels.extend(eye_texels(&kept_hits, &locate(&kept_hits), first(&levels))?);
             for (level, texels) in renderer.take_kept_levels()? {
                 let past = || BackendError::new("renderer", format!("kept texels of level {level}, past the tree"));
                 flow.get_mut(level).ok_or_else(past)?.texels.extend(texels);

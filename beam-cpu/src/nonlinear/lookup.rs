@@ -304,6 +304,7 @@ mod tests {
             size,
             hits: vec![None; 1024],
             points: Vec::new(),
+            fits: Vec::new(),
             triangles_after_culling: 0,
             texels_tested: 0,
         };

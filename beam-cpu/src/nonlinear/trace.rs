@@ -13,12 +13,13 @@
 
 use super::lookup::{FaceAnswer, Lookups, ToComposite, reproject};
 use super::settings::NonlinearOptions;
-use super::source::{Fit, Source, through};
+use super::source::{Source, through};
 use super::stages::StageClock;
 use crate::render::IrradianceMap;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::memo::FrameMemo;
+use beam_scene::nonlinear::Fit;
 use beam_scene::nonlinear::{
     Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, KeepLevel, KeptTotals, LOOKUP_PREFERENCE, LevelLayout,
     LevelRadiance, NodeChildren, OUTSIDE_TEXELS, SMesh, ShadePoint, TexelPoint, TexelRadiance, child_beams,
@@ -311,7 +312,22 @@ impl Tree<'_> {
                 })
                 .collect();
             clock.lap("tree: texel hits");
-            requests = if level < self.options.bounces {
+            requests = if level < self.options.bounces && kept.is_some_and(|k| k.fits) {
+                // The backend summed each beam's fits on the faces its texels hit.
+                nodes
+                    .iter_mut()
+                    .enumerate()
+                    .flat_map(|(i, node)| {
+                        let per_sample = node.pixels / node.tex.texels() as f32;
+                        std::mem::take(&mut node.tex.fits).into_iter().map(move |(face, fit)| Request {
+                            parent: Some(i),
+                            face: face as usize,
+                            pixels: fit.samples() as f32 * per_sample,
+                            fit,
+                        })
+                    })
+                    .collect()
+            } else if level < self.options.bounces {
                 nodes.par_iter_mut().for_each(|node| {
                     node.located = node.hits.iter().map(|h| self.smesh.locate_on(h.prim, h.face, h.p)).collect();
                 });
@@ -333,6 +349,32 @@ impl Tree<'_> {
             levels.push(nodes);
         }
         Ok(Built { roots: root_children, levels, kept: kept_totals, records })
+    }
+
+    /// Into `levels`' beams, the texels from which the tree goes on that `renderer` kept and summed
+    /// the fits of ([`KeptTotals::fits`]), with their faces: for a frame shaded here after all.
+    pub(super) fn kept_level_points(
+        &self,
+        renderer: &dyn BeamRenderer,
+        levels: &mut [Vec<Node>],
+    ) -> Result<(), BackendError> {
+        for (li, nodes) in levels.iter_mut().enumerate() {
+            let points = renderer.kept_level_points(li + 1)?;
+            if points.is_empty() {
+                continue;
+            }
+            if points.len() != nodes.len() {
+                return Err(BackendError::new(
+                    "renderer",
+                    format!("texels of {} beams for level {}", points.len(), li + 1),
+                ));
+            }
+            nodes.par_iter_mut().zip(points).for_each(|(node, hits)| {
+                node.located = hits.iter().map(|h| self.smesh.locate_on(h.prim, h.face, h.p)).collect();
+                node.hits = hits;
+            });
+        }
+        Ok(())
     }
 
     /// The texels of `tex` (`beam`'s) that hit a triangle `handed_back` names, in texel order,

@@ -66,7 +66,7 @@ fn tables() -> Vec<Table> {
             direct: ShadeInput, direct_targets: u32, other: ShadeInput, other_targets: u32, counts: LevelCounts,
             host: HostTexel, face_of: u32, nodes: [u32; 2], child_firsts: u32, child_entries: [u32; 4],
             records: CompositeRecord, record_counts: RecordCounts, candidates: u32, corners: [f32; 4],
-            child_beams: GpuBeam, texel_t: f32, slots: u32, specular_prims, depths: f32,
+            child_beams: GpuBeam, texel_t: f32, slots: u32, specular_prims, depths: f32, fits: u32,
         ]),
         bindings!("whitted" => [
             nodes: FlatNode, triangles: GpuTriangle, params: WhittedParams, slots: u32, specular_prims,

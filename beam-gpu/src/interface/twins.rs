@@ -102,7 +102,7 @@ fn twins() -> Vec<Twin> {
             p, texel, d, face, reflected, refracted, pad[0] => pad0, pad[1] => pad1, refracted_p, pad2
         }),
         twin!("level_points", LevelParams => LevelParams {
-            first, count, inverted, beams, far, depths, pad[0] => pad0, pad[1] => pad1
+            first, count, inverted, beams, far, depths, fits, faces
         }),
         twin!("level_points", LevelCounts => LevelCounts { direct, other, curved, host }),
         twin!("level_points", ShadeInput => ShadeInput { p, prim, d, seed }),

@@ -20,6 +20,7 @@ use super::composite::GpuComposite;
 use super::cull::{GpuCull, PageCulls};
 use super::display::GpuFrame;
 use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
+use super::fits::{FitTable, ReadFits, fit_slots};
 use super::level::{GpuLevelPoints, HostTexel, KeptLevel, LevelKeep};
 use super::lookups::{GpuLookups, LookupBeams};
 use super::page::Counters;
@@ -34,7 +35,7 @@ use crate::{Gpu, GpuError, texels};
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_scene::BackendError;
 use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamTexture, CoarseByRays, KeepLevel, KeptTotals, TexelRadiance, region_texels,
+    BeamJob, BeamRasterizer, BeamTexture, CoarseByRays, KeepLevel, KeptTotals, TexelPoint, TexelRadiance, region_texels,
 };
 use beam_scene::options::Shading;
 use beam_scene::scene::Scene;
@@ -116,6 +117,9 @@ pub struct GpuBeams<'g> {
     pub(super) child_levels: Mutex<Vec<(usize, LookupBeams)>>,
     /// What the last composite of the eye's hits under coarse faces traced by rays.
     pub(super) coarse_by_rays: Mutex<CoarseByRays>,
+    /// Per tree level, the slots its last fit table used and whether it overflowed
+    /// ([`fit_slots`]).
+    pub(super) fit_slots: Mutex<Vec<Option<(usize, bool)>>>,
     /// Whether it keeps the levels' points and the eye's mirror and glass hits (unless
     /// [`GpuBeams::reading_levels_back`]).
     pub(super) keep_levels: bool,
@@ -213,6 +217,7 @@ impl<'g> GpuBeams<'g> {
             kept_eye_hits: Mutex::default(),
             child_levels: Mutex::default(),
             coarse_by_rays: Mutex::default(),
+            fit_slots: Mutex::default(),
             keep_levels: true,
             display: false,
             frame: Mutex::default(),
@@ -333,13 +338,23 @@ impl BeamRasterizer for GpuBeams<'_> {
         }
         drop(child_levels);
         let records = self.composites_handed_back(keep);
-        let totals = KeptTotals { points: kept.points(), curved: kept.curved, records };
+        // Texels whose fits the GPU summed are kept there too.
+        let summed: u64 = if kept.fits { kept.host.iter().map(|(_, n)| u64::from(*n)).sum() } else { 0 };
+        let totals = KeptTotals { points: kept.points() + summed, curved: kept.curved, records, fits: kept.fits };
         self.add_times(|t| t.levels_kept += 1);
         let mut levels = self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner);
         // A frame's first level: what an earlier frame left (one that failed) goes.
         levels.retain(|l| l.level < keep.level);
         levels.push(kept);
         Ok((textures, Some(totals)))
+    }
+
+    fn kept_level_points(&self, level: usize) -> Result<Vec<Vec<TexelPoint>>, BackendError> {
+        let levels = self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner);
+        let Some(kept) = levels.iter().find(|l| l.level == level && l.fits) else {
+            return Ok(Vec::new());
+        };
+        Ok(checked(self.gpu, || kept.host_points(self.gpu))?)
     }
 
     fn take_kept_levels(&self) -> Result<Vec<(usize, Vec<TexelRadiance>)>, BackendError> {
@@ -350,6 +365,41 @@ impl BeamRasterizer for GpuBeams<'_> {
 }
 
 impl GpuBeams<'_> {
+    /// Into `textures` (level `level`'s, kept as `kept`), the fits summed in `table`; where it
+    /// overflowed, the texels it was given instead, read back (and a larger table next frame).
+    fn read_fits(
+        &self,
+        table: &FitTable,
+        kept: &mut KeptLevel,
+        textures: &mut [BeamTexture],
+        level: usize,
+    ) -> Result<(), GpuError> {
+        let start = Instant::now();
+        let read = checked(self.gpu, || table.read(self.gpu))?;
+        let last = match read {
+            Some(ReadFits { fits, used }) => {
+                for (tex, fits) in textures.iter_mut().zip(fits) {
+                    tex.fits = fits;
+                }
+                kept.fits = true;
+                (used, false)
+            }
+            None => {
+                for (tex, points) in textures.iter_mut().zip(checked(self.gpu, || kept.host_points(self.gpu))?) {
+                    tex.points = points;
+                }
+                (table.params().0 as usize, true)
+            }
+        };
+        let mut slots = self.fit_slots.lock().unwrap_or_else(PoisonError::into_inner);
+        if slots.len() <= level {
+            slots.resize(level + 1, None);
+        }
+        slots[level] = Some(last);
+        self.add_times(|t| t.atlas_seconds += start.elapsed().as_secs_f64());
+        Ok(())
+    }
+
     /// Whether the composite makes the records of the texels a level kept as `keep` hands back:
     /// on an S mesh whose faces fit one binding (as the eye's records).
     fn composites_handed_back(&self, keep: &KeepLevel<'_>) -> bool {
@@ -424,12 +474,22 @@ impl GpuBeams<'_> {
         // where they lie (then no hit but the host's is read back), where they fit one binding
         // and the GPU composites the level above (its points located by the eye's candidates).
         let eye = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner);
-        let locate = eye.as_ref().and_then(|e| e.locate.as_ref());
+        let locate = eye.as_ref().map(|e| &e.locate);
         let depths = keep.filter(|k| {
             let fits = k.layout.len as u64 * 4 <= max_binding(self.gpu);
             k.with_hits && fits && composited_here && locate.is_some()
         });
         let depths = depths.map(|k| output(self.gpu, "level depths", k.layout.len.max(1) as u64 * 4));
+        // The texels the tree goes on from, where the GPU composites them: their fits summed on
+        // the GPU, and none read back, where their faces are located there.
+        let fit_table = keep.filter(|k| {
+            let read_back = k.with_hits && depths.is_none();
+            composited_here && !read_back && locate.is_some() && !k.continues.is_empty()
+        });
+        let fit_table = fit_table.and_then(|k| {
+            let last = self.fit_slots.lock().unwrap_or_else(PoisonError::into_inner).get(k.level).copied().flatten();
+            FitTable::new(self.gpu, fit_slots(last, jobs.len()), jobs.len(), k.faces, max_binding(self.gpu))
+        });
         let locate = self.eye.locate_or_none(locate);
         self.add_times(|t| t.prepare_seconds += start.elapsed().as_secs_f64());
         for (p, &page_rows) in rows.iter().enumerate() {
@@ -493,13 +553,14 @@ impl GpuBeams<'_> {
                 with_hits,
                 locate,
                 depths: depths.as_ref(),
+                fits: fit_table.as_ref(),
             });
             let (unpacked, appended) = checked(self.gpu, || {
                 self.render_page(beams, pairs, &ranges, &firsts, page_rows, keep_page.as_ref(), unpack)
             })?;
             let mut unpacked = unpacked?;
             if let (Some(kept), Some((appended, counts))) = (kept.as_mut(), appended) {
-                if !with_hits {
+                if !with_hits && fit_table.is_none() {
                     // The texels the host builds on, with their points, into textures otherwise empty.
                     // Unpacked from where they are mapped (12.9 MB a frame on the glass lens).
                     let start = Instant::now();
@@ -532,9 +593,13 @@ impl GpuBeams<'_> {
             });
         }
         let textures = textures.into_iter().map(|t| t.ok_or_else(|| GpuError::Internal("a beam was not rendered")));
+        let mut textures: Vec<BeamTexture> = textures.collect::<Result<_, _>>()?;
         if let (Some(kept), Some(depths)) = (kept.as_mut(), depths) {
             kept.depths = Some(depths);
         }
-        Ok((textures.collect::<Result<_, _>>()?, kept))
+        if let (Some(kept), Some(table), Some(k)) = (kept.as_mut(), fit_table, keep) {
+            self.read_fits(&table, kept, &mut textures, k.level)?;
+        }
+        Ok((textures, kept))
     }
 }

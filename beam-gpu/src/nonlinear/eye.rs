@@ -116,7 +116,8 @@ pub struct RecordCounts {
     pub uncovered: u32,
     /// Of those, points under a coarse S-mesh face on triangles with interpolated normals
     /// (`eye_records`: every one; `level_records`: the uncovered ones, as the host counts the
-    /// others).
+    /// others, and where the GPU summed the level's fits, the ones without child beams at their
+    /// face, fine or coarse, which the host does not see).
     pub curved: u32,
     /// Records made under coarse S-mesh faces.
     pub coarse: u32,
@@ -200,15 +201,10 @@ impl CoarseBindings<'_> {
 }
 
 impl LocateTable {
-    /// The candidates of `scene`'s triangles among the faces of `smesh`, uploaded, where `smesh`
-    /// has coarse faces; `None` for an S mesh of fine faces, whose points the host locates
-    /// without a search (a triangle is its own face).
-    pub fn coarse(gpu: &Gpu, scene: &Scene, smesh: &SMesh) -> Option<Self> {
-        (smesh.coarse_faces() > 0).then(|| Self::new(gpu, scene, smesh))
-    }
-
-    /// The candidates of `scene`'s triangles among the faces of `smesh`, uploaded.
-    fn new(gpu: &Gpu, scene: &Scene, smesh: &SMesh) -> Self {
+    /// The candidates of `scene`'s triangles among the faces of `smesh`, and its faces' corners,
+    /// uploaded (on a fine S mesh, a triangle's lone candidate is its own face: the levels'
+    /// fits locate their texels by it, [`super::FitTable`]).
+    pub fn new(gpu: &Gpu, scene: &Scene, smesh: &SMesh) -> Self {
         let triangles = scene.triangles.len() as u32;
         let mut table = Vec::with_capacity(2 * triangles as usize);
         let mut lists = Vec::new();
@@ -519,8 +515,8 @@ pub struct KeptEyeHits {
     pub lists: Vec<KeptSpecular>,
     /// Per scene triangle, its S-mesh face where it is the face itself, else [`NONE`].
     pub face_of: wgpu::Buffer,
-    /// The candidates that located the hits under coarse faces (none on a fine S mesh).
-    pub locate: Option<LocateTable>,
+    /// The candidates that located the hits under coarse faces, and locate the levels' texels.
+    pub locate: LocateTable,
     /// The frame's camera and crop.
     pub view: (Camera, PixelRect),
 }
@@ -597,8 +593,8 @@ impl EyeView for GpuBeams<'_> {
             return Ok(EyeFaces::handed_back(self.eye_view(scene, camera, options)?, smesh));
         }
         let face_of = fine_faces(self.gpu, scene, smesh);
-        let locate = LocateTable::coarse(self.gpu, scene, smesh);
-        let faces = EyeFaceMap { face_of: &face_of, locate: locate.as_ref(), faces: smesh.faces.len() };
+        let locate = LocateTable::new(self.gpu, scene, smesh);
+        let faces = EyeFaceMap { face_of: &face_of, locate: Some(&locate), faces: smesh.faces.len() };
         let Some(out) = self.eye_on_gpu(camera, options, Some(faces))? else {
             return Ok(EyeFaces::handed_back(eye_by_rays(self, scene, camera)?, smesh));
         };

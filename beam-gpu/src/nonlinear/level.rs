@@ -12,13 +12,14 @@
 
 use super::composite::GpuComposite;
 use super::eye::{CoarseBindings, EyeRecords, KeptPoints, LocateTable, RecordOutputs};
+use super::fits::FitTable;
 use super::whitted::GpuWhitted;
-use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, output, read_all, storage, uniform};
+use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, map_all, output, read_all, storage, uniform};
 use crate::interface::{LEVEL_CONTINUES, LEVEL_CURVED, LEVEL_PLAIN};
 use crate::shade::{PointShader, ShadeInput};
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{LevelLayout, NodeChildren, ShadePoint, TexelRadiance};
+use beam_scene::nonlinear::{LevelLayout, NodeChildren, ShadePoint, TexelPoint, TexelRadiance};
 use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 
@@ -42,8 +43,13 @@ pub struct LevelParams {
     /// `level_points`: 1 where every texel's depth is written for the lookups of the level
     /// above (under a coarse S mesh), else 0.
     pub depths: u32,
-    /// Padding.
-    pub pad: [u32; 2],
+    /// `level_points`: slots of the level's fit table ([`FitTable`]), where it sums the fits
+    /// (else 0: the host does); `level_records`: not 0 where the GPU summed them, and it counts
+    /// the texels on curved triangles without child beams at their face, which the host does not
+    /// see.
+    pub fits: u32,
+    /// Faces of the S mesh (the fit table's keys).
+    pub faces: u32,
 }
 
 /// What one dispatch appended.
@@ -129,6 +135,9 @@ pub struct KeptLevel {
     /// Under a coarse S mesh, its texels' depths, written on the GPU for the lookups of the level
     /// above.
     pub depths: Option<wgpu::Buffer>,
+    /// Whether the GPU summed the fits of the texels for the host ([`FitTable`]), which then read
+    /// none back.
+    pub fits: bool,
 }
 
 impl KeptLevel {
@@ -157,6 +166,16 @@ impl KeptLevel {
         }
     }
 
+    /// The texels handed to the host, read back: per beam of the level, in texel order.
+    pub(super) fn host_points(&self, gpu: &Gpu) -> Result<Vec<Vec<TexelPoint>>, GpuError> {
+        let size = size_of::<HostTexel>() as u64;
+        let sources = self.host.iter().map(|(buffer, n)| (buffer, u64::from(*n) * size));
+        let ends = self.layout.firsts.iter().skip(1).copied().chain([self.layout.len as u32]);
+        // A region of size² texels.
+        let sizes: Vec<u32> = ends.zip(&self.layout.firsts).map(|(end, first)| (end - first).isqrt()).collect();
+        map_all(gpu, Vec::new(), sources, |bytes| host_points(bytes, &sizes, |h| h.node))?
+    }
+
     /// The points as texels of the level's radiance, read back (for a frame the caller shades after
     /// all), each with the seed the host gives it: its beam's face triangle `<< 32 |` its texel in
     /// the beam's region (the beam the one whose region holds its texel, by the layout).
@@ -183,6 +202,46 @@ impl KeptLevel {
     }
 }
 
+/// The texels listed as [`HostTexel`]s in `host` (bytes as read back, unpacked where they are
+/// mapped) as points, per beam (`beam_of` a texel's, of beams whose regions have `sizes` texels a
+/// side), each beam's in texel order.
+pub(super) fn host_points(
+    host: &[u8],
+    sizes: &[u32],
+    beam_of: impl Fn(&HostTexel) -> u32,
+) -> Result<Vec<Vec<TexelPoint>>, GpuError> {
+    // Mapped ranges start 8-byte aligned; a copy where the bytes are not aligned all the same.
+    let copied: Vec<HostTexel>;
+    let host: &[HostTexel] = match bytemuck::try_cast_slice(host) {
+        Ok(host) => host,
+        Err(_) => {
+            copied = bytemuck::pod_collect_to_vec(host);
+            &copied
+        }
+    };
+    // Counted first: each beam's points grow to their size once.
+    let mut counts = vec![0usize; sizes.len()];
+    for h in host {
+        *counts.get_mut(beam_of(h) as usize).ok_or(GpuError::Internal("a texel for the host past its beams"))? += 1;
+    }
+    let mut points: Vec<Vec<TexelPoint>> = counts.into_iter().map(Vec::with_capacity).collect();
+    for h in host {
+        // Every beam is within `sizes`: counted above.
+        let b = beam_of(h) as usize;
+        if h.texel >= sizes[b] * sizes[b] {
+            return Err(GpuError::Internal("a texel past its region"));
+        }
+        let (p, d) = (Vec3::from_array(h.p), Vec3::from_array(h.d));
+        points[b].push(TexelPoint { texel: h.texel, prim: h.prim, p, d, face: h.face });
+    }
+    // Appended by atomics in no set order; a region's texels are distinct. (Tens of texels a
+    // region: sorted here, not handed to the workers.)
+    for p in &mut points {
+        p.sort_unstable_by_key(|t| t.texel);
+    }
+    Ok(points)
+}
+
 /// Per scene triangle of `scene`: [`LEVEL_PLAIN`] where the shading pass shades it, `|`
 /// [`LEVEL_CURVED`] where its normals are interpolated (the eye's and the levels' passes).
 pub(super) fn triangle_kinds(scene: &Scene) -> Vec<u32> {
@@ -201,8 +260,9 @@ pub struct GpuLevelPoints {
     /// Per scene triangle: [`LEVEL_PLAIN`] where the shading pass shades it, `|` [`LEVEL_CURVED`]
     /// where its normals are interpolated.
     kinds: Vec<u32>,
-    /// No depths to write (a binding is never empty).
+    /// No depths to write, no fits to sum (a binding is never empty).
     no_depths: wgpu::Buffer,
+    no_fits: wgpu::Buffer,
 }
 
 /// How a page's texels are kept ([`GpuLevelPoints::encode`]).
@@ -219,6 +279,8 @@ pub(super) struct LevelKeep<'a> {
     /// Where given, the level's depths (`f32` per texel of its radiance), written for the lookups
     /// of the level above ([`super::LookupBeams`]).
     pub depths: Option<&'a wgpu::Buffer>,
+    /// Where given, the table the fits of the texels for the host are summed in.
+    pub fits: Option<&'a FitTable>,
 }
 
 impl GpuLevelPoints {
@@ -229,6 +291,7 @@ impl GpuLevelPoints {
             records: compute_pipeline(gpu, "level_points", "level_records")?,
             kinds: triangle_kinds(scene),
             no_depths: output(gpu, "no depths", 4),
+            no_fits: output(gpu, "no fits", 4),
         })
     }
 
@@ -258,6 +321,7 @@ impl GpuLevelPoints {
     ) -> Vec<Appended> {
         let placed = storage(gpu, "placed beams", keep.placed, wgpu::BufferUsages::empty());
         let depths = keep.depths.unwrap_or(&self.no_depths);
+        let (fits, (slots, faces)) = keep.fits.map_or((&self.no_fits, (0, 0)), |t| (t.buffer(), t.params()));
         let (texels, count) = page.texels;
         let chunk = Self::per_dispatch(gpu);
         (0..count as usize)
@@ -283,7 +347,8 @@ impl GpuLevelPoints {
                     beams: page.beams.1 as u32,
                     far: 0.0,
                     depths: u32::from(keep.depths.is_some()),
-                    pad: [0; 2],
+                    fits: slots,
+                    faces,
                 };
                 let params = uniform(gpu, "level params", bytemuck::bytes_of(&params));
                 let entries = [
@@ -302,6 +367,7 @@ impl GpuLevelPoints {
                     buffer_entry(18, keep.locate.candidates()),
                     buffer_entry(19, keep.locate.corners()),
                     buffer_entry(24, depths),
+                    buffer_entry(25, fits),
                 ];
                 encode_pass(gpu, encoder, &self.pipeline, n as u32, &entries);
                 out
@@ -334,8 +400,17 @@ impl GpuLevelPoints {
         let mut encoders = Vec::new();
         let mut outs = Vec::new();
         for (host, count) in &kept.host {
-            let params =
-                LevelParams { first: 0, count: *count, inverted: 0, beams: 0, far: coarse.far, depths: 0, pad: [0; 2] };
+            let fits = u32::from(kept.fits);
+            let params = LevelParams {
+                first: 0,
+                count: *count,
+                inverted: 0,
+                beams: 0,
+                far: coarse.far,
+                depths: 0,
+                fits,
+                faces: 0,
+            };
             let params = uniform(gpu, "level params", bytemuck::bytes_of(&params));
             let out = RecordOutputs::new(gpu, *count as usize);
             let bound = [

@@ -1,8 +1,7 @@
 //! Nonlinear beam tracing (000) on the GPU: the beams' GPU layout, the atlas pipeline of 000 §3 that
-//! renders every beam of a tree level at once, the eye's view, the Whitted rays past the tree, a
-//! coarse S mesh's lookups and the final composite, and compute
-//! entry points that check the WGSL
-//! bounding triangles and rays against beam-math.
+//! renders every beam of a tree level at once, the eye's view, the next level's fits, the Whitted
+//! rays past the tree, a coarse S mesh's lookups and the final composite, and compute entry
+//! points that check the WGSL bounding triangles and rays against beam-math.
 
 mod atlas;
 mod beam;
@@ -11,6 +10,7 @@ mod composite;
 mod cull;
 mod display;
 mod eye;
+mod fits;
 mod level;
 mod lookups;
 mod page;
@@ -29,6 +29,7 @@ pub use eye::{
     CoarseBindings, EyeCounts, EyeFaceMap, EyeHit, EyeOut, EyeParams, EyeRecords, GpuEye, KeptEyeHits, KeptPoints,
     KeptSpecular, LocateTable, RecordCounts,
 };
+pub use fits::{FitTable, MIN_FIT_SLOTS, ReadFits, fit_slots};
 pub use level::{GpuLevelPoints, HostTexel, KeptLevel, LevelCounts, LevelParams};
 pub use lookups::{GpuLookupJob, GpuLookups, LookupBeams};
 pub use page::AtlasParams;

@@ -5,14 +5,13 @@
 
 use super::GpuBeams;
 use super::cull::PageCulls;
-use super::level::{Appended, HostTexel, LevelCounts, LevelKeep, LevelPage};
+use super::level::{Appended, LevelCounts, LevelKeep, LevelPage, host_points};
 use crate::GpuError;
 use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, readback, storage, uniform, view_entry};
 use crate::interface::WORKGROUP_SIZE;
 use crate::texels::texture_2d;
 use crate::timestamps::PassTimer;
-use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{BeamJob, BeamTexture, TexelHit, TexelPoint, region_texels};
+use beam_scene::nonlinear::{BeamJob, BeamTexture, TexelHit, region_texels};
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
@@ -271,7 +270,14 @@ impl GpuBeams<'_> {
                     let points = Vec::new();
                     return Ok((
                         i,
-                        BeamTexture { size, hits: Vec::new(), points, triangles_after_culling, texels_tested },
+                        BeamTexture {
+                            size,
+                            hits: Vec::new(),
+                            points,
+                            fits: Vec::new(),
+                            triangles_after_culling,
+                            texels_tested,
+                        },
                     ));
                 };
                 let region = texels
@@ -288,7 +294,14 @@ impl GpuBeams<'_> {
                         }
                     }
                 }
-                let tex = BeamTexture { size, hits, points: Vec::new(), triangles_after_culling, texels_tested };
+                let tex = BeamTexture {
+                    size,
+                    hits,
+                    points: Vec::new(),
+                    fits: Vec::new(),
+                    triangles_after_culling,
+                    texels_tested,
+                };
                 Ok((i, tex))
             })
             .collect()
@@ -297,42 +310,13 @@ impl GpuBeams<'_> {
 
 impl GpuBeams<'_> {
     /// Into `textures` (a page's, in the order of its beams, without hits), the texels listed as
-    /// [`HostTexel`]s in `host` (bytes as read back, unpacked where they are mapped) as their
+    /// [`HostTexel`](super::HostTexel)s in `host` (bytes as read back, unpacked where they are mapped) as their
     /// points, each texture's in texel order: the texels of a kept level that the host builds on
     /// ([`super::level`]).
     pub(super) fn unpack_host_texels(textures: &mut [(usize, BeamTexture)], host: &[u8]) -> Result<(), GpuError> {
-        // Mapped ranges start 8-byte aligned; a copy where the bytes are not aligned all the same.
-        let copied: Vec<HostTexel>;
-        let host: &[HostTexel] = match bytemuck::try_cast_slice(host) {
-            Ok(host) => host,
-            Err(_) => {
-                copied = bytemuck::pod_collect_to_vec(host);
-                &copied
-            }
-        };
-        // Counted first: each texture's points grow to their size once.
-        let mut counts = vec![0usize; textures.len()];
-        for h in host {
-            *counts
-                .get_mut(h.beam as usize)
-                .ok_or_else(|| GpuError::Internal("a texel for the host past the page"))? += 1;
-        }
-        for ((_, tex), n) in textures.iter_mut().zip(counts) {
-            tex.points.reserve_exact(n);
-        }
-        for h in host {
-            // Every `h.beam` is within `textures`: counted above.
-            let (_, tex) = &mut textures[h.beam as usize];
-            if h.texel >= tex.size * tex.size {
-                return Err(GpuError::Internal("a texel past its region"));
-            }
-            let (p, d) = (Vec3::from_array(h.p), Vec3::from_array(h.d));
-            tex.points.push(TexelPoint { texel: h.texel, prim: h.prim, p, d, face: h.face });
-        }
-        // Appended by atomics in no set order; a region's texels are distinct. (Tens of texels a
-        // region: sorted here, not handed to the workers.)
-        for (_, tex) in textures.iter_mut() {
-            tex.points.sort_unstable_by_key(|t| t.texel);
+        let sizes: Vec<u32> = textures.iter().map(|(_, t)| t.size).collect();
+        for ((_, tex), points) in textures.iter_mut().zip(host_points(host, &sizes, |h| h.beam)?) {
+            tex.points = points;
         }
         Ok(())
     }

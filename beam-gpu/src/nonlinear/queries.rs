@@ -144,10 +144,10 @@ impl PointShading for GpuBeams<'_> {
             let eye = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner);
             let child_levels = self.child_levels.lock().unwrap_or_else(PoisonError::into_inner);
             let has = |l: usize| l >= levels.len() || child_levels.iter().any(|(c, _)| *c == l);
-            let located = eye.as_ref().is_some_and(|k| k.locate.is_some());
+            let located = eye.is_some();
             let kept_levels = self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner);
-            let ready = eye.as_ref().is_none_or(|_| located && has(1))
-                && kept_levels.iter().all(|l| l.host.is_empty() || (located && has(l.level + 1)));
+            let ready =
+                (!located || has(1)) && kept_levels.iter().all(|l| l.host.is_empty() || (located && has(l.level + 1)));
             if !ready {
                 return Ok(None);
             }
@@ -161,7 +161,7 @@ impl PointShading for GpuBeams<'_> {
         // What the records under coarse faces of level `level` (0: the eye's) read.
         let coarse = |level: usize| {
             let child_level = child_levels.iter().find(|(l, _)| *l == level + 1).map(|(_, b)| b);
-            let locate = eye_hits.as_ref().and_then(|k| k.locate.as_ref());
+            let locate = eye_hits.as_ref().map(|k| &k.locate);
             self.eye.coarse(locate, child_level, &self.whitted, far)
         };
         // The eye's mirror and glass hits kept on the GPU: their composite records.

@@ -7,6 +7,7 @@
 mod beam;
 mod coarse;
 mod cull;
+mod fit;
 mod nearest;
 mod radiance;
 mod renderer;
@@ -21,6 +22,7 @@ pub use beam::{
     self_hit_at, self_hit_distance,
 };
 pub use cull::{ConeCull, SelfHitFloor, cone_blocks, cone_candidates};
+pub use fit::Fit;
 pub use radiance::{Composite, LevelRadiance, NodeChildren, TexelRadiance, composite, sample_region};
 pub use renderer::{
     BeamRasterizer, BeamRenderer, ChildLookups, CoarseByRays, DeviceWaits, EyeFaces, EyeView, FramePixels, KeepLevel,

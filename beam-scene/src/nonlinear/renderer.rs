@@ -8,7 +8,7 @@
 use super::beam::Beam;
 use super::radiance::{LevelRadiance, TexelRadiance};
 use super::smesh::SMesh;
-use super::texture::{BeamJob, BeamTexture, ShadePoint};
+use super::texture::{BeamJob, BeamTexture, ShadePoint, TexelPoint};
 use crate::error::BackendError;
 use crate::irradiance_map::IrradianceMap;
 use crate::options::RenderOptions;
@@ -46,6 +46,15 @@ pub trait BeamRasterizer: Sync {
     /// [`PointShading::shade_tree`] has shaded since, per level as texels of the level's radiance
     /// (for a frame that the caller shades after all); none are kept after.
     fn take_kept_levels(&self) -> Result<Vec<(usize, Vec<TexelRadiance>)>, BackendError> {
+        Ok(Vec::new())
+    }
+
+    /// The texels of tree level `level` whose fits [`render_level`](Self::render_level) summed
+    /// ([`KeptTotals::fits`]), per beam of the level, in texel order, with their points (each
+    /// beam's [`BeamTexture::points`] as they would have been handed back), for a frame that the
+    /// caller shades after all; empty where there are none.
+    fn kept_level_points(&self, level: usize) -> Result<Vec<Vec<TexelPoint>>, BackendError> {
+        let _ = level;
         Ok(Vec::new())
     }
 }
@@ -91,6 +100,12 @@ pub struct KeptTotals {
     /// Whether the backend composites the texels it handed back itself, given the level's
     /// [`super::LevelRadiance::node_children`] (on an S mesh of fine faces, from the hits it holds).
     pub records: bool,
+    /// Whether the backend summed the fits of the texels it would hand back, on the faces they lie
+    /// on ([`BeamTexture::fits`]), and handed none back ([`BeamRasterizer::kept_level_points`]
+    /// reads them for a frame the caller shades after all); the backend then counts them among
+    /// `points`, and those on curved triangles without child beams at their face among
+    /// [`CoarseByRays::curved`].
+    pub fits: bool,
 }
 
 /// Where [`PointShading::shade_tree`] left a frame's pixels.

@@ -2,6 +2,7 @@
 //! their nearest hits (000 Alg. 1), and the points it shades.
 
 use super::beam::Beam;
+use super::fit::Fit;
 use beam_math::glam::Vec3;
 
 /// What a texel's ray hits.
@@ -45,6 +46,10 @@ pub struct BeamTexture {
     /// The hits a backend that kept the level handed back with their points, in texel order:
     /// where not empty, the host's texel hits (empty: the host finds them in `hits`).
     pub points: Vec<TexelPoint>,
+    /// Where the backend summed them itself ([`KeptTotals::fits`](super::KeptTotals::fits)), the
+    /// fits of the texels from which the tree goes on, per S-mesh face they lie on, ascending by
+    /// face (the host's requests of the next level; `points` is then empty).
+    pub fits: Vec<(u32, Fit)>,
     /// Scene triangles left after bounding-cone culling.
     pub triangles_after_culling: u32,
     /// Texels inside bounding triangles (rays intersected); overdraw is this over the texels rendered.

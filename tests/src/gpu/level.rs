@@ -1,17 +1,20 @@
 //! The tree's last level kept on the GPU (beam-gpu's `GpuLevelPoints`) against the host's texel
-//! hits of the same level, and the images rendered that way against those with every level read back.
+//! hits of the same level, its fits summed there against the host's, and the images rendered that
+//! way against those with every level read back.
 
 use super::{PixelDifference, adapter, level_one_beams};
 use crate::{Backend, Config, Outcome};
 use beam_cpu::nonlinear::{
-    BeamJob, BeamRasterizer, CAUSTIC_STRATA, Degree, Exclude, NonlinearOptions, render_nonlinear_with,
+    Beam, BeamJob, BeamRasterizer, CAUSTIC_STRATA, Degree, Exclude, NonlinearOptions, child_beams,
+    render_nonlinear_with,
 };
 use beam_cpu::render::RenderOptions;
 use beam_gpu::nonlinear::GpuBeams;
 use beam_gpu::shade::PointShader;
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{KeepLevel, LevelLayout, TexelHit};
+use beam_scene::nonlinear::{EyeView, Fit, KeepLevel, LevelLayout, SMesh, TexelHit};
 use beam_scene::scene::{self, Simplify};
+use std::collections::BTreeMap;
 
 /// `render_level` on the level-1 beams off every third specular face of four built-ins (regions of
 /// 16 and 9 texels a side in turn), by draws and by compute, against `render_beams` of the same
@@ -232,4 +235,102 @@ pub fn gpu_kept_level_images_equal_read_back(_: Backend, _: &Config) -> Result<O
         ));
     }
     Ok(Outcome { cases: pixels, note: notes.join("; ") })
+}
+
+/// The next level's fits summed on the GPU (beam-gpu's `FitTable`) against the host's sums of the
+/// same texels: on a fine glass lens and a coarse S mesh (60 faces) of the mirror and glass, the
+/// eye's view kept at 64² (its faces' candidates and corners go to the GPU), then the beams off
+/// the S-mesh faces (regions of 16 texels a side) kept as level 1 with the tree going on from the
+/// mirror and glass: the level reports its fits summed and hands no texel back; per beam, the
+/// faces and sample counts equal those of the host's fits (`Fit::add`) of the texels
+/// `kept_level_points` reads back, located by `SMesh::locate_on`, and every sum is within 2e-6 per
+/// sample of the host's (the GPU's are in fixed point, the host's in f32); the same level kept
+/// again gives the same bits.
+pub fn gpu_summed_fits_equal_host_fits(_: Backend, _: &Config) -> Result<Outcome, String> {
+    let gpu = match adapter()? {
+        Ok(g) => g,
+        Err(o) => return Ok(o),
+    };
+    let (mut samples, mut notes) = (0u64, Vec::new());
+    for (name, coarse) in [("glass-lens-coarse", false), ("mirror-glass", true)] {
+        let mut scene = scene::builtin(name).map_err(|e| e.to_string())?;
+        if coarse {
+            scene.smesh.rest = Some(Simplify::Faces(60));
+        }
+        let smesh = SMesh::of(&scene);
+        let options = RenderOptions::exact(64, 64);
+        let camera = scene.camera.with_size(64, 64);
+        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        renderer.eye_faces(&scene, &smesh, &camera, &options).map_err(|e| e.to_string())?;
+        let beams: Vec<(Beam, usize)> = (0..smesh.faces.len())
+            .filter_map(|i| {
+                let f = &smesh.faces[i];
+                let incoming = f.v.map(|v| (v - camera.position).normalize_or_zero());
+                let (reflected, refracted) = child_beams(&scene, f, incoming, Degree::S3)?;
+                Some([Some(reflected), refracted.flatten()].into_iter().flatten().map(move |b| (b, i)))
+            })
+            .flatten()
+            .collect();
+        let jobs: Vec<BeamJob<'_>> =
+            beams.iter().map(|(beam, f)| BeamJob { beam, size: 16, exclude: smesh.exclude(*f) }).collect();
+        let mut layout = LevelLayout::default();
+        for (job, (_, f)) in jobs.iter().zip(&beams) {
+            layout.firsts.push(layout.len as u32);
+            layout.prims.push(smesh.faces[*f].prim);
+            layout.len += (job.size * job.size) as usize;
+        }
+        let continues: Vec<bool> = (0..scene.triangles.len() as u32).map(|p| !smesh.candidates(p).is_empty()).collect();
+        let keep = KeepLevel {
+            level: 1,
+            layout: &layout,
+            options: &options,
+            with_hits: coarse,
+            faces: smesh.faces.len(),
+            continues: &continues,
+        };
+        let kept = || renderer.render_level(&scene, &jobs, &keep).map_err(|e| e.to_string());
+        let (textures, totals) = kept()?;
+        if !totals.is_some_and(|t| t.fits) || textures.iter().any(|t| !t.points.is_empty()) {
+            return Err(format!("{name}: fits not summed on the GPU ({totals:?})"));
+        }
+        let points = renderer.kept_level_points(1).map_err(|e| e.to_string())?;
+        if points.len() != jobs.len() {
+            return Err(format!("{name}: texels of {} beams read back for {}", points.len(), jobs.len()));
+        }
+        let mut worst = 0.0f32;
+        for (i, (tex, points)) in textures.iter().zip(&points).enumerate() {
+            let mut on: BTreeMap<u32, Fit> = BTreeMap::new();
+            for h in points {
+                if let Some((face, w)) = smesh.locate_on(h.prim, h.face, h.p) {
+                    on.entry(face as u32).or_default().add(w, h.d);
+                }
+            }
+            let shape = |fits: &mut dyn Iterator<Item = (u32, Fit)>| {
+                fits.map(|(f, fit)| (f, fit.samples())).collect::<Vec<_>>()
+            };
+            if shape(&mut tex.fits.iter().copied()) != shape(&mut on.iter().map(|(f, fit)| (*f, *fit))) {
+                return Err(format!("{name}, beam {i}: faces and samples {:?}, the host's {:?}", tex.fits, on));
+            }
+            for ((_, got), want) in tex.fits.iter().zip(on.values()) {
+                let ((g, m), (wg, wm)) = (got.sums(), want.sums());
+                let apart = (g - wg)
+                    .to_cols_array()
+                    .into_iter()
+                    .chain((m - wm).to_cols_array())
+                    .fold(0.0f32, |a, x| a.max(x.abs()));
+                worst = worst.max(apart / got.samples() as f32);
+                samples += got.samples() as u64;
+            }
+        }
+        if worst > 2e-6 {
+            return Err(format!("{name}: sums up to {worst:.1e} a sample from the host's"));
+        }
+        let (again, _) = kept()?;
+        if textures.iter().zip(&again).any(|(a, b)| a.fits != b.fits) {
+            return Err(format!("{name}: the same level summed to other bits"));
+        }
+        let pairs: usize = textures.iter().map(|t| t.fits.len()).sum();
+        notes.push(format!("{name}: {pairs} (beam, face) fits, sums within {worst:.0e} a sample"));
+    }
+    Ok(Outcome { cases: samples, note: notes.join("; ") })
 }
