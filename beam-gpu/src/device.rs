@@ -22,6 +22,8 @@ pub struct Gpu {
     unpack_ns: AtomicU64,
     /// Mappable buffers that readbacks handed back, for the next ones ([`crate::buffers::readback`]).
     pub(crate) readbacks: Mutex<Vec<wgpu::Buffer>>,
+    /// Scratch buffers that passes handed back, for the next ones ([`crate::scratch::scratch`]).
+    pub(crate) scratch: crate::scratch::ScratchPool,
 }
 
 /// What beam's passes have cost on the host side of the bus so far, summed over its calls: the
@@ -119,6 +121,7 @@ impl Gpu {
             uploaded: zero(),
             unpack_ns: zero(),
             readbacks: Mutex::default(),
+            scratch: crate::scratch::ScratchPool::default(),
         }
     }
 

@@ -37,6 +37,7 @@ pub mod glossy;
 pub mod interface;
 pub mod nonlinear;
 pub mod raytrace;
+pub mod scratch;
 pub mod shade;
 pub mod shaders;
 pub mod staging;

@@ -12,6 +12,7 @@ use crate::interface::{
     LIGHT_POINT, LIGHT_QUAD, LIGHT_TRIANGLE, SURFACE_EMISSIVE, SURFACE_REFLECTING, SURFACE_UNSHADED, WORKGROUP_SIZE,
 };
 use crate::raytrace::RayTracer;
+use crate::scratch::{Scratch, scratch};
 use crate::{Gpu, GpuError};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -309,14 +310,14 @@ impl PointShader {
         spp: u32,
         points: &[ShadePoint],
         extra: usize,
-    ) -> Result<(wgpu::CommandEncoder, wgpu::Buffer), GpuError> {
+    ) -> Result<(wgpu::CommandEncoder, Scratch), GpuError> {
         let inputs: Vec<ShadeInput> = points.par_iter().map(ShadeInput::new).collect();
         let input = storage(gpu, "shade points", &inputs, wgpu::BufferUsages::empty());
         self.shade_inputs(gpu, tracer, scene, spp, (&input, points.len()), extra)
     }
 
     /// [`shade_into`](Self::shade_into) of the first `count` [`ShadeInput`]s of `input`, a buffer
-    /// already on the GPU.
+    /// already on the GPU. The radiance (and the room after it) is zeroed before it returns.
     pub fn shade_inputs(
         &self,
         gpu: &Gpu,
@@ -325,7 +326,7 @@ impl PointShader {
         spp: u32,
         (input, count): (&wgpu::Buffer, usize),
         extra: usize,
-    ) -> Result<(wgpu::CommandEncoder, wgpu::Buffer), GpuError> {
+    ) -> Result<(wgpu::CommandEncoder, Scratch), GpuError> {
         let params = ShadeParams {
             eps: self.eps,
             inv_texel_area: scene.inv_texel_area,
@@ -336,13 +337,21 @@ impl PointShader {
             pad: [0; 2],
         };
         let uniform = uniform(gpu, "shade params", bytemuck::bytes_of(&params));
-        let out = output(gpu, "radiance", ((count + extra) * 16) as u64);
+        // Scratch buffers (a frame's shadings made and freed 240 MB of them on the glass lens),
+        // zeroed: the radiance and the room after it (the Whitted rays add to it), and the state,
+        // where every point starts at its first light.
+        let out = scratch(gpu, "radiance", ((count + extra) * 16) as u64);
         let new_encoder = || gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        let mut first = new_encoder();
+        first.clear_buffer(&out, 0, None);
         if count == 0 {
+            // Cleared before the caller adds to it.
+            gpu.queue.submit([first.finish()]);
             return Ok((new_encoder(), out));
         }
-        // Zeroed by wgpu: every point starts at its first light.
-        let state = output(gpu, "shade state", STATE_HEADER + (count * size_of::<ShadeState>()) as u64);
+        let state = scratch(gpu, "shade state", STATE_HEADER + (count * size_of::<ShadeState>()) as u64);
+        first.clear_buffer(&state, 0, None);
+        let mut first = Some(first);
         let (nodes, triangles) = tracer.buffers();
         let flux = scene.flux.create_view(&Default::default());
         let mut entries: Vec<wgpu::BindGroupEntry<'_>> = [
@@ -374,7 +383,7 @@ impl PointShader {
         let left_after = output(gpu, "shade passes", 4 * u64::from(MAX_PASSES_AT_ONCE));
         let mut total = 0;
         loop {
-            let mut encoder = new_encoder();
+            let mut encoder = first.take().unwrap_or_else(new_encoder);
             for k in 0..passes {
                 encoder.clear_buffer(&state, 0, Some(4));
                 compute_pass(&mut encoder, &self.pipeline, &bind, count.div_ceil(WORKGROUP_SIZE as usize) as u32);

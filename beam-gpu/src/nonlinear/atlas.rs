@@ -565,7 +565,7 @@ impl GpuBeams<'_> {
                     // Unpacked from where they are mapped (12.9 MB a frame on the glass lens).
                     let start = Instant::now();
                     let size = size_of::<HostTexel>() as u64;
-                    let sources = appended.iter().zip(&counts).map(|(a, c)| (&a.host, u64::from(c.host) * size));
+                    let sources = appended.iter().zip(&counts).map(|(a, c)| (&*a.host, u64::from(c.host) * size));
                     let unpack = |bytes: &[u8]| {
                         let start = Instant::now();
                         let out = Self::unpack_host_texels(&mut unpacked, bytes);

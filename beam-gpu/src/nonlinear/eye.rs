@@ -14,6 +14,7 @@ use crate::buffers::{
 };
 use crate::interface::NONE;
 use crate::raytrace::RayTracer;
+use crate::scratch::{Scratch, scratch};
 use crate::shade::ShadeInput;
 use crate::texels;
 use crate::{Gpu, GpuError};
@@ -135,9 +136,9 @@ const _: () = assert!(
 /// The shading inputs one dispatch of the eye's view kept on the GPU.
 pub struct KeptPoints {
     /// [`ShadeInput`]s, `count` of them.
-    pub inputs: wgpu::Buffer,
+    pub inputs: Scratch,
     /// The pixel of each.
-    pub targets: wgpu::Buffer,
+    pub targets: Scratch,
     /// How many.
     pub count: u32,
 }
@@ -145,7 +146,7 @@ pub struct KeptPoints {
 /// The mirror and glass hits of one dispatch of the eye's view kept on the GPU.
 pub struct KeptSpecular {
     /// [`EyeHit`]s, `count` of them.
-    pub hits: wgpu::Buffer,
+    pub hits: Scratch,
     /// How many.
     pub count: u32,
 }
@@ -250,7 +251,7 @@ impl LocateTable {
 /// `level_records` of one dispatch's texels handed to the host).
 pub struct EyeRecords {
     /// [`CompositeRecord`]s (faces and child beams indexed in the whole S mesh and level).
-    pub records: wgpu::Buffer,
+    pub records: Scratch,
     /// How many.
     pub count: u32,
     /// Points for the Whitted rays, with their pixels.
@@ -349,10 +350,10 @@ impl GpuEye {
             let count = chunk.min(pixels - first);
             let params = Self::params(camera, crop, (first, count));
             let size = |bytes: usize| (count * bytes) as u64;
-            let inputs = output(gpu, "eye points", size(size_of::<ShadeInput>()));
-            let targets = output(gpu, "eye targets", size(4));
-            let others = output(gpu, "eye hits", size(size_of::<EyeHit>()));
-            let specular = output(gpu, "eye mirror and glass hits", size(size_of::<EyeHit>()));
+            let inputs = scratch(gpu, "eye points", size(size_of::<ShadeInput>()));
+            let targets = scratch(gpu, "eye targets", size(4));
+            let others = scratch(gpu, "eye hits", size(size_of::<EyeHit>()));
+            let specular = scratch(gpu, "eye mirror and glass hits", size(size_of::<EyeHit>()));
             // Zeroed by wgpu.
             let counts = output(gpu, "eye counts", size_of::<EyeCounts>() as u64);
             let params = uniform(gpu, "eye params", bytemuck::bytes_of(&params));
@@ -387,7 +388,7 @@ impl GpuEye {
             return Err(GpuError::StackOverflow { ray: c.overflow as usize - 1 });
         }
         let hit_bytes = |n: u32| u64::from(n) * size_of::<EyeHit>() as u64;
-        let sources = dispatched.iter().zip(&all_counts).map(|((.., o, _, _), c)| (o, hit_bytes(c.others)));
+        let sources = dispatched.iter().zip(&all_counts).map(|((.., o, _, _), c)| (&**o, hit_bytes(c.others)));
         let mut others: Vec<EyeHit> = read_all(gpu, Vec::new(), sources)?;
         // Appended in any order: put back in pixel order.
         others.par_sort_unstable_by_key(|h| h.pixel);
@@ -469,9 +470,9 @@ impl GpuEye {
 /// The outputs of one dispatch that makes the composite records of `count` points (`eye_records`,
 /// `level_records`): the records, the points for the Whitted rays and their targets, the counts.
 pub(super) struct RecordOutputs {
-    pub records: wgpu::Buffer,
-    pub inputs: wgpu::Buffer,
-    pub targets: wgpu::Buffer,
+    pub records: Scratch,
+    pub inputs: Scratch,
+    pub targets: Scratch,
     /// [`RecordCounts`], zeroed by wgpu.
     pub counts: wgpu::Buffer,
 }
@@ -480,9 +481,9 @@ impl RecordOutputs {
     /// Room for `count` points' records or Whitted points.
     pub(super) fn new(gpu: &Gpu, count: usize) -> Self {
         Self {
-            records: output(gpu, "records", (count * size_of::<CompositeRecord>()) as u64),
-            inputs: output(gpu, "points past the tree", (count * size_of::<ShadeInput>()) as u64),
-            targets: output(gpu, "targets past the tree", count as u64 * 4),
+            records: scratch(gpu, "records", (count * size_of::<CompositeRecord>()) as u64),
+            inputs: scratch(gpu, "points past the tree", (count * size_of::<ShadeInput>()) as u64),
+            targets: scratch(gpu, "targets past the tree", count as u64 * 4),
             counts: output(gpu, "record counts", size_of::<RecordCounts>() as u64),
         }
     }
@@ -610,7 +611,7 @@ impl EyeView for GpuBeams<'_> {
         let Some(kept) = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner).take() else {
             return Ok(Vec::new());
         };
-        let sources = kept.lists.iter().map(|l| (&l.hits, u64::from(l.count) * size_of::<EyeHit>() as u64));
+        let sources = kept.lists.iter().map(|l| (&*l.hits, u64::from(l.count) * size_of::<EyeHit>() as u64));
         let mut hits: Vec<EyeHit> = checked(self.gpu, || read_all(self.gpu, Vec::new(), sources))?;
         hits.par_sort_unstable_by_key(|h| h.pixel);
         Ok(Self::eye_hits(scene, &kept.view.0, &hits))
@@ -625,7 +626,7 @@ impl EyeView for GpuBeams<'_> {
         let Some(kept) = self.kept.lock().unwrap_or_else(PoisonError::into_inner).take() else {
             return Ok(Vec::new());
         };
-        let sources = kept.iter().map(|k| (&k.inputs, u64::from(k.count) * size_of::<ShadeInput>() as u64));
+        let sources = kept.iter().map(|k| (&*k.inputs, u64::from(k.count) * size_of::<ShadeInput>() as u64));
         let inputs: Vec<ShadeInput> = checked(self.gpu, || read_all(self.gpu, Vec::new(), sources))?;
         Ok(inputs
             .par_iter()

@@ -16,6 +16,7 @@ use super::fits::FitTable;
 use super::whitted::GpuWhitted;
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, map_all, output, read_all, storage, uniform};
 use crate::interface::{LEVEL_CONTINUES, LEVEL_CURVED, LEVEL_PLAIN};
+use crate::scratch::{Scratch, scratch};
 use crate::shade::{PointShader, ShadeInput};
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
@@ -108,10 +109,10 @@ pub(super) struct LevelPage<'a> {
 
 /// One dispatch's lists, their counts on the GPU until read back.
 pub(super) struct Appended {
-    direct: (wgpu::Buffer, wgpu::Buffer),
-    other: (wgpu::Buffer, wgpu::Buffer),
+    direct: (Scratch, Scratch),
+    other: (Scratch, Scratch),
     /// The texels for the host, [`HostTexel`] each.
-    pub host: wgpu::Buffer,
+    pub host: Scratch,
     /// [`LevelCounts`], zeroed by wgpu.
     pub counts: wgpu::Buffer,
 }
@@ -129,7 +130,7 @@ pub struct KeptLevel {
     pub curved: u64,
     /// Per dispatch, the texels handed to the host ([`HostTexel`]s) and how many, kept where the
     /// GPU composites them too ([`GpuLevelPoints::records`]).
-    pub host: Vec<(wgpu::Buffer, u32)>,
+    pub host: Vec<(Scratch, u32)>,
     /// The level's layout, for the seeds of points read back ([`KeptLevel::read_back`]).
     layout: LevelLayout,
     /// Under a coarse S mesh, its texels' depths, written on the GPU for the lookups of the level
@@ -169,7 +170,7 @@ impl KeptLevel {
     /// The texels handed to the host, read back: per beam of the level, in texel order.
     pub(super) fn host_points(&self, gpu: &Gpu) -> Result<Vec<Vec<TexelPoint>>, GpuError> {
         let size = size_of::<HostTexel>() as u64;
-        let sources = self.host.iter().map(|(buffer, n)| (buffer, u64::from(*n) * size));
+        let sources = self.host.iter().map(|(buffer, n)| (&**buffer, u64::from(*n) * size));
         let ends = self.layout.firsts.iter().skip(1).copied().chain([self.layout.len as u32]);
         // A region of size² texels.
         let sizes: Vec<u32> = ends.zip(&self.layout.firsts).map(|(end, first)| (end - first).isqrt()).collect();
@@ -184,9 +185,9 @@ impl KeptLevel {
         let inputs = read_all::<ShadeInput>(
             gpu,
             Vec::new(),
-            lists().map(|k| (&k.inputs, u64::from(k.count) * size_of::<ShadeInput>() as u64)),
+            lists().map(|k| (&*k.inputs, u64::from(k.count) * size_of::<ShadeInput>() as u64)),
         )?;
-        let targets = read_all::<u32>(gpu, Vec::new(), lists().map(|k| (&k.targets, u64::from(k.count) * 4)))?;
+        let targets = read_all::<u32>(gpu, Vec::new(), lists().map(|k| (&*k.targets, u64::from(k.count) * 4)))?;
         let firsts = &self.layout.firsts;
         inputs
             .iter()
@@ -330,14 +331,14 @@ impl GpuLevelPoints {
                 let n = chunk.min(count as usize - first);
                 let list = |label| {
                     (
-                        output(gpu, label, (n * size_of::<ShadeInput>()) as u64),
-                        output(gpu, "level targets", n as u64 * 4),
+                        scratch(gpu, label, (n * size_of::<ShadeInput>()) as u64),
+                        scratch(gpu, "level targets", n as u64 * 4),
                     )
                 };
                 let out = Appended {
                     direct: list("level points"),
                     other: list("level points past the tree"),
-                    host: output(gpu, "level texels for the host", (n * size_of::<HostTexel>()) as u64),
+                    host: scratch(gpu, "level texels for the host", (n * size_of::<HostTexel>()) as u64),
                     counts: output(gpu, "level counts", size_of::<LevelCounts>() as u64),
                 };
                 let params = LevelParams {

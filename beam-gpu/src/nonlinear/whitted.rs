@@ -15,6 +15,7 @@ use crate::buffers::{
 };
 use crate::interface::{NONE, SPECULAR_GLASS, SPECULAR_MIRROR, SPECULAR_THIN};
 use crate::raytrace::RayTracer;
+use crate::scratch::{Scratch, scratch};
 use crate::shade::{PointShader, ShadeInput, ShadeScene};
 use crate::texels;
 use crate::{Gpu, GpuError};
@@ -176,16 +177,16 @@ pub struct GpuWhitted {
 
 /// A dispatch's ends: their shading inputs, their paths' weights and destinations, how many.
 struct Ends {
-    inputs: wgpu::Buffer,
-    weights: wgpu::Buffer,
+    inputs: Scratch,
+    weights: Scratch,
     count: u32,
 }
 
 /// One dispatch's output: paths (room for two per item), ends (one per item), counts.
 struct Appended {
-    paths: wgpu::Buffer,
-    ends: wgpu::Buffer,
-    weights: wgpu::Buffer,
+    paths: Scratch,
+    ends: Scratch,
+    weights: Scratch,
     counts: wgpu::Buffer,
 }
 
@@ -337,9 +338,9 @@ impl GpuWhitted {
         let bytes = |each: usize, n: usize| (each * n) as u64;
         // Counts zeroed by wgpu.
         let out = Appended {
-            paths: output(gpu, "whitted paths", bytes(size_of::<WhittedPath>(), 2 * count)),
-            ends: output(gpu, "whitted ends", bytes(size_of::<ShadeInput>(), count)),
-            weights: output(gpu, "whitted end weights", bytes(size_of::<EndWeight>(), count)),
+            paths: scratch(gpu, "whitted paths", bytes(size_of::<WhittedPath>(), 2 * count)),
+            ends: scratch(gpu, "whitted ends", bytes(size_of::<ShadeInput>(), count)),
+            weights: scratch(gpu, "whitted end weights", bytes(size_of::<EndWeight>(), count)),
             counts: output(gpu, "whitted counts", size_of::<WhittedCounts>() as u64),
         };
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
@@ -364,7 +365,7 @@ impl GpuWhitted {
         gpu: &Gpu,
         dispatched: Vec<((wgpu::CommandEncoder, Appended), usize)>,
         ends: &mut Vec<(Ends, usize)>,
-    ) -> Result<Vec<(wgpu::Buffer, u32, usize)>, GpuError> {
+    ) -> Result<Vec<(Scratch, u32, usize)>, GpuError> {
         let (encoders, outs): (Vec<_>, Vec<_>) = dispatched.into_iter().map(|((e, o), j)| (e.finish(), (o, j))).unzip();
         // One submission with the counts' copy (a second would wait for the first, uncounted).
         let counts = outs.iter().map(|(o, _)| (&o.counts, size_of::<WhittedCounts>() as u64));
@@ -402,8 +403,8 @@ impl GpuWhitted {
             _ => {
                 let size = |each: usize| (each * count as usize) as u64;
                 joined = (
-                    output(gpu, "whitted ends", size(size_of::<ShadeInput>())),
-                    output(gpu, "whitted end weights", size(size_of::<EndWeight>())),
+                    scratch(gpu, "whitted ends", size(size_of::<ShadeInput>())),
+                    scratch(gpu, "whitted end weights", size(size_of::<EndWeight>())),
                 );
                 let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
                 let mut at = 0;
