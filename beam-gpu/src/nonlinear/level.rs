@@ -1,7 +1,8 @@
 //! A level of the beam tree kept on the GPU (`shaders/level_points.wgsl`): after an atlas page's
 //! nearest hits, the texels that hit a triangle on which the tree goes on (a mirror or glass face
 //! that spawns the next level's beams) go to the host, which builds the next level and the
-//! composite from them; every other texel that hit becomes a shading input where it lies, at its
+//! composite from them (where the GPU composites them itself, only their fits go, summed per beam
+//! and face: [`super::FitTable`]); every other texel that hit becomes a shading input where it lies, at its
 //! place in the level's radiance, so that neither its hit nor its point crosses to the host and
 //! back (000 §7.3 keeps the tree's texels on the GPU). On the tree's last level no triangle goes
 //! on: the whole level stays. The texels for the host carry their points, so the host evaluates

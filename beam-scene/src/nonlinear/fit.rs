@@ -6,7 +6,7 @@ use beam_math::glam::{Mat3, Vec3};
 /// The sums of [`Fit::directions`]' least-squares fit over the samples (barycentric point `w`,
 /// unit direction `d`) of the rays arriving at a face: Σ w wᵀ, Σ d wᵀ and their number. A face's
 /// samples are summed as they come, never kept: on the host in the samples' order, on beam-gpu in
-/// fixed point ([`Fit::from_sums`]), either way the same sums for the same samples, frame after
+/// fixed point ([`Fit::from_sums`]); each way the same samples give the same bits, frame after
 /// frame (the beams made from them are looked up by their bits).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fit {
