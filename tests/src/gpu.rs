@@ -433,22 +433,31 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
     Ok(Outcome { cases: texels, note: format!("texels differing: {}", notes.join(", ")) })
 }
 
+/// The beams of parameterization `degree` off S-mesh faces `faces` of `smesh` lit from `eye`
+/// (reflected, and refracted where there is one), each with its face.
+fn face_beams(
+    scene: &scene::Scene,
+    smesh: &SMesh,
+    (eye, degree): (Vec3, Degree),
+    faces: impl Iterator<Item = usize>,
+) -> Vec<(Beam, usize)> {
+    faces
+        .filter_map(|f| {
+            let face = &smesh.faces[f];
+            let incoming = face.v.map(|v| (v - eye).normalize_or_zero());
+            let (reflected, refracted) = beam_cpu::nonlinear::child_beams(scene, face, incoming, degree)?;
+            Some([Some(reflected), refracted.flatten()].into_iter().flatten().map(move |b| (b, f)))
+        })
+        .flatten()
+        .collect()
+}
+
 /// The level-1 beams off every third specular S-mesh face of `scene` (the eye's light at its
 /// vertices), with their faces' scene triangles.
 fn level_one_beams(scene: &scene::Scene, degree: Degree) -> Vec<(Beam, u32)> {
     let smesh = SMesh::specular(scene);
-    let eye = scene.camera.position;
-    smesh
-        .faces
-        .iter()
-        .step_by(3)
-        .filter_map(|f| {
-            let incoming = f.v.map(|v| (v - eye).normalize_or_zero());
-            let (reflected, refracted) = beam_cpu::nonlinear::child_beams(scene, f, incoming, degree)?;
-            Some([Some(reflected), refracted.flatten()].into_iter().flatten().map(move |b| (b, f.prim)))
-        })
-        .flatten()
-        .collect()
+    let beams = face_beams(scene, &smesh, (scene.camera.position, degree), (0..smesh.faces.len()).step_by(3));
+    beams.into_iter().map(|(b, f)| (b, smesh.faces[f].prim)).collect()
 }
 
 /// Nonlinear images (96², two tree levels) with every beam rendered by the GPU's atlases, the eye's

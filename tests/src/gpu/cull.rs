@@ -2,9 +2,9 @@
 //! blocks whose boxes meet a beam's cone, the GPU culls their triangles one by one
 //! (`beam_cull.wgsl`); together they must keep what the host's own culling keeps.
 
-use super::adapter;
+use super::{adapter, face_beams};
 use crate::{Backend, Config, Outcome};
-use beam_cpu::nonlinear::{BeamJob, Degree, SMesh, child_beams};
+use beam_cpu::nonlinear::{BeamJob, Degree, SMesh};
 use beam_gpu::interface::PAIR_NEAR;
 use beam_gpu::nonlinear::GpuBeams;
 use beam_scene::nonlinear::cone_candidates;
@@ -27,17 +27,8 @@ pub fn gpu_cone_culling_equals_host(_: Backend, _: &Config) -> Result<Outcome, S
         scene.smesh.rest = coarse.map(Simplify::Faces);
         let smesh = SMesh::of(&scene);
         let eye = scene.camera.position;
-        let beams: Vec<_> = (0..smesh.faces.len())
-            .step_by(2)
-            .filter(|&f| smesh.spawns_beams(f))
-            .filter_map(|f| {
-                let face = &smesh.faces[f];
-                let incoming = face.v.map(|v| (v - eye).normalize_or_zero());
-                let (reflected, refracted) = child_beams(&scene, face, incoming, Degree::S3)?;
-                Some([Some(reflected), refracted.flatten()].into_iter().flatten().map(move |b| (b, f)))
-            })
-            .flatten()
-            .collect();
+        let faces = (0..smesh.faces.len()).step_by(2).filter(|&f| smesh.spawns_beams(f));
+        let beams = face_beams(&scene, &smesh, (eye, Degree::S3), faces);
         let jobs: Vec<BeamJob<'_>> =
             beams.iter().map(|(beam, f)| BeamJob { beam, size: 16, exclude: smesh.exclude(*f) }).collect();
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;

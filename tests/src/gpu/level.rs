@@ -2,11 +2,10 @@
 //! hits of the same level, its fits summed there against the host's, and the images rendered that
 //! way against those with every level read back.
 
-use super::{PixelDifference, adapter, level_one_beams};
+use super::{PixelDifference, adapter, face_beams, level_one_beams};
 use crate::{Backend, Config, Outcome};
 use beam_cpu::nonlinear::{
-    Beam, BeamJob, BeamRasterizer, CAUSTIC_STRATA, Degree, Exclude, NonlinearOptions, child_beams,
-    render_nonlinear_with,
+    BeamJob, BeamRasterizer, CAUSTIC_STRATA, Degree, Exclude, NonlinearOptions, render_nonlinear_with,
 };
 use beam_cpu::render::RenderOptions;
 use beam_gpu::nonlinear::GpuBeams;
@@ -15,6 +14,18 @@ use beam_math::glam::Vec3;
 use beam_scene::nonlinear::{EyeView, Fit, KeepLevel, LevelLayout, SMesh, TexelHit};
 use beam_scene::scene::{self, Simplify};
 use std::collections::BTreeMap;
+
+/// The layout of a level of `jobs` whose faces' scene triangles are `prims`: their regions one
+/// after another.
+fn layout_of(jobs: &[BeamJob<'_>], prims: impl Iterator<Item = u32>) -> LevelLayout {
+    let mut layout = LevelLayout::default();
+    for (job, prim) in jobs.iter().zip(prims) {
+        layout.firsts.push(layout.len as u32);
+        layout.prims.push(prim);
+        layout.len += (job.size * job.size) as usize;
+    }
+    layout
+}
 
 /// `render_level` on the level-1 beams off every third specular face of four built-ins (regions of
 /// 16 and 9 texels a side in turn), by draws and by compute, against `render_beams` of the same
@@ -46,12 +57,7 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
             .enumerate()
             .map(|(i, (beam, prim))| BeamJob { beam, size: [16, 9][i % 2], exclude: Exclude::base(*prim) })
             .collect();
-        let mut layout = LevelLayout::default();
-        for (job, &(_, prim)) in jobs.iter().zip(&beams) {
-            layout.firsts.push(layout.len as u32);
-            layout.prims.push(prim);
-            layout.len += (job.size * job.size) as usize;
-        }
+        let layout = layout_of(&jobs, beams.iter().map(|&(_, prim)| prim));
         let triangles = scene.triangles.len();
         let specular: Vec<bool> = (0..triangles as u32).map(|p| !PointShader::shades(&scene, p)).collect();
         let continuing = [("none", vec![false; triangles]), ("specular", specular), ("all", vec![true; triangles])];
@@ -262,23 +268,10 @@ pub fn gpu_summed_fits_equal_host_fits(_: Backend, _: &Config) -> Result<Outcome
         let camera = scene.camera.with_size(64, 64);
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         renderer.eye_faces(&scene, &smesh, &camera, &options).map_err(|e| e.to_string())?;
-        let beams: Vec<(Beam, usize)> = (0..smesh.faces.len())
-            .filter_map(|i| {
-                let f = &smesh.faces[i];
-                let incoming = f.v.map(|v| (v - camera.position).normalize_or_zero());
-                let (reflected, refracted) = child_beams(&scene, f, incoming, Degree::S3)?;
-                Some([Some(reflected), refracted.flatten()].into_iter().flatten().map(move |b| (b, i)))
-            })
-            .flatten()
-            .collect();
+        let beams = face_beams(&scene, &smesh, (camera.position, Degree::S3), 0..smesh.faces.len());
         let jobs: Vec<BeamJob<'_>> =
             beams.iter().map(|(beam, f)| BeamJob { beam, size: 16, exclude: smesh.exclude(*f) }).collect();
-        let mut layout = LevelLayout::default();
-        for (job, (_, f)) in jobs.iter().zip(&beams) {
-            layout.firsts.push(layout.len as u32);
-            layout.prims.push(smesh.faces[*f].prim);
-            layout.len += (job.size * job.size) as usize;
-        }
+        let layout = layout_of(&jobs, beams.iter().map(|(_, f)| smesh.faces[*f].prim));
         let continues: Vec<bool> = (0..scene.triangles.len() as u32).map(|p| !smesh.candidates(p).is_empty()).collect();
         let keep = KeepLevel {
             level: 1,
