@@ -34,13 +34,14 @@ pub struct ReadFits {
 
 impl FitTable {
     /// A zeroed table of `slots` slots (a power of two, at least [`MIN_FIT_SLOTS`]) for the fits
-    /// of `beams` beams over `faces` faces; `None` where its keys (`beam · faces + face + 1`) do
-    /// not fit 32 bits or its words one binding of `max_binding` bytes.
+    /// of `beams` beams over `faces` faces; `None` where there is no face, or its keys
+    /// (`beam · faces + face + 1`) do not fit 32 bits, or its words one binding of `max_binding`
+    /// bytes.
     pub fn new(gpu: &Gpu, slots: u32, beams: usize, faces: usize, max_binding: u64) -> Option<Self> {
         debug_assert!(slots.is_power_of_two() && slots >= MIN_FIT_SLOTS);
         let keys = (beams as u64).checked_mul(faces as u64)?;
         let bytes = (u64::from(slots) + 1) * u64::from(FIT_WORDS) * 4;
-        if keys >= u64::from(u32::MAX) || bytes > max_binding {
+        if faces == 0 || keys >= u64::from(u32::MAX) || bytes > max_binding {
             return None;
         }
         let buffer = output(gpu, "fit table", bytes);
