@@ -63,8 +63,8 @@ struct HostTexel {
     texel: u32,
     // Its beam in the level.
     node: u32,
-    // The S-mesh face its point lies nearest among its triangle's candidates, NONE for none (a
-    // fine S mesh's texels: the host knows their faces).
+    // The S-mesh face its point lies nearest among its triangle's candidates (a fine triangle's
+    // own face), NONE for none (no candidates bound: the host locates it).
     face: u32,
 }
 

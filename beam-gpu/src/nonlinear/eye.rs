@@ -155,7 +155,7 @@ pub struct KeptSpecular {
 pub struct EyeFaceMap<'a> {
     /// Per scene triangle, its S-mesh face where it is the face itself, else [`NONE`].
     pub face_of: &'a wgpu::Buffer,
-    /// The candidates that locate the other hits (none: the host locates them).
+    /// The candidates that locate the hits under coarse faces (none: the host locates them).
     pub locate: Option<&'a LocateTable>,
     /// Faces of the S mesh.
     pub faces: usize,

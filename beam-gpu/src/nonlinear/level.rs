@@ -91,8 +91,9 @@ pub struct HostTexel {
     pub texel: u32,
     /// Its beam in the level.
     pub node: u32,
-    /// The S-mesh face its point lies nearest among its triangle's candidates
-    /// ([`NONE`](crate::interface::NONE) for none, and on a fine S mesh).
+    /// The S-mesh face its point lies nearest among its triangle's candidates (a fine triangle's
+    /// own face); [`NONE`](crate::interface::NONE) for none (no candidates bound: the host
+    /// locates it).
     pub face: u32,
 }
 
@@ -276,7 +277,8 @@ pub(super) struct LevelKeep<'a> {
     pub kinds: &'a wgpu::Buffer,
     /// Whether the host reads every hit back.
     pub with_hits: bool,
-    /// The S mesh's candidates, which locate the texels for the host (none on a fine S mesh).
+    /// The S mesh's candidates and corners, which locate the texels for the host and their fits
+    /// (none where the eye's view kept no hits).
     pub locate: &'a LocateTable,
     /// Where given, the level's depths (`f32` per texel of its radiance), written for the lookups
     /// of the level above ([`super::LookupBeams`]).
