@@ -152,7 +152,7 @@ pub fn render_nonlinear_frame(
     clock.lap("eye view");
     // Per pixel handed back, the S face it sees: its own triangle's, or on a coarse S mesh the
     // face its point maps to. The eye's beams need only how many pixels see each face (their
-    // directions come from the eye itself, `Source::Eye`).
+    // directions come from the eye itself).
     let locate = |hits: &[(usize, Ray, Hit)]| -> Vec<Option<(usize, Vec3)>> {
         hits.par_iter().map(|&(_, ray, h)| tree.smesh.locate(h.prim, ray.at(h.t))).collect()
     };

@@ -2,29 +2,16 @@
 //! vertices (000 §7.2).
 
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{Beam, Fit, SFace};
+use beam_scene::nonlinear::{Beam, SFace};
 
-/// Where the light arriving at an S-mesh face comes from: the eye, or a parent beam.
-#[derive(Clone, Copy)]
-pub(super) enum Source {
-    Eye(Vec3),
-    Parent,
-}
-
-impl Source {
-    /// Unit directions of the light arriving at the vertices of `f` where they need no projection:
-    /// `Some` of those from the eye, or from a parent beam of the affine fit over `f`'s barycentric
-    /// coordinates of the directions of the parent's texel rays that hit `f` (`fit`'s samples:
-    /// barycentric point, unit direction), exact for the directions an S1 parent carries across a
-    /// flat face; `None` where the samples do not span the face, and the directions are the
-    /// parent's rays through the vertices ([`through`]).
-    pub(super) fn fitted(self, f: &SFace, fit: &Fit) -> Option<Option<[Vec3; 3]>> {
-        if let Self::Eye(eye) = self {
-            let [a, b, c] = f.v.map(|v| (v - eye).try_normalize());
-            return Some(a.zip(b).zip(c).map(|((a, b), c)| [a, b, c]));
-        }
-        fit.directions().map(Some)
-    }
+/// Unit directions of the light from the eye at the vertices of `f`; `None` where the eye is on
+/// one of them. (From a parent beam they are its texel rays' fit, [`Fit::directions`], else its
+/// rays through the vertices, [`through`].)
+///
+/// [`Fit::directions`]: beam_scene::nonlinear::Fit::directions
+pub(super) fn from_eye(eye: Vec3, f: &SFace) -> Option<[Vec3; 3]> {
+    let [a, b, c] = f.v.map(|v| (v - eye).try_normalize());
+    Some([a?, b?, c?])
 }
 
 /// Unit directions of `beam`'s rays through the vertices of `f` (projection, 000 §5, extrapolated

@@ -13,7 +13,7 @@
 
 use super::lookup::{FaceAnswer, Lookups, ToComposite, reproject};
 use super::settings::NonlinearOptions;
-use super::source::{Source, through};
+use super::source::{from_eye, through};
 use super::stages::StageClock;
 use crate::render::IrradianceMap;
 use beam_math::glam::Vec3;
@@ -202,18 +202,18 @@ impl Tree<'_> {
             let parents = levels.last();
             // The light arriving at each request's face (000 §7.2): from the eye, or fitted to its
             // parent's texel rays on it, else its parent's rays through its vertices (those the
-            // last frame's tree found for the same parent and face found again).
+            // last frame's tree found for the same parent and face found again). `Some` where known
+            // without a projection (`Some(None)`: no beams), `None` where projected.
             let fitted: Vec<Option<Option<[Vec3; 3]>>> = requests
                 .par_iter()
                 .map(|r| {
-                    let source = match r.parent {
-                        Some(p) => parents?.get(p).map(|_| Source::Parent)?,
-                        None => Source::Eye(self.eye),
-                    };
                     if !self.smesh.spawns_beams(r.face) {
                         return Some(None);
                     }
-                    source.fitted(&self.smesh.faces[r.face], &r.fit)
+                    match r.parent {
+                        Some(_) => r.fit.directions().map(Some),
+                        None => Some(from_eye(self.eye, &self.smesh.faces[r.face])),
+                    }
                 })
                 .collect();
             let projected: Vec<(usize, &TreeBeam)> = fitted
@@ -328,9 +328,7 @@ impl Tree<'_> {
                     })
                     .collect()
             } else if level < self.options.bounces {
-                nodes.par_iter_mut().for_each(|node| {
-                    node.located = node.hits.iter().map(|h| self.smesh.locate_on(h.prim, h.face, h.p)).collect();
-                });
+                nodes.par_iter_mut().for_each(|node| node.located = self.locate(&node.hits));
                 nodes
                     .par_iter()
                     .enumerate()
@@ -370,11 +368,17 @@ impl Tree<'_> {
                 ));
             }
             nodes.par_iter_mut().zip(points).for_each(|(node, hits)| {
-                node.located = hits.iter().map(|h| self.smesh.locate_on(h.prim, h.face, h.p)).collect();
+                node.located = self.locate(&hits);
                 node.hits = hits;
             });
         }
         Ok(())
+    }
+
+    /// The S-mesh face and barycentric coordinates of each of `hits` ([`SMesh::locate_on`]: the
+    /// backend's face where it is a candidate).
+    fn locate(&self, hits: &[TexelPoint]) -> Vec<Option<(usize, Vec3)>> {
+        hits.iter().map(|h| self.smesh.locate_on(h.prim, h.face, h.p)).collect()
     }
 
     /// The texels of `tex` (`beam`'s) that hit a triangle `handed_back` names, in texel order,

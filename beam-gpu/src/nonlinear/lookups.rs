@@ -124,15 +124,6 @@ impl LookupBeams {
         if texels * 4 > limit || beams.len() * size_of::<GpuBeam>() > limit {
             return Ok(None);
         }
-        let mut first = 0;
-        let gpu_beams: Vec<GpuBeam> = beams
-            .iter()
-            .map(|(beam, tex)| {
-                let record = GpuBeam::rays_only(beam, [first as u32, 0, tex.size]);
-                first += square(tex);
-                record
-            })
-            .collect();
         let none = wgpu::BufferUsages::empty();
         let mut depths = Staged::<f32>::new(gpu, "lookup depths", texels.max(1), none);
         let squares = split_by_counts(depths.slots(), beams.iter().map(|(_, t)| square(t)))
@@ -141,7 +132,11 @@ impl LookupBeams {
             let hits = tex.hits.iter().map(|h| h.map_or(-1.0, |h| h.t));
             out.write_iter(hits.chain(std::iter::repeat(-1.0)).take(square(tex)));
         });
-        let gpu_beams = if gpu_beams.is_empty() { vec![GpuBeam::zeroed()] } else { gpu_beams };
-        Ok(Some(Self { beams: storage(gpu, "lookup beams", &gpu_beams, none), depths: depths.finish(gpu) }))
+        let regions = beams.iter().scan(0, |first, (beam, tex)| {
+            let region = [*first as u32, 0, tex.size];
+            *first += square(tex);
+            Some((*beam, region))
+        });
+        Ok(Some(Self::on_regions(gpu, regions, depths.finish(gpu))))
     }
 }
