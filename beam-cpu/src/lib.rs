@@ -7,8 +7,8 @@
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
 //! - [`glossy`]: glossy light volumes and caustics from point and area lights (002).
 //! - [`nonlinear`]: nonlinear beam tracing of curved mirrors (000).
-//! - [`cpu_clock`]: CPU time of the calling thread and of rayon's workers (benchmarks, stage
-//!   timing beside a software GPU).
+//! - [`cpu_clock`]: CPU time of the calling thread and of rayon's workers (beam-scene's, for
+//!   benchmarks and stage timing beside a software GPU).
 //! - [`error`]: what a render, a comparison or an image file can fail with ([`RenderError`]).
 //!
 //! Exact soft shadows of the built-in Cornell box, 64×48, by polygon beams:
@@ -25,7 +25,7 @@
 //!
 //! `cargo run --release -p beam-cpu --example soft_shadows` builds a scene in code instead.
 
-pub mod cpu_clock;
+pub use beam_scene::cpu_clock;
 pub mod error;
 pub mod glossy;
 pub mod nonlinear;

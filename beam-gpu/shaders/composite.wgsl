@@ -27,10 +27,10 @@ struct Face {
 struct CompositeParams {
     // Records of `composite`.
     records: u32,
-    // Shaded texels of `scatter`.
+    // Shaded texels of `scatter`, from its element `first` of `shaded` on.
     points: u32,
-    pad0: u32,
-    pad1: u32,
+    first: u32,
+    pad: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: CompositeParams;
@@ -140,5 +140,6 @@ fn scatter(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups
     if i >= params.points {
         return;
     }
-    textureStore(radiance, texel_coords(targets[i], textureDimensions(radiance).x), vec4<f32>(shaded[i].xyz, 0.0));
+    let c = shaded[params.first + i].xyz;
+    textureStore(radiance, texel_coords(targets[i], textureDimensions(radiance).x), vec4<f32>(c, 0.0));
 }

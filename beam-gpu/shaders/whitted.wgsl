@@ -1,19 +1,22 @@
-// Whitted rays past the beam tree, traced in waves on the GPU: mirror and glass points send on
-// their specular rays (at most MAX_DEPTH bounces), the points the paths end on are appended as
-// shading inputs (shaded by raytrace.wgsl's `shade`), and `gather` adds each end's radiance, times
-// its path's weight, to its destination. `start` takes the points to shade, `wave` one wave of paths;
-// both append up to two paths per item (the host sizes the outputs) and zero ends or one; each
-// dispatch gets new, zeroed `counts`. CPU twin: beam_scene::nonlinear::shade_by_waves with
+// Whitted rays past the beam tree on the GPU: mirror and glass points send on their specular rays
+// (at most MAX_DEPTH bounces), the points the paths end on are appended as shading inputs (shaded
+// by raytrace.wgsl's `shade`), and `gather` adds each end's radiance, times its path's weight, to
+// its destination. `paths` follows each point's paths to their ends in one dispatch, depth first
+// (the siblings still to trace on a private stack), appending only ends, as many as `ends` holds
+// (the count goes on past it: the host sizes the outputs again and dispatches again). The waves
+// do the same in a dispatch per bounce: `start` takes the points to shade, `wave` one wave of
+// paths; both append up to two paths per item (the host sizes the outputs) and zero ends or one.
+// Each dispatch gets new, zeroed `counts`. CPU twin: beam_scene::nonlinear::shade_by_waves with
 // beam_scene::specular::specular_rays; lib/trace.wgsl and lib/specular.wgsl are prepended by
 // the host.
 
 // Twin of beam_gpu::nonlinear::WhittedParams (16 bytes).
 struct WhittedParams {
-    // Items of the dispatch. `wave`: its first path in `paths_in`; `start`: the destination of
-    // its first point (point k's is first + k).
+    // Items of the dispatch. `wave`: its first path in `paths_in`; `start`, `paths`: the
+    // destination of its first point (point k's is first + k).
     count: u32,
     first: u32,
-    // 1 on the last wave: specular hits end there, unshaded.
+    // `wave`: 1 on the last wave (specular hits end there, unshaded).
     last: u32,
     // Offset of the specular rays' origins off the surface (beam_scene::tolerance::shading_eps).
     eps: f32,
@@ -73,9 +76,25 @@ struct WhittedCounts {
 @group(0) @binding(11) var<storage, read> shaded: array<vec4<f32>>;
 @group(0) @binding(12) var<storage, read_write> radiance: array<atomic<u32>>;
 
+// `paths`: the paths still to trace of the item's point, each with its bounce (as the waves
+// number them), and how many; the bounce of the paths `bounce` pushes. Depth first, a path is
+// replaced by at most two: the stack never holds more than MAX_DEPTH + 1.
+var<private> depth_first: bool;
+var<private> stack: array<Path, PATH_STACK>;
+var<private> stack_bounce: array<u32, PATH_STACK>;
+var<private> stack_top: u32;
+var<private> next_bounce: u32;
+
 fn push_path(origin: vec3<f32>, direction: vec3<f32>, weight: vec3<f32>, dest: u32, seed: u32) {
+    let path = Path(origin, dest, direction, seed, weight, 0u);
+    if depth_first {
+        stack[stack_top] = path;
+        stack_bounce[stack_top] = next_bounce;
+        stack_top += 1u;
+        return;
+    }
     let j = atomicAdd(&counts.paths, 1u);
-    paths_out[j] = Path(origin, dest, direction, seed, weight, 0u);
+    paths_out[j] = path;
 }
 
 // The point p of triangle `prim`, reached along unit d by a path of weight `weight`: a mirror or
@@ -84,9 +103,12 @@ fn push_path(origin: vec3<f32>, direction: vec3<f32>, weight: vec3<f32>, dest: u
 fn bounce(prim: u32, p: vec3<f32>, d: vec3<f32>, weight: vec3<f32>, dest: u32, seed: u32, last: bool) {
     let slot = slots[prim];
     if slot == NONE {
+        // Counted past the room there is (`paths`: the host dispatches again with more).
         let j = atomicAdd(&counts.ends, 1u);
-        ends[j] = ShadeInput(p, prim, d, seed);
-        end_weights[j] = EndWeight(weight, dest);
+        if j < min(arrayLength(&ends), arrayLength(&end_weights)) {
+            ends[j] = ShadeInput(p, prim, d, seed);
+            end_weights[j] = EndWeight(weight, dest);
+        }
         return;
     }
     if last {
@@ -160,6 +182,35 @@ fn wave(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
     }
     let p = path.origin + hit.t * path.direction;
     bounce(hit.prim, p, normalize(path.direction), path.weight, path.dest, path.seed, params.last != 0u);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn paths(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let k = item(id, groups);
+    if k >= params.count {
+        return;
+    }
+    let s = points[k];
+    depth_first = true;
+    stack_top = 0u;
+    next_bounce = 1u;
+    bounce(s.prim, s.p, s.d, vec3<f32>(1.0), params.first + k, s.seed, false);
+    while stack_top > 0u {
+        stack_top -= 1u;
+        let path = stack[stack_top];
+        let depth = stack_bounce[stack_top];
+        let hit = trace_ray(path.origin, path.direction, 3.0e38, false);
+        if hit.prim == MISS {
+            // A miss at t = −1: the traversal's stack overflowed (lib/trace.wgsl).
+            if hit.t < 0.0 {
+                atomicMax(&counts.overflow, k + 1u);
+            }
+            continue;
+        }
+        let p = path.origin + hit.t * path.direction;
+        next_bounce = depth + 1u;
+        bounce(hit.prim, p, normalize(path.direction), path.weight, path.dest, path.seed, depth == MAX_DEPTH);
+    }
 }
 
 // Adds f to the f32 whose bits are radiance[i].

@@ -78,7 +78,7 @@ pub fn read_back<T: bytemuck::Pod>(
 ) -> Result<Vec<T>, GpuError> {
     let readback = readback(gpu, size);
     encoder.copy_buffer_to_buffer(source, 0, readback.buffer(), 0, size);
-    gpu.queue.submit([encoder.finish()]);
+    gpu.submit([encoder.finish()]);
     map_with(gpu, readback, bytemuck::pod_collect_to_vec)
 }
 
@@ -103,7 +103,7 @@ pub fn map_all<'a, T>(
     let sources: Vec<_> = sources.filter(|(_, bytes)| *bytes > 0).collect();
     let total: u64 = sources.iter().map(|(_, bytes)| bytes).sum();
     if total == 0 {
-        gpu.queue.submit(first);
+        gpu.submit(first);
         return Ok(read(&[]));
     }
     let readback = readback(gpu, total);
@@ -113,7 +113,7 @@ pub fn map_all<'a, T>(
         encoder.copy_buffer_to_buffer(source, 0, readback.buffer(), at, bytes);
         at += bytes;
     }
-    gpu.queue.submit(first.into_iter().chain([encoder.finish()]));
+    gpu.submit(first.into_iter().chain([encoder.finish()]));
     map_with(gpu, readback, read)
 }
 

@@ -2,9 +2,10 @@
 //! where there is one), its name and backend, and a clear error when there is none.
 
 use crate::GpuError;
+use beam_scene::cpu_clock::thread_cpu_seconds;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// A device and its queue with what the adapter says of itself, and how long beam has waited on
 /// it ([`Gpu::traffic`]).
@@ -31,7 +32,8 @@ pub struct Gpu {
 /// read back and uploaded, and the host's time in both.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Traffic {
-    /// Seconds blocked on the device (polling for a readback).
+    /// Seconds blocked on the device: polling for a readback, and in submissions the device held
+    /// back until the one before was done (lavapipe does; [`Gpu::submit`]).
     pub waited_seconds: f64,
     /// Bytes copied back to the host.
     pub bytes_read_back: u64,
@@ -136,6 +138,19 @@ impl Gpu {
             bytes_uploaded: self.uploaded.load(Ordering::Relaxed),
             unpack_seconds: seconds(&self.unpack_ns),
         }
+    }
+
+    /// Submit `buffers` to the queue. Where the device holds a submission back until the one
+    /// before is done (lavapipe does), the time blocked (the call's time less the calling thread's
+    /// CPU time in it) counts as waited ([`Traffic::waited_seconds`]).
+    pub fn submit<I: IntoIterator<Item = wgpu::CommandBuffer>>(&self, buffers: I) -> wgpu::SubmissionIndex {
+        let (start, cpu) = (Instant::now(), thread_cpu_seconds());
+        let index = self.queue.submit(buffers);
+        if let (Some(before), Some(after)) = (cpu, thread_cpu_seconds()) {
+            let blocked = start.elapsed().as_secs_f64() - (after - before);
+            self.waited_ns.fetch_add((blocked.max(0.0) * 1e9) as u64, Ordering::Relaxed);
+        }
+        index
     }
 
     /// Count a wait of `waited` that read back `bytes`, unpacked in `unpacking`.

@@ -115,6 +115,14 @@ pub const PAIR_NEAR: u32 = 1 << 31;
 /// pairs spreads them over several workgroups.
 pub const TEXEL_JOB_PAIRS: u32 = 16_384;
 
+/// Most bounces of a Whitted path past the beam tree ([`beam_scene::specular::MAX_DEPTH`]).
+pub const MAX_DEPTH: u32 = beam_scene::specular::MAX_DEPTH;
+
+/// Paths `whitted.wgsl`'s `paths` keeps on its private stack: depth first, each of at most
+/// [`MAX_DEPTH`] bounces replaces the path it traces by at most two, so the stack never holds more
+/// than `MAX_DEPTH + 1`.
+pub const PATH_STACK: u32 = MAX_DEPTH + 1;
+
 /// Bit of a scene triangle's kind in `level_points.wgsl`: the shading pass shades it (diffuse,
 /// glossy, emissive; [`crate::shade::PointShader::shades`]).
 pub const LEVEL_PLAIN: u32 = 1;
@@ -209,6 +217,8 @@ pub const CONSTANTS: &[(&str, Value)] = {
         ("BOUNDING_BEHIND", U32(BOUNDING_BEHIND)),
         ("PAIR_NEAR", U32(PAIR_NEAR)),
         ("TEXEL_JOB_PAIRS", U32(TEXEL_JOB_PAIRS)),
+        ("MAX_DEPTH", U32(MAX_DEPTH)),
+        ("PATH_STACK", U32(PATH_STACK)),
         ("LEVEL_PLAIN", U32(LEVEL_PLAIN)),
         ("LEVEL_CURVED", U32(LEVEL_CURVED)),
         ("LEVEL_CONTINUES", U32(LEVEL_CONTINUES)),

@@ -31,6 +31,7 @@
 //! ```
 
 pub mod buffers;
+pub mod checks;
 pub mod device;
 pub mod error;
 pub mod glossy;

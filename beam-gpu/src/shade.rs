@@ -8,6 +8,7 @@
 use crate::buffers::{
     buffer_entry, checked, compute_pass, compute_pipeline, max_binding, output, read_back, storage, uniform, view_entry,
 };
+use crate::checks::ShadeChecks;
 use crate::interface::{
     LIGHT_POINT, LIGHT_QUAD, LIGHT_TRIANGLE, SURFACE_EMISSIVE, SURFACE_REFLECTING, SURFACE_UNSHADED, WORKGROUP_SIZE,
 };
@@ -313,11 +314,13 @@ impl PointShader {
     ) -> Result<(wgpu::CommandEncoder, Scratch), GpuError> {
         let inputs: Vec<ShadeInput> = points.par_iter().map(ShadeInput::new).collect();
         let input = storage(gpu, "shade points", &inputs, wgpu::BufferUsages::empty());
-        self.shade_inputs(gpu, tracer, scene, spp, (&input, points.len()), extra)
+        self.shade_inputs(gpu, tracer, scene, spp, (&input, points.len()), extra, None)
     }
 
     /// [`shade_into`](Self::shade_into) of the first `count` [`ShadeInput`]s of `input`, a buffer
-    /// already on the GPU. The radiance (and the room after it) is zeroed before it returns.
+    /// already on the GPU. The radiance (and the room after it) is zeroed before it returns. With
+    /// `checks` that do not wait (given by [`Self::shade_checked`]), the passes are submitted and
+    /// not waited for: the radiance is whole once `shade_checked` says so.
     pub fn shade_inputs(
         &self,
         gpu: &Gpu,
@@ -326,6 +329,7 @@ impl PointShader {
         spp: u32,
         (input, count): (&wgpu::Buffer, usize),
         extra: usize,
+        checks: Option<&ShadeChecks>,
     ) -> Result<(wgpu::CommandEncoder, Scratch), GpuError> {
         let params = ShadeParams {
             eps: self.eps,
@@ -346,7 +350,7 @@ impl PointShader {
         first.clear_buffer(&out, 0, None);
         if count == 0 {
             // Cleared before the caller adds to it.
-            gpu.queue.submit([first.finish()]);
+            gpu.submit([first.finish()]);
             return Ok((new_encoder(), out));
         }
         let state = scratch(gpu, "shade state", STATE_HEADER + (count * size_of::<ShadeState>()) as u64);
@@ -379,16 +383,22 @@ impl PointShader {
         // so that a frame's shadings mostly wait once each: a pass after a point is shaded leaves it
         // as it is (it only reads its state), so the radiance is the same however many are encoded.
         // Each pass counts the points it leaves unfinished afresh, copied out after it.
-        let passes = self.passes.load(Ordering::Relaxed).clamp(1, MAX_PASSES_AT_ONCE);
+        let last = self.passes.load(Ordering::Relaxed);
+        let passes = last.clamp(1, MAX_PASSES_AT_ONCE);
         let left_after = output(gpu, "shade passes", 4 * u64::from(MAX_PASSES_AT_ONCE));
+        // Unchecked where the frame checks its shadings at its end, unless the last one needed
+        // more passes than one submission encodes.
+        if let Some(checks) = checks.filter(|c| !c.wait() && last <= MAX_PASSES_AT_ONCE) {
+            let mut encoder = first.take().unwrap_or_else(new_encoder);
+            self.encode_passes(&mut encoder, &bind, (&state, &left_after), count, passes);
+            gpu.submit([encoder.finish()]);
+            checks.add(left_after, passes);
+            return Ok((new_encoder(), out));
+        }
         let mut total = 0;
         loop {
             let mut encoder = first.take().unwrap_or_else(new_encoder);
-            for k in 0..passes {
-                encoder.clear_buffer(&state, 0, Some(4));
-                compute_pass(&mut encoder, &self.pipeline, &bind, count.div_ceil(WORKGROUP_SIZE as usize) as u32);
-                encoder.copy_buffer_to_buffer(&state, 0, &left_after, 4 * u64::from(k), 4);
-            }
+            self.encode_passes(&mut encoder, &bind, (&state, &left_after), count, passes);
             let left: Vec<u32> = read_back(gpu, encoder, &left_after, 4 * u64::from(passes))?;
             match left.iter().position(|&n| n == 0).or(left.is_empty().then_some(0)) {
                 Some(k) => {
@@ -399,7 +409,59 @@ impl PointShader {
             }
         }
         self.passes.store(total, Ordering::Relaxed);
+        if let Some(checks) = checks {
+            checks.waited(total);
+        }
         Ok((new_encoder(), out))
+    }
+
+    /// Add to `encoder` `passes` shading passes over `count` points bound by `bind`, each followed
+    /// by the copy of the count of points it left unfinished (the first word of `state`) to its
+    /// word of `left`.
+    fn encode_passes(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bind: &wgpu::BindGroup,
+        (state, left): (&wgpu::Buffer, &wgpu::Buffer),
+        count: usize,
+        passes: u32,
+    ) {
+        for k in 0..passes {
+            encoder.clear_buffer(state, 0, Some(4));
+            compute_pass(encoder, &self.pipeline, bind, count.div_ceil(WORKGROUP_SIZE as usize) as u32);
+            encoder.copy_buffer_to_buffer(state, 0, left, 4 * u64::from(k), 4);
+        }
+    }
+
+    /// `shade(checks)`, each of whose shadings is given `checks`: submitted unchecked, their counts
+    /// read back in one wait at the end. Where one was left unfinished (its radiance incomplete),
+    /// `shade` again with shadings that wait for their own counts. The next shadings encode as
+    /// many passes as the most demanding of these needed.
+    pub fn shade_checked<T>(
+        &self,
+        gpu: &Gpu,
+        shade: impl Fn(&ShadeChecks) -> Result<T, GpuError>,
+    ) -> Result<T, GpuError> {
+        let checks = ShadeChecks::unchecked();
+        let out = shade(&checks)?;
+        if self.verify(gpu, &checks)? {
+            return Ok(out);
+        }
+        let checks = ShadeChecks::waiting();
+        let out = shade(&checks)?;
+        self.verify(gpu, &checks)?;
+        Ok(out)
+    }
+
+    /// Whether every shading given `checks` finished its points (the counts of those submitted
+    /// unchecked read back in one wait); the next shadings encode as many passes as the most
+    /// demanding of them needed.
+    fn verify(&self, gpu: &Gpu, checks: &ShadeChecks) -> Result<bool, GpuError> {
+        let needed = checks.needed(gpu)?;
+        if let Some(passes) = needed {
+            self.passes.store(passes, Ordering::Relaxed);
+        }
+        Ok(needed.is_some())
     }
 }
 

@@ -113,7 +113,7 @@ pub fn read_back_with<T: bytemuck::Pod, R>(
         },
         size,
     );
-    gpu.queue.submit([encoder.finish()]);
+    gpu.submit([encoder.finish()]);
     // Mapped ranges are 8-byte aligned; copied only where a backend mapped them otherwise.
     crate::buffers::map_with(gpu, readback, |bytes| {
         if row != bytes_per_row as usize {

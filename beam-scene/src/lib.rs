@@ -9,6 +9,8 @@
 //! - [`io`]: atomic output files; [`read`]: bounded reads of input files; [`error`]: their errors
 //!   ([`SceneError`]) and the backends' ([`BackendError`]).
 //! - [`region`]: pixel rectangles of a frame (a render farm's tiles).
+//! - [`cpu_clock`]: CPU time of the calling thread and of rayon's workers (benchmarks, host time
+//!   beside a software GPU).
 //! - [`queries`]: ray queries, one vocabulary for all; [`options`]: render settings; [`specular`]: the mirror and glass bounce; [`tolerance`]: the
 //!   offsets both backends use; [`irradiance_map`]: caustic irradiance on receiving planes.
 //! - [`nonlinear`], [`glossy`]: the host side of the nonlinear beam tree (000) and of the glossy
@@ -22,6 +24,7 @@
 //! assert!(w > 0 && h > 0);
 //! ```
 
+pub mod cpu_clock;
 pub mod error;
 pub mod glossy;
 pub mod io;

@@ -6,14 +6,16 @@
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 use std::hash::Hash;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The values made or found during this frame and the last one, by key (`FxHasher`: keys are bits
 /// of the scene's own floats, not an adversary's), each with the last frame that asked for it. A
 /// frame's values stay for one more frame; older ones go, so it holds two frames' values at most.
-/// One map, so that a value found again costs one probe and no insertion.
+/// One map, so that a value found again costs one probe and no insertion; the keys are looked up
+/// in parallel (each value's last frame an atomic).
 #[derive(Debug)]
 pub struct FrameMemo<K, V> {
-    values: FxHashMap<K, (V, u64)>,
+    values: FxHashMap<K, (V, AtomicU64)>,
     frame: u64,
     found: u64,
 }
@@ -29,18 +31,19 @@ impl<K: Hash + Eq + Send + Sync, V: Clone + Send + Sync> FrameMemo<K, V> {
     pub fn next_frame(&mut self) {
         self.frame += 1;
         let last = self.frame - 1;
-        self.values.retain(|_, (_, asked)| *asked >= last);
+        self.values.retain(|_, (_, asked)| *asked.get_mut() >= last);
     }
 
     /// The value of each key of `keys`: found among this frame's and the last one's, else made by
     /// `make(i)` for the `i`-th key (in parallel), and kept for the next frame.
     pub fn values(&mut self, keys: Vec<K>, make: impl Fn(usize) -> V + Sync) -> Vec<V> {
         let frame = self.frame;
+        let values = &self.values;
         let found: Vec<Option<V>> = keys
-            .iter()
+            .par_iter()
             .map(|k| {
-                self.values.get_mut(k).map(|(v, asked)| {
-                    *asked = frame;
+                values.get(k).map(|(v, asked)| {
+                    asked.store(frame, Ordering::Relaxed);
                     v.clone()
                 })
             })
@@ -55,7 +58,7 @@ impl<K: Hash + Eq + Send + Sync, V: Clone + Send + Sync> FrameMemo<K, V> {
         self.values.reserve(missing);
         for ((k, v), was) in keys.into_iter().zip(&values).zip(&found) {
             if was.is_none() {
-                self.values.entry(k).or_insert_with(|| (v.clone(), frame));
+                self.values.entry(k).or_insert_with(|| (v.clone(), AtomicU64::new(frame)));
             }
         }
         values
@@ -83,7 +86,7 @@ impl<K: Hash + Eq + Send + Sync, V: Clone + Send + Sync> FrameMemo<K, V> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::atomic::AtomicUsize;
 
     /// A value is made once while its key is asked for every frame; a key not asked for during a
     /// frame stays one more frame, then is made again.

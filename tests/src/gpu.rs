@@ -12,6 +12,7 @@ use beam_cpu::nonlinear::{
 };
 use beam_cpu::render::RenderOptions;
 use beam_gpu::Gpu;
+use beam_gpu::checks::ShadeChecks;
 use beam_gpu::nonlinear::{GpuBeams, NonlinearCheck};
 use beam_gpu::raytrace::RayTracer;
 use beam_math::glam::Vec3;
@@ -609,25 +610,19 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
                 return Err(format!("{name}: changed caustic maps not uploaded again"));
             }
         }
-        let rest = |jobs: &[RestJob<'_>]| whitted.shade_into(&gpu, &tracer, (&shader, &prepared, 64), jobs);
+        let rest = |jobs: &[RestJob<'_>], checks: &ShadeChecks| {
+            whitted.shade_into(&gpu, &tracer, (&shader, &prepared, 64), jobs, Some(checks))
+        };
         let smesh = SMesh::specular(&scene);
         // The frame read back, and kept for display in a texture of the image's shape: the same
         // pixels.
         let composite = GpuComposite::new(&gpu).map_err(|e| e.to_string())?;
         let frame = |shape| {
             beam_gpu::buffers::checked(&gpu, || {
-                let frame = composite.run(
-                    &gpu,
-                    &tracer,
-                    &shader,
-                    (&scene, &smesh),
-                    &prepared,
-                    64,
-                    &levels,
-                    &[],
-                    &rest,
-                    shape,
-                )?;
+                let frame = shader.shade_checked(&gpu, |checks| {
+                    let scene = (&scene, &smesh);
+                    composite.run(&gpu, &tracer, &shader, scene, &prepared, 64, &levels, &[], &rest, shape, checks)
+                })?;
                 Ok((frame.texture().size(), frame.read_back(&gpu)?))
             })
             .map_err(|e| e.to_string())

@@ -117,7 +117,7 @@ fn twins() -> Vec<Twin> {
             base, dirs, extremal, normal, threshold, heights, offsets, bump, region, kind, origin, direction
         }),
         twin!("composite", CompositeParams => CompositeParams {
-            records, points, pad[0] => pad0, pad[1] => pad1
+            records, points, first, pad
         }),
         twin!("eye", EyeParams => EyeParams {
             position, width, forward, height, right, first, up, count, half_width, half_height, far, pad, crop

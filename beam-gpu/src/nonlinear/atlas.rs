@@ -17,20 +17,20 @@
 
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
-use super::cull::{GpuCull, PageCulls};
+use super::cull::GpuCull;
 use super::display::GpuFrame;
 use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
 use super::fits::{FitTable, ReadFits, fit_slots};
 use super::level::{GpuLevelPoints, HostTexel, KeptLevel, LevelKeep};
 use super::lookups::{GpuLookups, LookupBeams};
 use super::page::Counters;
-use super::prepare::{Preparations, prepared};
+use super::page_inputs::{PageInputs, PageMemo, page_key};
+use super::prepare::{Preparations, Prepared, prepared};
 use super::whitted::GpuWhitted;
 use crate::buffers::{checked, compute_pipeline, map_all, max_binding, output, shader_module, storage};
 use crate::interface::TEXEL_JOB_PAIRS;
 use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
-use crate::staging::{Slots, Staged, split_by_counts};
 use crate::{Gpu, GpuError, texels};
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_scene::BackendError;
@@ -39,9 +39,8 @@ use beam_scene::nonlinear::{
 };
 use beam_scene::options::Shading;
 use beam_scene::scene::Scene;
-use rayon::prelude::*;
 use std::cell::Cell;
-use std::sync::{Mutex, PoisonError};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Instant;
 
 /// Where the GPU renderer spent its time, summed over calls.
@@ -144,6 +143,8 @@ pub struct GpuBeams<'g> {
     pub(super) page: u32,
     /// The beams of the last frame's tree and of this one's, made ready for the atlas.
     preparations: Mutex<Preparations>,
+    /// The pages of the last frame's tree and of this one's, their inputs uploaded.
+    pages: Mutex<PageMemo>,
     times: Mutex<GpuTimes>,
 }
 
@@ -230,6 +231,7 @@ impl<'g> GpuBeams<'g> {
             extent: scene.bounds().extent().length(),
             page,
             preparations: Mutex::default(),
+            pages: Mutex::default(),
             times: Mutex::default(),
         })
     }
@@ -316,6 +318,7 @@ impl BeamRasterizer for GpuBeams<'_> {
     ) -> Result<(Vec<BeamTexture>, Option<KeptTotals>), BackendError> {
         if keep.level <= 1 {
             self.preparations.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
+            self.pages.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
         }
         let shaded_here = keep.options.shading == Shading::Exact && texels::fits(self.gpu, keep.layout.len);
         if !self.keep_levels || !shaded_here {
@@ -499,45 +502,35 @@ impl GpuBeams<'_> {
             if members.is_empty() {
                 continue;
             }
-            // The page's beams on their regions, written in place.
-            let mut beams = Staged::<GpuBeam>::new(self.gpu, "beams", members.len(), wgpu::BufferUsages::empty());
-            let mut ranges = Vec::with_capacity(members.len());
-            let mut firsts = Vec::with_capacity(members.len() + 1);
-            let mut culls = PageCulls::default();
-            firsts.push(0u32);
-            let mut pair_count = 0u32;
-            let mut regions = Vec::with_capacity(members.len());
-            for (k, &i) in members.iter().enumerate() {
-                let q = placed[i].as_ref().ok_or_else(|| GpuError::Internal("unplaced beam"))?;
-                regions.push([q.x, q.y, jobs[i].size]);
-                culls.push(&culled[i].cull, jobs[i].exclude);
-                // The page's pairs fit one binding, so their count fits 32 bits; so do its texels.
-                ranges.push((pair_count, pair_count + pairs_of(i) as u32));
-                pair_count += pairs_of(i) as u32;
-                firsts.push(firsts[k] + region_texels(jobs[i].size) as u32);
-            }
-            beams.slots().write_iter(members.iter().zip(&regions).map(|(&i, region)| {
-                let mut beam = culled[i].beam;
-                beam.region[..3].copy_from_slice(region);
-                beam
-            }));
-            let beams = (beams.finish(self.gpu), members.len());
-            // The (beam on the page, block) pairs, written in place, a beam's by a thread.
-            let mut blocks =
-                Staged::<[u32; 2]>::new(self.gpu, "blocks", pair_count as usize / 4, wgpu::BufferUsages::empty());
-            let parts = split_by_counts(blocks.slots(), members.iter().map(|&i| culled[i].blocks.len()))
-                .ok_or_else(|| GpuError::Internal("blocks past their buffer"))?;
-            parts.into_par_iter().zip(&members).enumerate().for_each(|(k, (Slots(out), &i))| {
-                out.write_iter(culled[i].blocks.iter().map(|&block| [k as u32, block]));
-            });
-            let pairs = (blocks.finish(self.gpu), &culls, pair_count as usize);
+            let regions = members
+                .iter()
+                .map(|&i| placed[i].as_ref().map(|q| [q.x, q.y, jobs[i].size]))
+                .collect::<Option<Vec<_>>>()
+                .ok_or_else(|| GpuError::Internal("unplaced beam"))?;
+            let preps: Vec<&Arc<Prepared>> = members.iter().map(|&i| &culled[i]).collect();
+            // The page's inputs: those of the last frame's page with the same beams on the same
+            // regions, else uploaded.
+            let upload = || {
+                let job_pairs = by_compute.then_some(self.job_pairs);
+                Arc::new(PageInputs::new(self.gpu, jobs, &members, (&preps, &regions), job_pairs))
+            };
+            let inputs = match reuse {
+                true => {
+                    let mut pages = self.pages.lock().unwrap_or_else(PoisonError::into_inner);
+                    pages.values(vec![page_key(&preps, &regions)], |_| upload()).pop()
+                }
+                false => None,
+            };
+            let inputs = inputs.unwrap_or_else(upload);
+            let pair_count = inputs.pairs as u32;
+            let firsts = &inputs.firsts;
             let prepared = start.elapsed().as_secs_f64();
             let unpacking = Cell::new(0.0);
             let with_hits = keep.is_none_or(|k| k.with_hits) && depths.is_none();
             let unpack = |texels: &[[u32; 2]], counts: &[Counters]| {
                 let start = Instant::now();
                 let texels = with_hits.then_some(texels);
-                let out = Self::unpack(jobs, &members, &firsts, texels, counts, by_compute);
+                let out = Self::unpack(jobs, &members, firsts, texels, counts, by_compute);
                 unpacking.set(start.elapsed().as_secs_f64());
                 out
             };
@@ -555,9 +548,8 @@ impl GpuBeams<'_> {
                 depths: depths.as_ref(),
                 fits: fit_table.as_ref(),
             });
-            let (unpacked, appended) = checked(self.gpu, || {
-                self.render_page(beams, pairs, &ranges, &firsts, page_rows, keep_page.as_ref(), unpack)
-            })?;
+            let (unpacked, appended) =
+                checked(self.gpu, || self.render_page(&inputs, page_rows, keep_page.as_ref(), unpack))?;
             let mut unpacked = unpacked?;
             if let (Some(kept), Some((appended, counts))) = (kept.as_mut(), appended) {
                 if !with_hits && fit_table.is_none() {

@@ -12,7 +12,9 @@ use super::eye::{EyeRecords, KeptPoints};
 use super::sort::{Outputs, Plan, plan};
 use super::whitted::{RestJob, RestPoints};
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, output, storage, uniform, view_entry};
+use crate::checks::ShadeChecks;
 use crate::raytrace::RayTracer;
+use crate::scratch::{Scratch, scratch};
 use crate::shade::{PointShader, ShadeInput, ShadeScene};
 use crate::staging::Staged;
 use crate::texels;
@@ -73,10 +75,12 @@ pub struct CompositeRecord {
 pub struct CompositeParams {
     /// Records of the dispatch (`composite`).
     pub records: u32,
-    /// Shaded radiances it writes to their texels (`scatter`).
+    /// Shaded radiances it writes to their texels (`scatter`)...
     pub points: u32,
+    /// ...from this element of the shaded radiances on.
+    pub first: u32,
     /// Padding.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 
 const _: () =
@@ -88,7 +92,7 @@ pub use crate::interface::NONE;
 /// Shades batches of the points the [`PointShader`] does not (mirrors and glass past the tree): adds
 /// the radiance of each job's point `i` to element `first + i` of its buffer of `vec4<f32>`s
 /// (zeroed), as [`GpuWhitted::shade_into`](super::GpuWhitted::shade_into) does.
-pub type ShadeRest<'a> = dyn Fn(&[RestJob<'_>]) -> Result<(), GpuError> + 'a;
+pub type ShadeRest<'a> = dyn Fn(&[RestJob<'_>], &ShadeChecks) -> Result<(), GpuError> + 'a;
 
 /// Points kept on the GPU for one level of the radiance flow: shaded by the shading pass (`direct`,
 /// the eye's diffuse, glossy and emissive pixels, [`super::GpuEye`], or a kept level's), or by the
@@ -105,6 +109,10 @@ pub struct KeptHere<'a> {
     /// and the points among them without child beams, shaded by the caller.
     pub records: &'a [EyeRecords],
 }
+
+/// Kept points of every level shaded together: their radiance, and per level, per
+/// [`KeptPoints`], its first element in it.
+type Joined = (Scratch, Vec<Vec<u32>>);
 
 /// The format of a level's radiance: rgb as half floats (and an unused alpha), 8 bytes a texel.
 const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -167,7 +175,8 @@ impl GpuComposite {
     /// (the eye's by [`GpuEye`](super::GpuEye), the tree's by [`super::GpuLevelPoints`]).
     /// Every level's radiance is a texture; its texels go in dispatches of at most
     /// `records_per_dispatch` texels, each binding only the faces and child regions its records
-    /// reference. Call inside [`crate::buffers::checked`].
+    /// reference. Every shading (`rest`'s too) is given `checks`. Call inside
+    /// [`crate::buffers::checked`].
     #[allow(clippy::too_many_arguments)]
     pub fn run(
         &self,
@@ -181,6 +190,7 @@ impl GpuComposite {
         kept: &[KeptHere<'_>],
         rest: &ShadeRest<'_>,
         shape: Option<(u32, u32)>,
+        checks: &ShadeChecks,
     ) -> Result<GpuFrame, GpuError> {
         let all_faces = gpu_faces(scene, smesh);
         let chunk = Self::records_per_dispatch(gpu);
@@ -200,8 +210,11 @@ impl GpuComposite {
             .map(|(k, radiance)| RestJob { points: RestPoints::Gpu(&k.inputs, k.count as usize), radiance, first: 0 })
             .collect();
         if !jobs.is_empty() {
-            rest(&jobs)?;
+            rest(&jobs, checks)?;
         }
+        // Every level's kept points the shading pass shades (they need nothing of the tree's
+        // radiance either), in one shading where they fit one.
+        let joined = Self::shade_joined(gpu, (tracer, shader, prepared, spp), kept, checks)?;
         let mut below = Self::level_texture(gpu, 0);
         let mut below_regions: &[(u32, u32)] = &[];
         let mut len = 0;
@@ -216,18 +229,23 @@ impl GpuComposite {
             let views = (below.create_view(&Default::default()), radiance.create_view(&Default::default()));
             // The points kept on the GPU: shaded and written to their texels.
             let here = kept.get(depth).copied().unwrap_or_default();
-            let scatter = |mut encoder: wgpu::CommandEncoder, shaded: &wgpu::Buffer, k: &KeptPoints| {
-                let params = CompositeParams { records: 0, points: k.count, pad: [0; 2] };
+            let scatter = |mut encoder: wgpu::CommandEncoder, (shaded, first): (&wgpu::Buffer, u32), k: &KeptPoints| {
+                let params = CompositeParams { records: 0, points: k.count, first, pad: 0 };
                 self.encode_scatter(gpu, &mut encoder, &params, shaded, &views.1, &k.targets);
-                gpu.queue.submit([encoder.finish()]);
+                gpu.submit([encoder.finish()]);
             };
-            for k in here.direct {
+            for (i, k) in here.direct.iter().enumerate() {
+                if let Some((shaded, firsts)) = &joined {
+                    let encoder = gpu.device.create_command_encoder(&Default::default());
+                    scatter(encoder, (shaded, firsts[depth][i]), k);
+                    continue;
+                }
                 let (encoder, shaded) =
-                    shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0)?;
-                scatter(encoder, &shaded, k);
+                    shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0, Some(checks))?;
+                scatter(encoder, (&shaded, 0), k);
             }
             for (k, shaded) in rests.get(depth).into_iter().flatten() {
-                scatter(gpu.device.create_command_encoder(&Default::default()), shaded, k);
+                scatter(gpu.device.create_command_encoder(&Default::default()), (shaded, 0), k);
             }
             if !here.records.is_empty() {
                 // Every face and child region, each within one binding.
@@ -240,10 +258,10 @@ impl GpuComposite {
                 let regions = storage(gpu, "regions", &regions, wgpu::BufferUsages::empty());
                 let mut encoder = gpu.device.create_command_encoder(&Default::default());
                 for r in here.records {
-                    let params = CompositeParams { records: r.count, points: 0, pad: [0; 2] };
+                    let params = CompositeParams { records: r.count, points: 0, first: 0, pad: 0 };
                     self.encode_records(gpu, &mut encoder, &params, &r.records, (&faces, &regions), &views);
                 }
-                gpu.queue.submit([encoder.finish()]);
+                gpu.submit([encoder.finish()]);
             }
             for texels in level.texels.chunks(chunk) {
                 // Points not composited: on the GPU where the point shader shades them, else by
@@ -265,9 +283,10 @@ impl GpuComposite {
                 };
                 plan.fill((scene, smesh), texels, out)?;
                 let (inputs, targets, records_buffer) = (inputs.finish(gpu), targets.finish(gpu), records.finish(gpu));
-                let (encoder, shaded) = shader.shade_inputs(gpu, tracer, prepared, spp, (&inputs, direct), others)?;
+                let (encoder, shaded) =
+                    shader.shade_inputs(gpu, tracer, prepared, spp, (&inputs, direct), others, Some(checks))?;
                 if !other.is_empty() {
-                    rest(&[RestJob { points: RestPoints::Host(&other), radiance: &shaded, first: direct }])?;
+                    rest(&[RestJob { points: RestPoints::Host(&other), radiance: &shaded, first: direct }], checks)?;
                 }
                 let Plan { faces, regions, .. } = plan;
                 let chunk_faces: Vec<GpuFace> = faces.iter().map(|&f| all_faces[f as usize]).collect();
@@ -279,18 +298,51 @@ impl GpuComposite {
                     })
                     .collect();
                 let points = (direct + others) as u32;
-                let params = CompositeParams { records: composited as u32, points, pad: [0; 2] };
+                let params = CompositeParams { records: composited as u32, points, first: 0, pad: 0 };
                 let mut composite = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
                 self.encode_scatter(gpu, &mut composite, &params, &shaded, &views.1, &targets);
                 let faces = storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty());
                 let regions = storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty());
                 self.encode_records(gpu, &mut composite, &params, &records_buffer, (&faces, &regions), &views);
-                gpu.queue.submit([encoder.finish(), composite.finish()]);
+                gpu.submit([encoder.finish(), composite.finish()]);
             }
             below_regions = &level.regions;
             below = radiance;
         }
         Ok(GpuFrame { texture: below, len })
+    }
+
+    /// The points of `kept` the shading pass shades ([`KeptHere::direct`], every level's), shaded
+    /// together (given `checks`) where there are several and they fit one shading: their radiance,
+    /// and per level, per [`KeptPoints`], its first element in it. `None` where they go one by one.
+    fn shade_joined(
+        gpu: &Gpu,
+        (tracer, shader, prepared, spp): (&RayTracer, &PointShader, &ShadeScene, u32),
+        kept: &[KeptHere<'_>],
+        checks: &ShadeChecks,
+    ) -> Result<Option<Joined>, GpuError> {
+        let all = || kept.iter().flat_map(|h| h.direct).filter(|k| k.count > 0);
+        let total: usize = all().map(|k| k.count as usize).sum();
+        if all().count() < 2 || total > PointShader::max_points(gpu) {
+            return Ok(None);
+        }
+        let each = size_of::<ShadeInput>() as u64;
+        let inputs = scratch(gpu, "shade points", total as u64 * each);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let mut at = 0u32;
+        let mut firsts = Vec::with_capacity(kept.len());
+        for here in kept {
+            let mut level = Vec::with_capacity(here.direct.len());
+            for k in here.direct {
+                level.push(at);
+                encoder.copy_buffer_to_buffer(&k.inputs, 0, &inputs, u64::from(at) * each, u64::from(k.count) * each);
+                at += k.count;
+            }
+            firsts.push(level);
+        }
+        gpu.submit([encoder.finish()]);
+        let (_, shaded) = shader.shade_inputs(gpu, tracer, prepared, spp, (&inputs, total), 0, Some(checks))?;
+        Ok(Some((shaded, firsts)))
     }
 
     /// Add to `encoder` the pass that writes `params.points` shaded points (`shaded`) to their

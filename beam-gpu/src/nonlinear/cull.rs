@@ -127,25 +127,24 @@ impl GpuCull {
     }
 
     /// Add to `encoder` the pass that makes the page's pairs (four per block of `blocks`, the
-    /// count in `params`, `AtlasParams::pairs`) from `culls`; returns their buffer.
+    /// count in `params`, `AtlasParams::pairs`) from a [`PageCulls`] uploaded (`culls`, `lists`);
+    /// returns their buffer.
     pub fn encode(
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         (params, triangles, blocks): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
-        culls: &PageCulls,
+        (culls, lists): (&wgpu::Buffer, &wgpu::Buffer),
         pairs: usize,
     ) -> wgpu::Buffer {
         let out = output(gpu, "pairs", (pairs * 8) as u64);
-        let culls_buffer = storage(gpu, "beam culls", &culls.culls, wgpu::BufferUsages::empty());
-        let lists = storage(gpu, "patches and rings", &culls.lists, wgpu::BufferUsages::empty());
         let entries = [
             (0, params),
             (2, triangles),
             (4, blocks),
             (5, &self.block_prims),
-            (6, &culls_buffer),
-            (7, &lists),
+            (6, culls),
+            (7, lists),
             (8, &self.spheres),
             (9, &out),
         ];
@@ -185,10 +184,13 @@ impl GpuBeams<'_> {
             let blocks_buffer = storage(self.gpu, "blocks", &pairs, wgpu::BufferUsages::empty());
             let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
             let buffers = (&params, &self.triangles, &blocks_buffer);
-            let out = self.cull.encode(self.gpu, &mut encoder, buffers, &page, slots);
+            let none = wgpu::BufferUsages::empty();
+            let culls =
+                (storage(self.gpu, "beam culls", &page.culls, none), storage(self.gpu, "lists", &page.lists, none));
+            let out = self.cull.encode(self.gpu, &mut encoder, buffers, (&culls.0, &culls.1), slots);
             let readback = readback(self.gpu, (slots * 8) as u64);
             encoder.copy_buffer_to_buffer(&out, 0, readback.buffer(), 0, (slots * 8) as u64);
-            self.gpu.queue.submit([encoder.finish()]);
+            self.gpu.submit([encoder.finish()]);
             map_with(self.gpu, readback, |bytes| {
                 let got: Vec<[u32; 2]> = bytemuck::pod_collect_to_vec(&bytes[..slots * 8]);
                 let mut kept = vec![Vec::new(); jobs.len()];

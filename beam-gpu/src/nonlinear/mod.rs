@@ -14,10 +14,12 @@ mod fits;
 mod level;
 mod lookups;
 mod page;
+mod page_inputs;
 mod prepare;
 mod queries;
 mod sort;
 mod whitted;
+mod whitted_paths;
 
 pub use atlas::{GpuBeams, GpuTimes};
 pub use beam::{GpuBeam, MAX_CONTROL_POINTS};

@@ -4,8 +4,8 @@
 //! read back as the beams' hit textures. `atlas.rs` packs the beams onto pages.
 
 use super::GpuBeams;
-use super::cull::PageCulls;
 use super::level::{Appended, LevelCounts, LevelKeep, LevelPage, host_points};
+use super::page_inputs::PageInputs;
 use crate::GpuError;
 use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, readback, storage, uniform, view_entry};
 use crate::interface::WORKGROUP_SIZE;
@@ -38,29 +38,27 @@ pub(super) type Counters = [u32; 2];
 pub(super) type KeptPage = (Vec<Appended>, Vec<LevelCounts>);
 
 impl GpuBeams<'_> {
-    /// Render one page of `rows` rows: `beams` (a buffer of [`super::GpuBeam`]s and their count)
-    /// with their (beam on the page, block) `blocks`, made (beam, triangle) pairs by the cull pass
-    /// with `culls` (four per block, those of beam `i` at `ranges[i]`), the nearest hits by compute
-    /// where this renderer can (else by draws). `unpack` reads, where the readback is mapped, the
-    /// regions' texels (beam `i`'s from `firsts[i]` on, row by row, [`region_texels`]; `firsts`
-    /// ends with their total; each texel as [`Self::unpack`] reads it), and per beam the triangles
+    /// Render one page of `rows` rows from its `inputs`: its beams with their (beam on the page,
+    /// block) pairs, made (beam, triangle) pairs by the cull pass (four per block, those of beam
+    /// `i` at `inputs.ranges[i]`), the nearest hits by compute where this renderer can (else by
+    /// draws). `unpack` reads, where the readback is mapped, the regions' texels (beam `i`'s from
+    /// `inputs.firsts[i]` on, row by row, [`region_texels`]; each texel as [`Self::unpack`] reads
+    /// it), and per beam the triangles
     /// kept and the texels tested. With `keep` (per beam: its first texel in the level's radiance,
     /// its face's scene triangle and its index in the level; whether to read every texel back all
     /// the same; the triangles' kinds), the level-points pass makes the page's points
     /// ([`super::level`]), returned with their counts, and `unpack` is handed the texels only if
     /// asked for (else none).
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn render_page<T>(
         &self,
-        (beam_buffer, beam_count): (wgpu::Buffer, usize),
-        (blocks, culls, pair_count): (wgpu::Buffer, &PageCulls, usize),
-        ranges: &[(u32, u32)],
-        firsts: &[u32],
+        inputs: &PageInputs,
         rows: u32,
         keep: Option<&LevelKeep<'_>>,
         unpack: impl FnOnce(&[[u32; 2]], &[Counters]) -> T,
     ) -> Result<(T, Option<KeptPage>), GpuError> {
         let device = &self.gpu.device;
+        let (beam_buffer, beam_count, pair_count) = (&inputs.beams, inputs.ranges.len(), inputs.pairs);
+        let (ranges, firsts, first_texels) = (&inputs.ranges, &inputs.firsts, &inputs.first_texels);
         let params =
             AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pair_count as u32 };
         let uniform = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
@@ -69,61 +67,55 @@ impl GpuBeams<'_> {
         let texel_count = firsts.last().copied().unwrap_or(0);
         let texel_bytes = u64::from(texel_count) * 8;
         let dense = output(self.gpu, "region texels", texel_bytes);
-        let first_texels = storage(self.gpu, "region firsts", firsts, wgpu::BufferUsages::empty());
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas") });
-        let pair_buffer =
-            self.cull.encode(self.gpu, &mut encoder, (&uniform, &self.triangles, &blocks), culls, pair_count);
+        let pair_buffer = self.cull.encode(
+            self.gpu,
+            &mut encoder,
+            (&uniform, &self.triangles, &inputs.blocks),
+            (&inputs.culls.0, &inputs.culls.1),
+            pair_count,
+        );
         let group = bind(
             device,
             &self.bound.get_bind_group_layout(0),
-            &[(0, &uniform), (1, &beam_buffer), (2, &self.triangles), (3, &pair_buffer), (4, &bounds), (6, &counters)],
+            &[(0, &uniform), (1, beam_buffer), (2, &self.triangles), (3, &pair_buffer), (4, &bounds), (6, &counters)],
         );
         let groups = pair_count.div_ceil(WORKGROUP_SIZE as usize).max(1) as u32;
         // The passes' own times on the GPU, where it has timestamp queries.
         let timer = PassTimer::new(self.gpu, if self.by_compute() { 2 } else { 3 });
         compute_pass_timed(&mut encoder, &self.bound, &group, groups, timer.as_ref().map(|t| t.compute(0)));
-        match &self.texels {
-            Some(texels) => {
-                // A job: a workgroup's run of a beam's texels against a run of its pairs.
-                let mut jobs: Vec<[u32; 4]> = Vec::new();
-                for (k, (&(start, end), w)) in ranges.iter().zip(firsts.windows(2)).enumerate() {
-                    for run in 0..(w[1] - w[0]).div_ceil(WORKGROUP_SIZE) {
-                        for p in (start..end).step_by(self.job_pairs as usize) {
-                            jobs.push([k as u32, run, p, end.min(p + self.job_pairs)]);
-                        }
-                    }
-                }
-                let groups = (jobs.len() as u32).max(1);
-                let jobs = storage(self.gpu, "texel jobs", &jobs, wgpu::BufferUsages::empty());
+        match (&self.texels, &inputs.jobs) {
+            (Some(texels), Some((jobs, count))) => {
+                let groups = (*count).max(1);
                 let group = bind(
                     device,
                     &texels.get_bind_group_layout(0),
                     &[
                         (0, &uniform),
-                        (1, &beam_buffer),
+                        (1, beam_buffer),
                         (2, &self.triangles),
                         (3, &pair_buffer),
                         (4, &bounds),
                         (5, &counters),
-                        (6, &first_texels),
+                        (6, first_texels),
                         (7, &dense),
-                        (8, &jobs),
+                        (8, jobs),
                     ],
                 );
                 compute_pass_timed(&mut encoder, texels, &group, groups, timer.as_ref().map(|t| t.compute(1)));
             }
-            None => {
+            _ => {
                 let buffers =
-                    PageBuffers { uniform: &uniform, beams: &beam_buffer, pairs: &pair_buffer, bounds: &bounds };
-                let outputs = (&counters, &first_texels, &dense);
+                    PageBuffers { uniform: &uniform, beams: beam_buffer, pairs: &pair_buffer, bounds: &bounds };
+                let outputs = (&counters, first_texels, &dense);
                 self.draw_page(&mut encoder, buffers, outputs, ranges, rows, texel_count, timer.as_ref());
             }
         }
         // The level's points, where it is kept, made from the texels where they lie.
         let appended = keep.map(|keep| {
             let page = LevelPage {
-                beams: (&beam_buffer, beam_count),
-                firsts: &first_texels,
+                beams: (beam_buffer, beam_count),
+                firsts: first_texels,
                 texels: (&dense, texel_count),
                 inverted: self.by_compute(),
             };
@@ -146,7 +138,7 @@ impl GpuBeams<'_> {
         if let Some(timer) = &timer {
             timer.copy_to(&mut encoder, into, texel_bytes + count_bytes + level_bytes);
         }
-        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu.submit([encoder.finish()]);
         let out = map_with(self.gpu, readback, |bytes| {
             let (texels, rest) = bytes.split_at(texel_bytes as usize);
             let (counts, rest) = rest.split_at(count_bytes as usize);

@@ -65,7 +65,7 @@ pub(super) type Preparations = FrameMemo<Key, Arc<Prepared>>;
 pub(super) fn prepared(scene: &Scene, jobs: &[BeamJob<'_>], memo: Option<&mut Preparations>) -> Vec<Arc<Prepared>> {
     let make = |i: usize| Arc::new(Prepared::new(scene, &jobs[i]));
     match memo {
-        Some(memo) => memo.values(jobs.iter().map(key).collect(), make),
+        Some(memo) => memo.values(jobs.par_iter().map(key).collect(), make),
         None => (0..jobs.len()).into_par_iter().map(make).collect(),
     }
 }

@@ -9,6 +9,7 @@ use super::level::KeptLevel;
 use super::whitted::{GpuWhitted, RestJob, RestPoints};
 use crate::GpuError;
 use crate::buffers::{checked, output, read_all, storage};
+use crate::checks::ShadeChecks;
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::ShadeInput;
 use beam_bvh::Hit;
@@ -53,6 +54,7 @@ impl GpuBeams<'_> {
                     &self.tracer,
                     (&self.shader, &prepared, self.light_samples),
                     &[job],
+                    None,
                 )?;
                 read_all(self.gpu, Vec::new(), std::iter::once((&radiance, bytes)))
             })?;
@@ -213,10 +215,10 @@ impl PointShading for GpuBeams<'_> {
         // Mirror and glass points past the tree by Whitted rays in waves, their host time apart.
         // The scene's shading and caustics, uploaded once for the composite and every wave.
         let prepared = self.shader.prepare(self.gpu, caustics);
-        let rest = |jobs: &[RestJob<'_>]| {
+        let rest = |jobs: &[RestJob<'_>], checks: &ShadeChecks| {
             let (start, waited) = (Instant::now(), self.gpu.traffic().waited_seconds);
-            let out =
-                self.whitted.shade_into(self.gpu, &self.tracer, (&self.shader, &prepared, self.light_samples), jobs);
+            let shading = (&self.shader, &prepared, self.light_samples);
+            let out = self.whitted.shade_into(self.gpu, &self.tracer, shading, jobs, Some(checks));
             let host = start.elapsed().as_secs_f64() - (self.gpu.traffic().waited_seconds - waited);
             self.add_times(|t| t.whitted_host_seconds += host);
             out
@@ -224,19 +226,25 @@ impl PointShading for GpuBeams<'_> {
         // A displayed frame's texture has the image's shape; one read back, the texels' layout
         // (whose rows are whole copy alignments).
         let shape = self.display.then_some((options.width, options.height));
-        let pixels = checked(self.gpu, || {
+        let composite = |checks: &ShadeChecks| {
+            let (scene, shading) = ((scene, smesh), &prepared);
             let frame = self.composite.run(
                 self.gpu,
                 &self.tracer,
                 &self.shader,
-                (scene, smesh),
-                &prepared,
+                scene,
+                shading,
                 self.light_samples,
                 levels,
                 &here,
                 &rest,
                 shape,
+                checks,
             )?;
+            Ok(frame)
+        };
+        let pixels = checked(self.gpu, || {
+            let frame = self.shader.shade_checked(self.gpu, composite)?;
             if self.display {
                 *self.frame.lock().unwrap_or_else(PoisonError::into_inner) = Some(frame);
                 return Ok(FramePixels::Kept);

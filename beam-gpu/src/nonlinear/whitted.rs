@@ -1,11 +1,12 @@
 //! Whitted rays past the beam tree on the GPU (`shaders/whitted.wgsl`): mirror and glass points
-//! send on their specular rays, traced in waves of at most [`MAX_DEPTH`] bounces without leaving
-//! the GPU; the points the paths end on are shaded there by [`PointShader`] and their radiance,
-//! times each path's weight, added to the point it started from. Per wave the host reads back
-//! three counts per dispatch, nothing else; the ends of every wave are shaded together after the
-//! last (one shading and its wait, not one a wave), and so are the paths and ends of every batch
-//! of points given in one call ([`RestJob`]). CPU twin: [`shade_by_waves`] with
-//! [`specular_rays`].
+//! send on their specular rays, traced for at most [`MAX_DEPTH`] bounces without leaving the GPU;
+//! the points the paths end on are shaded there by [`PointShader`] and their radiance, times each
+//! path's weight, added to the point it started from. Each point's paths are followed depth first
+//! in one dispatch (`whitted_paths.rs`), or, where their ends would not fit one shading, in waves
+//! (a dispatch per bounce). The host reads back three counts per dispatch, nothing else; the ends
+//! are shaded together after the last dispatch (one shading and its wait), and so are the paths
+//! and ends of every batch of points given in one call ([`RestJob`]). CPU twin:
+//! [`shade_by_waves`] with [`specular_rays`].
 //!
 //! [`shade_by_waves`]: beam_scene::nonlinear::shade_by_waves
 //! [`specular_rays`]: beam_scene::specular::specular_rays
@@ -13,6 +14,7 @@
 use crate::buffers::{
     buffer_entry, compute_pipeline, encode_pass, max_binding, output, read_all, storage, uniform, view_entry,
 };
+use crate::checks::ShadeChecks;
 use crate::interface::{NONE, SPECULAR_GLASS, SPECULAR_MIRROR, SPECULAR_THIN};
 use crate::raytrace::RayTracer;
 use crate::scratch::{Scratch, scratch};
@@ -24,6 +26,7 @@ use beam_scene::scene::{Bump, Material, Scene};
 use beam_scene::specular::MAX_DEPTH;
 use beam_scene::tolerance::shading_eps;
 use bytemuck::{Pod, Zeroable};
+use std::sync::Mutex;
 
 /// Uniforms of one dispatch.
 ///
@@ -167,27 +170,34 @@ pub struct RestJob<'a> {
 pub struct GpuWhitted {
     start: wgpu::ComputePipeline,
     wave: wgpu::ComputePipeline,
+    /// Each point's paths followed depth first in one dispatch ([`Self::depth_first`]).
+    pub(super) paths: wgpu::ComputePipeline,
     gather: wgpu::ComputePipeline,
     /// Per scene triangle: its index in `specular`, or [`NONE`].
     slots: wgpu::Buffer,
     /// The [`SpecularPrim`]s, eight `Rgba32Uint` texels each ([`crate::texels`]).
     specular: wgpu::TextureView,
     eps: f32,
+    /// Whether the paths are followed depth first (else in waves only).
+    depth_first: bool,
+    /// The most ends per point the last depth-first dispatches appended: the room the next ones
+    /// start with.
+    pub(super) ends_per_point: Mutex<f64>,
 }
 
 /// A dispatch's ends: their shading inputs, their paths' weights and destinations, how many.
-struct Ends {
-    inputs: Scratch,
-    weights: Scratch,
-    count: u32,
+pub(super) struct Ends {
+    pub(super) inputs: Scratch,
+    pub(super) weights: Scratch,
+    pub(super) count: u32,
 }
 
-/// One dispatch's output: paths (room for two per item), ends (one per item), counts.
-struct Appended {
+/// One dispatch's output: paths, ends, counts.
+pub(super) struct Appended {
     paths: Scratch,
-    ends: Scratch,
-    weights: Scratch,
-    counts: wgpu::Buffer,
+    pub(super) ends: Scratch,
+    pub(super) weights: Scratch,
+    pub(super) counts: wgpu::Buffer,
 }
 
 impl GpuWhitted {
@@ -238,6 +248,7 @@ impl GpuWhitted {
         Ok(Self {
             start: compute_pipeline(gpu, "whitted", "start")?,
             wave: compute_pipeline(gpu, "whitted", "wave")?,
+            paths: compute_pipeline(gpu, "whitted", "paths")?,
             gather: compute_pipeline(gpu, "whitted", "gather")?,
             slots: storage(gpu, "specular slots", &slots, wgpu::BufferUsages::empty()),
             specular: texels::upload(
@@ -248,6 +259,8 @@ impl GpuWhitted {
             )
             .create_view(&Default::default()),
             eps: shading_eps(scene),
+            depth_first: true,
+            ends_per_point: Mutex::new(1.0),
         })
     }
 
@@ -262,16 +275,50 @@ impl GpuWhitted {
     /// Adds the radiance of each job's points to its buffer ([`RestJob`]): as the CPU's
     /// `shade_by_waves` computes it, diffuse, glossy and emissive points (and the ends of the
     /// others' specular paths) shaded by `shader` (`spp` shadow rays per area light, the scene
-    /// `prepared`). Every job's paths go in the same waves, each one submission and one wait for
-    /// its counts, and their ends in as few shadings as hold them. Call inside
-    /// [`crate::buffers::checked`].
+    /// `prepared`). Each point's paths are followed depth first in one dispatch, every job's
+    /// dispatches submitted and waited for together ([`Self::depth_first`]); where their ends
+    /// would not fit one shading, in waves (each one submission and one wait for its counts).
+    /// Their ends go in as few shadings as hold them, each given `checks`
+    /// ([`PointShader::shade_inputs`]). Call inside [`crate::buffers::checked`].
     pub fn shade_into(
         &self,
         gpu: &Gpu,
         tracer: &RayTracer,
         (shader, prepared, spp): (&PointShader, &ShadeScene, u32),
         jobs: &[RestJob<'_>],
+        checks: Option<&ShadeChecks>,
     ) -> Result<(), GpuError> {
+        let depth_first = if self.depth_first { self.depth_first(gpu, tracer, jobs)? } else { None };
+        let mut ends = match depth_first {
+            Some(ends) => ends,
+            None => self.waves(gpu, tracer, jobs)?,
+        };
+        // By job, as many ends a shading as one takes: each shading waits for the device.
+        let chunk = Self::per_dispatch(gpu);
+        ends.sort_by_key(|(_, j)| *j);
+        let (mut batch, mut points): (Vec<(Ends, usize)>, usize) = (Vec::new(), 0);
+        for e in ends {
+            if points + e.0.count as usize > chunk {
+                self.shade_ends(gpu, (tracer, shader, prepared, spp), &std::mem::take(&mut batch), jobs, checks)?;
+                points = 0;
+            }
+            points += e.0.count as usize;
+            batch.push(e);
+        }
+        self.shade_ends(gpu, (tracer, shader, prepared, spp), &batch, jobs, checks)
+    }
+
+    /// This renderer following Whitted paths in waves only (a dispatch per bounce), as the tests
+    /// compare with.
+    #[must_use]
+    pub fn in_waves(mut self) -> Self {
+        self.depth_first = false;
+        self
+    }
+
+    /// The ends of the paths of `jobs`' points, each with its job, traced in waves: every job's
+    /// paths go in the same waves, each one submission and one wait for its counts.
+    fn waves(&self, gpu: &Gpu, tracer: &RayTracer, jobs: &[RestJob<'_>]) -> Result<Vec<(Ends, usize)>, GpuError> {
         let chunk = Self::per_dispatch(gpu);
         let mut dispatched = Vec::new();
         for (j, job) in jobs.iter().enumerate() {
@@ -280,7 +327,8 @@ impl GpuWhitted {
                     for (k, part) in points.chunks(chunk).enumerate() {
                         let inputs = storage(gpu, "whitted points", part, wgpu::BufferUsages::empty());
                         let items = (part.len(), job.first + k * chunk, false);
-                        dispatched.push((self.dispatch(gpu, &self.start, items, &[buffer_entry(5, &inputs)]), j));
+                        let inputs = [buffer_entry(5, &inputs)];
+                        dispatched.push((self.dispatch(gpu, &self.start, items, &inputs, None), j));
                     }
                 }
                 RestPoints::Gpu(inputs, count) => {
@@ -288,7 +336,8 @@ impl GpuWhitted {
                         return Err(GpuError::Internal("more points on the GPU than one Whitted dispatch takes"));
                     }
                     let items = (count, job.first, false);
-                    dispatched.push((self.dispatch(gpu, &self.start, items, &[buffer_entry(5, inputs)]), j));
+                    let inputs = [buffer_entry(5, inputs)];
+                    dispatched.push((self.dispatch(gpu, &self.start, items, &inputs, None), j));
                 }
             }
         }
@@ -305,42 +354,35 @@ impl GpuWhitted {
                 let entries = [buffer_entry(0, nodes), buffer_entry(1, triangles), buffer_entry(6, paths)];
                 for from in (0..*count as usize).step_by(chunk) {
                     let n = chunk.min(*count as usize - from);
-                    dispatched.push((self.dispatch(gpu, &self.wave, (n, from, depth == MAX_DEPTH), &entries), *j));
+                    let items = (n, from, depth == MAX_DEPTH);
+                    dispatched.push((self.dispatch(gpu, &self.wave, items, &entries, None), *j));
                 }
             }
             batches = self.finish(gpu, dispatched, &mut ends)?;
         }
-        // By job, as many ends a shading as one takes: each shading waits for the device.
-        ends.sort_by_key(|(_, j)| *j);
-        let (mut batch, mut points): (Vec<(Ends, usize)>, usize) = (Vec::new(), 0);
-        for e in ends {
-            if points + e.0.count as usize > chunk {
-                self.shade_ends(gpu, (tracer, shader, prepared, spp), &std::mem::take(&mut batch), jobs)?;
-                points = 0;
-            }
-            points += e.0.count as usize;
-            batch.push(e);
-        }
-        self.shade_ends(gpu, (tracer, shader, prepared, spp), &batch, jobs)
+        Ok(ends)
     }
 
-    /// One dispatch of `pipeline` over `count` items from `from`, its outputs made, its `inputs`
+    /// One dispatch of `pipeline` over `count` items from `from`, its outputs made (room for
+    /// `paths` paths and `ends` ends; by default two paths and one end an item), its `inputs`
     /// bound; an encoder holding it.
-    fn dispatch(
+    pub(super) fn dispatch(
         &self,
         gpu: &Gpu,
         pipeline: &wgpu::ComputePipeline,
         (count, from, last): (usize, usize, bool),
         inputs: &[wgpu::BindGroupEntry<'_>],
+        rooms: Option<(usize, usize)>,
     ) -> (wgpu::CommandEncoder, Appended) {
         let params = WhittedParams { count: count as u32, first: from as u32, last: u32::from(last), eps: self.eps };
         let params = uniform(gpu, "whitted params", bytemuck::bytes_of(&params));
-        let bytes = |each: usize, n: usize| (each * n) as u64;
+        let bytes = |each: usize, n: usize| (each * n.max(1)) as u64;
+        let (paths, ends) = rooms.unwrap_or((2 * count, count));
         // Counts zeroed by wgpu.
         let out = Appended {
-            paths: scratch(gpu, "whitted paths", bytes(size_of::<WhittedPath>(), 2 * count)),
-            ends: scratch(gpu, "whitted ends", bytes(size_of::<ShadeInput>(), count)),
-            weights: scratch(gpu, "whitted end weights", bytes(size_of::<EndWeight>(), count)),
+            paths: scratch(gpu, "whitted paths", bytes(size_of::<WhittedPath>(), paths)),
+            ends: scratch(gpu, "whitted ends", bytes(size_of::<ShadeInput>(), ends)),
+            weights: scratch(gpu, "whitted end weights", bytes(size_of::<EndWeight>(), ends)),
             counts: output(gpu, "whitted counts", size_of::<WhittedCounts>() as u64),
         };
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
@@ -394,6 +436,7 @@ impl GpuWhitted {
         (tracer, shader, prepared, spp): (&RayTracer, &PointShader, &ShadeScene, u32),
         batch: &[(Ends, usize)],
         jobs: &[RestJob<'_>],
+        checks: Option<&ShadeChecks>,
     ) -> Result<(), GpuError> {
         let count: u32 = batch.iter().map(|(e, _)| e.count).sum();
         let joined;
@@ -415,11 +458,12 @@ impl GpuWhitted {
                     encoder.copy_buffer_to_buffer(&e.weights, 0, &joined.1, at * w, n * w);
                     at += n;
                 }
-                gpu.queue.submit([encoder.finish()]);
+                gpu.submit([encoder.finish()]);
                 (&joined.0, &joined.1)
             }
         };
-        let (mut encoder, shaded) = shader.shade_inputs(gpu, tracer, prepared, spp, (inputs, count as usize), 0)?;
+        let (mut encoder, shaded) =
+            shader.shade_inputs(gpu, tracer, prepared, spp, (inputs, count as usize), 0, checks)?;
         // A gather per job: its ends lie together.
         let mut first = 0;
         for run in batch.chunk_by(|a, b| a.1 == b.1) {
@@ -436,7 +480,7 @@ impl GpuWhitted {
             encode_pass(gpu, &mut encoder, &self.gather, n, &entries);
             first += n;
         }
-        gpu.queue.submit([encoder.finish()]);
+        gpu.submit([encoder.finish()]);
         Ok(())
     }
 }
