@@ -171,7 +171,11 @@ fn wave(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
     if k >= params.count {
         return;
     }
-    let path = paths_in[params.first + k];
+    follow(paths_in[params.first + k], k, params.last != 0u);
+}
+
+// Trace `path` (of item k) and bounce it where it hits (`last`: its last bounce); a miss ends it.
+fn follow(path: Path, k: u32, last: bool) {
     let hit = trace_ray(path.origin, path.direction, 3.0e38, false);
     if hit.prim == MISS {
         // A miss at t = −1: the traversal's stack overflowed (lib/trace.wgsl).
@@ -181,7 +185,7 @@ fn wave(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
         return;
     }
     let p = path.origin + hit.t * path.direction;
-    bounce(hit.prim, p, normalize(path.direction), path.weight, path.dest, path.seed, params.last != 0u);
+    bounce(hit.prim, p, normalize(path.direction), path.weight, path.dest, path.seed, last);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -197,19 +201,9 @@ fn paths(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) 
     bounce(s.prim, s.p, s.d, vec3<f32>(1.0), params.first + k, s.seed, false);
     while stack_top > 0u {
         stack_top -= 1u;
-        let path = stack[stack_top];
         let depth = stack_bounce[stack_top];
-        let hit = trace_ray(path.origin, path.direction, 3.0e38, false);
-        if hit.prim == MISS {
-            // A miss at t = −1: the traversal's stack overflowed (lib/trace.wgsl).
-            if hit.t < 0.0 {
-                atomicMax(&counts.overflow, k + 1u);
-            }
-            continue;
-        }
-        let p = path.origin + hit.t * path.direction;
         next_bounce = depth + 1u;
-        bounce(hit.prim, p, normalize(path.direction), path.weight, path.dest, path.seed, depth == MAX_DEPTH);
+        follow(stack[stack_top], k, depth == MAX_DEPTH);
     }
 }
 

@@ -215,7 +215,8 @@ pub struct PointShader {
     lights: wgpu::Buffer,
     light_count: u32,
     eps: f32,
-    /// Passes the last shading took: how many the next one encodes in its first submission.
+    /// Passes the last shading took (of shadings checked together, the most demanding): how many
+    /// the next one encodes in its first submission.
     passes: AtomicU32,
 }
 

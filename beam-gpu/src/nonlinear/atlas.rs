@@ -514,14 +514,11 @@ impl GpuBeams<'_> {
                 let job_pairs = by_compute.then_some(self.job_pairs);
                 Arc::new(PageInputs::new(self.gpu, jobs, &members, (&preps, &regions), job_pairs))
             };
-            let inputs = match reuse {
-                true => {
-                    let mut pages = self.pages.lock().unwrap_or_else(PoisonError::into_inner);
-                    pages.values(vec![page_key(&preps, &regions)], |_| upload()).pop()
-                }
-                false => None,
-            };
-            let inputs = inputs.unwrap_or_else(upload);
+            let found = reuse.then(|| {
+                let mut pages = self.pages.lock().unwrap_or_else(PoisonError::into_inner);
+                pages.values(vec![page_key(&preps, &regions)], |_| upload()).pop()
+            });
+            let inputs = found.flatten().unwrap_or_else(upload);
             let pair_count = inputs.pairs as u32;
             let firsts = &inputs.firsts;
             let prepared = start.elapsed().as_secs_f64();

@@ -229,23 +229,32 @@ impl GpuComposite {
             let views = (below.create_view(&Default::default()), radiance.create_view(&Default::default()));
             // The points kept on the GPU: shaded and written to their texels.
             let here = kept.get(depth).copied().unwrap_or_default();
-            let scatter = |mut encoder: wgpu::CommandEncoder, (shaded, first): (&wgpu::Buffer, u32), k: &KeptPoints| {
+            // Their scatters and the records made on the GPU go in one submission.
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            let mut scatter = |(shaded, first): (&wgpu::Buffer, u32), k: &KeptPoints| {
                 let params = CompositeParams { records: 0, points: k.count, first, pad: 0 };
                 self.encode_scatter(gpu, &mut encoder, &params, shaded, &views.1, &k.targets);
-                gpu.submit([encoder.finish()]);
+            };
+            // Shaded one by one where not together; kept until the submission.
+            let own = match joined {
+                Some(_) => Vec::new(),
+                None => here
+                    .direct
+                    .iter()
+                    .map(|k| {
+                        let points = (&*k.inputs, k.count as usize);
+                        Ok(shader.shade_inputs(gpu, tracer, prepared, spp, points, 0, Some(checks))?.1)
+                    })
+                    .collect::<Result<Vec<_>, GpuError>>()?,
             };
             for (i, k) in here.direct.iter().enumerate() {
-                if let Some((shaded, firsts)) = &joined {
-                    let encoder = gpu.device.create_command_encoder(&Default::default());
-                    scatter(encoder, (shaded, firsts[depth][i]), k);
-                    continue;
+                match &joined {
+                    Some((shaded, firsts)) => scatter((shaded, firsts[depth][i]), k),
+                    None => scatter((&own[i], 0), k),
                 }
-                let (encoder, shaded) =
-                    shader.shade_inputs(gpu, tracer, prepared, spp, (&k.inputs, k.count as usize), 0, Some(checks))?;
-                scatter(encoder, (&shaded, 0), k);
             }
             for (k, shaded) in rests.get(depth).into_iter().flatten() {
-                scatter(gpu.device.create_command_encoder(&Default::default()), (shaded, 0), k);
+                scatter((shaded, 0), k);
             }
             if !here.records.is_empty() {
                 // Every face and child region, each within one binding.
@@ -256,13 +265,13 @@ impl GpuComposite {
                 }
                 let faces = storage(gpu, "faces", &all_faces, wgpu::BufferUsages::empty());
                 let regions = storage(gpu, "regions", &regions, wgpu::BufferUsages::empty());
-                let mut encoder = gpu.device.create_command_encoder(&Default::default());
                 for r in here.records {
                     let params = CompositeParams { records: r.count, points: 0, first: 0, pad: 0 };
                     self.encode_records(gpu, &mut encoder, &params, &r.records, (&faces, &regions), &views);
                 }
-                gpu.submit([encoder.finish()]);
             }
+            gpu.submit([encoder.finish()]);
+            drop(own);
             for texels in level.texels.chunks(chunk) {
                 // Points not composited: on the GPU where the point shader shades them, else by
                 // `rest`; the composited ones' records.

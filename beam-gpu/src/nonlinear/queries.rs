@@ -212,7 +212,7 @@ impl PointShading for GpuBeams<'_> {
             let at = here.get_mut(l.level).ok_or(GpuError::Internal("a kept level past the tree"))?;
             *at = KeptHere { direct: &l.direct, rest: &l.other, records };
         }
-        // Mirror and glass points past the tree by Whitted rays in waves, their host time apart.
+        // Mirror and glass points past the tree by Whitted rays, their host time apart.
         // The scene's shading and caustics, uploaded once for the composite and every wave.
         let prepared = self.shader.prepare(self.gpu, caustics);
         let rest = |jobs: &[RestJob<'_>], checks: &ShadeChecks| {
