@@ -276,7 +276,7 @@ impl GpuWhitted {
     /// `shade_by_waves` computes it, diffuse, glossy and emissive points (and the ends of the
     /// others' specular paths) shaded by `shader` (`spp` shadow rays per area light, the scene
     /// `prepared`). Each point's paths are followed depth first in one dispatch, every job's
-    /// dispatches submitted and waited for together ([`Self::depth_first`]); where their ends
+    /// dispatches submitted and waited for together (`whitted_paths.rs`); where their ends
     /// would not fit one shading, in waves (each one submission and one wait for its counts).
     /// Their ends go in as few shadings as hold them, each given `checks`
     /// ([`PointShader::shade_inputs`]). Call inside [`crate::buffers::checked`].
