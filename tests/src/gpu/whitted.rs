@@ -48,15 +48,15 @@ pub fn gpu_whitted_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
         let shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)
             .map_err(|e| e.to_string())?;
+        let bytes = (points.len() * 16) as u64;
+        let inputs: Vec<ShadeInput> = points.iter().map(ShadeInput::new).collect();
+        // Alternately in one job, and in two whose waves go together: the first third into a
+        // buffer of its own, the rest three elements into another.
+        let split = inputs.len() / 3;
         // Each point's paths followed depth first in one dispatch, then in waves.
         let depth_first = GpuWhitted::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let waves = GpuWhitted::new(&gpu, &scene).map_err(|e| e.to_string())?.in_waves();
         for (whitted, how) in [(depth_first, "depth first"), (waves, "in waves")] {
-            let bytes = (points.len() * 16) as u64;
-            let inputs: Vec<ShadeInput> = points.iter().map(ShadeInput::new).collect();
-            // Alternately in one job, and in two whose waves go together: the first third into a
-            // buffer of its own, the rest three elements into another.
-            let split = inputs.len() / 3;
             let got: Vec<[f32; 4]> = checked(&gpu, || {
                 let prepared = shader.prepare(&gpu, None);
                 let shading = (&shader, &prepared, spp);
