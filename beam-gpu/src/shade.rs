@@ -315,23 +315,29 @@ impl PointShader {
     ) -> Result<(wgpu::CommandEncoder, Scratch), GpuError> {
         let inputs: Vec<ShadeInput> = points.par_iter().map(ShadeInput::new).collect();
         let input = storage(gpu, "shade points", &inputs, wgpu::BufferUsages::empty());
-        self.shade_inputs(gpu, tracer, scene, spp, (&input, points.len()), extra, None)
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        let shaded = self.shade_inputs(gpu, tracer, scene, spp, (&input, points.len(), extra), None, &mut encoder)?;
+        Ok((encoder, shaded.radiance))
     }
 
     /// [`shade_into`](Self::shade_into) of the first `count` [`ShadeInput`]s of `input`, a buffer
-    /// already on the GPU. The radiance (and the room after it) is zeroed before it returns. With
-    /// `checks` that do not wait (given by [`Self::shade_checked`]), the passes are submitted and
-    /// not waited for: the radiance is whole once `shade_checked` says so.
+    /// already on the GPU, with room for `extra` more after them. The radiance (and the room after
+    /// it) is zeroed, and the passes shade it, in `encoder` after the caller's work there (such as
+    /// copies into `input`). With `checks` that do not wait (given by [`Self::shade_checked`]), the
+    /// passes are not waited for, nor submitted: the caller submits `encoder` (holding the returned
+    /// [`Shaded`] until then) before any other work reads the radiance or adds to it, and the
+    /// radiance is whole once `shade_checked` says so. Otherwise they are submitted with what
+    /// `encoder` held and waited for, `encoder` left empty.
     pub fn shade_inputs(
         &self,
         gpu: &Gpu,
         tracer: &RayTracer,
         scene: &ShadeScene,
         spp: u32,
-        (input, count): (&wgpu::Buffer, usize),
-        extra: usize,
+        (input, count, extra): (&wgpu::Buffer, usize, usize),
         checks: Option<&ShadeChecks>,
-    ) -> Result<(wgpu::CommandEncoder, Scratch), GpuError> {
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<Shaded, GpuError> {
         let params = ShadeParams {
             eps: self.eps,
             inv_texel_area: scene.inv_texel_area,
@@ -347,16 +353,13 @@ impl PointShader {
         // where every point starts at its first light.
         let out = scratch(gpu, "radiance", ((count + extra) * 16) as u64);
         let new_encoder = || gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        let mut first = new_encoder();
-        first.clear_buffer(&out, 0, None);
+        encoder.clear_buffer(&out, 0, None);
         if count == 0 {
             // Cleared before the caller adds to it.
-            gpu.submit([first.finish()]);
-            return Ok((new_encoder(), out));
+            return Ok(Shaded { radiance: out, _state: None });
         }
         let state = scratch(gpu, "shade state", STATE_HEADER + (count * size_of::<ShadeState>()) as u64);
-        first.clear_buffer(&state, 0, None);
-        let mut first = Some(first);
+        encoder.clear_buffer(&state, 0, None);
         let (nodes, triangles) = tracer.buffers();
         let flux = scene.flux.create_view(&Default::default());
         let mut entries: Vec<wgpu::BindGroupEntry<'_>> = [
@@ -390,12 +393,11 @@ impl PointShader {
         // Unchecked where the frame checks its shadings at its end, unless the last one needed
         // more passes than one submission encodes.
         if let Some(checks) = checks.filter(|c| !c.wait() && last <= MAX_PASSES_AT_ONCE) {
-            let mut encoder = first.take().unwrap_or_else(new_encoder);
-            self.encode_passes(&mut encoder, &bind, (&state, &left_after), count, passes);
-            gpu.submit([encoder.finish()]);
+            self.encode_passes(encoder, &bind, (&state, &left_after), count, passes);
             checks.add(left_after, passes);
-            return Ok((new_encoder(), out));
+            return Ok(Shaded { radiance: out, _state: Some(state) });
         }
+        let mut first = Some(std::mem::replace(encoder, new_encoder()));
         let mut total = 0;
         loop {
             let mut encoder = first.take().unwrap_or_else(new_encoder);
@@ -413,7 +415,7 @@ impl PointShader {
         if let Some(checks) = checks {
             checks.waited(total);
         }
-        Ok((new_encoder(), out))
+        Ok(Shaded { radiance: out, _state: None })
     }
 
     /// Add to `encoder` `passes` shading passes over `count` points bound by `bind`, each followed
@@ -464,6 +466,16 @@ impl PointShader {
         }
         Ok(needed.is_some())
     }
+}
+
+/// A shading's radiance ([`PointShader::shade_inputs`]), and the state its passes use: held
+/// until the encoder they were added to is submitted (a scratch buffer handed back before then
+/// could be another shading's state in the same submission).
+pub struct Shaded {
+    /// The radiance, a `vec4` per point and per room after them.
+    pub radiance: Scratch,
+    /// The points' state, while their passes wait to be submitted.
+    _state: Option<Scratch>,
 }
 
 /// `prims` (the scene's triangles' shading, [`PointShader`]'s) and the irradiance maps of `caustics`

@@ -15,7 +15,7 @@ use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, o
 use crate::checks::ShadeChecks;
 use crate::raytrace::RayTracer;
 use crate::scratch::{Scratch, scratch};
-use crate::shade::{PointShader, ShadeInput, ShadeScene};
+use crate::shade::{PointShader, ShadeInput, ShadeScene, Shaded};
 use crate::staging::Staged;
 use crate::texels;
 use crate::{Gpu, GpuError};
@@ -110,9 +110,10 @@ pub struct KeptHere<'a> {
     pub records: &'a [EyeRecords],
 }
 
-/// Kept points of every level shaded together: their radiance, and per level, per
-/// [`KeptPoints`], its first element in it.
-type Joined = (Scratch, Vec<Vec<u32>>);
+/// Kept points of every level shaded together: their shading, their inputs gathered into one
+/// buffer (held with the shading until it is submitted), and per level, per [`KeptPoints`], its
+/// first element in it.
+type Joined = (Shaded, Scratch, Vec<Vec<u32>>);
 
 /// The format of a level's radiance: rgb as half floats (and an unused alpha), 8 bytes a texel.
 const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -214,7 +215,11 @@ impl GpuComposite {
         }
         // Every level's kept points the shading pass shades (they need nothing of the tree's
         // radiance either), in one shading where they fit one.
-        let joined = Self::shade_joined(gpu, (tracer, shader, prepared, spp), kept, checks)?;
+        // It, and the levels' shadings, scatters and records, wait in one encoder (their shadings
+        // held with it) until work of the host's comes between.
+        let new_encoder = || gpu.device.create_command_encoder(&Default::default());
+        let (mut encoder, mut held) = (new_encoder(), Vec::new());
+        let joined = Self::shade_joined(gpu, (tracer, shader, prepared, spp), kept, checks, &mut encoder)?;
         let mut below = Self::level_texture(gpu, 0);
         let mut below_regions: &[(u32, u32)] = &[];
         let mut len = 0;
@@ -229,28 +234,27 @@ impl GpuComposite {
             let views = (below.create_view(&Default::default()), radiance.create_view(&Default::default()));
             // The points kept on the GPU: shaded and written to their texels.
             let here = kept.get(depth).copied().unwrap_or_default();
-            // Their scatters and the records made on the GPU go in one submission.
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            let mut scatter = |(shaded, first): (&wgpu::Buffer, u32), k: &KeptPoints| {
-                let params = CompositeParams { records: 0, points: k.count, first, pad: 0 };
-                self.encode_scatter(gpu, &mut encoder, &params, shaded, &views.1, &k.targets);
-            };
-            // Shaded one by one where not together; kept until the submission.
+            // Their shadings (one by one where not together), scatters and the records made on the
+            // GPU.
             let own = match joined {
                 Some(_) => Vec::new(),
                 None => here
                     .direct
                     .iter()
                     .map(|k| {
-                        let points = (&*k.inputs, k.count as usize);
-                        Ok(shader.shade_inputs(gpu, tracer, prepared, spp, points, 0, Some(checks))?.1)
+                        let points = (&*k.inputs, k.count as usize, 0);
+                        shader.shade_inputs(gpu, tracer, prepared, spp, points, Some(checks), &mut encoder)
                     })
                     .collect::<Result<Vec<_>, GpuError>>()?,
             };
+            let mut scatter = |(shaded, first): (&wgpu::Buffer, u32), k: &KeptPoints| {
+                let params = CompositeParams { records: 0, points: k.count, first, pad: 0 };
+                self.encode_scatter(gpu, &mut encoder, &params, shaded, &views.1, &k.targets);
+            };
             for (i, k) in here.direct.iter().enumerate() {
                 match &joined {
-                    Some((shaded, firsts)) => scatter((shaded, firsts[depth][i]), k),
-                    None => scatter((&own[i], 0), k),
+                    Some((shaded, _, firsts)) => scatter((&shaded.radiance, firsts[depth][i]), k),
+                    None => scatter((&own[i].radiance, 0), k),
                 }
             }
             for (k, shaded) in rests.get(depth).into_iter().flatten() {
@@ -270,8 +274,7 @@ impl GpuComposite {
                     self.encode_records(gpu, &mut encoder, &params, &r.records, (&faces, &regions), &views);
                 }
             }
-            gpu.submit([encoder.finish()]);
-            drop(own);
+            held.extend(own);
             for texels in level.texels.chunks(chunk) {
                 // Points not composited: on the GPU where the point shader shades them, else by
                 // `rest`; the composited ones' records.
@@ -292,10 +295,15 @@ impl GpuComposite {
                 };
                 plan.fill((scene, smesh), texels, out)?;
                 let (inputs, targets, records_buffer) = (inputs.finish(gpu), targets.finish(gpu), records.finish(gpu));
-                let (encoder, shaded) =
-                    shader.shade_inputs(gpu, tracer, prepared, spp, (&inputs, direct), others, Some(checks))?;
+                let points = (&inputs, direct, others);
+                let shaded = shader.shade_inputs(gpu, tracer, prepared, spp, points, Some(checks), &mut encoder)?;
+                let shaded = &shaded.radiance;
                 if !other.is_empty() {
-                    rest(&[RestJob { points: RestPoints::Host(&other), radiance: &shaded, first: direct }], checks)?;
+                    // What waits, and this radiance cleared and shaded, before the Whitted rays add
+                    // to it.
+                    gpu.submit([std::mem::replace(&mut encoder, new_encoder()).finish()]);
+                    held.clear();
+                    rest(&[RestJob { points: RestPoints::Host(&other), radiance: shaded, first: direct }], checks)?;
                 }
                 let Plan { faces, regions, .. } = plan;
                 let chunk_faces: Vec<GpuFace> = faces.iter().map(|&f| all_faces[f as usize]).collect();
@@ -308,27 +316,30 @@ impl GpuComposite {
                     .collect();
                 let points = (direct + others) as u32;
                 let params = CompositeParams { records: composited as u32, points, first: 0, pad: 0 };
-                let mut composite = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-                self.encode_scatter(gpu, &mut composite, &params, &shaded, &views.1, &targets);
+                self.encode_scatter(gpu, &mut encoder, &params, shaded, &views.1, &targets);
                 let faces = storage(gpu, "faces", &chunk_faces, wgpu::BufferUsages::empty());
                 let regions = storage(gpu, "regions", &chunk_regions, wgpu::BufferUsages::empty());
-                self.encode_records(gpu, &mut composite, &params, &records_buffer, (&faces, &regions), &views);
-                gpu.submit([encoder.finish(), composite.finish()]);
+                self.encode_records(gpu, &mut encoder, &params, &records_buffer, (&faces, &regions), &views);
+                gpu.submit([std::mem::replace(&mut encoder, new_encoder()).finish()]);
+                held.clear();
             }
             below_regions = &level.regions;
             below = radiance;
         }
+        gpu.submit([encoder.finish()]);
+        drop(held);
         Ok(GpuFrame { texture: below, len })
     }
 
     /// The points of `kept` the shading pass shades ([`KeptHere::direct`], every level's), shaded
-    /// together (given `checks`) where there are several and they fit one shading: their radiance,
-    /// and per level, per [`KeptPoints`], its first element in it. `None` where they go one by one.
+    /// together (given `checks`, added to `encoder`, [`PointShader::shade_inputs`]) where there
+    /// are several and they fit one shading. `None` where they go one by one.
     fn shade_joined(
         gpu: &Gpu,
         (tracer, shader, prepared, spp): (&RayTracer, &PointShader, &ShadeScene, u32),
         kept: &[KeptHere<'_>],
         checks: &ShadeChecks,
+        encoder: &mut wgpu::CommandEncoder,
     ) -> Result<Option<Joined>, GpuError> {
         let all = || kept.iter().flat_map(|h| h.direct).filter(|k| k.count > 0);
         let total: usize = all().map(|k| k.count as usize).sum();
@@ -337,7 +348,6 @@ impl GpuComposite {
         }
         let each = size_of::<ShadeInput>() as u64;
         let inputs = scratch(gpu, "shade points", total as u64 * each);
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
         let mut at = 0u32;
         let mut firsts = Vec::with_capacity(kept.len());
         for here in kept {
@@ -349,9 +359,8 @@ impl GpuComposite {
             }
             firsts.push(level);
         }
-        gpu.submit([encoder.finish()]);
-        let (_, shaded) = shader.shade_inputs(gpu, tracer, prepared, spp, (&inputs, total), 0, Some(checks))?;
-        Ok(Some((shaded, firsts)))
+        let shaded = shader.shade_inputs(gpu, tracer, prepared, spp, (&inputs, total, 0), Some(checks), encoder)?;
+        Ok(Some((shaded, inputs, firsts)))
     }
 
     /// Add to `encoder` the pass that writes `params.points` shaded points (`shaded`) to their

@@ -18,7 +18,7 @@ use crate::checks::ShadeChecks;
 use crate::interface::{NONE, SPECULAR_GLASS, SPECULAR_MIRROR, SPECULAR_THIN};
 use crate::raytrace::RayTracer;
 use crate::scratch::{Scratch, scratch};
-use crate::shade::{PointShader, ShadeInput, ShadeScene};
+use crate::shade::{PointShader, ShadeInput, ShadeScene, Shaded};
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
@@ -200,6 +200,11 @@ pub(super) struct Appended {
     pub(super) counts: wgpu::Buffer,
 }
 
+/// A batch of Whitted ends shaded ([`GpuWhitted::shade_ends`]): the shading, and the ends and
+/// their weights copied into one buffer each where the batch joined several, held until the
+/// encoder they were added to is submitted.
+type ShadedEnds = (Shaded, Option<(Scratch, Scratch)>);
+
 impl GpuWhitted {
     /// The scene's mirror and glass triangles: per scene triangle its slot ([`NONE`] for none),
     /// and the [`SpecularPrim`]s in their texture (what `lib/specular.wgsl` reads).
@@ -293,19 +298,28 @@ impl GpuWhitted {
             Some(ends) => ends,
             None => self.waves(gpu, tracer, jobs)?,
         };
-        // By job, as many ends a shading as one takes: each shading waits for the device.
+        // By job, as many ends a shading as one takes, the shadings in one submission (unless
+        // they wait for the device).
         let chunk = Self::per_dispatch(gpu);
         ends.sort_by_key(|(_, j)| *j);
-        let (mut batch, mut points): (Vec<(Ends, usize)>, usize) = (Vec::new(), 0);
+        let (mut batches, mut points): (Vec<Vec<(Ends, usize)>>, usize) = (vec![Vec::new()], 0);
         for e in ends {
             if points + e.0.count as usize > chunk {
-                self.shade_ends(gpu, (tracer, shader, prepared, spp), &std::mem::take(&mut batch), jobs, checks)?;
+                batches.push(Vec::new());
                 points = 0;
             }
             points += e.0.count as usize;
-            batch.push(e);
+            batches.last_mut().ok_or(GpuError::Internal("no batch of Whitted ends"))?.push(e);
         }
-        self.shade_ends(gpu, (tracer, shader, prepared, spp), &batch, jobs, checks)
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        let shading = (tracer, shader, prepared, spp);
+        let held = batches
+            .iter()
+            .map(|batch| self.shade_ends(gpu, shading, batch, jobs, checks, &mut encoder))
+            .collect::<Result<Vec<_>, GpuError>>()?;
+        gpu.submit([encoder.finish()]);
+        drop(held);
+        Ok(())
     }
 
     /// This renderer following Whitted paths in waves only (a dispatch per bounce), as the tests
@@ -427,9 +441,10 @@ impl GpuWhitted {
         Ok(next)
     }
 
-    /// Shade the ends of `batch` (at most [`Self::per_dispatch`] in all, each with its job, a
-    /// job's together) in one shading and add each, times its path's weight, to its point's element
-    /// of its job's radiance. Several waves' ends are first copied into one buffer.
+    /// Add to `encoder` the shading of the ends of `batch` (at most [`Self::per_dispatch`] in all,
+    /// each with its job, a job's together) and the passes that add each, times its path's weight,
+    /// to its point's element of its job's radiance. Several waves' ends are first copied into one
+    /// buffer. Returns what to hold until `encoder` is submitted: the shading and the copies.
     fn shade_ends(
         &self,
         gpu: &Gpu,
@@ -437,19 +452,19 @@ impl GpuWhitted {
         batch: &[(Ends, usize)],
         jobs: &[RestJob<'_>],
         checks: Option<&ShadeChecks>,
-    ) -> Result<(), GpuError> {
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<Option<ShadedEnds>, GpuError> {
         let count: u32 = batch.iter().map(|(e, _)| e.count).sum();
-        let joined;
+        let mut joined = None;
         let (inputs, weights) = match batch {
-            [] => return Ok(()),
+            [] => return Ok(None),
             [(one, _)] => (&one.inputs, &one.weights),
             _ => {
                 let size = |each: usize| (each * count as usize) as u64;
-                joined = (
+                let joined = joined.insert((
                     scratch(gpu, "whitted ends", size(size_of::<ShadeInput>())),
                     scratch(gpu, "whitted end weights", size(size_of::<EndWeight>())),
-                );
-                let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+                ));
                 let mut at = 0;
                 for (e, _) in batch {
                     let n = u64::from(e.count);
@@ -458,12 +473,10 @@ impl GpuWhitted {
                     encoder.copy_buffer_to_buffer(&e.weights, 0, &joined.1, at * w, n * w);
                     at += n;
                 }
-                gpu.submit([encoder.finish()]);
                 (&joined.0, &joined.1)
             }
         };
-        let (mut encoder, shaded) =
-            shader.shade_inputs(gpu, tracer, prepared, spp, (inputs, count as usize), 0, checks)?;
+        let shaded = shader.shade_inputs(gpu, tracer, prepared, spp, (inputs, count as usize, 0), checks, encoder)?;
         // A gather per job: its ends lie together.
         let mut first = 0;
         for run in batch.chunk_by(|a, b| a.1 == b.1) {
@@ -474,13 +487,12 @@ impl GpuWhitted {
             let entries = [
                 buffer_entry(2, &params),
                 buffer_entry(9, weights),
-                buffer_entry(11, &shaded),
+                buffer_entry(11, &shaded.radiance),
                 buffer_entry(12, radiance),
             ];
-            encode_pass(gpu, &mut encoder, &self.gather, n, &entries);
+            encode_pass(gpu, encoder, &self.gather, n, &entries);
             first += n;
         }
-        gpu.submit([encoder.finish()]);
-        Ok(())
+        Ok(Some((shaded, joined)))
     }
 }
