@@ -87,6 +87,37 @@ fn gpu_frames_reusing_beams_equal_fresh_ones() {
     assert!(prepared > 0, "the second frame's atlas prepared every beam again");
 }
 
+/// A frame after the eye moved a little prepares its beams afresh but takes the BVH blocks the
+/// last frame gathered with wider cones, and equals, bit for bit, the frame a fresh renderer makes;
+/// so does one after a larger move, where fewer beams (or none) take them.
+#[test]
+fn gpu_frames_of_a_moved_eye_equal_fresh_ones() {
+    let Some(gpu) = gpu() else { return };
+    let mut scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
+    let renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+    let options = NonlinearOptions { shading: RenderOptions { spp: 4, ..RenderOptions::exact(40, 28) }, ..options() };
+    let shared = NonlinearPrecomputed::new(&scene, &options, &renderer).expect("the precomputed");
+    render_nonlinear_frame(&scene, &options, &renderer, Some(&shared)).expect("a first frame");
+    let mut took = Vec::new();
+    for step in [1e-4, 0.25] {
+        let step = step * scene.bounds().extent().length() * scene.camera.frame().right;
+        scene.camera.position += step;
+        scene.camera.target += step;
+        let before = renderer.times().blocks_reused;
+        let (moved, _) = render_nonlinear_frame(&scene, &options, &renderer, Some(&shared)).expect("a moved frame");
+        took.push(renderer.times().blocks_reused - before);
+        let fresh = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+        let (made, _) = render_nonlinear_with(&scene, &options, &fresh).expect("a fresh frame");
+        let moved = moved.expect("a frame read back").pixels;
+        let differ = moved.iter().zip(&made.pixels).filter(|(a, b)| a != b).count();
+        assert!(
+            moved.len() == made.pixels.len() && differ == 0,
+            "a moved frame differs from a fresh one in {differ} pixels"
+        );
+    }
+    assert!(took[0] > 0 && took[1] < took[0], "beams that took the last frame's blocks: {took:?}");
+}
+
 #[test]
 fn gpu_frames_count_their_waits_and_readbacks() {
     let Some(gpu) = gpu() else { return };

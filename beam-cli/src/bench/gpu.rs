@@ -211,10 +211,12 @@ pub fn run(
             );
         }
         println!(
-            "{:<16} reused from the last frame's tree, per frame: {:.0} faces' beams, {:.0} beams' atlas preparations",
+            "{:<16} reused from the last frame's tree, per frame: {:.0} faces' beams, {:.0} beams' atlas preparations, \
+             {:.0} beams' blocks",
             "",
             reused as f64 / f64::from(frames.max(1)),
             (after.beams_reused - before.beams_reused) as f64 / f64::from(frames.max(1)),
+            (after.blocks_reused - before.blocks_reused) as f64 / f64::from(frames.max(1)),
         );
         if let Some((main, workers)) = cpu_time {
             println!(

@@ -65,6 +65,9 @@ pub struct GpuTimes {
     /// Of them, beams whose preparation (bounds, culling by the BVH's boxes) the last frame's tree
     /// had made.
     pub beams_reused: u64,
+    /// Of the others, beams whose blocks of the BVH the last frame's beam on their face had
+    /// gathered, with a cone holding theirs.
+    pub blocks_reused: u64,
     /// (beam, scene triangle) pairs on the pages: four per block of the BVH that the host kept
     /// for a beam, those the GPU culled included.
     pub triangles: u64,
@@ -425,10 +428,13 @@ impl GpuBeams<'_> {
         // GPU (`super::cull`); the beams for the shader from the same bounds, placed on their
         // regions below.
         let mut memo = reuse.then(|| self.preparations.lock().unwrap_or_else(PoisonError::into_inner));
-        let found = memo.as_ref().map_or(0, |m| m.found());
+        let before = memo.as_ref().map_or((0, 0), |m| m.reused());
         let culled = prepared(scene, jobs, memo.as_deref_mut());
-        let reused = memo.map_or(0, |m| m.found() - found);
-        self.add_times(|t| t.beams_reused += reused);
+        let after = memo.map_or((0, 0), |m| m.reused());
+        self.add_times(|t| {
+            t.beams_reused += after.0 - before.0;
+            t.blocks_reused += after.1 - before.1;
+        });
         // Four (beam, triangle) pairs per block, some of them culled on the GPU.
         let pairs_of = |i: usize| 4 * culled[i].blocks.len();
         // Pack power-of-two squares, largest first, in Z order: every square lands aligned.

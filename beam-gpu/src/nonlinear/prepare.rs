@@ -3,32 +3,59 @@
 //! by the BVH's boxes (000 App. A) and its record for the shaders. A beam is a function of the bits
 //! it is made of (its base, boundary directions, parameterization and what it skips), and so is its
 //! preparation: a beam of the next frame with the same bits (a camera that stands still or turns
-//! about its position) takes the one made before, the same bits as making it again.
+//! about its position) takes the one made before, the same bits as making it again. A beam that
+//! moved a little (an eye that moved) is prepared afresh but for its blocks: they are gathered
+//! with its bounding cone widened, and the next frame's beam on the same face whose cone that
+//! wider one holds takes them (a superset of its own, of which the GPU's tests of each triangle
+//! against its own cone keep the same triangles).
 
 use super::beam::GpuBeam;
+use beam_math::collide::{Cone, ConeSpheres};
 use beam_math::glam::Vec3;
 use beam_scene::memo::FrameMemo;
-use beam_scene::nonlinear::{Beam, BeamJob, ConeCull, cone_blocks};
+use beam_scene::nonlinear::{Beam, BeamJob, ConeCull, blocks_meeting, cone_cull};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// How much wider than a beam's bounding cone its blocks are gathered: its half-angle by this
+/// fraction of it (and a milliradian), its apex moved back by this fraction of its distance from
+/// the base. A sixteenth adds about an eighth to the cone's cross-section.
+const WIDEN: f32 = 1.0 / 16.0;
 
 /// One beam made ready for the atlas.
 pub(super) struct Prepared {
     /// How the GPU culls its triangles one by one.
     pub(super) cull: ConeCull,
-    /// The blocks of the BVH's leaves whose boxes meet its bounding cone.
-    pub(super) blocks: Vec<u32>,
+    /// The blocks of the BVH's leaves whose boxes meet `gathered`.
+    pub(super) blocks: Arc<[u32]>,
     /// Its record for the shaders, on no region yet.
     pub(super) beam: GpuBeam,
+    /// The cone its blocks were gathered with, which holds its bounding cone.
+    gathered: Cone,
 }
 
 impl Prepared {
-    fn new(scene: &Scene, job: &BeamJob<'_>) -> Self {
+    /// The preparation of `job`, its blocks those of the first of `near` (the last frame's
+    /// preparations of beams on its face) whose gathering cone holds its bounding cone, if any
+    /// (then `true`).
+    fn new(scene: &Scene, job: &BeamJob<'_>, near: &[Arc<Self>]) -> (Self, bool) {
         let tb = job.beam.texel_beam();
         let bounds = tb.s1_or_sn_bounds();
-        let (cull, blocks) = cone_blocks(scene, tb, &bounds, job.exclude);
-        Self { cull, blocks, beam: GpuBeam::new(job.beam, &bounds, [0; 3], job.exclude) }
+        let (cull, cone) = cone_cull(scene, tb, &bounds, job.exclude);
+        let beam = GpuBeam::new(job.beam, &bounds, [0; 3], job.exclude);
+        if let Some(p) = near.iter().find(|p| p.gathered.contains_cone(&cone)) {
+            return (Self { cull, blocks: Arc::clone(&p.blocks), beam, gathered: p.gathered }, true);
+        }
+        let base = tb.base();
+        let centroid = (base[0] + base[1] + base[2]) / 3.0;
+        let wide = cone.widened(WIDEN * cone.angle + 1e-3, WIDEN * cone.apex.distance(centroid));
+        // A cone past a right angle holds no other (`Cone::contains_cone`): no wider one then.
+        let gathered = if wide.angle < core::f32::consts::FRAC_PI_2 { wide } else { cone };
+        let blocks = blocks_meeting(scene, &ConeSpheres::new(&gathered)).into();
+        (Self { cull, blocks, beam, gathered }, false)
     }
 }
 
@@ -56,16 +83,64 @@ fn key(job: &BeamJob<'_>) -> Key {
     out
 }
 
-/// The preparations of this frame's tree and of the last one's.
-pub(super) type Preparations = FrameMemo<Key, Arc<Prepared>>;
+/// A beam's face: the bits of its base.
+type Face = [u32; 9];
+
+fn face(job: &BeamJob<'_>) -> Face {
+    let mut out = [0; 9];
+    let floats = job.beam.texel_beam().base().into_iter().flat_map(|v| v.to_array());
+    for (slot, x) in out.iter_mut().zip(floats) {
+        *slot = x.to_bits();
+    }
+    out
+}
+
+/// The preparations of this frame's tree and of the last one's: by their beams' bits, and by
+/// their faces for the next frame's beams that moved a little.
+#[derive(Default)]
+pub(super) struct Preparations {
+    exact: FrameMemo<Key, Arc<Prepared>>,
+    /// By face, this frame's preparations and the last one's.
+    near: [FxHashMap<Face, Vec<Arc<Prepared>>>; 2],
+    /// Beams prepared afresh that took the last frame's blocks, so far.
+    blocks_reused: u64,
+}
+
+impl Preparations {
+    /// A new frame begins: what the last frame did not ask for goes.
+    pub(super) fn next_frame(&mut self) {
+        self.exact.next_frame();
+        self.near = [FxHashMap::default(), std::mem::take(&mut self.near[0])];
+    }
+
+    /// Beams found among the last frame's (and this one's) so far, and beams prepared afresh
+    /// that took the blocks of the last frame's beam on their face.
+    pub(super) fn reused(&self) -> (u64, u64) {
+        (self.exact.found(), self.blocks_reused)
+    }
+}
 
 /// The preparation of each of `jobs`: with `memo`, found among this frame's and the last one's,
-/// else made (in parallel) and kept for the next frame; without, made afresh (beams outside a
-/// frame's tree, such as the caustics' light beams, made once).
+/// else made (in parallel, the blocks of the last frame's beam on its face taken where they hold
+/// its own) and kept for the next frame; without, made afresh (beams outside a frame's tree, such
+/// as the caustics' light beams, made once).
 pub(super) fn prepared(scene: &Scene, jobs: &[BeamJob<'_>], memo: Option<&mut Preparations>) -> Vec<Arc<Prepared>> {
-    let make = |i: usize| Arc::new(Prepared::new(scene, &jobs[i]));
-    match memo {
-        Some(memo) => memo.values(jobs.par_iter().map(key).collect(), make),
-        None => (0..jobs.len()).into_par_iter().map(make).collect(),
+    let Some(memo) = memo else {
+        return (0..jobs.len()).into_par_iter().map(|i| Arc::new(Prepared::new(scene, &jobs[i], &[]).0)).collect();
+    };
+    let Preparations { exact, near, blocks_reused } = memo;
+    let taken = AtomicU64::new(0);
+    let [this, last] = near;
+    let make = |i: usize| {
+        let near = last.get(&face(&jobs[i])).map_or(&[][..], Vec::as_slice);
+        let (prepared, took) = Prepared::new(scene, &jobs[i], near);
+        taken.fetch_add(u64::from(took), Ordering::Relaxed);
+        Arc::new(prepared)
+    };
+    let out = exact.values(jobs.par_iter().map(key).collect(), make);
+    *blocks_reused += taken.into_inner();
+    for (job, p) in jobs.iter().zip(&out) {
+        this.entry(face(job)).or_default().push(Arc::clone(p));
     }
+    out
 }

@@ -22,6 +22,25 @@ impl Cone {
         let l = v.length();
         l == 0.0 || v.dot(self.axis) >= l * self.angle.cos_()
     }
+
+    /// This cone with its apex moved back along the axis by `back` and its half-angle widened by
+    /// `extra` radians: it contains this one (the apex is inside it, and every direction within
+    /// the old half-angle of the axis is within the new one).
+    #[must_use]
+    pub fn widened(&self, extra: f32, back: f32) -> Self {
+        Self { apex: self.apex - self.axis * back, axis: self.axis, angle: self.angle + extra }
+    }
+
+    /// True when `inner` lies inside this cone: its apex is inside, and its axis's angle to this
+    /// axis plus its half-angle is at most this half-angle, less a thousandth of a radian for
+    /// rounding. Then every point `apex + t·w` of `inner` is this apex plus two vectors within the
+    /// half-angle of the axis, which a cone under π/2 (convex) holds; a wider cone holds none.
+    #[must_use]
+    pub fn contains_cone(&self, inner: &Self) -> bool {
+        let between = self.axis.dot(inner.axis).clamp(-1.0, 1.0).acos_();
+        let half_turn = core::f32::consts::FRAC_PI_2;
+        self.angle < half_turn && between + inner.angle + 1e-3 <= self.angle && self.contains(inner.apex)
+    }
 }
 
 /// Sphere–cone test of 000 App. A: true when the apex is inside the sphere, or when
@@ -92,6 +111,47 @@ impl ConeSpheres {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A cone contains its widened self, and every point sampled in a cone it says it contains
+    /// (seeded cones near one another, some inside and some not).
+    #[test]
+    fn contained_cones_hold_their_points() {
+        let mut next = uniform(0x0bad_cafe);
+        let mut v = move || {
+            let mut n = || next() - 0.5;
+            (Vec3::new(n(), n(), n()), n() + 0.5)
+        };
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..4000 {
+            let ((a, s), (b, t), (c, u)) = (v(), v(), v());
+            let axis = (Vec3::Z + 0.3 * a).normalize();
+            let outer = Cone { apex: b, axis, angle: 0.05 + 1.2 * s };
+            let wide = outer.widened(0.1 * t + 2e-3, u);
+            assert!(wide.angle >= core::f32::consts::FRAC_PI_2 || wide.contains_cone(&outer), "{wide:?}");
+            let ((d, w1), (e, w2)) = (v(), v());
+            let inner = Cone {
+                apex: outer.apex + 0.2 * c,
+                axis: (outer.axis + 0.2 * d).normalize(),
+                angle: outer.angle * (0.5 + 0.6 * w1),
+            };
+            if !outer.contains_cone(&inner) {
+                outside += 1;
+                continue;
+            }
+            inside += 1;
+            let _ = (e, w2);
+            for _ in 0..50 {
+                // A direction within the inner half-angle: the axis tilted towards a random side.
+                let ((r, tilt), (_, far)) = (v(), v());
+                let side = r.cross(inner.axis).normalize_or(inner.axis.any_orthonormal_vector());
+                let tilt = inner.angle * tilt;
+                let w = inner.axis * tilt.cos_() + side * tilt.sin_();
+                let q = inner.apex + w * (20.0 * far);
+                assert!(outer.contains(q), "{outer:?} holds {inner:?}, yet {q} is outside");
+            }
+        }
+        assert!(inside > 200 && outside > 200, "{inside} inside, {outside} outside");
+    }
 
     #[test]
     fn hand_worked() {

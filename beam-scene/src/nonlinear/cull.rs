@@ -38,10 +38,30 @@ pub fn cone_blocks(
     bounds: &BeamBounds,
     exclude: Exclude<'_>,
 ) -> (ConeCull, Vec<u32>) {
-    let cull = ConeCull::new(scene, beam, bounds, exclude);
+    let (cull, _) = cone_cull(scene, beam, bounds, exclude);
+    (cull, blocks_meeting(scene, &cull.spheres))
+}
+
+/// The first half of [`cone_blocks`] alone: how each triangle is tested, and the beam's bounding
+/// cone (000 App. A), whose blocks [`blocks_meeting`] gathers (or those of any cone holding it:
+/// a superset, of which the triangle tests keep the same triangles).
+#[must_use]
+pub fn cone_cull(
+    scene: &Scene,
+    beam: &(impl TexelBeam + ?Sized),
+    bounds: &BeamBounds,
+    exclude: Exclude<'_>,
+) -> (ConeCull, Cone) {
+    let cone = beam.culling_cone(bounds);
+    (ConeCull::with_cone(scene, beam, &cone, bounds, exclude), cone)
+}
+
+/// The blocks of the 8-wide BVH's leaves whose boxes' bounding spheres meet the cone of `spheres`.
+#[must_use]
+pub fn blocks_meeting(scene: &Scene, spheres: &ConeSpheres) -> Vec<u32> {
     let mut blocks = Vec::new();
-    scene.wide.gather_blocks(|n| cull.spheres.meets_boxes(bounds_of(n, 0), bounds_of(n, 1)), &mut blocks);
-    (cull, blocks)
+    scene.wide.gather_blocks(|n| spheres.meets_boxes(bounds_of(n, 0), bounds_of(n, 1)), &mut blocks);
+    blocks
 }
 
 /// How one beam culls a scene triangle its BVH boxes let through: by the triangle's bounding
@@ -57,10 +77,20 @@ pub struct ConeCull {
 impl ConeCull {
     /// The culling of `beam` (of bounds `bounds`, skipping `exclude`) in `scene`.
     fn new(scene: &Scene, beam: &(impl TexelBeam + ?Sized), bounds: &BeamBounds, exclude: Exclude<'_>) -> Self {
-        let cone = beam.culling_cone(bounds);
+        Self::with_cone(scene, beam, &beam.culling_cone(bounds), bounds, exclude)
+    }
+
+    /// [`Self::new`] with the beam's bounding cone at hand.
+    fn with_cone(
+        scene: &Scene,
+        beam: &(impl TexelBeam + ?Sized),
+        cone: &Cone,
+        bounds: &BeamBounds,
+        exclude: Exclude<'_>,
+    ) -> Self {
         let extent = scene.bounds().extent().length();
-        let floor = SelfHitFloor::new(beam, (&cone, bounds.mu_b), exclude.thickness, extent);
-        Self { spheres: ConeSpheres::new(&cone), floor }
+        let floor = SelfHitFloor::new(beam, (cone, bounds.mu_b), exclude.thickness, extent);
+        Self { spheres: ConeSpheres::new(cone), floor }
     }
 
     /// Whether scene triangle `i` may meet the beam: not skipped (`exclude`), its bounding sphere

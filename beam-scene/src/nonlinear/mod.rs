@@ -21,7 +21,7 @@ pub use beam::{
     Beam, BumpedBeam, Degree, LOOKUP, LOOKUP_PREFERENCE, MIN_RISE, OUTSIDE_TEXELS, TEXEL_EPS, TexelBeam, child_beams,
     self_hit_at, self_hit_distance,
 };
-pub use cull::{ConeCull, SelfHitFloor, cone_blocks, cone_candidates};
+pub use cull::{ConeCull, SelfHitFloor, blocks_meeting, cone_blocks, cone_candidates, cone_cull};
 pub use fit::Fit;
 pub use radiance::{Composite, LevelRadiance, NodeChildren, TexelRadiance, composite, sample_region};
 pub use renderer::{
