@@ -327,7 +327,8 @@ impl PointShader {
     /// passes are not waited for, nor submitted: the caller submits `encoder` (holding the returned
     /// [`Shaded`] until then) before any other work reads the radiance or adds to it, and the
     /// radiance is whole once `shade_checked` says so. Otherwise they are submitted with what
-    /// `encoder` held and waited for, `encoder` left empty.
+    /// `encoder` held and waited for, leaving it empty (but for the clearing where there are no
+    /// points, which the caller submits all the same).
     pub fn shade_inputs(
         &self,
         gpu: &Gpu,

@@ -115,7 +115,7 @@ fn gpu_frames_of_a_moved_eye_equal_fresh_ones() {
             "a moved frame differs from a fresh one in {differ} pixels"
         );
     }
-    assert!(took[0] > 0 && took[1] < took[0], "beams that took the last frame's blocks: {took:?}");
+    assert!(took[0] > 0 && took[1] < took[0], "beams that took an earlier frame's blocks: {took:?}");
 }
 
 #[test]

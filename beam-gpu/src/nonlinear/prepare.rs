@@ -5,9 +5,11 @@
 //! preparation: a beam of the next frame with the same bits (a camera that stands still or turns
 //! about its position) takes the one made before, the same bits as making it again. A beam that
 //! moved a little (an eye that moved) is prepared afresh but for its blocks: they are gathered
-//! with its bounding cone widened, and the next frame's beam on the same face whose cone that
+//! with its bounding cone widened, and a later frame's beam on the same face whose cone that
 //! wider one holds takes them (a superset of its own, of which the GPU's tests of each triangle
-//! against its own cone keep the same triangles).
+//! against its own cone keep the same triangles). The GPU tests about a tenth more pairs for it,
+//! still eye or not; gathering a face's first beam with its own cone instead made the frame where
+//! the eye starts to move 50% slower on the host.
 
 use super::beam::GpuBeam;
 use beam_math::collide::{Cone, ConeSpheres};
@@ -17,8 +19,8 @@ use beam_scene::nonlinear::{Beam, BeamJob, ConeCull, blocks_meeting, cone_cull};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
 
 /// How much wider than a beam's bounding cone its blocks are gathered: its half-angle by this
 /// fraction of it (and a milliradian), its apex moved back by this fraction of its distance from
@@ -38,9 +40,9 @@ pub(super) struct Prepared {
 }
 
 impl Prepared {
-    /// The preparation of `job`, its blocks those of the first of `near` (the last frame's
+    /// The preparation of `job`, its blocks those of the first of `near` (an earlier frame's
     /// preparations of beams on its face) whose gathering cone holds its bounding cone, if any
-    /// (then `true`).
+    /// (then `true`); else gathered with its cone widened.
     fn new(scene: &Scene, job: &BeamJob<'_>, near: &[Arc<Self>]) -> (Self, bool) {
         let tb = job.beam.texel_beam();
         let bounds = tb.s1_or_sn_bounds();
@@ -95,14 +97,16 @@ fn face(job: &BeamJob<'_>) -> Face {
     out
 }
 
-/// The preparations of this frame's tree and of the last one's: by their beams' bits, and by
-/// their faces for the next frame's beams that moved a little.
+/// The preparations of this frame's tree and of the last one's, by their beams' bits; and by
+/// face, those the latest frame to make any on it made, for the next frames' beams that moved a
+/// little.
 #[derive(Default)]
 pub(super) struct Preparations {
     exact: FrameMemo<Key, Arc<Prepared>>,
-    /// By face, this frame's preparations and the last one's.
-    near: [FxHashMap<Face, Vec<Arc<Prepared>>>; 2],
-    /// Beams prepared afresh that took the last frame's blocks, so far.
+    /// By face: the latest frame that made preparations of beams on it, and those.
+    made: FxHashMap<Face, (u64, Vec<Arc<Prepared>>)>,
+    frame: u64,
+    /// Beams prepared afresh that took the blocks of an earlier beam on their face, so far.
     blocks_reused: u64,
 }
 
@@ -110,37 +114,43 @@ impl Preparations {
     /// A new frame begins: what the last frame did not ask for goes.
     pub(super) fn next_frame(&mut self) {
         self.exact.next_frame();
-        self.near = [FxHashMap::default(), std::mem::take(&mut self.near[0])];
+        self.frame += 1;
     }
 
     /// Beams found among the last frame's (and this one's) so far, and beams prepared afresh
-    /// that took the blocks of the last frame's beam on their face.
+    /// that took the blocks of an earlier beam on their face.
     pub(super) fn reused(&self) -> (u64, u64) {
         (self.exact.found(), self.blocks_reused)
     }
 }
 
 /// The preparation of each of `jobs`: with `memo`, found among this frame's and the last one's,
-/// else made (in parallel, the blocks of the last frame's beam on its face taken where they hold
-/// its own) and kept for the next frame; without, made afresh (beams outside a frame's tree, such
-/// as the caustics' light beams, made once).
+/// else made (in parallel, the blocks of an earlier frame's beam on its face taken where they
+/// hold its own) and kept for the next frame; without, made afresh (beams outside a frame's tree,
+/// such as the caustics' light beams, made once).
 pub(super) fn prepared(scene: &Scene, jobs: &[BeamJob<'_>], memo: Option<&mut Preparations>) -> Vec<Arc<Prepared>> {
     let Some(memo) = memo else {
         return (0..jobs.len()).into_par_iter().map(|i| Arc::new(Prepared::new(scene, &jobs[i], &[]).0)).collect();
     };
-    let Preparations { exact, near, blocks_reused } = memo;
-    let taken = AtomicU64::new(0);
-    let [this, last] = near;
+    let Preparations { exact, made, frame, blocks_reused } = memo;
+    let (taken, fresh) = (AtomicU64::new(0), Mutex::new(Vec::new()));
     let make = |i: usize| {
-        let near = last.get(&face(&jobs[i])).map_or(&[][..], Vec::as_slice);
+        let face = face(&jobs[i]);
+        let near = made.get(&face).map_or(&[][..], |(_, p)| p.as_slice());
         let (prepared, took) = Prepared::new(scene, &jobs[i], near);
         taken.fetch_add(u64::from(took), Ordering::Relaxed);
-        Arc::new(prepared)
+        let prepared = Arc::new(prepared);
+        fresh.lock().unwrap_or_else(PoisonError::into_inner).push((face, Arc::clone(&prepared)));
+        prepared
     };
     let out = exact.values(jobs.par_iter().map(key).collect(), make);
     *blocks_reused += taken.into_inner();
-    for (job, p) in jobs.iter().zip(&out) {
-        this.entry(face(job)).or_default().push(Arc::clone(p));
+    for (face, p) in fresh.into_inner().unwrap_or_else(PoisonError::into_inner) {
+        let (latest, on_face) = made.entry(face).or_insert((*frame, Vec::new()));
+        if *latest != *frame {
+            (*latest, *on_face) = (*frame, Vec::new());
+        }
+        on_face.push(p);
     }
     out
 }
