@@ -65,7 +65,7 @@ pub struct GpuTimes {
     /// Of them, beams whose preparation (bounds, culling by the BVH's boxes) the last frame's tree
     /// had made.
     pub beams_reused: u64,
-    /// Of the others, beams whose blocks of the BVH the last frame's beam on their face had
+    /// Of the others, beams whose blocks of the BVH an earlier frame's beam on their face had
     /// gathered, with a cone holding theirs.
     pub blocks_reused: u64,
     /// (beam, scene triangle) pairs on the pages: four per block of the BVH that the host kept

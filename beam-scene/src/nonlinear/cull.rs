@@ -20,7 +20,7 @@ pub fn cone_candidates(
     bounds: &BeamBounds,
     exclude: Exclude<'_>,
 ) -> Vec<u32> {
-    let cull = ConeCull::new(scene, beam, bounds, exclude);
+    let (cull, _) = cone_cull(scene, beam, bounds, exclude);
     let mut prims = Vec::new();
     scene.wide.gather(|n| cull.spheres.meets_boxes(bounds_of(n, 0), bounds_of(n, 1)), &mut prims);
     prims.retain(|&i| cull.keeps(scene, i, exclude));
@@ -75,12 +75,8 @@ pub struct ConeCull {
 }
 
 impl ConeCull {
-    /// The culling of `beam` (of bounds `bounds`, skipping `exclude`) in `scene`.
-    fn new(scene: &Scene, beam: &(impl TexelBeam + ?Sized), bounds: &BeamBounds, exclude: Exclude<'_>) -> Self {
-        Self::with_cone(scene, beam, &beam.culling_cone(bounds), bounds, exclude)
-    }
-
-    /// [`Self::new`] with the beam's bounding cone at hand.
+    /// The culling of `beam` (of bounds `bounds` and bounding cone `cone`, skipping `exclude`) in
+    /// `scene`.
     fn with_cone(
         scene: &Scene,
         beam: &(impl TexelBeam + ?Sized),
