@@ -302,14 +302,17 @@ impl GpuWhitted {
         // they wait for the device).
         let chunk = Self::per_dispatch(gpu);
         ends.sort_by_key(|(_, j)| *j);
-        let (mut batches, mut points): (Vec<Vec<(Ends, usize)>>, usize) = (vec![Vec::new()], 0);
+        let (mut batches, mut points): (Vec<Vec<(Ends, usize)>>, usize) = (Vec::new(), 0);
         for e in ends {
-            if points + e.0.count as usize > chunk {
-                batches.push(Vec::new());
-                points = 0;
+            let n = e.0.count as usize;
+            match batches.last_mut() {
+                Some(batch) if points + n <= chunk => batch.push(e),
+                _ => {
+                    batches.push(vec![e]);
+                    points = 0;
+                }
             }
-            points += e.0.count as usize;
-            batches.last_mut().ok_or(GpuError::Internal("no batch of Whitted ends"))?.push(e);
+            points += n;
         }
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
         let shading = (tracer, shader, prepared, spp);

@@ -128,7 +128,7 @@ mod tests {
             let outer = Cone { apex: b, axis, angle: 0.05 + 1.2 * s };
             let wide = outer.widened(0.1 * t + 2e-3, u);
             assert!(wide.angle >= core::f32::consts::FRAC_PI_2 || wide.contains_cone(&outer), "{wide:?}");
-            let ((d, w1), (e, w2)) = (v(), v());
+            let ((d, w1), _) = (v(), v());
             let inner = Cone {
                 apex: outer.apex + 0.2 * c,
                 axis: (outer.axis + 0.2 * d).normalize(),
@@ -139,7 +139,6 @@ mod tests {
                 continue;
             }
             inside += 1;
-            let _ = (e, w2);
             for _ in 0..50 {
                 // A direction within the inner half-angle: the axis tilted towards a random side.
                 let ((r, tilt), (_, far)) = (v(), v());
