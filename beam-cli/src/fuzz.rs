@@ -46,6 +46,7 @@ const BASES: &[&str] = &[
     "compare {d}/a.png {d}/b.png --out {d}/d.png --scale 0.5",
     "conformance --only bvh_hits_equal_brute_force --backend bvh --rays 10",
     "bench softshadow --size 8 --reference-spp 4 --light-size 0.1 --out-dir {d}",
+    "bench softshadow --suite --cases spheres,plant --sweep light --runs 3 --size 8 --reference-spp 4 --out {d}",
     "bench primary --scenes cornell --size 8 --sweep-size 8 --cameras 2",
     "bench bvh --scene {d}/m.obj --size 8",
     "overdraw --points 4 --out {d}/p.png --csv {d}/p.csv",

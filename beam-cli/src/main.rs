@@ -112,6 +112,11 @@ enum Command {
         /// pixel coverage, 001 §3) with hard shadows by beams from the visible pieces (001 §4.2).
         #[arg(long)]
         primary_rays: bool,
+        /// With `--method beam`: how shadow beams take their occluders: `split` (one at a time,
+        /// 001 §3.2), `edges` (by their silhouette, boundary and cut edges, integrated exactly), or
+        /// `auto` (each cluster of shade points picks the one that did less work); the same image.
+        #[arg(long, default_value = "auto")]
+        occluders: String,
         /// Glossy beams' Gaussian volumes (`--method glossy`): `exact` (Owen's T) or `tessellated`
         /// (002 Figs. 11-12).
         #[arg(long, default_value = "exact")]
@@ -301,6 +306,7 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
             spp,
             primary_spp,
             primary_rays,
+            occluders,
             volume,
             linear_gather,
             subdivide,
@@ -332,6 +338,7 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
                 spp,
                 primary_spp,
                 primary_beams: !primary_rays,
+                occluders: &occluders,
                 volume: &volume,
                 linear_gather,
                 subdivide,

@@ -3,7 +3,7 @@
 //! nothing, so it can be run on any argument vector (the CLI fuzzer does).
 
 use beam_cpu::nonlinear::Degree;
-use beam_cpu::render::{Method, RenderOptions, Shading};
+use beam_cpu::render::{Method, Occluders, RenderOptions, Shading};
 use beam_math::glossy::VolumeMethod;
 use beam_scene::region::Placement;
 use beam_scene::scene::{self, Scene};
@@ -27,6 +27,7 @@ pub struct RenderArgs<'a> {
     pub spp: u32,
     pub primary_spp: u32,
     pub primary_beams: bool,
+    pub occluders: &'a str,
     pub volume: &'a str,
     pub linear_gather: bool,
     pub subdivide: u32,
@@ -118,7 +119,7 @@ fn applies_to(id: &str, gpu: bool, primary_beams: bool) -> Option<&'static [Kind
         "spp" => &[Ray],
         "primary_spp" if primary_beams => &[Ray],
         "primary_spp" => &[Beam, Ray],
-        "primary_rays" => &[Beam],
+        "primary_rays" | "occluders" => &[Beam],
         "volume" | "linear_gather" | "subdivide" | "no_second_order" | "photon_kernel" => &[Glossy],
         "photons" => &[NonlinearReference, GlossyReference],
         _ => return None,
@@ -221,6 +222,12 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         "exact" => Shading::Exact,
         s => return Err(format!("unknown --shading `{s}` (expected exact or fraction)")),
     };
+    let occluders = match a.occluders {
+        "auto" => Occluders::Auto,
+        "split" => Occluders::Split,
+        "edges" => Occluders::Edges,
+        o => return Err(format!("unknown --occluders `{o}` (expected auto, split or edges)")),
+    };
     let degree = match a.degree {
         "s1" => Degree::S1,
         "s3" => Degree::S3,
@@ -293,6 +300,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         height,
         seed: 1,
         region,
+        occluders,
     };
     let placement = match region {
         Some(r) => Placement::new(r, width, height)
@@ -309,7 +317,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
 /// exposure, so that `beam merge` joins only tiles of one render. Never 0.
 fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
     let text = format!(
-        "{}|{}|{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}×{}|{}|{:?}|{}",
+        "{}|{}|{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}×{}|{}|{:?}|{}",
         a.scene,
         a.method,
         a.backend,
@@ -324,6 +332,7 @@ fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
         a.spp,
         a.primary_spp,
         a.primary_beams,
+        a.occluders,
         a.volume,
         a.linear_gather,
         a.subdivide,

@@ -98,6 +98,15 @@ fn image_sizes_are_checked_without_wrapping() {
     refused(&beam(&["render", "--width", "0", "--out", s(&out)], &[]), &["out of range"]);
     refused(&beam(&["render", "--width", "16385", "--height", "1", "--out", s(&out)], &[]), &["out of range"]);
     refused(&beam(&["bench", "softshadow", "--size", "0"], &[]), &["--size 0"]);
+    let suite = |extra: &[&str]| beam(&[&["bench", "softshadow", "--suite"], extra].concat(), &[]);
+    refused(&suite(&["--runs", "0"]), &["--runs 0"]);
+    refused(&suite(&["--size", "0"]), &["--size 0"]);
+    refused(&suite(&["--cases", "spheres,nope"]), &["--cases", "nope", "spheres-256"]);
+    refused(&suite(&["--scene", "cornell"]), &["--scene"]);
+    refused(&suite(&["--light-size", "0.5"]), &["--light-size"]);
+    refused(&suite(&["--reference-spp", "0"]), &["--reference-spp 0"]);
+    refused(&beam(&["bench", "softshadow", "--sweep", "size"], &[]), &["--sweep size"]);
+    refused(&beam(&["bench", "softshadow", "--runs", "3"], &[]), &["--runs"]);
 }
 
 #[test]

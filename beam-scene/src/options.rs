@@ -49,6 +49,23 @@ pub struct RenderOptions {
     /// the whole frame's render, and the image returned holds just them (a render farm's tile);
     /// `None`: the whole frame. A rectangle reaching past the frame is cut at its edge.
     pub region: Option<PixelRect>,
+    /// With [`Method::Beam`]: how a shadow beam takes its occluders. The choices give the same
+    /// image.
+    pub occluders: Occluders,
+}
+
+/// How shadow beams take their occluders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Occluders {
+    /// Each cluster of shade points picks whichever of the two below did less work on its first
+    /// beam.
+    #[default]
+    Auto,
+    /// One at a time: each splits the beam's remaining pieces (001 §3.2).
+    Split,
+    /// By their edges: the winding number of the projected silhouette, boundary and cut edges,
+    /// integrated exactly over the light (the cost follows the edges that do not cancel).
+    Edges,
 }
 
 impl RenderOptions {
@@ -66,6 +83,7 @@ impl RenderOptions {
             height,
             seed: 1,
             region: None,
+            occluders: Occluders::Auto,
         }
     }
 

@@ -8,6 +8,7 @@ use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
 use beam_cpu::render::{BeamStats, DEPTH_EPS, Method, RenderOptions, Shading, difference, render, visible_light};
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
+use beam_scene::options::Occluders;
 use beam_scene::scene;
 use rand::Rng;
 use rayon::prelude::*;
@@ -38,6 +39,12 @@ pub fn properties() -> Vec<Property> {
         },
         Property {
             name: "hard_shadow_images_agree", cites: "001 §4.2", backends: CPU, body: hard_shadow_images_agree
+        },
+        Property {
+            name: "silhouettes_equal_splitting",
+            cites: "001 §3.2; soft shadow volumes made exact",
+            backends: CPU,
+            body: silhouettes_equal_splitting,
         },
         Property {
             name: "primary_coverage_sums_to_one",
@@ -211,6 +218,7 @@ fn images_agree(name: &str, primary_spp: u32) -> Result<Outcome, String> {
         height: 96,
         seed: 5,
         region: None,
+        occluders: Occluders::Auto,
     };
     let (beam, _) = render(&scene, &opts(Method::Beam), || {});
     let (ray, _) = render(&scene, &opts(Method::Ray), || {});
@@ -227,6 +235,118 @@ fn images_agree(name: &str, primary_spp: u32) -> Result<Outcome, String> {
         cases: 96 * 96,
         note: format!("{name}: PSNR {:.1} dB, mean difference {mean:.1e} ± {stderr:.1e}", d.psnr),
     })
+}
+
+/// Shadow beams whose occluders enter by their silhouette edges (the winding pass) against the same
+/// beams split by every occluder one at a time: seeded random scenes of closed meshes (UV spheres,
+/// some with jittered corners, a torus), open ones (spheres with faces taken out, a fin on three
+/// triangles of one edge), under a quad or triangle light from 2% to 100% of the scene's width, a
+/// point of view each, 40×40 with one primary ray per pixel. Every pixel's radiance must agree to
+/// 1e-5 of the image's brightest, but for at most 0.1% of pixels within 5e-5 (the split path's
+/// fuzzy side tests move its edges by 1e-6 of the light), and the winding pass must have shaded
+/// most of the beams.
+pub fn silhouettes_equal_splitting(_: Backend, _: &Config) -> Result<Outcome, String> {
+    let (mut worst, mut beams, mut winding, mut cases, mut beyond) = (0.0f32, 0u64, 0u64, 0u64, 0u64);
+    for seed in 0..24u64 {
+        let scene = random_occluders(seed);
+        let on = RenderOptions { occluders: Occluders::Edges, ..RenderOptions::exact(40, 40) };
+        let (a, stats) = render(&scene, &on, || {});
+        let (b, _) = render(&scene, &RenderOptions { occluders: Occluders::Split, ..on }, || {});
+        let max = b.pixels.iter().fold(0.0f32, |m, p| m.max(p.max_element())).max(f32::MIN_POSITIVE);
+        for (i, (x, y)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+            let d = (*x - *y).abs().max_element() / max;
+            worst = worst.max(d);
+            beyond += u64::from(d > 1e-5);
+            if d > 5e-5 {
+                return Err(format!("seed {seed} pixel {i}: {x} by edges, {y} split ({d:.2e} of the brightest)"));
+            }
+        }
+        beams += stats.shadow_beams;
+        winding += stats.silhouette_beams;
+        cases += a.pixels.len() as u64;
+    }
+    // The split path's fuzzy side tests (a corner within 1e-6 of the light's size is on a line,
+    // 001 App. A) move its pieces' edges by that much: a pixel may differ by a few 1e-6 of the light.
+    if beyond * 1000 > cases {
+        return Err(format!("{beyond} of {cases} pixels differ by more than 1e-5 of the brightest"));
+    }
+    if 2 * winding < beams {
+        return Err(format!("the winding pass shaded {winding} of {beams} shadow beams"));
+    }
+    Ok(Outcome {
+        cases,
+        note: format!(
+            "worst {worst:.1e} of the brightest, {beyond} pixels beyond 1e-5; {winding} of {beams} beams by edges"
+        ),
+    })
+}
+
+/// A seeded scene of closed and open meshes over a ground plane under one area light.
+fn random_occluders(seed: u64) -> scene::Scene {
+    use beam_scene::scene::suite::closed_sphere;
+    let mut rng = generate::rng(9_000 + seed);
+    let mut tris: Vec<(Triangle, u32)> = Vec::new();
+    let ground =
+        [Vec3::new(-4.0, 0.0, -4.0), Vec3::new(-4.0, 0.0, 4.0), Vec3::new(4.0, 0.0, 4.0), Vec3::new(4.0, 0.0, -4.0)];
+    tris.push((Triangle::new(ground[0], ground[1], ground[2]), 0));
+    tris.push((Triangle::new(ground[0], ground[2], ground[3]), 0));
+    for k in 0..rng.random_range(2..6) {
+        let c = Vec3::new(uniform(&mut rng, -1.5, 1.5), uniform(&mut rng, 0.4, 2.0), uniform(&mut rng, -1.5, 1.5));
+        let r = uniform(&mut rng, 0.2, 0.7);
+        let (rings, segments) = (rng.random_range(4..20), rng.random_range(5..24));
+        let mut mesh = closed_sphere(c, r, rings, segments, uniform(&mut rng, 0.0, 3.0));
+        if k % 3 == 1 {
+            // Corners moved along the radius: still closed, no longer convex.
+            for p in &mut mesh.positions {
+                *p = c + (*p - c) * uniform(&mut rng, 0.8, 1.2);
+            }
+        }
+        let mut t = mesh.triangles();
+        if k % 3 == 2 {
+            // Open: every seventh face taken out.
+            t = t.into_iter().enumerate().filter(|(i, _)| i % 7 != 3).map(|(_, t)| t).collect();
+        }
+        tris.extend(t.into_iter().map(|t| (t, 1)));
+    }
+    // A torus (closed, genus one) and a fin: three triangles on one edge.
+    let (tc, big, small) = (Vec3::new(uniform(&mut rng, -1.0, 1.0), 1.2, uniform(&mut rng, -1.0, 1.0)), 0.6, 0.2);
+    let (n, m) = (18u32, 8u32);
+    let at = |i: u32, j: u32| {
+        let (u, v) =
+            (std::f32::consts::TAU * (i % n) as f32 / n as f32, std::f32::consts::TAU * (j % m) as f32 / m as f32);
+        tc + Vec3::new((big + small * v.cos()) * u.cos(), small * v.sin(), (big + small * v.cos()) * u.sin())
+    };
+    for i in 0..n {
+        for j in 0..m {
+            tris.push((Triangle::new(at(i, j), at(i, j + 1), at(i + 1, j)), 1));
+            tris.push((Triangle::new(at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)), 1));
+        }
+    }
+    let (f0, f1) = (Vec3::new(0.3, 2.2, 0.1), Vec3::new(-0.3, 2.3, -0.2));
+    for tip in [Vec3::new(0.0, 2.6, 0.4), Vec3::new(0.1, 1.9, 0.5), Vec3::new(0.0, 2.2, -0.6)] {
+        tris.push((Triangle::new(f0, f1, tip), 1));
+    }
+    let size = 8.0 * uniform(&mut rng, 0.02, 1.0);
+    let center = Vec3::new(uniform(&mut rng, -1.0, 1.0), 4.0, uniform(&mut rng, -1.0, 1.0));
+    let radiance = Vec3::splat(5.0 / (size * size).max(0.05));
+    let light = if seed % 2 == 0 {
+        let (u, v) = (Vec3::X * size, Vec3::Z * size);
+        scene::Light::Quad { corner: center - 0.5 * (u + v), edge_u: u, edge_v: v, radiance }
+    } else {
+        // Facing down: counter-clockwise seen from below.
+        let v = [
+            center + Vec3::new(-size, 0.0, -size),
+            center + Vec3::new(size, 0.0, 0.0),
+            center + Vec3::new(-size, 0.0, size),
+        ];
+        scene::Light::Triangle { v, radiance }
+    };
+    let position = Vec3::new(uniform(&mut rng, -5.0, 5.0), uniform(&mut rng, 2.0, 6.0), uniform(&mut rng, 4.0, 7.0));
+    let camera =
+        scene::Camera { position, target: Vec3::new(0.0, 0.8, 0.0), up: Vec3::Y, fov_y: 50.0, width: 40, height: 40 };
+    let albedo = Vec3::splat(0.7);
+    let materials = vec![scene::Material::Diffuse { albedo }, scene::Material::Diffuse { albedo }];
+    scene::Scene::new(format!("random occluders {seed}"), tris, materials, vec![light], camera)
 }
 
 /// Exact primary visibility by eye beams: in every pixel the visible pieces' coverage sums to one

@@ -6,6 +6,7 @@ beam_conformance::conformance_tests!(
     soft_shadow_vs_monte_carlo,
     beam_and_ray_images_agree,
     hard_shadow_images_agree,
+    silhouettes_equal_splitting,
     primary_coverage_sums_to_one,
     nonlinear_texels_equal_ray_hits,
     nonlinear_images_vs_reference,

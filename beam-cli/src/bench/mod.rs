@@ -10,6 +10,9 @@ mod peers;
 pub mod primary;
 pub mod primary_sweep;
 pub mod softshadow;
+mod softshadow_measure;
+mod softshadow_plot;
+pub mod softshadow_suite;
 
 use beam_math::Ray;
 use clap::Subcommand;
@@ -75,24 +78,43 @@ pub enum BenchCommand {
         cpu_time: bool,
     },
     /// Exact soft shadows by beams against 16/64/256 shadow rays per pixel (and Embree at 256 with
-    /// `--features peers`), each with its RMSE against a many-ray reference.
+    /// `--features peers`), each with its RMSE against a many-ray reference. With `--suite`
+    /// (`--cases`) and `--sweep light`, instead, a table over built-in and generated scenes and over
+    /// light sizes on Sponza and the bunny: beams (eye beams and primary rays) against 64 and 256
+    /// rays, medians of `--runs`, the bar (beams no slower and no less accurate than 256 rays).
     Softshadow {
         /// A built-in scene, a .toml scene or an .obj mesh (which gets an interior camera and a
-        /// ceiling light).
-        #[arg(long, default_value = "cornell")]
-        scene: String,
-        /// Image width and height.
-        #[arg(long, default_value_t = 512)]
-        size: u32,
-        /// Shadow rays per pixel of the reference.
+        /// ceiling light); the single-scene table (default cornell), not with `--suite` or `--sweep`.
+        #[arg(long)]
+        scene: Option<String>,
+        /// Image width and height (default 512; 256 with `--suite` or `--sweep`).
+        #[arg(long)]
+        size: Option<u32>,
+        /// Shadow rays per pixel of the reference (with several lights, shared among them in the
+        /// suite).
         #[arg(long, default_value_t = 4096)]
         reference_spp: u32,
-        /// Light width and depth as a fraction of the scene box's (for an .obj scene).
-        #[arg(long, default_value_t = 0.1)]
-        light_size: f32,
-        /// Write the images and their comparisons with the reference here.
+        /// Light width and depth as a fraction of the scene box's (for an .obj scene; default 0.1).
         #[arg(long)]
+        light_size: Option<f32>,
+        /// Write the images and their comparisons with the reference here; with `--suite` or
+        /// `--sweep`, also softshadow-suite.csv and softshadow-light-sweep.png.
+        #[arg(long, visible_alias = "out")]
         out_dir: Option<PathBuf>,
+        /// Run every case of the scene suite: spheres, spheres-36, spheres-256, bunny, spot,
+        /// teapot, plant, ground (the shared meshes skipped when absent).
+        #[arg(long)]
+        suite: bool,
+        /// Suite cases to run, comma-separated (implies `--suite`).
+        #[arg(long, value_delimiter = ',')]
+        cases: Vec<String>,
+        /// `light`: sweep the light's edge from 1 % to 100 % of the scene's extent on Sponza and
+        /// the bunny (after the suite's cases when both are asked for).
+        #[arg(long, value_name = "light")]
+        sweep: Option<String>,
+        /// Timed runs of every method per scene of `--suite` and `--sweep` (medians reported).
+        #[arg(long)]
+        runs: Option<u32>,
     },
     /// Exact primary visibility by eye beams (001 §3, box-filtered coverage) against 1, 4 and 16
     /// stratified primary rays per pixel (ours, and Embree with `--features peers`) on a flat-shaded
@@ -295,12 +317,48 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
                 false => Ok(()),
             })
         }
-        BenchCommand::Softshadow { scene, size, reference_spp, light_size, out_dir } => {
-            softshadow::check(size, reference_spp, light_size)?;
-            if dry {
-                return Ok(ExitCode::SUCCESS);
+        BenchCommand::Softshadow { scene, size, reference_spp, light_size, out_dir, suite, cases, sweep, runs } => {
+            let sweep = match sweep.as_deref() {
+                None => false,
+                Some("light") => true,
+                Some(other) => return Err(format!("--sweep {other}: unknown sweep (light)")),
+            };
+            if suite || sweep || !cases.is_empty() {
+                if scene.is_some() {
+                    return Err("--scene is for the single-scene table, not with --suite, --cases or --sweep".into());
+                }
+                if light_size.is_some() {
+                    return Err("--light-size is for the single-scene table; the light sweep sets its own".into());
+                }
+                let cases = match (suite, cases.is_empty()) {
+                    (true, true) => beam_scene::scene::suite::CASES.map(String::from).to_vec(),
+                    _ => cases,
+                };
+                let args = softshadow_suite::Args {
+                    cases,
+                    sweep,
+                    runs: runs.unwrap_or(3),
+                    size: size.unwrap_or(256),
+                    reference_spp,
+                    out: out_dir,
+                };
+                args.check()?;
+                if dry {
+                    return Ok(ExitCode::SUCCESS);
+                }
+                softshadow_suite::run(&args)
+            } else {
+                if runs.is_some() {
+                    return Err("--runs is for --suite and --sweep".into());
+                }
+                let (scene, size, light_size) =
+                    (scene.unwrap_or_else(|| "cornell".into()), size.unwrap_or(512), light_size.unwrap_or(0.1));
+                softshadow::check(size, reference_spp, light_size)?;
+                if dry {
+                    return Ok(ExitCode::SUCCESS);
+                }
+                softshadow::run(&scene, size, reference_spp, light_size, out_dir.as_deref())
             }
-            softshadow::run(&scene, size, reference_spp, light_size, out_dir.as_deref())
         }
     };
     result.map(|()| ExitCode::SUCCESS)

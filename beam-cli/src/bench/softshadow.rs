@@ -4,7 +4,7 @@
 
 use beam_cpu::render::{Image, Method, RenderOptions, Shading, difference, render, side_by_side};
 use beam_math::glam::Vec3;
-use beam_scene::scene::{self, Camera, Light};
+use beam_scene::scene::{self, Camera, Light, Scene};
 use std::path::Path;
 
 /// Refuse sizes and counts the benchmark cannot use: `size` 1 to 16384, at least 1 reference ray,
@@ -22,6 +22,35 @@ pub fn check(size: u32, reference_spp: u32, light_size: f32) -> Result<(), Strin
     Ok(())
 }
 
+/// The bench's render options at `size × size`: exact shading (001 eq. 1), one primary ray per
+/// pixel centre, or eye beams (exact box-filtered coverage) with `primary_beams` and beams.
+pub(super) fn options(size: u32, method: Method, spp: u32, seed: u64, primary_beams: bool) -> RenderOptions {
+    RenderOptions {
+        method,
+        shading: Shading::Exact,
+        spp,
+        primary_beams: primary_beams && method == Method::Beam,
+        seed,
+        ..RenderOptions::exact(size, size)
+    }
+}
+
+/// What a bare mesh gets: the interior view of `beam bench bvh` and a ceiling light of
+/// `light_size` × the box's width and depth (radiance `25 (0.1 / light_size)²`, so that the
+/// irradiance stays about the same), lowered under the ceiling above the box centre if there is one
+/// (the conference room's box top is above its ceiling; Sponza's atrium is open).
+pub(super) fn interior_view(scene: &mut Scene, size: u32, light_size: f32) {
+    let bounds = scene.bounds();
+    scene.camera = Camera::interior(bounds, size, size);
+    let mut light = Light::under_ceiling(bounds, light_size, Vec3::splat(25.0 * (0.1 / light_size).powi(2)));
+    if let Some(hit) = scene.wide.closest_hit(beam_math::Ray::new(bounds.center(), Vec3::Y), f32::INFINITY) {
+        if let Light::Quad { corner, .. } = &mut light {
+            corner.y = bounds.center().y + hit.t - 0.01 * bounds.extent().y;
+        }
+    }
+    scene.lights = vec![light];
+}
+
 /// Run the benchmark on `scene_arg` at `size × size`.
 pub fn run(
     scene_arg: &str,
@@ -32,19 +61,9 @@ pub fn run(
 ) -> Result<(), String> {
     check(size, reference_spp, light_size)?;
     let mut scene = scene::load(scene_arg).map_err(|e| e.to_string())?;
-    let bounds = scene.bvh.nodes.first().ok_or("empty scene")?.bounds();
+    scene.bvh.nodes.first().ok_or("empty scene")?;
     if scene_arg.ends_with(".obj") {
-        // A bare mesh gets the interior view of `beam bench bvh` and a ceiling light, lowered under
-        // the ceiling above the box centre if there is one (the conference room's box top is above
-        // its ceiling; Sponza's atrium is open).
-        scene.camera = Camera::interior(bounds, size, size);
-        let mut light = Light::under_ceiling(bounds, light_size, Vec3::splat(25.0 * (0.1 / light_size).powi(2)));
-        if let Some(hit) = scene.wide.closest_hit(beam_math::Ray::new(bounds.center(), Vec3::Y), f32::INFINITY) {
-            if let Light::Quad { corner, .. } = &mut light {
-                corner.y = bounds.center().y + hit.t - 0.01 * bounds.extent().y;
-            }
-        }
-        scene.lights = vec![light];
+        interior_view(&mut scene, size, light_size);
     }
     println!(
         "scene {}: {} triangles, {}×{}, light area {:.3}",
@@ -54,17 +73,7 @@ pub fn run(
         size,
         scene.lights[0].area()
     );
-    let options = |method, spp, seed| RenderOptions {
-        method,
-        shading: Shading::Exact,
-        spp,
-        primary_spp: 1,
-        primary_beams: false,
-        width: size,
-        height: size,
-        seed,
-        region: None,
-    };
+    let options = |method, spp, seed| options(size, method, spp, seed, false);
     let bar = crate::progress::bar(u64::from(size), "reference");
     let (reference, rs) = render(&scene, &options(Method::Ray, reference_spp, 99), || bar.inc(1));
     bar.finish_and_clear();

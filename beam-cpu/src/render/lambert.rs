@@ -1,7 +1,7 @@
 //! Irradiance from a uniformly emitting polygon: Lambert's formula, and the point-source
 //! approximation of 001 eq. 2.
 
-use beam_math::glam::Vec3;
+use beam_math::glam::{DVec3, Vec3};
 
 /// Clip a polygon to the half-space `n·(x − p) ≥ 0` (the hemisphere above a surface point).
 #[must_use]
@@ -31,19 +31,40 @@ pub fn polygon_irradiance(p: Vec3, n: Vec3, polygon: &[Vec3]) -> f32 {
     if clipped.len() < 3 {
         return 0.0;
     }
-    let mut sum = 0.0;
-    for i in 0..clipped.len() {
-        let a = (clipped[i] - p).normalize_or_zero();
-        let b = (clipped[(i + 1) % clipped.len()] - p).normalize_or_zero();
-        let c = a.cross(b);
-        let len = c.length();
-        if len > 0.0 {
-            // atan2 keeps small angles accurate where acos of a dot product near 1 does not.
-            let theta = len.atan2(a.dot(b));
-            sum += theta * n.dot(c / len);
-        }
+    let sum: f32 =
+        (0..clipped.len()).map(|i| edge_irradiance(p, n, clipped[i], clipped[(i + 1) % clipped.len()])).sum();
+    sum.abs()
+}
+
+/// One edge's term `½ Θ (n · γ̂)` of Lambert's formula ([`polygon_irradiance`]), signed: summed over
+/// the directed boundary of a region above the tangent plane (several loops, holes), it gives the
+/// region's irradiance, positive for loops that turn counter-clockwise about `(a − p) × (b − p)`'s
+/// direction away from `p`.
+#[must_use]
+#[inline]
+pub fn edge_irradiance(p: Vec3, n: Vec3, a: Vec3, b: Vec3) -> f32 {
+    let a = (a - p).normalize_or_zero();
+    let b = (b - p).normalize_or_zero();
+    let c = a.cross(b);
+    let len = c.length();
+    if len > 0.0 {
+        // atan2 keeps small angles accurate where acos of a dot product near 1 does not.
+        0.5 * len.atan2(a.dot(b)) * n.dot(c / len)
+    } else {
+        0.0
     }
-    0.5 * sum.abs()
+}
+
+/// [`edge_irradiance`] in double precision: the winding pass sums it over many short edges whose
+/// terms largely cancel.
+#[must_use]
+#[inline]
+pub fn edge_irradiance_f64(p: DVec3, n: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let a = (a - p).normalize_or_zero();
+    let b = (b - p).normalize_or_zero();
+    let c = a.cross(b);
+    let len = c.length();
+    if len > 0.0 { 0.5 * len.atan2(a.dot(b)) * n.dot(c / len) } else { 0.0 }
 }
 
 /// 001 eq. 2: the irradiance of a point source at the light's centre, `A·cos θᵢ·cos θ_l / r²`, times

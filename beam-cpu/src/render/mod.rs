@@ -12,6 +12,7 @@ mod primary_image;
 mod renderer;
 mod shadow_beam;
 mod shaft;
+mod silhouettes;
 mod tile_shadows;
 
 pub use beam_scene::irradiance_map::IrradianceMap;
@@ -25,6 +26,7 @@ pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub use primary_image::{PrimaryStats, primary_image};
 pub use renderer::shading_eps;
 pub use renderer::{
-    Method, RenderOptions, RenderStats, Shading, render, render_with, shade_point, stratified, trace_radiance,
+    Method, Occluders, RenderOptions, RenderStats, Shading, render, render_with, shade_point, stratified,
+    trace_radiance,
 };
 pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};

@@ -31,6 +31,15 @@ pub(crate) struct Projector {
     pub(crate) far: f32,
 }
 
+impl Projector {
+    /// The central projection of `x` (in the depth range) onto the light plane, in its coordinates.
+    #[inline]
+    pub(crate) fn project(&self, x: Vec3) -> Vec2 {
+        let w = x - self.apex;
+        self.apex_uv + Vec2::new(w.dot(self.u), w.dot(self.v)) * (self.distance / w.dot(self.normal))
+    }
+}
+
 /// A lane that survived the packet test: its triangle index and, when the whole triangle lies in
 /// the depth range, its projected corners.
 #[derive(Clone, Copy, Debug)]

@@ -23,7 +23,7 @@ pub use stats::RenderStats;
 pub use beam_scene::tolerance::shading_eps;
 pub use shading::{shade_point, stratified, trace_radiance};
 
-pub use beam_scene::options::{Method, RenderOptions, Shading};
+pub use beam_scene::options::{Method, Occluders, RenderOptions, Shading};
 
 /// Render `scene` (the pixels of `options.region` only, each as in the whole frame); `row_done` is
 /// called after each image row (for a progress bar).
@@ -131,6 +131,9 @@ pub fn render_with(
         coverage_error: total.coverage_error,
         triangle_tests: total.beams.triangle_tests,
         pieces: total.beams.pieces,
+        silhouette_beams: total.beams.silhouette_beams,
+        silhouette_edges: total.beams.silhouette_edges,
+        silhouette_fallbacks: total.beams.silhouette_fallbacks,
         shafts: total.shafts,
         shaft_bvh_steps: total.shaft_bvh_steps,
         primary_seconds: total.primary_seconds,

@@ -18,6 +18,9 @@ use beam_math::polybeam::{BeamFrame, Cover, EdgeLines, PolyBeam, Quad, Section};
 use beam_math::{Aabb, Triangle};
 
 mod candidates;
+mod silhouette;
+
+pub(crate) use silhouette::WindingScratch;
 
 pub use beam_scene::tolerance::DEPTH_EPS;
 
@@ -39,6 +42,12 @@ pub struct BeamStats {
     pub pieces: u64,
     /// Pieces joined into a neighbour that sees the same thing.
     pub joins: u64,
+    /// Shadow beams whose small occluders entered by their silhouette edges.
+    pub silhouette_beams: u64,
+    /// Projected edges those beams weighed (silhouette, boundary and split-set edges over the light).
+    pub silhouette_edges: u64,
+    /// Silhouette passes given up on an exact tie or too many edges (the beam was split instead).
+    pub silhouette_fallbacks: u64,
 }
 
 impl core::ops::AddAssign for BeamStats {
@@ -49,6 +58,9 @@ impl core::ops::AddAssign for BeamStats {
         self.hit_beams += o.hit_beams;
         self.pieces += o.pieces;
         self.joins += o.joins;
+        self.silhouette_beams += o.silhouette_beams;
+        self.silhouette_edges += o.silhouette_edges;
+        self.silhouette_fallbacks += o.silhouette_fallbacks;
     }
 }
 

@@ -7,8 +7,10 @@
 
 use super::packet::Packet;
 use super::shaft::{MAX_CANDIDATES, Shaft, gather};
+use super::silhouettes::{self, SilEdge, WindingBuilder};
 use beam_math::Aabb;
 use beam_math::glam::Vec3;
+use beam_scene::options::Occluders;
 use beam_scene::scene::{Light, Scene};
 
 /// Blocks per tile side (a tile of [`super::TILE`]² pixels has blocks of `TILE / BLOCKS` pixels a side).
@@ -22,8 +24,36 @@ const SPREAD: f32 = 0.1;
 struct Cluster {
     /// Box of the cluster's shade points: the candidates hold for any point inside it.
     points: Aabb,
-    start: u32,
-    end: u32,
+    /// Packets of the candidates, split one at a time.
+    packets: (u32, u32),
+    /// The candidates as edges, and those that reach out of a point's depth range.
+    edges: (u32, u32),
+    reaching: (u32, u32),
+    /// How its shadow beams take the candidates.
+    mode: Mode,
+}
+
+/// How a cluster's shadow beams take its candidates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Mode {
+    /// Split by them one at a time.
+    Split,
+    /// By their edges, the winding pass (`shadow_beam/silhouette.rs`).
+    Winding,
+    /// Not decided yet: the next beam does both and decides by their work.
+    Probe,
+}
+
+/// The candidate occluders of a shade point for one light.
+pub(crate) struct Candidates<'a> {
+    /// Four to a packet, to split by one at a time.
+    pub(crate) packets: &'a [Packet],
+    /// The same as edges and reaching triangles (`render/silhouettes`).
+    pub(crate) edges: &'a [SilEdge],
+    pub(crate) reaching: &'a [u32],
+    pub(crate) mode: Mode,
+    /// The cluster's index, for [`TileShadows::decide`].
+    pub(crate) cluster: usize,
 }
 
 /// How a block's points are cut in two: the ones with `p[axis] ≤ at` go to the first cluster.
@@ -44,6 +74,12 @@ pub(crate) struct TileShadows {
     packets: Vec<Packet>,
     /// One cluster's candidates with their sort keys.
     gathered: Vec<(u32, u32)>,
+    /// One cluster's candidates.
+    ids: Vec<u32>,
+    /// The clusters' candidates as edges.
+    edges: Vec<SilEdge>,
+    reaching: Vec<u32>,
+    builder: WindingBuilder,
     /// BVH nodes tested by the shafts.
     pub(crate) bvh_steps: u64,
     /// Shafts traced (one a cluster and area light).
@@ -53,10 +89,13 @@ pub(crate) struct TileShadows {
 impl TileShadows {
     /// Gather the candidates for the shade points `points` (each with its block index,
     /// `< BLOCKS²`), for every area light of `scene` that faces them.
-    pub(crate) fn build(&mut self, scene: &Scene, points: &[(usize, Vec3)]) {
+    pub(crate) fn build(&mut self, scene: &Scene, points: &[(usize, Vec3)], occluders: Occluders) {
         self.clusters.clear();
         self.packets.clear();
-        let empty = Cluster { points: Aabb::EMPTY, start: 0, end: 0 };
+        self.edges.clear();
+        self.reaching.clear();
+        let empty =
+            Cluster { points: Aabb::EMPTY, packets: (0, 0), edges: (0, 0), reaching: (0, 0), mode: Mode::Split };
         for light in &scene.lights {
             let base = self.clusters.len();
             self.clusters.resize(base + 2 * BLOCKS * BLOCKS, empty);
@@ -102,27 +141,55 @@ impl TileShadows {
                     cluster.points = Aabb::EMPTY;
                     continue;
                 }
-                cluster.start = self.packets.len() as u32;
-                for chunk in self.gathered.chunks(4) {
-                    let mut prims = [0; 4];
-                    for (p, &(_, prim)) in prims.iter_mut().zip(chunk) {
-                        *p = prim;
-                    }
-                    self.packets.push(Packet::new(tris, &prims[..chunk.len()]));
+                self.ids.clear();
+                self.ids.extend(self.gathered.iter().map(|&(_, prim)| prim));
+                let (edges0, reaching0) = (self.edges.len() as u32, self.reaching.len() as u32);
+                if occluders != Occluders::Split {
+                    self.builder.build(
+                        tris,
+                        scene.adjacency(),
+                        &cluster.points,
+                        &silhouettes::Light { normal: ln, center },
+                        &self.ids,
+                        &mut self.edges,
+                        &mut self.reaching,
+                    );
+                    cluster.mode = if occluders == Occluders::Edges { Mode::Winding } else { Mode::Probe };
                 }
-                cluster.end = self.packets.len() as u32;
+                cluster.edges = (edges0, self.edges.len() as u32);
+                cluster.reaching = (reaching0, self.reaching.len() as u32);
+                cluster.packets = pack(tris, &self.ids, &mut self.packets);
             }
         }
     }
 
     /// The candidate occluders between `p` and light `light`, when `p` lies in the box of one of
     /// block `block`'s clusters (any point there: the shaft bounds every segment from the box).
-    pub(crate) fn candidates(&self, light: usize, block: usize, p: Vec3) -> Option<&[Packet]> {
+    pub(crate) fn candidates(&self, light: usize, block: usize, p: Vec3) -> Option<Candidates<'_>> {
         let first = 2 * (light * BLOCKS * BLOCKS + block);
-        self.clusters
-            .get(first..first + 2)?
-            .iter()
-            .find(|c| c.points.min.cmple(p).all() && p.cmple(c.points.max).all())
-            .map(|c| &self.packets[c.start as usize..c.end as usize])
+        let i = (first..first + 2).find(|&i| {
+            self.clusters.get(i).is_some_and(|c| c.points.min.cmple(p).all() && p.cmple(c.points.max).all())
+        })?;
+        let c = &self.clusters[i];
+        let range = |r: (u32, u32)| r.0 as usize..r.1 as usize;
+        Some(Candidates {
+            packets: &self.packets[range(c.packets)],
+            edges: &self.edges[range(c.edges)],
+            reaching: &self.reaching[range(c.reaching)],
+            mode: c.mode,
+            cluster: i,
+        })
     }
+
+    /// Settle how cluster `cluster`'s remaining beams take their candidates.
+    pub(crate) fn decide(&mut self, cluster: usize, mode: Mode) {
+        self.clusters[cluster].mode = mode;
+    }
+}
+
+/// Pack `prims` four to a packet at the end of `packets`; their range there.
+fn pack(triangles: &[beam_math::Triangle], prims: &[u32], packets: &mut Vec<Packet>) -> (u32, u32) {
+    let start = packets.len() as u32;
+    packets.extend(prims.chunks(4).map(|chunk| Packet::new(triangles, chunk)));
+    (start, packets.len() as u32)
 }

@@ -5,11 +5,15 @@ mod beam;
 mod merge;
 mod quad;
 mod split;
+mod winding;
 
 pub use beam::{BeamFrame, MAX_CORNERS, PolyBeam, Section};
 pub use merge::merge;
 pub use quad::{Cover, EdgeLines, Line, MAX_EDGES, Quad};
 pub use split::{KEEP_CORNERS, Part, Pieces, ProjectedTriangle, Split, split_section};
+pub use winding::{
+    Arrangement, MAX_WINDING_EDGES, WindingEdge, WindingError, orient2d, winding_after, zero_winding_boundary,
+};
 
 #[cfg(test)]
 mod tests {

@@ -14,6 +14,7 @@ mod normals;
 pub mod showcase;
 mod smesh_file;
 mod smesh_plan;
+pub mod suite;
 
 pub use builtin::{BUILTIN, PROCEDURAL, builtin, builtin_with_smesh};
 pub use camera::Camera;
@@ -252,6 +253,9 @@ pub struct Scene {
     /// Per triangle, the bounding sphere [`Scene::bounding_sphere`] returns (made once: beams'
     /// bounding-cone culling asks for it per beam and candidate triangle).
     spheres: Vec<(Vec3, f32)>,
+    /// The triangles' neighbours, made the first time [`Scene::adjacency`] asks (shadow beams'
+    /// silhouettes need them, rays do not).
+    adjacency: std::sync::OnceLock<crate::adjacency::Adjacency>,
 }
 
 impl Scene {
@@ -291,7 +295,14 @@ impl Scene {
             smooth_normals,
             smesh: SMeshPlan::default(),
             spheres,
+            adjacency: std::sync::OnceLock::new(),
         }
+    }
+
+    /// The neighbours of the triangles (made on the first call).
+    #[must_use]
+    pub fn adjacency(&self) -> &crate::adjacency::Adjacency {
+        self.adjacency.get_or_init(|| crate::adjacency::Adjacency::new(&self.triangles))
     }
 
     /// The bounding sphere of triangle `i` (centre, radius): about its centroid, through its

@@ -6,8 +6,9 @@
 use super::Counters;
 use crate::render::eye_regions::{Region, TILE};
 use crate::render::lambert::{point_source_irradiance, polygon_irradiance};
-use crate::render::shadow_beam::{DEPTH_EPS, ShadowBeam, ShadowScratch, light_beam, trace_bvh};
-use crate::render::tile_shadows::{BLOCKS, TileShadows};
+use crate::render::shadow_beam::{DEPTH_EPS, ShadowBeam, ShadowScratch, WindingScratch, light_beam, trace_bvh};
+use crate::render::silhouettes::WindingWork;
+use crate::render::tile_shadows::{BLOCKS, Mode, TileShadows};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::polybeam::Quad;
@@ -30,6 +31,8 @@ pub(super) struct Thread {
     pub(super) tile: TileShadows,
     /// Block of the tile the current pixel lies in.
     pub(super) block: usize,
+    /// The buffers of a winding pass.
+    pub(super) winding: WindingScratch,
 }
 
 pub(super) struct Context<'a> {
@@ -153,22 +156,67 @@ impl Context<'_> {
         match self.options.method {
             Method::Beam => {
                 let start = Instant::now();
-                let Some(beam) = light_beam(p, &polygon, ln) else { return 0.0 };
+                // Exact shading: only the part of the light above the tangent plane contributes.
+                let clipped;
+                let polygon = if self.options.shading == Shading::Exact {
+                    clipped = crate::render::lambert::clip_above(&polygon, p, n);
+                    if clipped.len() < 3 {
+                        return 0.0;
+                    }
+                    &clipped[..]
+                } else {
+                    &polygon[..]
+                };
+                let Some(beam) = light_beam(p, polygon, ln) else { return 0.0 };
                 t.c.shadow_beams += 1;
                 let mut traced = ShadowBeam::new(&beam, &mut t.scratch);
                 let tris = &self.scene.triangles;
+                let mut lit = None;
                 match t.tile.candidates(index, t.block, p) {
-                    Some(packets) => traced.occlude_packets(packets, tris),
+                    Some(c) => {
+                        let (cluster, mode) = (c.cluster, c.mode);
+                        let mut winding = |traced: &mut ShadowBeam<'_>| {
+                            traced.lit_by_winding(&beam.section, (c.edges, c.reaching), tris, n, &mut t.winding)
+                        };
+                        match mode {
+                            Mode::Split => traced.occlude_packets(c.packets, tris),
+                            Mode::Winding => match winding(&mut traced) {
+                                Ok(l) => lit = Some(l),
+                                Err(_) => {
+                                    traced.stats.silhouette_fallbacks += 1;
+                                    traced.occlude_packets(c.packets, tris);
+                                }
+                            },
+                            Mode::Probe => {
+                                // Both ways, once: the work of each decides the cluster's other beams.
+                                let before = traced.stats;
+                                let result = winding(&mut traced);
+                                let edges_over = traced.stats.silhouette_edges - before.silhouette_edges;
+                                traced.occlude_packets(c.packets, tris);
+                                let splits = traced.stats.intersections - before.intersections;
+                                let candidates = c.packets.iter().map(|q| q.len as usize).sum();
+                                let work =
+                                    WindingWork { records: c.edges.len(), reaching: c.reaching.len(), edges_over };
+                                let cheaper = result.is_ok() && work.cheaper_than(candidates, splits);
+                                t.tile.decide(cluster, if cheaper { Mode::Winding } else { Mode::Split });
+                                lit = result.ok();
+                            }
+                        }
+                    }
                     None => trace_bvh(&self.scene.bvh, tris, &mut traced),
                 }
                 t.c.beams += traced.stats;
                 let frame = &traced.frame;
-                let e = match self.options.shading {
-                    Shading::Fraction => {
+                let e = match (self.options.shading, lit) {
+                    (Shading::Fraction, Some(l)) => {
+                        point_source_irradiance(p, n, center, ln, area, (l.area / beam.area()).min(1.0))
+                    }
+                    (Shading::Exact, Some(l)) => l.irradiance.max(0.0),
+                    (Shading::Fraction, None) => {
                         let visible: f32 = traced.pieces().iter().map(Quad::area).sum();
                         point_source_irradiance(p, n, center, ln, area, (visible / beam.area()).min(1.0))
                     }
-                    Shading::Exact => traced
+                    (Shading::Exact, None) => traced
                         .pieces()
                         .iter()
                         .map(|q| {
@@ -250,7 +298,7 @@ impl Context<'_> {
                     .iter()
                     .filter_map(|s| Some((block_of(s.x - x0, s.y - y0), self.gather_point(s.prim, s.q, s.d)?.0))),
             );
-            t.tile.build(self.scene, points);
+            t.tile.build(self.scene, points, self.options.occluders);
             t.c.shadow_seconds += start.elapsed().as_secs_f64();
         }
         let start = Instant::now();

@@ -59,6 +59,13 @@ pub struct RenderStats {
     pub shafts: u64,
     /// BVH nodes tested by the shafts.
     pub shaft_bvh_steps: u64,
+    /// Shadow beams whose occluders entered by their edges (silhouettes, boundaries and depth
+    /// cuts) instead of splitting them one at a time.
+    pub silhouette_beams: u64,
+    /// Projected edges those beams weighed over their lights.
+    pub silhouette_edges: u64,
+    /// Edge passes given up on an exact tie or too many edges (those beams were split instead).
+    pub silhouette_fallbacks: u64,
     /// Thread-seconds spent on primary visibility (rays or eye beams), summed over threads.
     pub primary_seconds: f64,
     /// Thread-seconds spent on shadow beams and shafts (or shadow rays' shading), summed over threads.
