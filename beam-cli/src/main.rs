@@ -54,7 +54,8 @@ enum Command {
     },
     /// Render a scene (default: the built-in Cornell box, exact soft shadows by beams).
     Render {
-        /// A built-in scene (cornell, mirror-glass, cornell-point), a .toml scene file, a .gltf/.glb
+        /// A built-in scene (cornell, mirror-glass, cornell-point, foliage; the soft-shadow suite's
+        /// spheres, spheres-36, spheres-256, plant, ground), a .toml scene file, a .gltf/.glb
         /// model or an .obj mesh.
         #[arg(long, default_value = "cornell")]
         scene: String,

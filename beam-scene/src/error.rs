@@ -117,9 +117,10 @@ pub enum SceneError {
     /// A scene named by a path that is neither a `.toml` scene file, a `.gltf`/`.glb` model nor an
     /// `.obj` mesh.
     #[error(
-        "{}: expected a built-in scene name ({}), a .toml scene, a .gltf/.glb model or an .obj mesh",
+        "{}: expected a built-in scene name ({}, {}), a .toml scene, a .gltf/.glb model or an .obj mesh",
         path.display(),
-        BUILTIN.join(", ")
+        BUILTIN.join(", "),
+        crate::scene::suite::GENERATED.join(", ")
     )]
     UnknownFileType {
         /// The path.

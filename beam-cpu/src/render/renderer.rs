@@ -3,14 +3,14 @@
 //! rays, with the same shading, so that the two images differ only by the rays' noise), the parts
 //! assembled and the counters summed (`stats`).
 
-use super::eye_regions::{REGION, Region, TILE, paste_within, regions_in};
+use super::eye_regions::{Region, TILE, paste_within, regions_in};
 use super::image::Image;
 use beam_scene::queries::AnyHit;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
-use trace::{Trace, Traced};
+use trace::{EyeTraced, TileRadiance, Trace, Traced};
 
 mod shading;
 mod stats;
@@ -58,22 +58,56 @@ pub fn render_with(
     let parts: Vec<Traced> = if crop.is_empty() {
         Vec::new()
     } else if eye_beams {
+        // Eye beams a region at a time, in parallel; then the regions' tiles are shaded in
+        // parallel (a small image is one region, and its shading is most of the work).
         let regions = regions_in(camera.width, camera.height, work);
-        let across = regions.iter().filter(|r| r.y0 == regions[0].y0).count() as u32;
-        let first_row = regions.first().map_or(0, |r| r.y0 / REGION);
-        let done: Vec<AtomicU32> = (0..camera.height.div_ceil(REGION)).map(|_| AtomicU32::new(0)).collect();
-        regions
-            .into_par_iter()
-            .map(|region| {
-                let traced = trace.eye_region(region, region.intersect(work));
-                // A row is done once every region across it is.
-                let row = (region.y0 / REGION - first_row) as usize;
-                if done[row].fetch_add(1, Ordering::Relaxed) + 1 == across {
-                    (0..rows_of(region)).for_each(|_| row_done());
-                }
-                traced
+        let mut traced: Vec<EyeTraced> =
+            regions.into_par_iter().map(|region| trace.eye_region(region, region.intersect(work))).collect();
+        let jobs: Vec<(usize, usize, usize)> = traced
+            .iter()
+            .enumerate()
+            .flat_map(|(r, e)| {
+                e.tiles.iter().scan(0, move |start, &len| {
+                    *start += len;
+                    Some((r, *start - len, *start))
+                })
             })
-            .collect()
+            .collect();
+        // A row of tiles is done once every tile of it with fragments is.
+        let tile_row = |e: &EyeTraced, start: usize| e.surfaces[start].y / TILE;
+        let rows = camera.height.div_ceil(TILE) as usize;
+        let left: Vec<AtomicU32> = (0..rows).map(|_| AtomicU32::new(0)).collect();
+        for &(r, start, _) in &jobs {
+            left[tile_row(&traced[r], start) as usize].fetch_add(1, Ordering::Relaxed);
+        }
+        let done_rows = |row: u32| {
+            let r = Region { x0: 0, y0: row * TILE, x1: camera.width, y1: ((row + 1) * TILE).min(camera.height) };
+            (0..rows_of(r)).for_each(|_| row_done());
+        };
+        for row in (0..rows as u32).filter(|&row| left[row as usize].load(Ordering::Relaxed) == 0) {
+            done_rows(row);
+        }
+        let shaded: Vec<(usize, TileRadiance, Counters)> = jobs
+            .par_iter()
+            .map_init(Thread::default, |t, &(r, start, end)| {
+                let e = &traced[r];
+                let before = t.c;
+                let out = trace.shade_eye_tile(e.traced.region, &e.surfaces[start..end], t);
+                let row = tile_row(e, start);
+                if left[row as usize].fetch_sub(1, Ordering::Relaxed) == 1 {
+                    done_rows(row);
+                }
+                (r, out, t.c.since(&before))
+            })
+            .collect();
+        for (r, out, counters) in shaded {
+            let part = &mut traced[r].traced;
+            for (i, l) in out {
+                part.pixels[i] += l;
+            }
+            part.counters += counters;
+        }
+        traced.into_iter().map(|e| e.traced).collect()
     } else {
         (work.y0 / TILE..work.y1.div_ceil(TILE))
             .into_par_iter()

@@ -50,6 +50,24 @@ pub struct BeamStats {
     pub silhouette_fallbacks: u64,
 }
 
+impl BeamStats {
+    /// What was counted since `before` (a copy of these counters taken earlier).
+    #[must_use]
+    pub fn since(&self, before: &Self) -> Self {
+        Self {
+            bvh_steps: self.bvh_steps - before.bvh_steps,
+            triangle_tests: self.triangle_tests - before.triangle_tests,
+            intersections: self.intersections - before.intersections,
+            hit_beams: self.hit_beams - before.hit_beams,
+            pieces: self.pieces - before.pieces,
+            joins: self.joins - before.joins,
+            silhouette_beams: self.silhouette_beams - before.silhouette_beams,
+            silhouette_edges: self.silhouette_edges - before.silhouette_edges,
+            silhouette_fallbacks: self.silhouette_fallbacks - before.silhouette_fallbacks,
+        }
+    }
+}
+
 impl core::ops::AddAssign for BeamStats {
     fn add_assign(&mut self, o: Self) {
         self.bvh_steps += o.bvh_steps;

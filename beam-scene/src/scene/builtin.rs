@@ -50,6 +50,11 @@ pub fn builtin(name: &str) -> Result<Scene, SceneError> {
         "pool-caustics" => Ok(light_volumes::pool_caustics(20)),
         "stained-glass" => Ok(light_volumes::stained_glass()),
         "foliage" => Ok(foliage::foliage(foliage::LEAVES, 1)),
+        // The generated cases of `beam bench softshadow --suite`, by the same names.
+        name if super::suite::GENERATED.contains(&name) => match super::suite::case(name)? {
+            super::suite::Case::Built(scene) => Ok(*scene),
+            super::suite::Case::Absent(_) => Err(SceneError::UnknownScene { name: name.to_string() }),
+        },
         _ => Err(SceneError::UnknownScene { name: name.to_string() }),
     }
 }

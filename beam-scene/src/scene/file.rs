@@ -28,7 +28,7 @@ pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
 
 /// [`load`] with `options`.
 pub fn load_with(name_or_path: &str, options: &LoadOptions) -> Result<Scene, SceneError> {
-    if super::BUILTIN.contains(&name_or_path) {
+    if super::BUILTIN.contains(&name_or_path) || super::suite::GENERATED.contains(&name_or_path) {
         return super::builtin(name_or_path);
     }
     load_file_with(Path::new(name_or_path), options)

@@ -16,6 +16,9 @@ use rand_pcg::Pcg32;
 /// The suite's cases, in the order the bench runs them.
 pub const CASES: [&str; 8] = ["spheres", "spheres-36", "spheres-256", "bunny", "spot", "teapot", "plant", "ground"];
 
+/// The cases built without files, which [`super::builtin`] also knows by these names.
+pub const GENERATED: [&str; 5] = ["spheres", "spheres-36", "spheres-256", "plant", "ground"];
+
 /// The light sizes of the light sweep: the quad's edge as a fraction of the content's width.
 pub const SWEEP: [f32; 5] = [0.01, 0.03, 0.1, 0.3, 1.0];
 

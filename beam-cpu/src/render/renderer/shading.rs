@@ -299,6 +299,8 @@ impl Context<'_> {
                     .filter_map(|s| Some((block_of(s.x - x0, s.y - y0), self.gather_point(s.prim, s.q, s.d)?.0))),
             );
             t.tile.build(self.scene, points, self.options.occluders);
+            t.c.shafts += core::mem::take(&mut t.tile.shafts);
+            t.c.shaft_bvh_steps += core::mem::take(&mut t.tile.bvh_steps);
             t.c.shadow_seconds += start.elapsed().as_secs_f64();
         }
         let start = Instant::now();

@@ -91,6 +91,28 @@ pub(super) struct Counters {
     pub(super) shading_seconds: f64,
 }
 
+impl Counters {
+    /// What was counted since `before` (a copy of these counters taken earlier); the largest
+    /// coverage error is kept as it is.
+    pub(super) fn since(&self, before: &Self) -> Self {
+        let d = |a: u64, b: u64| a - b;
+        Self {
+            camera_rays: d(self.camera_rays, before.camera_rays),
+            shadow_rays: d(self.shadow_rays, before.shadow_rays),
+            shadow_beams: d(self.shadow_beams, before.shadow_beams),
+            beams: self.beams.since(&before.beams),
+            primary: self.primary.since(&before.primary),
+            fragments: d(self.fragments, before.fragments),
+            coverage_error: self.coverage_error,
+            shafts: d(self.shafts, before.shafts),
+            shaft_bvh_steps: d(self.shaft_bvh_steps, before.shaft_bvh_steps),
+            primary_seconds: self.primary_seconds - before.primary_seconds,
+            shadow_seconds: self.shadow_seconds - before.shadow_seconds,
+            shading_seconds: self.shading_seconds - before.shading_seconds,
+        }
+    }
+}
+
 impl core::ops::AddAssign for Counters {
     fn add_assign(&mut self, o: Self) {
         self.camera_rays += o.camera_rays;

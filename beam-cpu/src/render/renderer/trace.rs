@@ -22,6 +22,22 @@ pub(super) struct Traced {
     pub(super) seen: Vec<bool>,
 }
 
+/// An eye-beam region before its shading: its [`Traced`] (pixels with the point lights' part),
+/// its surface fragments sorted by tile, and how many fragments each tile has.
+pub(super) struct EyeTraced {
+    pub(super) traced: Traced,
+    pub(super) surfaces: Vec<Surface>,
+    pub(super) tiles: Vec<usize>,
+}
+
+/// A shaded tile's radiance, as (index in its region's window, radiance) of its pixels.
+pub(super) type TileRadiance = Vec<(usize, Vec3)>;
+
+/// The tile (row, column) of the frame's grid a fragment lies in.
+fn tile_of(s: &Surface) -> (u32, u32) {
+    (s.y / TILE, s.x / TILE)
+}
+
 /// What every part shares.
 pub(super) struct Trace<'a> {
     pub(super) ctx: &'a Context<'a>,
@@ -73,9 +89,10 @@ impl Trace<'_> {
     }
 
     /// The exact visible surface of `region` by one eye beam, its fragments in `window` (whole
-    /// tiles of the frame's grid, within `region`) shaded a tile at a time (point lights by
-    /// hard-shadow beams from the visible pieces, 001 §4.2). Returns the pixels of `window`.
-    pub(super) fn eye_region(&self, region: Region, window: Region) -> Traced {
+    /// tiles of the frame's grid, within `region`) and the pixels of `window` with what point lights
+    /// give the lit fragments (hard-shadow beams from the visible pieces, 001 §4.2). The surface
+    /// fragments come sorted by tile, for [`Trace::shade_eye_tile`].
+    pub(super) fn eye_region(&self, region: Region, window: Region) -> EyeTraced {
         let (ctx, camera) = (self.ctx, self.camera);
         let mut t = Thread::default();
         let mut pixels = vec![Vec3::ZERO; window.len()];
@@ -99,28 +116,39 @@ impl Trace<'_> {
                 }
             }
         });
-        // Shade tile by tile (the frame's grid), so that neighbouring points share their candidate
+        // Shaded tile by tile (the frame's grid), so that neighbouring points share their candidate
         // occluders.
-        let tile_of = |s: &Surface| (s.y / TILE, s.x / TILE);
         surfaces.sort_by_key(tile_of);
         t.c.primary += eye.primary;
         t.c.beams += eye.shadow;
         t.c.shadow_beams += eye.shadow_beams;
         t.c.fragments += surfaces.len() as u64;
         t.c.primary_seconds += start.elapsed().as_secs_f64();
-        let mut points = Vec::new();
-        for tile in surfaces.chunk_by(|a, b| tile_of(a) == tile_of(b)) {
-            let (ty, tx) = tile_of(&tile[0]);
-            let origin = (tx * TILE, ty * TILE);
-            ctx.shade_tile(tile, Lights::AreaOnly, origin, (&mut pixels, window), &mut points, &mut t);
-        }
         t.c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
-        self.finish(window, pixels, t, seen)
+        let tiles = surfaces.chunk_by(|a, b| tile_of(a) == tile_of(b)).map(<[Surface]>::len).collect();
+        EyeTraced { traced: self.finish(window, pixels, t, seen), surfaces, tiles }
     }
 
-    fn finish(&self, region: Region, pixels: Vec<Vec3>, mut t: Thread, seen: Vec<bool>) -> Traced {
-        t.c.shafts = t.tile.shafts;
-        t.c.shaft_bvh_steps = t.tile.bvh_steps;
+    /// Shade one tile's surface fragments (of an [`EyeTraced`]) with thread state `t`: their
+    /// radiance, each weighted by its coverage, as `(pixel, radiance)` of the region's window.
+    pub(super) fn shade_eye_tile(&self, window: Region, tile: &[Surface], t: &mut Thread) -> TileRadiance {
+        let Some(first) = tile.first() else { return Vec::new() };
+        let (ty, tx) = tile_of(first);
+        let part = Region { x0: tx * TILE, y0: ty * TILE, x1: (tx + 1) * TILE, y1: (ty + 1) * TILE };
+        let mut pixels = vec![Vec3::ZERO; part.len()];
+        let mut points = Vec::new();
+        self.ctx.shade_tile(tile, Lights::AreaOnly, (part.x0, part.y0), (&mut pixels, part), &mut points, t);
+        let mut out = Vec::new();
+        for s in tile {
+            let i = part.index(s.x, s.y);
+            if pixels[i] != Vec3::ZERO {
+                out.push((window.index(s.x, s.y), core::mem::take(&mut pixels[i])));
+            }
+        }
+        out
+    }
+
+    fn finish(&self, region: Region, pixels: Vec<Vec3>, t: Thread, seen: Vec<bool>) -> Traced {
         Traced { region, pixels, counters: t.c, seen }
     }
 }
