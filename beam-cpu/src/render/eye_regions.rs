@@ -16,10 +16,26 @@ use beam_scene::scene::{Camera, Light, Material, Scene};
 /// Tiles of the shading (and of primary rays), in pixels.
 pub const TILE: u32 = 16;
 
-/// Side of the image regions one eye beam covers, in pixels (a multiple of [`TILE`]). One beam for
-/// a large region walks the top of the BVH once and splits a visible triangle only where it crosses
-/// a region's edge; regions still come in numbers to share among threads.
+/// Largest side of the image regions one eye beam covers, in pixels (a multiple of [`TILE`]). One
+/// beam for a large region walks the top of the BVH once and splits a visible triangle only where
+/// it crosses a region's edge; a smaller frame gets smaller regions ([`region_side`]).
 pub const REGION: u32 = 256;
+
+/// Regions a frame is cut into at least, where the smallest side allows: enough to share among
+/// threads (a 128² frame in one region traced on one core).
+const MIN_REGIONS: u32 = 16;
+
+/// The side of the eye-beam regions of a `width × height` frame: the largest power of two from 32
+/// to [`REGION`] that cuts it into at least [`MIN_REGIONS`]. It depends on the frame alone, so that
+/// every tile of a render farm's frame cuts the visible surface at the same lines.
+#[must_use]
+pub fn region_side(width: u32, height: u32) -> u32 {
+    let mut side = REGION;
+    while side > 2 * TILE && width.div_ceil(side) * height.div_ceil(side) < MIN_REGIONS {
+        side /= 2;
+    }
+    side
+}
 
 /// A rectangle of pixels `[x0, x1) × [y0, y1)` of the frame: an eye beam's region, a tile.
 pub(crate) type Region = PixelRect;
@@ -50,7 +66,7 @@ pub(crate) fn regions(width: u32, height: u32) -> Vec<Region> {
 }
 
 /// The regions of a `width × height` image that hold pixels of `within`, row by row: the image's
-/// own grid of [`REGION`]² squares (anchored at its corner, whatever `within` is), so that an eye
+/// own grid of [`region_side`]² squares (anchored at its corner, whatever `within` is), so that an eye
 /// beam splits the visible surface at the same lines as in the whole image.
 pub(crate) fn regions_in(width: u32, height: u32, within: PixelRect) -> Vec<Region> {
     let within = within.intersect(PixelRect::full(width, height));
@@ -58,9 +74,10 @@ pub(crate) fn regions_in(width: u32, height: u32, within: PixelRect) -> Vec<Regi
     if within.is_empty() {
         return out;
     }
-    for y0 in (within.y0 / REGION * REGION..within.y1).step_by(REGION as usize) {
-        for x0 in (within.x0 / REGION * REGION..within.x1).step_by(REGION as usize) {
-            out.push(Region { x0, y0, x1: (x0 + REGION).min(width), y1: (y0 + REGION).min(height) });
+    let side = region_side(width, height);
+    for y0 in (within.y0 / side * side..within.y1).step_by(side as usize) {
+        for x0 in (within.x0 / side * side..within.x1).step_by(side as usize) {
+            out.push(Region { x0, y0, x1: (x0 + side).min(width), y1: (y0 + side).min(height) });
         }
     }
     out

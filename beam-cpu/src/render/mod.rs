@@ -18,7 +18,7 @@ mod tile_shadows;
 pub use beam_scene::irradiance_map::IrradianceMap;
 pub use beam_scene::specular::{MAX_DEPTH, dielectric, reflect, refract, specular_rays};
 pub use compare::{Difference, difference, side_by_side};
-pub use eye_regions::{REGION, TILE, primary_coverage};
+pub use eye_regions::{REGION, TILE, primary_coverage, region_side};
 pub use hard_shadow::lit_pieces;
 pub use image::{Image, srgb_decode, srgb_encode};
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};

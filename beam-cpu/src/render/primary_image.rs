@@ -53,7 +53,7 @@ struct Part {
 /// The image `camera` sees of `scene` by exact primary visibility: each pixel is the
 /// coverage-weighted sum over its fragments of `shade(prim, q, d)` — triangle `prim` seen at point
 /// `q` (the fragment's centroid) along the unit direction `d` — and black where the background
-/// shows. Regions of [`super::REGION`]² pixels run in parallel; `pixels_done(n)` is called after
+/// shows. Regions of [`super::region_side`]² pixels run in parallel; `pixels_done(n)` is called after
 /// each with its pixel count (for a progress bar).
 pub fn primary_image(
     scene: &Scene,

@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 use trace::{EyeTraced, TileRadiance, Trace, Traced};
 
+mod shade_points;
 mod shading;
 mod stats;
 mod trace;
@@ -162,6 +163,7 @@ pub fn render_with(
         visible_triangles,
         hit_beams_per_visible_triangle: total.primary.hit_beams as f64 / visible_triangles.max(1) as f64,
         fragments: total.fragments,
+        shade_points: total.shade_points,
         coverage_error: total.coverage_error,
         triangle_tests: total.beams.triangle_tests,
         pieces: total.beams.pieces,

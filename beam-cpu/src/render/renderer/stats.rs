@@ -48,6 +48,9 @@ pub struct RenderStats {
     pub hit_beams_per_visible_triangle: f64,
     /// Shaded fragments (a visible piece within a pixel) of the eye beams.
     pub fragments: u64,
+    /// Points the eye beams' fragments were shaded at: a pixel's fragments that see one smooth
+    /// stretch of surface are shaded once.
+    pub shade_points: u64,
     /// Largest `|1 − Σ coverage|` of a pixel (exact coverage sums to one).
     pub coverage_error: f64,
     /// Triangles set up against shadow beams (projected once each).
@@ -83,6 +86,7 @@ pub(super) struct Counters {
     pub(super) beams: BeamStats,
     pub(super) primary: BeamStats,
     pub(super) fragments: u64,
+    pub(super) shade_points: u64,
     pub(super) coverage_error: f64,
     pub(super) shafts: u64,
     pub(super) shaft_bvh_steps: u64,
@@ -103,6 +107,7 @@ impl Counters {
             beams: self.beams.since(&before.beams),
             primary: self.primary.since(&before.primary),
             fragments: d(self.fragments, before.fragments),
+            shade_points: d(self.shade_points, before.shade_points),
             coverage_error: self.coverage_error,
             shafts: d(self.shafts, before.shafts),
             shaft_bvh_steps: d(self.shaft_bvh_steps, before.shaft_bvh_steps),
@@ -121,6 +126,7 @@ impl core::ops::AddAssign for Counters {
         self.beams += o.beams;
         self.primary += o.primary;
         self.fragments += o.fragments;
+        self.shade_points += o.shade_points;
         self.coverage_error = self.coverage_error.max(o.coverage_error);
         self.shafts += o.shafts;
         self.shaft_bvh_steps += o.shaft_bvh_steps;

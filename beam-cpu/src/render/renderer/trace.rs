@@ -2,6 +2,7 @@
 //! a band of tile rows, or exact eye beams (001 §3) for a region, each followed by the shading of
 //! what they see a tile at a time ([`Context::shade_tile`]).
 
+use super::shade_points::merge_smooth;
 use super::{Context, Counters, Lights, Surface, Thread};
 use crate::render::eye_regions::{EyeStats, Fragment, Region, TILE, region_fragments};
 use crate::render::renderer::stratified;
@@ -116,13 +117,15 @@ impl Trace<'_> {
                 }
             }
         });
+        t.c.fragments += surfaces.len() as u64;
+        merge_smooth(ctx.scene, camera.position, &mut surfaces);
         // Shaded tile by tile (the frame's grid), so that neighbouring points share their candidate
         // occluders.
         surfaces.sort_by_key(tile_of);
         t.c.primary += eye.primary;
         t.c.beams += eye.shadow;
         t.c.shadow_beams += eye.shadow_beams;
-        t.c.fragments += surfaces.len() as u64;
+        t.c.shade_points += surfaces.len() as u64;
         t.c.primary_seconds += start.elapsed().as_secs_f64();
         t.c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
         let tiles = surfaces.chunk_by(|a, b| tile_of(a) == tile_of(b)).map(<[Surface]>::len).collect();
