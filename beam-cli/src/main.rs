@@ -100,7 +100,9 @@ enum Command {
         /// `exact` (eq. 1, Lambert's polygon formula) or `fraction` (001 eq. 2).
         #[arg(long, default_value = "exact")]
         shading: String,
-        /// Shadow rays per shade point and area light, 1 to 65536 (`--method ray`, and `--backend gpu`).
+        /// Shadow rays per shade point and area light, 1 to 65536 (`--method ray`, and `--backend gpu`;
+        /// with `--method beam`, the budget of a shadow beam in rays' worth of work and the rays that
+        /// sample what it leaves unresolved, see `--exact`).
         #[arg(long, default_value_t = 64)]
         spp: u32,
         /// Primary rays per pixel when primary visibility is ray traced (`--method ray`, and `beam`
@@ -118,6 +120,12 @@ enum Command {
         /// `auto` (each cluster of shade points picks the one that did less work); the same image.
         #[arg(long, default_value = "auto")]
         occluders: String,
+        /// With `--method beam`: trace every shadow beam to the end. By default a beam whose work
+        /// passes `--spp` shadow rays' worth samples the part of the light it left unresolved with
+        /// `--spp` rays (exact where they all agree); `--stats` gives the share of exact pixels and
+        /// the largest error bound.
+        #[arg(long)]
+        exact: bool,
         /// Glossy beams' Gaussian volumes (`--method glossy`): `exact` (Owen's T) or `tessellated`
         /// (002 Figs. 11-12).
         #[arg(long, default_value = "exact")]
@@ -308,6 +316,7 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
             primary_spp,
             primary_rays,
             occluders,
+            exact,
             volume,
             linear_gather,
             subdivide,
@@ -340,6 +349,7 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
                 primary_spp,
                 primary_beams: !primary_rays,
                 occluders: &occluders,
+                exact,
                 volume: &volume,
                 linear_gather,
                 subdivide,

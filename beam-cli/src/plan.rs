@@ -28,6 +28,7 @@ pub struct RenderArgs<'a> {
     pub primary_spp: u32,
     pub primary_beams: bool,
     pub occluders: &'a str,
+    pub exact: bool,
     pub volume: &'a str,
     pub linear_gather: bool,
     pub subdivide: u32,
@@ -116,10 +117,10 @@ fn applies_to(id: &str, gpu: bool, primary_beams: bool) -> Option<&'static [Kind
         "degree" | "texels" | "bounces" | "caustic_strata" | "smesh_target" | "smesh_error" => &[Nonlinear],
         "shading" => &[Beam, Ray, Nonlinear, NonlinearReference],
         "spp" if gpu => &[Ray, Nonlinear, NonlinearReference],
-        "spp" => &[Ray],
+        "spp" => &[Beam, Ray],
         "primary_spp" if primary_beams => &[Ray],
         "primary_spp" => &[Beam, Ray],
-        "primary_rays" | "occluders" => &[Beam],
+        "primary_rays" | "occluders" | "exact" => &[Beam],
         "volume" | "linear_gather" | "subdivide" | "no_second_order" | "photon_kernel" => &[Glossy],
         "photons" => &[NonlinearReference, GlossyReference],
         _ => return None,
@@ -301,6 +302,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         seed: 1,
         region,
         occluders,
+        exact: a.exact,
     };
     let placement = match region {
         Some(r) => Placement::new(r, width, height)
@@ -317,7 +319,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
 /// exposure, so that `beam merge` joins only tiles of one render. Never 0.
 fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
     let text = format!(
-        "{}|{}|{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}×{}|{}|{:?}|{}",
+        "{}|{}|{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}×{}|{}|{:?}|{}",
         a.scene,
         a.method,
         a.backend,
@@ -333,6 +335,7 @@ fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
         a.primary_spp,
         a.primary_beams,
         a.occluders,
+        a.exact,
         a.volume,
         a.linear_gather,
         a.subdivide,

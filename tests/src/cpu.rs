@@ -47,6 +47,12 @@ pub fn properties() -> Vec<Property> {
             body: silhouettes_equal_splitting,
         },
         Property {
+            name: "sampled_beams_stay_in_their_bound",
+            cites: "ratio estimator (Heitz et al. 2018)",
+            backends: CPU,
+            body: sampled_beams_stay_in_their_bound,
+        },
+        Property {
             name: "primary_coverage_sums_to_one",
             cites: "001 §3-4",
             backends: CPU,
@@ -219,6 +225,7 @@ fn images_agree(name: &str, primary_spp: u32) -> Result<Outcome, String> {
         seed: 5,
         region: None,
         occluders: Occluders::Auto,
+        exact: true,
     };
     let (beam, _) = render(&scene, &opts(Method::Beam), || {});
     let (ray, _) = render(&scene, &opts(Method::Ray), || {});
@@ -279,6 +286,51 @@ pub fn silhouettes_equal_splitting(_: Backend, _: &Config) -> Result<Outcome, St
             "worst {worst:.1e} of the brightest, {beyond} pixels beyond 1e-5; {winding} of {beams} beams by edges"
         ),
     })
+}
+
+/// Shadow beams past their budget against the same beams traced to the end (`exact`), on the
+/// built-in plant (thousands of small leaves) and seeded random scenes, with budgets of 4 and 16
+/// rays: every pixel must lie within the largest error bound the render reports, the mean
+/// difference of linear radiance within 3 standard errors of zero (the ratio estimator is
+/// unbiased to first order), and some beams must have been sampled.
+pub fn sampled_beams_stay_in_their_bound(_: Backend, _: &Config) -> Result<Outcome, String> {
+    let mut notes = Vec::new();
+    let mut cases = 0u64;
+    let scenes = [scene::builtin("plant").map_err(|e| e.to_string())?, random_occluders(3), random_occluders(8)];
+    for scene in &scenes {
+        for spp in [4, 16] {
+            let exact = RenderOptions { primary_beams: false, ..RenderOptions::exact(48, 48) };
+            let (a, _) = render(scene, &exact, || {});
+            let (b, stats) = render(scene, &RenderOptions { exact: false, spp, ..exact }, || {});
+            if stats.sampled_beams == 0 {
+                return Err(format!("{} at {spp} rays: no beam ran past its budget", scene.name));
+            }
+            let bound = stats.max_error_bound * (1.0 + 1e-4) + 1e-6;
+            let d: Vec<f64> =
+                a.pixels.iter().zip(&b.pixels).map(|(x, y)| f64::from((*y - *x).element_sum() / 3.0)).collect();
+            if let Some(i) = d.iter().position(|v| v.abs() > f64::from(bound)) {
+                return Err(format!("{} at {spp} rays: pixel {i} off by {} past the bound {bound}", scene.name, d[i]));
+            }
+            let mean = d.iter().sum::<f64>() / d.len() as f64;
+            let sd = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (d.len() - 1) as f64).sqrt();
+            let se = sd / (d.len() as f64).sqrt();
+            if mean.abs() > 3.0 * se + 1e-6 {
+                return Err(format!(
+                    "{} at {spp} rays: mean difference {mean:.2e} beyond 3 standard errors ({se:.2e})",
+                    scene.name
+                ));
+            }
+            cases += d.len() as u64;
+            notes.push(format!(
+                "{} {spp} rays: {} sampled beams, {:.0}% exact pixels, bound {:.3}",
+                scene.name,
+                stats.sampled_beams,
+                100.0 * stats.exact_pixel_share,
+                stats.max_error_bound
+            ));
+        }
+    }
+    Ok(Outcome { cases, note: notes.join("; ") })
 }
 
 /// A seeded scene of closed and open meshes over a ground plane under one area light.

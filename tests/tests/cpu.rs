@@ -7,6 +7,7 @@ beam_conformance::conformance_tests!(
     beam_and_ray_images_agree,
     hard_shadow_images_agree,
     silhouettes_equal_splitting,
+    sampled_beams_stay_in_their_bound,
     primary_coverage_sums_to_one,
     nonlinear_texels_equal_ray_hits,
     nonlinear_images_vs_reference,

@@ -23,7 +23,9 @@ pub fn check(size: u32, reference_spp: u32, light_size: f32) -> Result<(), Strin
 }
 
 /// The bench's render options at `size × size`: exact shading (001 eq. 1), one primary ray per
-/// pixel centre, or eye beams (exact box-filtered coverage) with `primary_beams` and beams.
+/// pixel centre, or eye beams (exact box-filtered coverage) with `primary_beams` and beams. Beams
+/// run as `beam render` does by default: past a budget of `spp` rays' worth of work a shadow beam
+/// samples what it left unresolved with `spp` rays.
 pub(super) fn options(size: u32, method: Method, spp: u32, seed: u64, primary_beams: bool) -> RenderOptions {
     RenderOptions {
         method,
@@ -31,6 +33,7 @@ pub(super) fn options(size: u32, method: Method, spp: u32, seed: u64, primary_be
         spp,
         primary_beams: primary_beams && method == Method::Beam,
         seed,
+        exact: false,
         ..RenderOptions::exact(size, size)
     }
 }
@@ -80,7 +83,7 @@ pub fn run(
     println!("reference: {reference_spp} shadow rays per pixel, {:.1} s", rs.seconds);
     let mut rows: Vec<(String, f64, Image, String)> = Vec::new();
     // Primary visibility by rays at pixel centres for every method, as 001 §5.1 times soft shadows.
-    let (beam, bs) = render(&scene, &options(Method::Beam, 1, 1), || {});
+    let (beam, bs) = render(&scene, &RenderOptions { exact: true, ..options(Method::Beam, 1, 1) }, || {});
     let per_beam = |x: u64| x as f64 / bs.shadow_beams.max(1) as f64;
     rows.push((
         "beam (exact)".into(),
@@ -100,7 +103,7 @@ pub fn run(
             bs.shading_seconds,
         ),
     ));
-    let full = RenderOptions { primary_beams: true, ..options(Method::Beam, 1, 1) };
+    let full = RenderOptions { primary_beams: true, exact: true, ..options(Method::Beam, 1, 1) };
     let (img, fs) = render(&scene, &full, || {});
     rows.push((
         "beam + eye beams".into(),

@@ -100,6 +100,10 @@ fn median(v: &[f64]) -> Option<f64> {
     (!v.is_empty()).then(|| super::median(v.to_vec()))
 }
 
+/// `--spp` of the beam rows: `beam render`'s default, the rays per light of a shadow beam's budget
+/// and of its sampled remainder.
+const BEAM_SPP: u32 = 64;
+
 /// Every method on `scene` at `size × size`, `runs` times in turn (so that a slow spell of the
 /// machine falls on all of them), against references of `reference_spp` rays per pixel.
 pub fn measure(
@@ -132,8 +136,8 @@ pub fn measure(
     let mut beam_stats: Option<RenderStats> = None;
     for _ in 0..runs {
         for (m, (method, spp, eye)) in [
-            (Method::Beam, 1, true),
-            (Method::Beam, 1, false),
+            (Method::Beam, BEAM_SPP, true),
+            (Method::Beam, BEAM_SPP, false),
             (Method::Ray, per[0], false),
             (Method::Ray, per[1], false),
         ]

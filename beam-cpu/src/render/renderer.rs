@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 use trace::{EyeTraced, TileRadiance, Trace, Traced};
 
+mod light_beam;
 mod shade_points;
 mod shading;
 mod stats;
@@ -170,6 +171,9 @@ pub fn render_with(
         silhouette_beams: total.beams.silhouette_beams,
         silhouette_edges: total.beams.silhouette_edges,
         silhouette_fallbacks: total.beams.silhouette_fallbacks,
+        sampled_beams: total.sampled_beams,
+        exact_pixel_share: 1.0 - total.inexact_pixels as f64 / pixels,
+        max_error_bound: total.max_error_bound,
         shafts: total.shafts,
         shaft_bvh_steps: total.shaft_bvh_steps,
         primary_seconds: total.primary_seconds,

@@ -139,6 +139,8 @@ pub(crate) struct ShadowBeam<'s> {
     lo: Vec2,
     hi: Vec2,
     eps: f32,
+    /// Work allowed before the beam stops with its pieces unresolved ([`ShadowBeam::with_budget`]).
+    budget: u64,
     pub(crate) stats: BeamStats,
 }
 
@@ -175,10 +177,28 @@ impl<'s> ShadowBeam<'s> {
             lo: Vec2::ZERO,
             hi: Vec2::ZERO,
             eps: SIDE_EPS * scale.max(f32::MIN_POSITIVE),
+            budget: u64::MAX,
             stats: BeamStats::default(),
         };
         out.update_bounds();
         out
+    }
+
+    /// This beam, stopping once its work passes `splits` piece splits (a candidate's test counting
+    /// 1/32 of one): its remaining pieces are then the lit part and the part not yet resolved.
+    pub(crate) fn with_budget(mut self, splits: u64) -> Self {
+        self.budget = splits;
+        self
+    }
+
+    /// True once the work has passed the budget.
+    pub(crate) fn over_budget(&self) -> bool {
+        self.stats.intersections + self.stats.triangle_tests / 32 > self.budget
+    }
+
+    /// True when nothing is left to do: dark, or past the budget.
+    pub(crate) fn finished(&self) -> bool {
+        self.is_dark() || self.over_budget()
     }
 
     /// The remaining pieces.
@@ -409,14 +429,14 @@ impl NodeVisitor for ShadowVisitor<'_, '_, '_> {
     fn leaf(&mut self, prims: &[u32]) -> Control {
         for &p in prims {
             if self.beam.occlude(&self.triangles[p as usize]) {
-                if self.beam.is_dark() {
+                if self.beam.finished() {
                     return Control::Stop;
                 }
                 // Pieces only shrink where the triangle hit one; otherwise the planes still hold.
                 self.update_planes();
             }
         }
-        Control::Continue
+        if self.beam.over_budget() { Control::Stop } else { Control::Continue }
     }
 }
 

@@ -42,6 +42,8 @@ pub(crate) enum Mode {
     Winding,
     /// Not decided yet: the next beam does both and decides by their work.
     Probe,
+    /// By shadow rays over the light: a beam of the cluster ran past its budget.
+    Rays,
 }
 
 /// The candidate occluders of a shade point for one light.

@@ -5,13 +5,11 @@
 
 use super::Counters;
 use crate::render::eye_regions::{Region, TILE};
-use crate::render::lambert::{point_source_irradiance, polygon_irradiance};
-use crate::render::shadow_beam::{DEPTH_EPS, ShadowBeam, ShadowScratch, WindingScratch, light_beam, trace_bvh};
-use crate::render::silhouettes::WindingWork;
-use crate::render::tile_shadows::{BLOCKS, Mode, TileShadows};
+use crate::render::lambert::point_source_irradiance;
+use crate::render::shadow_beam::{DEPTH_EPS, ShadowScratch, WindingScratch};
+use crate::render::tile_shadows::{BLOCKS, TileShadows};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_math::polybeam::Quad;
 use beam_scene::irradiance_map::IrradianceMap;
 use beam_scene::options::{Method, RenderOptions, Shading};
 use beam_scene::queries::AnyHit;
@@ -89,6 +87,11 @@ impl Context<'_> {
                 if let Some(map) = self.caustics {
                     e += map.irradiance(prim, p);
                 }
+                // Sampled parts of lights leave the radiance within this much of the exact one.
+                let bound = core::mem::take(&mut t.c.pending_bound);
+                if bound > 0.0 {
+                    t.c.max_error_bound = t.c.max_error_bound.max(albedo.max_element() / std::f32::consts::PI * bound);
+                }
                 albedo / std::f32::consts::PI * e
             }
             Material::Mirror { .. } | Material::Glass { .. } | Material::ThinGlass { .. } if depth < MAX_DEPTH => {
@@ -147,90 +150,13 @@ impl Context<'_> {
     /// Irradiance per unit radiance from area light `index`.
     pub(super) fn area_light(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
         let light = &self.scene.lights[index];
-        let polygon = light.polygon();
         let ln = light.normal();
         let (area, center) = (light.area(), light.center());
         if ln.dot(p - center) <= 0.0 {
             return 0.0;
         }
         match self.options.method {
-            Method::Beam => {
-                let start = Instant::now();
-                // Exact shading: only the part of the light above the tangent plane contributes.
-                let clipped;
-                let polygon = if self.options.shading == Shading::Exact {
-                    clipped = crate::render::lambert::clip_above(&polygon, p, n);
-                    if clipped.len() < 3 {
-                        return 0.0;
-                    }
-                    &clipped[..]
-                } else {
-                    &polygon[..]
-                };
-                let Some(beam) = light_beam(p, polygon, ln) else { return 0.0 };
-                t.c.shadow_beams += 1;
-                let mut traced = ShadowBeam::new(&beam, &mut t.scratch);
-                let tris = &self.scene.triangles;
-                let mut lit = None;
-                match t.tile.candidates(index, t.block, p) {
-                    Some(c) => {
-                        let (cluster, mode) = (c.cluster, c.mode);
-                        let mut winding = |traced: &mut ShadowBeam<'_>| {
-                            traced.lit_by_winding(&beam.section, (c.edges, c.reaching), tris, n, &mut t.winding)
-                        };
-                        match mode {
-                            Mode::Split => traced.occlude_packets(c.packets, tris),
-                            Mode::Winding => match winding(&mut traced) {
-                                Ok(l) => lit = Some(l),
-                                Err(_) => {
-                                    traced.stats.silhouette_fallbacks += 1;
-                                    traced.occlude_packets(c.packets, tris);
-                                }
-                            },
-                            Mode::Probe => {
-                                // Both ways, once: the work of each decides the cluster's other beams.
-                                let before = traced.stats;
-                                let result = winding(&mut traced);
-                                let edges_over = traced.stats.silhouette_edges - before.silhouette_edges;
-                                traced.occlude_packets(c.packets, tris);
-                                let splits = traced.stats.intersections - before.intersections;
-                                let candidates = c.packets.iter().map(|q| q.len as usize).sum();
-                                let work =
-                                    WindingWork { records: c.edges.len(), reaching: c.reaching.len(), edges_over };
-                                let cheaper = result.is_ok() && work.cheaper_than(candidates, splits);
-                                t.tile.decide(cluster, if cheaper { Mode::Winding } else { Mode::Split });
-                                lit = result.ok();
-                            }
-                        }
-                    }
-                    None => trace_bvh(&self.scene.bvh, tris, &mut traced),
-                }
-                t.c.beams += traced.stats;
-                let frame = &traced.frame;
-                let e = match (self.options.shading, lit) {
-                    (Shading::Fraction, Some(l)) => {
-                        point_source_irradiance(p, n, center, ln, area, (l.area / beam.area()).min(1.0))
-                    }
-                    (Shading::Exact, Some(l)) => l.irradiance.max(0.0),
-                    (Shading::Fraction, None) => {
-                        let visible: f32 = traced.pieces().iter().map(Quad::area).sum();
-                        point_source_irradiance(p, n, center, ln, area, (visible / beam.area()).min(1.0))
-                    }
-                    (Shading::Exact, None) => traced
-                        .pieces()
-                        .iter()
-                        .map(|q| {
-                            let mut corners = [Vec3::ZERO; 4];
-                            for (c, uv) in corners.iter_mut().zip(q.corners()) {
-                                *c = frame.point(uv);
-                            }
-                            polygon_irradiance(p, n, &corners[..q.len()])
-                        })
-                        .sum(),
-                };
-                t.c.shadow_seconds += start.elapsed().as_secs_f64();
-                e
-            }
+            Method::Beam => self.beam_irradiance(p, n, index, rng, t),
             Method::Ray => {
                 let spp = self.options.spp.max(1);
                 let k = (spp as f32).sqrt() as u32;
@@ -305,12 +231,19 @@ impl Context<'_> {
         }
         let start = Instant::now();
         let shadow_before = t.c.shadow_seconds;
+        // Pixels of the tile with a shade point whose light was sampled in part.
+        let mut inexact = [false; (TILE * TILE) as usize];
         for s in surfaces {
             t.block = block_of(s.x - x0, s.y - y0);
             let mut rng = Pcg32::seed_from_u64(s.seed);
+            let sampled = t.c.sampled_beams;
             let l = self.shade(s.prim, s.q, s.d, 0, lights, &mut rng, t);
             pixels[part.index(s.x, s.y)] += s.weight * l;
+            if t.c.sampled_beams > sampled {
+                inexact[((s.y - y0) * TILE + s.x - x0) as usize] = true;
+            }
         }
+        t.c.inexact_pixels += inexact.iter().filter(|&&i| i).count() as u64;
         t.c.shading_seconds += start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
     }
 }

@@ -69,6 +69,14 @@ pub struct RenderStats {
     pub silhouette_edges: u64,
     /// Edge passes given up on an exact tie or too many edges (those beams were split instead).
     pub silhouette_fallbacks: u64,
+    /// Shadow beams that ran past their budget (`--spp` rays' worth of work) and sampled the part
+    /// of the light they left unresolved (none with `--exact`).
+    pub sampled_beams: u64,
+    /// Share of the pixels whose every shadow beam was exact.
+    pub exact_pixel_share: f64,
+    /// Largest bound on a shade point's radiance error from the sampled parts: the sampled part's
+    /// unoccluded radiance (the exact value lies between 0 and it, and the estimate too).
+    pub max_error_bound: f32,
     /// Thread-seconds spent on primary visibility (rays or eye beams), summed over threads.
     pub primary_seconds: f64,
     /// Thread-seconds spent on shadow beams and shafts (or shadow rays' shading), summed over threads.
@@ -87,6 +95,11 @@ pub(super) struct Counters {
     pub(super) primary: BeamStats,
     pub(super) fragments: u64,
     pub(super) shade_points: u64,
+    pub(super) sampled_beams: u64,
+    pub(super) inexact_pixels: u64,
+    /// Unoccluded irradiance (times radiance) sampled for the shade point being shaded.
+    pub(super) pending_bound: f32,
+    pub(super) max_error_bound: f32,
     pub(super) coverage_error: f64,
     pub(super) shafts: u64,
     pub(super) shaft_bvh_steps: u64,
@@ -108,6 +121,10 @@ impl Counters {
             primary: self.primary.since(&before.primary),
             fragments: d(self.fragments, before.fragments),
             shade_points: d(self.shade_points, before.shade_points),
+            sampled_beams: d(self.sampled_beams, before.sampled_beams),
+            inexact_pixels: d(self.inexact_pixels, before.inexact_pixels),
+            pending_bound: 0.0,
+            max_error_bound: self.max_error_bound,
             coverage_error: self.coverage_error,
             shafts: d(self.shafts, before.shafts),
             shaft_bvh_steps: d(self.shaft_bvh_steps, before.shaft_bvh_steps),
@@ -127,6 +144,9 @@ impl core::ops::AddAssign for Counters {
         self.primary += o.primary;
         self.fragments += o.fragments;
         self.shade_points += o.shade_points;
+        self.sampled_beams += o.sampled_beams;
+        self.inexact_pixels += o.inexact_pixels;
+        self.max_error_bound = self.max_error_bound.max(o.max_error_bound);
         self.coverage_error = self.coverage_error.max(o.coverage_error);
         self.shafts += o.shafts;
         self.shaft_bvh_steps += o.shaft_bvh_steps;

@@ -49,7 +49,7 @@ impl ShadowBeam<'_> {
             if self.occlude(&triangles[prim as usize]) {
                 self.hot.push(prim);
             }
-            if self.is_dark() {
+            if self.finished() {
                 return;
             }
         }
@@ -78,7 +78,7 @@ impl ShadowBeam<'_> {
                 if hit && self.hot.len() < HOT {
                     self.hot.push(s.prim);
                 }
-                if self.is_dark() {
+                if self.finished() {
                     return;
                 }
             }

@@ -146,14 +146,16 @@ impl ShadowBeam<'_> {
     /// reach out of some point's depth range `reaching`, at the apex with unit normal `n`.
     ///
     /// # Errors
-    /// [`WindingError`] when the arrangement has an exact tie or too many edges over the light: the
-    /// caller splits the beam by the triangles instead.
+    /// [`WindingError::Degenerate`] when the arrangement has an exact tie (the caller splits the
+    /// beam by the triangles instead), [`WindingError::Capacity`] past `max_edges` edges over the
+    /// light (its budget) or the arrangement's capacity.
     pub(crate) fn lit_by_winding(
         &mut self,
         section: &Section,
         (edges, reaching): (&[SilEdge], &[u32]),
         triangles: &[Triangle],
         n: Vec3,
+        max_edges: usize,
         scratch: &mut WindingScratch,
     ) -> Result<Lit, WindingError> {
         let projector = self.projector();
@@ -212,6 +214,9 @@ impl ShadowBeam<'_> {
         }
         self.stats.silhouette_beams += 1;
         self.stats.silhouette_edges += over.len() as u64;
+        if over.len() > max_edges {
+            return Err(WindingError::Capacity);
+        }
         // The anchor: the light's centroid, or a point between it and a corner.
         let centroid = light.iter().copied().sum::<Vec2>() / light.len() as f32;
         let frame = self.frame;

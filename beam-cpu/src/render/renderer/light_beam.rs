@@ -1,0 +1,198 @@
+//! One shade point's shadow beam to one area light, from start to irradiance: the light clipped to
+//! the tangent plane (only that part lights the point), its candidate occluders taken by splitting
+//! or by their edges as the point's cluster decided, within a work budget; past the budget the part
+//! of the light left unresolved is sampled by shadow rays with the ratio estimator (Heitz et al.
+//! 2018), so that a part the samples see wholly lit or wholly hidden comes out exact, and the
+//! interval `[0, unoccluded irradiance of that part]` is the error's bound.
+
+use super::{Context, Thread};
+use crate::render::lambert::{clip_above, point_source_irradiance, polygon_irradiance};
+use crate::render::shadow_beam::{DEPTH_EPS, ShadowBeam, light_beam, trace_bvh};
+use crate::render::silhouettes::WindingWork;
+use crate::render::tile_shadows::Mode;
+use beam_math::Ray;
+use beam_math::glam::{Vec2, Vec3};
+use beam_math::polybeam::{BeamFrame, Quad, WindingError};
+use beam_scene::options::Shading;
+use rand::Rng;
+use rand_pcg::Pcg32;
+use std::time::Instant;
+
+/// A shadow beam's budget per shadow ray of `--spp`, in piece splits (a candidate's test counts
+/// 1/32 of one): by this machine's timings a split costs about as much as a shadow ray (170 and
+/// 200 ns), so a beam may spend about twice the ray render's time on its point before it samples.
+const SPLITS_PER_RAY: u64 = 2;
+
+impl Context<'_> {
+    /// Irradiance per unit radiance at `p` (normal `n`) from area light `index`, by its shadow
+    /// beam (exact), or where that beam ran past its budget, by the beam's exact part and rays over
+    /// the rest.
+    pub(super) fn beam_irradiance(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
+        let start = Instant::now();
+        let light = &self.scene.lights[index];
+        let ln = light.normal();
+        let polygon = light.polygon();
+        // Exact shading: only the part of the light above the tangent plane lights the point.
+        let polygon = match self.options.shading {
+            Shading::Exact => clip_above(&polygon, p, n),
+            Shading::Fraction => polygon,
+        };
+        if polygon.len() < 3 {
+            return 0.0;
+        }
+        let Some(beam) = light_beam(p, &polygon, ln) else { return 0.0 };
+        t.c.shadow_beams += 1;
+        let budget = if self.options.exact { u64::MAX } else { SPLITS_PER_RAY * u64::from(self.options.spp.max(1)) };
+        // Edges over the light a winding pass may weigh within the budget (its arrangement costs
+        // about K² / 5 splits).
+        let max_edges = if self.options.exact { usize::MAX } else { (5.0 * budget as f64).sqrt() as usize };
+        let mut traced = ShadowBeam::new(&beam, &mut t.scratch).with_budget(budget);
+        let tris = &self.scene.triangles;
+        let mut lit = None;
+        let mut sample_all = false;
+        match t.tile.candidates(index, t.block, p) {
+            Some(c) => {
+                let (cluster, mode) = (c.cluster, c.mode);
+                let mut winding = |traced: &mut ShadowBeam<'_>| {
+                    traced.lit_by_winding(&beam.section, (c.edges, c.reaching), tris, n, max_edges, &mut t.winding)
+                };
+                let mut next = None;
+                match mode {
+                    Mode::Split => traced.occlude_packets(c.packets, tris),
+                    Mode::Rays => sample_all = true,
+                    Mode::Winding => match winding(&mut traced) {
+                        Ok(l) => lit = Some(l),
+                        Err(WindingError::Capacity) => sample_all = true,
+                        Err(WindingError::Degenerate) => {
+                            traced.stats.silhouette_fallbacks += 1;
+                            traced.occlude_packets(c.packets, tris);
+                        }
+                    },
+                    Mode::Probe => {
+                        // Both ways, once: the work of each decides the cluster's other beams.
+                        let before = traced.stats;
+                        let result = winding(&mut traced);
+                        let edges_over = traced.stats.silhouette_edges - before.silhouette_edges;
+                        traced.occlude_packets(c.packets, tris);
+                        let splits = traced.stats.intersections - before.intersections;
+                        let candidates = c.packets.iter().map(|q| q.len as usize).sum();
+                        let work = WindingWork { records: c.edges.len(), reaching: c.reaching.len(), edges_over };
+                        let cheaper = result.is_ok() && work.cheaper_than(candidates, splits);
+                        next = Some(if cheaper { Mode::Winding } else { Mode::Split });
+                        lit = result.ok();
+                    }
+                }
+                if sample_all || (lit.is_none() && traced.over_budget()) {
+                    // Its neighbours would run past the budget too: they sample from the start.
+                    next = Some(Mode::Rays);
+                }
+                if let Some(m) = next {
+                    t.tile.decide(cluster, m);
+                }
+            }
+            None => trace_bvh(&self.scene.bvh, tris, &mut traced),
+        }
+        t.c.beams += traced.stats;
+        let frame = traced.frame;
+        let e = if let Some(l) = lit {
+            match self.options.shading {
+                Shading::Exact => l.irradiance.max(0.0),
+                Shading::Fraction => self.fraction_irradiance(p, n, index, l.area / beam.area()),
+            }
+        } else {
+            // Sampling from the start leaves the beam whole: its pieces are the light.
+            let pieces = traced.pieces();
+            let unresolved = sample_all || traced.over_budget();
+            let unoccluded: f32 = match self.options.shading {
+                Shading::Exact => pieces.iter().map(|q| quad_irradiance(&frame, p, n, q)).sum(),
+                Shading::Fraction => pieces.iter().map(Quad::area).sum::<f32>() / beam.area(),
+            };
+            if unresolved && unoccluded > 0.0 {
+                let rays = self.options.spp.max(1);
+                let seen = self.seen_share(p, n, &frame, ln, pieces, rays, rng, &mut t.c.shadow_rays);
+                t.c.sampled_beams += 1;
+                t.c.pending_bound += light.power().max_element() * unoccluded;
+                match self.options.shading {
+                    Shading::Exact => unoccluded * seen,
+                    Shading::Fraction => self.fraction_irradiance(p, n, index, unoccluded * seen),
+                }
+            } else {
+                match self.options.shading {
+                    Shading::Exact => unoccluded,
+                    Shading::Fraction => self.fraction_irradiance(p, n, index, unoccluded),
+                }
+            }
+        };
+        t.c.shadow_seconds += start.elapsed().as_secs_f64();
+        e
+    }
+
+    /// 001 eq. 2 for area light `index` with visible fraction `fraction`.
+    fn fraction_irradiance(&self, p: Vec3, n: Vec3, index: usize, fraction: f32) -> f32 {
+        let light = &self.scene.lights[index];
+        point_source_irradiance(p, n, light.center(), light.normal(), light.area(), fraction.min(1.0))
+    }
+
+    /// The ratio estimate of the lit share of `pieces` (on the plane of `frame`, the light's, with
+    /// unit normal `ln`) seen from `p` (normal `n`): `rays` points stratified over the pieces by
+    /// area, each weighted by the irradiance integrand `cos θ cos θ′ / r²`, the weight of those that
+    /// reach the light over the weight of all (Heitz et al. 2018, the ratio estimator). 1 or 0
+    /// exactly when every sample is lit or every one hidden.
+    #[allow(clippy::too_many_arguments)]
+    fn seen_share(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        frame: &BeamFrame,
+        ln: Vec3,
+        pieces: &[Quad],
+        rays: u32,
+        rng: &mut Pcg32,
+        shadow_rays: &mut u64,
+    ) -> f32 {
+        // The pieces as triangles (fans), with their cumulative areas.
+        let mut tris: Vec<([Vec2; 3], f32)> = Vec::with_capacity(2 * pieces.len());
+        let mut total = 0.0;
+        for q in pieces {
+            let c: Vec<Vec2> = q.corners().collect();
+            for k in 1..c.len() - 1 {
+                let tri = [c[0], c[k], c[k + 1]];
+                total += 0.5 * (tri[1] - tri[0]).perp_dot(tri[2] - tri[0]).abs();
+                tris.push((tri, total));
+            }
+        }
+        if !(total > 0.0) {
+            return 0.0;
+        }
+        let (mut lit, mut all) = (0.0f64, 0.0f64);
+        for i in 0..rays {
+            // Stratified along the cumulative area, uniform within the triangle it falls in.
+            let a = (i as f32 + rng.random::<f32>()) / rays as f32 * total;
+            let k = tris.partition_point(|&(_, c)| c < a).min(tris.len() - 1);
+            let (tri, end) = tris[k];
+            let begin = if k == 0 { 0.0 } else { tris[k - 1].1 };
+            let u = ((a - begin) / (end - begin).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+            let (s, r) = (u.sqrt(), rng.random::<f32>());
+            let uv = tri[0] * (1.0 - s) + tri[1] * (s * (1.0 - r)) + tri[2] * (s * r);
+            let to = frame.point(uv) - p;
+            let r2 = to.length_squared();
+            let w = to / r2.sqrt();
+            let f = f64::from(n.dot(w).max(0.0) * (-ln).dot(w).max(0.0) / r2);
+            *shadow_rays += 1;
+            all += f;
+            if !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
+                lit += f;
+            }
+        }
+        if all > 0.0 { (lit / all) as f32 } else { 0.0 }
+    }
+}
+
+/// Lambert's irradiance at `p` (normal `n`) from a piece on the plane of `frame`.
+fn quad_irradiance(frame: &BeamFrame, p: Vec3, n: Vec3, q: &Quad) -> f32 {
+    let mut corners = [Vec3::ZERO; 4];
+    for (c, uv) in corners.iter_mut().zip(q.corners()) {
+        *c = frame.point(uv);
+    }
+    polygon_irradiance(p, n, &corners[..q.len()])
+}
