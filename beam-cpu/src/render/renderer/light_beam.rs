@@ -5,6 +5,7 @@
 //! 2018), so that a part the samples see wholly lit or wholly hidden comes out exact, and the
 //! interval `[0, unoccluded irradiance of that part]` is the error's bound.
 
+use super::shading::{light_sample, sample_light};
 use super::{Context, Thread};
 use crate::render::lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 use crate::render::shadow_beam::{DEPTH_EPS, ShadowBeam, light_beam, trace_bvh};
@@ -14,7 +15,6 @@ use beam_math::Ray;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::{BeamFrame, Quad, WindingError};
 use beam_scene::options::Shading;
-use rand::Rng;
 use rand_pcg::Pcg32;
 use std::time::Instant;
 
@@ -108,8 +108,7 @@ impl Context<'_> {
                 Shading::Fraction => pieces.iter().map(Quad::area).sum::<f32>() / beam.area(),
             };
             if unresolved && unoccluded > 0.0 {
-                let rays = self.options.spp.max(1);
-                let seen = self.seen_share(p, n, &frame, ln, pieces, rays, rng, &mut t.c.shadow_rays);
+                let seen = self.seen_share(p, n, &frame, index, pieces, rng, &mut t.c.shadow_rays);
                 t.c.sampled_beams += 1;
                 t.c.pending_bound += light.power().max_element() * unoccluded;
                 match self.options.shading {
@@ -133,55 +132,65 @@ impl Context<'_> {
         point_source_irradiance(p, n, light.center(), light.normal(), light.area(), fraction.min(1.0))
     }
 
-    /// The ratio estimate of the lit share of `pieces` (on the plane of `frame`, the light's, with
-    /// unit normal `ln`) seen from `p` (normal `n`): `rays` points stratified over the pieces by
-    /// area, each weighted by the irradiance integrand `cos θ cos θ′ / r²`, the weight of those that
-    /// reach the light over the weight of all (Heitz et al. 2018, the ratio estimator). 1 or 0
-    /// exactly when every sample is lit or every one hidden.
+    /// The ratio estimate of the lit share of `pieces` (on the plane of `frame`, the light's) seen
+    /// from `p` (normal `n`): the ray method's `spp` stratified samples of light `index`, those that
+    /// fall in a piece each traced and weighted by the irradiance integrand `cos θ cos θ′ / r²`; the
+    /// weight of those that reach the light over the weight of all (Heitz et al. 2018, the ratio
+    /// estimator). The samples outside the pieces need no ray: the beam resolved them. 1 or 0
+    /// exactly when every traced sample is lit or every one hidden.
     #[allow(clippy::too_many_arguments)]
     fn seen_share(
         &self,
         p: Vec3,
         n: Vec3,
         frame: &BeamFrame,
-        ln: Vec3,
+        index: usize,
         pieces: &[Quad],
-        rays: u32,
         rng: &mut Pcg32,
         shadow_rays: &mut u64,
     ) -> f32 {
-        // The pieces as triangles (fans), with their cumulative areas.
-        let mut tris: Vec<([Vec2; 3], f32)> = Vec::with_capacity(2 * pieces.len());
-        let mut total = 0.0;
-        for q in pieces {
-            let c: Vec<Vec2> = q.corners().collect();
-            for k in 1..c.len() - 1 {
-                let tri = [c[0], c[k], c[k + 1]];
-                total += 0.5 * (tri[1] - tri[0]).perp_dot(tri[2] - tri[0]).abs();
-                tris.push((tri, total));
-            }
-        }
-        if !(total > 0.0) {
-            return 0.0;
-        }
-        let (mut lit, mut all) = (0.0f64, 0.0f64);
-        for i in 0..rays {
-            // Stratified along the cumulative area, uniform within the triangle it falls in.
-            let a = (i as f32 + rng.random::<f32>()) / rays as f32 * total;
-            let k = tris.partition_point(|&(_, c)| c < a).min(tris.len() - 1);
-            let (tri, end) = tris[k];
-            let begin = if k == 0 { 0.0 } else { tris[k - 1].1 };
-            let u = ((a - begin) / (end - begin).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-            let (s, r) = (u.sqrt(), rng.random::<f32>());
-            let uv = tri[0] * (1.0 - s) + tri[1] * (s * (1.0 - r)) + tri[2] * (s * r);
-            let to = frame.point(uv) - p;
+        let light = &self.scene.lights[index];
+        let ln = light.normal();
+        let bounds: Vec<(Vec2, Vec2)> = pieces.iter().map(Quad::bounds).collect();
+        let inside = |uv: Vec2| {
+            pieces.iter().zip(&bounds).any(|(q, &(lo, hi))| {
+                uv.cmpge(lo).all() && uv.cmple(hi).all() && {
+                    let c: Vec<Vec2> = q.corners().collect();
+                    (0..c.len()).all(|i| (c[(i + 1) % c.len()] - c[i]).perp_dot(uv - c[i]) >= 0.0)
+                }
+            })
+        };
+        let spp = self.options.spp.max(1);
+        // A sample's integrand and whether it reaches the light (not traced where the integrand is 0).
+        let mut trace = |q: Vec3| -> (f64, bool) {
+            let to = q - p;
             let r2 = to.length_squared();
             let w = to / r2.sqrt();
             let f = f64::from(n.dot(w).max(0.0) * (-ln).dot(w).max(0.0) / r2);
+            if !(f > 0.0) {
+                return (0.0, false);
+            }
             *shadow_rays += 1;
-            all += f;
-            if !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
-                lit += f;
+            (f, !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS))
+        };
+        let (mut lit, mut all) = (0.0f64, 0.0f64);
+        for i in 0..spp {
+            let (s, r) = light_sample(i, spp, rng);
+            let q = sample_light(light, s, r);
+            let o = q - frame.origin;
+            if inside(Vec2::new(o.dot(frame.u), o.dot(frame.v))) {
+                let (f, seen) = trace(q);
+                all += f;
+                lit += if seen { f } else { 0.0 };
+            }
+        }
+        if all == 0.0 {
+            // No sample fell in the pieces (or none faces the point): one ray to the largest.
+            if let Some(q) = pieces.iter().max_by(|a, b| a.area().total_cmp(&b.area())) {
+                let c = q.corners().sum::<Vec2>() / q.len() as f32;
+                let (f, seen) = trace(frame.point(c));
+                all += f;
+                lit += if seen { f } else { 0.0 };
             }
         }
         if all > 0.0 { (lit / all) as f32 } else { 0.0 }

@@ -159,17 +159,9 @@ impl Context<'_> {
             Method::Beam => self.beam_irradiance(p, n, index, rng, t),
             Method::Ray => {
                 let spp = self.options.spp.max(1);
-                let k = (spp as f32).sqrt() as u32;
                 let (mut visible, mut integral) = (0u32, 0.0f32);
                 for i in 0..spp {
-                    let (s, r) = if i < k * k {
-                        (
-                            ((i % k) as f32 + rng.random::<f32>()) / k as f32,
-                            ((i / k) as f32 + rng.random::<f32>()) / k as f32,
-                        )
-                    } else {
-                        (rng.random::<f32>(), rng.random::<f32>())
-                    };
+                    let (s, r) = light_sample(i, spp, rng);
                     let q = sample_light(light, s, r);
                     let to = q - p;
                     t.c.shadow_rays += 1;
@@ -316,8 +308,19 @@ pub(super) fn block_of(x: u32, y: u32) -> usize {
     x as usize / side + y as usize / side * BLOCKS
 }
 
+/// Sample `i` of `spp` on the unit square: jittered in the cells of the largest `k × k` grid with
+/// `k² ≤ spp`, uniform past them.
+pub(super) fn light_sample(i: u32, spp: u32, rng: &mut Pcg32) -> (f32, f32) {
+    let k = (spp as f32).sqrt() as u32;
+    if i < k * k {
+        (((i % k) as f32 + rng.random::<f32>()) / k as f32, ((i / k) as f32 + rng.random::<f32>()) / k as f32)
+    } else {
+        (rng.random::<f32>(), rng.random::<f32>())
+    }
+}
+
 /// A point on an area light from `(s, t) ∈ [0, 1)²` (uniform in area).
-fn sample_light(light: &Light, s: f32, t: f32) -> Vec3 {
+pub(super) fn sample_light(light: &Light, s: f32, t: f32) -> Vec3 {
     match *light {
         Light::Quad { corner, edge_u, edge_v, .. } => corner + s * edge_u + t * edge_v,
         Light::Triangle { v, .. } => {
