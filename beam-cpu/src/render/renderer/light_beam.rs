@@ -62,8 +62,9 @@ impl Context<'_> {
                     Mode::Rays => sample_all = true,
                     Mode::Winding => match winding(&mut traced) {
                         Ok(l) => lit = Some(l),
-                        Err(WindingError::Capacity) => sample_all = true,
-                        Err(WindingError::Degenerate) => {
+                        // Past the budget (exact beams have none: past the arrangement's capacity).
+                        Err(WindingError::Capacity) if !self.options.exact => sample_all = true,
+                        Err(_) => {
                             traced.stats.silhouette_fallbacks += 1;
                             traced.occlude_packets(c.packets, tris);
                         }
