@@ -8,7 +8,6 @@
 //! - [`mesh`]: OBJ loading and procedural meshes; [`scenes`]: where the shared scenes are.
 //! - [`io`]: atomic output files; [`read`]: bounded reads of input files; [`error`]: their errors
 //!   ([`SceneError`]) and the backends' ([`BackendError`]).
-//! - [`adjacency`]: the neighbours of a triangle soup's triangles (silhouette edges).
 //! - [`region`]: pixel rectangles of a frame (a render farm's tiles).
 //! - [`cpu_clock`]: CPU time of the calling thread and of rayon's workers (benchmarks, host time
 //!   beside a software GPU).
@@ -25,7 +24,6 @@
 //! assert!(w > 0 && h > 0);
 //! ```
 
-pub mod adjacency;
 pub mod cpu_clock;
 pub mod error;
 pub mod glossy;

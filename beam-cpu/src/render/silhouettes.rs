@@ -9,7 +9,6 @@
 
 use beam_math::glam::Vec3;
 use beam_math::{Aabb, Triangle};
-use beam_scene::adjacency::{Adjacency, BOUNDARY, NON_MANIFOLD};
 
 use super::shadow_beam::DEPTH_EPS;
 
@@ -110,21 +109,29 @@ pub(crate) struct Light {
 /// A cluster's edge set in the making.
 #[derive(Default)]
 pub(crate) struct WindingBuilder {
-    /// The candidates, sorted, with whether they reach out of some point's depth range and their
+    /// The candidates with whether they reach out of some point's depth range and their
     /// orientation over the cluster.
     status: Vec<(u32, bool, i8)>,
-    /// Records of one triangle's edges: (smaller corner, larger corner, record).
-    single: Vec<(u32, u32, SilEdge)>,
+    /// Every candidate's edges: the ends' bits in canonical order, the candidate (its place in
+    /// `status`) and edge, and whether it runs the edge in the canonical direction.
+    ends: Vec<([u32; 6], u32, u8, bool)>,
+}
+
+/// A position's bits, −0 and +0 as one: which corners are the same.
+fn bits(v: Vec3) -> [u32; 3] {
+    (v + Vec3::ZERO).to_array().map(f32::to_bits)
 }
 
 impl WindingBuilder {
     /// The edges of `candidates` for a cluster of points in `points` and `light`, appended to
     /// `edges`, and the candidates that reach out of some point's depth range, appended to
-    /// `reaching` (their cuts by the range's planes are made per point).
+    /// `reaching` (their cuts by the range's planes are made per point). Candidates are neighbours
+    /// where they share an edge's two corners exactly (as an indexed mesh's triangles do); an edge
+    /// of a candidate with none or several such neighbours among the candidates comes once per
+    /// candidate, its copies next to each other.
     pub(crate) fn build(
         &mut self,
         triangles: &[Triangle],
-        adjacency: &Adjacency,
         points: &Aabb,
         light: &Light,
         candidates: &[u32],
@@ -147,47 +154,50 @@ impl WindingBuilder {
             });
             (prim, !inside, fixed_orientation(t, points))
         }));
-        self.status.sort_unstable_by_key(|s| s.0);
-        let status = &self.status;
-        let lookup = |g: u32| status.binary_search_by_key(&g, |s| s.0).ok().map(|i| status[i]);
-        self.single.clear();
-        for &(f, f_reaches, fixed) in status {
+        reaching.extend(self.status.iter().filter(|s| s.1).map(|s| s.0));
+        self.ends.clear();
+        for (i, &(f, _, _)) in self.status.iter().enumerate() {
             let t = &triangles[f as usize];
-            if f_reaches {
-                reaching.push(f);
-            }
             for k in 0..3 {
-                let g = adjacency.across(f, k);
-                let other = if g == BOUNDARY || g == NON_MANIFOLD { None } else { lookup(g) };
-                if let Some((_, g_reaches, g_fixed)) = other {
-                    // Made once, from the smaller index.
-                    if g < f {
-                        continue;
-                    }
-                    let sf = Side::of(t, 1, fixed);
-                    let sg = Side::of(&triangles[g as usize], if adjacency.same_way(f, k) { 1 } else { -1 }, g_fixed);
-                    let clip = f_reaches || g_reaches;
-                    // Seen turned the same way from every point, a pair inside the depth range
-                    // cancels for all of them.
-                    if !clip && sf.fixed != 0 && sg.fixed != 0 && sf.fixed * sf.sigma + sg.fixed * sg.sigma == 0 {
-                        continue;
-                    }
-                    edges.push(SilEdge { a: t.v[k], b: t.v[(k + 1) % 3], sides: [sf, sg], count: 2, clip });
-                } else {
-                    let c = adjacency.corners(f);
-                    let (a, b) = (c[k], c[(k + 1) % 3]);
-                    let forward = a < b;
-                    let s = Side::of(t, if forward { 1 } else { -1 }, fixed);
-                    let (pa, pb) = (t.v[k], t.v[(k + 1) % 3]);
-                    let (pa, pb) = if forward { (pa, pb) } else { (pb, pa) };
-                    let e = SilEdge { a: pa, b: pb, sides: [s, s], count: 1, clip: f_reaches };
-                    self.single.push((a.min(b), a.max(b), e));
+                let (a, b) = (bits(t.v[k]), bits(t.v[(k + 1) % 3]));
+                let forward = a <= b;
+                let (lo, hi) = if forward { (a, b) } else { (b, a) };
+                let key = [lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]];
+                self.ends.push((key, i as u32, k as u8, forward));
+            }
+        }
+        // The candidates that share an edge, next to each other.
+        self.ends.sort_unstable_by_key(|e| e.0);
+        let side = |&(_, i, k, forward): &([u32; 6], u32, u8, bool), sigma: i8| {
+            let (f, f_reaches, fixed) = self.status[i as usize];
+            let t = &triangles[f as usize];
+            let (a, b) = (t.v[k as usize], t.v[(k as usize + 1) % 3]);
+            let (a, b) = if forward { (a, b) } else { (b, a) };
+            (a, b, Side::of(t, sigma, fixed), f_reaches)
+        };
+        for group in self.ends.chunk_by(|x, y| x.0 == y.0) {
+            if let [e, g] = group {
+                // Two candidates on this edge: one record in the first's direction, the second's
+                // direction relative to it.
+                let (a, b, sf, f_reaches) = side(e, 1);
+                let (_, _, sg, g_reaches) = side(g, if e.3 == g.3 { 1 } else { -1 });
+                let (a, b) = if e.3 { (a, b) } else { (b, a) };
+                let clip = f_reaches || g_reaches;
+                // Seen turned the same way from every point, a pair inside the depth range
+                // cancels for all of them.
+                if !clip && sf.fixed != 0 && sg.fixed != 0 && sf.fixed * sf.sigma + sg.fixed * sg.sigma == 0 {
+                    continue;
+                }
+                edges.push(SilEdge { a, b, sides: [sf, sg], count: 2, clip });
+            } else {
+                // One candidate (a boundary, or a neighbour that is not one), or several: each
+                // comes on its own, in the canonical direction, so their weights add per beam.
+                for e in group {
+                    let (a, b, s, reaches) = side(e, if e.3 { 1 } else { -1 });
+                    edges.push(SilEdge { a, b, sides: [s, s], count: 1, clip: reaches });
                 }
             }
         }
-        // Copies of one edge next to each other, so a shadow beam adds their weights.
-        self.single.sort_unstable_by_key(|&(lo, hi, _)| (lo, hi));
-        edges.extend(self.single.iter().map(|&(_, _, e)| e));
     }
 }
 

@@ -149,7 +149,6 @@ impl TileShadows {
                 if occluders != Occluders::Split {
                     self.builder.build(
                         tris,
-                        scene.adjacency(),
                         &cluster.points,
                         &silhouettes::Light { normal: ln, center },
                         &self.ids,

@@ -253,9 +253,6 @@ pub struct Scene {
     /// Per triangle, the bounding sphere [`Scene::bounding_sphere`] returns (made once: beams'
     /// bounding-cone culling asks for it per beam and candidate triangle).
     spheres: Vec<(Vec3, f32)>,
-    /// The triangles' neighbours, made the first time [`Scene::adjacency`] asks (shadow beams'
-    /// silhouettes need them, rays do not).
-    adjacency: std::sync::OnceLock<crate::adjacency::Adjacency>,
 }
 
 impl Scene {
@@ -295,14 +292,7 @@ impl Scene {
             smooth_normals,
             smesh: SMeshPlan::default(),
             spheres,
-            adjacency: std::sync::OnceLock::new(),
         }
-    }
-
-    /// The neighbours of the triangles (made on the first call).
-    #[must_use]
-    pub fn adjacency(&self) -> &crate::adjacency::Adjacency {
-        self.adjacency.get_or_init(|| crate::adjacency::Adjacency::new(&self.triangles))
     }
 
     /// The bounding sphere of triangle `i` (centre, radius): about its centroid, through its
