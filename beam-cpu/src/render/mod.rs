@@ -2,6 +2,7 @@
 
 mod compare;
 mod coverage;
+mod eye_budget;
 mod eye_regions;
 mod hard_shadow;
 mod image;

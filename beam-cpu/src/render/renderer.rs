@@ -94,7 +94,7 @@ pub fn render_with(
             .map_init(Thread::default, |t, &(r, start, end)| {
                 let e = &traced[r];
                 let before = t.c;
-                let out = trace.shade_eye_tile(e.traced.region, &e.surfaces[start..end], t);
+                let out = trace.shade_eye_tile(e.traced.region, &e.surfaces[start..end], e.lights, t);
                 let row = tile_row(e, start);
                 if left[row as usize].fetch_sub(1, Ordering::Relaxed) == 1 {
                     done_rows(row);
@@ -165,6 +165,7 @@ pub fn render_with(
         hit_beams_per_visible_triangle: total.primary.hit_beams as f64 / visible_triangles.max(1) as f64,
         fragments: total.fragments,
         shade_points: total.shade_points,
+        ray_pixels: total.ray_pixels,
         coverage_error: total.coverage_error,
         triangle_tests: total.beams.triangle_tests,
         pieces: total.beams.pieces,

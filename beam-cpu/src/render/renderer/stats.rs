@@ -51,6 +51,10 @@ pub struct RenderStats {
     /// Points the eye beams' fragments were shaded at: a pixel's fragments that see one smooth
     /// stretch of surface are shaded once.
     pub shade_points: u64,
+    /// Pixels whose primary visibility was sampled by primary rays (2 × 2 a pixel) because their
+    /// region's eye beam would have cost more than half the ray method's time there (sub-pixel
+    /// triangles); none with `--exact`.
+    pub ray_pixels: u64,
     /// Largest `|1 − Σ coverage|` of a pixel (exact coverage sums to one).
     pub coverage_error: f64,
     /// Triangles set up against shadow beams (projected once each).
@@ -95,6 +99,7 @@ pub(super) struct Counters {
     pub(super) primary: BeamStats,
     pub(super) fragments: u64,
     pub(super) shade_points: u64,
+    pub(super) ray_pixels: u64,
     pub(super) sampled_beams: u64,
     pub(super) inexact_pixels: u64,
     /// Unoccluded irradiance (times radiance) sampled for the shade point being shaded.
@@ -121,6 +126,7 @@ impl Counters {
             primary: self.primary.since(&before.primary),
             fragments: d(self.fragments, before.fragments),
             shade_points: d(self.shade_points, before.shade_points),
+            ray_pixels: d(self.ray_pixels, before.ray_pixels),
             sampled_beams: d(self.sampled_beams, before.sampled_beams),
             inexact_pixels: d(self.inexact_pixels, before.inexact_pixels),
             pending_bound: 0.0,
@@ -144,6 +150,7 @@ impl core::ops::AddAssign for Counters {
         self.primary += o.primary;
         self.fragments += o.fragments;
         self.shade_points += o.shade_points;
+        self.ray_pixels += o.ray_pixels;
         self.sampled_beams += o.sampled_beams;
         self.inexact_pixels += o.inexact_pixels;
         self.max_error_bound = self.max_error_bound.max(o.max_error_bound);

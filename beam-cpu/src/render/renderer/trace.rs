@@ -4,6 +4,7 @@
 
 use super::shade_points::merge_smooth;
 use super::{Context, Counters, Lights, Surface, Thread};
+use crate::render::eye_budget::eye_beam_pays;
 use crate::render::eye_regions::{EyeStats, Fragment, Region, TILE, region_fragments};
 use crate::render::renderer::stratified;
 use beam_math::glam::Vec3;
@@ -29,7 +30,13 @@ pub(super) struct EyeTraced {
     pub(super) traced: Traced,
     pub(super) surfaces: Vec<Surface>,
     pub(super) tiles: Vec<usize>,
+    /// The lights the shading gathers: area lights only where eye beams lit the fragments of
+    /// point lights, all where rays sampled the region.
+    pub(super) lights: Lights,
 }
+
+/// Primary rays per pixel side where a region's eye beam would not pay.
+const RAY_GRID: u32 = 2;
 
 /// A shaded tile's radiance, as (index in its region's window, radiance) of its pixels.
 pub(super) type TileRadiance = Vec<(usize, Vec3)>;
@@ -95,6 +102,9 @@ impl Trace<'_> {
     /// fragments come sorted by tile, for [`Trace::shade_eye_tile`].
     pub(super) fn eye_region(&self, region: Region, window: Region) -> EyeTraced {
         let (ctx, camera) = (self.ctx, self.camera);
+        if !ctx.options.exact && !eye_beam_pays(ctx.scene, camera, region, ctx.options.spp) {
+            return self.ray_region(window);
+        }
         let mut t = Thread::default();
         let mut pixels = vec![Vec3::ZERO; window.len()];
         let mut coverage = vec![0.0f32; window.len()];
@@ -129,18 +139,61 @@ impl Trace<'_> {
         t.c.primary_seconds += start.elapsed().as_secs_f64();
         t.c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
         let tiles = surfaces.chunk_by(|a, b| tile_of(a) == tile_of(b)).map(<[Surface]>::len).collect();
-        EyeTraced { traced: self.finish(window, pixels, t, seen), surfaces, tiles }
+        EyeTraced { traced: self.finish(window, pixels, t, seen), surfaces, tiles, lights: Lights::AreaOnly }
+    }
+
+    /// [`Trace::eye_region`] by primary rays where the eye beam would not pay ([`eye_beam_pays`]):
+    /// [`RAY_GRID`]² stratified rays a pixel of `window`, each pixel's hits on one smooth stretch of
+    /// surface shaded once, point lights by shadow rays.
+    fn ray_region(&self, window: Region) -> EyeTraced {
+        let (ctx, camera) = (self.ctx, self.camera);
+        let mut t = Thread::default();
+        let start = Instant::now();
+        let frame = camera.frame();
+        let mut seen = vec![false; self.n_prims];
+        let mut surfaces = Vec::new();
+        for y in window.y0..window.y1 {
+            for x in window.x0..window.x1 {
+                let mut rng = Pcg32::seed_from_u64((self.seed)(x, y));
+                for i in 0..RAY_GRID * RAY_GRID {
+                    let (jx, jy) = stratified(i, RAY_GRID, &mut rng);
+                    let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
+                    t.c.camera_rays += 1;
+                    if let Some(hit) = ctx.scene.wide.closest_hit(ray, f32::INFINITY) {
+                        seen[hit.prim as usize] = true;
+                        let (q, d) = (ray.at(hit.t), ray.direction.normalize());
+                        let weight = 1.0 / (RAY_GRID * RAY_GRID) as f32;
+                        surfaces.push(Surface { x, y, weight, prim: hit.prim, q, d, seed: (self.seed)(x, y) });
+                    }
+                }
+            }
+        }
+        t.c.fragments += surfaces.len() as u64;
+        merge_smooth(ctx.scene, camera.position, &mut surfaces);
+        surfaces.sort_by_key(tile_of);
+        t.c.shade_points += surfaces.len() as u64;
+        t.c.ray_pixels += window.len() as u64;
+        t.c.primary_seconds += start.elapsed().as_secs_f64();
+        let tiles = surfaces.chunk_by(|a, b| tile_of(a) == tile_of(b)).map(<[Surface]>::len).collect();
+        let pixels = vec![Vec3::ZERO; window.len()];
+        EyeTraced { traced: self.finish(window, pixels, t, seen), surfaces, tiles, lights: Lights::All }
     }
 
     /// Shade one tile's surface fragments (of an [`EyeTraced`]) with thread state `t`: their
     /// radiance, each weighted by its coverage, as `(pixel, radiance)` of the region's window.
-    pub(super) fn shade_eye_tile(&self, window: Region, tile: &[Surface], t: &mut Thread) -> TileRadiance {
+    pub(super) fn shade_eye_tile(
+        &self,
+        window: Region,
+        tile: &[Surface],
+        lights: Lights,
+        t: &mut Thread,
+    ) -> TileRadiance {
         let Some(first) = tile.first() else { return Vec::new() };
         let (ty, tx) = tile_of(first);
         let part = Region { x0: tx * TILE, y0: ty * TILE, x1: (tx + 1) * TILE, y1: (ty + 1) * TILE };
         let mut pixels = vec![Vec3::ZERO; part.len()];
         let mut points = Vec::new();
-        self.ctx.shade_tile(tile, Lights::AreaOnly, (part.x0, part.y0), (&mut pixels, part), &mut points, t);
+        self.ctx.shade_tile(tile, lights, (part.x0, part.y0), (&mut pixels, part), &mut points, t);
         let mut out = Vec::new();
         for s in tile {
             let i = part.index(s.x, s.y);
