@@ -51,6 +51,16 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
             stats.shadow_beams, stats.bvh_steps, stats.intersections, stats.hit_beams_per_pixel
         );
     }
+    if method == Method::Beam {
+        println!(
+            "exact pixels {:.1}% ({} lights sampled past their beam's budget, largest error bound {:.2e}; \
+             {} pixels by primary rays; --exact for all)",
+            100.0 * stats.exact_pixel_share,
+            stats.sampled_beams,
+            stats.max_error_bound,
+            stats.ray_pixels
+        );
+    }
     Ok(ExitCode::SUCCESS)
 }
 

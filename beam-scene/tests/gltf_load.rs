@@ -60,12 +60,13 @@ fn materials_and_lights_are_mapped() {
         assert!(has(&|m| *m == Material::Glass { ior: 1.4 }), "{name}: transmission + ior");
         let glossy = Material::Glossy { albedo: Vec3::new(0.8, 0.6, 0.2), variance: 0.0625 };
         assert!(has(&|m| *m == glossy), "{name}: rough metal, variance roughness⁴");
-        // Two triangle lights from the emissive quad, facing down at y = 1.98; the point light; the
-        // spot light as a point light; the directional light skipped.
-        assert_eq!(s.lights.len(), 4, "{name}: {:?}", s.lights);
-        let tris: Vec<&Light> = s.lights.iter().filter(|l| matches!(l, Light::Triangle { .. })).collect();
-        assert_eq!(tris.len(), 2, "{name}");
-        for l in tris {
+        // The emissive quad's two triangles joined into one quad light, facing down at y = 1.98; the
+        // point light; the spot light as a point light; the directional light skipped.
+        assert_eq!(s.lights.len(), 3, "{name}: {:?}", s.lights);
+        assert_eq!(s.stats.merged_lights, 1, "{name}");
+        let quads: Vec<&Light> = s.lights.iter().filter(|l| matches!(l, Light::Quad { .. })).collect();
+        assert_eq!(quads.len(), 1, "{name}");
+        for l in quads {
             assert!(near(l.normal(), Vec3::NEG_Y) && (l.center().y - 1.98).abs() < 1e-5, "{name}: {l:?}");
             assert_eq!(l.power(), Vec3::splat(15.0));
         }

@@ -26,7 +26,7 @@ pub const REGION: u32 = 256;
 const MIN_REGIONS: u32 = 16;
 
 /// The side of the eye-beam regions of a `width × height` frame: the largest power of two from 32
-/// to [`REGION`] that cuts it into at least [`MIN_REGIONS`]. It depends on the frame alone, so that
+/// to [`REGION`] that cuts it into at least 16 (`MIN_REGIONS`). It depends on the frame alone, so that
 /// every tile of a render farm's frame cuts the visible surface at the same lines.
 #[must_use]
 pub fn region_side(width: u32, height: u32) -> u32 {

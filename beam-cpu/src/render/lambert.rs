@@ -27,13 +27,32 @@ pub fn clip_above(polygon: &[Vec3], p: Vec3, n: Vec3) -> Vec<Vec3> {
 /// clipped away first. Exact for the exact irradiance integral of 001 eq. 1 with a Lambertian BRDF.
 #[must_use]
 pub fn polygon_irradiance(p: Vec3, n: Vec3, polygon: &[Vec3]) -> f32 {
-    let clipped = clip_above(polygon, p, n);
-    if clipped.len() < 3 {
+    // Lambert's sum over the edges of `clip_above`'s polygon, its corners taken as they come.
+    let (mut first, mut last, mut corners, mut sum) = (Vec3::ZERO, Vec3::ZERO, 0usize, 0.0f32);
+    let mut corner = |v: Vec3| {
+        if corners == 0 {
+            first = v;
+        } else {
+            sum += edge_irradiance(p, n, last, v);
+        }
+        last = v;
+        corners += 1;
+    };
+    for i in 0..polygon.len() {
+        let a = polygon[i];
+        let b = polygon[(i + 1) % polygon.len()];
+        let (da, db) = (n.dot(a - p), n.dot(b - p));
+        if da >= 0.0 {
+            corner(a);
+        }
+        if (da < 0.0) != (db < 0.0) {
+            corner(a + (b - a) * (da / (da - db)));
+        }
+    }
+    if corners < 3 {
         return 0.0;
     }
-    let sum: f32 =
-        (0..clipped.len()).map(|i| edge_irradiance(p, n, clipped[i], clipped[(i + 1) % clipped.len()])).sum();
-    sum.abs()
+    (sum + edge_irradiance(p, n, last, first)).abs()
 }
 
 /// One edge's term `½ Θ (n · γ̂)` of Lambert's formula ([`polygon_irradiance`]), signed: summed over

@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 use trace::{EyeTraced, TileRadiance, Trace, Traced};
 
+mod emitters;
 mod light_beam;
 mod shade_points;
 mod shading;
@@ -42,7 +43,7 @@ pub fn render_with(
 ) -> (Image, RenderStats) {
     let start = Instant::now();
     let camera = scene.camera.with_size(options.width, options.height);
-    let ctx = Context { scene, options: *options, eps: shading_eps(scene), occluded, caustics: None };
+    let ctx = Context::new(scene, options, occluded, None);
     let pixel_seed =
         |x: u32, y: u32| options.seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     let eye_beams = options.method == Method::Beam && options.primary_beams;
@@ -151,6 +152,7 @@ pub fn render_with(
         height: image.height,
         triangles: scene.stats.triangles,
         degenerate_triangles: scene.stats.degenerate,
+        merged_lights: scene.stats.merged_lights,
         camera_rays: total.camera_rays,
         shadow_rays: total.shadow_rays,
         shadow_beams: total.shadow_beams,
@@ -173,6 +175,7 @@ pub fn render_with(
         silhouette_edges: total.beams.silhouette_edges,
         silhouette_fallbacks: total.beams.silhouette_fallbacks,
         sampled_beams: total.sampled_beams,
+        culled_lights: total.culled_lights,
         exact_pixel_share: 1.0 - total.inexact_pixels as f64 / pixels,
         max_error_bound: total.max_error_bound,
         shafts: total.shafts,

@@ -10,6 +10,7 @@ pub mod foliage;
 mod format;
 mod gltf;
 pub mod light_volumes;
+mod merge_emitters;
 mod normals;
 pub mod showcase;
 mod smesh_file;
@@ -215,6 +216,9 @@ pub struct SceneStats {
     pub skipped_elements: usize,
     /// glTF directional lights skipped: there is no light at infinity here.
     pub skipped_lights: usize,
+    /// Area lights joined into a neighbour: coplanar emitters of equal radiance that share an edge
+    /// and together form a parallelogram are one light (the same image, fewer lights to shade).
+    pub merged_lights: usize,
 }
 
 /// A scene ready to render: triangles (degenerate ones removed) with a material each, lights, a
@@ -266,6 +270,7 @@ impl Scene {
         camera: Camera,
     ) -> Self {
         let total = triangles.len();
+        let (lights, merged_lights) = merge_emitters::merge_emitters(lights);
         let (triangles, material_of): (Vec<Triangle>, Vec<u32>) =
             triangles.into_iter().filter(|(t, _)| t.is_valid()).unzip();
         let stats = SceneStats {
@@ -273,6 +278,7 @@ impl Scene {
             degenerate: total - triangles.len(),
             skipped_elements: 0,
             skipped_lights: 0,
+            merged_lights,
         };
         let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
         let wide = Bvh8::build(&triangles, &BuildOptions::sah());

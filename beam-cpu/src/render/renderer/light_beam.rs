@@ -16,26 +16,39 @@ use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::{BeamFrame, Quad, WindingError};
 use beam_scene::options::Shading;
 use rand_pcg::Pcg32;
-use std::time::Instant;
 
 /// A shadow beam's budget per shadow ray of `--spp`, in piece splits (a candidate's test counts
 /// 1/32 of one): by this machine's timings a split costs about as much as a shadow ray (170 and
 /// 200 ns), so a beam may spend about twice the ray render's time on its point before it samples.
 const SPLITS_PER_RAY: u64 = 2;
 
+/// Fewest rays of `--spp` for which shadow beams are traced at all: below it every light is
+/// sampled (the ratio estimator), since a beam's own work (its share of its cluster's shaft and
+/// edges, its set-up) costs a point about as much as this many rays (2–3 µs against 0.18 µs a ray
+/// on this machine; 36 small emitters at 7 rays each: 8 µs a beam).
+pub(super) const MIN_BEAM_SPP: u32 = 16;
+
+impl Context<'_> {
+    /// Whether shadow beams are traced at all ([`MIN_BEAM_SPP`]).
+    pub(super) fn beams_pay(&self) -> bool {
+        self.options.exact || self.options.spp >= MIN_BEAM_SPP
+    }
+}
+
 impl Context<'_> {
     /// Irradiance per unit radiance at `p` (normal `n`) from area light `index`, by its shadow
     /// beam (exact), or where that beam ran past its budget, by the beam's exact part and rays over
     /// the rest.
     pub(super) fn beam_irradiance(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
-        let start = Instant::now();
+        if !self.beams_pay() {
+            return self.sampled_light(p, n, index, rng, t);
+        }
         let light = &self.scene.lights[index];
-        let ln = light.normal();
-        let polygon = light.polygon();
+        let (ln, polygon) = (self.emitters[index].normal, self.emitters[index].polygon());
         // Exact shading: only the part of the light above the tangent plane lights the point.
         let polygon = match self.options.shading {
-            Shading::Exact => clip_above(&polygon, p, n),
-            Shading::Fraction => polygon,
+            Shading::Exact => clip_above(polygon, p, n),
+            Shading::Fraction => polygon.to_vec(),
         };
         if polygon.len() < 3 {
             return 0.0;
@@ -123,14 +136,29 @@ impl Context<'_> {
                 }
             }
         };
-        t.c.shadow_seconds += start.elapsed().as_secs_f64();
         e
+    }
+
+    /// Irradiance per unit radiance at `p` (normal `n`) from area light `index` where beams do not
+    /// pay ([`MIN_BEAM_SPP`]): the ray method's estimate from its `--spp` samples, counted as
+    /// sampled; the estimate and the exact value both lie in `[0, bound]`, with the bound from
+    /// [`irradiance_bound`](super::emitters::Emitter::irradiance_bound) (or the whole light's
+    /// eq. 2). The ratio estimator would need the light's Lambert integral, which costs a point
+    /// about four shadow rays here.
+    fn sampled_light(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
+        let bound = match self.options.shading {
+            Shading::Exact => self.emitters[index].irradiance_bound(p),
+            Shading::Fraction => self.fraction_irradiance(p, n, index, 1.0),
+        };
+        t.c.sampled_beams += 1;
+        t.c.pending_bound += self.scene.lights[index].power().max_element() * bound;
+        self.ray_irradiance(p, n, index, rng, t)
     }
 
     /// 001 eq. 2 for area light `index` with visible fraction `fraction`.
     fn fraction_irradiance(&self, p: Vec3, n: Vec3, index: usize, fraction: f32) -> f32 {
-        let light = &self.scene.lights[index];
-        point_source_irradiance(p, n, light.center(), light.normal(), light.area(), fraction.min(1.0))
+        let e = &self.emitters[index];
+        point_source_irradiance(p, n, e.center, e.normal, e.area, fraction.min(1.0))
     }
 
     /// The ratio estimate of the lit share of `pieces` (on the plane of `frame`, the light's) seen
@@ -151,7 +179,7 @@ impl Context<'_> {
         shadow_rays: &mut u64,
     ) -> f32 {
         let light = &self.scene.lights[index];
-        let ln = light.normal();
+        let ln = self.emitters[index].normal;
         let bounds: Vec<(Vec2, Vec2)> = pieces.iter().map(Quad::bounds).collect();
         let inside = |uv: Vec2| {
             pieces.iter().zip(&bounds).any(|(q, &(lo, hi))| {

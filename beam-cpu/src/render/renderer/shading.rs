@@ -4,6 +4,7 @@
 //! region with their candidate occluders gathered first.
 
 use super::Counters;
+use super::emitters::Emitter;
 use crate::render::eye_regions::{Region, TILE};
 use crate::render::lambert::point_source_irradiance;
 use crate::render::shadow_beam::{DEPTH_EPS, ShadowScratch, WindingScratch};
@@ -31,6 +32,8 @@ pub(super) struct Thread {
     pub(super) block: usize,
     /// The buffers of a winding pass.
     pub(super) winding: WindingScratch,
+    /// The lights that face the tile being shaded (`None`: every light).
+    pub(super) facing: Option<Vec<u32>>,
 }
 
 pub(super) struct Context<'a> {
@@ -40,6 +43,20 @@ pub(super) struct Context<'a> {
     pub(super) occluded: &'a AnyHit<'a>,
     /// Irradiance arriving at diffuse surfaces by paths the direct light does not follow (caustics).
     pub(super) caustics: Option<&'a IrradianceMap>,
+    /// The scene's lights' geometry, in the order of `scene.lights`.
+    pub(super) emitters: Vec<Emitter>,
+}
+
+impl<'a> Context<'a> {
+    pub(super) fn new(
+        scene: &'a Scene,
+        options: &RenderOptions,
+        occluded: &'a AnyHit<'a>,
+        caustics: Option<&'a IrradianceMap>,
+    ) -> Self {
+        let emitters = scene.lights.iter().map(Emitter::of).collect();
+        Self { scene, options: *options, eps: shading_eps(scene), occluded, caustics, emitters }
+    }
 }
 
 impl Context<'_> {
@@ -83,7 +100,7 @@ impl Context<'_> {
         match self.scene.material(prim) {
             Material::Emissive { radiance } => radiance,
             Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => {
-                let mut e = self.direct(p + n * self.eps, n, lights, rng, t);
+                let mut e = self.direct(p + n * self.eps, n, lights, depth == 0, rng, t);
                 if let Some(map) = self.caustics {
                     e += map.irradiance(prim, p);
                 }
@@ -106,28 +123,59 @@ impl Context<'_> {
         }
     }
 
-    /// Irradiance at `p` (normal `n`) from `lights`.
-    pub(super) fn direct(&self, p: Vec3, n: Vec3, lights: Lights, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
-        let scene = self.scene;
+    /// Irradiance at `p` (normal `n`) from `lights` (at a tile's first surfaces, `first`, only
+    /// those that face the tile).
+    pub(super) fn direct(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        lights: Lights,
+        first: bool,
+        rng: &mut Pcg32,
+        t: &mut Thread,
+    ) -> Vec3 {
+        let start = (self.options.method == Method::Beam).then(Instant::now);
+        let facing = if first { t.facing.take() } else { None };
         let mut e = Vec3::ZERO;
-        for (index, light) in scene.lights.iter().enumerate() {
-            match *light {
-                Light::Point { .. } if lights == Lights::AreaOnly => {}
-                Light::Point { position, intensity } => {
-                    let to = position - p;
-                    let r2 = to.length_squared();
-                    let cos = n.dot(to) / r2.sqrt();
-                    if cos > 0.0 {
-                        t.c.shadow_rays += 1;
-                        if !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
-                            e += intensity * cos / r2;
-                        }
-                    }
+        match &facing {
+            Some(list) => {
+                for &index in list {
+                    e += self.light(p, n, index as usize, lights, rng, t);
                 }
-                _ => e += light.power() * self.area_light(p, n, index, rng, t),
+            }
+            None => {
+                for index in 0..self.scene.lights.len() {
+                    e += self.light(p, n, index, lights, rng, t);
+                }
             }
         }
+        if first {
+            t.facing = facing;
+        }
+        if let Some(start) = start {
+            t.c.shadow_seconds += start.elapsed().as_secs_f64();
+        }
         e
+    }
+
+    /// Irradiance at `p` (normal `n`) from light `index`, if it is one of `lights`.
+    fn light(&self, p: Vec3, n: Vec3, index: usize, lights: Lights, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
+        match self.scene.lights[index] {
+            Light::Point { .. } if lights == Lights::AreaOnly => Vec3::ZERO,
+            Light::Point { position, intensity } => {
+                let to = position - p;
+                let r2 = to.length_squared();
+                let cos = n.dot(to) / r2.sqrt();
+                if cos > 0.0 {
+                    t.c.shadow_rays += 1;
+                    if !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
+                        return intensity * cos / r2;
+                    }
+                }
+                Vec3::ZERO
+            }
+            ref light => light.power() * self.area_light(p, n, index, rng, t),
+        }
     }
 
     /// Radiance towards `−d` of diffuse or glossy point `q` of `prim` from point light `light`,
@@ -149,35 +197,40 @@ impl Context<'_> {
 
     /// Irradiance per unit radiance from area light `index`.
     pub(super) fn area_light(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
-        let light = &self.scene.lights[index];
-        let ln = light.normal();
-        let (area, center) = (light.area(), light.center());
-        if ln.dot(p - center) <= 0.0 {
+        if !self.emitters[index].may_light(p, n, self.options.shading == Shading::Exact) {
             return 0.0;
         }
         match self.options.method {
             Method::Beam => self.beam_irradiance(p, n, index, rng, t),
-            Method::Ray => {
-                let spp = self.options.spp.max(1);
-                let (mut visible, mut integral) = (0u32, 0.0f32);
-                for i in 0..spp {
-                    let (s, r) = light_sample(i, spp, rng);
-                    let q = sample_light(light, s, r);
-                    let to = q - p;
-                    t.c.shadow_rays += 1;
-                    if (self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
-                        continue;
-                    }
-                    visible += 1;
-                    let r2 = to.length_squared();
-                    let w = to / r2.sqrt();
-                    integral += n.dot(w).max(0.0) * (-ln).dot(w).max(0.0) / r2;
-                }
-                match self.options.shading {
-                    Shading::Fraction => point_source_irradiance(p, n, center, ln, area, visible as f32 / spp as f32),
-                    Shading::Exact => area * integral / spp as f32,
-                }
+            Method::Ray => self.ray_irradiance(p, n, index, rng, t),
+        }
+    }
+
+    /// Irradiance per unit radiance from area light `index` by `--spp` stratified shadow rays
+    /// (those whose integrand vanishes, behind the point or the light, are not traced).
+    pub(super) fn ray_irradiance(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
+        let light = &self.scene.lights[index];
+        let Emitter { normal: ln, area, center, .. } = self.emitters[index];
+        let spp = self.options.spp.max(1);
+        let (mut visible, mut integral) = (0u32, 0.0f32);
+        for i in 0..spp {
+            let (s, r) = light_sample(i, spp, rng);
+            let to = sample_light(light, s, r) - p;
+            let r2 = to.length_squared();
+            let w = to / r2.sqrt();
+            let f = n.dot(w).max(0.0) * (-ln).dot(w).max(0.0) / r2;
+            if self.options.shading == Shading::Exact && !(f > 0.0) {
+                continue;
             }
+            t.c.shadow_rays += 1;
+            if !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
+                visible += 1;
+                integral += f;
+            }
+        }
+        match self.options.shading {
+            Shading::Fraction => point_source_irradiance(p, n, center, ln, area, visible as f32 / spp as f32),
+            Shading::Exact => area * integral / spp as f32,
         }
     }
 }
@@ -208,7 +261,7 @@ impl Context<'_> {
         points: &mut Vec<(usize, Vec3)>,
         t: &mut Thread,
     ) {
-        if self.options.method == Method::Beam {
+        if self.options.method == Method::Beam && self.beams_pay() {
             let start = Instant::now();
             points.clear();
             points.extend(
@@ -223,6 +276,7 @@ impl Context<'_> {
         }
         let start = Instant::now();
         let shadow_before = t.c.shadow_seconds;
+        self.cull_lights(surfaces, t);
         // Pixels of the tile with a shade point whose light was sampled in part.
         let mut inexact = [false; (TILE * TILE) as usize];
         for s in surfaces {
@@ -236,7 +290,30 @@ impl Context<'_> {
             }
         }
         t.c.inexact_pixels += inexact.iter().filter(|&&i| i).count() as u64;
+        t.facing = None;
         t.c.shading_seconds += start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
+    }
+}
+
+impl Context<'_> {
+    /// Keeps in `t.facing` the lights that face the box of the tile's `surfaces` (point lights
+    /// all; item 3 of the many-lights issue: the others cannot light any of its points).
+    fn cull_lights(&self, surfaces: &[Surface], t: &mut Thread) {
+        let (lo, hi) =
+            surfaces.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), s| (lo.min(s.q), hi.max(s.q)));
+        // The gather points sit `eps` off their surfaces.
+        let (lo, hi) = (lo - Vec3::splat(self.eps), hi + Vec3::splat(self.eps));
+        let mut list = t.facing.take().unwrap_or_default();
+        list.clear();
+        list.extend(
+            self.emitters
+                .iter()
+                .enumerate()
+                .filter(|(_, e)| e.polygon().is_empty() || e.faces_box(lo, hi))
+                .map(|(i, _)| i as u32),
+        );
+        t.c.culled_lights += (self.emitters.len() - list.len()) as u64;
+        t.facing = Some(list);
     }
 }
 
@@ -290,7 +367,7 @@ fn with_context<R>(
     f: impl FnOnce(&Context<'_>) -> R,
 ) -> R {
     let occluded = |ray, t_max| scene.wide.any_hit(ray, t_max);
-    f(&Context { scene, options: *options, eps: shading_eps(scene), occluded: &occluded, caustics })
+    f(&Context::new(scene, options, &occluded, caustics))
 }
 
 /// Offset in the pixel of sample `i` of `k × k` stratified samples, jittered by `rng` (the pixel's

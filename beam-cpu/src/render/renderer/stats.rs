@@ -22,6 +22,8 @@ pub struct RenderStats {
     pub triangles: usize,
     /// Degenerate triangles filtered out at load.
     pub degenerate_triangles: usize,
+    /// Area lights joined into a neighbour at load (`SceneStats::merged_lights`).
+    pub merged_lights: usize,
     /// Primary and secondary (mirror, glass) rays.
     pub camera_rays: u64,
     /// Shadow rays traced.
@@ -76,6 +78,9 @@ pub struct RenderStats {
     /// Shadow beams that ran past their budget (`--spp` rays' worth of work) and sampled the part
     /// of the light they left unresolved (none with `--exact`).
     pub sampled_beams: u64,
+    /// Area lights left out of a tile's shading because they face away from the box of its shade
+    /// points, summed over tiles.
+    pub culled_lights: u64,
     /// Share of the pixels whose every shadow beam was exact.
     pub exact_pixel_share: f64,
     /// Largest bound on a shade point's radiance error from the sampled parts: the sampled part's
@@ -102,6 +107,7 @@ pub(super) struct Counters {
     pub(super) ray_pixels: u64,
     pub(super) sampled_beams: u64,
     pub(super) inexact_pixels: u64,
+    pub(super) culled_lights: u64,
     /// Unoccluded irradiance (times radiance) sampled for the shade point being shaded.
     pub(super) pending_bound: f32,
     pub(super) max_error_bound: f32,
@@ -129,6 +135,7 @@ impl Counters {
             ray_pixels: d(self.ray_pixels, before.ray_pixels),
             sampled_beams: d(self.sampled_beams, before.sampled_beams),
             inexact_pixels: d(self.inexact_pixels, before.inexact_pixels),
+            culled_lights: d(self.culled_lights, before.culled_lights),
             pending_bound: 0.0,
             max_error_bound: self.max_error_bound,
             coverage_error: self.coverage_error,
@@ -153,6 +160,7 @@ impl core::ops::AddAssign for Counters {
         self.ray_pixels += o.ray_pixels;
         self.sampled_beams += o.sampled_beams;
         self.inexact_pixels += o.inexact_pixels;
+        self.culled_lights += o.culled_lights;
         self.max_error_bound = self.max_error_bound.max(o.max_error_bound);
         self.coverage_error = self.coverage_error.max(o.coverage_error);
         self.shafts += o.shafts;
