@@ -44,6 +44,8 @@ pub(crate) enum Mode {
     Probe,
     /// By shadow rays over the light: a beam of the cluster ran past its budget.
     Rays,
+    /// Through the BVH, each beam by itself: the cluster's shaft gathered too many candidates.
+    Walk,
 }
 
 /// The candidate occluders of a shade point for one light.
@@ -86,12 +88,35 @@ pub(crate) struct TileShadows {
     pub(crate) bvh_steps: u64,
     /// Shafts traced (one a cluster and area light).
     pub(crate) shafts: u64,
+    /// Per light, the tiles in a row (of this thread) whose candidates were not gathered because
+    /// most beams of the tile before ran past their budget ([`SAMPLED_SHARE`]).
+    streaks: Vec<u32>,
 }
+
+/// Share of a tile's clusters, for one light, whose beams ran past their budget, from which the
+/// next tile of the thread samples that light from the start without gathering candidates (the
+/// shafts are then most of the beams' cost): the budget's decision carried to the neighbours, as
+/// within a cluster. Every [`MAX_STREAK`] + 1 tiles, a tile gathers them again and tries beams.
+const SAMPLED_SHARE: f32 = 0.75;
+const MAX_STREAK: u32 = 3;
 
 impl TileShadows {
     /// Gather the candidates for the shade points `points` (each with its block index,
     /// `< BLOCKS²`), for every area light of `scene` that faces them.
     pub(crate) fn build(&mut self, scene: &Scene, points: &[(usize, Vec3)], occluders: Occluders) {
+        // Which lights this tile samples from the start, by how the last tile's beams fared.
+        self.streaks.resize(scene.lights.len(), 0);
+        let per_light = 2 * BLOCKS * BLOCKS;
+        for (light, streak) in self.streaks.iter_mut().enumerate() {
+            let clusters = self.clusters.get(light * per_light..(light + 1) * per_light).unwrap_or(&[]);
+            let valid = clusters.iter().filter(|c| c.points.is_valid()).count();
+            let sampled = clusters.iter().filter(|c| c.points.is_valid() && c.mode == Mode::Rays).count();
+            *streak = if valid > 0 && sampled as f32 >= SAMPLED_SHARE * valid as f32 && *streak < MAX_STREAK {
+                *streak + 1
+            } else {
+                0
+            };
+        }
         self.clusters.clear();
         self.packets.clear();
         self.edges.clear();
@@ -131,16 +156,21 @@ impl TileShadows {
                 *c = c.grow(p);
             }
             let tris = &scene.triangles;
+            let sample = self.streaks[base / per_light] > 0;
             for cluster in &mut self.clusters[base..] {
                 if !cluster.points.is_valid() {
+                    continue;
+                }
+                if sample {
+                    cluster.mode = Mode::Rays;
                     continue;
                 }
                 let shaft = Shaft::new(&cluster.points, &polygon, ln);
                 self.shafts += 1;
                 self.bvh_steps += gather(&scene.bvh, tris, &shaft, &mut self.gathered);
                 if self.gathered.len() > MAX_CANDIDATES {
-                    // Too wide: its points walk the BVH themselves.
-                    cluster.points = Aabb::EMPTY;
+                    // Too wide: its points walk the BVH themselves (until one runs past its budget).
+                    cluster.mode = Mode::Walk;
                     continue;
                 }
                 self.ids.clear();

@@ -72,6 +72,7 @@ impl Context<'_> {
                 let mut next = None;
                 match mode {
                     Mode::Split => traced.occlude_packets(c.packets, tris),
+                    Mode::Walk => trace_bvh(&self.scene.bvh, tris, &mut traced),
                     Mode::Rays => sample_all = true,
                     Mode::Winding => match winding(&mut traced) {
                         Ok(l) => lit = Some(l),
@@ -122,7 +123,7 @@ impl Context<'_> {
                 Shading::Fraction => pieces.iter().map(Quad::area).sum::<f32>() / beam.area(),
             };
             if unresolved && unoccluded > 0.0 {
-                let seen = self.seen_share(p, n, &frame, index, pieces, rng, &mut t.c.shadow_rays);
+                let seen = self.seen_share(p, n, &frame, index, pieces, sample_all, rng, &mut t.c.shadow_rays);
                 t.c.sampled_beams += 1;
                 t.c.pending_bound += light.power().max_element() * unoccluded;
                 match self.options.shading {
@@ -175,19 +176,22 @@ impl Context<'_> {
         frame: &BeamFrame,
         index: usize,
         pieces: &[Quad],
+        whole: bool,
         rng: &mut Pcg32,
         shadow_rays: &mut u64,
     ) -> f32 {
         let light = &self.scene.lights[index];
         let ln = self.emitters[index].normal;
-        let bounds: Vec<(Vec2, Vec2)> = pieces.iter().map(Quad::bounds).collect();
+        // With the whole light left (`whole`), every sample falls in it.
+        let bounds: Vec<(Vec2, Vec2)> = if whole { Vec::new() } else { pieces.iter().map(Quad::bounds).collect() };
         let inside = |uv: Vec2| {
-            pieces.iter().zip(&bounds).any(|(q, &(lo, hi))| {
-                uv.cmpge(lo).all() && uv.cmple(hi).all() && {
-                    let c: Vec<Vec2> = q.corners().collect();
-                    (0..c.len()).all(|i| (c[(i + 1) % c.len()] - c[i]).perp_dot(uv - c[i]) >= 0.0)
-                }
-            })
+            whole
+                || pieces.iter().zip(&bounds).any(|(q, &(lo, hi))| {
+                    uv.cmpge(lo).all() && uv.cmple(hi).all() && {
+                        let n = q.len();
+                        (0..n).all(|i| (q.corner((i + 1) % n) - q.corner(i)).perp_dot(uv - q.corner(i)) >= 0.0)
+                    }
+                })
         };
         let spp = self.options.spp.max(1);
         // A sample's integrand and whether it reaches the light (not traced where the integrand is 0).
