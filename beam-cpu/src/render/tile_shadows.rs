@@ -88,34 +88,41 @@ pub(crate) struct TileShadows {
     pub(crate) bvh_steps: u64,
     /// Shafts traced (one a cluster and area light).
     pub(crate) shafts: u64,
-    /// Per light, the tiles in a row (of this thread) whose candidates were not gathered because
-    /// most beams of the tile before ran past their budget ([`SAMPLED_SHARE`]).
-    streaks: Vec<u32>,
+    /// Per light, the mode the last tile (of this thread) settled on that this one takes from
+    /// the start, and for how many tiles in a row it has been taken ([`Carry`]).
+    carried: Vec<(Option<Mode>, u32)>,
 }
 
-/// Share of a tile's clusters, for one light, whose beams ran past their budget, from which the
-/// next tile of the thread samples that light from the start without gathering candidates (the
-/// shafts are then most of the beams' cost): the budget's decision carried to the neighbours, as
-/// within a cluster. Every [`MAX_STREAK`] + 1 tiles, a tile gathers them again and tries beams.
+/// How a tile's clusters start, per light, from how the last tile's (of the same thread) ended:
+/// the cost model's decisions carried to the neighbours, as they are within a cluster. Where at
+/// least [`SAMPLED_SHARE`] of them sampled by rays, the next tile samples that light from the
+/// start without gathering candidates (the shafts are then most of the cost); where every one
+/// split, the next splits without building edges (the edges and the probing beam cost Sponza 3×
+/// its splitting). Every [`MAX_CARRY`] + 1 tiles, one starts afresh.
 const SAMPLED_SHARE: f32 = 0.75;
-const MAX_STREAK: u32 = 3;
+const MAX_CARRY: u32 = 3;
 
 impl TileShadows {
     /// Gather the candidates for the shade points `points` (each with its block index,
     /// `< BLOCKS²`), for every area light of `scene` that faces them.
     pub(crate) fn build(&mut self, scene: &Scene, points: &[(usize, Vec3)], occluders: Occluders) {
-        // Which lights this tile samples from the start, by how the last tile's beams fared.
-        self.streaks.resize(scene.lights.len(), 0);
+        // How this tile's clusters start, by how the last tile's ended.
+        self.carried.resize(scene.lights.len(), (None, 0));
         let per_light = 2 * BLOCKS * BLOCKS;
-        for (light, streak) in self.streaks.iter_mut().enumerate() {
+        for (light, carried) in self.carried.iter_mut().enumerate() {
             let clusters = self.clusters.get(light * per_light..(light + 1) * per_light).unwrap_or(&[]);
+            let ended = |m: Mode| clusters.iter().filter(|c| c.points.is_valid() && c.mode == m).count();
             let valid = clusters.iter().filter(|c| c.points.is_valid()).count();
-            let sampled = clusters.iter().filter(|c| c.points.is_valid() && c.mode == Mode::Rays).count();
-            *streak = if valid > 0 && sampled as f32 >= SAMPLED_SHARE * valid as f32 && *streak < MAX_STREAK {
-                *streak + 1
+            let mode = if valid == 0 || carried.1 >= MAX_CARRY {
+                None
+            } else if ended(Mode::Rays) as f32 >= SAMPLED_SHARE * valid as f32 {
+                Some(Mode::Rays)
+            } else if occluders == Occluders::Auto && ended(Mode::Split) == valid {
+                Some(Mode::Split)
             } else {
-                0
+                None
             };
+            *carried = (mode, if mode.is_some() { carried.1 + 1 } else { 0 });
         }
         self.clusters.clear();
         self.packets.clear();
@@ -156,12 +163,12 @@ impl TileShadows {
                 *c = c.grow(p);
             }
             let tris = &scene.triangles;
-            let sample = self.streaks[base / per_light] > 0;
+            let carried = self.carried[base / per_light].0;
             for cluster in &mut self.clusters[base..] {
                 if !cluster.points.is_valid() {
                     continue;
                 }
-                if sample {
+                if carried == Some(Mode::Rays) {
                     cluster.mode = Mode::Rays;
                     continue;
                 }
@@ -176,7 +183,7 @@ impl TileShadows {
                 self.ids.clear();
                 self.ids.extend(self.gathered.iter().map(|&(_, prim)| prim));
                 let (edges0, reaching0) = (self.edges.len() as u32, self.reaching.len() as u32);
-                if occluders != Occluders::Split {
+                if occluders != Occluders::Split && carried != Some(Mode::Split) {
                     self.builder.build(
                         tris,
                         &cluster.points,
