@@ -23,9 +23,9 @@ use rand_pcg::Pcg32;
 const SPLITS_PER_RAY: u64 = 2;
 
 /// Fewest rays of `--spp` for which shadow beams are traced at all: below it every light is
-/// sampled (the ratio estimator), since a beam's own work (its share of its cluster's shaft and
-/// edges, its set-up) costs a point about as much as this many rays (2–3 µs against 0.18 µs a ray
-/// on this machine; 36 small emitters at 7 rays each: 8 µs a beam).
+/// sampled as the ray method samples it, since a beam's own work (its share of its cluster's shaft
+/// and edges, its set-up) costs a point about as much as this many rays (2–3 µs against 0.18 µs a
+/// ray on this machine; 36 small emitters at 7 rays each: 8 µs a beam).
 pub(super) const MIN_BEAM_SPP: u32 = 16;
 
 impl Context<'_> {
@@ -33,9 +33,7 @@ impl Context<'_> {
     pub(super) fn beams_pay(&self) -> bool {
         self.options.exact || self.options.spp >= MIN_BEAM_SPP
     }
-}
 
-impl Context<'_> {
     /// Irradiance per unit radiance at `p` (normal `n`) from area light `index`, by its shadow
     /// beam (exact), or where that beam ran past its budget, by the beam's exact part and rays over
     /// the rest.
@@ -109,7 +107,7 @@ impl Context<'_> {
         }
         t.c.beams += traced.stats;
         let frame = traced.frame;
-        let e = if let Some(l) = lit {
+        if let Some(l) = lit {
             match self.options.shading {
                 Shading::Exact => l.irradiance.max(0.0),
                 Shading::Fraction => self.fraction_irradiance(p, n, index, l.area / beam.area()),
@@ -136,8 +134,7 @@ impl Context<'_> {
                     Shading::Fraction => self.fraction_irradiance(p, n, index, unoccluded),
                 }
             }
-        };
-        e
+        }
     }
 
     /// Irradiance per unit radiance at `p` (normal `n`) from area light `index` where beams do not

@@ -297,7 +297,7 @@ impl Context<'_> {
 
 impl Context<'_> {
     /// Keeps in `t.facing` the lights that face the box of the tile's `surfaces` (point lights
-    /// all; item 3 of the many-lights issue: the others cannot light any of its points).
+    /// all): the others cannot light any of its points.
     fn cull_lights(&self, surfaces: &[Surface], t: &mut Thread) {
         let (lo, hi) =
             surfaces.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), s| (lo.min(s.q), hi.max(s.q)));
@@ -312,7 +312,9 @@ impl Context<'_> {
                 .filter(|(_, e)| e.polygon().is_empty() || e.faces_box(lo, hi))
                 .map(|(i, _)| i as u32),
         );
-        t.c.culled_lights += (self.emitters.len() - list.len()) as u64;
+        if !surfaces.is_empty() {
+            t.c.culled_lights += (self.emitters.len() - list.len()) as u64;
+        }
         t.facing = Some(list);
     }
 }
