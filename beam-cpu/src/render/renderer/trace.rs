@@ -60,36 +60,16 @@ impl Trace<'_> {
     /// `options.primary_spp` stratified primary rays per pixel of `band`, shaded a tile at a time
     /// (`band.x0` on the frame's grid of tiles).
     pub(super) fn ray_band(&self, band: Region) -> Traced {
-        let (ctx, camera) = (self.ctx, self.camera);
+        let ctx = self.ctx;
         let mut t = Thread::default();
         let mut pixels = vec![Vec3::ZERO; band.len()];
-        let frame = camera.frame();
         let k = ((ctx.options.primary_spp.max(1) as f32).sqrt() as u32).max(1);
         let (mut surfaces, mut points) = (Vec::new(), Vec::new());
         for x0 in (band.x0..band.x1).step_by(TILE as usize) {
             let start = Instant::now();
             surfaces.clear();
-            for y in band.y0..band.y1 {
-                for x in x0..(x0 + TILE).min(band.x1) {
-                    let mut rng = Pcg32::seed_from_u64((self.seed)(x, y));
-                    for i in 0..k * k {
-                        let (jx, jy) = stratified(i, k, &mut rng);
-                        let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
-                        t.c.camera_rays += 1;
-                        if let Some(hit) = ctx.scene.wide.closest_hit(ray, f32::INFINITY) {
-                            surfaces.push(Surface {
-                                x,
-                                y,
-                                weight: 1.0 / (k * k) as f32,
-                                prim: hit.prim,
-                                q: ray.at(hit.t),
-                                d: ray.direction.normalize(),
-                                seed: (self.seed)(x, y) ^ 0x5EED,
-                            });
-                        }
-                    }
-                }
-            }
+            let tile = Region { x0, x1: (x0 + TILE).min(band.x1), ..band };
+            self.primary_hits(tile, k, &mut [], &mut surfaces, &mut t);
             t.c.primary_seconds += start.elapsed().as_secs_f64();
             ctx.shade_tile(&surfaces, Lights::All, (x0, band.y0), (&mut pixels, band), &mut points, &mut t);
         }
@@ -149,25 +129,9 @@ impl Trace<'_> {
         let (ctx, camera) = (self.ctx, self.camera);
         let mut t = Thread::default();
         let start = Instant::now();
-        let frame = camera.frame();
         let mut seen = vec![false; self.n_prims];
         let mut surfaces = Vec::new();
-        for y in window.y0..window.y1 {
-            for x in window.x0..window.x1 {
-                let mut rng = Pcg32::seed_from_u64((self.seed)(x, y));
-                for i in 0..RAY_GRID * RAY_GRID {
-                    let (jx, jy) = stratified(i, RAY_GRID, &mut rng);
-                    let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
-                    t.c.camera_rays += 1;
-                    if let Some(hit) = ctx.scene.wide.closest_hit(ray, f32::INFINITY) {
-                        seen[hit.prim as usize] = true;
-                        let (q, d) = (ray.at(hit.t), ray.direction.normalize());
-                        let weight = 1.0 / (RAY_GRID * RAY_GRID) as f32;
-                        surfaces.push(Surface { x, y, weight, prim: hit.prim, q, d, seed: (self.seed)(x, y) });
-                    }
-                }
-            }
-        }
+        self.primary_hits(window, RAY_GRID, &mut seen, &mut surfaces, &mut t);
         t.c.fragments += surfaces.len() as u64;
         merge_smooth(ctx.scene, camera.position, &mut surfaces);
         surfaces.sort_by_key(tile_of);
@@ -202,6 +166,31 @@ impl Trace<'_> {
             }
         }
         out
+    }
+
+    /// `k × k` stratified primary rays a pixel of `rect`: each hit into `out` as a surface point
+    /// of weight `1 / k²`, its triangle marked in `seen` (where `seen` is not empty).
+    fn primary_hits(&self, rect: Region, k: u32, seen: &mut [bool], out: &mut Vec<Surface>, t: &mut Thread) {
+        let (scene, camera) = (self.ctx.scene, self.camera);
+        let frame = camera.frame();
+        let weight = 1.0 / (k * k) as f32;
+        for y in rect.y0..rect.y1 {
+            for x in rect.x0..rect.x1 {
+                let mut rng = Pcg32::seed_from_u64((self.seed)(x, y));
+                for i in 0..k * k {
+                    let (jx, jy) = stratified(i, k, &mut rng);
+                    let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
+                    t.c.camera_rays += 1;
+                    if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY) {
+                        if let Some(s) = seen.get_mut(hit.prim as usize) {
+                            *s = true;
+                        }
+                        let (q, d) = (ray.at(hit.t), ray.direction.normalize());
+                        out.push(Surface { x, y, weight, prim: hit.prim, q, d, seed: (self.seed)(x, y) ^ 0x5EED });
+                    }
+                }
+            }
+        }
     }
 
     fn finish(&self, region: Region, pixels: Vec<Vec3>, t: Thread, seen: Vec<bool>) -> Traced {
