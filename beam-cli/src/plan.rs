@@ -277,12 +277,9 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         let value = a.smesh_target.map_or_else(|| format!("{}", a.smesh_error.unwrap_or(0.0)), |n| n.to_string());
         scene.smesh.rest = Some(s.checked().map_err(|e| format!("{flag} {value} out of range: {e}"))?);
     }
-    if scene.stats.skipped_lights > 0 {
-        // Said even when `quiet`: the image lacks light the file asked for.
-        eprintln!(
-            "warning: {}: {} directional light(s) skipped (there is no light at infinity here)",
-            scene.name, scene.stats.skipped_lights
-        );
+    for n in &scene.notices {
+        // Said even when `quiet`: the image lacks content the file holds.
+        eprintln!("warning: {}: {} {}", scene.name, n.count, n.what);
     }
     if let Some(k) = a.frame {
         scene.camera = camera_at(&scene, k)?;

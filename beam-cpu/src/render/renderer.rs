@@ -153,6 +153,7 @@ pub fn render_with(
         triangles: scene.stats.triangles,
         degenerate_triangles: scene.stats.degenerate,
         merged_lights: scene.stats.merged_lights,
+        notices: scene.notices.clone(),
         camera_rays: total.camera_rays,
         shadow_rays: total.shadow_rays,
         shadow_beams: total.shadow_beams,

@@ -140,6 +140,7 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     };
     let mut scene = Scene::new(path.display().to_string(), triangles, materials, lights, camera);
     scene.stats.skipped_elements = skipped;
+    scene.notice("OBJ line and point element(s) skipped: they have no area to render", skipped);
     scene.camera_path = camera_path;
     scene.smesh = SMeshPlan { parts, rest };
     Ok(scene)
@@ -189,6 +190,7 @@ fn load_bare_obj(path: &Path) -> Result<Scene, SceneError> {
         default_camera(bounds),
     );
     scene.stats.skipped_elements = stats.skipped_elements;
+    scene.notice("OBJ line and point element(s) skipped: they have no area to render", stats.skipped_elements);
     Ok(scene)
 }
 

@@ -221,6 +221,17 @@ pub struct SceneStats {
     pub merged_lights: usize,
 }
 
+/// Content of the scene's source that renders do not use, or use only approximately, counted by
+/// kind: `beam render` prints one `warning:` line per notice and `--stats` lists them.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Notice {
+    /// What was not used and why, plural-neutral (`"directional light(s) skipped: there is no
+    /// light at infinity here"`).
+    pub what: String,
+    /// How many.
+    pub count: usize,
+}
+
 /// A scene ready to render: triangles (degenerate ones removed) with a material each, lights, a
 /// camera, and the BVH over the triangles.
 pub struct Scene {
@@ -240,6 +251,8 @@ pub struct Scene {
     pub camera_path: Option<CameraPath>,
     /// Load counts.
     pub stats: SceneStats,
+    /// What of the source is not used, by kind ([`Scene::notice`]).
+    pub notices: Vec<Notice>,
     /// Binary BVH (generic traversal for beams).
     pub bvh: FlatBvh,
     /// 8-wide BVH for single rays (AVX2 or AVX-512 kernels chosen at run time; about twice the
@@ -293,11 +306,25 @@ impl Scene {
             camera,
             camera_path: None,
             stats,
+            notices: Vec::new(),
             bvh,
             wide,
             smooth_normals,
             smesh: SMeshPlan::default(),
             spheres,
+        }
+    }
+
+    /// Record that `count` of the content `what` is not used (nothing for a count of zero); a kind
+    /// noticed before adds to its count.
+    pub fn notice(&mut self, what: impl Into<String>, count: usize) {
+        if count == 0 {
+            return;
+        }
+        let what = what.into();
+        match self.notices.iter_mut().find(|n| n.what == what) {
+            Some(n) => n.count += count,
+            None => self.notices.push(Notice { what, count }),
         }
     }
 

@@ -24,6 +24,8 @@ pub struct RenderStats {
     pub degenerate_triangles: usize,
     /// Area lights joined into a neighbour at load (`SceneStats::merged_lights`).
     pub merged_lights: usize,
+    /// Content of the scene not used, by kind (`Scene::notices`).
+    pub notices: Vec<beam_scene::scene::Notice>,
     /// Primary and secondary (mirror, glass) rays.
     pub camera_rays: u64,
     /// Shadow rays traced.

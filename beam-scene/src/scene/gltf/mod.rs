@@ -58,6 +58,8 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     let mut scene = Scene::new(path.display().to_string(), walked.triangles, materials, lights, camera);
     scene.stats.skipped_elements = walked.skipped_primitives;
     scene.stats.skipped_lights = walked.skipped_lights;
+    scene.notice("point and line primitive(s) skipped: they have no area to render", walked.skipped_primitives);
+    scene.notice("directional light(s) skipped: there is no light at infinity here", walked.skipped_lights);
     Ok(scene)
 }
 
