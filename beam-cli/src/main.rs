@@ -187,6 +187,13 @@ enum Command {
         /// symbolic link); by default they must stay inside it.
         #[arg(long)]
         allow_outside_paths: bool,
+        /// The environment, replacing the scene's: what rays that leave the scene see (the
+        /// background, mirrors, glass) and the light it sends in. `r,g,b`: a uniform sky of that
+        /// linear radiance (lit with exact shadow beams by `--method beam`); a `.hdr` or `.exr`
+        /// file: an equirectangular map (+Y up, +X at its centre column, as glTF viewers), whose
+        /// light `--spp` cosine-weighted rays a point sample. Seen by `beam` and `ray` only.
+        #[arg(long, value_name = "FILE|r,g,b")]
+        env: Option<String>,
     },
     /// Join the tiles of `beam render --tile` or `--crop` (PNG or EXR) into the whole frame: they
     /// must share the frame's size, not overlap, and cover it. The result is the file a
@@ -332,6 +339,7 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
             frame,
             stats,
             allow_outside_paths,
+            env,
         } => {
             let args = plan::RenderArgs {
                 scene: &scene,
@@ -365,6 +373,7 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
                 frame,
                 stats: stats.as_deref(),
                 allow_outside_paths,
+                env: env.as_deref(),
                 given,
             };
             match dry {

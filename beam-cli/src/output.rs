@@ -96,12 +96,38 @@ pub fn write_render(
     stats: Option<(&Path, &dyn erased::Json)>,
 ) -> Result<(), String> {
     let bytes = encode_render(out, image, placement, exposure)?;
+    if let Some(warning) = exposure_warning(image, exposure) {
+        // Said even when `quiet`: the picture shows nothing.
+        eprintln!("warning: {}: {warning}", out.display());
+    }
     match stats {
         None => write_atomic_all(&[(out, &bytes)]).map_err(|e| e.to_string()),
         Some((path, s)) => {
             let json = s.to_json().map_err(|e| format!("{}: {e}", path.display()))?;
             write_atomic_all(&[(path, json.as_bytes()), (out, &bytes)]).map_err(|e| e.to_string())
         }
+    }
+}
+
+/// Why `image` scaled by 2^`exposure` shows nothing, if it does not: every pixel black in 8-bit
+/// sRGB (below half a step) or every pixel white (each channel at 1 or above), with the exposure
+/// that would bring its brightest (or darkest) pixel to 0.8.
+fn exposure_warning(image: &Image, exposure: f32) -> Option<String> {
+    let scale = exposure.exp2();
+    let brightest = image.pixels.iter().map(|c| c.max_element()).fold(0.0f32, f32::max) * scale;
+    let darkest = image.pixels.iter().map(|c| c.min_element()).fold(f32::INFINITY, f32::min) * scale;
+    let to = |level: f32| exposure + (0.8 / level).log2();
+    // Linear radiance below which sRGB 8-bit rounds to 0: half a step, 0.5/255 / 12.92.
+    if brightest < 0.5 / 255.0 / 12.92 {
+        Some(if brightest > 0.0 {
+            format!("the image is all black (brightest pixel {brightest:.1e}); try --exposure {:.1}", to(brightest))
+        } else {
+            "the image is all black: no light reaches the camera (check the lights and the camera)".into()
+        })
+    } else if darkest >= 1.0 && darkest.is_finite() {
+        Some(format!("the image is all white (darkest pixel {darkest:.2}); try --exposure {:.1}", to(darkest)))
+    } else {
+        None
     }
 }
 
@@ -191,3 +217,25 @@ pub fn stop_cleanly_on_signals() {}
 /// Signals are not handled on this platform.
 #[cfg(not(unix))]
 pub fn wait_if_stopped() {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use beam_math::glam::Vec3;
+
+    fn image(pixels: Vec<Vec3>) -> Image {
+        Image { width: pixels.len() as u32, height: 1, pixels }
+    }
+
+    #[test]
+    fn black_and_white_images_are_named() {
+        let dim = image(vec![Vec3::ZERO, Vec3::splat(1e-5)]);
+        let w = exposure_warning(&dim, 0.0).expect("all black");
+        assert!(w.contains("all black") && w.contains("--exposure 16."), "{w}");
+        assert!(exposure_warning(&dim, 16.0).is_none(), "brought up by the exposure");
+        assert!(exposure_warning(&image(vec![Vec3::ZERO; 4]), 0.0).unwrap().contains("no light"));
+        let w = exposure_warning(&image(vec![Vec3::splat(4.0), Vec3::splat(8.0)]), 0.0).expect("all white");
+        assert!(w.contains("all white") && w.contains("--exposure -2.3"), "{w}");
+        assert!(exposure_warning(&image(vec![Vec3::ZERO, Vec3::ONE]), 0.0).is_none());
+    }
+}

@@ -6,7 +6,7 @@ use beam_cpu::nonlinear::Degree;
 use beam_cpu::render::{Method, Occluders, RenderOptions, Shading};
 use beam_math::glossy::VolumeMethod;
 use beam_scene::region::Placement;
-use beam_scene::scene::{self, Scene};
+use beam_scene::scene::{self, Environment, EnvironmentMap, Scene};
 use std::path::Path;
 
 /// Options of `beam render`.
@@ -49,6 +49,8 @@ pub struct RenderArgs<'a> {
     pub stats: Option<&'a Path>,
     /// Let a scene file name meshes outside its folder.
     pub allow_outside_paths: bool,
+    /// `--env`: an environment map file or `r,g,b`, replacing the scene's.
+    pub env: Option<&'a str>,
     /// The clap ids of the options given on the command line (not defaulted).
     pub given: &'a [String],
 }
@@ -277,14 +279,32 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         let value = a.smesh_target.map_or_else(|| format!("{}", a.smesh_error.unwrap_or(0.0)), |n| n.to_string());
         scene.smesh.rest = Some(s.checked().map_err(|e| format!("{flag} {value} out of range: {e}"))?);
     }
+    if let Some(e) = a.env {
+        scene.environment = environment(e)?;
+    }
     for n in &scene.notices {
         // Said even when `quiet`: the image lacks content the file holds.
         eprintln!("warning: {}: {} {}", scene.name, n.count, n.what);
+    }
+    if let Some(what) = unseen_environment(kind, gpu, &scene.environment) {
+        eprintln!("warning: {}: the environment is not seen by --method {}{what}", scene.name, kind.name());
+    }
+    if gpu && !scene.surfaces.is_plain() {
+        eprintln!(
+            "warning: {}: textures and vertex colours are not used by --backend gpu (its materials are flat)",
+            scene.name
+        );
     }
     if let Some(k) = a.frame {
         scene.camera = camera_at(&scene, k)?;
     }
     let (width, height) = image_size(a.width, a.height, (scene.camera.width, scene.camera.height))?;
+    // Every camera (the scene file's, a glTF camera, the framing camera of a bare mesh, a frame of
+    // a camera path) at the size rendered: one that cannot see is refused with its reason.
+    scene.camera.with_size(width, height).check_view().map_err(|why| match a.frame {
+        Some(k) => format!("--frame {k}: the camera of scene {}: {why}", scene.name),
+        None => format!("the camera of scene {}: {why}", scene.name),
+    })?;
     let region = crate::region::parse(a.tile, a.crop, width, height)?;
     let memory = estimate(kind, width, height, scene.triangles.len(), a.photons);
     crate::limits::admit(&format!("a {width}×{height} {} render", kind.name()), memory, quiet)?;
@@ -316,7 +336,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
 /// exposure, so that `beam merge` joins only tiles of one render. Never 0.
 fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
     let text = format!(
-        "{}|{}|{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}×{}|{}|{:?}|{}",
+        "{}|{}|{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}×{}|{}|{:?}|{}{}",
         a.scene,
         a.method,
         a.backend,
@@ -344,9 +364,45 @@ fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
         a.exposure.to_bits(),
         a.frame,
         a.allow_outside_paths,
+        // Only when given, so that the fingerprints of renders without it stay as they were.
+        a.env.map(|e| format!("|env {e}")).unwrap_or_default(),
     );
     let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
     hash.max(1)
+}
+
+/// The environment `--env` names: `r,g,b` (three finite numbers ≥ 0), a uniform sky of that
+/// radiance, or a `.hdr` or `.exr` map file.
+fn environment(arg: &str) -> Result<Environment, String> {
+    let parts: Vec<&str> = arg.split(',').collect();
+    if parts.len() > 1 {
+        let rgb: Vec<f32> = parts.iter().filter_map(|p| p.trim().parse::<f32>().ok()).collect();
+        return match rgb[..] {
+            [r, g, b] if parts.len() == 3 && rgb.iter().all(|v| v.is_finite() && *v >= 0.0) => {
+                Ok(Environment::Constant(beam_math::glam::Vec3::new(r, g, b)))
+            }
+            _ => Err(format!("--env {arg}: expected three numbers ≥ 0 (r,g,b) or a .hdr or .exr file")),
+        };
+    }
+    let map = EnvironmentMap::load(Path::new(arg)).map_err(|e| format!("--env: {e}"))?;
+    Ok(Environment::Map(std::sync::Arc::new(map)))
+}
+
+/// What of a non-black environment `kind` (on the GPU where `gpu`) does not show, after
+/// "the environment is not seen by --method X"; `None` where it shows wholly (`beam`, `ray`) or is
+/// black.
+fn unseen_environment(kind: Kind, gpu: bool, environment: &Environment) -> Option<&'static str> {
+    if environment.is_black() {
+        return None;
+    }
+    match kind {
+        Kind::Beam | Kind::Ray => None,
+        _ if gpu => Some(" --backend gpu"),
+        Kind::Nonlinear | Kind::NonlinearReference => {
+            Some(" in the background, mirrors and glass (it lights diffuse surfaces only)")
+        }
+        Kind::Glossy | Kind::GlossyReference => Some(""),
+    }
 }
 
 /// The camera of `--frame k`: frame `k` of the scene's camera path, which must have it.
@@ -362,13 +418,9 @@ fn camera_at(scene: &Scene, k: u32) -> Result<scene::Camera, String> {
             path.last_frame()
         ),
     })?;
-    if !camera.has_view() {
-        return Err(format!(
-            "--frame {k}: the camera of scene {} stands on its target or looks along its up vector at this frame \
-             (between two keys)",
-            scene.name
-        ));
-    }
+    camera
+        .check_view()
+        .map_err(|why| format!("--frame {k}: the camera of scene {} at this frame: {why}", scene.name))?;
     Ok(camera)
 }
 

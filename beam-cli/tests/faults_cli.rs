@@ -463,3 +463,49 @@ fn signals_leave_no_temporary_and_no_half_replaced_pair() {
     }
     assert!(start.elapsed().as_secs() < 20, "took {:?}", start.elapsed());
 }
+
+/// Issue 67: a camera too far from the origin for 32-bit floats panicked in the eye beams. Every
+/// camera a render gets (a glTF camera here: its loader takes any placement) is checked once the
+/// image size is known, and refused naming the scene and why.
+#[test]
+fn a_camera_that_cannot_see_is_refused_with_its_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.png");
+    let positions: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let bin: Vec<u8> = positions.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+    std::fs::write(dir.path().join("t.bin"), &bin).unwrap();
+    let model = dir.path().join("far.gltf");
+    std::fs::write(
+        &model,
+        r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+ "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 3e38]}],
+ "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
+ "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}],
+ "bufferViews": [{"buffer": 0, "byteLength": 36}],
+ "buffers": [{"uri": "t.bin", "byteLength": 36}]}"#,
+    )
+    .unwrap();
+    for method in ["beam", "ray", "nonlinear"] {
+        let o = render(&out, &["--scene", s(&model), "--method", method], &[]);
+        refused(&o, &["the camera of scene", "far.gltf", "too far from the origin"]);
+    }
+    assert!(!out.exists());
+}
+
+/// Issue 67: `--bounces 16` on the bumpy mirror built a beam tree growing about tenfold a level
+/// (past 60 s at 16 × 16, for hours at 16 levels). It is refused after the first levels, naming
+/// `--bounces`, the estimated size and the limit. (The caustics, whose cost does not depend on
+/// `--bounces`, are left out to time the tree alone.)
+#[test]
+fn a_deep_beam_tree_is_refused_with_its_estimate() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.png");
+    let start = std::time::Instant::now();
+    let extra = ["--scene", "bumpy-mirror", "--method", "nonlinear", "--bounces", "16", "--caustic-strata", "0"];
+    let args = ["render", "--width", "16", "--height", "16", "--out", s(&out)];
+    let o = beam(&[&args[..], &extra[..]].concat(), &[]);
+    let e = refused(&o, &["--bounces 16", "beam tree would hold about", "limit of", "bounces fit"]);
+    assert!(start.elapsed().as_secs() < 20, "refused after {:?}: {e}", start.elapsed());
+    assert!(!out.exists());
+}

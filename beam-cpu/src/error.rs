@@ -50,6 +50,32 @@ pub enum RenderError {
     /// reads it back.
     #[error("the renderer kept the frame on its device for display; it was not read back")]
     FrameKept,
+    /// A nonlinear beam tree of `bounces` levels estimated past
+    /// [`MAX_TREE_BEAMS`](crate::nonlinear::MAX_TREE_BEAMS) beams: found before level `level` was
+    /// built, from the beams of the levels before it and the faces level `level` was asked for.
+    #[error(
+        "--bounces {bounces}: the nonlinear beam tree would hold about {estimate:.1e} beams (beams per level so far \
+         {beams_per_level:?}, {requested} faces asked for at level {level}, growing about {growth:.1}× a level), past \
+         the limit of {limit} beams; at most {fits} bounces fit (deeper bounces are traced by rays)"
+    )]
+    BeamTree {
+        /// Levels asked for (`NonlinearOptions::bounces`, `--bounces`).
+        bounces: u32,
+        /// The level that was to be built next.
+        level: u32,
+        /// Beams of the levels built.
+        beams_per_level: Vec<u64>,
+        /// S-mesh faces the next level was asked for.
+        requested: u64,
+        /// Growth per level the estimate assumes.
+        growth: f64,
+        /// Estimated beams of the whole tree.
+        estimate: f64,
+        /// The limit ([`MAX_TREE_BEAMS`](crate::nonlinear::MAX_TREE_BEAMS)).
+        limit: u64,
+        /// Most levels whose estimated tree is within the limit.
+        fits: u32,
+    },
     /// The backend the render ran on failed (ray queries, beam textures, shading, the gather).
     #[error(transparent)]
     Backend(#[from] BackendError),

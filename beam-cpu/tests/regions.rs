@@ -76,11 +76,11 @@ fn nonlinear_tiles_equal_the_frame() {
         caustic_strata: 1,
         shading: RenderOptions::exact(w, h),
     };
-    let (full, _) = render_nonlinear(&scene, &options);
+    let (full, _) = render_nonlinear(&scene, &options).unwrap();
     let reference = render_smooth_reference(&scene, &options.shading, 2000);
     for rect in rects(w, h) {
         let shading = RenderOptions { region: Some(rect), ..options.shading };
-        let (part, _) = render_nonlinear(&scene, &NonlinearOptions { shading, ..options });
+        let (part, _) = render_nonlinear(&scene, &NonlinearOptions { shading, ..options }).unwrap();
         same("nonlinear", &full, rect, &part);
         same("nonlinear-reference", &reference, rect, &render_smooth_reference(&scene, &shading, 2000));
     }

@@ -327,7 +327,8 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
         let (image, _) = render_nonlinear(
             &coarse,
             &NonlinearOptions { degree, texels: 32, bounces: 2, caustic_strata: CAUSTIC_STRATA, shading },
-        );
+        )
+        .expect("a two-level tree fits");
         let sum: f64 = mask
             .iter()
             .map(|&i| {

@@ -315,3 +315,69 @@ fn degenerate_and_non_finite_triangles_are_filtered_and_counted() {
     let e = err(load(&s));
     assert!(e.contains("s.toml: no valid triangle"), "{e}");
 }
+
+// 6. Cameras and beam trees no renderer can handle (issue 67).
+
+/// A camera at z = 3·10³⁸ (its image plane at distance 1 is lost in rounding) panicked in the eye
+/// beams: now the scene file is refused naming the camera and why, and a library render of such
+/// a camera (set after loading) returns an image.
+#[test]
+fn a_camera_too_far_for_its_image_plane_is_refused_not_a_panic() {
+    let dir = TempDir::new("far-camera");
+    dir.write("t.obj", TRI);
+    let far = "[camera]\nposition = [0, 0, 3e38]\ntarget = [0, 0, 0]\nwidth = 8\nheight = 8\n";
+    let e = err(load(&dir.write("far.toml", &scene_text("t.obj", far))));
+    assert!(e.contains("far.toml") && e.contains("camera") && e.contains("too far from the origin"), "{e}");
+    // A key of an animated camera too.
+    let keys = "[camera]\nwidth = 8\nheight = 8\n[[camera.keys]]\nframe = 0\nposition = [0, 0, 3]\ntarget = [0, 0, 0]\n\
+                [[camera.keys]]\nframe = 4\nposition = [0, 0, 3e38]\ntarget = [0, 0, 0]\n";
+    let e = err(load(&dir.write("keys.toml", &scene_text("t.obj", keys))));
+    assert!(e.contains("keys.toml") && e.contains("camera.keys[1]") && e.contains("too far"), "{e}");
+    // Position and target whose difference overflows.
+    let huge = "[camera]\nposition = [0, 0, 3e38]\ntarget = [0, 0, -3e38]\n";
+    let e = err(load(&dir.write("huge.toml", &scene_text("t.obj", huge))));
+    assert!(e.contains("huge.toml") && e.contains("camera") && e.contains("overflows"), "{e}");
+
+    let near = dir.write("near.toml", &scene_text("t.obj", ""));
+    for primary_beams in [true, false] {
+        let mut scene = load(&near).unwrap();
+        assert!(scene.camera.has_view());
+        scene.camera.position.z = 3e38;
+        let why = scene.camera.check_view().unwrap_err();
+        assert!(why.contains("too far from the origin"), "{why}");
+        let options = beam_cpu::render::RenderOptions { primary_beams, ..beam_cpu::render::RenderOptions::exact(8, 8) };
+        let (image, _) = within("render", move || beam_cpu::render::render(&scene, &options, || {}));
+        assert_eq!(image.pixels.len(), 64);
+    }
+    // The nonlinear renderer too.
+    let mut scene = scene::builtin("mirror-glass").unwrap();
+    scene.camera.position.z = 3e38;
+    let shading = beam_cpu::render::RenderOptions::exact(8, 8);
+    let options = beam_cpu::nonlinear::NonlinearOptions {
+        degree: beam_cpu::nonlinear::Degree::S1,
+        texels: 8,
+        bounces: 1,
+        caustic_strata: 0,
+        shading,
+    };
+    within("nonlinear", move || beam_cpu::nonlinear::render_nonlinear(&scene, &options).map(drop)).unwrap();
+}
+
+/// `--bounces 16` on the bumpy mirror built a beam tree growing about tenfold a level, for hours:
+/// now it is refused, naming the bounces, the estimate and the limit, after its first levels.
+#[test]
+fn a_beam_tree_too_large_to_build_is_refused_promptly() {
+    use beam_cpu::nonlinear::{Degree, MAX_TREE_BEAMS, NonlinearOptions, render_nonlinear};
+    let scene = scene::builtin("bumpy-mirror").unwrap();
+    let shading = beam_cpu::render::RenderOptions::exact(16, 16);
+    let options = NonlinearOptions { degree: Degree::S3, texels: 32, bounces: 16, caustic_strata: 0, shading };
+    let start = std::time::Instant::now();
+    let r = within("bounces 16", move || render_nonlinear(&scene, &options).map(|_| ()));
+    let e = match r {
+        Err(e @ beam_cpu::RenderError::BeamTree { .. }) => e.to_string(),
+        other => panic!("expected a refused beam tree, got {other:?}"),
+    };
+    assert!(start.elapsed() < Duration::from_secs(15), "refused only after {:?}", start.elapsed());
+    assert!(e.contains("--bounces 16") && e.contains(&format!("limit of {MAX_TREE_BEAMS} beams")), "{e}");
+    assert!(e.contains("bounces fit"), "{e}");
+}

@@ -14,7 +14,8 @@ use super::optimal::Optimal;
 use crate::binning::PrimRef;
 use crate::options::{BuildOptions, Collapse};
 use crate::tree::Node;
-use beam_math::heuristics::surface_area;
+use beam_math::Aabb;
+use beam_math::glam::DVec3;
 use std::vec::Vec;
 
 /// The eight-wide nodes of `tree` (root first, children after their parents; its leaves index
@@ -43,15 +44,26 @@ pub(super) fn collapse(
 /// the conference room the same (2.0 no more than 1.75; 3.0 less than 1.5).
 pub(super) const NODE_COST: f32 = 1.75;
 
+/// The surface area of `b` as the collapses cost it: in `f64`, from the corners, so that it is
+/// finite for every box of finite corners. In `f32` a box wider than about 10¹⁹ (one vertex of a
+/// mesh at 10³⁰) has an infinite area, every cost above it is infinite too, and no choice between
+/// them means anything.
+pub(super) fn cost_area(b: Aabb) -> f64 {
+    let e = (b.max.as_dvec3() - b.min.as_dvec3()).max(DVec3::ZERO);
+    2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+}
+
 /// For each node of `tree`, whether its subtree becomes one leaf (bottom up: children follow
-/// their parents, so a reverse pass sees children first).
+/// their parents, so a reverse pass sees children first). Only subtrees of at most `max_leaf`
+/// references may, whatever the costs.
 fn leaves(tree: &[Node], max_leaf: usize, node_cost: f32) -> Vec<bool> {
+    let node_cost = f64::from(node_cost);
     let mut count = vec![0usize; tree.len()];
-    let mut cost = vec![0f32; tree.len()];
+    let mut cost = vec![0f64; tree.len()];
     let mut leaf = vec![false; tree.len()];
     for i in (0..tree.len()).rev() {
-        let area = surface_area(tree[i].bounds());
-        let blocks = |n: usize| n.div_ceil(4) as f32;
+        let area = cost_area(tree[i].bounds());
+        let blocks = |n: usize| n.div_ceil(4) as f64;
         match tree[i] {
             Node::Leaf { count: c, .. } => {
                 debug_assert!(c as usize <= 4 * Node8::MAX_LEAF_BLOCKS);
@@ -86,7 +98,7 @@ impl Roots for Greedy<'_> {
     }
 
     fn roots(&self, i: usize, kids: &mut Vec<usize>) {
-        let area = |k: usize| surface_area(self.tree[k].bounds());
+        let area = |k: usize| cost_area(self.tree[k].bounds());
         kids.push(i);
         while kids.len() < 8 {
             let open = (0..kids.len())

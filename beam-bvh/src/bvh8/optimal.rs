@@ -4,7 +4,7 @@
 //! of representing the subtree of `n` as at most `i` roots (children of an eight-wide node):
 //!
 //! - `C(n, 1) = min(C_leaf(n), C_internal(n))`, with `C_leaf(n) = A(n) · ⌈P(n)/4⌉` (blocks of
-//!   four triangles, as the 8-wide builder costs them; infinite beyond `max_leaf` references) and
+//!   four triangles, as the 8-wide builder costs them; no leaf beyond `max_leaf` references) and
 //!   `C_internal(n) = c_t · A(n) + C_distribute(n, 8)` (`c_t`: [`super::collapse::NODE_COST`]
 //!   times the build's traversal cost);
 //! - `C(n, i) = min(C(n, i − 1), C_distribute(n, i))` for `i > 1`;
@@ -13,12 +13,15 @@
 //! The tree is then emitted top down by following the decisions, keeping the binary tree's
 //! left-to-right order in the slots. Its cost (inner nodes `c_t · A`, leaves `A` per block) is
 //! the least over all collapses whose leaves are binary subtrees. Trees laid out depth first (as
-//! the binary builder makes them) are solved a subtree per task.
+//! the binary builder makes them) are solved a subtree per task. Costs are `f64` areas
+//! ([`super::collapse::cost_area`]): finite for every finite box. (With `f32` areas a mesh with
+//! one vertex at 10³⁰ made every cost infinite, and `C_leaf = ∞ ≤ C_internal = ∞` chose a leaf
+//! of 65 triangles, past the limit, as the leaf limit was an infinite cost; the limit is a
+//! condition now.)
 
 use super::Node8;
-use super::collapse::Roots;
+use super::collapse::{Roots, cost_area};
 use crate::tree::Node;
-use beam_math::heuristics::surface_area;
 use std::vec::Vec;
 
 /// Slots of an eight-wide node.
@@ -66,7 +69,7 @@ struct Decisions {
 /// fewest slots from which more cost no less (`C(n, i) = C(n, 8)` for `i ≥ flat`).
 #[derive(Clone, Copy, Debug)]
 struct Costs {
-    cost: [f32; WIDE],
+    cost: [f64; WIDE],
     count: usize,
     flat: usize,
 }
@@ -76,31 +79,36 @@ const PARALLEL_NODES: usize = 8192;
 
 /// The solution at binary node `n` from its children's (`None` for a leaf).
 fn solve(node: &Node, children: Option<(Costs, Costs)>, max_leaf: usize, node_cost: f32) -> (Costs, Decisions) {
-    let area = surface_area(node.bounds());
+    let area = cost_area(node.bounds());
     let Some((l, r)) = children else {
         let Node::Leaf { count: p, .. } = *node else { unreachable!("inner nodes have children") };
         debug_assert!(p as usize <= 4 * Node8::MAX_LEAF_BLOCKS);
         // A binary leaf is never split: any number of slots holds it as one leaf.
-        let cost = [area * (p as usize).div_ceil(4) as f32; WIDE];
+        let cost = [area * (p as usize).div_ceil(4) as f64; WIDE];
         return (Costs { cost, count: p as usize, flat: 1 }, Decisions::default());
     };
     let count = l.count + r.count;
     // C_distribute(n, i) for i = 2..=8, with its best k (the first of equal costs). Beyond
     // `l.flat` a larger k gives the left no less and the right no more slots: never cheaper.
-    let mut dist = [(f32::INFINITY, 0u8, 0u8); WIDE];
+    let mut dist = [(f64::INFINITY, 0u8, 0u8); WIDE];
     for i in 2..=WIDE {
         for k in 1..i.min(l.flat + 1) {
             let c = l.cost[k - 1] + r.cost[i - k - 1];
-            if c < dist[i - 1].0 {
+            // The first k whatever its cost: a split is always a valid choice.
+            if k == 1 || c < dist[i - 1].0 {
                 dist[i - 1] = (c, k as u8, (i - k) as u8);
             }
         }
     }
-    let internal = node_cost * area + dist[WIDE - 1].0;
-    let leaf = if count <= max_leaf { area * count.div_ceil(4) as f32 } else { f32::INFINITY };
+    let internal = f64::from(node_cost) * area + dist[WIDE - 1].0;
+    // A leaf only within the limit: a condition, not a cost (an infinite cost ties with others).
+    let leaf = (count <= max_leaf).then(|| area * count.div_ceil(4) as f64);
     let mut cost = [0.0; WIDE];
     let mut choice = [Choice::Leaf; WIDE];
-    (cost[0], choice[0]) = if leaf <= internal { (leaf, Choice::Leaf) } else { (internal, Choice::Internal) };
+    (cost[0], choice[0]) = match leaf {
+        Some(leaf) if leaf <= internal => (leaf, Choice::Leaf),
+        _ => (internal, Choice::Internal),
+    };
     for i in 2..=WIDE {
         let (c, k, j) = dist[i - 1];
         (cost[i - 1], choice[i - 1]) =

@@ -402,3 +402,38 @@ fn odd_ranges_and_directions_agree_across_kernels() {
         }
     }
 }
+
+/// Issue 67: an OBJ mesh of the input fuzzer (the conference room's first faces, mutated to one
+/// vertex at z = −10³⁰ and one at x = −1.8·10¹⁹) has a root box whose `f32` surface area is
+/// infinite. The optimal collapse's leaf cost (infinite past the leaf limit) then tied with the
+/// root's infinite cost as a node, and the root became one leaf of all its triangles, past the 64
+/// a leaf holds: a debug assertion, and in release a count wrapped in a `u8`. Every collapse now
+/// keeps each leaf within the limit, and the tree answers as brute force does.
+#[test]
+fn far_vertices_keep_leaves_within_the_limit() {
+    let mut tris = grid(8);
+    tris.push(Triangle::new(Vec3::new(1.0, 1.0, 0.0), Vec3::new(2.0, 1.0, 0.0), Vec3::new(1.0, 2.0, -1e30)));
+    tris.push(Triangle::new(Vec3::new(-1.8e19, 3.0, 0.0), Vec3::new(3.0, 3.0, 0.0), Vec3::new(3.0, 4.0, 0.0)));
+    assert!(surface_area(Aabb::from_points(&tris.iter().flat_map(|t| t.v).collect::<Vec<_>>())).is_infinite());
+    let eye = Vec3::new(4.0, 4.0, 10.0);
+    let rays: Vec<Ray> =
+        (0..81).map(|i| Ray::new(eye, Vec3::new((i % 9) as f32 + 0.3, (i / 9) as f32 + 0.6, 0.0) - eye)).collect();
+    for options in [
+        BuildOptions::sah(),
+        BuildOptions { parallel: false, max_leaf: 16, ..BuildOptions::sah() },
+        BuildOptions { collapse: Some(Collapse::Greedy), ..BuildOptions::sah() },
+        BuildOptions { collapse: None, ..BuildOptions::sah() },
+        BuildOptions::high_quality(),
+    ] {
+        let mut bvh = Bvh8::build(&tris, &options);
+        let mut leaves = 0;
+        for n in &bvh.nodes {
+            for s in 0..8 {
+                assert!(usize::from(n.tris[s]) <= 4 * Node8::MAX_LEAF_BLOCKS, "{options:?}");
+                leaves += usize::from(n.tris[s]);
+            }
+        }
+        assert_eq!(leaves, tris.len(), "{options:?}");
+        check(&tris, &mut bvh, &rays, 5.0);
+    }
+}

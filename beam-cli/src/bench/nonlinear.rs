@@ -59,11 +59,11 @@ pub fn run(size: u32, out: &Path, csv: &Path) -> Result<(), String> {
                 // The eye's beam tree only, as 000 Fig. 10 times it: the area light's caustics
                 // (view-independent, made once per light) are left out.
                 let options = NonlinearOptions { degree, texels, bounces: 2, caustic_strata: 0, shading };
-                let (_, stats) = render_nonlinear(&scene, &options);
-                (stats.seconds, stats.beams_per_level.iter().sum::<u64>())
+                let (_, stats) = render_nonlinear(&scene, &options).map_err(|e| e.to_string())?;
+                Ok::<_, String>((stats.seconds, stats.beams_per_level.iter().sum::<u64>()))
             };
-            let (s1, beams) = time(Degree::S1);
-            let (s3, _) = time(Degree::S3);
+            let (s1, beams) = time(Degree::S1)?;
+            let (s3, _) = time(Degree::S3)?;
             let start = Instant::now();
             let _ = render_smooth_reference(&scene, &shading, 0);
             let rays = start.elapsed().as_secs_f64();

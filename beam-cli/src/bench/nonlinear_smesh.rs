@@ -47,7 +47,7 @@ pub fn run(size: u32, targets: &[u32], out: &Path, csv: &Path) -> Result<(), Str
         scene.smesh.rest = target.map(Simplify::Faces);
         for degree in [Degree::S1, Degree::S3] {
             let options = NonlinearOptions { degree, texels: 32, bounces: 2, caustic_strata: CAUSTIC_STRATA, shading };
-            let (image, stats) = render_nonlinear(&scene, &options);
+            let (image, stats) = render_nonlinear(&scene, &options).map_err(|e| e.to_string())?;
             let psnr = difference(&image, &reference).map_err(|e| e.to_string())?.psnr;
             let beams = stats.beams_per_level.iter().sum();
             let (folded, uncovered) = (stats.coarse_faces_by_rays, stats.uncovered_by_beams);

@@ -149,9 +149,10 @@ fn render_points(
         for i in others {
             let s = &batch[i];
             out[i] = match scene.material(s.prim) {
-                Material::Emissive { radiance } => radiance,
-                Material::Glossy { albedo, .. } => {
-                    albedo / core::f32::consts::PI * reference_direct(scene, s.p, facing(scene, s.prim, s.d), s.seed)
+                Material::Emissive { .. } => scene.emission_at(s.prim, s.p),
+                Material::Glossy { .. } => {
+                    scene.albedo_at(s.prim, s.p) / core::f32::consts::PI
+                        * reference_direct(scene, s.p, facing(scene, s.prim, s.d), s.seed)
                 }
                 _ => Vec3::ZERO,
             };
@@ -243,7 +244,7 @@ pub fn render_glossy_with(
             .zip(&at)
             .zip(gathered)
             .map(|((s, &(p, n)), g)| {
-                scene.material(s.prim).albedo() / core::f32::consts::PI
+                scene.albedo_at(s.prim, s.p) / core::f32::consts::PI
                     * (direct(scene, &volumes.emitters, p, n, g.shadowed) + g.irradiance)
             })
             .collect())
@@ -289,7 +290,7 @@ pub fn render_glossy_photons_in(
             .map(|s| {
                 let n = facing(scene, s.prim, s.d);
                 let e = reference_direct(scene, s.p, n, s.seed) + map.irradiance(scene, s.prim, s.p, s.d);
-                scene.material(s.prim).albedo() / core::f32::consts::PI * e
+                scene.albedo_at(s.prim, s.p) / core::f32::consts::PI * e
             })
             .collect())
     };

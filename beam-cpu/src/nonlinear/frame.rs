@@ -25,10 +25,11 @@ use rayon::prelude::*;
 use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
-/// Render `scene` with its mirror and glass surfaces by nonlinear beams on the CPU.
-#[must_use]
-pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> (Image, NonlinearStats) {
-    render_nonlinear_with(scene, options, &CpuBeams).unwrap_or_else(|e| unreachable!("the CPU renderer failed: {e}"))
+/// Render `scene` with its mirror and glass surfaces by nonlinear beams on the CPU. Fails only
+/// where the beam tree of `options.bounces` levels is estimated too large to build
+/// ([`RenderError::BeamTree`]).
+pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> Result<(Image, NonlinearStats), RenderError> {
+    render_nonlinear_with(scene, options, &CpuBeams)
 }
 
 /// Render `scene` with its mirror and glass surfaces by nonlinear beams, the eye's view and every

@@ -23,7 +23,7 @@ pub use composite::composite_levels;
 pub use cpu_beams::{CpuBeams, shade_points};
 pub use frame::{NonlinearPrecomputed, render_nonlinear, render_nonlinear_frame, render_nonlinear_with};
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
-pub use settings::{NonlinearOptions, NonlinearStats};
+pub use settings::{MAX_TREE_BEAMS, NonlinearOptions, NonlinearStats};
 pub use stages::Stage;
 // The host side of the beam tree, shared with beam-gpu (beam-scene), under the names the CPU
 // renderer's callers use.

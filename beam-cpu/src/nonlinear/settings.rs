@@ -5,6 +5,15 @@ use super::stages::Stage;
 use crate::render::RenderOptions;
 use beam_scene::nonlinear::Degree;
 
+/// Most beams a render's beam tree may hold over all its levels. A tree grows by a factor per
+/// level (each beam off a curved mirror or glass surface sees many S-mesh faces: 4 to 12 on the
+/// built-in scenes), so that deep trees cannot be rendered: before each level is built the tree's
+/// size at [`NonlinearOptions::bounces`] levels is estimated from its growth so far, and a render
+/// whose estimate passes this is refused ([`crate::RenderError::BeamTree`]) after two or three
+/// cheap levels, not after hours. 50,000 beams take about a minute of a core at 16 × 16 pixels, and
+/// gigabytes of textures at larger images.
+pub const MAX_TREE_BEAMS: u64 = 50_000;
+
 /// Settings of the nonlinear renderer.
 #[derive(Clone, Copy, Debug)]
 pub struct NonlinearOptions {
@@ -14,7 +23,8 @@ pub struct NonlinearOptions {
     /// gives its face at least [`TEXELS_PER_SAMPLE`](beam_scene::nonlinear::TEXELS_PER_SAMPLE) texels per pixel covering it, no fewer than 4
     /// (or than this, when it is below 4). Taken within [`TEXELS`](beam_scene::nonlinear::TEXELS) (a value outside is clamped).
     pub texels: u32,
-    /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays.
+    /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays. A
+    /// tree estimated past [`MAX_TREE_BEAMS`] beams is refused.
     pub bounces: u32,
     /// Strata per side of an area light in the caustic pass (0: area lights cast no caustics;
     /// at most [`super::MAX_CAUSTIC_STRATA`]); see [`super::caustics_by_beams`].

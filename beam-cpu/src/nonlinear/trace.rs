@@ -12,9 +12,10 @@
 //! interpolated (Phong) normals.
 
 use super::lookup::{FaceAnswer, Lookups, ToComposite, reproject};
-use super::settings::NonlinearOptions;
+use super::settings::{MAX_TREE_BEAMS, NonlinearOptions};
 use super::source::{from_eye, through};
 use super::stages::StageClock;
+use crate::RenderError;
 use crate::render::IrradianceMap;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
@@ -185,7 +186,7 @@ impl Tree<'_> {
         renderer: &dyn BeamRenderer,
         roots: Vec<Request>,
         clock: &mut StageClock<'_>,
-    ) -> Result<Built, BackendError> {
+    ) -> Result<Built, RenderError> {
         self.beams.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
         self.through.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
         let mut levels: Vec<Vec<Node>> = Vec::new();
@@ -195,10 +196,14 @@ impl Tree<'_> {
         let continues: Vec<bool> =
             (0..self.scene.triangles.len() as u32).map(|p| !self.smesh.candidates(p).is_empty()).collect();
         let mut requests = roots;
+        // The faces the last level built was asked for: the tree's growth so far.
+        let mut last_requested = None;
         for level in 1..=self.options.bounces {
             if requests.is_empty() {
                 break;
             }
+            self.check_size(level, &levels, requests.len(), last_requested)?;
+            last_requested = Some(requests.len());
             let parents = levels.last();
             // The light arriving at each request's face (000 §7.2): from the eye, or fitted to its
             // parent's texel rays on it, else its parent's rays through its vertices (those the
@@ -347,6 +352,53 @@ impl Tree<'_> {
             levels.push(nodes);
         }
         Ok(Built { roots: root_children, levels, kept: kept_totals, records })
+    }
+
+    /// Refuse a tree whose size at `options.bounces` levels is estimated past [`MAX_TREE_BEAMS`],
+    /// before level `level` is built: `levels` are those built, `requested` the faces asked for at
+    /// `level`, `last_requested` those asked for at the level before. The estimate takes each
+    /// level to come as many times the one before as `level` is the last (beams per face as the
+    /// last level's): trees grow geometrically, and this refuses a hopeless tree after its first
+    /// cheap levels.
+    fn check_size(
+        &self,
+        level: u32,
+        levels: &[Vec<Node>],
+        requested: usize,
+        last_requested: Option<usize>,
+    ) -> Result<(), RenderError> {
+        let beams_per_level: Vec<u64> = levels.iter().map(|l| l.len() as u64).collect();
+        let built: u64 = beams_per_level.iter().sum();
+        let (growth, per_face) = match (last_requested, levels.last()) {
+            (Some(r), Some(l)) if r > 0 => (requested as f64 / r as f64, (l.len() as f64 / r as f64).max(1.0)),
+            _ => (1.0, 1.0),
+        };
+        let next = requested as f64 * per_face;
+        // The tree's beams with levels `level..=last`.
+        let estimate = |last: u32| {
+            let (mut sum, mut term) = (built as f64, next);
+            for _ in level..=last {
+                sum += term;
+                term = (term * growth).min(1e30);
+            }
+            sum
+        };
+        let bounces = self.options.bounces;
+        let limit = MAX_TREE_BEAMS;
+        if estimate(bounces) <= limit as f64 {
+            return Ok(());
+        }
+        let fits = (level..bounces).take_while(|&l| estimate(l) <= limit as f64).last().unwrap_or(level - 1);
+        Err(RenderError::BeamTree {
+            bounces,
+            level,
+            beams_per_level,
+            requested: requested as u64,
+            growth,
+            estimate: estimate(bounces),
+            limit,
+            fits,
+        })
     }
 
     /// Into `levels`' beams, the texels from which the tree goes on that `renderer` kept and summed

@@ -84,19 +84,21 @@ pub(crate) fn regions_in(width: u32, height: u32, within: PixelRect) -> Vec<Regi
 }
 
 /// The image plane of `camera` as a beam frame: `u` along the camera's right, `v` down the image, so
-/// that pixel `(x, y)` spans `[(2x/W − 1)·w, (2(x+1)/W − 1)·w] × [(2y/H − 1)·h, …]`.
-pub(crate) fn image_frame(camera: &Camera) -> (BeamFrame, f32, f32) {
+/// that pixel `(x, y)` spans `[(2x/W − 1)·w, (2(x+1)/W − 1)·w] × [(2y/H − 1)·h, …]`. `None` for a
+/// camera without a view ([`Camera::check_view`]).
+pub(crate) fn image_frame(camera: &Camera) -> Option<(BeamFrame, f32, f32)> {
+    camera.check_view().ok()?;
     let f = camera.frame();
-    let frame = BeamFrame::new(camera.position, camera.position + f.forward, f.forward, f.right)
-        .expect("a camera frame is valid");
-    (frame, f.half_width, f.half_height)
+    let frame = BeamFrame::new(camera.position, camera.position + f.forward, f.forward, f.right)?;
+    Some((frame, f.half_width, f.half_height))
 }
 
 /// What a fragment of the eye beams (a visible piece within a pixel) sees.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Fragment<'a> {
-    /// Nothing: the background.
-    Background,
+    /// Nothing: the background (the environment), seen along the unit direction `d` through the
+    /// fragment's centroid.
+    Background { d: Vec3 },
     /// Triangle `prim` at point `q` (at the fragment's centroid), seen along `d`.
     Surface { prim: u32, q: Vec3, d: Vec3 },
     /// The part of a surface fragment lit by point light `light` (001 §4.2); its light is added to
@@ -137,7 +139,8 @@ pub(crate) fn region_fragments(
     seen_prims: &mut [bool],
     mut fragment: impl FnMut(u32, u32, f32, Fragment),
 ) {
-    let (frame, hw, hh) = image_frame(camera);
+    // A camera without a view sees nothing: the loaders and the CLI refuse one with its reason.
+    let Some((frame, hw, hh)) = image_frame(camera) else { return };
     let grid = PixelGrid::new(hw, hh, camera.width, camera.height);
     let corner = |x: u32, y: u32| grid.to_image(Vec2::new(x as f32, y as f32));
     let (lo, hi) = (corner(region.x0, region.y0), corner(region.x1, region.y1));
@@ -158,7 +161,10 @@ pub(crate) fn region_fragments(
             continue;
         }
         let Some(prim) = piece.prim else {
-            pixel_parts(grid, &piece.section, window, |x, y, cov, _| fragment(x, y, cov, Fragment::Background));
+            pixel_parts(grid, &piece.section, window, |x, y, cov, part| {
+                let d = (frame.point(grid.to_image(part.centroid())) - frame.apex).normalize_or_zero();
+                fragment(x, y, cov, Fragment::Background { d });
+            });
             continue;
         };
         seen_prims[prim as usize] = true;

@@ -52,9 +52,10 @@ struct Part {
 
 /// The image `camera` sees of `scene` by exact primary visibility: each pixel is the
 /// coverage-weighted sum over its fragments of `shade(prim, q, d)` — triangle `prim` seen at point
-/// `q` (the fragment's centroid) along the unit direction `d` — and black where the background
-/// shows. Regions of [`super::region_side`]² pixels run in parallel; `pixels_done(n)` is called after
-/// each with its pixel count (for a progress bar).
+/// `q` (the fragment's centroid) along the unit direction `d` — and the scene's environment where
+/// the background shows (its radiance along the direction through the background fragment's
+/// centroid: exact for a constant environment). Regions of [`super::region_side`]² pixels run in
+/// parallel; `pixels_done(n)` is called after each with its pixel count (for a progress bar).
 pub fn primary_image(
     scene: &Scene,
     camera: &Camera,
@@ -73,9 +74,13 @@ pub fn primary_image(
             region_fragments(scene, camera, region, region, false, &mut eye, &mut seen, |x, y, cov, f| {
                 let i = region.index(x, y);
                 coverage[i] += cov;
-                if let Fragment::Surface { prim, q, d } = f {
-                    fragments += 1;
-                    pixels[i] += cov * shade(prim, q, d);
+                match f {
+                    Fragment::Surface { prim, q, d } => {
+                        fragments += 1;
+                        pixels[i] += cov * shade(prim, q, d);
+                    }
+                    Fragment::Background { d } => pixels[i] += cov * scene.environment.radiance(d),
+                    Fragment::Lit { .. } => {}
                 }
             });
             let error = coverage.iter().fold(0.0f64, |m, &c| m.max(f64::from((1.0 - c).abs())));

@@ -103,11 +103,20 @@ const SAMPLED_SHARE: f32 = 0.75;
 const MAX_CARRY: u32 = 3;
 
 impl TileShadows {
-    /// Gather the candidates for the shade points `points` (each with its block index,
-    /// `< BLOCKS²`), for every area light of `scene` that faces them.
-    pub(crate) fn build(&mut self, scene: &Scene, points: &[(usize, Vec3)], occluders: Occluders) {
+    /// Gather the candidates among `scene`'s triangles for the shade points `points` (each with
+    /// its block index, `< BLOCKS²`), for every area light of `lights` that faces them. The lights
+    /// from index `walk_from` on (a constant environment's faces, which enclose the scene, so that a
+    /// shaft to one gathers about every triangle) get no shaft: their beams walk the BVH
+    /// themselves ([`Mode::Walk`]).
+    pub(crate) fn build(
+        &mut self,
+        scene: &Scene,
+        (lights, walk_from): (&[Light], usize),
+        points: &[(usize, Vec3)],
+        occluders: Occluders,
+    ) {
         // How this tile's clusters start, by how the last tile's ended.
-        self.carried.resize(scene.lights.len(), (None, 0));
+        self.carried.resize(lights.len(), (None, 0));
         let per_light = 2 * BLOCKS * BLOCKS;
         for (light, carried) in self.carried.iter_mut().enumerate() {
             let clusters = self.clusters.get(light * per_light..(light + 1) * per_light).unwrap_or(&[]);
@@ -130,7 +139,7 @@ impl TileShadows {
         self.reaching.clear();
         let empty =
             Cluster { points: Aabb::EMPTY, packets: (0, 0), edges: (0, 0), reaching: (0, 0), mode: Mode::Split };
-        for light in &scene.lights {
+        for (index, light) in lights.iter().enumerate() {
             let base = self.clusters.len();
             self.clusters.resize(base + 2 * BLOCKS * BLOCKS, empty);
             if matches!(light, Light::Point { .. }) {
@@ -170,6 +179,10 @@ impl TileShadows {
                 }
                 if carried == Some(Mode::Rays) {
                     cluster.mode = Mode::Rays;
+                    continue;
+                }
+                if index >= walk_from {
+                    cluster.mode = Mode::Walk;
                     continue;
                 }
                 let shaft = Shaft::new(&cluster.points, &polygon, ln);

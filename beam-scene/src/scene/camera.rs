@@ -48,17 +48,64 @@ impl Camera {
         Self { position, target: position + forward, up: Vec3::Y, fov_y: 60.0, width, height }
     }
 
-    /// Whether the camera can see: a field of view strictly between 0° and 180°, a non-zero
-    /// resolution, a position other than the target and an up vector not along the view, all finite.
+    /// Whether the camera can see ([`Camera::check_view`] finds nothing wrong).
     #[must_use]
     pub fn has_view(&self) -> bool {
-        let sideways = self.up.cross(self.target - self.position);
-        self.fov_y > 0.0
-            && self.fov_y < 180.0
-            && self.width > 0
-            && self.height > 0
-            && sideways.length_squared() > 0.0
-            && sideways.is_finite()
+        self.check_view().is_ok()
+    }
+
+    /// Why the camera cannot see, if it cannot: it needs a field of view strictly between 0° and
+    /// 180°, a non-zero resolution, finite position, target and up, a view direction
+    /// `target − position` that neither vanishes nor overflows, an up vector not along it, and an
+    /// eye near enough to the origin that 32-bit floats place its image plane (at distance 1) to
+    /// 1% of the plane's half extent. Renderers take only such cameras (a camera without a view
+    /// renders nothing).
+    pub fn check_view(&self) -> Result<(), String> {
+        if !(self.fov_y > 0.0 && self.fov_y < 180.0) {
+            return Err(format!("field of view {}° must lie strictly between 0° and 180°", self.fov_y));
+        }
+        if self.width == 0 || self.height == 0 {
+            return Err(format!("resolution {}×{} must be at least 1×1", self.width, self.height));
+        }
+        let (p, t, up) = (self.position, self.target, self.up);
+        if !(p.is_finite() && t.is_finite() && up.is_finite()) {
+            return Err(format!("position {p}, target {t} and up {up} must be finite"));
+        }
+        let view = t - p;
+        if !view.is_finite() {
+            return Err(format!("the view direction target − position overflows (position {p}, target {t})"));
+        }
+        if view.try_normalize().is_none() {
+            // A target one unit ahead of an eye at 10⁸ rounds onto it (a glTF camera's).
+            let far = if p.abs().max_element() >= 1e7 {
+                ": the eye is too far from the origin for 32-bit floats"
+            } else {
+                ""
+            };
+            return Err(format!("position {p} and target {t} coincide{far}"));
+        }
+        let f = self.frame();
+        if f.forward.cross(up).try_normalize().is_none() {
+            return Err(format!("up {up} is zero or along the view direction {view}"));
+        }
+        if !(f.half_width > 0.0 && f.half_height > 0.0 && f.half_width.is_finite() && f.half_height.is_finite()) {
+            return Err(format!(
+                "field of view {}° gives no image plane at {}×{}",
+                self.fov_y, self.width, self.height
+            ));
+        }
+        // The image plane as the renderers place it: `position + forward`, rounded.
+        let rounding = ((p + f.forward) - p - f.forward).length();
+        let tolerance = 0.01 * f.half_width.min(f.half_height).min(1.0);
+        if !(rounding <= tolerance) {
+            return Err(format!(
+                "the eye at {p} is too far from the origin for 32-bit floats to place its image plane \
+                 (rounding {rounding:.1e}, allowed {tolerance:.1e} at a {}° field of view): move the scene and camera \
+                 nearer the origin",
+                self.fov_y
+            ));
+        }
+        Ok(())
     }
 
     /// The same camera rendering `width × height` pixels (at least one each way).

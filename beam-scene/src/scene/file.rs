@@ -3,7 +3,7 @@
 
 use super::check::{self, finite};
 use super::format::{self, Scale, SceneFile};
-use super::{Camera, Light, Material, SMeshPlan, Scene, smesh_file};
+use super::{Camera, Light, Material, SMeshPlan, Scene, framing, smesh_file};
 use crate::error::SceneError;
 use crate::mesh::{Mesh, load_obj_with};
 use crate::read::{MAX_SCENE_BYTES, has_extension, read_bounded, resolve_inside};
@@ -124,25 +124,30 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
         }
     }
     let rest = smesh_file::rest(path, file.smesh.as_ref())?;
+    let environment = match &file.environment {
+        Some(e) => super::environment_file::environment(path, dir, options.allow_outside_paths, e)?,
+        None => super::Environment::Black,
+    };
     let mut lights = Vec::new();
     for (i, l) in file.lights.iter().enumerate() {
         let element = format!("lights[{i}]");
         let light = format::light(path, &element, l)?;
         lights.push(light);
     }
-    let bounds = valid_bounds(path, &triangles)?;
-    if lights.is_empty() {
-        lights.push(default_light(bounds));
-    }
+    valid_bounds(path, &triangles)?;
     let (camera, camera_path) = match file.camera {
         Some(c) => format::camera(path, &c)?,
-        None => (default_camera(bounds), None),
+        None => (default_camera(&triangles), None),
     };
+    if lights.is_empty() {
+        lights.push(default_light(&triangles, &camera));
+    }
     let mut scene = Scene::new(path.display().to_string(), triangles, materials, lights, camera);
     scene.stats.skipped_elements = skipped;
     scene.notice("OBJ line and point element(s) skipped: they have no area to render", skipped);
     scene.camera_path = camera_path;
     scene.smesh = SMeshPlan { parts, rest };
+    scene.environment = environment;
     Ok(scene)
 }
 
@@ -155,40 +160,30 @@ pub(super) fn valid_bounds(path: &Path, triangles: &[(Triangle, u32)]) -> Result
     if bounds.is_valid() { Ok(bounds) } else { Err(SceneError::NoValidTriangle { path: path.to_path_buf() }) }
 }
 
-/// A camera in front of the box (along +z), framing it.
-pub(super) fn default_camera(b: beam_math::Aabb) -> Camera {
-    let c = b.center();
-    let r = 0.5 * b.extent().length();
-    Camera {
-        position: c + Vec3::new(0.0, 0.2 * r, 2.4 * r),
-        target: c,
-        up: Vec3::Y,
-        fov_y: 45.0,
-        width: 512,
-        height: 512,
-    }
+/// The default camera of a scene without one: [`framing::framing_camera`] of what stands in it
+/// ([`framing::object_bounds`]).
+pub(super) fn default_camera(triangles: &[(Triangle, u32)]) -> Camera {
+    framing::framing_camera(objects(triangles))
 }
 
-/// A downward-facing quad light above the box, a quarter of its width.
-pub(super) fn default_light(b: beam_math::Aabb) -> Light {
-    let e = b.extent();
-    let size = 0.25 * e.x.max(e.z);
-    let corner = Vec3::new(b.center().x - 0.5 * size, b.max.y + 0.5 * e.y.max(0.1 * size), b.center().z - 0.5 * size);
-    Light::Quad { corner, edge_u: Vec3::X * size, edge_v: Vec3::Z * size, radiance: Vec3::splat(20.0) }
+/// The default light of a scene without one: [`framing::key_light`] above and behind `camera`.
+pub(super) fn default_light(triangles: &[(Triangle, u32)], camera: &Camera) -> Light {
+    framing::key_light(camera, objects(triangles))
+}
+
+/// What stands in the scene ([`framing::object_bounds`]).
+fn objects(triangles: &[(Triangle, u32)]) -> beam_math::Aabb {
+    framing::object_bounds(&triangles.iter().map(|(t, _)| *t).collect::<Vec<_>>())
 }
 
 fn load_bare_obj(path: &Path) -> Result<Scene, SceneError> {
     let (mesh, stats) = load_obj_with(path, true)?;
     let triangles: Vec<(Triangle, u32)> = mesh.triangles().into_iter().map(|t| (t, 0)).collect();
-    let bounds = valid_bounds(path, &triangles)?;
+    valid_bounds(path, &triangles)?;
     let materials = vec![Material::Diffuse { albedo: Vec3::splat(0.7) }];
-    let mut scene = Scene::new(
-        path.display().to_string(),
-        triangles,
-        materials,
-        vec![default_light(bounds)],
-        default_camera(bounds),
-    );
+    let camera = default_camera(&triangles);
+    let light = default_light(&triangles, &camera);
+    let mut scene = Scene::new(path.display().to_string(), triangles, materials, vec![light], camera);
     scene.stats.skipped_elements = stats.skipped_elements;
     scene.notice("OBJ line and point element(s) skipped: they have no area to render", stats.skipped_elements);
     Ok(scene)

@@ -40,6 +40,12 @@
 //! edge_u = [1, 0, 0]
 //! edge_v = [0, 0, 1]
 //! radiance = [10, 10, 10]       # intensity for a point light
+//!
+//! [environment]                 # optional: what rays leaving the scene see, and its light (default black)
+//! color = [0.3, 0.33, 0.38]     # a uniform sky of this radiance, or
+//! map = "sky.hdr"               # an equirectangular map, .hdr or .exr (+Y up, +X at its centre column)
+//! intensity = 1.0               # optional: scales the colour or the map
+//! rotation = 0                  # optional, a map only: degrees about +Y
 //! ```
 
 use super::check::{colour, finite};
@@ -61,6 +67,18 @@ pub(super) struct SceneFile {
     #[serde(default)]
     pub(super) lights: Vec<LightFile>,
     pub(super) smesh: Option<SMeshFile>,
+    pub(super) environment: Option<EnvironmentFile>,
+}
+
+/// The environment (`[environment]`): a colour or a map file, checked by
+/// [`super::environment_file`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct EnvironmentFile {
+    pub(super) color: Option<[f32; 3]>,
+    pub(super) map: Option<String>,
+    pub(super) intensity: Option<f32>,
+    pub(super) rotation: Option<f32>,
 }
 
 /// The scene-wide S-mesh simplification (`[smesh]`).
@@ -233,8 +251,9 @@ pub(super) fn light(path: &Path, element: &str, l: &LightFile) -> Result<Light, 
 }
 
 /// The camera of the scene file `path` and its path when it has `[[camera.keys]]`, checked:
-/// finite, 0 < fov < 180, a non-zero resolution and an up vector not along the view (nor a view of
-/// zero length) at every key; keys in strictly increasing frame order. The camera is frame 0's.
+/// finite, and a view at every key ([`Camera::check_view`]: 0 < fov < 180, a non-zero resolution, an
+/// up vector not along the view, a view of non-zero length, an eye that 32-bit floats can place);
+/// keys in strictly increasing frame order. The camera is frame 0's.
 pub(super) fn camera(path: &Path, c: &CameraFile) -> Result<(Camera, Option<CameraPath>), SceneError> {
     let invalid = |element: &str, message: String| SceneError::Invalid {
         path: path.to_path_buf(),
@@ -262,23 +281,15 @@ pub(super) fn camera(path: &Path, c: &CameraFile) -> Result<(Camera, Option<Came
         width: c.width.unwrap_or(512),
         height: c.height.unwrap_or(512),
     };
-    let bad_view = |element: &str| {
-        invalid(
-            element,
-            "needs 0 < fov < 180, a non-zero resolution, position ≠ target and an up vector not along the view".into(),
-        )
-    };
-    if !cam.has_view() {
-        return Err(bad_view("camera"));
-    }
+    cam.check_view().map_err(|why| invalid("camera", why))?;
     let mut keys = Vec::with_capacity(c.keys.len());
     for (i, k) in c.keys.iter().enumerate() {
         let element = format!("camera.keys[{i}]");
         finite(path, &element, &[k.position, k.target].concat())?;
         let key = CameraKey { frame: k.frame, position: vec3(k.position), target: vec3(k.target) };
-        if !(Camera { position: key.position, target: key.target, ..cam }).has_view() {
-            return Err(bad_view(&element));
-        }
+        (Camera { position: key.position, target: key.target, ..cam })
+            .check_view()
+            .map_err(|why| invalid(&element, why))?;
         if let Some(before) = keys.last().filter(|b: &&CameraKey| b.frame >= key.frame) {
             return Err(invalid(
                 &format!("{element}.frame {}", key.frame),

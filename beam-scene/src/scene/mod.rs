@@ -5,9 +5,12 @@ mod builtin;
 mod camera;
 mod camera_path;
 mod check;
+mod environment;
+mod environment_file;
 mod file;
 pub mod foliage;
 mod format;
+pub mod framing;
 mod gltf;
 pub mod light_volumes;
 mod merge_emitters;
@@ -16,10 +19,15 @@ pub mod showcase;
 mod smesh_file;
 mod smesh_plan;
 pub mod suite;
+pub mod surface;
+pub mod texture;
 
 pub use builtin::{BUILTIN, PROCEDURAL, builtin, builtin_with_smesh};
 pub use camera::Camera;
 pub use camera_path::{CameraKey, CameraPath};
+pub use environment::{
+    Environment, EnvironmentMap, MAX_ENVIRONMENT_BYTES, MAX_ENVIRONMENT_SIDE, MAX_ENVIRONMENT_TEXELS,
+};
 pub use file::{LoadOptions, load, load_file, load_file_with, load_with};
 pub use smesh_plan::{MAX_SMESH_FACES, SMeshPlan, SMeshSource, Simplify};
 
@@ -249,10 +257,16 @@ pub struct Scene {
     pub camera: Camera,
     /// The animated camera of a scene file's `[[camera.keys]]`; `None`: a still camera.
     pub camera_path: Option<CameraPath>,
+    /// What rays that leave the scene see, and the light it sends in ([`Environment::Black`] from
+    /// [`Scene::new`]).
+    pub environment: Environment,
     /// Load counts.
     pub stats: SceneStats,
     /// What of the source is not used, by kind ([`Scene::notice`]).
     pub notices: Vec<Notice>,
+    /// Texture coordinates, vertex colours and textures ([`Scene::albedo_at`],
+    /// [`Scene::emission_at`]); empty for constant materials.
+    pub surfaces: surface::Surfaces,
     /// Binary BVH (generic traversal for beams).
     pub bvh: FlatBvh,
     /// 8-wide BVH for single rays (AVX2 or AVX-512 kernels chosen at run time; about twice the
@@ -282,8 +296,25 @@ impl Scene {
         lights: Vec<Light>,
         camera: Camera,
     ) -> Self {
+        Self::with_surfaces(name, triangles, materials, lights, camera, surface::Surfaces::default())
+    }
+
+    /// [`Scene::new`] with the textures and per-corner attributes `surfaces` of the triangles (in
+    /// the order of `triangles`, filtered with them).
+    #[must_use]
+    pub fn with_surfaces(
+        name: String,
+        triangles: Vec<(Triangle, u32)>,
+        materials: Vec<Material>,
+        lights: Vec<Light>,
+        camera: Camera,
+        mut surfaces: surface::Surfaces,
+    ) -> Self {
         let total = triangles.len();
         let (lights, merged_lights) = merge_emitters::merge_emitters(lights);
+        if !surfaces.is_plain() {
+            surfaces.retain(&triangles.iter().map(|(t, _)| t.is_valid()).collect::<Vec<_>>());
+        }
         let (triangles, material_of): (Vec<Triangle>, Vec<u32>) =
             triangles.into_iter().filter(|(t, _)| t.is_valid()).unzip();
         let stats = SceneStats {
@@ -305,8 +336,10 @@ impl Scene {
             lights,
             camera,
             camera_path: None,
+            environment: Environment::Black,
             stats,
             notices: Vec::new(),
+            surfaces,
             bvh,
             wide,
             smooth_normals,
@@ -356,6 +389,32 @@ impl Scene {
     #[must_use]
     pub fn bounds(&self) -> beam_math::Aabb {
         self.bvh.nodes.first().map_or(beam_math::Aabb::new(Vec3::ZERO, Vec3::ONE), |n| n.bounds())
+    }
+
+    /// Diffuse albedo of triangle `i` at its point `p`: its material's ([`Material::albedo`]) times
+    /// its base-colour texture and vertex colours there.
+    #[must_use]
+    pub fn albedo_at(&self, i: u32, p: Vec3) -> Vec3 {
+        let albedo = self.material(i).albedo();
+        if self.surfaces.is_plain() || albedo == Vec3::ZERO {
+            return albedo;
+        }
+        let w = self.triangles[i as usize].barycentric(p).unwrap_or(Vec3::splat(1.0 / 3.0));
+        albedo * self.surfaces.base_factor(i, self.material_of[i as usize], w)
+    }
+
+    /// Radiance emitted by triangle `i` at its point `p` (zero unless it is emissive): its
+    /// material's times its emissive texture there.
+    #[must_use]
+    pub fn emission_at(&self, i: u32, p: Vec3) -> Vec3 {
+        let Material::Emissive { radiance } = self.material(i) else {
+            return Vec3::ZERO;
+        };
+        if self.surfaces.is_plain() {
+            return radiance;
+        }
+        let w = self.triangles[i as usize].barycentric(p).unwrap_or(Vec3::splat(1.0 / 3.0));
+        radiance * self.surfaces.emissive_factor(i, self.material_of[i as usize], w)
     }
 
     /// Geometric unit normal of triangle `i`.

@@ -41,10 +41,10 @@ impl Context<'_> {
         if !self.beams_pay() {
             return self.sampled_light(p, n, index, rng, t);
         }
-        let light = &self.scene.lights[index];
+        let light = &self.lights[index];
         let (ln, polygon) = (self.emitters[index].normal, self.emitters[index].polygon());
         // Exact shading: only the part of the light above the tangent plane lights the point.
-        let polygon = match self.options.shading {
+        let polygon = match self.shading(index) {
             Shading::Exact => clip_above(polygon, p, n),
             Shading::Fraction => polygon.to_vec(),
         };
@@ -53,7 +53,9 @@ impl Context<'_> {
         }
         let Some(beam) = light_beam(p, &polygon, ln) else { return 0.0 };
         t.c.shadow_beams += 1;
-        let budget = if self.options.exact { u64::MAX } else { SPLITS_PER_RAY * u64::from(self.options.spp.max(1)) };
+        // In rays' worth of the light's own samples (a sky face's share of `--spp`).
+        let samples = self.samples(p, n, index);
+        let budget = if self.options.exact { u64::MAX } else { SPLITS_PER_RAY * u64::from(samples) };
         // Edges over the light a winding pass may weigh within the budget (its arrangement costs
         // about K² / 5 splits).
         let max_edges = if self.options.exact { usize::MAX } else { (5.0 * budget as f64).sqrt() as usize };
@@ -108,7 +110,7 @@ impl Context<'_> {
         t.c.beams += traced.stats;
         let frame = traced.frame;
         if let Some(l) = lit {
-            match self.options.shading {
+            match self.shading(index) {
                 Shading::Exact => l.irradiance.max(0.0),
                 Shading::Fraction => self.fraction_irradiance(p, n, index, l.area / beam.area()),
             }
@@ -116,20 +118,21 @@ impl Context<'_> {
             // Sampling from the start leaves the beam whole: its pieces are the light.
             let pieces = traced.pieces();
             let unresolved = sample_all || traced.over_budget();
-            let unoccluded: f32 = match self.options.shading {
+            let unoccluded: f32 = match self.shading(index) {
                 Shading::Exact => pieces.iter().map(|q| quad_irradiance(&frame, p, n, q)).sum(),
                 Shading::Fraction => pieces.iter().map(Quad::area).sum::<f32>() / beam.area(),
             };
             if unresolved && unoccluded > 0.0 {
-                let seen = self.seen_share(p, n, &frame, index, pieces, sample_all, rng, &mut t.c.shadow_rays);
+                let drawn = (index, samples);
+                let seen = self.seen_share(p, n, &frame, drawn, pieces, sample_all, rng, &mut t.c.shadow_rays);
                 t.c.sampled_beams += 1;
                 t.c.pending_bound += light.power().max_element() * unoccluded;
-                match self.options.shading {
+                match self.shading(index) {
                     Shading::Exact => unoccluded * seen,
                     Shading::Fraction => self.fraction_irradiance(p, n, index, unoccluded * seen),
                 }
             } else {
-                match self.options.shading {
+                match self.shading(index) {
                     Shading::Exact => unoccluded,
                     Shading::Fraction => self.fraction_irradiance(p, n, index, unoccluded),
                 }
@@ -144,12 +147,12 @@ impl Context<'_> {
     /// eq. 2). The ratio estimator would need the light's Lambert integral, which costs a point
     /// about four shadow rays here.
     fn sampled_light(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
-        let bound = match self.options.shading {
+        let bound = match self.shading(index) {
             Shading::Exact => self.emitters[index].irradiance_bound(p),
             Shading::Fraction => self.fraction_irradiance(p, n, index, 1.0),
         };
         t.c.sampled_beams += 1;
-        t.c.pending_bound += self.scene.lights[index].power().max_element() * bound;
+        t.c.pending_bound += self.lights[index].power().max_element() * bound;
         self.ray_irradiance(p, n, index, rng, t)
     }
 
@@ -160,10 +163,10 @@ impl Context<'_> {
     }
 
     /// The ratio estimate of the lit share of `pieces` (on the plane of `frame`, the light's) seen
-    /// from `p` (normal `n`): the ray method's `spp` stratified samples of light `index`, those that
-    /// fall in a piece each traced and weighted by the irradiance integrand `cos θ cos θ′ / r²`; the
-    /// weight of those that reach the light over the weight of all (Heitz et al. 2018, the ratio
-    /// estimator). The samples outside the pieces need no ray: the beam resolved them. 1 or 0
+    /// from `p` (normal `n`): the ray method's `spp` stratified samples of light `index` (the
+    /// third argument is `(index, spp)`, [`Context::samples`]), those that fall in a piece each
+    /// traced and weighted by the irradiance integrand `cos θ cos θ′ / r²`; the weight of those
+    /// that reach the light over the weight of all (Heitz et al. 2018, the ratio estimator). The samples outside the pieces need no ray: the beam resolved them. 1 or 0
     /// exactly when every traced sample is lit or every one hidden.
     #[allow(clippy::too_many_arguments)]
     fn seen_share(
@@ -171,13 +174,13 @@ impl Context<'_> {
         p: Vec3,
         n: Vec3,
         frame: &BeamFrame,
-        index: usize,
+        (index, spp): (usize, u32),
         pieces: &[Quad],
         whole: bool,
         rng: &mut Pcg32,
         shadow_rays: &mut u64,
     ) -> f32 {
-        let light = &self.scene.lights[index];
+        let light = &self.lights[index];
         let ln = self.emitters[index].normal;
         // With the whole light left (`whole`), every sample falls in it.
         let bounds: Vec<(Vec2, Vec2)> = if whole { Vec::new() } else { pieces.iter().map(Quad::bounds).collect() };
@@ -190,7 +193,6 @@ impl Context<'_> {
                     }
                 })
         };
-        let spp = self.options.spp.max(1);
         // A sample's integrand and whether it reaches the light (not traced where the integrand is 0).
         let mut trace = |q: Vec3| -> (f64, bool) {
             let to = q - p;

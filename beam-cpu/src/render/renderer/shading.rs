@@ -6,7 +6,7 @@
 use super::Counters;
 use super::emitters::Emitter;
 use crate::render::eye_regions::{Region, TILE};
-use crate::render::lambert::point_source_irradiance;
+use crate::render::lambert::{point_source_irradiance, polygon_irradiance};
 use crate::render::shadow_beam::{DEPTH_EPS, ShadowScratch, WindingScratch};
 use crate::render::tile_shadows::{BLOCKS, TileShadows};
 use beam_math::Ray;
@@ -43,7 +43,11 @@ pub(super) struct Context<'a> {
     pub(super) occluded: &'a AnyHit<'a>,
     /// Irradiance arriving at diffuse surfaces by paths the direct light does not follow (caustics).
     pub(super) caustics: Option<&'a IrradianceMap>,
-    /// The scene's lights' geometry, in the order of `scene.lights`.
+    /// The lights shaded: the scene's (in the order of `scene.lights`, so that their indices are
+    /// the scene's), then, with beams, a constant environment's ([`Environment::lights`], the sky
+    /// as the six faces of a cube about the scene).
+    pub(super) lights: Vec<Light>,
+    /// The lights' geometry, in the order of `lights`.
     pub(super) emitters: Vec<Emitter>,
 }
 
@@ -54,16 +58,22 @@ impl<'a> Context<'a> {
         occluded: &'a AnyHit<'a>,
         caustics: Option<&'a IrradianceMap>,
     ) -> Self {
-        let emitters = scene.lights.iter().map(Emitter::of).collect();
-        Self { scene, options: *options, eps: shading_eps(scene), occluded, caustics, emitters }
+        let mut lights = scene.lights.clone();
+        if options.method == Method::Beam {
+            lights.extend(scene.environment.lights(scene.bounds()));
+        }
+        let emitters = lights.iter().map(Emitter::of).collect();
+        Self { scene, options: *options, eps: shading_eps(scene), occluded, caustics, lights, emitters }
     }
 }
 
 impl Context<'_> {
+    /// Radiance arriving along `ray` (after `depth` mirror and glass bounces): the surface it
+    /// hits shaded, or the environment's radiance from its direction where it leaves the scene.
     pub(super) fn radiance(&self, ray: Ray, depth: u32, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
         t.c.camera_rays += 1;
         let Some(hit) = self.scene.wide.closest_hit(ray, f32::INFINITY) else {
-            return Vec3::ZERO;
+            return self.scene.environment.radiance(ray.direction);
         };
         self.shade(hit.prim, ray.at(hit.t), ray.direction.normalize(), depth, Lights::All, rng, t)
     }
@@ -98,8 +108,9 @@ impl Context<'_> {
             n = -n;
         }
         match self.scene.material(prim) {
-            Material::Emissive { radiance } => radiance,
-            Material::Diffuse { albedo } | Material::Glossy { albedo, .. } => {
+            Material::Emissive { .. } => self.scene.emission_at(prim, p),
+            Material::Diffuse { .. } | Material::Glossy { .. } => {
+                let albedo = self.scene.albedo_at(prim, p);
                 let mut e = self.direct(p + n * self.eps, n, lights, depth == 0, rng, t);
                 if let Some(map) = self.caustics {
                     e += map.irradiance(prim, p);
@@ -124,7 +135,9 @@ impl Context<'_> {
     }
 
     /// Irradiance at `p` (normal `n`) from `lights` (at a tile's first surfaces, `first`, only
-    /// those that face the tile).
+    /// those that face the tile; with beams, a constant environment's faces among them) and from
+    /// an environment not shaded as lights ([`Context::environment_irradiance`]: a map, or a
+    /// constant sky with rays).
     pub(super) fn direct(
         &self,
         p: Vec3,
@@ -144,13 +157,16 @@ impl Context<'_> {
                 }
             }
             None => {
-                for index in 0..self.scene.lights.len() {
+                for index in 0..self.lights.len() {
                     e += self.light(p, n, index, lights, rng, t);
                 }
             }
         }
         if first {
             t.facing = facing;
+        }
+        if self.lights.len() == self.scene.lights.len() && !self.scene.environment.is_black() {
+            e += self.environment_irradiance(p, n, rng, t);
         }
         if let Some(start) = start {
             t.c.shadow_seconds += start.elapsed().as_secs_f64();
@@ -160,7 +176,7 @@ impl Context<'_> {
 
     /// Irradiance at `p` (normal `n`) from light `index`, if it is one of `lights`.
     fn light(&self, p: Vec3, n: Vec3, index: usize, lights: Lights, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
-        match self.scene.lights[index] {
+        match self.lights[index] {
             Light::Point { .. } if lights == Lights::AreaOnly => Vec3::ZERO,
             Light::Point { position, intensity } => {
                 let to = position - p;
@@ -181,11 +197,12 @@ impl Context<'_> {
     /// Radiance towards `−d` of diffuse or glossy point `q` of `prim` from point light `light`,
     /// unoccluded: the fragment is known to be lit (001 §4.2).
     pub(super) fn point_lit(&self, prim: u32, q: Vec3, d: Vec3, light: usize) -> Vec3 {
-        let (Light::Point { position, intensity }, Material::Diffuse { albedo } | Material::Glossy { albedo, .. }) =
+        let (Light::Point { position, intensity }, Material::Diffuse { .. } | Material::Glossy { .. }) =
             (self.scene.lights[light], self.scene.material(prim))
         else {
             return Vec3::ZERO;
         };
+        let albedo = self.scene.albedo_at(prim, q);
         let mut n = self.scene.normal(prim);
         if n.dot(d) > 0.0 {
             n = -n;
@@ -197,7 +214,7 @@ impl Context<'_> {
 
     /// Irradiance per unit radiance from area light `index`.
     pub(super) fn area_light(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
-        if !self.emitters[index].may_light(p, n, self.options.shading == Shading::Exact) {
+        if !self.emitters[index].may_light(p, n, self.shading(index) == Shading::Exact) {
             return 0.0;
         }
         match self.options.method {
@@ -206,12 +223,13 @@ impl Context<'_> {
         }
     }
 
-    /// Irradiance per unit radiance from area light `index` by `--spp` stratified shadow rays
-    /// (those whose integrand vanishes, behind the point or the light, are not traced).
+    /// Irradiance per unit radiance from area light `index` by `--spp` stratified shadow rays (a
+    /// sky face its share, [`Context::samples`]; those whose integrand vanishes, behind the point
+    /// or the light, are not traced).
     pub(super) fn ray_irradiance(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
-        let light = &self.scene.lights[index];
+        let light = &self.lights[index];
         let Emitter { normal: ln, area, center, .. } = self.emitters[index];
-        let spp = self.options.spp.max(1);
+        let spp = self.samples(p, n, index);
         let (mut visible, mut integral) = (0u32, 0.0f32);
         for i in 0..spp {
             let (s, r) = light_sample(i, spp, rng);
@@ -219,7 +237,7 @@ impl Context<'_> {
             let r2 = to.length_squared();
             let w = to / r2.sqrt();
             let f = n.dot(w).max(0.0) * (-ln).dot(w).max(0.0) / r2;
-            if self.options.shading == Shading::Exact && !(f > 0.0) {
+            if self.shading(index) == Shading::Exact && !(f > 0.0) {
                 continue;
             }
             t.c.shadow_rays += 1;
@@ -228,11 +246,72 @@ impl Context<'_> {
                 integral += f;
             }
         }
-        match self.options.shading {
+        match self.shading(index) {
             Shading::Fraction => point_source_irradiance(p, n, center, ln, area, visible as f32 / spp as f32),
             Shading::Exact => area * integral / spp as f32,
         }
     }
+}
+
+impl Context<'_> {
+    /// The shadow rays that sample area light `index` at `p` (normal `n`): `--spp` for the
+    /// scene's lights; for a face of a constant environment ([`Environment::lights`]), its share of
+    /// them, the face's part of the sky's unoccluded irradiance `πL` (at least one), so that the
+    /// sky as a whole costs a point about `--spp` rays, like one light, and not six times that.
+    pub(super) fn samples(&self, p: Vec3, n: Vec3, index: usize) -> u32 {
+        let spp = self.options.spp.max(1);
+        if index < self.scene.lights.len() {
+            return spp;
+        }
+        let share = polygon_irradiance(p, n, self.emitters[index].polygon()) / std::f32::consts::PI;
+        ((spp as f32 * share).ceil() as u32).clamp(1, spp)
+    }
+
+    /// How area light `index` is shaded: by `--shading` for the scene's lights; exactly (001 eq. 1)
+    /// for a constant environment's faces, which eq. 2's point source at a face's centre would
+    /// misrepresent (they surround the scene), so that the sky gives `πL` under either setting.
+    pub(super) fn shading(&self, index: usize) -> Shading {
+        if index < self.scene.lights.len() { self.options.shading } else { Shading::Exact }
+    }
+
+    /// Irradiance at `p` (normal `n`) from the scene's environment, sampled: `--spp`
+    /// cosine-weighted directions over the hemisphere about `n` (stratified as the lights' samples
+    /// are, [`light_sample`]), each traced as a shadow ray to infinity; those that leave the scene
+    /// bring the environment's radiance from their direction, and the estimate is `π/N Σ L(ωᵢ)` (the
+    /// cosine and the density `cos θ / π` cancel): exact for a constant sky wherever it is wholly
+    /// open. For a map with either method (a map is not constant over any polygon a beam could
+    /// integrate exactly), and for a constant sky with rays (fewer rays, and less noise, than
+    /// sampling its six faces as lights). Counted as environment rays, and its bound `π·max L`
+    /// (the estimate and the exact value both lie in `[0, π·max L]`) added to the point's error
+    /// bound.
+    fn environment_irradiance(&self, p: Vec3, n: Vec3, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
+        let environment = &self.scene.environment;
+        let spp = self.options.spp.max(1);
+        let (u, v) = tangents(n);
+        let mut sum = Vec3::ZERO;
+        for i in 0..spp {
+            let (s, r) = light_sample(i, spp, rng);
+            // Malley's method: uniform on the unit disc, lifted to the hemisphere.
+            let (sin_phi, cos_phi) = (std::f32::consts::TAU * s).sin_cos();
+            let radius = r.sqrt();
+            let w = radius * cos_phi * u + radius * sin_phi * v + (1.0 - r).max(0.0).sqrt() * n;
+            t.c.environment_rays += 1;
+            if !(self.occluded)(Ray::new(p, w), f32::INFINITY) {
+                sum += environment.radiance(w);
+            }
+        }
+        t.c.pending_bound += std::f32::consts::PI * environment.max_radiance();
+        std::f32::consts::PI * sum / spp as f32
+    }
+}
+
+/// Two unit vectors that make a right-handed orthonormal frame with the unit vector `n` (Duff et
+/// al. 2017, "Building an orthonormal basis, revisited").
+fn tangents(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1.0f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
 }
 
 /// A visible surface point of a tile to shade: pixel, weight in it, triangle, point, unit view
@@ -269,7 +348,7 @@ impl Context<'_> {
                     .iter()
                     .filter_map(|s| Some((block_of(s.x - x0, s.y - y0), self.gather_point(s.prim, s.q, s.d)?.0))),
             );
-            t.tile.build(self.scene, points, self.options.occluders);
+            t.tile.build(self.scene, (&self.lights, self.scene.lights.len()), points, self.options.occluders);
             t.c.shafts += core::mem::take(&mut t.tile.shafts);
             t.c.shaft_bvh_steps += core::mem::take(&mut t.tile.bvh_steps);
             t.c.shadow_seconds += start.elapsed().as_secs_f64();
@@ -282,10 +361,10 @@ impl Context<'_> {
         for s in surfaces {
             t.block = block_of(s.x - x0, s.y - y0);
             let mut rng = Pcg32::seed_from_u64(s.seed);
-            let sampled = t.c.sampled_beams;
+            let (sampled, sky) = (t.c.sampled_beams, t.c.environment_rays);
             let l = self.shade(s.prim, s.q, s.d, 0, lights, &mut rng, t);
             pixels[part.index(s.x, s.y)] += s.weight * l;
-            if t.c.sampled_beams > sampled {
+            if t.c.sampled_beams > sampled || t.c.environment_rays > sky {
                 inexact[((s.y - y0) * TILE + s.x - x0) as usize] = true;
             }
         }
@@ -347,7 +426,8 @@ pub fn shade_point(
     })
 }
 
-/// Radiance arriving along `ray` (the background is black), shaded as [`shade_point`].
+/// Radiance arriving along `ray` (the scene's environment where it leaves the scene), shaded as
+/// [`shade_point`].
 #[must_use]
 pub fn trace_radiance(
     scene: &Scene,

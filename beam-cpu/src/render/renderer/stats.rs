@@ -83,6 +83,16 @@ pub struct RenderStats {
     /// Area lights left out of a tile's shading because they face away from the box of its shade
     /// points, summed over tiles.
     pub culled_lights: u64,
+    /// The scene's environment: `black`, `constant` (a uniform sky) or `map W×H`.
+    pub environment: String,
+    /// Area lights a constant environment is shaded as with `beam`: the six faces of a cube about
+    /// the scene, of the sky's radiance (its light exactly, with exact shadow beams), added to the
+    /// scene's lights; 0 otherwise.
+    pub environment_lights: usize,
+    /// Rays that sampled the environment's light at diffuse points, `--spp` cosine-weighted
+    /// directions a point: a map's with either method, a constant sky's with `ray` (a pixel shaded
+    /// with them is not exact).
+    pub environment_rays: u64,
     /// Share of the pixels whose every shadow beam was exact.
     pub exact_pixel_share: f64,
     /// Largest bound on a shade point's radiance error from the sampled parts: the sampled part's
@@ -110,6 +120,7 @@ pub(super) struct Counters {
     pub(super) sampled_beams: u64,
     pub(super) inexact_pixels: u64,
     pub(super) culled_lights: u64,
+    pub(super) environment_rays: u64,
     /// Unoccluded irradiance (times radiance) sampled for the shade point being shaded.
     pub(super) pending_bound: f32,
     pub(super) max_error_bound: f32,
@@ -138,6 +149,7 @@ impl Counters {
             sampled_beams: d(self.sampled_beams, before.sampled_beams),
             inexact_pixels: d(self.inexact_pixels, before.inexact_pixels),
             culled_lights: d(self.culled_lights, before.culled_lights),
+            environment_rays: d(self.environment_rays, before.environment_rays),
             pending_bound: 0.0,
             max_error_bound: self.max_error_bound,
             coverage_error: self.coverage_error,
@@ -163,6 +175,7 @@ impl core::ops::AddAssign for Counters {
         self.sampled_beams += o.sampled_beams;
         self.inexact_pixels += o.inexact_pixels;
         self.culled_lights += o.culled_lights;
+        self.environment_rays += o.environment_rays;
         self.max_error_bound = self.max_error_bound.max(o.max_error_bound);
         self.coverage_error = self.coverage_error.max(o.coverage_error);
         self.shafts += o.shafts;

@@ -69,7 +69,7 @@ impl Trace<'_> {
             let start = Instant::now();
             surfaces.clear();
             let tile = Region { x0, x1: (x0 + TILE).min(band.x1), ..band };
-            self.primary_hits(tile, k, &mut [], &mut surfaces, &mut t);
+            self.primary_hits(tile, k, &mut [], &mut surfaces, (&mut pixels, band), &mut t);
             t.c.primary_seconds += start.elapsed().as_secs_f64();
             ctx.shade_tile(&surfaces, Lights::All, (x0, band.y0), (&mut pixels, band), &mut points, &mut t);
         }
@@ -95,7 +95,10 @@ impl Trace<'_> {
         region_fragments(ctx.scene, camera, region, window, true, &mut eye, &mut seen, |x, y, cov, f| {
             let i = window.index(x, y);
             match f {
-                Fragment::Background => coverage[i] += cov,
+                Fragment::Background { d } => {
+                    coverage[i] += cov;
+                    pixels[i] += cov * ctx.scene.environment.radiance(d);
+                }
                 Fragment::Surface { prim, q, d } => {
                     coverage[i] += cov;
                     surfaces.push(Surface { x, y, weight: cov, prim, q, d, seed: (self.seed)(x, y) });
@@ -131,7 +134,8 @@ impl Trace<'_> {
         let start = Instant::now();
         let mut seen = vec![false; self.n_prims];
         let mut surfaces = Vec::new();
-        self.primary_hits(window, RAY_GRID, &mut seen, &mut surfaces, &mut t);
+        let mut pixels = vec![Vec3::ZERO; window.len()];
+        self.primary_hits(window, RAY_GRID, &mut seen, &mut surfaces, (&mut pixels, window), &mut t);
         t.c.fragments += surfaces.len() as u64;
         merge_smooth(ctx.scene, camera.position, &mut surfaces);
         surfaces.sort_by_key(tile_of);
@@ -139,7 +143,6 @@ impl Trace<'_> {
         t.c.ray_pixels += window.len() as u64;
         t.c.primary_seconds += start.elapsed().as_secs_f64();
         let tiles = surfaces.chunk_by(|a, b| tile_of(a) == tile_of(b)).map(<[Surface]>::len).collect();
-        let pixels = vec![Vec3::ZERO; window.len()];
         EyeTraced { traced: self.finish(window, pixels, t, seen), surfaces, tiles, lights: Lights::All }
     }
 
@@ -169,8 +172,19 @@ impl Trace<'_> {
     }
 
     /// `k × k` stratified primary rays a pixel of `rect`: each hit into `out` as a surface point
-    /// of weight `1 / k²`, its triangle marked in `seen` (where `seen` is not empty).
-    fn primary_hits(&self, rect: Region, k: u32, seen: &mut [bool], out: &mut Vec<Surface>, t: &mut Thread) {
+    /// of weight `1 / k²`, its triangle marked in `seen` (where `seen` is not empty); each miss
+    /// adds `1 / k²` of the environment's radiance along it to its pixel of `pixels`, the row-major
+    /// pixels of `part`.
+    fn primary_hits(
+        &self,
+        rect: Region,
+        k: u32,
+        seen: &mut [bool],
+        out: &mut Vec<Surface>,
+        (pixels, part): (&mut [Vec3], Region),
+        t: &mut Thread,
+    ) {
+        let environment = &self.ctx.scene.environment;
         let (scene, camera) = (self.ctx.scene, self.camera);
         let frame = camera.frame();
         let weight = 1.0 / (k * k) as f32;
@@ -181,13 +195,15 @@ impl Trace<'_> {
                     let (jx, jy) = stratified(i, k, &mut rng);
                     let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
                     t.c.camera_rays += 1;
-                    if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY) {
-                        if let Some(s) = seen.get_mut(hit.prim as usize) {
-                            *s = true;
-                        }
-                        let (q, d) = (ray.at(hit.t), ray.direction.normalize());
-                        out.push(Surface { x, y, weight, prim: hit.prim, q, d, seed: (self.seed)(x, y) ^ 0x5EED });
+                    let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY) else {
+                        pixels[part.index(x, y)] += weight * environment.radiance(ray.direction);
+                        continue;
+                    };
+                    if let Some(s) = seen.get_mut(hit.prim as usize) {
+                        *s = true;
                     }
+                    let (q, d) = (ray.at(hit.t), ray.direction.normalize());
+                    out.push(Surface { x, y, weight, prim: hit.prim, q, d, seed: (self.seed)(x, y) ^ 0x5EED });
                 }
             }
         }

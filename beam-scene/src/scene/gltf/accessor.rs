@@ -1,7 +1,10 @@
 //! Reading glTF accessors: the byte range of each element checked against its buffer view and
-//! buffer (no arithmetic that can wrap), components decoded little-endian.
+//! buffer (no arithmetic that can wrap), components decoded little-endian. An accessor without a
+//! buffer view reads as zeros, and a sparse one has its substitutions applied.
 
+use super::sparse;
 use gltf::accessor::{DataType, Dimensions};
+use std::borrow::Cow;
 use std::rc::Rc;
 
 /// The elements of `accessor` as `f32` components, `n` per element (`n` the size of its type;
@@ -69,20 +72,51 @@ struct Layout {
     component_size: usize,
 }
 
-/// The bytes of `accessor`'s elements, from its first element's start to its last one's end, and
-/// their layout; an error when any of them lies outside its buffer view or buffer, or the
-/// accessor is sparse or has no buffer view.
-fn elements<'b>(accessor: &gltf::Accessor, buffers: &'b [Rc<Vec<u8>>]) -> Result<(&'b [u8], Layout), String> {
+/// Most bytes the elements of an accessor without a buffer view (zeros, or sparse values over
+/// zeros) may take: a few bytes of JSON must not ask for gigabytes.
+const MAX_ZERO_BYTES: usize = 1 << 26;
+
+/// The bytes of `accessor`'s elements and their layout: from its buffer view (from its first
+/// element's start to its last one's end, an error when any lies outside the view or buffer),
+/// zeros without a buffer view, and with a sparse substitution applied ([`sparse::apply`]).
+fn elements<'b>(accessor: &gltf::Accessor, buffers: &'b [Rc<Vec<u8>>]) -> Result<(Cow<'b, [u8]>, Layout), String> {
     let at = format!("accessor {}", accessor.index());
-    if accessor.sparse().is_some() {
-        return Err(format!("{at}: sparse accessors are not read"));
-    }
-    let Some(view) = accessor.view() else {
-        return Err(format!("{at}: has no bufferView"));
-    };
     let component_size = accessor.data_type().size();
     let components = accessor.dimensions().multiplicity();
     let size = component_size * components;
+    let count = accessor.count();
+    let (dense, layout) = match accessor.view() {
+        Some(view) => {
+            let (data, stride) = viewed(&at, accessor, &view, buffers, size)?;
+            (Cow::Borrowed(data), Layout { count, stride, components, component_size })
+        }
+        None => {
+            let bytes = count.checked_mul(size).filter(|&b| b <= MAX_ZERO_BYTES).ok_or_else(|| {
+                format!("{at}: {count} elements without a bufferView (zeros) take more than {MAX_ZERO_BYTES} bytes")
+            })?;
+            (Cow::Owned(vec![0; bytes]), Layout { count, stride: size, components, component_size })
+        }
+    };
+    let Some(substitution) = accessor.sparse() else {
+        return Ok((dense, layout));
+    };
+    let mut tight = match dense {
+        Cow::Owned(v) => v,
+        Cow::Borrowed(d) => (0..count).flat_map(|i| &d[i * layout.stride..i * layout.stride + size]).copied().collect(),
+    };
+    sparse::apply(&at, &substitution, buffers, &mut tight, size)?;
+    Ok((Cow::Owned(tight), Layout { stride: size, ..layout }))
+}
+
+/// The bytes of `accessor`'s `count` elements of `size` bytes in its buffer `view`, from its first
+/// element's start to its last one's end, and the stride between them.
+fn viewed<'b>(
+    at: &str,
+    accessor: &gltf::Accessor,
+    view: &gltf::buffer::View,
+    buffers: &'b [Rc<Vec<u8>>],
+    size: usize,
+) -> Result<(&'b [u8], usize), String> {
     let stride = view.stride().unwrap_or(size);
     if stride < size {
         return Err(format!(
@@ -91,9 +125,8 @@ fn elements<'b>(accessor: &gltf::Accessor, buffers: &'b [Rc<Vec<u8>>]) -> Result
         ));
     }
     let count = accessor.count();
-    let layout = Layout { count, stride, components, component_size };
     if count == 0 {
-        return Ok((&[], layout));
+        return Ok((&[], stride));
     }
     let too_long = || {
         format!(
@@ -107,18 +140,23 @@ fn elements<'b>(accessor: &gltf::Accessor, buffers: &'b [Rc<Vec<u8>>]) -> Result
     if accessor.offset().checked_add(span).is_none_or(|end| end > view.length()) {
         return Err(too_long());
     }
+    let data = view_bytes(view, buffers)?;
+    Ok((&data[accessor.offset()..accessor.offset() + span], stride))
+}
+
+/// The bytes of buffer `view`, checked to lie within its buffer.
+pub(super) fn view_bytes<'b>(view: &gltf::buffer::View, buffers: &'b [Rc<Vec<u8>>]) -> Result<&'b [u8], String> {
     let data = &buffers[view.buffer().index()];
     let view_end = view.offset().checked_add(view.length());
-    if view_end.is_none_or(|end| end > data.len()) {
-        return Err(format!(
+    match view_end {
+        Some(end) if end <= data.len() => Ok(&data[view.offset()..end]),
+        _ => Err(format!(
             "buffer view {}: bytes {} to {} lie outside buffer {} ({} bytes)",
             view.index(),
             view.offset(),
             view_end.map_or_else(|| "∞".to_string(), |e| e.to_string()),
             view.buffer().index(),
             data.len()
-        ));
+        )),
     }
-    let start = view.offset() + accessor.offset();
-    Ok((&data[start..start + span], layout))
 }

@@ -69,7 +69,7 @@ pub(super) fn load(
 }
 
 /// Whether `uri` starts with the scheme `scheme:` (in any case).
-fn has_scheme(uri: &str, scheme: &str) -> bool {
+pub(super) fn has_scheme(uri: &str, scheme: &str) -> bool {
     uri.len() > scheme.len()
         && uri.is_char_boundary(scheme.len())
         && uri[..scheme.len()].eq_ignore_ascii_case(scheme)
@@ -77,7 +77,7 @@ fn has_scheme(uri: &str, scheme: &str) -> bool {
 }
 
 /// The bytes of a `data:[<media type>][;base64],<data>` URI.
-fn data_uri(uri: &str) -> Result<Vec<u8>, String> {
+pub(super) fn data_uri(uri: &str) -> Result<Vec<u8>, String> {
     let Some((header, body)) = uri.split_once(',') else {
         return Err("a data: URI without a comma before its data".into());
     };
@@ -90,7 +90,7 @@ fn data_uri(uri: &str) -> Result<Vec<u8>, String> {
 
 /// The relative file name a buffer URI stands for: percent-decoded; other schemes (`http:`,
 /// `file:`) are refused.
-fn file_name(uri: &str) -> Result<String, String> {
+pub(super) fn file_name(uri: &str) -> Result<String, String> {
     let scheme = uri.split_once(':').map(|(s, _)| s).filter(|s| {
         let mut c = s.chars();
         c.next().is_some_and(|c| c.is_ascii_alphabetic())

@@ -1,4 +1,6 @@
-//! glTF materials mapped to ours, from their factors only (textures are not read):
+//! glTF materials mapped to ours, from their factors, with the textures that multiply them
+//! ([`MaterialMaps`]: `baseColorTexture` and `emissiveTexture`, their `texCoord` set and
+//! `KHR_texture_transform`):
 //!
 //! - an emissive factor (times `KHR_materials_emissive_strength`) above zero → [`Material::Emissive`]
 //!   (its triangles also become area lights);
@@ -14,7 +16,8 @@
 use super::error;
 use crate::error::SceneError;
 use crate::scene::Material;
-use beam_math::glam::Vec3;
+use crate::scene::surface::{MaterialMaps, TextureRef};
+use beam_math::glam::{Affine2, Vec2, Vec3};
 use std::path::Path;
 
 /// Roughest metal that is still a mirror.
@@ -24,14 +27,45 @@ const MIRROR_ROUGHNESS: f32 = 0.1;
 pub(super) const DEFAULT: Material = Material::Diffuse { albedo: Vec3::splat(0.7) };
 
 /// Our material for each of `document`'s materials, in order, then [`DEFAULT`] (the material of
-/// primitives that name none, at index `document.materials().len()`).
-pub(super) fn map_all(path: &Path, document: &gltf::Document) -> Result<Vec<Material>, SceneError> {
+/// primitives that name none, at index `document.materials().len()`); and the textures of each
+/// (their indices glTF texture indices).
+pub(super) fn map_all(
+    path: &Path,
+    document: &gltf::Document,
+) -> Result<(Vec<Material>, Vec<MaterialMaps>), SceneError> {
     let mut out = Vec::with_capacity(document.materials().len() + 1);
+    let mut maps = Vec::with_capacity(document.materials().len() + 1);
     for m in document.materials() {
-        out.push(map(path, &m)?);
+        let material = map(path, &m)?;
+        let pbr = m.pbr_metallic_roughness();
+        let base_color = match material {
+            Material::Diffuse { .. } | Material::Glossy { .. } => pbr.base_color_texture().map(|t| reference(&t)),
+            _ => None,
+        };
+        let emissive = match material {
+            Material::Emissive { .. } => m.emissive_texture().map(|t| reference(&t)),
+            _ => None,
+        };
+        out.push(material);
+        maps.push(MaterialMaps { base_color, emissive });
     }
     out.push(DEFAULT);
-    Ok(out)
+    maps.push(MaterialMaps::default());
+    Ok((out, maps))
+}
+
+/// Where the texture `info` is read: its texture, coordinate set and `KHR_texture_transform`
+/// (`offset · rotation · scale`, whose `texCoord` overrides the info's).
+fn reference(info: &gltf::texture::Info) -> TextureRef {
+    let (mut tex_coord, mut transform) = (info.tex_coord(), Affine2::IDENTITY);
+    if let Some(t) = info.texture_transform() {
+        let finite = |v: [f32; 2]| Vec2::from_array(v).is_finite().then(|| Vec2::from_array(v));
+        let (scale, offset) = (finite(t.scale()).unwrap_or(Vec2::ONE), finite(t.offset()).unwrap_or(Vec2::ZERO));
+        let rotation = if t.rotation().is_finite() { t.rotation() } else { 0.0 };
+        transform = Affine2::from_scale_angle_translation(scale, rotation, offset);
+        tex_coord = t.tex_coord().unwrap_or(tex_coord);
+    }
+    TextureRef { texture: info.texture().index() as u32, tex_coord: tex_coord.min(1) as u8, transform }
 }
 
 /// Our material for the glTF material `m`, its factors checked (colours finite and ≥ 0, the

@@ -1,16 +1,29 @@
-//! One glTF mesh primitive as an indexed triangle mesh: its positions (finite), and its triangles,
-//! strips or fans as index triples (each index checked against the positions).
+//! One glTF mesh primitive as an indexed triangle mesh: its positions (finite), its triangles,
+//! strips or fans as index triples (each index checked against the positions), and the vertex
+//! attributes shading reads: texture coordinates `TEXCOORD_0` and `_1`, colours `COLOR_0`.
 
 use super::accessor;
 use crate::mesh::Mesh;
-use beam_math::glam::Vec3;
+use beam_math::glam::{Vec2, Vec3, Vec4};
 use gltf::accessor::Dimensions;
 use gltf::mesh::Mode;
 use std::rc::Rc;
 
-/// The mesh of primitive `p` in its mesh's space, or `None` for a point or line primitive (which
-/// has no area to render). Errors say what is wrong; the caller names the primitive.
-pub(super) fn triangles(p: &gltf::Primitive, buffers: &[Rc<Vec<u8>>]) -> Result<Option<Mesh>, String> {
+/// A primitive's triangles and the vertex attributes shading reads (each empty when absent, else
+/// one per position).
+pub(super) struct Part {
+    /// Positions and triangles.
+    pub mesh: Mesh,
+    /// Texture coordinates of sets 0 and 1.
+    pub uv: [Vec<Vec2>; 2],
+    /// Linear RGBA vertex colours (`COLOR_0`; alpha 1 for RGB ones).
+    pub color: Vec<Vec4>,
+}
+
+/// The mesh of primitive `p` in its mesh's space with its attributes, or `None` for a point or
+/// line primitive (which has no area to render). Errors say what is wrong; the caller names the
+/// primitive.
+pub(super) fn triangles(p: &gltf::Primitive, buffers: &[Rc<Vec<u8>>]) -> Result<Option<Part>, String> {
     let mode = p.mode();
     if matches!(mode, Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip) {
         return Ok(None);
@@ -44,5 +57,39 @@ pub(super) fn triangles(p: &gltf::Primitive, buffers: &[Rc<Vec<u8>>]) -> Result<
         Mode::TriangleFan => (1..n.saturating_sub(1)).map(|k| [order[k], order[k + 1], order[0]]).collect(),
         _ => order.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
     };
-    Ok(Some(Mesh { positions, indices }))
+    let uv = [0, 1].map(|set| attribute(p, buffers, gltf::Semantic::TexCoords(set), positions.len()));
+    let [uv0, uv1] = uv;
+    let uv = [uv0?, uv1?].map(|v| v.chunks_exact(2).map(Vec2::from_slice).collect());
+    let color = attribute(p, buffers, gltf::Semantic::Colors(0), positions.len())?;
+    let channels = if positions.is_empty() { 4 } else { color.len() / positions.len() };
+    let color = color
+        .chunks_exact(channels.max(1))
+        .map(|c| {
+            let c = Vec4::new(
+                c[0],
+                c.get(1).copied().unwrap_or(0.0),
+                c.get(2).copied().unwrap_or(0.0),
+                c.get(3).copied().unwrap_or(1.0),
+            );
+            if c.is_finite() { c.clamp(Vec4::ZERO, Vec4::ONE) } else { Vec4::ONE }
+        })
+        .collect();
+    Ok(Some(Part { mesh: Mesh { positions, indices }, uv, color }))
+}
+
+/// The components of `p`'s attribute `semantic` (empty when it has none), checked to hold one
+/// element per vertex of the `vertices`.
+fn attribute(
+    p: &gltf::Primitive,
+    buffers: &[Rc<Vec<u8>>],
+    semantic: gltf::Semantic,
+    vertices: usize,
+) -> Result<Vec<f32>, String> {
+    let Some(a) = p.get(&semantic) else {
+        return Ok(Vec::new());
+    };
+    if a.count() != vertices {
+        return Err(format!("{semantic:?} accessor {}: {} elements for {vertices} vertices", a.index(), a.count()));
+    }
+    accessor::floats(&a, buffers)
 }

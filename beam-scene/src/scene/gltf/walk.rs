@@ -1,14 +1,16 @@
 //! The node hierarchy of a glTF scene walked from its roots, each node's matrix composed with its
-//! parents': its mesh's triangles in world space (emissive ones also as triangle lights), its
-//! camera and its `KHR_lights_punctual` light.
+//! parents': its mesh's triangles in world space (emissive ones also as triangle lights), once per
+//! `EXT_mesh_gpu_instancing` instance when it has them ([`instancing`]), its camera ([`camera`])
+//! and its `KHR_lights_punctual` light. Skins and morph weights are not applied, only counted.
 
-use super::{MAX_GLTF_TRIANGLES, error, primitive};
+use super::primitive::{self, Part};
+use super::raw::Instancing;
+use super::{MAX_GLTF_TRIANGLES, camera, error, instancing};
 use crate::error::SceneError;
-use crate::mesh::Mesh;
+use crate::scene::surface::Surfaces;
 use crate::scene::{Camera, Light, Material};
 use beam_math::Triangle;
-use beam_math::glam::{Mat4, Quat, Vec3};
-use gltf::json::validation::Checked;
+use beam_math::glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 use gltf::khr_lights_punctual::Kind;
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
@@ -21,12 +23,22 @@ pub(super) struct Walked {
     pub triangles: Vec<(Triangle, u32)>,
     /// Point lights (from point and spot lights) and one triangle light per emissive triangle.
     pub lights: Vec<Light>,
-    /// The camera of the lowest-numbered perspective camera a node places, if any.
+    /// The camera of the lowest-numbered camera a node places, if any.
     pub camera: Option<Camera>,
+    /// Whether that camera approximates an orthographic one.
+    pub orthographic: bool,
+    /// Skins of the meshes placed (not applied: meshes are drawn in their bind pose).
+    pub skins: usize,
+    /// Nodes placing a mesh with morph targets under non-zero weights (not applied).
+    pub morphed: usize,
+    /// Texture coordinates and colours of the triangles' corners, with the materials' textures.
+    pub surfaces: Surfaces,
     /// Point and line primitives skipped (once per mesh).
     pub skipped_primitives: usize,
     /// Directional lights skipped (we have none).
     pub skipped_lights: usize,
+    /// Spot lights placed as point lights (their cone is not kept).
+    pub spot_lights: usize,
 }
 
 /// Walk the default scene of `document` (else its first scene, else every node without a parent):
@@ -37,6 +49,8 @@ pub(super) fn walk(
     document: &gltf::Document,
     buffers: &[Rc<Vec<u8>>],
     materials: &[Material],
+    instanced: &HashMap<usize, Instancing>,
+    surfaces: Surfaces,
 ) -> Result<Walked, SceneError> {
     let roots: Vec<gltf::Node> = match document.default_scene().or_else(|| document.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
@@ -46,10 +60,21 @@ pub(super) fn walk(
             document.nodes().filter(|n| !child[n.index()]).collect()
         }
     };
-    let mut walked =
-        Walked { triangles: Vec::new(), lights: Vec::new(), camera: None, skipped_primitives: 0, skipped_lights: 0 };
+    let mut walked = Walked {
+        triangles: Vec::new(),
+        lights: Vec::new(),
+        camera: None,
+        surfaces,
+        orthographic: false,
+        skins: 0,
+        morphed: 0,
+        skipped_primitives: 0,
+        skipped_lights: 0,
+        spot_lights: 0,
+    };
+    let mut skinned = vec![false; document.skins().len()];
     let mut camera_index = usize::MAX;
-    let mut meshes: HashMap<usize, Vec<(Mesh, u32)>> = HashMap::new();
+    let mut meshes: HashMap<usize, Vec<(Part, u32)>> = HashMap::new();
     let mut seen = vec![false; document.nodes().len()];
     let mut stack: Vec<(gltf::Node, Mat4)> = roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY)).collect();
     while let Some((node, parent)) = stack.pop() {
@@ -70,11 +95,30 @@ pub(super) fn walk(
                     e.insert(parts)
                 }
             };
-            place(path, &element, parts, world, materials, &mut walked)?;
+            let instances = match instanced.get(&node.index()) {
+                Some(attributes) => {
+                    instancing::matrices(document, buffers, attributes).map_err(|e| error(path, &element, e))?
+                }
+                None => None,
+            };
+            match instances {
+                Some(instances) => {
+                    for m in instances {
+                        place(path, &element, parts, world * m, materials, &mut walked)?;
+                    }
+                }
+                None => place(path, &element, parts, world, materials, &mut walked)?,
+            }
+            if let Some(skin) = node.skin() {
+                walked.skins += usize::from(!std::mem::replace(&mut skinned[skin.index()], true));
+            }
+            let targets = mesh.primitives().any(|p| p.morph_targets().len() > 0);
+            let weights = node.weights().or(mesh.weights()).unwrap_or_default();
+            walked.morphed += usize::from(targets && weights.iter().any(|&w| w != 0.0));
         }
         if let Some(c) = node.camera().filter(|c| c.index() < camera_index) {
-            if let Some(cam) = camera(path, document, c.index(), world)? {
-                (walked.camera, camera_index) = (Some(cam), c.index());
+            if let Some((cam, orthographic)) = camera::camera(path, document, c.index(), world)? {
+                (walked.camera, walked.orthographic, camera_index) = (Some(cam), orthographic, c.index());
             }
         }
         if let Some(light) = node.light() {
@@ -88,8 +132,12 @@ pub(super) fn walk(
                 ));
             }
             match light.kind() {
+                Kind::Point => walked.lights.push(Light::Point { position, intensity }),
                 // A spot light becomes a point light of its intensity: the cone is not kept.
-                Kind::Point | Kind::Spot { .. } => walked.lights.push(Light::Point { position, intensity }),
+                Kind::Spot { .. } => {
+                    walked.lights.push(Light::Point { position, intensity });
+                    walked.spot_lights += 1;
+                }
                 Kind::Directional => walked.skipped_lights += 1,
             }
         }
@@ -121,7 +169,7 @@ fn read_mesh(
     mesh: &gltf::Mesh,
     buffers: &[Rc<Vec<u8>>],
     default: usize,
-) -> Result<(Vec<(Mesh, u32)>, usize), SceneError> {
+) -> Result<(Vec<(Part, u32)>, usize), SceneError> {
     let (mut parts, mut skipped) = (Vec::new(), 0);
     for p in mesh.primitives() {
         let element = format!("mesh {} primitive {}", mesh.index(), p.index());
@@ -134,33 +182,44 @@ fn read_mesh(
 }
 
 /// Add the triangles of a node's mesh `parts` under its world matrix `world` (winding kept
-/// counter-clockwise from the front when `world` mirrors), and a triangle light for each
-/// non-degenerate emissive one.
+/// counter-clockwise from the front when `world` mirrors) with their corners' texture coordinates
+/// and colours, and a triangle light for each non-degenerate emissive one (of its emissive
+/// texture's mean radiance over the triangle; none where that is black).
 fn place(
     path: &Path,
     element: &str,
-    parts: &[(Mesh, u32)],
+    parts: &[(Part, u32)],
     world: Mat4,
     materials: &[Material],
     walked: &mut Walked,
 ) -> Result<(), SceneError> {
-    let count: usize = parts.iter().map(|(m, _)| m.indices.len()).sum();
+    let count: usize = parts.iter().map(|(m, _)| m.mesh.indices.len()).sum();
     if walked.triangles.len() + count > MAX_GLTF_TRIANGLES {
         return Err(error(path, element, format!("the scene has more than {MAX_GLTF_TRIANGLES} triangles")));
     }
     let mirrored = world.determinant() < 0.0;
-    for (mesh, material) in parts {
+    for (part, material) in parts {
         let emissive = match materials[*material as usize] {
             Material::Emissive { radiance } => Some(radiance),
             _ => None,
         };
+        let mesh = &part.mesh;
         for t in &mesh.indices {
             // Through the indices, so that the work follows the triangles placed (bounded above),
             // not the vertices of a mesh that many nodes place with few triangles.
-            let [a, b, c] = t.map(|i| world.transform_point3(mesh.positions[i as usize]));
-            let tri = if mirrored { Triangle::new(a, c, b) } else { Triangle::new(a, b, c) };
+            let t = if mirrored { [t[0], t[2], t[1]] } else { *t };
+            let tri = Triangle { v: t.map(|i| world.transform_point3(mesh.positions[i as usize])) };
+            let at = walked.triangles.len();
+            let s = &mut walked.surfaces;
+            for set in 0..2 {
+                corners(&mut s.uv[set], &part.uv[set], t, at, Vec2::ZERO);
+            }
+            corners(&mut s.color, &part.color, t, at, Vec4::ONE);
             if let (Some(radiance), true) = (emissive, tri.is_valid()) {
-                walked.lights.push(Light::Triangle { v: tri.v, radiance });
+                let radiance = radiance * s.mean_emissive_factor(at as u32, *material);
+                if radiance.max_element() > 0.0 {
+                    walked.lights.push(Light::Triangle { v: tri.v, radiance });
+                }
             }
             walked.triangles.push((tri, *material));
         }
@@ -168,31 +227,16 @@ fn place(
     Ok(())
 }
 
-/// Our camera for glTF camera `index` placed by `world` (it looks down its local −z with +y up):
-/// vertical field of view from `yfov`, 512 pixels high and as wide as its aspect ratio says
-/// (square without one); `None` for an orthographic camera.
-fn camera(path: &Path, document: &gltf::Document, index: usize, world: Mat4) -> Result<Option<Camera>, SceneError> {
-    let element = format!("camera {index}");
-    let json = document.as_json().cameras.get(index);
-    let perspective = json.filter(|c| c.type_ == Checked::Valid(gltf::json::camera::Type::Perspective));
-    let Some(p) = perspective.and_then(|c| c.perspective.as_ref()) else {
-        return Ok(None);
-    };
-    let fov_y = p.yfov.to_degrees();
-    if !(fov_y > 0.0 && fov_y < 180.0) {
-        return Err(error(path, element, format!("yfov {} must lie between 0 and π", p.yfov)));
+/// Append to the per-triangle list `list` (now covering the first `at` triangles, or empty) the
+/// attribute `values` at the corners `t`: when the part has none, `none` at each corner (nothing
+/// while the list is empty); the first part with values fills the earlier triangles with `none`.
+fn corners<T: Copy>(list: &mut Vec<[T; 3]>, values: &[T], t: [u32; 3], at: usize, none: T) {
+    if values.is_empty() {
+        if !list.is_empty() {
+            list.push([none; 3]);
+        }
+        return;
     }
-    let aspect = p.aspect_ratio.unwrap_or(1.0);
-    if !(aspect > 0.0 && aspect.is_finite()) {
-        return Err(error(path, element, format!("aspectRatio {aspect} must be a positive number")));
-    }
-    let position = world.transform_point3(Vec3::ZERO);
-    let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
-    let up = world.transform_vector3(Vec3::Y);
-    if forward == Vec3::ZERO || !(up.cross(forward).length_squared() > 0.0) {
-        return Err(error(path, element, "its node's transform collapses the view direction or up vector"));
-    }
-    let height = 512;
-    let width = (height as f32 * aspect).round().clamp(1.0, 4096.0) as u32;
-    Ok(Some(Camera { position, target: position + forward, up, fov_y, width, height }))
+    list.resize(at, [none; 3]);
+    list.push(t.map(|i| values[i as usize]));
 }

@@ -1,0 +1,150 @@
+//! The textures a glTF document's materials read: each image decoded once by the `image` crate
+//! (PNG and JPEG; every other format refused by name), bounded in size, paired with its sampler
+//! (glTF 2.0 §3.8.4).
+
+use super::buffers::{data_uri, file_name, has_scheme};
+use super::error;
+use crate::error::SceneError;
+use crate::read::{MAX_MESH_BYTES, read_bounded, resolve_inside};
+use crate::scene::LoadOptions;
+use crate::scene::surface::MaterialMaps;
+use crate::scene::texture::{Filter, Texture, Wrap};
+use std::collections::HashMap;
+use std::io::Cursor;
+use std::path::Path;
+use std::rc::Rc;
+use std::sync::Arc;
+
+/// Widest and tallest image read, texels.
+const MAX_SIDE: u32 = 16_384;
+
+/// Most bytes an image may decode to (as 8-bit RGBA, 4 bytes a texel).
+const MAX_DECODED_BYTES: u64 = 1 << 30;
+
+/// A decoded image: width, height and its texels (shared by the textures that read it).
+type Decoded = (u32, u32, Arc<[[u8; 4]]>);
+
+/// The textures `maps` read, decoded, in the order of their first use; the maps' texture indices
+/// (glTF texture indices on entry) are rewritten to index the returned list.
+pub(super) fn load(
+    path: &Path,
+    document: &gltf::Document,
+    buffers: &[Rc<Vec<u8>>],
+    options: &LoadOptions,
+    maps: &mut [MaterialMaps],
+) -> Result<Vec<Texture>, SceneError> {
+    let mut textures = Vec::new();
+    let mut slot: HashMap<u32, u32> = HashMap::new();
+    let mut images: HashMap<usize, Decoded> = HashMap::new();
+    for map in maps.iter_mut() {
+        for t in [&mut map.base_color, &mut map.emissive].into_iter().flatten() {
+            if let Some(&i) = slot.get(&t.texture) {
+                t.texture = i;
+                continue;
+            }
+            let element = format!("texture {}", t.texture);
+            let Some(texture) = document.textures().nth(t.texture as usize) else {
+                return Err(error(path, element, "index out of range"));
+            };
+            let image = texture.source().index();
+            let (width, height, texels) = match images.get(&image) {
+                Some(decoded) => decoded.clone(),
+                None => {
+                    let decoded = decode(path, document, image, buffers, options)?;
+                    images.insert(image, decoded.clone());
+                    decoded
+                }
+            };
+            let sampler = texture.sampler();
+            let wrap = |mode| match mode {
+                gltf::texture::WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+                gltf::texture::WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+                gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+            };
+            let filter = match sampler.mag_filter() {
+                Some(gltf::texture::MagFilter::Nearest) => Filter::Nearest,
+                _ => Filter::Linear,
+            };
+            let index = textures.len() as u32;
+            textures.push(Texture {
+                width,
+                height,
+                texels,
+                wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+                filter,
+            });
+            slot.insert(t.texture, index);
+            t.texture = index;
+        }
+    }
+    Ok(textures)
+}
+
+/// Image `index` of `document` decoded to 8-bit RGBA: from its buffer view or its URI (a `data:`
+/// URI or a file beside the model).
+fn decode(
+    path: &Path,
+    document: &gltf::Document,
+    index: usize,
+    buffers: &[Rc<Vec<u8>>],
+    options: &LoadOptions,
+) -> Result<Decoded, SceneError> {
+    let element = format!("image {index}");
+    let fail = |m: String| error(path, &element, m);
+    let json = &document.as_json().images[index];
+    let bytes: Vec<u8> = match (&json.buffer_view, &json.uri) {
+        (Some(view), _) => {
+            let view = document.views().nth(view.value()).ok_or_else(|| fail("bufferView out of range".into()))?;
+            let buffer = &buffers[view.buffer().index()];
+            let end = view.offset().checked_add(view.length()).filter(|&e| e <= buffer.len());
+            let end = end.ok_or_else(|| fail("its bufferView lies outside its buffer".into()))?;
+            buffer[view.offset()..end].to_vec()
+        }
+        (None, Some(uri)) if has_scheme(uri, "data") => data_uri(uri).map_err(fail)?,
+        (None, Some(uri)) => {
+            let name = file_name(uri).map_err(fail)?;
+            let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+            let inside = |e: SceneError| SceneError::InMesh {
+                path: path.to_path_buf(),
+                element: element.clone(),
+                source: Box::new(e),
+            };
+            let (file, _) = resolve_inside(dir, &name, options.allow_outside_paths).map_err(inside)?;
+            read_bounded(&file, MAX_MESH_BYTES).map_err(inside)?
+        }
+        (None, None) => return Err(fail("has neither a bufferView nor a uri".into())),
+    };
+    let format = match image::guess_format(&bytes) {
+        Ok(f @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => f,
+        _ => return Err(fail(format!("{} images are not read (only PNG and JPEG)", format_name(&bytes)))),
+    };
+    let mut reader = image::ImageReader::with_format(Cursor::new(bytes), format);
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_SIDE);
+    limits.max_image_height = Some(MAX_SIDE);
+    limits.max_alloc = Some(MAX_DECODED_BYTES);
+    reader.limits(limits);
+    let rgba = reader.decode().map_err(|e| fail(format!("{format:?} image: {e}")))?.into_rgba8();
+    let (width, height) = rgba.dimensions();
+    if width == 0 || height == 0 {
+        return Err(fail("the image has no texels".into()));
+    }
+    let texels: Arc<[[u8; 4]]> = rgba.pixels().map(|p| p.0).collect();
+    Ok((width, height, texels))
+}
+
+/// The name of the image format `bytes` start with, for a refusal.
+fn format_name(bytes: &[u8]) -> &'static str {
+    if bytes.starts_with(b"\xABKTX 20\xBB") {
+        "KTX2"
+    } else if bytes.len() >= 12 && &bytes[..4] == b"RIFF" && &bytes[8..12] == b"WEBP" {
+        "WebP"
+    } else if bytes.starts_with(b"DDS ") {
+        "DDS"
+    } else {
+        match image::guess_format(bytes) {
+            Ok(f) => f.extensions_str().first().copied().unwrap_or("these"),
+            Err(_) => "unrecognised",
+        }
+    }
+}

@@ -1,0 +1,167 @@
+//! What a triangle's surface looks like beyond its material's constants: texture coordinates and
+//! vertex colours per triangle corner, and per material its base-colour and emissive textures
+//! (glTF 2.0 §3.9), evaluated at a point of the triangle by its barycentric coordinates.
+
+use super::texture::Texture;
+use beam_math::glam::{Affine2, Vec2, Vec3, Vec4};
+
+/// Where a material reads one texture: which texture, which set of texture coordinates
+/// (`TEXCOORD_0` or `_1`), and the `KHR_texture_transform` applied to them first.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureRef {
+    /// Index into [`Surfaces::textures`].
+    pub texture: u32,
+    /// Texture-coordinate set, 0 or 1.
+    pub tex_coord: u8,
+    /// `offset · rotation · scale` of `KHR_texture_transform` (the identity without it).
+    pub transform: Affine2,
+}
+
+/// The textures of one material. Each multiplies the material's constant (base colour, emitted
+/// radiance).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MaterialMaps {
+    /// `baseColorTexture` (RGB decoded from sRGB).
+    pub base_color: Option<TextureRef>,
+    /// `emissiveTexture` (RGB decoded from sRGB).
+    pub emissive: Option<TextureRef>,
+}
+
+/// Texture coordinates, vertex colours and textures of a scene's triangles; empty for a scene
+/// whose materials are constants (then every lookup is one branch).
+#[derive(Clone, Debug, Default)]
+pub struct Surfaces {
+    /// Per triangle, the texture coordinates of its corners in sets 0 and 1 (each empty when no
+    /// triangle has that set; a triangle without it has zeros).
+    pub uv: [Vec<[Vec2; 3]>; 2],
+    /// Per triangle, the linear RGBA colour of its corners (`COLOR_0`; empty when none has one,
+    /// white for a triangle without one).
+    pub color: Vec<[Vec4; 3]>,
+    /// Textures.
+    pub textures: Vec<Texture>,
+    /// Per material, its textures; empty when no material has any.
+    pub maps: Vec<MaterialMaps>,
+}
+
+impl Surfaces {
+    /// Whether nothing varies over a triangle: no vertex colours and no textures.
+    #[must_use]
+    pub fn is_plain(&self) -> bool {
+        self.color.is_empty() && self.maps.is_empty()
+    }
+
+    /// Keep the per-triangle attributes of the triangles whose `keep` is true (as the scene
+    /// drops degenerate triangles).
+    pub(super) fn retain(&mut self, keep: &[bool]) {
+        retain_by(&mut self.uv[0], keep);
+        retain_by(&mut self.uv[1], keep);
+        retain_by(&mut self.color, keep);
+    }
+
+    /// What multiplies the base colour of triangle `prim` (material `material`) at barycentric
+    /// coordinates `w`: its base-colour texture's RGB times its vertex colour's RGB (1 without).
+    #[must_use]
+    pub fn base_factor(&self, prim: u32, material: u32, w: Vec3) -> Vec3 {
+        let mut f = Vec3::ONE;
+        if let Some(c) = self.color.get(prim as usize) {
+            f *= (w.x * c[0] + w.y * c[1] + w.z * c[2]).truncate();
+        }
+        if let Some(t) = self.maps.get(material as usize).and_then(|m| m.base_color) {
+            f *= self.read(t, prim, w).truncate();
+        }
+        f
+    }
+
+    /// What multiplies the emitted radiance of triangle `prim` (material `material`) at
+    /// barycentric coordinates `w`: its emissive texture's RGB (1 without).
+    #[must_use]
+    pub fn emissive_factor(&self, prim: u32, material: u32, w: Vec3) -> Vec3 {
+        match self.maps.get(material as usize).and_then(|m| m.emissive) {
+            Some(t) => self.read(t, prim, w).truncate(),
+            None => Vec3::ONE,
+        }
+    }
+
+    /// The mean of [`Self::emissive_factor`] over triangle `prim`: the average of a 6-level
+    /// triangular grid of 28 points (exact for a factor linear over the triangle).
+    #[must_use]
+    pub fn mean_emissive_factor(&self, prim: u32, material: u32) -> Vec3 {
+        const N: u32 = 6;
+        let mut sum = Vec3::ZERO;
+        let mut count = 0;
+        for i in 0..=N {
+            for j in 0..=N - i {
+                let w = Vec3::new(i as f32, j as f32, (N - i - j) as f32) / N as f32;
+                sum += self.emissive_factor(prim, material, w);
+                count += 1;
+            }
+        }
+        sum / count as f32
+    }
+
+    /// Texture `t` read at the point of barycentric coordinates `w` of triangle `prim`.
+    fn read(&self, t: TextureRef, prim: u32, w: Vec3) -> Vec4 {
+        let uv = self.uv[usize::from(t.tex_coord.min(1))]
+            .get(prim as usize)
+            .map_or(Vec2::ZERO, |uv| w.x * uv[0] + w.y * uv[1] + w.z * uv[2]);
+        self.textures.get(t.texture as usize).map_or(Vec4::ONE, |tex| tex.sample(t.transform.transform_point2(uv)))
+    }
+}
+
+/// Keep the elements of `v` whose `keep` is true (all of an empty `v`).
+fn retain_by<T>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut k = keep.iter();
+    v.retain(|_| *k.next().unwrap_or(&true));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::texture::{Filter, Wrap};
+
+    fn checker() -> Texture {
+        let texels = std::sync::Arc::new([[255, 0, 0, 255], [0, 0, 255, 255]]);
+        Texture { width: 2, height: 1, texels, wrap: [Wrap::Repeat; 2], filter: Filter::Nearest }
+    }
+
+    fn textured(transform: Affine2) -> Surfaces {
+        let uv = vec![[Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(0.0, 1.0)]];
+        let t = TextureRef { texture: 0, tex_coord: 0, transform };
+        Surfaces {
+            uv: [uv, Vec::new()],
+            color: Vec::new(),
+            textures: vec![checker()],
+            maps: vec![MaterialMaps { base_color: Some(t), emissive: Some(t) }],
+        }
+    }
+
+    #[test]
+    fn textures_are_read_at_the_interpolated_coordinates() {
+        let s = textured(Affine2::IDENTITY);
+        assert!(!s.is_plain());
+        assert_eq!(s.base_factor(0, 0, Vec3::new(1.0, 0.0, 0.0)), Vec3::X, "u = 0: red");
+        assert_eq!(s.base_factor(0, 0, Vec3::new(0.2, 0.8, 0.0)), Vec3::Z, "u = 0.8: blue");
+        // A material without maps and a triangle without colours read 1.
+        assert_eq!(s.base_factor(0, 1, Vec3::X), Vec3::ONE);
+        let mean = s.mean_emissive_factor(0, 0);
+        assert!(mean.x > 0.4 && mean.z > 0.2 && mean.y == 0.0, "{mean}");
+    }
+
+    #[test]
+    fn the_texture_transform_moves_the_coordinates() {
+        let s = textured(Affine2::from_translation(Vec2::new(0.5, 0.0)));
+        assert_eq!(s.base_factor(0, 0, Vec3::new(1.0, 0.0, 0.0)), Vec3::Z, "u = 0 + 0.5: blue");
+    }
+
+    #[test]
+    fn vertex_colours_interpolate_and_retain_follows_the_triangles() {
+        let mut s = Surfaces {
+            color: vec![[Vec4::ONE; 3], [Vec4::new(1.0, 0.0, 0.0, 1.0), Vec4::ZERO, Vec4::ZERO]],
+            ..Surfaces::default()
+        };
+        assert_eq!(s.base_factor(1, 0, Vec3::new(0.5, 0.25, 0.25)), Vec3::new(0.5, 0.0, 0.0));
+        s.retain(&[false, true]);
+        assert_eq!(s.color.len(), 1);
+        assert_eq!(s.base_factor(0, 0, Vec3::X), Vec3::X);
+    }
+}
