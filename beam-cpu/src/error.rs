@@ -50,9 +50,10 @@ pub enum RenderError {
     /// reads it back.
     #[error("the renderer kept the frame on its device for display; it was not read back")]
     FrameKept,
-    /// A nonlinear beam tree of `bounces` levels estimated past
-    /// [`MAX_TREE_BEAMS`](crate::nonlinear::MAX_TREE_BEAMS) beams: found before level `level` was
-    /// built, from the beams of the levels before it and the faces level `level` was asked for.
+    /// A nonlinear beam tree of `bounces` levels too large to build: level `level` would take it
+    /// past [`MAX_TREE_BEAMS`](crate::nonlinear::MAX_TREE_BEAMS) beams, or the whole tree is
+    /// estimated past ten times that (from the beams of the levels before `level` and the faces
+    /// `level` was asked for). Found before level `level` is built.
     #[error(
         "--bounces {bounces}: the nonlinear beam tree would hold about {estimate:.1e} beams (beams per level so far \
          {beams_per_level:?}, {requested} faces asked for at level {level}, growing about {growth:.1}× a level), past \

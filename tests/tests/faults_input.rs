@@ -380,4 +380,8 @@ fn a_beam_tree_too_large_to_build_is_refused_promptly() {
     assert!(start.elapsed() < Duration::from_secs(15), "refused only after {:?}", start.elapsed());
     assert!(e.contains("--bounces 16") && e.contains(&format!("limit of {MAX_TREE_BEAMS} beams")), "{e}");
     assert!(e.contains("bounces fit"), "{e}");
+    // Four levels (3,665 beams) fit and render.
+    let (scene, options) = (scene::builtin("bumpy-mirror").unwrap(), NonlinearOptions { bounces: 4, ..options });
+    let (_, stats) = within("bounces 4", move || render_nonlinear(&scene, &options)).unwrap();
+    assert_eq!(stats.beams_per_level.len(), 4, "{:?}", stats.beams_per_level);
 }

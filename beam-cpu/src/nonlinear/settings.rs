@@ -7,11 +7,11 @@ use beam_scene::nonlinear::Degree;
 
 /// Most beams a render's beam tree may hold over all its levels. A tree grows by a factor per
 /// level (each beam off a curved mirror or glass surface sees many S-mesh faces: 4 to 12 on the
-/// built-in scenes), so that deep trees cannot be rendered: before each level is built the tree's
-/// size at [`NonlinearOptions::bounces`] levels is estimated from its growth so far, and a render
-/// whose estimate passes this is refused ([`crate::RenderError::BeamTree`]) after two or three
-/// cheap levels, not after hours. 50,000 beams take about a minute of a core at 16 × 16 pixels, and
-/// gigabytes of textures at larger images.
+/// built-in scenes), so that deep trees cannot be rendered. A render is refused
+/// ([`crate::RenderError::BeamTree`]) before a level that would pass this is built, or after its
+/// first cheap levels where the tree's size at [`NonlinearOptions::bounces`] levels, estimated
+/// from its growth so far, passes ten times this: not after hours. 50,000 beams take about a
+/// minute of a core at 16 × 16 pixels, and gigabytes of textures at larger images.
 pub const MAX_TREE_BEAMS: u64 = 50_000;
 
 /// Settings of the nonlinear renderer.

@@ -108,6 +108,10 @@ pub(super) struct Request {
     pub(super) pixels: f32,
 }
 
+/// How many times [`MAX_TREE_BEAMS`] a tree's estimated size must be for it to be refused before
+/// its levels reach the limit ([`Tree::check_size`]).
+const EARLY_MARGIN: f64 = 10.0;
+
 /// One render's beam tree.
 pub(super) struct Tree<'a> {
     pub(super) scene: &'a Scene,
@@ -354,12 +358,14 @@ impl Tree<'_> {
         Ok(Built { roots: root_children, levels, kept: kept_totals, records })
     }
 
-    /// Refuse a tree whose size at `options.bounces` levels is estimated past [`MAX_TREE_BEAMS`],
-    /// before level `level` is built: `levels` are those built, `requested` the faces asked for at
-    /// `level`, `last_requested` those asked for at the level before. The estimate takes each
-    /// level to come as many times the one before as `level` is the last (beams per face as the
-    /// last level's): trees grow geometrically, and this refuses a hopeless tree after its first
-    /// cheap levels.
+    /// Refuse a tree past [`MAX_TREE_BEAMS`] beams, before level `level` is built: `levels` are
+    /// those built, `requested` the faces asked for at `level`, `last_requested` those asked for
+    /// at the level before. Refused when level `level` would pass the limit, or early, when the
+    /// whole tree of `options.bounces` levels is estimated past [`EARLY_MARGIN`] times it: the
+    /// estimate takes each level to come as many times the one before as `level` is the last
+    /// (beams per face as the last level's). Trees grow geometrically, so that a hopeless one is
+    /// refused after its first cheap levels; the margin keeps the estimate (three times the
+    /// truth on the bumpy mirror at 5 bounces) from refusing a tree that fits.
     fn check_size(
         &self,
         level: u32,
@@ -385,7 +391,7 @@ impl Tree<'_> {
         };
         let bounces = self.options.bounces;
         let limit = MAX_TREE_BEAMS;
-        if estimate(bounces) <= limit as f64 {
+        if estimate(level) <= limit as f64 && estimate(bounces) <= EARLY_MARGIN * limit as f64 {
             return Ok(());
         }
         let fits = (level..bounces).take_while(|&l| estimate(l) <= limit as f64).last().unwrap_or(level - 1);

@@ -3,6 +3,24 @@
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 
+/// `v` scaled to unit length, also where its squared length overflows or underflows `f32` (a view
+/// from the origin to a target at 10²⁰: scaled by its largest coordinate first); `None` for a zero
+/// or non-finite `v`.
+fn unit(v: Vec3) -> Option<Vec3> {
+    v.try_normalize().or_else(|| {
+        let m = v.abs().max_element();
+        if !(m > 0.0 && m.is_finite()) {
+            return None;
+        }
+        (v / m).try_normalize()
+    })
+}
+
+/// `v` for a message: each coordinate as Rust's `{:?}` writes it (`3e38`, not 39 digits).
+fn show(v: Vec3) -> String {
+    format!("[{:?}, {:?}, {:?}]", v.x, v.y, v.z)
+}
+
 /// A pinhole camera: position, look-at target, up vector, vertical field of view and resolution.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -68,25 +86,26 @@ impl Camera {
             return Err(format!("resolution {}×{} must be at least 1×1", self.width, self.height));
         }
         let (p, t, up) = (self.position, self.target, self.up);
+        let (ps, ts, ups) = (show(p), show(t), show(up));
         if !(p.is_finite() && t.is_finite() && up.is_finite()) {
-            return Err(format!("position {p}, target {t} and up {up} must be finite"));
+            return Err(format!("position {ps}, target {ts} and up {ups} must be finite"));
         }
         let view = t - p;
         if !view.is_finite() {
-            return Err(format!("the view direction target − position overflows (position {p}, target {t})"));
+            return Err(format!("the view direction target − position overflows (position {ps}, target {ts})"));
         }
-        if view.try_normalize().is_none() {
+        if unit(view).is_none() {
             // A target one unit ahead of an eye at 10⁸ rounds onto it (a glTF camera's).
             let far = if p.abs().max_element() >= 1e7 {
                 ": the eye is too far from the origin for 32-bit floats"
             } else {
                 ""
             };
-            return Err(format!("position {p} and target {t} coincide{far}"));
+            return Err(format!("position {ps} and target {ts} coincide{far}"));
         }
         let f = self.frame();
-        if f.forward.cross(up).try_normalize().is_none() {
-            return Err(format!("up {up} is zero or along the view direction {view}"));
+        if unit(f.forward.cross(up)).is_none() {
+            return Err(format!("up {ups} is zero or along the view direction {}", show(view)));
         }
         if !(f.half_width > 0.0 && f.half_height > 0.0 && f.half_width.is_finite() && f.half_height.is_finite()) {
             return Err(format!(
@@ -99,7 +118,7 @@ impl Camera {
         let tolerance = 0.01 * f.half_width.min(f.half_height).min(1.0);
         if !(rounding <= tolerance) {
             return Err(format!(
-                "the eye at {p} is too far from the origin for 32-bit floats to place its image plane \
+                "the eye at {ps} is too far from the origin for 32-bit floats to place its image plane \
                  (rounding {rounding:.1e}, allowed {tolerance:.1e} at a {}° field of view): move the scene and camera \
                  nearer the origin",
                 self.fov_y
@@ -117,8 +136,8 @@ impl Camera {
     /// The camera's frame.
     #[must_use]
     pub fn frame(&self) -> CameraFrame {
-        let forward = (self.target - self.position).normalize_or(Vec3::NEG_Z);
-        let right = forward.cross(self.up).try_normalize().unwrap_or_else(|| forward.any_orthonormal_vector());
+        let forward = unit(self.target - self.position).unwrap_or(Vec3::NEG_Z);
+        let right = unit(forward.cross(self.up)).unwrap_or_else(|| forward.any_orthonormal_vector());
         let up = right.cross(forward);
         let half_height = (self.fov_y.to_radians() * 0.5).tan();
         let half_width = half_height * self.width as f32 / self.height.max(1) as f32;

@@ -239,7 +239,13 @@ impl EnvironmentMap {
         let (fx, fy) = (x - x0, y - y0);
         // `x` lies in `[−½, w − ½]` and `y` in `[−½, h − ½]`: one wrap or clamp each way is enough.
         let (i, j) = (x0 as i32, y0 as i32);
-        let c0 = if i < 0 { i + w } else if i >= w { i - w } else { i };
+        let c0 = if i < 0 {
+            i + w
+        } else if i >= w {
+            i - w
+        } else {
+            i
+        };
         let c1 = if c0 + 1 == w { 0 } else { c0 + 1 };
         let (r0, r1) = (j.clamp(0, h - 1), (j + 1).clamp(0, h - 1));
         let at = |c: i32, r: i32| self.texels[(r * w + c) as usize];

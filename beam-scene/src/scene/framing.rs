@@ -56,8 +56,8 @@ pub fn object_bounds(triangles: &[Triangle]) -> Aabb {
     }
 }
 
-/// A camera that sees `bounds` from the front, right and above ([`VIEW`]), at the distance where
-/// all eight corners of the box lie inside the square frame with a margin of [`MARGIN`], looking at
+/// A camera that sees `bounds` from the front, right and above (`VIEW`), at the distance where
+/// all eight corners of the box lie inside the square frame with a margin of `MARGIN`, looking at
 /// its centre; 512 × 512 pixels.
 #[must_use]
 pub fn framing_camera(bounds: Aabb) -> Camera {
@@ -86,7 +86,7 @@ pub fn framing_camera(bounds: Aabb) -> Camera {
 
 /// A square key light above and behind `camera` as seen from the centre of `objects`, facing that
 /// centre: its edge a quarter of the objects' diagonal, its radiance such that a surface at the
-/// centre facing it receives an irradiance of [`KEY_IRRADIANCE`]. A face the camera sees faces
+/// centre facing it receives an irradiance of `KEY_IRRADIANCE`. A face the camera sees faces
 /// the camera, and the light lies near the camera's side of it, so it is lit.
 #[must_use]
 pub fn key_light(camera: &Camera, objects: Aabb) -> Light {

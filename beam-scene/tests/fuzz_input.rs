@@ -13,6 +13,8 @@
 //! turn, over `k mod` the number of OBJ seeds, so that a checkout without the shared scenes beside
 //! it fuzzed another case set: 2,455 OBJ cases accepted there against 2,137 here.)
 //! `.ci/run` runs it in the `fuzz` profile too (optimized, with debug assertions and overflow checks).
+//! It needs beam-scene alone, so it lives here, not in the conformance suite: that build of the
+//! fuzz profile is a third of one that takes in the GPU crates.
 
 use beam_scene::SceneError;
 use beam_scene::mesh;
@@ -410,7 +412,7 @@ fn mutated_scene_files_and_meshes_never_panic_or_hang() {
                 let k = cases.start + done / 2;
                 panic!(
                     "case {k} took over {CASE_LIMIT:?} (hangs); inputs in {}; rerun it alone with \
-                     BEAM_FUZZ_SEED={seed} BEAM_FUZZ_CASE={k} cargo test -p beam-conformance --test fuzz_input",
+                     BEAM_FUZZ_SEED={seed} BEAM_FUZZ_CASE={k} cargo test -p beam-scene --test fuzz_input",
                     dir.display()
                 )
             }
@@ -434,7 +436,7 @@ fn mutated_scene_files_and_meshes_never_panic_or_hang() {
     assert!(
         bad.is_empty(),
         "{} bad cases of seed {seed}, first: {:#?}\nrerun case k alone (its inputs printed) with \
-         BEAM_FUZZ_SEED={seed} BEAM_FUZZ_CASE=k cargo test -p beam-conformance --test fuzz_input -- --nocapture",
+         BEAM_FUZZ_SEED={seed} BEAM_FUZZ_CASE=k cargo test -p beam-scene --test fuzz_input -- --nocapture",
         bad.len(),
         &bad[..bad.len().min(5)]
     );
