@@ -54,6 +54,7 @@ mod exr_file;
 mod png_file;
 mod temporaries;
 
+pub(crate) use exr_file::read_rgb;
 pub use exr_file::{encode_exr, read_exr, read_exr_placement};
 pub use png_file::{REGION_KEY, encode_png_placed, read_png_placed, read_png_placement};
 pub use temporaries::{TEMP_MARKER, remove_temporaries};

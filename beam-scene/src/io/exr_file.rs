@@ -96,6 +96,19 @@ pub fn read_exr(path: &Path, expected: Placement) -> Result<Vec<Vec3>, SceneErro
     }
     let n = expected.rect.len();
     let file = regular_file(path)?;
+    let (width, pixels) = read_rgb(BufReader::new(file), n).map_err(|e| fail(&e))?;
+    if pixels.len() != n || width != expected.rect.width() as usize {
+        return Err(fail(&"its pixels do not fill its data window"));
+    }
+    Ok(pixels)
+}
+
+/// The R, G and B channels of the first valid layer of the OpenEXR image `reader` (at its largest
+/// resolution level): its width and at most `n` pixels, row-major.
+pub(crate) fn read_rgb(
+    reader: impl std::io::Read + std::io::Seek,
+    n: usize,
+) -> Result<(usize, Vec<Vec3>), exr::error::Error> {
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -110,13 +123,8 @@ pub fn read_exr(path: &Path, expected: Placement) -> Result<Vec<Vec3>, SceneErro
         .first_valid_layer()
         .all_attributes()
         .non_parallel()
-        .from_buffered(BufReader::new(file))
-        .map_err(|e| fail(&e))?;
-    let (width, pixels) = image.layer_data.channel_data.pixels;
-    if pixels.len() != n || width != expected.rect.width() as usize {
-        return Err(fail(&"its pixels do not fill its data window"));
-    }
-    Ok(pixels)
+        .from_buffered(reader)?;
+    Ok(image.layer_data.channel_data.pixels)
 }
 
 #[cfg(test)]

@@ -309,7 +309,6 @@ fn decode_hdr(path: &Path, bytes: &[u8]) -> Result<(u32, u32, Vec<Vec3>), SceneE
 /// resolution), its data window's size checked from its header before it is decoded; decoding
 /// allocates at most that many texels, whatever the file says by then.
 fn decode_exr(path: &Path, bytes: &[u8]) -> Result<(u32, u32, Vec<Vec3>), SceneError> {
-    use exr::prelude::{ReadChannels, ReadLayers, Vec2};
     let fail = |e: &dyn std::fmt::Display| SceneError::Image {
         path: Some(path.to_path_buf()),
         message: format!("not an OpenEXR image of R, G and B: {e}"),
@@ -323,23 +322,7 @@ fn decode_exr(path: &Path, bytes: &[u8]) -> Result<(u32, u32, Vec<Vec3>), SceneE
     };
     check_size(Some(path), width, height)?;
     let n = width as usize * height as usize;
-    let image = exr::prelude::read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .rgb_channels(
-            |size, _| (size.width(), vec![Vec3::ZERO; size.area().min(n)]),
-            |(w, px): &mut (usize, Vec<Vec3>), p: Vec2<usize>, (r, g, b): (f32, f32, f32)| {
-                if let Some(v) = px.get_mut(p.y() * *w + p.x()) {
-                    *v = Vec3::new(r, g, b);
-                }
-            },
-        )
-        .first_valid_layer()
-        .all_attributes()
-        .non_parallel()
-        .from_buffered(Cursor::new(bytes))
-        .map_err(|e| fail(&e))?;
-    let (w, texels) = image.layer_data.channel_data.pixels;
+    let (w, texels) = crate::io::read_rgb(Cursor::new(bytes), n).map_err(|e| fail(&e))?;
     if texels.len() != n || w != width as usize {
         return Err(fail(&"its pixels do not fill its first layer"));
     }
