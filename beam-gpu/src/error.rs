@@ -130,6 +130,14 @@ pub enum GpuError {
         /// The device's largest binding.
         max: u64,
     },
+    /// A shadow-beam query of a light the batch does not have.
+    #[error("a shadow-beam query names light {light}, but the batch has {lights} lights")]
+    NoSuchLight {
+        /// The light named.
+        light: u32,
+        /// The lights of the batch.
+        lights: usize,
+    },
     /// A scene with more mirror and glass triangles than one texture of the device holds (the
     /// Whitted rays' specular bounces read them from one).
     #[error("the scene has {triangles} mirror and glass triangles, more than one GPU texture holds ({max})")]

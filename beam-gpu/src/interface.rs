@@ -179,6 +179,33 @@ pub const FIT_LIMIT: f32 = 3.99;
 /// `FIT_LIMIT · FIT_SCALE` < `FIT_BIAS`, and a sum's low word only carries upwards.
 pub const FIT_BIAS: u32 = 1 << 24;
 
+/// Pieces a GPU shadow beam holds (`shaders/shadow_beam.wgsl`); a beam that needs more answers
+/// [`SHADOW_PIECES`] and is traced again by the host.
+pub const MAX_PIECES: u32 = 64;
+
+/// Corners a light polygon of a shadow beam has at most ([`beam_scene::queries::MAX_LIGHT_CORNERS`]).
+pub const MAX_LIGHT_CORNERS: u32 = beam_scene::queries::MAX_LIGHT_CORNERS as u32;
+
+/// Bit of a shadow-beam query's `flags`: clip the light above the point's tangent plane first.
+pub const QUERY_CLIP_ABOVE: u32 = 1;
+
+/// A shadow beam's status: traced to the end.
+pub const SHADOW_DONE: u32 = 0;
+
+/// A shadow beam's status: it needed more than [`MAX_PIECES`] pieces (its values mean nothing).
+pub const SHADOW_PIECES: u32 = 1;
+
+/// A shadow beam's status: its work passed its budget.
+pub const SHADOW_BUDGET: u32 = 2;
+
+/// A shadow beam's status: a loop was cut short (llvmpipe's cap on a SIMD group's iterations, or
+/// a traversal stack a tree accepted by `GpuBvh::new` cannot need).
+pub const SHADOW_CUT: u32 = 3;
+
+/// Fuzzy tolerance of a shadow beam's side tests, as a fraction of the light's size (001 App. A;
+/// beam-cpu's `SIDE_EPS`).
+pub const SHADOW_SIDE_EPS: f32 = 1e-6;
+
 /// A constant's value, typed as in WGSL.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
@@ -239,6 +266,14 @@ pub const CONSTANTS: &[(&str, Value)] = {
         ("FIT_SCALE", F32(FIT_SCALE)),
         ("FIT_LIMIT", F32(FIT_LIMIT)),
         ("FIT_BIAS", U32(FIT_BIAS)),
+        ("MAX_PIECES", U32(MAX_PIECES)),
+        ("MAX_LIGHT_CORNERS", U32(MAX_LIGHT_CORNERS)),
+        ("QUERY_CLIP_ABOVE", U32(QUERY_CLIP_ABOVE)),
+        ("SHADOW_DONE", U32(SHADOW_DONE)),
+        ("SHADOW_PIECES", U32(SHADOW_PIECES)),
+        ("SHADOW_BUDGET", U32(SHADOW_BUDGET)),
+        ("SHADOW_CUT", U32(SHADOW_CUT)),
+        ("SHADOW_SIDE_EPS", F32(SHADOW_SIDE_EPS)),
     ]
 };
 

@@ -41,6 +41,7 @@ pub mod raytrace;
 pub mod scratch;
 pub mod shade;
 pub mod shaders;
+pub mod shadow_beam;
 pub mod staging;
 pub mod texels;
 pub mod timestamps;

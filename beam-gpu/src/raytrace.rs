@@ -61,6 +61,20 @@ impl GpuHit {
     pub const MISS: u32 = MISS;
 }
 
+/// Upload `bvh`'s nodes and triangles (bindings 0 and 1 of the shaders that traverse it); each must
+/// fit one storage binding of `gpu` ([`GpuError::SceneTooLarge`]).
+pub(crate) fn upload_bvh(gpu: &Gpu, bvh: &GpuBvh) -> Result<(wgpu::Buffer, wgpu::Buffer), GpuError> {
+    let max = max_binding(gpu);
+    for (what, bytes) in [("nodes", size_of_val(bvh.nodes())), ("triangles", size_of_val(bvh.triangles()))] {
+        if bytes as u64 > max {
+            return Err(GpuError::SceneTooLarge { what, bytes: bytes as u64, max });
+        }
+    }
+    let nodes = storage(gpu, "nodes", bvh.nodes(), wgpu::BufferUsages::empty());
+    let triangles = storage(gpu, "triangles", bvh.triangles(), wgpu::BufferUsages::empty());
+    Ok((nodes, triangles))
+}
+
 /// The compiled pipeline with a BVH uploaded.
 pub struct RayTracer {
     pipeline: wgpu::ComputePipeline,
@@ -72,15 +86,8 @@ impl RayTracer {
     /// Compile `raytrace.wgsl` and upload `bvh`; its nodes and its triangles must each fit one
     /// storage binding of `gpu` ([`GpuError::SceneTooLarge`]).
     pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, GpuError> {
-        let max = max_binding(gpu);
-        for (what, bytes) in [("nodes", size_of_val(bvh.nodes())), ("triangles", size_of_val(bvh.triangles()))] {
-            if bytes as u64 > max {
-                return Err(GpuError::SceneTooLarge { what, bytes: bytes as u64, max });
-            }
-        }
+        let (nodes, triangles) = upload_bvh(gpu, bvh)?;
         let pipeline = compute_pipeline(gpu, "raytrace", "trace")?;
-        let nodes = storage(gpu, "nodes", bvh.nodes(), wgpu::BufferUsages::empty());
-        let triangles = storage(gpu, "triangles", bvh.triangles(), wgpu::BufferUsages::empty());
         Ok(Self { pipeline, nodes, triangles })
     }
 

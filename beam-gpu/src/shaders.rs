@@ -23,6 +23,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("glossy_gather", include_str!("../shaders/glossy_gather.wgsl")),
     ("level_points", include_str!("../shaders/level_points.wgsl")),
     ("lookups", include_str!("../shaders/lookups.wgsl")),
+    ("shadow_beam", include_str!("../shaders/shadow_beam.wgsl")),
 ];
 
 /// Shaders that use 64-bit atomics (wgpu's `SHADER_INT64_ATOMIC_MIN_MAX`): emitted for MSL 2.4 and
@@ -44,6 +45,7 @@ pub(crate) const LIBRARY: &[(&str, &str, &[&str])] = &[
     ("lib/specular.wgsl", include_str!("../shaders/lib/specular.wgsl"), &["eye", "whitted", "level_points"]),
     ("lib/coarse.wgsl", include_str!("../shaders/lib/coarse.wgsl"), &["eye", "level_points"]),
     ("lib/fit.wgsl", include_str!("../shaders/lib/fit.wgsl"), &["level_points"]),
+    ("lib/quad.wgsl", include_str!("../shaders/lib/quad.wgsl"), &["shadow_beam"]),
     (
         "lib/region.wgsl",
         include_str!("../shaders/lib/region.wgsl"),

@@ -1,17 +1,15 @@
-//! CPU renderer properties: exact light visibility by shadow beams (001 §5) against closed forms
-//! and against Monte-Carlo shadow rays, and beam images against ray-traced ones.
+//! CPU renderer properties: beam images against ray-traced ones, silhouettes against splitting,
+//! sampled beams within their bounds, primary coverage (the shadow-beam properties that run on
+//! every backend are in [`crate::shadow`]).
 
-use crate::bvh::{cases, ray_set, scene_light};
 use crate::generate::{self, uniform};
 use crate::{Backend, Config, Outcome, Property};
-use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
-use beam_cpu::render::{BeamStats, DEPTH_EPS, Method, RenderOptions, Shading, difference, render, visible_light};
+use beam_cpu::render::{Method, RenderOptions, Shading, difference, render};
+use beam_math::Triangle;
 use beam_math::glam::Vec3;
-use beam_math::{Ray, Triangle};
 use beam_scene::options::Occluders;
 use beam_scene::scene;
 use rand::Rng;
-use rayon::prelude::*;
 
 const CPU: &[Backend] = &[Backend::Cpu];
 
@@ -19,18 +17,6 @@ const CPU: &[Backend] = &[Backend::Cpu];
 #[must_use]
 pub fn properties() -> Vec<Property> {
     vec![
-        Property {
-            name: "soft_shadow_closed_form",
-            cites: "001 §5; square light, parallel square occluder",
-            backends: CPU,
-            body: soft_shadow_closed_form,
-        },
-        Property {
-            name: "soft_shadow_vs_monte_carlo",
-            cites: "001 §5, 65,536 shadow rays",
-            backends: CPU,
-            body: soft_shadow_vs_monte_carlo,
-        },
         Property {
             name: "beam_and_ray_images_agree",
             cites: "001 §5.1",
@@ -59,132 +45,6 @@ pub fn properties() -> Vec<Property> {
             body: primary_coverage_sums_to_one,
         },
     ]
-}
-
-/// Area of the overlap of two axis-aligned squares (centre, half-width) in the plane.
-fn square_overlap(a: (f32, f32, f32), b: (f32, f32, f32)) -> f32 {
-    let span = |c1: f32, h1: f32, c2: f32, h2: f32| ((c1 + h1).min(c2 + h2) - (c1 - h1).max(c2 - h2)).max(0.0);
-    span(a.0, a.2, b.0, b.2) * span(a.1, a.2, b.1, b.2)
-}
-
-/// A square light of side `L` at height `H` above a point, a parallel square occluder of side `s` at
-/// height `h`: the occluder's shadow on the light plane is a square scaled by `H/h` about the point,
-/// so the visible fraction is `1 − overlap/L²` in closed form. 4,000 random configurations; the
-/// exact visibility must match to 1e-4.
-pub fn soft_shadow_closed_form(_: Backend, _: &Config) -> Result<Outcome, String> {
-    let mut rng = generate::rng(30);
-    let mut worst = 0.0f32;
-    for i in 0..4_000 {
-        let (big_h, side) = (uniform(&mut rng, 1.0, 4.0), uniform(&mut rng, 0.2, 2.0));
-        let light_c = Vec3::new(uniform(&mut rng, -1.0, 1.0), uniform(&mut rng, -1.0, 1.0), big_h);
-        let hl = 0.5 * side;
-        let light = [
-            light_c + Vec3::new(-hl, -hl, 0.0),
-            light_c + Vec3::new(hl, -hl, 0.0),
-            light_c + Vec3::new(hl, hl, 0.0),
-            light_c + Vec3::new(-hl, hl, 0.0),
-        ];
-        let h = uniform(&mut rng, 0.1, 0.9) * big_h;
-        let occ_c = Vec3::new(uniform(&mut rng, -1.0, 1.0), uniform(&mut rng, -1.0, 1.0), h);
-        let ho = uniform(&mut rng, 0.05, 0.6);
-        let q = |x: f32, y: f32| occ_c + Vec3::new(x, y, 0.0);
-        let occluder =
-            vec![Triangle::new(q(-ho, -ho), q(ho, -ho), q(ho, ho)), Triangle::new(q(-ho, -ho), q(ho, ho), q(-ho, ho))];
-        let bvh = FlatBvh::build(&occluder, &BuildOptions::sah());
-        let p = Vec3::new(uniform(&mut rng, -1.5, 1.5), uniform(&mut rng, -1.5, 1.5), 0.0);
-        let k = big_h / h;
-        let shadow = (p.x + (occ_c.x - p.x) * k, p.y + (occ_c.y - p.y) * k, ho * k);
-        let expected = 1.0 - square_overlap((light_c.x, light_c.y, hl), shadow) / (side * side);
-        let got =
-            visible_light(&bvh, &occluder, p, &light, -Vec3::Z, &mut BeamStats::default()).ok_or("no beam")?.fraction();
-        worst = worst.max((got - expected).abs());
-        if (got - expected).abs() > 1e-4 {
-            return Err(format!("case {i}: visible {got}, closed form {expected}"));
-        }
-    }
-    Ok(Outcome { cases: 4_000, note: format!("max |exact − closed form| = {worst:.1e}") })
-}
-
-/// Exact visible fraction of the scene light from random shade points (camera-ray hits) against a
-/// 65,536-ray Monte-Carlo estimate with uniform light samples, on the built-in Cornell box, the
-/// procedural scene and every shared mesh (Sponza and the conference room among them). Each point
-/// must agree within 6σ and at most 1% of points may lie beyond 3σ (σ² = f(1 − f)/N).
-/// `Config::rays / 10` points per scene.
-pub fn soft_shadow_vs_monte_carlo(_: Backend, config: &Config) -> Result<Outcome, String> {
-    const N: u32 = 65_536;
-    let points_per_scene = (config.rays / 10).max(20);
-    let (mut meshes, skipped) = cases()?;
-    let cornell = scene::builtin("cornell").map_err(|e| e.to_string())?;
-    meshes.insert(0, crate::bvh::Case { name: "cornell".into(), triangles: cornell.triangles.clone() });
-    let mut notes = Vec::new();
-    let (mut total, mut beyond3, mut worst) = (0u64, 0u64, 0.0f64);
-    for (k, case) in meshes.iter().enumerate() {
-        let tris = &case.triangles;
-        let bvh = FlatBvh::build(tris, &BuildOptions::sah());
-        let wide = WideBvh::new(&bvh, tris);
-        let bounds = bvh.nodes[0].bounds();
-        let (lc, lu, lv) = if case.name == "cornell" {
-            match cornell.lights[0] {
-                scene::Light::Quad { corner, edge_u, edge_v, .. } => (corner + 0.5 * (edge_u + edge_v), edge_u, edge_v),
-                _ => unreachable!("the Cornell light is a quad"),
-            }
-        } else {
-            scene_light(bounds)
-        };
-        let light = [lc - 0.5 * (lu + lv), lc + 0.5 * (lu - lv), lc + 0.5 * (lu + lv), lc - 0.5 * (lu - lv)];
-        let ln = Vec3::NEG_Y;
-        let set = ray_set(tris, &bvh, points_per_scene, 300 + k as u64);
-        let points: Vec<Vec3> = set.shadow.iter().map(|(r, _)| r.origin).filter(|p| ln.dot(*p - lc) > 0.0).collect();
-        let results: Vec<(f32, f64)> = points
-            .par_iter()
-            .enumerate()
-            .map(|(i, &p)| {
-                let exact =
-                    visible_light(&bvh, tris, p, &light, ln, &mut BeamStats::default()).map_or(0.0, |v| v.fraction());
-                let mut rng = generate::rng(1_000 + i as u64 + 7919 * k as u64);
-                let mut seen = 0u32;
-                for _ in 0..N {
-                    let q = light[0] + lu * rng.random::<f32>() + lv * rng.random::<f32>();
-                    if !wide.any_hit(Ray::new(p, q - p), 1.0 - DEPTH_EPS) {
-                        seen += 1;
-                    }
-                }
-                (exact, f64::from(seen) / f64::from(N))
-            })
-            .collect();
-        let mut scene_worst = 0.0f64;
-        for (i, &(exact, mc)) in results.iter().enumerate() {
-            let f = f64::from(exact);
-            let sigma = (f * (1.0 - f) / f64::from(N)).sqrt().max(1.0 / f64::from(N));
-            let z = (f - mc).abs() / sigma;
-            scene_worst = scene_worst.max(z);
-            beyond3 += u64::from(z > 3.0);
-            if z > 6.0 {
-                return Err(format!(
-                    "{} point {i} ({}): exact {exact}, Monte Carlo {mc} ({z:.1}σ)",
-                    case.name, points[i]
-                ));
-            }
-        }
-        total += results.len() as u64;
-        worst = worst.max(scene_worst);
-        let mean_vis = results.iter().map(|r| f64::from(r.0)).sum::<f64>() / results.len().max(1) as f64;
-        notes.push(format!(
-            "{} ({} points, mean visibility {mean_vis:.2}, worst {scene_worst:.1}σ)",
-            case.name,
-            results.len()
-        ));
-    }
-    if beyond3 as f64 > 0.01 * total as f64 {
-        return Err(format!("{beyond3} of {total} points beyond 3σ (more than 1%)"));
-    }
-    if let Some(reason) = skipped {
-        notes.push(format!("shared meshes skipped: {reason}"));
-    }
-    Ok(Outcome {
-        cases: total,
-        note: format!("{beyond3} beyond 3σ (expected ≈0.3%), worst {worst:.2}σ; {}", notes.join("; ")),
-    })
 }
 
 /// The Cornell box at 96×96: the beam image (exact primary visibility with box-filtered coverage,

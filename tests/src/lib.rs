@@ -16,6 +16,7 @@ pub mod glossy;
 pub mod gpu;
 pub mod math;
 pub mod nonlinear;
+pub mod shadow;
 
 use std::fmt;
 use std::time::Instant;
@@ -156,6 +157,7 @@ pub struct Property {
 pub fn properties() -> Vec<Property> {
     let mut all = math::properties();
     all.extend(bvh::properties());
+    all.extend(shadow::properties());
     all.extend(cpu::properties());
     all.extend(nonlinear::properties());
     all.extend(glossy::properties());

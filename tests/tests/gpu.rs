@@ -27,4 +27,7 @@ beam_conformance::conformance_tests!(
     nonlinear_texels_equal_ray_hits,
     nonlinear_images_vs_reference,
     bvh_hits_equal_brute_force,
+    soft_shadow_closed_form,
+    soft_shadow_vs_monte_carlo,
+    gpu_shadow_beams_equal_cpu,
 );

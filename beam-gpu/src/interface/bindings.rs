@@ -12,6 +12,7 @@ use crate::nonlinear::{
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, ShadeInput, ShadeParams};
+use crate::shadow_beam::{GpuLightPolygon, GpuLightQuery, GpuLightSeen, ShadowParams};
 use beam_bvh::FlatNode;
 use beam_bvh::gpu::GpuTriangle;
 
@@ -48,6 +49,10 @@ fn tables() -> Vec<Table> {
         bindings!("beam_texels" => [
             params: AtlasParams, beams: GpuBeam, triangles: GpuTriangle, pairs: [u32; 2], bounds_in: [f32; 4],
             counters: u32, firsts: u32, texel_hits: u64, jobs: [u32; 4],
+        ]),
+        bindings!("shadow_beam" => [
+            nodes: FlatNode, triangles: GpuTriangle, params: ShadowParams, lights: GpuLightPolygon,
+            queries: GpuLightQuery, seen: GpuLightSeen,
         ]),
         bindings!("nonlinear_check" => [beams: GpuBeam, cases: CheckCase, results: [f32; 4]]),
         bindings!("lookups" => [beams: GpuBeam, texel_t: f32, jobs: GpuLookupJob, answers: [f32; 4]]),

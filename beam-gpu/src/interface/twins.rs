@@ -12,6 +12,7 @@ use crate::nonlinear::{
 };
 use crate::raytrace::{GpuHit, GpuRay};
 use crate::shade::{CausticPlane, GpuLight, PrimShading, STATE_HEADER, ShadeInput, ShadeParams, ShadeState};
+use crate::shadow_beam::{GpuLightPolygon, GpuLightQuery, GpuLightSeen, ShadowParams};
 use beam_bvh::FlatNode;
 use beam_bvh::gpu::GpuTriangle;
 use core::mem::offset_of;
@@ -136,6 +137,10 @@ fn twins() -> Vec<Twin> {
         twin!("whitted", WhittedPath => Path { origin, dest, direction, seed, weight, pad }),
         twin!("whitted", EndWeight => EndWeight { weight, dest }),
         twin!("whitted", WhittedCounts => WhittedCounts { paths, ends, overflow, pad }),
+        twin!("shadow_beam", GpuLightQuery => LightQuery { p, light, n, flags }),
+        twin!("shadow_beam", GpuLightPolygon => LightPolygon { corners, normal, count }),
+        twin!("shadow_beam", GpuLightSeen => LightSeen { irradiance, fraction, status, work }),
+        twin!("shadow_beam", ShadowParams => ShadowParams { queries, budget, first, pad }),
     ]
 }
 

@@ -1,0 +1,243 @@
+//! Exact soft shadows on the GPU (`shaders/shadow_beam.wgsl`, entry point `visible_light`): one
+//! shadow beam per (shade point, light polygon) query, traversed through beam-bvh's GPU layout by
+//! its frustum, split exactly at triangle edges with the quad rules of 001 §3.2
+//! (`shaders/lib/quad.wgsl`, twin of [`beam_math::polybeam::Quad::split`]), and its unoccluded
+//! pieces integrated by Lambert's formula. CPU twin: `beam_cpu::render::shadow_beam::visible_light`.
+//!
+//! A beam holds at most [`MAX_PIECES`] pieces and runs at most its budget of loop iterations
+//! ([`ShadowBeams::budget`]); past either it answers `None` (counted, and traced again by the
+//! caller on its own path), never a wrong value.
+
+use crate::buffers::{buffer_entry, checked, encode_pass, max_binding, output, read_back, storage, uniform};
+use crate::interface::{QUERY_CLIP_ABOVE, SHADOW_DONE};
+use crate::raytrace::{RayTracer, upload_bvh};
+use crate::{Gpu, GpuError};
+use beam_bvh::gpu::GpuBvh;
+use beam_scene::queries::{LightPolygon, LightQuery, LightSeen, MAX_LIGHT_CORNERS};
+use bytemuck::{Pod, Zeroable};
+
+pub use crate::interface::MAX_PIECES;
+
+/// A shadow-beam query for the GPU.
+///
+/// WGSL twin: `LightQuery` in `shaders/shadow_beam.wgsl` (layouts compared in [`crate::interface`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuLightQuery {
+    /// The shade point.
+    pub p: [f32; 3],
+    /// Index of the light polygon.
+    pub light: u32,
+    /// Unit normal at the point.
+    pub n: [f32; 3],
+    /// [`QUERY_CLIP_ABOVE`] or 0.
+    pub flags: u32,
+}
+
+impl GpuLightQuery {
+    /// `q` for the shader.
+    #[must_use]
+    pub fn new(q: &LightQuery) -> Self {
+        let flags = if q.clip_above { QUERY_CLIP_ABOVE } else { 0 };
+        Self { p: q.p.to_array(), light: q.light, n: q.n.to_array(), flags }
+    }
+}
+
+/// A light polygon for the GPU.
+///
+/// WGSL twin: `LightPolygon` in `shaders/shadow_beam.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuLightPolygon {
+    /// Corners (`w` unused).
+    pub corners: [[f32; 4]; MAX_LIGHT_CORNERS],
+    /// Unit normal of the lit side.
+    pub normal: [f32; 3],
+    /// Number of corners.
+    pub count: u32,
+}
+
+impl GpuLightPolygon {
+    /// `l` for the shader.
+    #[must_use]
+    pub fn new(l: &LightPolygon) -> Self {
+        let corners = l.corners.map(|c| c.extend(0.0).to_array());
+        Self { corners, normal: l.normal.to_array(), count: l.count }
+    }
+}
+
+/// A shadow beam's answer.
+///
+/// WGSL twin: `LightSeen` in `shaders/shadow_beam.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuLightSeen {
+    /// Irradiance per unit radiance of the unoccluded pieces.
+    pub irradiance: f32,
+    /// Unoccluded share of the beam's cross-section.
+    pub fraction: f32,
+    /// [`SHADOW_DONE`], or why the beam stopped short ([`crate::interface::SHADOW_PIECES`],
+    /// [`crate::interface::SHADOW_BUDGET`], [`crate::interface::SHADOW_CUT`]).
+    pub status: u32,
+    /// Loop iterations the beam ran.
+    pub work: u32,
+}
+
+impl GpuLightSeen {
+    /// The answer, `None` for a beam past the limits.
+    #[must_use]
+    pub fn seen(&self) -> Option<LightSeen> {
+        (self.status == SHADOW_DONE).then_some(LightSeen { irradiance: self.irradiance, fraction: self.fraction })
+    }
+}
+
+/// The parameters of one dispatch.
+///
+/// WGSL twin: `ShadowParams` in `shaders/shadow_beam.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct ShadowParams {
+    /// Queries of the dispatch.
+    pub queries: u32,
+    /// Loop iterations a beam may run.
+    pub budget: u32,
+    /// Index of the dispatch's first query in the bound buffers.
+    pub first: u32,
+    /// Padding.
+    pub pad: u32,
+}
+
+const _: () = assert!(
+    size_of::<GpuLightQuery>() == 32
+        && size_of::<GpuLightPolygon>() == 144
+        && size_of::<GpuLightSeen>() == 16
+        && size_of::<ShadowParams>() == 16
+);
+
+/// Loop iterations a beam runs on a software device (Mesa's lavapipe, CI's): it ends every loop of
+/// a SIMD group of 8 invocations for good once they together have run 65,535 iterations (the
+/// shader counts every iteration and 2 for each entry into a loop, as llvmpipe does). A group's
+/// count lies between its largest lane's and the sum of its lanes'; where the cap cuts a
+/// traversal short anyway, the shader sees it (the loop ended without its own test) and answers
+/// `None`, so the cap costs beams traced again, never a wrong answer.
+pub const SOFTWARE_BUDGET: u32 = 8_192;
+
+/// Loop iterations a beam runs on a hardware device: enough for every beam of the shared scenes,
+/// few enough that a pathological one cannot stall the device for long.
+pub const HARDWARE_BUDGET: u32 = 1 << 20;
+
+/// Queries per dispatch (a dispatch's buffers stay small, and a workgroup count under 65,535).
+const CHUNK: usize = 1 << 18;
+
+/// The compiled pipeline, over a BVH already on the device.
+pub struct ShadowBeams {
+    pipeline: wgpu::ComputePipeline,
+    nodes: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    budget: u32,
+}
+
+impl ShadowBeams {
+    /// Compile `shadow_beam.wgsl` and upload `bvh` (each of its buffers within one storage binding,
+    /// [`GpuError::SceneTooLarge`]).
+    pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, GpuError> {
+        let (nodes, triangles) = upload_bvh(gpu, bvh)?;
+        Self::over(gpu, nodes, triangles)
+    }
+
+    /// Compile `shadow_beam.wgsl` over the BVH `tracer` uploaded (its buffers shared).
+    pub fn sharing(gpu: &Gpu, tracer: &RayTracer) -> Result<Self, GpuError> {
+        let (nodes, triangles) = tracer.buffers();
+        Self::over(gpu, nodes.clone(), triangles.clone())
+    }
+
+    /// The same pipeline over another BVH (no recompilation).
+    pub fn with_bvh(&self, gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, GpuError> {
+        let (nodes, triangles) = upload_bvh(gpu, bvh)?;
+        Ok(Self { pipeline: self.pipeline.clone(), nodes, triangles, budget: self.budget })
+    }
+
+    fn over(gpu: &Gpu, nodes: wgpu::Buffer, triangles: wgpu::Buffer) -> Result<Self, GpuError> {
+        let pipeline = crate::buffers::compute_pipeline(gpu, "shadow_beam", "visible_light")?;
+        let budget = if gpu.is_software() { SOFTWARE_BUDGET } else { HARDWARE_BUDGET };
+        Ok(Self { pipeline, nodes, triangles, budget })
+    }
+
+    /// These beams with a budget of `budget` loop iterations each (tests force the overflow path).
+    #[must_use]
+    pub fn with_budget(mut self, budget: u32) -> Self {
+        self.budget = budget;
+        self
+    }
+
+    /// Loop iterations a beam may run before it answers `None`.
+    #[must_use]
+    pub fn budget(&self) -> u32 {
+        self.budget
+    }
+
+    /// Encode the beams of `count` queries of `queries` (from `first` on) against `lights` into
+    /// `seen` ([`GpuLightSeen`] each, at the query's index), on buffers the caller owns: nothing is
+    /// read back (an engine keeps the answers on the device).
+    #[allow(clippy::too_many_arguments, reason = "the five buffers and the range of one dispatch")]
+    pub fn encode(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        lights: &wgpu::Buffer,
+        queries: &wgpu::Buffer,
+        seen: &wgpu::Buffer,
+        first: u32,
+        count: u32,
+    ) {
+        let params = ShadowParams { queries: count, budget: self.budget, first, pad: 0 };
+        let params = uniform(gpu, "shadow params", bytemuck::bytes_of(&params));
+        let entries = [
+            buffer_entry(0, &self.nodes),
+            buffer_entry(1, &self.triangles),
+            buffer_entry(2, &params),
+            buffer_entry(3, lights),
+            buffer_entry(4, queries),
+            buffer_entry(5, seen),
+        ];
+        encode_pass(gpu, encoder, &self.pipeline, count, &entries);
+    }
+
+    /// The answer to each query (`None` past the limits), in dispatches of at most 2¹⁸ queries.
+    pub fn visibility(
+        &self,
+        gpu: &Gpu,
+        lights: &[LightPolygon],
+        queries: &[LightQuery],
+    ) -> Result<Vec<Option<LightSeen>>, GpuError> {
+        Ok(self.answers(gpu, lights, queries)?.iter().map(GpuLightSeen::seen).collect())
+    }
+
+    /// The shader's answers as they are (with their status and work).
+    pub fn answers(
+        &self,
+        gpu: &Gpu,
+        lights: &[LightPolygon],
+        queries: &[LightQuery],
+    ) -> Result<Vec<GpuLightSeen>, GpuError> {
+        if let Some(q) = queries.iter().find(|q| q.light as usize >= lights.len()) {
+            return Err(GpuError::NoSuchLight { light: q.light, lights: lights.len() });
+        }
+        let polygons: Vec<GpuLightPolygon> = lights.iter().map(GpuLightPolygon::new).collect();
+        let chunk = CHUNK.min((max_binding(gpu) / size_of::<GpuLightQuery>() as u64) as usize).max(1);
+        checked(gpu, || {
+            let lights = storage(gpu, "light polygons", &polygons, wgpu::BufferUsages::empty());
+            let mut out = Vec::with_capacity(queries.len());
+            for part in queries.chunks(chunk) {
+                let gpu_queries: Vec<GpuLightQuery> = part.iter().map(GpuLightQuery::new).collect();
+                let queries = storage(gpu, "light queries", &gpu_queries, wgpu::BufferUsages::empty());
+                let size = (part.len() * size_of::<GpuLightSeen>()) as u64;
+                let seen = output(gpu, "light seen", size);
+                let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+                self.encode(gpu, &mut encoder, &lights, &queries, &seen, 0, part.len() as u32);
+                out.extend(read_back::<GpuLightSeen>(gpu, encoder, &seen, size)?);
+            }
+            Ok(out)
+        })
+    }
+}
