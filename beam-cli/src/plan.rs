@@ -194,14 +194,13 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         "gpu" => true,
         b => return Err(format!("unknown backend `{b}` (expected cpu or gpu)")),
     };
-    if gpu && !matches!(kind, Kind::Nonlinear | Kind::NonlinearReference | Kind::Glossy) {
-        return Err(format!(
-            "--backend gpu does not apply to --method {} (it runs nonlinear, nonlinear-reference and glossy)",
-            kind.name()
-        ));
+    if gpu && kind == Kind::GlossyReference {
+        return Err(
+            "--backend gpu does not apply to --method glossy-reference (its photon tracing runs on the CPU)".into()
+        );
     }
     for id in a.given {
-        if let Some(kinds) = applies_to(id, gpu, a.primary_beams) {
+        if let Some(kinds) = applies_to(id, gpu, a.primary_beams && !gpu) {
             if !kinds.contains(&kind) {
                 let to = kinds.iter().map(|k| k.name()).collect::<Vec<_>>().join(", ");
                 let backend = if gpu { " --backend gpu" } else { "" };
@@ -313,13 +312,14 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         shading,
         spp: a.spp,
         primary_spp: a.primary_spp,
-        primary_beams: a.primary_beams,
+        // The GPU traces primary rays (eye beams run on the CPU) and every shadow beam to the end.
+        primary_beams: a.primary_beams && !gpu,
         width,
         height,
         seed: 1,
         region,
         occluders,
-        exact: a.exact,
+        exact: a.exact || gpu,
     };
     let placement = match region {
         Some(r) => Placement::new(r, width, height)

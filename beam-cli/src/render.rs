@@ -8,8 +8,9 @@ use beam_cpu::glossy::{
 use beam_cpu::nonlinear::{
     BeamRenderer, CpuBeams, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
 };
-use beam_cpu::render::{Method, render};
+use beam_cpu::render::{Method, render, render_queries};
 use beam_gpu::nonlinear::GpuBeams;
+use beam_gpu::queries::GpuQueries;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use std::process::ExitCode;
@@ -24,7 +25,15 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     }
     let method = options.method;
     let bar = crate::progress::bar(u64::from(plan.placement.rect.height()), "render");
-    let (image, stats) = render(scene, &options, || bar.inc(1));
+    let gpu = gpu_of(plan.gpu)?;
+    let (image, stats) = match &gpu {
+        // The host drives the frame; rays and shadow beams run on the device in batches.
+        Some(g) => {
+            let queries = GpuQueries::new(g, scene).map_err(|e| e.to_string())?;
+            render_queries(scene, &options, &queries, || bar.inc(1)).map_err(|e| e.to_string())?
+        }
+        None => render(scene, &options, || bar.inc(1)),
+    };
     bar.finish_and_clear();
     write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
     println!(
@@ -41,7 +50,16 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         stats.seconds,
         a.out.display()
     );
-    if method == Method::Beam && a.primary_beams {
+    if let Some(g) = &gpu {
+        println!(
+            "on {}: primary rays ({} per pixel), shadow {} on the device; {} beams past its limits traced on the host",
+            g.describe(),
+            options.primary_spp,
+            if method == Method::Beam { "beams, each traced to the end," } else { "rays" },
+            stats.overflow_beams
+        );
+    }
+    if method == Method::Beam && options.primary_beams {
         println!(
             "eye beams: {} visible triangles, {:.2} hit beams per visible triangle, {} fragments, coverage error {:.1e}",
             stats.visible_triangles, stats.hit_beams_per_visible_triangle, stats.fragments, stats.coverage_error
@@ -51,7 +69,7 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
             stats.shadow_beams, stats.bvh_steps, stats.intersections, stats.hit_beams_per_pixel
         );
     }
-    if method == Method::Beam {
+    if method == Method::Beam && gpu.is_none() {
         println!(
             "exact pixels {:.1}% ({} lights sampled past their beam's budget, largest error bound {:.2e}; \
              {} pixels by primary rays; --exact for all)",

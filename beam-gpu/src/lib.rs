@@ -37,6 +37,7 @@ pub mod error;
 pub mod glossy;
 pub mod interface;
 pub mod nonlinear;
+pub mod queries;
 pub mod raytrace;
 pub mod scratch;
 pub mod shade;

@@ -5,8 +5,10 @@
 use crate::buffers::{compute_pipeline, dispatch, max_binding, output, read_back, storage};
 use crate::interface::{MISS, RAY_ANY, RAY_CLOSEST, WORKGROUP_SIZE};
 use crate::{Gpu, GpuError};
+use beam_bvh::Hit;
 use beam_bvh::gpu::GpuBvh;
 use beam_math::Ray;
+use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
@@ -73,6 +75,27 @@ pub(crate) fn upload_bvh(gpu: &Gpu, bvh: &GpuBvh) -> Result<(wgpu::Buffer, wgpu:
     let nodes = storage(gpu, "nodes", bvh.nodes(), wgpu::BufferUsages::empty());
     let triangles = storage(gpu, "triangles", bvh.triangles(), wgpu::BufferUsages::empty());
     Ok((nodes, triangles))
+}
+
+/// `rays`' closest hits as beam-bvh [`Hit`]s from the tracer's `hits` of them: the tracer reports
+/// the triangle and `t`, the barycentric weights of the hit point follow on the host.
+#[must_use]
+pub fn closest_of(scene: &Scene, rays: &[Ray], hits: Vec<GpuHit>) -> Vec<Option<Hit>> {
+    hits.into_par_iter()
+        .zip(rays)
+        .map(|(h, ray)| {
+            (h.prim != GpuHit::MISS).then_some(())?;
+            let tri = scene.triangles.get(h.prim as usize)?;
+            let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
+            Some(Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
+        })
+        .collect()
+}
+
+/// Whether each any-hit ray was occluded: its `t` is 1 when it is, 0 otherwise (`trace_ray`).
+#[must_use]
+pub fn occluded_of(hits: &[GpuHit]) -> Vec<bool> {
+    hits.par_iter().map(|h| h.t == 1.0).collect()
 }
 
 /// The compiled pipeline with a BVH uploaded.

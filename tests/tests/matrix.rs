@@ -11,10 +11,11 @@ use beam_cpu::glossy::{GlossyOptions, LightVolumes, render_glossy, render_glossy
 use beam_cpu::nonlinear::{
     BeamRenderer, CpuBeams, Degree, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
 };
-use beam_cpu::render::{Image, Method, RenderOptions, render};
+use beam_cpu::render::{Image, Method, RenderOptions, render, render_queries};
 use beam_gpu::Gpu;
 use beam_gpu::glossy::GpuGather;
 use beam_gpu::nonlinear::GpuBeams;
+use beam_gpu::queries::GpuQueries;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
 use beam_scene::scene::{self, BUILTIN, Scene};
@@ -54,8 +55,12 @@ fn render_cell(scene: &Scene, method: &str, gpu: Option<&Gpu>) -> Result<Image, 
     };
     let glossy = GlossyOptions { subdivide: 1, ..GlossyOptions::new(SIZE, SIZE) };
     match (method, gpu) {
-        ("beam" | "primary-beams" | "ray" | "glossy-reference", Some(_)) => {
-            Err(format!("{NOT_APPLICABLE}: `{method}` has no GPU backend"))
+        ("primary-beams", Some(_)) => Err(format!("{NOT_APPLICABLE}: eye beams run on the CPU")),
+        ("glossy-reference", Some(_)) => Err(format!("{NOT_APPLICABLE}: `{method}` has no GPU backend")),
+        ("beam" | "ray", Some(g)) => {
+            let queries = GpuQueries::new(g, scene).map_err(|e| e.to_string())?;
+            let method = if method == "beam" { Method::Beam } else { Method::Ray };
+            Ok(render_queries(scene, &shading(method, false), &queries, || {}).map_err(|e| e.to_string())?.0)
         }
         ("beam", None) => Ok(render(scene, &shading(Method::Beam, false), || {}).0),
         ("primary-beams", None) => Ok(render(scene, &shading(Method::Beam, true), || {}).0),

@@ -2,7 +2,7 @@
 //! [`shade_point`].
 
 use super::atlas::render_beam;
-use crate::render::{IrradianceMap, RenderOptions, shade_point};
+use crate::render::{IrradianceMap, RenderOptions, light_seen, shade_point};
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -11,6 +11,7 @@ use beam_scene::nonlinear::{
     BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, ChildLookups, DeviceWaits, EyeView, PointShading, RayQueries,
     ShadePoint,
 };
+use beam_scene::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 
@@ -31,6 +32,25 @@ impl RayQueries for CpuBeams {
 
     fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
         Ok(segments.par_iter().map(|&(ray, t_max)| scene.wide.any_hit(ray, t_max)).collect())
+    }
+}
+
+/// Every shadow beam traced exactly on the CPU ([`light_seen`]), in parallel; never `None`. A query
+/// naming a light past `lights` is an error.
+impl BeamQueries for CpuBeams {
+    fn light_visibility(
+        &self,
+        scene: &Scene,
+        lights: &[LightPolygon],
+        queries: &[LightQuery],
+    ) -> Result<Vec<Option<LightSeen>>, BackendError> {
+        queries
+            .par_iter()
+            .map(|q| match lights.get(q.light as usize) {
+                Some(light) => Ok(Some(light_seen(scene, light, q))),
+                None => Err(BackendError::new("cpu", format!("light {} of {} in a query", q.light, lights.len()))),
+            })
+            .collect()
     }
 }
 

@@ -14,10 +14,12 @@ use trace::{EyeTraced, TileRadiance, Trace, Traced};
 
 mod emitters;
 mod light_beam;
+mod light_samples;
 mod shade_points;
 mod shading;
 mod stats;
 mod trace;
+mod wavefront;
 
 use shading::{Context, Lights, Surface, Thread};
 use stats::Counters;
@@ -25,8 +27,18 @@ pub use stats::RenderStats;
 
 pub use beam_scene::tolerance::shading_eps;
 pub use shading::{shade_point, stratified, trace_radiance};
+pub use wavefront::{light_seen, render_queries};
 
 pub use beam_scene::options::{Method, Occluders, RenderOptions, Shading};
+
+/// What a primary ray's shade point's seed (of its shadow-ray samples) is its pixel's seed
+/// ([`pixel_seed`]) xor.
+pub(super) const SHADE_SEED: u64 = 0x5EED;
+
+/// The seed of pixel `(x, y)`'s primary rays for the render's seed `seed`.
+pub(super) fn pixel_seed(seed: u64, x: u32, y: u32) -> u64 {
+    seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+}
 
 /// Render `scene` (the pixels of `options.region` only, each as in the whole frame); `row_done` is
 /// called after each image row (for a progress bar).
@@ -44,8 +56,7 @@ pub fn render_with(
     let start = Instant::now();
     let camera = scene.camera.with_size(options.width, options.height);
     let ctx = Context::new(scene, options, occluded, None);
-    let pixel_seed =
-        |x: u32, y: u32| options.seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    let pixel_seed = |x: u32, y: u32| pixel_seed(options.seed, x, y);
     let eye_beams = options.method == Method::Beam && options.primary_beams;
     let n_prims = if eye_beams { scene.triangles.len() } else { 0 };
     let trace = Trace { ctx: &ctx, camera: &camera, seed: &pixel_seed, n_prims };
@@ -134,59 +145,14 @@ pub fn render_with(
         }
     }
     let visible_triangles = visible.iter().filter(|&&v| v).count() as u64;
-    let pixels = (image.pixels.len() as f64).max(1.0);
-    let stats = RenderStats {
-        seconds: start.elapsed().as_secs_f64(),
-        method: match options.method {
-            Method::Beam => "beam",
-            Method::Ray => "ray",
-        }
-        .into(),
-        shading: match options.shading {
-            Shading::Fraction => "fraction",
-            Shading::Exact => "exact",
-        }
-        .into(),
-        spp: if options.method == Method::Ray { options.spp } else { 0 },
-        width: image.width,
-        height: image.height,
-        triangles: scene.stats.triangles,
-        degenerate_triangles: scene.stats.degenerate,
-        merged_lights: scene.stats.merged_lights,
-        notices: scene.notices.clone(),
-        camera_rays: total.camera_rays,
-        shadow_rays: total.shadow_rays,
-        shadow_beams: total.shadow_beams,
-        bvh_steps: total.beams.bvh_steps,
-        intersections: total.beams.intersections,
-        hit_beams: total.beams.hit_beams,
-        hit_beams_per_pixel: total.beams.hit_beams as f64 / pixels,
-        primary_bvh_steps: total.primary.bvh_steps,
-        primary_intersections: total.primary.intersections,
-        primary_hit_beams: total.primary.hit_beams,
+    let stats = RenderStats::summed(
+        scene,
+        options,
+        (image.width, image.height),
+        &total,
         visible_triangles,
-        hit_beams_per_visible_triangle: total.primary.hit_beams as f64 / visible_triangles.max(1) as f64,
-        fragments: total.fragments,
-        shade_points: total.shade_points,
-        ray_pixels: total.ray_pixels,
-        coverage_error: total.coverage_error,
-        triangle_tests: total.beams.triangle_tests,
-        pieces: total.beams.pieces,
-        silhouette_beams: total.beams.silhouette_beams,
-        silhouette_edges: total.beams.silhouette_edges,
-        silhouette_fallbacks: total.beams.silhouette_fallbacks,
-        sampled_beams: total.sampled_beams,
-        culled_lights: total.culled_lights,
-        environment: scene.environment.describe(),
-        environment_lights: ctx.lights.len() - scene.lights.len(),
-        environment_rays: total.environment_rays,
-        exact_pixel_share: 1.0 - total.inexact_pixels as f64 / pixels,
-        max_error_bound: total.max_error_bound,
-        shafts: total.shafts,
-        shaft_bvh_steps: total.shaft_bvh_steps,
-        primary_seconds: total.primary_seconds,
-        shadow_seconds: total.shadow_seconds,
-        shading_seconds: total.shading_seconds,
-    };
+        ctx.lights.len() - scene.lights.len(),
+        start.elapsed().as_secs_f64(),
+    );
     (image, stats)
 }

@@ -10,7 +10,7 @@ use super::whitted::{GpuWhitted, RestJob, RestPoints};
 use crate::GpuError;
 use crate::buffers::{checked, output, read_all, storage};
 use crate::checks::ShadeChecks;
-use crate::raytrace::{GpuHit, GpuRay};
+use crate::raytrace::{GpuHit, GpuRay, closest_of, occluded_of};
 use crate::shade::ShadeInput;
 use beam_bvh::Hit;
 use beam_math::Ray;
@@ -92,24 +92,11 @@ impl DeviceWaits for GpuBeams<'_> {
 
 impl RayQueries for GpuBeams<'_> {
     fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
-        let hits = self.trace(rays.par_iter().map(GpuRay::closest).collect())?;
-        // The tracer reports the triangle and t; the barycentric weights of the hit point follow.
-        Ok(hits
-            .into_par_iter()
-            .zip(rays)
-            .map(|(h, ray)| {
-                (h.prim != GpuHit::MISS).then_some(())?;
-                let tri = scene.triangles.get(h.prim as usize)?;
-                let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
-                Some(Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
-            })
-            .collect())
+        Ok(closest_of(scene, rays, self.trace(rays.par_iter().map(GpuRay::closest).collect())?))
     }
 
     fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
-        let hits = self.trace(segments.par_iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?;
-        // An any-hit ray's t is 1 when it is occluded, 0 otherwise (`trace_ray`).
-        Ok(hits.par_iter().map(|h| h.t == 1.0).collect())
+        Ok(occluded_of(&self.trace(segments.par_iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?))
     }
 }
 

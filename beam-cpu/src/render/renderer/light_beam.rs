@@ -5,7 +5,7 @@
 //! 2018), so that a part the samples see wholly lit or wholly hidden comes out exact, and the
 //! interval `[0, unoccluded irradiance of that part]` is the error's bound.
 
-use super::shading::{light_sample, sample_light};
+use super::light_samples::{light_sample, sample_light};
 use super::{Context, Thread};
 use crate::render::lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 use crate::render::shadow_beam::{DEPTH_EPS, ShadowBeam, light_beam, trace_bvh};
@@ -157,7 +157,7 @@ impl Context<'_> {
     }
 
     /// 001 eq. 2 for area light `index` with visible fraction `fraction`.
-    fn fraction_irradiance(&self, p: Vec3, n: Vec3, index: usize, fraction: f32) -> f32 {
+    pub(super) fn fraction_irradiance(&self, p: Vec3, n: Vec3, index: usize, fraction: f32) -> f32 {
         let e = &self.emitters[index];
         point_source_irradiance(p, n, e.center, e.normal, e.area, fraction.min(1.0))
     }

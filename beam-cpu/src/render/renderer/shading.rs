@@ -5,6 +5,7 @@
 
 use super::Counters;
 use super::emitters::Emitter;
+use super::light_samples::{cosine_direction, light_integrand, light_sample, point_light, sample_light, tangents};
 use crate::render::eye_regions::{Region, TILE};
 use crate::render::lambert::{point_source_irradiance, polygon_irradiance};
 use crate::render::shadow_beam::{DEPTH_EPS, ShadowScratch, WindingScratch};
@@ -179,13 +180,10 @@ impl Context<'_> {
         match self.lights[index] {
             Light::Point { .. } if lights == Lights::AreaOnly => Vec3::ZERO,
             Light::Point { position, intensity } => {
-                let to = position - p;
-                let r2 = to.length_squared();
-                let cos = n.dot(to) / r2.sqrt();
-                if cos > 0.0 {
+                if let Some((ray, e)) = point_light(p, n, position, intensity) {
                     t.c.shadow_rays += 1;
-                    if !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
-                        return intensity * cos / r2;
+                    if !(self.occluded)(ray, 1.0 - DEPTH_EPS) {
+                        return e;
                     }
                 }
                 Vec3::ZERO
@@ -228,15 +226,13 @@ impl Context<'_> {
     /// or the light, are not traced).
     pub(super) fn ray_irradiance(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
         let light = &self.lights[index];
-        let Emitter { normal: ln, area, center, .. } = self.emitters[index];
+        let ln = self.emitters[index].normal;
         let spp = self.samples(p, n, index);
         let (mut visible, mut integral) = (0u32, 0.0f32);
         for i in 0..spp {
             let (s, r) = light_sample(i, spp, rng);
             let to = sample_light(light, s, r) - p;
-            let r2 = to.length_squared();
-            let w = to / r2.sqrt();
-            let f = n.dot(w).max(0.0) * (-ln).dot(w).max(0.0) / r2;
+            let f = light_integrand(n, ln, to);
             if self.shading(index) == Shading::Exact && !(f > 0.0) {
                 continue;
             }
@@ -246,6 +242,20 @@ impl Context<'_> {
                 integral += f;
             }
         }
+        self.ray_estimate(p, n, index, spp, (visible, integral))
+    }
+
+    /// [`Context::ray_irradiance`]'s estimate from its `spp` samples of area light `index`, of which
+    /// `visible` reached the light, their integrands ([`light_integrand`]) summing to `integral`.
+    pub(super) fn ray_estimate(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        index: usize,
+        spp: u32,
+        (visible, integral): (u32, f32),
+    ) -> f32 {
+        let Emitter { normal: ln, area, center, .. } = self.emitters[index];
         match self.shading(index) {
             Shading::Fraction => point_source_irradiance(p, n, center, ln, area, visible as f32 / spp as f32),
             Shading::Exact => area * integral / spp as f32,
@@ -290,11 +300,7 @@ impl Context<'_> {
         let (u, v) = tangents(n);
         let mut sum = Vec3::ZERO;
         for i in 0..spp {
-            let (s, r) = light_sample(i, spp, rng);
-            // Malley's method: uniform on the unit disc, lifted to the hemisphere.
-            let (sin_phi, cos_phi) = (std::f32::consts::TAU * s).sin_cos();
-            let radius = r.sqrt();
-            let w = radius * cos_phi * u + radius * sin_phi * v + (1.0 - r).max(0.0).sqrt() * n;
+            let w = cosine_direction((u, v, n), light_sample(i, spp, rng));
             t.c.environment_rays += 1;
             if !(self.occluded)(Ray::new(p, w), f32::INFINITY) {
                 sum += environment.radiance(w);
@@ -303,15 +309,6 @@ impl Context<'_> {
         t.c.pending_bound += std::f32::consts::PI * environment.max_radiance();
         std::f32::consts::PI * sum / spp as f32
     }
-}
-
-/// Two unit vectors that make a right-handed orthonormal frame with the unit vector `n` (Duff et
-/// al. 2017, "Building an orthonormal basis, revisited").
-fn tangents(n: Vec3) -> (Vec3, Vec3) {
-    let sign = 1.0f32.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
 }
 
 /// A visible surface point of a tile to shade: pixel, weight in it, triangle, point, unit view
@@ -465,27 +462,4 @@ pub fn stratified(i: u32, k: u32, rng: &mut impl Rng) -> (f32, f32) {
 pub(super) fn block_of(x: u32, y: u32) -> usize {
     let side = TILE as usize / BLOCKS;
     x as usize / side + y as usize / side * BLOCKS
-}
-
-/// Sample `i` of `spp` on the unit square: jittered in the cells of the largest `k × k` grid with
-/// `k² ≤ spp`, uniform past them.
-pub(super) fn light_sample(i: u32, spp: u32, rng: &mut Pcg32) -> (f32, f32) {
-    let k = (spp as f32).sqrt() as u32;
-    if i < k * k {
-        (((i % k) as f32 + rng.random::<f32>()) / k as f32, ((i / k) as f32 + rng.random::<f32>()) / k as f32)
-    } else {
-        (rng.random::<f32>(), rng.random::<f32>())
-    }
-}
-
-/// A point on an area light from `(s, t) ∈ [0, 1)²` (uniform in area).
-pub(super) fn sample_light(light: &Light, s: f32, t: f32) -> Vec3 {
-    match *light {
-        Light::Quad { corner, edge_u, edge_v, .. } => corner + s * edge_u + t * edge_v,
-        Light::Triangle { v, .. } => {
-            let (s, t) = if s + t > 1.0 { (1.0 - s, 1.0 - t) } else { (s, t) };
-            v[0] + s * (v[1] - v[0]) + t * (v[2] - v[0])
-        }
-        Light::Point { position, .. } => position,
-    }
 }

@@ -2,6 +2,8 @@
 //! summed from.
 
 use crate::render::shadow_beam::BeamStats;
+use beam_scene::options::{Method, RenderOptions, Shading};
+use beam_scene::scene::Scene;
 
 /// What a render did.
 #[derive(Clone, Debug, Default, serde::Serialize)]
@@ -32,6 +34,10 @@ pub struct RenderStats {
     pub shadow_rays: u64,
     /// Shadow beams traced.
     pub shadow_beams: u64,
+    /// Shadow beams a backend of [`render_queries`](crate::render::render_queries) gave up on past
+    /// its limits (pieces or work past a fixed capacity), traced by the host instead (0 for
+    /// [`render`](crate::render::render)).
+    pub overflow_beams: u64,
     /// BVH nodes tested by shadow beams.
     pub bvh_steps: u64,
     /// Beam–triangle splits.
@@ -106,12 +112,85 @@ pub struct RenderStats {
     pub shading_seconds: f64,
 }
 
+impl RenderStats {
+    /// The stats of a render of `scene` with `options` that took `seconds`: an image of
+    /// `width × height` pixels, `total` the counters summed over its parts, `visible_triangles` the
+    /// distinct triangles its eye beams saw, `environment_lights` the area lights a constant
+    /// environment was shaded as.
+    pub(super) fn summed(
+        scene: &Scene,
+        options: &RenderOptions,
+        (width, height): (u32, u32),
+        total: &Counters,
+        visible_triangles: u64,
+        environment_lights: usize,
+        seconds: f64,
+    ) -> Self {
+        let pixels = (width as f64 * height as f64).max(1.0);
+        Self {
+            seconds,
+            method: match options.method {
+                Method::Beam => "beam",
+                Method::Ray => "ray",
+            }
+            .into(),
+            shading: match options.shading {
+                Shading::Fraction => "fraction",
+                Shading::Exact => "exact",
+            }
+            .into(),
+            spp: if options.method == Method::Ray { options.spp } else { 0 },
+            width,
+            height,
+            triangles: scene.stats.triangles,
+            degenerate_triangles: scene.stats.degenerate,
+            merged_lights: scene.stats.merged_lights,
+            notices: scene.notices.clone(),
+            camera_rays: total.camera_rays,
+            shadow_rays: total.shadow_rays,
+            shadow_beams: total.shadow_beams,
+            overflow_beams: total.overflow_beams,
+            bvh_steps: total.beams.bvh_steps,
+            intersections: total.beams.intersections,
+            hit_beams: total.beams.hit_beams,
+            hit_beams_per_pixel: total.beams.hit_beams as f64 / pixels,
+            primary_bvh_steps: total.primary.bvh_steps,
+            primary_intersections: total.primary.intersections,
+            primary_hit_beams: total.primary.hit_beams,
+            visible_triangles,
+            hit_beams_per_visible_triangle: total.primary.hit_beams as f64 / visible_triangles.max(1) as f64,
+            fragments: total.fragments,
+            shade_points: total.shade_points,
+            ray_pixels: total.ray_pixels,
+            coverage_error: total.coverage_error,
+            triangle_tests: total.beams.triangle_tests,
+            pieces: total.beams.pieces,
+            silhouette_beams: total.beams.silhouette_beams,
+            silhouette_edges: total.beams.silhouette_edges,
+            silhouette_fallbacks: total.beams.silhouette_fallbacks,
+            sampled_beams: total.sampled_beams,
+            culled_lights: total.culled_lights,
+            environment: scene.environment.describe(),
+            environment_lights,
+            environment_rays: total.environment_rays,
+            exact_pixel_share: 1.0 - total.inexact_pixels as f64 / pixels,
+            max_error_bound: total.max_error_bound,
+            shafts: total.shafts,
+            shaft_bvh_steps: total.shaft_bvh_steps,
+            primary_seconds: total.primary_seconds,
+            shadow_seconds: total.shadow_seconds,
+            shading_seconds: total.shading_seconds,
+        }
+    }
+}
+
 /// Per-thread accumulators.
 #[derive(Default, Clone, Copy)]
 pub(super) struct Counters {
     pub(super) camera_rays: u64,
     pub(super) shadow_rays: u64,
     pub(super) shadow_beams: u64,
+    pub(super) overflow_beams: u64,
     pub(super) beams: BeamStats,
     pub(super) primary: BeamStats,
     pub(super) fragments: u64,
@@ -141,6 +220,7 @@ impl Counters {
             camera_rays: d(self.camera_rays, before.camera_rays),
             shadow_rays: d(self.shadow_rays, before.shadow_rays),
             shadow_beams: d(self.shadow_beams, before.shadow_beams),
+            overflow_beams: d(self.overflow_beams, before.overflow_beams),
             beams: self.beams.since(&before.beams),
             primary: self.primary.since(&before.primary),
             fragments: d(self.fragments, before.fragments),
@@ -167,6 +247,7 @@ impl core::ops::AddAssign for Counters {
         self.camera_rays += o.camera_rays;
         self.shadow_rays += o.shadow_rays;
         self.shadow_beams += o.shadow_beams;
+        self.overflow_beams += o.overflow_beams;
         self.beams += o.beams;
         self.primary += o.primary;
         self.fragments += o.fragments;

@@ -3,7 +3,7 @@
 //! what they see a tile at a time ([`Context::shade_tile`]).
 
 use super::shade_points::merge_smooth;
-use super::{Context, Counters, Lights, Surface, Thread};
+use super::{Context, Counters, Lights, SHADE_SEED, Surface, Thread};
 use crate::render::eye_budget::eye_beam_pays;
 use crate::render::eye_regions::{EyeStats, Fragment, Region, TILE, region_fragments};
 use crate::render::renderer::stratified;
@@ -203,7 +203,7 @@ impl Trace<'_> {
                         *s = true;
                     }
                     let (q, d) = (ray.at(hit.t), ray.direction.normalize());
-                    out.push(Surface { x, y, weight, prim: hit.prim, q, d, seed: (self.seed)(x, y) ^ 0x5EED });
+                    out.push(Surface { x, y, weight, prim: hit.prim, q, d, seed: (self.seed)(x, y) ^ SHADE_SEED });
                 }
             }
         }
