@@ -67,7 +67,9 @@ impl Beams {
     /// The beams of `backend`; `Ok(Err(outcome))` when it is the GPU and there is no adapter.
     fn of(backend: Backend) -> Result<Result<Self, Outcome>, String> {
         Ok(match backend {
-            Backend::Gpu => crate::gpu::adapter()?.map(|gpu| Beams::Gpu { gpu: Box::new(gpu), beams: None, overflowed: [0; 4] }),
+            Backend::Gpu => {
+                crate::gpu::adapter()?.map(|gpu| Beams::Gpu { gpu: Box::new(gpu), beams: None, overflowed: [0; 4] })
+            }
             _ => Ok(Beams::Cpu),
         })
     }
