@@ -317,10 +317,10 @@ fn answer(status: u32, irradiance: f32, fraction: f32) -> LightSeen {
     return LightSeen(irradiance, fraction, status, work);
 }
 
-// The shadow beam of `query` traced to the end (or to the budget), within `budget` loop iterations.
+// The shadow beam of `query` traced to the end, or until `work` (the invocation's loop iterations
+// so far) passes `budget`.
 fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
     let light = lights[query.light];
-    work = 0u;
     overflow = false;
     piece_count = 0u;
     // The light, clipped above the tangent plane for exact shading (lambert::clip_above).
@@ -510,5 +510,73 @@ fn visible_light(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let index = params.first + id.x;
+    work = 0u;
     seen[index] = shadow_beam(queries[index], params.budget);
+}
+
+// Twin of beam_gpu::gbuffer::GBufferParams (32 bytes).
+struct GBufferParams {
+    width: u32,
+    height: u32,
+    lights: u32,
+    // Loop iterations all of a pixel's beams together may run.
+    budget: u32,
+    // How far a shade point is lifted off its surface along its normal.
+    offset: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+@group(0) @binding(6) var<uniform> gbuffer: GBufferParams;
+// A G-buffer: a world-space position per pixel (w = 1 where a surface is, 0 elsewhere) and the
+// unit normal facing the viewer.
+@group(0) @binding(7) var<storage, read> positions: array<vec4<f32>>;
+@group(0) @binding(8) var<storage, read> normals: array<vec4<f32>>;
+// Each light's emitted radiance (rgb).
+@group(0) @binding(9) var<storage, read> radiance: array<vec4<f32>>;
+// Irradiance per pixel (rgb; a = the lights whose beams stopped short there, 0 where exact).
+@group(0) @binding(10) var irradiance_out: texture_storage_2d<rgba32float, write>;
+// Beams that stopped short, over the whole dispatch.
+@group(0) @binding(11) var<storage, read_write> stopped_short: atomic<u32>;
+
+// The irradiance of every pixel of a G-buffer from every light, by exact shadow beams (001 eq. 1
+// with Lambert's formula), written to a texture on the device. The lights are clipped above each
+// pixel's tangent plane. A beam that stops short adds nothing, counts in the pixel's alpha and in
+// `stopped_short`: the engine sees where and how many, and can trace those again.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn gbuffer_irradiance(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let index = id.y * groups.x * WORKGROUP_SIZE + id.x;
+    if index >= gbuffer.width * gbuffer.height {
+        return;
+    }
+    let pixel = vec2<u32>(index % gbuffer.width, index / gbuffer.width);
+    let position = positions[index];
+    if position.w == 0.0 {
+        textureStore(irradiance_out, pixel, vec4<f32>(0.0));
+        return;
+    }
+    let n = normals[index].xyz;
+    let p = position.xyz + gbuffer.offset * n;
+    work = 0u;
+    var e = vec3<f32>(0.0);
+    var short = 0u;
+    // Lights taken: fewer than all where llvmpipe's cap cut the loop (those count as stopped short).
+    var taken = 0u;
+    work += 2u;
+    for (var l = 0u; l < gbuffer.lights; l += 1u) {
+        work += 1u;
+        taken += 1u;
+        let answer = shadow_beam(LightQuery(p, l, n, QUERY_CLIP_ABOVE), gbuffer.budget);
+        if answer.status == SHADOW_DONE {
+            e += radiance[l].rgb * answer.irradiance;
+        } else {
+            short += 1u;
+        }
+    }
+    short += gbuffer.lights - taken;
+    if short > 0u {
+        atomicAdd(&stopped_short, short);
+    }
+    textureStore(irradiance_out, pixel, vec4<f32>(e, f32(short)));
 }

@@ -25,6 +25,7 @@ mod bindings;
 mod coarse;
 mod cull;
 mod eye;
+mod gbuffer;
 mod glossy;
 mod level;
 mod lookup;
@@ -36,6 +37,7 @@ use bindings::gpu_images_fit_narrow_bindings;
 use coarse::{gpu_coarse_smesh_equals_cpu, gpu_eye_locates_as_cpu};
 use cull::gpu_cone_culling_equals_host;
 use eye::gpu_eye_view_equals_cpu;
+use gbuffer::gpu_gbuffer_irradiance_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
 use level::{
     gpu_kept_level_equals_host_texels, gpu_kept_level_images_equal_read_back, gpu_summed_fits_equal_host_fits,
@@ -130,6 +132,12 @@ pub fn properties() -> Vec<Property> {
             cites: "000 §3, §7.3",
             backends: GPU,
             body: gpu_images_fit_narrow_bindings,
+        },
+        Property {
+            name: "gpu_gbuffer_irradiance_equals_cpu",
+            cites: "001 §5, eq. 1",
+            backends: GPU,
+            body: gpu_gbuffer_irradiance_equals_cpu,
         },
         Property {
             name: "gpu_readbacks_reuse_buffers",

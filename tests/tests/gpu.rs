@@ -31,4 +31,5 @@ beam_conformance::conformance_tests!(
     soft_shadow_vs_monte_carlo,
     gpu_shadow_beams_equal_cpu,
     gpu_images_of_beam_and_ray_equal_cpu,
+    gpu_gbuffer_irradiance_equals_cpu,
 );

@@ -47,7 +47,7 @@ impl BeamQueries for CpuBeams {
         queries
             .par_iter()
             .map(|q| match lights.get(q.light as usize) {
-                Some(light) => Ok(Some(light_seen(scene, light, q))),
+                Some(light) => Ok(Some(light_seen(&scene.bvh, &scene.triangles, light, q))),
                 None => Err(BackendError::new("cpu", format!("light {} of {} in a query", q.light, lights.len()))),
             })
             .collect()

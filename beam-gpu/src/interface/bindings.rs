@@ -4,6 +4,7 @@
 //! missing from the table, or an element of another size fails.
 
 use super::parsed::{Modules, member_size};
+use crate::gbuffer::GBufferParams;
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
     AtlasParams, BeamCull, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams,
@@ -52,7 +53,8 @@ fn tables() -> Vec<Table> {
         ]),
         bindings!("shadow_beam" => [
             nodes: FlatNode, triangles: GpuTriangle, params: ShadowParams, lights: GpuLightPolygon,
-            queries: GpuLightQuery, seen: GpuLightSeen,
+            queries: GpuLightQuery, seen: GpuLightSeen, gbuffer: GBufferParams, positions: [f32; 4],
+            normals: [f32; 4], radiance: [f32; 4], irradiance_out, stopped_short: u32,
         ]),
         bindings!("nonlinear_check" => [beams: GpuBeam, cases: CheckCase, results: [f32; 4]]),
         bindings!("lookups" => [beams: GpuBeam, texel_t: f32, jobs: GpuLookupJob, answers: [f32; 4]]),

@@ -4,6 +4,7 @@
 //! `size_of`. Adding a struct is one line of [`twins`].
 
 use super::parsed::{Modules, member_size};
+use crate::gbuffer::GBufferParams;
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
     AtlasParams, BeamCull, CheckCase, CompositeParams, CompositeRecord, EndWeight, EyeCounts, EyeHit, EyeParams,
@@ -141,6 +142,9 @@ fn twins() -> Vec<Twin> {
         twin!("shadow_beam", GpuLightPolygon => LightPolygon { corners, normal, count }),
         twin!("shadow_beam", GpuLightSeen => LightSeen { irradiance, fraction, status, work }),
         twin!("shadow_beam", ShadowParams => ShadowParams { queries, budget, first, pad }),
+        twin!("shadow_beam", GBufferParams => GBufferParams {
+            width, height, lights, budget, offset, pad[0] => pad0, pad[1] => pad1, pad[2] => pad2
+        }),
     ]
 }
 
