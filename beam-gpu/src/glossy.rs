@@ -3,7 +3,7 @@
 //! one invocation per receiver point walks the hierarchy, with second-order shadow rays through the
 //! GPU BVH, in passes of bounded work ([`PASS_BUDGET`]). CPU twin: [`LightVolumes::gather`].
 
-use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage, uniform};
+use crate::buffers::{checked, compute_pipeline, dispatch, max_binding, output, read_back, storage, uniform};
 use crate::interface::{SECOND_ORDER_SHADOWS, WORKGROUP_SIZE};
 use crate::raytrace::RayTracer;
 use crate::{Gpu, GpuError};
@@ -185,6 +185,37 @@ fn skips(nodes: &[ConeNode]) -> Vec<u32> {
     skip
 }
 
+/// A subtree of the cone hierarchy: its nodes (depth-first, contiguous) and its beams (contiguous:
+/// [`beam_scene::glossy::ConeTree::build`] reorders the beams so that each leaf's are).
+struct Part {
+    nodes: std::ops::Range<usize>,
+    beams: std::ops::Range<usize>,
+}
+
+/// Subtrees that together hold every beam once, each with at most `max_beams` beams (or a single
+/// leaf): the root where it fits, else its children's parts.
+fn parts(nodes: &[ConeNode], skip: &[u32], max_beams: usize) -> Vec<Part> {
+    // Each subtree's beams: a leaf's own; an inner node's from its first child's first to its
+    // second child's last.
+    let mut range = vec![0..0; nodes.len()];
+    for k in (0..nodes.len()).rev() {
+        let n = &nodes[k];
+        let first = n.right_or_first as usize;
+        range[k] = if n.count > 0 { first..first + n.count as usize } else { range[k + 1].start..range[first].end };
+    }
+    let mut out = Vec::new();
+    let mut stack = if nodes.is_empty() { Vec::new() } else { vec![0usize] };
+    while let Some(k) = stack.pop() {
+        if nodes[k].count > 0 || range[k].len() <= max_beams {
+            out.push(Part { nodes: k..skip[k] as usize, beams: range[k].clone() });
+        } else {
+            stack.push(nodes[k].right_or_first as usize);
+            stack.push(k + 1);
+        }
+    }
+    out
+}
+
 fn cone(c: &BoundingCone) -> GpuCone {
     GpuCone { apex: c.apex.to_array(), cos: c.cos, axis: c.axis.to_array(), pad: 0 }
 }
@@ -194,6 +225,8 @@ pub struct GpuGather {
     pipeline: wgpu::ComputePipeline,
     tracer: RayTracer,
     eps: f32,
+    /// Most beams of one part of the hierarchy (`None`: as many as one storage binding holds).
+    part_beams: Option<usize>,
 }
 
 impl GpuGather {
@@ -203,7 +236,15 @@ impl GpuGather {
             pipeline: compute_pipeline(gpu, "glossy_gather", "gather")?,
             tracer: RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles)?)?,
             eps: shading_eps(scene),
+            part_beams: None,
         })
+    }
+
+    /// This gather with at most `beams` beams a part (tests split small hierarchies so).
+    #[must_use]
+    pub fn with_part_beams(mut self, beams: usize) -> Self {
+        self.part_beams = Some(beams.max(1));
+        self
     }
 
     /// The gather of `volumes` at `points` (point, unit normal), as beam-cpu's `gather_on_cpu`
@@ -265,10 +306,51 @@ impl GpuGather {
                 }
             })
             .collect();
+        // The hierarchy in parts whose beams each fit one storage binding (a teapot's mirror sends
+        // more than 128 MB of beams): the gather is a sum over beams, so the parts' sums add up.
+        let fits = (max_binding(gpu) / size_of::<GpuLightBeam>() as u64).max(1) as usize;
+        let max_beams = self.part_beams.map_or(fits, |b| b.min(fits));
+        let mut out: Vec<Gathered> = vec![Gathered::default(); points.len()];
+        for part in parts(&volumes.tree.nodes, &skip, max_beams) {
+            let part_nodes: Vec<GpuConeNode> = nodes[part.nodes.clone()]
+                .iter()
+                .map(|n| {
+                    let shift = if n.count > 0 { part.beams.start } else { part.nodes.start } as u32;
+                    GpuConeNode {
+                        right_or_first: n.right_or_first - shift,
+                        skip: n.skip - part.nodes.start as u32,
+                        ..*n
+                    }
+                })
+                .collect();
+            let gathered = self.gather_part(
+                gpu,
+                (&beams[part.beams.clone()], &cones[part.beams.clone()], &part_nodes),
+                points,
+                options,
+            )?;
+            for (o, g) in out.iter_mut().zip(gathered) {
+                o.irradiance += g.irradiance;
+                o.shadowed += g.shadowed;
+                o.tested += g.tested;
+            }
+        }
+        Ok(out)
+    }
+
+    /// The gather over one part of the hierarchy: its beams, their cones and its nodes (indices
+    /// local to the part).
+    fn gather_part(
+        &self,
+        gpu: &Gpu,
+        (beams, cones, nodes): (&[GpuLightBeam], &[GpuCone], &[GpuConeNode]),
+        points: &[(Vec3, Vec3)],
+        options: &GlossyOptions,
+    ) -> Result<Vec<Gathered>, GpuError> {
         checked(gpu, || {
-            let beam_buffer = storage(gpu, "light beams", &beams, wgpu::BufferUsages::empty());
-            let cone_buffer = storage(gpu, "beam cones", &cones, wgpu::BufferUsages::empty());
-            let node_buffer = storage(gpu, "cone tree", &nodes, wgpu::BufferUsages::empty());
+            let beam_buffer = storage(gpu, "light beams", beams, wgpu::BufferUsages::empty());
+            let cone_buffer = storage(gpu, "beam cones", cones, wgpu::BufferUsages::empty());
+            let node_buffer = storage(gpu, "cone tree", nodes, wgpu::BufferUsages::empty());
             let mut out = Vec::with_capacity(points.len());
             for chunk in points.chunks(CHUNK) {
                 let input: Vec<GatherPoint> = chunk

@@ -10,7 +10,8 @@ use beam_scene::scene;
 /// random receiver points of each of the three built-ins of 002: the same shadow masks, and
 /// irradiance within 1e-3 relative (+1e-5 of the scene's largest) per channel (the hierarchy walks
 /// may differ where f32 puts a point on the other side of a node's cone: counted); at most 0.2% of the points may differ (a flux-triangle edge or a
-/// shadow ray's grazing hit decided the other way in f32). The worst relative error is stated.
+/// shadow ray's grazing hit decided the other way in f32). The worst relative error is stated. The
+/// hierarchy cut into parts of a seventh of its beams gathers the same sums.
 pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::glossy::{GlossyOptions, LightVolumes, gather_on_cpu};
     use beam_math::glossy::VolumeMethod;
@@ -43,6 +44,22 @@ pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, S
         }
         if differ * 500 > points.len() as u64 {
             return Err(format!("{name}: {differ} of {} points differ", points.len()));
+        }
+        // The hierarchy in parts of a seventh of its beams (as one larger than a storage binding
+        // is cut): the same sums.
+        let parted = beam_gpu::glossy::GpuGather::new(&gpu, &scene)
+            .map_err(|e| e.to_string())?
+            .with_part_beams(volumes.beams.len() / 7 + 1)
+            .gather(&gpu, &volumes, &points, &options)
+            .map_err(|e| e.to_string())?;
+        for (i, (a, b)) in on_gpu.iter().zip(&parted).enumerate() {
+            let bound = 1e-5 * a.irradiance.abs() + Vec3::splat(1e-7 * peak);
+            if a.shadowed != b.shadowed
+                || a.tested != b.tested
+                || (a.irradiance - b.irradiance).abs().cmpgt(bound).any()
+            {
+                return Err(format!("{name} point {i}: whole hierarchy {a:?}, in parts {b:?}"));
+            }
         }
         total += points.len() as u64;
         notes.push(format!(
