@@ -7,8 +7,7 @@ mod common;
 
 use beam_scene::beam_math::glam::Vec3;
 use beam_scene::scene::{self, Scene};
-use common::{Doc, primitive, write};
-use std::path::Path;
+use common::{Doc, primitive, refused, write};
 
 const TRI: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 
@@ -257,18 +256,6 @@ fn optional_and_supported_required_extensions_load() {
 
 /// Load `dir/name` holding `data`: the error, which must name the file and hold each of `words`.
 #[track_caller]
-fn refused(dir: &Path, name: &str, data: impl AsRef<[u8]>, words: &[&str]) -> String {
-    let e = match scene::load_file(&write(dir, name, data)) {
-        Ok(_) => panic!("{name} loaded"),
-        Err(e) => e.to_string(),
-    };
-    assert!(e.contains(name), "the file is not named: {e}");
-    for w in words {
-        assert!(e.contains(w), "`{w}` missing from: {e}");
-    }
-    e
-}
-
 #[test]
 fn unsupported_required_extensions_are_refused_by_name() {
     let dir = tempfile::tempdir().unwrap();

@@ -4,9 +4,8 @@
 mod common;
 
 use beam_scene::scene;
-use common::{Doc, cornell, primitive, write};
+use common::{Doc, cornell, primitive, refused, write};
 use rand::{Rng, SeedableRng};
-use std::path::Path;
 
 /// A one-triangle document whose positions are `p` and indices `i`.
 fn triangle(p: &[[f32; 3]], i: Option<&[u32]>) -> Doc {
@@ -22,19 +21,6 @@ const TRI: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 
 /// Load `dir/name` holding `data`: the error, which must name the file and hold each of `words`.
 #[track_caller]
-fn refused(dir: &Path, name: &str, data: impl AsRef<[u8]>, words: &[&str]) -> String {
-    let path = write(dir, name, data);
-    let e = match scene::load_file(&path) {
-        Ok(_) => panic!("{name} loaded"),
-        Err(e) => e.to_string(),
-    };
-    assert!(e.contains(name), "the file is not named: {e}");
-    for w in words {
-        assert!(e.contains(w), "`{w}` missing from: {e}");
-    }
-    e
-}
-
 #[test]
 fn malformed_files_name_the_file_and_element() {
     let dir = tempfile::tempdir().unwrap();

@@ -145,6 +145,20 @@ impl Doc {
     }
 }
 
+/// Load `data` written as `dir/name` and expect a refusal that names the file and holds every one of
+/// `words`; the message.
+pub fn refused(dir: &Path, name: &str, data: impl AsRef<[u8]>, words: &[&str]) -> String {
+    let e = match beam_scene::scene::load_file(&write(dir, name, data)) {
+        Ok(_) => panic!("{name} loaded"),
+        Err(e) => e.to_string(),
+    };
+    assert!(e.contains(name), "the file is not named: {e}");
+    for w in words {
+        assert!(e.contains(w), "`{w}` missing from: {e}");
+    }
+    e
+}
+
 /// Write `data` to `dir/name`; its path.
 pub fn write(dir: &Path, name: &str, data: impl AsRef<[u8]>) -> PathBuf {
     let p = dir.join(name);
