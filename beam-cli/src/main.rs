@@ -66,9 +66,9 @@ enum Command {
         /// lights as 4×4 stratified points, 002) and its ground truth `glossy-reference` (photons).
         #[arg(long, default_value = "beam")]
         method: String,
-        /// Where the method runs: `cpu`, or `gpu` (the first wgpu adapter). On the GPU, `beam` and
-        /// `ray` trace primary rays (`--primary-spp`; eye beams run on the CPU) and shadow beams
-        /// (exact, each to the end) or shadow rays in batches, the frame driven by the host;
+        /// Where the method runs: `cpu`, or `gpu` (the first wgpu adapter). On the GPU, `beam` sees
+        /// through eye beams (or `--primary-rays`) and `ray` through primary rays, with shadow beams
+        /// (exact, each to the end) or shadow rays, in batches, the frame driven by the host;
         /// nonlinear: beam atlases, rays and the shading of diffuse points, area lights by `--spp`
         /// stratified shadow rays, where the CPU's are exact; glossy: eye rays and the gather.
         /// `glossy-reference` runs on the CPU only.
@@ -109,7 +109,7 @@ enum Command {
         #[arg(long, default_value_t = 64)]
         spp: u32,
         /// Primary rays per pixel when primary visibility is ray traced (`--method ray`, and `beam`
-        /// with `--primary-rays` or `--backend gpu`): a perfect square from 1 to 1024 (1, 4, 9, 16, …), the k × k
+        /// with `--primary-rays`): a perfect square from 1 to 1024 (1, 4, 9, 16, …), the k × k
         /// strata of the pixel; any other number is refused, not rounded.
         #[arg(long, default_value_t = 1)]
         primary_spp: u32,

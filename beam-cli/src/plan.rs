@@ -200,7 +200,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         );
     }
     for id in a.given {
-        if let Some(kinds) = applies_to(id, gpu, a.primary_beams && !gpu) {
+        if let Some(kinds) = applies_to(id, gpu, a.primary_beams) {
             if !kinds.contains(&kind) {
                 let to = kinds.iter().map(|k| k.name()).collect::<Vec<_>>().join(", ");
                 let backend = if gpu { " --backend gpu" } else { "" };
@@ -312,8 +312,8 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         shading,
         spp: a.spp,
         primary_spp: a.primary_spp,
-        // The GPU traces primary rays (eye beams run on the CPU) and every shadow beam to the end.
-        primary_beams: a.primary_beams && !gpu,
+        // On the GPU every shadow beam is traced to the end.
+        primary_beams: a.primary_beams,
         width,
         height,
         seed: 1,

@@ -51,15 +51,19 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         a.out.display()
     );
     if let Some(g) = &gpu {
+        let eye = if method == Method::Beam && options.primary_beams {
+            format!("eye beams ({} pixels past the device's limits computed on the host)", stats.overflow_pixels)
+        } else {
+            format!("primary rays ({} per pixel)", options.primary_spp)
+        };
         println!(
-            "on {}: primary rays ({} per pixel), shadow {} on the device; {} beams past its limits traced on the host",
+            "on {}: {eye}, shadow {} on the device; {} beams past its limits traced on the host",
             g.describe(),
-            options.primary_spp,
             if method == Method::Beam { "beams, each traced to the end," } else { "rays" },
             stats.overflow_beams
         );
     }
-    if method == Method::Beam && options.primary_beams {
+    if method == Method::Beam && options.primary_beams && gpu.is_none() {
         println!(
             "eye beams: {} visible triangles, {:.2} hit beams per visible triangle, {} fragments, coverage error {:.1e}",
             stats.visible_triangles, stats.hit_beams_per_visible_triangle, stats.fragments, stats.coverage_error

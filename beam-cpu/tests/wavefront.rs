@@ -199,3 +199,22 @@ fn a_backend_that_answers_wrongly_is_an_error() {
     let q = LightQuery { p: Vec3::ZERO, n: Vec3::Y, light: 3, clip_above: true };
     assert!(CpuBeams.light_visibility(&scene, &[], &[q]).is_err());
 }
+
+/// Eye beams (exact box-filtered coverage, each fragment shaded at its centroid, a mirror or glass
+/// fragment by one ray through its centroid) against the CPU renderer's eye beams, which shade a
+/// point light's lit fragments by their visible pieces (001 §4.2) and trace mirror and glass
+/// pixels by primary rays: the same image but at point-light shadow edges and on curved mirrors.
+#[test]
+fn eye_beams_give_the_cpu_eye_beam_image() {
+    for (name, min_psnr) in [("cornell", 50.0), ("mirror-glass", 28.0), ("cornell-point", 30.0)] {
+        let scene = builtin(name).unwrap();
+        let opts = RenderOptions { primary_beams: true, ..options(Method::Beam, Shading::Exact, 48, 1) };
+        let (wave, stats) = render_queries(&scene, &opts, &CpuBeams, || {}).unwrap();
+        let (cpu, _) = render(&scene, &opts, || {});
+        let d = difference(&wave, &cpu).unwrap();
+        println!("{name} eye beams: PSNR {:.1} dB, {} fragments", d.psnr, stats.fragments);
+        assert!(d.psnr >= min_psnr, "{name}: PSNR {:.1} dB", d.psnr);
+        assert!(stats.fragments >= 48 * 48 && stats.overflow_pixels == 0);
+    }
+}
+

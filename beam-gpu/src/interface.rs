@@ -206,6 +206,42 @@ pub const SHADOW_CUT: u32 = 3;
 /// beam-cpu's `SIDE_EPS`).
 pub const SHADOW_SIDE_EPS: f32 = 1e-6;
 
+/// Triangles a pixel's eye beam reports at most (`shaders/eye_beam.wgsl`); a pixel that sees more
+/// answers [`EYE_FRAGMENTS`].
+pub const MAX_FRAGMENTS: u32 = 8;
+
+/// Pieces a pixel's eye beam holds (`shaders/eye_beam.wgsl`); a pixel that needs more answers
+/// [`EYE_PIECES`].
+pub const MAX_EYE_PIECES: u32 = 64;
+
+/// Near clipping depth of the eye beams, in units of the image-plane distance (beam-cpu's
+/// `render::NEAR`, which the conformance suite checks it against).
+pub const EYE_NEAR: f32 = 1e-4;
+
+/// Fuzzy tolerance of an eye beam's side tests, as a fraction of the piece's size (001 App. A;
+/// beam-cpu's `primary_beam::SPLIT_EPS`).
+pub const EYE_SPLIT_EPS: f32 = 1e-5;
+
+/// Planes whose inverse depths differ by at most this fraction over a piece count as the same
+/// plane there, and the piece's owner keeps it (beam-cpu's `primary_beam::COPLANAR`).
+pub const EYE_COPLANAR: f32 = 1e-5;
+
+/// A pixel's eye-beam status: traced to the end.
+pub const EYE_DONE: u32 = 0;
+
+/// A pixel's eye-beam status: it needed more than [`MAX_EYE_PIECES`] pieces (its values mean
+/// nothing).
+pub const EYE_PIECES: u32 = 1;
+
+/// A pixel's eye-beam status: its work passed its budget.
+pub const EYE_BUDGET: u32 = 2;
+
+/// A pixel's eye-beam status: a loop was cut short (llvmpipe's cap on a SIMD group's iterations).
+pub const EYE_CUT: u32 = 3;
+
+/// A pixel's eye-beam status: it sees more than [`MAX_FRAGMENTS`] triangles.
+pub const EYE_FRAGMENTS: u32 = 4;
+
 /// A constant's value, typed as in WGSL.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Value {
@@ -274,6 +310,16 @@ pub const CONSTANTS: &[(&str, Value)] = {
         ("SHADOW_BUDGET", U32(SHADOW_BUDGET)),
         ("SHADOW_CUT", U32(SHADOW_CUT)),
         ("SHADOW_SIDE_EPS", F32(SHADOW_SIDE_EPS)),
+        ("MAX_FRAGMENTS", U32(MAX_FRAGMENTS)),
+        ("MAX_EYE_PIECES", U32(MAX_EYE_PIECES)),
+        ("EYE_NEAR", F32(EYE_NEAR)),
+        ("EYE_SPLIT_EPS", F32(EYE_SPLIT_EPS)),
+        ("EYE_COPLANAR", F32(EYE_COPLANAR)),
+        ("EYE_DONE", U32(EYE_DONE)),
+        ("EYE_PIECES", U32(EYE_PIECES)),
+        ("EYE_BUDGET", U32(EYE_BUDGET)),
+        ("EYE_CUT", U32(EYE_CUT)),
+        ("EYE_FRAGMENTS", U32(EYE_FRAGMENTS)),
     ]
 };
 

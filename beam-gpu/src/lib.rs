@@ -34,6 +34,7 @@ pub mod buffers;
 pub mod checks;
 pub mod device;
 pub mod error;
+pub mod eye_beam;
 pub mod gbuffer;
 pub mod glossy;
 pub mod interface;

@@ -2,23 +2,63 @@
 //! compute ray tracer ([`RayTracer`]), exact shadow beams by [`ShadowBeams`], over one BVH upload.
 //! The host-driven frames of the `ray` and `beam` methods (`beam_cpu::render::render_queries`)
 //! run on it; an engine that owns its device builds it with [`Gpu::from_device`].
+//!
+//! [`GpuQueries::timed`] measures the device's own time in the ray and shadow-beam dispatches by
+//! timestamp queries, summed across calls ([`GpuQueries::take_times`]), for benchmarks.
 
-use crate::raytrace::{GpuRay, RayTracer, closest_of, occluded_of};
-use crate::shadow_beam::ShadowBeams;
+use crate::buffers::{buffer_entry, compute_pass_timed, compute_pipeline, map_with, output, readback, storage};
+use crate::eye_beam::EyeBeams;
+use crate::interface::{MISS, WORKGROUP_SIZE};
+use crate::raytrace::{GpuHit, GpuRay, RayTracer, closest_of, occluded_of};
+use crate::shadow_beam::{GpuLightSeen, ShadowBeams};
+use crate::timestamps::PassTimer;
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::GpuBvh;
 use beam_math::Ray;
 use beam_scene::BackendError;
-use beam_scene::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen, RayQueries};
-use beam_scene::scene::Scene;
+use beam_scene::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen, PixelFragments, RayQueries};
+use beam_scene::scene::{Camera, Scene};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Rays and shadow beams of one scene on one device.
 pub struct GpuQueries<'g> {
     gpu: &'g Gpu,
     tracer: RayTracer,
     beams: ShadowBeams,
+    /// Exact primary visibility (001 §3), compiled on first use.
+    eyes: std::sync::OnceLock<EyeBeams>,
+    /// With [`Self::timed`]: the counters the calls add to.
+    timing: Option<Timing>,
+}
+
+/// What the calls of timed queries add up ([`GpuQueries::timed`]): nanoseconds on the device by
+/// timestamp queries, and the shadow beams' loop iterations.
+struct Timing {
+    /// `raytrace.wgsl`'s pipeline again, for dispatches over the tracer's buffers with timestamps.
+    rays: wgpu::ComputePipeline,
+    /// Whether the device has timestamp queries.
+    timestamps: bool,
+    ray_nanos: AtomicU64,
+    beam_nanos: AtomicU64,
+    beams: AtomicU64,
+    beam_iterations: AtomicU64,
+}
+
+/// The device's work in the calls of timed queries since they were made or last taken
+/// ([`GpuQueries::take_times`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GpuTimes {
+    /// Seconds on the device in the ray dispatches (closest and any hits) by timestamp queries;
+    /// `None` where the device has none.
+    pub ray_seconds: Option<f64>,
+    /// Seconds on the device in the shadow-beam dispatches, likewise.
+    pub beam_seconds: Option<f64>,
+    /// Shadow beams dispatched (those that gave up past the limits included).
+    pub beams: u64,
+    /// Loop iterations the shadow beams ran ([`crate::shadow_beam::GpuLightSeen::work`]).
+    pub beam_iterations: u64,
 }
 
 impl<'g> GpuQueries<'g> {
@@ -26,7 +66,96 @@ impl<'g> GpuQueries<'g> {
     pub fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, GpuError> {
         let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles)?)?;
         let beams = ShadowBeams::sharing(gpu, &tracer)?;
-        Ok(Self { gpu, tracer, beams })
+        Ok(Self { gpu, tracer, beams, eyes: std::sync::OnceLock::new(), timing: None })
+    }
+
+    /// These queries with every dispatch timed on the device by timestamp queries where it has
+    /// them ([`PassTimer`]), the times summed across calls and read by [`Self::take_times`]
+    /// (compiles the ray tracer's pipeline once more, for its timed dispatches).
+    pub fn timed(mut self) -> Result<Self, GpuError> {
+        let timestamps = self.gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let rays = compute_pipeline(self.gpu, "raytrace", "trace")?;
+        let zero = || AtomicU64::new(0);
+        self.timing = Some(Timing {
+            rays,
+            timestamps,
+            ray_nanos: zero(),
+            beam_nanos: zero(),
+            beams: zero(),
+            beam_iterations: zero(),
+        });
+        Ok(self)
+    }
+
+    /// What the device did in the calls since [`Self::timed`] or the last `take_times`, the
+    /// counters reset to zero; `None` for queries not timed.
+    pub fn take_times(&self) -> Option<GpuTimes> {
+        let t = self.timing.as_ref()?;
+        let seconds = |n: &AtomicU64| {
+            let nanos = n.swap(0, Ordering::Relaxed);
+            t.timestamps.then_some(nanos as f64 * 1e-9)
+        };
+        Some(GpuTimes {
+            ray_seconds: seconds(&t.ray_nanos),
+            beam_seconds: seconds(&t.beam_nanos),
+            beams: t.beams.swap(0, Ordering::Relaxed),
+            beam_iterations: t.beam_iterations.swap(0, Ordering::Relaxed),
+        })
+    }
+
+    /// [`RayTracer::trace`] with each dispatch's time on the device added to `t.ray_nanos`: the
+    /// same pipeline, bindings and checks, the pass's timestamps read back after its hits.
+    fn trace_timed(&self, t: &Timing, rays: &[GpuRay]) -> Result<Vec<GpuHit>, GpuError> {
+        let gpu = self.gpu;
+        let (nodes, triangles) = self.tracer.buffers();
+        let mut out = Vec::with_capacity(rays.len());
+        for (k, chunk) in rays.chunks(RayTracer::max_rays(gpu)).enumerate() {
+            let ray_buffer = storage(gpu, "rays", chunk, wgpu::BufferUsages::empty());
+            let size = (chunk.len() * size_of::<GpuHit>()) as u64;
+            let hits = output(gpu, "hits", size);
+            let entries = [
+                buffer_entry(0, nodes),
+                buffer_entry(1, triangles),
+                buffer_entry(2, &ray_buffer),
+                buffer_entry(3, &hits),
+            ];
+            let layout = t.rays.get_bind_group_layout(0);
+            let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &layout,
+                entries: &entries,
+            });
+            let timer = PassTimer::new(gpu, 1);
+            let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+            let groups = chunk.len().div_ceil(WORKGROUP_SIZE as usize) as u32;
+            compute_pass_timed(&mut encoder, &t.rays, &bind, groups, timer.as_ref().map(|t| t.compute(0)));
+            let into = readback(gpu, size + timer.as_ref().map_or(0, PassTimer::bytes));
+            encoder.copy_buffer_to_buffer(&hits, 0, into.buffer(), 0, size);
+            if let Some(timer) = &timer {
+                timer.copy_to(&mut encoder, into.buffer(), size);
+            }
+            gpu.submit([encoder.finish()]);
+            let hits: Vec<GpuHit> = map_with(gpu, into, |bytes| {
+                let (hits, stamps) = bytes.split_at(size as usize);
+                add_seconds(&t.ray_nanos, PassTimer::seconds(gpu, stamps).iter().sum());
+                bytemuck::pod_collect_to_vec(hits)
+            })?;
+            // As `RayTracer::trace`: a miss at t = −1 of a ray searched from 0 overflowed its stack.
+            let overflow = |(h, r): (&GpuHit, &GpuRay)| h.prim == MISS && h.t < 0.0 && r.t_max >= 0.0;
+            if let Some(i) = hits.par_iter().zip(chunk).position_any(overflow) {
+                return Err(GpuError::StackOverflow { ray: k * RayTracer::max_rays(gpu) + i });
+            }
+            out.extend(hits);
+        }
+        Ok(out)
+    }
+
+    /// The hits of `rays`, timed where the queries are.
+    fn trace(&self, rays: &[GpuRay]) -> Result<Vec<GpuHit>, GpuError> {
+        match &self.timing {
+            Some(t) => self.trace_timed(t, rays),
+            None => self.tracer.trace(self.gpu, rays),
+        }
     }
 
     /// These queries with shadow beams of `budget` loop iterations each (tests force the
@@ -47,22 +176,49 @@ impl<'g> GpuQueries<'g> {
 impl RayQueries for GpuQueries<'_> {
     fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
         let gpu_rays: Vec<GpuRay> = rays.par_iter().map(GpuRay::closest).collect();
-        Ok(closest_of(scene, rays, self.tracer.trace(self.gpu, &gpu_rays)?))
+        Ok(closest_of(scene, rays, self.trace(&gpu_rays)?))
     }
 
     fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
         let rays: Vec<GpuRay> = segments.par_iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect();
-        Ok(occluded_of(&self.tracer.trace(self.gpu, &rays)?))
+        Ok(occluded_of(&self.trace(&rays)?))
     }
 }
 
 impl BeamQueries for GpuQueries<'_> {
+    fn eye_fragments(
+        &self,
+        _scene: &Scene,
+        camera: &Camera,
+    ) -> Result<Option<Vec<Option<PixelFragments>>>, BackendError> {
+        let eyes = match self.eyes.get() {
+            Some(e) => e,
+            None => {
+                let made = EyeBeams::sharing(self.gpu, &self.tracer)?;
+                self.eyes.get_or_init(|| made)
+            }
+        };
+        Ok(Some(eyes.visible(self.gpu, camera)?))
+    }
+
     fn light_visibility(
         &self,
         _scene: &Scene,
         lights: &[LightPolygon],
         queries: &[LightQuery],
     ) -> Result<Vec<Option<LightSeen>>, BackendError> {
-        Ok(self.beams.visibility(self.gpu, lights, queries)?)
+        let Some(t) = &self.timing else {
+            return Ok(self.beams.visibility(self.gpu, lights, queries)?);
+        };
+        let (answers, seconds) = self.beams.answers_timed(self.gpu, lights, queries)?;
+        add_seconds(&t.beam_nanos, seconds.unwrap_or(0.0));
+        t.beams.fetch_add(answers.len() as u64, Ordering::Relaxed);
+        t.beam_iterations.fetch_add(answers.iter().map(|a| u64::from(a.work)).sum(), Ordering::Relaxed);
+        Ok(answers.iter().map(GpuLightSeen::seen).collect())
     }
+}
+
+/// Add `seconds` to the nanoseconds of `nanos`.
+fn add_seconds(nanos: &AtomicU64, seconds: f64) {
+    nanos.fetch_add((seconds * 1e9).round() as u64, Ordering::Relaxed);
 }

@@ -24,6 +24,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("level_points", include_str!("../shaders/level_points.wgsl")),
     ("lookups", include_str!("../shaders/lookups.wgsl")),
     ("shadow_beam", include_str!("../shaders/shadow_beam.wgsl")),
+    ("eye_beam", include_str!("../shaders/eye_beam.wgsl")),
 ];
 
 /// Shaders that use 64-bit atomics (wgpu's `SHADER_INT64_ATOMIC_MIN_MAX`): emitted for MSL 2.4 and
@@ -45,7 +46,8 @@ pub(crate) const LIBRARY: &[(&str, &str, &[&str])] = &[
     ("lib/specular.wgsl", include_str!("../shaders/lib/specular.wgsl"), &["eye", "whitted", "level_points"]),
     ("lib/coarse.wgsl", include_str!("../shaders/lib/coarse.wgsl"), &["eye", "level_points"]),
     ("lib/fit.wgsl", include_str!("../shaders/lib/fit.wgsl"), &["level_points"]),
-    ("lib/quad.wgsl", include_str!("../shaders/lib/quad.wgsl"), &["shadow_beam"]),
+    ("lib/quad.wgsl", include_str!("../shaders/lib/quad.wgsl"), &["shadow_beam", "eye_beam"]),
+    ("lib/eye_pieces.wgsl", include_str!("../shaders/lib/eye_pieces.wgsl"), &["eye_beam"]),
     (
         "lib/region.wgsl",
         include_str!("../shaders/lib/region.wgsl"),

@@ -7,10 +7,17 @@
 //! A beam holds at most [`MAX_PIECES`] pieces and runs at most its budget of loop iterations
 //! ([`ShadowBeams::budget`]); past either it answers `None` (counted, and traced again by the
 //! caller on its own path), never a wrong value.
+//!
+//! [`ShadowBeams::answers_timed`] also measures the dispatches' own time on the device by
+//! timestamp queries ([`PassTimer`]), for benchmarks.
 
-use crate::buffers::{buffer_entry, checked, encode_pass, max_binding, output, read_back, storage, uniform};
-use crate::interface::{QUERY_CLIP_ABOVE, SHADOW_DONE};
+use crate::buffers::{
+    buffer_entry, checked, compute_pass_timed, encode_pass, map_with, max_binding, output, read_back, readback,
+    storage, uniform,
+};
+use crate::interface::{QUERY_CLIP_ABOVE, SHADOW_DONE, WORKGROUP_SIZE};
 use crate::raytrace::{RayTracer, upload_bvh};
+use crate::timestamps::PassTimer;
 use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
 use beam_scene::queries::{LightPolygon, LightQuery, LightSeen, MAX_LIGHT_CORNERS};
@@ -203,6 +210,36 @@ impl ShadowBeams {
         encode_pass(gpu, encoder, &self.pipeline, count, &entries);
     }
 
+    /// [`Self::encode`] of `count` queries from the first, the pass's beginning and end written to
+    /// `timer`'s queries of pass 0.
+    fn encode_timed(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        (lights, queries, seen): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
+        count: u32,
+        timer: &PassTimer,
+    ) {
+        let params = ShadowParams { queries: count, budget: self.budget, first: 0, pad: 0 };
+        let params = uniform(gpu, "shadow params", bytemuck::bytes_of(&params));
+        let entries = [
+            buffer_entry(0, &self.nodes),
+            buffer_entry(1, &self.triangles),
+            buffer_entry(2, &params),
+            buffer_entry(3, lights),
+            buffer_entry(4, queries),
+            buffer_entry(5, seen),
+        ];
+        let layout = self.pipeline.get_bind_group_layout(0);
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &layout,
+            entries: &entries,
+        });
+        let groups = count.div_ceil(WORKGROUP_SIZE);
+        compute_pass_timed(encoder, &self.pipeline, &bind, groups, Some(timer.compute(0)));
+    }
+
     /// The answer to each query (`None` past the limits), in dispatches of at most 2¹⁸ queries.
     pub fn visibility(
         &self,
@@ -220,24 +257,70 @@ impl ShadowBeams {
         lights: &[LightPolygon],
         queries: &[LightQuery],
     ) -> Result<Vec<GpuLightSeen>, GpuError> {
+        Ok(self.run(gpu, lights, queries, false)?.0)
+    }
+
+    /// [`Self::answers`], and the device's own seconds in the beams' dispatches, summed, by
+    /// timestamp queries at each pass's beginning and end ([`PassTimer`]): the time of the shader
+    /// alone, without the uploads, the readbacks or the host's waits. `None` where the device has
+    /// no timestamp queries (`wgpu::Features::TIMESTAMP_QUERY`); `Some(0.0)` for no queries.
+    pub fn answers_timed(
+        &self,
+        gpu: &Gpu,
+        lights: &[LightPolygon],
+        queries: &[LightQuery],
+    ) -> Result<(Vec<GpuLightSeen>, Option<f64>), GpuError> {
+        self.run(gpu, lights, queries, true)
+    }
+
+    /// The answers in dispatches of at most 2¹⁸ queries; with `timed`, and where the device has
+    /// timestamp queries, the dispatches' seconds on the device.
+    fn run(
+        &self,
+        gpu: &Gpu,
+        lights: &[LightPolygon],
+        queries: &[LightQuery],
+        timed: bool,
+    ) -> Result<(Vec<GpuLightSeen>, Option<f64>), GpuError> {
         if let Some(q) = queries.iter().find(|q| q.light as usize >= lights.len()) {
             return Err(GpuError::NoSuchLight { light: q.light, lights: lights.len() });
         }
         let polygons: Vec<GpuLightPolygon> = lights.iter().map(GpuLightPolygon::new).collect();
         let chunk = CHUNK.min((max_binding(gpu) / size_of::<GpuLightQuery>() as u64) as usize).max(1);
+        let timed = timed && gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         checked(gpu, || {
             let lights = storage(gpu, "light polygons", &polygons, wgpu::BufferUsages::empty());
             let mut out = Vec::with_capacity(queries.len());
+            let mut seconds = timed.then_some(0.0);
             for part in queries.chunks(chunk) {
                 let gpu_queries: Vec<GpuLightQuery> = part.iter().map(GpuLightQuery::new).collect();
                 let queries = storage(gpu, "light queries", &gpu_queries, wgpu::BufferUsages::empty());
                 let size = (part.len() * size_of::<GpuLightSeen>()) as u64;
                 let seen = output(gpu, "light seen", size);
                 let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-                self.encode(gpu, &mut encoder, &lights, &queries, &seen, 0, part.len() as u32);
-                out.extend(read_back::<GpuLightSeen>(gpu, encoder, &seen, size)?);
+                match timed.then(|| PassTimer::new(gpu, 1)).flatten() {
+                    None => {
+                        self.encode(gpu, &mut encoder, &lights, &queries, &seen, 0, part.len() as u32);
+                        out.extend(read_back::<GpuLightSeen>(gpu, encoder, &seen, size)?);
+                    }
+                    Some(timer) => {
+                        self.encode_timed(gpu, &mut encoder, (&lights, &queries, &seen), part.len() as u32, &timer);
+                        // The answers, then the pass's two timestamps, in one readback.
+                        let into = readback(gpu, size + timer.bytes());
+                        encoder.copy_buffer_to_buffer(&seen, 0, into.buffer(), 0, size);
+                        timer.copy_to(&mut encoder, into.buffer(), size);
+                        gpu.submit([encoder.finish()]);
+                        let (answers, pass) = map_with(gpu, into, |bytes| {
+                            let (answers, stamps) = bytes.split_at(size as usize);
+                            let answers: Vec<GpuLightSeen> = bytemuck::pod_collect_to_vec(answers);
+                            (answers, PassTimer::seconds(gpu, stamps).iter().sum::<f64>())
+                        })?;
+                        out.extend(answers);
+                        seconds = seconds.map(|s| s + pass);
+                    }
+                }
             }
-            Ok(out)
+            Ok((out, seconds))
         })
     }
 }

@@ -3,10 +3,10 @@
 //! in batches ([`BeamQueries`]).
 
 use crate::error::BackendError;
-use crate::scene::Scene;
+use crate::scene::{Camera, Scene};
 use beam_bvh::Hit;
 use beam_math::Ray;
-use beam_math::glam::Vec3;
+use beam_math::glam::{Vec2, Vec3};
 
 /// Whether `ray` meets a triangle at a parameter below `t_max` (a shadow ray or segment).
 pub type AnyHit<'a> = dyn Fn(Ray, f32) -> bool + Sync + 'a;
@@ -86,8 +86,43 @@ pub struct LightSeen {
     pub fraction: f32,
 }
 
+/// A triangle seen through a pixel by exact primary visibility (001 §3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelFragment {
+    /// Input index of the triangle.
+    pub prim: u32,
+    /// Share of the pixel's square it covers (its box-filter weight).
+    pub coverage: f32,
+    /// Centroid of its visible part in continuous pixel coordinates (origin at the image's
+    /// top-left corner, y down): the camera's ray through it is the fragment's centroid ray.
+    pub centroid: Vec2,
+}
+
+/// What a pixel sees: its triangles and the background, whose coverages sum to one.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PixelFragments {
+    /// The triangles seen, each once.
+    pub fragments: Vec<PixelFragment>,
+    /// Share of the pixel that sees no triangle.
+    pub background: f32,
+    /// Centroid of that share in continuous pixel coordinates (the pixel's centre when none).
+    pub background_centroid: Vec2,
+}
+
 /// Exact shadow beams in batches (beam-cpu: its beam tracer; beam-gpu: the compute shadow beams).
 pub trait BeamQueries: RayQueries {
+    /// Exact primary visibility of every pixel of `camera` (row-major; eye beams, 001 §3):
+    /// `Ok(None)` from a backend without eye beams; a pixel `None` where the backend stopped short
+    /// (the caller computes it).
+    fn eye_fragments(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+    ) -> Result<Option<Vec<Option<PixelFragments>>>, BackendError> {
+        let _ = (scene, camera);
+        Ok(None)
+    }
+
     /// The answer to each query: `None` where the backend could not finish a beam within its limits
     /// (pieces or work past a fixed capacity); the caller then traces that beam on its own path,
     /// so that nothing is dropped.

@@ -25,6 +25,7 @@ mod bindings;
 mod coarse;
 mod cull;
 mod eye;
+mod eye_beam;
 mod gbuffer;
 mod glossy;
 mod level;
@@ -37,6 +38,7 @@ use bindings::gpu_images_fit_narrow_bindings;
 use coarse::{gpu_coarse_smesh_equals_cpu, gpu_eye_locates_as_cpu};
 use cull::gpu_cone_culling_equals_host;
 use eye::gpu_eye_view_equals_cpu;
+use eye_beam::gpu_eye_beam_coverage_equals_cpu;
 use gbuffer::gpu_gbuffer_irradiance_equals_cpu;
 use glossy::{gpu_glossy_gather_area_lights_equal_cpu, gpu_glossy_gather_equals_cpu};
 use level::{
@@ -150,6 +152,12 @@ pub fn properties() -> Vec<Property> {
             cites: "002 §4.3",
             backends: GPU,
             body: gpu_glossy_gather_area_lights_equal_cpu,
+        },
+        Property {
+            name: "gpu_eye_beam_coverage_equals_cpu",
+            cites: "001 §3",
+            backends: GPU,
+            body: gpu_eye_beam_coverage_equals_cpu,
         },
     ]
 }

@@ -7,6 +7,7 @@ use crate::generate::{self, uniform};
 use crate::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
 use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
+use beam_cpu::nonlinear::CpuBeams;
 use beam_cpu::render::{
     DEPTH_EPS, Method, RenderOptions, difference, light_seen, polygon_irradiance, render, render_queries,
 };
@@ -404,6 +405,23 @@ pub fn gpu_images_of_beam_and_ray_equal_cpu(backend: Backend, _: &Config) -> Res
             overflow += stats.overflow_beams;
         }
     }
+    // Eye beams: the GPU's fragments against the CPU's, each shaded the same way.
+    let mut eye_worst = f64::INFINITY;
+    let mut left = 0u64;
+    for (name, _) in scenes.iter().filter(|(n, _)| !n.ends_with(".obj")) {
+        let scene = scene::load(name).map_err(|e| e.to_string())?;
+        let queries = GpuQueries::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let options = RenderOptions { primary_beams: true, ..RenderOptions::exact(32, 32) };
+        let (cpu, _) = render_queries(&scene, &options, &CpuBeams, || {}).map_err(|e| e.to_string())?;
+        let (on_gpu, stats) = render_queries(&scene, &options, &queries, || {}).map_err(|e| e.to_string())?;
+        let d = difference(&cpu, &on_gpu).map_err(|e| e.to_string())?;
+        if d.psnr < 50.0 {
+            return Err(format!("{name} eye beams: PSNR {:.1} dB (max {:.3})", d.psnr, d.max));
+        }
+        eye_worst = eye_worst.min(d.psnr);
+        left += stats.overflow_pixels;
+        cells += 1;
+    }
     // Beams forced past the GPU's limits (a budget of 64 loop iterations) are traced on the CPU:
     // the same image, and the stats say how many.
     let scene = scene::builtin("cornell").map_err(|e| e.to_string())?;
@@ -419,6 +437,7 @@ pub fn gpu_images_of_beam_and_ray_equal_cpu(backend: Backend, _: &Config) -> Res
         cases: cells + 1,
         note: format!(
             "lowest PSNR {worst:.1} dB; {overflow} shadow beams past the GPU's limits, traced on the CPU{skipped}; \
+             eye beams at 32² on every built-in: lowest PSNR {eye_worst:.1} dB, {left} pixels left to the CPU; \
              budget 64 on cornell: {} of {} beams traced on the CPU, PSNR {:.1} dB",
             stats.overflow_beams, stats.shadow_beams, d.psnr
         ),

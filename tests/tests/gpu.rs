@@ -32,4 +32,5 @@ beam_conformance::conformance_tests!(
     gpu_shadow_beams_equal_cpu,
     gpu_images_of_beam_and_ray_equal_cpu,
     gpu_gbuffer_irradiance_equals_cpu,
+    gpu_eye_beam_coverage_equals_cpu,
 );

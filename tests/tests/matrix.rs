@@ -55,12 +55,12 @@ fn render_cell(scene: &Scene, method: &str, gpu: Option<&Gpu>) -> Result<Image, 
     };
     let glossy = GlossyOptions { subdivide: 1, ..GlossyOptions::new(SIZE, SIZE) };
     match (method, gpu) {
-        ("primary-beams", Some(_)) => Err(format!("{NOT_APPLICABLE}: eye beams run on the CPU")),
         ("glossy-reference", Some(_)) => Err(format!("{NOT_APPLICABLE}: `{method}` has no GPU backend")),
-        ("beam" | "ray", Some(g)) => {
+        ("beam" | "primary-beams" | "ray", Some(g)) => {
             let queries = GpuQueries::new(g, scene).map_err(|e| e.to_string())?;
-            let method = if method == "beam" { Method::Beam } else { Method::Ray };
-            Ok(render_queries(scene, &shading(method, false), &queries, || {}).map_err(|e| e.to_string())?.0)
+            let method_of = if method == "ray" { Method::Ray } else { Method::Beam };
+            let options = shading(method_of, method == "primary-beams");
+            Ok(render_queries(scene, &options, &queries, || {}).map_err(|e| e.to_string())?.0)
         }
         ("beam", None) => Ok(render(scene, &shading(Method::Beam, false), || {}).0),
         ("primary-beams", None) => Ok(render(scene, &shading(Method::Beam, true), || {}).0),

@@ -27,7 +27,7 @@ pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub use primary_image::{PrimaryStats, primary_image};
 pub use renderer::shading_eps;
 pub use renderer::{
-    Method, Occluders, RenderOptions, RenderStats, Shading, light_seen, render, render_queries, render_with,
-    shade_point, stratified, trace_radiance,
+    Method, Occluders, RenderOptions, RenderStats, Shading, light_seen, pixel_fragments, render, render_queries,
+    render_with, shade_point, stratified, trace_radiance,
 };
 pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};

@@ -27,7 +27,7 @@ pub use stats::RenderStats;
 
 pub use beam_scene::tolerance::shading_eps;
 pub use shading::{shade_point, stratified, trace_radiance};
-pub use wavefront::{light_seen, render_queries};
+pub use wavefront::{light_seen, pixel_fragments, render_queries};
 
 pub use beam_scene::options::{Method, Occluders, RenderOptions, Shading};
 

@@ -4,6 +4,7 @@
 //! missing from the table, or an element of another size fails.
 
 use super::parsed::{Modules, member_size};
+use crate::eye_beam::{EyeBeamParams, GpuPixel};
 use crate::gbuffer::GBufferParams;
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
@@ -56,6 +57,7 @@ fn tables() -> Vec<Table> {
             queries: GpuLightQuery, seen: GpuLightSeen, gbuffer: GBufferParams, positions: [f32; 4],
             normals: [f32; 4], radiance: [f32; 4], irradiance_out, stopped_short: u32,
         ]),
+        bindings!("eye_beam" => [nodes: FlatNode, triangles: GpuTriangle, params: EyeBeamParams, pixels: GpuPixel]),
         bindings!("nonlinear_check" => [beams: GpuBeam, cases: CheckCase, results: [f32; 4]]),
         bindings!("lookups" => [beams: GpuBeam, texel_t: f32, jobs: GpuLookupJob, answers: [f32; 4]]),
         bindings!("composite" => [

@@ -4,6 +4,7 @@
 //! `size_of`. Adding a struct is one line of [`twins`].
 
 use super::parsed::{Modules, member_size};
+use crate::eye_beam::{EyeBeamParams, GpuFragment, GpuPixel};
 use crate::gbuffer::GBufferParams;
 use crate::glossy::{GatherParams, GatherPoint, GpuCone, GpuConeNode, GpuGathered, GpuLightBeam};
 use crate::nonlinear::{
@@ -142,6 +143,13 @@ fn twins() -> Vec<Twin> {
         twin!("shadow_beam", GpuLightPolygon => LightPolygon { corners, normal, count }),
         twin!("shadow_beam", GpuLightSeen => LightSeen { irradiance, fraction, status, work }),
         twin!("shadow_beam", ShadowParams => ShadowParams { queries, budget, first, pad }),
+        twin!("eye_beam", EyeBeamParams => EyeBeamParams {
+            apex, width, corner_ray, height, u, first, v, count, normal, budget, pixel, plane_distance, pad
+        }),
+        twin!("eye_beam", GpuFragment => EyeFragment { prim, coverage, centroid }),
+        twin!("eye_beam", GpuPixel => EyePixel {
+            status, count, work, background, background_centroid, pad[0] => pad0, pad[1] => pad1, fragments
+        }),
         twin!("shadow_beam", GBufferParams => GBufferParams {
             width, height, lights, budget, offset, pad[0] => pad0, pad[1] => pad1, pad[2] => pad2
         }),

@@ -38,6 +38,9 @@ pub struct RenderStats {
     /// its limits (pieces or work past a fixed capacity), traced by the host instead (0 for
     /// [`render`](crate::render::render)).
     pub overflow_beams: u64,
+    /// Pixels whose eye beam a backend of [`render_queries`](crate::render::render_queries) gave
+    /// up on past its limits, their exact primary visibility computed by the host instead.
+    pub overflow_pixels: u64,
     /// BVH nodes tested by shadow beams.
     pub bvh_steps: u64,
     /// Beam–triangle splits.
@@ -150,6 +153,7 @@ impl RenderStats {
             shadow_rays: total.shadow_rays,
             shadow_beams: total.shadow_beams,
             overflow_beams: total.overflow_beams,
+            overflow_pixels: total.overflow_pixels,
             bvh_steps: total.beams.bvh_steps,
             intersections: total.beams.intersections,
             hit_beams: total.beams.hit_beams,
@@ -191,6 +195,7 @@ pub(super) struct Counters {
     pub(super) shadow_rays: u64,
     pub(super) shadow_beams: u64,
     pub(super) overflow_beams: u64,
+    pub(super) overflow_pixels: u64,
     pub(super) beams: BeamStats,
     pub(super) primary: BeamStats,
     pub(super) fragments: u64,
@@ -221,6 +226,7 @@ impl Counters {
             shadow_rays: d(self.shadow_rays, before.shadow_rays),
             shadow_beams: d(self.shadow_beams, before.shadow_beams),
             overflow_beams: d(self.overflow_beams, before.overflow_beams),
+            overflow_pixels: d(self.overflow_pixels, before.overflow_pixels),
             beams: self.beams.since(&before.beams),
             primary: self.primary.since(&before.primary),
             fragments: d(self.fragments, before.fragments),
@@ -248,6 +254,7 @@ impl core::ops::AddAssign for Counters {
         self.shadow_rays += o.shadow_rays;
         self.shadow_beams += o.shadow_beams;
         self.overflow_beams += o.overflow_beams;
+        self.overflow_pixels += o.overflow_pixels;
         self.beams += o.beams;
         self.primary += o.primary;
         self.fragments += o.fragments;

@@ -10,7 +10,7 @@ use crate::render::image::Image;
 use batches::MAX_BATCH;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
-use beam_scene::options::RenderOptions;
+use beam_scene::options::{Method, RenderOptions};
 use beam_scene::queries::BeamQueries;
 use beam_scene::scene::{Camera, Scene};
 use plan::LightTable;
@@ -19,11 +19,13 @@ use std::time::Instant;
 
 mod batches;
 mod exact_beam;
+mod eye;
 mod gather;
 mod paths;
 mod plan;
 
 pub use exact_beam::light_seen;
+pub use eye::pixel_fragments;
 
 /// Render `scene` as [`render`](super::render) does with primary rays (`options.primary_beams ==
 /// false`) and every shadow beam traced to the end (`options.exact == true`), the visibility by
@@ -65,8 +67,24 @@ pub fn render_queries(
     let k = ((options.primary_spp.max(1) as f32).sqrt() as u32).max(1);
     let mut image = Image::new(crop.width(), crop.height());
     let mut c = Counters::default();
-    for band in bands(crop, k * k) {
-        let pixels = shade_band(&ctx, &camera, backend, &table, band, k, &mut c)?;
+    // Eye beams: every pixel's exact fragments first (the backend's, the rest the host's).
+    let view = if options.method == Method::Beam && options.primary_beams {
+        let eye_start = Instant::now();
+        let (view, left) = eye::eye_view(scene, &camera, backend)?;
+        c.overflow_pixels += left;
+        c.fragments += view.iter().map(|p| p.fragments.len() as u64).sum::<u64>();
+        c.primary_seconds += eye_start.elapsed().as_secs_f64();
+        Some(view)
+    } else {
+        None
+    };
+    let per_pixel = if view.is_some() { eye::EYE_SAMPLES } else { k * k };
+    for band in bands(crop, per_pixel) {
+        let primary = match &view {
+            Some(v) => paths::Primary::Fragments(v),
+            None => paths::Primary::Rays(k),
+        };
+        let pixels = shade_band(&ctx, &camera, backend, &table, band, primary, &mut c)?;
         paste_within(band, &pixels, &mut image, crop);
         if band.x1 == crop.x1 {
             (band.y0..band.y1).for_each(|_| row_done());
@@ -93,19 +111,19 @@ fn bands(crop: Region, per_pixel: u32) -> impl Iterator<Item = Region> {
     })
 }
 
-/// The pixels of `band` (`k × k` camera rays a pixel), row-major; the work counted into `c`.
+/// The pixels of `band` (seen through `primary`), row-major; the work counted into `c`.
 fn shade_band(
     ctx: &Context<'_>,
     camera: &Camera,
     backend: &dyn BeamQueries,
     table: &LightTable,
     band: Region,
-    k: u32,
+    primary: paths::Primary<'_>,
     c: &mut Counters,
 ) -> Result<Vec<Vec3>, BackendError> {
     let start = Instant::now();
-    let per_pixel = k * k;
-    let paths::Band { mut pixels, points, rays } = paths::trace_band(ctx, camera, backend, band, k)?;
+    let per_pixel = primary.per_pixel();
+    let paths::Band { mut pixels, points, rays } = paths::trace_band(ctx, camera, backend, band, primary)?;
     c.camera_rays += rays;
     c.primary_seconds += start.elapsed().as_secs_f64();
     // Slices of whole camera samples (their samples share a random stream) whose work fits a batch.

@@ -41,7 +41,9 @@ pub(super) fn gather(
     let overflow: Vec<usize> = answers.iter().enumerate().filter(|(_, a)| a.is_none()).map(|(i, _)| i).collect();
     let traced: Vec<LightSeen> = overflow
         .par_iter()
-        .map(|&i| light_seen(&scene.bvh, &scene.triangles, &table.polygons[plan.queries[i].light as usize], &plan.queries[i]))
+        .map(|&i| {
+            light_seen(&scene.bvh, &scene.triangles, &table.polygons[plan.queries[i].light as usize], &plan.queries[i])
+        })
         .collect();
     let mut seen: Vec<LightSeen> = answers.into_iter().map(Option::unwrap_or_default).collect();
     for (&i, t) in overflow.iter().zip(traced) {

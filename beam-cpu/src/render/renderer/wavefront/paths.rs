@@ -4,13 +4,14 @@
 //! a diffuse or glossy surface leaves a shade point for the light stage.
 
 use super::batches::closest_hits;
+use super::eye::EYE_SAMPLES;
 use crate::render::eye_regions::Region;
 use crate::render::renderer::{Context, pixel_seed, stratified};
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::BackendError;
-use beam_scene::queries::BeamQueries;
+use beam_scene::queries::{BeamQueries, PixelFragments};
 use beam_scene::scene::{Camera, Material};
 use beam_scene::specular::{MAX_DEPTH, specular_rays};
 use rand::SeedableRng;
@@ -60,6 +61,18 @@ pub(super) struct Band {
     pub(super) rays: u64,
 }
 
+impl Band {
+    /// Take what ray `r` found: light into its pixel, a shade point, or its rays into `next`.
+    fn take(&mut self, r: PathRay, f: Found, per_pixel: u32, next: &mut Vec<PathRay>) {
+        match f {
+            Found::Light(l) => self.pixels[(r.sample / per_pixel) as usize] += r.weight * l,
+            Found::Point(s) => self.points.push(s),
+            Found::Rays(children) => next.extend(children.into_iter().flatten()),
+            Found::Dark => {}
+        }
+    }
+}
+
 /// What a ray found.
 enum Found {
     /// Radiance for its pixel.
@@ -79,33 +92,100 @@ fn child_key(key: u32, depth: u32, c: u32) -> u32 {
     key | c << (MAX_DEPTH - depth)
 }
 
+/// How the eye sees a band: `k × k` stratified camera rays a pixel, or every pixel's exact
+/// fragments (eye beams; the whole frame's, row-major).
+#[derive(Clone, Copy)]
+pub(super) enum Primary<'a> {
+    Rays(u32),
+    Fragments(&'a [PixelFragments]),
+}
+
+impl Primary<'_> {
+    /// Camera samples a pixel (their indices divided by this give the pixel).
+    pub(super) fn per_pixel(&self) -> u32 {
+        match self {
+            Primary::Rays(k) => k * k,
+            Primary::Fragments(_) => EYE_SAMPLES,
+        }
+    }
+}
+
 /// The camera rays of `band` (`k × k` stratified rays a pixel, jittered and seeded as the CPU
-/// renderer's primary rays are) and the rays after them, traced by `backend` a generation at a
-/// time.
+/// renderer's primary rays are), or its pixels' fragments (each a centroid ray that meets its
+/// triangle's plane there, weighted by its coverage; the background's centroid ray brings the
+/// environment), and the rays after them, traced by `backend` a generation at a time.
 pub(super) fn trace_band(
     ctx: &Context<'_>,
     camera: &Camera,
     backend: &dyn BeamQueries,
     band: Region,
-    k: u32,
+    primary: Primary<'_>,
 ) -> Result<Band, BackendError> {
     let scene = ctx.scene;
     let frame = camera.frame();
-    let per_pixel = k * k;
-    let weight = Vec3::splat(1.0 / per_pixel as f32);
-    let mut rays: Vec<PathRay> = (0..band.len() as u32)
-        .into_par_iter()
-        .flat_map_iter(|i| {
-            let (x, y) = (band.x0 + i % band.width(), band.y0 + i / band.width());
-            let mut rng = Pcg32::seed_from_u64(pixel_seed(ctx.options.seed, x, y));
-            (0..per_pixel).map(move |j| {
-                let (jx, jy) = stratified(j, k, &mut rng);
-                let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
-                PathRay { ray, sample: i * per_pixel + j, key: 0, depth: 0, weight }
-            })
-        })
-        .collect();
+    let per_pixel = primary.per_pixel();
     let mut out = Band { pixels: vec![Vec3::ZERO; band.len()], points: Vec::new(), rays: 0 };
+    let mut rays: Vec<PathRay> = match primary {
+        Primary::Rays(k) => {
+            let weight = Vec3::splat(1.0 / per_pixel as f32);
+            (0..band.len() as u32)
+                .into_par_iter()
+                .flat_map_iter(|i| {
+                    let (x, y) = (band.x0 + i % band.width(), band.y0 + i / band.width());
+                    let mut rng = Pcg32::seed_from_u64(pixel_seed(ctx.options.seed, x, y));
+                    (0..per_pixel).map(move |j| {
+                        let (jx, jy) = stratified(j, k, &mut rng);
+                        let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
+                        PathRay { ray, sample: i * per_pixel + j, key: 0, depth: 0, weight }
+                    })
+                })
+                .collect()
+        }
+        Primary::Fragments(view) => {
+            // The first generation's hits are known: each fragment's triangle, where its centroid
+            // ray meets the triangle's plane.
+            let first: Vec<(PathRay, Found)> = (0..band.len() as u32)
+                .into_par_iter()
+                .flat_map_iter(|i| {
+                    let (x, y) = (band.x0 + i % band.width(), band.y0 + i / band.width());
+                    let seen = &view[(y * camera.width + x) as usize];
+                    let background = {
+                        let c = seen.background_centroid;
+                        let ray = camera.ray(&frame, c.x, c.y);
+                        let r = PathRay {
+                            ray,
+                            sample: i * per_pixel + per_pixel - 1,
+                            key: 0,
+                            depth: 0,
+                            weight: Vec3::splat(seen.background),
+                        };
+                        (r, Found::Light(scene.environment.radiance(ray.direction)))
+                    };
+                    let fragments = seen.fragments.iter().enumerate().filter_map(move |(j, f)| {
+                        let ray = camera.ray(&frame, f.centroid.x, f.centroid.y);
+                        let tri = scene.triangles.get(f.prim as usize)?;
+                        let n = tri.scaled_normal();
+                        let t = n.dot(tri.v[0] - ray.origin) / n.dot(ray.direction);
+                        if !(t.is_finite() && t > 0.0) {
+                            return None;
+                        }
+                        let w = tri.barycentric(ray.at(t)).unwrap_or_default();
+                        let hit = Hit { prim: f.prim, t, u: w.y, v: w.z };
+                        let sample = i * per_pixel + (j as u32).min(per_pixel - 2);
+                        let r = PathRay { ray, sample, key: 0, depth: 0, weight: Vec3::splat(f.coverage) };
+                        Some((r, follow(ctx, &r, Some(&hit))))
+                    });
+                    fragments.chain((seen.background > 0.0).then_some(background))
+                })
+                .collect();
+            out.rays += first.len() as u64;
+            let mut next = Vec::new();
+            for (r, f) in first {
+                out.take(r, f, per_pixel, &mut next);
+            }
+            next
+        }
+    };
     while !rays.is_empty() {
         let batch: Vec<Ray> = rays.iter().map(|r| r.ray).collect();
         let hits = closest_hits(backend, scene, &batch)?;
@@ -113,12 +193,7 @@ pub(super) fn trace_band(
         let found: Vec<Found> = rays.par_iter().zip(&hits).map(|(r, hit)| follow(ctx, r, hit.as_ref())).collect();
         let mut next = Vec::new();
         for (r, f) in rays.iter().zip(found) {
-            match f {
-                Found::Light(l) => out.pixels[(r.sample / per_pixel) as usize] += r.weight * l,
-                Found::Point(s) => out.points.push(s),
-                Found::Rays(children) => next.extend(children.into_iter().flatten()),
-                Found::Dark => {}
-            }
+            out.take(*r, f, per_pixel, &mut next);
         }
         rays = next;
     }
