@@ -217,4 +217,3 @@ fn eye_beams_give_the_cpu_eye_beam_image() {
         assert!(stats.fragments >= 48 * 48 && stats.overflow_pixels == 0);
     }
 }
-
