@@ -288,10 +288,13 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
     if let Some(what) = unseen_environment(kind, gpu, &scene.environment) {
         eprintln!("warning: {}: the environment is not seen by --method {}{what}", scene.name, kind.name());
     }
-    if gpu && !scene.surfaces.is_plain() {
+    // The beam and ray frames on the GPU shade on the host, textures included.
+    if gpu && !matches!(kind, Kind::Beam | Kind::Ray) && !scene.surfaces.is_plain() {
         eprintln!(
-            "warning: {}: textures and vertex colours are not used by --backend gpu (its materials are flat)",
-            scene.name
+            "warning: {}: textures and vertex colours are not used by --method {} --backend gpu (its materials \
+             are flat)",
+            scene.name,
+            kind.name()
         );
     }
     if let Some(k) = a.frame {
