@@ -6,12 +6,9 @@
 //! [`GpuQueries::timed`] measures the device's own time in the ray and shadow-beam dispatches by
 //! timestamp queries, summed across calls ([`GpuQueries::take_times`]), for benchmarks.
 
-use crate::buffers::{buffer_entry, compute_pass_timed, compute_pipeline, map_with, output, readback, storage};
 use crate::eye_beam::EyeBeams;
-use crate::interface::{MISS, WORKGROUP_SIZE};
 use crate::raytrace::{GpuHit, GpuRay, RayTracer, closest_of, occluded_of};
 use crate::shadow_beam::{GpuLightSeen, ShadowBeams};
-use crate::timestamps::PassTimer;
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::GpuBvh;
@@ -36,8 +33,6 @@ pub struct GpuQueries<'g> {
 /// What the calls of timed queries add up ([`GpuQueries::timed`]): nanoseconds on the device by
 /// timestamp queries, and the shadow beams' loop iterations.
 struct Timing {
-    /// `raytrace.wgsl`'s pipeline again, for dispatches over the tracer's buffers with timestamps.
-    rays: wgpu::ComputePipeline,
     /// Whether the device has timestamp queries.
     timestamps: bool,
     ray_nanos: AtomicU64,
@@ -70,21 +65,15 @@ impl<'g> GpuQueries<'g> {
     }
 
     /// These queries with every dispatch timed on the device by timestamp queries where it has
-    /// them ([`PassTimer`]), the times summed across calls and read by [`Self::take_times`]
-    /// (compiles the ray tracer's pipeline once more, for its timed dispatches).
-    pub fn timed(mut self) -> Result<Self, GpuError> {
+    /// them ([`crate::timestamps::PassTimer`]), the times summed across calls and read by
+    /// [`Self::take_times`].
+    #[must_use]
+    pub fn timed(mut self) -> Self {
         let timestamps = self.gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let rays = compute_pipeline(self.gpu, "raytrace", "trace")?;
         let zero = || AtomicU64::new(0);
-        self.timing = Some(Timing {
-            rays,
-            timestamps,
-            ray_nanos: zero(),
-            beam_nanos: zero(),
-            beams: zero(),
-            beam_iterations: zero(),
-        });
-        Ok(self)
+        self.timing =
+            Some(Timing { timestamps, ray_nanos: zero(), beam_nanos: zero(), beams: zero(), beam_iterations: zero() });
+        self
     }
 
     /// What the device did in the calls since [`Self::timed`] or the last `take_times`, the
@@ -103,59 +92,13 @@ impl<'g> GpuQueries<'g> {
         })
     }
 
-    /// [`RayTracer::trace`] with each dispatch's time on the device added to `t.ray_nanos`: the
-    /// same pipeline, bindings and checks, the pass's timestamps read back after its hits.
-    fn trace_timed(&self, t: &Timing, rays: &[GpuRay]) -> Result<Vec<GpuHit>, GpuError> {
-        let gpu = self.gpu;
-        let (nodes, triangles) = self.tracer.buffers();
-        let mut out = Vec::with_capacity(rays.len());
-        for (k, chunk) in rays.chunks(RayTracer::max_rays(gpu)).enumerate() {
-            let ray_buffer = storage(gpu, "rays", chunk, wgpu::BufferUsages::empty());
-            let size = (chunk.len() * size_of::<GpuHit>()) as u64;
-            let hits = output(gpu, "hits", size);
-            let entries = [
-                buffer_entry(0, nodes),
-                buffer_entry(1, triangles),
-                buffer_entry(2, &ray_buffer),
-                buffer_entry(3, &hits),
-            ];
-            let layout = t.rays.get_bind_group_layout(0);
-            let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: None,
-                layout: &layout,
-                entries: &entries,
-            });
-            let timer = PassTimer::new(gpu, 1);
-            let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-            let groups = chunk.len().div_ceil(WORKGROUP_SIZE as usize) as u32;
-            compute_pass_timed(&mut encoder, &t.rays, &bind, groups, timer.as_ref().map(|t| t.compute(0)));
-            let into = readback(gpu, size + timer.as_ref().map_or(0, PassTimer::bytes));
-            encoder.copy_buffer_to_buffer(&hits, 0, into.buffer(), 0, size);
-            if let Some(timer) = &timer {
-                timer.copy_to(&mut encoder, into.buffer(), size);
-            }
-            gpu.submit([encoder.finish()]);
-            let hits: Vec<GpuHit> = map_with(gpu, into, |bytes| {
-                let (hits, stamps) = bytes.split_at(size as usize);
-                add_seconds(&t.ray_nanos, PassTimer::seconds(gpu, stamps).iter().sum());
-                bytemuck::pod_collect_to_vec(hits)
-            })?;
-            // As `RayTracer::trace`: a miss at t = −1 of a ray searched from 0 overflowed its stack.
-            let overflow = |(h, r): (&GpuHit, &GpuRay)| h.prim == MISS && h.t < 0.0 && r.t_max >= 0.0;
-            if let Some(i) = hits.par_iter().zip(chunk).position_any(overflow) {
-                return Err(GpuError::StackOverflow { ray: k * RayTracer::max_rays(gpu) + i });
-            }
-            out.extend(hits);
-        }
-        Ok(out)
-    }
-
-    /// The hits of `rays`, timed where the queries are.
+    /// The hits of `rays`; timed queries add the dispatches' time on the device.
     fn trace(&self, rays: &[GpuRay]) -> Result<Vec<GpuHit>, GpuError> {
-        match &self.timing {
-            Some(t) => self.trace_timed(t, rays),
-            None => self.tracer.trace(self.gpu, rays),
+        let (hits, seconds) = self.tracer.trace_timed(self.gpu, rays, self.timing.is_some())?;
+        if let Some(t) = &self.timing {
+            add_seconds(&t.ray_nanos, seconds.unwrap_or(0.0));
         }
+        Ok(hits)
     }
 
     /// These queries with shadow beams of `budget` loop iterations each (tests force the

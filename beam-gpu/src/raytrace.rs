@@ -2,8 +2,11 @@
 //! closest and any hits for batches of rays. CPU twin: [`beam_bvh::FlatBvh::closest_hit`] and
 //! [`beam_bvh::FlatBvh::any_hit`].
 
-use crate::buffers::{compute_pipeline, dispatch, max_binding, output, read_back, storage};
+use crate::buffers::{
+    buffer_entry, compute_pass_timed, compute_pipeline, map_with, max_binding, output, readback, storage,
+};
 use crate::interface::{MISS, RAY_ANY, RAY_CLOSEST, WORKGROUP_SIZE};
+use crate::timestamps::PassTimer;
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::GpuBvh;
@@ -130,9 +133,19 @@ impl RayTracer {
 
     /// Trace `rays`; one result each, in dispatches of at most [`max_rays`](Self::max_rays).
     pub fn trace(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<Vec<GpuHit>, GpuError> {
+        Ok(self.trace_timed(gpu, rays, false)?.0)
+    }
+
+    /// [`trace`](Self::trace), and where `timed` and the device has timestamp queries, the
+    /// device's seconds in the dispatches.
+    pub fn trace_timed(&self, gpu: &Gpu, rays: &[GpuRay], timed: bool) -> Result<(Vec<GpuHit>, Option<f64>), GpuError> {
         let mut out: Vec<GpuHit> = Vec::new();
+        let mut seconds: Option<f64> = None;
         for (k, chunk) in rays.chunks(Self::max_rays(gpu)).enumerate() {
-            let hits = self.trace_dispatch(gpu, chunk)?;
+            let (hits, s) = self.trace_dispatch(gpu, chunk, timed)?;
+            if let Some(s) = s {
+                *seconds.get_or_insert(0.0) += s;
+            }
             // A miss at t = −1 (of a ray searched from t = 0 on): the traversal's stack overflowed
             // (lib/trace.wgsl), which GpuBvh::new rules out.
             let overflow = |(h, r): (&GpuHit, &GpuRay)| h.prim == MISS && h.t < 0.0 && r.t_max >= 0.0;
@@ -146,16 +159,40 @@ impl RayTracer {
                 out.extend(hits);
             }
         }
-        Ok(out)
+        Ok((out, seconds))
     }
 
-    /// One dispatch over `rays` (at most [`max_rays`](Self::max_rays)).
-    fn trace_dispatch(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<Vec<GpuHit>, GpuError> {
-        let groups = rays.len().div_ceil(WORKGROUP_SIZE as usize);
+    /// One dispatch over `rays` (at most [`max_rays`](Self::max_rays)), timed where `timed`.
+    fn trace_dispatch(&self, gpu: &Gpu, rays: &[GpuRay], timed: bool) -> Result<(Vec<GpuHit>, Option<f64>), GpuError> {
+        let groups = rays.len().div_ceil(WORKGROUP_SIZE as usize) as u32;
         let ray_buffer = storage(gpu, "rays", rays, wgpu::BufferUsages::empty());
         let size = (rays.len() * size_of::<GpuHit>()) as u64;
         let hits = output(gpu, "hits", size);
-        let encoder = dispatch(gpu, &self.pipeline, &[&self.nodes, &self.triangles, &ray_buffer, &hits], groups as u32);
-        read_back(gpu, encoder, &hits, size)
+        let entries = [
+            buffer_entry(0, &self.nodes),
+            buffer_entry(1, &self.triangles),
+            buffer_entry(2, &ray_buffer),
+            buffer_entry(3, &hits),
+        ];
+        let layout = self.pipeline.get_bind_group_layout(0);
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &layout,
+            entries: &entries,
+        });
+        let timer = if timed { PassTimer::new(gpu, 1) } else { None };
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        compute_pass_timed(&mut encoder, &self.pipeline, &bind, groups, timer.as_ref().map(|t| t.compute(0)));
+        let into = readback(gpu, size + timer.as_ref().map_or(0, PassTimer::bytes));
+        encoder.copy_buffer_to_buffer(&hits, 0, into.buffer(), 0, size);
+        if let Some(timer) = &timer {
+            timer.copy_to(&mut encoder, into.buffer(), size);
+        }
+        gpu.submit([encoder.finish()]);
+        map_with(gpu, into, |bytes| {
+            let (hits, stamps) = bytes.split_at(size as usize);
+            let seconds = timer.as_ref().map(|_| PassTimer::seconds(gpu, stamps).iter().sum());
+            (bytemuck::pod_collect_to_vec(hits), seconds)
+        })
     }
 }

@@ -1,5 +1,6 @@
 //! `beam bench`: benchmarks that print ratios against peers measured in the same run.
 
+mod backend;
 pub mod bvh;
 pub mod glossy;
 pub mod gpu;
@@ -8,8 +9,10 @@ pub mod nonlinear_smesh;
 #[cfg(feature = "peers")]
 mod peers;
 pub mod primary;
+mod primary_gpu;
 pub mod primary_sweep;
 pub mod softshadow;
+mod softshadow_gpu;
 mod softshadow_measure;
 mod softshadow_plot;
 pub mod softshadow_suite;
@@ -115,6 +118,12 @@ pub enum BenchCommand {
         /// Timed runs of every method per scene of `--suite` and `--sweep` (medians reported).
         #[arg(long)]
         runs: Option<u32>,
+        /// `cpu`, or `gpu`: also the GPU's exact soft shadows (`beam render --backend gpu --method
+        /// beam`: primary rays, every shadow beam exact) against the CPU's measured in the same run:
+        /// the device's milliseconds by timestamp queries, the host's, beams per second, overflow
+        /// beams, CPU/GPU and the PSNR of the GPU image against the CPU's.
+        #[arg(long, default_value = "cpu")]
+        backend: String,
     },
     /// Exact primary visibility by eye beams (001 §3, box-filtered coverage) against 1, 4 and 16
     /// stratified primary rays per pixel (ours, and Embree with `--features peers`) on a flat-shaded
@@ -145,6 +154,11 @@ pub enum BenchCommand {
         /// Write the table's images, the sweep's plot (primary-sweep.png) and its CSV here.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// `cpu`, or `gpu`: also the GPU's primary rays (1, 4 and 16 per pixel, the CPU rays' own)
+        /// in the table, with the device's milliseconds by timestamp queries and the host's (not
+        /// with `--sweep`).
+        #[arg(long, default_value = "cpu")]
+        backend: String,
     },
     /// The nonlinear renderer on the GPU (wgpu) against the CPU renderer, frames per second on the
     /// built-in nonlinear scenes, each GPU image checked against the CPU's.
@@ -302,22 +316,39 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
                 false => nonlinear::run(size, &out, &csv),
             }
         }
-        BenchCommand::Primary { scenes, size, sweep, cameras, sweep_size, seed, out } => {
+        BenchCommand::Primary { scenes, size, sweep, cameras, sweep_size, seed, out, backend } => {
             side("--size", size)?;
             if let Some(s) = sweep_size {
                 side("--sweep-size", s)?;
             }
+            let gpu = backend::wants_gpu(&backend)?;
+            if gpu && sweep {
+                return Err("--backend gpu is for the table, not --sweep (the sweep times eye beams)".into());
+            }
             if dry {
                 return Ok(ExitCode::SUCCESS);
             }
+            let gpu = backend::adapter(gpu)?;
             let scenes = if scenes.is_empty() { primary::SCENES.map(String::from).to_vec() } else { scenes };
-            let table = if sweep { Ok(()) } else { primary::run(&scenes, size, out.as_deref()) };
+            let table = if sweep { Ok(()) } else { primary::run(&scenes, size, out.as_deref(), gpu.as_ref()) };
             table.and_then(|()| match sweep || cameras.is_some() {
                 true => primary_sweep::run(&scenes, cameras, sweep_size, seed, out.as_deref()),
                 false => Ok(()),
             })
         }
-        BenchCommand::Softshadow { scene, size, reference_spp, light_size, out_dir, suite, cases, sweep, runs } => {
+        BenchCommand::Softshadow {
+            scene,
+            size,
+            reference_spp,
+            light_size,
+            out_dir,
+            suite,
+            cases,
+            sweep,
+            runs,
+            backend,
+        } => {
+            let gpu = backend::wants_gpu(&backend)?;
             let sweep = match sweep.as_deref() {
                 None => false,
                 Some("light") => true,
@@ -346,7 +377,7 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
                 if dry {
                     return Ok(ExitCode::SUCCESS);
                 }
-                softshadow_suite::run(&args)
+                softshadow_suite::run(&args, backend::adapter(gpu)?.as_ref())
             } else {
                 if runs.is_some() {
                     return Err("--runs is for --suite and --sweep".into());
@@ -357,7 +388,14 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
                 if dry {
                     return Ok(ExitCode::SUCCESS);
                 }
-                softshadow::run(&scene, size, reference_spp, light_size, out_dir.as_deref())
+                softshadow::run(
+                    &scene,
+                    size,
+                    reference_spp,
+                    light_size,
+                    out_dir.as_deref(),
+                    backend::adapter(gpu)?.as_ref(),
+                )
             }
         }
     };

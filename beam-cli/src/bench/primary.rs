@@ -99,11 +99,9 @@ pub fn ray_image(
     let mut image = Image::new(camera.width, camera.height);
     image.pixels.par_chunks_mut(camera.width as usize).enumerate().for_each(|(y, row)| {
         for (x, px) in row.iter_mut().enumerate() {
-            let mut rng = Pcg32::seed_from_u64(((y as u64) << 32 | x as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
             let mut sum = Vec3::ZERO;
-            for i in 0..k * k {
-                let (jx, jy) = beam_cpu::render::stratified(i, k, &mut rng);
-                let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
+            for (sx, sy) in pixel_samples(x, y, k) {
+                let ray = camera.ray(&frame, sx, sy);
                 if let Some((prim, t)) = hit(ray) {
                     sum += shade(prim, ray.origin + t * ray.direction, ray.direction.normalize());
                 }
@@ -115,13 +113,25 @@ pub fn ray_image(
     (image, start.elapsed().as_secs_f64())
 }
 
+/// The `k × k` stratified jittered sample positions in pixel `(x, y)` of [`ray_image`], in image
+/// coordinates, from a random stream seeded by the pixel (the same for every tracer).
+pub fn pixel_samples(x: usize, y: usize, k: u32) -> impl Iterator<Item = (f32, f32)> {
+    let mut rng = Pcg32::seed_from_u64(((y as u64) << 32 | x as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    (0..k * k).map(move |i| {
+        let (jx, jy) = beam_cpu::render::stratified(i, k, &mut rng);
+        (x as f32 + jx, y as f32 + jy)
+    })
+}
+
 /// Our closest hit: the scene's 4-wide BVH.
 pub fn ours(scene: &Scene) -> impl Fn(Ray) -> Option<(u32, f32)> + Sync + '_ {
     move |ray| scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (h.prim, h.t))
 }
 
-/// The table on each of `scenes` at `size × size`; images into `out` when given.
-pub fn run(scenes: &[String], size: u32, out: Option<&Path>) -> Result<(), String> {
+/// The table on each of `scenes` at `size × size`; images into `out` when given. With `gpu`, also
+/// the GPU's rays on the same rays ([`super::primary_gpu`]), in the table and in a table of their
+/// own.
+pub fn run(scenes: &[String], size: u32, out: Option<&Path>, gpu: Option<&beam_gpu::Gpu>) -> Result<(), String> {
     for arg in scenes {
         let Some(loaded) = load(arg)? else { continue };
         let scene = &loaded.scene;
@@ -154,10 +164,19 @@ pub fn run(scenes: &[String], size: u32, out: Option<&Path>) -> Result<(), Strin
                 rows.push((format!("{tracer} {spp} spp"), seconds, img));
             }
         }
+        let on_gpu = gpu.map(|g| super::primary_gpu::images(g, scene, &camera)).transpose()?.unwrap_or_default();
+        let cpu_rows = rows.len();
+        rows.extend(on_gpu.iter().map(|r| (format!("gpu rays {} spp", r.spp), r.host_seconds, r.image.clone())));
         println!("{:<18} {:>9} {:>9} {:>8} {:>12}", "method", "seconds", "RMSE", "PSNR dB", "× eye beams");
         for (method, seconds, img) in &rows {
             let d = difference(img, &exact).map_err(|e| e.to_string())?;
             println!("{method:<18} {seconds:>9.3} {:>9.5} {:>8.2} {:>12.3}", d.rmse, d.psnr, seconds / ps.seconds);
+        }
+        if let Some(g) = gpu {
+            // Our CPU rays of each count, in the order they ran.
+            let cpu: Vec<(u32, &Image, f64)> =
+                [1, 4, 16].into_iter().zip(&rows[1..cpu_rows]).map(|(spp, (_, s, img))| (spp, img, *s)).collect();
+            super::primary_gpu::print_table(g, &on_gpu, &cpu)?;
         }
         if let Some(dir) = out {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;

@@ -54,13 +54,20 @@ pub(super) fn interior_view(scene: &mut Scene, size: u32, light_size: f32) {
     scene.lights = vec![light];
 }
 
-/// Run the benchmark on `scene_arg` at `size × size`.
+/// `name` without its folders and extension (a mesh's file stem).
+fn short_name(name: &str) -> String {
+    Path::new(name).file_stem().map_or_else(|| name.to_string(), |s| s.to_string_lossy().into_owned())
+}
+
+/// Run the benchmark on `scene_arg` at `size × size`; with `gpu`, also the GPU's exact soft shadows
+/// ([`super::softshadow_gpu`]) against the CPU's `beam (exact)`, in the table and in one of their own.
 pub fn run(
     scene_arg: &str,
     size: u32,
     reference_spp: u32,
     light_size: f32,
     out_dir: Option<&Path>,
+    gpu: Option<&beam_gpu::Gpu>,
 ) -> Result<(), String> {
     check(size, reference_spp, light_size)?;
     let mut scene = scene::load(scene_arg).map_err(|e| e.to_string())?;
@@ -121,6 +128,23 @@ pub fn run(
         let (img, st) = beam_cpu::render::render_with(&scene, &options(Method::Ray, 256, 1), &*embree, || {});
         rows.push(("embree3 256 spp".into(), st.seconds, img, String::new()));
     }
+    let on_gpu = match gpu {
+        Some(g) => {
+            let bar = crate::progress::bar(u64::from(size), "GPU");
+            let exact = RenderOptions { exact: true, ..options(Method::Beam, 1, 1) };
+            let run = super::softshadow_gpu::run(g, &scene, &exact, 1, &|| bar.inc(1))?;
+            bar.finish_and_clear();
+            let row = super::softshadow_gpu::Compared::new(
+                short_name(&scene.name),
+                run,
+                (&rows[0].2, bs.seconds),
+                &reference,
+            )?;
+            rows.push(("gpu beam (exact)".into(), row.gpu.host_seconds, row.gpu.image.clone(), String::new()));
+            Some((g, row))
+        }
+        None => None,
+    };
     let beam_seconds = rows[0].1;
     println!("\n{:<18} {:>9} {:>10} {:>9} {:>14}", "method", "seconds", "RMSE", "PSNR dB", "beam speed-up");
     for (name, seconds, img, extra) in &rows {
@@ -130,6 +154,14 @@ pub fn run(
             d.rmse,
             d.psnr,
             seconds / beam_seconds
+        );
+    }
+    if let Some((g, row)) = &on_gpu {
+        println!(
+            "\n{}\n{}\n{}",
+            super::softshadow_gpu::header(g),
+            super::softshadow_gpu::line(row),
+            super::softshadow_gpu::FOOTNOTE
         );
     }
     if let Some(dir) = out_dir {

@@ -5,8 +5,10 @@
 //! every method in one process, RMSE against many-ray references, the beams' pieces and hit beams
 //! per pixel, and the bar (beams no slower than 256 rays, and no less accurate).
 
-use super::softshadow::interior_view;
+use super::softshadow::{interior_view, options};
+use super::softshadow_gpu;
 use super::softshadow_measure::{Images, METHODS, Row, measure};
+use beam_cpu::render::{Method, RenderOptions, render};
 use beam_scene::io::write_atomic;
 use beam_scene::scene::suite::{self, CASES, Case, SWEEP};
 use std::path::{Path, PathBuf};
@@ -30,6 +32,9 @@ pub struct Args {
     pub out: Option<PathBuf>,
 }
 
+/// The GPU's CSV in `--out` (`--backend gpu`).
+const GPU_CSV: &str = "softshadow-suite-gpu.csv";
+
 impl Args {
     /// Refuse what the suite cannot run, naming the option.
     pub fn check(&self) -> Result<(), String> {
@@ -48,8 +53,10 @@ impl Args {
 }
 
 /// Run the suite's cases, then the light sweep, printing a row per scene; write the CSV, the plot
-/// and the images to `args.out`.
-pub fn run(args: &Args) -> Result<(), String> {
+/// and the images to `args.out`. With `gpu`, each scene's GPU frame too ([`super::softshadow_gpu`],
+/// `args.runs` times, against the CPU's exact soft shadows from the same primary rays), a line
+/// under its row and a table at the end.
+pub fn run(args: &Args, gpu: Option<&beam_gpu::Gpu>) -> Result<(), String> {
     args.check()?;
     println!(
         "softshadow suite: {0}×{0}, {1} threads, medians of {2} runs, references of {3} shadow rays per pixel; \
@@ -64,14 +71,23 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
     println!("{}", header());
     let mut rows = Vec::new();
+    let mut gpu_rows = Vec::new();
     // The CSV is rewritten after every row, so that a run stopped early keeps what it measured.
     let mut row = |scene: &beam_scene::scene::Scene, case: &str, light: Option<f32>| -> Result<(), String> {
         let (r, images) = measure(scene, case, light, args.size, args.runs, args.reference_spp)?;
         println!("{}", line(&r));
+        if let Some(g) = gpu {
+            gpu_rows.push(gpu_row(g, scene, args, &r, &images)?);
+            println!("  gpu: {}", softshadow_gpu::line(&gpu_rows[gpu_rows.len() - 1]));
+        }
         rows.push(r);
         if let Some(dir) = &args.out {
             write_images(dir, &rows[rows.len() - 1], &images)?;
             write_atomic(&dir.join(CSV), csv(&rows).as_bytes()).map_err(|e| e.to_string())?;
+            if gpu.is_some() {
+                let csv = softshadow_gpu::csv(&gpu_rows);
+                write_atomic(&dir.join(GPU_CSV), csv.as_bytes()).map_err(|e| e.to_string())?;
+            }
         }
         Ok(())
     };
@@ -100,6 +116,11 @@ pub fn run(args: &Args) -> Result<(), String> {
             Case::Absent(why) => println!("skipping the bunny's sweep: {why}"),
         }
     }
+    if let (Some(g), false) = (gpu, gpu_rows.is_empty()) {
+        println!("\n{}", softshadow_gpu::header(g));
+        gpu_rows.iter().for_each(|r| println!("{}", softshadow_gpu::line(r)));
+        println!("{}", softshadow_gpu::FOOTNOTE);
+    }
     let passed = rows.iter().filter(|r| r.pass()).count();
     println!(
         "bar (beams from primary rays ≤ rays 256 from the same rays, in time and in RMSE): {passed} of {} rows pass",
@@ -114,6 +135,33 @@ pub fn run(args: &Args) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// `scene`'s GPU frame ([`softshadow_gpu::run`], `args.runs` times) against the CPU's exact soft
+/// shadows from the same primary rays (`render` with `exact`, as many times, medians): the suite's
+/// own beams from primary rays run past a budget into sampling (most of all with many lights),
+/// which the GPU's frame never does. The CPU runs once before the GPU's, then in turn with them.
+fn gpu_row(
+    gpu: &beam_gpu::Gpu,
+    scene: &beam_scene::scene::Scene,
+    args: &Args,
+    r: &Row,
+    images: &Images,
+) -> Result<softshadow_gpu::Compared, String> {
+    let options = options(args.size, Method::Beam, r.rays_per_light[1], 1, false);
+    let options = RenderOptions { exact: true, ..options };
+    let bar = crate::progress::bar(2 * u64::from(args.size) * u64::from(args.runs), "GPU");
+    bar.set_message(label(r));
+    let (mut cpu, mut seconds) = (None, Vec::new());
+    for _ in 0..args.runs {
+        let (img, st) = render(scene, &options, || bar.inc(1));
+        seconds.push(st.seconds);
+        cpu.get_or_insert(img);
+    }
+    let run = softshadow_gpu::run(gpu, scene, &options, args.runs, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    let cpu = (&cpu.ok_or("no CPU run")?, super::median(seconds));
+    softshadow_gpu::Compared::new(label(r), run, cpu, &images.reference)
 }
 
 /// A row's name in file names: the case, and the light size of a sweep row.
