@@ -1,6 +1,6 @@
 //! Exact soft shadows (001 §5) on every backend that traces shadow beams: beam-cpu's beam tracer and
 //! beam-gpu's compute shadow beams (`shadow_beam.wgsl`). One body per property; the backend decides
-//! only where the beams are traced ([`Beams`]).
+//! only where the beams are traced (`Beams`).
 
 use crate::bvh::{cases, ray_set, scene_light};
 use crate::generate::{self, uniform};
