@@ -54,6 +54,21 @@ pub struct GBuffer<'a> {
     pub height: u32,
 }
 
+/// `scene`'s area lights as polygons with their emitted radiance (point lights have none).
+#[must_use]
+pub fn area_lights(scene: &Scene) -> Vec<(LightPolygon, Vec3)> {
+    scene
+        .lights
+        .iter()
+        .filter_map(|l| match l {
+            Light::Quad { radiance, .. } | Light::Triangle { radiance, .. } => {
+                Some((LightPolygon::new(&l.polygon(), l.normal())?, *radiance))
+            }
+            Light::Point { .. } => None,
+        })
+        .collect()
+}
+
 /// The scene's occluders and area lights on the device, and the pipeline.
 pub struct GBufferShadows {
     pipeline: wgpu::ComputePipeline,
@@ -72,16 +87,7 @@ impl GBufferShadows {
     /// the engine) and compile the pass. Shade points are lifted off their surfaces by the scene's
     /// shading tolerance.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
-        let lights: Vec<(LightPolygon, Vec3)> = scene
-            .lights
-            .iter()
-            .filter_map(|l| match l {
-                Light::Quad { radiance, .. } | Light::Triangle { radiance, .. } => {
-                    Some((LightPolygon::new(&l.polygon(), l.normal())?, *radiance))
-                }
-                Light::Point { .. } => None,
-            })
-            .collect();
+        let lights = area_lights(scene);
         let bvh = GpuBvh::new(&scene.bvh, &scene.triangles)?;
         let offset = beam_scene::tolerance::shading_eps(scene);
         Self::from_parts(gpu, &bvh, &lights, offset)

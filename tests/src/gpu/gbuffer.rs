@@ -5,10 +5,10 @@ use crate::{Backend, Config, Outcome};
 use beam_cpu::render::light_seen;
 use beam_gpu::Gpu;
 use beam_gpu::buffers::{read_back, storage};
-use beam_gpu::gbuffer::{GBuffer, GBufferShadows};
+use beam_gpu::gbuffer::{GBuffer, GBufferShadows, area_lights};
 use beam_math::glam::Vec3;
-use beam_scene::queries::{LightPolygon, LightQuery};
-use beam_scene::scene::{self, Light, Scene};
+use beam_scene::queries::LightQuery;
+use beam_scene::scene::{self, Scene};
 use beam_scene::tolerance::shading_eps;
 use rayon::prelude::*;
 
@@ -97,16 +97,7 @@ pub fn gpu_gbuffer_irradiance_equals_cpu(_: Backend, _: &Config) -> Result<Outco
         let (positions, normals) = gbuffer_of(&scene, size);
         let shadows = GBufferShadows::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let (texels, short) = irradiance_on(&gpu, &shadows, &positions, &normals, size)?;
-        let lights: Vec<(LightPolygon, Vec3)> = scene
-            .lights
-            .iter()
-            .filter_map(|l| match l {
-                Light::Quad { radiance, .. } | Light::Triangle { radiance, .. } => {
-                    Some((LightPolygon::new(&l.polygon(), l.normal())?, *radiance))
-                }
-                Light::Point { .. } => None,
-            })
-            .collect();
+        let lights = area_lights(&scene);
         let eps = shading_eps(&scene);
         let expected: Vec<Vec3> = positions
             .par_iter()
