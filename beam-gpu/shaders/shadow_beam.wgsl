@@ -2,7 +2,7 @@
 // point to a light polygon is traversed through the BVH by its frustum, each triangle strictly
 // between the point and the light splits the remaining (lit) pieces exactly at its edges
 // (lib/quad.wgsl), and the pieces left are integrated by Lambert's formula. CPU twin:
-// beam_cpu::render::shadow_beam::visible_light (same depth range, same projection, same split
+// beam_cpu::render::light_seen (same depth range, same projection, same split
 // rules and tolerances). A beam whose pieces pass MAX_PIECES, whose work passes the budget, or
 // whose loops llvmpipe's cap cut short answers so (SHADOW_PIECES, SHADOW_BUDGET, SHADOW_CUT) and
 // is traced again by the host: never dropped.

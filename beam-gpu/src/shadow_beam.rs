@@ -2,7 +2,7 @@
 //! shadow beam per (shade point, light polygon) query, traversed through beam-bvh's GPU layout by
 //! its frustum, split exactly at triangle edges with the quad rules of 001 §3.2
 //! (`shaders/lib/quad.wgsl`, twin of [`beam_math::polybeam::Quad::split`]), and its unoccluded
-//! pieces integrated by Lambert's formula. CPU twin: `beam_cpu::render::shadow_beam::visible_light`.
+//! pieces integrated by Lambert's formula. CPU twin: `beam_cpu::render::light_seen`.
 //!
 //! A beam holds at most [`MAX_PIECES`] pieces and runs at most its budget of loop iterations
 //! ([`ShadowBeams::budget`]); past either it answers `None` (counted, and traced again by the
@@ -186,7 +186,10 @@ impl ShadowBeams {
     /// Encode the beams of `count` queries of `queries` (from `first` on) against `lights` into
     /// `seen` ([`GpuLightSeen`] each, at the query's index), on buffers the caller owns: nothing is
     /// read back (an engine keeps the answers on the device).
-    #[allow(clippy::too_many_arguments, reason = "the five buffers and the range of one dispatch")]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the device, the encoder, three buffers and the range of one dispatch"
+    )]
     pub fn encode(
         &self,
         gpu: &Gpu,
