@@ -20,8 +20,8 @@ pub struct ThresholdPlane {
 }
 
 impl ThresholdPlane {
-    /// True unless every point of `tri` is strictly above the plane: some point lies on or below it,
-    /// and 000 Alg. 3 cannot take the "Δ above Π_T" shortcut for `tri`.
+    /// True unless every point of `tri` is strictly above the plane (000 Alg. 3's "Δ above Π_T"):
+    /// some point of `tri` lies on or below it.
     #[must_use]
     pub fn is_below(&self, tri: &Triangle) -> bool {
         !tri.v.iter().all(|&q| self.plane.eval(q) > 0.0)
