@@ -565,6 +565,11 @@ fn gbuffer_irradiance(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num
     var taken = 0u;
     work += 2u;
     for (var l = 0u; l < gbuffer.lights; l += 1u) {
+        // No beam begins past the pixel's budget: the rest count as stopped short (a beam's set-up
+        // loops are not guarded the way its traversal is).
+        if work > gbuffer.budget {
+            break;
+        }
         work += 1u;
         taken += 1u;
         let answer = shadow_beam(LightQuery(p, l, n, QUERY_CLIP_ABOVE), gbuffer.budget);
