@@ -264,6 +264,18 @@ pub fn encode_pass(
     count: u32,
     entries: &[wgpu::BindGroupEntry<'_>],
 ) {
+    encode_pass_timed(gpu, encoder, pipeline, count, entries, None);
+}
+
+/// [`encode_pass`], its beginning and end written to timestamp queries where `timestamps` says.
+pub fn encode_pass_timed(
+    gpu: &Gpu,
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    count: u32,
+    entries: &[wgpu::BindGroupEntry<'_>],
+    timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+) {
     if count == 0 {
         return;
     }
@@ -272,7 +284,7 @@ pub fn encode_pass(
         layout: &pipeline.get_bind_group_layout(0),
         entries,
     });
-    compute_pass(encoder, pipeline, &bind, count.div_ceil(crate::interface::WORKGROUP_SIZE));
+    compute_pass_timed(encoder, pipeline, &bind, count.div_ceil(crate::interface::WORKGROUP_SIZE), timestamps);
 }
 
 /// Binding `binding`: all of buffer `b`.

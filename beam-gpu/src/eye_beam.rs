@@ -13,8 +13,9 @@
 //! llvmpipe's loop cap cut its loops short) it answers `None`, never a wrong value.
 
 use crate::buffers::{buffer_entry, checked, encode_pass, max_binding, output, read_back, uniform};
+use crate::bvh_pass::BvhPass;
 use crate::interface::{EYE_DONE, MISS};
-use crate::raytrace::{RayTracer, upload_bvh};
+use crate::raytrace::RayTracer;
 use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
 use beam_math::glam::Vec2;
@@ -23,6 +24,7 @@ pub use beam_scene::queries::{PixelFragment, PixelFragments};
 use beam_scene::scene::Camera;
 use bytemuck::{Pod, Zeroable};
 
+pub use crate::bvh_pass::{HARDWARE_BUDGET, SOFTWARE_BUDGET};
 pub use crate::interface::{MAX_EYE_PIECES, MAX_FRAGMENTS};
 
 /// The parameters of one dispatch: the camera's image plane as a beam frame and the pixels.
@@ -125,56 +127,39 @@ impl GpuPixel {
     }
 }
 
-/// Loop iterations a pixel runs on a software device (Mesa's lavapipe): it ends every loop of a
-/// SIMD group of 8 invocations for good once they together ran 65,535 iterations; where the cap
-/// cuts a pixel short anyway, the shader sees it and answers `None`.
-pub const SOFTWARE_BUDGET: u32 = 8_192;
-
-/// Loop iterations a pixel runs on a hardware device.
-pub const HARDWARE_BUDGET: u32 = 1 << 20;
-
 /// Pixels per dispatch (a workgroup count under 65,535).
 const CHUNK: usize = 1 << 18;
 
 /// The compiled pipeline, over a BVH already on the device.
 pub struct EyeBeams {
-    pipeline: wgpu::ComputePipeline,
-    nodes: wgpu::Buffer,
-    triangles: wgpu::Buffer,
-    budget: u32,
+    pass: BvhPass,
 }
 
 impl EyeBeams {
+    const ENTRY: (&str, &str) = ("eye_beam", "eye_fragments");
+
     /// Compile `eye_beam.wgsl` and upload `bvh` (each of its buffers within one storage binding,
     /// [`GpuError::SceneTooLarge`]).
     pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, GpuError> {
-        let (nodes, triangles) = upload_bvh(gpu, bvh)?;
-        Self::over(gpu, nodes, triangles)
+        Ok(Self { pass: BvhPass::new(gpu, Self::ENTRY, bvh)? })
     }
 
     /// Compile `eye_beam.wgsl` over the BVH `tracer` uploaded (its buffers shared).
     pub fn sharing(gpu: &Gpu, tracer: &RayTracer) -> Result<Self, GpuError> {
-        let (nodes, triangles) = tracer.buffers();
-        Self::over(gpu, nodes.clone(), triangles.clone())
-    }
-
-    fn over(gpu: &Gpu, nodes: wgpu::Buffer, triangles: wgpu::Buffer) -> Result<Self, GpuError> {
-        let pipeline = crate::buffers::compute_pipeline(gpu, "eye_beam", "eye_fragments")?;
-        let budget = if gpu.is_software() { SOFTWARE_BUDGET } else { HARDWARE_BUDGET };
-        Ok(Self { pipeline, nodes, triangles, budget })
+        Ok(Self { pass: BvhPass::sharing(gpu, Self::ENTRY, tracer)? })
     }
 
     /// These beams with a budget of `budget` loop iterations a pixel (tests force the overflow path).
     #[must_use]
     pub fn with_budget(mut self, budget: u32) -> Self {
-        self.budget = budget;
+        self.pass.budget = budget;
         self
     }
 
     /// Loop iterations a pixel may run before it answers `None`.
     #[must_use]
     pub fn budget(&self) -> u32 {
-        self.budget
+        self.pass.budget
     }
 
     /// What each pixel of `camera` (row-major, `width × height`) sees, `None` for a pixel that
@@ -187,7 +172,7 @@ impl EyeBeams {
 
     /// The shader's answers as they are (with their status and work), row-major.
     pub fn pixels(&self, gpu: &Gpu, camera: &Camera) -> Result<Vec<GpuPixel>, GpuError> {
-        let Some(base) = image_params(camera, self.budget) else { return Ok(Vec::new()) };
+        let Some(base) = image_params(camera, self.pass.budget) else { return Ok(Vec::new()) };
         let total = camera.width as usize * camera.height as usize;
         let chunk = CHUNK.min((max_binding(gpu) / size_of::<GpuPixel>() as u64) as usize).max(1);
         checked(gpu, || {
@@ -198,14 +183,10 @@ impl EyeBeams {
                 let params = uniform(gpu, "eye beam params", bytemuck::bytes_of(&params));
                 let size = (count * size_of::<GpuPixel>()) as u64;
                 let seen = output(gpu, "eye pixels", size);
-                let entries = [
-                    buffer_entry(0, &self.nodes),
-                    buffer_entry(1, &self.triangles),
-                    buffer_entry(2, &params),
-                    buffer_entry(3, &seen),
-                ];
+                let [nodes, triangles] = self.pass.bvh_entries();
+                let entries = [nodes, triangles, buffer_entry(2, &params), buffer_entry(3, &seen)];
                 let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-                encode_pass(gpu, &mut encoder, &self.pipeline, count as u32, &entries);
+                encode_pass(gpu, &mut encoder, &self.pass.pipeline, count as u32, &entries);
                 out.extend(read_back::<GpuPixel>(gpu, encoder, &seen, size)?);
             }
             Ok(out)

@@ -9,8 +9,8 @@
 //! [`GBufferShadows::stopped_short`] how many in all, so that the engine can trace them again.
 
 use crate::buffers::{buffer_entry, encode_pass, output, read_back, storage, uniform, view_entry};
-use crate::raytrace::upload_bvh;
-use crate::shadow_beam::{GpuLightPolygon, HARDWARE_BUDGET, SOFTWARE_BUDGET};
+use crate::bvh_pass::BvhPass;
+use crate::shadow_beam::GpuLightPolygon;
 use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
 use beam_math::glam::Vec3;
@@ -71,13 +71,10 @@ pub fn area_lights(scene: &Scene) -> Vec<(LightPolygon, Vec3)> {
 
 /// The scene's occluders and area lights on the device, and the pipeline.
 pub struct GBufferShadows {
-    pipeline: wgpu::ComputePipeline,
-    nodes: wgpu::Buffer,
-    triangles: wgpu::Buffer,
+    pass: BvhPass,
     lights: wgpu::Buffer,
     radiance: wgpu::Buffer,
     light_count: u32,
-    budget: u32,
     offset: f32,
     stopped_short: wgpu::Buffer,
 }
@@ -96,17 +93,13 @@ impl GBufferShadows {
     /// The pass over occluders `bvh` and `lights` (each polygon with its emitted radiance), shade
     /// points lifted by `offset` along their normals.
     pub fn from_parts(gpu: &Gpu, bvh: &GpuBvh, lights: &[(LightPolygon, Vec3)], offset: f32) -> Result<Self, GpuError> {
-        let (nodes, triangles) = upload_bvh(gpu, bvh)?;
         let polygons: Vec<GpuLightPolygon> = lights.iter().map(|(l, _)| GpuLightPolygon::new(l)).collect();
         let radiance: Vec<[f32; 4]> = lights.iter().map(|(_, r)| r.extend(0.0).to_array()).collect();
         Ok(Self {
-            pipeline: crate::buffers::compute_pipeline(gpu, "shadow_beam", "gbuffer_irradiance")?,
-            nodes,
-            triangles,
+            pass: BvhPass::new(gpu, ("shadow_beam", "gbuffer_irradiance"), bvh)?,
             lights: storage(gpu, "light polygons", &polygons, wgpu::BufferUsages::empty()),
             radiance: storage(gpu, "light radiance", &radiance, wgpu::BufferUsages::empty()),
             light_count: lights.len() as u32,
-            budget: if gpu.is_software() { SOFTWARE_BUDGET } else { HARDWARE_BUDGET },
             offset,
             stopped_short: output(gpu, "beams stopped short", 4),
         })
@@ -116,7 +109,7 @@ impl GBufferShadows {
     /// stop short with a small one).
     #[must_use]
     pub fn with_budget(mut self, budget: u32) -> Self {
-        self.budget = budget;
+        self.pass.budget = budget;
         self
     }
 
@@ -135,15 +128,16 @@ impl GBufferShadows {
             width: gbuffer.width,
             height: gbuffer.height,
             lights: self.light_count,
-            budget: self.budget,
+            budget: self.pass.budget,
             offset: self.offset,
             pad: [0; 3],
         };
         let params = uniform(gpu, "gbuffer params", bytemuck::bytes_of(&params));
         encoder.clear_buffer(&self.stopped_short, 0, None);
+        let [nodes, triangles] = self.pass.bvh_entries();
         let entries = [
-            buffer_entry(0, &self.nodes),
-            buffer_entry(1, &self.triangles),
+            nodes,
+            triangles,
             buffer_entry(3, &self.lights),
             buffer_entry(6, &params),
             buffer_entry(7, gbuffer.positions),
@@ -152,7 +146,7 @@ impl GBufferShadows {
             view_entry(10, target),
             buffer_entry(11, &self.stopped_short),
         ];
-        encode_pass(gpu, encoder, &self.pipeline, gbuffer.width * gbuffer.height, &entries);
+        encode_pass(gpu, encoder, &self.pass.pipeline, gbuffer.width * gbuffer.height, &entries);
     }
 
     /// Beams of the last submitted pass that stopped short (a wait and a 4-byte readback).

@@ -31,6 +31,7 @@
 //! ```
 
 pub mod buffers;
+mod bvh_pass;
 pub mod checks;
 pub mod device;
 pub mod error;

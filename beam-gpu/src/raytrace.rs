@@ -2,11 +2,9 @@
 //! closest and any hits for batches of rays. CPU twin: [`beam_bvh::FlatBvh::closest_hit`] and
 //! [`beam_bvh::FlatBvh::any_hit`].
 
-use crate::buffers::{
-    buffer_entry, compute_pass_timed, compute_pipeline, map_with, max_binding, output, readback, storage,
-};
+use crate::buffers::{buffer_entry, compute_pipeline, encode_pass_timed, max_binding, output, storage};
 use crate::interface::{MISS, RAY_ANY, RAY_CLOSEST, WORKGROUP_SIZE};
-use crate::timestamps::PassTimer;
+use crate::timestamps::{PassTimer, read_back_timed};
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::GpuBvh;
@@ -164,7 +162,6 @@ impl RayTracer {
 
     /// One dispatch over `rays` (at most [`max_rays`](Self::max_rays)), timed where `timed`.
     fn trace_dispatch(&self, gpu: &Gpu, rays: &[GpuRay], timed: bool) -> Result<(Vec<GpuHit>, Option<f64>), GpuError> {
-        let groups = rays.len().div_ceil(WORKGROUP_SIZE as usize) as u32;
         let ray_buffer = storage(gpu, "rays", rays, wgpu::BufferUsages::empty());
         let size = (rays.len() * size_of::<GpuHit>()) as u64;
         let hits = output(gpu, "hits", size);
@@ -174,25 +171,10 @@ impl RayTracer {
             buffer_entry(2, &ray_buffer),
             buffer_entry(3, &hits),
         ];
-        let layout = self.pipeline.get_bind_group_layout(0);
-        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &layout,
-            entries: &entries,
-        });
         let timer = if timed { PassTimer::new(gpu, 1) } else { None };
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        compute_pass_timed(&mut encoder, &self.pipeline, &bind, groups, timer.as_ref().map(|t| t.compute(0)));
-        let into = readback(gpu, size + timer.as_ref().map_or(0, PassTimer::bytes));
-        encoder.copy_buffer_to_buffer(&hits, 0, into.buffer(), 0, size);
-        if let Some(timer) = &timer {
-            timer.copy_to(&mut encoder, into.buffer(), size);
-        }
-        gpu.submit([encoder.finish()]);
-        map_with(gpu, into, |bytes| {
-            let (hits, stamps) = bytes.split_at(size as usize);
-            let seconds = timer.as_ref().map(|_| PassTimer::seconds(gpu, stamps).iter().sum());
-            (bytemuck::pod_collect_to_vec(hits), seconds)
-        })
+        let timestamps = timer.as_ref().map(|t| t.compute(0));
+        encode_pass_timed(gpu, &mut encoder, &self.pipeline, rays.len() as u32, &entries, timestamps);
+        read_back_timed(gpu, encoder, &hits, size, timer.as_ref())
     }
 }

@@ -11,18 +11,17 @@
 //! [`ShadowBeams::answers_timed`] also measures the dispatches' own time on the device by
 //! timestamp queries ([`PassTimer`]), for benchmarks.
 
-use crate::buffers::{
-    buffer_entry, checked, compute_pass_timed, encode_pass, map_with, max_binding, output, read_back, readback,
-    storage, uniform,
-};
-use crate::interface::{QUERY_CLIP_ABOVE, SHADOW_DONE, WORKGROUP_SIZE};
-use crate::raytrace::{RayTracer, upload_bvh};
-use crate::timestamps::PassTimer;
+use crate::buffers::{buffer_entry, checked, encode_pass_timed, max_binding, output, storage, uniform};
+use crate::bvh_pass::BvhPass;
+use crate::interface::{QUERY_CLIP_ABOVE, SHADOW_DONE};
+use crate::raytrace::RayTracer;
+use crate::timestamps::{PassTimer, read_back_timed};
 use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
 use beam_scene::queries::{LightPolygon, LightQuery, LightSeen, MAX_LIGHT_CORNERS};
 use bytemuck::{Pod, Zeroable};
 
+pub use crate::bvh_pass::{HARDWARE_BUDGET, SOFTWARE_BUDGET};
 pub use crate::interface::MAX_PIECES;
 
 /// A shadow-beam query for the GPU.
@@ -121,66 +120,44 @@ const _: () = assert!(
         && size_of::<ShadowParams>() == 16
 );
 
-/// Loop iterations a beam runs on a software device (Mesa's lavapipe, CI's): it ends every loop of
-/// a SIMD group of 8 invocations for good once they together have run 65,535 iterations (the
-/// shader counts every iteration and 2 for each entry into a loop, as llvmpipe does). A group's
-/// count lies between its largest lane's and the sum of its lanes'; where the cap cuts a
-/// traversal short anyway, the shader sees it (the loop ended without its own test) and answers
-/// `None`, so the cap costs beams traced again, never a wrong answer.
-pub const SOFTWARE_BUDGET: u32 = 8_192;
-
-/// Loop iterations a beam runs on a hardware device: enough for every beam of the shared scenes,
-/// few enough that a pathological one cannot stall the device for long.
-pub const HARDWARE_BUDGET: u32 = 1 << 20;
-
 /// Queries per dispatch (a dispatch's buffers stay small, and a workgroup count under 65,535).
 const CHUNK: usize = 1 << 18;
 
 /// The compiled pipeline, over a BVH already on the device.
 pub struct ShadowBeams {
-    pipeline: wgpu::ComputePipeline,
-    nodes: wgpu::Buffer,
-    triangles: wgpu::Buffer,
-    budget: u32,
+    pass: BvhPass,
 }
 
 impl ShadowBeams {
+    const ENTRY: (&str, &str) = ("shadow_beam", "visible_light");
+
     /// Compile `shadow_beam.wgsl` and upload `bvh` (each of its buffers within one storage binding,
     /// [`GpuError::SceneTooLarge`]).
     pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, GpuError> {
-        let (nodes, triangles) = upload_bvh(gpu, bvh)?;
-        Self::over(gpu, nodes, triangles)
+        Ok(Self { pass: BvhPass::new(gpu, Self::ENTRY, bvh)? })
     }
 
     /// Compile `shadow_beam.wgsl` over the BVH `tracer` uploaded (its buffers shared).
     pub fn sharing(gpu: &Gpu, tracer: &RayTracer) -> Result<Self, GpuError> {
-        let (nodes, triangles) = tracer.buffers();
-        Self::over(gpu, nodes.clone(), triangles.clone())
+        Ok(Self { pass: BvhPass::sharing(gpu, Self::ENTRY, tracer)? })
     }
 
     /// The same pipeline over another BVH (no recompilation).
     pub fn with_bvh(&self, gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, GpuError> {
-        let (nodes, triangles) = upload_bvh(gpu, bvh)?;
-        Ok(Self { pipeline: self.pipeline.clone(), nodes, triangles, budget: self.budget })
-    }
-
-    fn over(gpu: &Gpu, nodes: wgpu::Buffer, triangles: wgpu::Buffer) -> Result<Self, GpuError> {
-        let pipeline = crate::buffers::compute_pipeline(gpu, "shadow_beam", "visible_light")?;
-        let budget = if gpu.is_software() { SOFTWARE_BUDGET } else { HARDWARE_BUDGET };
-        Ok(Self { pipeline, nodes, triangles, budget })
+        Ok(Self { pass: self.pass.with_bvh(gpu, bvh)? })
     }
 
     /// These beams with a budget of `budget` loop iterations each (tests force the overflow path).
     #[must_use]
     pub fn with_budget(mut self, budget: u32) -> Self {
-        self.budget = budget;
+        self.pass.budget = budget;
         self
     }
 
     /// Loop iterations a beam may run before it answers `None`.
     #[must_use]
     pub fn budget(&self) -> u32 {
-        self.budget
+        self.pass.budget
     }
 
     /// Encode the beams of `count` queries of `queries` (from `first` on) against `lights` into
@@ -200,47 +177,31 @@ impl ShadowBeams {
         first: u32,
         count: u32,
     ) {
-        let params = ShadowParams { queries: count, budget: self.budget, first, pad: 0 };
-        let params = uniform(gpu, "shadow params", bytemuck::bytes_of(&params));
-        let entries = [
-            buffer_entry(0, &self.nodes),
-            buffer_entry(1, &self.triangles),
-            buffer_entry(2, &params),
-            buffer_entry(3, lights),
-            buffer_entry(4, queries),
-            buffer_entry(5, seen),
-        ];
-        encode_pass(gpu, encoder, &self.pipeline, count, &entries);
+        self.encode_timed(gpu, encoder, (lights, queries, seen), (first, count), None);
     }
 
-    /// [`Self::encode`] of `count` queries from the first, the pass's beginning and end written to
-    /// `timer`'s queries of pass 0.
+    /// [`Self::encode`], the pass's beginning and end written to `timer`'s queries of pass 0.
     fn encode_timed(
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         (lights, queries, seen): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
-        count: u32,
-        timer: &PassTimer,
+        (first, count): (u32, u32),
+        timer: Option<&PassTimer>,
     ) {
-        let params = ShadowParams { queries: count, budget: self.budget, first: 0, pad: 0 };
+        let params = ShadowParams { queries: count, budget: self.pass.budget, first, pad: 0 };
         let params = uniform(gpu, "shadow params", bytemuck::bytes_of(&params));
+        let [nodes, triangles] = self.pass.bvh_entries();
         let entries = [
-            buffer_entry(0, &self.nodes),
-            buffer_entry(1, &self.triangles),
+            nodes,
+            triangles,
             buffer_entry(2, &params),
             buffer_entry(3, lights),
             buffer_entry(4, queries),
             buffer_entry(5, seen),
         ];
-        let layout = self.pipeline.get_bind_group_layout(0);
-        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &layout,
-            entries: &entries,
-        });
-        let groups = count.div_ceil(WORKGROUP_SIZE);
-        compute_pass_timed(encoder, &self.pipeline, &bind, groups, Some(timer.compute(0)));
+        let timestamps = timer.map(|t| t.compute(0));
+        encode_pass_timed(gpu, encoder, &self.pass.pipeline, count, &entries, timestamps);
     }
 
     /// The answer to each query (`None` past the limits), in dispatches of at most 2¹⁸ queries.
@@ -300,28 +261,13 @@ impl ShadowBeams {
                 let queries = storage(gpu, "light queries", &gpu_queries, wgpu::BufferUsages::empty());
                 let size = (part.len() * size_of::<GpuLightSeen>()) as u64;
                 let seen = output(gpu, "light seen", size);
+                let timer = if timed { PassTimer::new(gpu, 1) } else { None };
                 let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-                match timed.then(|| PassTimer::new(gpu, 1)).flatten() {
-                    None => {
-                        self.encode(gpu, &mut encoder, &lights, &queries, &seen, 0, part.len() as u32);
-                        out.extend(read_back::<GpuLightSeen>(gpu, encoder, &seen, size)?);
-                    }
-                    Some(timer) => {
-                        self.encode_timed(gpu, &mut encoder, (&lights, &queries, &seen), part.len() as u32, &timer);
-                        // The answers, then the pass's two timestamps, in one readback.
-                        let into = readback(gpu, size + timer.bytes());
-                        encoder.copy_buffer_to_buffer(&seen, 0, into.buffer(), 0, size);
-                        timer.copy_to(&mut encoder, into.buffer(), size);
-                        gpu.submit([encoder.finish()]);
-                        let (answers, pass) = map_with(gpu, into, |bytes| {
-                            let (answers, stamps) = bytes.split_at(size as usize);
-                            let answers: Vec<GpuLightSeen> = bytemuck::pod_collect_to_vec(answers);
-                            (answers, PassTimer::seconds(gpu, stamps).iter().sum::<f64>())
-                        })?;
-                        out.extend(answers);
-                        seconds = seconds.map(|s| s + pass);
-                    }
-                }
+                let n = part.len() as u32;
+                self.encode_timed(gpu, &mut encoder, (&lights, &queries, &seen), (0, n), timer.as_ref());
+                let (answers, pass) = read_back_timed::<GpuLightSeen>(gpu, encoder, &seen, size, timer.as_ref())?;
+                out.extend(answers);
+                seconds = seconds.map(|s| s + pass.unwrap_or(0.0));
             }
             Ok((out, seconds))
         })

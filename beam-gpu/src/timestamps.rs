@@ -78,3 +78,25 @@ impl PassTimer {
         ticks.chunks_exact(2).map(|t| t[1].saturating_sub(t[0]) as f64 * period).collect()
     }
 }
+
+/// Submit `encoder` and read back the first `size` bytes of `source` as `T`s, with, where `timer`
+/// is given, the seconds of its passes (summed) resolved into the same readback: one wait.
+pub fn read_back_timed<T: bytemuck::Pod>(
+    gpu: &Gpu,
+    mut encoder: wgpu::CommandEncoder,
+    source: &wgpu::Buffer,
+    size: u64,
+    timer: Option<&PassTimer>,
+) -> Result<(Vec<T>, Option<f64>), crate::GpuError> {
+    let Some(timer) = timer else {
+        return Ok((crate::buffers::read_back(gpu, encoder, source, size)?, None));
+    };
+    let into = crate::buffers::readback(gpu, size + timer.bytes());
+    encoder.copy_buffer_to_buffer(source, 0, into.buffer(), 0, size);
+    timer.copy_to(&mut encoder, into.buffer(), size);
+    gpu.submit([encoder.finish()]);
+    crate::buffers::map_with(gpu, into, |bytes| {
+        let (items, stamps) = bytes.split_at(size as usize);
+        (bytemuck::pod_collect_to_vec(items), Some(PassTimer::seconds(gpu, stamps).iter().sum()))
+    })
+}
