@@ -1,43 +1,28 @@
 //! Exact primary visibility on the GPU (`beam_gpu::eye_beam`, one eye beam per pixel) against its
-//! CPU twin, `beam_cpu::render::visible_surface` over each pixel's square.
+//! CPU twin, `beam_cpu::render::pixel_fragments` (the exact visible surface through each pixel's
+//! square).
 
 use crate::gpu::adapter;
 use crate::{Backend, Config, Outcome};
 use beam_bvh::gpu::GpuBvh;
-use beam_cpu::render::{BeamStats, NEAR, visible_surface};
+use beam_cpu::render::{NEAR, pixel_fragments};
 use beam_gpu::eye_beam::{EyeBeams, PixelFragments};
 use beam_gpu::interface::{EYE_BUDGET, EYE_CUT, EYE_FRAGMENTS, EYE_NEAR, EYE_PIECES};
-use beam_math::glam::Vec2;
-use beam_math::polybeam::BeamFrame;
 use beam_scene::scene::{self, Camera, Scene};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 /// Per pixel (row-major), the CPU's share of the pixel's square each triangle covers (`None`: the
-/// background), by the exact visible surface through that square alone.
+/// background), by the exact visible surface through that square alone ([`pixel_fragments`]).
 fn cpu_coverage(scene: &Scene, camera: &Camera) -> Vec<BTreeMap<Option<u32>, f32>> {
-    let f = camera.frame();
-    let Some(frame) = BeamFrame::new(camera.position, camera.position + f.forward, f.forward, f.right) else {
-        return Vec::new();
-    };
-    let (w, h) = (camera.width, camera.height);
-    let size = Vec2::new(2.0 * f.half_width / w as f32, 2.0 * f.half_height / h as f32);
-    let corner = Vec2::new(-f.half_width, -f.half_height);
-    (0..w * h)
+    let w = camera.width;
+    (0..w * camera.height)
         .into_par_iter()
-        .map(|i| {
-            let lo = corner + Vec2::new((i % w) as f32, (i / w) as f32) * size;
-            let mut stats = BeamStats::default();
-            let mut out = BTreeMap::new();
-            for p in visible_surface(&scene.bvh, &scene.triangles, &frame, lo, lo + size, &mut stats) {
-                *out.entry(p.prim).or_insert(0.0) += p.section.area() / (size.x * size.y);
-            }
-            out
-        })
+        .map(|i| pixel_fragments(scene, camera, i % w, i / w).map(|p| gpu_coverage(&p)).unwrap_or_default())
         .collect()
 }
 
-/// The GPU's answer for a pixel as the same map.
+/// A pixel's fragments as a map from triangle (`None`: the background) to coverage.
 fn gpu_coverage(seen: &PixelFragments) -> BTreeMap<Option<u32>, f32> {
     let mut out = BTreeMap::new();
     if seen.background > 0.0 {

@@ -21,40 +21,60 @@ pub(super) const EYE_SAMPLES: u32 = 64;
 /// square (`None`: the camera cannot make a frame).
 #[must_use]
 pub fn pixel_fragments(scene: &Scene, camera: &Camera, x: u32, y: u32) -> Option<PixelFragments> {
-    let f = camera.frame();
-    let frame = BeamFrame::new(camera.position, camera.position + f.forward, f.forward, f.right)?;
-    let size = Vec2::new(2.0 * f.half_width / camera.width as f32, 2.0 * f.half_height / camera.height as f32);
-    let corner = Vec2::new(-f.half_width, -f.half_height);
-    let lo = corner + Vec2::new(x as f32, y as f32) * size;
-    let to_pixel = |c: Vec2| (c - corner) / size;
-    let mut seen: BTreeMap<Option<u32>, (f32, Vec2)> = BTreeMap::new();
-    for piece in visible_surface(&scene.bvh, &scene.triangles, &frame, lo, lo + size, &mut BeamStats::default()) {
-        let v = piece.section.vertices();
-        // The area centroid of the convex piece (shoelace), in pixel coordinates.
-        let (mut twice, mut moment) = (0.0f32, Vec2::ZERO);
-        for i in 0..v.len() {
-            let (a, b) = (to_pixel(v[i]), to_pixel(v[(i + 1) % v.len()]));
-            let cross = a.perp_dot(b);
-            twice += cross;
-            moment += (a + b) * cross;
-        }
-        let area = 0.5 * twice.abs();
-        if area > 0.0 {
-            let e = seen.entry(piece.prim).or_insert((0.0, Vec2::ZERO));
-            e.0 += area;
-            e.1 += moment / (3.0 * twice) * area;
-        }
+    Some(PixelSquares::of(camera)?.fragments(scene, x, y))
+}
+
+/// The pixels' squares on the image plane of a camera's eye beams (beam-cpu's frame: distance 1
+/// along the view, `u` right, `v` down the image).
+struct PixelSquares {
+    frame: BeamFrame,
+    corner: Vec2,
+    size: Vec2,
+}
+
+impl PixelSquares {
+    fn of(camera: &Camera) -> Option<Self> {
+        let f = camera.frame();
+        let frame = BeamFrame::new(camera.position, camera.position + f.forward, f.forward, f.right)?;
+        let size = Vec2::new(2.0 * f.half_width / camera.width as f32, 2.0 * f.half_height / camera.height as f32);
+        Some(Self { frame, corner: Vec2::new(-f.half_width, -f.half_height), size })
     }
-    let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-    let mut out = PixelFragments { background_centroid: centre, ..PixelFragments::default() };
-    for (prim, (coverage, moment)) in seen {
-        let centroid = moment / coverage;
-        match prim {
-            Some(prim) => out.fragments.push(PixelFragment { prim, coverage, centroid }),
-            None => (out.background, out.background_centroid) = (coverage, centroid),
+
+    /// The fragments of pixel `(x, y)`.
+    fn fragments(&self, scene: &Scene, x: u32, y: u32) -> PixelFragments {
+        let lo = self.corner + Vec2::new(x as f32, y as f32) * self.size;
+        let to_pixel = |c: Vec2| (c - self.corner) / self.size;
+        let mut seen: BTreeMap<Option<u32>, (f32, Vec2)> = BTreeMap::new();
+        let pieces =
+            visible_surface(&scene.bvh, &scene.triangles, &self.frame, lo, lo + self.size, &mut BeamStats::default());
+        for piece in pieces {
+            let v = piece.section.vertices();
+            // The area centroid of the convex piece (shoelace), in pixel coordinates.
+            let (mut twice, mut moment) = (0.0f32, Vec2::ZERO);
+            for i in 0..v.len() {
+                let (a, b) = (to_pixel(v[i]), to_pixel(v[(i + 1) % v.len()]));
+                let cross = a.perp_dot(b);
+                twice += cross;
+                moment += (a + b) * cross;
+            }
+            let area = 0.5 * twice.abs();
+            if area > 0.0 {
+                let e = seen.entry(piece.prim).or_insert((0.0, Vec2::ZERO));
+                e.0 += area;
+                e.1 += moment / (3.0 * twice) * area;
+            }
         }
+        let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+        let mut out = PixelFragments { background_centroid: centre, ..PixelFragments::default() };
+        for (prim, (coverage, moment)) in seen {
+            let centroid = moment / coverage;
+            match prim {
+                Some(prim) => out.fragments.push(PixelFragment { prim, coverage, centroid }),
+                None => (out.background, out.background_centroid) = (coverage, centroid),
+            }
+        }
+        out
     }
-    Some(out)
 }
 
 /// Every pixel's fragments, row-major: `backend`'s where it gave them, the CPU's elsewhere; and
@@ -67,13 +87,14 @@ pub(super) fn eye_view(
     let given = backend.eye_fragments(scene, camera)?;
     let n = (camera.width * camera.height) as usize;
     let left = given.as_ref().map_or(0, |g| g.iter().filter(|p| p.is_none()).count() as u64);
+    let squares = PixelSquares::of(camera);
     let view = (0..n)
         .into_par_iter()
         .map(|i| match given.as_ref().and_then(|g| g.get(i).cloned().flatten()) {
             Some(p) => p,
             None => {
                 let (x, y) = (i as u32 % camera.width, i as u32 / camera.width);
-                pixel_fragments(scene, camera, x, y).unwrap_or_default()
+                squares.as_ref().map(|s| s.fragments(scene, x, y)).unwrap_or_default()
             }
         })
         .collect();
