@@ -70,7 +70,7 @@ pub fn render_queries(
     // Eye beams: every pixel's exact fragments first (the backend's, the rest the host's).
     let view = if options.method == Method::Beam && options.primary_beams {
         let eye_start = Instant::now();
-        let (view, left) = eye::eye_view(scene, &camera, backend)?;
+        let (view, left) = eye::eye_view(scene, &camera, backend, crop)?;
         c.overflow_pixels += left;
         c.fragments += view.iter().map(|p| p.fragments.len() as u64).sum::<u64>();
         c.primary_seconds += eye_start.elapsed().as_secs_f64();

@@ -9,6 +9,7 @@ use beam_math::glam::Vec2;
 use beam_math::polybeam::BeamFrame;
 use beam_scene::BackendError;
 use beam_scene::queries::{BeamQueries, PixelFragment, PixelFragments};
+use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Scene};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -77,26 +78,31 @@ impl PixelSquares {
     }
 }
 
-/// Every pixel's fragments, row-major: `backend`'s where it gave them, the CPU's elsewhere; and
-/// how many pixels the backend left to the host (all, for a backend without eye beams: 0 then).
+/// Every pixel's fragments, row-major: `backend`'s where it gave them, the CPU's elsewhere within
+/// `crop` (outside it, none: those pixels are not rendered); and how many pixels of `crop` the
+/// backend left to the host (0 for a backend without eye beams).
 pub(super) fn eye_view(
     scene: &Scene,
     camera: &Camera,
     backend: &dyn BeamQueries,
+    crop: PixelRect,
 ) -> Result<(Vec<PixelFragments>, u64), BackendError> {
     let given = backend.eye_fragments(scene, camera)?;
     let n = (camera.width * camera.height) as usize;
-    let left = given.as_ref().map_or(0, |g| g.iter().filter(|p| p.is_none()).count() as u64);
     let squares = PixelSquares::of(camera);
-    let view = (0..n)
+    let inside = |x: u32, y: u32| (crop.x0..crop.x1).contains(&x) && (crop.y0..crop.y1).contains(&y);
+    let view: Vec<(PixelFragments, bool)> = (0..n)
         .into_par_iter()
-        .map(|i| match given.as_ref().and_then(|g| g.get(i).cloned().flatten()) {
-            Some(p) => p,
-            None => {
-                let (x, y) = (i as u32 % camera.width, i as u32 / camera.width);
-                squares.as_ref().map(|s| s.fragments(scene, x, y)).unwrap_or_default()
+        .map(|i| {
+            let (x, y) = (i as u32 % camera.width, i as u32 / camera.width);
+            match given.as_ref().and_then(|g| g.get(i).cloned()) {
+                Some(Some(p)) => (p, false),
+                _ if !inside(x, y) => (PixelFragments::default(), false),
+                // Left by the backend (counted), or a backend without eye beams (not counted).
+                left => (squares.as_ref().map(|s| s.fragments(scene, x, y)).unwrap_or_default(), left.is_some()),
             }
         })
         .collect();
-    Ok((view, left))
+    let left = view.iter().filter(|(_, left)| *left).count() as u64;
+    Ok((view.into_iter().map(|(p, _)| p).collect(), left))
 }
