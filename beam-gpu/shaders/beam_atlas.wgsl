@@ -15,6 +15,10 @@
 // shades vertices on one thread.) Where the device has 64-bit atomics, `beam_texels.wgsl` takes
 // the place of passes 2 and 3. CPU twin: beam_cpu::nonlinear::render_beam.
 
+// #import shared/nonlinear.wgsl
+// #import lib/atlas.wgsl
+// #import lib/region.wgsl
+
 @group(0) @binding(4) var<storage, read_write> bounds_out: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> bounds_in: array<vec4<f32>>; // lower bounds (xyz), case (w)
 // Per beam on the page: scene triangles not culled as behind its base, texels tested (overdraw).

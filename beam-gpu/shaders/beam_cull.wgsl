@@ -6,6 +6,8 @@
 // self-hit floor. A triangle of a coarse face's ring is marked PAIR_NEAR. `bound_triangles`
 // (beam_atlas.wgsl) follows. CPU twin: beam_scene::nonlinear::ConeCull::keeps.
 
+// #import lib/atlas.wgsl
+
 // Twin of beam_gpu::nonlinear::BeamCull (112 bytes).
 struct BeamCull {
     apex: vec3<f32>,

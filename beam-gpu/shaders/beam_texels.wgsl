@@ -12,6 +12,9 @@
 // workgroup walks the same pairs, and no invocation waits on another's larger triangle.
 // CPU twin: beam_cpu::nonlinear::render_beam.
 
+// #import lib/atlas.wgsl
+// #import lib/region.wgsl
+
 @group(0) @binding(4) var<storage, read> bounds_in: array<vec4<f32>>; // lower bounds (xyz), case (w)
 // Per beam on the page: scene triangles not culled as behind its base, texels tested (overdraw).
 @group(0) @binding(5) var<storage, read_write> counters: array<atomic<u32>>;

@@ -5,8 +5,10 @@
 // for a mirror and Fresnel-weighted for glass. A level's radiance is an RGBA16F texture (rgb as half floats, 8
 // bytes a texel), texel i at (i mod width, i / width): no storage binding bounds its size. Each
 // dispatch binds only the faces and child regions its records reference (compacted by the host;
-// the eye's records made on the GPU index the whole S mesh and level). lib/record.wgsl is prepended.
+// the eye's records made on the GPU index the whole S mesh and level).
 // CPU twin: beam_cpu::nonlinear::composite_levels.
+
+// #import lib/record.wgsl
 
 // Twin of beam_gpu::nonlinear::composite::GpuFace (128 bytes): an S-mesh face.
 struct Face {

@@ -9,8 +9,13 @@
 // hits (on triangles without an S-mesh face) are appended for the host. The host zeroes `counts`
 // before a dispatch. CPU twin: beam_scene::scene::Camera::pixel_ray, then the nearest hit
 // (beam_bvh::FlatBvh::closest_hit); beam_cpu::nonlinear's eye view and composites (`SMesh::locate`,
-// `Tree::composite`); lib/trace.wgsl, lib/record.wgsl, lib/lookup.wgsl, lib/reproject.wgsl,
-// lib/specular.wgsl, lib/coarse.wgsl and lib/region.wgsl are prepended by the host.
+// `Tree::composite`).
+
+// #import shared/nonlinear.wgsl
+// #import lib/trace.wgsl
+// #import lib/shade_input.wgsl
+// #import lib/record.wgsl
+// #import lib/coarse.wgsl
 
 // Twin of beam_gpu::nonlinear::EyeParams (96 bytes): the camera's frame (Camera::frame) and the
 // dispatch's pixels.
@@ -34,14 +39,6 @@ struct EyeParams {
     crop: vec4<u32>,
 }
 
-// Twin of beam_gpu::shade::ShadeInput (32 bytes).
-struct ShadeInput {
-    p: vec3<f32>,
-    prim: u32,
-    d: vec3<f32>,
-    seed: u32,
-}
-
 // Twin of beam_gpu::nonlinear::EyeHit (16 bytes): a mirror or glass hit for the host.
 struct EyeHit {
     pixel: u32,
@@ -62,23 +59,6 @@ struct EyeCounts {
     overflow: atomic<u32>,
     // Mirror and glass hits kept.
     specular: atomic<u32>,
-}
-
-// Twin of beam_gpu::nonlinear::RecordCounts (32 bytes).
-struct RecordCounts {
-    // Composite records appended.
-    records: atomic<u32>,
-    // Points appended for the Whitted rays (no child beam).
-    rest: atomic<u32>,
-    // Of those, points under a coarse face whose child beams do not hold their scattered rays.
-    uncovered: atomic<u32>,
-    // Of those, points under a coarse face on triangles with interpolated normals.
-    curved: atomic<u32>,
-    // Records made under coarse faces.
-    coarse: atomic<u32>,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
 }
 
 @group(0) @binding(2) var<uniform> params: EyeParams;

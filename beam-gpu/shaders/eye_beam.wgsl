@@ -12,6 +12,10 @@
 // llvmpipe's cap cut short answers so (EYE_PIECES, EYE_FRAGMENTS, EYE_BUDGET, EYE_CUT): it is
 // never silently wrong.
 
+// #import shared/bvh.wgsl
+// #import lib/quad.wgsl
+// #import lib/eye_pieces.wgsl
+
 // Twin of beam_gpu::eye_beam::EyeBeamParams (96 bytes): the camera's image plane as a beam frame
 // (beam_cpu's image_frame: u right, v down the image) and the pixels of this dispatch.
 struct EyeBeamParams {

@@ -3,7 +3,9 @@
 // by eq. 1, glossy by eq. 3 with the exact Gaussian volume over the scatter-angle domain (Owen's T)
 // — unless a shadow ray from the point to the beam's source point is blocked (second-order shadows);
 // shadow beams mark the lights whose direct light they remove. CPU twin:
-// beam_scene::glossy::LightVolumes::gather. shared/bvh.wgsl and lib/trace.wgsl are prepended.
+// beam_scene::glossy::LightVolumes::gather.
+
+// #import lib/trace.wgsl
 
 // Twin of beam_gpu::glossy::GpuLightBeam (112 bytes).
 struct LightBeam {

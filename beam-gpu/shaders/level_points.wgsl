@@ -13,8 +13,13 @@
 // the lookups of the level above read them, and the texels for the host carry the face their
 // point lies nearest. The host zeroes `counts` before a dispatch. CPU twin: the host's texel hits
 // (beam_cpu::nonlinear::trace, `Tree::build`) sorted as beam_gpu::nonlinear::sort sorts them.
-// lib/record.wgsl, lib/region.wgsl, lib/lookup.wgsl, lib/reproject.wgsl, lib/specular.wgsl and
-// lib/coarse.wgsl and lib/fit.wgsl are prepended by the host.
+
+// #import shared/nonlinear.wgsl
+// #import lib/shade_input.wgsl
+// #import lib/record.wgsl
+// #import lib/region.wgsl
+// #import lib/coarse.wgsl
+// #import lib/fit.wgsl
 
 // Twin of beam_gpu::nonlinear::LevelParams (32 bytes).
 struct LevelParams {
@@ -39,14 +44,6 @@ struct LevelParams {
     faces: u32,
 }
 
-// Twin of beam_gpu::shade::ShadeInput (32 bytes).
-struct ShadeInput {
-    p: vec3<f32>,
-    prim: u32,
-    d: vec3<f32>,
-    seed: u32,
-}
-
 // Twin of beam_gpu::nonlinear::HostTexel (48 bytes).
 struct HostTexel {
     // The hit point.
@@ -66,22 +63,6 @@ struct HostTexel {
     // The S-mesh face its point lies nearest among its triangle's candidates (a fine triangle's
     // own face), NONE for none (no candidates bound: the host locates it).
     face: u32,
-}
-
-// Twin of beam_gpu::nonlinear::RecordCounts (32 bytes).
-struct RecordCounts {
-    records: atomic<u32>,
-    rest: atomic<u32>,
-    // Of those, texels under a coarse face whose child beams do not hold their scattered rays.
-    uncovered: atomic<u32>,
-    // Of those, the ones on triangles with interpolated normals; and where `params.fits`, the
-    // texels on such triangles without child beams at their face (elsewhere the host counts those).
-    curved: atomic<u32>,
-    // Records made under coarse faces.
-    coarse: atomic<u32>,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
 }
 
 // Twin of beam_gpu::nonlinear::LevelCounts (16 bytes).

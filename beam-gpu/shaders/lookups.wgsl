@@ -1,8 +1,10 @@
 // The coarse S mesh's lookups (000 §7.1, §7.3) on the GPU: per point of a fine surface under a
 // coarse face, where it reads the face's child beam for its own scattered ray (lib/reproject.wgsl's
 // `reproject`). The host gathers the points and finishes each composite with the answers. CPU
-// twin: beam_cpu::nonlinear::lookup::reproject. lib/lookup.wgsl and lib/reproject.wgsl are
-// prepended.
+// twin: beam_cpu::nonlinear::lookup::reproject.
+
+// #import shared/nonlinear.wgsl
+// #import lib/reproject.wgsl
 
 // Twin of beam_gpu::nonlinear::GpuLookupJob (48 bytes).
 struct LookupJob {

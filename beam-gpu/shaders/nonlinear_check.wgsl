@@ -1,5 +1,8 @@
 // Compute entry points that run the WGSL nonlinear-beam functions on batches of cases, for the
-// conformance suite to compare with beam-math (tests/src/gpu.rs). lib/lookup.wgsl is prepended.
+// conformance suite to compare with beam-math (tests/src/gpu.rs).
+
+// #import shared/nonlinear.wgsl
+// #import lib/lookup.wgsl
 
 // Twin of beam_gpu::nonlinear::CheckCase (48 bytes): a scene triangle for
 // `check_bounding_triangles`, a base point (a.xyz) for `check_rays`, or a point (a.xyz) and a guess

@@ -1,6 +1,9 @@
 // Closest-hit and any-hit ray tracing over beam-bvh's GPU layout: one invocation per ray. The CPU
 // twin is beam_bvh::FlatBvh::closest_hit / any_hit (front-to-back stack traversal, watertight test).
-// shared/bvh.wgsl and lib/trace.wgsl (nodes, triangles, trace_ray) are prepended by the host.
+// The traversal (nodes, triangles, trace_ray) is lib/trace.wgsl's.
+
+// #import lib/trace.wgsl
+// #import lib/shade_input.wgsl
 
 // Twin of beam_gpu::raytrace::GpuRay (32 bytes).
 struct GpuRay {
@@ -31,14 +34,6 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
 // ---- Shading of diffuse, glossy and emissive points (CPU twin: beam_gpu::shade::shade_twin;
 // beam_cpu::render::shade_point with point lights exactly, area lights by stratified shadow rays
 // with the `Shading::Exact` estimator, seeded by a hash instead of PCG32) ----
-
-// Twin of beam_gpu::shade::ShadeInput (32 bytes).
-struct ShadeInput {
-    p: vec3<f32>,
-    prim: u32,
-    d: vec3<f32>,   // unit direction of the arriving ray
-    seed: u32,
-}
 
 // Twin of beam_gpu::shade::PrimShading (32 bytes).
 struct PrimShading {

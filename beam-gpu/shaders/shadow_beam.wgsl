@@ -7,6 +7,9 @@
 // whose loops llvmpipe's cap cut short answers so (SHADOW_PIECES, SHADOW_BUDGET, SHADOW_CUT) and
 // is traced again by the host: never dropped.
 
+// #import shared/bvh.wgsl
+// #import lib/quad.wgsl
+
 // Twin of beam_gpu::shadow_beam::GpuLightQuery (32 bytes).
 struct LightQuery {
     p: vec3<f32>,

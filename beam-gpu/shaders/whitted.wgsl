@@ -7,8 +7,12 @@
 // do the same in a dispatch per bounce: `start` takes the points to shade, `wave` one wave of
 // paths; both append up to two paths per item (the host sizes the outputs) and zero ends or one.
 // Each dispatch gets new, zeroed `counts`. CPU twin: beam_scene::nonlinear::shade_by_waves with
-// beam_scene::specular::specular_rays; lib/trace.wgsl and lib/specular.wgsl are prepended by
-// the host.
+// beam_scene::specular::specular_rays.
+
+// #import shared/nonlinear.wgsl
+// #import lib/trace.wgsl
+// #import lib/shade_input.wgsl
+// #import lib/specular.wgsl
 
 // Twin of beam_gpu::nonlinear::WhittedParams (16 bytes).
 struct WhittedParams {
@@ -20,14 +24,6 @@ struct WhittedParams {
     last: u32,
     // Offset of the specular rays' origins off the surface (beam_scene::tolerance::shading_eps).
     eps: f32,
-}
-
-// Twin of beam_gpu::shade::ShadeInput (32 bytes).
-struct ShadeInput {
-    p: vec3<f32>,
-    prim: u32,
-    d: vec3<f32>,
-    seed: u32,
 }
 
 // Twin of beam_gpu::nonlinear::WhittedPath (48 bytes): a path's next ray, where its radiance goes

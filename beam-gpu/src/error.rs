@@ -69,6 +69,21 @@ pub enum GpuError {
         /// naga's diagnostic, with the source lines it points at.
         message: String,
     },
+    /// A WGSL file whose `// #import` line names a file that is not in
+    /// [`LIBRARY`](crate::shaders::LIBRARY).
+    #[error("{file}: imports `{import}`, which is not a shader library file")]
+    UnknownImport {
+        /// The importing file (`raytrace.wgsl`, `lib/trace.wgsl`).
+        file: String,
+        /// The name it imports.
+        import: String,
+    },
+    /// WGSL files whose `// #import` lines import each other in a cycle.
+    #[error("shader import cycle: {}", cycle.join(" → "))]
+    ImportCycle {
+        /// The files of the cycle, from its first file back to it.
+        cycle: Vec<String>,
+    },
     /// A shader that naga does not translate to a language of [`emit`](crate::shaders::emit).
     #[error("{name}: {language}: {source}")]
     Translate {

@@ -1,16 +1,16 @@
 //! The WGSL shaders, their validation by naga, and their translation for engines that take them
-//! into their own pipelines (`beam shaders --emit spv|glsl|msl|hlsl`).
+//! into their own pipelines (`beam shaders --emit spv|glsl|msl|hlsl`). Each shader names the
+//! library files it uses ([`LIBRARY`]: `shaders/lib/*.wgsl`, `shaders/shared/*.wgsl`) on lines of
+//! its own such as `// #import lib/trace.wgsl`, and a library file the files it uses in turn;
+//! [`source`] follows them transitively, each file once, after the files it imports (a cycle is an
+//! error).
 
 use crate::GpuError;
 use std::path::Path;
 
-/// Code shared by the shaders (`shaders/shared/*.wgsl`), prepended to each.
-pub(crate) const SHARED: &[(&str, &str)] = &[
-    ("shared/bvh.wgsl", include_str!("../shaders/shared/bvh.wgsl")),
-    ("shared/nonlinear.wgsl", include_str!("../shaders/shared/nonlinear.wgsl")),
-];
+mod imports;
 
-/// The shaders: name and source (without the shared code).
+/// The shaders: name and source (without the library files it imports).
 pub const SHADERS: &[(&str, &str)] = &[
     ("raytrace", include_str!("../shaders/raytrace.wgsl")),
     ("beam_atlas", include_str!("../shaders/beam_atlas.wgsl")),
@@ -31,46 +31,69 @@ pub const SHADERS: &[(&str, &str)] = &[
 /// HLSL shader model 6.6, and not for GLSL, which naga writes without 64-bit integers.
 pub const INT64_ATOMICS: &[&str] = &["beam_texels"];
 
-/// Library code that some shaders include (`shaders/lib/*.wgsl`): name, source, the shaders that
-/// include it.
-pub(crate) const LIBRARY: &[(&str, &str, &[&str])] = &[
-    ("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl"), &["raytrace", "glossy_gather", "eye", "whitted"]),
-    ("lib/atlas.wgsl", include_str!("../shaders/lib/atlas.wgsl"), &["beam_atlas", "beam_cull", "beam_texels"]),
-    ("lib/record.wgsl", include_str!("../shaders/lib/record.wgsl"), &["composite", "eye", "level_points"]),
-    (
-        "lib/lookup.wgsl",
-        include_str!("../shaders/lib/lookup.wgsl"),
-        &["nonlinear_check", "lookups", "eye", "level_points"],
-    ),
-    ("lib/reproject.wgsl", include_str!("../shaders/lib/reproject.wgsl"), &["lookups", "eye", "level_points"]),
-    ("lib/specular.wgsl", include_str!("../shaders/lib/specular.wgsl"), &["eye", "whitted", "level_points"]),
-    ("lib/coarse.wgsl", include_str!("../shaders/lib/coarse.wgsl"), &["eye", "level_points"]),
-    ("lib/fit.wgsl", include_str!("../shaders/lib/fit.wgsl"), &["level_points"]),
-    ("lib/quad.wgsl", include_str!("../shaders/lib/quad.wgsl"), &["shadow_beam", "eye_beam"]),
-    ("lib/eye_pieces.wgsl", include_str!("../shaders/lib/eye_pieces.wgsl"), &["eye_beam"]),
-    (
-        "lib/region.wgsl",
-        include_str!("../shaders/lib/region.wgsl"),
-        &["beam_atlas", "beam_texels", "level_points", "lookups", "eye"],
-    ),
+/// The library files the shaders import (`shaders/shared/*.wgsl`, `shaders/lib/*.wgsl`): the name
+/// an import line gives (relative to `shaders/`) and the source.
+pub const LIBRARY: &[(&str, &str)] = &[
+    ("shared/bvh.wgsl", include_str!("../shaders/shared/bvh.wgsl")),
+    ("shared/nonlinear.wgsl", include_str!("../shaders/shared/nonlinear.wgsl")),
+    ("lib/trace.wgsl", include_str!("../shaders/lib/trace.wgsl")),
+    ("lib/atlas.wgsl", include_str!("../shaders/lib/atlas.wgsl")),
+    ("lib/record.wgsl", include_str!("../shaders/lib/record.wgsl")),
+    ("lib/shade_input.wgsl", include_str!("../shaders/lib/shade_input.wgsl")),
+    ("lib/lookup.wgsl", include_str!("../shaders/lib/lookup.wgsl")),
+    ("lib/reproject.wgsl", include_str!("../shaders/lib/reproject.wgsl")),
+    ("lib/specular.wgsl", include_str!("../shaders/lib/specular.wgsl")),
+    ("lib/coarse.wgsl", include_str!("../shaders/lib/coarse.wgsl")),
+    ("lib/fit.wgsl", include_str!("../shaders/lib/fit.wgsl")),
+    ("lib/quad.wgsl", include_str!("../shaders/lib/quad.wgsl")),
+    ("lib/eye_pieces.wgsl", include_str!("../shaders/lib/eye_pieces.wgsl")),
+    ("lib/region.wgsl", include_str!("../shaders/lib/region.wgsl")),
 ];
 
-/// The full source of shader `name`: the constants it shares with Rust ([`crate::interface::wgsl`]),
-/// the shared code, the library code it includes, then the shader.
+/// The files shader `name` is made of, `(file, source)`: the library files its imports bring in,
+/// transitively, each once and after the files it imports, then the shader (`name.wgsl`) last.
+pub(crate) fn files(name: &str) -> Result<Vec<(String, &'static str)>, GpuError> {
+    let (_, body) =
+        SHADERS.iter().find(|(n, _)| *n == name).ok_or_else(|| GpuError::NoShader { name: name.to_string() })?;
+    let file = format!("{name}.wgsl");
+    imports::resolve(&file, body, |import| LIBRARY.iter().find(|(n, _)| *n == import).map(|(_, text)| *text))
+}
+
+/// The full source of shader `name`, or `None` for no shader of that name: the constants it shares
+/// with Rust ([`crate::interface::wgsl`]), then the library files its imports bring in
+/// ([`files`]), then the shader.
+///
+/// # Panics
+///
+/// If the embedded files' imports name a file not in [`LIBRARY`] or form a cycle (a test rules
+/// both out).
 #[must_use]
 pub fn source(name: &str) -> Option<String> {
-    let (_, body) = SHADERS.iter().find(|(n, _)| *n == name)?;
-    let included = LIBRARY.iter().filter(|(_, _, users)| users.contains(&name)).map(|(_, s, _)| *s);
+    match try_source(name) {
+        Ok(source) => Some(source),
+        Err(GpuError::NoShader { .. }) => None,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// [`source`], with a broken import an error.
+fn try_source(name: &str) -> Result<String, GpuError> {
     let mut out = crate::interface::wgsl();
-    out.push_str(&SHARED.iter().map(|(_, s)| *s).chain(included).collect::<Vec<_>>().join("\n"));
-    out.push('\n');
-    out.push_str(body);
-    Some(out)
+    for (file, text) in files(name)? {
+        out.push_str("\n// ---- ");
+        out.push_str(&file);
+        out.push('\n');
+        out.push_str(text);
+        if !text.ends_with('\n') {
+            out.push('\n');
+        }
+    }
+    Ok(out)
 }
 
 /// Parse and validate shader `name` with naga.
 pub fn validate(name: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), GpuError> {
-    let src = source(name).ok_or_else(|| GpuError::NoShader { name: name.to_string() })?;
+    let src = try_source(name)?;
     let invalid = |message| GpuError::Shader { name: name.to_string(), message };
     let module = naga::front::wgsl::parse_str(&src).map_err(|e| invalid(e.emit_to_string(&src)))?;
     let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
@@ -208,6 +231,59 @@ mod tests {
         for (name, _) in SHADERS {
             validate(name).unwrap_or_else(|e| panic!("{e}"));
         }
+    }
+
+    /// Every `shaders/lib/*.wgsl` and `shaders/shared/*.wgsl` is in [`LIBRARY`] and imported by some
+    /// shader, and a shader's source holds each of its files once.
+    #[test]
+    fn every_library_file_is_listed_and_imported_once() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+        let mut on_disk = Vec::new();
+        for dir in ["lib", "shared"] {
+            for entry in std::fs::read_dir(root.join(dir)).unwrap() {
+                let name = entry.unwrap().file_name().into_string().unwrap();
+                if name.ends_with(".wgsl") {
+                    on_disk.push(format!("{dir}/{name}"));
+                }
+            }
+        }
+        on_disk.sort();
+        let mut listed: Vec<_> = LIBRARY.iter().map(|(n, _)| (*n).to_string()).collect();
+        listed.sort();
+        assert_eq!(on_disk, listed, "LIBRARY must list every shaders/lib and shaders/shared file");
+        let mut used = std::collections::BTreeSet::new();
+        for (name, _) in SHADERS {
+            let files = files(name).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(files.last().map(|(f, _)| f.as_str()), Some(format!("{name}.wgsl").as_str()));
+            let source = source(name).unwrap();
+            for (file, _) in &files {
+                assert_eq!(source.matches(&format!("// ---- {file}\n")).count(), 1, "{name}: {file}");
+                used.insert(file.clone());
+            }
+        }
+        for (file, _) in LIBRARY {
+            assert!(used.contains(*file), "{file} is imported by no shader");
+        }
+        assert_eq!(source("nope"), None);
+    }
+
+    /// Each WGSL struct is defined in one file (a file that needs it imports that one).
+    #[test]
+    fn no_struct_is_defined_twice() {
+        let mut defined: std::collections::HashMap<&str, &str> = std::collections::HashMap::new();
+        let mut twice = Vec::new();
+        let shaders = SHADERS.iter().map(|(n, s)| (*n, *s));
+        for (file, text) in LIBRARY.iter().copied().chain(shaders) {
+            for line in text.lines() {
+                let Some(rest) = line.trim_start().strip_prefix("struct ") else { continue };
+                let name = rest.split(|c: char| !(c.is_alphanumeric() || c == '_')).next().unwrap_or(rest);
+                if let Some(first) = defined.insert(name, file) {
+                    twice.push(format!("struct {name}: {first} and {file}"));
+                }
+            }
+        }
+        assert!(defined.contains_key("RecordCounts") && defined.contains_key("ShadeInput"));
+        assert!(twice.is_empty(), "structs defined twice:\n{}", twice.join("\n"));
     }
 
     #[test]

@@ -2,6 +2,9 @@
 // rasterization, `beam_texels.wgsl` by compute): the page's uniforms and its (beam, triangle)
 // pairs, and one texel's test against one triangle. CPU twin: beam_cpu::nonlinear::render_beam.
 
+// #import shared/bvh.wgsl
+// #import shared/nonlinear.wgsl
+
 // Twin of beam_gpu::nonlinear::AtlasParams (16 bytes).
 struct AtlasParams {
     size: vec2<f32>,  // atlas width and height in texels

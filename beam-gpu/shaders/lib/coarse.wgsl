@@ -2,14 +2,17 @@
 // the GPU: the face it lies nearest among its triangle's candidates (`nearest_face`,
 // beam_scene::nonlinear::SMesh::locate), and where its own scattered rays read that face's child
 // beams, or a neighbouring candidate's (`coarse_composite`, beam_cpu::nonlinear's
-// `Tree::composite`). Included by eye.wgsl (the eye's hits) and level_points.wgsl (a tree level's
-// texels), with lib/lookup.wgsl, lib/reproject.wgsl, lib/region.wgsl and lib/specular.wgsl. The
+// `Tree::composite`). Imported by eye.wgsl (the eye's hits) and level_points.wgsl (a tree level's
+// texels). The
 // including shader binds `candidates` (per scene triangle p, at 2p and 2p + 1, the start and end
 // in the same array of its candidate faces), `corners` (per face, its three vertices),
 // `child_beams` and `texel_t` (the child level's beams, lib/reproject.wgsl), `slots` and
 // `specular_prims` (the mirror and glass triangles, lib/specular.wgsl), and defines
 // `children_of(context, face)`: the face's reflection and refraction beams in the child level
 // (NONE for none) for the point's `context`.
+
+// #import lib/reproject.wgsl
+// #import lib/specular.wgsl
 
 // The point of triangle abc nearest p (beam_math::collide::closest_point_on_triangle, Ericson
 // §5.1.5, in its order of operations).

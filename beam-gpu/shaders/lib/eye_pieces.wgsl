@@ -2,8 +2,10 @@
 // piece list (each piece a quad of lib/quad.wgsl with the triangle it sees and that triangle's
 // inverse depth and plane), the split of every piece by a projected triangle where the triangle is
 // nearer than what the piece sees, and the join of the parts that see the same triangle again.
-// CPU twin: beam_cpu::render::primary_beam's EyeTracer (split_piece, resolve, join). Included by
+// CPU twin: beam_cpu::render::primary_beam's EyeTracer (split_piece, resolve, join). Imported by
 // eye_beam.wgsl, which projects the triangles into `tri_corners` and reads the pieces.
+
+// #import lib/quad.wgsl
 
 // The pieces: cross-section, bounding rectangle (lo.x, lo.y, hi.x, hi.y), owner (index into
 // `triangles`, MISS for the background), the owner's inverse depth (k0, kx, ky: 1/s = k0 + k·l,

@@ -5,6 +5,8 @@
 // coarse S mesh's composite takes per point and child beam (lookups.wgsl's `reproject`);
 // nonlinear_check's `check_lookups` runs it for the conformance suite.
 
+// #import shared/nonlinear.wgsl
+
 // Relative rounding of an f32 residual |O + t·d − q| (a few ulps of its terms): where it exceeds
 // LOOKUP_TOLERANCE of the base's size, Newton's method stops at it instead (GPU only).
 const LOOKUP_ROUNDING: f32 = 8.0 * 1.1920929e-7;

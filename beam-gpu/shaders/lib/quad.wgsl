@@ -1,8 +1,8 @@
 // Small polygon beams of 001 §3.2 (Fig. 2h) in WGSL: cross-sections of at most four corners in
 // 4-lane vectors, and their exact split by a convex polygon (a projected triangle) into the missed
 // parts. CPU twin: beam_math::polybeam::Quad::split (same fuzzy rules of 001 App. A, same order of
-// cuts, same re-cut into pieces of at most four corners). Included by shadow_beam.wgsl, which owns
-// the piece list the missed parts go to (`emit_piece`).
+// cuts, same re-cut into pieces of at most four corners). Imported by shadow_beam.wgsl and
+// lib/eye_pieces.wgsl, each of which owns the piece list the missed parts go to (`emit_piece`).
 
 // A convex cross-section of 3 or 4 corners, counter-clockwise; unused lanes repeat corner 0.
 struct Quad {

@@ -3,8 +3,12 @@
 // (lib/lookup.wgsl) of the point that far along its ray. CPU twin:
 // beam_cpu::nonlinear::lookup::reproject. The including shader binds `texel_t`: per texel of the
 // beams' regions (a beam's region.x: its first of size² texels, row-major as beam_scene's
-// BeamTexture), the ray parameter of its nearest hit, negative where it hits nothing. Included by
-// lookups.wgsl, eye.wgsl and level_points.wgsl, with lib/lookup.wgsl and lib/region.wgsl.
+// BeamTexture), the ray parameter of its nearest hit, negative where it hits nothing. Imported by
+// lookups.wgsl and lib/coarse.wgsl.
+
+// #import shared/nonlinear.wgsl
+// #import lib/lookup.wgsl
+// #import lib/region.wgsl
 
 // The hit point of the rendered texel nearest w (beam_cpu's lookup `depth`) in xyz, and
 // in w 1 where it hits, else 0. Loops: at most 2·size iterations.

@@ -1,7 +1,7 @@
 // A mirror or glass triangle as the GPU reads it (`specular_prims`, a texture of eight texels a
 // triangle that the including shader binds) and the geometry of its specular rays: what
-// beam_scene::specular::specular_rays reads. Included by whitted.wgsl (the Whitted rays) and eye.wgsl
-// (a point's own scattered rays under a coarse S-mesh face).
+// beam_scene::specular::specular_rays reads. Imported by whitted.wgsl (the Whitted rays) and
+// lib/coarse.wgsl (a point's own scattered rays under a coarse S-mesh face).
 
 // Twin of beam_gpu::nonlinear::SpecularPrim (128 bytes): a mirror or glass triangle.
 struct SpecularPrim {

@@ -1,6 +1,9 @@
 // The closest-hit and any-hit traversal over beam-bvh's GPU layout, bound at group 0 bindings 0
-// (nodes) and 1 (triangles); included by the shaders that trace rays (raytrace, glossy_gather).
+// (nodes) and 1 (triangles); imported by the shaders that trace rays (raytrace, glossy_gather, eye,
+// whitted).
 // CPU twin: beam_bvh::FlatBvh::closest_hit / any_hit (front-to-back stack traversal, watertight).
+
+// #import shared/bvh.wgsl
 
 // Twin of beam_gpu::raytrace::GpuHit (8 bytes): prim is MISS on a miss; for an any-hit ray t is 1
 // when occluded and 0 otherwise. (The shared constants, TRAVERSAL_STACK, MISS, …, are generated
