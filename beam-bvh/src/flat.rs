@@ -1,8 +1,9 @@
 //! The compact CPU layout: 32-byte nodes in depth-first order (left child right after its parent),
 //! triangle references by index. The same node is the GPU layout's node (see [`crate::gpu`]).
 
+use crate::build::build;
+use crate::options::BuildOptions;
 use crate::tree::{Bvh, Node};
-use crate::{BuildOptions, build};
 use beam_math::glam::Vec3;
 use beam_math::{Aabb, Triangle};
 use bytemuck::{Pod, Zeroable};

@@ -1,6 +1,6 @@
 //! Statistics as data: per-query counters and whole-tree figures.
 
-use crate::FlatBvh;
+use crate::flat::FlatBvh;
 use beam_math::heuristics::surface_area;
 
 /// Counters of one or more queries.

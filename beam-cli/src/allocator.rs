@@ -6,7 +6,7 @@
 //! samples were page faults, and the host ms per frame fell from 469 to about 270 once large
 //! blocks stayed in the heap. The price: memory freed after a frame stays with the process, for
 //! the next one.
-#![allow(unsafe_code)]
+#![allow(unsafe_code, reason = "glibc's mallopt is an FFI call (on Linux with glibc only, hence no expect)")]
 
 /// Keep freed memory in the process: no allocation below 2 GB is mapped on its own, and the heap
 /// is never trimmed. Call before other threads start.

@@ -7,52 +7,169 @@ use beam_cpu::render::{Method, Occluders, RenderOptions, Shading};
 use beam_math::glossy::VolumeMethod;
 use beam_scene::region::Placement;
 use beam_scene::scene::{self, Environment, EnvironmentMap, Scene};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// Options of `beam render`.
-pub struct RenderArgs<'a> {
-    pub scene: &'a str,
-    pub method: &'a str,
-    pub backend: &'a str,
-    pub degree: &'a str,
+/// Options of `beam render`, as parsed (the defaults filled in).
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// A built-in scene (cornell, mirror-glass, cornell-point, foliage; the soft-shadow suite's
+    /// spheres, spheres-36, spheres-256, plant, ground), a .toml scene file, a .gltf/.glb
+    /// model or an .obj mesh.
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// Light visibility: `beam` (exact shadow beams) or `ray` (stratified shadow rays); or
+    /// `nonlinear` (mirrors by nonlinear beams, 000, with exact shadow beams) and its ground
+    /// truth `nonlinear-reference` (mirrors by rays reflected about the interpolated normal); or
+    /// `glossy` (caustics and glossy light by light volumes from point lights, and from area
+    /// lights as 4×4 stratified points, 002) and its ground truth `glossy-reference` (photons).
+    #[arg(long, default_value = "beam")]
+    pub method: String,
+    /// Where the method runs: `cpu`, or `gpu` (the first wgpu adapter). On the GPU, `beam` sees
+    /// through eye beams (or `--primary-rays`) and `ray` through primary rays, with shadow beams
+    /// (exact, each to the end) or shadow rays, in batches, the frame driven by the host;
+    /// nonlinear: beam atlases, rays and the shading of diffuse points, area lights by `--spp`
+    /// stratified shadow rays, where the CPU's are exact; glossy: eye rays and the gather.
+    /// `glossy-reference` runs on the CPU only.
+    #[arg(long, default_value = "cpu")]
+    pub backend: String,
+    /// Nonlinear beam parameterization: `s1` or `s3` (`--method nonlinear`).
+    #[arg(long, default_value = "s3")]
+    pub degree: String,
+    /// Texels per side of each nonlinear beam's region, 4 to 4096 (`--method nonlinear`).
+    #[arg(long, default_value_t = 32)]
     pub texels: u32,
+    /// Levels of the nonlinear beam tree (specular bounces by beams; deeper ones by rays).
+    #[arg(long, default_value_t = 2)]
     pub bounces: u32,
+    /// Area lights cast caustics as N × N stratified point emitters (`--method nonlinear`), 0 to
+    /// 8; each costs about as much as a point light's caustics; 0: area lights cast none.
+    #[arg(long, default_value_t = beam_cpu::nonlinear::CAUSTIC_STRATA)]
     pub caustic_strata: u32,
+    /// S-mesh resolution of a procedural built-in (facing-mirrors, glass-lens, mirror-teapot,
+    /// wavy-lake): quads per mirror side, lens rings, teapot profile steps, water quads per side.
+    #[arg(long)]
     pub smesh: Option<u32>,
-    /// `--smesh-target`: faces of the simplified S mesh.
+    /// Spawn the nonlinear beams from a coarse S mesh (000 §7.1) of about N faces in all,
+    /// simplified from every mirror and glass surface without an S mesh of its own in the scene
+    /// file (meshoptimizer), 4 to 16777216; the fine surfaces are still the ones rendered.
+    #[arg(long, value_name = "N", conflicts_with = "smesh_error")]
     pub smesh_target: Option<u32>,
-    /// `--smesh-error`: error of the simplified S mesh.
+    /// Like `--smesh-target`, but simplify while the surface moves by at most this fraction of
+    /// its size (above 0, at most 1).
+    #[arg(long, value_name = "E")]
     pub smesh_error: Option<f32>,
-    pub shading: &'a str,
+    /// `exact` (eq. 1, Lambert's polygon formula) or `fraction` (001 eq. 2).
+    #[arg(long, default_value = "exact")]
+    pub shading: String,
+    /// Shadow rays per shade point and area light, 1 to 65536 (`--method ray`, and `--backend gpu`;
+    /// with `--method beam`, the budget of a shadow beam in rays' worth of work and the rays that
+    /// sample what it leaves unresolved, see `--exact`).
+    #[arg(long, default_value_t = 64)]
     pub spp: u32,
+    /// Primary rays per pixel when primary visibility is ray traced (`--method ray`, and `beam`
+    /// with `--primary-rays`): a perfect square from 1 to 1024 (1, 4, 9, 16, …), the k × k
+    /// strata of the pixel; any other number is refused, not rounded.
+    #[arg(long, default_value_t = 1)]
     pub primary_spp: u32,
-    pub primary_beams: bool,
-    pub occluders: &'a str,
+    /// With `--method beam`: primary visibility by `--primary-spp` stratified primary rays,
+    /// and point-light shadows by rays, instead of the default exact eye beams (box-filtered
+    /// pixel coverage, 001 §3) with hard shadows by beams from the visible pieces (001 §4.2).
+    #[arg(long)]
+    pub primary_rays: bool,
+    /// With `--method beam`: how shadow beams take their occluders: `split` (one at a time,
+    /// 001 §3.2), `edges` (by their silhouette, boundary and cut edges, integrated exactly), or
+    /// `auto` (each cluster of shade points picks the one that did less work); the same image.
+    #[arg(long, default_value = "auto")]
+    pub occluders: String,
+    /// With `--method beam`: trace every shadow beam to the end. By default a beam whose work
+    /// passes `--spp` shadow rays' worth samples the part of the light it left unresolved with
+    /// `--spp` rays (exact where they all agree); `--stats` gives the share of exact pixels and
+    /// the largest error bound.
+    #[arg(long)]
     pub exact: bool,
-    pub volume: &'a str,
+    /// Glossy beams' Gaussian volumes (`--method glossy`): `exact` (Owen's T) or `tessellated`
+    /// (002 Figs. 11-12).
+    #[arg(long, default_value = "exact")]
+    pub volume: String,
+    /// Gather over every light beam (`--method glossy`), as 002 does, instead of through the
+    /// cone hierarchy.
+    #[arg(long)]
     pub linear_gather: bool,
+    /// Split each scatterer triangle into N × N sub-triangles for its light beams (`--method
+    /// glossy`; 1: one beam per triangle, as 002 does).
+    #[arg(long, default_value_t = 4)]
     pub subdivide: u32,
-    pub second_order: bool,
+    /// Leave out second-order shadows (`--method glossy`), as 002 does.
+    #[arg(long)]
+    pub no_second_order: bool,
+    /// Read the scattered light through the kernel of `glossy-reference`'s photon map (`--method
+    /// glossy`, CPU), so the two estimate the same image: for comparisons with it.
+    #[arg(long)]
     pub photon_kernel: bool,
+    /// Photons per light of the references' caustics (`nonlinear-reference`,
+    /// `glossy-reference`).
+    #[arg(long, default_value_t = 4_000_000)]
     pub photons: u64,
+    /// Image width (default: the scene camera's).
+    #[arg(long)]
     pub width: Option<u32>,
+    /// Image height (default: the scene camera's, or keeping its aspect with --width).
+    #[arg(long)]
     pub height: Option<u32>,
-    pub out: &'a Path,
-    /// Scale of the written image, 2^exposure.
+    /// Output image: `*.png` (8-bit sRGB, tone-mapped by clamping) or `*.exr` (OpenEXR, linear
+    /// radiance as 32-bit floats). Only a new file or a writable regular file is written; it is
+    /// checked before the render starts and replaced atomically.
+    #[arg(long, default_value = "beam.png")]
+    pub out: PathBuf,
+    /// Scale the image by 2^EV before it is written, in PNG (before the sRGB encoding) and EXR
+    /// alike; -64 to 64. With an integer EV an EXR holds radiance × 2^EV exactly.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_name = "EV")]
     pub exposure: f32,
-    /// `--tile I/N`.
-    pub tile: Option<&'a str>,
-    /// `--crop x0,y0,x1,y1`.
-    pub crop: Option<&'a str>,
-    /// `--frame K`.
+    /// Render band I of N horizontal bands (I from 0 to N − 1; rows ⌊I·H/N⌋ to ⌊(I+1)·H/N⌋,
+    /// the same split in every process), for a render farm: the output holds the band and
+    /// where it sits in the frame, and `beam merge` joins the bands. Each pixel gets the value
+    /// the whole frame's render gives it, bit for bit; the per-pixel work is done for the band
+    /// only (docs/guide.md, "Render farms", says what each method still does for the whole
+    /// frame).
+    #[arg(long, value_name = "I/N", conflicts_with = "crop")]
+    pub tile: Option<String>,
+    /// Render the pixels x0 ≤ x < x1, y0 ≤ y < y1 of the frame only (like --tile, a rectangle
+    /// of it; `beam merge` joins rectangles that cover the frame).
+    #[arg(long, value_name = "x0,y0,x1,y1")]
+    pub crop: Option<String>,
+    /// Frame K of the scene file's animated camera (`[[camera.keys]]`); a still camera has
+    /// frame 0 only.
+    #[arg(long, value_name = "K")]
     pub frame: Option<u32>,
-    pub stats: Option<&'a Path>,
-    /// Let a scene file name meshes outside its folder.
+    /// Also write statistics as JSON (to a file other than --out; written together with it).
+    #[arg(long)]
+    pub stats: Option<PathBuf>,
+    /// Let a scene file name meshes outside its own folder (through `..`, an absolute path or a
+    /// symbolic link); by default they must stay inside it.
+    #[arg(long)]
     pub allow_outside_paths: bool,
-    /// `--env`: an environment map file or `r,g,b`, replacing the scene's.
-    pub env: Option<&'a str>,
-    /// The clap ids of the options given on the command line (not defaulted).
-    pub given: &'a [String],
+    /// The environment, replacing the scene's: what rays that leave the scene see (the
+    /// background, mirrors, glass) and the light it sends in. `r,g,b`: a uniform sky of that
+    /// linear radiance (lit with exact shadow beams by `--method beam`); a `.hdr` or `.exr`
+    /// file: an equirectangular map (+Y up, +X at its centre column, as glTF viewers), whose
+    /// light `--spp` cosine-weighted rays a point sample. Seen by `beam` and `ray` only.
+    #[arg(long, value_name = "FILE|r,g,b")]
+    pub env: Option<String>,
+    /// The clap ids of the options given on the command line (not defaulted); set after parsing.
+    #[arg(skip)]
+    pub given: Vec<String>,
+}
+
+impl RenderArgs {
+    /// Primary visibility by eye beams (not `--primary-rays`).
+    pub fn primary_beams(&self) -> bool {
+        !self.primary_rays
+    }
+
+    /// Second-order shadows of the glossy light volumes (not `--no-second-order`).
+    pub fn second_order(&self) -> bool {
+        !self.no_second_order
+    }
 }
 
 /// Largest image side, and largest pixel count.
@@ -188,8 +305,8 @@ pub fn estimate(kind: Kind, width: u32, height: u32, triangles: usize, photons: 
 
 /// Check every option of `beam render` and load the scene; `quiet` leaves out the memory note.
 pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
-    let kind = Kind::parse(a.method)?;
-    let gpu = match a.backend {
+    let kind = Kind::parse(&a.method)?;
+    let gpu = match a.backend.as_str() {
         "cpu" => false,
         "gpu" => true,
         b => return Err(format!("unknown backend `{b}` (expected cpu or gpu)")),
@@ -199,8 +316,8 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
             "--backend gpu does not apply to --method glossy-reference (its photon tracing runs on the CPU)".into()
         );
     }
-    for id in a.given {
-        if let Some(kinds) = applies_to(id, gpu, a.primary_beams) {
+    for id in &a.given {
+        if let Some(kinds) = applies_to(id, gpu, a.primary_beams()) {
             if !kinds.contains(&kind) {
                 let to = kinds.iter().map(|k| k.name()).collect::<Vec<_>>().join(", ");
                 let backend = if gpu { " --backend gpu" } else { "" };
@@ -219,23 +336,23 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
                 .into(),
         );
     }
-    let shading = match a.shading {
+    let shading = match a.shading.as_str() {
         "fraction" => Shading::Fraction,
         "exact" => Shading::Exact,
         s => return Err(format!("unknown --shading `{s}` (expected exact or fraction)")),
     };
-    let occluders = match a.occluders {
+    let occluders = match a.occluders.as_str() {
         "auto" => Occluders::Auto,
         "split" => Occluders::Split,
         "edges" => Occluders::Edges,
         o => return Err(format!("unknown --occluders `{o}` (expected auto, split or edges)")),
     };
-    let degree = match a.degree {
+    let degree = match a.degree.as_str() {
         "s1" => Degree::S1,
         "s3" => Degree::S3,
         d => return Err(format!("unknown --degree `{d}` (expected s1 or s3)")),
     };
-    let volume = match a.volume {
+    let volume = match a.volume.as_str() {
         "exact" => VolumeMethod::Exact,
         "tessellated" => VolumeMethod::Tessellated,
         v => return Err(format!("unknown --volume `{v}` (expected exact or tessellated)")),
@@ -261,11 +378,11 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
     if let (Some(0), _) | (_, Some(0)) = (a.width, a.height) {
         return Err(format!("image size out of range: each side must be 1 to {MAX_SIDE}"));
     }
-    crate::output::check_render_outputs(a.out, a.stats)?;
-    check_scene_path(a.scene)?;
+    crate::output::check_render_outputs(&a.out, a.stats.as_deref())?;
+    check_scene_path(&a.scene)?;
     let mut scene = match a.smesh {
-        Some(n) => scene::builtin_with_smesh(a.scene, n).map_err(|e| e.to_string())?,
-        None => scene::load_with(a.scene, &scene::LoadOptions { allow_outside_paths: a.allow_outside_paths })
+        Some(n) => scene::builtin_with_smesh(&a.scene, n).map_err(|e| e.to_string())?,
+        None => scene::load_with(&a.scene, &scene::LoadOptions { allow_outside_paths: a.allow_outside_paths })
             .map_err(|e| e.to_string())?,
     };
     let simplify = match (a.smesh_target, a.smesh_error) {
@@ -278,7 +395,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         let value = a.smesh_target.map_or_else(|| format!("{}", a.smesh_error.unwrap_or(0.0)), |n| n.to_string());
         scene.smesh.rest = Some(s.checked().map_err(|e| format!("{flag} {value} out of range: {e}"))?);
     }
-    if let Some(e) = a.env {
+    if let Some(e) = &a.env {
         scene.environment = environment(e)?;
     }
     for n in &scene.notices {
@@ -307,7 +424,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         Some(k) => format!("--frame {k}: the camera of scene {}: {why}", scene.name),
         None => format!("the camera of scene {}: {why}", scene.name),
     })?;
-    let region = crate::region::parse(a.tile, a.crop, width, height)?;
+    let region = crate::region::parse(a.tile.as_deref(), a.crop.as_deref(), width, height)?;
     let memory = estimate(kind, width, height, scene.triangles.len(), a.photons);
     crate::limits::admit(&format!("a {width}×{height} {} render", kind.name()), memory, quiet)?;
     let options = RenderOptions {
@@ -316,7 +433,7 @@ pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
         spp: a.spp,
         primary_spp: a.primary_spp,
         // On the GPU every shadow beam is traced to the end.
-        primary_beams: a.primary_beams,
+        primary_beams: a.primary_beams(),
         width,
         height,
         seed: 1,
@@ -353,13 +470,13 @@ fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
         a.shading,
         a.spp,
         a.primary_spp,
-        a.primary_beams,
+        a.primary_beams(),
         a.occluders,
         a.exact,
         a.volume,
         a.linear_gather,
         a.subdivide,
-        a.second_order,
+        a.second_order(),
         a.photon_kernel,
         a.photons,
         width,
@@ -368,7 +485,7 @@ fn fingerprint(a: &RenderArgs, (width, height): (u32, u32)) -> u64 {
         a.frame,
         a.allow_outside_paths,
         // Only when given, so that the fingerprints of renders without it stay as they were.
-        a.env.map(|e| format!("|env {e}")).unwrap_or_default(),
+        a.env.as_ref().map(|e| format!("|env {e}")).unwrap_or_default(),
     );
     let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
     hash.max(1)

@@ -35,7 +35,7 @@ pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         None => render(scene, &options, || bar.inc(1)),
     };
     bar.finish_and_clear();
-    write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
+    write_render(&a.out, &image, (plan.placement, a.exposure), a.stats.as_deref().map(|p| (p, &stats as &dyn Json)))?;
     println!(
         "{}: {} triangles ({} degenerate filtered), {}×{}{}, {} ({}{}), {:.3} s -> {}",
         scene.name,
@@ -116,7 +116,12 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     if plan.kind == Kind::NonlinearReference {
         let image = render_smooth_reference_with(scene, &shading, a.photons, renderer).map_err(|e| e.to_string())?;
         let stats = reference_stats(plan, &on, a.photons, start);
-        write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
+        write_render(
+            &a.out,
+            &image,
+            (plan.placement, a.exposure),
+            a.stats.as_deref().map(|p| (p, &stats as &dyn Json)),
+        )?;
         println!(
             "{}: nonlinear reference (rays, smooth mirrors and glass) on {on}, {:.3} s -> {}",
             scene.name,
@@ -137,7 +142,7 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         renderer,
     )
     .map_err(|e| e.to_string())?;
-    write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
+    write_render(&a.out, &image, (plan.placement, a.exposure), a.stats.as_deref().map(|p| (p, &stats as &dyn Json)))?;
     println!(
         "{}: nonlinear {} on {on} ({} texels per beam side, {} S-mesh faces{}), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {} caustic beams in {:.3} s, {:.3} s in all -> {}",
         scene.name,
@@ -185,7 +190,12 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         let image = render_glossy_reference_in(scene, (width, height), plan.placement.rect, a.photons, 1)
             .map_err(|e| e.to_string())?;
         let stats = reference_stats(plan, "CPU", a.photons, start);
-        write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
+        write_render(
+            &a.out,
+            &image,
+            (plan.placement, a.exposure),
+            a.stats.as_deref().map(|p| (p, &stats as &dyn Json)),
+        )?;
         println!(
             "{}: glossy reference ({} photons per light), {:.3} s -> {}",
             scene.name,
@@ -198,7 +208,7 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     let options = GlossyOptions {
         method: plan.volume,
         hierarchy: !a.linear_gather,
-        second_order: a.second_order,
+        second_order: a.second_order(),
         subdivide: a.subdivide,
         filter: if a.photon_kernel { photon_texel(scene) } else { 0.0 },
         region: plan.options.region,
@@ -215,7 +225,7 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         None => render_glossy(scene, &options).map_err(|e| e.to_string())?,
     };
     let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
-    write_render(a.out, &image, (plan.placement, a.exposure), a.stats.map(|p| (p, &stats as &dyn Json)))?;
+    write_render(&a.out, &image, (plan.placement, a.exposure), a.stats.as_deref().map(|p| (p, &stats as &dyn Json)))?;
     println!(
         "{}: glossy light volumes on {on}, {} beams + {} shadow beams ({:.3} s), {} receiver points, {:.1} beams tested per point ({}), gather {:.3} s, {:.3} s -> {}",
         scene.name,

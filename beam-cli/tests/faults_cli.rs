@@ -174,9 +174,16 @@ fn messages_say_what_is_wrong() {
         &["WGPU_BACKEND", "bogus"],
     );
     assert!(!e.contains("mesa-vulkan-drivers"), "{e}");
+    #[cfg(feature = "conformance")]
     refused(
         &beam(&["conformance", "--only", "NOPE"], &[]),
         &["NOPE", "no such property", "bvh_hits_equal_brute_force"],
+    );
+    // Without the cargo feature the subcommand says how to build a beam that has it.
+    #[cfg(not(feature = "conformance"))]
+    refused(
+        &beam(&["conformance", "--only", "NOPE"], &[]),
+        &["without the conformance suite", "--features conformance"],
     );
 }
 

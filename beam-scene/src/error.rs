@@ -7,8 +7,9 @@
 //! fields; its `Display` is the message the `beam` binary prints. Paths of input files are shown
 //! clipped ([`shown`]), as a scene file may name a path of thousands of characters.
 
-use crate::read::{QUOTE_CHARS, bytes, clip, shown};
-use crate::scene::{BUILTIN, PROCEDURAL};
+use crate::mesh::limits::MAX_NONCONVEX_CORNERS;
+use crate::scene::names::{BUILTIN, GENERATED, PROCEDURAL};
+use crate::text::{QUOTE_CHARS, bytes, clip, shown};
 use std::fmt;
 use std::io;
 use std::path::PathBuf;
@@ -120,7 +121,7 @@ pub enum SceneError {
         "{}: expected a built-in scene name ({}, {}), a .toml scene, a .gltf/.glb model or an .obj mesh",
         path.display(),
         BUILTIN.join(", "),
-        crate::scene::suite::GENERATED.join(", ")
+        GENERATED.join(", ")
     )]
     UnknownFileType {
         /// The path.
@@ -333,7 +334,7 @@ fn rollback(earlier: usize, unrestored: &[Unrestored]) -> String {
 pub enum FaceError {
     /// A non-convex face of more than
     /// [`MAX_NONCONVEX_CORNERS`](crate::mesh::MAX_NONCONVEX_CORNERS) corners.
-    #[error("a non-convex face of {corners} corners (at most {} are supported)", crate::mesh::MAX_NONCONVEX_CORNERS)]
+    #[error("a non-convex face of {corners} corners (at most {} are supported)", MAX_NONCONVEX_CORNERS)]
     TooManyCorners {
         /// Its corners.
         corners: usize,

@@ -51,12 +51,14 @@ use std::io::Write;
 use std::path::Path;
 
 mod exr_file;
+mod input;
 mod png_file;
 mod temporaries;
 
 pub(crate) use exr_file::read_rgb;
 pub use exr_file::{encode_exr, read_exr, read_exr_placement};
-pub use png_file::{REGION_KEY, encode_png_placed, read_png_placed, read_png_placement};
+use png_file::png_bytes;
+pub use png_file::{REGION_KEY, encode_png, encode_png_placed, read_png_placed, read_png_placement};
 pub use temporaries::{TEMP_MARKER, remove_temporaries};
 use temporaries::{Temp, interrupted, registry};
 
@@ -263,39 +265,11 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
     write_atomic_all(&[(path, bytes)])
 }
 
-/// `path` opened for reading, after refusing what is not a regular file (a FIFO would block, a
-/// device never end). Errors name the path.
-fn regular_file(path: &Path) -> Result<File, SceneError> {
-    let fail = |source| SceneError::Read { path: path.to_path_buf(), source };
-    let meta = std::fs::metadata(path).map_err(fail)?;
-    if !meta.is_file() {
-        return Err(SceneError::NotRegularFile { path: path.to_path_buf(), kind: crate::read::kind(&meta) });
-    }
-    File::open(path).map_err(fail)
-}
-
-/// An [`SceneError::Image`] error of the file `path`.
-fn image_error(path: &Path, message: impl std::fmt::Display) -> SceneError {
-    SceneError::Image { path: Some(path.to_path_buf()), message: message.to_string() }
-}
-
-/// Encode an 8-bit RGB image as PNG bytes.
-pub fn encode_png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, SceneError> {
-    png(width, height, rgb).map_err(|source| SceneError::Png { path: None, source })
-}
-
 /// Encode an 8-bit RGB image as PNG and write it atomically.
 pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), SceneError> {
-    let bytes = png(width, height, rgb).map_err(|source| SceneError::Png { path: Some(path.to_path_buf()), source })?;
+    let bytes =
+        png_bytes(width, height, rgb).map_err(|source| SceneError::Png { path: Some(path.to_path_buf()), source })?;
     write_atomic(path, &bytes)
-}
-
-/// The PNG encoding of an 8-bit RGB image.
-fn png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, image::ImageError> {
-    let mut bytes = Vec::new();
-    let encoder = image::codecs::png::PngEncoder::new(&mut bytes);
-    image::ImageEncoder::write_image(encoder, rgb, width, height, image::ExtendedColorType::Rgb8)?;
-    Ok(bytes)
 }
 
 #[cfg(test)]

@@ -40,6 +40,7 @@ pub mod region;
 pub mod scene;
 pub mod scenes;
 pub mod specular;
+pub mod text;
 pub mod tolerance;
 
 pub use beam_math;

@@ -1,39 +1,18 @@
 //! Triangle meshes from OBJ files (`obj`) and built-in procedural meshes.
 
+mod indexed;
+pub(crate) mod limits;
 mod obj;
 mod triangulate;
 
+pub use indexed::Mesh;
+pub use limits::MAX_NONCONVEX_CORNERS;
 pub use obj::{ObjStats, parse_obj};
-pub use triangulate::{MAX_NONCONVEX_CORNERS, triangulate};
+pub use triangulate::triangulate;
 
 use crate::error::SceneError;
-use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use std::path::Path;
-
-/// An indexed triangle mesh.
-#[derive(Clone, Debug, Default)]
-pub struct Mesh {
-    /// Vertex positions.
-    pub positions: Vec<Vec3>,
-    /// Triangles as vertex indices.
-    pub indices: Vec<[u32; 3]>,
-}
-
-impl Mesh {
-    /// The triangles, one per index triple (degenerate ones included; the BVH counts and skips them).
-    #[must_use]
-    pub fn triangles(&self) -> Vec<Triangle> {
-        self.indices.iter().map(|t| Triangle { v: t.map(|i| self.positions[i as usize]) }).collect()
-    }
-
-    /// Append another mesh.
-    pub fn append(&mut self, other: &Mesh) {
-        let base = self.positions.len() as u32;
-        self.positions.extend_from_slice(&other.positions);
-        self.indices.extend(other.indices.iter().map(|t| t.map(|i| i + base)));
-    }
-}
 
 /// Load every object of an OBJ file into one mesh (faces triangulated in their plane). The file is
 /// read once, bounded by [`MAX_MESH_BYTES`](crate::read::MAX_MESH_BYTES), and must be a regular

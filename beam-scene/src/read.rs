@@ -6,12 +6,12 @@ use crate::error::SceneError;
 use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 
+pub use crate::text::{QUOTE_CHARS, clip, quote, shown, visible};
+
 /// Largest OBJ file read (1 GiB).
 pub const MAX_MESH_BYTES: u64 = 1 << 30;
 /// Largest TOML scene file read (4 MiB).
 pub const MAX_SCENE_BYTES: u64 = 4 << 20;
-/// Most characters of a file's line quoted in an error.
-pub const QUOTE_CHARS: usize = 80;
 
 /// The whole content of the regular file at `path`, read once, refused when it is larger than
 /// `limit` bytes or is not a regular file (FIFO, device, folder). Errors name `path`.
@@ -79,53 +79,10 @@ pub(crate) fn kind(meta: &std::fs::Metadata) -> &'static str {
     if t.is_dir() { "a folder" } else { "not a plain file" }
 }
 
-/// `n` bytes in words (`4 MiB`).
-pub(crate) fn bytes(n: u64) -> String {
-    if n >= 1 << 30 && n % (1 << 30) == 0 {
-        format!("{} GiB", n >> 30)
-    } else if n >= 1 << 20 && n % (1 << 20) == 0 {
-        format!("{} MiB", n >> 20)
-    } else {
-        format!("{n} bytes")
-    }
-}
-
 /// Whether `name` ends in `.ext`, ignoring case (`CUBE.OBJ` is an `obj`).
 #[must_use]
 pub fn has_extension(name: &Path, ext: &str) -> bool {
     name.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case(ext))
-}
-
-/// `path` for an error message, clipped to 240 characters (a scene file may name a path of
-/// thousands).
-#[must_use]
-pub fn shown(path: &Path) -> String {
-    clip(&path.display().to_string(), 240)
-}
-
-/// `line` trimmed and clipped to [`QUOTE_CHARS`] characters (with `…` when clipped), control and
-/// text-direction characters escaped, for quoting in an error.
-#[must_use]
-pub fn quote(line: &str) -> String {
-    visible(&clip(line.trim(), QUOTE_CHARS))
-}
-
-/// `text` with control characters (but tab) and text-direction overrides escaped (`\u{202e}`), so
-/// that a quoted line shows what the file holds and cannot rewrite the terminal.
-#[must_use]
-pub fn visible(text: &str) -> String {
-    let hidden =
-        |c: char| (c.is_control() && c != '\t') || matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}');
-    text.chars().map(|c| if hidden(c) { c.escape_unicode().to_string() } else { c.to_string() }).collect()
-}
-
-/// `text` cut to at most `max` characters, ending in `…` when cut.
-#[must_use]
-pub fn clip(text: &str, max: usize) -> String {
-    match text.char_indices().nth(max) {
-        None => text.to_string(),
-        Some((end, _)) => format!("{}…", &text[..end]),
-    }
 }
 
 /// Where a file named in a scene file lies: `name` resolved against the scene's folder `dir`.
@@ -180,16 +137,6 @@ fn lexically_inside(name: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn clips_quotes_on_character_boundaries() {
-        assert_eq!(quote("  v 1 2  "), "v 1 2");
-        let long = "é".repeat(200);
-        let q = quote(&long);
-        assert_eq!(q.chars().count(), QUOTE_CHARS + 1);
-        assert!(q.ends_with('…'));
-        assert_eq!(quote("v\u{1b}[2J 1\u{202e}\t2"), "v\\u{1b}[2J 1\\u{202e}\t2");
-    }
 
     #[test]
     fn lexical_containment() {

@@ -3,7 +3,7 @@
 //! every backend are in [`crate::shadow`]).
 
 use crate::generate::{self, uniform};
-use crate::{Backend, Config, Outcome, Property};
+use crate::property::{Backend, Config, Outcome, Property};
 use beam_cpu::render::{Method, RenderOptions, Shading, difference, render};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;

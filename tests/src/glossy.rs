@@ -2,7 +2,7 @@
 //! (conservative, and a gather identical to the linear one), and beam images against photon tracing.
 
 use crate::generate::{self, uniform};
-use crate::{Backend, Config, Outcome, Property};
+use crate::property::{Backend, Config, Outcome, Property};
 use beam_cpu::glossy::{
     ConeTree, GlossyOptions, LightVolumes, PhotonKernel, glossy_photons, is_scatterer, photon_texel, render_glossy,
     render_glossy_photons,

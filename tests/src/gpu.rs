@@ -3,37 +3,42 @@
 //! atlas pipeline's beam textures and the nonlinear images against the CPU renderer's. Each skips,
 //! saying why, only when no adapter exists at all, and fails instead under `BEAM_REQUIRE_GPU=1`.
 
-use crate::generate::{self, BeamKind, uniform};
-use crate::{Backend, Config, Outcome, Property};
+use crate::generate;
+use crate::property::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::{
-    Beam, BeamJob, BeamRasterizer, BumpedBeam, CAUSTIC_STRATA, CpuBeams, Degree, Exclude, NonlinearOptions, SMesh,
+    Beam, BeamJob, BeamRasterizer, CAUSTIC_STRATA, CpuBeams, Degree, Exclude, NonlinearOptions, SMesh,
     render_nonlinear_with,
 };
 use beam_cpu::render::RenderOptions;
-use beam_gpu::Gpu;
 use beam_gpu::checks::ShadeChecks;
 use beam_gpu::nonlinear::{GpuBeams, NonlinearCheck};
 use beam_gpu::raytrace::RayTracer;
 use beam_math::glam::Vec3;
-use beam_math::nonlinear::{BoundingCase, BumpBeam};
+use beam_math::nonlinear::BoundingCase;
 use beam_math::{Ray, Triangle};
-use beam_scene::scene::{self, Bump};
+use beam_scene::scene;
 use rand::Rng;
 
+mod beams;
 mod bindings;
 mod coarse;
 mod cull;
+mod device;
 mod eye;
 mod eye_beam;
 mod gbuffer;
 mod glossy;
 mod level;
 mod lookup;
+mod pixels;
 mod readback;
 mod twin;
 mod whitted;
 
+pub(crate) use device::adapter;
+
+use beams::{kind, level_one_beams, random_beams};
 use bindings::gpu_images_fit_narrow_bindings;
 use coarse::{gpu_coarse_smesh_equals_cpu, gpu_eye_locates_as_cpu};
 use cull::gpu_cone_culling_equals_host;
@@ -45,6 +50,7 @@ use level::{
     gpu_kept_level_equals_host_texels, gpu_kept_level_images_equal_read_back, gpu_summed_fits_equal_host_fits,
 };
 use lookup::gpu_lookup_projections_equal_cpu;
+use pixels::PixelDifference;
 use readback::gpu_readbacks_reuse_buffers;
 use twin::TwinShading;
 use whitted::gpu_whitted_equals_cpu;
@@ -162,33 +168,6 @@ pub fn properties() -> Vec<Property> {
     ]
 }
 
-/// The adapter; without one, `Ok(Err(outcome))` saying why the property is skipped, or the error
-/// itself when `BEAM_REQUIRE_GPU=1` ([`crate::gpu_required`]).
-pub(crate) fn adapter() -> Result<Result<Gpu, Outcome>, String> {
-    match Gpu::new() {
-        Ok(gpu) => Ok(Ok(gpu)),
-        Err(e) if crate::gpu_required() => Err(format!("BEAM_REQUIRE_GPU=1 but {e}")),
-        Err(e) => Ok(Err(Outcome::skipped(&e.to_string()))),
-    }
-}
-
-/// Random beams of every kind (diverging, converging, mixed), each as S1, S3 and bump-mapped.
-fn random_beams(seed: u64, per_kind: usize) -> Vec<Beam> {
-    let mut rng = generate::rng(seed);
-    let mut beams = Vec::new();
-    for kind in BeamKind::ALL {
-        for _ in 0..per_kind {
-            beams.push(Beam::S1(generate::s1_beam(&mut rng, kind)));
-            beams.push(Beam::S3(generate::s3_beam(&mut rng, kind)));
-            let delta = uniform(&mut rng, 0.01, 0.15);
-            let bump = Bump { delta, wavelength: uniform(&mut rng, 0.2, 2.0) };
-            let beam = BumpBeam { beam: generate::s1_beam(&mut rng, kind), delta };
-            beams.push(Beam::Bumped(BumpedBeam { beam, bump }));
-        }
-    }
-    beams
-}
-
 /// The bounding triangle beam-math computes for `tri` (what the CPU renderer rasterizes).
 fn cpu_bounding_triangle(beam: &Beam, tri: &Triangle) -> Option<beam_math::nonlinear::BoundingTriangle> {
     let tb = beam.texel_beam();
@@ -281,14 +260,6 @@ pub fn gpu_bounding_triangles_match_math(_: Backend, _: &Config) -> Result<Outco
             by_case[0], by_case[1], by_case[2], by_case[3], why[0], why[1], why[2]
         ),
     })
-}
-
-fn kind(beam: &Beam) -> &'static str {
-    match beam {
-        Beam::S1(_) => "S1",
-        Beam::S3(_) => "S3",
-        Beam::Bumped(_) => "bumped",
-    }
 }
 
 /// The WGSL texel rays (eq. 1 by Bernstein sums; S1 rays tilted by the bump map for bumped beams)
@@ -448,33 +419,6 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
         }
     }
     Ok(Outcome { cases: texels, note: format!("texels differing: {}", notes.join(", ")) })
-}
-
-/// The beams of parameterization `degree` off S-mesh faces `faces` of `smesh` lit from `eye`
-/// (reflected, and refracted where there is one), each with its face.
-fn face_beams(
-    scene: &scene::Scene,
-    smesh: &SMesh,
-    (eye, degree): (Vec3, Degree),
-    faces: impl Iterator<Item = usize>,
-) -> Vec<(Beam, usize)> {
-    faces
-        .filter_map(|f| {
-            let face = &smesh.faces[f];
-            let incoming = face.v.map(|v| (v - eye).normalize_or_zero());
-            let (reflected, refracted) = beam_cpu::nonlinear::child_beams(scene, face, incoming, degree)?;
-            Some([Some(reflected), refracted.flatten()].into_iter().flatten().map(move |b| (b, f)))
-        })
-        .flatten()
-        .collect()
-}
-
-/// The level-1 beams off every third specular S-mesh face of `scene` (the eye's light at its
-/// vertices), with their faces' scene triangles.
-fn level_one_beams(scene: &scene::Scene, degree: Degree) -> Vec<(Beam, u32)> {
-    let smesh = SMesh::specular(scene);
-    let beams = face_beams(scene, &smesh, (scene.camera.position, degree), (0..smesh.faces.len()).step_by(3));
-    beams.into_iter().map(|(b, f)| (b, smesh.faces[f].prim)).collect()
 }
 
 /// Nonlinear images (96², two tree levels) with every beam rendered by the GPU's atlases, the eye's
@@ -667,26 +611,4 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
             .push(format!("{name} ({} levels, {texels} texels): {differ} differ, worst {worst:.1e}", levels.len() - 1));
     }
     Ok(Outcome { cases: total, note: notes.join("; ") })
-}
-
-/// How two images of one render differ, in sRGB: pixels whose largest channel differs by more
-/// than 4/255, the sum of those largest differences, and the pixel count.
-pub(crate) struct PixelDifference {
-    pub differ: u64,
-    pub sum: f64,
-    pub n: u64,
-}
-
-impl PixelDifference {
-    pub(crate) fn of(a: &beam_cpu::render::Image, b: &beam_cpu::render::Image) -> Self {
-        let (mut differ, mut sum) = (0u64, 0.0f64);
-        for (a, b) in a.pixels.iter().zip(&b.pixels) {
-            let d = (0..3)
-                .map(|k| (beam_cpu::render::srgb_encode(a[k]) - beam_cpu::render::srgb_encode(b[k])).abs())
-                .fold(0.0f32, f32::max);
-            sum += f64::from(d);
-            differ += u64::from(d > 4.0 / 255.0);
-        }
-        Self { differ, sum, n: a.pixels.len() as u64 }
-    }
 }

@@ -1,7 +1,7 @@
 //! Nonlinear beam tracing properties (000): texel rays against the BVH, beam-tree images against
 //! the ray-traced ground truth, and S3's smoothness over S1.
 
-use crate::{Backend, Config, Outcome, Property};
+use crate::property::{Backend, Config, Outcome, Property};
 use beam_cpu::render::{RenderOptions, difference};
 use beam_math::Ray;
 use beam_math::collide::WatertightRay;
@@ -127,7 +127,7 @@ pub fn nonlinear_texels_equal_ray_hits(backend: Backend, _: &Config) -> Result<O
             .enumerate()
             .map(|(k, (beam, _, i))| BeamJob { beam, size: size(k), exclude: smesh.exclude(*i) })
             .collect();
-        let textures = match crate::with_renderer(backend, &scene, |r| {
+        let textures = match crate::renderer::with_renderer(backend, &scene, |r| {
             r.render_beams(&scene, &jobs).map_err(|e| e.to_string())
         })? {
             Ok(t) => t,
@@ -245,7 +245,7 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
     // On a software GPU (lavapipe), rasterizing the area light's caustic beams off the spheres takes
     // 2-3 minutes a scene (9 s without them): there only the lens and the facing mirrors.
     let heavy = ["mirror-glass", "mirror-glass-coarse", "bumpy-mirror"];
-    let software = crate::software_gpu(backend);
+    let software = crate::property::software_gpu(backend);
     for name in ["mirror-glass", "mirror-glass-coarse", "facing-mirrors", "glass-lens-coarse", "bumpy-mirror"] {
         if software && heavy.contains(&name) {
             notes.push(format!("{name} not on a software GPU"));
@@ -254,7 +254,7 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
         let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let reference = render_smooth_reference(&scene, &shading, 1_000_000);
         // One renderer (on the GPU: one device and pipeline set) for both degrees.
-        let images = crate::with_renderer(backend, &scene, |r| {
+        let images = crate::renderer::with_renderer(backend, &scene, |r| {
             [Degree::S1, Degree::S3]
                 .map(|degree| {
                     let options =

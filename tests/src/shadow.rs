@@ -4,7 +4,7 @@
 
 use crate::bvh::{cases, ray_set, scene_light};
 use crate::generate::{self, uniform};
-use crate::{Backend, Config, Outcome, Property};
+use crate::property::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
 use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
 use beam_cpu::nonlinear::CpuBeams;

@@ -1,7 +1,9 @@
 //! The binned split search with splitting-plane facing (004): five directions (x, y, z and two
 //! perpendicular to the rays), binned through dot products of the doubled centroids.
 
-use super::{Box4, Context, MAX_BINS, Measure, Plane, PrimRef, Split, reduce_chunks, sweep};
+use super::refs::{Box4, PrimRef, reduce_chunks};
+use super::split::{Context, MAX_BINS, Measure, Plane, Split};
+use super::sweep::sweep;
 
 /// [`find_split`] with splitting-plane facing: five directions, binned through dot products.
 pub(super) fn find_split(ctx: &Context, refs: &[PrimRef], measure: Measure, bins: usize) -> Option<Split> {

@@ -1,6 +1,7 @@
 //! Partitions of a node's references, with the records of both sides.
 
-use super::{PrimRef, Record, Split, record_of};
+use super::refs::{PrimRef, Record, record_of};
+use super::split::Split;
 
 /// Partition `refs` by `split` in place (stable for neither side); returns the number on the left
 /// and the records of both sides.

@@ -1,8 +1,5 @@
 //! Primitive references and their summaries for the binned builders.
 
-#[cfg(feature = "parallel")]
-use super::PARALLEL_BINNING;
-use super::reduce_chunks;
 use beam_math::glam::Vec4;
 use beam_math::{Aabb, Triangle};
 use std::vec::Vec;
@@ -141,6 +138,26 @@ pub(crate) fn record_of(refs: &[PrimRef], parallel: bool) -> Record {
         a.merge(b)
     };
     reduce_chunks(refs, parallel, Record::EMPTY, f, Record::merge)
+}
+
+/// Nodes with more references than this bin in parallel chunks.
+pub(crate) const PARALLEL_BINNING: usize = 32_768;
+
+/// `f` over chunks of `refs` merged with `merge`, in parallel for large slices.
+pub(crate) fn reduce_chunks<T: Send + Sync + Copy>(
+    refs: &[PrimRef],
+    parallel: bool,
+    init: T,
+    f: impl Fn(&[PrimRef]) -> T + Sync + Send,
+    merge: impl Fn(T, T) -> T + Sync + Send,
+) -> T {
+    #[cfg(feature = "parallel")]
+    if parallel && refs.len() > PARALLEL_BINNING {
+        use rayon::prelude::*;
+        return refs.par_chunks(PARALLEL_BINNING / 4).map(&f).reduce(|| init, &merge);
+    }
+    let _ = (parallel, &merge, init);
+    f(refs)
 }
 
 #[cfg(test)]

@@ -4,7 +4,8 @@
 //! binary tree are). Its split is never worse than a binned one: that is one of the partitions it
 //! costs.
 
-use super::{Box4, Context, Measure, PrimRef, Record};
+use super::refs::{Box4, PrimRef, Record};
+use super::split::{Context, Measure};
 
 /// Nodes of at most this many references are split by [`find_small`].
 pub(crate) const SMALL_MAX: usize = 4;

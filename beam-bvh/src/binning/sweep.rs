@@ -1,7 +1,8 @@
 //! The cost sweeps over a node's bins: for every plane between two bins, the cost
 //! `A(L)·blocks(N_L) + A(R)·blocks(N_R)` of the split it makes, and the cheapest of them.
 
-use super::{Bins, Box4, Context, MAX_BINS, Measure, Split};
+use super::refs::Box4;
+use super::split::{Bins, Context, MAX_BINS, Measure, Split};
 use beam_math::glam::{UVec4, Vec4};
 
 /// The cost sweep over one direction's bins: from the right, then from the left; keeps the

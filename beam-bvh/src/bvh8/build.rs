@@ -16,7 +16,9 @@
 //! (Opening every child of more than one block regardless of cost gives fuller nodes and smaller
 //! leaves but no faster queries with these kernels: measured on Sponza and the conference room.)
 
-use super::{Bvh8, Node8, Tri4};
+use super::node::Node8;
+use super::tree::Bvh8;
+use super::tri4::Tri4;
 use crate::binning::{self, Bins, Context, PrimRef, Record, Split};
 use crate::build::{MAX_SPLIT_DEPTH, Shape};
 use crate::options::{BuildOptions, Collapse, Heuristic};

@@ -9,13 +9,12 @@
 //! order in its slots. The optimal collapse (`optimal.rs`) picks leaves and children by the whole
 //! dynamic program instead; both are emitted here.
 
-use super::Node8;
+use super::node::Node8;
 use super::optimal::Optimal;
+use super::roots::{NODE_COST, Roots, cost_area};
 use crate::binning::PrimRef;
 use crate::options::{BuildOptions, Collapse};
 use crate::tree::Node;
-use beam_math::Aabb;
-use beam_math::glam::DVec3;
 use std::vec::Vec;
 
 /// The eight-wide nodes of `tree` (root first, children after their parents; its leaves index
@@ -35,22 +34,6 @@ pub(super) fn collapse(
         Collapse::Greedy => emit(tree, refs, &Greedy { tree, leaf: leaves(tree, max_leaf, node_cost) }),
         Collapse::Optimal => emit(tree, refs, &Optimal::new(tree, max_leaf, node_cost)),
     }
-}
-
-/// An eight-wide node's test costs as much as this many block tests in the collapse's cost model
-/// (times [`BuildOptions::traversal_cost`](crate::BuildOptions::traversal_cost), a binary node's):
-/// with these kernels 1.5 gave rays of every kind faster than 1 on the conference room (shadow
-/// rays 3.6%) and the same on Sponza; 1.75 gives Sponza's shadow rays 1–3% more than 1.5 and
-/// the conference room the same (2.0 no more than 1.75; 3.0 less than 1.5).
-pub(super) const NODE_COST: f32 = 1.75;
-
-/// The surface area of `b` as the collapses cost it: in `f64`, from the corners, so that it is
-/// finite for every box of finite corners. In `f32` a box wider than about 10¹⁹ (one vertex of a
-/// mesh at 10³⁰) has an infinite area, every cost above it is infinite too, and no choice between
-/// them means anything.
-pub(super) fn cost_area(b: Aabb) -> f64 {
-    let e = (b.max.as_dvec3() - b.min.as_dvec3()).max(DVec3::ZERO);
-    2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
 }
 
 /// For each node of `tree`, whether its subtree becomes one leaf (bottom up: children follow
@@ -109,15 +92,6 @@ impl Roots for Greedy<'_> {
             kids.splice(k..=k, [left as usize, right as usize]);
         }
     }
-}
-
-/// How a collapse picks the children of eight-wide nodes among the binary tree's subtrees.
-pub(super) trait Roots {
-    /// Whether the subtree of binary node `k`, as a child slot, becomes one leaf.
-    fn is_leaf(&self, k: usize) -> bool;
-    /// Push the two to eight binary roots that become the children of the eight-wide node made
-    /// for binary node `i` (not a leaf), in the binary tree's left-to-right order.
-    fn roots(&self, i: usize, kids: &mut Vec<usize>);
 }
 
 /// The eight-wide nodes of `tree` with children picked by `picks` (root first, children after

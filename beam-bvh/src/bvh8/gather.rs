@@ -1,7 +1,8 @@
 //! Culling by a volume: the triangles of the leaves that a test on the children's boxes lets
 //! through, eight boxes at a time.
 
-use super::{Bvh8, Node8};
+use super::node::Node8;
+use super::tree::Bvh8;
 use std::vec::Vec;
 
 impl Bvh8 {

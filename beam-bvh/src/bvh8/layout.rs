@@ -4,7 +4,7 @@
 //! index of the next node from the slot they picked instead of loading it, which takes a load off
 //! the chain of dependent operations a traversal step is.
 
-use super::Node8;
+use super::node::Node8;
 use std::vec::Vec;
 
 /// `nodes` (root first, children after their parents) renumbered so that every node's inner

@@ -6,42 +6,12 @@
 //!
 //! [`WatertightRay`]: beam_math::collide::WatertightRay
 
-use super::{Bvh8, Node8};
+use super::node::Node8;
+use super::tree::Bvh8;
+use super::tri4::Tri4;
 use crate::traverse::Hit;
-use beam_math::glam::{Vec3, Vec4};
-use beam_math::{Ray, Triangle};
-
-/// Four triangles in structure-of-arrays form: `v[vertex][axis][lane]`. Unused lanes hold NaN
-/// vertices, which no ray hits.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[repr(C, align(16))]
-pub struct Tri4 {
-    /// Vertex coordinates by vertex, axis and lane.
-    pub v: [[[f32; 4]; 3]; 3],
-}
-
-const _: () = assert!(size_of::<Tri4>() == 144);
-
-impl Tri4 {
-    /// A block with no triangles (every lane NaN).
-    pub const EMPTY: Self = Self { v: [[[f32::NAN; 4]; 3]; 3] };
-
-    /// Set lane `lane` to `t`.
-    pub fn set(&mut self, lane: usize, t: &Triangle) {
-        for (k, p) in t.v.iter().enumerate() {
-            for a in 0..3 {
-                self.v[k][a][lane] = p[a];
-            }
-        }
-    }
-
-    /// The triangle in lane `lane`.
-    #[must_use]
-    pub fn triangle(&self, lane: usize) -> Triangle {
-        let p = |k: usize| Vec3::new(self.v[k][0][lane], self.v[k][1][lane], self.v[k][2][lane]);
-        Triangle::new(p(0), p(1), p(2))
-    }
-}
+use beam_math::Ray;
+use beam_math::glam::Vec4;
 
 /// Per-ray constants of the watertight test in the form the lanes use: the dominant axis `kz`,
 /// the shear as scalars, the permuted origin.
@@ -265,7 +235,9 @@ fn fallback_lanes(abc: &[[f32; 4]; 9], t_min: f32, t_max: f32, mut lanes: u32, h
 mod tests {
     use super::*;
     use crate::traverse::tests::unit_rng;
+    use beam_math::Triangle;
     use beam_math::collide::WatertightRay;
+    use beam_math::glam::Vec3;
 
     fn rng(seed: u32) -> impl FnMut() -> f32 {
         let mut unit = unit_rng(seed);

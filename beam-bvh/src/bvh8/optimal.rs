@@ -5,7 +5,7 @@
 //!
 //! - `C(n, 1) = min(C_leaf(n), C_internal(n))`, with `C_leaf(n) = A(n) · ⌈P(n)/4⌉` (blocks of
 //!   four triangles, as the 8-wide builder costs them; no leaf beyond `max_leaf` references) and
-//!   `C_internal(n) = c_t · A(n) + C_distribute(n, 8)` (`c_t`: [`super::collapse::NODE_COST`]
+//!   `C_internal(n) = c_t · A(n) + C_distribute(n, 8)` (`c_t`: [`super::roots::NODE_COST`]
 //!   times the build's traversal cost);
 //! - `C(n, i) = min(C(n, i − 1), C_distribute(n, i))` for `i > 1`;
 //! - `C_distribute(n, i) = min_{0<k<i} C(left, k) + C(right, i − k)`.
@@ -14,13 +14,13 @@
 //! left-to-right order in the slots. Its cost (inner nodes `c_t · A`, leaves `A` per block) is
 //! the least over all collapses whose leaves are binary subtrees. Trees laid out depth first (as
 //! the binary builder makes them) are solved a subtree per task. Costs are `f64` areas
-//! ([`super::collapse::cost_area`]): finite for every finite box. (With `f32` areas a mesh with
+//! ([`super::roots::cost_area`]): finite for every finite box. (With `f32` areas a mesh with
 //! one vertex at 10³⁰ made every cost infinite, and `C_leaf = ∞ ≤ C_internal = ∞` chose a leaf
 //! of 65 triangles, past the limit, as the leaf limit was an infinite cost; the limit is a
 //! condition now.)
 
-use super::Node8;
-use super::collapse::{Roots, cost_area};
+use super::node::Node8;
+use super::roots::{Roots, cost_area};
 use crate::tree::Node;
 use std::vec::Vec;
 

@@ -4,7 +4,9 @@
 //! fallback where AVX2 is missing, and the kernel that counts work.
 
 use super::leaf::{ShearRay, visit_leaf};
-use super::{Bvh8, Node8, RayBox};
+use super::node::Node8;
+use super::ray_box::{OCCLUDED, RayBox};
+use super::tree::Bvh8;
 use crate::stats::Counter;
 use crate::traverse::Hit;
 use beam_math::Ray;
@@ -47,7 +49,7 @@ pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f3
                 }
             };
             if visit_leaf::<ANY>(bvh, cur, &sr, &mut t_best, &mut best, count) {
-                return Some(super::OCCLUDED);
+                return Some(OCCLUDED);
             }
         } else {
             let n = &bvh.nodes[cur as usize];

@@ -2,7 +2,8 @@
 //! topology.
 
 use super::build::leaf_bounds;
-use super::{Bvh8, Node8};
+use super::node::Node8;
+use super::tree::Bvh8;
 use beam_math::{Aabb, Triangle};
 
 impl Bvh8 {

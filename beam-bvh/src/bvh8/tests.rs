@@ -1,8 +1,10 @@
-use super::collapse::NODE_COST;
+use super::roots::NODE_COST;
 use super::*;
 use crate::traverse::tests::soup;
 use crate::{BuildOptions, Collapse, RayDistribution};
+use beam_math::Aabb;
 use beam_math::collide::WatertightRay;
+use beam_math::glam::Vec3;
 use beam_math::heuristics::surface_area;
 
 /// A closed grid of quads (shared edges everywhere) with its diagonals, for watertightness.

@@ -22,8 +22,11 @@
 //! initialised before use, and the calls into `#[target_feature]` code after run-time detection.
 #![allow(unsafe_code)]
 
+use super::kernel::Kernel;
 use super::leaf::{ShearRay, visit_leaf};
-use super::{Bvh8, Kernel, Node8};
+use super::node::Node8;
+use super::ray_box::OCCLUDED;
+use super::tree::Bvh8;
 use crate::traverse::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3A;
@@ -33,19 +36,6 @@ use core::mem::MaybeUninit;
 /// Stack entries of the x86 kernels; trees that need more than this minus 8 (the width of a
 /// push) run the portable kernel.
 pub(super) const STACK_CAPACITY: usize = 256;
-
-/// AVX2 with FMA, POPCNT and BMI1 (every AVX2 CPU has them).
-pub(super) fn has_avx2() -> bool {
-    is_x86_feature_detected!("avx2")
-        && is_x86_feature_detected!("fma")
-        && is_x86_feature_detected!("popcnt")
-        && is_x86_feature_detected!("bmi1")
-}
-
-/// AVX-512 F and VL besides AVX2.
-pub(super) fn has_avx512() -> bool {
-    has_avx2() && is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx512vl")
-}
 
 /// Trace with `bvh`'s kernel (AVX2 or AVX-512).
 pub(super) fn trace<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32) -> Option<Hit> {
@@ -87,7 +77,7 @@ macro_rules! kernel {
             loop {
                 if cur & Node8::LEAF != 0 {
                     if visit_leaf::<ANY>(bvh, cur, &sr, &mut t_best, &mut best, |_| {}) {
-                        return Some(super::OCCLUDED);
+                        return Some(OCCLUDED);
                     }
                 } else {
                     let n = &bvh.nodes[cur as usize];
@@ -444,6 +434,7 @@ impl Stack<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bvh8::kernel::has_avx2;
 
     #[test]
     fn sort8_sorts() {

@@ -2,7 +2,7 @@
 //! tree and the shading on the CPU) against the CPU renderer, measured in the same run on the
 //! built-in nonlinear scenes; each GPU image checked against the CPU's.
 
-use super::median;
+use super::stats::median;
 use beam_cpu::cpu_clock::our_threads_cpu_seconds;
 use beam_cpu::nonlinear::{
     CpuBeams, Degree, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,

@@ -2,60 +2,30 @@
 
 mod backend;
 pub mod bvh;
+mod checks;
 pub mod glossy;
 pub mod gpu;
 pub mod nonlinear;
 pub mod nonlinear_smesh;
+mod peer_set;
 #[cfg(feature = "peers")]
 mod peers;
 pub mod primary;
 mod primary_gpu;
+mod primary_shading;
 pub mod primary_sweep;
 pub mod softshadow;
 mod softshadow_gpu;
 mod softshadow_measure;
 mod softshadow_plot;
 pub mod softshadow_suite;
+mod stats;
+mod tracer;
 
-use beam_math::Ray;
+use checks::side;
 use clap::Subcommand;
 use std::path::PathBuf;
 use std::process::ExitCode;
-
-/// A ray tracer under test: ours or a peer, over the same triangles.
-pub trait Tracer: Sync {
-    /// Display name.
-    fn name(&self) -> String;
-    /// Build time in milliseconds.
-    fn build_ms(&self) -> f64;
-    /// Distance to the closest hit.
-    fn closest(&self, ray: &Ray) -> Option<f32>;
-    /// True when something lies on the ray before `t_max`.
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool;
-}
-
-/// The peers available in this build (none without the `peers` feature).
-pub fn peers(triangles: &[beam_math::Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
-    #[cfg(feature = "peers")]
-    return peers::all(triangles);
-    #[cfg(not(feature = "peers"))]
-    {
-        let _ = triangles;
-        Ok(Vec::new())
-    }
-}
-
-/// One more build of the peer named `name` over `triangles`, in milliseconds: `None` for a peer
-/// whose build cannot be repeated alone (the BVH bench times Embree's in alternation with ours).
-pub fn peer_build_ms(name: &str, triangles: &[beam_math::Triangle]) -> Option<f64> {
-    #[cfg(feature = "peers")]
-    return peers::build_ms(name, triangles);
-    #[cfg(not(feature = "peers"))]
-    {
-        let _ = (name, triangles);
-        None
-    }
-}
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
@@ -242,14 +212,6 @@ pub enum BenchCommand {
     },
 }
 
-/// An image side of a benchmark: 1 to 16384.
-fn side(option: &str, v: u32) -> Result<(), String> {
-    match v {
-        1..=crate::plan::MAX_SIDE => Ok(()),
-        _ => Err(format!("{option} {v} out of range (1 to {})", crate::plan::MAX_SIDE)),
-    }
-}
-
 /// Run `beam bench`; with `dry`, only check its arguments.
 pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
     let result = match what {
@@ -400,10 +362,4 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
         }
     };
     result.map(|()| ExitCode::SUCCESS)
-}
-
-/// The middle value of `v` (the upper of the two middle ones for an even length; 0 for none).
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(0.0)
 }

@@ -12,7 +12,7 @@
 //! fields the queries use agree (`t` at byte 48, `prim` at 60), so rays are built here field by
 //! field, inside a 128-byte buffer, and `Ray::new` is never called.
 
-use super::Tracer;
+use super::tracer::Tracer;
 use beam_math::{Ray, Triangle};
 use std::time::Instant;
 
@@ -202,7 +202,7 @@ mod tinybvh {
         let start = Instant::now();
         let wald = bvh::BVH::new(positions.into()).map_err(|e| format!("tinybvh: {e}"))?;
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
-        #[allow(unused_mut)]
+        #[allow(unused_mut, reason = "mutated only where the target has AVX2 (the BVH8 layout)")]
         let mut out: Vec<Box<dyn Tracer>> = vec![Box::new(Tiny { name: "tinybvh-wald", bvh: wald, build_ms })];
         #[cfg(target_feature = "avx2")]
         {
@@ -228,7 +228,7 @@ mod tinybvh {
     // a `const` method of tinybvh's `BVH` and `BVH8_CPU` (tiny_bvh.h 1.6.8) that reads the tree and
     // its vertices and writes only the `Ray` it is given; tinybvh keeps no `mutable` members and
     // no shared static state outside its builders (thread-local job systems).
-    #[allow(unsafe_code)]
+    #[expect(unsafe_code, reason = "tinybvh-rs does not mark its C++ trees Sync; see SAFETY above")]
     unsafe impl<B> Sync for Tiny<B> {}
 
     /// A ray with room for the 128 bytes tinybvh's `Ray` has (see the module notes).

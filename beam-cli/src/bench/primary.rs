@@ -5,13 +5,12 @@
 //! angle, on black. Prints seconds, RMSE against the eye beams' exact image and the ratio of each
 //! time to the eye beams'.
 
+use super::primary_shading::{flat, pixel_samples};
 use beam_cpu::render::{Image, difference, primary_image};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::queries::ClosestHit;
 use beam_scene::scene::{self, Camera, Scene};
-use rand::SeedableRng;
-use rand_pcg::Pcg32;
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::Instant;
@@ -67,21 +66,6 @@ pub fn camera(loaded: &Loaded, size: u32) -> Camera {
     }
 }
 
-/// A fixed colour of triangle `prim`, each channel in `[0.15, 1]` (a hash of the index).
-#[must_use]
-pub fn albedo(prim: u32) -> Vec3 {
-    let h = (u64::from(prim) + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    let h = (h ^ (h >> 29)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    let c = |s: u32| 0.15 + 0.85 * ((h >> s) & 0xFF) as f32 / 255.0;
-    Vec3::new(c(8), c(24), c(40))
-}
-
-/// The flat shading under comparison: triangle `prim`'s colour times `|cos|` of the angle between
-/// its normal and the unit view direction `d`.
-pub fn flat(scene: &Scene) -> impl Fn(u32, Vec3, Vec3) -> Vec3 + Sync + '_ {
-    move |prim, _, d| albedo(prim) * scene.normal(prim).dot(d).abs()
-}
-
 /// The image of `spp` stratified jittered primary rays per pixel (a `k × k` grid, `k = ⌊√spp⌋`;
 /// the pixel centre for one), seeded per pixel so that every tracer gets the same rays; rows in
 /// parallel. Returns the image and its seconds.
@@ -113,16 +97,6 @@ pub fn ray_image(
     (image, start.elapsed().as_secs_f64())
 }
 
-/// The `k × k` stratified jittered sample positions in pixel `(x, y)` of [`ray_image`], in image
-/// coordinates, from a random stream seeded by the pixel (the same for every tracer).
-pub fn pixel_samples(x: usize, y: usize, k: u32) -> impl Iterator<Item = (f32, f32)> {
-    let mut rng = Pcg32::seed_from_u64(((y as u64) << 32 | x as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-    (0..k * k).map(move |i| {
-        let (jx, jy) = beam_cpu::render::stratified(i, k, &mut rng);
-        (x as f32 + jx, y as f32 + jy)
-    })
-}
-
 /// Our closest hit: the scene's 4-wide BVH.
 pub fn ours(scene: &Scene) -> impl Fn(Ray) -> Option<(u32, f32)> + Sync + '_ {
     move |ray| scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (h.prim, h.t))
@@ -152,7 +126,7 @@ pub fn run(scenes: &[String], size: u32, out: Option<&Path>, gpu: Option<&beam_g
             ps.coverage_error
         );
         let mut rows: Vec<(String, f64, Image)> = vec![("eye beams (exact)".into(), ps.seconds, exact.clone())];
-        #[cfg_attr(not(feature = "peers"), allow(unused_mut))]
+        #[cfg_attr(not(feature = "peers"), expect(unused_mut, reason = "the peers feature pushes Embree's tracer"))]
         let mut tracers: Vec<(&str, Box<ClosestHit<'_>>)> = vec![("rays", Box::new(ours(scene)))];
         #[cfg(feature = "peers")]
         tracers.push(("embree3", super::peers::embree_closest(&scene.triangles)?));

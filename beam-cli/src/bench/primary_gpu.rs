@@ -4,7 +4,7 @@
 //! device's own time by timestamp queries, the host's wall time, rays per second, and the PSNR of
 //! each GPU image against the CPU rays' image of the same rays.
 
-use super::primary::{flat, pixel_samples};
+use super::primary_shading::{flat, pixel_samples};
 use beam_cpu::render::{Image, difference};
 use beam_gpu::Gpu;
 use beam_gpu::queries::GpuQueries;

@@ -4,7 +4,8 @@
 //! box with a 60° field of view. Per camera: eye-beam time and work, and our 1 and 16 rays per pixel
 //! on the same flat-shaded image.
 
-use super::primary::{Loaded, camera, flat, load, ours, ray_image};
+use super::primary::{Loaded, camera, load, ours, ray_image};
+use super::primary_shading::flat;
 use beam_cpu::render::{difference, primary_image};
 use beam_math::glam::Vec3;
 use beam_scene::io::write_atomic;

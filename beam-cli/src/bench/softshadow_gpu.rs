@@ -6,7 +6,7 @@
 //! overflow beams, loop iterations per beam, CPU/GPU and the PSNR of the GPU image against the
 //! CPU's. The GPU reports no pieces per beam (its shader counts loop iterations, not pieces).
 
-use super::median;
+use super::stats::median;
 use beam_cpu::render::{Image, RenderOptions, difference, render_queries};
 use beam_gpu::Gpu;
 use beam_gpu::queries::GpuQueries;

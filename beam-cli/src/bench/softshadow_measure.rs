@@ -101,7 +101,7 @@ fn downsample(img: &Image, s: u32) -> Image {
 
 /// The middle value of `v`.
 fn median(v: &[f64]) -> Option<f64> {
-    (!v.is_empty()).then(|| super::median(v.to_vec()))
+    (!v.is_empty()).then(|| super::stats::median(v.to_vec()))
 }
 
 /// Every method on `scene` at `size × size`, `runs` times in turn (so that a slow spell of the

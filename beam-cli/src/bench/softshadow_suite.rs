@@ -38,7 +38,7 @@ const GPU_CSV: &str = "softshadow-suite-gpu.csv";
 impl Args {
     /// Refuse what the suite cannot run, naming the option.
     pub fn check(&self) -> Result<(), String> {
-        super::side("--size", self.size)?;
+        super::checks::side("--size", self.size)?;
         if self.reference_spp == 0 {
             return Err("--reference-spp 0: at least 1 shadow ray per pixel is needed".into());
         }
@@ -160,7 +160,7 @@ fn gpu_row(
     }
     let run = softshadow_gpu::run(gpu, scene, &options, args.runs, &|| bar.inc(1))?;
     bar.finish_and_clear();
-    let cpu = (&cpu.ok_or("no CPU run")?, super::median(seconds));
+    let cpu = (&cpu.ok_or("no CPU run")?, super::stats::median(seconds));
     softshadow_gpu::Compared::new(label(r), run, cpu, &images.reference)
 }
 

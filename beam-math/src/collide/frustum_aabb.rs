@@ -1,7 +1,8 @@
 //! Frustum–AABB intersection: the AABB rejection test followed by the separating-axis test over
 //! the 26 candidate axes of 004 App. A.5 (Alg. A.3).
 
-use super::{Frustum, aabb_aabb};
+use super::aabb_aabb::aabb_aabb;
+use super::frustum::Frustum;
 use crate::shapes::Aabb;
 use glam::Vec3;
 

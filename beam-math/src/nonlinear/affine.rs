@@ -1,6 +1,6 @@
 //! Affine triangles and planes (000 §5, Fig. 5): `Δa(t)` with vertices `Hᵢ = Pᵢ + t·dᵢ`, and transfer.
 
-use super::NonlinearBeam;
+use super::beam::NonlinearBeam;
 use super::parameterization::Interpolant;
 use crate::collide::line_plane;
 use crate::shapes::{Plane, Ray, Triangle};

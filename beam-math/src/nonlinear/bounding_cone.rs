@@ -1,7 +1,7 @@
 //! Bounding cone of a beam (000 App. A, proof in App. B.7), for culling objects by their bounding
 //! spheres with [`crate::collide::cone_sphere`].
 
-use super::NonlinearBeam;
+use super::beam::NonlinearBeam;
 use super::parameterization::Interpolant;
 use crate::collide::Cone;
 use crate::float::Float;

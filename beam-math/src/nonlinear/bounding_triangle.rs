@@ -7,8 +7,8 @@
 //! The same holds for triangles built on an affine plane `Πa(t)`: by the barycentric invariance of
 //! 000 §5 the coordinates carry over to the base unchanged (`F = Ω⁻¹(Ω(E, Δa), Δb)`).
 
-use super::NonlinearBeam;
 use super::affine::transfer;
+use super::beam::NonlinearBeam;
 use super::parameterization::Interpolant;
 use super::projection::s1_solutions;
 use super::threshold::ThresholdPlane;

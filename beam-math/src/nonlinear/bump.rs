@@ -1,7 +1,7 @@
 //! Bump-mapped (perturbed) beams (000 §4 and §6.3): S1 rays perturbed by at most an angle δ, and the
 //! D-expansion of the S1 bounding triangle (eq. 5, proof in App. B.5).
 
-use super::NonlinearBeam;
+use super::beam::NonlinearBeam;
 use super::bounding_triangle::{BeamBounds, BoundingTriangle};
 use super::projection::s1_solutions;
 use crate::collide::Cone;

@@ -1,7 +1,7 @@
 //! Extremal directions `{d̂1, d̂2, d̂3}` (000 §6.2): directions at the base vertices whose cone
 //! contains every interior ray direction `d(P)`.
 
-use super::NonlinearBeam;
+use super::beam::NonlinearBeam;
 use super::bounding_triangle::enclosing_triangle;
 use super::parameterization::Interpolant;
 use crate::shapes::Triangle;

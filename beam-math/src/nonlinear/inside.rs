@@ -1,6 +1,6 @@
 //! Inside/outside-beam test for points.
 
-use super::NonlinearBeam;
+use super::beam::NonlinearBeam;
 use super::parameterization::Interpolant;
 use super::projection::{BARY_TOLERANCE, s1_solutions};
 use glam::Vec3;

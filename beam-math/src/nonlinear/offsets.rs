@@ -1,6 +1,6 @@
 //! Maximum offsets `μ_b`, `μ_d` between the S^n and S1 parameterizations (000 eq. 4).
 
-use super::NonlinearBeam;
+use super::beam::NonlinearBeam;
 use super::parameterization::Interpolant;
 use glam::DVec3;
 

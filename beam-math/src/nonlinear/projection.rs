@@ -4,7 +4,7 @@
 //! base is subdivided, each piece solved as a local S1 beam and the candidates polished by Newton's
 //! method on the full eq. 1.
 
-use super::NonlinearBeam;
+use super::beam::NonlinearBeam;
 use super::parameterization::Interpolant;
 use crate::roots::cubic;
 use glam::{DMat3, DVec3, Vec3};

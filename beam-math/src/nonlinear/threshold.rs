@@ -1,7 +1,7 @@
 //! The threshold plane `Π_T = Πa(t_res)` (000 §5, §6.2, App. B.2): above it every point has at most
 //! one projection in the base triangle.
 
-use super::NonlinearBeam;
+use super::beam::NonlinearBeam;
 use super::parameterization::Interpolant;
 use crate::collide::triangle_triangle_distance;
 use crate::roots::quadratic;

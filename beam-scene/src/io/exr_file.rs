@@ -2,7 +2,7 @@
 //! layer. A render farm's tile is placed the format's own way: its pixels are the data window, its
 //! frame the display window (anchored at the origin); a whole image has the two equal.
 
-use super::{image_error, regular_file};
+use super::input::{image_error, regular_file};
 use crate::error::SceneError;
 use crate::region::{PixelRect, Placement};
 use beam_math::glam::Vec3;

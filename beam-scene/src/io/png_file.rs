@@ -1,9 +1,9 @@
 //! PNG files that know their place in a frame: a render farm's tile carries a tEXt chunk
 //! `beam:region` = `x0,y0,x1,y1,W,H,R` (its pixels `[x0, x1) × [y0, y1)` of a `W × H` frame, of the
 //! render R: [`Placement::render`]) before its pixel data. A whole image is written without it,
-//! byte for byte as [`super::encode_png`] writes it, and a PNG without it is a whole frame.
+//! byte for byte as [`encode_png`] writes it, and a PNG without it is a whole frame.
 
-use super::{encode_png, image_error, regular_file};
+use super::input::{image_error, regular_file};
 use crate::error::SceneError;
 use crate::region::Placement;
 use std::io::BufReader;
@@ -11,6 +11,19 @@ use std::path::Path;
 
 /// Keyword of the tEXt chunk that places a tile in its frame.
 pub const REGION_KEY: &str = "beam:region";
+
+/// Encode an 8-bit RGB image as PNG bytes.
+pub fn encode_png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, SceneError> {
+    png_bytes(width, height, rgb).map_err(|source| SceneError::Png { path: None, source })
+}
+
+/// The PNG encoding of an 8-bit RGB image.
+pub(super) fn png_bytes(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, image::ImageError> {
+    let mut bytes = Vec::new();
+    let encoder = image::codecs::png::PngEncoder::new(&mut bytes);
+    image::ImageEncoder::write_image(encoder, rgb, width, height, image::ExtendedColorType::Rgb8)?;
+    Ok(bytes)
+}
 
 /// 8-bit RGB `rgb` (the rectangle of `placement`, row-major) as PNG bytes, with its placement when
 /// it is not the whole frame.

@@ -3,7 +3,7 @@
 //! too); lines (`l`) and points (`p`) are skipped and counted; everything else (normals, texture
 //! coordinates, groups, materials: `mtllib` files are never opened) is ignored.
 
-use super::Mesh;
+use super::indexed::Mesh;
 use super::triangulate::triangulate;
 use crate::error::SceneError;
 use crate::read::quote;

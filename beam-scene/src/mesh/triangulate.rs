@@ -1,11 +1,9 @@
 //! Triangulating an OBJ face: a polygon of any number of corners, convex or not, split into
 //! triangles that cover exactly the polygon seen along its best-fit (Newell) normal.
 
+use super::limits::MAX_NONCONVEX_CORNERS;
 use crate::error::FaceError;
 use beam_math::glam::{DVec2, DVec3, Vec3};
-
-/// Most corners of a non-convex face (ear clipping takes up to cubic time in the corners).
-pub const MAX_NONCONVEX_CORNERS: usize = 256;
 
 /// Triangles of the polygon `corners` (indices into `positions`, in order), keeping its winding:
 /// a fan for a triangle or a convex polygon, ear clipping in the polygon's best-fit plane for a

@@ -1,31 +1,17 @@
 //! Built-in scenes, so that the default job needs no files.
 
-use super::{Camera, Light, Material, Scene, foliage, light_volumes, showcase};
+use super::camera::Camera;
+use super::foliage;
+use super::light::Light;
+use super::light_volumes;
+use super::material::{Bump, Material};
+use super::model::Scene;
+use super::names::GENERATED;
+use super::showcase;
 use crate::error::SceneError;
 use crate::mesh::{self, Mesh};
 use beam_math::Triangle;
 use beam_math::glam::{Mat3, Vec3};
-
-/// Names of the built-in scenes; the first is the default of `beam render`.
-pub const BUILTIN: [&str; 17] = [
-    "cornell",
-    "mirror-glass",
-    "cornell-point",
-    "mirror-glass-coarse",
-    "facing-mirrors",
-    "facing-mirrors-coarse",
-    "glass-lens",
-    "glass-lens-coarse",
-    "mirror-teapot",
-    "mirror-teapot-coarse",
-    "wavy-lake",
-    "wavy-lake-coarse",
-    "bumpy-mirror",
-    "cardioid-ring",
-    "pool-caustics",
-    "stained-glass",
-    "foliage",
-];
 
 /// A built-in scene by name.
 pub fn builtin(name: &str) -> Result<Scene, SceneError> {
@@ -51,16 +37,13 @@ pub fn builtin(name: &str) -> Result<Scene, SceneError> {
         "stained-glass" => Ok(light_volumes::stained_glass()),
         "foliage" => Ok(foliage::foliage(foliage::LEAVES, 1)),
         // The generated cases of `beam bench softshadow --suite`, by the same names.
-        name if super::suite::GENERATED.contains(&name) => match super::suite::case(name)? {
+        name if GENERATED.contains(&name) => match super::suite::case(name)? {
             super::suite::Case::Built(scene) => Ok(*scene),
             super::suite::Case::Absent(_) => Err(SceneError::UnknownScene { name: name.to_string() }),
         },
         _ => Err(SceneError::UnknownScene { name: name.to_string() }),
     }
 }
-
-/// The procedural built-ins whose specular surfaces [`builtin_with_smesh`] can tessellate.
-pub const PROCEDURAL: [&str; 4] = ["facing-mirrors", "glass-lens", "mirror-teapot", "wavy-lake"];
 
 /// A procedural built-in with its specular surfaces (the S mesh) at resolution `n` (quads per mirror
 /// side, lens rings, teapot profile steps, water quads per side; 2 to 256).
@@ -105,7 +88,7 @@ fn coarse_mirror(scene: Scene) -> Scene {
 fn bumpy(mut scene: Scene) -> Scene {
     for m in &mut scene.materials {
         if let Material::Mirror { bump, .. } = m {
-            *bump = super::Bump { delta: 0.06, wavelength: 40.0 };
+            *bump = Bump { delta: 0.06, wavelength: 40.0 };
         }
     }
     scene.name = "bumpy-mirror".into();
@@ -131,7 +114,7 @@ fn cornell(spheres: bool, point_light: bool) -> Scene {
     let red = Material::Diffuse { albedo: Vec3::new(0.65, 0.05, 0.05) };
     let green = Material::Diffuse { albedo: Vec3::new(0.12, 0.45, 0.15) };
     let emitter = Material::Emissive { radiance: Vec3::splat(15.0) };
-    let mirror = Material::Mirror { tint: Vec3::splat(0.95), bump: super::Bump::NONE };
+    let mirror = Material::Mirror { tint: Vec3::splat(0.95), bump: Bump::NONE };
     let glass = Material::Glass { ior: 1.5 };
     let materials = vec![white, red, green, emitter, mirror, glass];
     let mut tris: Vec<(Triangle, u32)> = Vec::new();

@@ -1,7 +1,7 @@
 //! An animated camera: keyframes of the camera's position and target, linearly interpolated
 //! between them (a scene file's `[[camera.keys]]`).
 
-use super::Camera;
+use super::camera::Camera;
 use beam_math::glam::Vec3;
 
 /// At frame `frame`, the camera stands at `position` looking at `target`.

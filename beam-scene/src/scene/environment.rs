@@ -17,7 +17,7 @@
 //! the poles in `v`. A `rotation` turns the map about +Y (right-handed: by 90°, what was seen along
 //! +X is seen along −Z).
 
-use super::Light;
+use super::light::Light;
 use crate::error::SceneError;
 use crate::read::{has_extension, read_bounded};
 use beam_math::Aabb;

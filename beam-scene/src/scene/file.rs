@@ -2,8 +2,15 @@
 //! bare OBJ files.
 
 use super::check::{self, finite};
+use super::defaults::{default_camera, default_light, valid_bounds};
+use super::environment::Environment;
 use super::format::{self, Scale, SceneFile};
-use super::{Camera, Light, Material, SMeshPlan, Scene, framing, smesh_file};
+use super::load_options::LoadOptions;
+use super::material::Material;
+use super::model::Scene;
+use super::names::{BUILTIN, GENERATED};
+use super::smesh_file;
+use super::smesh_plan::SMeshPlan;
 use crate::error::SceneError;
 use crate::mesh::{Mesh, load_obj_with};
 use crate::read::{MAX_SCENE_BYTES, has_extension, read_bounded, resolve_inside};
@@ -11,14 +18,6 @@ use beam_math::Triangle;
 use beam_math::glam::{EulerRot, Mat3, Vec3};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
-
-/// How a scene file may name other files.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct LoadOptions {
-    /// Let mesh paths lead outside the scene file's folder (`beam render --allow-outside-paths`);
-    /// lines of such files are still never quoted in errors.
-    pub allow_outside_paths: bool,
-}
 
 /// Load a scene by built-in name, `.toml` scene file, `.gltf`/`.glb` file or bare `.obj` file,
 /// with mesh and buffer paths kept inside the scene file's folder.
@@ -28,8 +27,8 @@ pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
 
 /// [`load`] with `options`.
 pub fn load_with(name_or_path: &str, options: &LoadOptions) -> Result<Scene, SceneError> {
-    if super::BUILTIN.contains(&name_or_path) || super::suite::GENERATED.contains(&name_or_path) {
-        return super::builtin(name_or_path);
+    if BUILTIN.contains(&name_or_path) || GENERATED.contains(&name_or_path) {
+        return super::builtin::builtin(name_or_path);
     }
     load_file_with(Path::new(name_or_path), options)
 }
@@ -126,7 +125,7 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let rest = smesh_file::rest(path, file.smesh.as_ref())?;
     let environment = match &file.environment {
         Some(e) => super::environment_file::environment(path, dir, options.allow_outside_paths, e)?,
-        None => super::Environment::Black,
+        None => Environment::Black,
     };
     let mut lights = Vec::new();
     for (i, l) in file.lights.iter().enumerate() {
@@ -149,31 +148,6 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     scene.smesh = SMeshPlan { parts, rest };
     scene.environment = environment;
     Ok(scene)
-}
-
-/// Bounds of the non-degenerate triangles; an error naming the file when there is none.
-pub(super) fn valid_bounds(path: &Path, triangles: &[(Triangle, u32)]) -> Result<beam_math::Aabb, SceneError> {
-    let bounds = triangles
-        .iter()
-        .filter(|(t, _)| t.is_valid())
-        .fold(beam_math::Aabb::EMPTY, |b, (t, _)| b.grow(t.v[0]).grow(t.v[1]).grow(t.v[2]));
-    if bounds.is_valid() { Ok(bounds) } else { Err(SceneError::NoValidTriangle { path: path.to_path_buf() }) }
-}
-
-/// The default camera of a scene without one: [`framing::framing_camera`] of what stands in it
-/// ([`framing::object_bounds`]).
-pub(super) fn default_camera(triangles: &[(Triangle, u32)]) -> Camera {
-    framing::framing_camera(objects(triangles))
-}
-
-/// The default light of a scene without one: [`framing::key_light`] above and behind `camera`.
-pub(super) fn default_light(triangles: &[(Triangle, u32)], camera: &Camera) -> Light {
-    framing::key_light(camera, objects(triangles))
-}
-
-/// What stands in the scene ([`framing::object_bounds`]).
-fn objects(triangles: &[(Triangle, u32)]) -> beam_math::Aabb {
-    framing::object_bounds(&triangles.iter().map(|(t, _)| *t).collect::<Vec<_>>())
 }
 
 fn load_bare_obj(path: &Path) -> Result<Scene, SceneError> {

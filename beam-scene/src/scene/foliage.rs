@@ -2,7 +2,10 @@
 //! under a quad area light — the hardest case for exact soft shadows (001 §5.1's plant): every
 //! shadow beam from the ground under the crown is split at the edges of many leaves.
 
-use super::{Camera, Light, Material, Scene};
+use super::camera::Camera;
+use super::light::Light;
+use super::material::Material;
+use super::model::Scene;
 use beam_math::Triangle;
 use beam_math::glam::{Quat, Vec3};
 use rand::{Rng, SeedableRng};

@@ -48,8 +48,11 @@
 //! rotation = 0                  # optional, a map only: degrees about +Y
 //! ```
 
+use super::camera::Camera;
+use super::camera_path::{CameraKey, CameraPath};
 use super::check::{colour, finite};
-use super::{Bump, Camera, CameraKey, CameraPath, Light, Material};
+use super::light::Light;
+use super::material::{Bump, Material};
 use crate::error::SceneError;
 use beam_math::glam::Vec3;
 use serde::Deserialize;

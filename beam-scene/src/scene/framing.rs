@@ -2,7 +2,8 @@
 //! out), a camera that frames it from the front, right and above, and a key light above and
 //! behind the camera, sized to the objects, so that every face the camera sees is lit.
 
-use super::{Camera, Light};
+use super::camera::Camera;
+use super::light::Light;
 use beam_math::glam::Vec3;
 use beam_math::{Aabb, Triangle};
 

@@ -2,8 +2,10 @@
 //! cardioid, caustics under wavy water, and stained-glass windows of increasing roughness, each lit
 //! by a point light.
 
+use super::light::Light;
+use super::material::Material;
+use super::model::Scene;
 use super::showcase::{GOLD, MIRROR, Tris, WHITE, add, camera, checker, materials, pool, wall};
-use super::{Light, Material, Scene};
 use crate::mesh;
 use beam_math::glam::Vec3;
 use std::f32::consts::TAU;

@@ -6,7 +6,7 @@
 //! until no pair joins. Corners are matched bit for bit (shared vertices of one mesh), and the
 //! joined shape keeps the input's own corners, so that joins go on across a grid.
 
-use super::Light;
+use super::light::Light;
 use beam_math::glam::Vec3;
 use std::collections::HashMap;
 

@@ -1,7 +1,7 @@
 //! Smooth vertex normals of the specular (mirror and glass) triangles: the curved surfaces that the
 //! S mesh of 000 §7.1 stands for, shared by the nonlinear beams and the ray-traced reference.
 
-use super::Material;
+use super::material::Material;
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use rustc_hash::FxHashMap;

@@ -1,7 +1,10 @@
 //! Built-in scenes of curved mirrors and glass for the nonlinear beam tracer (000 Figs. 1 and 15 and
 //! a two-mirror multi-bounce scene), built from procedural meshes whose resolution is the S mesh's.
 
-use super::{Camera, Light, Material, Scene};
+use super::camera::Camera;
+use super::light::Light;
+use super::material::{Bump, Material};
+use super::model::Scene;
 use crate::mesh::{self, Mesh};
 use beam_math::Triangle;
 use beam_math::glam::{Mat3, Vec3};
@@ -60,7 +63,7 @@ pub(super) fn materials() -> Vec<Material> {
         Material::Diffuse { albedo: Vec3::new(0.7, 0.1, 0.08) },
         Material::Diffuse { albedo: Vec3::new(0.12, 0.5, 0.15) },
         Material::Diffuse { albedo: Vec3::new(0.8, 0.55, 0.1) },
-        Material::Mirror { tint: Vec3::splat(0.95), bump: super::Bump::NONE },
+        Material::Mirror { tint: Vec3::splat(0.95), bump: Bump::NONE },
         Material::Glass { ior: 1.5 },
         Material::Glass { ior: 1.33 },
     ]

@@ -2,7 +2,8 @@
 //! `smesh_error`, and the scene-wide `[smesh]` table, checked into [`SMeshSource`]s.
 
 use super::format::{MeshFile, SMeshFile};
-use super::{Material, SMeshSource, Simplify};
+use super::material::Material;
+use super::smesh_plan::{SMeshSource, Simplify};
 use crate::error::SceneError;
 use crate::mesh::load_obj_with;
 use crate::read::resolve_inside;

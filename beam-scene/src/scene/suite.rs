@@ -5,7 +5,13 @@
 //! lights that give about 0.33 linear (0.6 sRGB) on the lit ground. Every scene's ground is
 //! material 0 ([`content_bounds`] leaves it out).
 
-use super::{Camera, Light, Material, Scene, foliage};
+pub use super::names::GENERATED;
+
+use super::camera::Camera;
+use super::foliage;
+use super::light::Light;
+use super::material::Material;
+use super::model::Scene;
 use crate::error::SceneError;
 use crate::mesh::{Mesh, load_obj};
 use beam_math::glam::{Quat, Vec3};
@@ -15,9 +21,6 @@ use rand_pcg::Pcg32;
 
 /// The suite's cases, in the order the bench runs them.
 pub const CASES: [&str; 8] = ["spheres", "spheres-36", "spheres-256", "bunny", "spot", "teapot", "plant", "ground"];
-
-/// The cases built without files, which [`super::builtin`] also knows by these names.
-pub const GENERATED: [&str; 5] = ["spheres", "spheres-36", "spheres-256", "plant", "ground"];
 
 /// The light sizes of the light sweep: the quad's edge as a fraction of the content's width.
 pub const SWEEP: [f32; 5] = [0.01, 0.03, 0.1, 0.3, 1.0];

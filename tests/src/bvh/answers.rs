@@ -1,6 +1,7 @@
 //! A layout's answers to a ray set, brute force's, and their comparison.
 
-use super::{RaySet, brute_force_closest};
+use super::brute_force::brute_force_closest;
+use super::rays::RaySet;
 use beam_bvh::{Bvh8, FlatBvh, Hit, WideBvh};
 use beam_math::{Ray, Triangle};
 use rayon::prelude::*;

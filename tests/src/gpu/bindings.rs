@@ -2,9 +2,9 @@
 //! tree (000 §3, §7.3): every buffer that grows with S-mesh faces, beams or texels must be split or
 //! compacted to fit one binding, and the image must still equal the CPU's.
 
-use super::PixelDifference;
+use super::pixels::PixelDifference;
 use super::twin::TwinShading;
-use crate::{Config, Outcome};
+use crate::property::{Config, Outcome};
 use beam_cpu::nonlinear::{CAUSTIC_STRATA, Degree, NonlinearOptions, SMesh, render_nonlinear_with};
 use beam_cpu::render::RenderOptions;
 use beam_gpu::nonlinear::{GpuBeams, GpuFace};
@@ -69,7 +69,7 @@ pub fn narrow_adapter(binding: u64) -> Result<Result<Gpu, Outcome>, String> {
     let options = wgpu::RequestAdapterOptions { compatible_surface: None, ..Default::default() };
     let adapter = match pollster::block_on(instance.request_adapter(&options)) {
         Ok(a) => a,
-        Err(e) if crate::gpu_required() => return Err(format!("BEAM_REQUIRE_GPU=1 but no GPU adapter: {e}")),
+        Err(e) if crate::property::gpu_required() => return Err(format!("BEAM_REQUIRE_GPU=1 but no GPU adapter: {e}")),
         Err(e) => return Ok(Err(Outcome::skipped(&format!("no GPU adapter: {e}")))),
     };
     let mut limits = adapter.limits();
@@ -86,7 +86,7 @@ pub fn narrow_adapter(binding: u64) -> Result<Result<Gpu, Outcome>, String> {
 /// at most 0.5% of the pixels differ by more than 4/255 in a channel (sRGB), as in
 /// `gpu_images_equal_cpu`. A scene whose BVH does not fit a binding (`mirror-glass`) is refused
 /// with [`GpuError::SceneTooLarge`].
-pub fn gpu_images_fit_narrow_bindings(_: crate::Backend, _: &Config) -> Result<Outcome, String> {
+pub fn gpu_images_fit_narrow_bindings(_: crate::property::Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match narrow_adapter(NARROW_BINDING)? {
         Ok(g) => g,
         Err(o) => return Ok(o),

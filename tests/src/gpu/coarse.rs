@@ -7,9 +7,10 @@
 //!
 //! [`Composite::reflected_at`]: beam_cpu::nonlinear::Composite
 
+use super::device::adapter;
+use super::pixels::PixelDifference;
 use super::twin::TwinShading;
-use super::{PixelDifference, adapter};
-use crate::{Backend, Config, Outcome};
+use crate::property::{Backend, Config, Outcome};
 use beam_cpu::nonlinear::{Degree, EyeView, NonlinearOptions, render_nonlinear_with};
 use beam_cpu::render::RenderOptions;
 use beam_gpu::nonlinear::GpuBeams;

@@ -2,8 +2,9 @@
 //! blocks whose boxes meet a beam's cone, the GPU culls their triangles one by one
 //! (`beam_cull.wgsl`); together they must keep what the host's own culling keeps.
 
-use super::{adapter, face_beams};
-use crate::{Backend, Config, Outcome};
+use super::beams::face_beams;
+use super::device::adapter;
+use crate::property::{Backend, Config, Outcome};
 use beam_cpu::nonlinear::{BeamJob, Degree, SMesh};
 use beam_gpu::interface::PAIR_NEAR;
 use beam_gpu::nonlinear::GpuBeams;

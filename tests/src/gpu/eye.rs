@@ -1,7 +1,7 @@
 //! The eye's view made and traced on the GPU (beam-gpu's `GpuEye`) against the CPU's.
 
-use super::adapter;
-use crate::{Backend, Config, Outcome};
+use super::device::adapter;
+use crate::property::{Backend, Config, Outcome};
 use beam_cpu::nonlinear::{CpuBeams, EyeView};
 use beam_cpu::render::RenderOptions;
 use beam_gpu::nonlinear::GpuBeams;

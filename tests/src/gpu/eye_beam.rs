@@ -2,8 +2,8 @@
 //! CPU twin, `beam_cpu::render::pixel_fragments` (the exact visible surface through each pixel's
 //! square).
 
-use crate::gpu::adapter;
-use crate::{Backend, Config, Outcome};
+use super::device::adapter;
+use crate::property::{Backend, Config, Outcome};
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::render::{NEAR, pixel_fragments};
 use beam_gpu::eye_beam::{EyeBeams, PixelFragments};

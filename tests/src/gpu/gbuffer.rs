@@ -1,7 +1,7 @@
 //! The G-buffer pass engines run on their own device (`beam_gpu::gbuffer`) against its CPU twin.
 
-use crate::gpu::adapter;
-use crate::{Backend, Config, Outcome};
+use super::device::adapter;
+use crate::property::{Backend, Config, Outcome};
 use beam_cpu::render::light_seen;
 use beam_gpu::Gpu;
 use beam_gpu::buffers::{read_back, storage};

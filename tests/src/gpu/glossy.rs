@@ -1,7 +1,7 @@
 //! The GPU's gather of the glossy light volumes (002 §4.3) against the CPU's.
 
-use super::adapter;
-use crate::{Backend, Config, Outcome};
+use super::device::adapter;
+use crate::property::{Backend, Config, Outcome};
 use beam_math::glam::Vec3;
 use beam_scene::scene;
 

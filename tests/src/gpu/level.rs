@@ -2,8 +2,10 @@
 //! hits of the same level, its fits summed there against the host's, and the images rendered that
 //! way against those with every level read back.
 
-use super::{PixelDifference, adapter, face_beams, level_one_beams};
-use crate::{Backend, Config, Outcome};
+use super::beams::{face_beams, level_one_beams};
+use super::device::adapter;
+use super::pixels::PixelDifference;
+use crate::property::{Backend, Config, Outcome};
 use beam_cpu::nonlinear::{
     BeamJob, BeamRasterizer, CAUSTIC_STRATA, Degree, Exclude, NonlinearOptions, render_nonlinear_with,
 };

@@ -3,9 +3,10 @@
 //! S mesh's composite takes per point to find the texel of a child beam that its own reflected ray
 //! reaches (000 §5, §7.1).
 
-use super::{adapter, kind, random_beams};
+use super::beams::{kind, random_beams};
+use super::device::adapter;
 use crate::generate::{self, Rng64, uniform};
-use crate::{Backend, Config, Outcome};
+use crate::property::{Backend, Config, Outcome};
 use beam_cpu::nonlinear::Beam;
 use beam_gpu::nonlinear::{LookupFound, NonlinearCheck};
 use beam_math::glam::Vec3;

@@ -1,8 +1,8 @@
 //! Readbacks on the GPU reuse the mappable buffers earlier ones handed back (a frame reads back the
 //! sizes the last one did), and each reads exactly its own bytes from a buffer that may be larger.
 
-use super::adapter;
-use crate::{Backend, Config, Outcome};
+use super::device::adapter;
+use crate::property::{Backend, Config, Outcome};
 use beam_gpu::buffers::{map_with, read_back, readback, storage};
 
 /// Words `0..n` uploaded, then read back through the pool's buffers: an 80 KB readback hands its

@@ -1,8 +1,8 @@
 //! Whitted rays traced on the GPU (beam-gpu's `GpuWhitted`, depth first and in waves) against the
 //! CPU's waves.
 
-use super::adapter;
-use crate::{Backend, Config, Outcome};
+use super::device::adapter;
+use crate::property::{Backend, Config, Outcome};
 use beam_bvh::gpu::GpuBvh;
 use beam_cpu::nonlinear::{CpuBeams, ShadePoint, shade_by_waves};
 use beam_gpu::buffers::{checked, output, read_all};

@@ -1,7 +1,7 @@
 //! Collision routines against brute force and sampling.
 
 use crate::generate::{self, Rng64, uniform};
-use crate::{Backend, Config, Outcome};
+use crate::property::{Backend, Config, Outcome};
 use beam_math::collide::{
     Cone, ConvexPolygon, cone_sphere, frustum_aabb, point_in_aabb, point_in_convex_polygon, ray_aabb, ray_plane,
     ray_triangle,

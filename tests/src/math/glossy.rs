@@ -1,7 +1,7 @@
 //! Glossy light volumes (002 §3–4): flux triangles and Gaussian volumes.
 
 use crate::generate::{self, uniform};
-use crate::{Backend, Config, Outcome};
+use crate::property::{Backend, Config, Outcome};
 use beam_math::collide::point_in_convex_polygon;
 use beam_math::glam::{DVec2, Vec2, Vec3};
 use beam_math::glossy::{LightBeam, VolumeMethod, gaussian_volume, gaussian_volume_tessellated, in_beam};

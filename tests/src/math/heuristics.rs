@@ -1,7 +1,7 @@
 //! BVH cost-model areas (004).
 
 use crate::generate::{self, uniform};
-use crate::{Backend, Config, Outcome};
+use crate::property::{Backend, Config, Outcome};
 use beam_math::Ray;
 use beam_math::collide::ray_aabb;
 use beam_math::heuristics::{

@@ -7,7 +7,7 @@ mod nonlinear;
 mod polybeam;
 mod roots;
 
-use crate::{Backend, Property};
+use crate::property::{Backend, Property};
 
 const MATH: &[Backend] = &[Backend::Math];
 

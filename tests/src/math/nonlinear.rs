@@ -1,7 +1,7 @@
 //! Nonlinear beams (000 §4–6): projection, threshold plane, bounding triangles and cones.
 
 use crate::generate::{self, BeamKind, Rng64, barycentric_grid, uniform};
-use crate::{Backend, Config, Outcome};
+use crate::property::{Backend, Config, Outcome};
 use beam_math::Triangle;
 use beam_math::collide::WatertightRay;
 use beam_math::glam::{DMat3, Vec2, Vec3};

@@ -1,7 +1,7 @@
 //! Polygon beams (001 §3.2): the split is exact.
 
 use crate::generate::{self, uniform};
-use crate::{Backend, Config, Outcome};
+use crate::property::{Backend, Config, Outcome};
 use beam_math::collide::{ConvexPolygon, ray_triangle};
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::{BeamFrame, PolyBeam};

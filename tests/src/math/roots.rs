@@ -1,7 +1,7 @@
 //! Polynomial roots against their defining polynomials.
 
 use crate::generate;
-use crate::{Backend, Config, Outcome};
+use crate::property::{Backend, Config, Outcome};
 use beam_math::roots::{cubic, quadratic, quartic};
 use rand::Rng;
 

@@ -3,21 +3,27 @@
 
 mod ours;
 mod paired;
+mod timing;
 
-use super::{Tracer, median, peers};
+pub use timing::Clock;
+
+use super::peer_set::peers;
+use super::stats::median;
+use super::tracer::Tracer;
 use beam_bvh::{BuildOptions, Bvh8, Collapse, FlatBvh, Kernel, RayDistribution, TraversalStats, WideBvh};
-use beam_conformance::bvh::scene_light;
-use beam_conformance::generate::{self, uniform};
 use beam_cpu::cpu_clock::thread_cpu_seconds;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
-use beam_scene::scene::Camera;
+use beam_scene::scene::{Camera, Light};
 use ours::{Binary, Counted, Wide4, Wide8};
 use paired::Paired;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
+use timing::{KINDS, Rays, throughput};
 
 /// One row of the JSON output.
 #[derive(Serialize, Clone)]
@@ -27,15 +33,6 @@ pub struct Row {
     threads: usize,
     build_ms: f64,
     mrays_per_s: f64,
-}
-
-/// The rays of the benchmark.
-struct Rays {
-    primary: Vec<Ray>,
-    shadow: Vec<(Ray, f32)>,
-    diffuse: Vec<Ray>,
-    eye: Vec3,
-    forward: Vec3,
 }
 
 /// A pinhole camera inside the scene box looking along its longest horizontal axis (an interior
@@ -55,7 +52,7 @@ fn make_rays(bvh: &FlatBvh, tris: &[Triangle], width: usize, height: usize) -> R
         .collect();
     let hits = bvh.closest_hits(tris, &primary, f32::INFINITY);
     let (lc, lu, lv) = scene_light(b);
-    let mut rng = generate::rng(77);
+    let mut rng = Pcg64::seed_from_u64(77);
     let eps = 1e-4 * e.length();
     let mut shadow = Vec::new();
     let mut diffuse = Vec::new();
@@ -77,58 +74,24 @@ fn make_rays(bvh: &FlatBvh, tris: &[Triangle], width: usize, height: usize) -> R
     Rays { primary, shadow, diffuse, eye: camera.position, forward: frame.forward }
 }
 
-/// How single-thread rows are timed.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub enum Clock {
-    /// Wall-clock time.
-    Wall,
-    /// The thread's own CPU time: on a shared machine other processes' time slices do not count.
-    Thread,
-}
-
-/// Seconds `f` takes, by `clock`.
-fn seconds(clock: Clock, f: impl FnOnce()) -> f64 {
-    let (s, cpu) = (Instant::now(), thread_cpu_seconds());
-    f();
-    match (clock, cpu, thread_cpu_seconds()) {
-        (Clock::Thread, Some(a), Some(b)) => b - a,
-        _ => s.elapsed().as_secs_f64(),
+/// The centre and the two edges of the quad light under the ceiling of a scene box (as the BVH
+/// properties of the conformance suite place it).
+fn scene_light(bounds: beam_math::Aabb) -> (Vec3, Vec3, Vec3) {
+    match Light::under_ceiling(bounds, 0.33, Vec3::ONE) {
+        Light::Quad { corner, edge_u, edge_v, .. } => (corner + 0.5 * (edge_u + edge_v), edge_u, edge_v),
+        _ => unreachable!("under_ceiling is a quad"),
     }
 }
 
-const KINDS: [&str; 3] = ["primary", "shadow", "diffuse"];
+/// Uniform in `[lo, hi)`, as the conformance suite's generator draws it (the same rays, seed for seed).
+fn uniform(rng: &mut Pcg64, lo: f32, hi: f32) -> f32 {
+    lo + (hi - lo) * rng.random::<f32>()
+}
 
 /// Timing rounds: every tracer is timed once per round on every ray kind and keeps its best, so
 /// that a drift in the machine's speed (a shared virtual machine) meets all tracers alike rather
 /// than the ones timed last.
 const ROUNDS: usize = 3;
-
-/// Mrays/s of one tracer on one ray kind with `threads` (1 by `clock`, or all by wall clock), from
-/// one pass over the rays.
-fn throughput(t: &dyn Tracer, rays: &Rays, kind: &str, parallel: bool, clock: Clock) -> f64 {
-    let sink = |x: bool| std::hint::black_box(x);
-    let wall = Clock::Wall;
-    let secs = match (kind, parallel) {
-        ("shadow", false) => seconds(clock, || rays.shadow.iter().for_each(|(r, m)| _ = sink(t.occluded(r, *m)))),
-        ("shadow", true) => {
-            seconds(wall, || rays.shadow.par_iter().with_min_len(64).for_each(|(r, m)| _ = sink(t.occluded(r, *m))))
-        }
-        (_, false) => {
-            let rs = if kind == "primary" { &rays.primary } else { &rays.diffuse };
-            seconds(clock, || rs.iter().for_each(|r| _ = sink(t.closest(r).is_some())))
-        }
-        (_, true) => {
-            let rs = if kind == "primary" { &rays.primary } else { &rays.diffuse };
-            seconds(wall, || rs.par_iter().with_min_len(64).for_each(|r| _ = sink(t.closest(r).is_some())))
-        }
-    };
-    let n = match kind {
-        "primary" => rays.primary.len(),
-        "shadow" => rays.shadow.len(),
-        _ => rays.diffuse.len(),
-    };
-    n as f64 / secs / 1e6
-}
 
 /// Disagreements of a tracer with the reference (closest-hit distance beyond 1e-4 relative, or a
 /// different occlusion answer) over all rays.

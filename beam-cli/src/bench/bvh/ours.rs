@@ -1,7 +1,7 @@
 //! Our layouts as [`Tracer`]s: the binary tree, the 4-wide collapse of it, and the 8-wide tree
 //! built directly (on the kernel the CPU picked, or forced to the portable one).
 
-use crate::bench::Tracer;
+use crate::bench::tracer::Tracer;
 use beam_bvh::{Bvh8, FlatBvh, TraversalStats, WideBvh};
 use beam_math::{Ray, Triangle};
 

@@ -6,8 +6,10 @@
 //! library's idle threads sleep) made both slower, Sponza's by 50–100% after 100 ms, ours less
 //! than Embree's.
 
-use super::{Clock, KINDS, Rays, median, throughput};
-use crate::bench::{Tracer, peer_build_ms};
+use super::timing::{Clock, KINDS, Rays, throughput};
+use crate::bench::peer_set::peer_build_ms;
+use crate::bench::stats::median;
+use crate::bench::tracer::Tracer;
 use beam_bvh::{BuildOptions, Bvh8};
 use beam_math::Triangle;
 use std::time::Instant;

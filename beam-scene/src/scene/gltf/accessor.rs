@@ -3,6 +3,7 @@
 //! buffer view reads as zeros, and a sparse one has its substitutions applied.
 
 use super::sparse;
+use super::view::view_bytes;
 use gltf::accessor::{DataType, Dimensions};
 use std::borrow::Cow;
 use std::rc::Rc;
@@ -142,21 +143,4 @@ fn viewed<'b>(
     }
     let data = view_bytes(view, buffers)?;
     Ok((&data[accessor.offset()..accessor.offset() + span], stride))
-}
-
-/// The bytes of buffer `view`, checked to lie within its buffer.
-pub(super) fn view_bytes<'b>(view: &gltf::buffer::View, buffers: &'b [Rc<Vec<u8>>]) -> Result<&'b [u8], String> {
-    let data = &buffers[view.buffer().index()];
-    let view_end = view.offset().checked_add(view.length());
-    match view_end {
-        Some(end) if end <= data.len() => Ok(&data[view.offset()..end]),
-        _ => Err(format!(
-            "buffer view {}: bytes {} to {} lie outside buffer {} ({} bytes)",
-            view.index(),
-            view.offset(),
-            view_end.map_or_else(|| "∞".to_string(), |e| e.to_string()),
-            view.buffer().index(),
-            data.len()
-        )),
-    }
 }

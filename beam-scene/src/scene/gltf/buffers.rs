@@ -2,10 +2,10 @@
 //! percent-encoded), or a file beside the model, resolved inside the model's folder with the rule of
 //! a TOML scene's mesh paths ([`resolve_inside`]) and read once, bounded.
 
-use super::error;
+use super::errors::error;
 use crate::error::SceneError;
 use crate::read::{MAX_MESH_BYTES, QUOTE_CHARS, clip, read_bounded, resolve_inside};
-use crate::scene::LoadOptions;
+use crate::scene::load_options::LoadOptions;
 use base64::Engine as _;
 use base64::engine::{DecodePaddingMode, GeneralPurpose, GeneralPurposeConfig};
 use std::collections::HashMap;

@@ -3,9 +3,9 @@
 //! that covers the same `ymag` half-height at the orthographic camera's position: rays at most
 //! 1° from parallel, and what lies `ymag` beyond that plane drawn about 2 % smaller.
 
-use super::error;
+use super::errors::error;
 use crate::error::SceneError;
-use crate::scene::Camera;
+use crate::scene::camera::Camera;
 use beam_math::glam::{Mat4, Vec3};
 use gltf::json::camera::Type;
 use gltf::json::validation::Checked;

@@ -4,7 +4,7 @@
 //! that is used without its extension being required, and without the uncompressed fallback the
 //! extension then demands, is refused by name too.
 
-use super::error;
+use super::errors::error;
 use crate::error::SceneError;
 use crate::read::{QUOTE_CHARS, clip};
 use gltf::json::Value;

@@ -13,9 +13,9 @@
 //!
 //! A primitive without a material gets the diffuse grey of a bare OBJ file.
 
-use super::error;
+use super::errors::error;
 use crate::error::SceneError;
-use crate::scene::Material;
+use crate::scene::material::{Bump, Material};
 use crate::scene::surface::{MaterialMaps, TextureRef};
 use beam_math::glam::{Affine2, Vec2, Vec3};
 use std::path::Path;
@@ -92,7 +92,7 @@ fn map(path: &Path, m: &gltf::Material) -> Result<Material, SceneError> {
         }
         Material::Glass { ior }
     } else if metallic >= 0.5 && roughness <= MIRROR_ROUGHNESS {
-        Material::Mirror { tint: base, bump: crate::scene::Bump::NONE }
+        Material::Mirror { tint: base, bump: Bump::NONE }
     } else if metallic >= 0.5 {
         Material::Glossy { albedo: base, variance: roughness.clamp(0.0, 1.0).powi(4) }
     } else {

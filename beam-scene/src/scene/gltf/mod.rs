@@ -14,6 +14,7 @@
 mod accessor;
 mod buffers;
 mod camera;
+mod errors;
 mod extensions;
 mod instancing;
 mod materials;
@@ -21,31 +22,19 @@ mod primitive;
 mod raw;
 mod sparse;
 mod textures;
+mod view;
 mod walk;
 
-use super::file::{LoadOptions, default_camera, default_light, valid_bounds};
+use super::camera::Camera;
+use super::defaults::{default_camera, default_light, valid_bounds};
+use super::environment::Environment;
+use super::load_options::LoadOptions;
+use super::model::Scene;
 use super::surface::Surfaces;
-use super::{Camera, Environment, Scene};
 use crate::error::SceneError;
 use crate::read::{MAX_MESH_BYTES, clip, read_bounded, visible};
-use std::fmt::Display;
+use errors::{error, file_error};
 use std::path::Path;
-
-/// Most triangles a glTF scene may expand to once meshes are instanced by their nodes (a small
-/// file may place a large mesh many times): 2²⁵, about 1.3 GiB of placed triangles before the
-/// BVH, so that a few kilobytes of JSON cannot take the machine's memory before `beam render`'s
-/// memory estimate is made. Sixty times the Sponza atrium.
-const MAX_GLTF_TRIANGLES: usize = 1 << 25;
-
-/// An error of the glTF file `path` at `element` (`mesh 2 primitive 0`, `node 3`).
-fn error(path: &Path, element: impl Display, message: impl Display) -> SceneError {
-    SceneError::Gltf { path: path.to_path_buf(), element: Some(element.to_string()), message: message.to_string() }
-}
-
-/// An error of the glTF file `path` as a whole.
-fn file_error(path: &Path, message: impl Display) -> SceneError {
-    SceneError::Gltf { path: path.to_path_buf(), element: None, message: message.to_string() }
-}
 
 /// Load the glTF 2.0 file `path` (`.gltf` or `.glb`) into a scene: with `options` saying whether
 /// its external buffers may lie outside its folder. Without a camera it gets the framing camera

@@ -5,7 +5,8 @@
 //! `EXT_mesh_gpu_instancing` attributes kept. A document that does not fit the schema's types is
 //! an error naming the first element that does not (`nodes[3]: invalid type: …`).
 
-use super::{error, extensions, file_error};
+use super::errors::{error, file_error};
+use super::extensions;
 use crate::error::SceneError;
 use crate::read::clip;
 use gltf::json::{self, Value};

@@ -1,7 +1,7 @@
 //! Sparse glTF accessors: the elements a sparse substitution names (by index) replaced by its
 //! values, every byte range and index checked.
 
-use super::accessor::view_bytes;
+use super::view::view_bytes;
 use gltf::accessor::sparse::{IndexType, Sparse};
 use std::rc::Rc;
 

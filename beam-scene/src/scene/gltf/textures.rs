@@ -3,10 +3,10 @@
 //! (glTF 2.0 §3.8.4).
 
 use super::buffers::{data_uri, file_name, has_scheme};
-use super::error;
+use super::errors::error;
 use crate::error::SceneError;
 use crate::read::{MAX_MESH_BYTES, read_bounded, resolve_inside};
-use crate::scene::LoadOptions;
+use crate::scene::load_options::LoadOptions;
 use crate::scene::surface::MaterialMaps;
 use crate::scene::texture::{Filter, Texture, Wrap};
 use std::collections::HashMap;

@@ -3,12 +3,15 @@
 //! `EXT_mesh_gpu_instancing` instance when it has them ([`instancing`]), its camera ([`camera`])
 //! and its `KHR_lights_punctual` light. Skins and morph weights are not applied, only counted.
 
+use super::errors::error;
 use super::primitive::{self, Part};
 use super::raw::Instancing;
-use super::{MAX_GLTF_TRIANGLES, camera, error, instancing};
+use super::{camera, instancing};
 use crate::error::SceneError;
+use crate::scene::camera::Camera;
+use crate::scene::light::Light;
+use crate::scene::material::Material;
 use crate::scene::surface::Surfaces;
-use crate::scene::{Camera, Light, Material};
 use beam_math::Triangle;
 use beam_math::glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 use gltf::khr_lights_punctual::Kind;
@@ -16,6 +19,12 @@ use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::path::Path;
 use std::rc::Rc;
+
+/// Most triangles a glTF scene may expand to once meshes are instanced by their nodes (a small
+/// file may place a large mesh many times): 2²⁵, about 1.3 GiB of placed triangles before the
+/// BVH, so that a few kilobytes of JSON cannot take the machine's memory before `beam render`'s
+/// memory estimate is made. Sixty times the Sponza atrium.
+const MAX_GLTF_TRIANGLES: usize = 1 << 25;
 
 /// What the walk found.
 pub(super) struct Walked {
