@@ -25,7 +25,6 @@
 //!
 //! `cargo run --release -p beam-cpu --example soft_shadows` builds a scene in code instead.
 
-pub use beam_scene::cpu_clock;
 pub mod error;
 pub mod glossy;
 pub mod nonlinear;

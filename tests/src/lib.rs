@@ -121,7 +121,7 @@ pub fn gpu_required() -> bool {
 pub fn with_renderer<T>(
     backend: Backend,
     scene: &beam_scene::scene::Scene,
-    f: impl FnOnce(&dyn beam_cpu::nonlinear::BeamRenderer) -> Result<T, String>,
+    f: impl FnOnce(&dyn beam_render::nonlinear::BeamRenderer) -> Result<T, String>,
 ) -> Result<Result<T, Outcome>, String> {
     if backend != Backend::Gpu {
         return f(&beam_cpu::nonlinear::CpuBeams).map(Ok);

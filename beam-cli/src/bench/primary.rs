@@ -8,7 +8,7 @@
 use beam_cpu::render::{Image, difference, primary_image};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::queries::ClosestHit;
+use beam_render::queries::ClosestHit;
 use beam_scene::scene::{self, Camera, Scene};
 use rand::SeedableRng;
 use rand_pcg::Pcg32;

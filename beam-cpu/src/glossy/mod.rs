@@ -12,7 +12,6 @@ mod kernel;
 mod photons;
 mod render;
 
-pub use beam_scene::glossy::*;
 pub use direct::reference_direct;
 pub use kernel::PhotonKernel;
 pub use photons::{PhotonMaps, glossy_photons, photon_texel};

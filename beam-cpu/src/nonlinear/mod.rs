@@ -25,6 +25,3 @@ pub use frame::{NonlinearPrecomputed, render_nonlinear, render_nonlinear_frame, 
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
 pub use settings::{MAX_TREE_BEAMS, NonlinearOptions, NonlinearStats};
 pub use stages::Stage;
-// The host side of the beam tree, shared with beam-gpu (beam-scene), under the names the CPU
-// renderer's callers use.
-pub use beam_scene::nonlinear::*;

@@ -10,7 +10,7 @@ use crate::buffers::{output, read_all};
 use crate::interface::{FIT_BIAS, FIT_SCALE, FIT_WORDS};
 use crate::{Gpu, GpuError};
 use beam_math::glam::Mat3;
-use beam_scene::nonlinear::Fit;
+use beam_render::nonlinear::Fit;
 
 /// Fewest slots of a table (a power of two; `lib/fit.wgsl` hashes into at least 2¹⁰).
 pub const MIN_FIT_SLOTS: u32 = 1 << 10;
