@@ -7,8 +7,7 @@ use crate::{Backend, Config, Outcome, Property};
 use beam_cpu::render::{difference, render};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
-use beam_render::options::Occluders;
-use beam_render::options::{Method, RenderOptions, Shading};
+use beam_render::options::{Method, Occluders, RenderOptions, Shading};
 use beam_scene::scene;
 use rand::Rng;
 

@@ -8,8 +8,7 @@ use beam_cpu::nonlinear::{
     CpuBeams, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
 };
 use beam_gpu::nonlinear::GpuBeams;
-use beam_render::nonlinear::BeamRenderer;
-use beam_render::nonlinear::Degree;
+use beam_render::nonlinear::{BeamRenderer, Degree};
 use beam_render::options::RenderOptions;
 use beam_scene::scene;
 

@@ -1,6 +1,6 @@
 //! The next tree level's fits summed on the GPU (`shaders/lib/fit.wgsl`): where the composite
 //! shades a kept level's texels itself, the host needs of the texels from which the tree goes on
-//! only the sums of each beam's fits per S-mesh face (beam-scene's [`Fit`], 000 §7.2), not the
+//! only the sums of each beam's fits per S-mesh face (beam-render's [`Fit`], 000 §7.2), not the
 //! texels (270 K a frame on the glass lens, 13 MB). `level_points` adds every such texel to its
 //! (beam, face) slot of a table in 64-bit fixed point, whose sums do not depend on the order of
 //! the texels: the same texels give the same bits, and the host's memos of the next level's beams

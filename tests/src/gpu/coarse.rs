@@ -14,8 +14,7 @@ use beam_cpu::nonlinear::{NonlinearOptions, render_nonlinear_with};
 use beam_gpu::nonlinear::GpuBeams;
 use beam_math::Triangle;
 use beam_math::collide::closest_point_on_triangle;
-use beam_render::nonlinear::SMesh;
-use beam_render::nonlinear::{Degree, EyeView};
+use beam_render::nonlinear::{Degree, EyeView, SMesh};
 use beam_render::options::RenderOptions;
 use beam_scene::scene::{self, Simplify};
 

@@ -6,8 +6,7 @@ use super::{adapter, face_beams};
 use crate::{Backend, Config, Outcome};
 use beam_gpu::interface::PAIR_NEAR;
 use beam_gpu::nonlinear::GpuBeams;
-use beam_render::nonlinear::cone_candidates;
-use beam_render::nonlinear::{BeamJob, Degree, SMesh};
+use beam_render::nonlinear::{BeamJob, Degree, SMesh, cone_candidates};
 use beam_scene::scene::{self, Simplify};
 
 /// On three built-ins (glass lens and facing mirrors on their fine S meshes, the mirror teapot on

@@ -8,8 +8,9 @@ use beam_cpu::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_wit
 use beam_gpu::nonlinear::GpuBeams;
 use beam_gpu::shade::PointShader;
 use beam_math::glam::Vec3;
-use beam_render::nonlinear::{BeamJob, BeamRasterizer, Degree, Exclude};
-use beam_render::nonlinear::{EyeView, Fit, KeepLevel, LevelLayout, SMesh, TexelHit};
+use beam_render::nonlinear::{
+    BeamJob, BeamRasterizer, Degree, Exclude, EyeView, Fit, KeepLevel, LevelLayout, SMesh, TexelHit,
+};
 use beam_render::options::RenderOptions;
 use beam_scene::scene::{self, Simplify};
 use std::collections::BTreeMap;

@@ -9,8 +9,7 @@ use crate::{Backend, Config, Outcome};
 use beam_gpu::nonlinear::{LookupFound, NonlinearCheck};
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::Projection;
-use beam_render::nonlinear::Beam;
-use beam_render::nonlinear::LOOKUP;
+use beam_render::nonlinear::{Beam, LOOKUP};
 
 /// How far apart the GPU's and the CPU's `ω` may lie, and their `t` relative to the base's size
 /// plus `t`: a thirtieth of a texel at 32 texels a side, where f32's Newton's method stops at its
