@@ -2,9 +2,9 @@
 //! method, output paths that may be written, and the memory the render will need. [`plan`] renders
 //! nothing, so it can be run on any argument vector (the CLI fuzzer does).
 
-use beam_cpu::nonlinear::Degree;
-use beam_cpu::render::{Method, Occluders, RenderOptions, Shading};
 use beam_math::glossy::VolumeMethod;
+use beam_render::nonlinear::Degree;
+use beam_render::options::{Method, Occluders, RenderOptions, Shading};
 use beam_scene::region::Placement;
 use beam_scene::scene::{self, Environment, EnvironmentMap, Scene};
 use std::path::{Path, PathBuf};

@@ -2,17 +2,16 @@
 
 use crate::output::{erased::Json, write_render};
 use crate::plan::{Kind, Plan, RenderArgs};
-use beam_cpu::glossy::{
-    GlossyOptions, LightVolumes, photon_texel, render_glossy, render_glossy_reference_in, render_glossy_with,
-};
-use beam_cpu::nonlinear::{
-    BeamRenderer, CpuBeams, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
-};
-use beam_cpu::render::{Method, render, render_queries};
+use beam_cpu::glossy::{photon_texel, render_glossy, render_glossy_reference_in, render_glossy_with};
+use beam_cpu::nonlinear::{CpuBeams, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with};
+use beam_cpu::render::{render, render_queries};
 use beam_gpu::nonlinear::GpuBeams;
 use beam_gpu::queries::GpuQueries;
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
+use beam_render::BackendError;
+use beam_render::glossy::{GlossyOptions, LightVolumes};
+use beam_render::nonlinear::BeamRenderer;
+use beam_render::options::Method;
 use std::process::ExitCode;
 
 pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {

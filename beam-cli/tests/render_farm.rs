@@ -204,7 +204,8 @@ fn exr_bits(path: &Path) -> (usize, usize, Vec<u32>) {
 
 #[test]
 fn exr_holds_the_linear_pixels_and_exposure_scales_both_formats() {
-    use beam_cpu::render::{RenderOptions, render, srgb_encode};
+    use beam_cpu::render::{render, srgb_encode};
+    use beam_render::options::RenderOptions;
     let dir = tempfile::tempdir().unwrap();
     let (w, h) = (24, 18);
     let args = ["--width", "24", "--height", "18", "--method", "ray", "--spp", "4"];
@@ -212,7 +213,7 @@ fn exr_holds_the_linear_pixels_and_exposure_scales_both_formats() {
     ok(&command(&render_args(&args, &exr, &[])).output().unwrap());
     // The library's render with the options `beam render` builds.
     let scene = beam_scene::scene::builtin("cornell").unwrap();
-    let options = RenderOptions { method: beam_cpu::render::Method::Ray, spp: 4, ..RenderOptions::exact(w, h) };
+    let options = RenderOptions { method: beam_render::options::Method::Ray, spp: 4, ..RenderOptions::exact(w, h) };
     let (image, _) = render(&scene, &options, || {});
     let linear: Vec<u32> = image.pixels.iter().flat_map(|c| c.to_array().map(f32::to_bits)).collect();
     assert_eq!(exr_bits(&exr), (w as usize, h as usize, linear), "the EXR holds the linear pixels bit for bit");

@@ -11,8 +11,9 @@
 //! 4. a mirror sphere beside the checker box under an equirectangular sky map (`--env`);
 //! 5. a label sheet whose emissive factor scales an emissive texture, beside a white box.
 
-use beam_cpu::render::{Image, Method, RenderOptions, render};
+use beam_cpu::render::{Image, render};
 use beam_math::glam::Vec3;
+use beam_render::options::{Method, RenderOptions};
 use beam_scene::scene::{self, Environment, EnvironmentMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -6,7 +6,8 @@
 //! `box.bin`: an emissive ceiling quad, a white box and a mirror cube turned by node rotations, a red
 //! and a green wall, a camera on a node) to a temporary folder, so it runs without files.
 
-use beam_cpu::render::{RenderOptions, render};
+use beam_cpu::render::render;
+use beam_render::options::RenderOptions;
 use beam_scene::scene;
 use std::path::{Path, PathBuf};
 

@@ -4,9 +4,10 @@
 //!
 //! `cargo run --release -p beam-cpu --example soft_shadows` (writes `soft_shadows.png`)
 
-use beam_cpu::render::{Method, RenderOptions, difference, render};
+use beam_cpu::render::{difference, render};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
+use beam_render::options::{Method, RenderOptions};
 use beam_scene::scene::{Camera, Light, Material, Scene};
 use std::path::Path;
 

@@ -1,6 +1,7 @@
 //! The errors of beam-cpu's renderers: [`RenderError`].
 
-use beam_scene::{BackendError, SceneError};
+use beam_render::BackendError;
+use beam_scene::SceneError;
 use std::path::PathBuf;
 
 /// An error of a render, an image comparison, or reading or writing an image. Renders on the CPU

@@ -1,20 +1,22 @@
 //! # beam-cpu
 //!
 //! The CPU renderers of beam over the scenes of `beam-scene`: polygon beams (primary visibility,
-//! exact soft shadows), nonlinear beams, glossy light volumes, and the ray-traced references.
+//! exact soft shadows), nonlinear beams, glossy light volumes, and the ray-traced references. It is
+//! a backend of `beam-render`: it implements that crate's renderer traits (its ray queries, the
+//! nonlinear method's `BeamRenderer`) and renders with the host side it shares with beam-gpu, under
+//! `beam-render`'s options.
 //!
 //! - [`render`]: polygon-beam and ray-traced images (001), the renderer and its shading.
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
 //! - [`glossy`]: glossy light volumes and caustics from point and area lights (002).
 //! - [`nonlinear`]: nonlinear beam tracing of curved mirrors (000).
-//! - [`cpu_clock`]: CPU time of the calling thread and of rayon's workers (beam-scene's, for
-//!   benchmarks and stage timing beside a software GPU).
 //! - [`error`]: what a render, a comparison or an image file can fail with ([`RenderError`]).
 //!
 //! Exact soft shadows of the built-in Cornell box, 64×48, by polygon beams:
 //!
 //! ```
-//! use beam_cpu::render::{RenderOptions, render};
+//! use beam_cpu::render::render;
+//! use beam_render::options::RenderOptions;
 //!
 //! let scene = beam_cpu::beam_scene::scene::builtin("cornell").unwrap();
 //! let (image, stats) = render(&scene, &RenderOptions::exact(64, 48), || {});
@@ -25,7 +27,6 @@
 //!
 //! `cargo run --release -p beam-cpu --example soft_shadows` builds a scene in code instead.
 
-pub use beam_scene::cpu_clock;
 pub mod error;
 pub mod glossy;
 pub mod nonlinear;

@@ -2,9 +2,10 @@
 //! lights diffuse surfaces (a constant sky exactly by the beam method, as area lights; a map by
 //! sampled rays), under both methods.
 
-use beam_cpu::render::{Image, Method, RenderOptions, RenderStats, Shading, render};
+use beam_cpu::render::{Image, RenderStats, render};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
+use beam_render::options::{Method, RenderOptions, Shading};
 use beam_scene::mesh;
 use beam_scene::scene::{Bump, Camera, Environment, EnvironmentMap, Material, Scene};
 use std::sync::Arc;

@@ -2,9 +2,12 @@
 //! exactly (bit for bit) the value it has in the whole frame's render. The rectangles are chosen
 //! off the renderers' internal grids (shading tiles of 16 pixels, eye-beam regions of 256).
 
-use beam_cpu::glossy::{GlossyOptions, render_glossy, render_glossy_reference, render_glossy_reference_in};
-use beam_cpu::nonlinear::{Degree, NonlinearOptions, render_nonlinear, render_smooth_reference};
-use beam_cpu::render::{Image, Method, RenderOptions, render};
+use beam_cpu::glossy::{render_glossy, render_glossy_reference, render_glossy_reference_in};
+use beam_cpu::nonlinear::{NonlinearOptions, render_nonlinear, render_smooth_reference};
+use beam_cpu::render::{Image, render};
+use beam_render::glossy::GlossyOptions;
+use beam_render::nonlinear::Degree;
+use beam_render::options::{Method, RenderOptions};
 use beam_scene::region::PixelRect;
 use beam_scene::scene;
 

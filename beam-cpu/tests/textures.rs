@@ -2,8 +2,9 @@
 //! a box with no camera and no light has every face the default camera sees lit. The glTF files
 //! are written here (a box of 24 corners, a 2 × 2 PNG), rendered by the default method.
 
-use beam_cpu::render::{RenderOptions, render};
+use beam_cpu::render::render;
 use beam_math::glam::{Vec2, Vec3};
+use beam_render::options::RenderOptions;
 use beam_scene::scene::{Environment, Scene, load};
 use std::path::Path;
 

@@ -4,12 +4,13 @@
 
 use beam_bvh::Hit;
 use beam_cpu::nonlinear::CpuBeams;
-use beam_cpu::render::{Image, Method, RenderOptions, RenderStats, Shading, difference, render, render_queries};
+use beam_cpu::render::{Image, RenderStats, difference, render, render_queries};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
-use beam_scene::options::PixelRect;
-use beam_scene::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen, RayQueries};
+use beam_render::BackendError;
+use beam_render::options::{Method, RenderOptions, Shading};
+use beam_render::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen, RayQueries};
+use beam_scene::region::PixelRect;
 use beam_scene::scene::{Environment, EnvironmentMap, Scene, builtin};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU32, Ordering};

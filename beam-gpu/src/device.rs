@@ -2,7 +2,7 @@
 //! where there is one), its name and backend, and a clear error when there is none.
 
 use crate::GpuError;
-use beam_scene::cpu_clock::thread_cpu_seconds;
+use beam_render::cpu_clock::thread_cpu_seconds;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};

@@ -1,7 +1,8 @@
 //! The errors of beam-gpu: [`GpuError`].
 
 use beam_bvh::gpu::GpuBvhError;
-use beam_scene::{BackendError, SceneError};
+use beam_render::BackendError;
+use beam_scene::SceneError;
 use std::path::PathBuf;
 
 /// An error of the GPU: no adapter or device, a shader that does not validate or translate, an

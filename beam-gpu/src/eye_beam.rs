@@ -20,7 +20,7 @@ use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
 use beam_math::glam::Vec2;
 use beam_math::polybeam::BeamFrame;
-pub use beam_scene::queries::{PixelFragment, PixelFragments};
+use beam_render::queries::{PixelFragment, PixelFragments};
 use beam_scene::scene::Camera;
 use bytemuck::{Pod, Zeroable};
 

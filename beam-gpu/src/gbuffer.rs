@@ -14,7 +14,7 @@ use crate::shadow_beam::GpuLightPolygon;
 use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
 use beam_math::glam::Vec3;
-use beam_scene::queries::LightPolygon;
+use beam_render::queries::LightPolygon;
 use beam_scene::scene::{Light, Scene};
 use bytemuck::{Pod, Zeroable};
 
@@ -86,7 +86,7 @@ impl GBufferShadows {
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
         let lights = area_lights(scene);
         let bvh = GpuBvh::new(&scene.bvh, &scene.triangles)?;
-        let offset = beam_scene::tolerance::shading_eps(scene);
+        let offset = beam_render::tolerance::shading_eps(scene);
         Self::from_parts(gpu, &bvh, &lights, offset)
     }
 

@@ -10,9 +10,9 @@ use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
 use beam_math::glam::Vec3;
 use beam_math::glossy::VolumeMethod;
-use beam_scene::glossy::{BoundingCone, ConeNode, Gathered, GlossyOptions, LightVolumes};
+use beam_render::glossy::{BoundingCone, ConeNode, Gathered, GlossyOptions, LightVolumes};
+use beam_render::tolerance::shading_eps;
 use beam_scene::scene::Scene;
-use beam_scene::tolerance::shading_eps;
 use bytemuck::{Pod, Zeroable};
 
 /// A light beam.
@@ -186,7 +186,7 @@ fn skips(nodes: &[ConeNode]) -> Vec<u32> {
 }
 
 /// A subtree of the cone hierarchy: its nodes (depth-first, contiguous) and its beams (contiguous:
-/// [`beam_scene::glossy::ConeTree::build`] reorders the beams so that each leaf's are).
+/// [`beam_render::glossy::ConeTree::build`] reorders the beams so that each leaf's are).
 struct Part {
     nodes: std::ops::Range<usize>,
     beams: std::ops::Range<usize>,

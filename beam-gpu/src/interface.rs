@@ -71,8 +71,8 @@ pub const SPECULAR_THIN: u32 = 2;
 pub const SECOND_ORDER_SHADOWS: u32 = 1;
 
 /// Point emitters the glossy gather's shadow mask holds (one bit each of a `u32`):
-/// [`beam_scene::glossy::MAX_EMITTERS`].
-pub const MAX_LIGHTS: u32 = beam_scene::glossy::MAX_EMITTERS as u32;
+/// [`beam_render::glossy::MAX_EMITTERS`].
+pub const MAX_LIGHTS: u32 = beam_render::glossy::MAX_EMITTERS as u32;
 
 /// Bernstein control points a GPU beam holds (S3: 10; [`crate::nonlinear::GpuBeam`]).
 pub const MAX_CONTROL_POINTS: u32 = 10;
@@ -89,8 +89,8 @@ pub const BOUNDING_UNIQUE_PROJECTION: u32 = 2;
 /// Bounding-triangle case: none, the triangle lies behind the base.
 pub const BOUNDING_BEHIND: u32 = 3;
 
-/// Shadow rays stop this fraction short of their end ([`beam_scene::tolerance::DEPTH_EPS`]).
-pub const DEPTH_EPS: f32 = beam_scene::tolerance::DEPTH_EPS;
+/// Shadow rays stop this fraction short of their end ([`beam_render::tolerance::DEPTH_EPS`]).
+pub const DEPTH_EPS: f32 = beam_render::tolerance::DEPTH_EPS;
 
 /// Barycentric tolerance of a projection inside the base
 /// ([`beam_math::nonlinear::BARY_TOLERANCE`]).
@@ -99,14 +99,14 @@ pub const BARY_TOLERANCE: f32 = beam_math::nonlinear::BARY_TOLERANCE;
 /// Least elevation of a beam's rays above its base ([`beam_math::nonlinear::MIN_ELEVATION`]).
 pub const MIN_ELEVATION: f32 = beam_math::nonlinear::MIN_ELEVATION;
 
-/// Least rise of a texel ray in its self-hit distance ([`beam_scene::nonlinear::MIN_RISE`]).
-pub const MIN_RISE: f32 = beam_scene::nonlinear::MIN_RISE;
+/// Least rise of a texel ray in its self-hit distance ([`beam_render::nonlinear::MIN_RISE`]).
+pub const MIN_RISE: f32 = beam_render::nonlinear::MIN_RISE;
 
-/// Nearest texel-ray hit, in scene diagonals ([`beam_scene::nonlinear::TEXEL_EPS`]).
-pub const TEXEL_EPS: f32 = beam_scene::nonlinear::TEXEL_EPS;
+/// Nearest texel-ray hit, in scene diagonals ([`beam_render::nonlinear::TEXEL_EPS`]).
+pub const TEXEL_EPS: f32 = beam_render::nonlinear::TEXEL_EPS;
 
 /// Bit of a (beam, triangle) pair's triangle index in `beam_atlas.wgsl` that marks the triangle as
-/// in the beam's ring ([`beam_scene::nonlinear::Exclude::near`]): its hits nearer than the self-hit
+/// in the beam's ring ([`beam_render::nonlinear::Exclude::near`]): its hits nearer than the self-hit
 /// distance are the surface meeting itself, as for a triangle sharing a vertex with the base.
 pub const PAIR_NEAR: u32 = 1 << 31;
 
@@ -115,8 +115,8 @@ pub const PAIR_NEAR: u32 = 1 << 31;
 /// pairs spreads them over several workgroups.
 pub const TEXEL_JOB_PAIRS: u32 = 16_384;
 
-/// Most bounces of a Whitted path past the beam tree ([`beam_scene::specular::MAX_DEPTH`]).
-pub const MAX_DEPTH: u32 = beam_scene::specular::MAX_DEPTH;
+/// Most bounces of a Whitted path past the beam tree ([`beam_render::specular::MAX_DEPTH`]).
+pub const MAX_DEPTH: u32 = beam_render::specular::MAX_DEPTH;
 
 /// Paths `whitted.wgsl`'s `paths` keeps on its private stack: depth first, each of at most
 /// [`MAX_DEPTH`] bounces replaces the path it traces by at most two, so the stack never holds more
@@ -135,13 +135,13 @@ pub const LEVEL_CURVED: u32 = 2;
 /// go to the host, which builds the next level's beams from them).
 pub const LEVEL_CONTINUES: u32 = 4;
 
-/// Most Newton steps of a lookup's projection (`lib/lookup.wgsl`; [`beam_scene::nonlinear::LOOKUP`]).
-pub const LOOKUP_STEPS: u32 = beam_scene::nonlinear::LOOKUP.steps;
+/// Most Newton steps of a lookup's projection (`lib/lookup.wgsl`; [`beam_render::nonlinear::LOOKUP`]).
+pub const LOOKUP_STEPS: u32 = beam_render::nonlinear::LOOKUP.steps;
 
 /// Residual, relative to the base's size, below which a lookup's Newton step ends
-/// ([`beam_scene::nonlinear::LOOKUP`]; the shader adds a floor for f32's rounding).
+/// ([`beam_render::nonlinear::LOOKUP`]; the shader adds a floor for f32's rounding).
 #[allow(clippy::cast_possible_truncation)]
-pub const LOOKUP_TOLERANCE: f32 = beam_scene::nonlinear::LOOKUP.tolerance as f32;
+pub const LOOKUP_TOLERANCE: f32 = beam_render::nonlinear::LOOKUP.tolerance as f32;
 
 /// A lookup's projection (`lib/lookup.wgsl`): none (no corner-ray solution in front of the base).
 pub const LOOKUP_NONE: u32 = 0;
@@ -153,12 +153,12 @@ pub const LOOKUP_POLISHED: u32 = 1;
 pub const LOOKUP_CORNERS: u32 = 2;
 
 /// How many texels outside a child beam's base a coarse face's lookup may fall before its point is
-/// traced by rays (`eye.wgsl`; [`beam_scene::nonlinear::OUTSIDE_TEXELS`]).
-pub const OUTSIDE_TEXELS: f32 = beam_scene::nonlinear::OUTSIDE_TEXELS;
+/// traced by rays (`eye.wgsl`; [`beam_render::nonlinear::OUTSIDE_TEXELS`]).
+pub const OUTSIDE_TEXELS: f32 = beam_render::nonlinear::OUTSIDE_TEXELS;
 
 /// How much less outside its beam's base another candidate face's lookup must lie to be taken
-/// (`eye.wgsl`; [`beam_scene::nonlinear::LOOKUP_PREFERENCE`]).
-pub const LOOKUP_PREFERENCE: f32 = beam_scene::nonlinear::LOOKUP_PREFERENCE;
+/// (`eye.wgsl`; [`beam_render::nonlinear::LOOKUP_PREFERENCE`]).
+pub const LOOKUP_PREFERENCE: f32 = beam_render::nonlinear::LOOKUP_PREFERENCE;
 
 /// Words of a slot of a level's fit table (`lib/fit.wgsl`, [`crate::nonlinear::FitTable`]): its
 /// key, its number of samples, and the fit's 15 sums as (low, high) word pairs.
@@ -183,8 +183,8 @@ pub const FIT_BIAS: u32 = 1 << 24;
 /// [`SHADOW_PIECES`] and is traced again by the host.
 pub const MAX_PIECES: u32 = 64;
 
-/// Corners a light polygon of a shadow beam has at most ([`beam_scene::queries::MAX_LIGHT_CORNERS`]).
-pub const MAX_LIGHT_CORNERS: u32 = beam_scene::queries::MAX_LIGHT_CORNERS as u32;
+/// Corners a light polygon of a shadow beam has at most ([`beam_render::queries::MAX_LIGHT_CORNERS`]).
+pub const MAX_LIGHT_CORNERS: u32 = beam_render::queries::MAX_LIGHT_CORNERS as u32;
 
 /// Bit of a shadow-beam query's `flags`: clip the light above the point's tangent plane first.
 pub const QUERY_CLIP_ABOVE: u32 = 1;

@@ -6,7 +6,10 @@
 //! layout, and the nonlinear beam pipeline of 000 (bounding triangles in a vertex stage, per-texel
 //! rays in a fragment stage, per-level atlases, the composite), and the gather of the glossy light
 //! volumes of 002. Every entry point has a CPU twin that the conformance suite compares it with.
-//! Errors are [`GpuError`]s; as a backend of the renderer's traits they become `BackendError`s.
+//! It is a backend of `beam-render`: it implements that crate's renderer traits (ray queries, the
+//! nonlinear method's `BeamRenderer`) and shares its host side of the beam tree and the glossy light
+//! volumes with beam-cpu. Errors are [`GpuError`]s; behind the renderer's traits they become
+//! [`BackendError`](beam_render::BackendError)s.
 //!
 //! Trace camera rays on the GPU (here a device beam opens; an engine hands its own
 //! `wgpu::Device` and `Queue` to [`Gpu`] instead, see `examples/engine_device.rs`):

@@ -18,7 +18,7 @@ use crate::raytrace::RayTracer;
 use crate::timestamps::{PassTimer, read_back_timed};
 use crate::{Gpu, GpuError};
 use beam_bvh::gpu::GpuBvh;
-use beam_scene::queries::{LightPolygon, LightQuery, LightSeen, MAX_LIGHT_CORNERS};
+use beam_render::queries::{LightPolygon, LightQuery, LightSeen, MAX_LIGHT_CORNERS};
 use bytemuck::{Pod, Zeroable};
 
 pub use crate::bvh_pass::{HARDWARE_BUDGET, SOFTWARE_BUDGET};

@@ -11,7 +11,7 @@ use beam_bvh::gpu::GpuBvh;
 use beam_gpu::Gpu;
 use beam_gpu::raytrace::RayTracer;
 use beam_gpu::shade::{PointShader, shade_twin};
-use beam_scene::nonlinear::ShadePoint;
+use beam_render::nonlinear::ShadePoint;
 use beam_scene::scene::{self, Scene};
 use common::adapter;
 

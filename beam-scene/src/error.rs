@@ -1,7 +1,5 @@
-//! The errors of beam-scene: [`SceneError`] for reading scenes and meshes and writing outputs,
-//! [`FaceError`] for OBJ faces that cannot be triangulated, and [`BackendError`] for the backends
-//! behind the renderer's traits ([`RayQueries`](crate::queries::RayQueries) and those of
-//! [`nonlinear`](crate::nonlinear)).
+//! The errors of beam-scene: [`SceneError`] for reading scenes and meshes and writing outputs, and
+//! [`FaceError`] for OBJ faces that cannot be triangulated.
 //!
 //! Each error keeps what its message names (the file, the line, the scene file's element) as
 //! fields; its `Display` is the message the `beam` binary prints. Paths of input files are shown
@@ -10,7 +8,6 @@
 use crate::mesh::limits::MAX_NONCONVEX_CORNERS;
 use crate::scene::names::{BUILTIN, GENERATED, PROCEDURAL};
 use crate::text::{QUOTE_CHARS, bytes, clip, shown};
-use std::fmt;
 use std::io;
 use std::path::PathBuf;
 
@@ -347,37 +344,6 @@ pub enum FaceError {
     Overlaps,
 }
 
-/// An error of a backend behind the renderer's traits (the GPU's device, its buffers, its
-/// limits): the backend's own error, boxed, and the backend's name. Its message is the backend
-/// error's own.
-#[derive(Debug)]
-pub struct BackendError {
-    /// The backend (`gpu`).
-    pub backend: &'static str,
-    /// Its error.
-    pub error: Box<dyn std::error::Error + Send + Sync>,
-}
-
-impl BackendError {
-    /// `error` of `backend`.
-    pub fn new(backend: &'static str, error: impl Into<Box<dyn std::error::Error + Send + Sync>>) -> Self {
-        Self { backend, error: error.into() }
-    }
-}
-
-impl fmt::Display for BackendError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        self.error.fmt(f)
-    }
-}
-
-/// Transparent: the backend error's own source.
-impl std::error::Error for BackendError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        self.error.source()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -479,15 +445,5 @@ mod tests {
                 .to_string()
                 .ends_with("a .toml scene, a .gltf/.glb model or an .obj mesh")
         );
-    }
-
-    /// A backend's error reads as the backend's own message, and keeps its source.
-    #[test]
-    fn backend_errors_are_transparent() {
-        let e = BackendError::new("gpu", SceneError::Write { path: p("o.png"), context: None, source: os("denied") });
-        assert_eq!(e.to_string(), "o.png: denied");
-        assert_eq!(e.backend, "gpu");
-        assert_eq!(std::error::Error::source(&e).map(ToString::to_string).as_deref(), Some("denied"));
-        assert_eq!(BackendError::new("gpu", "no adapter").to_string(), "no adapter");
     }
 }

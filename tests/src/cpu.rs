@@ -4,10 +4,11 @@
 
 use crate::generate::{self, uniform};
 use crate::property::{Backend, Config, Outcome, Property};
-use beam_cpu::render::{Method, RenderOptions, Shading, difference, render};
+use beam_cpu::render::{difference, render};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
-use beam_scene::options::Occluders;
+use beam_render::options::Occluders;
+use beam_render::options::{Method, RenderOptions, Shading};
 use beam_scene::scene;
 use rand::Rng;
 

@@ -3,14 +3,12 @@
 
 use crate::generate::{self, uniform};
 use crate::property::{Backend, Config, Outcome, Property};
-use beam_cpu::glossy::{
-    ConeTree, GlossyOptions, LightVolumes, PhotonKernel, glossy_photons, is_scatterer, photon_texel, render_glossy,
-    render_glossy_photons,
-};
+use beam_cpu::glossy::{PhotonKernel, glossy_photons, photon_texel, render_glossy, render_glossy_photons};
 use beam_cpu::render::difference;
 use beam_math::Ray;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::glossy::VolumeMethod;
+use beam_render::glossy::{ConeTree, GlossyOptions, LightVolumes, is_scatterer};
 use beam_scene::scene::{self, Scene};
 use rand::Rng;
 
@@ -162,7 +160,7 @@ pub fn glossy_cone_hierarchy_is_conservative(_: Backend, _: &Config) -> Result<O
         let (mut tested_tree, mut tested_linear, mut lit) = (0u64, 0u64, 0u64);
         for (k, &(p, n)) in points.iter().enumerate() {
             let q = p + n * eps;
-            for occ in [None, Some(&occluded as &beam_scene::queries::AnyHit<'_>)] {
+            for occ in [None, Some(&occluded as &beam_render::queries::AnyHit<'_>)] {
                 let (a, b) = (volumes.gather(q, n, occ), volumes.gather_linear(q, n, occ));
                 if a.irradiance.to_array().map(f32::to_bits) != b.irradiance.to_array().map(f32::to_bits)
                     || a.shadowed != b.shadowed
@@ -277,7 +275,7 @@ pub fn glossy_splat_equals_integrated_gather(_: Backend, _: &Config) -> Result<O
             let (lo, hi) = s.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)));
             lo >= 0.0 || hi <= 0.0
         };
-        let eps = beam_cpu::render::shading_eps(&scene);
+        let eps = beam_render::tolerance::shading_eps(&scene);
         let receivers: Vec<[Vec2; 3]> = (0..scene.triangles.len() as u32)
             .filter(|&p| map.plane_of(p) == Some(k))
             .map(|p| scene.triangles[p as usize].v.map(to_texels))

@@ -6,17 +6,15 @@
 use crate::generate;
 use crate::property::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
-use beam_cpu::nonlinear::{
-    Beam, BeamJob, BeamRasterizer, CAUSTIC_STRATA, CpuBeams, Degree, Exclude, NonlinearOptions, SMesh,
-    render_nonlinear_with,
-};
-use beam_cpu::render::RenderOptions;
+use beam_cpu::nonlinear::{CAUSTIC_STRATA, CpuBeams, NonlinearOptions, render_nonlinear_with};
 use beam_gpu::checks::ShadeChecks;
 use beam_gpu::nonlinear::{GpuBeams, NonlinearCheck};
 use beam_gpu::raytrace::RayTracer;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::BoundingCase;
 use beam_math::{Ray, Triangle};
+use beam_render::nonlinear::{Beam, BeamJob, BeamRasterizer, Degree, Exclude, SMesh};
+use beam_render::options::RenderOptions;
 use beam_scene::scene;
 use rand::Rng;
 
@@ -299,13 +297,13 @@ pub fn gpu_texel_rays_match_math(_: Backend, _: &Config) -> Result<Outcome, Stri
     })
 }
 
-/// The GPU's ray queries against the CPU's, both through [`RayQueries`](beam_scene::queries::RayQueries) (`GpuBeams`: the compute
+/// The GPU's ray queries against the CPU's, both through [`RayQueries`](beam_render::queries::RayQueries) (`GpuBeams`: the compute
 /// ray tracer, barycentric weights from the hit point; `CpuBeams`: the BVH traversal): camera rays
 /// and random rays through the scene's box for closest hits, random segments for any hits, on
 /// three built-ins. Rays exactly on an edge may be decided differently (the CPU refines in f64):
 /// at most 1 in 10⁴; hit distances within 1e-5 relative, barycentric weights within 1e-4.
 pub fn gpu_ray_hits_equal_cpu_hits(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::RayQueries;
+    use beam_render::queries::RayQueries;
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
@@ -409,7 +407,7 @@ pub fn gpu_beam_texels_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, Stri
             }
             // The GPU's bounding triangles are used and tight: texels tested (overdraw) at most
             // twice the CPU's (the f32 margin and the whole-base fallbacks cost the difference).
-            let tested = |t: &[beam_cpu::nonlinear::BeamTexture]| t.iter().map(|t| t.texels_tested).sum::<u64>();
+            let tested = |t: &[beam_render::nonlinear::BeamTexture]| t.iter().map(|t| t.texels_tested).sum::<u64>();
             let ratio = tested(&on_gpu) as f64 / tested(&on_cpu).max(1) as f64;
             if !(ratio <= 2.0) {
                 return Err(format!("{name} by {way}: the GPU tested {ratio:.2}× the CPU's texels"));
@@ -467,8 +465,9 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
 /// 0.1% of the points may differ by a shadow ray that grazes an edge. Against the CPU's exact soft
 /// shadows the 64-ray estimate's relative RMS error is stated.
 pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{ShadePoint, caustics_by_beams};
+    use beam_cpu::nonlinear::caustics_by_beams;
     use beam_gpu::shade::{PointShader, shade_twin};
+    use beam_render::nonlinear::ShadePoint;
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),

@@ -2,10 +2,11 @@
 //! the ray-traced ground truth, and S3's smoothness over S1.
 
 use crate::property::{Backend, Config, Outcome, Property};
-use beam_cpu::render::{RenderOptions, difference};
+use beam_cpu::render::difference;
 use beam_math::Ray;
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
+use beam_render::options::RenderOptions;
 use beam_scene::scene;
 use rayon::prelude::*;
 
@@ -62,8 +63,8 @@ const LARGE_REGION: u32 = 2048;
 /// million texels, the GPU's read-back list of its rows found by a float root), checked at every
 /// 128th texel each way: a texel read back from a wrong row would show there.
 pub fn nonlinear_texels_equal_ray_hits(backend: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{Beam, BeamJob, BumpedBeam, SMesh, self_hit_at};
     use beam_math::nonlinear::{BumpBeam, NonlinearBeam, S3};
+    use beam_render::nonlinear::{Beam, BeamJob, BumpedBeam, SMesh, self_hit_at};
     use beam_scene::scene::Simplify;
     let mut checked = 0u64;
     let mut notes = Vec::new();
@@ -95,7 +96,7 @@ pub fn nonlinear_texels_equal_ray_hits(backend: Backend, _: &Config) -> Result<O
         let extent = scene.bvh.nodes[0].bounds().extent().length();
         // Per face: reflection beams, through glass the refraction beams too (000 §7.2), S1 and S3;
         // on a bumpy mirror the perturbed beam (000 §6.3, eq. 5 bounding triangles).
-        let mut beams: Vec<(Beam, &beam_cpu::nonlinear::SFace, usize)> = Vec::new();
+        let mut beams: Vec<(Beam, &beam_render::nonlinear::SFace, usize)> = Vec::new();
         for (i, f) in smesh.faces.iter().enumerate().step_by(3).filter(|&(i, _)| smesh.spawns_beams(i)) {
             let dirs = f.reflected_directions(eye);
             let mut sets = vec![dirs];
@@ -104,7 +105,7 @@ pub fn nonlinear_texels_equal_ray_hits(backend: Backend, _: &Config) -> Result<O
                 sets.push([0, 1, 2].map(|i| {
                     let d = (f.v[i] - eye).normalize();
                     let n = if entering { f.n[i] } else { -f.n[i] };
-                    beam_cpu::render::dielectric(d, n, ior, entering).1.unwrap_or(d - d.dot(n) * n)
+                    beam_render::specular::dielectric(d, n, ior, entering).1.unwrap_or(d - d.dot(n) * n)
                 }));
             }
             for dirs in sets {
@@ -237,9 +238,8 @@ pub fn nonlinear_texels_equal_ray_hits(backend: Backend, _: &Config) -> Result<O
 /// their irradiance maps by `caustics_match_photon_tracing`: at 128² an image comparison there
 /// measures the photon noise of the reference.)
 pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{
-        CAUSTIC_STRATA, Degree, NonlinearOptions, render_nonlinear_with, render_smooth_reference,
-    };
+    use beam_cpu::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_with, render_smooth_reference};
+    use beam_render::nonlinear::Degree;
     let shading = RenderOptions::exact(128, 128);
     let mut notes = Vec::new();
     // On a software GPU (lavapipe), rasterizing the area light's caustic beams off the spheres takes
@@ -288,8 +288,9 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
 /// S3's ray directions must be nearer the sphere's true reflections (at the radial projection of the
 /// ray origin) than S1's.
 pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{CAUSTIC_STRATA, Degree, NonlinearOptions, render_nonlinear, render_smooth_reference};
+    use beam_cpu::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear, render_smooth_reference};
     use beam_cpu::render::srgb_encode;
+    use beam_render::nonlinear::Degree;
     use beam_scene::scene::Material;
     let size = 256;
     let shading = RenderOptions::exact(size, size);
@@ -342,7 +343,7 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
     // sphere's true reflection at the radial projection of the ray origin.
     let (centre, radius) = (Vec3::new(185.0, 90.0, 170.0), 90.0);
     let eye = coarse.camera.position;
-    let smesh = beam_cpu::nonlinear::SMesh::specular(&coarse);
+    let smesh = beam_render::nonlinear::SMesh::specular(&coarse);
     let (mut e1, mut e3, mut m) = (0.0f64, 0.0f64, 0u32);
     for f in smesh.faces.iter().filter(|f| matches!(coarse.material(f.prim), Material::Mirror { .. })) {
         let dirs = f.reflected_directions(eye);
@@ -361,7 +362,7 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
             let truth = |o: Vec3| {
                 let p = centre + radius * (o - centre).normalize();
                 let n = (p - centre).normalize();
-                beam_cpu::render::reflect((p - eye).normalize(), n)
+                beam_render::specular::reflect((p - eye).normalize(), n)
             };
             let r1 = b1.ray_at(w);
             let r3 = b3.ray_at(w);
@@ -389,7 +390,8 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
 /// 1.5× that of an independent 4M-photon map (whose own noise is twice the 16M map's), and the
 /// total flux must agree within 1%.
 pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{CAUSTIC_STRATA, Degree, caustics_by_beams, caustics_by_photons};
+    use beam_cpu::nonlinear::{CAUSTIC_STRATA, caustics_by_beams, caustics_by_photons};
+    use beam_render::nonlinear::Degree;
     let scene = scene::builtin("wavy-lake").map_err(|e| e.to_string())?;
     let truth = caustics_by_photons(&scene, 16_000_000, 1).ok_or("no caustics")?;
     let photons = caustics_by_photons(&scene, 4_000_000, 2).ok_or("no caustics")?;
@@ -418,7 +420,8 @@ pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, 
 /// (one emitter at the centre is a one-point quadrature of the area, about 5% off here; 1–2.5%
 /// remains, about 1% of it where rays leave the lens's rim, as with a point light).
 pub fn area_light_caustics_converge(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{CpuBeams, Degree, caustics_by_beams, caustics_by_photons};
+    use beam_cpu::nonlinear::{CpuBeams, caustics_by_beams, caustics_by_photons};
+    use beam_render::nonlinear::Degree;
     let scene = scene::builtin("glass-lens-coarse").map_err(|e| e.to_string())?;
     let truth = caustics_by_photons(&scene, 16_000_000, 1).ok_or("no caustics")?;
     let mut runs = Vec::new();

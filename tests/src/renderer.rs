@@ -8,7 +8,7 @@ use crate::property::{Backend, Outcome};
 pub fn with_renderer<T>(
     backend: Backend,
     scene: &beam_scene::scene::Scene,
-    f: impl FnOnce(&dyn beam_cpu::nonlinear::BeamRenderer) -> Result<T, String>,
+    f: impl FnOnce(&dyn beam_render::nonlinear::BeamRenderer) -> Result<T, String>,
 ) -> Result<Result<T, Outcome>, String> {
     if backend != Backend::Gpu {
         return f(&beam_cpu::nonlinear::CpuBeams).map(Ok);

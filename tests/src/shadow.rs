@@ -8,15 +8,15 @@ use crate::property::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
 use beam_bvh::{BuildOptions, FlatBvh, WideBvh};
 use beam_cpu::nonlinear::CpuBeams;
-use beam_cpu::render::{
-    DEPTH_EPS, Method, RenderOptions, difference, light_seen, polygon_irradiance, render, render_queries,
-};
+use beam_cpu::render::{difference, light_seen, polygon_irradiance, render, render_queries};
 use beam_gpu::Gpu;
 use beam_gpu::queries::GpuQueries;
 use beam_gpu::shadow_beam::{MAX_PIECES, ShadowBeams};
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
-use beam_scene::queries::{LightPolygon, LightQuery, LightSeen};
+use beam_render::options::{Method, RenderOptions};
+use beam_render::queries::{LightPolygon, LightQuery, LightSeen};
+use beam_render::tolerance::DEPTH_EPS;
 use beam_scene::scene;
 use rand::Rng;
 use rayon::prelude::*;

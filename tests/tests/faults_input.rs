@@ -345,16 +345,17 @@ fn a_camera_too_far_for_its_image_plane_is_refused_not_a_panic() {
         scene.camera.position.z = 3e38;
         let why = scene.camera.check_view().unwrap_err();
         assert!(why.contains("too far from the origin"), "{why}");
-        let options = beam_cpu::render::RenderOptions { primary_beams, ..beam_cpu::render::RenderOptions::exact(8, 8) };
+        let options =
+            beam_render::options::RenderOptions { primary_beams, ..beam_render::options::RenderOptions::exact(8, 8) };
         let (image, _) = within("render", move || beam_cpu::render::render(&scene, &options, || {}));
         assert_eq!(image.pixels.len(), 64);
     }
     // The nonlinear renderer too.
     let mut scene = scene::builtin("mirror-glass").unwrap();
     scene.camera.position.z = 3e38;
-    let shading = beam_cpu::render::RenderOptions::exact(8, 8);
+    let shading = beam_render::options::RenderOptions::exact(8, 8);
     let options = beam_cpu::nonlinear::NonlinearOptions {
-        degree: beam_cpu::nonlinear::Degree::S1,
+        degree: beam_render::nonlinear::Degree::S1,
         texels: 8,
         bounces: 1,
         caustic_strata: 0,
@@ -367,9 +368,10 @@ fn a_camera_too_far_for_its_image_plane_is_refused_not_a_panic() {
 /// now it is refused, naming the bounces, the estimate and the limit, after its first levels.
 #[test]
 fn a_beam_tree_too_large_to_build_is_refused_promptly() {
-    use beam_cpu::nonlinear::{Degree, MAX_TREE_BEAMS, NonlinearOptions, render_nonlinear};
+    use beam_cpu::nonlinear::{MAX_TREE_BEAMS, NonlinearOptions, render_nonlinear};
+    use beam_render::nonlinear::Degree;
     let scene = scene::builtin("bumpy-mirror").unwrap();
-    let shading = beam_cpu::render::RenderOptions::exact(16, 16);
+    let shading = beam_render::options::RenderOptions::exact(16, 16);
     let options = NonlinearOptions { degree: Degree::S3, texels: 32, bounces: 16, caustic_strata: 0, shading };
     let start = std::time::Instant::now();
     let r = within("bounces 16", move || render_nonlinear(&scene, &options).map(|_| ()));

@@ -5,11 +5,11 @@
 //! without an adapter.
 
 use beam_cpu::nonlinear::{
-    CpuBeams, Degree, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
+    CpuBeams, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
 };
-use beam_cpu::render::RenderOptions;
 use beam_gpu::nonlinear::GpuBeams;
-use beam_scene::nonlinear::BeamRenderer;
+use beam_render::nonlinear::{BeamRenderer, Degree};
+use beam_render::options::RenderOptions;
 use beam_scene::scene;
 
 fn options() -> NonlinearOptions {

@@ -7,17 +7,18 @@
 //! properties do, is skipped, saying why, when there is none (`BEAM_REQUIRE_GPU=1` makes that a
 //! failure). Also: the nonlinear renderer takes any `texels` without panicking.
 
-use beam_cpu::glossy::{GlossyOptions, LightVolumes, render_glossy, render_glossy_reference, render_glossy_with};
-use beam_cpu::nonlinear::{
-    BeamRenderer, CpuBeams, Degree, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with,
-};
-use beam_cpu::render::{Image, Method, RenderOptions, render, render_queries};
+use beam_cpu::glossy::{render_glossy, render_glossy_reference, render_glossy_with};
+use beam_cpu::nonlinear::{CpuBeams, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with};
+use beam_cpu::render::{Image, render, render_queries};
 use beam_gpu::Gpu;
 use beam_gpu::glossy::GpuGather;
 use beam_gpu::nonlinear::GpuBeams;
 use beam_gpu::queries::GpuQueries;
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
+use beam_render::BackendError;
+use beam_render::glossy::{GlossyOptions, LightVolumes};
+use beam_render::nonlinear::{BeamRenderer, Degree};
+use beam_render::options::{Method, RenderOptions};
 use beam_scene::scene::{self, BUILTIN, Scene};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;

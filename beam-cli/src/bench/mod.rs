@@ -248,8 +248,8 @@ pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
                 .transpose()?;
             let scenes = if scenes.is_empty() { gpu::SCENES.map(String::from).to_vec() } else { scenes };
             let degree = match degree.as_str() {
-                "s1" => beam_cpu::nonlinear::Degree::S1,
-                "s3" => beam_cpu::nonlinear::Degree::S3,
+                "s1" => beam_render::nonlinear::Degree::S1,
+                "s3" => beam_render::nonlinear::Degree::S3,
                 d => return Err(format!("unknown degree `{d}` (s1, s3)")),
             };
             if dry {

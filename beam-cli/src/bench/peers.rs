@@ -38,13 +38,13 @@ pub fn build_ms(name: &str, triangles: &[Triangle]) -> Option<f64> {
 }
 
 /// Embree's any-hit query over `triangles`, as a shadow-ray tracer for the renderer.
-pub fn embree_occluder(triangles: &[Triangle]) -> Result<Box<beam_scene::queries::AnyHit<'static>>, String> {
+pub fn embree_occluder(triangles: &[Triangle]) -> Result<Box<beam_render::queries::AnyHit<'static>>, String> {
     let e = Embree::new(triangles, false)?;
     Ok(Box::new(move |ray: Ray, t_max: f32| e.occluded(&ray, t_max)))
 }
 
 /// Embree's closest hit over `triangles`: the index of the triangle hit and the ray parameter.
-pub fn embree_closest(triangles: &[Triangle]) -> Result<Box<beam_scene::queries::ClosestHit<'static>>, String> {
+pub fn embree_closest(triangles: &[Triangle]) -> Result<Box<beam_render::queries::ClosestHit<'static>>, String> {
     let e = Embree::new(triangles, false)?;
     Ok(Box::new(move |ray: Ray| e.closest_prim(&ray)))
 }

@@ -9,7 +9,7 @@ use super::primary_shading::{flat, pixel_samples};
 use beam_cpu::render::{Image, difference, primary_image};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::queries::ClosestHit;
+use beam_render::queries::ClosestHit;
 use beam_scene::scene::{self, Camera, Scene};
 use rayon::prelude::*;
 use std::path::Path;

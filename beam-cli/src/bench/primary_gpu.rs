@@ -10,7 +10,7 @@ use beam_gpu::Gpu;
 use beam_gpu::queries::GpuQueries;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::queries::RayQueries;
+use beam_render::queries::RayQueries;
 use beam_scene::scene::{Camera, Scene};
 use rayon::prelude::*;
 use std::time::Instant;

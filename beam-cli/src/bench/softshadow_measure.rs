@@ -9,8 +9,9 @@
 //! averaged, with the rays shared among them.
 
 use super::softshadow::options;
-use beam_cpu::render::{Image, Method, RenderStats, difference, render};
+use beam_cpu::render::{Image, RenderStats, difference, render};
 use beam_math::glam::Vec3;
+use beam_render::options::Method;
 use beam_scene::scene::Scene;
 
 /// The methods, in table order: eye beams + shadow beams (`beam render`'s default), shadow beams
@@ -130,7 +131,7 @@ pub fn measure(
     #[cfg(feature = "peers")]
     let embree = Some(super::peers::embree_occluder(&scene.triangles)?);
     #[cfg(not(feature = "peers"))]
-    let embree: Option<Box<beam_scene::queries::AnyHit<'static>>> = None;
+    let embree: Option<Box<beam_render::queries::AnyHit<'static>>> = None;
     let mut seconds: [Vec<f64>; 5] = Default::default();
     let mut images: [Option<Image>; 5] = Default::default();
     let mut beam_stats: Option<RenderStats> = None;

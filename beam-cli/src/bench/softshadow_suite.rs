@@ -8,7 +8,8 @@
 use super::softshadow::{interior_view, options};
 use super::softshadow_gpu;
 use super::softshadow_measure::{Images, METHODS, Row, measure};
-use beam_cpu::render::{Method, RenderOptions, render};
+use beam_cpu::render::render;
+use beam_render::options::{Method, RenderOptions};
 use beam_scene::io::write_atomic;
 use beam_scene::scene::suite::{self, CASES, Case, SWEEP};
 use std::path::{Path, PathBuf};

@@ -2,9 +2,9 @@
 
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::glossy::{REFERENCE_AREA_RAYS, area_point, whole};
+use beam_render::glossy::{REFERENCE_AREA_RAYS, area_point, whole};
+use beam_render::tolerance::{DEPTH_EPS, shading_eps};
 use beam_scene::scene::{Light, Scene};
-use beam_scene::tolerance::{DEPTH_EPS, shading_eps};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 

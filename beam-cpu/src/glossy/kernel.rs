@@ -14,9 +14,10 @@
 //! hierarchy; negative shadow beams stay per receiver point ([`LightVolumes::shadows`]).
 
 use super::photons::PhotonMaps;
-use crate::render::{IrradianceMap, shading_eps};
 use beam_math::glam::{Vec2, Vec3};
-use beam_scene::glossy::{LightVolumes, Occluded, blocked};
+use beam_render::glossy::{LightVolumes, Occluded, blocked};
+use beam_render::irradiance_map::IrradianceMap;
+use beam_render::tolerance::shading_eps;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 

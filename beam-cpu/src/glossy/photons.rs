@@ -7,11 +7,13 @@
 //! receiver. The light is checked for occlusion before the scatterer and so is the scattered
 //! photon's path (second-order shadows, which the beams leave out).
 
-use crate::render::{DEPTH_EPS, IrradianceMap, dielectric, reflect, shading_eps};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::glossy::solid_angle;
-use beam_scene::glossy::{Scatter, area_point, scatterings, whole};
+use beam_render::glossy::{Scatter, area_point, scatterings, whole};
+use beam_render::irradiance_map::IrradianceMap;
+use beam_render::specular::{dielectric, reflect};
+use beam_render::tolerance::{DEPTH_EPS, shading_eps};
 use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
@@ -141,7 +143,7 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
                     }
                     let ray = Ray::new(origin, dir);
                     if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY)
-                        && !beam_scene::glossy::is_scatterer(&scene.material(hit.prim))
+                        && !beam_render::glossy::is_scatterer(&scene.material(hit.prim))
                     {
                         let side = PhotonMaps::side(scene, hit.prim, dir);
                         map.sides[side].splat(hit.prim, ray.at(hit.t), flux * tint * weight);

@@ -10,12 +10,14 @@ use super::direct::reference_direct;
 use super::kernel::PhotonKernel;
 use super::photons::{PhotonMaps, glossy_photons};
 use crate::RenderError;
-use crate::nonlinear::{BeamRenderer, CpuBeams, Shade, ShadePoint, shade_by_waves};
-use crate::render::{DEPTH_EPS, Image, shading_eps};
+use crate::nonlinear::CpuBeams;
+use crate::render::Image;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
-use beam_scene::glossy::{Emitter, Gathered, GlossyOptions, LightVolumes, Occluded, is_scatterer};
+use beam_render::BackendError;
+use beam_render::glossy::{Emitter, Gathered, GlossyOptions, LightVolumes, Occluded, is_scatterer};
+use beam_render::nonlinear::{BeamRenderer, Shade, ShadePoint, shade_by_waves};
+use beam_render::tolerance::{DEPTH_EPS, shading_eps};
 use beam_scene::region::PixelRect;
 use beam_scene::scene::{Material, Scene};
 use rayon::prelude::*;
@@ -85,7 +87,7 @@ fn occlusion(scene: &Scene) -> impl Fn(Ray, f32) -> bool + Sync + '_ {
 /// The scene must have a light that emits (002 traces beams from point sources; area lights are
 /// taken as stratified points).
 fn check_lights(scene: &Scene) -> Result<(), RenderError> {
-    if beam_scene::glossy::emitters(scene).is_empty() {
+    if beam_render::glossy::emitters(scene).is_empty() {
         return Err(RenderError::NoEmitters { scene: scene.name.clone() });
     }
     Ok(())

@@ -9,7 +9,7 @@
 use beam_math::Ray;
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{BeamTexture, Exclude, TEXEL_EPS, TexelBeam, TexelHit, cone_candidates, self_hit_at};
+use beam_render::nonlinear::{BeamTexture, Exclude, TEXEL_EPS, TexelBeam, TexelHit, cone_candidates, self_hit_at};
 use beam_scene::scene::Scene;
 
 /// Regions at most this many texels a side keep their texels' rays (about 100 bytes per texel).

@@ -5,8 +5,8 @@
 //! level's radiance on the GPU and reads back only the pixels.
 
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
-use beam_scene::nonlinear::{LevelRadiance, SMesh, Shade, ShadePoint, composite, sample_region};
+use beam_render::BackendError;
+use beam_render::nonlinear::{LevelRadiance, SMesh, Shade, ShadePoint, composite, sample_region};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 

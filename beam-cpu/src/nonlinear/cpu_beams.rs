@@ -2,16 +2,17 @@
 //! [`shade_point`].
 
 use super::atlas::render_beam;
-use crate::render::{IrradianceMap, RenderOptions, light_seen, shade_point};
+use crate::render::{light_seen, shade_point};
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
-use beam_scene::nonlinear::{
-    BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, ChildLookups, DeviceWaits, EyeView, PointShading, RayQueries,
-    ShadePoint,
+use beam_render::BackendError;
+use beam_render::irradiance_map::IrradianceMap;
+use beam_render::nonlinear::{
+    BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, ChildLookups, DeviceWaits, EyeView, PointShading, ShadePoint,
 };
-use beam_scene::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen};
+use beam_render::options::RenderOptions;
+use beam_render::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen, RayQueries};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 

@@ -11,15 +11,15 @@ use super::stages::StageClock;
 use super::trace::{BeamMemo, Built, Node, Request, ThroughMemo, Tree};
 use crate::RenderError;
 use crate::render::Image;
-use crate::render::IrradianceMap;
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
-use beam_scene::nonlinear::{
+use beam_render::BackendError;
+use beam_render::irradiance_map::IrradianceMap;
+use beam_render::nonlinear::{
     BeamRenderer, Degree, EyeFaces, Fit, FramePixels, LevelRadiance, SMesh, ShadePoint, TexelRadiance,
 };
-use beam_scene::parallel::par_flatten;
+use beam_render::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::sync::{Mutex, PoisonError};
@@ -313,7 +313,7 @@ pub fn render_nonlinear_frame(
 mod tests {
     use super::*;
     use crate::nonlinear::CpuBeams;
-    use beam_scene::options::RenderOptions;
+    use beam_render::options::RenderOptions;
     use beam_scene::scene::builtin;
 
     /// A frame with the caustics made before is the frame that makes them: the same pixels, bit

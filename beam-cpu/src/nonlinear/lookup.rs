@@ -10,12 +10,12 @@
 //! of the point at the depth the beam's texel there sees.
 
 use super::trace::{FaceMap, Node, Scattered, Tree};
-use crate::render::specular_rays;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::Projection;
-use beam_scene::BackendError;
-use beam_scene::nonlinear::{Beam, BeamRenderer, BeamTexture, LOOKUP, LookupJob, ShadePoint};
-use beam_scene::parallel::piece_len;
+use beam_render::BackendError;
+use beam_render::nonlinear::{Beam, BeamRenderer, BeamTexture, LOOKUP, LookupJob, ShadePoint};
+use beam_render::parallel::piece_len;
+use beam_render::specular::specular_rays;
 use rayon::prelude::*;
 
 /// A point to composite ([`Tree::composite`]), made by [`Tree::to_composite`]: the child beams of
@@ -291,7 +291,7 @@ fn clamped(w: Vec3) -> Vec3 {
 mod tests {
     use super::*;
     use beam_math::nonlinear::NonlinearBeam;
-    use beam_scene::nonlinear::TexelHit;
+    use beam_render::nonlinear::TexelHit;
 
     #[test]
     fn finds_the_texel_whose_ray_reaches_the_same_point() {
@@ -340,10 +340,9 @@ mod batches {
     use crate::nonlinear::{CpuBeams, NonlinearOptions, render_nonlinear_with};
     use beam_bvh::Hit;
     use beam_math::Ray;
-    use beam_scene::nonlinear::{
-        BeamJob, BeamRasterizer, ChildLookups, Degree, DeviceWaits, EyeView, PointShading, RayQueries,
-    };
-    use beam_scene::options::RenderOptions;
+    use beam_render::nonlinear::{BeamJob, BeamRasterizer, ChildLookups, Degree, DeviceWaits, EyeView, PointShading};
+    use beam_render::options::RenderOptions;
+    use beam_render::queries::RayQueries;
     use beam_scene::scene::{Scene, Simplify, builtin};
     use std::sync::atomic::{AtomicU64, Ordering};
 

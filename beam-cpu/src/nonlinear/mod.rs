@@ -1,7 +1,9 @@
 //! Nonlinear beam tracing (000): an S mesh over each mirror and glass surface, nonlinear beams per
 //! S-mesh triangle (reflection, refraction; S1, S3 or bump-mapped), each beam rendered into its own
-//! texel region by bounding triangles (Algs. 1–2) — on the CPU here, or on a GPU through the
-//! [`BeamRenderer`] trait of beam-scene (beam-gpu) — and the final image textured from those regions.
+//! texel region by bounding triangles (Algs. 1–2) — on the CPU here, or on a GPU through
+//! beam-render's [`BeamRenderer`](beam_render::nonlinear::BeamRenderer) trait (beam-gpu) — and the
+//! final image textured from those regions. The host side of the beam tree that both backends share
+//! is [`beam_render::nonlinear`]'s.
 
 mod atlas;
 mod caustics;
@@ -25,6 +27,3 @@ pub use frame::{NonlinearPrecomputed, render_nonlinear, render_nonlinear_frame, 
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
 pub use settings::{MAX_TREE_BEAMS, NonlinearOptions, NonlinearStats};
 pub use stages::Stage;
-// The host side of the beam tree, shared with beam-gpu (beam-scene), under the names the CPU
-// renderer's callers use.
-pub use beam_scene::nonlinear::*;

@@ -5,9 +5,10 @@
 use super::caustics::caustics_by_photons;
 use super::cpu_beams::{CpuBeams, shade_points};
 use crate::RenderError;
-use crate::render::{Image, RenderOptions};
+use crate::render::Image;
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{BeamRenderer, Path, ShadePoint, trace_waves};
+use beam_render::nonlinear::{BeamRenderer, Path, ShadePoint, trace_waves};
+use beam_render::options::RenderOptions;
 use beam_scene::scene::Scene;
 
 /// The ray-traced ground truth of [`super::render_nonlinear`] on the CPU (see
@@ -19,7 +20,7 @@ pub fn render_smooth_reference(scene: &Scene, options: &RenderOptions, photons: 
 }
 
 /// The ray-traced ground truth of [`super::render_nonlinear`]: one ray per pixel centre, Whitted
-/// through mirrors and glass (at most [`MAX_DEPTH`](crate::render::MAX_DEPTH) bounces) about the interpolated normals;
+/// through mirrors and glass (at most [`MAX_DEPTH`](beam_render::specular::MAX_DEPTH) bounces) about the interpolated normals;
 /// caustics by about `photons` photons per light ([`caustics_by_photons`]); everything else
 /// shaded alike. The rays of each bounce are traced together by `renderer`. Only the pixels of
 /// `options.region` are traced (the photons are the whole scene's).

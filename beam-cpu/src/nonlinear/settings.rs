@@ -2,8 +2,8 @@
 
 use super::caustics::CausticStats;
 use super::stages::Stage;
-use crate::render::RenderOptions;
-use beam_scene::nonlinear::Degree;
+use beam_render::nonlinear::Degree;
+use beam_render::options::RenderOptions;
 
 /// Most beams a render's beam tree may hold over all its levels. A tree grows by a factor per
 /// level (each beam off a curved mirror or glass surface sees many S-mesh faces: 4 to 12 on the
@@ -20,8 +20,8 @@ pub struct NonlinearOptions {
     /// Beam parameterization.
     pub degree: Degree,
     /// Most texels per side of a beam's region; each beam gets the smallest power of two that
-    /// gives its face at least [`TEXELS_PER_SAMPLE`](beam_scene::nonlinear::TEXELS_PER_SAMPLE) texels per pixel covering it, no fewer than 4
-    /// (or than this, when it is below 4). Taken within [`TEXELS`](beam_scene::nonlinear::TEXELS) (a value outside is clamped).
+    /// gives its face at least [`TEXELS_PER_SAMPLE`](beam_render::nonlinear::TEXELS_PER_SAMPLE) texels per pixel covering it, no fewer than 4
+    /// (or than this, when it is below 4). Taken within [`TEXELS`](beam_render::nonlinear::TEXELS) (a value outside is clamped).
     pub texels: u32,
     /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays. A
     /// tree estimated past [`MAX_TREE_BEAMS`] beams is refused.

@@ -2,13 +2,13 @@
 //! vertices (000 §7.2).
 
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{Beam, SFace};
+use beam_render::nonlinear::{Beam, SFace};
 
 /// Unit directions of the light from the eye at the vertices of `f`; `None` where the eye is on
 /// one of them. (From a parent beam they are its texel rays' fit, [`Fit::directions`], else its
 /// rays through the vertices, [`through`].)
 ///
-/// [`Fit::directions`]: beam_scene::nonlinear::Fit::directions
+/// [`Fit::directions`]: beam_render::nonlinear::Fit::directions
 pub(super) fn from_eye(eye: Vec3, f: &SFace) -> Option<[Vec3; 3]> {
     let [a, b, c] = f.v.map(|v| (v - eye).try_normalize());
     Some([a?, b?, c?])

@@ -2,8 +2,8 @@
 //! (wall time less the seconds the backend blocked on its device), the split of 000 Table 2's last
 //! column (CPU / GPU milliseconds per frame), and the CPU time of our own threads.
 
-use crate::cpu_clock::our_threads_cpu_seconds;
-use beam_scene::nonlinear::BeamRenderer;
+use beam_render::cpu_clock::our_threads_cpu_seconds;
+use beam_render::nonlinear::BeamRenderer;
 use std::time::Instant;
 
 /// One stage of a frame, summed over the times it ran (the beam tree's stages run once per level).

@@ -16,17 +16,17 @@ use super::settings::{MAX_TREE_BEAMS, NonlinearOptions};
 use super::source::{from_eye, through};
 use super::stages::StageClock;
 use crate::RenderError;
-use crate::render::IrradianceMap;
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
-use beam_scene::memo::FrameMemo;
-use beam_scene::nonlinear::Fit;
-use beam_scene::nonlinear::{
+use beam_render::BackendError;
+use beam_render::irradiance_map::IrradianceMap;
+use beam_render::memo::FrameMemo;
+use beam_render::nonlinear::Fit;
+use beam_render::nonlinear::{
     Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, KeepLevel, KeptTotals, LOOKUP_PREFERENCE, LevelLayout,
     LevelRadiance, NodeChildren, OUTSIDE_TEXELS, SMesh, ShadePoint, TexelPoint, TexelRadiance, child_beams,
     region_size,
 };
-use beam_scene::parallel::par_flatten;
+use beam_render::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::sync::{Arc, Mutex, PoisonError};

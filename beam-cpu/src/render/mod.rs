@@ -16,8 +16,6 @@ mod shaft;
 mod silhouettes;
 mod tile_shadows;
 
-pub use beam_scene::irradiance_map::IrradianceMap;
-pub use beam_scene::specular::{MAX_DEPTH, dielectric, reflect, refract, specular_rays};
 pub use compare::{Difference, difference, side_by_side};
 pub use eye_regions::{REGION, TILE, primary_coverage, region_side};
 pub use hard_shadow::lit_pieces;
@@ -25,9 +23,8 @@ pub use image::{Image, srgb_decode, srgb_encode};
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
 pub use primary_image::{PrimaryStats, primary_image};
-pub use renderer::shading_eps;
 pub use renderer::{
-    Method, Occluders, RenderOptions, RenderStats, Shading, light_seen, pixel_fragments, render, render_queries,
-    render_with, shade_point, stratified, trace_radiance,
+    RenderStats, light_seen, pixel_fragments, render, render_queries, render_with, shade_point, stratified,
+    trace_radiance,
 };
-pub use shadow_beam::{BeamStats, DEPTH_EPS, VisibleLight, visible_light};
+pub use shadow_beam::{BeamStats, VisibleLight, visible_light};

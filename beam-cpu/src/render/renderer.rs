@@ -5,7 +5,7 @@
 
 use super::eye_regions::{Region, TILE, paste_within, regions_in};
 use super::image::Image;
-use beam_scene::queries::AnyHit;
+use beam_render::queries::AnyHit;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -25,11 +25,10 @@ use shading::{Context, Lights, Surface, Thread};
 use stats::Counters;
 pub use stats::RenderStats;
 
-pub use beam_scene::tolerance::shading_eps;
 pub use shading::{shade_point, stratified, trace_radiance};
 pub use wavefront::{light_seen, pixel_fragments, render_queries};
 
-pub use beam_scene::options::{Method, Occluders, RenderOptions, Shading};
+use beam_render::options::{Method, RenderOptions};
 
 /// What a primary ray's shade point's seed (of its shadow-ray samples) is its pixel's seed
 /// ([`pixel_seed`]) xor.

@@ -22,7 +22,7 @@ mod silhouette;
 
 pub(crate) use silhouette::WindingScratch;
 
-pub use beam_scene::tolerance::DEPTH_EPS;
+use beam_render::tolerance::DEPTH_EPS;
 
 /// Fuzzy tolerance of the side tests, as a fraction of the light's size (001 App. A).
 const SIDE_EPS: f32 = 1e-6;

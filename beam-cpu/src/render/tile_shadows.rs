@@ -10,7 +10,7 @@ use super::shaft::{MAX_CANDIDATES, Shaft, gather};
 use super::silhouettes::{self, SilEdge, WindingBuilder};
 use beam_math::Aabb;
 use beam_math::glam::Vec3;
-use beam_scene::options::Occluders;
+use beam_render::options::Occluders;
 use beam_scene::scene::{Light, Scene};
 
 /// Blocks per tile side (a tile of [`super::TILE`]² pixels has blocks of `TILE / BLOCKS` pixels a side).

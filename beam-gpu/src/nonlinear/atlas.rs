@@ -33,11 +33,11 @@ use crate::raytrace::RayTracer;
 use crate::shade::PointShader;
 use crate::{Gpu, GpuError, texels};
 use beam_bvh::gpu::{GpuBvh, GpuTriangle};
-use beam_scene::BackendError;
-use beam_scene::nonlinear::{
+use beam_render::BackendError;
+use beam_render::nonlinear::{
     BeamJob, BeamRasterizer, BeamTexture, CoarseByRays, KeepLevel, KeptTotals, TexelPoint, TexelRadiance, region_texels,
 };
-use beam_scene::options::Shading;
+use beam_render::options::Shading;
 use beam_scene::scene::Scene;
 use std::cell::Cell;
 use std::sync::{Arc, Mutex, PoisonError};

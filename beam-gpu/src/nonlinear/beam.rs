@@ -4,7 +4,7 @@
 
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::{BeamBounds, Interpolant, NonlinearBeam};
-use beam_scene::nonlinear::{Beam, Exclude};
+use beam_render::nonlinear::{Beam, Exclude};
 use bytemuck::{Pod, Zeroable};
 
 /// Most control points of a GPU beam (S3: 10; [`crate::interface::MAX_CONTROL_POINTS`]).
@@ -52,7 +52,7 @@ impl GpuBeam {
     /// `beam` on an atlas region `(x, y, size)`, skipping scene triangle `exclude.prim` (a coarse
     /// S-mesh face's patch is culled by `shaders/beam_cull.wgsl`, which marks its ring per pair,
     /// [`crate::interface::PAIR_NEAR`]), its lift for self-hits at least the surface's thickness
-    /// about a coarse face (as `beam_cpu::nonlinear::render_beam` takes it). `bounds` are the beam's [`s1_or_sn_bounds`](beam_scene::nonlinear::TexelBeam::s1_or_sn_bounds) (for a bumped beam, its S1 beam's),
+    /// about a coarse face (as `beam_cpu::nonlinear::render_beam` takes it). `bounds` are the beam's [`s1_or_sn_bounds`](beam_render::nonlinear::TexelBeam::s1_or_sn_bounds) (for a bumped beam, its S1 beam's),
     /// which the caller has for bounding-cone culling.
     #[must_use]
     pub fn new(beam: &Beam, bounds: &BeamBounds, region: [u32; 3], exclude: Exclude<'_>) -> Self {

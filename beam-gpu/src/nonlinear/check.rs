@@ -3,7 +3,7 @@
 //! [`NonlinearBeam::bounding_triangle`](beam_math::nonlinear::NonlinearBeam::bounding_triangle) and
 //! [`BumpBeam::bounding_triangle`](beam_math::nonlinear::BumpBeam::bounding_triangle), `texel_ray`
 //! with [`Beam::ray_at`], `lookup_project` (`lib/lookup.wgsl`) with [`Beam::project_in`] under
-//! [`LOOKUP`](beam_scene::nonlinear::LOOKUP).
+//! [`LOOKUP`](beam_render::nonlinear::LOOKUP).
 
 use super::beam::GpuBeam;
 use crate::buffers::{checked, compute_pipeline, dispatch, output, read_back, storage};
@@ -14,7 +14,7 @@ use crate::{Gpu, GpuError};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::{BoundingCase, Projection};
-use beam_scene::nonlinear::{Beam, Exclude};
+use beam_render::nonlinear::{Beam, Exclude};
 use bytemuck::{Pod, Zeroable};
 
 /// One case: a scene triangle, a base point in `a`, or a point in `a` and a guess in `b` (`ω`, `t`);

@@ -19,7 +19,7 @@ use crate::shade::{PointShader, ShadeInput, ShadeScene, Shaded};
 use crate::staging::Staged;
 use crate::texels;
 use crate::{Gpu, GpuError};
-use beam_scene::nonlinear::{LevelRadiance, SMesh};
+use beam_render::nonlinear::{LevelRadiance, SMesh};
 use beam_scene::scene::{Material, Scene};
 use bytemuck::{Pod, Zeroable};
 use wgpu::WriteOnly;
@@ -47,7 +47,7 @@ pub struct GpuFace {
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct CompositeRecord {
     /// Where its face's reflection beam is looked up: the point its ray hit, or under a coarse
-    /// S-mesh face the point of the face at [`Composite::reflected_at`](beam_scene::nonlinear::Composite).
+    /// S-mesh face the point of the face at [`Composite::reflected_at`](beam_render::nonlinear::Composite).
     pub p: [f32; 3],
     /// Its index in the level's radiance.
     pub texel: u32,

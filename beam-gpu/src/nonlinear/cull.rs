@@ -5,13 +5,13 @@
 //! The host writes 8 bytes per block of four triangles and tests no triangle; before, it tested
 //! each one and wrote 8 bytes per pair kept.
 //!
-//! [`cone_blocks`]: beam_scene::nonlinear::cone_blocks
+//! [`cone_blocks`]: beam_render::nonlinear::cone_blocks
 
 use super::GpuBeams;
 use crate::buffers::{checked, compute_pass, compute_pipeline, map_with, output, readback, storage, uniform};
 use crate::interface::{NONE, WORKGROUP_SIZE};
 use crate::{Gpu, GpuError};
-use beam_scene::nonlinear::{BeamJob, ConeCull, Exclude, cone_blocks};
+use beam_render::nonlinear::{BeamJob, ConeCull, Exclude, cone_blocks};
 use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
@@ -162,7 +162,7 @@ impl GpuBeams<'_> {
     /// The scene triangles the GPU keeps for each of `jobs` after culling by the BVH's boxes on the
     /// host and triangle by triangle on the device, each with [`crate::interface::PAIR_NEAR`]
     /// where it is in the beam's ring; in the order of the beam's blocks. For checks against
-    /// [`beam_scene::nonlinear::cone_candidates`]; all the jobs as one page.
+    /// [`beam_render::nonlinear::cone_candidates`]; all the jobs as one page.
     pub fn culled_triangles(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<Vec<u32>>, GpuError> {
         let (culls, blocks): (Vec<ConeCull>, Vec<Vec<u32>>) = jobs
             .par_iter()

@@ -1,6 +1,6 @@
 //! The next tree level's fits summed on the GPU (`shaders/lib/fit.wgsl`): where the composite
 //! shades a kept level's texels itself, the host needs of the texels from which the tree goes on
-//! only the sums of each beam's fits per S-mesh face (beam-scene's [`Fit`], 000 §7.2), not the
+//! only the sums of each beam's fits per S-mesh face (beam-render's [`Fit`], 000 §7.2), not the
 //! texels (270 K a frame on the glass lens, 13 MB). `level_points` adds every such texel to its
 //! (beam, face) slot of a table in 64-bit fixed point, whose sums do not depend on the order of
 //! the texels: the same texels give the same bits, and the host's memos of the next level's beams
@@ -10,7 +10,7 @@ use crate::buffers::{output, read_all};
 use crate::interface::{FIT_BIAS, FIT_SCALE, FIT_WORDS};
 use crate::{Gpu, GpuError};
 use beam_math::glam::Mat3;
-use beam_scene::nonlinear::Fit;
+use beam_render::nonlinear::Fit;
 
 /// Fewest slots of a table (a power of two; `lib/fit.wgsl` hashes into at least 2¹⁰).
 pub const MIN_FIT_SLOTS: u32 = 1 << 10;

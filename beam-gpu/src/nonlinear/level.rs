@@ -21,7 +21,7 @@ use crate::scratch::{Scratch, scratch};
 use crate::shade::{PointShader, ShadeInput};
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{LevelLayout, NodeChildren, ShadePoint, TexelPoint, TexelRadiance};
+use beam_render::nonlinear::{LevelLayout, NodeChildren, ShadePoint, TexelPoint, TexelRadiance};
 use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 

@@ -10,8 +10,8 @@ use crate::interface::WORKGROUP_SIZE;
 use crate::staging::{Slots, Staged, split_by_counts};
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{Beam, BeamTexture, LookupJob};
-use beam_scene::parallel::piece_len;
+use beam_render::nonlinear::{Beam, BeamTexture, LookupJob};
+use beam_render::parallel::piece_len;
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 

@@ -11,7 +11,7 @@ use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, readbac
 use crate::interface::WORKGROUP_SIZE;
 use crate::texels::texture_2d;
 use crate::timestamps::PassTimer;
-use beam_scene::nonlinear::{BeamJob, BeamTexture, TexelHit, region_texels};
+use beam_render::nonlinear::{BeamJob, BeamTexture, TexelHit, region_texels};
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 

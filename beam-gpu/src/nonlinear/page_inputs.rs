@@ -12,8 +12,8 @@ use crate::Gpu;
 use crate::buffers::storage;
 use crate::interface::WORKGROUP_SIZE;
 use crate::staging::{Slots, Staged, split_by_counts};
-use beam_scene::memo::FrameMemo;
-use beam_scene::nonlinear::{BeamJob, region_texels};
+use beam_render::memo::FrameMemo;
+use beam_render::nonlinear::{BeamJob, region_texels};
 use rayon::prelude::*;
 use std::sync::Arc;
 

@@ -14,8 +14,8 @@
 use super::beam::GpuBeam;
 use beam_math::collide::{Cone, ConeSpheres};
 use beam_math::glam::Vec3;
-use beam_scene::memo::FrameMemo;
-use beam_scene::nonlinear::{Beam, BeamJob, ConeCull, blocks_meeting, cone_cull};
+use beam_render::memo::FrameMemo;
+use beam_render::nonlinear::{Beam, BeamJob, ConeCull, blocks_meeting, cone_cull};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;

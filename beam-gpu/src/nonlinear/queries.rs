@@ -15,13 +15,14 @@ use crate::shade::ShadeInput;
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
-use beam_scene::irradiance_map::IrradianceMap;
-use beam_scene::nonlinear::{
+use beam_render::BackendError;
+use beam_render::irradiance_map::IrradianceMap;
+use beam_render::nonlinear::{
     Beam, BeamTexture, ChildLookups, CoarseByRays, DeviceWaits, FramePixels, LevelRadiance, LookupJob, PointShading,
-    RayQueries, SMesh, ShadePoint,
+    SMesh, ShadePoint,
 };
-use beam_scene::options::{RenderOptions, Shading};
+use beam_render::options::{RenderOptions, Shading};
+use beam_render::queries::RayQueries;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::sync::PoisonError;

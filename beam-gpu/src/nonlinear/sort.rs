@@ -10,8 +10,8 @@ use crate::GpuError;
 use crate::shade::{PointShader, ShadeInput};
 use crate::staging::split_by_counts;
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{Composite, SMesh, TexelRadiance};
-use beam_scene::parallel::piece_len;
+use beam_render::nonlinear::{Composite, SMesh, TexelRadiance};
+use beam_render::parallel::piece_len;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -200,7 +200,7 @@ fn slots(used: &[AtomicBool]) -> (Vec<u32>, Vec<u32>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use beam_scene::nonlinear::ShadePoint;
+    use beam_render::nonlinear::ShadePoint;
     use beam_scene::scene::{Simplify, builtin};
     use bytemuck::Zeroable;
 

@@ -8,8 +8,8 @@
 //! and ends of every batch of points given in one call ([`RestJob`]). CPU twin:
 //! [`shade_by_waves`] with [`specular_rays`].
 //!
-//! [`shade_by_waves`]: beam_scene::nonlinear::shade_by_waves
-//! [`specular_rays`]: beam_scene::specular::specular_rays
+//! [`shade_by_waves`]: beam_render::nonlinear::shade_by_waves
+//! [`specular_rays`]: beam_render::specular::specular_rays
 
 use crate::buffers::{
     buffer_entry, compute_pipeline, encode_pass, max_binding, output, read_all, storage, uniform, view_entry,
@@ -22,9 +22,9 @@ use crate::shade::{PointShader, ShadeInput, ShadeScene, Shaded};
 use crate::texels;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
+use beam_render::specular::MAX_DEPTH;
+use beam_render::tolerance::shading_eps;
 use beam_scene::scene::{Bump, Material, Scene};
-use beam_scene::specular::MAX_DEPTH;
-use beam_scene::tolerance::shading_eps;
 use bytemuck::{Pod, Zeroable};
 use std::sync::Mutex;
 
@@ -45,7 +45,7 @@ pub struct WhittedParams {
     pub eps: f32,
 }
 
-/// A mirror or glass triangle: what [`specular_rays`](beam_scene::specular::specular_rays) reads.
+/// A mirror or glass triangle: what [`specular_rays`](beam_render::specular::specular_rays) reads.
 ///
 /// WGSL twin: `SpecularPrim` in `shaders/whitted.wgsl` (layouts compared in [`crate::interface`]).
 #[repr(C)]

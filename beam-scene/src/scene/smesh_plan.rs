@@ -1,6 +1,6 @@
 //! How a scene asks for the S meshes of its mirror and glass surfaces (000 §7.1): the rendered
 //! (fine) triangles themselves, a coarse mesh given beside them, or a simplification of them to a
-//! face count or an error. The S mesh itself is built by `beam_scene::nonlinear::SMesh::of`.
+//! face count or an error. The S mesh itself is built by `beam_render::nonlinear::SMesh::of`.
 
 use crate::mesh::Mesh;
 use std::ops::Range;

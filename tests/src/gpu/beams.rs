@@ -2,9 +2,9 @@
 //! S-mesh faces.
 
 use crate::generate::{self, BeamKind, uniform};
-use beam_cpu::nonlinear::{Beam, BumpedBeam, Degree, SMesh};
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::BumpBeam;
+use beam_render::nonlinear::{Beam, BumpedBeam, Degree, SMesh};
 use beam_scene::scene::{self, Bump};
 
 /// Random beams of every kind (diverging, converging, mixed), each as S1, S3 and bump-mapped.
@@ -45,7 +45,7 @@ pub(super) fn face_beams(
         .filter_map(|f| {
             let face = &smesh.faces[f];
             let incoming = face.v.map(|v| (v - eye).normalize_or_zero());
-            let (reflected, refracted) = beam_cpu::nonlinear::child_beams(scene, face, incoming, degree)?;
+            let (reflected, refracted) = beam_render::nonlinear::child_beams(scene, face, incoming, degree)?;
             Some([Some(reflected), refracted.flatten()].into_iter().flatten().map(move |b| (b, f)))
         })
         .flatten()

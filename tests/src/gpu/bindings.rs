@@ -5,12 +5,13 @@
 use super::pixels::PixelDifference;
 use super::twin::TwinShading;
 use crate::property::{Config, Outcome};
-use beam_cpu::nonlinear::{CAUSTIC_STRATA, Degree, NonlinearOptions, SMesh, render_nonlinear_with};
-use beam_cpu::render::RenderOptions;
+use beam_cpu::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_with};
 use beam_gpu::nonlinear::{GpuBeams, GpuFace};
 use beam_gpu::{Gpu, GpuError};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
+use beam_render::nonlinear::{Degree, SMesh};
+use beam_render::options::RenderOptions;
 use beam_scene::mesh;
 use beam_scene::scene::{Bump, Camera, Light, Material, Scene};
 

@@ -5,18 +5,19 @@
 //! `refracted_at`, looked up on the GPU too, `lib/coarse.wgsl`), against the CPU renderer with the
 //! same S mesh.
 //!
-//! [`Composite::reflected_at`]: beam_cpu::nonlinear::Composite
+//! [`Composite::reflected_at`]: beam_render::nonlinear::Composite
 
 use super::device::adapter;
 use super::pixels::PixelDifference;
 use super::twin::TwinShading;
 use crate::property::{Backend, Config, Outcome};
-use beam_cpu::nonlinear::{Degree, EyeView, NonlinearOptions, render_nonlinear_with};
-use beam_cpu::render::RenderOptions;
+use beam_cpu::nonlinear::{NonlinearOptions, render_nonlinear_with};
 use beam_gpu::nonlinear::GpuBeams;
 use beam_math::Triangle;
 use beam_math::collide::closest_point_on_triangle;
-use beam_scene::nonlinear::SMesh;
+use beam_render::nonlinear::SMesh;
+use beam_render::nonlinear::{Degree, EyeView};
+use beam_render::options::RenderOptions;
 use beam_scene::scene::{self, Simplify};
 
 /// Image side: small, for lavapipe.

@@ -5,10 +5,10 @@
 use super::beams::face_beams;
 use super::device::adapter;
 use crate::property::{Backend, Config, Outcome};
-use beam_cpu::nonlinear::{BeamJob, Degree, SMesh};
 use beam_gpu::interface::PAIR_NEAR;
 use beam_gpu::nonlinear::GpuBeams;
-use beam_scene::nonlinear::cone_candidates;
+use beam_render::nonlinear::cone_candidates;
+use beam_render::nonlinear::{BeamJob, Degree, SMesh};
 use beam_scene::scene::{self, Simplify};
 
 /// On three built-ins (glass lens and facing mirrors on their fine S meshes, the mirror teapot on

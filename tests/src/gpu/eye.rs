@@ -2,11 +2,12 @@
 
 use super::device::adapter;
 use crate::property::{Backend, Config, Outcome};
-use beam_cpu::nonlinear::{CpuBeams, EyeView};
-use beam_cpu::render::RenderOptions;
+use beam_cpu::nonlinear::CpuBeams;
 use beam_gpu::nonlinear::GpuBeams;
 use beam_gpu::shade::PointShader;
 use beam_math::glam::Vec3;
+use beam_render::nonlinear::EyeView;
+use beam_render::options::RenderOptions;
 use beam_scene::region::PixelRect;
 use beam_scene::scene;
 

@@ -7,9 +7,9 @@ use beam_gpu::Gpu;
 use beam_gpu::buffers::{read_back, storage};
 use beam_gpu::gbuffer::{GBuffer, GBufferShadows, area_lights};
 use beam_math::glam::Vec3;
-use beam_scene::queries::LightQuery;
+use beam_render::queries::LightQuery;
+use beam_render::tolerance::shading_eps;
 use beam_scene::scene::{self, Scene};
-use beam_scene::tolerance::shading_eps;
 use rayon::prelude::*;
 
 /// A camera's G-buffer of `scene` at `size`², as an engine would rasterize it: positions (`w` 1 on

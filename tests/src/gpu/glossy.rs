@@ -13,8 +13,9 @@ use beam_scene::scene;
 /// shadow ray's grazing hit decided the other way in f32). The worst relative error is stated. The
 /// hierarchy cut into parts of a seventh of its beams gathers the same sums.
 pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::glossy::{GlossyOptions, LightVolumes, gather_on_cpu};
+    use beam_cpu::glossy::gather_on_cpu;
     use beam_math::glossy::VolumeMethod;
+    use beam_render::glossy::{GlossyOptions, LightVolumes};
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
@@ -78,8 +79,9 @@ pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, S
 /// interleaved halves must give every point the same result as the whole batch (an invocation
 /// depends on its own point only).
 pub fn gpu_glossy_gather_area_lights_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::glossy::{GlossyOptions, LightVolumes, gather_on_cpu};
+    use beam_cpu::glossy::gather_on_cpu;
     use beam_math::glossy::VolumeMethod;
+    use beam_render::glossy::{GlossyOptions, LightVolumes};
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),

@@ -6,14 +6,13 @@ use super::beams::{face_beams, level_one_beams};
 use super::device::adapter;
 use super::pixels::PixelDifference;
 use crate::property::{Backend, Config, Outcome};
-use beam_cpu::nonlinear::{
-    BeamJob, BeamRasterizer, CAUSTIC_STRATA, Degree, Exclude, NonlinearOptions, render_nonlinear_with,
-};
-use beam_cpu::render::RenderOptions;
+use beam_cpu::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_with};
 use beam_gpu::nonlinear::GpuBeams;
 use beam_gpu::shade::PointShader;
 use beam_math::glam::Vec3;
-use beam_scene::nonlinear::{EyeView, Fit, KeepLevel, LevelLayout, SMesh, TexelHit};
+use beam_render::nonlinear::{BeamJob, BeamRasterizer, Degree, Exclude};
+use beam_render::nonlinear::{EyeView, Fit, KeepLevel, LevelLayout, SMesh, TexelHit};
+use beam_render::options::RenderOptions;
 use beam_scene::scene::{self, Simplify};
 use std::collections::BTreeMap;
 

@@ -7,11 +7,11 @@ use super::beams::{kind, random_beams};
 use super::device::adapter;
 use crate::generate::{self, Rng64, uniform};
 use crate::property::{Backend, Config, Outcome};
-use beam_cpu::nonlinear::Beam;
 use beam_gpu::nonlinear::{LookupFound, NonlinearCheck};
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::Projection;
-use beam_scene::nonlinear::LOOKUP;
+use beam_render::nonlinear::Beam;
+use beam_render::nonlinear::LOOKUP;
 
 /// How far apart the GPU's and the CPU's `ω` may lie, and their `t` relative to the base's size
 /// plus `t`: a thirtieth of a texel at 32 texels a side, where f32's Newton's method stops at its

@@ -1,10 +1,11 @@
 //! The CPU renderer with the GPU's shading estimator: the reference GPU images are held to.
 
-use beam_cpu::nonlinear::{BeamJob, BeamRasterizer, CpuBeams, FramePixels, LevelRadiance, SMesh};
-use beam_cpu::render::RenderOptions;
+use beam_cpu::nonlinear::CpuBeams;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
+use beam_render::BackendError;
+use beam_render::nonlinear::{BeamJob, BeamRasterizer, FramePixels, LevelRadiance, SMesh};
+use beam_render::options::RenderOptions;
 use beam_scene::scene;
 use std::sync::Mutex;
 
@@ -13,24 +14,26 @@ use std::sync::Mutex;
 /// the reference the GPU images must equal. It keeps the last radiance flow it composited (the
 /// levels and the caustics).
 #[derive(Default)]
-pub(super) struct TwinShading(pub(super) Mutex<(Vec<LevelRadiance>, Option<beam_cpu::render::IrradianceMap>)>);
+pub(super) struct TwinShading(
+    pub(super) Mutex<(Vec<LevelRadiance>, Option<beam_render::irradiance_map::IrradianceMap>)>,
+);
 
 impl BeamRasterizer for TwinShading {
     fn render_beams(
         &self,
         scene: &scene::Scene,
         jobs: &[BeamJob<'_>],
-    ) -> Result<Vec<beam_cpu::nonlinear::BeamTexture>, BackendError> {
+    ) -> Result<Vec<beam_render::nonlinear::BeamTexture>, BackendError> {
         CpuBeams.render_beams(scene, jobs)
     }
 }
 
-impl beam_cpu::nonlinear::DeviceWaits for TwinShading {}
-impl beam_cpu::nonlinear::ChildLookups for TwinShading {}
+impl beam_render::nonlinear::DeviceWaits for TwinShading {}
+impl beam_render::nonlinear::ChildLookups for TwinShading {}
 
-impl beam_scene::nonlinear::EyeView for TwinShading {}
+impl beam_render::nonlinear::EyeView for TwinShading {}
 
-impl beam_cpu::nonlinear::RayQueries for TwinShading {
+impl beam_render::queries::RayQueries for TwinShading {
     fn closest_hits(&self, scene: &scene::Scene, rays: &[Ray]) -> Result<Vec<Option<beam_bvh::Hit>>, BackendError> {
         CpuBeams.closest_hits(scene, rays)
     }
@@ -40,19 +43,19 @@ impl beam_cpu::nonlinear::RayQueries for TwinShading {
     }
 }
 
-impl beam_cpu::nonlinear::PointShading for TwinShading {
+impl beam_render::nonlinear::PointShading for TwinShading {
     fn shade_points(
         &self,
         scene: &scene::Scene,
         _options: &RenderOptions,
-        caustics: Option<&beam_cpu::render::IrradianceMap>,
-        points: &[beam_cpu::nonlinear::ShadePoint],
+        caustics: Option<&beam_render::irradiance_map::IrradianceMap>,
+        points: &[beam_render::nonlinear::ShadePoint],
     ) -> Result<Option<Vec<Vec3>>, BackendError> {
         use rayon::prelude::*;
-        let twin = |batch: &[beam_cpu::nonlinear::ShadePoint]| {
+        let twin = |batch: &[beam_render::nonlinear::ShadePoint]| {
             Ok(batch.par_iter().map(|s| beam_gpu::shade::shade_twin(scene, caustics, 64, s)).collect())
         };
-        beam_cpu::nonlinear::shade_by_waves(scene, &CpuBeams, &twin, points).map(Some)
+        beam_render::nonlinear::shade_by_waves(scene, &CpuBeams, &twin, points).map(Some)
     }
 
     fn shade_tree(
@@ -60,11 +63,11 @@ impl beam_cpu::nonlinear::PointShading for TwinShading {
         scene: &scene::Scene,
         smesh: &SMesh,
         options: &RenderOptions,
-        caustics: Option<&beam_cpu::render::IrradianceMap>,
+        caustics: Option<&beam_render::irradiance_map::IrradianceMap>,
         levels: &[LevelRadiance],
     ) -> Result<Option<FramePixels>, BackendError> {
         *self.0.lock().map_err(|e| BackendError::new("cpu", e.to_string()))? = (levels.to_vec(), caustics.cloned());
-        let shade = |points: &[beam_cpu::nonlinear::ShadePoint]| {
+        let shade = |points: &[beam_render::nonlinear::ShadePoint]| {
             beam_cpu::nonlinear::shade_points(self, scene, options, caustics, points)
         };
         beam_cpu::nonlinear::composite_levels(scene, smesh, levels, &shade).map(|p| Some(FramePixels::Read(p)))

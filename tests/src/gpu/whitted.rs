@@ -4,12 +4,13 @@
 use super::device::adapter;
 use crate::property::{Backend, Config, Outcome};
 use beam_bvh::gpu::GpuBvh;
-use beam_cpu::nonlinear::{CpuBeams, ShadePoint, shade_by_waves};
+use beam_cpu::nonlinear::CpuBeams;
 use beam_gpu::buffers::{checked, output, read_all};
 use beam_gpu::nonlinear::{GpuWhitted, RestJob, RestPoints};
 use beam_gpu::raytrace::RayTracer;
 use beam_gpu::shade::{PointShader, ShadeInput, shade_twin};
 use beam_math::glam::Vec3;
+use beam_render::nonlinear::{ShadePoint, shade_by_waves};
 use beam_scene::scene;
 use rayon::prelude::*;
 

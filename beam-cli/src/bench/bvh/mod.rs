@@ -11,7 +11,7 @@ use super::peer_set::peers;
 use super::stats::median;
 use super::tracer::Tracer;
 use beam_bvh::{BuildOptions, Bvh8, Collapse, FlatBvh, Kernel, RayDistribution, TraversalStats, WideBvh};
-use beam_cpu::cpu_clock::thread_cpu_seconds;
+use beam_render::cpu_clock::thread_cpu_seconds;
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use beam_scene::scene::{Camera, Light};

@@ -8,13 +8,14 @@
 use super::light_samples::{light_sample, sample_light};
 use super::{Context, Thread};
 use crate::render::lambert::{clip_above, point_source_irradiance, polygon_irradiance};
-use crate::render::shadow_beam::{DEPTH_EPS, ShadowBeam, light_beam, trace_bvh};
+use crate::render::shadow_beam::{ShadowBeam, light_beam, trace_bvh};
 use crate::render::silhouettes::WindingWork;
 use crate::render::tile_shadows::Mode;
 use beam_math::Ray;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::{BeamFrame, Quad, WindingError};
-use beam_scene::options::Shading;
+use beam_render::options::Shading;
+use beam_render::tolerance::DEPTH_EPS;
 use rand_pcg::Pcg32;
 
 /// A shadow beam's budget per shadow ray of `--spp`, in piece splits (a candidate's test counts

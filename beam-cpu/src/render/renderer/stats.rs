@@ -2,7 +2,7 @@
 //! summed from.
 
 use crate::render::shadow_beam::BeamStats;
-use beam_scene::options::{Method, RenderOptions, Shading};
+use beam_render::options::{Method, RenderOptions, Shading};
 use beam_scene::scene::Scene;
 
 /// What a render did.

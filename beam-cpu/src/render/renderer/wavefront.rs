@@ -9,9 +9,9 @@ use crate::render::eye_regions::{Region, paste_within};
 use crate::render::image::Image;
 use batches::MAX_BATCH;
 use beam_math::glam::Vec3;
-use beam_scene::BackendError;
-use beam_scene::options::{Method, RenderOptions};
-use beam_scene::queries::BeamQueries;
+use beam_render::BackendError;
+use beam_render::options::{Method, RenderOptions};
+use beam_render::queries::BeamQueries;
 use beam_scene::scene::{Camera, Scene};
 use plan::LightTable;
 use std::f32::consts::PI;
@@ -31,7 +31,7 @@ pub use eye::pixel_fragments;
 /// false`) and every shadow beam traced to the end (`options.exact == true`), the visibility by
 /// `backend`: its closest hits for the camera, mirror and glass rays, its any-hits for the shadow
 /// rays of point lights, of the `ray` method's area-light samples and of the environment's
-/// cosine-weighted samples, and its shadow beams (one [`LightQuery`](beam_scene::queries::LightQuery)
+/// cosine-weighted samples, and its shadow beams (one [`LightQuery`](beam_render::queries::LightQuery)
 /// a shade point and area light, a constant environment's six faces among the lights, as in
 /// `render`) for the `beam` method. A beam the backend gives up on (`None`) is traced on the host
 /// by [`light_seen`] and counted in [`RenderStats::overflow_beams`]. The image is computed a band

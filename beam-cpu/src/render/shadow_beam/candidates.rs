@@ -2,10 +2,11 @@
 //! a BVH walk: the order in which they are tried. Visibility does not depend on it, the work does:
 //! each triangle splits the pieces left by the ones before it.
 
-use super::{DEPTH_EPS, ShadowBeam};
+use super::ShadowBeam;
 use crate::render::packet::{Packet, Projector};
 use beam_math::Triangle;
 use beam_math::glam::Vec2;
+use beam_render::tolerance::DEPTH_EPS;
 
 /// Occluders of the previous beam tried first, when it ended dark.
 const HOT: usize = 8;

@@ -3,8 +3,8 @@
 
 use beam_bvh::Hit;
 use beam_math::Ray;
-use beam_scene::BackendError;
-use beam_scene::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen};
+use beam_render::BackendError;
+use beam_render::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen};
 use beam_scene::scene::Scene;
 
 /// Most rays, segments or shadow-beam queries in one call to the backend.

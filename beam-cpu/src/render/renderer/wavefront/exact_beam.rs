@@ -1,12 +1,12 @@
 //! The exact answer to one shadow-beam query on the CPU: the reference every backend's
-//! [`BeamQueries::light_visibility`](beam_scene::queries::BeamQueries::light_visibility) is held
+//! [`BeamQueries::light_visibility`](beam_render::queries::BeamQueries::light_visibility) is held
 //! to, and the wavefront's own path for the beams a backend gives up on.
 
 use crate::render::lambert::{clip_above, polygon_irradiance};
 use crate::render::shadow_beam::{BeamStats, visible_light};
 use beam_bvh::FlatBvh;
 use beam_math::Triangle;
-use beam_scene::queries::{LightPolygon, LightQuery, LightSeen};
+use beam_render::queries::{LightPolygon, LightQuery, LightSeen};
 
 /// What point `query.p` (normal `query.n`) sees of `light` (001 §5): the light clipped to the
 /// half-space above the point's tangent plane where `query.clip_above` (001 eq. 1), its shadow

@@ -10,11 +10,11 @@ use crate::render::renderer::light_samples::{
     cosine_direction, light_integrand, light_sample, point_light, sample_light, tangents,
 };
 use crate::render::renderer::{Context, SHADE_SEED, pixel_seed};
-use crate::render::shadow_beam::DEPTH_EPS;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::options::{Method, Shading};
-use beam_scene::queries::{LightPolygon, LightQuery};
+use beam_render::options::{Method, Shading};
+use beam_render::queries::{LightPolygon, LightQuery};
+use beam_render::tolerance::DEPTH_EPS;
 use beam_scene::region::PixelRect;
 use beam_scene::scene::Light;
 use rand::SeedableRng;

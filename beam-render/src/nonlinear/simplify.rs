@@ -5,8 +5,8 @@
 //! error metric) to its share of a face count, or within an error.
 
 use super::coarse::Group;
-use crate::scene::{Scene, Simplify};
 use beam_math::glam::Vec3;
+use beam_scene::scene::{Scene, Simplify};
 use meshopt::SimplifyOptions;
 use std::collections::HashMap;
 
@@ -168,11 +168,11 @@ fn surfaces(scene: &Scene, prims: &[u32]) -> Vec<Surface> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::Material;
+    use beam_scene::scene::Material;
 
     #[test]
     fn teapot_surfaces_simplify_to_their_share() {
-        let scene = crate::scene::showcase::mirror_teapot(12, 8);
+        let scene = beam_scene::scene::showcase::mirror_teapot(12, 8);
         let mirror: Vec<u32> = (0..scene.triangles.len() as u32)
             .filter(|&p| matches!(scene.material(p), Material::Mirror { .. }))
             .collect();

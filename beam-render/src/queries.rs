@@ -3,10 +3,10 @@
 //! in batches ([`BeamQueries`]).
 
 use crate::error::BackendError;
-use crate::scene::{Camera, Scene};
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::{Vec2, Vec3};
+use beam_scene::scene::{Camera, Scene};
 
 /// Whether `ray` meets a triangle at a parameter below `t_max` (a shadow ray or segment).
 pub type AnyHit<'a> = dyn Fn(Ray, f32) -> bool + Sync + 'a;

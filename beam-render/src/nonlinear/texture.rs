@@ -1,7 +1,8 @@
 //! What a backend is given and returns for the beams of one tree level: jobs, texel regions and
 //! their nearest hits (000 Alg. 1), and the points it shades.
 
-use super::beam::Beam;
+use super::beam_tree::Beam;
+use super::face::Exclude;
 use super::fit::Fit;
 use beam_math::glam::Vec3;
 
@@ -132,46 +133,6 @@ pub struct BeamJob<'a> {
     pub size: u32,
     /// The surface it leaves (never hit by its own rays).
     pub exclude: Exclude<'a>,
-}
-
-/// The scene triangles under a beam's base (its S-mesh face, 000 §7.1), which its rays must not
-/// take for hits: the face's scene triangle, or under a coarse S-mesh face the fine triangles its
-/// points map to (its patch, never hit) and those of the faces sharing a vertex with it (its ring:
-/// hits nearer than the self-hit distance, with the surface's `thickness` about the face's plane
-/// taken as the beam's lift, are the surface meeting itself; as for a fine face's neighbours).
-#[derive(Clone, Copy, Debug)]
-pub struct Exclude<'a> {
-    /// The scene triangle the face is (on a coarse S mesh, one of its patch).
-    pub prim: u32,
-    /// The fine triangles under a coarse face, ascending (empty for a fine face).
-    pub patch: &'a [u32],
-    /// The fine triangles under the faces sharing a vertex with it, ascending, outside the patch.
-    pub ring: &'a [u32],
-    /// Largest distance of its patch's vertices from the face's plane (0 for a fine face).
-    pub thickness: f32,
-}
-
-impl Exclude<'static> {
-    /// A beam off scene triangle `prim` itself (a fine S mesh's face).
-    #[must_use]
-    pub const fn base(prim: u32) -> Self {
-        Self { prim, patch: &[], ring: &[], thickness: 0.0 }
-    }
-}
-
-impl Exclude<'_> {
-    /// True when scene triangle `prim` is never a hit of the beam's rays.
-    #[must_use]
-    pub fn skips(&self, prim: u32) -> bool {
-        prim == self.prim || self.patch.binary_search(&prim).is_ok()
-    }
-
-    /// True when hits on scene triangle `prim` within the self-hit distance are the surface
-    /// meeting itself (besides the triangles that share a vertex with the base).
-    #[must_use]
-    pub fn near(&self, prim: u32) -> bool {
-        self.ring.binary_search(&prim).is_ok()
-    }
 }
 
 #[cfg(test)]

@@ -3,8 +3,8 @@
 //! texels; flux carriers (beam texels or photons) are splatted into it with a tent kernel, and a
 //! shade point reads the irradiance back bilinearly.
 
-use crate::scene::{Material, Scene};
 use beam_math::glam::{Vec2, Vec3};
+use beam_scene::scene::{Material, Scene};
 use std::collections::HashMap;
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -197,7 +197,7 @@ impl IrradianceMap {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::builtin;
+    use beam_scene::scene::builtin;
 
     /// Equal numbers name equal texels: a clone keeps its original's number until either changes,
     /// and every change (a splat, a texel added, a merge) draws a new one.

@@ -1,7 +1,7 @@
 //! Settings of the glossy light volumes and their gather, read by both backends.
 
-use crate::region::PixelRect;
 use beam_math::glossy::VolumeMethod;
+use beam_scene::region::PixelRect;
 
 /// Settings of the glossy renderer.
 #[derive(Clone, Copy, Debug)]

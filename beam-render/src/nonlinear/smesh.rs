@@ -1,59 +1,16 @@
 //! The S mesh of 000 §7.1: the base triangles of the secondary beams, with smooth vertex normals.
 //! By default it is the specular triangles themselves; a scene may ask for a coarse one
-//! ([`SMeshPlan`](crate::scene::SMeshPlan)), given or simplified, which the fine triangles are
+//! ([`SMeshPlan`](beam_scene::scene::SMeshPlan)), given or simplified, which the fine triangles are
 //! mapped onto ([`SMesh::locate`]).
 
-use super::coarse::{self, Group};
+use super::coarse::{CoarseFaces, Group, coarse_faces};
+use super::face::{Exclude, SFace, sliver_face};
 use super::simplify::simplified;
-use super::texture::Exclude;
-use crate::scene::{SMeshSource, Scene};
 use beam_math::Triangle;
 use beam_math::collide::closest_point_on_triangle;
 use beam_math::glam::Vec3;
+use beam_scene::scene::{SMeshSource, Scene};
 use std::ops::Range;
-
-/// One S-mesh triangle: a mirror or glass triangle of the scene, or a face of a coarse S mesh over
-/// several of them, with its smooth vertex normals.
-#[derive(Clone, Copy, Debug)]
-pub struct SFace {
-    /// The scene triangle it is; on a coarse S mesh, the one under its centre (its material).
-    pub prim: u32,
-    /// Vertices.
-    pub v: [Vec3; 3],
-    /// Unit vertex normals, on the side of the face's geometric normal: the fine mesh's smooth
-    /// normals at (or nearest to) the vertices.
-    pub n: [Vec3; 3],
-    /// Unit geometric normal, on the side of the fine surface's (the scene triangle's normal for a
-    /// fine S mesh).
-    pub normal: Vec3,
-}
-
-impl SFace {
-    /// The interpolated (Phong) unit normal at barycentric coordinates `w`.
-    #[must_use]
-    pub fn normal_at(&self, w: Vec3) -> Vec3 {
-        (w.x * self.n[0] + w.y * self.n[1] + w.z * self.n[2]).normalize_or_zero()
-    }
-
-    /// Mirror reflections about the vertex normals of the directions from `eye` to the vertices:
-    /// the boundary directions of the face's reflection beam (000 §7.2).
-    #[must_use]
-    pub fn reflected_directions(&self, eye: Vec3) -> [Vec3; 3] {
-        [0, 1, 2].map(|i| crate::specular::reflect((self.v[i] - eye).normalize_or_zero(), self.n[i]))
-    }
-
-    /// Area.
-    #[must_use]
-    pub fn area(&self) -> f32 {
-        Triangle { v: self.v }.area()
-    }
-
-    /// Barycentric coordinates of point `p` (projected onto the face's plane).
-    #[must_use]
-    pub fn barycentric(&self, p: Vec3) -> Vec3 {
-        Triangle { v: self.v }.barycentric(p).unwrap_or(Vec3::splat(1.0 / 3.0))
-    }
-}
 
 /// What a face's beams skip: ranges into [`SMesh::lists`], and the thickness of the surface under
 /// the face.
@@ -146,9 +103,10 @@ impl SMesh {
         s.add_fine(scene, &fine);
         for g in groups {
             let before = s.faces.len();
-            if !coarse::add_group(scene, &g, &mut s) {
+            match coarse_faces(scene, &g) {
+                Some(c) => s.add_coarse(&g.prims, c),
                 // No usable face (a mesh of slivers): its triangles are their own S mesh.
-                s.add_fine(scene, &g.prims.into_iter().filter(|&p| !sliver(scene, p)).collect::<Vec<_>>());
+                None => s.add_fine(scene, &g.prims.into_iter().filter(|&p| !sliver(scene, p)).collect::<Vec<_>>()),
             }
             s.coarse += s.faces.len() - before;
         }
@@ -263,8 +221,20 @@ impl SMesh {
         }
     }
 
+    /// Append the faces of a coarse mesh over the specular triangles `prims` (a group's, in its
+    /// order) and map those triangles onto them.
+    fn add_coarse(&mut self, prims: &[u32], c: CoarseFaces) {
+        let first = self.faces.len() as u32;
+        for (&p, faces) in prims.iter().zip(&c.candidates) {
+            self.push_candidates(p, &faces.iter().map(|&f| first + f).collect::<Vec<_>>());
+        }
+        for f in c.faces {
+            self.push_coarse(f.face, &f.patch, &f.ring, f.thickness);
+        }
+    }
+
     /// Record the candidate faces of scene triangle `prim`.
-    pub(super) fn push_candidates(&mut self, prim: u32, faces: &[u32]) {
+    fn push_candidates(&mut self, prim: u32, faces: &[u32]) {
         let start = self.candidates.len() as u32;
         self.candidates.extend_from_slice(faces);
         if self.of_prim.len() <= prim as usize {
@@ -274,7 +244,7 @@ impl SMesh {
     }
 
     /// Append a coarse face with its patch and ring of scene triangles (sorted) and thickness.
-    pub(super) fn push_coarse(&mut self, face: SFace, patch: &[u32], ring: &[u32], thickness: f32) {
+    fn push_coarse(&mut self, face: SFace, patch: &[u32], ring: &[u32], thickness: f32) {
         let at = self.lists.len();
         self.lists.extend_from_slice(patch);
         self.lists.extend_from_slice(ring);
@@ -292,13 +262,6 @@ fn sliver(scene: &Scene, p: u32) -> bool {
     sliver_face(&scene.triangles[p as usize].v)
 }
 
-/// True for a triangle narrower than 1e-4 of its longest edge.
-pub(super) fn sliver_face(v: &[Vec3; 3]) -> bool {
-    let longest =
-        (v[1] - v[0]).length_squared().max((v[2] - v[1]).length_squared()).max((v[0] - v[2]).length_squared());
-    (v[1] - v[0]).cross(v[2] - v[0]).length() < 1e-4 * longest
-}
-
 /// The specular triangles that are not slivers, ascending.
 fn specular_prims(scene: &Scene) -> Vec<u32> {
     let mut prims: Vec<u32> = scene.smooth_normals.keys().copied().filter(|&p| !sliver(scene, p)).collect();
@@ -309,7 +272,7 @@ fn specular_prims(scene: &Scene) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Material, SMeshPlan, Simplify};
+    use beam_scene::scene::{Material, SMeshPlan, Simplify};
 
     /// Every fine specular triangle's centre maps to a face it lies under: within the face's
     /// thickness of its plane and in its patch; the face's normals on the fine surface's side.
@@ -334,7 +297,7 @@ mod tests {
 
     #[test]
     fn simplified_teapot_maps_every_triangle() {
-        let mut scene = crate::scene::showcase::mirror_teapot(12, 8);
+        let mut scene = beam_scene::scene::showcase::mirror_teapot(12, 8);
         let fine = SMesh::of(&scene);
         assert_eq!(fine.coarse_faces(), 0);
         assert_eq!(fine.faces.len(), SMesh::specular(&scene).faces.len());
@@ -357,7 +320,7 @@ mod tests {
 
     #[test]
     fn given_sphere_takes_the_fine_normals() {
-        let mut scene = crate::scene::load("mirror-glass").unwrap();
+        let mut scene = beam_scene::scene::load("mirror-glass").unwrap();
         let mirror: Vec<u32> = (0..scene.triangles.len() as u32)
             .filter(|&p| matches!(scene.material(p), Material::Mirror { .. }))
             .collect();
@@ -365,7 +328,7 @@ mod tests {
         assert_eq!(range.len(), mirror.len(), "the mirror sphere's triangles are consecutive");
         // A coarse sphere of the same centre, radius 95 (the fine one's 90), wound inwards.
         let c = Vec3::new(185.0, 90.0, 170.0);
-        let mut coarse = crate::mesh::sphere(c, 95.0, 6, 12);
+        let mut coarse = beam_scene::mesh::sphere(c, 95.0, 6, 12);
         for t in &mut coarse.indices {
             t.swap(1, 2);
         }
@@ -385,7 +348,7 @@ mod tests {
 
     #[test]
     fn sphere_normals_are_radial() {
-        let scene = crate::scene::load("mirror-glass").unwrap();
+        let scene = beam_scene::scene::load("mirror-glass").unwrap();
         let s = SMesh::specular(&scene);
         assert!(!s.faces.is_empty());
         // The mirror sphere of the built-in scene: centre (185, 90, 170). Max's weights give a
@@ -408,7 +371,7 @@ mod tests {
     /// on points of a coarse teapot's triangles and off them, and on faces that tie.
     #[test]
     fn nearest_is_the_least_distance() {
-        let mut scene = crate::scene::showcase::mirror_teapot(12, 8);
+        let mut scene = beam_scene::scene::showcase::mirror_teapot(12, 8);
         scene.smesh = SMeshPlan { parts: Vec::new(), rest: Some(Simplify::Faces(300)) };
         let s = SMesh::of(&scene);
         let least = |candidates: &[u32], p: Vec3| {
@@ -440,7 +403,7 @@ mod tests {
     /// replaced by `locate`'s where it is not.
     #[test]
     fn locate_on_takes_only_candidates() {
-        let mut scene = crate::scene::showcase::mirror_teapot(12, 8);
+        let mut scene = beam_scene::scene::showcase::mirror_teapot(12, 8);
         scene.smesh = SMeshPlan { parts: Vec::new(), rest: Some(Simplify::Faces(300)) };
         let s = SMesh::of(&scene);
         let prim = (0..scene.triangles.len() as u32).find(|&p| s.candidates(p).len() >= 2).unwrap();

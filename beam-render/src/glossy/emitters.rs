@@ -9,9 +9,9 @@
 //! (beam-cpu's `glossy_photons`) and its direct light (`reference_direct`) sample the whole area
 //! instead, the ground truth those bands converge to as `k` grows.
 
-use crate::scene::{Light, Scene};
 use crate::tolerance::shading_eps;
 use beam_math::glam::Vec3;
+use beam_scene::scene::{Light, Scene};
 
 /// Most emitters the light volumes trace from: the width of the GPU gather's shadow mask.
 pub const MAX_EMITTERS: usize = 32;

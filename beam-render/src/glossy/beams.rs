@@ -7,12 +7,12 @@
 //! first-order shadows.
 
 use super::emitters::{Emitter, emitters, sub_triangles};
-use crate::scene::{Material, Scene};
 use crate::specular::{dielectric, reflect};
 use crate::tolerance::{DEPTH_EPS, shading_eps};
 use beam_math::glam::Vec3;
 use beam_math::glossy::{LightBeam, solid_angle};
 use beam_math::{Ray, Triangle};
+use beam_scene::scene::{Material, Scene};
 use rayon::prelude::*;
 
 /// How a scatterer turns the light (002 §1.2: specular micro-facet materials).

@@ -6,11 +6,11 @@ use super::texture::ShadePoint;
 use crate::error::BackendError;
 use crate::parallel::par_flatten;
 use crate::queries::RayQueries;
-use crate::scene::Scene;
 use crate::specular::{MAX_DEPTH, specular_rays};
 use crate::tolerance::shading_eps;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::scene::Scene;
 use rayon::prelude::*;
 
 /// A path of the Whitted reference: its pixel, its next ray and its weight.

@@ -1,8 +1,7 @@
 //! The beams of the nonlinear beam tree (000 §4, §6.3): S1, S3 or bump-mapped, over one S-mesh
 //! face, and what a backend needs of one to render it into texels ([`TexelBeam`], 000 Algs. 1–4).
 
-use super::smesh::SFace;
-use crate::scene::{Bump, Material, Scene};
+use super::face::SFace;
 use crate::specular::{dielectric, reflect};
 use beam_math::collide::Cone;
 use beam_math::glam::Vec3;
@@ -10,6 +9,7 @@ use beam_math::nonlinear::{
     BeamBounds, BoundingTriangle, BumpBeam, Interpolant, NonlinearBeam, Polish, Projection, S1, S3,
 };
 use beam_math::{Ray, Triangle};
+use beam_scene::scene::{Bump, Material, Scene};
 
 /// How far a lookup's projection is polished ([`Beam::project_in`]; the shaders' twin is
 /// `lib/lookup.wgsl`). A lookup needs `ω` to a fraction of a texel (1/32 of the base at most), far

@@ -1,6 +1,6 @@
 //! Tolerances both backends share, so that they decide alike.
 
-use crate::scene::Scene;
+use beam_scene::scene::Scene;
 
 /// Occluders are counted only strictly between the point and the light: depths (in units of the
 /// light-plane distance) within `[DEPTH_EPS, 1 − DEPTH_EPS]`.

@@ -4,11 +4,11 @@
 //! and per face the fine triangles its beams must not hit (its patch) or may hit only beyond the
 //! self-hit distance (its ring: the patches of the faces that share a vertex with it).
 
+use super::face::{SFace, sliver_face};
 use super::nearest::Nearest;
-use super::smesh::{SFace, SMesh, sliver_face};
-use crate::scene::Scene;
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
+use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::collections::HashMap;
 
@@ -25,9 +25,31 @@ pub(super) struct Group {
     pub indices: Vec<[u32; 3]>,
 }
 
-/// Add the faces of `g`'s coarse mesh to `s` and map `g`'s triangles onto them; `false` (and
-/// nothing added) when the coarse mesh has no usable face.
-pub(super) fn add_group(scene: &Scene, g: &Group, s: &mut SMesh) -> bool {
+/// The usable faces of a group's coarse mesh and the map of its fine triangles onto them, which the
+/// S mesh appends ([`SMesh`](super::SMesh)).
+pub(super) struct CoarseFaces {
+    /// Per fine triangle of the group (in the order of [`Group::prims`]): its candidate faces,
+    /// ascending indices into `faces`.
+    pub candidates: Vec<Vec<u32>>,
+    /// The faces.
+    pub faces: Vec<CoarseFace>,
+}
+
+/// One face of a coarse S mesh with what its beams skip.
+pub(super) struct CoarseFace {
+    /// The face.
+    pub face: SFace,
+    /// The fine triangles under it (its patch), ascending.
+    pub patch: Vec<u32>,
+    /// The fine triangles under the faces sharing a vertex with it, outside its patch, ascending.
+    pub ring: Vec<u32>,
+    /// The thickness of the fine surface about the face's plane, over its patch.
+    pub thickness: f32,
+}
+
+/// The faces of `g`'s coarse mesh and the map of `g`'s triangles onto them; `None` when the coarse
+/// mesh has no usable face.
+pub(super) fn coarse_faces(scene: &Scene, g: &Group) -> Option<CoarseFaces> {
     let fine: Vec<Triangle> = g.prims.iter().map(|&p| scene.triangles[p as usize]).collect();
     let near_fine = Nearest::new(&fine);
     // The fine mesh's smooth normal at (or nearest to) a point: Phong over its nearest triangle.
@@ -67,9 +89,8 @@ pub(super) fn add_group(scene: &Scene, g: &Group, s: &mut SMesh) -> bool {
         faces.push(SFace { prim, v, n, normal });
     }
     if faces.is_empty() {
-        return false;
+        return None;
     }
-    let first = s.faces.len() as u32;
     let coarse: Vec<Triangle> = faces.iter().map(|f| Triangle { v: f.v }).collect();
     let near_coarse = Nearest::new(&coarse);
     // Each fine triangle's candidates: the faces nearest its corners, edge midpoints and centre that
@@ -95,7 +116,6 @@ pub(super) fn add_group(scene: &Scene, g: &Group, s: &mut SMesh) -> bool {
         for &f in c {
             patch[f as usize].push(p);
         }
-        s.push_candidates(p, &c.iter().map(|&f| first + f).collect::<Vec<_>>());
     }
     let mut at: HashMap<[u32; 3], Vec<u32>> = HashMap::new();
     for (k, f) in faces.iter().enumerate() {
@@ -103,6 +123,7 @@ pub(super) fn add_group(scene: &Scene, g: &Group, s: &mut SMesh) -> bool {
             at.entry(v.to_array().map(f32::to_bits)).or_default().push(k as u32);
         }
     }
+    let mut coarse_faces = Vec::with_capacity(faces.len());
     for (k, f) in faces.iter().enumerate() {
         let mut ring: Vec<u32> =
             f.v.iter()
@@ -118,7 +139,8 @@ pub(super) fn add_group(scene: &Scene, g: &Group, s: &mut SMesh) -> bool {
             .iter()
             .flat_map(|&p| scene.triangles[p as usize].v)
             .fold(0.0f32, |m, v| m.max((v - f.v[0]).dot(f.normal).abs()));
-        s.push_coarse(*f, &patch[k], &ring, thickness);
+        // A clone: the faces after it read this patch for their rings.
+        coarse_faces.push(CoarseFace { face: *f, patch: patch[k].clone(), ring, thickness });
     }
-    true
+    Some(CoarseFaces { candidates, faces: coarse_faces })
 }

@@ -4,9 +4,10 @@
 //! culling, and the Whitted waves that follow mirror and glass points past the tree. The renderers
 //! themselves are beam-cpu's and beam-gpu's.
 
-mod beam;
+mod beam_tree;
 mod coarse;
 mod cull;
+mod face;
 mod fit;
 mod nearest;
 mod radiance;
@@ -16,21 +17,20 @@ mod smesh;
 mod texture;
 mod waves;
 
-pub use crate::queries::RayQueries;
-pub use beam::{
+pub use beam_tree::{
     Beam, BumpedBeam, Degree, LOOKUP, LOOKUP_PREFERENCE, MIN_RISE, OUTSIDE_TEXELS, TEXEL_EPS, TexelBeam, child_beams,
     self_hit_at, self_hit_distance,
 };
 pub use cull::{ConeCull, SelfHitFloor, blocks_meeting, cone_blocks, cone_candidates, cone_cull};
+pub use face::{Exclude, SFace};
 pub use fit::Fit;
 pub use radiance::{Composite, LevelRadiance, NodeChildren, TexelRadiance, composite, sample_region};
 pub use renderer::{
     BeamRasterizer, BeamRenderer, ChildLookups, CoarseByRays, DeviceWaits, EyeFaces, EyeView, FramePixels, KeepLevel,
     KeptTotals, LevelLayout, LookupJob, PointShading, eye_by_rays,
 };
-pub use smesh::{MAX_NORMAL_SPREAD, SFace, SMesh};
+pub use smesh::{MAX_NORMAL_SPREAD, SMesh};
 pub use texture::{
-    BeamJob, BeamTexture, Exclude, ShadePoint, TEXELS, TEXELS_PER_SAMPLE, TexelHit, TexelPoint, region_size,
-    region_texels,
+    BeamJob, BeamTexture, ShadePoint, TEXELS, TEXELS_PER_SAMPLE, TexelHit, TexelPoint, region_size, region_texels,
 };
 pub use waves::{Path, Shade, shade_by_waves, trace_waves};

@@ -8,10 +8,10 @@ use super::beams::{GlossyBeam, trace_light_beams};
 use super::cones::ConeTree;
 use super::emitters::{Emitter, emitters};
 use crate::queries::AnyHit;
-use crate::scene::Scene;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::glossy::{LightBeam, VolumeMethod, in_beam};
+use beam_scene::scene::Scene;
 
 /// What the beams give a receiver point.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

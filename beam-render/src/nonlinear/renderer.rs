@@ -5,7 +5,7 @@
 //! ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's `GpuBeams` are two. A backend that can
 //! fail returns a [`BackendError`] (the CPU's never fails); its message is the backend's own.
 
-use super::beam::Beam;
+use super::beam_tree::Beam;
 use super::radiance::{LevelRadiance, TexelRadiance};
 use super::smesh::SMesh;
 use super::texture::{BeamJob, BeamTexture, ShadePoint, TexelPoint};
@@ -13,10 +13,10 @@ use crate::error::BackendError;
 use crate::irradiance_map::IrradianceMap;
 use crate::options::RenderOptions;
 use crate::queries::RayQueries;
-use crate::scene::{Camera, Scene};
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_scene::scene::{Camera, Scene};
 use rayon::prelude::*;
 
 /// Renders a tree level's beams into their texel regions: the nearest scene hit of every texel's

@@ -1,7 +1,7 @@
 //! Render settings: how area lights' visibility and shading are computed, at what size, with what
 //! samples. Both backends read them.
 
-pub use crate::region::PixelRect;
+use beam_scene::region::PixelRect;
 
 /// How the visibility of area lights is computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -4,9 +4,9 @@
 
 use super::smesh::SMesh;
 use super::texture::ShadePoint;
-use crate::scene::{Material, Scene};
 use crate::specular::dielectric;
 use beam_math::glam::Vec3;
+use beam_scene::scene::{Material, Scene};
 
 /// The child beams a texel on a specular S-mesh face is textured from, and where.
 #[derive(Clone, Copy, Debug, PartialEq)]

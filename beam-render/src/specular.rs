@@ -1,10 +1,10 @@
 //! The specular bounce: mirror reflection, Snell's refraction and Schlick's Fresnel split, and the
 //! rays a mirror or glass point sends on (Whitted), shared by every renderer and reference.
 
-use crate::scene::{Material, Scene};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::perturb;
+use beam_scene::scene::{Material, Scene};
 
 /// Deepest mirror/glass recursion.
 pub const MAX_DEPTH: u32 = 6;

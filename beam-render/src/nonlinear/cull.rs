@@ -1,13 +1,13 @@
 //! Bounding-cone culling of the scene for one beam (000 App. A): the triangles a beam may meet.
 
-use super::beam::{TexelBeam, self_hit_at_rise};
-use super::texture::Exclude;
-use crate::scene::Scene;
+use super::beam_tree::{TexelBeam, self_hit_at_rise};
+use super::face::Exclude;
 use beam_bvh::Node8;
 use beam_math::Triangle;
 use beam_math::collide::{Cone, ConeSpheres};
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::BeamBounds;
+use beam_scene::scene::Scene;
 
 /// The scene triangles that may meet `beam` (of bounds `bounds`), less those it skips (`exclude`,
 /// the surface under its base): bounding-cone culling (000 App. A) of the 8-wide BVH's boxes, eight
