@@ -3,13 +3,13 @@
 //! built-in nonlinear scenes; each GPU image checked against the CPU's.
 
 use super::stats::median;
-use beam_render::cpu_clock::our_threads_cpu_seconds;
 use beam_cpu::nonlinear::{
     CpuBeams, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
 };
 use beam_cpu::render::{Image, difference};
 use beam_gpu::Gpu;
 use beam_gpu::nonlinear::GpuBeams;
+use beam_render::cpu_clock::our_threads_cpu_seconds;
 use beam_render::nonlinear::Degree;
 use beam_render::options::RenderOptions;
 use beam_scene::scene::{self, Simplify};

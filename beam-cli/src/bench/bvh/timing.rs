@@ -1,9 +1,9 @@
 //! The benchmark's rays and how a tracer is timed on them.
 
 use crate::bench::tracer::Tracer;
-use beam_render::cpu_clock::thread_cpu_seconds;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_render::cpu_clock::thread_cpu_seconds;
 use rayon::prelude::*;
 use std::time::Instant;
 
