@@ -25,8 +25,8 @@ pub use cull::{ConeCull, SelfHitFloor, blocks_meeting, cone_blocks, cone_candida
 pub use fit::Fit;
 pub use radiance::{Composite, LevelRadiance, NodeChildren, TexelRadiance, composite, sample_region};
 pub use renderer::{
-    BeamRasterizer, BeamRenderer, ChildLookups, CoarseByRays, DeviceWaits, EyeFaces, EyeView, FramePixels, KeepLevel,
-    KeptTotals, LevelLayout, LookupJob, PointShading, eye_by_rays,
+    BeamRasterizer, BeamRenderer, ChildLookups, CoarseByRays, DeviceImage, DeviceWaits, EyeFaces, EyeView, FramePixels,
+    KeepLevel, KeptFrame, KeptTotals, LevelLayout, LookupJob, PixelHits, PointShading, TreeShading, eye_by_rays,
 };
 pub use smesh::{MAX_NORMAL_SPREAD, SFace, SMesh};
 pub use texture::{

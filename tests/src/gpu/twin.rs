@@ -1,6 +1,8 @@
 //! The CPU renderer with the GPU's shading estimator: the reference GPU images are held to.
 
-use beam_cpu::nonlinear::{BeamJob, BeamRasterizer, CpuBeams, FramePixels, LevelRadiance, SMesh};
+use beam_cpu::nonlinear::{
+    BeamJob, BeamRasterizer, CpuBeams, FramePixels, KeptFrame, LevelRadiance, SMesh, TreeShading,
+};
 use beam_cpu::render::RenderOptions;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -62,11 +64,13 @@ impl beam_cpu::nonlinear::PointShading for TwinShading {
         options: &RenderOptions,
         caustics: Option<&beam_cpu::render::IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<FramePixels>, BackendError> {
+        _frame: KeptFrame,
+    ) -> Result<TreeShading, BackendError> {
         *self.0.lock().map_err(|e| BackendError::new("cpu", e.to_string()))? = (levels.to_vec(), caustics.cloned());
         let shade = |points: &[beam_cpu::nonlinear::ShadePoint]| {
             beam_cpu::nonlinear::shade_points(self, scene, options, caustics, points)
         };
-        beam_cpu::nonlinear::composite_levels(scene, smesh, levels, &shade).map(|p| Some(FramePixels::Read(p)))
+        let pixels = beam_cpu::nonlinear::composite_levels(scene, smesh, levels, &shade)?;
+        Ok(TreeShading::Shaded { pixels: FramePixels::Read(pixels), coarse_by_rays: Default::default() })
     }
 }
