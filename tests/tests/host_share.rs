@@ -5,10 +5,11 @@
 //! without an adapter.
 
 use beam_cpu::nonlinear::{
-    CpuBeams, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
+    CpuBeams, FrameImage, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
 };
-use beam_gpu::nonlinear::GpuBeams;
-use beam_render::nonlinear::{BeamRenderer, Degree};
+use beam_gpu::nonlinear::{GpuBeams, GpuFrame};
+use beam_render::nonlinear::BeamRenderer;
+use beam_render::nonlinear::Degree;
 use beam_render::options::RenderOptions;
 use beam_scene::scene;
 
@@ -64,7 +65,11 @@ fn frames_reusing_beams_equal_fresh(renderer: &dyn BeamRenderer, fresh: &dyn Bea
     let found = shared.beams_reused();
     let (reused, stats) = render_nonlinear_frame(&scene, &second, renderer, Some(&shared)).expect("a second frame");
     let (made, _) = render_nonlinear_with(&scene, &second, fresh).expect("a fresh frame");
-    assert_eq!(reused.map(|r| r.pixels), Some(made.pixels), "a frame reusing its beams differs from one making them");
+    assert_eq!(
+        reused.read().map(|r| r.pixels),
+        Some(made.pixels),
+        "a frame reusing its beams differs from one making them"
+    );
     let beams = stats.beams_per_level.iter().sum::<u64>();
     assert!(beams > 0);
     shared.beams_reused() - found
@@ -108,7 +113,7 @@ fn gpu_frames_of_a_moved_eye_equal_fresh_ones() {
         took.push(renderer.times().blocks_reused - before);
         let fresh = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
         let (made, _) = render_nonlinear_with(&scene, &options, &fresh).expect("a fresh frame");
-        let moved = moved.expect("a frame read back").pixels;
+        let moved = moved.read().expect("a frame read back").pixels;
         let differ = moved.iter().zip(&made.pixels).filter(|(a, b)| a != b).count();
         assert!(
             moved.len() == made.pixels.len() && differ == 0,
@@ -159,14 +164,13 @@ fn gpu_frames_kept_for_display_equal_frames_read_back() {
     let before = gpu.traffic();
     let (image, _) = render_nonlinear_frame(&scene, &options, &displaying, None).expect("a frame kept");
     let read_back = (gpu.traffic() - before).bytes_read_back;
-    assert!(image.is_none(), "a frame kept for display came back as an image");
+    let FrameImage::Kept(image) = image else { panic!("a frame kept for display came back as an image") };
     // The same frame, less its pixels (four half floats each).
     assert!(read_back + 40 * 28 * 8 <= read_frame, "{read_back} bytes read back for a frame kept, {read_frame} read");
-    let frame = displaying.take_frame().expect("the frame kept");
+    let frame = GpuFrame::from_device(image).expect("the GPU's frame");
     let size = frame.texture().size();
     assert_eq!((size.width, size.height), (40, 28));
     assert_eq!(frame.read_back(&gpu).expect("the frame's pixels"), read.pixels);
-    assert!(displaying.take_frame().is_none(), "the frame was handed over twice");
     let one_shot = render_nonlinear_with(&scene, &options, &displaying);
     assert!(matches!(one_shot, Err(beam_cpu::RenderError::FrameKept)), "{:?}", one_shot.map(|_| ()));
 }

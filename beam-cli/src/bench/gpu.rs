@@ -4,11 +4,11 @@
 
 use super::stats::median;
 use beam_cpu::nonlinear::{
-    CpuBeams, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
+    CpuBeams, FrameImage, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
 };
 use beam_cpu::render::{Image, difference};
 use beam_gpu::Gpu;
-use beam_gpu::nonlinear::GpuBeams;
+use beam_gpu::nonlinear::{GpuBeams, GpuFrame};
 use beam_render::cpu_clock::our_threads_cpu_seconds;
 use beam_render::nonlinear::Degree;
 use beam_render::options::RenderOptions;
@@ -101,9 +101,9 @@ pub fn run(
         let (warm, _) = frame(&scene)?;
         let cpu_start = our_threads_cpu_seconds();
         let warm = match warm {
-            Some(image) => image,
-            None => {
-                let kept = renderer.take_frame().ok_or("the GPU kept no frame")?;
+            FrameImage::Read(image) => image,
+            FrameImage::Kept(kept) => {
+                let kept = GpuFrame::from_device(kept).map_err(|_| "the GPU kept no frame of its own")?;
                 Image { width, height, pixels: kept.read_back(&gpu).map_err(|e| e.to_string())? }
             }
         };
@@ -120,11 +120,11 @@ pub fn run(
                 scene.camera.position += step;
                 scene.camera.target += step;
             }
-            let made = frame(&scene)?.1;
+            let (image, made) = frame(&scene)?;
             frame_cpu.push(made.stages.iter().map(|s| s.cpu_seconds).collect());
             stats = Some(made);
             // Where a display would show it.
-            drop(renderer.take_frame());
+            drop(image);
         }
         scene.camera = still;
         let per_frame = start.elapsed().as_secs_f64() / f64::from(frames.max(1));

@@ -8,7 +8,8 @@ use super::cpu_beams::{CpuBeams, shade_points};
 use super::lookup::Lookups;
 use super::settings::{NonlinearOptions, NonlinearStats};
 use super::stages::StageClock;
-use super::trace::{BeamMemo, Built, Node, Request, ThroughMemo, Tree};
+use super::trace::{Built, Request};
+use super::tree::{BeamMemo, Node, ThroughMemo, Tree};
 use crate::RenderError;
 use crate::render::Image;
 use beam_bvh::Hit;
@@ -17,7 +18,8 @@ use beam_math::glam::Vec3;
 use beam_render::BackendError;
 use beam_render::irradiance_map::IrradianceMap;
 use beam_render::nonlinear::{
-    BeamRenderer, Degree, EyeFaces, Fit, FramePixels, LevelRadiance, SMesh, ShadePoint, TexelRadiance,
+    BeamRenderer, CoarseByRays, Degree, DeviceImage, EyeFaces, Fit, FramePixels, LevelRadiance, SMesh, ShadePoint,
+    TexelRadiance, TreeShading,
 };
 use beam_render::parallel::par_flatten;
 use beam_scene::scene::Scene;
@@ -43,8 +45,30 @@ pub fn render_nonlinear_with(
     renderer: &dyn BeamRenderer,
 ) -> Result<(Image, NonlinearStats), RenderError> {
     match render_nonlinear_frame(scene, options, renderer, None)? {
-        (Some(image), stats) => Ok((image, stats)),
-        (None, _) => Err(RenderError::FrameKept),
+        (FrameImage::Read(image), stats) => Ok((image, stats)),
+        (FrameImage::Kept(_), _) => Err(RenderError::FrameKept),
+    }
+}
+
+/// A nonlinear frame's pixels ([`render_nonlinear_frame`]): read back, or left on the renderer's
+/// device for display.
+#[derive(Debug)]
+pub enum FrameImage {
+    /// The image, read back.
+    Read(Image),
+    /// The frame as the renderer kept it on its device ([`FramePixels::Kept`]), handed to the
+    /// caller: whoever shows it knows the renderer (beam-gpu's `GpuFrame::from_device`).
+    Kept(DeviceImage),
+}
+
+impl FrameImage {
+    /// The image, where it was read back.
+    #[must_use]
+    pub fn read(self) -> Option<Image> {
+        match self {
+            Self::Read(image) => Some(image),
+            Self::Kept(_) => None,
+        }
     }
 }
 
@@ -107,15 +131,15 @@ impl NonlinearPrecomputed {
 /// ([`NonlinearPrecomputed::new`] on the same scene, with the same options), or made for this
 /// frame where `None`: an interactive renderer makes them once while the geometry, the materials
 /// and the lights stay put, and renders every frame (a camera that moves, a new beam tree) with
-/// them. The image is `None` where the renderer kept the frame on its device for display
-/// ([`FramePixels::Kept`]). Fails with [`RenderError::Precomputed`] where they were made for a
+/// them. The frame's pixels are the renderer's where it kept them on its device for display
+/// ([`FrameImage::Kept`]). Fails with [`RenderError::Precomputed`] where they were made for a
 /// scene of another triangle count.
 pub fn render_nonlinear_frame(
     scene: &Scene,
     options: &NonlinearOptions,
     renderer: &dyn BeamRenderer,
     precomputed: Option<&NonlinearPrecomputed>,
-) -> Result<(Option<Image>, NonlinearStats), RenderError> {
+) -> Result<(FrameImage, NonlinearStats), RenderError> {
     let start = Instant::now();
     let mut clock = StageClock::start(renderer);
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
@@ -148,8 +172,10 @@ pub fn render_nonlinear_frame(
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
     // the beam tree. (A backend that shades the eye's diffuse, glossy and emissive pixels itself may
     // keep those: they see no S-mesh face; one that composites them may keep mirror and glass hits
-    // on S-mesh faces, counted per face.)
-    let EyeFaces { hits, seen, kept: kept_eye } = renderer.eye_faces(scene, tree.smesh, &camera, &options.shading)?;
+    // on S-mesh faces, counted per face; what it keeps is the frame's `kept`, which the tree's
+    // levels add to and the shading consumes.)
+    let (EyeFaces { hits, seen, kept: kept_eye }, mut kept_frame) =
+        renderer.eye_faces(scene, tree.smesh, &camera, &options.shading)?;
     clock.lap("eye view");
     // Per pixel handed back, the S face it sees: its own triangle's, or on a coarse S mesh the
     // face its point maps to. The eye's beams need only how many pixels see each face (their
@@ -174,7 +200,8 @@ pub fn render_nonlinear_frame(
         .map(|face| Request { parent: None, face, fit: Fit::default(), pixels: seen_by[face][0] as f32 })
         .collect();
     clock.lap("eye view: faces seen");
-    let Built { roots: children, mut levels, kept, records } = tree.build(renderer, roots, &mut clock)?;
+    let Built { roots: children, mut levels, kept, records } =
+        tree.build(renderer, roots, &mut kept_frame, &mut clock)?;
     // The eye's view (the region's pixels) is level 0 of the radiance flow, `next` the tree's first.
     fn first(levels: &[Vec<Node>]) -> &[Node] {
         levels.first().map_or(&[], Vec::as_slice)
@@ -229,7 +256,7 @@ pub fn render_nonlinear_frame(
     }
     let by_rays = |t: &&TexelRadiance| t.composite.is_none() && curved[t.point.prim as usize];
     // The kept pixels of the region on curved fine faces without child beams are traced by rays
-    // too (the backend counts those under coarse faces, `take_coarse_by_rays`).
+    // too (the backend counts those under coarse faces, `TreeShading::Shaded`'s `coarse_by_rays`).
     let kept_by_rays: u64 = (0..seen.len())
         .filter(|&f| !tree.smesh.is_coarse(f))
         .filter(|&f| flow[0].children[f][0] == none && curved[tree.smesh.faces[f].prim as usize])
@@ -249,32 +276,36 @@ pub fn render_nonlinear_frame(
         + records_by_rays as u64;
     clock.lap("radiance flow");
     let (shading, caustics) = (&options.shading, tree.caustics);
-    let frame = match renderer.shade_tree(scene, tree.smesh, shading, caustics, &flow)? {
-        Some(FramePixels::Read(pixels)) => Some(pixels),
-        Some(FramePixels::Kept) => None,
-        None => Some({
+    let (frame, coarse_by_rays) = match renderer.shade_tree(scene, tree.smesh, shading, caustics, &flow, kept_frame)? {
+        TreeShading::Shaded { pixels, coarse_by_rays } => (pixels, coarse_by_rays),
+        TreeShading::HandedBack(mut kept_frame) => {
             // Shaded here after all: with the eye's pixels the backend kept, and the levels' texels
             // it would have composited.
             if records.contains(&true) {
-                tree.kept_level_points(renderer, &mut levels)?;
+                tree.kept_level_points(renderer, &kept_frame, &mut levels)?;
                 flow.truncate(1);
                 flow.extend(tree.radiance_levels(renderer, &levels, &[])?);
             }
-            flow[0].texels.extend(renderer.take_kept_eye()?);
-            let kept_hits = renderer.take_kept_eye_hits(scene)?;
+            flow[0].texels.extend(renderer.take_kept_eye(&mut kept_frame)?);
+            let kept_hits = renderer.take_kept_eye_hits(scene, &mut kept_frame)?;
             flow[0].texels.extend(eye_texels(&kept_hits, &locate(&kept_hits), first(&levels))?);
-            for (level, texels) in renderer.take_kept_levels()? {
+            for (level, texels) in renderer.take_kept_levels(&mut kept_frame)? {
                 let past = || BackendError::new("renderer", format!("kept texels of level {level}, past the tree"));
                 flow.get_mut(level).ok_or_else(past)?.texels.extend(texels);
             }
-            composite_levels(scene, tree.smesh, &flow, &|points| {
+            let pixels = composite_levels(scene, tree.smesh, &flow, &|points| {
                 shade_points(renderer, scene, shading, caustics, points)
-            })?
-        }),
+            })?;
+            (FramePixels::Read(pixels), CoarseByRays::default())
+        }
     };
     clock.lap("shading and composite");
-    let coarse_by_rays = renderer.take_coarse_by_rays();
-    let image = frame.map(|f| Image { width: crop.width(), height: crop.height(), pixels: crop.cut(f, camera.width) });
+    let image = match frame {
+        FramePixels::Read(f) => {
+            FrameImage::Read(Image { width: crop.width(), height: crop.height(), pixels: crop.cut(f, camera.width) })
+        }
+        FramePixels::Kept(kept) => FrameImage::Kept(kept),
+    };
     let all = || levels.iter().flatten();
     let beams = all().count();
     let texels_tested: u64 = all().map(|n| n.tex.texels_tested).sum();
@@ -333,7 +364,7 @@ mod tests {
         assert!(shared.stats().beams > 0 && shared.stats().texels_deposited > 0, "{:?}", shared.stats());
         let (made, made_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
         let (again, again_stats) = render_nonlinear_frame(&scene, &options, &CpuBeams, Some(&shared)).unwrap();
-        assert_eq!(Some(made.pixels), again.map(|a| a.pixels));
+        assert_eq!(Some(made.pixels), again.read().map(|a| a.pixels));
         let counts = |s: &NonlinearStats| (s.caustics.beams, s.caustics.texels_deposited, s.texels_shaded);
         assert_eq!(counts(&made_stats), counts(&again_stats));
     }
@@ -355,7 +386,7 @@ mod tests {
         assert!(shared.smesh().coarse_faces() > 0);
         let (made, made_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
         let (again, again_stats) = render_nonlinear_frame(&scene, &options, &CpuBeams, Some(&shared)).unwrap();
-        assert_eq!(Some(made.pixels), again.map(|a| a.pixels));
+        assert_eq!(Some(made.pixels), again.read().map(|a| a.pixels));
         assert_eq!(made_stats.coarse_smesh_faces, again_stats.coarse_smesh_faces);
         let other = builtin("wavy-lake").unwrap();
         let wrong = render_nonlinear_frame(&other, &options, &CpuBeams, Some(&shared));

@@ -9,7 +9,7 @@
 //! read is the one whose ray reaches what that ray reaches: the projection (000 §5) onto the beam
 //! of the point at the depth the beam's texel there sees.
 
-use super::trace::{FaceMap, Node, Scattered, Tree};
+use super::tree::{FaceMap, Node, Scattered, Tree};
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::Projection;
 use beam_render::BackendError;

@@ -16,6 +16,7 @@ mod settings;
 mod source;
 mod stages;
 mod trace;
+mod tree;
 
 pub use atlas::render_beam;
 pub use caustics::{
@@ -23,7 +24,7 @@ pub use caustics::{
 };
 pub use composite::composite_levels;
 pub use cpu_beams::{CpuBeams, shade_points};
-pub use frame::{NonlinearPrecomputed, render_nonlinear, render_nonlinear_frame, render_nonlinear_with};
+pub use frame::{FrameImage, NonlinearPrecomputed, render_nonlinear, render_nonlinear_frame, render_nonlinear_with};
 pub use reference::{render_smooth_reference, render_smooth_reference_with};
 pub use settings::{MAX_TREE_BEAMS, NonlinearOptions, NonlinearStats};
 pub use stages::Stage;

@@ -16,7 +16,7 @@ pub(super) fn from_eye(eye: Vec3, f: &SFace) -> Option<[Vec3; 3]> {
 
 /// Unit directions of `beam`'s rays through the vertices of `f` (projection, 000 §5, extrapolated
 /// past the beam's base): three Newton projections, which the tree keeps from one frame to the
-/// next ([`super::trace::ThroughMemo`]).
+/// next ([`super::tree::ThroughMemo`]).
 pub(super) fn through(beam: &Beam, f: &SFace) -> Option<[Vec3; 3]> {
     let [a, b, c] = f.v.map(|v| beam.direction_through(v));
     Some([a?, b?, c?])

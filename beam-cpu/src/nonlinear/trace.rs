@@ -12,80 +12,22 @@
 //! interpolated (Phong) normals.
 
 use super::lookup::{FaceAnswer, Lookups, ToComposite, reproject};
-use super::settings::{MAX_TREE_BEAMS, NonlinearOptions};
+use super::settings::MAX_TREE_BEAMS;
 use super::source::{from_eye, through};
 use super::stages::StageClock;
+use super::tree::{FaceMap, Node, Scattered, Tree, TreeBeam};
 use crate::RenderError;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
-use beam_render::irradiance_map::IrradianceMap;
-use beam_render::memo::FrameMemo;
 use beam_render::nonlinear::Fit;
 use beam_render::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, KeepLevel, KeptTotals, LOOKUP_PREFERENCE, LevelLayout,
-    LevelRadiance, NodeChildren, OUTSIDE_TEXELS, SMesh, ShadePoint, TexelPoint, TexelRadiance, child_beams,
+    Beam, BeamJob, BeamRenderer, BeamTexture, Composite, Degree, KeepLevel, KeptFrame, KeptTotals, LOOKUP_PREFERENCE,
+    LevelLayout, LevelRadiance, NodeChildren, OUTSIDE_TEXELS, ShadePoint, TexelPoint, TexelRadiance, child_beams,
     region_size,
 };
 use beam_render::parallel::par_flatten;
-use beam_scene::scene::Scene;
 use rayon::prelude::*;
-use std::sync::{Arc, Mutex, PoisonError};
-
-/// A map keyed by S-mesh face, hashed by rustc's `FxHasher` (one multiplication): the maps below
-/// are looked up once per texel (with the default SipHash: glass-lens radiance flow 192–194 →
-/// 182–192 ms, next level's faces 7 → 5 ms). Face indices come from the scene, not from an
-/// adversary.
-pub(super) type FaceMap<V> = rustc_hash::FxHashMap<usize, V>;
-
-/// The child beams of one S-mesh face: indices of its reflection and, for glass, its refraction in
-/// the next level.
-#[derive(Clone, Copy)]
-pub(super) struct Scattered {
-    pub(super) reflected: usize,
-    pub(super) refracted: Option<usize>,
-}
-
-/// One of a face's beams as [`BeamMemo`] holds them: shared, not copied (a beam is ~0.9 KB, and
-/// a level of the glass lens holds 5,592 of them).
-#[derive(Clone)]
-pub(super) struct TreeBeam {
-    beams: Arc<(Beam, Option<Beam>)>,
-    refracted: bool,
-    /// What the beams are made of ([`children_key`]).
-    key: [u32; 11],
-}
-
-impl std::ops::Deref for TreeBeam {
-    type Target = Beam;
-    fn deref(&self) -> &Beam {
-        match (&self.beams.1, self.refracted) {
-            (Some(refracted), true) => refracted,
-            _ => &self.beams.0,
-        }
-    }
-}
-
-/// A rendered beam of the tree.
-pub(super) struct Node {
-    pub(super) beam: TreeBeam,
-    /// Whether it is bump-mapped (a composite into it reads the face's own coordinates): known
-    /// here, so that a lookup per point does not follow the beam's pointer to find out.
-    pub(super) bumped: bool,
-    /// Its base: the S-mesh face it leaves.
-    pub(super) face: usize,
-    /// Pixels it covers (directly, or through its parents).
-    pub(super) pixels: f32,
-    pub(super) tex: BeamTexture,
-    /// Per texel that hit: its index, hit triangle, hit point and unit ray direction (the
-    /// texture's `points`, moved here, where the backend handed them back).
-    pub(super) hits: Vec<TexelPoint>,
-    /// Per hit, its S-mesh face and barycentric coordinates there ([`SMesh::locate`]), found once
-    /// for the next level's requests and the composite; empty on the last level, whose hits no
-    /// child beam composites.
-    pub(super) located: Vec<Option<(usize, Vec3)>>,
-    /// Its children per S-mesh face its texels hit.
-    pub(super) children: FaceMap<Scattered>,
-}
+use std::sync::{Arc, PoisonError};
 
 /// A built beam tree: the children of the faces the eye sees, and the beams level by level; what the
 /// renderer kept of the levels (texels none of the nodes hold), and per level whether it
@@ -111,37 +53,6 @@ pub(super) struct Request {
 /// How many times [`MAX_TREE_BEAMS`] a tree's estimated size must be for it to be refused before
 /// its levels reach the limit ([`Tree::check_size`]).
 const EARLY_MARGIN: f64 = 10.0;
-
-/// One render's beam tree.
-pub(super) struct Tree<'a> {
-    pub(super) scene: &'a Scene,
-    pub(super) smesh: &'a SMesh,
-    pub(super) options: NonlinearOptions,
-    pub(super) eye: Vec3,
-    /// Irradiance through the specular surfaces from the lights (caustics, nonlinear shadows).
-    pub(super) caustics: Option<&'a IrradianceMap>,
-    /// Points under coarse faces traced by rays: no child beam holds their scattered ray.
-    pub(super) by_rays: std::sync::atomic::AtomicU64,
-    /// The beams of this frame's tree and of the last one's, by face and incoming light.
-    pub(super) beams: &'a Mutex<BeamMemo>,
-    /// The parents' rays through their children's faces' vertices, of this frame's tree and of
-    /// the last one's.
-    pub(super) through: &'a Mutex<ThroughMemo>,
-    /// The scene's diagonal: the depth where a texel's ray leaves the scene ([`reproject`]),
-    /// found once (a lookup and a composite a point read it).
-    pub(super) far: f32,
-}
-
-/// A face's beams (reflected, and refracted through glass; `None` where degenerate) by what they
-/// are made of ([`children_key`]), kept from one frame's tree to the next: on the wavy lake's 2,146
-/// beams, 1.6 of the 21 host ms a frame went to their S3 patches.
-pub(crate) type BeamMemo = FrameMemo<[u32; 11], Option<Arc<(Beam, Option<Beam>)>>>;
-
-/// The unit directions of a parent beam's rays through the vertices of a face its texels hit
-/// where they do not span it ([`through`]: three Newton projections), by the parent
-/// ([`through_key`]), kept from one frame's tree to the next: on the mirror teapot under 850
-/// coarse faces, 6 of the 28 host ms a frame with the eye still.
-pub(crate) type ThroughMemo = FrameMemo<[u32; 13], Option<[Vec3; 3]>>;
 
 /// What a parent beam's rays through face `face`'s vertices are a function of: the parent (its
 /// beams' key, and whether it is the refracted one) and the face.
@@ -184,11 +95,14 @@ impl Tree<'_> {
 
     /// The beam tree level by level (000 §7.2–7.3, per-level atlases): each level's beams built from
     /// the light arriving at its faces, rendered in one batch by `renderer`, their texels' hits on
-    /// specular faces the requests of the next level. Returns the roots' children and the levels.
+    /// specular faces the requests of the next level; what the renderer keeps of each level goes to
+    /// the frame's `kept` (the value its eye's view returned). Returns the roots' children and the
+    /// levels.
     pub(super) fn build(
         &self,
         renderer: &dyn BeamRenderer,
         roots: Vec<Request>,
+        kept_frame: &mut KeptFrame,
         clock: &mut StageClock<'_>,
     ) -> Result<Built, RenderError> {
         self.beams.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
@@ -290,7 +204,7 @@ impl Tree<'_> {
                 faces: self.smesh.faces.len(),
                 continues: if level < self.options.bounces { &continues } else { &[] },
             };
-            let (textures, kept) = renderer.render_level(self.scene, &jobs, &keep)?;
+            let (textures, kept) = renderer.render_level(self.scene, &jobs, &keep, kept_frame)?;
             if let Some(k) = kept {
                 kept_totals.points += k.points;
                 kept_totals.curved += k.curved;
@@ -407,15 +321,17 @@ impl Tree<'_> {
         })
     }
 
-    /// Into `levels`' beams, the texels from which the tree goes on that `renderer` kept and summed
-    /// the fits of ([`KeptTotals::fits`]), with their faces: for a frame shaded here after all.
+    /// Into `levels`' beams, the texels from which the tree goes on that `renderer` kept in
+    /// `kept_frame` and summed the fits of ([`KeptTotals::fits`]), with their faces: for a frame
+    /// shaded here after all.
     pub(super) fn kept_level_points(
         &self,
         renderer: &dyn BeamRenderer,
+        kept_frame: &KeptFrame,
         levels: &mut [Vec<Node>],
     ) -> Result<(), BackendError> {
         for (li, nodes) in levels.iter_mut().enumerate() {
-            let points = renderer.kept_level_points(li + 1)?;
+            let points = renderer.kept_level_points(li + 1, kept_frame)?;
             if points.is_empty() {
                 continue;
             }

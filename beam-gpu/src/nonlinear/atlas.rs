@@ -1,154 +1,86 @@
-//! The nonlinear pipeline of 000 §3 (`shaders/beam_atlas.wgsl`): every beam of a tree level packed
-//! into square regions of atlas pages, one draw per beam (the instance) over the scene triangles its
-//! bounding cone keeps (pulled from a storage buffer by vertex index / 3); the vertex stage emits
-//! each triangle's bounding triangle on the beam's region, the fragment stage intersects the
-//! texel's ray with it, and the depth test keeps the nearest hit. A page takes no more beams, and no
-//! more (beam, triangle) pairs or region texels, than one storage binding of the device holds. A
-//! compute pass gathers each page's regions into one list (a triangular region fills under half of
-//! its power-of-two square), read back as the beams' hit textures, which beam-cpu's beam tree
-//! needs for the next level's beams. Where the device has 64-bit atomics, one compute pass
+//! The tree levels' stage of the nonlinear pipeline of 000 §3 ([`GpuAtlas`],
+//! `shaders/beam_atlas.wgsl`): every beam of a tree level packed into square regions of atlas
+//! pages, one draw per beam (the instance) over the scene triangles its bounding cone keeps
+//! (pulled from a storage buffer by vertex index / 3); the vertex stage emits each triangle's
+//! bounding triangle on the beam's region, the fragment stage intersects the texel's ray with it,
+//! and the depth test keeps the nearest hit. A page takes no more beams, and no more (beam,
+//! triangle) pairs or region texels, than one storage binding of the device holds. A compute pass
+//! gathers each page's regions into one list (a triangular region fills under half of its
+//! power-of-two square), read back as the beams' hit textures, which beam-cpu's beam tree needs
+//! for the next level's beams. Where the device has 64-bit atomics, one compute pass
 //! (`shaders/beam_texels.wgsl`, an invocation per texel) finds the same hits instead of the draws
 //! and the gather: a compute GPU rasterizes on few of its cores, a software one on one thread.
-//! Rays (the eye's view, the reference's Whitted rays) go to the compute ray tracer; the radiance
-//! flows up the tree on the GPU ([`GpuComposite`]): diffuse,
-//! glossy and emissive points shaded by [`PointShader`] (area lights by stratified shadow rays,
-//! where the CPU's default is exact), specular ones composited from their child beams, only the
-//! pixels read back.
+//! A level the composite shades is kept on the GPU ([`super::GpuLevelPoints`]) and returned as a
+//! value ([`LevelKept`]) for the frame to hand on.
 
 use super::beam::GpuBeam;
 use super::composite::GpuComposite;
-use super::cull::GpuCull;
-use super::display::GpuFrame;
-use super::eye::{GpuEye, KeptEyeHits, KeptPoints};
 use super::fits::{FitTable, ReadFits, fit_slots};
 use super::level::{GpuLevelPoints, HostTexel, KeptLevel, LevelKeep};
-use super::lookups::{GpuLookups, LookupBeams};
-use super::page::Counters;
+use super::lookups::LookupBeams;
+use super::page::{AtlasPages, Counters};
 use super::page_inputs::{PageInputs, PageMemo, page_key};
 use super::prepare::{Preparations, Prepared, prepared};
-use super::whitted::GpuWhitted;
-use crate::buffers::{checked, compute_pipeline, map_all, max_binding, output, shader_module, storage};
+use super::records::LocateTable;
+use super::times::SummedTimes;
+use crate::buffers::{checked, map_all, max_binding, output};
 use crate::interface::TEXEL_JOB_PAIRS;
-use crate::raytrace::RayTracer;
-use crate::shade::PointShader;
 use crate::{Gpu, GpuError, texels};
-use beam_bvh::gpu::{GpuBvh, GpuTriangle};
 use beam_render::BackendError;
-use beam_render::nonlinear::{
-    BeamJob, BeamRasterizer, BeamTexture, CoarseByRays, KeepLevel, KeptTotals, TexelPoint, TexelRadiance, region_texels,
-};
+use beam_render::nonlinear::{BeamJob, BeamTexture, KeepLevel, KeptTotals, region_texels};
 use beam_render::options::Shading;
 use beam_scene::scene::Scene;
 use std::cell::Cell;
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
-/// Where the GPU renderer spent its time, summed over calls.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct GpuTimes {
-    /// Seconds in atlas passes: upload, draws and readback, waiting for the GPU.
-    pub atlas_seconds: f64,
-    /// Seconds on the CPU preparing them (beam quantities, bounding-cone culling, packing).
-    pub prepare_seconds: f64,
-    /// Seconds tracing rays on the GPU (the eye's view, the reference's Whitted rays).
-    pub ray_seconds: f64,
-    /// Seconds shading points (mirror and glass ones by Whitted rays past the tree) and compositing
-    /// the beam tree on the GPU.
-    pub shade_seconds: f64,
-    /// Of the composite's, host seconds (not blocked on the device) following the Whitted rays of
-    /// mirror and glass points past the tree's last level.
-    pub whitted_host_seconds: f64,
-    /// Atlas pages rendered.
-    pub pages: u64,
-    /// Beams drawn.
-    pub beams: u64,
-    /// Of them, beams whose preparation (bounds, culling by the BVH's boxes) the last frame's tree
-    /// had made.
-    pub beams_reused: u64,
-    /// Of the others, beams whose blocks of the BVH an earlier frame's beam on their face had
-    /// gathered, with a cone holding theirs.
-    pub blocks_reused: u64,
-    /// (beam, scene triangle) pairs on the pages: four per block of the BVH that the host kept
-    /// for a beam, those the GPU culled included.
-    pub triangles: u64,
-    /// Beam trees composited on the GPU (the others fell back to the CPU's composite).
-    pub gpu_composites: u64,
-    /// Tree levels whose points were kept on the GPU ([`super::GpuLevelPoints`]).
-    pub levels_kept: u64,
-    /// Lookup jobs of points under coarse S-mesh faces in their child beams made on the GPU
-    /// ([`super::GpuLookups`]): reflections and refractions.
-    pub lookups: u64,
-    /// Texels that tree levels handed to the host and the GPU composited too
-    /// ([`super::GpuLevelPoints::records`]).
-    pub level_records: u64,
-    /// Points under coarse S-mesh faces (the eye's and the levels') whose composite records the
-    /// GPU made, each looking its child beams up for its own scattered rays.
-    pub coarse_records: u64,
-    /// The GPU's own seconds in the atlas passes, by timestamp queries (all 0 where the device has
-    /// none): bounding triangles, nearest hits (draws, or the compute pass), gather.
-    pub atlas_pass_seconds: [f64; 3],
-}
-
-/// The GPU's beam renderer for one scene: its triangles uploaded, the atlas pipeline compiled.
-pub struct GpuBeams<'g> {
+/// The tree levels' stage on the GPU: the atlas's passes ([`AtlasPages`]) and the level-points
+/// pass ([`GpuLevelPoints`]), made with the renderer for one scene, and what one frame's levels
+/// leave for the next frame's ([`AtlasMemo`]). It keeps nothing of a frame: a level it keeps it
+/// returns ([`LevelKept`]).
+pub(super) struct GpuAtlas<'g> {
     pub(super) gpu: &'g Gpu,
-    pub(super) bound: wgpu::ComputePipeline,
-    pub(super) pipeline: wgpu::RenderPipeline,
-    pub(super) gather: wgpu::ComputePipeline,
-    /// The nearest hits by compute, where the device has 64-bit atomics (and unless
-    /// [`GpuBeams::rasterized`] asked for rasterization).
-    pub(super) texels: Option<wgpu::ComputePipeline>,
-    pub(super) triangles: wgpu::Buffer,
-    /// The per-triangle half of bounding-cone culling.
-    pub(super) cull: GpuCull,
-    pub(super) tracer: RayTracer,
-    /// The eye's view on the GPU.
-    pub(super) eye: GpuEye,
-    /// The eye's points its last view kept on the GPU, until the composite shades them.
-    pub(super) kept: Mutex<Option<Vec<KeptPoints>>>,
-    /// The tree levels' points on the GPU.
+    /// The page passes.
+    pub(super) pages: AtlasPages<'g>,
+    /// The level-points pass (and the composite records of the texels it hands to the host).
     pub(super) level: GpuLevelPoints,
-    /// The points of the levels it kept, until the composite shades them.
-    pub(super) kept_levels: Mutex<Vec<KeptLevel>>,
-    /// The mirror and glass hits of the eye's last view kept on the GPU, until the composite makes
-    /// their records.
-    pub(super) kept_eye_hits: Mutex<Option<KeptEyeHits>>,
-    /// The levels of the last frame's tree as the records of points under coarse S-mesh faces
-    /// in the level above (the eye's, for the first) look them up, by level (kept on a coarse S
-    /// mesh only), until the composite makes them.
-    pub(super) child_levels: Mutex<Vec<(usize, LookupBeams)>>,
-    /// What the last composite of the eye's hits under coarse faces traced by rays.
-    pub(super) coarse_by_rays: Mutex<CoarseByRays>,
-    /// Per tree level, the slots its last fit table used and whether it overflowed
-    /// ([`fit_slots`]).
-    pub(super) fit_slots: Mutex<Vec<Option<(usize, bool)>>>,
-    /// Whether it keeps the levels' points and the eye's mirror and glass hits (unless
-    /// [`GpuBeams::reading_levels_back`]).
-    pub(super) keep_levels: bool,
-    /// Whether it leaves each frame on the GPU ([`GpuBeams::displaying`]).
-    pub(super) display: bool,
-    /// The last frame it left there, until [`GpuBeams::take_frame`].
-    pub(super) frame: Mutex<Option<GpuFrame>>,
-    /// Shading on the GPU.
-    pub(super) shader: PointShader,
-    /// The final composite on the GPU.
-    pub(super) composite: GpuComposite,
-    /// The coarse S mesh's lookups.
-    pub(super) lookups: GpuLookups,
-    /// The Whitted rays past the tree on the GPU.
-    pub(super) whitted: GpuWhitted,
-    /// Shadow rays per area light and shade point.
-    pub(super) light_samples: u32,
     /// Most pairs a workgroup of the compute pass tests its texels against.
     pub(super) job_pairs: u32,
-    pub(super) extent: f32,
-    /// Side of an atlas page in texels.
-    pub(super) page: u32,
-    /// The beams of the last frame's tree and of this one's, made ready for the atlas.
-    preparations: Mutex<Preparations>,
-    /// The pages of the last frame's tree and of this one's, their inputs uploaded.
-    pages: Mutex<PageMemo>,
-    times: Mutex<GpuTimes>,
+    /// Whether it keeps the levels' points (and the eye stage the eye's mirror and glass hits)
+    /// on the GPU, unless [`super::GpuBeams::reading_levels_back`].
+    pub(super) keep_levels: bool,
+    /// Across frames: the one lock of the nonlinear path. The renderer is shared (`&self`, `Sync`)
+    /// by the frames that use it in turn, and each frame's levels read what the last frame's left
+    /// and leave their own for the next; the caller holds no object across frames that could own
+    /// it. Taken once a level (not a page, nor a beam).
+    memo: Mutex<AtlasMemo>,
+    /// No candidates (no texel located), where the frame's eye stage kept none.
+    no_locate: LocateTable,
+    /// Where the stage spent its time, summed over the renderer's life.
+    pub(super) times: SummedTimes,
+}
+
+/// What one frame's tree levels leave for the next frame's, and the renderer keeps between them
+/// (across frames; never a frame's results, only work it can skip): the beams made ready for the
+/// atlas, the pages with their inputs uploaded (each of this frame's tree and the last one's), and
+/// per tree level the slots its last fit table used and whether it overflowed ([`fit_slots`]).
+#[derive(Default)]
+struct AtlasMemo {
+    preparations: Preparations,
+    pages: PageMemo,
+    fit_slots: Vec<Option<(usize, bool)>>,
+}
+
+/// A tree level the atlas stage kept on the GPU ([`GpuAtlas::render_level`]): a frame's value,
+/// which the frame holds until its composite shades it.
+pub(super) struct LevelKept {
+    /// Its points on the GPU.
+    pub(super) kept: KeptLevel,
+    /// On a coarse S mesh, the level as the records of the level above (the eye's, for the first)
+    /// look their points up in it, where made.
+    pub(super) lookups: Option<LookupBeams>,
+    /// What it kept, for the caller.
+    pub(super) totals: KeptTotals,
 }
 
 /// Where a beam landed: its page and the corner of its region.
@@ -156,144 +88,6 @@ struct Placed {
     page: usize,
     x: u32,
     y: u32,
-}
-
-impl<'g> GpuBeams<'g> {
-    /// Upload `scene` and compile the pipeline; pages of up to 4096² texels (less where the adapter
-    /// allows less).
-    pub fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, GpuError> {
-        let module = shader_module(gpu, "beam_atlas")?;
-        let bound = compute_pipeline(gpu, "beam_atlas", "bound_triangles")?;
-        let gather = compute_pipeline(gpu, "beam_atlas", "gather_regions")?;
-        let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("beam_atlas"),
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("emit_bounding_triangle"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: wgpu::TextureFormat::Depth32Float,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("intersect_texel"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: wgpu::TextureFormat::Rg32Uint,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let texels =
-            Self::can_compute(gpu).then(|| compute_pipeline(gpu, "beam_texels", "nearest_hits")).transpose()?;
-        let by_prim: Vec<GpuTriangle> =
-            scene.triangles.iter().enumerate().map(|(i, t)| GpuTriangle::new(t, i as u32)).collect();
-        let triangles = storage(gpu, "scene triangles", &by_prim, wgpu::BufferUsages::empty());
-        let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles)?)?;
-        // A power of two, so that Z-order packing of power-of-two squares fills it.
-        let side = gpu.device.limits().max_texture_dimension_2d.clamp(32, 4096);
-        let page = 1 << (31 - side.leading_zeros());
-        Ok(Self {
-            gpu,
-            bound,
-            pipeline,
-            gather,
-            texels,
-            triangles,
-            cull: GpuCull::new(gpu, scene)?,
-            tracer,
-            eye: GpuEye::new(gpu, scene)?,
-            kept: Mutex::default(),
-            level: GpuLevelPoints::new(gpu, scene)?,
-            kept_levels: Mutex::default(),
-            kept_eye_hits: Mutex::default(),
-            child_levels: Mutex::default(),
-            coarse_by_rays: Mutex::default(),
-            fit_slots: Mutex::default(),
-            keep_levels: true,
-            display: false,
-            frame: Mutex::default(),
-            shader: PointShader::new(gpu, scene)?,
-            composite: GpuComposite::new(gpu)?,
-            lookups: GpuLookups::new(gpu)?,
-            whitted: GpuWhitted::new(gpu, scene)?,
-            light_samples: 64,
-            job_pairs: TEXEL_JOB_PAIRS,
-            extent: scene.bounds().extent().length(),
-            page,
-            preparations: Mutex::default(),
-            pages: Mutex::default(),
-            times: Mutex::default(),
-        })
-    }
-
-    /// This renderer with `n` shadow rays per area light and shade point (default 64).
-    #[must_use]
-    pub fn with_light_samples(mut self, n: u32) -> Self {
-        self.light_samples = n.max(1);
-        self
-    }
-
-    /// This renderer splitting a beam's pairs into runs of at most `n` (1 to [`TEXEL_JOB_PAIRS`], the
-    /// default) in the compute pass, each run a workgroup's; fewer pairs a run spread a beam over
-    /// more workgroups, merged by the atomic max.
-    #[must_use]
-    pub fn with_job_pairs(mut self, n: u32) -> Self {
-        self.job_pairs = n.clamp(1, TEXEL_JOB_PAIRS);
-        self
-    }
-
-    /// This renderer finding the atlas's nearest hits by rasterization (000's way: a draw per beam,
-    /// the depth test keeping the nearest) even where the device could find them by compute.
-    #[must_use]
-    pub fn rasterized(mut self) -> Self {
-        self.texels = None;
-        self
-    }
-
-    /// This renderer reading every tree level's hits and the eye's mirror and glass hits back for
-    /// the host instead of keeping on the GPU what needs no host ([`super::GpuLevelPoints`],
-    /// [`GpuEye`]): the way every level went before, which the tests compare with.
-    #[must_use]
-    pub fn reading_levels_back(mut self) -> Self {
-        self.keep_levels = false;
-        self
-    }
-
-    /// Whether this renderer finds the atlas's nearest hits by compute.
-    #[must_use]
-    pub fn by_compute(&self) -> bool {
-        self.texels.is_some()
-    }
-
-    /// Whether `gpu` has the 64-bit atomics that finding the atlas's nearest hits by compute takes
-    /// (`SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX`, which [`Gpu::new`] asks for).
-    #[must_use]
-    pub fn can_compute(gpu: &Gpu) -> bool {
-        gpu.device.features().contains(wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX)
-    }
-
-    /// Time spent so far.
-    #[must_use]
-    pub fn times(&self) -> GpuTimes {
-        *self.times.lock().unwrap_or_else(PoisonError::into_inner)
-    }
-
-    pub(super) fn add_times(&self, f: impl FnOnce(&mut GpuTimes)) {
-        f(&mut self.times.lock().unwrap_or_else(PoisonError::into_inner));
-    }
 }
 
 /// Position of the `index`-th square of side `s` in Z order (bits of `index` de-interleaved).
@@ -306,75 +100,86 @@ fn z_order(index: u32, s: u32) -> (u32, u32) {
     (x * s, y * s)
 }
 
-impl BeamRasterizer for GpuBeams<'_> {
-    fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
-        Ok(self.render(scene, jobs, None, false)?.0)
+impl<'g> GpuAtlas<'g> {
+    /// The stage for `scene`: its passes compiled, its triangles uploaded.
+    pub(super) fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, GpuError> {
+        Ok(Self {
+            gpu,
+            pages: AtlasPages::new(gpu, scene)?,
+            level: GpuLevelPoints::new(gpu, scene)?,
+            job_pairs: TEXEL_JOB_PAIRS,
+            keep_levels: true,
+            memo: Mutex::default(),
+            no_locate: LocateTable::none(gpu),
+            times: SummedTimes::default(),
+        })
     }
 
-    /// Kept where the composite will shade the tree (exact shading, the level within one texture),
-    /// unless [`GpuBeams::reading_levels_back`] asked otherwise.
-    fn render_level(
+    /// Whether it finds the atlas's nearest hits by compute.
+    pub(super) fn by_compute(&self) -> bool {
+        self.pages.by_compute()
+    }
+
+    /// The memo across frames.
+    fn memo(&self) -> MutexGuard<'_, AtlasMemo> {
+        self.memo.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The textures of `jobs`, a batch of beams outside a frame's tree (none prepared for the
+    /// next frame).
+    pub(super) fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
+        Ok(self.render(scene, jobs, None, None, false)?.0)
+    }
+
+    /// A level of a frame's tree ([`beam_render::nonlinear::BeamRasterizer::render_level`]), kept
+    /// where the composite will shade the tree (exact shading, the level within one texture),
+    /// unless [`super::GpuBeams::reading_levels_back`] asked otherwise; its texels located by
+    /// `locate` (the candidates the frame's eye stage kept, where it did). Returns the textures
+    /// and the level kept, a value for the frame to hold.
+    pub(super) fn render_level(
         &self,
         scene: &Scene,
         jobs: &[BeamJob<'_>],
         keep: &KeepLevel<'_>,
-    ) -> Result<(Vec<BeamTexture>, Option<KeptTotals>), BackendError> {
+        locate: Option<&LocateTable>,
+    ) -> Result<(Vec<BeamTexture>, Option<LevelKept>), BackendError> {
         if keep.level <= 1 {
-            self.preparations.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
-            self.pages.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
+            let mut memo = self.memo();
+            memo.preparations.next_frame();
+            memo.pages.next_frame();
         }
         let shaded_here = keep.options.shading == Shading::Exact && texels::fits(self.gpu, keep.layout.len);
         if !self.keep_levels || !shaded_here {
-            return Ok((self.render(scene, jobs, None, true)?.0, None));
+            return Ok((self.render(scene, jobs, None, None, true)?.0, None));
         }
-        let (textures, kept) = self.render(scene, jobs, Some(keep), true)?;
+        let (textures, kept) = self.render(scene, jobs, Some(keep), locate, true)?;
         let mut kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
         // On a coarse S mesh the records of the level above (the eye's, for the first) look their
         // points up in this one: in the depths written on the GPU, else in every hit read back.
-        let mut child_levels = self.child_levels.lock().unwrap_or_else(PoisonError::into_inner);
-        child_levels.retain(|(l, _)| *l < keep.level);
-        if let Some(depths) = kept.depths.take() {
+        let lookups = if let Some(depths) = kept.depths.take() {
             let regions = keep.layout.firsts.iter().zip(jobs).map(|(&first, j)| (j.beam, [first, 0, j.size]));
-            child_levels.push((keep.level, LookupBeams::on_regions(self.gpu, regions, depths)));
+            Some(LookupBeams::on_regions(self.gpu, regions, depths))
         } else if keep.with_hits {
             let beams: Vec<_> = jobs.iter().map(|j| j.beam).zip(&textures).collect();
-            if let Some(level) = checked(self.gpu, || LookupBeams::upload(self.gpu, &beams))? {
-                child_levels.push((keep.level, level));
-            }
-        }
-        drop(child_levels);
+            checked(self.gpu, || LookupBeams::upload(self.gpu, &beams))?
+        } else {
+            None
+        };
         let records = self.composites_handed_back(keep);
         // Texels whose fits the GPU summed are kept there too.
         let summed: u64 = if kept.fits { kept.host.iter().map(|(_, n)| u64::from(*n)).sum() } else { 0 };
         let totals = KeptTotals { points: kept.points() + summed, curved: kept.curved, records, fits: kept.fits };
-        self.add_times(|t| t.levels_kept += 1);
-        let mut levels = self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner);
-        // A frame's first level: what an earlier frame left (one that failed) goes.
-        levels.retain(|l| l.level < keep.level);
-        levels.push(kept);
-        Ok((textures, Some(totals)))
-    }
-
-    fn kept_level_points(&self, level: usize) -> Result<Vec<Vec<TexelPoint>>, BackendError> {
-        let levels = self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner);
-        let Some(kept) = levels.iter().find(|l| l.level == level && l.fits) else {
-            return Ok(Vec::new());
-        };
-        Ok(checked(self.gpu, || kept.host_points(self.gpu))?)
-    }
-
-    fn take_kept_levels(&self) -> Result<Vec<(usize, Vec<TexelRadiance>)>, BackendError> {
-        let levels = std::mem::take(&mut *self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner));
-        let read = |l: &KeptLevel| Ok((l.level, l.read_back(self.gpu)?));
-        Ok(checked(self.gpu, || levels.iter().map(read).collect())?)
+        self.times.add(|t| t.levels_kept += 1);
+        Ok((textures, Some(LevelKept { kept, lookups, totals })))
     }
 }
 
-impl GpuBeams<'_> {
+impl GpuAtlas<'_> {
     /// Into `textures` (level `level`'s, kept as `kept`), the fits summed in `table`; where it
     /// overflowed, the texels it was given instead, read back (and a larger table next frame).
     fn read_fits(
         &self,
+        memo: Option<&mut AtlasMemo>,
         table: &FitTable,
         kept: &mut KeptLevel,
         textures: &mut [BeamTexture],
@@ -397,12 +202,14 @@ impl GpuBeams<'_> {
                 (table.params().0 as usize, true)
             }
         };
-        let mut slots = self.fit_slots.lock().unwrap_or_else(PoisonError::into_inner);
-        if slots.len() <= level {
-            slots.resize(level + 1, None);
+        if let Some(memo) = memo {
+            let slots = &mut memo.fit_slots;
+            if slots.len() <= level {
+                slots.resize(level + 1, None);
+            }
+            slots[level] = Some(last);
         }
-        slots[level] = Some(last);
-        self.add_times(|t| t.atlas_seconds += start.elapsed().as_secs_f64());
+        self.times.add(|t| t.atlas_seconds += start.elapsed().as_secs_f64());
         Ok(())
     }
 
@@ -421,17 +228,19 @@ impl GpuBeams<'_> {
         scene: &Scene,
         jobs: &[BeamJob<'_>],
         keep: Option<&KeepLevel<'_>>,
+        locate: Option<&LocateTable>,
         reuse: bool,
     ) -> Result<(Vec<BeamTexture>, Option<KeptLevel>), BackendError> {
         let start = Instant::now();
         // Bounding-cone culling (000 App. A) by the BVH's boxes here, triangle by triangle on the
         // GPU (`super::cull`); the beams for the shader from the same bounds, placed on their
         // regions below.
-        let mut memo = reuse.then(|| self.preparations.lock().unwrap_or_else(PoisonError::into_inner));
-        let before = memo.as_ref().map_or((0, 0), |m| m.reused());
-        let culled = prepared(scene, jobs, memo.as_deref_mut());
-        let after = memo.map_or((0, 0), |m| m.reused());
-        self.add_times(|t| {
+        // The memo across frames, held for the level.
+        let mut memo = reuse.then(|| self.memo());
+        let before = memo.as_ref().map_or((0, 0), |m| m.preparations.reused());
+        let culled = prepared(scene, jobs, memo.as_deref_mut().map(|m| &mut m.preparations));
+        let after = memo.as_ref().map_or((0, 0), |m| m.preparations.reused());
+        self.times.add(|t| {
             t.beams_reused += after.0 - before.0;
             t.blocks_reused += after.1 - before.1;
         });
@@ -442,7 +251,7 @@ impl GpuBeams<'_> {
         order.sort_by_key(|&i| std::cmp::Reverse(jobs[i].size.max(1).next_power_of_two()));
         let mut placed: Vec<Option<Placed>> = (0..jobs.len()).map(|_| None).collect();
         let (mut page, mut used) = (0usize, 0u64);
-        let capacity = u64::from(self.page) * u64::from(self.page);
+        let capacity = u64::from(self.pages.side) * u64::from(self.pages.side);
         // A page's pairs and their bounding triangles (16 bytes each), its beams and its regions'
         // texels (8 bytes each) must each fit one storage binding.
         let max_pairs = (max_binding(self.gpu) / 16) as usize;
@@ -453,8 +262,8 @@ impl GpuBeams<'_> {
             // Each region takes the power-of-two square around it.
             let s = jobs[i].size.max(1).next_power_of_two();
             let t = region_texels(jobs[i].size);
-            if s > self.page || t > max_texels {
-                return Err(GpuError::BeamTooLarge { size: jobs[i].size, page: self.page }.into());
+            if s > self.pages.side || t > max_texels {
+                return Err(GpuError::BeamTooLarge { size: jobs[i].size, page: self.pages.side }.into());
             }
             let area = u64::from(s) * u64::from(s);
             let n = pairs_of(i);
@@ -482,8 +291,6 @@ impl GpuBeams<'_> {
         // Under a coarse S mesh, the level's depths for the lookups of the level above, written
         // where they lie (then no hit but the host's is read back), where they fit one binding
         // and the GPU composites the level above (its points located by the eye's candidates).
-        let eye = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner);
-        let locate = eye.as_ref().map(|e| &e.locate);
         let depths = keep.filter(|k| {
             let fits = k.layout.len as u64 * 4 <= max_binding(self.gpu);
             k.with_hits && fits && composited_here && locate.is_some()
@@ -496,11 +303,11 @@ impl GpuBeams<'_> {
             composited_here && !read_back && locate.is_some() && !k.continues.is_empty()
         });
         let fit_table = fit_table.and_then(|k| {
-            let last = self.fit_slots.lock().unwrap_or_else(PoisonError::into_inner).get(k.level).copied().flatten();
+            let last = memo.as_ref().and_then(|m| m.fit_slots.get(k.level).copied().flatten());
             FitTable::new(self.gpu, fit_slots(last, jobs.len()), jobs.len(), k.faces, max_binding(self.gpu))
         });
-        let locate = self.eye.locate_or_none(locate);
-        self.add_times(|t| t.prepare_seconds += start.elapsed().as_secs_f64());
+        let locate = locate.unwrap_or(&self.no_locate);
+        self.times.add(|t| t.prepare_seconds += start.elapsed().as_secs_f64());
         for (p, &page_rows) in rows.iter().enumerate() {
             let start = Instant::now();
             let members: Vec<usize> =
@@ -520,10 +327,7 @@ impl GpuBeams<'_> {
                 let job_pairs = by_compute.then_some(self.job_pairs);
                 Arc::new(PageInputs::new(self.gpu, jobs, &members, (&preps, &regions), job_pairs))
             };
-            let found = reuse.then(|| {
-                let mut pages = self.pages.lock().unwrap_or_else(PoisonError::into_inner);
-                pages.values(vec![page_key(&preps, &regions)], |_| upload()).pop()
-            });
+            let found = memo.as_mut().map(|m| m.pages.values(vec![page_key(&preps, &regions)], |_| upload()).pop());
             let inputs = found.flatten().unwrap_or_else(upload);
             let pair_count = inputs.pairs as u32;
             let firsts = &inputs.firsts;
@@ -533,7 +337,7 @@ impl GpuBeams<'_> {
             let unpack = |texels: &[[u32; 2]], counts: &[Counters]| {
                 let start = Instant::now();
                 let texels = with_hits.then_some(texels);
-                let out = Self::unpack(jobs, &members, firsts, texels, counts, by_compute);
+                let out = AtlasPages::unpack(jobs, &members, firsts, texels, counts, by_compute);
                 unpacking.set(start.elapsed().as_secs_f64());
                 out
             };
@@ -551,8 +355,9 @@ impl GpuBeams<'_> {
                 depths: depths.as_ref(),
                 fits: fit_table.as_ref(),
             });
-            let (unpacked, appended) =
-                checked(self.gpu, || self.render_page(&inputs, page_rows, keep_page.as_ref(), unpack))?;
+            let (unpacked, appended) = checked(self.gpu, || {
+                self.pages.render_page((&self.level, &self.times), &inputs, page_rows, keep_page.as_ref(), unpack)
+            })?;
             let mut unpacked = unpacked?;
             if let (Some(kept), Some((appended, counts))) = (kept.as_mut(), appended) {
                 if !with_hits && fit_table.is_none() {
@@ -563,12 +368,12 @@ impl GpuBeams<'_> {
                     let sources = appended.iter().zip(&counts).map(|(a, c)| (&*a.host, u64::from(c.host) * size));
                     let unpack = |bytes: &[u8]| {
                         let start = Instant::now();
-                        let out = Self::unpack_host_texels(&mut unpacked, bytes);
+                        let out = AtlasPages::unpack_host_texels(&mut unpacked, bytes);
                         (out, start.elapsed().as_secs_f64())
                     };
                     let (out, unpacking) = checked(self.gpu, || map_all(self.gpu, Vec::new(), sources, unpack))?;
                     out?;
-                    self.add_times(|t| {
+                    self.times.add(|t| {
                         t.atlas_seconds += start.elapsed().as_secs_f64() - unpacking;
                         t.prepare_seconds += unpacking;
                     });
@@ -579,7 +384,7 @@ impl GpuBeams<'_> {
             for (i, tex) in unpacked {
                 textures[i] = Some(tex);
             }
-            self.add_times(|t| {
+            self.times.add(|t| {
                 t.atlas_seconds += drawn;
                 t.prepare_seconds += prepared + unpacking.get();
                 t.pages += 1;
@@ -593,7 +398,7 @@ impl GpuBeams<'_> {
             kept.depths = Some(depths);
         }
         if let (Some(kept), Some(table), Some(k)) = (kept.as_mut(), fit_table, keep) {
-            self.read_fits(&table, kept, &mut textures, k.level)?;
+            self.read_fits(memo.as_deref_mut(), &table, kept, &mut textures, k.level)?;
         }
         Ok((textures, kept))
     }

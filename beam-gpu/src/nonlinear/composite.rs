@@ -8,7 +8,7 @@
 //! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
 
 use super::display::GpuFrame;
-use super::eye::{EyeRecords, KeptPoints};
+use super::records::{EyeRecords, KeptPoints};
 use super::sort::{Outputs, Plan, plan};
 use super::whitted::{RestJob, RestPoints};
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, max_binding, output, storage, uniform, view_entry};
@@ -40,33 +40,6 @@ pub struct GpuFace {
     pub material: [f32; 4],
 }
 
-/// One composited texel of a level (on a specular face with child beams) for the composite pass.
-///
-/// WGSL twin: `Record` in `shaders/composite.wgsl` (layouts compared in [`crate::interface`]).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-pub struct CompositeRecord {
-    /// Where its face's reflection beam is looked up: the point its ray hit, or under a coarse
-    /// S-mesh face the point of the face at [`Composite::reflected_at`](beam_render::nonlinear::Composite).
-    pub p: [f32; 3],
-    /// Its index in the level's radiance.
-    pub texel: u32,
-    /// Unit direction of the ray.
-    pub d: [f32; 3],
-    /// Its S-mesh face, as an index into the dispatch's faces (those its records reference).
-    pub face: u32,
-    /// Its face's reflection beam in the level below, as an index into the dispatch's regions.
-    pub reflected: u32,
-    /// Its face's refraction beam, likewise; [`NONE`] for none.
-    pub refracted: u32,
-    /// Padding.
-    pub pad: [u32; 2],
-    /// Where its face's refraction beam is looked up (as `p`, at `Composite::refracted_at`).
-    pub refracted_p: [f32; 3],
-    /// Padding.
-    pub pad2: u32,
-}
-
 /// Uniforms of the composite pass.
 ///
 /// WGSL twin: `CompositeParams` in `shaders/composite.wgsl` (layouts compared in [`crate::interface`]).
@@ -83,8 +56,7 @@ pub struct CompositeParams {
     pub pad: u32,
 }
 
-const _: () =
-    assert!(size_of::<GpuFace>() == 128 && size_of::<CompositeRecord>() == 64 && size_of::<CompositeParams>() == 16);
+const _: () = assert!(size_of::<GpuFace>() == 128 && size_of::<CompositeParams>() == 16);
 
 /// "None" in [`CompositeRecord`] ([`crate::interface::NONE`]).
 pub use crate::interface::NONE;
@@ -118,7 +90,8 @@ type Joined = (Shaded, Scratch, Vec<Vec<u32>>);
 /// The format of a level's radiance: rgb as half floats (and an unused alpha), 8 bytes a texel.
 const RADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-/// The composite pass.
+/// The composite's passes (the frame's last stage), compiled with the renderer for its life;
+/// they keep nothing of a frame: what they composite is handed to [`GpuComposite::run`].
 pub struct GpuComposite {
     pipeline: wgpu::ComputePipeline,
     scatter: wgpu::ComputePipeline,

@@ -7,14 +7,12 @@
 //!
 //! [`cone_blocks`]: beam_render::nonlinear::cone_blocks
 
-use super::GpuBeams;
-use crate::buffers::{checked, compute_pass, compute_pipeline, map_with, output, readback, storage, uniform};
+use crate::buffers::{compute_pass, compute_pipeline, output, storage};
 use crate::interface::{NONE, WORKGROUP_SIZE};
 use crate::{Gpu, GpuError};
-use beam_render::nonlinear::{BeamJob, ConeCull, Exclude, cone_blocks};
+use beam_render::nonlinear::{ConeCull, Exclude};
 use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
-use rayon::prelude::*;
 
 /// How one beam culls the triangles of its blocks ([`ConeCull`], and what it skips).
 ///
@@ -155,50 +153,5 @@ impl GpuCull {
         });
         compute_pass(encoder, &self.pipeline, &group, pairs.div_ceil(WORKGROUP_SIZE as usize).max(1) as u32);
         out
-    }
-}
-
-impl GpuBeams<'_> {
-    /// The scene triangles the GPU keeps for each of `jobs` after culling by the BVH's boxes on the
-    /// host and triangle by triangle on the device, each with [`crate::interface::PAIR_NEAR`]
-    /// where it is in the beam's ring; in the order of the beam's blocks. For checks against
-    /// [`beam_render::nonlinear::cone_candidates`]; all the jobs as one page.
-    pub fn culled_triangles(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<Vec<u32>>, GpuError> {
-        let (culls, blocks): (Vec<ConeCull>, Vec<Vec<u32>>) = jobs
-            .par_iter()
-            .map(|j| {
-                let tb = j.beam.texel_beam();
-                cone_blocks(scene, tb, &tb.s1_or_sn_bounds(), j.exclude)
-            })
-            .unzip();
-        let mut page = PageCulls::default();
-        for (cull, job) in culls.iter().zip(jobs) {
-            page.push(cull, job.exclude);
-        }
-        let pairs: Vec<[u32; 2]> =
-            blocks.iter().enumerate().flat_map(|(k, b)| b.iter().map(move |&b| [k as u32, b])).collect();
-        let slots = pairs.len() * 4;
-        let params = super::AtlasParams { size: [1.0; 2], extent: self.extent, pairs: slots as u32 };
-        checked(self.gpu, || {
-            let params = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
-            let blocks_buffer = storage(self.gpu, "blocks", &pairs, wgpu::BufferUsages::empty());
-            let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-            let buffers = (&params, &self.triangles, &blocks_buffer);
-            let none = wgpu::BufferUsages::empty();
-            let culls =
-                (storage(self.gpu, "beam culls", &page.culls, none), storage(self.gpu, "lists", &page.lists, none));
-            let out = self.cull.encode(self.gpu, &mut encoder, buffers, (&culls.0, &culls.1), slots);
-            let readback = readback(self.gpu, (slots * 8) as u64);
-            encoder.copy_buffer_to_buffer(&out, 0, readback.buffer(), 0, (slots * 8) as u64);
-            self.gpu.submit([encoder.finish()]);
-            map_with(self.gpu, readback, |bytes| {
-                let got: Vec<[u32; 2]> = bytemuck::pod_collect_to_vec(&bytes[..slots * 8]);
-                let mut kept = vec![Vec::new(); jobs.len()];
-                for [k, prim] in got.into_iter().filter(|p| p[1] != NONE) {
-                    kept[k as usize].push(prim);
-                }
-                kept
-            })
-        })
     }
 }

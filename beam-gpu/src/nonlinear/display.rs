@@ -1,17 +1,18 @@
 //! A frame's pixels left on the GPU (000 §7.3 composites its frame where it is displayed): the
-//! eye's level of the radiance flow as the composite wrote it, handed to the caller by
-//! [`GpuBeams::take_frame`] where the renderer is [`GpuBeams::displaying`], or read back as the
-//! image otherwise (10.5 MB a frame at 1280×1024, and host work a displayed frame does without).
+//! eye's level of the radiance flow as the composite wrote it, returned to the caller as the
+//! frame's value ([`beam_render::nonlinear::FramePixels::Kept`], [`GpuFrame::from_device`]) where
+//! the renderer is [`GpuBeams::displaying`](super::GpuBeams::displaying), or read back as the image
+//! otherwise (10.5 MB a frame at 1280×1024, and host work a displayed frame does without).
 
-use super::atlas::GpuBeams;
 use crate::{Gpu, GpuError, texels};
 use beam_math::glam::Vec3;
+use beam_render::nonlinear::DeviceImage;
 use half::slice::{HalfBitsSliceExt, HalfFloatSliceExt};
 use rayon::prelude::*;
-use std::sync::PoisonError;
 
 /// The eye's radiance of a frame on the GPU: linear RGB as half floats (`Rgba16Float`, alpha
-/// unused), pixel `i` (row-major) at texel `(i mod w, i / w)` of a texture `w` texels wide.
+/// unused), pixel `i` (row-major) at texel `(i mod w, i / w)` of a texture `w` texels wide. One
+/// frame's; whoever holds it owns the texture.
 pub struct GpuFrame {
     pub(super) texture: wgpu::Texture,
     /// Pixels of the frame.
@@ -19,7 +20,7 @@ pub struct GpuFrame {
 }
 
 impl GpuFrame {
-    /// The texture. For a frame of a [`GpuBeams::displaying`] renderer it is the image's own
+    /// The texture. For a frame of a [`GpuBeams::displaying`](super::GpuBeams::displaying) renderer it is the image's own
     /// width × height (pixel `(x, y)` at texel `(x, y)`), to sample or copy to a surface; its
     /// usages are `TEXTURE_BINDING | STORAGE_BINDING | COPY_SRC`.
     #[must_use]
@@ -50,20 +51,11 @@ impl GpuFrame {
     }
 }
 
-impl GpuBeams<'_> {
-    /// This renderer, leaving each frame's pixels on the GPU for display rather than reading them
-    /// back: where the GPU composites the frame (exact shading, each level within one texture of
-    /// the device), `beam_cpu`'s `render_nonlinear_frame` returns no image and
-    /// [`take_frame`](Self::take_frame) hands over the frame, in a texture of the whole image's
-    /// size (pixels outside a `region` black); elsewhere the image comes back as before.
-    #[must_use]
-    pub fn displaying(mut self) -> Self {
-        self.display = true;
-        self
-    }
-
-    /// The last frame this renderer kept for display (see [`displaying`](Self::displaying)), once.
-    pub fn take_frame(&self) -> Option<GpuFrame> {
-        self.frame.lock().unwrap_or_else(PoisonError::into_inner).take()
+impl GpuFrame {
+    /// The frame a [`GpuBeams::displaying`](super::GpuBeams::displaying) renderer left on the GPU,
+    /// as `beam_cpu`'s `render_nonlinear_frame` hands it over ([`DeviceImage`]); the image back
+    /// where it is another backend's.
+    pub fn from_device(image: DeviceImage) -> Result<Self, DeviceImage> {
+        image.downcast()
     }
 }

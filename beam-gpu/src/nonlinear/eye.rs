@@ -4,32 +4,21 @@
 //! only the mirror and glass hits, from which the host builds the beam tree, are read back. CPU
 //! twin: [`Camera::pixel_ray`] and the nearest hit of each ray.
 
-use super::atlas::GpuBeams;
-use super::composite::{CompositeRecord, GpuComposite};
-use super::level::triangle_kinds;
+use super::composite::GpuComposite;
 use super::lookups::LookupBeams;
+use super::records::{CoarseBindings, EyeRecords, KeptPoints, LocateTable, RecordOutputs, triangle_kinds};
 use super::whitted::GpuWhitted;
-use crate::buffers::{
-    buffer_entry, checked, compute_pipeline, encode_pass, output, read_all, storage, uniform, view_entry,
-};
+use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, output, read_all, storage, uniform};
 use crate::interface::NONE;
 use crate::raytrace::RayTracer;
 use crate::scratch::{Scratch, scratch};
 use crate::shade::ShadeInput;
-use crate::texels;
 use crate::{Gpu, GpuError};
-use beam_bvh::Hit;
-use beam_math::glam::Vec3;
-use beam_math::{Ray, Triangle};
-use beam_render::BackendError;
-use beam_render::nonlinear::{CoarseByRays, EyeFaces, EyeView, SMesh, ShadePoint, TexelRadiance, eye_by_rays};
-use beam_render::options::{RenderOptions, Shading};
+use beam_render::nonlinear::SMesh;
 use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Scene};
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
-use std::sync::PoisonError;
-use std::time::Instant;
 
 /// The camera's frame and one dispatch's pixels.
 ///
@@ -101,47 +90,7 @@ pub struct EyeCounts {
     pub specular: u32,
 }
 
-/// What one dispatch of `eye_records` (or `level_records`) appended.
-///
-/// WGSL twin: `RecordCounts` in `shaders/eye.wgsl` and `shaders/level_points.wgsl` (layouts
-/// compared in [`crate::interface`]).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct RecordCounts {
-    /// Composite records appended.
-    pub records: u32,
-    /// Points appended for the Whitted rays (no child beam).
-    pub rest: u32,
-    /// Of those, points under a coarse S-mesh face whose child beams do not hold their scattered
-    /// rays (`eye_records`).
-    pub uncovered: u32,
-    /// Of those, points under a coarse S-mesh face on triangles with interpolated normals
-    /// (`eye_records`: every one; `level_records`: the uncovered ones, as the host counts the
-    /// others, and where the GPU summed the level's fits, the ones without child beams at their
-    /// face, fine or coarse, which the host does not see).
-    pub curved: u32,
-    /// Records made under coarse S-mesh faces.
-    pub coarse: u32,
-    /// Padding.
-    pub pad: [u32; 3],
-}
-
-const _: () = assert!(
-    size_of::<EyeParams>() == 96
-        && size_of::<EyeHit>() == 16
-        && size_of::<EyeCounts>() == 16
-        && size_of::<RecordCounts>() == 32
-);
-
-/// The shading inputs one dispatch of the eye's view kept on the GPU.
-pub struct KeptPoints {
-    /// [`ShadeInput`]s, `count` of them.
-    pub inputs: Scratch,
-    /// The pixel of each.
-    pub targets: Scratch,
-    /// How many.
-    pub count: u32,
-}
+const _: () = assert!(size_of::<EyeParams>() == 96 && size_of::<EyeHit>() == 16 && size_of::<EyeCounts>() == 16);
 
 /// The mirror and glass hits of one dispatch of the eye's view kept on the GPU.
 pub struct KeptSpecular {
@@ -161,108 +110,7 @@ pub struct EyeFaceMap<'a> {
     pub faces: usize,
 }
 
-/// An S mesh's candidates and corners on the GPU, for `eye.wgsl`'s `nearest_face`: the choice
-/// of [`SMesh::locate`] for the points of the mirror and glass hits handed to the host, so that
-/// the host does not make it (the mirror teapot's eye view hands back 182 K points a frame under
-/// its 850 coarse faces, about five candidates each).
-pub struct LocateTable {
-    /// Per scene triangle `p`, at `2p` and `2p + 1`, the range in this buffer of its candidates.
-    candidates: wgpu::Buffer,
-    /// Per face, its three vertices (`[f32; 4]`, w unused).
-    corners: wgpu::Buffer,
-}
-
-/// What the composite records of points under coarse S-mesh faces read (`lib/coarse.wgsl`): the
-/// S mesh's candidates and corners, the child level's beams, the scene's mirror and glass
-/// triangles, and the scene's diagonal (where a texel's ray leaves the scene).
-pub struct CoarseBindings<'a> {
-    /// Per scene triangle, its kind ([`LEVEL_CURVED`](crate::interface::LEVEL_CURVED) counts
-    /// the points on curved triangles that go to the rays).
-    pub(super) kinds: &'a wgpu::Buffer,
-    locate: &'a LocateTable,
-    child_level: &'a LookupBeams,
-    specular: (&'a wgpu::Buffer, &'a wgpu::TextureView),
-    /// The scene's diagonal.
-    pub far: f32,
-}
-
-impl CoarseBindings<'_> {
-    /// Their entries from binding `first` on, in `lib/coarse.wgsl`'s order: `candidates`,
-    /// `corners`, `child_beams`, `texel_t`, `slots`, `specular_prims`.
-    pub(super) fn entries(&self, first: u32) -> [wgpu::BindGroupEntry<'_>; 6] {
-        [
-            buffer_entry(first, &self.locate.candidates),
-            buffer_entry(first + 1, &self.locate.corners),
-            buffer_entry(first + 2, &self.child_level.beams),
-            buffer_entry(first + 3, &self.child_level.depths),
-            buffer_entry(first + 4, self.specular.0),
-            view_entry(first + 5, self.specular.1),
-        ]
-    }
-}
-
-impl LocateTable {
-    /// The candidates of `scene`'s triangles among the faces of `smesh`, and its faces' corners,
-    /// uploaded (on a fine S mesh, a triangle's lone candidate is its own face: the levels'
-    /// fits locate their texels by it, [`super::FitTable`]).
-    pub fn new(gpu: &Gpu, scene: &Scene, smesh: &SMesh) -> Self {
-        let triangles = scene.triangles.len() as u32;
-        let mut table = Vec::with_capacity(2 * triangles as usize);
-        let mut lists = Vec::new();
-        for p in 0..triangles {
-            let start = 2 * triangles + lists.len() as u32;
-            lists.extend_from_slice(smesh.candidates(p));
-            table.extend([start, 2 * triangles + lists.len() as u32]);
-        }
-        table.extend(lists);
-        let corners: Vec<[f32; 4]> = smesh.faces.iter().flat_map(|f| f.v.map(|v| v.extend(0.0).to_array())).collect();
-        Self::upload(gpu, &table, &corners)
-    }
-
-    /// Per scene triangle `p`, at `2p` and `2p + 1`, the range in this buffer of its candidates.
-    pub(super) fn candidates(&self) -> &wgpu::Buffer {
-        &self.candidates
-    }
-
-    /// Per face, its three vertices.
-    pub(super) fn corners(&self) -> &wgpu::Buffer {
-        &self.corners
-    }
-
-    /// No candidates: every hit's face [`NONE`].
-    fn none(gpu: &Gpu) -> Self {
-        Self::upload(gpu, &[], &[])
-    }
-
-    /// `table` and `corners` uploaded; an empty one as the smallest one with no candidate (a
-    /// binding is never empty).
-    fn upload(gpu: &Gpu, table: &[u32], corners: &[[f32; 4]]) -> Self {
-        let none = wgpu::BufferUsages::empty();
-        let table = if table.is_empty() { &[0, 0][..] } else { table };
-        let corners = if corners.is_empty() { &[[0.0; 4]; 3][..] } else { corners };
-        Self {
-            candidates: storage(gpu, "S-mesh candidates of the triangles", table, none),
-            corners: storage(gpu, "S-mesh corners", corners, none),
-        }
-    }
-}
-
-/// The composite records `eye_records` made of one dispatch's kept mirror and glass hits (or
-/// `level_records` of one dispatch's texels handed to the host).
-pub struct EyeRecords {
-    /// [`CompositeRecord`]s (faces and child beams indexed in the whole S mesh and level).
-    pub records: Scratch,
-    /// How many.
-    pub count: u32,
-    /// Points for the Whitted rays, with their pixels.
-    pub rest: KeptPoints,
-    /// Under coarse faces: the records made, and of the points for the Whitted rays those no
-    /// child beam held and those on curved triangles ([`RecordCounts`]'s `coarse`, `uncovered`,
-    /// `curved`).
-    pub coarse: [u32; 3],
-}
-
-/// What the eye's view returns ([`GpuEye::run`]).
+/// What the eye's view returns ([`GpuEye::run`]): one frame's.
 pub struct EyeOut {
     /// Per dispatch, the kept diffuse, glossy and emissive points of the crop.
     pub kept: Vec<KeptPoints>,
@@ -274,7 +122,8 @@ pub struct EyeOut {
     pub seen: Vec<[u32; 2]>,
 }
 
-/// The eye's view pass.
+/// The eye's view passes (the frame's first stage), compiled with the renderer for one scene, for
+/// its life; they keep nothing of a frame: [`GpuEye::run`] returns what it kept ([`EyeOut`]).
 pub struct GpuEye {
     pipeline: wgpu::ComputePipeline,
     records: wgpu::ComputePipeline,
@@ -369,8 +218,8 @@ impl GpuEye {
                 buffer_entry(8, face_of),
                 buffer_entry(9, &seen),
                 buffer_entry(10, &specular),
-                buffer_entry(16, &locate.candidates),
-                buffer_entry(17, &locate.corners),
+                buffer_entry(16, locate.candidates()),
+                buffer_entry(17, locate.corners()),
             ];
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             encode_pass(gpu, &mut encoder, &self.pipeline, count as u32, &entries);
@@ -398,11 +247,6 @@ impl GpuEye {
             specular.push(KeptSpecular { hits, count: c.specular });
         }
         Ok(EyeOut { kept, specular, others, seen: bytemuck::pod_collect_to_vec(seen) })
-    }
-
-    /// `locate` where given, else the stand-in with no candidate.
-    pub(super) fn locate_or_none<'a>(&'a self, locate: Option<&'a LocateTable>) -> &'a LocateTable {
-        locate.unwrap_or(&self.no_locate)
     }
 
     /// What a composite under coarse faces reads ([`CoarseBindings`]): `locate` and the child
@@ -467,50 +311,8 @@ impl GpuEye {
     }
 }
 
-/// The outputs of one dispatch that makes the composite records of `count` points (`eye_records`,
-/// `level_records`): the records, the points for the Whitted rays and their targets, the counts.
-pub(super) struct RecordOutputs {
-    pub records: Scratch,
-    pub inputs: Scratch,
-    pub targets: Scratch,
-    /// [`RecordCounts`], zeroed by wgpu.
-    pub counts: wgpu::Buffer,
-}
-
-impl RecordOutputs {
-    /// Room for `count` points' records or Whitted points.
-    pub(super) fn new(gpu: &Gpu, count: usize) -> Self {
-        Self {
-            records: scratch(gpu, "records", (count * size_of::<CompositeRecord>()) as u64),
-            inputs: scratch(gpu, "points past the tree", (count * size_of::<ShadeInput>()) as u64),
-            targets: scratch(gpu, "targets past the tree", count as u64 * 4),
-            counts: output(gpu, "record counts", size_of::<RecordCounts>() as u64),
-        }
-    }
-
-    /// Submit `encoders` (which fill `outs`) and read their counts back: the records made.
-    pub(super) fn read(
-        gpu: &Gpu,
-        encoders: Vec<wgpu::CommandBuffer>,
-        outs: Vec<Self>,
-    ) -> Result<Vec<EyeRecords>, GpuError> {
-        let sources = outs.iter().map(|o| (&o.counts, size_of::<RecordCounts>() as u64));
-        let counts: Vec<RecordCounts> = read_all(gpu, encoders, sources)?;
-        Ok(outs
-            .into_iter()
-            .zip(counts)
-            .map(|(o, c)| EyeRecords {
-                records: o.records,
-                count: c.records,
-                rest: KeptPoints { inputs: o.inputs, targets: o.targets, count: c.rest },
-                coarse: [c.coarse, c.uncovered, c.curved],
-            })
-            .collect())
-    }
-}
-
-/// The mirror and glass hits of a frame's eye view kept on the GPU, until the composite makes
-/// their records.
+/// The mirror and glass hits of a frame's eye view kept on the GPU (per frame, in the frame's
+/// kept value), until the composite makes their records.
 pub struct KeptEyeHits {
     /// Per dispatch of the eye's view.
     pub lists: Vec<KeptSpecular>,
@@ -520,128 +322,6 @@ pub struct KeptEyeHits {
     pub locate: LocateTable,
     /// The frame's camera and crop.
     pub view: (Camera, PixelRect),
-}
-
-impl GpuBeams<'_> {
-    /// The eye's view on the GPU with `faces` (where given, its mirror and glass hits on them kept),
-    /// or `None` where the composite will not shade the frame (shading not exact, the eye's level
-    /// past one texture).
-    fn eye_on_gpu(
-        &self,
-        camera: &Camera,
-        options: &RenderOptions,
-        faces: Option<EyeFaceMap<'_>>,
-    ) -> Result<Option<EyeOut>, GpuError> {
-        let pixels = camera.width as usize * camera.height as usize;
-        if options.shading != Shading::Exact || !texels::fits(self.gpu, pixels) {
-            return Ok(None);
-        }
-        let start = Instant::now();
-        let out = checked(self.gpu, || self.eye.run(self.gpu, &self.tracer, camera, options.region(), faces));
-        self.add_times(|t| t.ray_seconds += start.elapsed().as_secs_f64());
-        Ok(Some(out?))
-    }
-
-    /// `hits` (the tracer's triangle and t) as `(pixel, ray, hit)` with the barycentric weights of
-    /// each hit point. Written in place by an indexed collect where every hit names a triangle of
-    /// the scene (a filtered collect gathers lists and copies them once more).
-    fn eye_hits(scene: &Scene, camera: &Camera, hits: &[EyeHit]) -> Vec<(usize, Ray, Hit)> {
-        let frame = camera.frame();
-        let hit = |h: &EyeHit, tri: &Triangle| {
-            let ray = camera.pixel_ray(&frame, h.pixel as usize);
-            let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
-            (h.pixel as usize, ray, Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
-        };
-        let on = |h: &EyeHit| scene.triangles.get(h.prim as usize);
-        if hits.par_iter().all(|h| on(h).is_some()) {
-            let mut out = Vec::with_capacity(hits.len());
-            hits.par_iter().map(|h| hit(h, &scene.triangles[h.prim as usize])).collect_into_vec(&mut out);
-            return out;
-        }
-        hits.par_iter().filter_map(|h| Some(hit(h, on(h)?))).collect()
-    }
-}
-
-impl EyeView for GpuBeams<'_> {
-    /// On the GPU ([`GpuEye`]) where the composite will shade the frame (exact shading, the eye's
-    /// level within one texture): the diffuse, glossy and emissive pixels of the region are kept
-    /// there. Otherwise by the compute ray tracer, keeping none.
-    fn eye_view(
-        &self,
-        scene: &Scene,
-        camera: &Camera,
-        options: &RenderOptions,
-    ) -> Result<Vec<(usize, Ray, Hit)>, BackendError> {
-        let Some(out) = self.eye_on_gpu(camera, options, None)? else {
-            return eye_by_rays(self, scene, camera);
-        };
-        *self.kept.lock().unwrap_or_else(PoisonError::into_inner) = Some(out.kept);
-        Ok(Self::eye_hits(scene, camera, &out.others))
-    }
-
-    /// Keeps the mirror and glass hits on S-mesh faces too, fine or coarse, each at its face
-    /// (under a coarse one, the candidate its point lies nearest), unless
-    /// [`GpuBeams::reading_levels_back`], where the composite takes the whole S mesh in one
-    /// binding.
-    fn eye_faces(
-        &self,
-        scene: &Scene,
-        smesh: &SMesh,
-        camera: &Camera,
-        options: &RenderOptions,
-    ) -> Result<EyeFaces, BackendError> {
-        if !self.keep_levels || !GpuComposite::faces_fit(self.gpu, smesh.faces.len()) {
-            return Ok(EyeFaces::handed_back(self.eye_view(scene, camera, options)?, smesh));
-        }
-        let face_of = fine_faces(self.gpu, scene, smesh);
-        let locate = LocateTable::new(self.gpu, scene, smesh);
-        let faces = EyeFaceMap { face_of: &face_of, locate: Some(&locate), faces: smesh.faces.len() };
-        let Some(out) = self.eye_on_gpu(camera, options, Some(faces))? else {
-            return Ok(EyeFaces::handed_back(eye_by_rays(self, scene, camera)?, smesh));
-        };
-        *self.kept.lock().unwrap_or_else(PoisonError::into_inner) = Some(out.kept);
-        let kept = out.specular.iter().map(|l| u64::from(l.count)).sum();
-        *self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner) =
-            Some(KeptEyeHits { lists: out.specular, face_of, locate, view: (*camera, options.region()) });
-        Ok(EyeFaces { hits: Self::eye_hits(scene, camera, &out.others), seen: out.seen, kept })
-    }
-
-    /// The kept hits read back.
-    fn take_kept_eye_hits(&self, scene: &Scene) -> Result<Vec<(usize, Ray, Hit)>, BackendError> {
-        let Some(kept) = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner).take() else {
-            return Ok(Vec::new());
-        };
-        let sources = kept.lists.iter().map(|l| (&*l.hits, u64::from(l.count) * size_of::<EyeHit>() as u64));
-        let mut hits: Vec<EyeHit> = checked(self.gpu, || read_all(self.gpu, Vec::new(), sources))?;
-        hits.par_sort_unstable_by_key(|h| h.pixel);
-        Ok(Self::eye_hits(scene, &kept.view.0, &hits))
-    }
-
-    fn take_coarse_by_rays(&self) -> CoarseByRays {
-        std::mem::take(&mut *self.coarse_by_rays.lock().unwrap_or_else(PoisonError::into_inner))
-    }
-
-    /// The kept points read back; the shader's seed of each is its pixel.
-    fn take_kept_eye(&self) -> Result<Vec<TexelRadiance>, BackendError> {
-        let Some(kept) = self.kept.lock().unwrap_or_else(PoisonError::into_inner).take() else {
-            return Ok(Vec::new());
-        };
-        let sources = kept.iter().map(|k| (&*k.inputs, u64::from(k.count) * size_of::<ShadeInput>() as u64));
-        let inputs: Vec<ShadeInput> = checked(self.gpu, || read_all(self.gpu, Vec::new(), sources))?;
-        Ok(inputs
-            .par_iter()
-            .map(|s| TexelRadiance {
-                texel: s.seed,
-                point: ShadePoint {
-                    prim: s.prim,
-                    p: Vec3::from_array(s.p),
-                    d: Vec3::from_array(s.d),
-                    seed: u64::from(s.seed),
-                },
-                composite: None,
-            })
-            .collect())
-    }
 }
 
 /// Per scene triangle of `scene`, its face where it is a fine S-mesh face of its own, else

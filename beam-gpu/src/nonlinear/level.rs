@@ -12,13 +12,13 @@
 //! sorted as `sort.rs` sorts a level's texels.
 
 use super::composite::GpuComposite;
-use super::eye::{CoarseBindings, EyeRecords, KeptPoints, LocateTable, RecordOutputs};
 use super::fits::FitTable;
+use super::records::{CoarseBindings, EyeRecords, KeptPoints, LocateTable, RecordOutputs, triangle_kinds};
 use super::whitted::GpuWhitted;
 use crate::buffers::{buffer_entry, compute_pipeline, encode_pass, map_all, output, read_all, storage, uniform};
-use crate::interface::{LEVEL_CONTINUES, LEVEL_CURVED, LEVEL_PLAIN};
+use crate::interface::LEVEL_CONTINUES;
 use crate::scratch::{Scratch, scratch};
-use crate::shade::{PointShader, ShadeInput};
+use crate::shade::ShadeInput;
 use crate::{Gpu, GpuError};
 use beam_math::glam::Vec3;
 use beam_render::nonlinear::{LevelLayout, NodeChildren, ShadePoint, TexelPoint, TexelRadiance};
@@ -119,7 +119,8 @@ pub(super) struct Appended {
     pub counts: wgpu::Buffer,
 }
 
-/// The points of a level kept on the GPU, until the composite shades them.
+/// The points of a level kept on the GPU (per frame, in the frame's kept value), until the
+/// composite shades them.
 #[derive(Default)]
 pub struct KeptLevel {
     /// The tree level (1 for the eye's children).
@@ -245,18 +246,8 @@ pub(super) fn host_points(
     Ok(points)
 }
 
-/// Per scene triangle of `scene`: [`LEVEL_PLAIN`] where the shading pass shades it, `|`
-/// [`LEVEL_CURVED`] where its normals are interpolated (the eye's and the levels' passes).
-pub(super) fn triangle_kinds(scene: &Scene) -> Vec<u32> {
-    (0..scene.triangles.len() as u32)
-        .map(|p| {
-            let plain = if PointShader::shades(scene, p) { LEVEL_PLAIN } else { 0 };
-            plain | if scene.smooth_normals.contains_key(&p) { LEVEL_CURVED } else { 0 }
-        })
-        .collect()
-}
-
-/// The level-points pass, and the composite records of the texels it hands to the host.
+/// The level-points pass, and the composite records of the texels it hands to the host: compiled
+/// with the renderer for one scene, for its life; it keeps nothing of a frame.
 pub struct GpuLevelPoints {
     pipeline: wgpu::ComputePipeline,
     records: wgpu::ComputePipeline,

@@ -43,7 +43,7 @@ impl From<&LookupJob> for GpuLookupJob {
     }
 }
 
-/// The compiled lookup pipeline.
+/// The compiled lookup pipeline, for the renderer's life; it keeps nothing between calls.
 pub struct GpuLookups {
     pipeline: wgpu::ComputePipeline,
 }

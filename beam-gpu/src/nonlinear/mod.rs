@@ -10,31 +10,35 @@ mod composite;
 mod cull;
 mod display;
 mod eye;
+mod eye_stage;
 mod fits;
+mod kept;
 mod level;
 mod lookups;
 mod page;
 mod page_inputs;
 mod prepare;
 mod queries;
+mod records;
+mod renderer;
 mod sort;
+mod times;
 mod whitted;
 mod whitted_paths;
 
-pub use atlas::{GpuBeams, GpuTimes};
 pub use beam::{GpuBeam, MAX_CONTROL_POINTS};
 pub use check::{CheckCase, GpuBoundingTriangle, LookupFound, NonlinearCheck};
-pub use composite::{CompositeParams, CompositeRecord, GpuComposite, GpuFace, KeptHere, NONE, ShadeRest};
+pub use composite::{CompositeParams, GpuComposite, GpuFace, KeptHere, NONE, ShadeRest};
 pub use cull::BeamCull;
 pub use display::GpuFrame;
-pub use eye::{
-    CoarseBindings, EyeCounts, EyeFaceMap, EyeHit, EyeOut, EyeParams, EyeRecords, GpuEye, KeptEyeHits, KeptPoints,
-    KeptSpecular, LocateTable, RecordCounts,
-};
+pub use eye::{EyeCounts, EyeFaceMap, EyeHit, EyeOut, EyeParams, GpuEye, KeptEyeHits, KeptSpecular};
 pub use fits::{FitTable, MIN_FIT_SLOTS, ReadFits, fit_slots};
 pub use level::{GpuLevelPoints, HostTexel, KeptLevel, LevelCounts, LevelParams};
 pub use lookups::{GpuLookupJob, GpuLookups, LookupBeams};
 pub use page::AtlasParams;
+pub use records::{CoarseBindings, CompositeRecord, EyeRecords, KeptPoints, LocateTable, RecordCounts};
+pub use renderer::GpuBeams;
+pub use times::GpuTimes;
 pub use whitted::{
     EndWeight, GpuWhitted, RestJob, RestPoints, SpecularPrim, WhittedCounts, WhittedParams, WhittedPath,
 };

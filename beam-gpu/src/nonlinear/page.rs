@@ -3,15 +3,21 @@
 //! regions, by compute where the device has 64-bit atomics or else by 000's draws and a gather,
 //! read back as the beams' hit textures. `atlas.rs` packs the beams onto pages.
 
-use super::GpuBeams;
-use super::level::{Appended, LevelCounts, LevelKeep, LevelPage, host_points};
+use super::cull::{GpuCull, PageCulls};
+use super::level::{Appended, GpuLevelPoints, LevelCounts, LevelKeep, LevelPage, host_points};
 use super::page_inputs::PageInputs;
-use crate::GpuError;
-use crate::buffers::{buffer_entry, compute_pass_timed, map_with, output, readback, storage, uniform, view_entry};
-use crate::interface::WORKGROUP_SIZE;
+use super::times::SummedTimes;
+use crate::buffers::{
+    buffer_entry, checked, compute_pass_timed, compute_pipeline, map_with, output, readback, shader_module, storage,
+    uniform, view_entry,
+};
+use crate::interface::{NONE, WORKGROUP_SIZE};
 use crate::texels::texture_2d;
 use crate::timestamps::PassTimer;
-use beam_render::nonlinear::{BeamJob, BeamTexture, TexelHit, region_texels};
+use crate::{Gpu, GpuError};
+use beam_bvh::gpu::GpuTriangle;
+use beam_render::nonlinear::{BeamJob, BeamTexture, ConeCull, TexelHit, cone_blocks, region_texels};
+use beam_scene::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
@@ -37,7 +43,142 @@ pub(super) type Counters = [u32; 2];
 /// A page's points of a kept level ([`super::level`]): each dispatch's lists and their counts.
 pub(super) type KeptPage = (Vec<Appended>, Vec<LevelCounts>);
 
-impl GpuBeams<'_> {
+/// The passes that render an atlas page, and what they read of the scene (its triangles, the
+/// culling's blocks and spheres): made with the renderer, for its life; no state between pages.
+pub(super) struct AtlasPages<'g> {
+    pub(super) gpu: &'g Gpu,
+    bound: wgpu::ComputePipeline,
+    pipeline: wgpu::RenderPipeline,
+    gather: wgpu::ComputePipeline,
+    /// The nearest hits by compute, where the device has 64-bit atomics (and unless
+    /// [`AtlasPages::rasterized`] asked for rasterization).
+    texels: Option<wgpu::ComputePipeline>,
+    /// The scene's triangles.
+    triangles: wgpu::Buffer,
+    /// The per-triangle half of bounding-cone culling.
+    cull: GpuCull,
+    /// Side of a page in texels.
+    pub(super) side: u32,
+    /// The scene's diagonal.
+    extent: f32,
+}
+
+impl<'g> AtlasPages<'g> {
+    /// Compile the passes and upload `scene`'s triangles; pages of up to 4096² texels (less where
+    /// the adapter allows less).
+    pub(super) fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, GpuError> {
+        let module = shader_module(gpu, "beam_atlas")?;
+        let bound = compute_pipeline(gpu, "beam_atlas", "bound_triangles")?;
+        let gather = compute_pipeline(gpu, "beam_atlas", "gather_regions")?;
+        let pipeline = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("beam_atlas"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("emit_bounding_triangle"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("intersect_texel"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: wgpu::TextureFormat::Rg32Uint,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let texels =
+            Self::can_compute(gpu).then(|| compute_pipeline(gpu, "beam_texels", "nearest_hits")).transpose()?;
+        let by_prim: Vec<GpuTriangle> =
+            scene.triangles.iter().enumerate().map(|(i, t)| GpuTriangle::new(t, i as u32)).collect();
+        let triangles = storage(gpu, "scene triangles", &by_prim, wgpu::BufferUsages::empty());
+        // A power of two, so that Z-order packing of power-of-two squares fills it.
+        let side = gpu.device.limits().max_texture_dimension_2d.clamp(32, 4096);
+        Ok(Self {
+            gpu,
+            bound,
+            pipeline,
+            gather,
+            texels,
+            triangles,
+            cull: GpuCull::new(gpu, scene)?,
+            side: 1 << (31 - side.leading_zeros()),
+            extent: scene.bounds().extent().length(),
+        })
+    }
+
+    /// Whether `gpu` has the 64-bit atomics that finding the nearest hits by compute takes.
+    pub(super) fn can_compute(gpu: &Gpu) -> bool {
+        gpu.device.features().contains(wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX)
+    }
+
+    /// Find the nearest hits by rasterization even where the device could find them by compute.
+    pub(super) fn rasterized(&mut self) {
+        self.texels = None;
+    }
+
+    /// Whether the nearest hits are found by compute.
+    pub(super) fn by_compute(&self) -> bool {
+        self.texels.is_some()
+    }
+
+    /// The scene triangles the GPU keeps for each of `jobs` after culling by the BVH's boxes on the
+    /// host and triangle by triangle on the device, each with [`crate::interface::PAIR_NEAR`]
+    /// where it is in the beam's ring; in the order of the beam's blocks. For checks against
+    /// [`beam_render::nonlinear::cone_candidates`]; all the jobs as one page.
+    pub(super) fn culled_triangles(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<Vec<u32>>, GpuError> {
+        let (culls, blocks): (Vec<ConeCull>, Vec<Vec<u32>>) = jobs
+            .par_iter()
+            .map(|j| {
+                let tb = j.beam.texel_beam();
+                cone_blocks(scene, tb, &tb.s1_or_sn_bounds(), j.exclude)
+            })
+            .unzip();
+        let mut page = PageCulls::default();
+        for (cull, job) in culls.iter().zip(jobs) {
+            page.push(cull, job.exclude);
+        }
+        let pairs: Vec<[u32; 2]> =
+            blocks.iter().enumerate().flat_map(|(k, b)| b.iter().map(move |&b| [k as u32, b])).collect();
+        let slots = pairs.len() * 4;
+        let params = AtlasParams { size: [1.0; 2], extent: self.extent, pairs: slots as u32 };
+        checked(self.gpu, || {
+            let params = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
+            let blocks_buffer = storage(self.gpu, "blocks", &pairs, wgpu::BufferUsages::empty());
+            let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+            let buffers = (&params, &self.triangles, &blocks_buffer);
+            let none = wgpu::BufferUsages::empty();
+            let culls =
+                (storage(self.gpu, "beam culls", &page.culls, none), storage(self.gpu, "lists", &page.lists, none));
+            let out = self.cull.encode(self.gpu, &mut encoder, buffers, (&culls.0, &culls.1), slots);
+            let readback = readback(self.gpu, (slots * 8) as u64);
+            encoder.copy_buffer_to_buffer(&out, 0, readback.buffer(), 0, (slots * 8) as u64);
+            self.gpu.submit([encoder.finish()]);
+            map_with(self.gpu, readback, |bytes| {
+                let got: Vec<[u32; 2]> = bytemuck::pod_collect_to_vec(&bytes[..slots * 8]);
+                let mut kept = vec![Vec::new(); jobs.len()];
+                for [k, prim] in got.into_iter().filter(|p| p[1] != NONE) {
+                    kept[k as usize].push(prim);
+                }
+                kept
+            })
+        })
+    }
+
     /// Render one page of `rows` rows from its `inputs`: its beams with their (beam on the page,
     /// block) pairs, made (beam, triangle) pairs by the cull pass (four per block, those of beam
     /// `i` at `inputs.ranges[i]`), the nearest hits by compute where this renderer can (else by
@@ -47,10 +188,11 @@ impl GpuBeams<'_> {
     /// kept and the texels tested. With `keep` (per beam: its first texel in the level's radiance,
     /// its face's scene triangle and its index in the level; whether to read every texel back all
     /// the same; the triangles' kinds), the level-points pass makes the page's points
-    /// ([`super::level`]), returned with their counts, and `unpack` is handed the texels only if
-    /// asked for (else none).
+    /// ([`super::level`], by `level`'s pass), returned with their counts, and `unpack` is handed
+    /// the texels only if asked for (else none). The passes' times go to `times`.
     pub(super) fn render_page<T>(
         &self,
+        (level, times): (&GpuLevelPoints, &SummedTimes),
         inputs: &PageInputs,
         rows: u32,
         keep: Option<&LevelKeep<'_>>,
@@ -60,7 +202,7 @@ impl GpuBeams<'_> {
         let (beam_buffer, beam_count, pair_count) = (&inputs.beams, inputs.ranges.len(), inputs.pairs);
         let (ranges, firsts, first_texels) = (&inputs.ranges, &inputs.firsts, &inputs.first_texels);
         let params =
-            AtlasParams { size: [self.page as f32, rows as f32], extent: self.extent, pairs: pair_count as u32 };
+            AtlasParams { size: [self.side as f32, rows as f32], extent: self.extent, pairs: pair_count as u32 };
         let uniform = uniform(self.gpu, "atlas params", bytemuck::bytes_of(&params));
         let bounds = output(self.gpu, "bounding triangles", (pair_count * 16) as u64);
         let counters = storage(self.gpu, "counters", &vec![[0u32; 2]; beam_count], wgpu::BufferUsages::COPY_SRC);
@@ -119,7 +261,7 @@ impl GpuBeams<'_> {
                 texels: (&dense, texel_count),
                 inverted: self.by_compute(),
             };
-            self.level.encode(self.gpu, &mut encoder, &page, keep)
+            level.encode(self.gpu, &mut encoder, &page, keep)
         });
         let texel_bytes = if keep.is_some_and(|k| !k.with_hits) { 0 } else { texel_bytes };
         let count_bytes = beam_count as u64 * 8;
@@ -145,7 +287,7 @@ impl GpuBeams<'_> {
             let (level_counts, stamps) = rest.split_at(level_bytes as usize);
             let passes = PassTimer::seconds(self.gpu, stamps);
             // Compute's nearest hits are the second pass, as the draws are; no gather follows.
-            self.add_times(|t| t.atlas_pass_seconds.iter_mut().zip(&passes).for_each(|(a, s)| *a += s));
+            times.add(|t| t.atlas_pass_seconds.iter_mut().zip(&passes).for_each(|(a, s)| *a += s));
             let level_counts: Vec<LevelCounts> = bytemuck::pod_collect_to_vec(level_counts);
             // Aligned as mapped ranges are; copied only if a backend mapped them otherwise.
             let unpacked = match (bytemuck::try_cast_slice(texels), bytemuck::try_cast_slice(counts)) {
@@ -174,7 +316,7 @@ impl GpuBeams<'_> {
         timer: Option<&PassTimer>,
     ) {
         let device = &self.gpu.device;
-        let texture = |format, usage| texture_2d(self.gpu, "atlas", (self.page, rows), format, usage);
+        let texture = |format, usage| texture_2d(self.gpu, "atlas", (self.side, rows), format, usage);
         let hits = texture(
             wgpu::TextureFormat::Rg32Uint,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
@@ -300,7 +442,7 @@ impl GpuBeams<'_> {
     }
 }
 
-impl GpuBeams<'_> {
+impl AtlasPages<'_> {
     /// Into `textures` (a page's, in the order of its beams, without hits), the texels listed as
     /// [`HostTexel`](super::HostTexel)s in `host` (bytes as read back, unpacked where they are mapped) as their
     /// points, each texture's in texel order: the texels of a kept level that the host builds on

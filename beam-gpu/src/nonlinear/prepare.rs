@@ -19,8 +19,8 @@ use beam_render::nonlinear::{Beam, BeamJob, ConeCull, blocks_meeting, cone_cull}
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// How much wider than a beam's bounding cone its blocks are gathered: its half-angle by this
 /// fraction of it (and a milliradian), its apex moved back by this fraction of its distance from
@@ -133,19 +133,22 @@ pub(super) fn prepared(scene: &Scene, jobs: &[BeamJob<'_>], memo: Option<&mut Pr
         return (0..jobs.len()).into_par_iter().map(|i| Arc::new(Prepared::new(scene, &jobs[i], &[]).0)).collect();
     };
     let Preparations { exact, made, frame, blocks_reused } = memo;
-    let (taken, fresh) = (AtomicU64::new(0), Mutex::new(Vec::new()));
+    // Which jobs were prepared afresh, marked where they are made (in parallel): kept by face
+    // below, in the jobs' order.
+    let taken = AtomicU64::new(0);
+    let fresh: Vec<AtomicBool> = jobs.iter().map(|_| AtomicBool::new(false)).collect();
     let make = |i: usize| {
         let face = face(&jobs[i]);
         let near = made.get(&face).map_or(&[][..], |(_, p)| p.as_slice());
         let (prepared, took) = Prepared::new(scene, &jobs[i], near);
         taken.fetch_add(u64::from(took), Ordering::Relaxed);
-        let prepared = Arc::new(prepared);
-        fresh.lock().unwrap_or_else(PoisonError::into_inner).push((face, Arc::clone(&prepared)));
-        prepared
+        fresh[i].store(true, Ordering::Relaxed);
+        Arc::new(prepared)
     };
     let out = exact.values(jobs.par_iter().map(key).collect(), make);
     *blocks_reused += taken.into_inner();
-    for (face, p) in fresh.into_inner().unwrap_or_else(PoisonError::into_inner) {
+    for (i, _) in fresh.into_iter().enumerate().filter(|(_, f)| f.load(Ordering::Relaxed)) {
+        let (face, p) = (face(&jobs[i]), Arc::clone(&out[i]));
         let (latest, on_face) = made.entry(face).or_insert((*frame, Vec::new()));
         if *latest != *frame {
             (*latest, *on_face) = (*frame, Vec::new());

@@ -1,11 +1,13 @@
 //! The ray queries and point shading of [`GpuBeams`] as a backend of the nonlinear renderer: rays
 //! by the compute ray tracer, points by the shading pass and Whitted waves, the beam tree's
-//! radiance by the composite on the GPU, a coarse S mesh's lookups by `lookups.wgsl`.
+//! radiance by the composite on the GPU (the frame's last stage, which consumes what the frame
+//! kept, [`GpuKept`]), a coarse S mesh's lookups by `lookups.wgsl`.
 
-use super::GpuBeams;
 use super::composite::{GpuComposite, KeptHere};
 use super::eye::fine_faces;
+use super::kept::GpuKept;
 use super::level::KeptLevel;
+use super::renderer::GpuBeams;
 use super::whitted::{GpuWhitted, RestJob, RestPoints};
 use crate::GpuError;
 use crate::buffers::{checked, output, read_all, storage};
@@ -18,14 +20,13 @@ use beam_math::glam::Vec3;
 use beam_render::BackendError;
 use beam_render::irradiance_map::IrradianceMap;
 use beam_render::nonlinear::{
-    Beam, BeamTexture, ChildLookups, CoarseByRays, DeviceWaits, FramePixels, LevelRadiance, LookupJob, PointShading,
-    SMesh, ShadePoint,
+    Beam, BeamTexture, ChildLookups, CoarseByRays, DeviceImage, DeviceWaits, FramePixels, KeptFrame, LevelRadiance,
+    LookupJob, PointShading, SMesh, ShadePoint, TreeShading,
 };
 use beam_render::options::{RenderOptions, Shading};
 use beam_render::queries::RayQueries;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
-use std::sync::PoisonError;
 use std::time::Instant;
 
 impl GpuBeams<'_> {
@@ -123,30 +124,31 @@ impl PointShading for GpuBeams<'_> {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<FramePixels>, BackendError> {
+        frame: KeptFrame,
+    ) -> Result<TreeShading, BackendError> {
         if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
-            return Ok(None);
+            return Ok(TreeShading::HandedBack(frame));
         }
         // Points under coarse faces (the eye's, a level's) look their child beams up in the level
         // below theirs, and their faces among the eye's candidates: where a level did not fit one
         // binding, the host composites the frame.
         if smesh.coarse_faces() > 0 {
-            let eye = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner);
-            let child_levels = self.child_levels.lock().unwrap_or_else(PoisonError::into_inner);
+            let state = frame.get::<GpuKept>();
+            let child_levels = state.map_or(&[][..], |k| &k.child_levels);
+            let kept_levels = state.map_or(&[][..], |k| &k.levels);
             let has = |l: usize| l >= levels.len() || child_levels.iter().any(|(c, _)| *c == l);
-            let located = eye.is_some();
-            let kept_levels = self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner);
+            let located = state.is_some_and(|k| k.eye_hits.is_some());
             let ready =
                 (!located || has(1)) && kept_levels.iter().all(|l| l.host.is_empty() || (located && has(l.level + 1)));
             if !ready {
-                return Ok(None);
+                return Ok(TreeShading::HandedBack(frame));
             }
         }
         let start = Instant::now();
-        let kept = self.kept.lock().unwrap_or_else(PoisonError::into_inner).take().unwrap_or_default();
-        let kept_levels = std::mem::take(&mut *self.kept_levels.lock().unwrap_or_else(PoisonError::into_inner));
-        let child_levels = std::mem::take(&mut *self.child_levels.lock().unwrap_or_else(PoisonError::into_inner));
-        let eye_hits = self.kept_eye_hits.lock().unwrap_or_else(PoisonError::into_inner).take();
+        // The frame's kept points and hits, consumed here.
+        let GpuKept { eye_points, eye_hits, levels: kept_levels, child_levels } =
+            frame.into_inner::<GpuKept>().unwrap_or_default();
+        let kept = eye_points.unwrap_or_default();
         let far = self.extent;
         // What the records under coarse faces of level `level` (0: the eye's) read.
         let coarse = |level: usize| {
@@ -180,7 +182,7 @@ impl PointShading for GpuBeams<'_> {
                 if level.node_children.is_empty() {
                     return Err(GpuError::Internal("texels handed back without their beams' children"));
                 }
-                self.level.records(self.gpu, l, (face_of, &level.node_children), &coarse(l.level))
+                self.atlas.level.records(self.gpu, l, (face_of, &level.node_children), &coarse(l.level))
             };
             kept_levels.iter().map(of).collect::<Result<Vec<_>, _>>()
         })?;
@@ -191,8 +193,7 @@ impl PointShading for GpuBeams<'_> {
             t.level_records += composited;
             t.coarse_records += coarse_count(0);
         });
-        *self.coarse_by_rays.lock().unwrap_or_else(PoisonError::into_inner) =
-            CoarseByRays { uncovered: coarse_count(1), curved: coarse_count(2) };
+        let coarse_by_rays = CoarseByRays { uncovered: coarse_count(1), curved: coarse_count(2) };
         // Per level of the flow (the eye's first), the points kept on the GPU.
         let mut here = vec![KeptHere::default(); levels.len()];
         here[0] = KeptHere { direct: &kept, rest: &[], records: &records };
@@ -234,8 +235,7 @@ impl PointShading for GpuBeams<'_> {
         let pixels = checked(self.gpu, || {
             let frame = self.shader.shade_checked(self.gpu, composite)?;
             if self.display {
-                *self.frame.lock().unwrap_or_else(PoisonError::into_inner) = Some(frame);
-                return Ok(FramePixels::Kept);
+                return Ok(FramePixels::Kept(DeviceImage::new(frame)));
             }
             frame.read_back(self.gpu).map(FramePixels::Read)
         });
@@ -243,6 +243,6 @@ impl PointShading for GpuBeams<'_> {
             t.shade_seconds += start.elapsed().as_secs_f64();
             t.gpu_composites += u64::from(pixels.is_ok());
         });
-        pixels.map(Some).map_err(BackendError::from)
+        Ok(TreeShading::Shaded { pixels: pixels?, coarse_by_rays })
     }
 }

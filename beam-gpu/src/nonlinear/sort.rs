@@ -5,8 +5,9 @@
 //! reference compacted to the dispatch's own. The fill writes wherever its caller says: into the
 //! queue's staging memory for what goes to the GPU ([`crate::staging`]), no list in between.
 
-use super::composite::{CompositeRecord, NONE};
+use super::records::CompositeRecord;
 use crate::GpuError;
+use crate::interface::NONE;
 use crate::shade::{PointShader, ShadeInput};
 use crate::staging::split_by_counts;
 use beam_math::glam::Vec3;

@@ -26,7 +26,7 @@ use beam_render::specular::MAX_DEPTH;
 use beam_render::tolerance::shading_eps;
 use beam_scene::scene::{Bump, Material, Scene};
 use bytemuck::{Pod, Zeroable};
-use std::sync::Mutex;
+use std::sync::atomic::AtomicU64;
 
 /// Uniforms of one dispatch.
 ///
@@ -166,7 +166,8 @@ pub struct RestJob<'a> {
     pub first: usize,
 }
 
-/// The Whitted waves for one scene: its mirror and glass triangles uploaded.
+/// The Whitted waves for one scene: its mirror and glass triangles uploaded, for the renderer's
+/// life (with one estimate each composite leaves for the next, `ends_per_point`).
 pub struct GpuWhitted {
     start: wgpu::ComputePipeline,
     wave: wgpu::ComputePipeline,
@@ -181,8 +182,9 @@ pub struct GpuWhitted {
     /// Whether the paths are followed depth first (else in waves only).
     depth_first: bool,
     /// The most ends per point the last depth-first dispatches appended: the room the next ones
-    /// start with.
-    pub(super) ends_per_point: Mutex<f64>,
+    /// start with (across frames: an estimate each composite leaves for the next; the bits of an
+    /// `f64`, read and written whole, no lock).
+    pub(super) ends_per_point: AtomicU64,
 }
 
 /// A dispatch's ends: their shading inputs, their paths' weights and destinations, how many.
@@ -265,7 +267,7 @@ impl GpuWhitted {
             .create_view(&Default::default()),
             eps: shading_eps(scene),
             depth_first: true,
-            ends_per_point: Mutex::new(1.0),
+            ends_per_point: AtomicU64::new(1.0f64.to_bits()),
         })
     }
 

@@ -11,7 +11,7 @@ use crate::buffers::{buffer_entry, read_all, storage};
 use crate::raytrace::RayTracer;
 use crate::shade::ShadeInput;
 use crate::{Gpu, GpuError};
-use std::sync::PoisonError;
+use std::sync::atomic::Ordering;
 
 /// Rounds of dispatches before the caller falls back to the waves: a dispatch that counted more
 /// ends than it had room for goes again with room for them all, split where they would not fit
@@ -64,7 +64,7 @@ impl GpuWhitted {
         let chunk = Self::per_dispatch(gpu);
         // A dispatch's points start at a storage binding's offset alignment.
         let align = (gpu.device.limits().min_storage_buffer_offset_alignment as usize / size_of::<ShadeInput>()).max(1);
-        let per_point = *self.ends_per_point.lock().unwrap_or_else(PoisonError::into_inner);
+        let per_point = f64::from_bits(self.ends_per_point.load(Ordering::Relaxed));
         let mut items = Vec::new();
         for (job, j) in jobs.iter().enumerate() {
             let whole = match j.points {
@@ -134,7 +134,7 @@ impl GpuWhitted {
         if !items.is_empty() {
             return Ok(None);
         }
-        *self.ends_per_point.lock().unwrap_or_else(PoisonError::into_inner) = most;
+        self.ends_per_point.store(most.to_bits(), Ordering::Relaxed);
         Ok(Some(found))
     }
 }

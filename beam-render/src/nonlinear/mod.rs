@@ -26,8 +26,8 @@ pub use face::{Exclude, SFace};
 pub use fit::Fit;
 pub use radiance::{Composite, LevelRadiance, NodeChildren, TexelRadiance, composite, sample_region};
 pub use renderer::{
-    BeamRasterizer, BeamRenderer, ChildLookups, CoarseByRays, DeviceWaits, EyeFaces, EyeView, FramePixels, KeepLevel,
-    KeptTotals, LevelLayout, LookupJob, PointShading, eye_by_rays,
+    BeamRasterizer, BeamRenderer, ChildLookups, CoarseByRays, DeviceImage, DeviceWaits, EyeFaces, EyeView, FramePixels,
+    KeepLevel, KeptFrame, KeptTotals, LevelLayout, LookupJob, PixelHits, PointShading, TreeShading, eye_by_rays,
 };
 pub use smesh::{MAX_NORMAL_SPREAD, SMesh};
 pub use texture::{

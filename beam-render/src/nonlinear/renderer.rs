@@ -4,6 +4,10 @@
 //! can) and a coarse S mesh's lookups (where it can). A renderer is their composition
 //! ([`BeamRenderer`]): beam-cpu's `CpuBeams` and beam-gpu's `GpuBeams` are two. A backend that can
 //! fail returns a [`BackendError`] (the CPU's never fails); its message is the backend's own.
+//!
+//! A frame's stages hand what a backend keeps on its device from one to the next as a value the
+//! caller holds, [`KeptFrame`]: the eye's view starts it, each level of the tree adds to it, and
+//! the composite consumes it (or hands it back, for a frame the caller shades after all).
 
 use super::beam_tree::Beam;
 use super::radiance::{LevelRadiance, TexelRadiance};
@@ -18,6 +22,8 @@ use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_scene::scene::{Camera, Scene};
 use rayon::prelude::*;
+use std::any::Any;
+use std::fmt;
 
 /// Renders a tree level's beams into their texel regions: the nearest scene hit of every texel's
 /// ray (000 Alg. 1; beam-cpu: each beam in parallel; beam-gpu: per-level atlases, 000 §3).
@@ -26,36 +32,119 @@ pub trait BeamRasterizer: Sync {
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError>;
 
     /// [`render_beams`](Self::render_beams) for a level of the beam tree whose texels the backend
-    /// may keep, where its [`PointShading::shade_tree`] shades the tree with `keep.options`: every
-    /// texel that hits a triangle from which the tree does not go on (`keep.continues`) becomes a
-    /// shading point on the backend, at its place in the level's radiance (`keep.layout`), and is
-    /// not handed back; the textures hold the others' hits (all of them `keep.with_hits`, for
-    /// lookups into the level). Returns the textures, and what was kept where it was. The default
-    /// keeps nothing.
+    /// may keep in the frame's `frame` (the value its eye's view returned), where its
+    /// [`PointShading::shade_tree`] shades the tree with `keep.options`: every texel that hits a
+    /// triangle from which the tree does not go on (`keep.continues`) becomes a shading point on
+    /// the backend, at its place in the level's radiance (`keep.layout`), and is not handed back;
+    /// the textures hold the others' hits (all of them `keep.with_hits`, for lookups into the
+    /// level). A level rendered again replaces what `frame` kept of it. Returns the textures, and
+    /// what was kept where it was. The default keeps nothing.
     fn render_level(
         &self,
         scene: &Scene,
         jobs: &[BeamJob<'_>],
         keep: &KeepLevel<'_>,
+        frame: &mut KeptFrame,
     ) -> Result<(Vec<BeamTexture>, Option<KeptTotals>), BackendError> {
-        let _ = keep;
+        let _ = (keep, frame);
         Ok((self.render_beams(scene, jobs)?, None))
     }
 
-    /// The points that [`render_level`](Self::render_level) kept and no
-    /// [`PointShading::shade_tree`] has shaded since, per level as texels of the level's radiance
-    /// (for a frame that the caller shades after all); none are kept after.
-    fn take_kept_levels(&self) -> Result<Vec<(usize, Vec<TexelRadiance>)>, BackendError> {
+    /// The points that [`render_level`](Self::render_level) kept in `frame`, per level as texels
+    /// of the level's radiance (for a frame that the caller shades after all), taken out of it.
+    fn take_kept_levels(&self, frame: &mut KeptFrame) -> Result<Vec<(usize, Vec<TexelRadiance>)>, BackendError> {
+        let _ = frame;
         Ok(Vec::new())
     }
 
-    /// The texels of tree level `level` whose fits [`render_level`](Self::render_level) summed
-    /// ([`KeptTotals::fits`]), per beam of the level, in texel order, with their points (each
-    /// beam's [`BeamTexture::points`] as they would have been handed back), for a frame that the
-    /// caller shades after all; empty where there are none.
-    fn kept_level_points(&self, level: usize) -> Result<Vec<Vec<TexelPoint>>, BackendError> {
-        let _ = level;
+    /// The texels of tree level `level` whose fits [`render_level`](Self::render_level) summed in
+    /// `frame` ([`KeptTotals::fits`]), per beam of the level, in texel order, with their points
+    /// (each beam's [`BeamTexture::points`] as they would have been handed back), for a frame that
+    /// the caller shades after all; empty where there are none.
+    fn kept_level_points(&self, level: usize, frame: &KeptFrame) -> Result<Vec<Vec<TexelPoint>>, BackendError> {
+        let _ = (level, frame);
         Ok(Vec::new())
+    }
+}
+
+/// What a backend keeps of one frame on its device between the frame's stages (the eye's view,
+/// each level of the beam tree, the composite), opaque to the caller, which holds it for the frame
+/// and hands it from stage to stage: [`EyeView::eye_view`] and [`EyeView::eye_faces`] return it,
+/// [`BeamRasterizer::render_level`] adds each level to it, [`PointShading::shade_tree`] consumes
+/// it (or hands it back, and the `take_kept_*` methods read what it holds for a frame the caller
+/// shades after all). It lives for one frame; a backend that keeps nothing leaves it empty (the
+/// default). Each backend holds its own type in it (beam-gpu: `GpuBeams`' kept points, hits and
+/// levels).
+#[derive(Default)]
+pub struct KeptFrame(Option<Box<dyn Any + Send>>);
+
+impl KeptFrame {
+    /// A frame holding a backend's `state`.
+    #[must_use]
+    pub fn new<T: Any + Send>(state: T) -> Self {
+        Self(Some(Box::new(state)))
+    }
+
+    /// Whether it holds nothing.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.0.is_none()
+    }
+
+    /// The backend's state, where it is a `T`.
+    #[must_use]
+    pub fn get<T: Any>(&self) -> Option<&T> {
+        self.0.as_ref()?.downcast_ref()
+    }
+
+    /// The backend's state, where it is a `T`.
+    pub fn get_mut<T: Any>(&mut self) -> Option<&mut T> {
+        self.0.as_mut()?.downcast_mut()
+    }
+
+    /// The backend's state as a `T`, a new one where it holds none (or another backend's, which
+    /// goes).
+    pub fn get_or_default<T: Any + Send + Default>(&mut self) -> &mut T {
+        if self.get::<T>().is_none() {
+            self.0 = Some(Box::new(T::default()));
+        }
+        self.0.as_mut().and_then(|b| b.downcast_mut()).expect("a `T` was just put in")
+    }
+
+    /// The backend's state, where it is a `T`; `None` where it holds none or another type.
+    #[must_use]
+    pub fn into_inner<T: Any>(self) -> Option<T> {
+        self.0?.downcast().ok().map(|b| *b)
+    }
+}
+
+impl fmt::Debug for KeptFrame {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(if self.is_empty() { "KeptFrame(empty)" } else { "KeptFrame(..)" })
+    }
+}
+
+/// A frame's pixels a backend left on its device for display ([`FramePixels::Kept`]), opaque to
+/// the caller, which hands it to the code that shows it: that code knows the backend's type
+/// (beam-gpu's `GpuFrame`, by [`DeviceImage::downcast`]). One frame's; it owns the pixels.
+pub struct DeviceImage(Box<dyn Any + Send>);
+
+impl DeviceImage {
+    /// The pixels `image` as a backend keeps them.
+    #[must_use]
+    pub fn new<T: Any + Send>(image: T) -> Self {
+        Self(Box::new(image))
+    }
+
+    /// The pixels as the backend's `T`, or this image back where they are not one.
+    pub fn downcast<T: Any>(self) -> Result<T, Self> {
+        self.0.downcast().map(|b| *b).map_err(Self)
+    }
+}
+
+impl fmt::Debug for DeviceImage {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("DeviceImage(..)")
     }
 }
 
@@ -109,13 +198,29 @@ pub struct KeptTotals {
 }
 
 /// Where [`PointShading::shade_tree`] left a frame's pixels.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Debug)]
 pub enum FramePixels {
     /// Read back: the eye's pixels, row-major.
     Read(Vec<Vec3>),
     /// Kept on the backend's device for display and not read back (000 §7.3 draws its frame where
-    /// it is shown); the backend hands it over itself (beam-gpu's `GpuBeams::take_frame`).
-    Kept,
+    /// it is shown).
+    Kept(DeviceImage),
+}
+
+/// What [`PointShading::shade_tree`] did with a frame.
+#[derive(Debug)]
+pub enum TreeShading {
+    /// Shaded by the backend, which consumed the frame's [`KeptFrame`].
+    Shaded {
+        /// The frame's pixels.
+        pixels: FramePixels,
+        /// Of the mirror and glass points under coarse S-mesh faces that the backend composited
+        /// itself, those it sent to the rays.
+        coarse_by_rays: CoarseByRays,
+    },
+    /// Not shaded by the backend: the caller shades the frame, with what the backend kept, handed
+    /// back (the `take_kept_*` methods read it).
+    HandedBack(KeptFrame),
 }
 
 /// Shades points where a backend can; `Ok(None)` hands the work back to the caller, which shades on
@@ -134,8 +239,10 @@ pub trait PointShading: Sync {
         Ok(None)
     }
 
-    /// The radiance flow of a built tree (`levels[0]` the eye's view): the eye's pixels, or
-    /// `Ok(None)` when this backend does not run it (beam-cpu's `composite_levels` then does).
+    /// The radiance flow of a built tree (`levels[0]` the eye's view), with what the backend kept
+    /// of the frame (`frame`, from its eye's view and levels): the eye's pixels
+    /// ([`TreeShading::Shaded`]), or `frame` handed back when this backend does not run it
+    /// (beam-cpu's `composite_levels` then does; the default).
     fn shade_tree(
         &self,
         scene: &Scene,
@@ -143,9 +250,10 @@ pub trait PointShading: Sync {
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<FramePixels>, BackendError> {
+        frame: KeptFrame,
+    ) -> Result<TreeShading, BackendError> {
         let _ = (scene, smesh, options, caustics, levels);
-        Ok(None)
+        Ok(TreeShading::HandedBack(frame))
     }
 }
 
@@ -153,61 +261,59 @@ pub trait PointShading: Sync {
 /// radiance flow.
 pub trait EyeView: RayQueries {
     /// The nearest hit of the primary ray through every pixel centre of `camera` (row-major) that
-    /// hits, as `(pixel, ray, hit)` in pixel order. A backend whose [`PointShading::shade_tree`]
+    /// hits, as `(pixel, ray, hit)` in pixel order, and what the backend kept of the frame, which
+    /// the caller hands to the frame's later stages. A backend whose [`PointShading::shade_tree`]
     /// shades the eye's diffuse, glossy and emissive pixels itself may keep those of `options`'
     /// region and leave them out ([`take_kept_eye`](Self::take_kept_eye) hands them back); every
-    /// mirror and glass hit of the frame is returned.
+    /// mirror and glass hit of the frame is returned. The default keeps nothing.
     fn eye_view(
         &self,
         scene: &Scene,
         camera: &Camera,
         options: &RenderOptions,
-    ) -> Result<Vec<(usize, Ray, Hit)>, BackendError> {
+    ) -> Result<(PixelHits, KeptFrame), BackendError> {
         let _ = options;
-        eye_by_rays(self, scene, camera)
+        Ok((eye_by_rays(self, scene, camera)?, KeptFrame::default()))
     }
 
     /// [`eye_view`](Self::eye_view) as the roots of the beam tree over `smesh`: the hits handed
     /// back, and per S-mesh face the pixels the backend kept that see it. A backend whose
     /// [`PointShading::shade_tree`] composites the eye's pixels itself may keep the mirror and glass
     /// hits on S-mesh faces, each counted at its face ([`EyeFaces`]; under a coarse face, the one
-    /// [`SMesh::locate`] chooses); the default keeps none of them.
+    /// [`SMesh::locate`] chooses); the default keeps none of them. With it, what the backend kept
+    /// of the frame, as [`eye_view`](Self::eye_view)'s.
     fn eye_faces(
         &self,
         scene: &Scene,
         smesh: &SMesh,
         camera: &Camera,
         options: &RenderOptions,
-    ) -> Result<EyeFaces, BackendError> {
-        Ok(EyeFaces::handed_back(self.eye_view(scene, camera, options)?, smesh))
+    ) -> Result<(EyeFaces, KeptFrame), BackendError> {
+        let (hits, frame) = self.eye_view(scene, camera, options)?;
+        Ok((EyeFaces::handed_back(hits, smesh), frame))
     }
 
-    /// The mirror and glass hits that [`eye_faces`](Self::eye_faces) kept and no
-    /// [`PointShading::shade_tree`] has composited since, as `(pixel, ray, hit)` (for a frame that
-    /// the caller shades after all); none are kept after.
-    fn take_kept_eye_hits(&self, scene: &Scene) -> Result<Vec<(usize, Ray, Hit)>, BackendError> {
-        let _ = scene;
+    /// The mirror and glass hits that [`eye_faces`](Self::eye_faces) kept in `frame`, as
+    /// `(pixel, ray, hit)` (for a frame that the caller shades after all), taken out of it.
+    fn take_kept_eye_hits(&self, scene: &Scene, frame: &mut KeptFrame) -> Result<Vec<(usize, Ray, Hit)>, BackendError> {
+        let _ = (scene, frame);
         Ok(Vec::new())
     }
 
-    /// The eye's pixels that [`eye_view`](Self::eye_view) kept and no
-    /// [`PointShading::shade_tree`] has shaded since, as texels of the eye's level of the radiance
-    /// flow (for a frame that the caller shades after all); none are kept after.
-    fn take_kept_eye(&self) -> Result<Vec<TexelRadiance>, BackendError> {
+    /// The eye's pixels that [`eye_view`](Self::eye_view) kept in `frame`, as texels of the eye's
+    /// level of the radiance flow (for a frame that the caller shades after all), taken out of it.
+    fn take_kept_eye(&self, frame: &mut KeptFrame) -> Result<Vec<TexelRadiance>, BackendError> {
+        let _ = frame;
         Ok(Vec::new())
-    }
-
-    /// Of the mirror and glass points under coarse S-mesh faces that the backend composites
-    /// itself (the hits [`eye_faces`](Self::eye_faces) kept, the texels of levels whose
-    /// [`KeptTotals::records`] it makes), those the last [`PointShading::shade_tree`] sent to the
-    /// rays since the last call, as beam-cpu's composite counts its own; zero after.
-    fn take_coarse_by_rays(&self) -> CoarseByRays {
-        CoarseByRays::default()
     }
 }
 
+/// The eye's hits of a frame's pixels, `(pixel, ray, hit)` in pixel order ([`EyeView::eye_view`]).
+pub type PixelHits = Vec<(usize, Ray, Hit)>;
+
 /// Mirror and glass points under coarse S-mesh faces that a backend's composite traced by rays
-/// ([`EyeView::take_coarse_by_rays`]).
+/// ([`TreeShading::Shaded`]): of the hits [`EyeView::eye_faces`] kept and the texels of levels
+/// whose [`KeptTotals::records`] it makes, as beam-cpu's composite counts its own.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CoarseByRays {
     /// Under a face with child beams, none of which holds the point's scattered rays.

@@ -113,11 +113,11 @@ pub fn gpu_eye_locates_as_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
     let camera = scene.camera.with_size(width, height);
     let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
     let eye = renderer.eye_faces(&scene, &smesh, &camera, &RenderOptions::exact(width, height));
-    let eye = eye.map_err(|e| e.to_string())?;
+    let (eye, mut frame) = eye.map_err(|e| e.to_string())?;
     if let Some((i, _, hit)) = eye.hits.iter().find(|(_, _, h)| !smesh.candidates(h.prim).is_empty()) {
         return Err(format!("pixel {i}: handed back, though triangle {} has S-mesh faces", hit.prim));
     }
-    let kept = renderer.take_kept_eye_hits(&scene).map_err(|e| e.to_string())?;
+    let kept = renderer.take_kept_eye_hits(&scene, &mut frame).map_err(|e| e.to_string())?;
     if kept.len() as u64 != eye.kept {
         return Err(format!("{} kept hits read back, {} counted", kept.len(), eye.kept));
     }

@@ -33,9 +33,9 @@ pub fn gpu_eye_view_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String
         let camera = scene.camera.with_size(width, height);
         let crop = options.region();
         let (frame, extent) = (camera.frame(), scene.bounds().extent().length());
-        let want = CpuBeams.eye_view(&scene, &camera, &options).map_err(|e| e.to_string())?;
-        let got = on_gpu.eye_view(&scene, &camera, &options).map_err(|e| e.to_string())?;
-        let kept = on_gpu.take_kept_eye().map_err(|e| e.to_string())?;
+        let (want, _) = CpuBeams.eye_view(&scene, &camera, &options).map_err(|e| e.to_string())?;
+        let (got, mut kept_frame) = on_gpu.eye_view(&scene, &camera, &options).map_err(|e| e.to_string())?;
+        let kept = on_gpu.take_kept_eye(&mut kept_frame).map_err(|e| e.to_string())?;
         // Per pixel, the GPU's triangle and hit point.
         let mut seen: Vec<Option<(u32, Vec3)>> = vec![None; (width * height) as usize];
         for &(i, ray, hit) in &got {

@@ -11,7 +11,7 @@ use beam_gpu::nonlinear::GpuBeams;
 use beam_gpu::shade::PointShader;
 use beam_math::glam::Vec3;
 use beam_render::nonlinear::{BeamJob, BeamRasterizer, Degree, Exclude};
-use beam_render::nonlinear::{EyeView, Fit, KeepLevel, LevelLayout, SMesh, TexelHit};
+use beam_render::nonlinear::{EyeView, Fit, KeepLevel, KeptFrame, LevelLayout, SMesh, TexelHit};
 use beam_render::options::RenderOptions;
 use beam_scene::scene::{self, Simplify};
 use std::collections::BTreeMap;
@@ -74,7 +74,8 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
         // (A renderer compiles every pipeline: one scene's is enough for this.)
         if name == "bumpy-mirror" {
             let reading_back = fresh()?.reading_levels_back();
-            if reading_back.render_level(&scene, &jobs, &keep(&[], false)).map_err(|e| e.to_string())?.1.is_some() {
+            let level = reading_back.render_level(&scene, &jobs, &keep(&[], false), &mut KeptFrame::default());
+            if level.map_err(|e| e.to_string())?.1.is_some() {
                 return Err(format!("{name}: a renderer reading levels back kept a level"));
             }
         }
@@ -103,7 +104,8 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
                 let fail = |m: String| format!("{name} by {way}, going on from {what} (hits: {with_hits}): {m}");
                 let want: Vec<_> = all.iter().filter(|w| !continues[w.1 as usize]).collect();
                 let curved = want.iter().filter(|w| scene.smooth_normals.contains_key(&w.1)).count() as u64;
-                let level = renderer.render_level(&scene, &jobs, &keep(continues, with_hits));
+                let mut frame = KeptFrame::default();
+                let level = renderer.render_level(&scene, &jobs, &keep(continues, with_hits), &mut frame);
                 let (kept_textures, Some(totals)) = level.map_err(|e| e.to_string())? else {
                     return Err(fail("nothing kept".into()));
                 };
@@ -136,7 +138,7 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
                         "the textures' hits are not those handed back (points {worst_points:.1e})"
                     )));
                 }
-                let taken = renderer.take_kept_levels().map_err(|e| e.to_string())?;
+                let taken = renderer.take_kept_levels(&mut frame).map_err(|e| e.to_string())?;
                 let [(1, got)] = &taken[..] else {
                     return Err(fail(format!("{} levels taken", taken.len())));
                 };
@@ -157,7 +159,7 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
                         want.len()
                     )));
                 }
-                if !renderer.take_kept_levels().map_err(|e| e.to_string())?.is_empty() {
+                if !renderer.take_kept_levels(&mut frame).map_err(|e| e.to_string())?.is_empty() {
                     return Err(fail("points kept after they were taken".into()));
                 }
                 if !with_hits {
@@ -268,7 +270,7 @@ pub fn gpu_summed_fits_equal_host_fits(_: Backend, _: &Config) -> Result<Outcome
         let options = RenderOptions::exact(64, 64);
         let camera = scene.camera.with_size(64, 64);
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
-        renderer.eye_faces(&scene, &smesh, &camera, &options).map_err(|e| e.to_string())?;
+        let (_, mut frame) = renderer.eye_faces(&scene, &smesh, &camera, &options).map_err(|e| e.to_string())?;
         let beams = face_beams(&scene, &smesh, (camera.position, Degree::S3), 0..smesh.faces.len());
         let jobs: Vec<BeamJob<'_>> =
             beams.iter().map(|(beam, f)| BeamJob { beam, size: 16, exclude: smesh.exclude(*f) }).collect();
@@ -282,12 +284,13 @@ pub fn gpu_summed_fits_equal_host_fits(_: Backend, _: &Config) -> Result<Outcome
             faces: smesh.faces.len(),
             continues: &continues,
         };
-        let kept = || renderer.render_level(&scene, &jobs, &keep).map_err(|e| e.to_string());
-        let (textures, totals) = kept()?;
+        let kept =
+            |frame: &mut KeptFrame| renderer.render_level(&scene, &jobs, &keep, frame).map_err(|e| e.to_string());
+        let (textures, totals) = kept(&mut frame)?;
         if !totals.is_some_and(|t| t.fits) || textures.iter().any(|t| !t.points.is_empty()) {
             return Err(format!("{name}: fits not summed on the GPU ({totals:?})"));
         }
-        let points = renderer.kept_level_points(1).map_err(|e| e.to_string())?;
+        let points = renderer.kept_level_points(1, &frame).map_err(|e| e.to_string())?;
         if points.len() != jobs.len() {
             return Err(format!("{name}: texels of {} beams read back for {}", points.len(), jobs.len()));
         }
@@ -319,7 +322,7 @@ pub fn gpu_summed_fits_equal_host_fits(_: Backend, _: &Config) -> Result<Outcome
         if worst > 2e-6 {
             return Err(format!("{name}: sums up to {worst:.1e} a sample from the host's"));
         }
-        let (again, _) = kept()?;
+        let (again, _) = kept(&mut frame)?;
         if textures.iter().zip(&again).any(|(a, b)| a.fits != b.fits) {
             return Err(format!("{name}: the same level summed to other bits"));
         }

@@ -4,7 +4,7 @@ use beam_cpu::nonlinear::CpuBeams;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
-use beam_render::nonlinear::{BeamJob, BeamRasterizer, FramePixels, LevelRadiance, SMesh};
+use beam_render::nonlinear::{BeamJob, BeamRasterizer, FramePixels, KeptFrame, LevelRadiance, SMesh, TreeShading};
 use beam_render::options::RenderOptions;
 use beam_scene::scene;
 use std::sync::Mutex;
@@ -65,11 +65,13 @@ impl beam_render::nonlinear::PointShading for TwinShading {
         options: &RenderOptions,
         caustics: Option<&beam_render::irradiance_map::IrradianceMap>,
         levels: &[LevelRadiance],
-    ) -> Result<Option<FramePixels>, BackendError> {
+        _frame: KeptFrame,
+    ) -> Result<TreeShading, BackendError> {
         *self.0.lock().map_err(|e| BackendError::new("cpu", e.to_string()))? = (levels.to_vec(), caustics.cloned());
         let shade = |points: &[beam_render::nonlinear::ShadePoint]| {
             beam_cpu::nonlinear::shade_points(self, scene, options, caustics, points)
         };
-        beam_cpu::nonlinear::composite_levels(scene, smesh, levels, &shade).map(|p| Some(FramePixels::Read(p)))
+        let pixels = beam_cpu::nonlinear::composite_levels(scene, smesh, levels, &shade)?;
+        Ok(TreeShading::Shaded { pixels: FramePixels::Read(pixels), coarse_by_rays: Default::default() })
     }
 }
