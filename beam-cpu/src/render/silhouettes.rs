@@ -9,8 +9,7 @@
 
 use beam_math::glam::Vec3;
 use beam_math::{Aabb, Triangle};
-
-use super::shadow_beam::DEPTH_EPS;
+use beam_scene::tolerance::DEPTH_EPS;
 
 /// One triangle's part in an edge's weight.
 #[derive(Clone, Copy, Debug)]
