@@ -1,7 +1,7 @@
 //! Headless device set-up: an adapter without a window or surface (Mesa lavapipe in CI, a real GPU
 //! where there is one), its name and backend, and a clear error when there is none.
 
-use crate::GpuError;
+use crate::error::GpuError;
 use beam_render::cpu_clock::thread_cpu_seconds;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -24,7 +24,7 @@ pub struct Gpu {
     /// Mappable buffers that readbacks handed back, for the next ones ([`crate::buffers::readback`]).
     pub(crate) readbacks: Mutex<Vec<wgpu::Buffer>>,
     /// Scratch buffers that passes handed back, for the next ones ([`crate::scratch::scratch`]).
-    pub(crate) scratch: crate::scratch::ScratchPool,
+    pub(crate) scratch: crate::scratch::pool::ScratchPool,
 }
 
 /// What beam's passes have cost on the host side of the bus so far, summed over its calls: the
@@ -123,7 +123,7 @@ impl Gpu {
             uploaded: zero(),
             unpack_ns: zero(),
             readbacks: Mutex::default(),
-            scratch: crate::scratch::ScratchPool::default(),
+            scratch: crate::scratch::pool::ScratchPool::default(),
         }
     }
 

@@ -12,16 +12,16 @@
 use super::shadow_beam::BeamStats;
 use beam_bvh::FlatBvh;
 use beam_math::Triangle;
-use beam_math::glam::{Vec2, Vec3, Vec4};
+use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::{BeamFrame, KEEP_CORNERS, Part, ProjectedTriangle, Section, merge, split_section};
 use node_view::NodeView;
+use piece::InverseDepth;
+pub use piece::{NEAR, Piece};
 use seeds::seen_by_rays;
 
 mod node_view;
+mod piece;
 mod seeds;
-
-/// Near clipping depth of the eye beam, in units of the image-plane distance.
-pub const NEAR: f32 = 1e-4;
 
 /// The fuzzy side tests of a split (001 App. A), as a fraction of the piece's size: corners this
 /// close to a triangle edge count as on it, so the mesh's shared vertices do not cut slivers far
@@ -33,113 +33,6 @@ const SPLIT_EPS: f32 = 1e-5;
 /// differs only by rounding, and a larger tolerance moves outlines enough to show in the coverage
 /// (1e-5 left pixels of the conference room 1.6e-3 off a coverage sum of one).
 const JOIN_EPS: f32 = 1e-8;
-
-/// Planes whose inverse depths differ by at most this fraction over a piece count as the same
-/// plane there: the one already seen keeps the piece (rays pick either, by rounding).
-const COPLANAR: f32 = 1e-5;
-
-/// `1/s` of a plane as an affine function `k0 + k·c` of the image-plane point `c` (larger = nearer),
-/// and the plane itself, `n·x = w` with the eye where `n·x > w`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct InverseDepth {
-    k0: f32,
-    k: Vec2,
-    plane: Vec4,
-}
-
-impl InverseDepth {
-    /// For the plane through `tri`; `None` when the plane passes through the apex (seen edge-on).
-    fn of(frame: &BeamFrame, tri: &Triangle) -> Option<Self> {
-        let n = tri.scaled_normal();
-        let h = n.dot(frame.apex - tri.v[0]);
-        if h.abs() <= 1e-12 * n.length() * (frame.apex - tri.v[0]).length() {
-            return None;
-        }
-        // s(c) = −h / (n·w(c)) with w(c) = origin − apex + c.x·u + c.y·v.
-        let k0 = -n.dot(frame.origin - frame.apex) / h;
-        let facing = (n * h.signum()).normalize();
-        let plane = facing.extend(facing.dot(tri.v[0]));
-        Some(Self { k0, k: Vec2::new(-n.dot(frame.u), -n.dot(frame.v)) / h, plane })
-    }
-
-    /// True when the box `[min, max]` lies wholly behind the plane, seen from the eye.
-    fn hides(&self, min: Vec3, max: Vec3) -> bool {
-        let n = self.plane.truncate();
-        let front = n.dot(Vec3::select(n.cmpgt(Vec3::ZERO), max, min));
-        front - self.plane.w < -1e-5 * (front.abs() + self.plane.w.abs())
-    }
-
-    fn at(&self, c: Vec2) -> f32 {
-        self.k0 + self.k.dot(c)
-    }
-
-    fn minus(&self, o: &Self) -> Self {
-        Self { k0: self.k0 - o.k0, k: self.k - o.k, plane: self.plane }
-    }
-}
-
-/// A piece of the eye beam and the triangle it sees (none: the background).
-#[derive(Clone, Copy, Debug)]
-pub struct Piece {
-    /// Cross-section on the image plane.
-    pub section: Section,
-    /// The visible triangle.
-    pub prim: Option<u32>,
-    depth: Option<InverseDepth>,
-    /// Bounding rectangle of the section.
-    lo: Vec2,
-    hi: Vec2,
-    /// Smallest `1/s` over the section, at its farthest point (0: unbounded, the background).
-    far_inv: f32,
-}
-
-impl Piece {
-    fn new(section: Section, prim: Option<u32>, depth: Option<InverseDepth>) -> Self {
-        let (lo, hi) = section.bounds();
-        let far_inv =
-            depth.map_or(0.0, |d| section.vertices().iter().fold(f32::INFINITY, |m, &c| m.min(d.at(c))).max(0.0));
-        Self { section, prim, depth, lo, hi, far_inv }
-    }
-
-    /// No piece: what a piece joined into another leaves behind (it meets nothing).
-    fn gone() -> Self {
-        Self {
-            section: Section::new(),
-            prim: None,
-            depth: None,
-            lo: Vec2::INFINITY,
-            hi: Vec2::NEG_INFINITY,
-            far_inv: 0.0,
-        }
-    }
-
-    /// True for a piece joined into another.
-    fn is_gone(&self) -> bool {
-        self.section.is_empty()
-    }
-
-    /// Another cross-section seeing the same triangle at the same depths.
-    #[must_use]
-    pub fn with_section(&self, section: Section) -> Self {
-        Self::new(section, self.prim, self.depth)
-    }
-
-    /// How much nearer a plane of inverse depth `depth` is than the piece's own, over the piece:
-    /// the smallest and largest of their difference `g` (attained at corners: `g` is affine),
-    /// snapped to zero within [`COPLANAR`] of the piece's inverse depth, so that rounding never
-    /// lets one of two coplanar triangles cut the other's pieces into slivers.
-    fn nearer(&self, owner: &InverseDepth, depth: &InverseDepth) -> (f32, f32) {
-        let g = depth.minus(owner);
-        let (mut min, mut max, mut size) = (f32::INFINITY, f32::NEG_INFINITY, 0.0f32);
-        for &c in self.section.vertices() {
-            let v = g.at(c);
-            (min, max, size) = (min.min(v), max.max(v), size.max(owner.at(c).abs()));
-        }
-        let tol = COPLANAR * size;
-        let snap = |v: f32| if v.abs() <= tol { 0.0 } else { v };
-        (snap(min), snap(max))
-    }
-}
 
 /// The eye beam of one image region traced through the BVH as a list of pieces (001 §3.3–3.4).
 /// Each node is visited with the pieces that may see into it, nearest child first; a leaf's

@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 use trace::{EyeTraced, TileRadiance, Trace, Traced};
 
+mod context;
 mod emitters;
 mod light_beam;
 mod light_samples;
@@ -21,7 +22,7 @@ mod stats;
 mod trace;
 mod wavefront;
 
-use shading::{Context, Lights, Surface, Thread};
+use context::{Context, Thread, pixel_seed};
 use stats::Counters;
 pub use stats::RenderStats;
 
@@ -29,15 +30,6 @@ pub use shading::{shade_point, stratified, trace_radiance};
 pub use wavefront::{light_seen, pixel_fragments, render_queries};
 
 use beam_render::options::{Method, RenderOptions};
-
-/// What a primary ray's shade point's seed (of its shadow-ray samples) is its pixel's seed
-/// ([`pixel_seed`]) xor.
-pub(super) const SHADE_SEED: u64 = 0x5EED;
-
-/// The seed of pixel `(x, y)`'s primary rays for the render's seed `seed`.
-pub(super) fn pixel_seed(seed: u64, x: u32, y: u32) -> u64 {
-    seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-}
 
 /// Render `scene` (the pixels of `options.region` only, each as in the whole frame); `row_done` is
 /// called after each image row (for a progress bar).

@@ -19,8 +19,9 @@ use beam_math::{Aabb, Triangle};
 
 mod candidates;
 mod silhouette;
+mod winding_scratch;
 
-pub(crate) use silhouette::WindingScratch;
+pub(crate) use winding_scratch::WindingScratch;
 
 use beam_render::tolerance::DEPTH_EPS;
 

@@ -9,7 +9,6 @@
 
 use beam_math::glam::Vec3;
 use beam_math::{Aabb, Triangle};
-
 use beam_render::tolerance::DEPTH_EPS;
 
 /// One triangle's part in an edge's weight.

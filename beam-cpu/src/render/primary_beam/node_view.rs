@@ -1,7 +1,7 @@
 //! How the eye sees a BVH node, and whether a piece of the eye beam may see into it (001 §3.4:
 //! a hit beam goes on only while some node may be nearer than what it sees).
 
-use super::{NEAR, Piece};
+use super::piece::{NEAR, Piece};
 use beam_bvh::FlatNode;
 use beam_math::glam::{BVec3, Vec2, Vec3};
 use beam_math::polybeam::BeamFrame;

@@ -5,8 +5,8 @@
 //! 2018), so that a part the samples see wholly lit or wholly hidden comes out exact, and the
 //! interval `[0, unoccluded irradiance of that part]` is the error's bound.
 
+use super::context::{Context, Thread};
 use super::light_samples::{light_sample, sample_light};
-use super::{Context, Thread};
 use crate::render::lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 use crate::render::shadow_beam::{ShadowBeam, light_beam, trace_bvh};
 use crate::render::silhouettes::WindingWork;

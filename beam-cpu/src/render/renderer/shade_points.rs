@@ -5,7 +5,7 @@
 //! light apiece for differences below the flat shading of neighbouring facets; silhouettes, creases
 //! and material boundaries keep their fragments apart, so their coverage stays exact.
 
-use super::Surface;
+use super::context::Surface;
 use beam_scene::scene::Scene;
 
 /// Cosine of the largest angle between the normals of fragments shaded as one.

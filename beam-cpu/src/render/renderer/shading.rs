@@ -3,70 +3,22 @@
 //! irradiance, and mirror and glass followed by Whitted rays; per tile, the shade points of a
 //! region with their candidate occluders gathered first.
 
-use super::Counters;
+use super::context::{Context, Lights, Surface, Thread};
 use super::emitters::Emitter;
 use super::light_samples::{cosine_direction, light_integrand, light_sample, point_light, sample_light, tangents};
 use crate::render::eye_regions::{Region, TILE};
 use crate::render::lambert::{point_source_irradiance, polygon_irradiance};
-use crate::render::shadow_beam::{ShadowScratch, WindingScratch};
-use crate::render::tile_shadows::{BLOCKS, TileShadows};
+use crate::render::tile_shadows::BLOCKS;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::irradiance_map::IrradianceMap;
 use beam_render::options::{Method, RenderOptions, Shading};
-use beam_render::queries::AnyHit;
 use beam_render::specular::{MAX_DEPTH, specular_rays};
-use beam_render::tolerance::{DEPTH_EPS, shading_eps};
+use beam_render::tolerance::DEPTH_EPS;
 use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use std::time::Instant;
-
-/// What a thread keeps from one shade point to the next: its counters, its shadow-beam buffers and
-/// the candidate occluders of the tile it is shading.
-#[derive(Default)]
-pub(super) struct Thread {
-    pub(super) c: Counters,
-    pub(super) scratch: ShadowScratch,
-    pub(super) tile: TileShadows,
-    /// Block of the tile the current pixel lies in.
-    pub(super) block: usize,
-    /// The buffers of a winding pass.
-    pub(super) winding: WindingScratch,
-    /// The lights that face the tile being shaded (`None`: every light).
-    pub(super) facing: Option<Vec<u32>>,
-}
-
-pub(super) struct Context<'a> {
-    pub(super) scene: &'a Scene,
-    pub(super) options: RenderOptions,
-    pub(super) eps: f32,
-    pub(super) occluded: &'a AnyHit<'a>,
-    /// Irradiance arriving at diffuse surfaces by paths the direct light does not follow (caustics).
-    pub(super) caustics: Option<&'a IrradianceMap>,
-    /// The lights shaded: the scene's (in the order of `scene.lights`, so that their indices are
-    /// the scene's), then, with beams, a constant environment's ([`Environment::lights`], the sky
-    /// as the six faces of a cube about the scene).
-    pub(super) lights: Vec<Light>,
-    /// The lights' geometry, in the order of `lights`.
-    pub(super) emitters: Vec<Emitter>,
-}
-
-impl<'a> Context<'a> {
-    pub(super) fn new(
-        scene: &'a Scene,
-        options: &RenderOptions,
-        occluded: &'a AnyHit<'a>,
-        caustics: Option<&'a IrradianceMap>,
-    ) -> Self {
-        let mut lights = scene.lights.clone();
-        if options.method == Method::Beam {
-            lights.extend(scene.environment.lights(scene.bounds()));
-        }
-        let emitters = lights.iter().map(Emitter::of).collect();
-        Self { scene, options: *options, eps: shading_eps(scene), occluded, caustics, lights, emitters }
-    }
-}
 
 impl Context<'_> {
     /// Radiance arriving along `ray` (after `depth` mirror and glass bounces): the surface it
@@ -311,23 +263,11 @@ impl Context<'_> {
     }
 }
 
-/// A visible surface point of a tile to shade: pixel, weight in it, triangle, point, unit view
-/// direction and the seed of its shadow-ray samples.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Surface {
-    pub(super) x: u32,
-    pub(super) y: u32,
-    pub(super) weight: f32,
-    pub(super) prim: u32,
-    pub(super) q: Vec3,
-    pub(super) d: Vec3,
-    pub(super) seed: u64,
-}
-
 impl Context<'_> {
     /// Shade the surface points of the tile whose corner is `(x0, y0)` into `pixels`, the
     /// row-major pixels of `part`, `weight ×` radiance each. With beams, the points' candidate
-    /// occluders are gathered first, a block of the tile at a time ([`TileShadows`]).
+    /// occluders are gathered first, a block of the tile at a time
+    /// ([`TileShadows`](crate::render::tile_shadows::TileShadows)).
     pub(super) fn shade_tile(
         &self,
         surfaces: &[Surface],
@@ -393,15 +333,6 @@ impl Context<'_> {
         }
         t.facing = Some(list);
     }
-}
-
-/// Which lights a shade point gathers directly.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Lights {
-    /// Every light.
-    All,
-    /// Area lights only: point lights come from lit fragments (001 §4.2).
-    AreaOnly,
 }
 
 /// The shading every renderer shares, for one shade point: the radiance leaving point `p` of

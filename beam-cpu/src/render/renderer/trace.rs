@@ -2,11 +2,12 @@
 //! a band of tile rows, or exact eye beams (001 §3) for a region, each followed by the shading of
 //! what they see a tile at a time ([`Context::shade_tile`]).
 
+use super::context::{Context, Lights, SHADE_SEED, Surface, Thread};
 use super::shade_points::merge_smooth;
-use super::{Context, Counters, Lights, SHADE_SEED, Surface, Thread};
+use super::shading::stratified;
+use super::stats::Counters;
 use crate::render::eye_budget::eye_beam_pays;
 use crate::render::eye_regions::{EyeStats, Fragment, Region, TILE, region_fragments};
-use crate::render::renderer::stratified;
 use beam_math::glam::Vec3;
 use beam_scene::scene::Camera;
 use rand::SeedableRng;

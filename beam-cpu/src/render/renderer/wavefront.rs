@@ -4,7 +4,8 @@
 //! every shade point they found (`plan`: shadow rays and shadow-beam queries; `gather`: the
 //! backend's answers summed into irradiance), the band's pixels assembled.
 
-use super::{Context, Counters, RenderStats};
+use super::context::Context;
+use super::stats::{Counters, RenderStats};
 use crate::render::eye_regions::{Region, paste_within};
 use crate::render::image::Image;
 use batches::MAX_BATCH;

@@ -10,12 +10,13 @@
 //! not the triangles behind them.
 
 use super::ShadowBeam;
+use super::winding_scratch::WindingScratch;
 use crate::render::lambert::edge_irradiance_f64;
 use crate::render::packet::Projector;
 use crate::render::silhouettes::{SilEdge, orientation};
 use beam_math::Triangle;
 use beam_math::glam::{Vec2, Vec3};
-use beam_math::polybeam::{Arrangement, Section, WindingEdge, WindingError, orient2d};
+use beam_math::polybeam::{Section, WindingEdge, WindingError, orient2d};
 
 /// What the pass found: irradiance per unit radiance at the apex (normal `n`) and the lit area on
 /// the light plane.
@@ -23,16 +24,6 @@ use beam_math::polybeam::{Arrangement, Section, WindingEdge, WindingError, orien
 pub(crate) struct Lit {
     pub(crate) irradiance: f32,
     pub(crate) area: f32,
-}
-
-/// Buffers a thread reuses from one pass to the next.
-#[derive(Default)]
-pub(crate) struct WindingScratch {
-    /// Every projected edge of the cycle (for the anchor's winding number).
-    cycle: Vec<WindingEdge>,
-    /// Those over the light's bounding rectangle.
-    over: Vec<WindingEdge>,
-    arrangement: Box<Arrangement>,
 }
 
 /// A position's bits, −0 and +0 as one: the canonical order of an edge's ends.

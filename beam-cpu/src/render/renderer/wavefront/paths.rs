@@ -6,7 +6,8 @@
 use super::batches::closest_hits;
 use super::eye::EYE_SAMPLES;
 use crate::render::eye_regions::Region;
-use crate::render::renderer::{Context, pixel_seed, stratified};
+use crate::render::renderer::context::{Context, pixel_seed};
+use crate::render::renderer::shading::stratified;
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;

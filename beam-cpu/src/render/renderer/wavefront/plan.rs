@@ -6,10 +6,10 @@
 //! from the seed of its pixel.
 
 use super::paths::ShadePoint;
+use crate::render::renderer::context::{Context, SHADE_SEED, pixel_seed};
 use crate::render::renderer::light_samples::{
     cosine_direction, light_integrand, light_sample, point_light, sample_light, tangents,
 };
-use crate::render::renderer::{Context, SHADE_SEED, pixel_seed};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::options::{Method, Shading};

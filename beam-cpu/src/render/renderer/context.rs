@@ -1,0 +1,91 @@
+//! What every stage of the renderer shares: the shading context of a render ([`Context`]), what a
+//! thread keeps between shade points ([`Thread`]), the surface points a tile shades ([`Surface`])
+//! and which lights they gather ([`Lights`]), and the seeds of a pixel's samples.
+
+use super::emitters::Emitter;
+use super::stats::Counters;
+use crate::render::shadow_beam::{ShadowScratch, WindingScratch};
+use crate::render::tile_shadows::TileShadows;
+use beam_math::glam::Vec3;
+use beam_render::irradiance_map::IrradianceMap;
+use beam_render::options::{Method, RenderOptions};
+use beam_render::queries::AnyHit;
+use beam_render::tolerance::shading_eps;
+use beam_scene::scene::{Light, Scene};
+
+/// What a primary ray's shade point's seed (of its shadow-ray samples) is its pixel's seed
+/// ([`pixel_seed`]) xor.
+pub(super) const SHADE_SEED: u64 = 0x5EED;
+
+/// The seed of pixel `(x, y)`'s primary rays for the render's seed `seed`.
+pub(super) fn pixel_seed(seed: u64, x: u32, y: u32) -> u64 {
+    seed ^ (u64::from(y) << 32 | u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+}
+
+/// What a thread keeps from one shade point to the next: its counters, its shadow-beam buffers and
+/// the candidate occluders of the tile it is shading.
+#[derive(Default)]
+pub(super) struct Thread {
+    pub(super) c: Counters,
+    pub(super) scratch: ShadowScratch,
+    pub(super) tile: TileShadows,
+    /// Block of the tile the current pixel lies in.
+    pub(super) block: usize,
+    /// The buffers of a winding pass.
+    pub(super) winding: WindingScratch,
+    /// The lights that face the tile being shaded (`None`: every light).
+    pub(super) facing: Option<Vec<u32>>,
+}
+
+pub(super) struct Context<'a> {
+    pub(super) scene: &'a Scene,
+    pub(super) options: RenderOptions,
+    pub(super) eps: f32,
+    pub(super) occluded: &'a AnyHit<'a>,
+    /// Irradiance arriving at diffuse surfaces by paths the direct light does not follow (caustics).
+    pub(super) caustics: Option<&'a IrradianceMap>,
+    /// The lights shaded: the scene's (in the order of `scene.lights`, so that their indices are
+    /// the scene's), then, with beams, a constant environment's ([`Environment::lights`], the sky
+    /// as the six faces of a cube about the scene).
+    pub(super) lights: Vec<Light>,
+    /// The lights' geometry, in the order of `lights`.
+    pub(super) emitters: Vec<Emitter>,
+}
+
+impl<'a> Context<'a> {
+    pub(super) fn new(
+        scene: &'a Scene,
+        options: &RenderOptions,
+        occluded: &'a AnyHit<'a>,
+        caustics: Option<&'a IrradianceMap>,
+    ) -> Self {
+        let mut lights = scene.lights.clone();
+        if options.method == Method::Beam {
+            lights.extend(scene.environment.lights(scene.bounds()));
+        }
+        let emitters = lights.iter().map(Emitter::of).collect();
+        Self { scene, options: *options, eps: shading_eps(scene), occluded, caustics, lights, emitters }
+    }
+}
+
+/// A visible surface point of a tile to shade: pixel, weight in it, triangle, point, unit view
+/// direction and the seed of its shadow-ray samples.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Surface {
+    pub(super) x: u32,
+    pub(super) y: u32,
+    pub(super) weight: f32,
+    pub(super) prim: u32,
+    pub(super) q: Vec3,
+    pub(super) d: Vec3,
+    pub(super) seed: u64,
+}
+
+/// Which lights a shade point gathers directly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Lights {
+    /// Every light.
+    All,
+    /// Area lights only: point lights come from lit fragments (001 §4.2).
+    AreaOnly,
+}
