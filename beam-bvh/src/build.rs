@@ -37,10 +37,10 @@ pub(crate) struct Shape {
 
 impl Shape {
     /// The binary BVH's own tree ([`build`]).
-    pub const FLAT: Self = Self { grid: Grid::Centred, sort_leaves: true };
+    pub(crate) const FLAT: Self = Self { grid: Grid::Centred, sort_leaves: true };
     /// A tree to be collapsed into eight-wide nodes (the direct 8-wide builder bins on its grid
     /// too).
-    pub const WIDE: Self = Self { grid: Grid::Equal, sort_leaves: false };
+    pub(crate) const WIDE: Self = Self { grid: Grid::Equal, sort_leaves: false };
 }
 
 /// The binary tree over `refs` (summarised by `record`), which it reorders so that each leaf's

@@ -162,7 +162,7 @@ impl Tree {
     /// them), in order of decreasing inefficiency (leaves by their area), with its parent, and
     /// insert it back where the SAH cost is least. That place may be where it was, so no step
     /// raises the cost.
-    pub fn pass(&mut self, limit: usize) {
+    pub(crate) fn pass(&mut self, limit: usize) {
         let mut candidates: Vec<(f32, u32)> = (0..self.n.len() as u32)
             .filter(|&i| i != self.root && self.n[i as usize].area >= self.min_area)
             .map(|i| (if self.is_leaf(i) { self.n[i as usize].area } else { self.inefficiency(i) }, i))
@@ -282,7 +282,7 @@ impl Tree {
 
     /// Debug checks: every node is reached once from the root, and every box holds its
     /// children's.
-    pub fn check(&self) {
+    pub(crate) fn check(&self) {
         if !cfg!(debug_assertions) {
             return;
         }
@@ -307,7 +307,7 @@ impl Tree {
 
     /// The tree as `len` builder nodes: root first, each left child right after its parent;
     /// `leaf` appends what stands for a leaf (one node, or a whole subtree in the same order).
-    pub fn to_nodes(&self, len: usize, mut leaf: impl FnMut(&Link, &mut Vec<Node>)) -> Vec<Node> {
+    pub(crate) fn to_nodes(&self, len: usize, mut leaf: impl FnMut(&Link, &mut Vec<Node>)) -> Vec<Node> {
         let mut out = Vec::with_capacity(len);
         let mut stack = vec![(self.root, NONE, 0usize)];
         while let Some((i, parent, side)) = stack.pop() {

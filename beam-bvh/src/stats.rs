@@ -20,7 +20,7 @@ impl core::ops::AddAssign for TraversalStats {
 }
 
 /// Something that counts traversal work; `()` counts nothing at no cost.
-pub trait Counter {
+pub(crate) trait Counter {
     /// One node box tested.
     fn node(&mut self);
     /// One triangle tested.

@@ -10,7 +10,7 @@
 
 /// Keep freed memory in the process: no allocation below 2 GB is mapped on its own, and the heap
 /// is never trimmed. Call before other threads start.
-pub fn keep_freed_memory() {
+pub(crate) fn keep_freed_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: `mallopt` only sets glibc's allocator parameters (both are documented ones, with
     // values in range); it is called at start-up, before any other thread allocates.

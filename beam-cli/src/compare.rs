@@ -17,7 +17,7 @@ use std::process::ExitCode;
 const BAND: u32 = 64;
 
 /// A checked comparison: the input sizes and the bytes each decodes to.
-pub struct ComparePlan {
+pub(crate) struct ComparePlan {
     pub width: u32,
     pub height: u32,
 }
@@ -39,7 +39,7 @@ fn header(path: &Path) -> Result<(u32, u32, u64), String> {
 }
 
 /// Check both inputs' headers, the output path and the memory, before decoding anything.
-pub fn plan(a: &Path, b: &Path, out: &Path, scale: f32, quiet: bool) -> Result<ComparePlan, String> {
+pub(crate) fn plan(a: &Path, b: &Path, out: &Path, scale: f32, quiet: bool) -> Result<ComparePlan, String> {
     if !(scale.is_finite() && scale > 0.0) {
         return Err(format!("--scale {scale}: expected a positive number"));
     }
@@ -117,7 +117,7 @@ fn picture(a: &image::RgbImage, b: &image::RgbImage, scale: f32) -> Result<Vec<u
     Ok(rgb)
 }
 
-pub fn compare(a: &Path, b: &Path, out: &Path, scale: f32) -> Result<ExitCode, String> {
+pub(crate) fn compare(a: &Path, b: &Path, out: &Path, scale: f32) -> Result<ExitCode, String> {
     let plan = plan(a, b, out, scale, false)?;
     let (ia, ib) = (load_rgb8(a)?, load_rgb8(b)?);
     if ia.dimensions() != (plan.width, plan.height) || ib.dimensions() != (plan.width, plan.height) {

@@ -2,20 +2,20 @@
 //! `conformance`; without it the subcommand only says how to get it, see [`missing`]).
 
 #[cfg(feature = "conformance")]
-pub use suite::*;
+pub(crate) use suite::*;
 
 /// The options of `beam conformance`, in a build without the suite: taken whatever they are, so
 /// that the answer is the message of [`missing`], not a parse error.
 #[cfg(not(feature = "conformance"))]
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     #[arg(hide = true, num_args = 0.., trailing_var_arg = true, allow_hyphen_values = true)]
     args: Vec<std::ffi::OsString>,
 }
 
 /// What `beam conformance` says in a build without the cargo feature `conformance`.
 #[cfg(not(feature = "conformance"))]
-pub fn missing() -> String {
+pub(crate) fn missing() -> String {
     "this beam was built without the conformance suite (cargo feature `conformance`, off by default so \
      that the binary does not link the test crate); build one with it: cargo build --release -p beam-cli \
      --features conformance"
@@ -29,7 +29,7 @@ mod suite {
 
     /// The options of `beam conformance`.
     #[derive(clap::Args)]
-    pub struct Args {
+    pub(crate) struct Args {
         /// Only this backend (math, bvh, cpu, gpu).
         #[arg(long)]
         pub backend: Option<String>,
@@ -44,7 +44,7 @@ mod suite {
 
     /// Check the options before running anything: a known backend, `--rays` at least 1, and an `--only`
     /// that names a property (on that backend).
-    pub fn check(backend: Option<&str>, rays: Option<usize>, only: Option<&str>) -> Result<(), String> {
+    pub(crate) fn check(backend: Option<&str>, rays: Option<usize>, only: Option<&str>) -> Result<(), String> {
         let backend = backend.map(Backend::parse).transpose()?;
         if rays == Some(0) {
             return Err("--rays 0: at least 1 ray is needed".into());
@@ -64,7 +64,7 @@ mod suite {
         Ok(())
     }
 
-    pub fn run(backend: Option<&str>, rays: Option<usize>, only: Option<String>) -> Result<ExitCode, String> {
+    pub(crate) fn run(backend: Option<&str>, rays: Option<usize>, only: Option<String>) -> Result<ExitCode, String> {
         check(backend, rays, only.as_deref())?;
         let mut config = Config { only, ..Config::default() };
         if let Some(r) = rays {

@@ -3,10 +3,10 @@
 //! of the memory available now (`MemAvailable` of /proc/meminfo on Linux; no limit elsewhere).
 
 /// Estimates above this are printed before the work starts.
-pub const REPORT_ABOVE: u64 = 1 << 30;
+pub(crate) const REPORT_ABOVE: u64 = 1 << 30;
 
 /// The limit in bytes and where it comes from, or `None` where none is known.
-pub fn limit() -> Result<Option<(u64, String)>, String> {
+pub(crate) fn limit() -> Result<Option<(u64, String)>, String> {
     if let Some(v) = std::env::var_os("BEAM_MAX_MEMORY") {
         let s = v.to_string_lossy();
         let bytes = parse_size(&s).ok_or_else(|| {
@@ -44,7 +44,7 @@ fn parse_size(s: &str) -> Option<u64> {
 }
 
 /// `1.5 GiB`.
-pub fn human(bytes: u64) -> String {
+pub(crate) fn human(bytes: u64) -> String {
     let units = ["B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
     let mut x = bytes as f64;
     let mut i = 0;
@@ -56,7 +56,7 @@ pub fn human(bytes: u64) -> String {
 }
 
 /// Refuse `need` bytes (for `what`) above the limit; print it when large. `quiet` leaves out the print.
-pub fn admit(what: &str, need: u64, quiet: bool) -> Result<(), String> {
+pub(crate) fn admit(what: &str, need: u64, quiet: bool) -> Result<(), String> {
     let limit = limit()?;
     if let Some((max, source)) = &limit {
         if need > *max {
@@ -80,7 +80,7 @@ pub fn admit(what: &str, need: u64, quiet: bool) -> Result<(), String> {
 }
 
 /// Saturating sum of products, for estimates that must not wrap.
-pub fn bytes(terms: &[(u64, u64)]) -> u64 {
+pub(crate) fn bytes(terms: &[(u64, u64)]) -> u64 {
     terms.iter().fold(0u64, |acc, &(n, each)| acc.saturating_add(n.saturating_mul(each)))
 }
 

@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// A checked merge: the format, the frame and each tile's place in it.
-pub struct MergePlan {
+pub(crate) struct MergePlan {
     pub format: Format,
     pub width: u32,
     pub height: u32,
@@ -27,7 +27,7 @@ pub struct MergePlan {
 }
 
 /// Check the output path, every tile's header and the memory, before decoding anything.
-pub fn plan(tiles: &[PathBuf], out: &Path, quiet: bool) -> Result<MergePlan, String> {
+pub(crate) fn plan(tiles: &[PathBuf], out: &Path, quiet: bool) -> Result<MergePlan, String> {
     let format = Format::of("--out", out)?;
     let first = tiles.first().ok_or("no tile to merge")?;
     for t in tiles {
@@ -145,7 +145,7 @@ fn check_tiling(tiles: &[(PathBuf, Placement)], width: u32, height: u32) -> Resu
 }
 
 /// Decode every tile into the frame and write it.
-pub fn merge(tiles: &[PathBuf], out: &Path) -> Result<ExitCode, String> {
+pub(crate) fn merge(tiles: &[PathBuf], out: &Path) -> Result<ExitCode, String> {
     let plan = plan(tiles, out, false)?;
     let (w, h) = (plan.width, plan.height);
     let bytes = match plan.format {

@@ -9,7 +9,7 @@ use std::path::Path;
 
 /// The image formats written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
+pub(crate) enum Format {
     /// 8-bit sRGB.
     Png,
     /// OpenEXR, linear 32-bit float.
@@ -18,7 +18,7 @@ pub enum Format {
 
 impl Format {
     /// The format `path` names by its extension (any case); an error naming `option` otherwise.
-    pub fn of(option: &str, path: &Path) -> Result<Self, String> {
+    pub(crate) fn of(option: &str, path: &Path) -> Result<Self, String> {
         match path.extension().and_then(|e| e.to_str()) {
             Some(e) if e.eq_ignore_ascii_case("png") => Ok(Self::Png),
             Some(e) if e.eq_ignore_ascii_case("exr") => Ok(Self::Exr),
@@ -31,7 +31,7 @@ impl Format {
     }
 
     /// `PNG` or `OpenEXR`.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Self::Png => "PNG",
             Self::Exr => "OpenEXR",
@@ -40,7 +40,7 @@ impl Format {
 }
 
 /// Refuse an image path whose extension is not `.png` (any case): for outputs written as PNG only.
-pub fn check_png_name(option: &str, path: &Path) -> Result<(), String> {
+pub(crate) fn check_png_name(option: &str, path: &Path) -> Result<(), String> {
     match Format::of(option, path) {
         Ok(Format::Png) => Ok(()),
         _ => Err(format!("{option} {}: only PNG is written; name the file *.png", path.display())),
@@ -49,7 +49,7 @@ pub fn check_png_name(option: &str, path: &Path) -> Result<(), String> {
 
 /// `--out` and `--stats` of `beam render`: a `.png` or `.exr` and a JSON file, different files,
 /// each in a writable folder and absent or a writable regular file.
-pub fn check_render_outputs(out: &Path, stats: Option<&Path>) -> Result<(), String> {
+pub(crate) fn check_render_outputs(out: &Path, stats: Option<&Path>) -> Result<(), String> {
     Format::of("--out", out)?;
     if let Some(s) = stats {
         if same_file(out, s) {
@@ -70,7 +70,7 @@ pub fn check_render_outputs(out: &Path, stats: Option<&Path>) -> Result<(), Stri
 /// The bytes of `image` (the pixels of `placement`) in the format `out` names, scaled by
 /// 2^`exposure` first: PNG as 8-bit sRGB, EXR as linear `f32`; each records the placement when it
 /// is not the whole frame.
-pub fn encode_render(out: &Path, image: &Image, placement: Placement, exposure: f32) -> Result<Vec<u8>, String> {
+pub(crate) fn encode_render(out: &Path, image: &Image, placement: Placement, exposure: f32) -> Result<Vec<u8>, String> {
     let scale = exposure.exp2();
     let scaled;
     let image = if scale == 1.0 {
@@ -89,7 +89,7 @@ pub fn encode_render(out: &Path, image: &Image, placement: Placement, exposure: 
 /// Write `image` (the pixels of `placement`, scaled by 2^`exposure`) to `out` and the statistics to
 /// `stats` (when given), both or neither: both are written and synced under temporary names before
 /// either is renamed.
-pub fn write_render(
+pub(crate) fn write_render(
     out: &Path,
     image: &Image,
     (placement, exposure): (Placement, f32),
@@ -132,9 +132,9 @@ fn exposure_warning(image: &Image, exposure: f32) -> Option<String> {
 }
 
 /// Statistics of any type, as JSON.
-pub mod erased {
+pub(crate) mod erased {
     /// A value written as pretty JSON.
-    pub trait Json {
+    pub(crate) trait Json {
         /// The JSON text.
         fn to_json(&self) -> Result<String, String>;
     }
@@ -156,7 +156,7 @@ static STOPPED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize:
 /// registered before the flag, so no signal can set the flag unseen by that thread. A second
 /// signal changes nothing: the handlers stay installed until the exit. `SIGKILL` cannot be caught.
 #[cfg(unix)]
-pub fn stop_cleanly_on_signals() {
+pub(crate) fn stop_cleanly_on_signals() {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     let warn = |e: &dyn std::fmt::Display| {
         eprintln!("warning: no signal handler ({e}): an interrupted write may leave a temporary");
@@ -203,7 +203,7 @@ fn stop(signal: i32) -> ! {
 /// When a signal has arrived, [`stop`] instead of returning: a signal that came before the end,
 /// however late, gives its status, not the work's.
 #[cfg(unix)]
-pub fn wait_if_stopped() {
+pub(crate) fn wait_if_stopped() {
     let signal = STOPPED.load(std::sync::atomic::Ordering::SeqCst);
     if signal != 0 {
         stop(signal as i32);

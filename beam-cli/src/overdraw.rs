@@ -6,7 +6,7 @@ use plotters::prelude::*;
 use std::path::Path;
 use std::process::ExitCode;
 
-pub fn run(out: &Path, csv: &Path, points: usize) -> Result<ExitCode, String> {
+pub(crate) fn run(out: &Path, csv: &Path, points: usize) -> Result<ExitCode, String> {
     if points < 2 {
         return Err("--points must be at least 2".into());
     }

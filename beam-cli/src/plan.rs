@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 /// Options of `beam render`, as parsed (the defaults filled in).
 #[derive(clap::Args)]
-pub struct RenderArgs {
+pub(crate) struct RenderArgs {
     /// A built-in scene (cornell, mirror-glass, cornell-point, foliage; the soft-shadow suite's
     /// spheres, spheres-36, spheres-256, plant, ground), a .toml scene file, a .gltf/.glb
     /// model or an .obj mesh.
@@ -162,24 +162,24 @@ pub struct RenderArgs {
 
 impl RenderArgs {
     /// Primary visibility by eye beams (not `--primary-rays`).
-    pub fn primary_beams(&self) -> bool {
+    pub(crate) fn primary_beams(&self) -> bool {
         !self.primary_rays
     }
 
     /// Second-order shadows of the glossy light volumes (not `--no-second-order`).
-    pub fn second_order(&self) -> bool {
+    pub(crate) fn second_order(&self) -> bool {
         !self.no_second_order
     }
 }
 
 /// Largest image side, and largest pixel count.
-pub const MAX_SIDE: u32 = 16384;
+pub(crate) const MAX_SIDE: u32 = 16384;
 /// Largest `--primary-spp` (32 × 32 stratified rays).
-pub const MAX_PRIMARY_SPP: u32 = 1024;
+pub(crate) const MAX_PRIMARY_SPP: u32 = 1024;
 
 /// What `--method` names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
+pub(crate) enum Kind {
     Beam,
     Ray,
     Nonlinear,
@@ -207,16 +207,16 @@ impl Kind {
     }
 
     /// The `--method` name.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         Self::ALL.iter().find(|(_, k)| *k == self).map_or("?", |(n, _)| n)
     }
 }
 
 /// Largest `|--exposure|`.
-pub const MAX_EXPOSURE: f32 = 64.0;
+pub(crate) const MAX_EXPOSURE: f32 = 64.0;
 
 /// A validated render: everything `beam render` needs but the adapter.
-pub struct Plan {
+pub(crate) struct Plan {
     pub kind: Kind,
     /// The scene, its camera at `--frame`.
     pub scene: Scene,
@@ -259,7 +259,7 @@ fn range<T: PartialOrd + std::fmt::Display>(id: &str, v: T, lo: T, hi: T) -> Res
 
 /// The image size: `--width` and `--height`, else the camera's (keeping its aspect when only the
 /// width is given), each side in 1 to [`MAX_SIDE`]. No arithmetic here can wrap.
-pub fn image_size(width: Option<u32>, height: Option<u32>, camera: (u32, u32)) -> Result<(u32, u32), String> {
+pub(crate) fn image_size(width: Option<u32>, height: Option<u32>, camera: (u32, u32)) -> Result<(u32, u32), String> {
     let (cw, ch) = camera;
     let w = u64::from(width.unwrap_or(cw));
     let h = match (width, height) {
@@ -292,7 +292,7 @@ fn check_scene_path(s: &str) -> Result<(), String> {
 /// The per-pixel figures are the peak resident sizes measured at 512² and 1024² (release build, the
 /// built-ins; the nonlinear method's depends on the scene, mirror-glass is the largest seen) with a
 /// margin of about a third.
-pub fn estimate(kind: Kind, width: u32, height: u32, triangles: usize, photons: u64) -> u64 {
+pub(crate) fn estimate(kind: Kind, width: u32, height: u32, triangles: usize, photons: u64) -> u64 {
     let pixels = u64::from(width) * u64::from(height);
     let per_pixel = match kind {
         Kind::Beam | Kind::Ray => 32,
@@ -304,7 +304,7 @@ pub fn estimate(kind: Kind, width: u32, height: u32, triangles: usize, photons: 
 }
 
 /// Check every option of `beam render` and load the scene; `quiet` leaves out the memory note.
-pub fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
+pub(crate) fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
     let kind = Kind::parse(&a.method)?;
     let gpu = match a.backend.as_str() {
         "cpu" => false,

@@ -7,7 +7,7 @@ use plotters::prelude::*;
 use std::path::Path;
 
 /// A `w × h` white canvas handed to `draw`, then written to `path` as PNG (atomically).
-pub fn png(
+pub(crate) fn png(
     path: &Path,
     (w, h): (u32, u32),
     draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> Result<(), String>,
@@ -23,10 +23,10 @@ pub fn png(
 }
 
 /// A labelled series: legend label, colour, points.
-pub type Series<'s, X, Y> = (&'s str, RGBColor, Vec<(X, Y)>);
+pub(crate) type Series<'s, X, Y> = (&'s str, RGBColor, Vec<(X, Y)>);
 
 /// Each series as a line with a dot at every point, and the legend in the upper left.
-pub fn lines<'a, X, Y>(
+pub(crate) fn lines<'a, X, Y>(
     chart: &mut ChartContext<'a, BitMapBackend<'a>, Cartesian2d<X, Y>>,
     series: Vec<Series<'_, X::ValueType, Y::ValueType>>,
 ) -> Result<(), String>

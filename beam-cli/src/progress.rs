@@ -3,7 +3,7 @@
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// A bar of `len` steps with a message.
-pub fn bar(len: u64, message: &'static str) -> ProgressBar {
+pub(crate) fn bar(len: u64, message: &'static str) -> ProgressBar {
     let bar = ProgressBar::new(len);
     bar.set_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} {elapsed}")

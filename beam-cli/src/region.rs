@@ -5,7 +5,12 @@
 use beam_scene::region::PixelRect;
 
 /// The rectangle `--tile` or `--crop` names in a `width × height` image (`None`: the whole frame).
-pub fn parse(tile: Option<&str>, crop: Option<&str>, width: u32, height: u32) -> Result<Option<PixelRect>, String> {
+pub(crate) fn parse(
+    tile: Option<&str>,
+    crop: Option<&str>,
+    width: u32,
+    height: u32,
+) -> Result<Option<PixelRect>, String> {
     match (tile, crop) {
         (Some(_), Some(_)) => Err("give --tile or --crop, not both".into()),
         (Some(t), None) => tile_rect(t, width, height).map(Some),

@@ -14,7 +14,7 @@ use beam_render::nonlinear::BeamRenderer;
 use beam_render::options::Method;
 use std::process::ExitCode;
 
-pub fn run(a: &RenderArgs) -> Result<ExitCode, String> {
+pub(crate) fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     let plan = crate::plan::plan(a, false)?;
     let (scene, options, (width, height)) = (&plan.scene, plan.options, (plan.options.width, plan.options.height));
     match plan.kind {

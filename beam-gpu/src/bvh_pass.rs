@@ -20,7 +20,7 @@ pub const HARDWARE_BUDGET: u32 = 1 << 20;
 
 /// The budget of an invocation on `gpu`: [`SOFTWARE_BUDGET`] or [`HARDWARE_BUDGET`].
 #[must_use]
-pub fn default_budget(gpu: &Gpu) -> u32 {
+pub(crate) fn default_budget(gpu: &Gpu) -> u32 {
     if gpu.is_software() { SOFTWARE_BUDGET } else { HARDWARE_BUDGET }
 }
 

@@ -140,7 +140,7 @@ pub const LOOKUP_STEPS: u32 = beam_render::nonlinear::LOOKUP.steps;
 
 /// Residual, relative to the base's size, below which a lookup's Newton step ends
 /// ([`beam_render::nonlinear::LOOKUP`]; the shader adds a floor for f32's rounding).
-#[allow(clippy::cast_possible_truncation)]
+#[allow(clippy::cast_possible_truncation, reason = "the f64 tolerance rounded to the f32 the shader compares with")]
 pub const LOOKUP_TOLERANCE: f32 = beam_render::nonlinear::LOOKUP.tolerance as f32;
 
 /// A lookup's projection (`lib/lookup.wgsl`): none (no corner-ray solution in front of the base).

@@ -61,7 +61,7 @@ pub(crate) fn files(name: &str) -> Result<Vec<(String, &'static str)>, GpuError>
 
 /// The full source of shader `name`, or `None` for no shader of that name: the constants it shares
 /// with Rust ([`crate::interface::wgsl`]), then the library files its imports bring in
-/// ([`files`]), then the shader.
+/// (`files`), then the shader.
 ///
 /// # Panics
 ///

@@ -4,7 +4,7 @@
 //! its 31 MB of uploads), which a vector first zeroed, then filled, then copied.
 //!
 //! This module holds the `unsafe` of it: the staging bytes seen as elements.
-#![allow(unsafe_code)]
+#![allow(unsafe_code, reason = "the one module of its crate that holds unsafe blocks, each with a SAFETY comment")]
 
 use crate::Gpu;
 use crate::buffers::storage;

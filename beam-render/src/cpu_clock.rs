@@ -5,7 +5,7 @@
 //! `clock_gettime(CLOCK_THREAD_CPUTIME_ID)` brings the thread's run time up to date when read;
 //! `/proc/thread-self/schedstat`, which advances only at scheduler ticks (4 ms at 250 Hz), is too
 //! coarse for the 30 ms a ray set takes.
-#![allow(unsafe_code)]
+#![allow(unsafe_code, reason = "the one module of its crate that holds unsafe blocks, each with a SAFETY comment")]
 
 /// Seconds of CPU time the calling thread has used; `None` where the clock is not available.
 #[cfg(unix)]

@@ -330,7 +330,7 @@ fn rollback(earlier: usize, unrestored: &[Unrestored]) -> String {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum FaceError {
     /// A non-convex face of more than
-    /// [`MAX_NONCONVEX_CORNERS`](crate::mesh::MAX_NONCONVEX_CORNERS) corners.
+    /// [`MAX_NONCONVEX_CORNERS`] corners.
     #[error("a non-convex face of {corners} corners (at most {} are supported)", MAX_NONCONVEX_CORNERS)]
     TooManyCorners {
         /// Its corners.

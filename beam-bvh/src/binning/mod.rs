@@ -34,7 +34,7 @@ pub(crate) enum NodeSplit {
 
 impl NodeSplit {
     /// `A(L)·blocks(N_L) + A(R)·blocks(N_R)` under the node's measure.
-    pub fn cost(&self) -> f32 {
+    pub(crate) fn cost(&self) -> f32 {
         match self {
             NodeSplit::Binned(s) => s.cost,
             NodeSplit::Small(s) => s.cost,
@@ -43,7 +43,7 @@ impl NodeSplit {
 
     /// Partition `refs` (those the split was found for) in place; returns the number on the left
     /// and the records of both sides.
-    pub fn partition(&self, refs: &mut [PrimRef]) -> (usize, Record, Record) {
+    pub(crate) fn partition(&self, refs: &mut [PrimRef]) -> (usize, Record, Record) {
         match self {
             NodeSplit::Binned(s) => partition(refs, s),
             NodeSplit::Small(s) => s.partition(refs),

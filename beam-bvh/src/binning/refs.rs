@@ -16,15 +16,15 @@ pub(crate) struct Box4 {
 }
 
 impl Box4 {
-    pub const EMPTY: Self = Self { lo: Vec4::INFINITY, hi: Vec4::NEG_INFINITY };
+    pub(crate) const EMPTY: Self = Self { lo: Vec4::INFINITY, hi: Vec4::NEG_INFINITY };
 
     #[inline(always)]
-    pub fn union(self, o: Self) -> Self {
+    pub(crate) fn union(self, o: Self) -> Self {
         Self { lo: self.lo.min(o.lo), hi: self.hi.max(o.hi) }
     }
 
     #[inline(always)]
-    pub fn aabb(self) -> Aabb {
+    pub(crate) fn aabb(self) -> Aabb {
         Aabb::new(self.lo.truncate(), self.hi.truncate())
     }
 }
@@ -46,25 +46,25 @@ impl PrimRef {
     }
 
     /// A reference to triangle `index` with box `b` (part of the triangle's box, for a piece).
-    pub fn with_box(b: Aabb, index: u32) -> Self {
+    pub(crate) fn with_box(b: Aabb, index: u32) -> Self {
         debug_assert!(index < INDEX_BIAS);
         Self { lo: b.min.extend(0.0), hi: b.max.extend(f32::from_bits(INDEX_BIAS + index)) }
     }
 
     /// Index of the triangle in the input slice.
     #[inline(always)]
-    pub fn index(&self) -> u32 {
+    pub(crate) fn index(&self) -> u32 {
         self.hi.w.to_bits() - INDEX_BIAS
     }
 
     /// Twice the box centre (`lo + hi`: exactly twice `Aabb::center`, one operation fewer).
     #[inline(always)]
-    pub fn centroid2(&self) -> Vec4 {
+    pub(crate) fn centroid2(&self) -> Vec4 {
         self.lo + self.hi
     }
 
     #[inline(always)]
-    pub fn bounds(&self) -> Box4 {
+    pub(crate) fn bounds(&self) -> Box4 {
         Box4 { lo: self.lo, hi: self.hi }
     }
 }

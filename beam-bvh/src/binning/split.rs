@@ -62,7 +62,7 @@ impl Grid {
 }
 
 impl Context {
-    pub fn new(options: &BuildOptions, block_shift: u32, grid: Grid) -> Self {
+    pub(crate) fn new(options: &BuildOptions, block_shift: u32, grid: Grid) -> Self {
         let mut directions = [Vec3::X, Vec3::Y, Vec3::Z, Vec3::ZERO, Vec3::ZERO];
         let mut direction_count = 3;
         if let Some(d) = options.facing.and_then(Vec3::try_normalize) {
@@ -79,13 +79,13 @@ impl Context {
 
     /// Cost units of a leaf of `n` references.
     #[inline(always)]
-    pub fn blocks(&self, n: usize) -> f32 {
+    pub(crate) fn blocks(&self, n: usize) -> f32 {
         ((n + (1 << self.block_shift) - 1) >> self.block_shift) as f32
     }
 
     /// The area measure for the children of a node with box `parent`: projected area when the
     /// distribution applies to the whole node, surface area otherwise (004's fallback).
-    pub fn measure(&self, parent: Aabb) -> Measure {
+    pub(crate) fn measure(&self, parent: Aabb) -> Measure {
         match self.options.heuristic {
             Heuristic::Sah => Measure::Surface,
             Heuristic::Pah(RayDistribution::Parallel { direction }) => Measure::Orthographic(direction),
@@ -112,7 +112,7 @@ impl Measure {
     /// [`Measure::area`] of a box in `Vec4`s: the surface area without the conversion (the same
     /// operations as `surface_area`, an empty box included: its clamped extent is 0).
     #[inline(always)]
-    pub fn area4(self, b: Box4) -> f32 {
+    pub(crate) fn area4(self, b: Box4) -> f32 {
         match self {
             Measure::Surface => {
                 let e = (b.hi - b.lo).max(Vec4::ZERO);
@@ -122,7 +122,7 @@ impl Measure {
         }
     }
 
-    pub fn area(self, b: Aabb) -> f32 {
+    pub(crate) fn area(self, b: Aabb) -> f32 {
         if !b.is_valid() {
             return 0.0;
         }
@@ -188,7 +188,7 @@ pub(crate) struct Bins {
 }
 
 impl Bins {
-    pub const EMPTY: Self = Self { bounds: [[Box4::EMPTY; MAX_BINS]; 3], counts: [[0; MAX_BINS]; 3] };
+    pub(crate) const EMPTY: Self = Self { bounds: [[Box4::EMPTY; MAX_BINS]; 3], counts: [[0; MAX_BINS]; 3] };
 
     pub(super) fn clear(&mut self, bins: usize) {
         for a in 0..3 {

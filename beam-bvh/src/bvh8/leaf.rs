@@ -36,7 +36,7 @@ impl ShearRay {
     ///
     /// [`WatertightRay::new`]: beam_math::collide::WatertightRay::new
     #[inline(always)]
-    pub fn new(ray: Ray) -> Self {
+    pub(super) fn new(ray: Ray) -> Self {
         let (d, o) = (ray.direction.to_array(), ray.origin.to_array());
         let a = d.map(f32::abs);
         // The scalar test's choice (NaN included), as selects rather than branches.
@@ -64,11 +64,11 @@ pub(crate) struct BlockHits {
 
 impl BlockHits {
     /// No lane hit.
-    pub const NONE: Self = Self { mask: 0, t: Vec4::ZERO, u: Vec4::ZERO, v: Vec4::ZERO };
+    pub(super) const NONE: Self = Self { mask: 0, t: Vec4::ZERO, u: Vec4::ZERO, v: Vec4::ZERO };
 
     /// The hit lane of smallest `t` (the last of equal ones, as a sequential scan keeps).
     #[inline(always)]
-    pub fn nearest(&self) -> usize {
+    pub(super) fn nearest(&self) -> usize {
         let mut best = self.mask.trailing_zeros() as usize;
         let mut m = self.mask & (self.mask - 1);
         while m != 0 {

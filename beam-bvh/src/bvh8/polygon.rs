@@ -15,13 +15,13 @@ pub(super) struct Polygon {
 }
 
 impl Polygon {
-    pub fn triangle(t: &Triangle) -> Self {
+    pub(super) fn triangle(t: &Triangle) -> Self {
         let mut v = [Vec3::ZERO; MAX_VERTICES];
         v[..3].copy_from_slice(&t.v);
         Self { v, len: 3 }
     }
 
-    pub fn bounds(&self) -> Aabb {
+    pub(super) fn bounds(&self) -> Aabb {
         Aabb::from_points(&self.v[..self.len])
     }
 
@@ -34,7 +34,7 @@ impl Polygon {
 
     /// The parts with coordinate `axis` at most and at least `plane` (Sutherland–Hodgman); new
     /// vertices lie exactly on the plane along `axis`.
-    pub fn cut(&self, axis: usize, plane: f32) -> (Self, Self) {
+    pub(super) fn cut(&self, axis: usize, plane: f32) -> (Self, Self) {
         let empty = Self { v: [Vec3::ZERO; MAX_VERTICES], len: 0 };
         let (mut left, mut right) = (empty, empty);
         for i in 0..self.len {

@@ -26,7 +26,7 @@ const ROBUST: f32 = 1.000_000_5;
 
 impl RayBox {
     #[inline(always)]
-    pub fn new(ray: Ray) -> Self {
+    pub(super) fn new(ray: Ray) -> Self {
         // One four-lane division, each lane rounded as `1.0 / d` is.
         let inv = (Vec4::ONE / ray.direction.extend(1.0)).truncate();
         let side = |a: usize| usize::from(inv[a].is_sign_negative());

@@ -20,7 +20,7 @@
 //!
 //! This module holds the traversal's `unsafe`: aligned loads from nodes, the stack that is not
 //! initialised before use, and the calls into `#[target_feature]` code after run-time detection.
-#![allow(unsafe_code)]
+#![allow(unsafe_code, reason = "the one module of its crate that holds unsafe blocks, each with a SAFETY comment")]
 
 use super::kernel::Kernel;
 use super::leaf::{ShearRay, visit_leaf};

@@ -2,7 +2,7 @@
 //! benches as they were) or `gpu` (the GPU's rows beside the CPU's), and the GPU's adapter.
 
 /// Whether `--backend` asks for the GPU: `cpu` or `gpu`, else an error.
-pub fn wants_gpu(backend: &str) -> Result<bool, String> {
+pub(super) fn wants_gpu(backend: &str) -> Result<bool, String> {
     match backend {
         "cpu" => Ok(false),
         "gpu" => Ok(true),
@@ -11,7 +11,7 @@ pub fn wants_gpu(backend: &str) -> Result<bool, String> {
 }
 
 /// The adapter of `--backend gpu`, `None` for `cpu`; said on the way.
-pub fn adapter(gpu: bool) -> Result<Option<beam_gpu::Gpu>, String> {
+pub(super) fn adapter(gpu: bool) -> Result<Option<beam_gpu::Gpu>, String> {
     if !gpu {
         return Ok(None);
     }

@@ -16,7 +16,7 @@ use std::path::Path;
 use std::time::Instant;
 
 /// The three built-ins of 002's figures.
-pub const SCENES: [&str; 3] = ["cardioid-ring", "pool-caustics", "stained-glass"];
+pub(crate) const SCENES: [&str; 3] = ["cardioid-ring", "pool-caustics", "stained-glass"];
 
 /// One scene's measurements.
 struct Measured {
@@ -37,7 +37,7 @@ fn timed<T, E: ToString>(mut f: impl FnMut() -> Result<T, E>) -> Result<(f64, T)
 
 /// Run the benchmark on `scenes` at `size²`, the reference with `reference` photons per light,
 /// curved scatterers split `subdivide²`.
-pub fn run(scenes: &[String], size: u32, reference: u64, subdivide: u32, out: &Path) -> Result<(), String> {
+pub(crate) fn run(scenes: &[String], size: u32, reference: u64, subdivide: u32, out: &Path) -> Result<(), String> {
     let gpu = beam_gpu::Gpu::new().ok();
     println!(
         "{size}×{size}; reference {reference} photons per light; --subdivide {subdivide}; GPU: {}",

@@ -16,7 +16,7 @@ use beam_scene::scene::{self, Simplify};
 use std::time::Instant;
 
 /// The built-in scenes of 000's figures.
-pub const SCENES: [&str; 6] =
+pub(crate) const SCENES: [&str; 6] =
     ["mirror-teapot", "mirror-glass", "facing-mirrors", "glass-lens", "wavy-lake", "bumpy-mirror"];
 
 /// Run the benchmark: `frames` timed GPU frames per scene (after one warm-up frame) and one CPU
@@ -26,7 +26,7 @@ pub const SCENES: [&str; 6] =
 /// `read_image`, every timed frame's image read back (else kept on the GPU for display,
 /// [`GpuBeams::displaying`]); with `moving`, the eye moved before every timed frame (no beam reused
 /// from the frame before).
-pub fn run(
+pub(crate) fn run(
     scenes: &[String],
     (width, height): (u32, u32),
     frames: u32,

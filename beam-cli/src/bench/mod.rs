@@ -1,24 +1,24 @@
 //! `beam bench`: benchmarks that print ratios against peers measured in the same run.
 
 mod backend;
-pub mod bvh;
+pub(crate) mod bvh;
 mod checks;
-pub mod glossy;
-pub mod gpu;
-pub mod nonlinear;
-pub mod nonlinear_smesh;
+pub(crate) mod glossy;
+pub(crate) mod gpu;
+pub(crate) mod nonlinear;
+pub(crate) mod nonlinear_smesh;
 mod peer_set;
 #[cfg(feature = "peers")]
 mod peers;
-pub mod primary;
+pub(crate) mod primary;
 mod primary_gpu;
 mod primary_shading;
-pub mod primary_sweep;
-pub mod softshadow;
+pub(crate) mod primary_sweep;
+pub(crate) mod softshadow;
 mod softshadow_gpu;
 mod softshadow_measure;
 mod softshadow_plot;
-pub mod softshadow_suite;
+pub(crate) mod softshadow_suite;
 mod stats;
 mod tracer;
 
@@ -28,7 +28,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Subcommand)]
-pub enum BenchCommand {
+pub(crate) enum BenchCommand {
     /// Build with each builder and trace primary, shadow and diffuse rays, 1 thread and all cores,
     /// beside Embree 3 and obvhs (with `--features peers`).
     Bvh {
@@ -213,7 +213,7 @@ pub enum BenchCommand {
 }
 
 /// Run `beam bench`; with `dry`, only check its arguments.
-pub fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
+pub(crate) fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String> {
     let result = match what {
         BenchCommand::Bvh { scene, json, size, sah_only, cpu_time } => {
             if !(1..=crate::plan::MAX_SIDE as usize).contains(&size) {

@@ -26,7 +26,7 @@ struct Row {
 /// The three sweeps: (name, axis label, (teapot n, ball rings, texels) per point, x of each point).
 type Sweep = (&'static str, &'static str, Vec<((u32, u32, u32), f64)>);
 
-pub fn run(size: u32, out: &Path, csv: &Path) -> Result<(), String> {
+pub(crate) fn run(size: u32, out: &Path, csv: &Path) -> Result<(), String> {
     let triangles = |n: u32, ball: u32| mirror_teapot(n, ball).triangles.len() as f64;
     let mirror = |n: u32| {
         let s = mirror_teapot(n, 16);

@@ -38,7 +38,7 @@ struct Row {
 /// Render the teapot (`size`², 32 texels, two levels, the area light's caustics by 2 × 2 strata:
 /// `beam render --method nonlinear`'s defaults) with its S mesh simplified to each of `targets`
 /// faces and with the fine S mesh, S1 and S3; write the table to `csv` and the plot to `out`.
-pub fn run(size: u32, targets: &[u32], out: &Path, csv: &Path) -> Result<(), String> {
+pub(crate) fn run(size: u32, targets: &[u32], out: &Path, csv: &Path) -> Result<(), String> {
     let shading = RenderOptions::exact(size, size);
     let mut scene = mirror_teapot(24, 16);
     let reference = render_smooth_reference(&scene, &shading, REFERENCE_PHOTONS);

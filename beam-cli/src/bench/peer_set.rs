@@ -3,7 +3,7 @@
 use super::tracer::Tracer;
 
 /// The peers available in this build (none without the `peers` feature).
-pub fn peers(triangles: &[beam_math::Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
+pub(super) fn peers(triangles: &[beam_math::Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
     #[cfg(feature = "peers")]
     return super::peers::all(triangles);
     #[cfg(not(feature = "peers"))]
@@ -15,7 +15,7 @@ pub fn peers(triangles: &[beam_math::Triangle]) -> Result<Vec<Box<dyn Tracer>>, 
 
 /// One more build of the peer named `name` over `triangles`, in milliseconds: `None` for a peer
 /// whose build cannot be repeated alone (the BVH bench times Embree's in alternation with ours).
-pub fn peer_build_ms(name: &str, triangles: &[beam_math::Triangle]) -> Option<f64> {
+pub(super) fn peer_build_ms(name: &str, triangles: &[beam_math::Triangle]) -> Option<f64> {
     #[cfg(feature = "peers")]
     return super::peers::build_ms(name, triangles);
     #[cfg(not(feature = "peers"))]

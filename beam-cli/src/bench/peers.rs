@@ -17,7 +17,7 @@ use beam_math::{Ray, Triangle};
 use std::time::Instant;
 
 /// Every peer, built over `triangles` (degenerate ones already removed by the caller).
-pub fn all(triangles: &[Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
+pub(super) fn all(triangles: &[Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
     let mut out: Vec<Box<dyn Tracer>> = vec![
         Box::new(Embree::timed(triangles, false)?),
         Box::new(Embree::timed(triangles, true)?),
@@ -28,7 +28,7 @@ pub fn all(triangles: &[Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
 }
 
 /// One more build of Embree (`embree3` or `embree3-hq`) over `triangles`, in milliseconds.
-pub fn build_ms(name: &str, triangles: &[Triangle]) -> Option<f64> {
+pub(super) fn build_ms(name: &str, triangles: &[Triangle]) -> Option<f64> {
     let high_quality = match name {
         "embree3" => false,
         "embree3-hq" => true,
@@ -38,13 +38,13 @@ pub fn build_ms(name: &str, triangles: &[Triangle]) -> Option<f64> {
 }
 
 /// Embree's any-hit query over `triangles`, as a shadow-ray tracer for the renderer.
-pub fn embree_occluder(triangles: &[Triangle]) -> Result<Box<beam_render::queries::AnyHit<'static>>, String> {
+pub(super) fn embree_occluder(triangles: &[Triangle]) -> Result<Box<beam_render::queries::AnyHit<'static>>, String> {
     let e = Embree::new(triangles, false)?;
     Ok(Box::new(move |ray: Ray, t_max: f32| e.occluded(&ray, t_max)))
 }
 
 /// Embree's closest hit over `triangles`: the index of the triangle hit and the ray parameter.
-pub fn embree_closest(triangles: &[Triangle]) -> Result<Box<beam_render::queries::ClosestHit<'static>>, String> {
+pub(super) fn embree_closest(triangles: &[Triangle]) -> Result<Box<beam_render::queries::ClosestHit<'static>>, String> {
     let e = Embree::new(triangles, false)?;
     Ok(Box::new(move |ray: Ray| e.closest_prim(&ray)))
 }
@@ -195,7 +195,7 @@ mod tinybvh {
     use tinybvh_rs::{Intersector, bvh};
 
     /// tinybvh's layouts over `triangles`.
-    pub fn all(triangles: &[Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
+    pub(super) fn all(triangles: &[Triangle]) -> Result<Vec<Box<dyn Tracer>>, String> {
         // The binary BVH borrows its vertices for its whole life: leaked, once per run.
         let positions: &'static [[f32; 4]] =
             triangles.iter().flat_map(|t| t.v.map(|v| v.extend(0.0).to_array())).collect::<Vec<_>>().leak();

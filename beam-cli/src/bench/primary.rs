@@ -16,11 +16,11 @@ use std::path::Path;
 use std::time::Instant;
 
 /// The default scenes: the shared Sponza and conference room.
-pub const SCENES: [&str; 2] = ["sponza", "conference"];
+pub(crate) const SCENES: [&str; 2] = ["sponza", "conference"];
 
 /// A scene to benchmark: its name for tables and files, the scene, and whether it is a bare mesh
 /// (which gets [`Camera::interior`]).
-pub struct Loaded {
+pub(crate) struct Loaded {
     /// Short name (built-in name or file stem).
     pub name: String,
     /// The scene.
@@ -32,7 +32,7 @@ pub struct Loaded {
 /// Load `arg`: `sponza` and `conference` name the shared OBJ files (under `$BEAM_SCENES` or
 /// `../shared/scenes`), anything else is a built-in, a `.toml` scene or an `.obj` mesh. `Ok(None)`
 /// with a printed reason when a shared scene is absent.
-pub fn load(arg: &str) -> Result<Option<Loaded>, String> {
+pub(crate) fn load(arg: &str) -> Result<Option<Loaded>, String> {
     let shared = match arg {
         "sponza" => Some("sponza_dabrovic/sponza.obj"),
         "conference" => Some("conference/conference.obj"),
@@ -58,7 +58,7 @@ fn skip(arg: &str, why: &str) -> Result<Option<Loaded>, String> {
 
 /// The benchmark's view of `loaded` at `size × size`: the interior view for a bare mesh, else the
 /// scene's camera.
-pub fn camera(loaded: &Loaded, size: u32) -> Camera {
+pub(crate) fn camera(loaded: &Loaded, size: u32) -> Camera {
     if loaded.mesh {
         Camera::interior(loaded.scene.bounds(), size, size)
     } else {
@@ -69,7 +69,7 @@ pub fn camera(loaded: &Loaded, size: u32) -> Camera {
 /// The image of `spp` stratified jittered primary rays per pixel (a `k × k` grid, `k = ⌊√spp⌋`;
 /// the pixel centre for one), seeded per pixel so that every tracer gets the same rays; rows in
 /// parallel. Returns the image and its seconds.
-pub fn ray_image(
+pub(crate) fn ray_image(
     scene: &Scene,
     camera: &Camera,
     spp: u32,
@@ -98,14 +98,14 @@ pub fn ray_image(
 }
 
 /// Our closest hit: the scene's 4-wide BVH.
-pub fn ours(scene: &Scene) -> impl Fn(Ray) -> Option<(u32, f32)> + Sync + '_ {
+pub(crate) fn ours(scene: &Scene) -> impl Fn(Ray) -> Option<(u32, f32)> + Sync + '_ {
     move |ray| scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (h.prim, h.t))
 }
 
 /// The table on each of `scenes` at `size × size`; images into `out` when given. With `gpu`, also
 /// the GPU's rays on the same rays ([`super::primary_gpu`]), in the table and in a table of their
 /// own.
-pub fn run(scenes: &[String], size: u32, out: Option<&Path>, gpu: Option<&beam_gpu::Gpu>) -> Result<(), String> {
+pub(crate) fn run(scenes: &[String], size: u32, out: Option<&Path>, gpu: Option<&beam_gpu::Gpu>) -> Result<(), String> {
     for arg in scenes {
         let Some(loaded) = load(arg)? else { continue };
         let scene = &loaded.scene;

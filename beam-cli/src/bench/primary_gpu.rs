@@ -19,7 +19,7 @@ use std::time::Instant;
 const MAX_BATCH: usize = 1 << 20;
 
 /// One GPU image of `spp` rays per pixel.
-pub struct GpuRays {
+pub(super) struct GpuRays {
     /// Rays per pixel.
     pub spp: u32,
     /// The flat image.
@@ -35,7 +35,7 @@ pub struct GpuRays {
 /// [`super::primary::ray_image`] with the closest hits from `queries` (timed, [`GpuQueries::timed`]):
 /// bands of whole rows of at most [`MAX_BATCH`] rays each (one row at least); `row_done` after
 /// each band's rows.
-pub fn ray_image(
+pub(super) fn ray_image(
     scene: &Scene,
     camera: &Camera,
     spp: u32,
@@ -80,7 +80,7 @@ pub fn ray_image(
 
 /// The GPU images of 1, 4 and 16 rays per pixel of `scene` seen by `camera`, after an untimed
 /// warm-up image of 1 (the device's first dispatches page in its memory).
-pub fn images(gpu: &Gpu, scene: &Scene, camera: &Camera) -> Result<Vec<GpuRays>, String> {
+pub(super) fn images(gpu: &Gpu, scene: &Scene, camera: &Camera) -> Result<Vec<GpuRays>, String> {
     let queries = GpuQueries::new(gpu, scene).map(GpuQueries::timed).map_err(|e| e.to_string())?;
     ray_image(scene, camera, 1, &queries, &|| {})?;
     let mut out = Vec::new();
@@ -94,7 +94,7 @@ pub fn images(gpu: &Gpu, scene: &Scene, camera: &Camera) -> Result<Vec<GpuRays>,
 
 /// The GPU table: each of `runs` against `cpu`, the CPU rays' (image, seconds) of the same rays per
 /// pixel.
-pub fn print_table(gpu: &Gpu, runs: &[GpuRays], cpu: &[(u32, &Image, f64)]) -> Result<(), String> {
+pub(super) fn print_table(gpu: &Gpu, runs: &[GpuRays], cpu: &[(u32, &Image, f64)]) -> Result<(), String> {
     println!(
         "\nGPU: {}\n{:<18} {:>9} {:>9} {:>11} {:>12} {:>9} {:>9} {:>14}",
         gpu.describe(),

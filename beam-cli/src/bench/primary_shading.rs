@@ -8,7 +8,7 @@ use rand_pcg::Pcg32;
 
 /// A fixed colour of triangle `prim`, each channel in `[0.15, 1]` (a hash of the index).
 #[must_use]
-pub fn albedo(prim: u32) -> Vec3 {
+pub(super) fn albedo(prim: u32) -> Vec3 {
     let h = (u64::from(prim) + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     let h = (h ^ (h >> 29)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     let c = |s: u32| 0.15 + 0.85 * ((h >> s) & 0xFF) as f32 / 255.0;
@@ -17,13 +17,13 @@ pub fn albedo(prim: u32) -> Vec3 {
 
 /// The flat shading under comparison: triangle `prim`'s colour times `|cos|` of the angle between
 /// its normal and the unit view direction `d`.
-pub fn flat(scene: &Scene) -> impl Fn(u32, Vec3, Vec3) -> Vec3 + Sync + '_ {
+pub(super) fn flat(scene: &Scene) -> impl Fn(u32, Vec3, Vec3) -> Vec3 + Sync + '_ {
     move |prim, _, d| albedo(prim) * scene.normal(prim).dot(d).abs()
 }
 
 /// The `k × k` stratified jittered sample positions in pixel `(x, y)` of [`super::primary::ray_image`], in image
 /// coordinates, from a random stream seeded by the pixel (the same for every tracer).
-pub fn pixel_samples(x: usize, y: usize, k: u32) -> impl Iterator<Item = (f32, f32)> {
+pub(super) fn pixel_samples(x: usize, y: usize, k: u32) -> impl Iterator<Item = (f32, f32)> {
     let mut rng = Pcg32::seed_from_u64(((y as u64) << 32 | x as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     (0..k * k).map(move |i| {
         let (jx, jy) = beam_cpu::render::stratified(i, k, &mut rng);

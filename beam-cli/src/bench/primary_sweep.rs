@@ -16,7 +16,7 @@ use rand_pcg::Pcg32;
 use std::path::Path;
 
 /// Cameras and image size per scene unless given: 32 at 256².
-pub const DEFAULTS: (u32, u32) = (32, 256);
+pub(crate) const DEFAULTS: (u32, u32) = (32, 256);
 
 /// One camera's measurements.
 struct Row {
@@ -64,7 +64,7 @@ fn cameras(loaded: &Loaded, n: u32, size: u32, seed: u64) -> Vec<(bool, Camera)>
 
 /// The sweep on each of `scenes`; `cameras_arg` and `size_arg` override the defaults; the plot and
 /// a CSV of every camera go to `out` when given.
-pub fn run(
+pub(crate) fn run(
     scenes: &[String],
     cameras_arg: Option<u32>,
     size_arg: Option<u32>,

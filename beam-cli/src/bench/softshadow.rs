@@ -10,7 +10,7 @@ use std::path::Path;
 
 /// Refuse sizes and counts the benchmark cannot use: `size` 1 to 16384, at least 1 reference ray,
 /// and a light size in (0, 1].
-pub fn check(size: u32, reference_spp: u32, light_size: f32) -> Result<(), String> {
+pub(crate) fn check(size: u32, reference_spp: u32, light_size: f32) -> Result<(), String> {
     if !(1..=16384).contains(&size) {
         return Err(format!("--size {size} out of range (1 to 16384)"));
     }
@@ -62,7 +62,7 @@ fn short_name(name: &str) -> String {
 
 /// Run the benchmark on `scene_arg` at `size × size`; with `gpu`, also the GPU's exact soft shadows
 /// ([`super::softshadow_gpu`]) against the CPU's `beam (exact)`, in the table and in one of their own.
-pub fn run(
+pub(crate) fn run(
     scene_arg: &str,
     size: u32,
     reference_spp: u32,

@@ -15,7 +15,7 @@ use beam_scene::scene::Scene;
 use std::time::Instant;
 
 /// The GPU frame of one scene, `runs` times (after a warm-up frame).
-pub struct GpuRun {
+pub(super) struct GpuRun {
     /// The first timed run's image.
     pub image: Image,
     /// Median wall time of the frame on the host (`render_queries`: rays and beams on the device,
@@ -40,7 +40,7 @@ pub struct GpuRun {
 /// Render `scene` with `options` (method `beam`) on `gpu` by [`render_queries`] `runs` times (at
 /// least once) after an untimed warm-up frame (the device's first dispatches page in its memory);
 /// `row_done` after each image row of each timed run.
-pub fn run(
+pub(super) fn run(
     gpu: &Gpu,
     scene: &Scene,
     options: &RenderOptions,
@@ -78,7 +78,7 @@ pub fn run(
 }
 
 /// A GPU row against the CPU's exact soft shadows of the same pixels.
-pub struct Compared {
+pub(super) struct Compared {
     /// Scene (and light size of a sweep row).
     pub name: String,
     /// The GPU's frame.
@@ -93,7 +93,7 @@ pub struct Compared {
 
 impl Compared {
     /// `run` on `name` against the CPU's `cpu` image of `cpu_seconds`, and the `reference`.
-    pub fn new(
+    pub(super) fn new(
         name: String,
         gpu: GpuRun,
         (cpu, cpu_seconds): (&Image, f64),
@@ -107,7 +107,7 @@ impl Compared {
 
 /// The GPU table's header: the device, then the column names.
 #[must_use]
-pub fn header(gpu: &Gpu) -> String {
+pub(super) fn header(gpu: &Gpu) -> String {
     format!(
         "GPU: {}\n{:<18} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9} {:>9} {:>9} {:>8} {:>9}",
         gpu.describe(),
@@ -129,7 +129,7 @@ pub fn header(gpu: &Gpu) -> String {
 
 /// One row of the GPU table.
 #[must_use]
-pub fn line(c: &Compared) -> String {
+pub(super) fn line(c: &Compared) -> String {
     let g = &c.gpu;
     let ms = |s: Option<f64>| s.map_or_else(|| "n/a".to_string(), |s| format!("{:.1}", 1e3 * s));
     let per_second = |s: f64| g.beams as f64 / s / 1e6;
@@ -152,7 +152,7 @@ pub fn line(c: &Compared) -> String {
 }
 
 /// What the GPU table's columns are.
-pub const FOOTNOTE: &str = "GPU ms: the device's own time in the shadow-beam dispatches, summed (timestamp \
+pub(super) const FOOTNOTE: &str = "GPU ms: the device's own time in the shadow-beam dispatches, summed (timestamp \
      queries; n/a where the device has none); rays ms: likewise in the ray dispatches (camera rays); host ms: wall \
      time of the GPU frame after a warm-up frame (render_queries: primary rays, every shadow beam exact, those past \
      the device's limits traced on the host: overflow); Mbeam/s G and h: shadow beams per second of GPU ms and of \
@@ -163,7 +163,7 @@ pub const FOOTNOTE: &str = "GPU ms: the device's own time in the shadow-beam dis
 
 /// Every row, one line each (seconds; empty fields for what was not measured).
 #[must_use]
-pub fn csv(rows: &[Compared]) -> String {
+pub(super) fn csv(rows: &[Compared]) -> String {
     let mut out = String::from(
         "scene,gpu_beam_s,gpu_ray_s,host_s,setup_s,shadow_beams,overflow_beams,beam_iterations,cpu_s,cpu_over_gpu,\
          psnr_vs_cpu,rmse_vs_reference\n",

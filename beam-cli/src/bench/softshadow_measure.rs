@@ -16,10 +16,10 @@ use beam_scene::scene::Scene;
 
 /// The methods, in table order: eye beams + shadow beams (`beam render`'s default), shadow beams
 /// from primary rays at pixel centres, our rays at 64 and 256 per pixel, Embree's at 256.
-pub const METHODS: [&str; 5] = ["beam", "beam, primary rays", "rays 64", "rays 256", "embree 256"];
+pub(super) const METHODS: [&str; 5] = ["beam", "beam, primary rays", "rays 64", "rays 256", "embree 256"];
 
 /// One scene's measurements.
-pub struct Row {
+pub(super) struct Row {
     /// Case name.
     pub case: String,
     /// The light's edge as a fraction of the scene's extent (light sweep rows).
@@ -52,7 +52,7 @@ impl Row {
     /// The bar: shadow beams no slower than our 256 rays from the same primary rays (001 §5.1's
     /// comparison), with an RMSE no larger.
     #[must_use]
-    pub fn pass(&self) -> bool {
+    pub(super) fn pass(&self) -> bool {
         match (self.seconds[1], self.seconds[3], self.rmse[1], self.rmse[3]) {
             (Some(t), Some(t256), Some(e), Some(e256)) => t <= t256 && e <= e256,
             _ => false,
@@ -61,7 +61,7 @@ impl Row {
 }
 
 /// The images a row may write: eye beams, rays 256 and the pixel centres' reference.
-pub struct Images {
+pub(super) struct Images {
     /// Eye beams + shadow beams.
     pub beam: Image,
     /// Our 256 rays.
@@ -72,7 +72,7 @@ pub struct Images {
 
 /// Shadow rays to each of `lights` lights for `per_pixel` rays per pixel in all.
 #[must_use]
-pub fn rays_per_light(per_pixel: u32, lights: usize) -> u32 {
+pub(super) fn rays_per_light(per_pixel: u32, lights: usize) -> u32 {
     let n = lights.max(1) as u32;
     ((per_pixel + n / 2) / n).max(1)
 }
@@ -107,7 +107,7 @@ fn median(v: &[f64]) -> Option<f64> {
 
 /// Every method on `scene` at `size × size`, `runs` times in turn (so that a slow spell of the
 /// machine falls on all of them), against references of `reference_spp` rays per pixel.
-pub fn measure(
+pub(super) fn measure(
     scene: &Scene,
     case: &str,
     light: Option<f32>,

@@ -7,7 +7,7 @@ use std::path::Path;
 
 /// Seconds of each method against the light's edge (fraction of the scene's extent) of the sweep
 /// rows of `rows`, a panel per scene, side by side.
-pub fn light_sweep(path: &Path, rows: &[Row]) -> Result<(), String> {
+pub(super) fn light_sweep(path: &Path, rows: &[Row]) -> Result<(), String> {
     let sweep: Vec<&Row> = rows.iter().filter(|r| r.light.is_some()).collect();
     let mut scenes: Vec<&str> = sweep.iter().map(|r| r.case.as_str()).collect();
     scenes.dedup();

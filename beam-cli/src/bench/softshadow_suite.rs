@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 const CSV: &str = "softshadow-suite.csv";
 
 /// The suite's arguments.
-pub struct Args {
+pub(crate) struct Args {
     /// Suite cases to run (none: only the sweep).
     pub cases: Vec<String>,
     /// Run the light sweep.
@@ -38,7 +38,7 @@ const GPU_CSV: &str = "softshadow-suite-gpu.csv";
 
 impl Args {
     /// Refuse what the suite cannot run, naming the option.
-    pub fn check(&self) -> Result<(), String> {
+    pub(crate) fn check(&self) -> Result<(), String> {
         super::checks::side("--size", self.size)?;
         if self.reference_spp == 0 {
             return Err("--reference-spp 0: at least 1 shadow ray per pixel is needed".into());
@@ -57,7 +57,7 @@ impl Args {
 /// and the images to `args.out`. With `gpu`, each scene's GPU frame too ([`super::softshadow_gpu`],
 /// `args.runs` times, against the CPU's exact soft shadows from the same primary rays), a line
 /// under its row and a table at the end.
-pub fn run(args: &Args, gpu: Option<&beam_gpu::Gpu>) -> Result<(), String> {
+pub(crate) fn run(args: &Args, gpu: Option<&beam_gpu::Gpu>) -> Result<(), String> {
     args.check()?;
     println!(
         "softshadow suite: {0}×{0}, {1} threads, medians of {2} runs, references of {3} shadow rays per pixel; \

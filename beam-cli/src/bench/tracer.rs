@@ -3,7 +3,7 @@
 use beam_math::Ray;
 
 /// A ray tracer under test: ours or a peer, over the same triangles.
-pub trait Tracer: Sync {
+pub(super) trait Tracer: Sync {
     /// Display name.
     fn name(&self) -> String;
     /// Build time in milliseconds.

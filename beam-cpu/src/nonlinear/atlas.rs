@@ -13,7 +13,7 @@ use beam_render::nonlinear::{BeamTexture, Exclude, TEXEL_EPS, TexelBeam, TexelHi
 use beam_scene::scene::Scene;
 
 /// Regions at most this many texels a side keep their texels' rays (about 100 bytes per texel).
-pub const RAY_CACHE_SIZE: u32 = 512;
+pub(super) const RAY_CACHE_SIZE: u32 = 512;
 
 /// A texel's ray, prepared for intersection.
 #[derive(Clone, Copy)]

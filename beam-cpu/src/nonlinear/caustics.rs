@@ -190,7 +190,6 @@ pub fn caustics_by_beams(
 /// it; see [`caustics_by_beams`]), appended to `out` as (receiving triangle, point, flux) to splat;
 /// `lit` caches per texel whether emitter `e` reaches its base point (shadow rays offset by `eps`,
 /// plus the thickness).
-#[allow(clippy::too_many_arguments)]
 fn deposit(
     scene: &Scene,
     (f, thickness): (&SFace, f32),

@@ -250,7 +250,7 @@ impl Tree<'_> {
 /// coordinates and how far outside the base the last projection lay (its most negative
 /// coordinate, negated; 0 inside); `w` and 0 when a projection fails.
 #[must_use]
-pub fn reproject(beam: &Beam, tex: &BeamTexture, p: Vec3, truth: Vec3, w: Vec3, far: f32) -> (Vec3, f32) {
+pub(super) fn reproject(beam: &Beam, tex: &BeamTexture, p: Vec3, truth: Vec3, w: Vec3, far: f32) -> (Vec3, f32) {
     if matches!(beam, Beam::Bumped(_)) || !truth.is_finite() {
         return (w, 0.0); // a bump map tilts the rays texel by texel: the face's own coordinates
     }

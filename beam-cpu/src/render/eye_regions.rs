@@ -128,7 +128,6 @@ pub(crate) struct EyeStats {
 /// come as [`Fragment::Lit`]. Marks the triangles seen in `seen_prims`. A pixel's fragments do not
 /// depend on `window`: the pieces are the eye beam's through all of `region`, and only the pieces
 /// that reach no pixel of `window` are skipped.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn region_fragments(
     scene: &Scene,
     camera: &Camera,

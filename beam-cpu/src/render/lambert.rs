@@ -66,7 +66,7 @@ pub fn polygon_irradiance(p: Vec3, n: Vec3, polygon: &[Vec3]) -> f32 {
 /// `atan2` keeps small angles accurate where `acos` of a dot product near 1 does not.
 #[must_use]
 #[inline]
-pub fn edge_irradiance_f64(p: DVec3, n: DVec3, a: DVec3, b: DVec3) -> f64 {
+pub(super) fn edge_irradiance_f64(p: DVec3, n: DVec3, a: DVec3, b: DVec3) -> f64 {
     let a = (a - p).normalize_or_zero();
     let b = (b - p).normalize_or_zero();
     let c = a.cross(b);

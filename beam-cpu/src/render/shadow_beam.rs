@@ -474,7 +474,12 @@ pub(crate) fn light_beam(p: Vec3, light: &[Vec3], light_normal: Vec3) -> Option<
 
 /// The part of `beam`'s cross-section seen from its apex past every triangle strictly between the
 /// apex and the reference plane (depths in `[DEPTH_EPS, 1 − DEPTH_EPS]`).
-pub fn visible_section(bvh: &FlatBvh, triangles: &[Triangle], beam: &PolyBeam, stats: &mut BeamStats) -> VisibleLight {
+pub(super) fn visible_section(
+    bvh: &FlatBvh,
+    triangles: &[Triangle],
+    beam: &PolyBeam,
+    stats: &mut BeamStats,
+) -> VisibleLight {
     let mut scratch = ShadowScratch::default();
     let mut traced = ShadowBeam::new(beam, &mut scratch);
     trace_bvh(bvh, triangles, &mut traced);

@@ -58,7 +58,7 @@ pub struct CompositeParams {
 
 const _: () = assert!(size_of::<GpuFace>() == 128 && size_of::<CompositeParams>() == 16);
 
-/// "None" in [`CompositeRecord`] ([`crate::interface::NONE`]).
+/// "None" in [`CompositeRecord`](super::records::CompositeRecord) ([`crate::interface::NONE`]).
 pub use crate::interface::NONE;
 
 /// Shades batches of the points the [`PointShader`] does not (mirrors and glass past the tree): adds
@@ -151,7 +151,6 @@ impl GpuComposite {
     /// `records_per_dispatch` texels, each binding only the faces and child regions its records
     /// reference. Every shading (`rest`'s too) is given `checks`. Call inside
     /// [`crate::buffers::checked`].
-    #[allow(clippy::too_many_arguments)]
     pub fn run(
         &self,
         gpu: &Gpu,

@@ -96,7 +96,7 @@ pub(super) struct PageCulls {
 
 impl PageCulls {
     /// Add a beam culled by `cull` with `exclude`.
-    pub fn push(&mut self, cull: &ConeCull, exclude: Exclude<'_>) {
+    pub(super) fn push(&mut self, cull: &ConeCull, exclude: Exclude<'_>) {
         let mut list = |l: &[u32]| {
             let at = [self.lists.len() as u32, l.len() as u32];
             self.lists.extend_from_slice(l);
@@ -109,7 +109,7 @@ impl PageCulls {
 
 impl GpuCull {
     /// Compile the pass and upload `scene`'s blocks and bounding spheres.
-    pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
+    pub(super) fn new(gpu: &Gpu, scene: &Scene) -> Result<Self, GpuError> {
         let spheres: Vec<[f32; 4]> = (0..scene.triangles.len() as u32)
             .map(|i| {
                 let (c, r) = scene.bounding_sphere(i);
@@ -127,7 +127,7 @@ impl GpuCull {
     /// Add to `encoder` the pass that makes the page's pairs (four per block of `blocks`, the
     /// count in `params`, `AtlasParams::pairs`) from a [`PageCulls`] uploaded (`culls`, `lists`);
     /// returns their buffer.
-    pub fn encode(
+    pub(super) fn encode(
         &self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,

@@ -62,9 +62,9 @@ impl GpuBeams<'_> {
 }
 
 impl EyeView for GpuBeams<'_> {
-    /// On the GPU ([`GpuEye`]) where the composite will shade the frame (exact shading, the eye's
+    /// On the GPU (`GpuEye`) where the composite will shade the frame (exact shading, the eye's
     /// level within one texture): the diffuse, glossy and emissive pixels of the region are kept
-    /// there, in the frame's [`GpuKept`]. Otherwise by the compute ray tracer, keeping none.
+    /// there, in the frame's `GpuKept`. Otherwise by the compute ray tracer, keeping none.
     fn eye_view(
         &self,
         scene: &Scene,

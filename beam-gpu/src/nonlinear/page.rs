@@ -304,7 +304,6 @@ impl<'g> AtlasPages<'g> {
     /// (`ranges`) onto a page of `rows` rows, the depth test keeping each texel's nearest hit; then
     /// the regions' `texel_count` texels gathered from the page into `dense`, at the beams'
     /// `firsts`. Timed as passes 1 and 2 of `timer`.
-    #[allow(clippy::too_many_arguments)]
     fn draw_page(
         &self,
         encoder: &mut wgpu::CommandEncoder,

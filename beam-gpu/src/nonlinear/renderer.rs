@@ -30,8 +30,8 @@ use beam_scene::scene::Scene;
 
 /// The GPU's beam renderer for one scene: its triangles uploaded, every stage's passes compiled.
 /// It holds what lives as long as it does (the passes, the scene's buffers, the tree levels' memo
-/// across frames in [`GpuAtlas`], the times summed); a frame's kept points and hits are the
-/// frame's value ([`GpuKept`]), and a frame left on the GPU for display is returned
+/// across frames in `GpuAtlas`, the times summed); a frame's kept points and hits are the
+/// frame's value (`GpuKept`), and a frame left on the GPU for display is returned
 /// ([`beam_render::nonlinear::FramePixels::Kept`], a [`super::GpuFrame`]).
 pub struct GpuBeams<'g> {
     pub(super) gpu: &'g Gpu,
@@ -157,8 +157,8 @@ impl<'g> GpuBeams<'g> {
     }
 }
 
-/// The tree levels by the atlas stage ([`GpuAtlas`]); a level it keeps goes to the frame's
-/// [`GpuKept`].
+/// The tree levels by the atlas stage (`GpuAtlas`); a level it keeps goes to the frame's
+/// `GpuKept`.
 impl BeamRasterizer for GpuBeams<'_> {
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
         self.atlas.render_beams(scene, jobs)

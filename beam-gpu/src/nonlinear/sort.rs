@@ -93,14 +93,14 @@ pub(super) fn plan(
 
 impl Plan {
     /// Texels of each kind: shaded by the shading pass, by the caller, composited.
-    pub fn totals(&self) -> [usize; 3] {
+    pub(super) fn totals(&self) -> [usize; 3] {
         [0, 1, 2].map(|k| self.counts.iter().map(|n| n[k]).sum())
     }
 
     /// The second pass: every texel written to `out`, whose lists hold [`Plan::totals`] elements
     /// (`targets` the first two together). The same `texels` as [`plan`] counted; an error where
     /// the lists are too short.
-    pub fn fill(
+    pub(super) fn fill(
         &self,
         (scene, smesh): (&Scene, &SMesh),
         texels: &[TexelRadiance],

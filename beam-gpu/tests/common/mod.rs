@@ -4,7 +4,7 @@ use beam_gpu::Gpu;
 
 /// The adapter, or `None` after printing SKIPPED past the test harness's capture (a failure
 /// instead under `BEAM_REQUIRE_GPU=1`, as in CI).
-pub fn adapter() -> Option<Gpu> {
+pub(crate) fn adapter() -> Option<Gpu> {
     match Gpu::new() {
         Ok(gpu) => Some(gpu),
         Err(e) => {

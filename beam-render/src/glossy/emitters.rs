@@ -146,7 +146,7 @@ pub fn stratified(scene: &Scene, k: u32) -> Vec<Emitter> {
 
 /// The sub-triangles of a `k × k` barycentric grid over a triangle, as barycentric corners (the
 /// winding of the triangle's own).
-pub fn sub_triangles(k: u32) -> impl Iterator<Item = [Vec3; 3]> {
+pub(super) fn sub_triangles(k: u32) -> impl Iterator<Item = [Vec3; 3]> {
     let w = move |i: u32, j: u32| Vec3::new(1.0 - (i + j) as f32 / k as f32, i as f32 / k as f32, j as f32 / k as f32);
     (0..k).flat_map(move |i| {
         (0..k - i).flat_map(move |j| {

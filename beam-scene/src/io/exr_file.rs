@@ -15,7 +15,7 @@ use std::io::{BufReader, Cursor};
 use std::path::Path;
 
 /// Name of the header attribute holding [`Placement::render`] in hexadecimal (absent: 0).
-pub const RENDER_KEY: &str = "beamRender";
+pub(super) const RENDER_KEY: &str = "beamRender";
 
 /// `pixels` (row-major, the rectangle of `placement`) as EXR bytes, placed in the frame. Errors for
 /// a pixel count that does not match, or a frame too large for the format's 32-bit coordinates.

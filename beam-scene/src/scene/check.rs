@@ -6,12 +6,12 @@ use crate::read::{QUOTE_CHARS, clip, visible};
 use std::path::Path;
 
 /// Deepest nesting of arrays and inline tables in a scene file (a scene needs 3).
-pub const MAX_DEPTH: usize = 64;
+pub(super) const MAX_DEPTH: usize = 64;
 
 /// Refuse text whose arrays and inline tables nest deeper than [`MAX_DEPTH`] before the TOML
 /// parser (which recurses) sees it. A cheap scan that skips strings and comments; the error names
 /// the file and line. (Deep dotted keys the parser refuses itself, without recursing.)
-pub fn nesting(path: &Path, text: &str) -> Result<(), SceneError> {
+pub(super) fn nesting(path: &Path, text: &str) -> Result<(), SceneError> {
     let b = text.as_bytes();
     let (mut i, mut line, mut depth) = (0, 1, 0usize);
     let fail = |line: usize, what: &str| {
@@ -68,7 +68,7 @@ pub fn nesting(path: &Path, text: &str) -> Result<(), SceneError> {
 
 /// A TOML error as `file:line:column: message`, quoting at most [`QUOTE_CHARS`] characters of the
 /// line around the column (the parser's own message quotes the whole line, however long).
-pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> SceneError {
+pub(super) fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> SceneError {
     let message = match e.message().trim() {
         "" => "not valid TOML".to_string(),
         m => visible(&clip(&m.replace('\n', "; "), 200)),
@@ -100,7 +100,7 @@ pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> SceneError {
 }
 
 /// Refuse non-finite values of `element` (a position, a transform).
-pub fn finite(path: &Path, element: &str, values: &[f32]) -> Result<(), SceneError> {
+pub(super) fn finite(path: &Path, element: &str, values: &[f32]) -> Result<(), SceneError> {
     if values.iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
@@ -113,7 +113,7 @@ pub fn finite(path: &Path, element: &str, values: &[f32]) -> Result<(), SceneErr
 }
 
 /// Refuse a colour (albedo, tint, radiance, intensity) of `element` that is not finite and ≥ 0.
-pub fn colour(path: &Path, element: &str, rgb: [f32; 3]) -> Result<(), SceneError> {
+pub(super) fn colour(path: &Path, element: &str, rgb: [f32; 3]) -> Result<(), SceneError> {
     if rgb.iter().all(|v| v.is_finite() && *v >= 0.0) {
         Ok(())
     } else {
@@ -126,7 +126,7 @@ pub fn colour(path: &Path, element: &str, rgb: [f32; 3]) -> Result<(), SceneErro
 }
 
 /// A name from a scene file made safe to print: control characters escaped, clipped.
-pub fn name(s: &str) -> String {
+pub(super) fn name(s: &str) -> String {
     clip(&s.escape_debug().to_string(), QUOTE_CHARS)
 }
 

@@ -17,7 +17,7 @@ const PARALLELOGRAM_TOLERANCE: f32 = 1e-5;
 /// `lights` with neighbouring coplanar emitters of equal radiance joined, and how many lights the
 /// joins removed.
 #[must_use]
-pub fn merge_emitters(lights: Vec<Light>) -> (Vec<Light>, usize) {
+pub(super) fn merge_emitters(lights: Vec<Light>) -> (Vec<Light>, usize) {
     let before = lights.len();
     let mut shapes: Vec<Option<Shape>> = lights.iter().map(Shape::of).collect();
     loop {

@@ -14,7 +14,7 @@ use std::collections::HashMap;
 /// normals from facet normals*, 1999), which give the exact normal when the vertex and its
 /// neighbours lie on a sphere.
 #[must_use]
-pub fn specular_normals(
+pub(super) fn specular_normals(
     triangles: &[Triangle],
     material_of: &[u32],
     materials: &[Material],

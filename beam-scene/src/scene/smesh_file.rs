@@ -54,7 +54,6 @@ pub(super) fn rest(path: &Path, table: Option<&SMeshFile>) -> Result<Option<Simp
 /// `None` when it asks for neither. `fine` are its triangles (in the scene), `material` its
 /// material and `material_name` the material's name in the file. The coarse mesh must lie over
 /// the fine one ([`SceneError::SMeshFar`]); errors in its OBJ name its file and line.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn mesh_source(
     path: &Path,
     dir: &Path,

@@ -2,14 +2,14 @@
 //! buffer with a view and an accessor each, and JSON for the rest; [`cornell`] is a Cornell-like box
 //! using every mapped feature.
 
-#![allow(dead_code)]
+#![allow(dead_code, reason = "shared by several test binaries, each of which uses a part")]
 
 use base64::Engine as _;
 use std::path::{Path, PathBuf};
 
 /// A glTF document being written: one buffer, and the JSON of its other arrays.
 #[derive(Default)]
-pub struct Doc {
+pub(crate) struct Doc {
     pub bin: Vec<u8>,
     pub views: Vec<String>,
     pub accessors: Vec<String>,
@@ -36,7 +36,7 @@ impl Doc {
     }
 
     /// A VEC3 float accessor of `p`; its index.
-    pub fn positions(&mut self, p: &[[f32; 3]]) -> usize {
+    pub(crate) fn positions(&mut self, p: &[[f32; 3]]) -> usize {
         let bytes: Vec<u8> = p.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
         let view = self.view(&bytes);
         // POSITION accessors must say their bounds.
@@ -53,7 +53,7 @@ impl Doc {
     }
 
     /// A scalar index accessor of `i` stored as `bytes` per index (1, 2 or 4); its index.
-    pub fn indices(&mut self, i: &[u32], bytes: usize) -> usize {
+    pub(crate) fn indices(&mut self, i: &[u32], bytes: usize) -> usize {
         let data: Vec<u8> = i
             .iter()
             .flat_map(|&x| match bytes {
@@ -76,19 +76,19 @@ impl Doc {
     }
 
     /// A mesh of `primitives` (JSON objects); its index.
-    pub fn mesh(&mut self, primitives: &[String]) -> usize {
+    pub(crate) fn mesh(&mut self, primitives: &[String]) -> usize {
         self.meshes.push(format!(r#"{{"primitives": [{}]}}"#, primitives.join(", ")));
         self.meshes.len() - 1
     }
 
     /// A node (JSON object); its index.
-    pub fn node(&mut self, json: &str) -> usize {
+    pub(crate) fn node(&mut self, json: &str) -> usize {
         self.nodes.push(json.to_string());
         self.nodes.len() - 1
     }
 
     /// The JSON, its buffer at `uri` (the GLB chunk when `None`).
-    pub fn json(&self, uri: Option<&str>) -> String {
+    pub(crate) fn json(&self, uri: Option<&str>) -> String {
         let uri = uri.map_or(String::new(), |u| format!(r#""uri": "{u}", "#));
         let list = |v: &[String]| v.join(",\n  ");
         let lights = if self.lights.is_empty() {
@@ -116,13 +116,13 @@ impl Doc {
     }
 
     /// The `.gltf` text with the buffer as a base64 data URI.
-    pub fn gltf(&self) -> String {
+    pub(crate) fn gltf(&self) -> String {
         let data = base64::engine::general_purpose::STANDARD.encode(&self.bin);
         self.json(Some(&format!("data:application/octet-stream;base64,{data}")))
     }
 
     /// The `.glb` bytes: header, JSON chunk, BIN chunk.
-    pub fn glb(&self) -> Vec<u8> {
+    pub(crate) fn glb(&self) -> Vec<u8> {
         let mut json = self.json(None).into_bytes();
         while json.len() % 4 != 0 {
             json.push(b' ');
@@ -147,7 +147,7 @@ impl Doc {
 
 /// Load `data` written as `dir/name` and expect a refusal that names the file and holds every one of
 /// `words`; the message.
-pub fn refused(dir: &Path, name: &str, data: impl AsRef<[u8]>, words: &[&str]) -> String {
+pub(crate) fn refused(dir: &Path, name: &str, data: impl AsRef<[u8]>, words: &[&str]) -> String {
     let e = match beam_scene::scene::load_file(&write(dir, name, data)) {
         Ok(_) => panic!("{name} loaded"),
         Err(e) => e.to_string(),
@@ -160,7 +160,7 @@ pub fn refused(dir: &Path, name: &str, data: impl AsRef<[u8]>, words: &[&str]) -
 }
 
 /// Write `data` to `dir/name`; its path.
-pub fn write(dir: &Path, name: &str, data: impl AsRef<[u8]>) -> PathBuf {
+pub(crate) fn write(dir: &Path, name: &str, data: impl AsRef<[u8]>) -> PathBuf {
     let p = dir.join(name);
     std::fs::write(&p, data).unwrap();
     p
@@ -172,7 +172,7 @@ fn quad(base: u32) -> [u32; 6] {
 }
 
 /// A primitive of `positions`, `indices` and `material` (JSON), with extra JSON `more`.
-pub fn primitive(positions: usize, indices: Option<usize>, material: Option<usize>, more: &str) -> String {
+pub(crate) fn primitive(positions: usize, indices: Option<usize>, material: Option<usize>, more: &str) -> String {
     let mut s = format!(r#"{{"attributes": {{"POSITION": {positions}}}"#);
     if let Some(i) = indices {
         s += &format!(r#", "indices": {i}"#);
@@ -195,7 +195,7 @@ pub fn primitive(positions: usize, indices: Option<usize>, material: Option<usiz
 /// - a point light, a directional light (skipped) and a spot light (a point light here).
 ///
 /// 28 valid triangles, 1 degenerate; 4 lights (2 from the emissive quad).
-pub fn cornell() -> Doc {
+pub(crate) fn cornell() -> Doc {
     let mut d = Doc::default();
     #[rustfmt::skip]
     let room = d.positions(&[

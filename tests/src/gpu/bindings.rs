@@ -18,12 +18,12 @@ use beam_scene::scene::{Bump, Camera, Light, Material, Scene};
 /// Bytes of one storage binding on the narrowed device: the scene's triangles (48 bytes each), BVH
 /// nodes and per-triangle shading (32 bytes each) fit, its S-mesh faces (128 bytes each), beams (576
 /// bytes each) and deeper levels' texels do not.
-pub const NARROW_BINDING: u64 = 64 << 10;
+pub(super) const NARROW_BINDING: u64 = 64 << 10;
 
 /// A mirror ball and a glass ball (about 700 specular faces) on a checkered floor before a wall, a
 /// red box, lit by a point light; the eye at `side`².
 #[must_use]
-pub fn two_balls(side: u32) -> Scene {
+pub(super) fn two_balls(side: u32) -> Scene {
     let mut tris: Vec<(Triangle, u32)> = Vec::new();
     let quad = |tris: &mut Vec<(Triangle, u32)>, o: Vec3, u: Vec3, v: Vec3, m: u32| {
         tris.push((Triangle::new(o, o + u, o + u + v), m));
@@ -65,7 +65,7 @@ pub fn two_balls(side: u32) -> Scene {
 /// wgpu's default adapter opened with storage bindings of at most `binding` bytes; without one,
 /// `Ok(Err(outcome))` saying why the property is skipped, or the error itself when
 /// `BEAM_REQUIRE_GPU=1`.
-pub fn narrow_adapter(binding: u64) -> Result<Result<Gpu, Outcome>, String> {
+pub(super) fn narrow_adapter(binding: u64) -> Result<Result<Gpu, Outcome>, String> {
     let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
     let options = wgpu::RequestAdapterOptions { compatible_surface: None, ..Default::default() };
     let adapter = match pollster::block_on(instance.request_adapter(&options)) {
@@ -87,7 +87,7 @@ pub fn narrow_adapter(binding: u64) -> Result<Result<Gpu, Outcome>, String> {
 /// at most 0.5% of the pixels differ by more than 4/255 in a channel (sRGB), as in
 /// `gpu_images_equal_cpu`. A scene whose BVH does not fit a binding (`mirror-glass`) is refused
 /// with [`GpuError::SceneTooLarge`].
-pub fn gpu_images_fit_narrow_bindings(_: crate::property::Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_images_fit_narrow_bindings(_: crate::property::Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match narrow_adapter(NARROW_BINDING)? {
         Ok(g) => g,
         Err(o) => return Ok(o),

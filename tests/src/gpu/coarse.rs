@@ -40,7 +40,7 @@ fn coarse_teapot() -> Result<scene::Scene, String> {
 /// of `gpu_images_equal_cpu`; both renders must use the coarse faces (beams off them, not rays
 /// alone), the GPU's must look points up on the GPU, and the beam counts must agree within 2%.
 /// The mean error and the points under coarse faces traced by rays are stated.
-pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
@@ -102,7 +102,7 @@ pub fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, St
 /// ties: hits whose nearest candidates lie within 1e-6 of the scene's size of each other (rounded
 /// otherwise in f32 on the GPU) may count at either. Some hits must lie on triangles with several
 /// candidates (else the GPU chose nothing).
-pub fn gpu_eye_locates_as_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_eye_locates_as_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),

@@ -17,7 +17,7 @@ use beam_scene::scene::{self, Simplify};
 /// against `cone_candidates` with the ring marked, as multisets. Only triangles on the cone's
 /// boundary, where f32 rounding may differ between host and device, may differ: at most 1 in
 /// 10,000 of those kept.
-pub fn gpu_cone_culling_equals_host(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_cone_culling_equals_host(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),

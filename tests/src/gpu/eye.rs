@@ -17,7 +17,7 @@ use beam_scene::scene;
 /// handed back by `take_kept_eye`, seeded by its pixel), no other. Per pixel the same triangle, or
 /// another at the same distance (a shared edge), with the hit point within 1e-5 of the scene's
 /// size; at most 0.1% of the pixels may differ.
-pub fn gpu_eye_view_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_eye_view_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),

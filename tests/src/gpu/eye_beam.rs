@@ -53,7 +53,7 @@ fn largest_difference(a: &BTreeMap<Option<u32>, f32>, b: &BTreeMap<Option<u32>, 
 /// triangles, the work budget, llvmpipe's loop cap) is reported, and none stops short silently:
 /// with a budget of 40 loop iterations, pixels answer `None` and those that do not answer as with
 /// the full budget. The GPU's near plane is the CPU's.
-pub fn gpu_eye_beam_coverage_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_eye_beam_coverage_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     if EYE_NEAR != NEAR {
         return Err(format!("the GPU eye beams' near plane {EYE_NEAR} differs from the CPU's {NEAR}"));
     }

@@ -85,7 +85,7 @@ fn irradiance_on(
 /// brightest pixel's value at 99% of the pixels and 1e-3 at all, none stopped short; then with a
 /// work budget of 40 loop iterations a pixel, every pixel with a light in front of it stops
 /// short, says so in its alpha, and the count adds up.
-pub fn gpu_gbuffer_irradiance_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_gbuffer_irradiance_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),

@@ -12,7 +12,7 @@ use beam_scene::scene;
 /// may differ where f32 puts a point on the other side of a node's cone: counted); at most 0.2% of the points may differ (a flux-triangle edge or a
 /// shadow ray's grazing hit decided the other way in f32). The worst relative error is stated. The
 /// hierarchy cut into parts of a seventh of its beams gathers the same sums.
-pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::glossy::gather_on_cpu;
     use beam_math::glossy::VolumeMethod;
     use beam_render::glossy::{GlossyOptions, LightVolumes};
@@ -78,7 +78,7 @@ pub fn gpu_glossy_gather_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, S
 /// boundaries) and 0.1% of the beams tested. The same points gathered in two
 /// interleaved halves must give every point the same result as the whole batch (an invocation
 /// depends on its own point only).
-pub fn gpu_glossy_gather_area_lights_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_glossy_gather_area_lights_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::glossy::gather_on_cpu;
     use beam_math::glossy::VolumeMethod;
     use beam_render::glossy::{GlossyOptions, LightVolumes};

@@ -37,7 +37,7 @@ fn layout_of(jobs: &[BeamJob<'_>], prims: impl Iterator<Item = u32>) -> LevelLay
 /// the CPU) — and so are the counts of points and of points on curved triangles; the textures hold
 /// exactly the hits on triangles the tree goes on from, as points in texel order within the same
 /// 1e-5 of the host's, or, asked for them, every hit. A renderer reading levels back keeps none.
-pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
@@ -181,7 +181,7 @@ pub fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Result<Outco
 /// 0.1% of the pixels differ by more than 4/255 (the texel rays made on the GPU instead of the
 /// CPU), and the beams per level, the texels shaded and the specular points traced by rays are the
 /// same.
-pub fn gpu_kept_level_images_equal_read_back(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_kept_level_images_equal_read_back(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
@@ -255,7 +255,7 @@ pub fn gpu_kept_level_images_equal_read_back(_: Backend, _: &Config) -> Result<O
 /// `kept_level_points` reads back, located by `SMesh::locate_on`, and every sum is within 2e-6 per
 /// sample of the host's (the GPU's are in fixed point, the host's in f32); the same level kept
 /// again gives the same bits.
-pub fn gpu_summed_fits_equal_host_fits(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_summed_fits_equal_host_fits(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),

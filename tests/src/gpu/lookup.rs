@@ -27,7 +27,7 @@ const LOOKUP_AGREE: f32 = 1e-3;
 /// agree within [`LOOKUP_AGREE`]. At most 1% of the cases part: where the point lies at a fold
 /// (convergence decided otherwise, or two roots that both reach it), or where both fell back on
 /// corner-ray roots that f32's cubic places otherwise.
-pub fn gpu_lookup_projections_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_lookup_projections_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),

@@ -10,7 +10,7 @@ use beam_gpu::buffers::{map_with, read_back, readback, storage};
 /// buffer's size; a 300 KB one takes a new buffer, and an 80 KB one after it the first buffer
 /// again (the smallest that fits); an empty one reads nothing. Every word read back equals the
 /// word uploaded.
-pub fn gpu_readbacks_reuse_buffers(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_readbacks_reuse_buffers(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),

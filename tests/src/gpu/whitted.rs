@@ -24,7 +24,7 @@ use rayon::prelude::*;
 /// channel within 1e-4 relative + 1e-5; at most 0.5% of the points may differ (a path whose
 /// rounding sends it past an edge, or a shadow ray that grazes one). The worst relative error is
 /// stated.
-pub fn gpu_whitted_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gpu_whitted_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),

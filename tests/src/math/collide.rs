@@ -37,7 +37,7 @@ fn brute_force_entry(ray: Ray, b: Aabb) -> Option<f32> {
 
 /// Slab test (004 Alg. A.1) equals the brute-force face test on 50,000 random rays and boxes, a
 /// quarter of them axis-parallel (the IEEE-infinity path).
-pub fn slab_vs_brute_force(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn slab_vs_brute_force(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(1);
     let (mut hits, mut parallel, mut max_err) = (0u64, 0u64, 0.0f32);
     let n = 50_000;
@@ -82,7 +82,7 @@ pub fn slab_vs_brute_force(_: Backend, _: &Config) -> Result<Outcome, String> {
 /// Watertight ray–triangle: on 2,000 random fans of triangles around a shared vertex (closed
 /// polygons), every ray through the fan's interior hits at least one triangle, and the hit point
 /// lies on the triangle's plane with barycentrics in `[0, 1]`.
-pub fn watertight_ray_triangle(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn watertight_ray_triangle(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(2);
     let mut rays = 0u64;
     for fan in 0..2_000 {
@@ -131,7 +131,7 @@ fn rng_range(rng: &mut Rng64, lo: usize, hi: usize) -> usize {
 
 /// Frustum–AABB SAT (004 Alg. A.3) against point sampling on 3,000 random camera frusta and boxes:
 /// a sampled point inside both forbids "no overlap"; "no overlap" is checked by sampling both solids.
-pub fn sat_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn sat_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(3);
     let (mut overlaps, mut witnessed) = (0u64, 0u64);
     let n = 3_000;
@@ -177,7 +177,7 @@ pub fn sat_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String> {
 
 /// Convex-polygon intersection area (004 App. A.9 + shoelace A.10) equals Sutherland–Hodgman
 /// clipping to 1e-4 and a 20,000-sample Monte-Carlo estimate within 4σ, on 2,000 random pairs.
-pub fn clipping_area_vs_monte_carlo(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn clipping_area_vs_monte_carlo(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(4);
     let mut worst_sigma = 0.0f64;
     let n = 2_000;
@@ -214,7 +214,7 @@ pub fn clipping_area_vs_monte_carlo(_: Backend, _: &Config) -> Result<Outcome, S
 
 /// Cone–sphere test (000 App. A) never rejects a sphere that holds a point inside the cone (2,000
 /// random cones and spheres, 2,000 samples each).
-pub fn cone_sphere_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn cone_sphere_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(5);
     let (n, mut accepted) = (2_000, 0u64);
     for i in 0..n {

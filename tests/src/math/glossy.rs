@@ -29,7 +29,7 @@ fn integrate(a: Vec2, b: Vec2, c: Vec2, sigma: f32, m: usize) -> f64 {
 
 /// The exact Gaussian volume (Owen's T) is within 2% (relative, or 1e-5 absolute) of numerical
 /// integration on 1,500 random triangles, inside and outside; the paper's tessellation is reported.
-pub fn gaussian_volume_vs_integration(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gaussian_volume_vs_integration(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(14);
     let (mut worst, mut worst_tess, mut mean_tess) = (0.0f64, 0.0f64, 0.0f64);
     let n = 1_500;
@@ -64,7 +64,7 @@ pub fn gaussian_volume_vs_integration(_: Backend, _: &Config) -> Result<Outcome,
 /// Continuity across the flux-triangle boundary (002 §4.2): for 2,000 random light beams, the glossy
 /// irradiance just inside and just outside an edge of the flux triangle differs by less than 1% of
 /// the specular value, for the exact volume and for the paper's tessellation with its split point D.
-pub fn gaussian_volume_continuous(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn gaussian_volume_continuous(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(15);
     let (mut worst_exact, mut worst_tess) = (0.0f32, 0.0f32);
     let n = 2_000u64;
@@ -119,7 +119,7 @@ fn light_beam(rng: &mut generate::Rng64) -> LightBeam {
 /// each vertex lies on its scattered ray and on the flux plane; the in-beam test equals a 2D
 /// inside–outside test (004 Alg. A.4) in the plane; and with the receiver perpendicular to the mean
 /// direction, the irradiance of eq. 1 integrates to the beam flux (energy conservation, 2%).
-pub fn flux_triangle_vs_rays(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn flux_triangle_vs_rays(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(16);
     let n = 5_000;
     for i in 0..n {
@@ -209,7 +209,7 @@ fn direct_glossy(light: Vec3, pane: [Vec3; 3], f: Vec3, normal: Vec3, sigma: f32
 /// cosine at the receiver along the light's arrival from its source point (with 002's flux-plane
 /// normal the error reached 74%), and the tail factor (`tail_factor` in beam-math: 14.5% at most;
 /// without it 24.1%). One beam per pane is reported.
-pub fn glossy_irradiance_vs_integration(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn glossy_irradiance_vs_integration(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(17);
     let (mut worst, mut worst_single, mut cases) = (0.0f64, 0.0f64, 0);
     for case in 0..40 {

@@ -14,7 +14,7 @@ use beam_math::heuristics::{
 /// estimate of the box's image on the unit plane (eye rays through random image points hitting the
 /// box) within 4σ, and the builders' front-face sum equals the hull area (1,000 boxes, 20,000 rays
 /// each).
-pub fn projected_area_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn projected_area_vs_sampling(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(17);
     for i in 0..2_000 {
         let b = generate::aabb(&mut rng, 2.0);

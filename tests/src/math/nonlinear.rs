@@ -29,7 +29,7 @@ fn inverse_jacobian_norm<L: Interpolant>(beam: &NonlinearBeam<L>, w: Vec3, t: f3
 /// beams: projection returns `(P, t)` among its solutions, and every solution maps back to `Q`.
 /// Samples where the f32 rounding of `Q` can move the preimage by more than the tolerance (at a
 /// fold, `‖J⁻¹‖·|δQ| > 2e-3`) are counted as ill-conditioned instead.
-pub fn projection_inverts_intersection(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn projection_inverts_intersection(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(7);
     let (mut cases, mut ill) = (0u64, 0u64);
     let mut worst = 0.0f32;
@@ -87,7 +87,7 @@ pub fn projection_inverts_intersection(_: Backend, _: &Config) -> Result<Outcome
 
 /// Claim B.3: a point inside an S1 beam and above its threshold plane has exactly one projection
 /// in the base triangle (30,000 points over 1,500 beams of every kind).
-pub fn threshold_plane_unique_projection(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn threshold_plane_unique_projection(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(8);
     let (mut above, mut cases) = (0u64, 0u64);
     for kind in BeamKind::ALL {
@@ -227,12 +227,12 @@ fn bounding_triangle_property<L: Interpolant>(
 /// S1 bounding triangles (Alg. 3) contain the projection of every sampled point of their scene
 /// triangle, and every base point whose ray hits it: 18,000 (beam, triangle) pairs over diverging,
 /// converging and mixed beams.
-pub fn bounding_triangle_s1(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn bounding_triangle_s1(_: Backend, _: &Config) -> Result<Outcome, String> {
     bounding_triangle_property(9, 150, generate::s1_beam, 10)
 }
 
 /// S3 bounding triangles (Alg. 4, extremal directions and ε-expansion): as for S1, 6,000 pairs.
-pub fn bounding_triangle_s3(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn bounding_triangle_s3(_: Backend, _: &Config) -> Result<Outcome, String> {
     bounding_triangle_property(10, 50, generate::s3_beam, 3)
 }
 
@@ -243,7 +243,7 @@ fn tilt(w: Vec3) -> Vec2 {
 
 /// Bump-map bounding triangles (eq. 5, D-expansion) contain every base point whose perturbed ray
 /// hits the scene triangle: 9,000 pairs, δ between 0.01 and 0.15 rad.
-pub fn bounding_triangle_bump(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn bounding_triangle_bump(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(11);
     let mut tally = Tally::default();
     for kind in BeamKind::ALL {
@@ -263,7 +263,7 @@ pub fn bounding_triangle_bump(_: Backend, _: &Config) -> Result<Outcome, String>
 }
 
 /// The bounding cone (000 App. A) contains sampled points of S1, S3 and bump beams.
-pub fn bounding_cone_contains_beam(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn bounding_cone_contains_beam(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(12);
     let mut cases = 0u64;
     for kind in BeamKind::ALL {

@@ -23,7 +23,7 @@ fn boundary_distance(p: Vec2, poly: &[Vec2]) -> f32 {
 /// to the beam's area; the hit area equals the overlap of the beam with the triangle's projection
 /// (004 App. A.9) when the triangle lies in front; and for 500 random rays per pair, a ray hits the
 /// triangle exactly when it lies in a hit piece (except within 1e-4 of an edge).
-pub fn polybeam_split_is_exact(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn polybeam_split_is_exact(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(13);
     let (mut rays, mut partial) = (0u64, 0u64);
     let n = 2_000;

@@ -35,7 +35,7 @@ fn from_roots(roots: &[f64], scale: f64) -> Vec<f64> {
 /// double, triple and nearly double roots, find every root (simple to 1e-8, double to 1e-6, triple to
 /// 1e-4, relative) and nothing else; (2) 30,000 random-coefficient polynomials: every reported root
 /// makes the polynomial vanish to within its rounding bound and no sign change on a fine grid is missed.
-pub fn roots_vs_polynomial(_: Backend, _: &Config) -> Result<Outcome, String> {
+pub(super) fn roots_vs_polynomial(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut rng = generate::rng(6);
     let mut worst = [0.0f64; 3];
     for i in 0..30_000 {

@@ -5,7 +5,7 @@ mod ours;
 mod paired;
 mod timing;
 
-pub use timing::Clock;
+pub(crate) use timing::Clock;
 
 use super::peer_set::peers;
 use super::stats::median;
@@ -27,7 +27,7 @@ use timing::{KINDS, Rays, throughput};
 
 /// One row of the JSON output.
 #[derive(Serialize, Clone)]
-pub struct Row {
+pub(crate) struct Row {
     name: String,
     ray_kind: &'static str,
     threads: usize,
@@ -111,7 +111,7 @@ fn disagreements(t: &dyn Tracer, reference: &dyn Tracer, rays: &Rays) -> usize {
 }
 
 /// Run the benchmark on the OBJ at `scene`, print the table and optionally write JSON.
-pub fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, clock: Clock) -> Result<(), String> {
+pub(crate) fn run(scene: &Path, json: Option<&Path>, width: usize, sah_only: bool, clock: Clock) -> Result<(), String> {
     let mesh = beam_scene::mesh::load_obj(scene).map_err(|e| e.to_string())?;
     let all = mesh.triangles();
     // Peers get the same triangles our builders keep: degenerate ones removed.

@@ -6,7 +6,7 @@ use beam_bvh::{Bvh8, FlatBvh, TraversalStats, WideBvh};
 use beam_math::{Ray, Triangle};
 
 /// Our binary BVH.
-pub struct Binary<'a> {
+pub(super) struct Binary<'a> {
     pub name: String,
     pub bvh: FlatBvh,
     pub tris: &'a [Triangle],
@@ -14,14 +14,14 @@ pub struct Binary<'a> {
 }
 
 /// Our 4-wide layout.
-pub struct Wide4 {
+pub(super) struct Wide4 {
     pub name: String,
     pub bvh: WideBvh,
     pub build_ms: f64,
 }
 
 /// Our 8-wide layout.
-pub struct Wide8 {
+pub(super) struct Wide8 {
     pub name: String,
     pub bvh: Bvh8,
     pub build_ms: f64,
@@ -43,7 +43,7 @@ impl Tracer for Binary<'_> {
 }
 
 /// A layout's work counters: closest hit and any hit of one ray into a statistics sink.
-pub trait Counted {
+pub(super) trait Counted {
     fn name(&self) -> String;
     fn closest_stats(&self, ray: Ray, stats: &mut TraversalStats);
     fn any_stats(&self, ray: Ray, t_max: f32, stats: &mut TraversalStats);

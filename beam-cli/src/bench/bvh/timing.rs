@@ -18,7 +18,7 @@ pub(super) struct Rays {
 
 /// How single-thread rows are timed.
 #[derive(Clone, Copy, PartialEq, Eq)]
-pub enum Clock {
+pub(crate) enum Clock {
     /// Wall-clock time.
     Wall,
     /// The thread's own CPU time: on a shared machine other processes' time slices do not count.

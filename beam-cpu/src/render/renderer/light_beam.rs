@@ -169,7 +169,6 @@ impl Context<'_> {
     /// traced and weighted by the irradiance integrand `cos θ cos θ′ / r²`; the weight of those
     /// that reach the light over the weight of all (Heitz et al. 2018, the ratio estimator). The samples outside the pieces need no ray: the beam resolved them. 1 or 0
     /// exactly when every traced sample is lit or every one hidden.
-    #[allow(clippy::too_many_arguments)]
     fn seen_share(
         &self,
         p: Vec3,

@@ -44,7 +44,6 @@ impl Context<'_> {
 
     /// Radiance leaving point `p` of triangle `prim` towards `−d`, with the direct light of `lights`
     /// (at the first surface; every light after a mirror or glass bounce).
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn shade(
         &self,
         prim: u32,
