@@ -36,8 +36,8 @@
 pub mod buffers;
 mod bvh_pass;
 pub mod checks;
-pub mod device;
-pub mod error;
+mod device;
+mod error;
 pub mod eye_beam;
 pub mod gbuffer;
 pub mod glossy;
@@ -45,13 +45,13 @@ pub mod interface;
 pub mod nonlinear;
 pub mod queries;
 pub mod raytrace;
-pub mod scratch;
+mod scratch;
 pub mod shade;
 pub mod shaders;
 pub mod shadow_beam;
-pub mod staging;
-pub mod texels;
-pub mod timestamps;
+mod staging;
+mod texels;
+mod timestamps;
 
 pub use beam_math;
 pub use device::{Gpu, Traffic};

@@ -65,7 +65,7 @@ impl<'g> GpuQueries<'g> {
     }
 
     /// These queries with every dispatch timed on the device by timestamp queries where it has
-    /// them ([`crate::timestamps::PassTimer`]), the times summed across calls and read by
+    /// them (`PassTimer`), the times summed across calls and read by
     /// [`Self::take_times`].
     #[must_use]
     pub fn timed(mut self) -> Self {

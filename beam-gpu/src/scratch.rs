@@ -9,13 +9,13 @@ use crate::device::Gpu;
 
 pub(crate) mod pool;
 
-pub use pool::{Scratch, ScratchPool};
+pub(crate) use pool::Scratch;
 
 /// A storage buffer (`STORAGE | COPY_SRC | COPY_DST`) of at least `size` bytes whose contents are
 /// what an earlier pass left (not zeroed): for a list a pass appends to, read no further than the
 /// count it appended. One an earlier scratch buffer handed back at most twice as large, else a new
 /// one of the next power of two.
 #[must_use]
-pub fn scratch(gpu: &Gpu, label: &str, size: u64) -> Scratch {
+pub(crate) fn scratch(gpu: &Gpu, label: &str, size: u64) -> Scratch {
     gpu.scratch.take(&gpu.device, label, size)
 }

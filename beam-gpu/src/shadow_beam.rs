@@ -9,7 +9,7 @@
 //! caller on its own path), never a wrong value.
 //!
 //! [`ShadowBeams::answers_timed`] also measures the dispatches' own time on the device by
-//! timestamp queries ([`PassTimer`]), for benchmarks.
+//! timestamp queries (`PassTimer`), for benchmarks.
 
 use crate::buffers::{buffer_entry, checked, encode_pass_timed, max_binding, output, storage, uniform};
 use crate::bvh_pass::BvhPass;
@@ -225,7 +225,7 @@ impl ShadowBeams {
     }
 
     /// [`Self::answers`], and the device's own seconds in the beams' dispatches, summed, by
-    /// timestamp queries at each pass's beginning and end ([`PassTimer`]): the time of the shader
+    /// timestamp queries at each pass's beginning and end (`PassTimer`): the time of the shader
     /// alone, without the uploads, the readbacks or the host's waits. `None` where the device has
     /// no timestamp queries (`wgpu::Features::TIMESTAMP_QUERY`); `Some(0.0)` for no queries.
     pub fn answers_timed(

@@ -16,7 +16,7 @@ use wgpu::WriteOnly;
 /// written: its elements ([`Staged::slots`]) are the queue's staging memory, or a vector where the
 /// device gives none aligned for `T`. [`Staged::finish`] hands the buffer over; an element left
 /// unwritten is undefined. Several may be written at once (one pass filling several lists).
-pub struct Staged<T> {
+pub(crate) struct Staged<T> {
     buffer: wgpu::Buffer,
     view: Option<wgpu::QueueWriteBufferView>,
     /// The elements where there is no usable view.
@@ -28,7 +28,7 @@ pub struct Staged<T> {
 
 impl<T: bytemuck::Pod> Staged<T> {
     /// Start the buffer; for `len` 0, [`storage`]'s stand-in for an empty slice.
-    pub fn new(gpu: &Gpu, label: &str, len: usize, usage: wgpu::BufferUsages) -> Self {
+    pub(crate) fn new(gpu: &Gpu, label: &str, len: usize, usage: wgpu::BufferUsages) -> Self {
         const { assert!(size_of::<T>() % wgpu::COPY_BUFFER_ALIGNMENT as usize == 0) };
         let start = Instant::now();
         let bytes = (len * size_of::<T>()) as u64;
@@ -47,7 +47,7 @@ impl<T: bytemuck::Pod> Staged<T> {
     }
 
     /// The elements, to be written.
-    pub fn slots(&mut self) -> WriteOnly<'_, [T]> {
+    pub(crate) fn slots(&mut self) -> WriteOnly<'_, [T]> {
         if self.view.as_mut().is_some_and(|v| elements::<T>(v.slice(..)).is_none()) {
             // Not aligned for `T`: dropped before anything else is written to the buffer, or its
             // unwritten bytes would be copied over the vector's.
@@ -65,7 +65,7 @@ impl<T: bytemuck::Pod> Staged<T> {
 
     /// The buffer, its elements on their way (with the next submission); counted as an upload of
     /// their bytes.
-    pub fn finish(self, gpu: &Gpu) -> wgpu::Buffer {
+    pub(crate) fn finish(self, gpu: &Gpu) -> wgpu::Buffer {
         let Self { buffer, view, items, len, took } = self;
         if len == 0 {
             return buffer; // `storage` counted it
@@ -98,7 +98,7 @@ fn elements<T: bytemuck::Pod>(mut bytes: WriteOnly<'_, [u8]>) -> Option<WriteOnl
 
 /// A write-only slice that can go to another thread: what [`split_by_counts`] hands out, one per
 /// piece of a parallel pass. (`WriteOnly` is `Send` for sized targets only.)
-pub struct Slots<'a, T>(pub WriteOnly<'a, [T]>);
+pub(crate) struct Slots<'a, T>(pub WriteOnly<'a, [T]>);
 
 // SAFETY: a `WriteOnly<'a, [T]>` is an exclusive, write-only borrow of `T`s for `'a`, as a
 // `&'a mut [T]` is, which is `Send` where `T` is: the thread it goes to is the only one that can
@@ -107,7 +107,7 @@ unsafe impl<T: Send> Send for Slots<'_, T> {}
 
 /// `all` split into consecutive write-only slices of `counts` elements each; `None` if the counts
 /// add up to more than `all` holds.
-pub fn split_by_counts<T>(
+pub(crate) fn split_by_counts<T>(
     mut all: WriteOnly<'_, [T]>,
     counts: impl IntoIterator<Item = usize>,
 ) -> Option<Vec<Slots<'_, T>>> {

@@ -8,26 +8,26 @@ use crate::{Gpu, GpuError};
 /// Texels per row: a power of two (so that a row of up to 16-byte texels is a multiple of wgpu's
 /// 256-byte copy alignment), at most 4096 and the device's widest texture.
 #[must_use]
-pub fn width(gpu: &Gpu) -> u32 {
+pub(crate) fn width(gpu: &Gpu) -> u32 {
     let widest = gpu.device.limits().max_texture_dimension_2d.clamp(64, 4096);
     1 << (31 - widest.leading_zeros())
 }
 
 /// Rows of a texture of `len` elements (at least one).
 #[must_use]
-pub fn rows(gpu: &Gpu, len: usize) -> u32 {
+pub(crate) fn rows(gpu: &Gpu, len: usize) -> u32 {
     u32::try_from(len.div_ceil(width(gpu) as usize).max(1)).unwrap_or(u32::MAX)
 }
 
 /// True when `len` elements fit one texture of the device.
 #[must_use]
-pub fn fits(gpu: &Gpu, len: usize) -> bool {
+pub(crate) fn fits(gpu: &Gpu, len: usize) -> bool {
     rows(gpu, len) <= gpu.device.limits().max_texture_dimension_2d
 }
 
 /// A texture of `len` elements of `format` (zeroed by wgpu).
 #[must_use]
-pub fn texture(
+pub(crate) fn texture(
     gpu: &Gpu,
     label: &str,
     len: usize,
@@ -39,7 +39,7 @@ pub fn texture(
 
 /// A 2D texture of `width × height` texels of `format`, one mip level, one sample.
 #[must_use]
-pub fn texture_2d(
+pub(crate) fn texture_2d(
     gpu: &Gpu,
     label: &str,
     (width, height): (u32, u32),
@@ -60,7 +60,12 @@ pub fn texture_2d(
 
 /// A texture holding `items` (each one texel of `format`, which must be as large as `T`).
 #[must_use]
-pub fn upload<T: bytemuck::Pod>(gpu: &Gpu, label: &str, items: &[T], format: wgpu::TextureFormat) -> wgpu::Texture {
+pub(crate) fn upload<T: bytemuck::Pod>(
+    gpu: &Gpu,
+    label: &str,
+    items: &[T],
+    format: wgpu::TextureFormat,
+) -> wgpu::Texture {
     let out =
         texture(gpu, label, items.len(), format, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
     let size = out.size();
@@ -81,17 +86,11 @@ pub fn upload<T: bytemuck::Pod>(gpu: &Gpu, label: &str, items: &[T], format: wgp
     out
 }
 
-/// The first `len` elements of `texture` (made by [`texture`] with `COPY_SRC`), read back as `T`s
-/// (each one texel).
-pub fn read_back<T: bytemuck::Pod>(gpu: &Gpu, texture: &wgpu::Texture, len: usize) -> Result<Vec<T>, GpuError> {
-    read_back_with(gpu, texture, |texels: &[T]| texels.iter().take(len).copied().collect())
-}
-
 /// Hand `read` the texels of `texture` (with `COPY_SRC`, `T` a texel) row after row: where they
 /// are mapped when a row is a whole number of wgpu's copy alignments (as every texture of
 /// [`texture`] is), so that the caller converts them without a copy in between; else gathered
 /// from the padded rows first.
-pub fn read_back_with<T: bytemuck::Pod, R>(
+pub(crate) fn read_back_with<T: bytemuck::Pod, R>(
     gpu: &Gpu,
     texture: &wgpu::Texture,
     read: impl FnOnce(&[T]) -> R,

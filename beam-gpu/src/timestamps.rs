@@ -7,7 +7,7 @@ use crate::Gpu;
 
 /// Timestamp queries for `passes` passes: pass `i` writes queries `2i` (beginning) and `2i + 1`
 /// (end).
-pub struct PassTimer {
+pub(crate) struct PassTimer {
     set: wgpu::QuerySet,
     resolved: wgpu::Buffer,
     passes: u32,
@@ -16,7 +16,7 @@ pub struct PassTimer {
 impl PassTimer {
     /// Queries for `passes` passes, or `None` where the device has no timestamp queries.
     #[must_use]
-    pub fn new(gpu: &Gpu, passes: u32) -> Option<Self> {
+    pub(crate) fn new(gpu: &Gpu, passes: u32) -> Option<Self> {
         if !gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) || passes == 0 {
             return None;
         }
@@ -36,13 +36,13 @@ impl PassTimer {
 
     /// Bytes the timestamps take in a readback: two `u64` per pass.
     #[must_use]
-    pub fn bytes(&self) -> u64 {
+    pub(crate) fn bytes(&self) -> u64 {
         16 * u64::from(self.passes)
     }
 
     /// What compute pass `i` writes.
     #[must_use]
-    pub fn compute(&self, i: u32) -> wgpu::ComputePassTimestampWrites<'_> {
+    pub(crate) fn compute(&self, i: u32) -> wgpu::ComputePassTimestampWrites<'_> {
         debug_assert!(i < self.passes);
         wgpu::ComputePassTimestampWrites {
             query_set: &self.set,
@@ -53,7 +53,7 @@ impl PassTimer {
 
     /// What render pass `i` writes.
     #[must_use]
-    pub fn render(&self, i: u32) -> wgpu::RenderPassTimestampWrites<'_> {
+    pub(crate) fn render(&self, i: u32) -> wgpu::RenderPassTimestampWrites<'_> {
         debug_assert!(i < self.passes);
         wgpu::RenderPassTimestampWrites {
             query_set: &self.set,
@@ -64,7 +64,7 @@ impl PassTimer {
 
     /// Resolve the queries and copy them into `readback` at `offset` (a multiple of 4), after every
     /// timed pass of `encoder`.
-    pub fn copy_to(&self, encoder: &mut wgpu::CommandEncoder, readback: &wgpu::Buffer, offset: u64) {
+    pub(crate) fn copy_to(&self, encoder: &mut wgpu::CommandEncoder, readback: &wgpu::Buffer, offset: u64) {
         encoder.resolve_query_set(&self.set, 0..2 * self.passes, &self.resolved, 0);
         encoder.copy_buffer_to_buffer(&self.resolved, 0, readback, offset, self.bytes());
     }
@@ -72,7 +72,7 @@ impl PassTimer {
     /// Seconds in each pass from the `bytes` copied by [`Self::copy_to`] (0 for a pass whose end
     /// reads before its beginning, as a device may report after a clock change).
     #[must_use]
-    pub fn seconds(gpu: &Gpu, bytes: &[u8]) -> Vec<f64> {
+    pub(crate) fn seconds(gpu: &Gpu, bytes: &[u8]) -> Vec<f64> {
         let period = f64::from(gpu.queue.get_timestamp_period()) * 1e-9;
         let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(bytes);
         ticks.chunks_exact(2).map(|t| t[1].saturating_sub(t[0]) as f64 * period).collect()
@@ -81,7 +81,7 @@ impl PassTimer {
 
 /// Submit `encoder` and read back the first `size` bytes of `source` as `T`s, with, where `timer`
 /// is given, the seconds of its passes (summed) resolved into the same readback: one wait.
-pub fn read_back_timed<T: bytemuck::Pod>(
+pub(crate) fn read_back_timed<T: bytemuck::Pod>(
     gpu: &Gpu,
     mut encoder: wgpu::CommandEncoder,
     source: &wgpu::Buffer,

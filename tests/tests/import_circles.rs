@@ -236,6 +236,23 @@ fn skip_group(tokens: &[Token], i: usize, open: char, close: char) -> usize {
     tokens.len()
 }
 
+/// The index of the `open` that matches the `close` at `k`, searching backwards; `None` where
+/// there is none.
+fn opening(tokens: &[Token], k: usize, open: char, close: char) -> Option<usize> {
+    let mut depth = 0;
+    for m in (0..=k).rev() {
+        if punct(tokens, m, close) {
+            depth += 1;
+        } else if punct(tokens, m, open) {
+            depth -= 1;
+            if depth == 0 {
+                return Some(m);
+            }
+        }
+    }
+    None
+}
+
 /// Whether the attributes and visibility just before the `mod` at `i` include `#[cfg(test)]` (or a
 /// `cfg` that requires `test`).
 fn cfg_test_before(tokens: &[Token], i: usize) -> bool {
@@ -246,40 +263,10 @@ fn cfg_test_before(tokens: &[Token], i: usize) -> bool {
             j = k;
         } else if punct(tokens, k, ')') {
             // `pub(crate)`, `pub(in a::b)`: back to the `(`.
-            let mut depth = 0;
-            let mut m = k;
-            loop {
-                if punct(tokens, m, ')') {
-                    depth += 1;
-                } else if punct(tokens, m, '(') {
-                    depth -= 1;
-                    if depth == 0 {
-                        break;
-                    }
-                }
-                if m == 0 {
-                    return false;
-                }
-                m -= 1;
-            }
+            let Some(m) = opening(tokens, k, '(', ')') else { return false };
             j = m;
         } else if punct(tokens, k, ']') {
-            let mut depth = 0;
-            let mut m = k;
-            loop {
-                if punct(tokens, m, ']') {
-                    depth += 1;
-                } else if punct(tokens, m, '[') {
-                    depth -= 1;
-                    if depth == 0 {
-                        break;
-                    }
-                }
-                if m == 0 {
-                    return false;
-                }
-                m -= 1;
-            }
+            let Some(m) = opening(tokens, k, '[', ']') else { return false };
             let body = &tokens[m + 1..k];
             let is_cfg = matches!(body.first().map(|t| &t.tok), Some(Tok::Ident(s)) if s == "cfg");
             let names = |word: &str| body.iter().any(|t| t.tok == Tok::Ident(word.into()));

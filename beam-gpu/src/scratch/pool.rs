@@ -12,7 +12,7 @@ const SCRATCH_KEPT: usize = 64;
 
 /// The scratch buffers a device's passes handed back ([`scratch`](crate::scratch::scratch)).
 #[derive(Default)]
-pub struct ScratchPool(Arc<Mutex<Vec<wgpu::Buffer>>>);
+pub(crate) struct ScratchPool(Arc<Mutex<Vec<wgpu::Buffer>>>);
 
 impl ScratchPool {
     /// A scratch buffer of at least `size` bytes made on `device` ([`scratch`](crate::scratch::scratch)).
