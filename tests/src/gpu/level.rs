@@ -210,8 +210,14 @@ pub(super) fn gpu_kept_level_images_equal_read_back(_: Backend, _: &Config) -> R
         let (want, want_stats) = render_nonlinear_with(&scene, &options, &read_back).map_err(|e| e.to_string())?;
         let counts =
             |s: &beam_cpu::nonlinear::NonlinearStats| (s.beams_per_level.clone(), s.texels_shaded, s.specular_by_rays);
+        // Points by rays: a curved point's side of a texel is an f32 decision on the GPU and on
+        // the host, so one in a thousand may go the other way (1,102 against 1,101 on an AMD
+        // EPYC's lavapipe); the beams and the texels must be equal.
+        let (a, b) = (stats.specular_by_rays, want_stats.specular_by_rays);
+        let same = |s: &beam_cpu::nonlinear::NonlinearStats| (s.beams_per_level.clone(), s.texels_shaded);
         let kept_somewhere = stats.kept_on_backend > 0 && want_stats.kept_on_backend == 0;
-        if counts(&stats) != counts(&want_stats)
+        if same(&stats) != same(&want_stats)
+            || a.abs_diff(b) * 1_000 > a.max(b)
             || kept.times().levels_kept != stats.beams_per_level.len() as u64
             || !kept_somewhere
         {
