@@ -159,6 +159,23 @@ pub fn readback(gpu: &Gpu, size: u64) -> Readback {
     Readback { buffer, size }
 }
 
+/// How long [`wait`] keeps waiting on a queue that reports timeouts, in seconds.
+const WAIT_SECONDS: u64 = 600;
+
+/// Wait until the queue's work is done. wgpu waits on the fence with no timeout (`u64::MAX` ns),
+/// yet lavapipe under load has answered such a wait with a timeout while the work was still
+/// running (the glossy gather on a 2-core host); such a wait is made again, for up to
+/// [`WAIT_SECONDS`] in all, so that a slow device is waited for and a hung one still fails.
+fn wait(gpu: &Gpu) -> Result<(), GpuError> {
+    let start = Instant::now();
+    loop {
+        match gpu.device.poll(wgpu::PollType::wait_indefinitely()) {
+            Err(wgpu::PollError::Timeout) if start.elapsed().as_secs() < WAIT_SECONDS => {}
+            done => return done.map(drop).map_err(GpuError::Wait),
+        }
+    }
+}
+
 /// Wait for the queue and hand `read` the bytes of `readback` where they are mapped (no copy: a
 /// large readback is unpacked straight from them); the buffer goes back to the device for the
 /// next readbacks ([`readback`]). Mapped ranges start at an 8-byte boundary (`wgpu::MAP_ALIGNMENT`).
@@ -168,7 +185,7 @@ pub fn map_with<T>(gpu: &Gpu, readback: Readback, read: impl FnOnce(&[u8]) -> T)
     let slice = buffer.slice(..size.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT).min(buffer.size()));
     slice.map_async(wgpu::MapMode::Read, |_| {});
     let start = Instant::now();
-    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(GpuError::Wait)?;
+    wait(gpu)?;
     let (waited, start) = (start.elapsed(), Instant::now());
     let data = slice.get_mapped_range().map_err(GpuError::Readback)?;
     let bytes = &data[..(size as usize).min(data.len())];
