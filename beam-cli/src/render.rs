@@ -34,7 +34,7 @@ pub(crate) fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         None => render(scene, &options, || bar.inc(1)),
     };
     bar.finish_and_clear();
-    write_render(&a.out, &image, (plan.placement, a.exposure), a.stats.as_deref().map(|p| (p, &stats as &dyn Json)))?;
+    write(a, &plan, &image, &stats)?;
     println!(
         "{}: {} triangles ({} degenerate filtered), {}×{}{}, {} ({}{}), {:.3} s -> {}",
         scene.name,
@@ -115,12 +115,7 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     if plan.kind == Kind::NonlinearReference {
         let image = render_smooth_reference_with(scene, &shading, a.photons, renderer).map_err(|e| e.to_string())?;
         let stats = reference_stats(plan, &on, a.photons, start);
-        write_render(
-            &a.out,
-            &image,
-            (plan.placement, a.exposure),
-            a.stats.as_deref().map(|p| (p, &stats as &dyn Json)),
-        )?;
+        write(a, plan, &image, &stats)?;
         println!(
             "{}: nonlinear reference (rays, smooth mirrors and glass) on {on}, {:.3} s -> {}",
             scene.name,
@@ -141,7 +136,7 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         renderer,
     )
     .map_err(|e| e.to_string())?;
-    write_render(&a.out, &image, (plan.placement, a.exposure), a.stats.as_deref().map(|p| (p, &stats as &dyn Json)))?;
+    write(a, plan, &image, &stats)?;
     println!(
         "{}: nonlinear {} on {on} ({} texels per beam side, {} S-mesh faces{}), beams per level {:?}, {:.1} triangles per beam after culling, overdraw {:.2}, {} texels shaded, {} caustic beams in {:.3} s, {:.3} s in all -> {}",
         scene.name,
@@ -168,6 +163,11 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Write `image` and its `stats` where `a` says (`--out`, `--stats`), as `plan` places them.
+fn write(a: &RenderArgs, plan: &Plan, image: &beam_cpu::render::Image, stats: &dyn Json) -> Result<(), String> {
+    write_render(&a.out, image, (plan.placement, a.exposure), a.stats.as_deref().map(|p| (p, stats)))
+}
+
 fn reference_stats<'a>(plan: &'a Plan, on: &'a str, photons: u64, start: std::time::Instant) -> ReferenceStats<'a> {
     ReferenceStats {
         scene: &plan.scene.name,
@@ -189,12 +189,7 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         let image = render_glossy_reference_in(scene, (width, height), plan.placement.rect, a.photons, 1)
             .map_err(|e| e.to_string())?;
         let stats = reference_stats(plan, "CPU", a.photons, start);
-        write_render(
-            &a.out,
-            &image,
-            (plan.placement, a.exposure),
-            a.stats.as_deref().map(|p| (p, &stats as &dyn Json)),
-        )?;
+        write(a, plan, &image, &stats)?;
         println!(
             "{}: glossy reference ({} photons per light), {:.3} s -> {}",
             scene.name,
@@ -224,7 +219,7 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         None => render_glossy(scene, &options).map_err(|e| e.to_string())?,
     };
     let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
-    write_render(&a.out, &image, (plan.placement, a.exposure), a.stats.as_deref().map(|p| (p, &stats as &dyn Json)))?;
+    write(a, plan, &image, &stats)?;
     println!(
         "{}: glossy light volumes on {on}, {} beams + {} shadow beams ({:.3} s), {} receiver points, {:.1} beams tested per point ({}), gather {:.3} s, {:.3} s -> {}",
         scene.name,
