@@ -201,10 +201,11 @@ impl EyeTracer<'_> {
     /// its resolved hit parts, the first in place and the others appended. False when the triangle
     /// hides none of it (nothing changed).
     fn split_piece(&mut self, i: usize, prim: u32, projected: &ProjectedTriangle, depth: InverseDepth) -> bool {
-        let piece = self.pieces[i];
-        if !projected.overlaps(piece.lo, piece.hi) {
+        // Test before copying the piece: most pieces of a node's list miss a given triangle.
+        if !projected.overlaps(self.pieces[i].lo, self.pieces[i].hi) {
             return false;
         }
+        let piece = self.pieces[i];
         // Where the triangle's plane is behind the owner's it must not split the piece: hidden at
         // every corner of the piece means hidden on all of it (both inverse depths are affine);
         // partly hidden, only the triangle's part in front (g > 0) splits it, so hidden edges never
