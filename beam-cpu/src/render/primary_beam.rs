@@ -201,11 +201,12 @@ impl EyeTracer<'_> {
     /// its resolved hit parts, the first in place and the others appended. False when the triangle
     /// hides none of it (nothing changed).
     fn split_piece(&mut self, i: usize, prim: u32, projected: &ProjectedTriangle, depth: InverseDepth) -> bool {
-        // Test before copying the piece: most pieces of a node's list miss a given triangle.
-        if !projected.overlaps(self.pieces[i].lo, self.pieces[i].hi) {
+        // The piece is read in place, never copied: most pieces of a node's list miss a given
+        // triangle or lie in front of it.
+        let piece = &self.pieces[i];
+        if !projected.overlaps(piece.lo, piece.hi) {
             return false;
         }
-        let piece = self.pieces[i];
         // Where the triangle's plane is behind the owner's it must not split the piece: hidden at
         // every corner of the piece means hidden on all of it (both inverse depths are affine);
         // partly hidden, only the triangle's part in front (g > 0) splits it, so hidden edges never
@@ -238,9 +239,10 @@ impl EyeTracer<'_> {
         if emitted.is_err() || self.hits.is_empty() {
             return false;
         }
+        let owner = piece.prim.zip(piece.depth);
         self.stats.hit_beams += self.hits.len() as u64;
         for k in 0..self.hits.len() {
-            self.resolve(self.hits[k], piece.prim.zip(piece.depth), prim, depth);
+            self.resolve(self.hits[k], owner, prim, depth);
         }
         // A hit part always survives resolution, so `out` is never empty here.
         self.pieces[i] = self.out[0];
