@@ -31,38 +31,7 @@ impl NodeView {
             return None;
         }
         let near = near_z.max(0.0) / d;
-        // The box's part in front of the near plane: its corners there, and where its edges cross
-        // the plane. Its projection is the convex hull of theirs (a box reaching behind the eye
-        // still has a bounded part in view: a wall beside the camera projects to the window's edge).
-        let near_plane = NEAR * d;
-        let corner = |k: usize| Vec3::select(BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), max, min);
-        let (mut lo, mut hi) = (Vec2::INFINITY, Vec2::NEG_INFINITY);
-        let mut add = |p: Vec3, z: f32, pad: f32| {
-            let q = Vec2::new(p.dot(frame.u), p.dot(frame.v)) * (d / z) + offset;
-            let e = pad * q.abs();
-            lo = lo.min(q - e);
-            hi = hi.max(q + e);
-        };
-        for k in 0..8 {
-            let (p, z) = (corner(k), corner(k).dot(f));
-            if z > near_plane {
-                add(p, z, 0.0);
-                continue;
-            }
-            // Edges from this corner (behind) to a neighbour in front cross the near plane; the
-            // crossing's rounding is magnified by the depth ratio, so its projection is widened,
-            // and an edge nearly along the plane (no well-defined crossing) bounds nothing.
-            for bit in [1, 2, 4] {
-                let (o, zo) = (corner(k ^ bit), corner(k ^ bit).dot(f));
-                if zo <= near_plane {
-                    continue;
-                }
-                if zo - z < 1e-3 * (o - p).length() {
-                    return Some(Self { lo: Vec2::NEG_INFINITY, hi: Vec2::INFINITY, near, min: box_min, max: box_max });
-                }
-                add(p + (o - p) * ((near_plane - z) / (zo - z)), near_plane, 1e-3);
-            }
-        }
+        let (lo, hi) = rectangle(frame, offset, min, max).unwrap_or((Vec2::NEG_INFINITY, Vec2::INFINITY));
         let outside = hi.x < wlo.x || hi.y < wlo.y || lo.x > whi.x || lo.y > whi.y;
         (!outside).then_some(Self { lo, hi, near, min: box_min, max: box_max })
     }
@@ -101,6 +70,41 @@ impl NodeView {
                 e.perp_dot(c - a) >= 0.0
             })
     }
+}
+
+/// The bounding rectangle on the image plane of the part of the box `[min, max]` (relative to the
+/// apex) in front of the near plane: the projections of its corners there and of the points where
+/// its edges cross the plane (their convex hull is the part's projection; a box reaching behind
+/// the eye still has a bounded part in view: a wall beside the camera projects to the window's
+/// edge). `None` when an edge crosses the plane nearly along it, with no well-defined crossing.
+fn rectangle(frame: &BeamFrame, offset: Vec2, min: Vec3, max: Vec3) -> Option<(Vec2, Vec2)> {
+    let (f, d) = (frame.normal, frame.distance);
+    let near_plane = NEAR * d;
+    let corners: [Vec3; 8] =
+        core::array::from_fn(|k| Vec3::select(BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), max, min));
+    let z = corners.map(|p| p.dot(f));
+    let (mut lo, mut hi) = (Vec2::INFINITY, Vec2::NEG_INFINITY);
+    let mut add = |p: Vec3, z: f32, pad: f32| {
+        let q = Vec2::new(p.dot(frame.u), p.dot(frame.v)) * (d / z) + offset;
+        let e = pad * q.abs();
+        lo = lo.min(q - e);
+        hi = hi.max(q + e);
+    };
+    for (k, &p) in corners.iter().enumerate() {
+        if z[k] > near_plane {
+            add(p, z[k], 0.0);
+            continue;
+        }
+        // Edges from this corner (behind) to a neighbour in front cross the near plane; the
+        // crossing's rounding is magnified by the depth ratio, so its projection is widened.
+        for o in [k ^ 1, k ^ 2, k ^ 4].into_iter().filter(|&o| z[o] > near_plane) {
+            if z[o] - z[k] < 1e-3 * (corners[o] - p).length() {
+                return None;
+            }
+            add(p + (corners[o] - p) * ((near_plane - z[k]) / (z[o] - z[k])), near_plane, 1e-3);
+        }
+    }
+    Some((lo, hi))
 }
 
 #[cfg(test)]
