@@ -1,5 +1,6 @@
 //! Renderers: beam-traced soft shadows (001) and the ray-traced reference, with the same shading.
 
+mod clear_shafts;
 mod compare;
 mod coverage;
 mod eye_budget;

@@ -25,6 +25,8 @@ pub(crate) struct Shaft {
     /// The box's corners and the light's: the shaft is their convex hull.
     ends: [Vec3; 8 + MAX_PLANES - 1],
     ends_len: usize,
+    /// How far from its planes a point still counts as on them.
+    tol: f32,
 }
 
 impl Shaft {
@@ -44,6 +46,7 @@ impl Shaft {
             planes: [(Vec3::ZERO, 0.0); MAX_PLANES],
             len: 0,
             bounds: Aabb::new(bounds.min - grow, bounds.max + grow),
+            tol,
         };
         // Nothing behind the light's plane: −N·x ≤ −N·l₀ + tol.
         out.push(-light_normal, -light_normal.dot(light[0]) + tol);
@@ -88,6 +91,14 @@ impl Shaft {
             && self.planes[..self.len].iter().all(|&(n, d)| n.dot(a) <= d || n.dot(b) <= d || n.dot(c) <= d)
     }
 
+    /// True when `t` lies on the light's plane (within the shaft's tolerance): a segment from the
+    /// box ends at the light before it would reach `t` (the light's own triangles).
+    pub(crate) fn on_light_plane(&self, t: &Triangle) -> bool {
+        // The first plane is the light's, `−N·x ≤ −N·l₀ + tol`; the light's corners follow the box's.
+        let n = self.planes[0].0;
+        t.v.iter().all(|&v| n.dot(v - self.ends[8]).abs() <= self.tol)
+    }
+
     /// True when the box and the light lie strictly on one side of `t`'s plane: no segment from
     /// the box to the light crosses it, so `t` hides nothing (a wall or a floor beside the points;
     /// 001 §3.4 marks back faces once per query for the same reason).
@@ -124,6 +135,38 @@ impl NodeVisitor for Gather<'_> {
         }
         if self.out.len() > MAX_CANDIDATES { Control::Stop } else { Control::Continue }
     }
+}
+
+/// Finds whether any triangle meets a shaft, stopping at the first.
+struct Meets<'a> {
+    shaft: &'a Shaft,
+    triangles: &'a [Triangle],
+    found: bool,
+    steps: u64,
+}
+
+impl NodeVisitor for Meets<'_> {
+    fn enter(&mut self, bounds: &Aabb) -> Option<f32> {
+        self.steps += 1;
+        self.shaft.meets_box(bounds).then_some(0.0)
+    }
+
+    fn leaf(&mut self, prims: &[u32]) -> Control {
+        self.found = prims.iter().any(|&p| {
+            let t = &self.triangles[p as usize];
+            self.shaft.meets_triangle(t) && !self.shaft.beside_plane_of(t) && !self.shaft.on_light_plane(t)
+        });
+        if self.found { Control::Stop } else { Control::Continue }
+    }
+}
+
+/// Whether some triangle of the BVH may hide part of the light from a point of the shaft's box
+/// (the test [`gather`] keeps a candidate by), and the BVH nodes tested: `false` means every
+/// point of the box sees the whole light.
+pub(crate) fn meets_any(bvh: &FlatBvh, triangles: &[Triangle], shaft: &Shaft) -> (bool, u64) {
+    let mut m = Meets { shaft, triangles, found: false, steps: 0 };
+    bvh.traverse(&mut m);
+    (m.found, m.steps)
 }
 
 /// Most candidates a shaft gathers: past this many (a wide shaft through a dense room), each point's

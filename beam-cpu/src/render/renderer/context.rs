@@ -4,6 +4,7 @@
 
 use super::emitters::Emitter;
 use super::stats::Counters;
+use crate::render::clear_shafts::ClearShafts;
 use crate::render::shadow_beam::{ShadowScratch, WindingScratch};
 use crate::render::tile_shadows::TileShadows;
 use beam_math::glam::Vec3;
@@ -29,6 +30,8 @@ pub(super) struct Thread {
     pub(super) c: Counters,
     pub(super) scratch: ShadowScratch,
     pub(super) tile: TileShadows,
+    /// Where beams do not pay: which blocks of the tile see which lights whole.
+    pub(super) clear: ClearShafts,
     /// Block of the tile the current pixel lies in.
     pub(super) block: usize,
     /// The buffers of a winding pass.

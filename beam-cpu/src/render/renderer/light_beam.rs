@@ -7,6 +7,7 @@
 
 use super::context::{Context, Thread};
 use super::light_samples::{light_sample, sample_light};
+use crate::render::clear_shafts::LAMBERT_RAYS;
 use crate::render::lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 use crate::render::shadow_beam::{ShadowBeam, light_beam, trace_bvh};
 use crate::render::silhouettes::WindingWork;
@@ -148,13 +149,22 @@ impl Context<'_> {
     /// eq. 2). The ratio estimator would need the light's Lambert integral, which costs a point
     /// about four shadow rays here.
     fn sampled_light(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
+        let clear = t.clear.sees_whole(index, t.block, p);
+        if clear && self.options.spp > LAMBERT_RAYS {
+            // Nothing lies between the point and the light: its unoccluded irradiance is exact.
+            t.c.shadow_beams += 1;
+            return match self.shading(index) {
+                Shading::Exact => polygon_irradiance(p, n, self.emitters[index].polygon()),
+                Shading::Fraction => self.fraction_irradiance(p, n, index, 1.0),
+            };
+        }
         let bound = match self.shading(index) {
             Shading::Exact => self.emitters[index].irradiance_bound(p),
             Shading::Fraction => self.fraction_irradiance(p, n, index, 1.0),
         };
         t.c.sampled_beams += 1;
         t.c.pending_bound += self.lights[index].power().max_element() * bound;
-        self.ray_irradiance(p, n, index, rng, t)
+        self.ray_irradiance(p, n, index, clear, rng, t)
     }
 
     /// 001 eq. 2 for area light `index` with visible fraction `fraction`.

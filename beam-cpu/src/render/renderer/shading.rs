@@ -168,14 +168,22 @@ impl Context<'_> {
         }
         match self.options.method {
             Method::Beam => self.beam_irradiance(p, n, index, rng, t),
-            Method::Ray => self.ray_irradiance(p, n, index, rng, t),
+            Method::Ray => self.ray_irradiance(p, n, index, false, rng, t),
         }
     }
 
     /// Irradiance per unit radiance from area light `index` by `--spp` stratified shadow rays (a
     /// sky face its share, [`Context::samples`]; those whose integrand vanishes, behind the point
-    /// or the light, are not traced).
-    pub(super) fn ray_irradiance(&self, p: Vec3, n: Vec3, index: usize, rng: &mut Pcg32, t: &mut Thread) -> f32 {
+    /// or the light, are not traced; with `clear`, known to see the whole light, none is).
+    pub(super) fn ray_irradiance(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        index: usize,
+        clear: bool,
+        rng: &mut Pcg32,
+        t: &mut Thread,
+    ) -> f32 {
         let light = &self.lights[index];
         let ln = self.emitters[index].normal;
         let spp = self.samples(p, n, index);
@@ -187,8 +195,10 @@ impl Context<'_> {
             if self.shading(index) == Shading::Exact && !(f > 0.0) {
                 continue;
             }
-            t.c.shadow_rays += 1;
-            if !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS) {
+            if clear || {
+                t.c.shadow_rays += 1;
+                !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS)
+            } {
                 visible += 1;
                 integral += f;
             }
@@ -276,7 +286,10 @@ impl Context<'_> {
         points: &mut Vec<(usize, Vec3)>,
         t: &mut Thread,
     ) {
-        if self.options.method == Method::Beam && self.beams_pay() {
+        let start = Instant::now();
+        let shadow_before = t.c.shadow_seconds;
+        self.cull_lights(surfaces, t);
+        if self.options.method == Method::Beam {
             let start = Instant::now();
             points.clear();
             points.extend(
@@ -284,14 +297,21 @@ impl Context<'_> {
                     .iter()
                     .filter_map(|s| Some((block_of(s.x - x0, s.y - y0), self.gather_point(s.prim, s.q, s.d)?.0))),
             );
-            t.tile.build(self.scene, (&self.lights, self.scene.lights.len()), points, self.options.occluders);
-            t.c.shafts += core::mem::take(&mut t.tile.shafts);
-            t.c.shaft_bvh_steps += core::mem::take(&mut t.tile.bvh_steps);
+            let scene_lights = self.scene.lights.len();
+            if self.beams_pay() {
+                t.tile.build(self.scene, (&self.lights, scene_lights), points, self.options.occluders);
+                t.c.shafts += core::mem::take(&mut t.tile.shafts);
+                t.c.shaft_bvh_steps += core::mem::take(&mut t.tile.bvh_steps);
+            } else {
+                // A constant environment's faces enclose the scene: their shafts would meet it all.
+                let facing = t.facing.as_deref().unwrap_or_default();
+                let tested: Vec<u32> = facing.iter().copied().filter(|&i| (i as usize) < scene_lights).collect();
+                t.clear.build(self.scene, &self.lights, &tested, points, self.options.spp);
+                t.c.shafts += core::mem::take(&mut t.clear.shafts);
+                t.c.shaft_bvh_steps += core::mem::take(&mut t.clear.bvh_steps);
+            }
             t.c.shadow_seconds += start.elapsed().as_secs_f64();
         }
-        let start = Instant::now();
-        let shadow_before = t.c.shadow_seconds;
-        self.cull_lights(surfaces, t);
         // Pixels of the tile with a shade point whose light was sampled in part.
         let mut inexact = [false; (TILE * TILE) as usize];
         for s in surfaces {

@@ -74,8 +74,9 @@ pub struct RenderStats {
     pub triangle_tests: u64,
     /// Miss pieces made by shadow-beam splits.
     pub pieces: u64,
-    /// Shafts traced (one per tile and area light), whose candidates replace the shadow beams'
-    /// own BVH traversals.
+    /// Shafts traced (one per cluster of a tile's shade points and area light), whose candidates
+    /// replace the shadow beams' own BVH traversals; where beams do not pay (fewer than 16 rays a
+    /// light), shafts tested for whether a block of points sees the whole light.
     pub shafts: u64,
     /// BVH nodes tested by the shafts.
     pub shaft_bvh_steps: u64,
