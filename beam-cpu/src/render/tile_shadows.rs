@@ -88,19 +88,42 @@ pub(crate) struct TileShadows {
     pub(crate) bvh_steps: u64,
     /// Shafts traced (one a cluster and area light).
     pub(crate) shafts: u64,
-    /// Per light, the mode the last tile (of this thread) settled on that this one takes from
-    /// the start, and for how many tiles in a row it has been taken ([`Carry`]).
-    carried: Vec<(Option<Mode>, u32)>,
+    /// Per light, how this tile starts, by how the last ones (of this thread) ended.
+    carried: Vec<Carry>,
+}
+
+/// How a tile's clusters start for one light, by how the last tile's (of the same thread) ended.
+#[derive(Clone, Copy, Debug)]
+struct Carry {
+    /// The mode the clusters take from the start (`None`: each decides afresh).
+    mode: Option<Mode>,
+    /// Tiles in a row that have taken it.
+    taken: u32,
+    /// Most tiles in a row that take it: [`MAX_CARRY`], doubled (up to [`MAX_BACKOFF`]) each time
+    /// a tile that started afresh sampled in every cluster again.
+    limit: u32,
+}
+
+impl Default for Carry {
+    fn default() -> Self {
+        Self { mode: None, taken: 0, limit: MAX_CARRY }
+    }
 }
 
 /// How a tile's clusters start, per light, from how the last tile's (of the same thread) ended:
 /// the cost model's decisions carried to the neighbours, as they are within a cluster. Where at
 /// least [`SAMPLED_SHARE`] of them sampled by rays, the next tile samples that light from the
 /// start without gathering candidates (the shafts are then most of the cost); where every one
-/// split, the next splits without building edges (the edges and the probing beam cost Sponza 3×
-/// its splitting). Every [`MAX_CARRY`] + 1 tiles, one starts afresh.
+/// split or sampled, but for fewer than [`WINDING_SHARE`] that weighed edges, the next splits
+/// without building edges (the edges and the probing beam cost Sponza 3× its splitting, where
+/// they win one probe in eight). After [`MAX_CARRY`] tiles, one starts afresh; where every
+/// cluster of that one samples again (a light too large for any beam's budget, as on Sponza under
+/// a light as wide as the building), the next run of sampled tiles is twice as long, up to
+/// [`MAX_BACKOFF`].
 const SAMPLED_SHARE: f32 = 0.75;
+const WINDING_SHARE: f32 = 0.25;
 const MAX_CARRY: u32 = 3;
+const MAX_BACKOFF: u32 = 24;
 
 impl TileShadows {
     /// Gather the candidates among `scene`'s triangles for the shade points `points` (each with
@@ -116,22 +139,29 @@ impl TileShadows {
         occluders: Occluders,
     ) {
         // How this tile's clusters start, by how the last tile's ended.
-        self.carried.resize(lights.len(), (None, 0));
+        self.carried.resize(lights.len(), Carry::default());
         let per_light = 2 * BLOCKS * BLOCKS;
         for (light, carried) in self.carried.iter_mut().enumerate() {
             let clusters = self.clusters.get(light * per_light..(light + 1) * per_light).unwrap_or(&[]);
-            let ended = |m: Mode| clusters.iter().filter(|c| c.points.is_valid() && c.mode == m).count();
+            let ended = |m: Mode| clusters.iter().filter(|c| c.points.is_valid() && c.mode == m).count() as f32;
             let valid = clusters.iter().filter(|c| c.points.is_valid()).count();
-            let mode = if valid == 0 || carried.1 >= MAX_CARRY {
+            let sampled = valid > 0 && ended(Mode::Rays) >= SAMPLED_SHARE * valid as f32;
+            if valid > 0 && carried.mode.is_none() {
+                // The last tile started afresh: how it ended sets how long the next run may be.
+                let all = ended(Mode::Rays) == valid as f32;
+                carried.limit = if all { (2 * carried.limit).min(MAX_BACKOFF) } else { MAX_CARRY };
+            }
+            let mode = if valid == 0 || carried.taken >= carried.limit {
                 None
-            } else if ended(Mode::Rays) as f32 >= SAMPLED_SHARE * valid as f32 {
+            } else if sampled {
                 Some(Mode::Rays)
-            } else if occluders == Occluders::Auto && ended(Mode::Split) == valid {
+            } else if occluders == Occluders::Auto && ended(Mode::Winding) < WINDING_SHARE * valid as f32 {
                 Some(Mode::Split)
             } else {
                 None
             };
-            *carried = (mode, if mode.is_some() { carried.1 + 1 } else { 0 });
+            carried.taken = if mode.is_some() { carried.taken + 1 } else { 0 };
+            carried.mode = mode;
         }
         self.clusters.clear();
         self.packets.clear();
@@ -172,7 +202,7 @@ impl TileShadows {
                 *c = c.grow(p);
             }
             let tris = &scene.triangles;
-            let carried = self.carried[base / per_light].0;
+            let carried = self.carried[base / per_light].mode;
             for cluster in &mut self.clusters[base..] {
                 if !cluster.points.is_valid() {
                     continue;

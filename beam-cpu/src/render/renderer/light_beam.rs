@@ -53,10 +53,15 @@ impl Context<'_> {
         if polygon.len() < 3 {
             return 0.0;
         }
-        let Some(beam) = light_beam(p, &polygon, ln) else { return 0.0 };
-        t.c.shadow_beams += 1;
         // In rays' worth of the light's own samples (a sky face's share of `--spp`).
         let samples = self.samples(p, n, index);
+        if t.tile.candidates(index, t.block, p).is_some_and(|c| c.mode == Mode::Rays) {
+            // The cluster samples this light from the start: no beam to set up.
+            t.c.shadow_beams += 1;
+            return self.sampled_whole(p, n, (index, samples), &polygon, rng, t);
+        }
+        let Some(beam) = light_beam(p, &polygon, ln) else { return 0.0 };
+        t.c.shadow_beams += 1;
         let budget = if self.options.exact { u64::MAX } else { SPLITS_PER_RAY * u64::from(samples) };
         // Edges over the light a winding pass may weigh within the budget (its arrangement costs
         // about K² / 5 splits).
@@ -75,7 +80,7 @@ impl Context<'_> {
                 match mode {
                     Mode::Split => traced.occlude_packets(c.packets, tris),
                     Mode::Walk => trace_bvh(&self.scene.bvh, tris, &mut traced),
-                    Mode::Rays => sample_all = true,
+                    Mode::Rays => unreachable!("sampled before the beam is set up"),
                     Mode::Winding => match winding(&mut traced) {
                         Ok(l) => lit = Some(l),
                         // Past the budget (exact beams have none: past the arrangement's capacity).
@@ -126,7 +131,8 @@ impl Context<'_> {
             };
             if unresolved && unoccluded > 0.0 {
                 let drawn = (index, samples);
-                let seen = self.seen_share(p, n, &frame, drawn, pieces, sample_all, rng, &mut t.c.shadow_rays);
+                let left = if sample_all { Left::Whole(&polygon) } else { Left::Pieces(&frame, pieces) };
+                let seen = self.seen_share(p, n, drawn, left, rng, &mut t.c.shadow_rays);
                 t.c.sampled_beams += 1;
                 t.c.pending_bound += light.power().max_element() * unoccluded;
                 match self.shading(index) {
@@ -173,35 +179,71 @@ impl Context<'_> {
         point_source_irradiance(p, n, e.center, e.normal, e.area, fraction.min(1.0))
     }
 
-    /// The ratio estimate of the lit share of `pieces` (on the plane of `frame`, the light's) seen
-    /// from `p` (normal `n`): the ray method's `spp` stratified samples of light `index` (the
-    /// third argument is `(index, spp)`, [`Context::samples`]), those that fall in a piece each
-    /// traced and weighted by the irradiance integrand `cos θ cos θ′ / r²`; the weight of those
-    /// that reach the light over the weight of all (Heitz et al. 2018, the ratio estimator). The samples outside the pieces need no ray: the beam resolved them. 1 or 0
-    /// exactly when every traced sample is lit or every one hidden.
+    /// Irradiance per unit radiance at `p` (normal `n`) from the part `polygon` of area light
+    /// `index` above the point's tangent plane (the second argument is `(index, spp)`), all of it
+    /// sampled: its exact unoccluded irradiance times the ratio estimate of its lit share
+    /// ([`Context::seen_share`]), counted as a sampled beam with that irradiance as its bound.
+    fn sampled_whole(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        drawn: (usize, u32),
+        polygon: &[Vec3],
+        rng: &mut Pcg32,
+        t: &mut Thread,
+    ) -> f32 {
+        let index = drawn.0;
+        let unoccluded = match self.shading(index) {
+            Shading::Exact => polygon_irradiance(p, n, polygon),
+            Shading::Fraction => 1.0,
+        };
+        if !(unoccluded > 0.0) {
+            return 0.0;
+        }
+        let seen = self.seen_share(p, n, drawn, Left::Whole(polygon), rng, &mut t.c.shadow_rays);
+        t.c.sampled_beams += 1;
+        t.c.pending_bound += self.lights[index].power().max_element() * unoccluded;
+        match self.shading(index) {
+            Shading::Exact => unoccluded * seen,
+            Shading::Fraction => self.fraction_irradiance(p, n, index, unoccluded * seen),
+        }
+    }
+
+    /// The ratio estimate of the lit share of what is `left` of light `index` seen from `p`
+    /// (normal `n`): the ray method's `spp` stratified samples of the light (the third argument
+    /// is `(index, spp)`, [`Context::samples`]), those that fall in what is left each traced and
+    /// weighted by the irradiance integrand `cos θ cos θ′ / r²`; the weight of those that reach
+    /// the light over the weight of all (Heitz et al. 2018, the ratio estimator). The samples
+    /// outside need no ray: the beam resolved them. 1 or 0 exactly when every traced sample is
+    /// lit or every one hidden.
     fn seen_share(
         &self,
         p: Vec3,
         n: Vec3,
-        frame: &BeamFrame,
         (index, spp): (usize, u32),
-        pieces: &[Quad],
-        whole: bool,
+        left: Left<'_>,
         rng: &mut Pcg32,
         shadow_rays: &mut u64,
     ) -> f32 {
         let light = &self.lights[index];
         let ln = self.emitters[index].normal;
-        // With the whole light left (`whole`), every sample falls in it.
-        let bounds: Vec<(Vec2, Vec2)> = if whole { Vec::new() } else { pieces.iter().map(Quad::bounds).collect() };
-        let inside = |uv: Vec2| {
-            whole
-                || pieces.iter().zip(&bounds).any(|(q, &(lo, hi))| {
+        // With the whole light left, every sample falls in it.
+        let bounds: Vec<(Vec2, Vec2)> = match left {
+            Left::Whole(_) => Vec::new(),
+            Left::Pieces(_, pieces) => pieces.iter().map(Quad::bounds).collect(),
+        };
+        let inside = |q: Vec3| match left {
+            Left::Whole(_) => true,
+            Left::Pieces(frame, pieces) => {
+                let o = q - frame.origin;
+                let uv = Vec2::new(o.dot(frame.u), o.dot(frame.v));
+                pieces.iter().zip(&bounds).any(|(q, &(lo, hi))| {
                     uv.cmpge(lo).all() && uv.cmple(hi).all() && {
                         let n = q.len();
                         (0..n).all(|i| (q.corner((i + 1) % n) - q.corner(i)).perp_dot(uv - q.corner(i)) >= 0.0)
                     }
                 })
+            }
         };
         // A sample's integrand and whether it reaches the light (not traced where the integrand is 0).
         let mut trace = |q: Vec3| -> (f64, bool) {
@@ -219,24 +261,39 @@ impl Context<'_> {
         for i in 0..spp {
             let (s, r) = light_sample(i, spp, rng);
             let q = sample_light(light, s, r);
-            let o = q - frame.origin;
-            if inside(Vec2::new(o.dot(frame.u), o.dot(frame.v))) {
+            if inside(q) {
                 let (f, seen) = trace(q);
                 all += f;
                 lit += if seen { f } else { 0.0 };
             }
         }
         if all == 0.0 {
-            // No sample fell in the pieces (or none faces the point): one ray to the largest.
-            if let Some(q) = pieces.iter().max_by(|a, b| a.area().total_cmp(&b.area())) {
-                let c = q.corners().sum::<Vec2>() / q.len() as f32;
-                let (f, seen) = trace(frame.point(c));
+            // No sample fell in what is left (or none faces the point): one ray to its centre,
+            // or its largest piece's.
+            let centre = match left {
+                Left::Whole(polygon) => Some(polygon.iter().sum::<Vec3>() / polygon.len() as f32),
+                Left::Pieces(frame, pieces) => pieces
+                    .iter()
+                    .max_by(|a, b| a.area().total_cmp(&b.area()))
+                    .map(|q| frame.point(q.corners().sum::<Vec2>() / q.len() as f32)),
+            };
+            if let Some(c) = centre {
+                let (f, seen) = trace(c);
                 all += f;
                 lit += if seen { f } else { 0.0 };
             }
         }
         if all > 0.0 { (lit / all) as f32 } else { 0.0 }
     }
+}
+
+/// What a shadow beam left of its light to sample.
+#[derive(Clone, Copy)]
+enum Left<'a> {
+    /// All of it: the light's polygon above the point's tangent plane.
+    Whole(&'a [Vec3]),
+    /// The pieces on the light's plane (in the coordinates of the frame) the beam did not resolve.
+    Pieces(&'a BeamFrame, &'a [Quad]),
 }
 
 /// Lambert's irradiance at `p` (normal `n`) from a piece on the plane of `frame`.
