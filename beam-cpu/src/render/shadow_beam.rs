@@ -11,106 +11,26 @@
 //! from exactly one leaf, so the kd-tree mailboxing of 001 §3.4 has nothing to remove here.
 
 use super::packet::Survivor;
-use beam_bvh::{Control, FlatBvh, NodeVisitor};
-use beam_math::collide::aabb_outside_planes;
+use beam_math::Triangle;
 use beam_math::glam::{Vec2, Vec3, Vec4};
-use beam_math::polybeam::{BeamFrame, Cover, EdgeLines, PolyBeam, Quad, Section};
-use beam_math::{Aabb, Triangle};
+use beam_math::polybeam::{BeamFrame, Cover, EdgeLines, PolyBeam, Quad};
+use beam_render::tolerance::DEPTH_EPS;
 
 mod candidates;
 mod silhouette;
+mod stats;
+mod visible;
+mod walk;
 mod winding_scratch;
 
+pub use stats::BeamStats;
+pub use visible::{VisibleLight, visible_light};
+pub(crate) use visible::{light_beam, visible_section};
+pub(crate) use walk::trace_bvh;
 pub(crate) use winding_scratch::WindingScratch;
-
-use beam_render::tolerance::DEPTH_EPS;
 
 /// Fuzzy tolerance of the side tests, as a fraction of the light's size (001 App. A).
 const SIDE_EPS: f32 = 1e-6;
-
-/// Work done by beams (eye or shadow beams).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct BeamStats {
-    /// BVH nodes tested against the beam frustum (001's "BVH steps").
-    pub bvh_steps: u64,
-    /// Triangles set up against a beam (projected once each, 001 §3.4).
-    pub triangle_tests: u64,
-    /// Beam–triangle split operations (001's "intersections").
-    pub intersections: u64,
-    /// Hit pieces produced (001's "hit beams").
-    pub hit_beams: u64,
-    /// Miss pieces made by splits.
-    pub pieces: u64,
-    /// Pieces joined into a neighbour that sees the same thing.
-    pub joins: u64,
-    /// Shadow beams whose small occluders entered by their silhouette edges.
-    pub silhouette_beams: u64,
-    /// Projected edges those beams weighed (silhouette, boundary and split-set edges over the light).
-    pub silhouette_edges: u64,
-    /// Silhouette passes given up on an exact tie or too many edges (the beam was split instead).
-    pub silhouette_fallbacks: u64,
-}
-
-impl BeamStats {
-    /// What was counted since `before` (a copy of these counters taken earlier).
-    #[must_use]
-    pub fn since(&self, before: &Self) -> Self {
-        Self {
-            bvh_steps: self.bvh_steps - before.bvh_steps,
-            triangle_tests: self.triangle_tests - before.triangle_tests,
-            intersections: self.intersections - before.intersections,
-            hit_beams: self.hit_beams - before.hit_beams,
-            pieces: self.pieces - before.pieces,
-            joins: self.joins - before.joins,
-            silhouette_beams: self.silhouette_beams - before.silhouette_beams,
-            silhouette_edges: self.silhouette_edges - before.silhouette_edges,
-            silhouette_fallbacks: self.silhouette_fallbacks - before.silhouette_fallbacks,
-        }
-    }
-}
-
-impl core::ops::AddAssign for BeamStats {
-    fn add_assign(&mut self, o: Self) {
-        self.bvh_steps += o.bvh_steps;
-        self.triangle_tests += o.triangle_tests;
-        self.intersections += o.intersections;
-        self.hit_beams += o.hit_beams;
-        self.pieces += o.pieces;
-        self.joins += o.joins;
-        self.silhouette_beams += o.silhouette_beams;
-        self.silhouette_edges += o.silhouette_edges;
-        self.silhouette_fallbacks += o.silhouette_fallbacks;
-    }
-}
-
-/// The visible part of a light polygon from a point, as convex pieces on the light's plane.
-#[derive(Clone, Debug)]
-pub struct VisibleLight {
-    /// Apex (the shade point) and the light plane.
-    pub frame: BeamFrame,
-    /// Unoccluded pieces, in the light plane's coordinates.
-    pub pieces: Vec<Section>,
-    /// Area of the whole light polygon.
-    pub light_area: f32,
-}
-
-impl VisibleLight {
-    /// Visible fraction of the light's area.
-    #[must_use]
-    pub fn fraction(&self) -> f32 {
-        if self.light_area > 0.0 {
-            (self.pieces.iter().map(Section::area).sum::<f32>() / self.light_area).min(1.0)
-        } else {
-            0.0
-        }
-    }
-
-    /// The visible pieces as 3D polygons on the light.
-    #[must_use]
-    pub fn polygons(&self) -> Vec<Vec<Vec3>> {
-        self.pieces.iter().map(|s| s.vertices().iter().map(|&c| self.frame.point(c)).collect()).collect()
-    }
-}
 
 /// Buffers a thread reuses from one shadow beam to the next (no allocation per shade point).
 #[derive(Default)]
@@ -390,117 +310,10 @@ impl<'s> ShadowBeam<'s> {
     }
 }
 
-/// Traces a shadow beam through the BVH.
-struct ShadowVisitor<'a, 'b, 's> {
-    triangles: &'a [Triangle],
-    beam: &'b mut ShadowBeam<'s>,
-    /// Outward normals of the four planes through the apex and the pieces' bounding rectangle's
-    /// sides, then the near and far planes (`depth = DEPTH_EPS`, `depth = 1 − DEPTH_EPS`), as
-    /// (normal, offset).
-    planes: [(Vec3, f32); 6],
-}
-
-impl ShadowVisitor<'_, '_, '_> {
-    fn update_planes(&mut self) {
-        let f = &self.beam.frame;
-        let (lo, hi) = self.beam.bounds();
-        for (plane, n) in self.planes.iter_mut().zip(f.side_normals(lo, hi)) {
-            *plane = (n, n.dot(f.apex));
-        }
-        // Depth d(x) = (x − apex)·N / distance: near plane keeps d ≥ ε, far plane keeps d ≤ 1 − ε.
-        let n = f.normal / f.distance;
-        self.planes[4] = (-n, -n.dot(f.apex) - DEPTH_EPS);
-        self.planes[5] = (n, n.dot(f.apex) + 1.0 - DEPTH_EPS);
-    }
-}
-
-impl NodeVisitor for ShadowVisitor<'_, '_, '_> {
-    /// A node is entered unless its box lies wholly outside one of the beam's six planes (the four
-    /// through the apex and the sides of the pieces' bounding rectangle, the near and far planes),
-    /// tested at the box corner nearest to the inside: the plane test of frustum culling, cheap and
-    /// conservative (001 §3.3 keeps near and far planes per axis for the same purpose).
-    fn enter(&mut self, bounds: &Aabb) -> Option<f32> {
-        self.beam.stats.bvh_steps += 1;
-        if aabb_outside_planes(bounds, &self.planes) {
-            return None;
-        }
-        Some(0.0)
-    }
-
-    fn leaf(&mut self, prims: &[u32]) -> Control {
-        for &p in prims {
-            if self.beam.occlude(&self.triangles[p as usize]) {
-                if self.beam.finished() {
-                    return Control::Stop;
-                }
-                // Pieces only shrink where the triangle hit one; otherwise the planes still hold.
-                self.update_planes();
-            }
-        }
-        if self.beam.over_budget() { Control::Stop } else { Control::Continue }
-    }
-}
-
-/// Trace `beam` through the BVH: what is left of it are its lit pieces.
-pub(crate) fn trace_bvh(bvh: &FlatBvh, triangles: &[Triangle], beam: &mut ShadowBeam<'_>) {
-    let mut v = ShadowVisitor { triangles, beam, planes: [(Vec3::ZERO, 0.0); 6] };
-    v.update_planes();
-    bvh.traverse(&mut v);
-}
-
-/// The part of `light` (a convex polygon, 3 to 8 corners) visible from `p`. `None` when `p` lies on
-/// the light's plane or behind it.
-pub fn visible_light(
-    bvh: &FlatBvh,
-    triangles: &[Triangle],
-    p: Vec3,
-    light: &[Vec3],
-    light_normal: Vec3,
-    stats: &mut BeamStats,
-) -> Option<VisibleLight> {
-    let beam = light_beam(p, light, light_normal)?;
-    Some(visible_section(bvh, triangles, &beam, stats))
-}
-
-/// The beam from `p` to `light` (its reference plane the light's), or `None` when `p` lies on the
-/// light's plane or behind it.
-pub(crate) fn light_beam(p: Vec3, light: &[Vec3], light_normal: Vec3) -> Option<PolyBeam> {
-    if light.len() < 3 || light_normal.dot(p - light[0]) <= 0.0 {
-        return None;
-    }
-    let frame = BeamFrame::new(p, light[0], light_normal, light[1] - light[0])?;
-    PolyBeam::new(frame, light)
-}
-
-/// The part of `beam`'s cross-section seen from its apex past every triangle strictly between the
-/// apex and the reference plane (depths in `[DEPTH_EPS, 1 − DEPTH_EPS]`).
-pub(super) fn visible_section(
-    bvh: &FlatBvh,
-    triangles: &[Triangle],
-    beam: &PolyBeam,
-    stats: &mut BeamStats,
-) -> VisibleLight {
-    let mut scratch = ShadowScratch::default();
-    let mut traced = ShadowBeam::new(beam, &mut scratch);
-    trace_bvh(bvh, triangles, &mut traced);
-    *stats += traced.stats;
-    let pieces = traced
-        .pieces()
-        .iter()
-        .map(|q| {
-            let mut section = Section::new();
-            // A quad's 3 or 4 corners always fit a section.
-            q.corners().for_each(|c| section.push(c).unwrap_or_default());
-            section
-        })
-        .collect();
-    VisibleLight { frame: beam.frame, pieces, light_area: beam.area() }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use beam_bvh::BuildOptions;
+    use beam_bvh::{BuildOptions, FlatBvh};
 
     #[test]
     fn clipped_triangles_hide_what_the_clipped_projection_covers() {
