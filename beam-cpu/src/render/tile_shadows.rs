@@ -100,13 +100,16 @@ struct Carry {
     /// Tiles in a row that have taken it.
     taken: u32,
     /// Most tiles in a row that take it: [`MAX_CARRY`], doubled (up to [`MAX_BACKOFF`]) each time
-    /// a tile that started afresh sampled in every cluster again.
+    /// the sentinel of a sampled run sampled again.
     limit: u32,
+    /// Whether the tile samples the light from the start in every cluster but its first (the
+    /// sentinel), which decides whether the run of sampled tiles goes on.
+    sentinel: bool,
 }
 
 impl Default for Carry {
     fn default() -> Self {
-        Self { mode: None, taken: 0, limit: MAX_CARRY }
+        Self { mode: None, taken: 0, limit: MAX_CARRY, sentinel: false }
     }
 }
 
@@ -116,10 +119,11 @@ impl Default for Carry {
 /// start without gathering candidates (the shafts are then most of the cost); where every one
 /// split or sampled, but for fewer than [`WINDING_SHARE`] that weighed edges, the next splits
 /// without building edges (the edges and the probing beam cost Sponza 3× its splitting, where
-/// they win one probe in eight). After [`MAX_CARRY`] tiles, one starts afresh; where every
-/// cluster of that one samples again (a light too large for any beam's budget, as on Sponza under
-/// a light as wide as the building), the next run of sampled tiles is twice as long, up to
-/// [`MAX_BACKOFF`].
+/// they win one probe in eight). After [`MAX_CARRY`] tiles, one starts afresh, except after a
+/// run of sampled tiles: there one cluster of the next tile goes first (the sentinel) and the others
+/// sample; where the sentinel samples too (a light too large for any beam's budget, as on Sponza
+/// under a light as wide as the building), the next run of sampled tiles is twice as long, up to
+/// [`MAX_BACKOFF`], and otherwise the tile after it starts afresh.
 const SAMPLED_SHARE: f32 = 0.75;
 const WINDING_SHARE: f32 = 0.25;
 const MAX_CARRY: u32 = 3;
@@ -146,10 +150,17 @@ impl TileShadows {
             let ended = |m: Mode| clusters.iter().filter(|c| c.points.is_valid() && c.mode == m).count() as f32;
             let valid = clusters.iter().filter(|c| c.points.is_valid()).count();
             let sampled = valid > 0 && ended(Mode::Rays) >= SAMPLED_SHARE * valid as f32;
-            if valid > 0 && carried.mode.is_none() {
-                // The last tile started afresh: how it ended sets how long the next run may be.
-                let all = ended(Mode::Rays) == valid as f32;
-                carried.limit = if all { (2 * carried.limit).min(MAX_BACKOFF) } else { MAX_CARRY };
+            if core::mem::take(&mut carried.sentinel) {
+                // The last tile's first cluster decides whether the sampled run goes on.
+                let on = clusters.iter().find(|c| c.points.is_valid()).is_some_and(|c| c.mode == Mode::Rays);
+                carried.limit = if on { (2 * carried.limit).min(MAX_BACKOFF) } else { MAX_CARRY };
+                (carried.mode, carried.taken) = if on { (Some(Mode::Rays), 1) } else { (None, 0) };
+                continue;
+            }
+            if carried.mode == Some(Mode::Rays) && carried.taken >= carried.limit && valid > 0 {
+                // A run of sampled tiles ends: one cluster of this tile tries beams first.
+                carried.sentinel = true;
+                continue;
             }
             let mode = if valid == 0 || carried.taken >= carried.limit {
                 None
@@ -202,12 +213,13 @@ impl TileShadows {
                 *c = c.grow(p);
             }
             let tris = &scene.triangles;
-            let carried = self.carried[base / per_light].mode;
-            for cluster in &mut self.clusters[base..] {
+            let Carry { mode: carried, sentinel, .. } = self.carried[base / per_light];
+            let first = self.clusters[base..].iter().position(|c| c.points.is_valid());
+            for (i, cluster) in self.clusters[base..].iter_mut().enumerate() {
                 if !cluster.points.is_valid() {
                     continue;
                 }
-                if carried == Some(Mode::Rays) {
+                if carried == Some(Mode::Rays) && !(sentinel && Some(i) == first) {
                     cluster.mode = Mode::Rays;
                     continue;
                 }
