@@ -5,7 +5,8 @@
 //! visible pieces themselves.
 
 use super::primary_beam::{Piece, point_on_piece};
-use super::shadow_beam::{BeamStats, visible_section};
+use super::shadow_beam::BeamStats;
+use super::shadow_beam::visible::visible_section;
 use beam_bvh::FlatBvh;
 use beam_math::Triangle;
 use beam_math::glam::{Vec2, Vec3};

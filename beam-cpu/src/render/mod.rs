@@ -28,4 +28,5 @@ pub use renderer::{
     RenderStats, light_seen, pixel_fragments, render, render_queries, render_with, shade_point, stratified,
     trace_radiance,
 };
-pub use shadow_beam::{BeamStats, VisibleLight, visible_light};
+pub use shadow_beam::BeamStats;
+pub use shadow_beam::visible::{VisibleLight, visible_light};

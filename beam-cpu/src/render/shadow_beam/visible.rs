@@ -1,7 +1,8 @@
 //! The visible part of a light from a point: the beam from the point to the light, traced to the
 //! end through the BVH.
 
-use super::{BeamStats, ShadowBeam, ShadowScratch, trace_bvh};
+use super::walk::trace_bvh;
+use super::{BeamStats, ShadowBeam, ShadowScratch};
 use beam_bvh::FlatBvh;
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
@@ -83,4 +84,84 @@ pub(crate) fn visible_section(
         })
         .collect();
     VisibleLight { frame: beam.frame, pieces, light_area: beam.area() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use beam_bvh::BuildOptions;
+    use beam_math::polybeam::Quad;
+    use beam_render::tolerance::DEPTH_EPS;
+
+    #[test]
+    fn clipped_triangles_hide_what_the_clipped_projection_covers() {
+        // Triangles reaching behind the point and past the light, against the independent clip of
+        // beam-math (ProjectedTriangle: 3D Sutherland–Hodgman, then projection).
+        use beam_math::collide::ConvexPolygon;
+        use beam_math::polybeam::ProjectedTriangle;
+        let light = [
+            Vec3::new(-0.5, -0.5, 2.0),
+            Vec3::new(0.5, -0.5, 2.0),
+            Vec3::new(0.5, 0.5, 2.0),
+            Vec3::new(-0.5, 0.5, 2.0),
+        ];
+        let beam = light_beam(Vec3::ZERO, &light, -Vec3::Z).unwrap();
+        let mut s = 99u32;
+        let mut r = move || {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (s >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+        };
+        let mut clipped = 0;
+        for _ in 0..3000 {
+            let tri = Triangle::new(
+                Vec3::new(r(), r(), 1.0 + 2.0 * r()),
+                Vec3::new(r(), r(), 1.0 + 2.0 * r()),
+                Vec3::new(r(), r(), 1.0 + 2.0 * r()),
+            );
+            let mut scratch = ShadowScratch::default();
+            let mut traced = ShadowBeam::new(&beam, &mut scratch);
+            traced.occlude(&tri);
+            let visible: f32 = traced.pieces().iter().map(Quad::area).sum();
+            let hidden = ProjectedTriangle::new(&beam.frame, &tri, DEPTH_EPS, 1.0 - DEPTH_EPS).map_or(0.0, |p| {
+                let poly = ConvexPolygon::<16>::from_slice(p.polygon.vertices()).unwrap();
+                poly.clip_by(&beam.section).unwrap().area()
+            });
+            clipped += usize::from(tri.v.iter().any(|v| v.z < 0.0 || v.z > 2.0));
+            // Corners clipped at the near plane project ~1/DEPTH_EPS times farther out, where f32
+            // rounding of either clip is ~1e-4 of the light.
+            assert!((visible + hidden - 1.0).abs() < 1e-3, "{tri:?}: visible {visible}, hidden {hidden}");
+        }
+        assert!(clipped > 1000, "{clipped}");
+    }
+
+    #[test]
+    fn square_occluder_parallel_to_square_light() {
+        // Light: unit square at z = 2; occluder: square of half-width 0.125 at z = 1 centred above
+        // the origin, whose shadow on the light plane from the origin has half-width 0.25.
+        let light = [
+            Vec3::new(-0.5, -0.5, 2.0),
+            Vec3::new(0.5, -0.5, 2.0),
+            Vec3::new(0.5, 0.5, 2.0),
+            Vec3::new(-0.5, 0.5, 2.0),
+        ];
+        let h = 0.125;
+        let occ = vec![
+            Triangle::new(Vec3::new(-h, -h, 1.0), Vec3::new(h, -h, 1.0), Vec3::new(h, h, 1.0)),
+            Triangle::new(Vec3::new(-h, -h, 1.0), Vec3::new(h, h, 1.0), Vec3::new(-h, h, 1.0)),
+        ];
+        let bvh = FlatBvh::build(&occ, &BuildOptions::sah());
+        let mut stats = BeamStats::default();
+        // Shadow of the occluder on the light plane: half-width 2h = 0.25, area 0.25 of the light.
+        let v = visible_light(&bvh, &occ, Vec3::ZERO, &light, -Vec3::Z, &mut stats).unwrap();
+        assert!((v.fraction() - 0.75).abs() < 1e-5, "{}", v.fraction());
+        assert!(v.pieces.iter().all(|p| p.len() <= 4));
+        // Shifted sideways by x: the shadow moves by −x·(2−1)/1 = −x on the light plane.
+        let v = visible_light(&bvh, &occ, Vec3::new(0.1, 0.0, 0.0), &light, -Vec3::Z, &mut stats).unwrap();
+        assert!((v.fraction() - 0.75).abs() < 1e-5);
+        // At x = 0.6 the shadow's centre is at 0.6 − 2·0.6 = −0.6: it covers x ∈ [−0.85, −0.35], of
+        // which [−0.5, −0.35] is on the light: area 0.15 × 0.5.
+        let v = visible_light(&bvh, &occ, Vec3::new(0.6, 0.0, 0.0), &light, -Vec3::Z, &mut stats).unwrap();
+        assert!((v.fraction() - (1.0 - 0.15 * 0.5)).abs() < 1e-4, "{}", v.fraction());
+        assert!(stats.bvh_steps > 0 && stats.intersections > 0 && stats.triangle_tests > 0);
+    }
 }

@@ -3,7 +3,8 @@
 //! to, and the wavefront's own path for the beams a backend gives up on.
 
 use crate::render::lambert::{clip_above, polygon_irradiance};
-use crate::render::shadow_beam::{BeamStats, visible_light};
+use crate::render::shadow_beam::BeamStats;
+use crate::render::shadow_beam::visible::visible_light;
 use beam_bvh::FlatBvh;
 use beam_math::Triangle;
 use beam_render::queries::{LightPolygon, LightQuery, LightSeen};
