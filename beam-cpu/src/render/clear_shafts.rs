@@ -48,14 +48,15 @@ pub(crate) struct ClearShafts {
 
 impl ClearShafts {
     /// Test the shafts from the points `points` (each with its block index, `< BLOCKS²`) to each
-    /// area light of `lights` listed in `tested`, where a shade point would trace `rays` shadow
+    /// area light of `lights` listed in `facing` below index `walk_from` (a constant environment's
+    /// faces from there on enclose the scene: their shafts would meet it all), where a shade point would trace `rays` shadow
     /// rays to it: the tile's first, then, where one meets a triangle, its quarters' in turn, as
     /// long as the rays a clear shaft would save are worth twice its test.
     pub(crate) fn build(
         &mut self,
         scene: &Scene,
-        lights: &[Light],
-        tested: &[u32],
+        (lights, walk_from): (&[Light], usize),
+        facing: &[u32],
         points: &[(usize, Vec3)],
         rays: u32,
     ) {
@@ -66,7 +67,7 @@ impl ClearShafts {
             return;
         }
         self.clear.resize(lights.len() * per_light, Aabb::EMPTY);
-        for &index in tested {
+        for &index in facing.iter().filter(|&&i| (i as usize) < walk_from) {
             let light = &lights[index as usize];
             if matches!(light, Light::Point { .. }) {
                 continue;
@@ -163,7 +164,7 @@ mod tests {
             })
             .collect();
         let mut clear = ClearShafts::default();
-        clear.build(&scene, &scene.lights, &[0], &points, 64);
+        clear.build(&scene, (&scene.lights, 1), &[0], &points, 64);
         assert!(clear.shafts > 1, "the tile's shaft meets the boxes, so its quarters are tried");
         let polygon = light.polygon();
         let mut seen = 0;

@@ -91,6 +91,12 @@ impl Shaft {
             && self.planes[..self.len].iter().all(|&(n, d)| n.dot(a) <= d || n.dot(b) <= d || n.dot(c) <= d)
     }
 
+    /// Whether `t` may hide part of the light from a point of the box: it meets the shaft and
+    /// its plane does not leave the box and the light on one side.
+    pub(crate) fn may_hide(&self, t: &Triangle) -> bool {
+        self.meets_triangle(t) && !self.beside_plane_of(t)
+    }
+
     /// True when `t` lies on the light's plane (within the shaft's tolerance): a segment from the
     /// box ends at the light before it would reach `t` (the light's own triangles).
     pub(crate) fn on_light_plane(&self, t: &Triangle) -> bool {
@@ -129,7 +135,7 @@ impl NodeVisitor for Gather<'_> {
     fn leaf(&mut self, prims: &[u32]) -> Control {
         for &p in prims {
             let t = &self.triangles[p as usize];
-            if self.shaft.meets_triangle(t) && !self.shaft.beside_plane_of(t) {
+            if self.shaft.may_hide(t) {
                 self.out.push((t.area().to_bits(), p));
             }
         }
@@ -154,7 +160,7 @@ impl NodeVisitor for Meets<'_> {
     fn leaf(&mut self, prims: &[u32]) -> Control {
         self.found = prims.iter().any(|&p| {
             let t = &self.triangles[p as usize];
-            self.shaft.meets_triangle(t) && !self.shaft.beside_plane_of(t) && !self.shaft.on_light_plane(t)
+            self.shaft.may_hide(t) && !self.shaft.on_light_plane(t)
         });
         if self.found { Control::Stop } else { Control::Continue }
     }

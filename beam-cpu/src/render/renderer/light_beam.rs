@@ -7,6 +7,7 @@
 
 use super::context::{Context, Thread};
 use super::light_samples::{light_sample, sample_light};
+use super::stats::Counters;
 use crate::render::clear_shafts::LAMBERT_RAYS;
 use crate::render::lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 use crate::render::shadow_beam::ShadowBeam;
@@ -45,7 +46,6 @@ impl Context<'_> {
         if !self.beams_pay() {
             return self.sampled_light(p, n, index, rng, t);
         }
-        let light = &self.lights[index];
         let (ln, polygon) = (self.emitters[index].normal, self.emitters[index].polygon());
         // Exact shading: only the part of the light above the tangent plane lights the point.
         let polygon = match self.shading(index) {
@@ -132,15 +132,8 @@ impl Context<'_> {
                 Shading::Fraction => pieces.iter().map(Quad::area).sum::<f32>() / beam.area(),
             };
             if unresolved && unoccluded > 0.0 {
-                let drawn = (index, samples);
                 let left = if sample_all { Left::Whole(&polygon) } else { Left::Pieces(&frame, pieces) };
-                let seen = self.seen_share(p, n, drawn, left, rng, &mut t.c.shadow_rays);
-                t.c.sampled_beams += 1;
-                t.c.pending_bound += light.power().max_element() * unoccluded;
-                match self.shading(index) {
-                    Shading::Exact => unoccluded * seen,
-                    Shading::Fraction => self.fraction_irradiance(p, n, index, unoccluded * seen),
-                }
+                self.sampled(p, n, (index, samples), (left, unoccluded), rng, &mut t.c)
             } else {
                 match self.shading(index) {
                     Shading::Exact => unoccluded,
@@ -202,9 +195,26 @@ impl Context<'_> {
         if !(unoccluded > 0.0) {
             return 0.0;
         }
-        let seen = self.seen_share(p, n, drawn, Left::Whole(polygon), rng, &mut t.c.shadow_rays);
-        t.c.sampled_beams += 1;
-        t.c.pending_bound += self.lights[index].power().max_element() * unoccluded;
+        self.sampled(p, n, drawn, (Left::Whole(polygon), unoccluded), rng, &mut t.c)
+    }
+
+    /// Irradiance per unit radiance at `p` (normal `n`) from what is `left` of area light `index`
+    /// to sample (the third argument is `(index, spp)`), whose unoccluded irradiance (or, with
+    /// `--shading fraction`, area fraction) is `unoccluded`: that times the ratio estimate of its
+    /// lit share ([`Context::seen_share`]), counted in `c` as a sampled beam with `unoccluded` as
+    /// its bound.
+    fn sampled(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        (index, spp): (usize, u32),
+        (left, unoccluded): (Left<'_>, f32),
+        rng: &mut Pcg32,
+        c: &mut Counters,
+    ) -> f32 {
+        let seen = self.seen_share(p, n, (index, spp), left, rng, &mut c.shadow_rays);
+        c.sampled_beams += 1;
+        c.pending_bound += self.lights[index].power().max_element() * unoccluded;
         match self.shading(index) {
             Shading::Exact => unoccluded * seen,
             Shading::Fraction => self.fraction_irradiance(p, n, index, unoccluded * seen),

@@ -305,8 +305,7 @@ impl Context<'_> {
             } else {
                 // A constant environment's faces enclose the scene: their shafts would meet it all.
                 let facing = t.facing.as_deref().unwrap_or_default();
-                let tested: Vec<u32> = facing.iter().copied().filter(|&i| (i as usize) < scene_lights).collect();
-                t.clear.build(self.scene, &self.lights, &tested, points, self.options.spp);
+                t.clear.build(self.scene, (&self.lights, scene_lights), facing, points, self.options.spp);
                 t.c.shafts += core::mem::take(&mut t.clear.shafts);
                 t.c.shaft_bvh_steps += core::mem::take(&mut t.clear.bvh_steps);
             }
