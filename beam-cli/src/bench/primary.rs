@@ -5,8 +5,8 @@
 //! angle, on black. Prints seconds, RMSE against the eye beams' exact image and the ratio of each
 //! time to the eye beams'.
 
-use super::primary_shading::{flat, pixel_samples};
-use beam_cpu::render::{Image, difference, primary_image};
+use super::primary_shading::flat;
+use beam_cpu::render::{Image, Visibility, difference, pixel_samples, primary_image};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::queries::ClosestHit;
@@ -84,7 +84,7 @@ pub(crate) fn ray_image(
     image.pixels.par_chunks_mut(camera.width as usize).enumerate().for_each(|(y, row)| {
         for (x, px) in row.iter_mut().enumerate() {
             let mut sum = Vec3::ZERO;
-            for (sx, sy) in pixel_samples(x, y, k) {
+            for (sx, sy) in pixel_samples(x as u32, y as u32, k) {
                 let ray = camera.ray(&frame, sx, sy);
                 if let Some((prim, t)) = hit(ray) {
                     sum += shade(prim, ray.origin + t * ray.direction, ray.direction.normalize());
@@ -111,7 +111,7 @@ pub(crate) fn run(scenes: &[String], size: u32, out: Option<&Path>, gpu: Option<
         let scene = &loaded.scene;
         let camera = camera(&loaded, size);
         let bar = crate::progress::bar(u64::from(size) * u64::from(size), "eye beams");
-        let (exact, ps) = primary_image(scene, &camera, flat(scene), |pixels| bar.inc(pixels));
+        let (exact, ps) = primary_image(scene, &camera, Visibility::Exact, flat(scene), |pixels| bar.inc(pixels));
         bar.finish_and_clear();
         println!(
             "\n{}: {} triangles, {size}×{size}; eye beams: {} visible triangles, {} hit beams ({:.2} per visible \

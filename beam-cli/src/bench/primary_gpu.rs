@@ -4,8 +4,8 @@
 //! device's own time by timestamp queries, the host's wall time, rays per second, and the PSNR of
 //! each GPU image against the CPU rays' image of the same rays.
 
-use super::primary_shading::{flat, pixel_samples};
-use beam_cpu::render::{Image, difference};
+use super::primary_shading::flat;
+use beam_cpu::render::{Image, difference, pixel_samples};
 use beam_gpu::Gpu;
 use beam_gpu::queries::GpuQueries;
 use beam_math::Ray;
@@ -57,7 +57,7 @@ pub(super) fn ray_image(
             .into_par_iter()
             .flat_map_iter(|i| {
                 let (x, y) = (i % width, y0 + i / width);
-                pixel_samples(x, y, k).map(|(sx, sy)| camera.ray(&frame, sx, sy)).collect::<Vec<_>>()
+                pixel_samples(x as u32, y as u32, k).map(|(sx, sy)| camera.ray(&frame, sx, sy)).collect::<Vec<_>>()
             })
             .collect();
         let hits = queries.closest_hits(scene, &rays).map_err(|e| e.to_string())?;

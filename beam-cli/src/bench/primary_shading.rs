@@ -1,10 +1,8 @@
 //! What every tracer of `beam bench primary` shares, on the CPU and the GPU alike: the flat shading
-//! under comparison and the stratified jittered sample positions of each pixel.
+//! under comparison (the sample positions of each pixel are `beam_cpu::render::pixel_samples`).
 
 use beam_math::glam::Vec3;
 use beam_scene::scene::Scene;
-use rand::SeedableRng;
-use rand_pcg::Pcg32;
 
 /// A fixed colour of triangle `prim`, each channel in `[0.15, 1]` (a hash of the index).
 #[must_use]
@@ -19,14 +17,4 @@ pub(super) fn albedo(prim: u32) -> Vec3 {
 /// its normal and the unit view direction `d`.
 pub(super) fn flat(scene: &Scene) -> impl Fn(u32, Vec3, Vec3) -> Vec3 + Sync + '_ {
     move |prim, _, d| albedo(prim) * scene.normal(prim).dot(d).abs()
-}
-
-/// The `k × k` stratified jittered sample positions in pixel `(x, y)` of [`super::primary::ray_image`], in image
-/// coordinates, from a random stream seeded by the pixel (the same for every tracer).
-pub(super) fn pixel_samples(x: usize, y: usize, k: u32) -> impl Iterator<Item = (f32, f32)> {
-    let mut rng = Pcg32::seed_from_u64(((y as u64) << 32 | x as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-    (0..k * k).map(move |i| {
-        let (jx, jy) = beam_cpu::render::stratified(i, k, &mut rng);
-        (x as f32 + jx, y as f32 + jy)
-    })
 }

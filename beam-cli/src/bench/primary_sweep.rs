@@ -1,12 +1,13 @@
 //! `beam bench primary --sweep`: eye beams over seeded random views (001 Fig. 7: time against
 //! visible triangles). Half the cameras stand inside the scene's box, half outside it in the upper
 //! hemisphere around its centre (1.1 to 2 half-diagonals away); each looks at a random point of the
-//! box with a 60° field of view. Per camera: eye-beam time and work, and our 1 and 16 rays per pixel
-//! on the same flat-shaded image.
+//! box with a 60° field of view. Per camera: eye-beam time and work, our 1 and 16 rays per pixel
+//! on the same flat-shaded image, and the budgeted image (eye beams where they cost less than 16
+//! rays a pixel, those rays elsewhere: [`Visibility::Budget`]) with its share of exact pixels.
 
 use super::primary::{Loaded, camera, load, ours, ray_image};
 use super::primary_shading::flat;
-use beam_cpu::render::{difference, primary_image};
+use beam_cpu::render::{Visibility, difference, primary_image};
 use beam_math::glam::Vec3;
 use beam_scene::io::write_atomic;
 use beam_scene::scene::Camera;
@@ -35,7 +36,14 @@ struct Row {
     ray1_s: f64,
     ray16_s: f64,
     rmse16: f64,
+    /// The budgeted image: seconds, share of its pixels by eye beams, RMSE against the exact one.
+    budget_s: f64,
+    exact_share: f64,
+    rmse_budget: f64,
 }
+
+/// Rays a pixel of the peer, and of the budgeted image where eye beams do not pay.
+const RAYS: u32 = 16;
 
 /// `n` seeded random cameras around the box of `loaded` at `size²`.
 fn cameras(loaded: &Loaded, n: u32, size: u32, seed: u64) -> Vec<(bool, Camera)> {
@@ -78,7 +86,7 @@ pub(crate) fn run(
         let scene = &loaded.scene;
         println!("\nsweep {}: {} cameras at {size}×{size} (table view first)", loaded.name, n);
         println!(
-            "{:>4} {:>7} {:>9} {:>8} {:>9} {:>8} {:>8} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10} {:>8}",
+            "{:>4} {:>7} {:>9} {:>8} {:>9} {:>8} {:>8} {:>9} {:>9} {:>8} {:>9} {:>9} {:>10} {:>8} {:>9} {:>7} {:>10} {:>8}",
             "cam",
             "where",
             "beams s",
@@ -92,7 +100,11 @@ pub(crate) fn run(
             "1 ray s",
             "16 rays s",
             "beam/16ray",
-            "RMSE 16"
+            "RMSE 16",
+            "budget s",
+            "exact %",
+            "budg/16ray",
+            "RMSE b"
         );
         let bar = crate::progress::bar(u64::from(n) + 1, "sweep");
         let view = camera(&loaded, size);
@@ -100,10 +112,12 @@ pub(crate) fn run(
         let views = std::iter::once((view_inside, view)).chain(cameras(&loaded, n, size, seed));
         let first = rows.len();
         for (i, (inside, cam)) in views.enumerate() {
-            let (exact, ps) = primary_image(scene, &cam, flat(scene), |_| {});
+            let (exact, ps) = primary_image(scene, &cam, Visibility::Exact, flat(scene), |_| {});
             let hit = ours(scene);
             let (_, ray1_s) = ray_image(scene, &cam, 1, &hit, &|| {});
-            let (img16, ray16_s) = ray_image(scene, &cam, 16, &hit, &|| {});
+            let (img16, ray16_s) = ray_image(scene, &cam, RAYS, &hit, &|| {});
+            let (budget, bs) = primary_image(scene, &cam, Visibility::Budget { rays: RAYS }, flat(scene), |_| {});
+            let rmse = |img| difference(img, &exact).map(|d| d.rmse).map_err(|e| e.to_string());
             let row = Row {
                 scene: loaded.name.clone(),
                 camera: i as u32,
@@ -118,11 +132,14 @@ pub(crate) fn run(
                 pieces: ps.pieces,
                 ray1_s,
                 ray16_s,
-                rmse16: difference(&img16, &exact).map_err(|e| e.to_string())?.rmse,
+                rmse16: rmse(&img16)?,
+                budget_s: bs.seconds,
+                exact_share: 1.0 - bs.ray_pixels as f64 / f64::from(size * size),
+                rmse_budget: rmse(&budget)?,
             };
             bar.suspend(|| {
                 println!(
-                    "{:>4} {:>7} {:>9.4} {:>8} {:>9} {:>8.2} {:>8.4} {:>9} {:>9} {:>8} {:>9.4} {:>9.4} {:>10.2} {:>8.4}",
+                    "{:>4} {:>7} {:>9.4} {:>8} {:>9} {:>8.2} {:>8.4} {:>9} {:>9} {:>8} {:>9.4} {:>9.4} {:>10.2} {:>8.4} {:>9.4} {:>7.1} {:>10.2} {:>8.4}",
                     if i == 0 { "view".to_string() } else { i.to_string() },
                     if inside { "inside" } else { "outside" },
                     row.beam_s,
@@ -136,7 +153,11 @@ pub(crate) fn run(
                     row.ray1_s,
                     row.ray16_s,
                     row.beam_s / row.ray16_s,
-                    row.rmse16
+                    row.rmse16,
+                    row.budget_s,
+                    100.0 * row.exact_share,
+                    row.budget_s / row.ray16_s,
+                    row.rmse_budget
                 );
             });
             bar.inc(1);
@@ -151,6 +172,10 @@ pub(crate) fn run(
         let (tw, tm) = worst_median(&|r| r.beam_s);
         let (rw, rm) = worst_median(&|r| r.beam_s / r.ray16_s);
         let (qw, qm) = worst_median(&|r| r.beam_s / r.ray1_s);
+        let (bw, bm) = worst_median(&|r| r.budget_s / r.ray16_s);
+        let slower = |f: &dyn Fn(&Row) -> f64| rows[first..].iter().filter(|&r| f(r) > r.ray16_s).count();
+        let (es, bs) = (slower(&|r| r.beam_s), slower(&|r| r.budget_s));
+        let noisier = rows[first..].iter().filter(|r| r.rmse_budget > r.rmse16).count();
         let (hw, hm) = worst_median(&|r| r.per_visible);
         // Output sensitivity: seconds per visible triangle, over the views that see ≥ 100.
         let per_visible: Vec<f64> =
@@ -177,6 +202,12 @@ pub(crate) fn run(
             sm * 1e6
         );
         println!(
+            "{}: slower than {RAYS} rays/pixel: eye beams on {es} of {n1} views, budgeted on {bs} (× {RAYS} rays \
+             worst {bw:.2}, median {bm:.2}); budgeted RMSE above the rays' on {noisier}",
+            loaded.name,
+            n1 = rows.len() - first
+        );
+        println!(
             "{}: least-squares line t = {:.4} s + {:.2} µs × visible triangles; slowest view against it: \
              {worst_fit:.2}× (camera {})",
             loaded.name,
@@ -188,10 +219,12 @@ pub(crate) fn run(
     if let (Some(dir), false) = (out, rows.is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let mut csv = String::from("scene,camera,inside,beam_s,visible_triangles,hit_beams,hit_beams_per_visible,");
-        csv.push_str("trace_s,bvh_steps,triangle_tests,pieces,ray1_s,ray16_s,rmse16\n");
+        csv.push_str(
+            "trace_s,bvh_steps,triangle_tests,pieces,ray1_s,ray16_s,rmse16,budget_s,exact_share,rmse_budget\n",
+        );
         for r in &rows {
             csv.push_str(&format!(
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
                 r.scene,
                 r.camera,
                 r.inside,
@@ -205,7 +238,10 @@ pub(crate) fn run(
                 r.pieces,
                 r.ray1_s,
                 r.ray16_s,
-                r.rmse16
+                r.rmse16,
+                r.budget_s,
+                r.exact_share,
+                r.rmse_budget
             ));
         }
         let (png, csv_path) = (dir.join("primary-sweep.png"), dir.join("primary-sweep.csv"));

@@ -3,8 +3,11 @@
 //! finds how large the triangles it sees are on screen, and so about how many the region shows;
 //! where sub-pixel triangles would make the pieces explode past a share of what the ray method
 //! spends on the region, its pixels are sampled by primary rays instead (the same budget rule as
-//! the shadow beams'), and the render says how many.
+//! the shadow beams'), and the render says how many. The grid can miss a thin band of such
+//! triangles, so the trace itself also stops once its work ([`eye_trace_seconds`]) passes the
+//! budget, and the region goes to rays after all.
 
+use super::shadow_beam::BeamStats;
 use beam_math::glam::Vec2;
 use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Scene};
@@ -19,17 +22,51 @@ const PER_TRIANGLE: f64 = 20e-6;
 const PER_PIXEL: f64 = 0.3e-6;
 const PER_RAY: f64 = 0.18e-6;
 
+/// Thread-seconds per piece tested against a triangle, per triangle set up and per hit beam of an
+/// eye beam's trace (this machine, one thread: a least-squares fit over the 1,056 regions of
+/// `beam bench primary --sweep`, Sponza and the conference room, correlation 0.99).
+const PER_CHECK: f64 = 3.7e-8;
+const PER_TEST: f64 = 4.3e-7;
+const PER_HIT: f64 = 2.0e-6;
+
 /// The share of the ray method's time on a region (a primary ray and `spp` shadow rays a pixel)
 /// the eye beam may take.
 const SHARE: f64 = 0.5;
 
 /// Whether the eye beam through `region` of `camera`'s image costs at most [`SHARE`] of the ray
-/// method's time there at `spp` shadow rays per pixel, by the triangles a grid of rays sees and
-/// their size on screen.
+/// method's time there at `spp` shadow rays per pixel.
 #[must_use]
 pub(crate) fn eye_beam_pays(scene: &Scene, camera: &Camera, region: PixelRect, spp: u32) -> bool {
+    eye_beam_seconds(scene, camera, region) <= eye_budget(region, 1 + spp)
+}
+
+/// The thread-seconds an eye beam's trace has taken, predicted from its work: `stats` and `checks`
+/// pieces tested against triangles. Deterministic, so that a budget on it cuts the same regions on
+/// every run and machine.
+#[must_use]
+pub(crate) fn eye_trace_seconds(stats: &BeamStats, checks: u64) -> f64 {
+    PER_CHECK * checks as f64 + PER_TEST * stats.triangle_tests as f64 + PER_HIT * stats.hit_beams as f64
+}
+
+/// The thread-seconds the eye beam of `region` may take at most, where rays at `rays` a pixel are
+/// the alternative: [`SHARE`] of theirs.
+#[must_use]
+pub(crate) fn eye_budget(region: PixelRect, rays: u32) -> f64 {
+    SHARE * ray_seconds(region, rays)
+}
+
+/// The thread-seconds `rays` rays a pixel of `region` take.
+#[must_use]
+pub(crate) fn ray_seconds(region: PixelRect, rays: u32) -> f64 {
+    PER_RAY * region.len() as f64 * f64::from(rays)
+}
+
+/// The predicted thread-seconds of the eye beam through `region` of `camera`'s image, by the
+/// triangles a grid of rays sees and their size on screen.
+#[must_use]
+pub(crate) fn eye_beam_seconds(scene: &Scene, camera: &Camera, region: PixelRect) -> f64 {
     let frame = camera.frame();
-    let pixels = f64::from(region.width()) * f64::from(region.height());
+    let pixels = region.len() as f64;
     let cell = pixels / f64::from(GRID * GRID);
     // On screen, in pixels: the point's image coordinates.
     let to_pixels = |v: beam_math::glam::Vec3| {
@@ -47,15 +84,15 @@ pub(crate) fn eye_beam_pays(scene: &Scene, camera: &Camera, region: PixelRect, s
             let y = region.y0 as f32 + (j as f32 + 0.5) / GRID as f32 * region.height() as f32;
             let Some(hit) = scene.wide.closest_hit(camera.ray(&frame, x, y), f32::INFINITY) else { continue };
             let t = &scene.triangles[hit.prim as usize];
-            // The triangles of this cell's size that cover it (at least one).
+            // The cell's share of the triangles it sees, `cell / area`: summed over the cells, an
+            // estimate of the visible triangles (a triangle of area A is hit by about A / cell of
+            // them). A triangle reaching behind the eye counts as the size of the region.
             let area = match (to_pixels(t.v[0]), to_pixels(t.v[1]), to_pixels(t.v[2])) {
                 (Some(a), Some(b), Some(c)) => f64::from(0.5 * (b - a).perp_dot(c - a).abs()),
-                _ => cell,
+                _ => pixels,
             };
-            visible += (cell / area.max(1e-3)).max(1.0);
+            visible += cell / area.max(1e-3);
         }
     }
-    let eye = PER_TRIANGLE * visible + PER_PIXEL * pixels;
-    let rays = PER_RAY * pixels * f64::from(1 + spp);
-    eye <= SHARE * rays
+    PER_TRIANGLE * visible + PER_PIXEL * pixels
 }

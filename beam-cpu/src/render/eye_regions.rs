@@ -6,7 +6,7 @@
 use super::coverage::{PixelGrid, pixel_parts};
 use super::hard_shadow::lit_pieces;
 use super::image::Image;
-use super::primary_beam::{point_on_piece, visible_surface};
+use super::primary_beam::{point_on_piece, visible_surface_within};
 use super::shadow_beam::BeamStats;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::BeamFrame;
@@ -119,33 +119,59 @@ pub(crate) struct EyeStats {
     pub(crate) pieces: u64,
     /// Seconds spent tracing the eye beams (summed over threads).
     pub(crate) trace_seconds: f64,
+    /// Eye beams stopped at their budget (their regions went to rays).
+    pub(crate) over_budget: u64,
 }
 
-/// Every fragment of the exact visible surface seen through the pixels of `region` (one eye beam)
-/// that lies in the pixels of `window` (within `region`): calls `fragment(x, y, coverage, seen)`
-/// with the fraction of pixel `(x, y)` a piece covers. With `point_shadows`, each visible piece of a
+/// One region's eye beam, as [`region_fragments`] is asked to trace it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct EyeBeam {
+    /// The pixels the beam covers.
+    pub(crate) region: Region,
+    /// The pixels (within `region`) whose fragments are wanted.
+    pub(crate) window: Region,
+    /// Whether each visible piece is connected to the point lights by hard-shadow beams.
+    pub(crate) point_shadows: bool,
+    /// Thread-seconds the trace may take ([`super::eye_budget::eye_trace_seconds`]).
+    pub(crate) budget: f64,
+}
+
+impl EyeBeam {
+    /// The exact beam through `region`, every fragment wanted, no point lights.
+    pub(crate) fn exact(region: Region) -> Self {
+        Self { region, window: region, point_shadows: false, budget: f64::INFINITY }
+    }
+}
+
+/// Every fragment of the exact visible surface seen through the pixels of `beam.region` (one eye
+/// beam) that lies in the pixels of `beam.window`: calls `fragment(x, y, coverage, seen)` with the
+/// fraction of pixel `(x, y)` a piece covers. With `beam.point_shadows`, each visible piece of a
 /// diffuse or glossy triangle is also connected to every point light by a beam, and its lit parts
 /// come as [`Fragment::Lit`]. Marks the triangles seen in `seen_prims`. A pixel's fragments do not
-/// depend on `window`: the pieces are the eye beam's through all of `region`, and only the pieces
-/// that reach no pixel of `window` are skipped.
+/// depend on the window: the pieces are the eye beam's through all of the region, and only the
+/// pieces that reach no pixel of the window are skipped. False, with no fragment, when the trace
+/// passes `beam.budget`.
 pub(crate) fn region_fragments(
     scene: &Scene,
     camera: &Camera,
-    region: Region,
-    window: Region,
-    point_shadows: bool,
+    beam: EyeBeam,
     stats: &mut EyeStats,
     seen_prims: &mut [bool],
     mut fragment: impl FnMut(u32, u32, f32, Fragment),
-) {
+) -> bool {
+    let EyeBeam { region, window, point_shadows, budget } = beam;
     // A camera without a view sees nothing: the loaders and the CLI refuse one with its reason.
-    let Some((frame, hw, hh)) = image_frame(camera) else { return };
+    let Some((frame, hw, hh)) = image_frame(camera) else { return true };
     let grid = PixelGrid::new(hw, hh, camera.width, camera.height);
     let corner = |x: u32, y: u32| grid.to_image(Vec2::new(x as f32, y as f32));
     let (lo, hi) = (corner(region.x0, region.y0), corner(region.x1, region.y1));
     let start = std::time::Instant::now();
-    let pieces = visible_surface(&scene.bvh, &scene.triangles, &frame, lo, hi, &mut stats.primary);
+    let pieces = visible_surface_within(&scene.bvh, &scene.triangles, &frame, (lo, hi), budget, &mut stats.primary);
     stats.trace_seconds += start.elapsed().as_secs_f64();
+    let Some(pieces) = pieces else {
+        stats.over_budget += 1;
+        return false;
+    };
     stats.pieces += pieces.len() as u64;
     let w = window.intersect(region);
     let window = (w.x0, w.y0, w.x1, w.y1);
@@ -195,6 +221,7 @@ pub(crate) fn region_fragments(
             }
         }
     }
+    true
 }
 
 /// Per pixel, the coverage of all visible pieces and of the pieces that see a triangle (exact
@@ -206,13 +233,14 @@ pub fn primary_coverage(scene: &Scene, width: u32, height: u32) -> Vec<(f32, f32
     let mut seen = vec![false; scene.triangles.len()];
     for region in regions(width, height) {
         let mut stats = EyeStats::default();
-        region_fragments(scene, &camera, region, region, false, &mut stats, &mut seen, |x, y, cov, seen| {
+        let f = |x: u32, y: u32, cov: f32, seen: Fragment| {
             let o = &mut out[(y * width + x) as usize];
             o.0 += cov;
             if let Fragment::Surface { .. } = seen {
                 o.1 += cov;
             }
-        });
+        };
+        region_fragments(scene, &camera, EyeBeam::exact(region), &mut stats, &mut seen, f);
     }
     out
 }

@@ -23,7 +23,7 @@ pub use hard_shadow::lit_pieces;
 pub use image::{Image, srgb_decode, srgb_encode};
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
-pub use primary_image::{PrimaryStats, primary_image};
+pub use primary_image::{PrimaryStats, Visibility, pixel_samples, primary_image};
 pub use renderer::{
     RenderStats, light_seen, pixel_fragments, render, render_queries, render_with, shade_point, stratified,
     trace_radiance,

@@ -65,6 +65,8 @@ pub struct Piece {
     pub(super) hi: Vec2,
     /// Smallest `1/s` over the section, at its farthest point (0: unbounded, the background).
     pub(super) far_inv: f32,
+    /// Area of the section.
+    pub(super) area: f32,
 }
 
 impl Piece {
@@ -72,7 +74,7 @@ impl Piece {
         let (lo, hi) = section.bounds();
         let far_inv =
             depth.map_or(0.0, |d| section.vertices().iter().fold(f32::INFINITY, |m, &c| m.min(d.at(c))).max(0.0));
-        Self { section, prim, depth, lo, hi, far_inv }
+        Self { section, prim, depth, lo, hi, far_inv, area: section.area() }
     }
 
     /// No piece: what a piece joined into another leaves behind (it meets nothing).
@@ -84,6 +86,7 @@ impl Piece {
             lo: Vec2::INFINITY,
             hi: Vec2::NEG_INFINITY,
             far_inv: 0.0,
+            area: 0.0,
         }
     }
 

@@ -66,8 +66,10 @@ pub struct RenderStats {
     pub shade_points: u64,
     /// Pixels whose primary visibility was sampled by primary rays (2 × 2 a pixel) because their
     /// region's eye beam would have cost more than half the ray method's time there (sub-pixel
-    /// triangles); none with `--exact`.
+    /// triangles): predicted from a grid of rays, or found while tracing it; none with `--exact`.
     pub ray_pixels: u64,
+    /// Eye beams stopped while tracing, past that budget (their regions are in `ray_pixels`).
+    pub over_budget_regions: u64,
     /// Largest `|1 − Σ coverage|` of a pixel (exact coverage sums to one).
     pub coverage_error: f64,
     /// Triangles set up against shadow beams (projected once each).
@@ -167,6 +169,7 @@ impl RenderStats {
             fragments: total.fragments,
             shade_points: total.shade_points,
             ray_pixels: total.ray_pixels,
+            over_budget_regions: total.over_budget,
             coverage_error: total.coverage_error,
             triangle_tests: total.beams.triangle_tests,
             pieces: total.beams.pieces,
@@ -202,6 +205,7 @@ pub(super) struct Counters {
     pub(super) fragments: u64,
     pub(super) shade_points: u64,
     pub(super) ray_pixels: u64,
+    pub(super) over_budget: u64,
     pub(super) sampled_beams: u64,
     pub(super) inexact_pixels: u64,
     pub(super) culled_lights: u64,
@@ -233,6 +237,7 @@ impl Counters {
             fragments: d(self.fragments, before.fragments),
             shade_points: d(self.shade_points, before.shade_points),
             ray_pixels: d(self.ray_pixels, before.ray_pixels),
+            over_budget: d(self.over_budget, before.over_budget),
             sampled_beams: d(self.sampled_beams, before.sampled_beams),
             inexact_pixels: d(self.inexact_pixels, before.inexact_pixels),
             culled_lights: d(self.culled_lights, before.culled_lights),
@@ -261,6 +266,7 @@ impl core::ops::AddAssign for Counters {
         self.fragments += o.fragments;
         self.shade_points += o.shade_points;
         self.ray_pixels += o.ray_pixels;
+        self.over_budget += o.over_budget;
         self.sampled_beams += o.sampled_beams;
         self.inexact_pixels += o.inexact_pixels;
         self.culled_lights += o.culled_lights;

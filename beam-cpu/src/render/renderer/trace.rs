@@ -6,8 +6,8 @@ use super::context::{Context, Lights, SHADE_SEED, Surface, Thread};
 use super::shade_points::merge_smooth;
 use super::shading::stratified;
 use super::stats::Counters;
-use crate::render::eye_budget::eye_beam_pays;
-use crate::render::eye_regions::{EyeStats, Fragment, Region, TILE, region_fragments};
+use crate::render::eye_budget::{eye_beam_pays, eye_budget};
+use crate::render::eye_regions::{EyeBeam, EyeStats, Fragment, Region, TILE, region_fragments};
 use beam_math::glam::Vec3;
 use beam_scene::scene::Camera;
 use rand::SeedableRng;
@@ -80,7 +80,8 @@ impl Trace<'_> {
     /// The exact visible surface of `region` by one eye beam, its fragments in `window` (whole
     /// tiles of the frame's grid, within `region`) and the pixels of `window` with what point lights
     /// give the lit fragments (hard-shadow beams from the visible pieces, 001 §4.2). The surface
-    /// fragments come sorted by tile, for [`Trace::shade_eye_tile`].
+    /// fragments come sorted by tile, for [`Trace::shade_eye_tile`]. Where the beam would not pay
+    /// ([`eye_beam_pays`]) or passes its budget while traced, [`Trace::ray_region`] instead.
     pub(super) fn eye_region(&self, region: Region, window: Region) -> EyeTraced {
         let (ctx, camera) = (self.ctx, self.camera);
         if !ctx.options.exact && !eye_beam_pays(ctx.scene, camera, region, ctx.options.spp) {
@@ -93,7 +94,9 @@ impl Trace<'_> {
         let start = Instant::now();
         let mut surfaces = Vec::new();
         let mut eye = EyeStats::default();
-        region_fragments(ctx.scene, camera, region, window, true, &mut eye, &mut seen, |x, y, cov, f| {
+        let budget = if ctx.options.exact { f64::INFINITY } else { eye_budget(region, 1 + ctx.options.spp) };
+        let beam = EyeBeam { region, window, point_shadows: true, budget };
+        let traced = region_fragments(ctx.scene, camera, beam, &mut eye, &mut seen, |x, y, cov, f| {
             let i = window.index(x, y);
             match f {
                 Fragment::Background { d } => {
@@ -111,6 +114,15 @@ impl Trace<'_> {
                 }
             }
         });
+        if !traced {
+            // Past its budget: the work spent counts, the pixels come from rays.
+            let spent = start.elapsed().as_secs_f64();
+            let mut rays = self.ray_region(window);
+            rays.traced.counters.primary_seconds += spent;
+            rays.traced.counters.over_budget += 1;
+            rays.traced.counters.primary += eye.primary;
+            return rays;
+        }
         t.c.fragments += surfaces.len() as u64;
         merge_smooth(ctx.scene, camera.position, &mut surfaces);
         // Shaded tile by tile (the frame's grid), so that neighbouring points share their candidate
