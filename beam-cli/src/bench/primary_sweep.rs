@@ -281,14 +281,14 @@ impl Fit {
     }
 }
 
-/// Time against visible triangles, log–log: eye beams filled, 16 rays per pixel hollow, a colour
-/// per scene.
+/// Time against visible triangles, log–log: eye beams filled circles, the budgeted image filled
+/// triangles, 16 rays per pixel hollow circles, a colour per scene.
 fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
     let fold = |f: &dyn Fn(&Row) -> f64| {
         rows.iter().map(f).fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)))
     };
     let (x0, x1) = fold(&|r| r.visible.max(1) as f64);
-    let (y0, y1) = fold(&|r| r.beam_s.min(r.ray16_s).max(1e-5));
+    let (y0, y1) = fold(&|r| r.beam_s.min(r.ray16_s).min(r.budget_s).max(1e-5));
     let (_, y1b) = fold(&|r| r.beam_s.max(r.ray16_s));
     let mut scenes: Vec<&str> = rows.iter().map(|r| r.scene.as_str()).collect();
     scenes.dedup();
@@ -319,6 +319,11 @@ fn plot(path: &Path, rows: &[Row]) -> Result<(), String> {
                 .map_err(|e| e.to_string())?
                 .label(format!("{name}: eye beams (exact)"))
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
+            chart
+                .draw_series(pts(|r| r.budget_s).into_iter().map(|p| TriangleMarker::new(p, 6, color.filled())))
+                .map_err(|e| e.to_string())?
+                .label(format!("{name}: budgeted (eye beams, rays where they do not pay)"))
+                .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 6, color.filled()));
             chart
                 .draw_series(pts(|r| r.ray16_s).into_iter().map(|p| Circle::new(p, 5, color.stroke_width(2))))
                 .map_err(|e| e.to_string())?
