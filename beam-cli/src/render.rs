@@ -74,10 +74,12 @@ pub(crate) fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     }
     if method == Method::Beam && gpu.is_none() {
         println!(
-            "exact pixels {:.1}% ({} lights sampled past their beam's budget, largest error bound {:.2e}; \
-             {} pixels by primary rays, {} eye beams stopped at their budget; --exact for all)",
+            "exact pixels {:.1}% ({} lights sampled past their beam's budget or where geometry touches the \
+             point ({}), largest error bound {:.2e}; {} pixels by primary rays, {} eye beams stopped at their \
+             budget; --exact for all)",
             100.0 * stats.exact_pixel_share,
             stats.sampled_beams,
+            stats.contact_beams,
             stats.max_error_bound,
             stats.ray_pixels,
             stats.over_budget_regions

@@ -29,6 +29,9 @@ pub(crate) struct Projector {
     /// Depth range `[near, far]` along `normal`, in scene units.
     pub(crate) near: f32,
     pub(crate) far: f32,
+    /// Depth before which a triangle is dropped (a triangle between it and `near` may touch the
+    /// shade point, see `shadow_beam::CONTACT`).
+    pub(crate) touch: f32,
 }
 
 impl Projector {
@@ -62,8 +65,9 @@ impl Packet {
     }
 
     /// Project the four triangles through `p`'s apex and hand the ones that may hide part of the
-    /// rectangle `[lo, hi]` to `keep`: a lane is dropped when all its corners lie before `near`, or
-    /// all past `far`, or all in between and its projection's bounding rectangle misses `[lo, hi]`.
+    /// rectangle `[lo, hi]` to `keep`: a lane is dropped when all its corners lie before `touch`, or
+    /// all past `far`, or all in `[near, far]` and its projection's bounding rectangle misses
+    /// `[lo, hi]`.
     #[inline]
     pub(crate) fn survivors(&self, p: &Projector, lo: Vec2, hi: Vec2, keep: &mut impl FnMut(Survivor)) {
         let splat = Vec4::splat;
@@ -77,7 +81,8 @@ impl Packet {
             y[c] = splat(p.apex_uv.y) + dot(p.v) * s;
         }
         let (near, far) = (splat(p.near), splat(p.far));
-        let before = h[0].cmplt(near) & h[1].cmplt(near) & h[2].cmplt(near);
+        let touch = splat(p.touch);
+        let before = h[0].cmplt(touch) & h[1].cmplt(touch) & h[2].cmplt(touch);
         let past = h[0].cmpgt(far) & h[1].cmpgt(far) & h[2].cmpgt(far);
         let inside = |h: Vec4| h.cmpge(near) & h.cmple(far);
         let in_range = inside(h[0]) & inside(h[1]) & inside(h[2]);

@@ -12,17 +12,20 @@
 
 use super::packet::Survivor;
 use beam_math::Triangle;
-use beam_math::glam::{Vec2, Vec3, Vec4};
+use beam_math::glam::{Vec2, Vec4};
 use beam_math::polybeam::{BeamFrame, Cover, EdgeLines, PolyBeam, Quad};
 use beam_render::tolerance::DEPTH_EPS;
 
 mod candidates;
+mod depth;
 mod silhouette;
 mod stats;
 pub(crate) mod visible;
 pub(crate) mod walk;
 mod winding_scratch;
 
+pub(crate) use depth::CONTACT;
+use depth::{clip_depth, cone_meets};
 pub use stats::BeamStats;
 pub(crate) use winding_scratch::WindingScratch;
 
@@ -59,6 +62,8 @@ pub(crate) struct ShadowBeam<'s> {
     eps: f32,
     /// Work allowed before the beam stops with its pieces unresolved ([`ShadowBeam::with_budget`]).
     budget: u64,
+    /// A triangle crossed the beam before its near plane ([`CONTACT`]).
+    contact: bool,
     pub(crate) stats: BeamStats,
 }
 
@@ -96,6 +101,7 @@ impl<'s> ShadowBeam<'s> {
             hi: Vec2::ZERO,
             eps: SIDE_EPS * scale.max(f32::MIN_POSITIVE),
             budget: u64::MAX,
+            contact: false,
             stats: BeamStats::default(),
         };
         out.update_bounds();
@@ -112,6 +118,12 @@ impl<'s> ShadowBeam<'s> {
     /// True once the work has passed the budget.
     pub(crate) fn over_budget(&self) -> bool {
         self.stats.intersections + self.stats.triangle_tests / 32 > self.budget
+    }
+
+    /// True when a triangle crossed the beam between the apex and its near plane: what it hides
+    /// there is not in the pieces ([`CONTACT`]).
+    pub(crate) fn in_contact(&self) -> bool {
+        self.contact
     }
 
     /// True when nothing is left to do: dark, or past the budget.
@@ -167,7 +179,8 @@ impl<'s> ShadowBeam<'s> {
         let (near, far) = (DEPTH_EPS * f.distance, (1.0 - DEPTH_EPS) * f.distance);
         let w = tri.v.map(|v| v - f.apex);
         let h = w.map(|w| w.dot(f.normal));
-        if h.iter().all(|&h| h < near) || h.iter().all(|&h| h > far) || h.iter().any(|h| h.is_nan()) {
+        let touch = CONTACT * near;
+        if h.iter().all(|&h| h < touch) || h.iter().all(|&h| h > far) || h.iter().any(|h| h.is_nan()) {
             return false;
         }
         if h.iter().all(|&h| h >= near && h <= far) {
@@ -176,63 +189,42 @@ impl<'s> ShadowBeam<'s> {
                 core::array::from_fn(|i| self.apex_uv + Vec2::new(w[i].dot(f.u), w[i].dot(f.v)) * (f.distance / h[i]));
             return self.occlude_projected(&q);
         }
+        if !self.contact && h.iter().any(|&h| h < near) {
+            // Its part between the contact depth and the near plane, where it meets the pieces.
+            let (part, n) = clip_depth(&w, &h, (touch, near));
+            let plane = (w[1] - w[0]).cross(w[2] - w[0]);
+            self.contact = n >= 3
+                && self.pieces.iter().any(|piece| cone_meets(&self.frame, piece, &part[..n], (plane, w[0]), near));
+        }
         // Reaching behind the point or past the light: clip to the depth range first. Depth
         // clipping only: shadow beams can graze the light's plane, where planes through the apex and
         // the window are nearly parallel to it and clipping by them is ill-conditioned.
-        // The depths h are affine along the triangle, so clipping interpolates the corners relative
-        // to the apex by them (Sutherland–Hodgman against the two parallel planes).
-        // A triangle cut by two parallel planes keeps at most 5 corners (9 with the repeats that
-        // corners exactly on a plane make).
-        let mut poly = [(Vec3::ZERO, 0.0f32); 9];
-        let mut n = 0;
-        let mut push = |p: (Vec3, f32)| {
-            if n < poly.len() {
-                poly[n] = p;
-                n += 1;
-            }
-        };
-        for i in 0..3 {
-            let (a, ha, b, hb) = (w[i], h[i], w[(i + 1) % 3], h[(i + 1) % 3]);
-            if (near..=far).contains(&ha) {
-                push((a, ha));
-            }
-            // The edge's crossings of the two planes, in order along it.
-            let mut cross = [(f32::INFINITY, Vec3::ZERO, 0.0); 2];
-            for (c, plane) in cross.iter_mut().zip([near, far]) {
-                if (ha < plane) != (hb < plane) {
-                    let t = (plane - ha) / (hb - ha);
-                    *c = (t, a + (b - a) * t, plane);
-                }
-            }
-            if cross[1].0 < cross[0].0 {
-                cross.swap(0, 1);
-            }
-            for (t, p, plane) in cross {
-                if t.is_finite() {
-                    push((p, plane));
-                }
-            }
-        }
+        let (part, n) = clip_depth(&w, &h, (near, far));
         if n < 3 {
             return false;
         }
         let mut q = [Vec2::ZERO; 9];
         let (mut lo, mut hi) = (Vec2::INFINITY, Vec2::NEG_INFINITY);
-        for ((w, h), q) in poly[..n].iter().zip(&mut q) {
+        for ((w, h), q) in part[..n].iter().zip(&mut q) {
             *q = self.apex_uv + Vec2::new(w.dot(f.u), w.dot(f.v)) * (f.distance / h);
             lo = lo.min(*q);
             hi = hi.max(*q);
         }
-        if hi.x < self.lo.x || hi.y < self.lo.y || lo.x > self.hi.x || lo.y > self.hi.y {
+        if !self.meets_rect(lo, hi) {
             return false;
         }
         self.split_pieces::<9>(&q[..n], lo, hi)
     }
 
+    /// True when the rectangle `[lo, hi]` meets the pieces' bounding rectangle.
+    fn meets_rect(&self, lo: Vec2, hi: Vec2) -> bool {
+        !(hi.x < self.lo.x || hi.y < self.lo.y || lo.x > self.hi.x || lo.y > self.hi.y)
+    }
+
     /// [`ShadowBeam::occlude`] for a triangle wholly in the depth range, projected to `q`.
     fn occlude_projected(&mut self, q: &[Vec2; 3]) -> bool {
         let (lo, hi) = (q[0].min(q[1]).min(q[2]), q[0].max(q[1]).max(q[2]));
-        if hi.x < self.lo.x || hi.y < self.lo.y || lo.x > self.hi.x || lo.y > self.hi.y {
+        if !self.meets_rect(lo, hi) {
             return false;
         }
         self.split_pieces::<3>(q, lo, hi)

@@ -117,6 +117,11 @@ impl Context<'_> {
             None => trace_bvh(&self.scene.bvh, tris, &mut traced),
         }
         t.c.beams += traced.stats;
+        if traced.in_contact() && !self.options.exact {
+            // A triangle touches the point: what it hides near the apex, rays find.
+            t.c.contact_beams += 1;
+            return self.sampled_whole(p, n, (index, samples), &polygon, rng, t);
+        }
         let frame = traced.frame;
         if let Some(l) = lit {
             match self.shading(index) {

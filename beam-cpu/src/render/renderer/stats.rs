@@ -70,6 +70,10 @@ pub struct RenderStats {
     pub ray_pixels: u64,
     /// Eye beams stopped while tracing, past that budget (their regions are in `ray_pixels`).
     pub over_budget_regions: u64,
+    /// Shadow beams met by a triangle between the shade point and their near plane (geometry in
+    /// contact with the point: crossing leaves, an object sunk into the floor), whose light was
+    /// sampled instead (also in `sampled_beams`); none with `--exact`.
+    pub contact_beams: u64,
     /// Largest `|1 − Σ coverage|` of a pixel (exact coverage sums to one).
     pub coverage_error: f64,
     /// Triangles set up against shadow beams (projected once each).
@@ -170,6 +174,7 @@ impl RenderStats {
             shade_points: total.shade_points,
             ray_pixels: total.ray_pixels,
             over_budget_regions: total.over_budget,
+            contact_beams: total.contact_beams,
             coverage_error: total.coverage_error,
             triangle_tests: total.beams.triangle_tests,
             pieces: total.beams.pieces,
@@ -206,6 +211,7 @@ pub(super) struct Counters {
     pub(super) shade_points: u64,
     pub(super) ray_pixels: u64,
     pub(super) over_budget: u64,
+    pub(super) contact_beams: u64,
     pub(super) sampled_beams: u64,
     pub(super) inexact_pixels: u64,
     pub(super) culled_lights: u64,
@@ -238,6 +244,7 @@ impl Counters {
             shade_points: d(self.shade_points, before.shade_points),
             ray_pixels: d(self.ray_pixels, before.ray_pixels),
             over_budget: d(self.over_budget, before.over_budget),
+            contact_beams: d(self.contact_beams, before.contact_beams),
             sampled_beams: d(self.sampled_beams, before.sampled_beams),
             inexact_pixels: d(self.inexact_pixels, before.inexact_pixels),
             culled_lights: d(self.culled_lights, before.culled_lights),
@@ -267,6 +274,7 @@ impl core::ops::AddAssign for Counters {
         self.shade_points += o.shade_points;
         self.ray_pixels += o.ray_pixels;
         self.over_budget += o.over_budget;
+        self.contact_beams += o.contact_beams;
         self.sampled_beams += o.sampled_beams;
         self.inexact_pixels += o.inexact_pixels;
         self.culled_lights += o.culled_lights;

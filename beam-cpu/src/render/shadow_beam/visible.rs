@@ -93,18 +93,18 @@ mod tests {
     use beam_math::polybeam::Quad;
     use beam_render::tolerance::DEPTH_EPS;
 
+    /// The unit square at z = 2, facing −z.
+    fn square_light() -> [Vec3; 4] {
+        [Vec3::new(-0.5, -0.5, 2.0), Vec3::new(0.5, -0.5, 2.0), Vec3::new(0.5, 0.5, 2.0), Vec3::new(-0.5, 0.5, 2.0)]
+    }
+
     #[test]
     fn clipped_triangles_hide_what_the_clipped_projection_covers() {
         // Triangles reaching behind the point and past the light, against the independent clip of
         // beam-math (ProjectedTriangle: 3D Sutherland–Hodgman, then projection).
         use beam_math::collide::ConvexPolygon;
         use beam_math::polybeam::ProjectedTriangle;
-        let light = [
-            Vec3::new(-0.5, -0.5, 2.0),
-            Vec3::new(0.5, -0.5, 2.0),
-            Vec3::new(0.5, 0.5, 2.0),
-            Vec3::new(-0.5, 0.5, 2.0),
-        ];
+        let light = square_light();
         let beam = light_beam(Vec3::ZERO, &light, -Vec3::Z).unwrap();
         let mut s = 99u32;
         let mut r = move || {
@@ -138,12 +138,7 @@ mod tests {
     fn square_occluder_parallel_to_square_light() {
         // Light: unit square at z = 2; occluder: square of half-width 0.125 at z = 1 centred above
         // the origin, whose shadow on the light plane from the origin has half-width 0.25.
-        let light = [
-            Vec3::new(-0.5, -0.5, 2.0),
-            Vec3::new(0.5, -0.5, 2.0),
-            Vec3::new(0.5, 0.5, 2.0),
-            Vec3::new(-0.5, 0.5, 2.0),
-        ];
+        let light = square_light();
         let h = 0.125;
         let occ = vec![
             Triangle::new(Vec3::new(-h, -h, 1.0), Vec3::new(h, -h, 1.0), Vec3::new(h, h, 1.0)),
@@ -163,5 +158,37 @@ mod tests {
         let v = visible_light(&bvh, &occ, Vec3::new(0.6, 0.0, 0.0), &light, -Vec3::Z, &mut stats).unwrap();
         assert!((v.fraction() - (1.0 - 0.15 * 0.5)).abs() < 1e-4, "{}", v.fraction());
         assert!(stats.bvh_steps > 0 && stats.intersections > 0 && stats.triangle_tests > 0);
+    }
+
+    /// A triangle through the point (or within the beam's near plane of it, before depth
+    /// `DEPTH_EPS` of the light's distance) is a contact, which rays starting at the point would
+    /// find; one that passes beside or behind the point, or meets the beam only farther on, is not.
+    #[test]
+    fn a_triangle_through_the_point_is_a_contact() {
+        let light = square_light();
+        let beam = light_beam(Vec3::ZERO, &light, -Vec3::Z).unwrap();
+        let contact = |tri: Triangle| {
+            let mut scratch = ShadowScratch::default();
+            let mut traced = ShadowBeam::new(&beam, &mut scratch);
+            traced.occlude(&tri);
+            traced.in_contact()
+        };
+        let big = |z: &dyn Fn(f32, f32) -> f32| {
+            let v = |x: f32, y: f32| Vec3::new(x, y, z(x, y));
+            Triangle::new(v(-1.0, -1.0), v(2.0, -1.0), v(-1.0, 2.0))
+        };
+        // Wholly before the near plane (2e-4), over the point: a contact, which the near plane alone
+        // would have dropped.
+        assert!(contact(big(&|_, _| 1e-5)));
+        // A plane through the point, tilted: its part before the near plane lies in the beam.
+        assert!(contact(big(&|x, _| 0.5 * x)));
+        // Just behind the point (the surface it lies on): none.
+        assert!(!contact(big(&|_, _| -1e-5)));
+        // A wall 0.3 to the side: it meets the beam only past depth 1.2.
+        let wall = Triangle::new(Vec3::new(0.3, -1.0, -1.0), Vec3::new(0.3, 1.0, -1.0), Vec3::new(0.3, 0.0, 3.0));
+        assert!(!contact(wall));
+        // A plane just below the point that leans away from the light: every ray to the light
+        // stays above it.
+        assert!(!contact(big(&|x, _| -x - 1e-5)));
     }
 }
