@@ -24,8 +24,7 @@ pub(crate) mod visible;
 pub(crate) mod walk;
 mod winding_scratch;
 
-pub(crate) use depth::CONTACT;
-use depth::{clip_depth, cone_meets};
+use depth::{CONTACT, clip_depth, cone_meets};
 pub use stats::BeamStats;
 pub(crate) use winding_scratch::WindingScratch;
 
@@ -62,6 +61,9 @@ pub(crate) struct ShadowBeam<'s> {
     eps: f32,
     /// Work allowed before the beam stops with its pieces unresolved ([`ShadowBeam::with_budget`]).
     budget: u64,
+    /// The depth (a fraction of the light's distance) from which occluders are looked for:
+    /// `DEPTH_EPS`, the near plane, unless [`ShadowBeam::with_contact`] asks for less.
+    touch: f32,
     /// A triangle crossed the beam before its near plane ([`CONTACT`]).
     contact: bool,
     pub(crate) stats: BeamStats,
@@ -101,6 +103,7 @@ impl<'s> ShadowBeam<'s> {
             hi: Vec2::ZERO,
             eps: SIDE_EPS * scale.max(f32::MIN_POSITIVE),
             budget: u64::MAX,
+            touch: DEPTH_EPS,
             contact: false,
             stats: BeamStats::default(),
         };
@@ -118,6 +121,18 @@ impl<'s> ShadowBeam<'s> {
     /// True once the work has passed the budget.
     pub(crate) fn over_budget(&self) -> bool {
         self.stats.intersections + self.stats.triangle_tests / 32 > self.budget
+    }
+
+    /// This beam, also looking for triangles in contact with its apex: those that cross it between
+    /// `CONTACT` of its near plane and the near plane ([`ShadowBeam::in_contact`]).
+    pub(crate) fn with_contact(mut self) -> Self {
+        self.touch = CONTACT * DEPTH_EPS;
+        self
+    }
+
+    /// The depth, as a fraction of the light's distance, from which occluders are looked for.
+    pub(crate) fn touch(&self) -> f32 {
+        self.touch
     }
 
     /// True when a triangle crossed the beam between the apex and its near plane: what it hides
@@ -179,7 +194,7 @@ impl<'s> ShadowBeam<'s> {
         let (near, far) = (DEPTH_EPS * f.distance, (1.0 - DEPTH_EPS) * f.distance);
         let w = tri.v.map(|v| v - f.apex);
         let h = w.map(|w| w.dot(f.normal));
-        let touch = CONTACT * near;
+        let touch = self.touch * f.distance;
         if h.iter().all(|&h| h < touch) || h.iter().all(|&h| h > far) || h.iter().any(|h| h.is_nan()) {
             return false;
         }
@@ -189,7 +204,7 @@ impl<'s> ShadowBeam<'s> {
                 core::array::from_fn(|i| self.apex_uv + Vec2::new(w[i].dot(f.u), w[i].dot(f.v)) * (f.distance / h[i]));
             return self.occlude_projected(&q);
         }
-        if !self.contact && h.iter().any(|&h| h < near) {
+        if !self.contact && touch < near && h.iter().any(|&h| h < near) {
             // Its part between the contact depth and the near plane, where it meets the pieces.
             let (part, n) = clip_depth(&w, &h, (touch, near));
             let plane = (w[1] - w[0]).cross(w[2] - w[0]);

@@ -69,6 +69,9 @@ impl Context<'_> {
         // about K² / 5 splits).
         let max_edges = if self.options.exact { usize::MAX } else { (5.0 * budget as f64).sqrt() as usize };
         let mut traced = ShadowBeam::new(&beam, &mut t.scratch).with_budget(budget);
+        if !self.options.exact {
+            traced = traced.with_contact();
+        }
         let tris = &self.scene.triangles;
         let mut lit = None;
         let mut sample_all = false;
@@ -117,7 +120,7 @@ impl Context<'_> {
             None => trace_bvh(&self.scene.bvh, tris, &mut traced),
         }
         t.c.beams += traced.stats;
-        if traced.in_contact() && !self.options.exact {
+        if traced.in_contact() {
             // A triangle touches the point: what it hides near the apex, rays find.
             t.c.contact_beams += 1;
             return self.sampled_whole(p, n, (index, samples), &polygon, rng, t);

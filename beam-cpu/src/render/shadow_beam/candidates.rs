@@ -2,7 +2,7 @@
 //! a BVH walk: the order in which they are tried. Visibility does not depend on it, the work does:
 //! each triangle splits the pieces left by the ones before it.
 
-use super::{CONTACT, ShadowBeam};
+use super::ShadowBeam;
 use crate::render::packet::{Packet, Projector};
 use beam_math::Triangle;
 use beam_math::glam::Vec2;
@@ -29,7 +29,7 @@ impl ShadowBeam<'_> {
             apex_uv: self.apex_uv,
             near: DEPTH_EPS * f.distance,
             far: (1.0 - DEPTH_EPS) * f.distance,
-            touch: CONTACT * DEPTH_EPS * f.distance,
+            touch: self.touch * f.distance,
         }
     }
 

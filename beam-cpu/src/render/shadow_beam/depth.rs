@@ -10,7 +10,7 @@ use beam_math::polybeam::{BeamFrame, Quad};
 /// start at the point, find it; the beam, which projects only what lies past its near plane (closer
 /// is ill-conditioned), would let light through it. Such a beam says so
 /// ([`super::ShadowBeam::in_contact`]) and its light is sampled.
-pub(crate) const CONTACT: f32 = 1e-3;
+pub(super) const CONTACT: f32 = 1e-3;
 
 /// Whether the convex polygon `part` (corners relative to the apex, with their depths, all
 /// before depth `near`) of a triangle (its plane's normal and a corner, relative to the apex) may

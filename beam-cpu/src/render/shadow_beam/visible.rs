@@ -169,7 +169,7 @@ mod tests {
         let beam = light_beam(Vec3::ZERO, &light, -Vec3::Z).unwrap();
         let contact = |tri: Triangle| {
             let mut scratch = ShadowScratch::default();
-            let mut traced = ShadowBeam::new(&beam, &mut scratch);
+            let mut traced = ShadowBeam::new(&beam, &mut scratch).with_contact();
             traced.occlude(&tri);
             traced.in_contact()
         };

@@ -1,6 +1,6 @@
 //! A shadow beam's own walk through the BVH, culling nodes by the frustum of its pieces.
 
-use super::{CONTACT, ShadowBeam};
+use super::ShadowBeam;
 use beam_bvh::{Control, FlatBvh, NodeVisitor};
 use beam_math::collide::aabb_outside_planes;
 use beam_math::glam::Vec3;
@@ -12,8 +12,8 @@ struct ShadowVisitor<'a, 'b, 's> {
     triangles: &'a [Triangle],
     beam: &'b mut ShadowBeam<'s>,
     /// Outward normals of the four planes through the apex and the pieces' bounding rectangle's
-    /// sides, then the near and far planes (`depth = CONTACT · DEPTH_EPS`, where contact with the
-    /// shade point is looked for, and `depth = 1 − DEPTH_EPS`), as (normal, offset).
+    /// sides, then the near and far planes (`depth =` [`ShadowBeam::touch`], where occluders are
+    /// looked for, and `depth = 1 − DEPTH_EPS`), as (normal, offset).
     planes: [(Vec3, f32); 6],
 }
 
@@ -24,10 +24,10 @@ impl ShadowVisitor<'_, '_, '_> {
         for (plane, n) in self.planes.iter_mut().zip(f.side_normals(lo, hi)) {
             *plane = (n, n.dot(f.apex));
         }
-        // Depth d(x) = (x − apex)·N / distance: near plane keeps d ≥ CONTACT·ε, far plane keeps
+        // Depth d(x) = (x − apex)·N / distance: near plane keeps d ≥ touch, far plane keeps
         // d ≤ 1 − ε.
         let n = f.normal / f.distance;
-        self.planes[4] = (-n, -n.dot(f.apex) - CONTACT * DEPTH_EPS);
+        self.planes[4] = (-n, -n.dot(f.apex) - self.beam.touch());
         self.planes[5] = (n, n.dot(f.apex) + 1.0 - DEPTH_EPS);
     }
 }
