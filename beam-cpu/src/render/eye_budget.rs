@@ -33,13 +33,6 @@ const PER_HIT: f64 = 2.0e-6;
 /// the eye beam may take.
 const SHARE: f64 = 0.5;
 
-/// Whether the eye beam through `region` of `camera`'s image costs at most [`SHARE`] of the ray
-/// method's time there at `spp` shadow rays per pixel.
-#[must_use]
-pub(crate) fn eye_beam_pays(scene: &Scene, camera: &Camera, region: PixelRect, spp: u32) -> bool {
-    eye_beam_seconds(scene, camera, region) <= eye_budget(region, 1 + spp)
-}
-
 /// The thread-seconds an eye beam's trace has taken, predicted from its work: `stats` and `checks`
 /// pieces tested against triangles. Deterministic, so that a budget on it cuts the same regions on
 /// every run and machine.

@@ -6,7 +6,7 @@ use super::context::{Context, Lights, SHADE_SEED, Surface, Thread};
 use super::shade_points::merge_smooth;
 use super::shading::stratified;
 use super::stats::Counters;
-use crate::render::eye_budget::{eye_beam_pays, eye_budget};
+use crate::render::eye_budget::{eye_beam_seconds, eye_budget};
 use crate::render::eye_regions::{EyeBeam, EyeStats, Fragment, Region, TILE, region_fragments};
 use beam_math::glam::Vec3;
 use beam_scene::scene::Camera;
@@ -81,10 +81,13 @@ impl Trace<'_> {
     /// tiles of the frame's grid, within `region`) and the pixels of `window` with what point lights
     /// give the lit fragments (hard-shadow beams from the visible pieces, 001 §4.2). The surface
     /// fragments come sorted by tile, for [`Trace::shade_eye_tile`]. Where the beam would not pay
-    /// ([`eye_beam_pays`]) or passes its budget while traced, [`Trace::ray_region`] instead.
+    /// ([`eye_beam_seconds`] past [`eye_budget`]) or passes its budget while traced,
+    /// [`Trace::ray_region`] instead.
     pub(super) fn eye_region(&self, region: Region, window: Region) -> EyeTraced {
         let (ctx, camera) = (self.ctx, self.camera);
-        if !ctx.options.exact && !eye_beam_pays(ctx.scene, camera, region, ctx.options.spp) {
+        // Half of what a primary ray and `--spp` shadow rays a pixel cost there; none with `--exact`.
+        let budget = if ctx.options.exact { f64::INFINITY } else { eye_budget(region, 1 + ctx.options.spp) };
+        if !ctx.options.exact && eye_beam_seconds(ctx.scene, camera, region) > budget {
             return self.ray_region(window);
         }
         let mut t = Thread::default();
@@ -94,7 +97,6 @@ impl Trace<'_> {
         let start = Instant::now();
         let mut surfaces = Vec::new();
         let mut eye = EyeStats::default();
-        let budget = if ctx.options.exact { f64::INFINITY } else { eye_budget(region, 1 + ctx.options.spp) };
         let beam = EyeBeam { region, window, point_shadows: true, budget };
         let traced = region_fragments(ctx.scene, camera, beam, &mut eye, &mut seen, |x, y, cov, f| {
             let i = window.index(x, y);
@@ -138,7 +140,7 @@ impl Trace<'_> {
         EyeTraced { traced: self.finish(window, pixels, t, seen), surfaces, tiles, lights: Lights::AreaOnly }
     }
 
-    /// [`Trace::eye_region`] by primary rays where the eye beam would not pay ([`eye_beam_pays`]):
+    /// [`Trace::eye_region`] by primary rays where the eye beam would not pay ([`eye_budget`]):
     /// [`RAY_GRID`]² stratified rays a pixel of `window`, each pixel's hits on one smooth stretch of
     /// surface shaded once, point lights by shadow rays.
     fn ray_region(&self, window: Region) -> EyeTraced {
