@@ -24,7 +24,7 @@ pub enum Visibility {
     /// Eye beams where they cost at most half of `rays` stratified primary rays a pixel
     /// ([`pixel_samples`]), those rays elsewhere: exact where the triangles are large enough on
     /// screen for beams to pay. A region's cost is predicted from a grid of rays through it, and its
-    /// eye beam stops once its work passes the budget ([`super::eye_budget`]).
+    /// eye beam stops once its work passes the budget (`eye_budget.rs`).
     Budget {
         /// Rays a pixel of the regions left to rays (a square number is used whole: `⌊√rays⌋²`).
         rays: u32,
