@@ -414,6 +414,11 @@ pub(crate) fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
             kind.name()
         );
     }
+    // Only the CPU's beam and ray frames cut them (rays see through them where their alpha says).
+    if scene.has_cut_outs() && (gpu || !matches!(kind, Kind::Beam | Kind::Ray)) {
+        let by = if gpu { "--backend gpu".to_string() } else { format!("--method {}", kind.name()) };
+        eprintln!("warning: {}: cut-out materials (alphaMode MASK or BLEND) are drawn opaque by {by}", scene.name);
+    }
     if let Some(k) = a.frame {
         scene.camera = camera_at(&scene, k)?;
     }

@@ -74,15 +74,17 @@ pub(crate) fn run(a: &RenderArgs) -> Result<ExitCode, String> {
     }
     if method == Method::Beam && gpu.is_none() {
         println!(
-            "exact pixels {:.1}% ({} lights sampled past their beam's budget or where geometry touches the \
-             point ({}), largest error bound {:.2e}; {} pixels by primary rays, {} eye beams stopped at their \
-             budget; --exact for all)",
+            "exact pixels {:.1}% ({} lights sampled past their beam's budget, where geometry touches the \
+             point ({}) or a cut-out may hide them ({}), largest error bound {:.2e}; {} pixels by primary rays, \
+             {} eye beams stopped at their budget, {} saw a cut-out; --exact for all but cut-outs)",
             100.0 * stats.exact_pixel_share,
             stats.sampled_beams,
             stats.contact_beams,
+            stats.cut_out_beams,
             stats.max_error_bound,
             stats.ray_pixels,
-            stats.over_budget_regions
+            stats.over_budget_regions,
+            stats.cut_out_regions
         );
     }
     Ok(ExitCode::SUCCESS)

@@ -1,4 +1,4 @@
-//! The gallery of `docs/gallery.md`: five small glTF models written here, loaded with their
+//! The gallery of `docs/gallery.md`: six small glTF models written here, loaded with their
 //! defaults (no camera and no light of their own: the framing camera, the key light and the
 //! neutral sky), rendered by the beam and the ray method side by side.
 //!
@@ -9,7 +9,9 @@
 //! 2. a box with a colour per face (`COLOR_0`);
 //! 3. nine spheres placed by `EXT_mesh_gpu_instancing` on a ground plane 60 times wider;
 //! 4. a mirror sphere beside the checker box under an equirectangular sky map (`--env`);
-//! 5. a label sheet whose emissive factor scales an emissive texture, beside a white box.
+//! 5. a label sheet whose emissive factor scales an emissive texture, beside a white box;
+//! 6. a lattice fence cut out of one quad by its texture's alpha (`alphaMode` `MASK`) and a glass
+//!    pane of alpha ½ (`BLEND`), casting their shadows on the ground.
 
 use beam_cpu::render::{Image, render};
 use beam_math::glam::Vec3;
@@ -31,12 +33,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         |x, y| if (x / 2 + y / 2) % 2 == 0 { [220, 40, 40] } else { [40, 60, 220] },
     )?;
     write_png(&dir.join("label.png"), 16, 16, |_, y| if y % 4 < 2 { [255, 230, 160] } else { [0, 0, 0] })?;
+    // A lattice: opaque brown bars two texels wide every eight, transparent between.
+    let lattice = image::RgbaImage::from_fn(16, 16, |x, y| {
+        image::Rgba([150, 90, 40, if x % 8 < 2 || y % 8 < 2 { 255 } else { 0 }])
+    });
+    lattice.save(dir.join("lattice.png"))?;
     let models = [
         box_model(&dir, "textured-box", Look::Textured)?,
         box_model(&dir, "coloured-box", Look::Coloured)?,
         instanced_spheres(&dir)?,
         mirror_sphere(&dir)?,
         label_sheet(&dir)?,
+        fence(&dir)?,
     ];
     let mut sheet = Image { width: SIDE * models.len() as u32, height: 2 * SIDE, pixels: Vec::new() };
     sheet.pixels = vec![Vec3::ZERO; (sheet.width * sheet.height) as usize];
@@ -249,10 +257,10 @@ fn ground(y: f32, half: f32) -> Mesh {
     Mesh { positions, indices: vec![0, 1, 2, 0, 2, 3], ..Mesh::default() }
 }
 
-/// The two textures (checker, label) and one sampler, as top-level members.
-const TEXTURES: &str = r#", "images": [{"uri": "checker.png"}, {"uri": "label.png"}],
+/// The three textures (checker, label, lattice) and one sampler, as top-level members.
+const TEXTURES: &str = r#", "images": [{"uri": "checker.png"}, {"uri": "label.png"}, {"uri": "lattice.png"}],
  "samplers": [{"magFilter": 9728, "minFilter": 9728}],
- "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}]"#;
+ "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}, {"source": 2, "sampler": 0}]"#;
 
 /// A diffuse material of base colour `rgb`.
 fn diffuse(rgb: [f32; 3]) -> String {
@@ -329,4 +337,27 @@ fn label_sheet(dir: &Path) -> std::io::Result<PathBuf> {
     let materials = format!("{label}, {}", diffuse([0.75; 3]));
     let more = format!(r#"{TEXTURES}, "extensionsUsed": ["KHR_materials_emissive_strength"]"#);
     m.write(dir, "label-sheet", [&meshes, r#"{"mesh": 0}"#, &materials, &more])
+}
+
+fn fence(dir: &Path) -> std::io::Result<PathBuf> {
+    let mut m = Model::default();
+    // Texture coordinates 0 to 2 across: the lattice repeats twice each way.
+    let panel = |x: [f32; 2], z: f32, uv: f32| Mesh {
+        positions: [[x[0], 0.0, z], [x[1], 0.0, z], [x[1], 1.2, z], [x[0], 1.2, z]].concat(),
+        uv: vec![0.0, uv, uv, uv, uv, 0.0, 0.0, 0.0],
+        indices: vec![0, 1, 2, 0, 2, 3],
+        ..Mesh::default()
+    };
+    let parts = [
+        m.primitive(&panel([-1.2, 0.6], 0.0, 2.0), 0),
+        m.primitive(&panel([0.2, 1.2], 0.6, 1.0), 1),
+        m.primitive(&ground(0.0, 2.5), 2),
+    ];
+    let meshes = format!(r#"{{"primitives": [{}]}}"#, parts.join(", "));
+    let lattice = r#"{"alphaMode": "MASK", "doubleSided": true,
+      "pbrMetallicRoughness": {"baseColorTexture": {"index": 2}, "metallicFactor": 0}}"#;
+    let pane = r#"{"alphaMode": "BLEND", "doubleSided": true,
+      "pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.5, 0.9, 0.5], "metallicFactor": 0}}"#;
+    let materials = format!("{lattice}, {pane}, {}", diffuse([0.75; 3]));
+    m.write(dir, "fence", [&meshes, r#"{"mesh": 0}"#, &materials, TEXTURES])
 }

@@ -99,7 +99,7 @@ pub(crate) fn ray_image(
 
 /// Our closest hit: the scene's 4-wide BVH.
 pub(crate) fn ours(scene: &Scene) -> impl Fn(Ray) -> Option<(u32, f32)> + Sync + '_ {
-    move |ray| scene.wide.closest_hit(ray, f32::INFINITY).map(|h| (h.prim, h.t))
+    move |ray| scene.closest_hit(ray, f32::INFINITY).map(|h| (h.prim, h.t))
 }
 
 /// The table on each of `scenes` at `size × size`; images into `out` when given. With `gpu`, also

@@ -34,7 +34,7 @@ pub fn reference_direct(scene: &Scene, p: Vec3, n: Vec3, seed: u64) -> Vec3 {
             let d = to / r2.sqrt();
             let cos = n.dot(d);
             let falloff = whole.falloff(-d);
-            if !(cos > 0.0 && falloff > 0.0) || scene.wide.any_hit(Ray::new(q, to), 1.0 - DEPTH_EPS) {
+            if !(cos > 0.0 && falloff > 0.0) || scene.occluded(Ray::new(q, to), 1.0 - DEPTH_EPS) {
                 continue;
             }
             e += whole.intensity * (falloff * cos / (r2 * samples as f32));

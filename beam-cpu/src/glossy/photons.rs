@@ -111,7 +111,7 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
                 let front = g.dot(d) < 0.0;
                 let side = if front { g } else { -g };
                 let o = p + side * eps;
-                if scene.wide.any_hit(Ray::new(light, o - light), 1.0 - DEPTH_EPS) {
+                if scene.occluded(Ray::new(light, o - light), 1.0 - DEPTH_EPS) {
                     continue;
                 }
                 if !front && !matches!(material, Material::ThinGlass { .. }) {
@@ -142,7 +142,7 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
                         continue;
                     }
                     let ray = Ray::new(origin, dir);
-                    if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY)
+                    if let Some(hit) = scene.closest_hit(ray, f32::INFINITY)
                         && !beam_render::glossy::is_scatterer(&scene.material(hit.prim))
                     {
                         let side = PhotonMaps::side(scene, hit.prim, dir);

@@ -80,7 +80,7 @@ fn occlusion(scene: &Scene) -> impl Fn(Ray, f32) -> bool + Sync + '_ {
     let eps = shading_eps(scene);
     move |ray: Ray, t_max: f32| {
         let length = ray.direction.length() * t_max;
-        length > eps && scene.wide.any_hit(ray, t_max * (1.0 - (2.0 * eps / length).max(DEPTH_EPS)))
+        length > eps && scene.occluded(ray, t_max * (1.0 - (2.0 * eps / length).max(DEPTH_EPS)))
     }
 }
 
@@ -99,7 +99,7 @@ fn blocked_by_non_scatterers(scene: &Scene, q: Vec3, light: Vec3, eps: f32) -> b
     let mut o = q;
     for _ in 0..64 {
         let to = light - o;
-        let Some(hit) = scene.wide.closest_hit(Ray::new(o, to), 1.0 - DEPTH_EPS) else { return false };
+        let Some(hit) = scene.closest_hit(Ray::new(o, to), 1.0 - DEPTH_EPS) else { return false };
         if !is_scatterer(&scene.material(hit.prim)) {
             return true;
         }

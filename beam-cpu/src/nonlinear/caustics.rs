@@ -82,7 +82,7 @@ fn behind(e: &Emitter, f: &SFace) -> bool {
 fn blocked(scene: &Scene, n: Vec3, p: Vec3, to: Vec3, eps: f32) -> bool {
     let side = if n.dot(to - p) > 0.0 { n } else { -n };
     let o = p + side * eps;
-    scene.wide.any_hit(Ray::new(o, to - o), 1.0 - DEPTH_EPS)
+    scene.occluded(Ray::new(o, to - o), 1.0 - DEPTH_EPS)
 }
 
 /// Fresnel split of light along unit `d` meeting face `f` at barycentric `w`: the weights of its
@@ -295,7 +295,7 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
                     }
                 }
                 for (ray, weight) in rays {
-                    if let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY) {
+                    if let Some(hit) = scene.closest_hit(ray, f32::INFINITY) {
                         map.splat(hit.prim, ray.at(hit.t), flux * weight);
                     }
                 }

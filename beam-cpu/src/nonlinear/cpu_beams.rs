@@ -28,11 +28,11 @@ impl BeamRasterizer for CpuBeams {
 
 impl RayQueries for CpuBeams {
     fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
-        Ok(rays.par_iter().map(|&ray| scene.wide.closest_hit(ray, f32::INFINITY)).collect())
+        Ok(rays.par_iter().map(|&ray| scene.closest_hit(ray, f32::INFINITY)).collect())
     }
 
     fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
-        Ok(segments.par_iter().map(|&(ray, t_max)| scene.wide.any_hit(ray, t_max)).collect())
+        Ok(segments.par_iter().map(|&(ray, t_max)| scene.occluded(ray, t_max)).collect())
     }
 }
 

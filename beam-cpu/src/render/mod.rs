@@ -3,6 +3,7 @@
 mod clear_shafts;
 mod compare;
 mod coverage;
+mod cut_outs;
 mod eye_budget;
 mod eye_regions;
 mod hard_shadow;
@@ -23,7 +24,7 @@ pub use hard_shadow::lit_pieces;
 pub use image::{Image, srgb_decode, srgb_encode};
 pub use lambert::{clip_above, point_source_irradiance, polygon_irradiance};
 pub use primary_beam::{NEAR, Piece, point_on_piece, visible_surface};
-pub use primary_image::{PrimaryStats, Visibility, pixel_samples, primary_image};
+pub use primary_image::{CUT_OUT_RAYS, PrimaryStats, Visibility, pixel_samples, primary_image};
 pub use renderer::{
     RenderStats, light_seen, pixel_fragments, render, render_queries, render_with, shade_point, stratified,
     trace_radiance,

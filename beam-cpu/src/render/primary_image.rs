@@ -19,12 +19,14 @@ use std::time::Instant;
 /// How [`primary_image`] sees each region of the image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Visibility {
-    /// Eye beams everywhere: exact box-filtered coverage.
+    /// Eye beams everywhere: exact box-filtered coverage (except where a region sees a cut-out
+    /// triangle: [`CUT_OUT_RAYS`] rays a pixel there).
     Exact,
     /// Eye beams where they cost at most half of `rays` stratified primary rays a pixel
     /// ([`pixel_samples`]), those rays elsewhere: exact where the triangles are large enough on
     /// screen for beams to pay. A region's cost is predicted from a grid of rays through it, and its
-    /// eye beam stops once its work passes the budget (`eye_budget.rs`).
+    /// eye beam stops once its work passes the budget (`eye_budget.rs`). Regions that see a cut-out
+    /// triangle go to rays too.
     Budget {
         /// Rays a pixel of the regions left to rays (a square number is used whole: `⌊√rays⌋²`).
         rays: u32,
@@ -74,7 +76,14 @@ pub struct PrimaryStats {
     pub rays: u64,
     /// Eye beams stopped at their budget under [`Visibility::Budget`] (their regions went to rays).
     pub over_budget_regions: u64,
+    /// Eye beams that saw a cut-out triangle (`alphaMode` `MASK` or `BLEND`): their regions went to
+    /// rays, which see through it ([`Scene::closest_hit`]); [`CUT_OUT_RAYS`] a pixel under
+    /// [`Visibility::Exact`].
+    pub cut_out_regions: u64,
 }
+
+/// Rays a pixel of the regions that see a cut-out under [`Visibility::Exact`].
+pub const CUT_OUT_RAYS: u32 = 16;
 
 /// What a region returns.
 struct Part {
@@ -109,19 +118,20 @@ pub fn primary_image(
         .into_par_iter()
         .map(|region| {
             let part = match visibility {
-                Visibility::Exact => eye_part(scene, camera, region, f64::INFINITY, &shade),
-                Visibility::Budget { rays } => {
-                    let budget = eye_budget(region, rays);
-                    if eye_beam_seconds(scene, camera, region) > budget {
-                        ray_part(scene, camera, region, rays, &shade)
+                Visibility::Budget { rays } if eye_beam_seconds(scene, camera, region) > eye_budget(region, rays) => {
+                    ray_part(scene, camera, region, rays, &shade)
+                }
+                _ => {
+                    let (budget, rays) = match visibility {
+                        Visibility::Exact => (f64::INFINITY, CUT_OUT_RAYS),
+                        Visibility::Budget { rays } => (eye_budget(region, rays), rays),
+                    };
+                    let eye = eye_part(scene, camera, region, budget, &shade);
+                    if eye.eye.over_budget + eye.eye.cut_out > 0 {
+                        // The work spent counts; the pixels come from rays.
+                        Part { eye: eye.eye, ..ray_part(scene, camera, region, rays, &shade) }
                     } else {
-                        let eye = eye_part(scene, camera, region, budget, &shade);
-                        if eye.eye.over_budget > 0 {
-                            // The work spent counts; the pixels come from rays.
-                            Part { eye: eye.eye, ..ray_part(scene, camera, region, rays, &shade) }
-                        } else {
-                            eye
-                        }
+                        eye
                     }
                 }
             };
@@ -146,6 +156,7 @@ pub fn primary_image(
             stats.rays += part.rays;
         }
         stats.over_budget_regions += part.eye.over_budget;
+        stats.cut_out_regions += part.eye.cut_out;
     }
     stats.visible_triangles = visible.iter().filter(|&&v| v).count() as u64;
     stats.hit_beams = beams.hit_beams;
@@ -206,7 +217,7 @@ fn ray_part(
             for (sx, sy) in pixel_samples(x, y, k) {
                 let ray = camera.ray(&frame, sx, sy);
                 let d = ray.direction.normalize();
-                sum += match scene.wide.closest_hit(ray, f32::INFINITY) {
+                sum += match scene.closest_hit(ray, f32::INFINITY) {
                     Some(hit) => {
                         seen[hit.prim as usize] = true;
                         shade(hit.prim, ray.origin + hit.t * ray.direction, d)

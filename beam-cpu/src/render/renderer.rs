@@ -34,7 +34,7 @@ use beam_render::options::{Method, RenderOptions};
 /// Render `scene` (the pixels of `options.region` only, each as in the whole frame); `row_done` is
 /// called after each image row (for a progress bar).
 pub fn render(scene: &Scene, options: &RenderOptions, row_done: impl Fn() + Sync) -> (Image, RenderStats) {
-    render_with(scene, options, &|ray, t_max| scene.wide.any_hit(ray, t_max), row_done)
+    render_with(scene, options, &|ray, t_max| scene.occluded(ray, t_max), row_done)
 }
 
 /// [`render`] with another shadow-ray tracer (for benchmarks against peers).

@@ -158,7 +158,7 @@ fn beams_of(scene: &Scene, prim: u32, emitter: &Emitter, index: u32, k: u32) -> 
     let toward = if front { g } else { -g } * shading_eps(scene);
     let lit = |w: Vec3| {
         let o = at(w) + toward;
-        !scene.wide.any_hit(Ray::new(light, o - light), 1.0 - DEPTH_EPS)
+        !scene.occluded(Ray::new(light, o - light), 1.0 - DEPTH_EPS)
     };
     let mut parts = Vec::new();
     for corners in sub_triangles(if flat { 1 } else { k }) {

@@ -21,6 +21,7 @@ mod merge_emitters;
 mod model;
 pub(crate) mod names;
 mod normals;
+mod ray_queries;
 pub mod showcase;
 mod smesh_file;
 mod smesh_plan;

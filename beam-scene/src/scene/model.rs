@@ -66,8 +66,9 @@ pub struct Scene {
     pub stats: SceneStats,
     /// What of the source is not used, by kind ([`Scene::notice`]).
     pub notices: Vec<Notice>,
-    /// Texture coordinates, vertex colours and textures ([`Scene::albedo_at`],
-    /// [`Scene::emission_at`]); empty for constant materials.
+    /// Texture coordinates, vertex colours, textures and cut-outs ([`Scene::albedo_at`],
+    /// [`Scene::emission_at`], [`Scene::closest_hit`]); empty for constant materials. Its cut-outs
+    /// are taken when the scene is assembled.
     pub surfaces: surface::Surfaces,
     /// Binary BVH (generic traversal for beams).
     pub bvh: FlatBvh,
@@ -86,6 +87,9 @@ pub struct Scene {
     /// Per triangle, the bounding sphere [`Scene::bounding_sphere`] returns (made once: beams'
     /// bounding-cone culling asks for it per beam and candidate triangle).
     spheres: Vec<(Vec3, f32)>,
+    /// Whether some material of [`Self::surfaces`] is a cut-out, when the scene was assembled
+    /// ([`Scene::has_cut_outs`]).
+    pub(super) cut_outs: bool,
 }
 
 impl Scene {
@@ -130,6 +134,7 @@ impl Scene {
         let wide = Bvh8::build(&triangles, &BuildOptions::sah());
         let smooth_normals = normals::specular_normals(&triangles, &material_of, &materials);
         let spheres = triangles.iter().map(bounding_sphere).collect();
+        let cut_outs = surfaces.has_cut_outs();
         Self {
             name,
             triangles,
@@ -147,6 +152,7 @@ impl Scene {
             smooth_normals,
             smesh: SMeshPlan::default(),
             spheres,
+            cut_outs,
         }
     }
 

@@ -1,6 +1,7 @@
 //! What a triangle's surface looks like beyond its material's constants: texture coordinates and
-//! vertex colours per triangle corner, and per material its base-colour and emissive textures
-//! (glTF 2.0 §3.9), evaluated at a point of the triangle by its barycentric coordinates.
+//! vertex colours per triangle corner, and per material its base-colour and emissive textures and
+//! its coverage (alpha, glTF 2.0 §3.9.4), evaluated at a point of the triangle by its barycentric
+//! coordinates.
 
 use super::texture::Texture;
 use beam_math::glam::{Affine2, Vec2, Vec3, Vec4};
@@ -17,6 +18,21 @@ pub struct TextureRef {
     pub transform: Affine2,
 }
 
+/// How a material's coverage α cuts its surface (glTF `alphaMode` other than `OPAQUE`). α is the
+/// base colour's alpha: `baseColorFactor`'s times its texture's times the vertex colours'.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlphaCut {
+    /// The alpha of `baseColorFactor`.
+    pub factor: f32,
+    /// The texture whose alpha multiplies it (`baseColorTexture`).
+    pub texture: Option<TextureRef>,
+    /// `MASK`: the surface is there where `α ≥ cutoff` (`alphaCutoff`, ½ by default). `None` for
+    /// `BLEND`: there with probability α, decided for each ray by a hash of the ray
+    /// ([`Surfaces::stops`]), so that many rays see `α` of the surface and `1 − α` of what lies
+    /// behind it (stochastic transparency).
+    pub cutoff: Option<f32>,
+}
+
 /// The textures of one material. Each multiplies the material's constant (base colour, emitted
 /// radiance).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -25,6 +41,16 @@ pub struct MaterialMaps {
     pub base_color: Option<TextureRef>,
     /// `emissiveTexture` (RGB decoded from sRGB).
     pub emissive: Option<TextureRef>,
+    /// Its cut-out, for `alphaMode` `MASK` and `BLEND`.
+    pub alpha: Option<AlphaCut>,
+}
+
+impl MaterialMaps {
+    /// Whether the material is the constant it says: no texture and no cut-out.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.base_color.is_none() && self.emissive.is_none() && self.alpha.is_none()
+    }
 }
 
 /// Texture coordinates, vertex colours and textures of a scene's triangles; empty for a scene
@@ -99,6 +125,43 @@ impl Surfaces {
         sum / count as f32
     }
 
+    /// The cut-out of material `material`, if it has one.
+    #[must_use]
+    pub fn cut_out(&self, material: u32) -> Option<AlphaCut> {
+        self.maps.get(material as usize).and_then(|m| m.alpha)
+    }
+
+    /// Whether some material has a cut-out.
+    #[must_use]
+    pub fn has_cut_outs(&self) -> bool {
+        self.maps.iter().any(|m| m.alpha.is_some())
+    }
+
+    /// Coverage α of triangle `prim` (cut-out `cut`) at barycentric coordinates `w`.
+    #[must_use]
+    pub fn alpha(&self, cut: AlphaCut, prim: u32, w: Vec3) -> f32 {
+        let mut a = cut.factor;
+        if let Some(c) = self.color.get(prim as usize) {
+            a *= w.x * c[0].w + w.y * c[1].w + w.z * c[2].w;
+        }
+        if let Some(t) = cut.texture {
+            a *= self.read(t, prim, w).w;
+        }
+        a
+    }
+
+    /// Whether the surface of triangle `prim` (cut-out `cut`) is there at barycentric coordinates
+    /// `w` for the ray whose hash is `key` (any `u32`; only `BLEND` reads it): `α ≥ cutoff` for
+    /// `MASK`, `α > key / 2³²` for `BLEND`.
+    #[must_use]
+    pub fn stops(&self, cut: AlphaCut, prim: u32, w: Vec3, key: u32) -> bool {
+        let a = self.alpha(cut, prim, w);
+        match cut.cutoff {
+            Some(cutoff) => a >= cutoff,
+            None => a > key as f32 * (1.0 / 4_294_967_296.0),
+        }
+    }
+
     /// Texture `t` read at the point of barycentric coordinates `w` of triangle `prim`.
     fn read(&self, t: TextureRef, prim: u32, w: Vec3) -> Vec4 {
         let uv = self.uv[usize::from(t.tex_coord.min(1))]
@@ -131,7 +194,7 @@ mod tests {
             uv: [uv, Vec::new()],
             color: Vec::new(),
             textures: vec![checker()],
-            maps: vec![MaterialMaps { base_color: Some(t), emissive: Some(t) }],
+            maps: vec![MaterialMaps { base_color: Some(t), emissive: Some(t), alpha: None }],
         }
     }
 

@@ -5,6 +5,7 @@
 use super::emitters::Emitter;
 use super::stats::Counters;
 use crate::render::clear_shafts::ClearShafts;
+use crate::render::cut_outs::CutOuts;
 use crate::render::shadow_beam::{ShadowScratch, WindingScratch};
 use crate::render::tile_shadows::TileShadows;
 use beam_math::glam::Vec3;
@@ -53,6 +54,8 @@ pub(super) struct Context<'a> {
     pub(super) lights: Vec<Light>,
     /// The lights' geometry, in the order of `lights`.
     pub(super) emitters: Vec<Emitter>,
+    /// The scene's cut-out triangles, when it has any.
+    pub(super) cut_outs: Option<CutOuts>,
 }
 
 impl<'a> Context<'a> {
@@ -67,7 +70,8 @@ impl<'a> Context<'a> {
             lights.extend(scene.environment.lights(scene.bounds()));
         }
         let emitters = lights.iter().map(Emitter::of).collect();
-        Self { scene, options: *options, eps: shading_eps(scene), occluded, caustics, lights, emitters }
+        let cut_outs = CutOuts::of(scene);
+        Self { scene, options: *options, eps: shading_eps(scene), occluded, caustics, lights, emitters, cut_outs }
     }
 }
 

@@ -57,6 +57,12 @@ impl Context<'_> {
         }
         // In rays' worth of the light's own samples (a sky face's share of `--spp`).
         let samples = self.samples(p, n, index);
+        if self.cut_outs.as_ref().is_some_and(|c| c.may_hide(p, &polygon, ln)) {
+            // A texture's alpha cuts the light where no beam can: rays see through the cut-outs.
+            t.c.shadow_beams += 1;
+            t.c.cut_out_beams += 1;
+            return self.sampled_whole(p, n, (index, samples), &polygon, rng, t);
+        }
         if t.tile.candidates(index, t.block, p).is_some_and(|c| c.mode == Mode::Rays) {
             // The cluster samples this light from the start: no beam to set up.
             t.c.shadow_beams += 1;

@@ -25,7 +25,7 @@ impl Context<'_> {
     /// hits shaded, or the environment's radiance from its direction where it leaves the scene.
     pub(super) fn radiance(&self, ray: Ray, depth: u32, rng: &mut Pcg32, t: &mut Thread) -> Vec3 {
         t.c.camera_rays += 1;
-        let Some(hit) = self.scene.wide.closest_hit(ray, f32::INFINITY) else {
+        let Some(hit) = self.scene.closest_hit(ray, f32::INFINITY) else {
             return self.scene.environment.radiance(ray.direction);
         };
         self.shade(hit.prim, ray.at(hit.t), ray.direction.normalize(), depth, Lights::All, rng, t)
@@ -394,7 +394,7 @@ fn with_context<R>(
     caustics: Option<&IrradianceMap>,
     f: impl FnOnce(&Context<'_>) -> R,
 ) -> R {
-    let occluded = |ray, t_max| scene.wide.any_hit(ray, t_max);
+    let occluded = |ray, t_max| scene.occluded(ray, t_max);
     f(&Context::new(scene, options, &occluded, caustics))
 }
 

@@ -74,6 +74,13 @@ pub struct RenderStats {
     /// contact with the point: crossing leaves, an object sunk into the floor), whose light was
     /// sampled instead (also in `sampled_beams`); none with `--exact`.
     pub contact_beams: u64,
+    /// Shadow beams whose light a cut-out triangle (`alphaMode` `MASK` or `BLEND`) may hide part
+    /// of, sampled by shadow rays that see through the cut-outs instead (also in `sampled_beams`),
+    /// with `--exact` too.
+    pub cut_out_beams: u64,
+    /// Eye-beam regions that see a cut-out triangle, sampled by primary rays instead (their pixels
+    /// are in `ray_pixels`), with `--exact` too.
+    pub cut_out_regions: u64,
     /// Largest `|1 − Σ coverage|` of a pixel (exact coverage sums to one).
     pub coverage_error: f64,
     /// Triangles set up against shadow beams (projected once each).
@@ -175,6 +182,8 @@ impl RenderStats {
             ray_pixels: total.ray_pixels,
             over_budget_regions: total.over_budget,
             contact_beams: total.contact_beams,
+            cut_out_beams: total.cut_out_beams,
+            cut_out_regions: total.cut_out_regions,
             coverage_error: total.coverage_error,
             triangle_tests: total.beams.triangle_tests,
             pieces: total.beams.pieces,
@@ -212,6 +221,8 @@ pub(super) struct Counters {
     pub(super) ray_pixels: u64,
     pub(super) over_budget: u64,
     pub(super) contact_beams: u64,
+    pub(super) cut_out_beams: u64,
+    pub(super) cut_out_regions: u64,
     pub(super) sampled_beams: u64,
     pub(super) inexact_pixels: u64,
     pub(super) culled_lights: u64,
@@ -245,6 +256,8 @@ impl Counters {
             ray_pixels: d(self.ray_pixels, before.ray_pixels),
             over_budget: d(self.over_budget, before.over_budget),
             contact_beams: d(self.contact_beams, before.contact_beams),
+            cut_out_beams: d(self.cut_out_beams, before.cut_out_beams),
+            cut_out_regions: d(self.cut_out_regions, before.cut_out_regions),
             sampled_beams: d(self.sampled_beams, before.sampled_beams),
             inexact_pixels: d(self.inexact_pixels, before.inexact_pixels),
             culled_lights: d(self.culled_lights, before.culled_lights),
@@ -275,6 +288,8 @@ impl core::ops::AddAssign for Counters {
         self.ray_pixels += o.ray_pixels;
         self.over_budget += o.over_budget;
         self.contact_beams += o.contact_beams;
+        self.cut_out_beams += o.cut_out_beams;
+        self.cut_out_regions += o.cut_out_regions;
         self.sampled_beams += o.sampled_beams;
         self.inexact_pixels += o.inexact_pixels;
         self.culled_lights += o.culled_lights;

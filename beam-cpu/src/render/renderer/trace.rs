@@ -90,6 +90,12 @@ impl Trace<'_> {
         if !ctx.options.exact && eye_beam_seconds(ctx.scene, camera, region) > budget {
             return self.ray_region(window);
         }
+        if ctx.cut_outs.as_ref().is_some_and(|c| c.may_show(camera, region)) {
+            // Its pieces would show a cut-out, which only rays see through.
+            let mut rays = self.ray_region(window);
+            rays.traced.counters.cut_out_regions += 1;
+            return rays;
+        }
         let mut t = Thread::default();
         let mut pixels = vec![Vec3::ZERO; window.len()];
         let mut coverage = vec![0.0f32; window.len()];
@@ -97,7 +103,9 @@ impl Trace<'_> {
         let start = Instant::now();
         let mut surfaces = Vec::new();
         let mut eye = EyeStats::default();
-        let beam = EyeBeam { region, window, point_shadows: true, budget };
+        // Cut-outs cast no exact hard shadows: with them, point lights are shaded by rays too.
+        let point_shadows = !ctx.scene.has_cut_outs();
+        let beam = EyeBeam { region, window, point_shadows, budget };
         let traced = region_fragments(ctx.scene, camera, beam, &mut eye, &mut seen, |x, y, cov, f| {
             let i = window.index(x, y);
             match f {
@@ -117,11 +125,15 @@ impl Trace<'_> {
             }
         });
         if !traced {
-            // Past its budget: the work spent counts, the pixels come from rays.
+            // Past its budget or seeing a cut-out: the work spent counts, the pixels come from rays.
             let spent = start.elapsed().as_secs_f64();
             let mut rays = self.ray_region(window);
             rays.traced.counters.primary_seconds += spent;
-            rays.traced.counters.over_budget += 1;
+            if eye.cut_out > 0 {
+                rays.traced.counters.cut_out_regions += 1;
+            } else {
+                rays.traced.counters.over_budget += 1;
+            }
             rays.traced.counters.primary += eye.primary;
             return rays;
         }
@@ -137,7 +149,8 @@ impl Trace<'_> {
         t.c.primary_seconds += start.elapsed().as_secs_f64();
         t.c.coverage_error = coverage.iter().fold(0.0f64, |m, &v| m.max(f64::from((1.0 - v).abs())));
         let tiles = surfaces.chunk_by(|a, b| tile_of(a) == tile_of(b)).map(<[Surface]>::len).collect();
-        EyeTraced { traced: self.finish(window, pixels, t, seen), surfaces, tiles, lights: Lights::AreaOnly }
+        let lights = if point_shadows { Lights::AreaOnly } else { Lights::All };
+        EyeTraced { traced: self.finish(window, pixels, t, seen), surfaces, tiles, lights }
     }
 
     /// [`Trace::eye_region`] by primary rays where the eye beam would not pay ([`eye_budget`]):
@@ -210,7 +223,7 @@ impl Trace<'_> {
                     let (jx, jy) = stratified(i, k, &mut rng);
                     let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
                     t.c.camera_rays += 1;
-                    let Some(hit) = scene.wide.closest_hit(ray, f32::INFINITY) else {
+                    let Some(hit) = scene.closest_hit(ray, f32::INFINITY) else {
                         pixels[part.index(x, y)] += weight * environment.radiance(ray.direction);
                         continue;
                     };

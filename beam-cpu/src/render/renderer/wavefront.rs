@@ -61,7 +61,7 @@ pub fn render_queries(
     let start = Instant::now();
     let camera = scene.camera.with_size(options.width, options.height);
     // Every query goes to `backend`: the context's own shadow-ray tracer is never called.
-    let occluded = |ray, t_max| scene.wide.any_hit(ray, t_max);
+    let occluded = |ray, t_max| scene.occluded(ray, t_max);
     let ctx = Context::new(scene, options, &occluded, None);
     let table = LightTable::new(&ctx);
     let crop = options.region();

@@ -9,14 +9,17 @@
 //! - metallic factor ≥ ½: roughness ≤ [`MIRROR_ROUGHNESS`] → [`Material::Mirror`] tinted by the
 //!   base colour, rougher → [`Material::Glossy`] of that albedo with micro-facet variance
 //!   `roughness⁴` (a facet standard deviation of GGX's α = roughness²);
-//! - anything else → [`Material::Diffuse`] of the base colour (alpha ignored).
+//! - anything else → [`Material::Diffuse`] of the base colour.
+//!
+//! `alphaMode` `MASK` and `BLEND` make a non-emissive material a cut-out ([`AlphaCut`]): its
+//! coverage is the base colour's alpha (factor × texture × vertex colour).
 //!
 //! A primitive without a material gets the diffuse grey of a bare OBJ file.
 
 use super::errors::error;
 use crate::error::SceneError;
 use crate::scene::material::{Bump, Material};
-use crate::scene::surface::{MaterialMaps, TextureRef};
+use crate::scene::surface::{AlphaCut, MaterialMaps, TextureRef};
 use beam_math::glam::{Affine2, Vec2, Vec3};
 use std::path::Path;
 
@@ -46,8 +49,18 @@ pub(super) fn map_all(
             Material::Emissive { .. } => m.emissive_texture().map(|t| reference(&t)),
             _ => None,
         };
+        let cutoff = match m.alpha_mode() {
+            _ if matches!(material, Material::Emissive { .. }) => None,
+            gltf::material::AlphaMode::Opaque => None,
+            gltf::material::AlphaMode::Mask => Some(Some(m.alpha_cutoff().unwrap_or(0.5))),
+            gltf::material::AlphaMode::Blend => Some(None),
+        };
+        let factor = pbr.base_color_factor()[3];
+        let factor = if factor.is_finite() { factor.clamp(0.0, 1.0) } else { 1.0 };
+        let texture = pbr.base_color_texture().map(|t| reference(&t));
+        let alpha = cutoff.map(|cutoff| AlphaCut { factor, texture, cutoff });
         out.push(material);
-        maps.push(MaterialMaps { base_color, emissive });
+        maps.push(MaterialMaps { base_color, emissive, alpha });
     }
     out.push(DEFAULT);
     maps.push(MaterialMaps::default());

@@ -30,7 +30,7 @@ use super::defaults::{default_camera, default_light, valid_bounds};
 use super::environment::Environment;
 use super::load_options::LoadOptions;
 use super::model::Scene;
-use super::surface::Surfaces;
+use super::surface::{MaterialMaps, Surfaces};
 use crate::error::SceneError;
 use crate::read::{MAX_MESH_BYTES, clip, read_bounded, visible};
 use errors::{error, file_error};
@@ -49,7 +49,7 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     let (materials, mut maps) = materials::map_all(path, &document)?;
     let emissive_maps = maps.iter().filter(|m| m.emissive.is_some()).count();
     let textures = textures::load(path, &document, &buffers, options, &mut maps)?;
-    if textures.is_empty() {
+    if maps.iter().all(MaterialMaps::is_empty) {
         maps.clear();
     }
     let surfaces = Surfaces { textures, maps, ..Surfaces::default() };
@@ -80,8 +80,6 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     let count = |f: fn(&gltf::Material) -> bool| document.materials().filter(f).count();
     let unlit = count(|m| m.unlit());
     scene.notice("unlit material(s) (KHR_materials_unlit) drawn as diffuse: lit by the scene", unlit);
-    let cut_out = count(|m| m.alpha_mode() != gltf::material::AlphaMode::Opaque);
-    scene.notice("material(s) with alphaMode MASK or BLEND drawn opaque (alpha is not read)", cut_out);
     let normal_maps = count(|m| m.normal_texture().is_some());
     scene.notice("normal texture(s) not used: shading uses the triangles' own normals", normal_maps);
     scene.notice(

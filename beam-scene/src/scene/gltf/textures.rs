@@ -37,7 +37,8 @@ pub(super) fn load(
     let mut slot: HashMap<u32, u32> = HashMap::new();
     let mut images: HashMap<usize, Decoded> = HashMap::new();
     for map in maps.iter_mut() {
-        for t in [&mut map.base_color, &mut map.emissive].into_iter().flatten() {
+        let alpha = map.alpha.as_mut().and_then(|a| a.texture.as_mut());
+        for t in [map.base_color.as_mut(), map.emissive.as_mut(), alpha].into_iter().flatten() {
             if let Some(&i) = slot.get(&t.texture) {
                 t.texture = i;
                 continue;

@@ -1,0 +1,97 @@
+//! Cut-out occluders cast the right shadows and are seen through: a leaf whose texture's alpha cuts
+//! away its right half, between a floor and a small area light, renders as the opaque left half
+//! alone does (rendered exactly by beams), within the noise of the shadow rays that sample the
+//! lights the cut-out may hide; eye beams leave the regions that see it to primary rays.
+
+use beam_cpu::render::{Image, render};
+use beam_math::Triangle;
+use beam_math::glam::{Affine2, Vec2, Vec3};
+use beam_render::options::RenderOptions;
+use beam_scene::scene::surface::{AlphaCut, MaterialMaps, Surfaces, TextureRef};
+use beam_scene::scene::texture::{Filter, Texture, Wrap};
+use beam_scene::scene::{Camera, Light, Material, Scene};
+use std::sync::Arc;
+
+/// The two triangles of the rectangle `x ∈ [x0, x1], z ∈ [z0, z1]` at height `y`, facing up.
+fn rectangle(x: [f32; 2], z: [f32; 2], y: f32) -> [Triangle; 2] {
+    let p = |x: f32, z: f32| Vec3::new(x, y, z);
+    let (a, b, c, d) = (p(x[0], z[0]), p(x[0], z[1]), p(x[1], z[1]), p(x[1], z[0]));
+    [Triangle::new(a, b, c), Triangle::new(a, c, d)]
+}
+
+/// A floor (material 0) and, above it, a leaf (material 1) over `x ∈ [−1, leaf_end]`; with
+/// `cut`, the leaf spans `x ∈ [−1, 1]` and a 2 × 1 texture's alpha cuts its right half away.
+fn scene(leaf_end: f32, cut: bool) -> Scene {
+    let mut triangles: Vec<(Triangle, u32)> = rectangle([-3.0, 3.0], [-3.0, 3.0], 0.0).map(|t| (t, 0)).to_vec();
+    triangles.extend(rectangle([-1.0, leaf_end], [-0.6, 0.6], 1.0).map(|t| (t, 1)));
+    let materials =
+        vec![Material::Diffuse { albedo: Vec3::splat(0.8) }, Material::Diffuse { albedo: Vec3::new(0.3, 0.6, 0.2) }];
+    let light = Light::Quad {
+        corner: Vec3::new(-0.3, 2.0, -0.3),
+        edge_u: Vec3::new(0.6, 0.0, 0.0),
+        edge_v: Vec3::new(0.0, 0.0, 0.6),
+        radiance: Vec3::splat(20.0),
+    };
+    let camera = Camera {
+        position: Vec3::new(0.0, 3.2, 2.6),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 50.0,
+        width: 48,
+        height: 48,
+    };
+    let mut surfaces = Surfaces::default();
+    if cut {
+        // u = (x + 1) / 2 on the leaf; the floor's coordinates are zeros (unused).
+        let u = |t: &Triangle| t.v.map(|v| Vec2::new((v.x + 1.0) / 2.0, 0.5));
+        surfaces.uv[0] = triangles.iter().map(|(t, m)| if *m == 1 { u(t) } else { [Vec2::ZERO; 3] }).collect();
+        surfaces.textures.push(Texture {
+            width: 2,
+            height: 1,
+            texels: Arc::new([[255, 255, 255, 255], [255, 255, 255, 0]]),
+            wrap: [Wrap::ClampToEdge; 2],
+            filter: Filter::Nearest,
+        });
+        let texture = TextureRef { texture: 0, tex_coord: 0, transform: Affine2::IDENTITY };
+        let alpha = AlphaCut { factor: 1.0, texture: Some(texture), cutoff: Some(0.5) };
+        surfaces.maps = vec![MaterialMaps::default(), MaterialMaps { alpha: Some(alpha), ..MaterialMaps::default() }];
+    }
+    Scene::with_surfaces("leaf".into(), triangles, materials, vec![light], camera, surfaces)
+}
+
+/// Root-mean-square difference of two images, over the mean of the second.
+fn relative_rmse(a: &Image, b: &Image) -> f32 {
+    let n = a.pixels.len() as f32;
+    let mse = a.pixels.iter().zip(&b.pixels).map(|(p, q)| (*p - *q).length_squared()).sum::<f32>() / n;
+    let mean = b.pixels.iter().map(|p| p.length()).sum::<f32>() / n;
+    mse.sqrt() / mean
+}
+
+/// The default beam render's options at 48² with `spp` shadow rays where it samples.
+fn options(primary_beams: bool) -> RenderOptions {
+    RenderOptions { spp: 256, primary_spp: 16, primary_beams, exact: false, ..RenderOptions::exact(48, 48) }
+}
+
+#[test]
+fn a_cut_out_leaf_shadows_and_shows_like_its_opaque_part() {
+    let (cut, half, whole) = (scene(1.0, true), scene(0.0, false), scene(1.0, false));
+    assert!(cut.has_cut_outs() && !half.has_cut_outs());
+    for primary_beams in [false, true] {
+        let o = options(primary_beams);
+        let (reference, ref_stats) = render(&half, &o, || {});
+        assert_eq!(ref_stats.cut_out_beams, 0);
+        let (image, stats) = render(&cut, &o, || {});
+        let (opaque, _) = render(&whole, &o, || {});
+        let error = relative_rmse(&image, &reference);
+        let opaque_error = relative_rmse(&opaque, &reference);
+        assert!(stats.cut_out_beams > 0, "the lights the leaf may hide are sampled");
+        // Shadow rays' noise alone: 0.002 here. With eye beams, the regions that see the leaf take
+        // 2 × 2 primary rays a pixel, whose edges alias against exact coverage: 0.06.
+        let bound = if primary_beams { 0.1 } else { 0.01 };
+        assert!(error < bound, "eye beams {primary_beams}: relative RMSE {error} against the opaque half");
+        assert!(opaque_error > 8.0 * error, "an opaque whole leaf differs: {opaque_error} against {error}");
+        if primary_beams {
+            assert!(stats.cut_out_regions > 0 && stats.ray_pixels > 0, "regions that see the leaf go to rays");
+        }
+    }
+}

@@ -1,0 +1,95 @@
+//! `alphaMode` `MASK` and `BLEND`: a cut-out's coverage is its base colour's alpha (factor ×
+//! texture × vertex colour), and the scene's own ray queries see through it where that alpha says
+//! (`MASK`: below `alphaCutoff`; `BLEND`: with probability `1 − α` per ray).
+
+mod common;
+
+use base64::Engine as _;
+use beam_scene::beam_math::Ray;
+use beam_scene::beam_math::glam::Vec3;
+use beam_scene::scene::{self, Scene};
+use common::{Doc, primitive, write};
+
+/// A 2 × 1 RGBA PNG: opaque white on the left (u < ½), transparent white on the right.
+fn half_transparent_png() -> String {
+    let image = image::RgbaImage::from_raw(2, 1, vec![255, 255, 255, 255, 255, 255, 255, 0]).unwrap();
+    let mut png = std::io::Cursor::new(Vec::new());
+    image.write_to(&mut png, image::ImageFormat::Png).unwrap();
+    base64::engine::general_purpose::STANDARD.encode(png.into_inner())
+}
+
+/// Three triangles in planes `z = 0, −1, −2`, spanning x, y ∈ [0, 4] with texture coordinates
+/// `(x, y) / 4`: a `MASK` cut-out (cutoff 0.3) of the half-transparent texture, a `BLEND` one of
+/// alpha 0.25, and an opaque one.
+fn layers(dir: &std::path::Path) -> Scene {
+    let mut d = Doc::default();
+    let uv_bytes: Vec<u8> = [0.0f32, 0.0, 1.0, 0.0, 0.0, 1.0].iter().flat_map(|x| x.to_le_bytes()).collect();
+    let mut meshes = Vec::new();
+    for (z, material) in [(0.0, 0), (-1.0, 1), (-2.0, 2)] {
+        let p = d.positions(&[[0.0, 0.0, z], [4.0, 0.0, z], [0.0, 4.0, z]]);
+        while d.bin.len() % 4 != 0 {
+            d.bin.push(0);
+        }
+        let at = d.bin.len();
+        d.bin.extend_from_slice(&uv_bytes);
+        d.views.push(format!(r#"{{"buffer": 0, "byteOffset": {at}, "byteLength": 24}}"#));
+        let view = d.views.len() - 1;
+        d.accessors.push(format!(r#"{{"bufferView": {view}, "componentType": 5126, "count": 3, "type": "VEC2"}}"#));
+        let uv = d.accessors.len() - 1;
+        let prim = primitive(p, None, Some(material), "").replacen('}', &format!(r#", "TEXCOORD_0": {uv}}}"#), 1);
+        meshes.push(d.mesh(&[prim]));
+    }
+    d.roots = meshes.iter().map(|m| d.node(&format!(r#"{{"mesh": {m}}}"#))).collect();
+    d.materials = vec![
+        r#"{"alphaMode": "MASK", "alphaCutoff": 0.3, "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}}"#.into(),
+        r#"{"alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.25], "metallicFactor": 0}}"#.into(),
+        r#"{"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.25], "metallicFactor": 0}}"#.into(),
+    ];
+    let json = d.gltf();
+    let images = format!(
+        r#""images": [{{"uri": "data:image/png;base64,{}"}}], "samplers": [{{"magFilter": 9728}}], "textures": [{{"source": 0, "sampler": 0}}]"#,
+        half_transparent_png()
+    );
+    let json = format!("{{{images},\n{}", &json[1..]);
+    scene::load_file(&write(dir, "layers.gltf", json)).unwrap()
+}
+
+/// The plane (z) a ray down −z from `(x, y)` stops at, if any.
+fn stops_at(s: &Scene, x: f32, y: f32) -> Option<f32> {
+    let ray = Ray::new(Vec3::new(x, y, 1.0), -Vec3::Z);
+    s.closest_hit(ray, f32::INFINITY).map(|h| 1.0 - h.t)
+}
+
+#[test]
+fn a_mask_is_there_where_its_alpha_reaches_the_cutoff() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = layers(dir.path());
+    assert!(s.has_cut_outs());
+    let mask = s.surfaces.cut_out(0).expect("material 0 is a cut-out");
+    assert_eq!((mask.cutoff, mask.factor), (Some(0.3), 1.0));
+    assert!(s.surfaces.cut_out(2).is_none(), "the opaque material ignores its factor's alpha");
+    // u = x / 4 < ½: the opaque texel stops the ray at z = 0.
+    let z = stops_at(&s, 1.0, 0.5).unwrap();
+    assert!(z.abs() < 1e-5, "{z}");
+    // u > ½: through the mask; the blend layer stops a quarter of the rays, the rest reach z = −2.
+    let z = stops_at(&s, 2.5, 0.5).unwrap();
+    assert!((z + 1.0).abs() < 1e-5 || (z + 2.0).abs() < 1e-5, "{z}");
+    assert!(s.occluded(Ray::new(Vec3::new(2.5, 0.5, 1.0), -Vec3::Z), 4.0), "the opaque layer is there");
+}
+
+#[test]
+fn a_blend_stops_alpha_of_the_rays() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = layers(dir.path());
+    // Rays through the right half of the mask, between z = 1 and z = −1.5 (the blend layer only).
+    let n = 4000;
+    let stopped = (0..n)
+        .filter(|&i| {
+            let (x, y) = (2.1 + 0.0003 * i as f32, 0.1 + 0.00011 * (i % 97) as f32);
+            s.occluded(Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.01, 0.0, -1.0)), 2.5)
+        })
+        .count();
+    let share = stopped as f64 / f64::from(n);
+    let sigma = (0.25 * 0.75 / f64::from(n)).sqrt();
+    assert!((share - 0.25).abs() < 3.0 * sigma, "{share} of the rays stopped, α = 0.25 (σ {sigma:.4})");
+}
