@@ -93,3 +93,26 @@ fn a_blend_stops_alpha_of_the_rays() {
     let sigma = (0.25 * 0.75 / f64::from(n)).sqrt();
     assert!((share - 0.25).abs() < 3.0 * sigma, "{share} of the rays stopped, α = 0.25 (σ {sigma:.4})");
 }
+
+#[test]
+fn an_eye_ray_blends_what_it_sees() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = layers(dir.path());
+    let layers_seen = |x: f32| {
+        let mut seen = Vec::new();
+        let beyond = s.blended_hits(Ray::new(Vec3::new(x, 0.5, 1.0), -Vec3::Z), f32::INFINITY, |hit, share| {
+            seen.push((1.0 - hit.t, share));
+        });
+        (seen, beyond)
+    };
+    // Through the mask's cut half: a quarter of the blend layer, three quarters of the opaque one.
+    let (seen, beyond) = layers_seen(2.5);
+    assert_eq!(seen.len(), 2, "{seen:?}");
+    assert!((seen[0].0 + 1.0).abs() < 1e-5 && (seen[0].1 - 0.25).abs() < 1e-6, "{seen:?}");
+    assert!((seen[1].0 + 2.0).abs() < 1e-5 && (seen[1].1 - 0.75).abs() < 1e-6, "{seen:?}");
+    assert_eq!(beyond, 0.0);
+    // The mask's solid half ends the ray; past the triangles' reach the ray sees the environment.
+    assert_eq!(layers_seen(1.0).0.len(), 1);
+    let (seen, beyond) = layers_seen(5.0);
+    assert!(seen.is_empty() && beyond == 1.0);
+}

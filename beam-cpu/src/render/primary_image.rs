@@ -199,7 +199,8 @@ fn eye_part(
     Part { region, pixels, eye, fragments, error, seen, rays: 0 }
 }
 
-/// `region` by `⌊√rays⌋²` stratified primary rays a pixel ([`pixel_samples`]).
+/// `region` by `⌊√rays⌋²` stratified primary rays a pixel ([`pixel_samples`]), `BLEND` surfaces
+/// blended ([`Scene::blended_hits`]).
 fn ray_part(
     scene: &Scene,
     camera: &Camera,
@@ -217,13 +218,13 @@ fn ray_part(
             for (sx, sy) in pixel_samples(x, y, k) {
                 let ray = camera.ray(&frame, sx, sy);
                 let d = ray.direction.normalize();
-                sum += match scene.closest_hit(ray, f32::INFINITY) {
-                    Some(hit) => {
-                        seen[hit.prim as usize] = true;
-                        shade(hit.prim, ray.origin + hit.t * ray.direction, d)
-                    }
-                    None => scene.environment.radiance(d),
-                };
+                let beyond = scene.blended_hits(ray, f32::INFINITY, |hit, share| {
+                    seen[hit.prim as usize] = true;
+                    sum += share * shade(hit.prim, ray.at(hit.t), d);
+                });
+                if beyond > 0.0 {
+                    sum += beyond * scene.environment.radiance(d);
+                }
             }
             pixels[region.index(x, y)] = sum / (k * k) as f32;
         }

@@ -2,7 +2,7 @@
 //! segment is blocked, where a triangle of a cut-out material ([`AlphaCut`]) is there only where
 //! its coverage says so. Scenes without cut-outs query the 8-wide BVH once; with them, a ray that
 //! meets a cut-out triangle where it is not there goes on from that hit, at most [`MAX_LAYERS`]
-//! times.
+//! times. Eye rays may blend `BLEND` surfaces instead ([`Scene::blended_hits`]).
 
 use super::Scene;
 use super::surface::AlphaCut;
@@ -36,22 +36,55 @@ impl Scene {
         if !self.cut_outs {
             return self.wide.closest_hit(ray, t_max);
         }
-        let key = ray_key(&ray);
-        let mut from = 0.0f32;
+        let key = ray_key(&ray) as f32 * (1.0 / 4_294_967_296.0);
+        let mut from = 0.0;
         for _ in 0..MAX_LAYERS {
-            let mut hit = self.wide.closest_hit(Ray::new(ray.at(from), ray.direction), t_max - from)?;
-            hit.t += from;
-            if self.stops(&hit, key) {
+            let (hit, alpha) = self.nearest_surface(ray, from, t_max)?;
+            if alpha > key {
                 return Some(hit);
             }
-            // On from just past the hit (relative to its distance, so that the same triangle is
-            // not met again at t ≈ 0).
-            from = hit.t + hit.t.abs().max(f32::MIN_POSITIVE) * 1e-5;
+            from = past(&hit);
         }
-        self.wide.closest_hit(Ray::new(ray.at(from), ray.direction), t_max - from).map(|mut h| {
-            h.t += from;
-            h
-        })
+        self.hit_from(ray, from, t_max)
+    }
+
+    /// The nearest hit of `ray` between `from` and `t_max` on a surface that a `MASK` leaves there,
+    /// and its coverage there: α of a `BLEND` surface, 1 of any other (a `BLEND` surface is there
+    /// for a ray with probability α: [`Scene::closest_hit`] decides by a hash of the ray; an eye
+    /// ray may instead blend α of it with `1 − α` of what lies behind).
+    #[must_use]
+    pub fn nearest_surface(&self, ray: Ray, mut from: f32, t_max: f32) -> Option<(Hit, f32)> {
+        for _ in 0..MAX_LAYERS {
+            let hit = self.hit_from(ray, from, t_max)?;
+            let Some(cut) = self.cut_out(hit.prim) else { return Some((hit, 1.0)) };
+            let w = Vec3::new(1.0 - hit.u - hit.v, hit.u, hit.v);
+            let alpha = self.surfaces.alpha(cut, hit.prim, w);
+            match cut.cutoff {
+                Some(cutoff) if alpha >= cutoff => return Some((hit, 1.0)),
+                None if alpha > 0.0 => return Some((hit, alpha.min(1.0))),
+                _ => from = past(&hit),
+            }
+        }
+        self.hit_from(ray, from, t_max).map(|h| (h, 1.0))
+    }
+
+    /// What an eye ray sees through `BLEND` surfaces, blended as a rasterizer blends them (front to
+    /// back, without noise): calls `seen(hit, share)` for each surface `ray` meets below `t_max`, in
+    /// order, up to the first that is wholly there; `share` is its part of the ray's radiance, its
+    /// coverage times what the surfaces in front of it let through. Returns what they all let
+    /// through (the environment's share; 0 when an opaque surface ends the ray).
+    pub fn blended_hits(&self, ray: Ray, t_max: f32, mut seen: impl FnMut(Hit, f32)) -> f32 {
+        let (mut through, mut from) = (1.0f32, 0.0);
+        for _ in 0..MAX_LAYERS {
+            let Some((hit, alpha)) = self.nearest_surface(ray, from, t_max) else { return through };
+            seen(hit, through * alpha);
+            through *= 1.0 - alpha;
+            if through <= 0.0 {
+                return 0.0;
+            }
+            from = past(&hit);
+        }
+        through
     }
 
     /// Whether `ray` meets a surface that is there below `t_max` (a shadow ray or segment).
@@ -61,16 +94,18 @@ impl Scene {
         self.wide.any_hit(ray, t_max) && (!self.cut_outs || self.closest_hit(ray, t_max).is_some())
     }
 
-    /// Whether the surface `hit` is on is there for the ray of hash `key`.
-    fn stops(&self, hit: &Hit, key: u32) -> bool {
-        match self.cut_out(hit.prim) {
-            None => true,
-            Some(cut) => {
-                let w = Vec3::new(1.0 - hit.u - hit.v, hit.u, hit.v);
-                self.surfaces.stops(cut, hit.prim, w, key)
-            }
-        }
+    /// The nearest hit of `ray` between `from` and `t_max`, whatever its surface.
+    fn hit_from(&self, ray: Ray, from: f32, t_max: f32) -> Option<Hit> {
+        let mut hit = self.wide.closest_hit(Ray::new(ray.at(from), ray.direction), t_max - from)?;
+        hit.t += from;
+        Some(hit)
     }
+}
+
+/// Where a ray goes on from past `hit`: just beyond it, relative to its distance, so that the same
+/// triangle is not met again at `t ≈ 0`.
+fn past(hit: &Hit) -> f32 {
+    hit.t + hit.t.abs().max(f32::MIN_POSITIVE) * 1e-5
 }
 
 /// A hash of a ray's origin and direction (their bits, mixed), the key of `BLEND` cut-outs: rays

@@ -28,7 +28,7 @@ pub struct AlphaCut {
     pub texture: Option<TextureRef>,
     /// `MASK`: the surface is there where `α ≥ cutoff` (`alphaCutoff`, ½ by default). `None` for
     /// `BLEND`: there with probability α, decided for each ray by a hash of the ray
-    /// ([`Surfaces::stops`]), so that many rays see `α` of the surface and `1 − α` of what lies
+    /// (`Scene::closest_hit`), so that many rays see `α` of the surface and `1 − α` of what lies
     /// behind it (stochastic transparency).
     pub cutoff: Option<f32>,
 }
@@ -148,18 +148,6 @@ impl Surfaces {
             a *= self.read(t, prim, w).w;
         }
         a
-    }
-
-    /// Whether the surface of triangle `prim` (cut-out `cut`) is there at barycentric coordinates
-    /// `w` for the ray whose hash is `key` (any `u32`; only `BLEND` reads it): `α ≥ cutoff` for
-    /// `MASK`, `α > key / 2³²` for `BLEND`.
-    #[must_use]
-    pub fn stops(&self, cut: AlphaCut, prim: u32, w: Vec3, key: u32) -> bool {
-        let a = self.alpha(cut, prim, w);
-        match cut.cutoff {
-            Some(cutoff) => a >= cutoff,
-            None => a > key as f32 * (1.0 / 4_294_967_296.0),
-        }
     }
 
     /// Texture `t` read at the point of barycentric coordinates `w` of triangle `prim`.

@@ -202,7 +202,8 @@ impl Trace<'_> {
     /// `k × k` stratified primary rays a pixel of `rect`: each hit into `out` as a surface point
     /// of weight `1 / k²`, its triangle marked in `seen` (where `seen` is not empty); each miss
     /// adds `1 / k²` of the environment's radiance along it to its pixel of `pixels`, the row-major
-    /// pixels of `part`.
+    /// pixels of `part`. A `BLEND` surface's point has its coverage's part of that weight, and
+    /// what lies behind it the rest ([`Scene::blended_hits`](beam_scene::scene::Scene::blended_hits)).
     fn primary_hits(
         &self,
         rect: Region,
@@ -223,15 +224,17 @@ impl Trace<'_> {
                     let (jx, jy) = stratified(i, k, &mut rng);
                     let ray = camera.ray(&frame, x as f32 + jx, y as f32 + jy);
                     t.c.camera_rays += 1;
-                    let Some(hit) = scene.closest_hit(ray, f32::INFINITY) else {
-                        pixels[part.index(x, y)] += weight * environment.radiance(ray.direction);
-                        continue;
-                    };
-                    if let Some(s) = seen.get_mut(hit.prim as usize) {
-                        *s = true;
+                    let d = ray.direction.normalize();
+                    let beyond = scene.blended_hits(ray, f32::INFINITY, |hit, share| {
+                        if let Some(s) = seen.get_mut(hit.prim as usize) {
+                            *s = true;
+                        }
+                        let seed = (self.seed)(x, y) ^ SHADE_SEED;
+                        out.push(Surface { x, y, weight: weight * share, prim: hit.prim, q: ray.at(hit.t), d, seed });
+                    });
+                    if beyond > 0.0 {
+                        pixels[part.index(x, y)] += weight * beyond * environment.radiance(ray.direction);
                     }
-                    let (q, d) = (ray.at(hit.t), ray.direction.normalize());
-                    out.push(Surface { x, y, weight, prim: hit.prim, q, d, seed: (self.seed)(x, y) ^ SHADE_SEED });
                 }
             }
         }
