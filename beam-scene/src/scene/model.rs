@@ -231,6 +231,26 @@ impl Scene {
         self.triangles[i as usize].scaled_normal().normalize_or_zero()
     }
 
+    /// Shading normal of diffuse or glossy triangle `i` at its point `p` by its normal texture,
+    /// on the side of `facing` (its geometric unit normal, turned to the viewer): the normal the
+    /// texture gives on the front, reversed on the back (glTF's double-sided rule); `facing`
+    /// itself without a texture.
+    #[must_use]
+    pub fn mapped_normal(&self, i: u32, p: Vec3, facing: Vec3) -> Vec3 {
+        let material = self.material_of[i as usize];
+        if self.surfaces.maps.get(material as usize).is_none_or(|m| m.normal.is_none()) {
+            return facing;
+        }
+        let tri = &self.triangles[i as usize];
+        let front = self.normal(i);
+        let w = tri.barycentric(p).unwrap_or(Vec3::splat(1.0 / 3.0));
+        match self.surfaces.mapped_normal(i, material, &tri.v, front, w) {
+            Some(n) if front.dot(facing) < 0.0 => -n,
+            Some(n) => n,
+            None => facing,
+        }
+    }
+
     /// Shading normal of triangle `i` at its point `p`: the Phong interpolation of its smooth vertex
     /// normals (mirror and glass), else the geometric normal; on the geometric normal's side.
     #[must_use]

@@ -33,6 +33,17 @@ pub struct AlphaCut {
     pub cutoff: Option<f32>,
 }
 
+/// A tangent-space normal texture (glTF `normalTexture`): RGB `(x, y, z)` from `[0, 1]` to
+/// `[−1, 1]`, `x` along increasing `u`, `y` towards decreasing `v` (up in the image), `z` along the
+/// triangle's normal; `x` and `y` scaled by `scale`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalMap {
+    /// Where it is read (its channels are data: not decoded from sRGB).
+    pub texture: TextureRef,
+    /// `normalTexture.scale`.
+    pub scale: f32,
+}
+
 /// The textures of one material. Each multiplies the material's constant (base colour, emitted
 /// radiance).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -43,13 +54,15 @@ pub struct MaterialMaps {
     pub emissive: Option<TextureRef>,
     /// Its cut-out, for `alphaMode` `MASK` and `BLEND`.
     pub alpha: Option<AlphaCut>,
+    /// Its normal texture.
+    pub normal: Option<NormalMap>,
 }
 
 impl MaterialMaps {
     /// Whether the material is the constant it says: no texture and no cut-out.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.base_color.is_none() && self.emissive.is_none() && self.alpha.is_none()
+        self.base_color.is_none() && self.emissive.is_none() && self.alpha.is_none() && self.normal.is_none()
     }
 }
 
@@ -150,12 +163,49 @@ impl Surfaces {
         a
     }
 
+    /// The shading normal of triangle `prim` (corners `corners`, material `material`) at
+    /// barycentric coordinates `w` by its material's normal texture, on the side of its geometric
+    /// unit normal `n`; `None` without a normal texture, or where the texture coordinates give the
+    /// triangle no tangent frame. The frame is the triangle's own: tangent `∂p/∂u`, bitangent
+    /// `−∂p/∂v` (glTF's `v` runs down the image), made orthonormal to `n` (Gram–Schmidt).
+    #[must_use]
+    pub fn mapped_normal(&self, prim: u32, material: u32, corners: &[Vec3; 3], n: Vec3, w: Vec3) -> Option<Vec3> {
+        let map = self.maps.get(material as usize)?.normal?;
+        let uv = self.uv[usize::from(map.texture.tex_coord.min(1))].get(prim as usize)?;
+        let (e1, e2) = (corners[1] - corners[0], corners[2] - corners[0]);
+        let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+        let det = d1.x * d2.y - d1.y * d2.x;
+        if det.abs() < 1e-12 {
+            return None;
+        }
+        let dp_du = (e1 * d2.y - e2 * d1.y) / det;
+        let dp_dv = (e2 * d1.x - e1 * d2.x) / det;
+        let t = (dp_du - n * n.dot(dp_du)).try_normalize()?;
+        // The bitangent keeps the side `−∂p/∂v` lies on (mirrored texture coordinates flip it).
+        let b = n.cross(t);
+        let b = if b.dot(dp_dv) > 0.0 { -b } else { b };
+        let c = self.read_data(map.texture, prim, w) * 2.0 - Vec3::ONE;
+        (t * (c.x * map.scale) + b * (c.y * map.scale) + n * c.z.max(0.0)).try_normalize()
+    }
+
     /// Texture `t` read at the point of barycentric coordinates `w` of triangle `prim`.
     fn read(&self, t: TextureRef, prim: u32, w: Vec3) -> Vec4 {
+        self.textures.get(t.texture as usize).map_or(Vec4::ONE, |tex| tex.sample(self.coordinates(t, prim, w)))
+    }
+
+    /// [`Surfaces::read`] of a data texture (RGB not decoded from sRGB).
+    fn read_data(&self, t: TextureRef, prim: u32, w: Vec3) -> Vec3 {
+        self.textures
+            .get(t.texture as usize)
+            .map_or(Vec3::new(0.5, 0.5, 1.0), |tex| tex.sample_data(self.coordinates(t, prim, w)).truncate())
+    }
+
+    /// Where texture `t` is read at the point of barycentric coordinates `w` of triangle `prim`.
+    fn coordinates(&self, t: TextureRef, prim: u32, w: Vec3) -> Vec2 {
         let uv = self.uv[usize::from(t.tex_coord.min(1))]
             .get(prim as usize)
             .map_or(Vec2::ZERO, |uv| w.x * uv[0] + w.y * uv[1] + w.z * uv[2]);
-        self.textures.get(t.texture as usize).map_or(Vec4::ONE, |tex| tex.sample(t.transform.transform_point2(uv)))
+        t.transform.transform_point2(uv)
     }
 }
 
@@ -182,7 +232,7 @@ mod tests {
             uv: [uv, Vec::new()],
             color: Vec::new(),
             textures: vec![checker()],
-            maps: vec![MaterialMaps { base_color: Some(t), emissive: Some(t), alpha: None }],
+            maps: vec![MaterialMaps { base_color: Some(t), emissive: Some(t), ..MaterialMaps::default() }],
         }
     }
 

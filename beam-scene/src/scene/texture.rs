@@ -46,32 +46,44 @@ pub struct Texture {
 }
 
 impl Texture {
-    /// The filtered texel value at texture coordinates `uv` (non-finite coordinates read texel 0).
+    /// The filtered texel value at texture coordinates `uv` (non-finite coordinates read texel 0),
+    /// its colour decoded from sRGB.
     #[must_use]
     pub fn sample(&self, uv: Vec2) -> Vec4 {
+        self.filtered(uv, &SRGB)
+    }
+
+    /// [`Texture::sample`] of a texture whose channels are data, not colour (a normal map): every
+    /// channel read as `code / 255`.
+    #[must_use]
+    pub fn sample_data(&self, uv: Vec2) -> Vec4 {
+        self.filtered(uv, &LINEAR)
+    }
+
+    fn filtered(&self, uv: Vec2, table: &[f32; 256]) -> Vec4 {
         let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
         let (x, y) = (uv.x * self.width as f32, uv.y * self.height as f32);
         match self.filter {
-            Filter::Nearest => self.texel(x.floor() as i64, y.floor() as i64),
+            Filter::Nearest => self.texel(x.floor() as i64, y.floor() as i64, table),
             Filter::Linear => {
                 // Texel centres lie at half-integers.
                 let (x, y) = (x - 0.5, y - 0.5);
                 let (x0, y0) = (x.floor(), y.floor());
                 let (fx, fy) = (x - x0, y - y0);
                 let (x0, y0) = (x0 as i64, y0 as i64);
-                let top = self.texel(x0, y0).lerp(self.texel(x0 + 1, y0), fx);
-                let bottom = self.texel(x0, y0 + 1).lerp(self.texel(x0 + 1, y0 + 1), fx);
+                let top = self.texel(x0, y0, table).lerp(self.texel(x0 + 1, y0, table), fx);
+                let bottom = self.texel(x0, y0 + 1, table).lerp(self.texel(x0 + 1, y0 + 1, table), fx);
                 top.lerp(bottom, fy)
             }
         }
     }
 
-    /// Texel `(x, y)` after wrapping each coordinate into the image, its colour linear.
-    fn texel(&self, x: i64, y: i64) -> Vec4 {
+    /// Texel `(x, y)` after wrapping each coordinate into the image, its colour channels decoded
+    /// by `table`.
+    fn texel(&self, x: i64, y: i64, table: &[f32; 256]) -> Vec4 {
         let x = wrap(x, self.width, self.wrap[0]);
         let y = wrap(y, self.height, self.wrap[1]);
         let [r, g, b, a] = self.texels.get(y as usize * self.width as usize + x as usize).copied().unwrap_or([255; 4]);
-        let table = &*SRGB;
         Vec4::new(table[r as usize], table[g as usize], table[b as usize], f32::from(a) / 255.0)
     }
 }
@@ -88,6 +100,17 @@ fn wrap(i: i64, n: u32, mode: Wrap) -> u32 {
         }
     }) as u32
 }
+
+/// Each 8-bit code as a value in [0, 1].
+const LINEAR: [f32; 256] = {
+    let mut t = [0.0; 256];
+    let mut i = 0;
+    while i < 256 {
+        t[i] = i as f32 / 255.0;
+        i += 1;
+    }
+    t
+};
 
 /// The linear value of each 8-bit sRGB code.
 static SRGB: LazyLock<[f32; 256]> = LazyLock::new(|| std::array::from_fn(|i| srgb_to_linear(i as f32 / 255.0)));

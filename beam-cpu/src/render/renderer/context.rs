@@ -39,6 +39,10 @@ pub(super) struct Thread {
     pub(super) winding: WindingScratch,
     /// The lights that face the tile being shaded (`None`: every light).
     pub(super) facing: Option<Vec<u32>>,
+    /// The geometric normal of the shade point being lit, while a normal texture bends the normal
+    /// its lights are integrated with: shadow beams then also clip each light to the half-space
+    /// above the surface itself (what lies below it the surface hides, as it hides it from rays).
+    pub(super) surface: Option<Vec3>,
 }
 
 pub(super) struct Context<'a> {

@@ -48,10 +48,13 @@ impl Context<'_> {
         }
         let (ln, polygon) = (self.emitters[index].normal, self.emitters[index].polygon());
         // Exact shading: only the part of the light above the tangent plane lights the point.
-        let polygon = match self.shading(index) {
+        let mut polygon = match self.shading(index) {
             Shading::Exact => clip_above(polygon, p, n),
             Shading::Fraction => polygon.to_vec(),
         };
+        if let Some(surface) = t.surface {
+            polygon = clip_above(&polygon, p, surface);
+        }
         if polygon.len() < 3 {
             return 0.0;
         }
@@ -147,7 +150,7 @@ impl Context<'_> {
             };
             if unresolved && unoccluded > 0.0 {
                 let left = if sample_all { Left::Whole(&polygon) } else { Left::Pieces(&frame, pieces) };
-                self.sampled(p, n, (index, samples), (left, unoccluded), rng, &mut t.c)
+                self.sampled((p, n, t.surface), (index, samples), (left, unoccluded), rng, &mut t.c)
             } else {
                 match self.shading(index) {
                     Shading::Exact => unoccluded,
@@ -209,24 +212,24 @@ impl Context<'_> {
         if !(unoccluded > 0.0) {
             return 0.0;
         }
-        self.sampled(p, n, drawn, (Left::Whole(polygon), unoccluded), rng, &mut t.c)
+        self.sampled((p, n, t.surface), drawn, (Left::Whole(polygon), unoccluded), rng, &mut t.c)
     }
 
-    /// Irradiance per unit radiance at `p` (normal `n`) from what is `left` of area light `index`
-    /// to sample (the third argument is `(index, spp)`), whose unoccluded irradiance (or, with
+    /// Irradiance per unit radiance at `p` (normal `n`, surface normal `surface` under a normal
+    /// texture, [`Thread::surface`]) from what is `left` of area light `index` to sample (the
+    /// second argument is `(index, spp)`), whose unoccluded irradiance (or, with
     /// `--shading fraction`, area fraction) is `unoccluded`: that times the ratio estimate of its
     /// lit share ([`Context::seen_share`]), counted in `c` as a sampled beam with `unoccluded` as
     /// its bound.
     fn sampled(
         &self,
-        p: Vec3,
-        n: Vec3,
+        (p, n, surface): (Vec3, Vec3, Option<Vec3>),
         (index, spp): (usize, u32),
         (left, unoccluded): (Left<'_>, f32),
         rng: &mut Pcg32,
         c: &mut Counters,
     ) -> f32 {
-        let seen = self.seen_share(p, n, (index, spp), left, rng, &mut c.shadow_rays);
+        let seen = self.seen_share((p, n, surface), (index, spp), left, rng, &mut c.shadow_rays);
         c.sampled_beams += 1;
         c.pending_bound += self.lights[index].power().max_element() * unoccluded;
         match self.shading(index) {
@@ -236,16 +239,16 @@ impl Context<'_> {
     }
 
     /// The ratio estimate of the lit share of what is `left` of light `index` seen from `p`
-    /// (normal `n`): the ray method's `spp` stratified samples of the light (the third argument
-    /// is `(index, spp)`, [`Context::samples`]), those that fall in what is left each traced and
+    /// (normal `n`; under a normal texture, nothing below the surface normal `surface`): the ray
+    /// method's `spp` stratified samples of the light (the second argument is `(index, spp)`,
+    /// [`Context::samples`]), those that fall in what is left each traced and
     /// weighted by the irradiance integrand `cos θ cos θ′ / r²`; the weight of those that reach
     /// the light over the weight of all (Heitz et al. 2018, the ratio estimator). The samples
     /// outside need no ray: the beam resolved them. 1 or 0 exactly when every traced sample is
     /// lit or every one hidden.
     fn seen_share(
         &self,
-        p: Vec3,
-        n: Vec3,
+        (p, n, surface): (Vec3, Vec3, Option<Vec3>),
         (index, spp): (usize, u32),
         left: Left<'_>,
         rng: &mut Pcg32,
@@ -277,7 +280,8 @@ impl Context<'_> {
             let r2 = to.length_squared();
             let w = to / r2.sqrt();
             let f = f64::from(n.dot(w).max(0.0) * (-ln).dot(w).max(0.0) / r2);
-            if !(f > 0.0) {
+            // Below the surface itself, the beam's polygon has no part (its samples none).
+            if !(f > 0.0) || surface.is_some_and(|s| s.dot(w) <= 0.0) {
                 return (0.0, false);
             }
             *shadow_rays += 1;

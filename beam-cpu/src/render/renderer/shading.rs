@@ -63,7 +63,12 @@ impl Context<'_> {
             Material::Emissive { .. } => self.scene.emission_at(prim, p),
             Material::Diffuse { .. } | Material::Glossy { .. } => {
                 let albedo = self.scene.albedo_at(prim, p);
-                let mut e = self.direct(p + n * self.eps, n, lights, depth == 0, rng, t);
+                // Lit by its normal texture's normal, over the part of each light above the
+                // surface itself too ([`Thread::surface`]).
+                let shading_normal = self.scene.mapped_normal(prim, p, n);
+                t.surface = (shading_normal != n).then_some(n);
+                let mut e = self.direct(p + n * self.eps, shading_normal, lights, depth == 0, rng, t);
+                t.surface = None;
                 if let Some(map) = self.caustics {
                     e += map.irradiance(prim, p);
                 }
@@ -158,7 +163,8 @@ impl Context<'_> {
         }
         let to = position - q;
         let r2 = to.length_squared();
-        albedo / std::f32::consts::PI * intensity * (n.dot(to) / r2.sqrt()).max(0.0) / r2
+        let cos = self.scene.mapped_normal(prim, q, n).dot(to) / r2.sqrt();
+        albedo / std::f32::consts::PI * intensity * cos.max(0.0) / r2
     }
 
     /// Irradiance per unit radiance from area light `index`.
@@ -192,7 +198,9 @@ impl Context<'_> {
             let (s, r) = light_sample(i, spp, rng);
             let to = sample_light(light, s, r) - p;
             let f = light_integrand(n, ln, to);
-            if self.shading(index) == Shading::Exact && !(f > 0.0) {
+            // Under a normal texture, what lies below the surface itself it hides.
+            let below = t.surface.is_some_and(|s| s.dot(to) <= 0.0);
+            if self.shading(index) == Shading::Exact && !(f > 0.0) || below {
                 continue;
             }
             if clear || {

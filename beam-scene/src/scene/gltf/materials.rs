@@ -11,6 +11,7 @@
 //!   `roughness⁴` (a facet standard deviation of GGX's α = roughness²);
 //! - anything else → [`Material::Diffuse`] of the base colour.
 //!
+//! A diffuse or glossy material's `normalTexture` bends its shading normals ([`NormalMap`]).
 //! `alphaMode` `MASK` and `BLEND` make a non-emissive material a cut-out ([`AlphaCut`]): its
 //! coverage is the base colour's alpha (factor × texture × vertex colour).
 //!
@@ -19,7 +20,7 @@
 use super::errors::error;
 use crate::error::SceneError;
 use crate::scene::material::{Bump, Material};
-use crate::scene::surface::{AlphaCut, MaterialMaps, TextureRef};
+use crate::scene::surface::{AlphaCut, MaterialMaps, NormalMap, TextureRef};
 use beam_math::glam::{Affine2, Vec2, Vec3};
 use std::path::Path;
 
@@ -60,7 +61,18 @@ pub(super) fn map_all(
         let texture = pbr.base_color_texture().map(|t| reference(&t));
         let alpha = cutoff.map(|cutoff| AlphaCut { factor, texture, cutoff });
         out.push(material);
-        maps.push(MaterialMaps { base_color, emissive, alpha });
+        let normal = match material {
+            Material::Diffuse { .. } | Material::Glossy { .. } => m.normal_texture().map(|t| NormalMap {
+                texture: TextureRef {
+                    texture: t.texture().index() as u32,
+                    tex_coord: t.tex_coord().min(1) as u8,
+                    transform: Affine2::IDENTITY,
+                },
+                scale: if t.scale().is_finite() { t.scale() } else { 1.0 },
+            }),
+            _ => None,
+        };
+        maps.push(MaterialMaps { base_color, emissive, alpha, normal });
     }
     out.push(DEFAULT);
     maps.push(MaterialMaps::default());

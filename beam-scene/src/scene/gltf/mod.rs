@@ -80,8 +80,6 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     let count = |f: fn(&gltf::Material) -> bool| document.materials().filter(f).count();
     let unlit = count(|m| m.unlit());
     scene.notice("unlit material(s) (KHR_materials_unlit) drawn as diffuse: lit by the scene", unlit);
-    let normal_maps = count(|m| m.normal_texture().is_some());
-    scene.notice("normal texture(s) not used: shading uses the triangles' own normals", normal_maps);
     scene.notice(
         "emissive texture(s) lighting the scene by their mean over each triangle (seen texel by texel)",
         emissive_maps,

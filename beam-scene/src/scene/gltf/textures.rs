@@ -38,7 +38,8 @@ pub(super) fn load(
     let mut images: HashMap<usize, Decoded> = HashMap::new();
     for map in maps.iter_mut() {
         let alpha = map.alpha.as_mut().and_then(|a| a.texture.as_mut());
-        for t in [map.base_color.as_mut(), map.emissive.as_mut(), alpha].into_iter().flatten() {
+        let normal = map.normal.as_mut().map(|n| &mut n.texture);
+        for t in [map.base_color.as_mut(), map.emissive.as_mut(), alpha, normal].into_iter().flatten() {
             if let Some(&i) = slot.get(&t.texture) {
                 t.texture = i;
                 continue;

@@ -1,6 +1,7 @@
-//! `alphaMode` `MASK` and `BLEND`: a cut-out's coverage is its base colour's alpha (factor ×
+//! Textures that change what a surface is, not its colour. `alphaMode` `MASK` and `BLEND`: a cut-out's coverage is its base colour's alpha (factor ×
 //! texture × vertex colour), and the scene's own ray queries see through it where that alpha says
-//! (`MASK`: below `alphaCutoff`; `BLEND`: with probability `1 − α` per ray).
+//! (`MASK`: below `alphaCutoff`; `BLEND`: with probability `1 − α` per ray). A normal texture
+//! bends the shading normal.
 
 mod common;
 
@@ -20,7 +21,7 @@ fn half_transparent_png() -> String {
 
 /// Three triangles in planes `z = 0, −1, −2`, spanning x, y ∈ [0, 4] with texture coordinates
 /// `(x, y) / 4`: a `MASK` cut-out (cutoff 0.3) of the half-transparent texture, a `BLEND` one of
-/// alpha 0.25, and an opaque one.
+/// alpha 0.25, and an opaque one that reads the texture as its normal texture (scale ½).
 fn layers(dir: &std::path::Path) -> Scene {
     let mut d = Doc::default();
     let uv_bytes: Vec<u8> = [0.0f32, 0.0, 1.0, 0.0, 0.0, 1.0].iter().flat_map(|x| x.to_le_bytes()).collect();
@@ -43,7 +44,7 @@ fn layers(dir: &std::path::Path) -> Scene {
     d.materials = vec![
         r#"{"alphaMode": "MASK", "alphaCutoff": 0.3, "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}}"#.into(),
         r#"{"alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.25], "metallicFactor": 0}}"#.into(),
-        r#"{"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.25], "metallicFactor": 0}}"#.into(),
+        r#"{"normalTexture": {"index": 0, "scale": 0.5}, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.25], "metallicFactor": 0}}"#.into(),
     ];
     let json = d.gltf();
     let images = format!(
@@ -115,4 +116,20 @@ fn an_eye_ray_blends_what_it_sees() {
     assert_eq!(layers_seen(1.0).0.len(), 1);
     let (seen, beyond) = layers_seen(5.0);
     assert!(seen.is_empty() && beyond == 1.0);
+}
+
+#[test]
+fn a_normal_texture_is_read_as_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = layers(dir.path());
+    let map = s.surfaces.maps[2].normal.expect("material 2 has a normal texture");
+    assert_eq!(map.scale, 0.5);
+    let prim = (0..s.triangles.len() as u32).find(|&i| s.material_of[i as usize] == 2).unwrap();
+    // The white texel is (1, 1, 1) as data: x and y halved by the scale, along u (+x) and up the
+    // image (−v: −y here, where v grows with y).
+    let n = s.mapped_normal(prim, Vec3::new(0.5, 0.5, -2.0), Vec3::Z);
+    let want = Vec3::new(0.5, -0.5, 1.0).normalize();
+    assert!((n - want).length() < 1e-5, "{n} against {want}");
+    // Seen from behind, the bent normal is reversed.
+    assert!((s.mapped_normal(prim, Vec3::new(0.5, 0.5, -2.0), -Vec3::Z) + want).length() < 1e-5);
 }
