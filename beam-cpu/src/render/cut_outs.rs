@@ -1,8 +1,10 @@
 //! A scene's cut-out triangles (`alphaMode` `MASK` and `BLEND`, [`AlphaCut`]) in a BVH of their
 //! own. A beam cannot split a light exactly at a texture's alpha, so exactness survives this way: a
 //! shadow beam first asks whether a cut-out triangle may hide part of its light (the shaft test of
-//! [`super::shaft`]); where one may, the light is sampled by shadow rays, which see through the
-//! cut-outs ([`Scene::occluded`]), and counted (`cut_out_beams`); everywhere else the beam is exact.
+//! [`super::shaft`], from the box of its cluster of shade points, once a cluster); where one may,
+//! the light is sampled by shadow rays, which see through the cut-outs ([`Scene::occluded`]), and
+//! counted (`cut_out_beams`); a constant sky, by the ray method's cosine-weighted rays; everywhere
+//! else the beam is exact.
 //! Eye beams do the same at the scale of a region (`cut_out_regions`, [`super::eye_regions`]).
 //!
 //! [`AlphaCut`]: beam_scene::scene::surface::AlphaCut
@@ -36,9 +38,10 @@ impl CutOuts {
     }
 
     /// Whether a cut-out triangle may hide part of the light `polygon` (normal `light_normal`,
-    /// towards the lit side) from point `p`: false means no segment from `p` to the light meets one.
-    pub(crate) fn may_hide(&self, p: Vec3, polygon: &[Vec3], light_normal: Vec3) -> bool {
-        meets_any(&self.bvh, &self.triangles, &Shaft::new(&Aabb::new(p, p), polygon, light_normal)).0
+    /// towards the lit side) from a point of `points`: false means no segment from the box to the
+    /// light meets one.
+    pub(crate) fn may_hide(&self, points: &Aabb, polygon: &[Vec3], light_normal: Vec3) -> bool {
+        meets_any(&self.bvh, &self.triangles, &Shaft::new(points, polygon, light_normal)).0
     }
 }
 

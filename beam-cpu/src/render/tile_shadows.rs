@@ -31,6 +31,8 @@ struct Cluster {
     reaching: (u32, u32),
     /// How its shadow beams take the candidates.
     mode: Mode,
+    /// Whether a candidate is a cut-out (`None` where it has no list of candidates).
+    cut_outs: Option<bool>,
 }
 
 /// How a cluster's shadow beams take its candidates.
@@ -56,6 +58,11 @@ pub(crate) struct Candidates<'a> {
     pub(crate) edges: &'a [SilEdge],
     pub(crate) reaching: &'a [u32],
     pub(crate) mode: Mode,
+    /// Whether one of them is a cut-out (`None` where the cluster has no list of candidates and
+    /// no one has said yet, [`TileShadows::set_cut_outs`]).
+    pub(crate) cut_outs: Option<bool>,
+    /// The box of the cluster's points.
+    pub(crate) points: Aabb,
     /// The cluster's index, for [`TileShadows::decide`].
     pub(crate) cluster: usize,
 }
@@ -178,8 +185,14 @@ impl TileShadows {
         self.packets.clear();
         self.edges.clear();
         self.reaching.clear();
-        let empty =
-            Cluster { points: Aabb::EMPTY, packets: (0, 0), edges: (0, 0), reaching: (0, 0), mode: Mode::Split };
+        let empty = Cluster {
+            points: Aabb::EMPTY,
+            packets: (0, 0),
+            edges: (0, 0),
+            reaching: (0, 0),
+            mode: Mode::Split,
+            cut_outs: None,
+        };
         for (index, light) in lights.iter().enumerate() {
             let base = self.clusters.len();
             self.clusters.resize(base + 2 * BLOCKS * BLOCKS, empty);
@@ -237,6 +250,7 @@ impl TileShadows {
                 }
                 self.ids.clear();
                 self.ids.extend(self.gathered.iter().map(|&(_, prim)| prim));
+                cluster.cut_outs = Some(scene.has_cut_outs() && self.ids.iter().any(|&p| scene.cut_out(p).is_some()));
                 let (edges0, reaching0) = (self.edges.len() as u32, self.reaching.len() as u32);
                 if occluders != Occluders::Split && carried != Some(Mode::Split) {
                     self.builder.build(
@@ -270,6 +284,8 @@ impl TileShadows {
             edges: &self.edges[range(c.edges)],
             reaching: &self.reaching[range(c.reaching)],
             mode: c.mode,
+            cut_outs: c.cut_outs,
+            points: c.points,
             cluster: i,
         })
     }
@@ -277,6 +293,11 @@ impl TileShadows {
     /// Settle how cluster `cluster`'s remaining beams take their candidates.
     pub(crate) fn decide(&mut self, cluster: usize, mode: Mode) {
         self.clusters[cluster].mode = mode;
+    }
+
+    /// Record whether a cut-out may hide the light from a point of cluster `cluster`.
+    pub(crate) fn set_cut_outs(&mut self, cluster: usize, cut_outs: bool) {
+        self.clusters[cluster].cut_outs = Some(cut_outs);
     }
 }
 

@@ -15,9 +15,9 @@ use crate::render::shadow_beam::visible::light_beam;
 use crate::render::shadow_beam::walk::trace_bvh;
 use crate::render::silhouettes::WindingWork;
 use crate::render::tile_shadows::Mode;
-use beam_math::Ray;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::{BeamFrame, Quad, WindingError};
+use beam_math::{Aabb, Ray};
 use beam_render::options::Shading;
 use beam_render::tolerance::DEPTH_EPS;
 use rand_pcg::Pcg32;
@@ -60,7 +60,7 @@ impl Context<'_> {
         }
         // In rays' worth of the light's own samples (a sky face's share of `--spp`).
         let samples = self.samples(p, n, index);
-        if self.cut_outs.as_ref().is_some_and(|c| c.may_hide(p, &polygon, ln)) {
+        if self.cut_outs_may_hide(p, &polygon, index, t) {
             // A texture's alpha cuts the light where no beam can: rays see through the cut-outs.
             t.c.shadow_beams += 1;
             t.c.cut_out_beams += 1;
@@ -158,6 +158,23 @@ impl Context<'_> {
                 }
             }
         }
+    }
+
+    /// Whether a cut-out may hide part of `polygon`, light `index` clipped for `p`: one shaft test
+    /// for the point's cluster (its candidates say, or the shaft from its box to the whole light,
+    /// once), else for the point itself.
+    pub(super) fn cut_outs_may_hide(&self, p: Vec3, polygon: &[Vec3], index: usize, t: &mut Thread) -> bool {
+        let Some(cut_outs) = &self.cut_outs else { return false };
+        let ln = self.emitters[index].normal;
+        let Some(c) = t.tile.candidates(index, t.block, p) else {
+            return cut_outs.may_hide(&Aabb::new(p, p), polygon, ln);
+        };
+        let (cluster, known, points) = (c.cluster, c.cut_outs, c.points);
+        known.unwrap_or_else(|| {
+            let hides = cut_outs.may_hide(&points, self.emitters[index].polygon(), ln);
+            t.tile.set_cut_outs(cluster, hides);
+            hides
+        })
     }
 
     /// Irradiance per unit radiance at `p` (normal `n`) from area light `index` where beams do not

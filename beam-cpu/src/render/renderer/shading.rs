@@ -106,15 +106,18 @@ impl Context<'_> {
     ) -> Vec3 {
         let start = (self.options.method == Method::Beam).then(Instant::now);
         let facing = if first { t.facing.take() } else { None };
+        // The sky's faces as lights, unless a cut-out may hide one ([`Context::sky_behind_cut_outs`]).
+        let sky_sampled = self.sky_behind_cut_outs(p, n, t);
+        let end = if sky_sampled { self.scene.lights.len() } else { self.lights.len() };
         let mut e = Vec3::ZERO;
         match &facing {
             Some(list) => {
-                for &index in list {
+                for &index in list.iter().filter(|&&i| (i as usize) < end) {
                     e += self.light(p, n, index as usize, lights, rng, t);
                 }
             }
             None => {
-                for index in 0..self.lights.len() {
+                for index in 0..end {
                     e += self.light(p, n, index, lights, rng, t);
                 }
             }
@@ -122,13 +125,25 @@ impl Context<'_> {
         if first {
             t.facing = facing;
         }
-        if self.lights.len() == self.scene.lights.len() && !self.scene.environment.is_black() {
+        if end == self.scene.lights.len() && !self.scene.environment.is_black() {
             e += self.environment_irradiance(p, n, rng, t);
         }
         if let Some(start) = start {
             t.c.shadow_seconds += start.elapsed().as_secs_f64();
         }
         e
+    }
+
+    /// Whether a constant sky, shaded by beams as the six faces of a cube ([`Context::lights`]),
+    /// is sampled at `p` (normal `n`) by the ray method's cosine-weighted rays instead: where a
+    /// cut-out may hide one of the faces that light the point, those rays (which see through it)
+    /// are less noisy than sampling the faces one by one.
+    fn sky_behind_cut_outs(&self, p: Vec3, n: Vec3, t: &mut Thread) -> bool {
+        self.cut_outs.is_some()
+            && (self.scene.lights.len()..self.lights.len()).any(|i| {
+                let e = &self.emitters[i];
+                e.may_light(p, n, true) && self.cut_outs_may_hide(p, e.polygon(), i, t)
+            })
     }
 
     /// Irradiance at `p` (normal `n`) from light `index`, if it is one of `lights`.
