@@ -11,7 +11,7 @@
 //! 4. a mirror sphere beside the checker box under an equirectangular sky map (`--env`);
 //! 5. a label sheet whose emissive factor scales an emissive texture, beside a white box;
 //! 6. a lattice fence cut out of one quad by its texture's alpha (`alphaMode` `MASK`) and a glass
-//!    pane of alpha ½ (`BLEND`), casting their shadows on the ground.
+//!    pane of alpha ½ (`BLEND`), casting their shadows on a ground cobbled by a normal texture.
 
 use beam_cpu::render::{Image, render};
 use beam_math::glam::Vec3;
@@ -38,6 +38,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         image::Rgba([150, 90, 40, if x % 8 < 2 || y % 8 < 2 { 255 } else { 0 }])
     });
     lattice.save(dir.join("lattice.png"))?;
+    // Cobbles: a dome in each 16 × 16 cell, as a tangent-space normal texture (x right, y up the
+    // image, z out of the surface; (n + 1) / 2 in 8 bits).
+    let cobbles = image::RgbImage::from_fn(32, 32, |x, y| {
+        let (dx, dy) = ((x % 16) as f32 - 7.5, 7.5 - (y % 16) as f32);
+        let n = Vec3::new(dx, dy, (64.0 - dx * dx - dy * dy).max(4.0).sqrt()).normalize();
+        image::Rgb(((n + Vec3::ONE) * 127.5).to_array().map(|c| c as u8))
+    });
+    cobbles.save(dir.join("cobbles.png"))?;
     let models = [
         box_model(&dir, "textured-box", Look::Textured)?,
         box_model(&dir, "coloured-box", Look::Coloured)?,
@@ -257,10 +265,12 @@ fn ground(y: f32, half: f32) -> Mesh {
     Mesh { positions, indices: vec![0, 1, 2, 0, 2, 3], ..Mesh::default() }
 }
 
-/// The three textures (checker, label, lattice) and one sampler, as top-level members.
-const TEXTURES: &str = r#", "images": [{"uri": "checker.png"}, {"uri": "label.png"}, {"uri": "lattice.png"}],
- "samplers": [{"magFilter": 9728, "minFilter": 9728}],
- "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}, {"source": 2, "sampler": 0}]"#;
+/// The four textures (checker, label, lattice, cobbles' normals) and two samplers (nearest, linear), as top-level members.
+const TEXTURES: &str = r#", "images": [{"uri": "checker.png"}, {"uri": "label.png"}, {"uri": "lattice.png"},
+   {"uri": "cobbles.png"}],
+ "samplers": [{"magFilter": 9728, "minFilter": 9728}, {}],
+ "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}, {"source": 2, "sampler": 0},
+   {"source": 3, "sampler": 1}]"#;
 
 /// A diffuse material of base colour `rgb`.
 fn diffuse(rgb: [f32; 3]) -> String {
@@ -351,13 +361,15 @@ fn fence(dir: &Path) -> std::io::Result<PathBuf> {
     let parts = [
         m.primitive(&panel([-1.2, 0.6], 0.0, 2.0), 0),
         m.primitive(&panel([0.2, 1.2], 0.6, 1.0), 1),
-        m.primitive(&ground(0.0, 2.5), 2),
+        m.primitive(&Mesh { uv: vec![0.0, 0.0, 0.0, 8.0, 8.0, 8.0, 8.0, 0.0], ..ground(0.0, 2.5) }, 2),
     ];
     let meshes = format!(r#"{{"primitives": [{}]}}"#, parts.join(", "));
+    let cobbled = r#"{"normalTexture": {"index": 3},
+      "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.75, 0.75, 1], "metallicFactor": 0}}"#;
     let lattice = r#"{"alphaMode": "MASK", "doubleSided": true,
       "pbrMetallicRoughness": {"baseColorTexture": {"index": 2}, "metallicFactor": 0}}"#;
     let pane = r#"{"alphaMode": "BLEND", "doubleSided": true,
       "pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.5, 0.9, 0.5], "metallicFactor": 0}}"#;
-    let materials = format!("{lattice}, {pane}, {}", diffuse([0.75; 3]));
+    let materials = format!("{lattice}, {pane}, {cobbled}");
     m.write(dir, "fence", [&meshes, r#"{"mesh": 0}"#, &materials, TEXTURES])
 }
