@@ -414,10 +414,23 @@ pub(crate) fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
             kind.name()
         );
     }
-    // Only the CPU's beam and ray frames cut them (rays see through them where their alpha says).
+    // Only the CPU's beam and ray frames cut them everywhere (rays see through them where their
+    // alpha says); the other CPU methods' rays do, their beams do not.
     if scene.has_cut_outs() && (gpu || !matches!(kind, Kind::Beam | Kind::Ray)) {
+        let how = if gpu {
+            "are drawn opaque by --backend gpu".to_string()
+        } else {
+            format!("are seen through by the rays of --method {} but not by its beams", kind.name())
+        };
+        eprintln!("warning: {}: cut-out materials (alphaMode MASK or BLEND) {how}", scene.name);
+    }
+    let normal_maps = scene.surfaces.maps.iter().any(|m| m.normal.is_some());
+    if normal_maps && (gpu || matches!(kind, Kind::Glossy | Kind::GlossyReference)) {
         let by = if gpu { "--backend gpu".to_string() } else { format!("--method {}", kind.name()) };
-        eprintln!("warning: {}: cut-out materials (alphaMode MASK or BLEND) are drawn opaque by {by}", scene.name);
+        eprintln!(
+            "warning: {}: normal textures are not used by {by}: it shades the triangles' own normals",
+            scene.name
+        );
     }
     if let Some(k) = a.frame {
         scene.camera = camera_at(&scene, k)?;

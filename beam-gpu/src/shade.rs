@@ -554,7 +554,7 @@ pub fn shade_twin(scene: &Scene, caustics: Option<&IrradianceMap>, spp: u32, s: 
     }
     let q = s.p + n * shading_eps(scene);
     let seed = seed32(s.seed);
-    let occluded = |to: Vec3| scene.occluded(Ray::new(q, to), 1.0 - DEPTH_EPS);
+    let occluded = |to: Vec3| scene.wide.any_hit(Ray::new(q, to), 1.0 - DEPTH_EPS);
     let mut e = Vec3::ZERO;
     for (j, light) in scene.lights.iter().enumerate() {
         let l = GpuLight::new(light);

@@ -21,13 +21,14 @@ fn half_transparent_png() -> String {
 
 /// Three triangles in planes `z = 0, −1, −2`, spanning x, y ∈ [0, 4] with texture coordinates
 /// `(x, y) / 4`: a `MASK` cut-out (cutoff 0.3) of the half-transparent texture, a `BLEND` one of
-/// alpha 0.25, and an opaque one that reads the texture as its normal texture (scale ½).
+/// alpha 0.25, and an opaque one that reads the texture as its normal texture (scale ½); and at
+/// x ∈ [10, 14], two `BLEND` layers of alpha ½ in planes `z = 0, −1`.
 fn layers(dir: &std::path::Path) -> Scene {
     let mut d = Doc::default();
     let uv_bytes: Vec<u8> = [0.0f32, 0.0, 1.0, 0.0, 0.0, 1.0].iter().flat_map(|x| x.to_le_bytes()).collect();
     let mut meshes = Vec::new();
-    for (z, material) in [(0.0, 0), (-1.0, 1), (-2.0, 2)] {
-        let p = d.positions(&[[0.0, 0.0, z], [4.0, 0.0, z], [0.0, 4.0, z]]);
+    for (x, z, material) in [(0.0, 0.0, 0), (0.0, -1.0, 1), (0.0, -2.0, 2), (10.0, 0.0, 3), (10.0, -1.0, 3)] {
+        let p = d.positions(&[[x, 0.0, z], [x + 4.0, 0.0, z], [x, 4.0, z]]);
         while d.bin.len() % 4 != 0 {
             d.bin.push(0);
         }
@@ -45,6 +46,7 @@ fn layers(dir: &std::path::Path) -> Scene {
         r#"{"alphaMode": "MASK", "alphaCutoff": 0.3, "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}}"#.into(),
         r#"{"alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.25], "metallicFactor": 0}}"#.into(),
         r#"{"normalTexture": {"index": 0, "scale": 0.5}, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.25], "metallicFactor": 0}}"#.into(),
+        r#"{"alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.5], "metallicFactor": 0}}"#.into(),
     ];
     let json = d.gltf();
     let images = format!(
@@ -93,6 +95,16 @@ fn a_blend_stops_alpha_of_the_rays() {
     let share = stopped as f64 / f64::from(n);
     let sigma = (0.25 * 0.75 / f64::from(n)).sqrt();
     assert!((share - 0.25).abs() < 3.0 * sigma, "{share} of the rays stopped, α = 0.25 (σ {sigma:.4})");
+    // Two layers of alpha ½ pass a ray independently: 1 − ½ · ½ of the rays stop.
+    let stopped = (0..n)
+        .filter(|&i| {
+            let (x, y) = (10.1 + 0.0005 * i as f32, 0.1 + 0.00011 * (i % 97) as f32);
+            s.occluded(Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.01, 0.0, -1.0)), 3.0)
+        })
+        .count();
+    let share = stopped as f64 / f64::from(n);
+    let sigma = (0.75 * 0.25 / f64::from(n)).sqrt();
+    assert!((share - 0.75).abs() < 3.0 * sigma, "{share} of the rays stopped by two layers of α = ½ (σ {sigma:.4})");
 }
 
 #[test]

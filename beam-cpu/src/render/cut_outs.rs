@@ -1,51 +1,43 @@
-//! A scene's cut-out triangles (`alphaMode` `MASK` and `BLEND`, [`AlphaCut`]) in a BVH of their
-//! own. A beam cannot split a light exactly at a texture's alpha, so exactness survives this way: a
+//! Shaft and view tests against a scene's cut-out triangles (`alphaMode` `MASK` and `BLEND`,
+//! [`AlphaCut`]), in the BVH of their own the scene keeps. A beam cannot split a light exactly at a texture's alpha, so exactness survives this way: a
 //! shadow beam first asks whether a cut-out triangle may hide part of its light (the shaft test of
 //! [`super::shaft`], from the box of its cluster of shade points, once a cluster); where one may,
 //! the light is sampled by shadow rays, which see through the cut-outs ([`Scene::occluded`]), and
 //! counted (`cut_out_beams`); a constant sky, by the ray method's cosine-weighted rays; everywhere
 //! else the beam is exact.
-//! Eye beams do the same at the scale of a region (`cut_out_regions`, [`super::eye_regions`]).
+//! An eye-beam region whose view meets a cut-out (even one hidden behind something) goes to primary
+//! rays before its beam is traced (`cut_out_regions`).
 //!
 //! [`AlphaCut`]: beam_scene::scene::surface::AlphaCut
 
 use super::eye_regions::Region;
 use super::shaft::{Shaft, meets_any};
-use beam_bvh::{BuildOptions, Control, FlatBvh, NodeVisitor};
+use beam_bvh::{Control, FlatBvh, NodeVisitor};
 use beam_math::collide::aabb_outside_planes;
 use beam_math::glam::Vec3;
 use beam_math::{Aabb, Triangle};
 use beam_scene::scene::{Camera, Scene};
 
-/// The cut-out triangles of a scene and their BVH.
-pub(crate) struct CutOuts {
-    triangles: Vec<Triangle>,
-    bvh: FlatBvh,
+/// The cut-out triangles of a scene and their BVH ([`Scene::cut_out_triangles`]).
+#[derive(Clone, Copy)]
+pub(crate) struct CutOuts<'a> {
+    triangles: &'a [Triangle],
+    bvh: &'a FlatBvh,
 }
 
-impl CutOuts {
+impl<'a> CutOuts<'a> {
     /// The cut-out triangles of `scene`; `None` when it has none.
-    pub(crate) fn of(scene: &Scene) -> Option<Self> {
-        if !scene.has_cut_outs() {
-            return None;
-        }
-        let triangles: Vec<Triangle> = (0..scene.triangles.len() as u32)
-            .filter(|&i| scene.cut_out(i).is_some())
-            .map(|i| scene.triangles[i as usize])
-            .collect();
-        let bvh = FlatBvh::build(&triangles, &BuildOptions::sah());
-        Some(Self { triangles, bvh })
+    pub(crate) fn of(scene: &'a Scene) -> Option<Self> {
+        scene.cut_out_triangles().map(|c| Self { triangles: &c.triangles, bvh: &c.bvh })
     }
 
     /// Whether a cut-out triangle may hide part of the light `polygon` (normal `light_normal`,
     /// towards the lit side) from a point of `points`: false means no segment from the box to the
     /// light meets one.
     pub(crate) fn may_hide(&self, points: &Aabb, polygon: &[Vec3], light_normal: Vec3) -> bool {
-        meets_any(&self.bvh, &self.triangles, &Shaft::new(points, polygon, light_normal)).0
+        meets_any(self.bvh, self.triangles, &Shaft::new(points, polygon, light_normal)).0
     }
-}
 
-impl CutOuts {
     /// Whether a cut-out triangle may lie in the view of `region` of `camera`'s image: false means
     /// none meets the pyramid of its four corner rays, so its eye beam sees none (a region that
     /// may see one goes to rays before its beam is traced).
@@ -60,7 +52,7 @@ impl CutOuts {
             let n = if n.dot(centre) > 0.0 { -n } else { n };
             (n, n.dot(camera.position))
         });
-        let mut visit = InView { planes, triangles: &self.triangles, found: false };
+        let mut visit = InView { planes, triangles: self.triangles, found: false };
         self.bvh.traverse(&mut visit);
         visit.found
     }

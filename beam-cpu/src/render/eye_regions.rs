@@ -121,8 +121,6 @@ pub(crate) struct EyeStats {
     pub(crate) trace_seconds: f64,
     /// Eye beams stopped at their budget (their regions went to rays).
     pub(crate) over_budget: u64,
-    /// Eye beams that saw a cut-out triangle (their regions went to rays, [`super::cut_outs`]).
-    pub(crate) cut_out: u64,
 }
 
 /// One region's eye beam, as [`region_fragments`] is asked to trace it.
@@ -152,8 +150,8 @@ impl EyeBeam {
 /// come as [`Fragment::Lit`]. Marks the triangles seen in `seen_prims`. A pixel's fragments do not
 /// depend on the window: the pieces are the eye beam's through all of the region, and only the
 /// pieces that reach no pixel of the window are skipped. False, with no fragment, when the trace
-/// passes `beam.budget` or sees a cut-out triangle (`stats` says which). With `beam.point_shadows`,
-/// cut-outs cast the hard shadows of opaque triangles: ask for them only of scenes without.
+/// passes `beam.budget`. Cut-outs are opaque to eye beams and their hard shadows: regions that may
+/// see one are the caller's to leave to rays ([`super::cut_outs`]).
 pub(crate) fn region_fragments(
     scene: &Scene,
     camera: &Camera,
@@ -175,11 +173,6 @@ pub(crate) fn region_fragments(
         stats.over_budget += 1;
         return false;
     };
-    if scene.has_cut_outs() && pieces.iter().any(|p| p.prim.is_some_and(|prim| scene.cut_out(prim).is_some())) {
-        // What a cut-out hides depends on its texture's alpha, which no piece's edge follows.
-        stats.cut_out += 1;
-        return false;
-    }
     stats.pieces += pieces.len() as u64;
     let w = window.intersect(region);
     let window = (w.x0, w.y0, w.x1, w.y1);

@@ -4,6 +4,7 @@
 //! would cost more than N rays a pixel (sub-pixel triangles, [`super::eye_budget`]) is sampled by
 //! those rays instead.
 
+use super::cut_outs::CutOuts;
 use super::eye_budget::{eye_beam_seconds, eye_budget};
 use super::eye_regions::{EyeBeam, EyeStats, Fragment, Region, paste, region_fragments, regions};
 use super::image::Image;
@@ -76,14 +77,15 @@ pub struct PrimaryStats {
     pub rays: u64,
     /// Eye beams stopped at their budget under [`Visibility::Budget`] (their regions went to rays).
     pub over_budget_regions: u64,
-    /// Eye beams that saw a cut-out triangle (`alphaMode` `MASK` or `BLEND`): their regions went to
-    /// rays, which see through it ([`Scene::closest_hit`]); [`CUT_OUT_RAYS`] a pixel under
+    /// Regions whose view meets a cut-out triangle (`alphaMode` `MASK` or `BLEND`): they went to
+    /// rays, which see through it ([`Scene::blended_hits`]); [`CUT_OUT_RAYS`] a pixel under
     /// [`Visibility::Exact`].
     pub cut_out_regions: u64,
 }
 
-/// Rays a pixel of the regions that see a cut-out under [`Visibility::Exact`].
-pub const CUT_OUT_RAYS: u32 = 16;
+/// Rays a pixel of the regions that may see a cut-out under [`Visibility::Exact`]: 2 × 2, as the
+/// renderer's ray regions.
+pub const CUT_OUT_RAYS: u32 = 4;
 
 /// What a region returns.
 struct Part {
@@ -97,6 +99,8 @@ struct Part {
     seen: Vec<bool>,
     /// Rays traced instead of its eye beam (0 when exact).
     rays: u64,
+    /// Whether it went to rays because it may see a cut-out.
+    cut_out: bool,
 }
 
 /// The image `camera` sees of `scene` by primary visibility as `visibility` says: by eye beams,
@@ -114,25 +118,24 @@ pub fn primary_image(
     pixels_done: impl Fn(u64) + Sync,
 ) -> (Image, PrimaryStats) {
     let start = Instant::now();
+    let cut_outs = CutOuts::of(scene);
     let parts: Vec<Part> = regions(camera.width, camera.height)
         .into_par_iter()
         .map(|region| {
-            let part = match visibility {
-                Visibility::Budget { rays } if eye_beam_seconds(scene, camera, region) > eye_budget(region, rays) => {
-                    ray_part(scene, camera, region, rays, &shade)
-                }
-                _ => {
-                    let (budget, rays) = match visibility {
-                        Visibility::Exact => (f64::INFINITY, CUT_OUT_RAYS),
-                        Visibility::Budget { rays } => (eye_budget(region, rays), rays),
-                    };
-                    let eye = eye_part(scene, camera, region, budget, &shade);
-                    if eye.eye.over_budget + eye.eye.cut_out > 0 {
-                        // The work spent counts; the pixels come from rays.
-                        Part { eye: eye.eye, ..ray_part(scene, camera, region, rays, &shade) }
-                    } else {
-                        eye
-                    }
+            let (budget, rays) = match visibility {
+                Visibility::Exact => (f64::INFINITY, CUT_OUT_RAYS),
+                Visibility::Budget { rays } => (eye_budget(region, rays), rays),
+            };
+            let cut_out = cut_outs.is_some_and(|c| c.may_show(camera, region));
+            let part = if cut_out || budget.is_finite() && eye_beam_seconds(scene, camera, region) > budget {
+                Part { cut_out, ..ray_part(scene, camera, region, rays, &shade) }
+            } else {
+                let eye = eye_part(scene, camera, region, budget, &shade);
+                if eye.eye.over_budget > 0 {
+                    // The work spent counts; the pixels come from rays.
+                    Part { eye: eye.eye, ..ray_part(scene, camera, region, rays, &shade) }
+                } else {
+                    eye
                 }
             };
             pixels_done(region.len() as u64);
@@ -156,7 +159,7 @@ pub fn primary_image(
             stats.rays += part.rays;
         }
         stats.over_budget_regions += part.eye.over_budget;
-        stats.cut_out_regions += part.eye.cut_out;
+        stats.cut_out_regions += u64::from(part.cut_out);
     }
     stats.visible_triangles = visible.iter().filter(|&&v| v).count() as u64;
     stats.hit_beams = beams.hit_beams;
@@ -169,7 +172,8 @@ pub fn primary_image(
 }
 
 /// `region` by its eye beam, which may take `budget` thread-seconds (past them, the part's pixels
-/// are empty and its `eye.over_budget` is 1).
+/// are empty and its `eye.over_budget` is 1). Cut-outs are opaque to it: regions that may see one
+/// go to [`ray_part`] first.
 fn eye_part(
     scene: &Scene,
     camera: &Camera,
@@ -196,7 +200,7 @@ fn eye_part(
         }
     });
     let error = coverage.iter().fold(0.0f64, |m, &c| m.max(f64::from((1.0 - c).abs())));
-    Part { region, pixels, eye, fragments, error, seen, rays: 0 }
+    Part { region, pixels, eye, fragments, error, seen, rays: 0, cut_out: false }
 }
 
 /// `region` by `⌊√rays⌋²` stratified primary rays a pixel ([`pixel_samples`]), `BLEND` surfaces
@@ -230,7 +234,7 @@ fn ray_part(
         }
     }
     let rays = region.len() as u64 * u64::from(k * k);
-    Part { region, pixels, eye: EyeStats::default(), fragments: 0, error: 0.0, seen, rays }
+    Part { region, pixels, eye: EyeStats::default(), fragments: 0, error: 0.0, seen, rays, cut_out: false }
 }
 
 #[cfg(test)]

@@ -41,4 +41,5 @@ pub use load_options::LoadOptions;
 pub use material::{Bump, Material};
 pub use model::{Notice, Scene, SceneStats};
 pub use names::{BUILTIN, PROCEDURAL};
+pub use ray_queries::CutOutTriangles;
 pub use smesh_plan::{MAX_SMESH_FACES, SMeshPlan, SMeshSource, Simplify};

@@ -8,6 +8,7 @@ use super::light::Light;
 use super::material::Material;
 use super::merge_emitters;
 use super::normals;
+use super::ray_queries::CutOutTriangles;
 use super::smesh_plan::SMeshPlan;
 use super::surface;
 use beam_bvh::{BuildOptions, Bvh8, FlatBvh};
@@ -87,9 +88,9 @@ pub struct Scene {
     /// Per triangle, the bounding sphere [`Scene::bounding_sphere`] returns (made once: beams'
     /// bounding-cone culling asks for it per beam and candidate triangle).
     spheres: Vec<(Vec3, f32)>,
-    /// Whether some material of [`Self::surfaces`] is a cut-out, when the scene was assembled
-    /// ([`Scene::has_cut_outs`]).
-    pub(super) cut_outs: bool,
+    /// The triangles whose material in [`Self::surfaces`] is a cut-out, when the scene was
+    /// assembled ([`Scene::cut_out_triangles`]).
+    pub(super) cut_outs: Option<CutOutTriangles>,
 }
 
 impl Scene {
@@ -134,7 +135,11 @@ impl Scene {
         let wide = Bvh8::build(&triangles, &BuildOptions::sah());
         let smooth_normals = normals::specular_normals(&triangles, &material_of, &materials);
         let spheres = triangles.iter().map(bounding_sphere).collect();
-        let cut_outs = surfaces.has_cut_outs();
+        let cut_outs = if surfaces.has_cut_outs() {
+            CutOutTriangles::of(&triangles, |i| surfaces.cut_out(material_of[i]).is_some())
+        } else {
+            None
+        };
         Self {
             name,
             triangles,

@@ -6,41 +6,63 @@
 
 use super::Scene;
 use super::surface::AlphaCut;
-use beam_bvh::Hit;
-use beam_math::Ray;
+use beam_bvh::{BuildOptions, FlatBvh, Hit};
 use beam_math::glam::Vec3;
+use beam_math::{Ray, Triangle};
 
 /// Most cut-out layers a ray passes through; past them it stops at the next (a bound on a query's
 /// work in a forest of leaves).
 const MAX_LAYERS: u32 = 64;
 
+/// A scene's cut-out triangles in a BVH of their own, for beams, which must know where a cut-out
+/// may be (beam-cpu's shaft tests).
+pub struct CutOutTriangles {
+    /// The triangles whose material is a cut-out.
+    pub triangles: Vec<Triangle>,
+    /// Their BVH.
+    pub bvh: FlatBvh,
+}
+
+impl CutOutTriangles {
+    /// The triangles of `triangles` whose `cut_out` is true; `None` when there are none.
+    pub(super) fn of(triangles: &[Triangle], cut_out: impl Fn(usize) -> bool) -> Option<Self> {
+        let triangles: Vec<Triangle> = (0..triangles.len()).filter(|&i| cut_out(i)).map(|i| triangles[i]).collect();
+        (!triangles.is_empty()).then(|| Self { bvh: FlatBvh::build(&triangles, &BuildOptions::sah()), triangles })
+    }
+}
+
 impl Scene {
     /// Whether some triangle's material is a cut-out (taken when the scene was assembled).
     #[must_use]
     pub fn has_cut_outs(&self) -> bool {
-        self.cut_outs
+        self.cut_outs.is_some()
+    }
+
+    /// The cut-out triangles and their BVH, when there are any.
+    #[must_use]
+    pub fn cut_out_triangles(&self) -> Option<&CutOutTriangles> {
+        self.cut_outs.as_ref()
     }
 
     /// The cut-out of triangle `prim`'s material, if it has one.
     #[must_use]
     pub fn cut_out(&self, prim: u32) -> Option<AlphaCut> {
-        if !self.cut_outs {
-            return None;
-        }
+        self.cut_outs.as_ref()?;
         self.surfaces.cut_out(self.material_of[prim as usize])
     }
 
     /// The nearest hit of `ray` below `t_max` on a surface that is there.
     #[must_use]
     pub fn closest_hit(&self, ray: Ray, t_max: f32) -> Option<Hit> {
-        if !self.cut_outs {
+        if self.cut_outs.is_none() {
             return self.wide.closest_hit(ray, t_max);
         }
-        let key = ray_key(&ray) as f32 * (1.0 / 4_294_967_296.0);
+        let key = ray_key(&ray);
         let mut from = 0.0;
         for _ in 0..MAX_LAYERS {
             let (hit, alpha) = self.nearest_surface(ray, from, t_max)?;
-            if alpha > key {
+            // A draw of its own for each surface, so that layers pass independently.
+            if alpha > unit(mix(key ^ hit.prim.wrapping_mul(0x9e37_79b9))) {
                 return Some(hit);
             }
             from = past(&hit);
@@ -84,14 +106,21 @@ impl Scene {
             }
             from = past(&hit);
         }
-        through
+        // Past the most layers, the next surface takes what is left (as `closest_hit` stops there).
+        match self.hit_from(ray, from, t_max) {
+            Some(hit) => {
+                seen(hit, through);
+                0.0
+            }
+            None => through,
+        }
     }
 
     /// Whether `ray` meets a surface that is there below `t_max` (a shadow ray or segment).
     #[must_use]
     pub fn occluded(&self, ray: Ray, t_max: f32) -> bool {
         // Nothing at all in the way is the common case, and the cheapest query.
-        self.wide.any_hit(ray, t_max) && (!self.cut_outs || self.closest_hit(ray, t_max).is_some())
+        self.wide.any_hit(ray, t_max) && (self.cut_outs.is_none() || self.closest_hit(ray, t_max).is_some())
     }
 
     /// The nearest hit of `ray` between `from` and `t_max`, whatever its surface.
@@ -112,11 +141,17 @@ fn past(hit: &Hit) -> f32 {
 /// that differ see independent coverage.
 fn ray_key(ray: &Ray) -> u32 {
     let bits = [ray.origin, ray.direction].map(|v| v.to_array().map(f32::to_bits));
-    let mut h = 0x9e37_79b9u32;
-    for b in bits.iter().flatten() {
-        h = (h ^ b).wrapping_mul(0x85eb_ca6b);
-        h ^= h >> 13;
-    }
-    h = h.wrapping_mul(0xc2b2_ae35);
+    bits.iter().flatten().fold(0x9e37_79b9u32, |h, &b| mix(h ^ b))
+}
+
+/// A 32-bit mixing step (multiply, xor-shift: the finalizer of MurmurHash3).
+fn mix(mut h: u32) -> u32 {
+    h = (h ^ (h >> 16)).wrapping_mul(0x85eb_ca6b);
+    h = (h ^ (h >> 13)).wrapping_mul(0xc2b2_ae35);
     h ^ (h >> 16)
+}
+
+/// `h` as a number in `[0, 1)`: its top 24 bits over 2²⁴ (exact in an `f32`, never 1).
+fn unit(h: u32) -> f32 {
+    (h >> 8) as f32 * (1.0 / 16_777_216.0)
 }

@@ -59,7 +59,7 @@ pub(super) struct Context<'a> {
     /// The lights' geometry, in the order of `lights`.
     pub(super) emitters: Vec<Emitter>,
     /// The scene's cut-out triangles, when it has any.
-    pub(super) cut_outs: Option<CutOuts>,
+    pub(super) cut_outs: Option<CutOuts<'a>>,
 }
 
 impl<'a> Context<'a> {

@@ -189,7 +189,10 @@ impl Context<'_> {
             // Nothing lies between the point and the light: its unoccluded irradiance is exact.
             t.c.shadow_beams += 1;
             return match self.shading(index) {
-                Shading::Exact => polygon_irradiance(p, n, self.emitters[index].polygon()),
+                Shading::Exact => match t.surface {
+                    Some(surface) => polygon_irradiance(p, n, &clip_above(self.emitters[index].polygon(), p, surface)),
+                    None => polygon_irradiance(p, n, self.emitters[index].polygon()),
+                },
                 Shading::Fraction => self.fraction_irradiance(p, n, index, 1.0),
             };
         }

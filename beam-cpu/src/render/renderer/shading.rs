@@ -151,7 +151,8 @@ impl Context<'_> {
         match self.lights[index] {
             Light::Point { .. } if lights == Lights::AreaOnly => Vec3::ZERO,
             Light::Point { position, intensity } => {
-                if let Some((ray, e)) = point_light(p, n, position, intensity) {
+                let above = t.surface.is_none_or(|s| s.dot(position - p) > 0.0);
+                if let Some((ray, e)) = point_light(p, n, position, intensity).filter(|_| above) {
                     t.c.shadow_rays += 1;
                     if !(self.occluded)(ray, 1.0 - DEPTH_EPS) {
                         return e;
@@ -285,6 +286,10 @@ impl Context<'_> {
         let mut sum = Vec3::ZERO;
         for i in 0..spp {
             let w = cosine_direction((u, v, n), light_sample(i, spp, rng));
+            if t.surface.is_some_and(|s| s.dot(w) <= 0.0) {
+                // Below the surface itself (under a normal texture's bent normal): hidden.
+                continue;
+            }
             t.c.environment_rays += 1;
             if !(self.occluded)(Ray::new(p, w), f32::INFINITY) {
                 sum += environment.radiance(w);

@@ -75,11 +75,12 @@ pub struct RenderStats {
     /// sampled instead (also in `sampled_beams`); none with `--exact`.
     pub contact_beams: u64,
     /// Shadow beams whose light a cut-out triangle (`alphaMode` `MASK` or `BLEND`) may hide part
-    /// of, sampled by shadow rays that see through the cut-outs instead (also in `sampled_beams`),
+    /// of (a shaft test a cluster of shade points), sampled by shadow rays that see through the
+    /// cut-outs instead (in `sampled_beams` too, where the light is above the point's horizon),
     /// with `--exact` too.
     pub cut_out_beams: u64,
-    /// Eye-beam regions that see a cut-out triangle, sampled by primary rays instead (their pixels
-    /// are in `ray_pixels`), with `--exact` too.
+    /// Eye-beam regions whose view meets a cut-out triangle, sampled by primary rays instead
+    /// (their pixels are in `ray_pixels`), with `--exact` too.
     pub cut_out_regions: u64,
     /// Largest `|1 − Σ coverage|` of a pixel (exact coverage sums to one).
     pub coverage_error: f64,

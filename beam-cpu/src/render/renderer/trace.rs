@@ -125,15 +125,11 @@ impl Trace<'_> {
             }
         });
         if !traced {
-            // Past its budget or seeing a cut-out: the work spent counts, the pixels come from rays.
+            // Past its budget: the work spent counts, the pixels come from rays.
             let spent = start.elapsed().as_secs_f64();
             let mut rays = self.ray_region(window);
             rays.traced.counters.primary_seconds += spent;
-            if eye.cut_out > 0 {
-                rays.traced.counters.cut_out_regions += 1;
-            } else {
-                rays.traced.counters.over_budget += 1;
-            }
+            rays.traced.counters.over_budget += 1;
             rays.traced.counters.primary += eye.primary;
             return rays;
         }

@@ -11,9 +11,9 @@
 //!   `roughness⁴` (a facet standard deviation of GGX's α = roughness²);
 //! - anything else → [`Material::Diffuse`] of the base colour.
 //!
-//! A diffuse or glossy material's `normalTexture` bends its shading normals ([`NormalMap`]).
-//! `alphaMode` `MASK` and `BLEND` make a non-emissive material a cut-out ([`AlphaCut`]): its
-//! coverage is the base colour's alpha (factor × texture × vertex colour).
+//! A diffuse or glossy material's `normalTexture` bends its shading normals ([`NormalMap`]), and
+//! its `alphaMode` `MASK` or `BLEND` makes it a cut-out ([`AlphaCut`]): its coverage is the base
+//! colour's alpha (factor × texture × vertex colour). Other materials stay opaque (noticed).
 //!
 //! A primitive without a material gets the diffuse grey of a bare OBJ file.
 
@@ -42,36 +42,31 @@ pub(super) fn map_all(
     for m in document.materials() {
         let material = map(path, &m)?;
         let pbr = m.pbr_metallic_roughness();
-        let base_color = match material {
-            Material::Diffuse { .. } | Material::Glossy { .. } => pbr.base_color_texture().map(|t| reference(&t)),
-            _ => None,
-        };
+        // What the base colour's texture and alpha, and the normal texture, apply to.
+        let reflecting = matches!(material, Material::Diffuse { .. } | Material::Glossy { .. });
+        let base_color = pbr.base_color_texture().filter(|_| reflecting).map(|t| reference(&t));
         let emissive = match material {
             Material::Emissive { .. } => m.emissive_texture().map(|t| reference(&t)),
             _ => None,
         };
-        let cutoff = match m.alpha_mode() {
-            _ if matches!(material, Material::Emissive { .. }) => None,
-            gltf::material::AlphaMode::Opaque => None,
-            gltf::material::AlphaMode::Mask => Some(Some(m.alpha_cutoff().unwrap_or(0.5))),
-            gltf::material::AlphaMode::Blend => Some(None),
-        };
         let factor = pbr.base_color_factor()[3];
         let factor = if factor.is_finite() { factor.clamp(0.0, 1.0) } else { 1.0 };
-        let texture = pbr.base_color_texture().map(|t| reference(&t));
-        let alpha = cutoff.map(|cutoff| AlphaCut { factor, texture, cutoff });
-        out.push(material);
-        let normal = match material {
-            Material::Diffuse { .. } | Material::Glossy { .. } => m.normal_texture().map(|t| NormalMap {
-                texture: TextureRef {
-                    texture: t.texture().index() as u32,
-                    tex_coord: t.tex_coord().min(1) as u8,
-                    transform: Affine2::IDENTITY,
-                },
-                scale: if t.scale().is_finite() { t.scale() } else { 1.0 },
-            }),
-            _ => None,
+        let cut = |cutoff| Some(AlphaCut { factor, texture: base_color, cutoff });
+        let alpha = match m.alpha_mode() {
+            _ if !reflecting => None,
+            gltf::material::AlphaMode::Opaque => None,
+            gltf::material::AlphaMode::Mask => cut(Some(m.alpha_cutoff().filter(|c| c.is_finite()).unwrap_or(0.5))),
+            gltf::material::AlphaMode::Blend => cut(None),
         };
+        let normal = m.normal_texture().filter(|_| reflecting).map(|t| NormalMap {
+            texture: TextureRef {
+                texture: t.texture().index() as u32,
+                tex_coord: t.tex_coord().min(1) as u8,
+                transform: Affine2::IDENTITY,
+            },
+            scale: if t.scale().is_finite() { t.scale() } else { 1.0 },
+        });
+        out.push(material);
         maps.push(MaterialMaps { base_color, emissive, alpha, normal });
     }
     out.push(DEFAULT);

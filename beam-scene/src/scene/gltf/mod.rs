@@ -48,7 +48,7 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     let buffers = buffers::load(path, &document, blob, options)?;
     let (materials, mut maps) = materials::map_all(path, &document)?;
     let emissive_maps = maps.iter().filter(|m| m.emissive.is_some()).count();
-    let textures = textures::load(path, &document, &buffers, options, &mut maps)?;
+    let (textures, unread_normal_maps) = textures::load(path, &document, &buffers, options, &mut maps)?;
     if maps.iter().all(MaterialMaps::is_empty) {
         maps.clear();
     }
@@ -78,6 +78,11 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     scene.notice("morph target(s) ignored: meshes are drawn in their base shape, not their weights", walked.morphed);
     scene.notice("animation(s) ignored: beam renders one pose", raw.animations);
     let count = |f: fn(&gltf::Material) -> bool| document.materials().filter(f).count();
+    let cut_outs = count(|m| m.alpha_mode() != gltf::material::AlphaMode::Opaque);
+    let opaque = cut_outs - scene.surfaces.maps.iter().filter(|m| m.alpha.is_some()).count();
+    let unread = "normal texture(s) not read (their image is refused): shading uses the triangles' own normals";
+    scene.notice(unread, unread_normal_maps);
+    scene.notice("mirror, glass and emissive material(s) with alphaMode MASK or BLEND drawn opaque", opaque);
     let unlit = count(|m| m.unlit());
     scene.notice("unlit material(s) (KHR_materials_unlit) drawn as diffuse: lit by the scene", unlit);
     scene.notice(

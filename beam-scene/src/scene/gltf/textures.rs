@@ -7,7 +7,7 @@ use super::errors::error;
 use crate::error::SceneError;
 use crate::read::{MAX_MESH_BYTES, read_bounded, resolve_inside};
 use crate::scene::load_options::LoadOptions;
-use crate::scene::surface::MaterialMaps;
+use crate::scene::surface::{MaterialMaps, TextureRef};
 use crate::scene::texture::{Filter, Texture, Wrap};
 use std::collections::HashMap;
 use std::io::Cursor;
@@ -25,61 +25,88 @@ const MAX_DECODED_BYTES: u64 = 1 << 30;
 type Decoded = (u32, u32, Arc<[[u8; 4]]>);
 
 /// The textures `maps` read, decoded, in the order of their first use; the maps' texture indices
-/// (glTF texture indices on entry) are rewritten to index the returned list.
+/// (glTF texture indices on entry) are rewritten to index the returned list. A normal texture whose
+/// image is refused (its format, its size) is dropped from its map instead, and counted (the second
+/// value): the model still loads, its shading normals unbent.
 pub(super) fn load(
     path: &Path,
     document: &gltf::Document,
     buffers: &[Rc<Vec<u8>>],
     options: &LoadOptions,
     maps: &mut [MaterialMaps],
-) -> Result<Vec<Texture>, SceneError> {
-    let mut textures = Vec::new();
-    let mut slot: HashMap<u32, u32> = HashMap::new();
-    let mut images: HashMap<usize, Decoded> = HashMap::new();
+) -> Result<(Vec<Texture>, usize), SceneError> {
+    let mut loader =
+        Loader { path, document, buffers, options, textures: Vec::new(), slot: HashMap::new(), images: HashMap::new() };
+    let mut dropped = 0;
     for map in maps.iter_mut() {
         let alpha = map.alpha.as_mut().and_then(|a| a.texture.as_mut());
-        let normal = map.normal.as_mut().map(|n| &mut n.texture);
-        for t in [map.base_color.as_mut(), map.emissive.as_mut(), alpha, normal].into_iter().flatten() {
-            if let Some(&i) = slot.get(&t.texture) {
-                t.texture = i;
-                continue;
-            }
-            let element = format!("texture {}", t.texture);
-            let Some(texture) = document.textures().nth(t.texture as usize) else {
-                return Err(error(path, element, "index out of range"));
-            };
-            let image = texture.source().index();
-            let (width, height, texels) = match images.get(&image) {
-                Some(decoded) => decoded.clone(),
-                None => {
-                    let decoded = decode(path, document, image, buffers, options)?;
-                    images.insert(image, decoded.clone());
-                    decoded
-                }
-            };
-            let sampler = texture.sampler();
-            let wrap = |mode| match mode {
-                gltf::texture::WrappingMode::ClampToEdge => Wrap::ClampToEdge,
-                gltf::texture::WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
-                gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
-            };
-            let filter = match sampler.mag_filter() {
-                Some(gltf::texture::MagFilter::Nearest) => Filter::Nearest,
-                _ => Filter::Linear,
-            };
-            let index = textures.len() as u32;
-            textures.push(Texture {
-                width,
-                height,
-                texels,
-                wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
-                filter,
-            });
-            slot.insert(t.texture, index);
-            t.texture = index;
+        for t in [map.base_color.as_mut(), map.emissive.as_mut(), alpha].into_iter().flatten() {
+            loader.resolve(t)?;
+        }
+        if let Some(normal) = &mut map.normal
+            && loader.resolve(&mut normal.texture).is_err()
+        {
+            map.normal = None;
+            dropped += 1;
         }
     }
-    Ok(textures)
+    Ok((loader.textures, dropped))
+}
+
+/// The textures decoded so far, by glTF texture and by image.
+struct Loader<'a> {
+    path: &'a Path,
+    document: &'a gltf::Document,
+    buffers: &'a [Rc<Vec<u8>>],
+    options: &'a LoadOptions,
+    textures: Vec<Texture>,
+    /// Index in `textures` of each glTF texture decoded.
+    slot: HashMap<u32, u32>,
+    images: HashMap<usize, Decoded>,
+}
+
+impl Loader<'_> {
+    /// Point `t` (a glTF texture index) at its texture in `textures`, decoding it on first use.
+    fn resolve(&mut self, t: &mut TextureRef) -> Result<(), SceneError> {
+        if let Some(&i) = self.slot.get(&t.texture) {
+            t.texture = i;
+            return Ok(());
+        }
+        let element = format!("texture {}", t.texture);
+        let Some(texture) = self.document.textures().nth(t.texture as usize) else {
+            return Err(error(self.path, element, "index out of range"));
+        };
+        let image = texture.source().index();
+        let (width, height, texels) = match self.images.get(&image) {
+            Some(decoded) => decoded.clone(),
+            None => {
+                let decoded = decode(self.path, self.document, image, self.buffers, self.options)?;
+                self.images.insert(image, decoded.clone());
+                decoded
+            }
+        };
+        let sampler = texture.sampler();
+        let wrap = |mode| match mode {
+            gltf::texture::WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+            gltf::texture::WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+            gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+        };
+        let filter = match sampler.mag_filter() {
+            Some(gltf::texture::MagFilter::Nearest) => Filter::Nearest,
+            _ => Filter::Linear,
+        };
+        let index = self.textures.len() as u32;
+        self.textures.push(Texture {
+            width,
+            height,
+            texels,
+            wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+            filter,
+        });
+        self.slot.insert(t.texture, index);
+        t.texture = index;
+        Ok(())
+    }
 }
 
 /// Image `index` of `document` decoded to 8-bit RGBA: from its buffer view or its URI (a `data:`
