@@ -18,6 +18,7 @@ mod light_beam;
 mod light_samples;
 mod shade_points;
 mod shading;
+mod sky;
 mod stats;
 mod trace;
 mod wavefront;
