@@ -16,6 +16,7 @@ mod plot;
 mod progress;
 mod region;
 mod render;
+mod unused;
 
 use clap::parser::ValueSource;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};

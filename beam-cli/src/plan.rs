@@ -398,40 +398,7 @@ pub(crate) fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
     if let Some(e) = &a.env {
         scene.environment = environment(e)?;
     }
-    for n in &scene.notices {
-        // Said even when `quiet`: the image lacks content the file holds.
-        eprintln!("warning: {}: {} {}", scene.name, n.count, n.what);
-    }
-    if let Some(what) = unseen_environment(kind, gpu, &scene.environment) {
-        eprintln!("warning: {}: the environment is not seen by --method {}{what}", scene.name, kind.name());
-    }
-    // The beam and ray frames on the GPU shade on the host, textures included.
-    if gpu && !matches!(kind, Kind::Beam | Kind::Ray) && !scene.surfaces.is_plain() {
-        eprintln!(
-            "warning: {}: textures and vertex colours are not used by --method {} --backend gpu (its materials \
-             are flat)",
-            scene.name,
-            kind.name()
-        );
-    }
-    // Only the CPU's beam and ray frames cut them everywhere (rays see through them where their
-    // alpha says); the other CPU methods' rays do, their beams do not.
-    if scene.has_cut_outs() && (gpu || !matches!(kind, Kind::Beam | Kind::Ray)) {
-        let how = if gpu {
-            "are drawn opaque by --backend gpu".to_string()
-        } else {
-            format!("are seen through by the rays of --method {} but not by its beams", kind.name())
-        };
-        eprintln!("warning: {}: cut-out materials (alphaMode MASK or BLEND) {how}", scene.name);
-    }
-    let normal_maps = scene.surfaces.maps.iter().any(|m| m.normal.is_some());
-    if normal_maps && (gpu || matches!(kind, Kind::Glossy | Kind::GlossyReference)) {
-        let by = if gpu { "--backend gpu".to_string() } else { format!("--method {}", kind.name()) };
-        eprintln!(
-            "warning: {}: normal textures are not used by {by}: it shades the triangles' own normals",
-            scene.name
-        );
-    }
+    crate::unused::warn(&scene, kind, gpu);
     if let Some(k) = a.frame {
         scene.camera = camera_at(&scene, k)?;
     }
@@ -524,23 +491,6 @@ fn environment(arg: &str) -> Result<Environment, String> {
     }
     let map = EnvironmentMap::load(Path::new(arg)).map_err(|e| format!("--env: {e}"))?;
     Ok(Environment::Map(std::sync::Arc::new(map)))
-}
-
-/// What of a non-black environment `kind` (on the GPU where `gpu`) does not show, after
-/// "the environment is not seen by --method X"; `None` where it shows wholly (`beam`, `ray`) or is
-/// black.
-fn unseen_environment(kind: Kind, gpu: bool, environment: &Environment) -> Option<&'static str> {
-    if environment.is_black() {
-        return None;
-    }
-    match kind {
-        Kind::Beam | Kind::Ray => None,
-        _ if gpu => Some(" --backend gpu"),
-        Kind::Nonlinear | Kind::NonlinearReference => {
-            Some(" in the background, mirrors and glass (it lights diffuse surfaces only)")
-        }
-        Kind::Glossy | Kind::GlossyReference => Some(""),
-    }
 }
 
 /// The camera of `--frame k`: frame `k` of the scene's camera path, which must have it.

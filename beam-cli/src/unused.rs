@@ -1,0 +1,62 @@
+//! What of a scene a render does not use, said on stderr before it starts: the loader's notices
+//! (one line per kind, with its count) and what the chosen method and backend leave out (the
+//! environment, textures, cut-outs, normal textures). Said even when `--quiet`: the image lacks
+//! content the file holds.
+
+use crate::plan::Kind;
+use beam_scene::scene::{Environment, Scene};
+
+/// Say on stderr what of `scene` a render by `kind` (on the GPU where `gpu`) does not use.
+pub(crate) fn warn(scene: &Scene, kind: Kind, gpu: bool) {
+    for n in &scene.notices {
+        // Said even when `quiet`: the image lacks content the file holds.
+        eprintln!("warning: {}: {} {}", scene.name, n.count, n.what);
+    }
+    if let Some(what) = unseen_environment(kind, gpu, &scene.environment) {
+        eprintln!("warning: {}: the environment is not seen by --method {}{what}", scene.name, kind.name());
+    }
+    // The beam and ray frames on the GPU shade on the host, textures included.
+    if gpu && !matches!(kind, Kind::Beam | Kind::Ray) && !scene.surfaces.is_plain() {
+        eprintln!(
+            "warning: {}: textures and vertex colours are not used by --method {} --backend gpu (its materials \
+             are flat)",
+            scene.name,
+            kind.name()
+        );
+    }
+    // Only the CPU's beam and ray frames cut them everywhere (rays see through them where their
+    // alpha says); the other CPU methods' rays do, their beams do not.
+    if scene.has_cut_outs() && (gpu || !matches!(kind, Kind::Beam | Kind::Ray)) {
+        let how = if gpu {
+            "are drawn opaque by --backend gpu".to_string()
+        } else {
+            format!("are seen through by the rays of --method {} but not by its beams", kind.name())
+        };
+        eprintln!("warning: {}: cut-out materials (alphaMode MASK or BLEND) {how}", scene.name);
+    }
+    let normal_maps = scene.surfaces.maps.iter().any(|m| m.normal.is_some());
+    if normal_maps && (gpu || matches!(kind, Kind::Glossy | Kind::GlossyReference)) {
+        let by = if gpu { "--backend gpu".to_string() } else { format!("--method {}", kind.name()) };
+        eprintln!(
+            "warning: {}: normal textures are not used by {by}: it shades the triangles' own normals",
+            scene.name
+        );
+    }
+}
+
+/// What of a non-black environment `kind` (on the GPU where `gpu`) does not show, after
+/// "the environment is not seen by --method X"; `None` where it shows wholly (`beam`, `ray`) or is
+/// black.
+fn unseen_environment(kind: Kind, gpu: bool, environment: &Environment) -> Option<&'static str> {
+    if environment.is_black() {
+        return None;
+    }
+    match kind {
+        Kind::Beam | Kind::Ray => None,
+        _ if gpu => Some(" --backend gpu"),
+        Kind::Nonlinear | Kind::NonlinearReference => {
+            Some(" in the background, mirrors and glass (it lights diffuse surfaces only)")
+        }
+        Kind::Glossy | Kind::GlossyReference => Some(""),
+    }
+}
