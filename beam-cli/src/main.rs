@@ -9,6 +9,7 @@ mod conformance;
 mod fuzz;
 mod limits;
 mod merge;
+mod method;
 mod output;
 mod overdraw;
 mod plan;

@@ -2,6 +2,7 @@
 //! method, output paths that may be written, and the memory the render will need. [`plan`] renders
 //! nothing, so it can be run on any argument vector (the CLI fuzzer does).
 
+use crate::method::Kind;
 use beam_math::glossy::VolumeMethod;
 use beam_render::nonlinear::Degree;
 use beam_render::options::{Method, Occluders, RenderOptions, Shading};
@@ -176,41 +177,6 @@ impl RenderArgs {
 pub(crate) const MAX_SIDE: u32 = 16384;
 /// Largest `--primary-spp` (32 × 32 stratified rays).
 pub(crate) const MAX_PRIMARY_SPP: u32 = 1024;
-
-/// What `--method` names.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Kind {
-    Beam,
-    Ray,
-    Nonlinear,
-    NonlinearReference,
-    Glossy,
-    GlossyReference,
-}
-
-impl Kind {
-    const ALL: [(&'static str, Kind); 6] = [
-        ("beam", Kind::Beam),
-        ("ray", Kind::Ray),
-        ("nonlinear", Kind::Nonlinear),
-        ("nonlinear-reference", Kind::NonlinearReference),
-        ("glossy", Kind::Glossy),
-        ("glossy-reference", Kind::GlossyReference),
-    ];
-
-    fn parse(s: &str) -> Result<Self, String> {
-        Self::ALL
-            .iter()
-            .find(|(n, _)| *n == s)
-            .map(|&(_, k)| k)
-            .ok_or_else(|| format!("unknown method `{s}` (expected {})", Self::ALL.map(|(n, _)| n).join(", ")))
-    }
-
-    /// The `--method` name.
-    pub(crate) fn name(self) -> &'static str {
-        Self::ALL.iter().find(|(_, k)| *k == self).map_or("?", |(n, _)| n)
-    }
-}
 
 /// Largest `|--exposure|`.
 pub(crate) const MAX_EXPOSURE: f32 = 64.0;

@@ -1,7 +1,8 @@
 //! `beam render` and `beam compare`.
 
+use crate::method::Kind;
 use crate::output::{erased::Json, write_render};
-use crate::plan::{Kind, Plan, RenderArgs};
+use crate::plan::{Plan, RenderArgs};
 use beam_cpu::glossy::{photon_texel, render_glossy, render_glossy_reference_in, render_glossy_with};
 use beam_cpu::nonlinear::{CpuBeams, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with};
 use beam_cpu::render::{render, render_queries};

@@ -3,7 +3,7 @@
 //! environment, textures, cut-outs, normal textures). Said even when `--quiet`: the image lacks
 //! content the file holds.
 
-use crate::plan::Kind;
+use crate::method::Kind;
 use beam_scene::scene::{Environment, Scene};
 
 /// Say on stderr what of `scene` a render by `kind` (on the GPU where `gpu`) does not use.

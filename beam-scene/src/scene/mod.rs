@@ -5,6 +5,7 @@ mod builtin;
 mod camera;
 mod camera_path;
 mod check;
+mod cut_out_triangles;
 mod defaults;
 mod environment;
 mod environment_file;
@@ -32,6 +33,7 @@ pub mod texture;
 pub use builtin::{builtin, builtin_with_smesh};
 pub use camera::Camera;
 pub use camera_path::{CameraKey, CameraPath};
+pub use cut_out_triangles::CutOutTriangles;
 pub use environment::{
     Environment, EnvironmentMap, MAX_ENVIRONMENT_BYTES, MAX_ENVIRONMENT_SIDE, MAX_ENVIRONMENT_TEXELS,
 };
@@ -41,5 +43,4 @@ pub use load_options::LoadOptions;
 pub use material::{Bump, Material};
 pub use model::{Notice, Scene, SceneStats};
 pub use names::{BUILTIN, PROCEDURAL};
-pub use ray_queries::CutOutTriangles;
 pub use smesh_plan::{MAX_SMESH_FACES, SMeshPlan, SMeshSource, Simplify};

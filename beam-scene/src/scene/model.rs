@@ -3,12 +3,12 @@
 
 use super::camera::Camera;
 use super::camera_path::CameraPath;
+use super::cut_out_triangles::CutOutTriangles;
 use super::environment::Environment;
 use super::light::Light;
 use super::material::Material;
 use super::merge_emitters;
 use super::normals;
-use super::ray_queries::CutOutTriangles;
 use super::smesh_plan::SMeshPlan;
 use super::surface;
 use beam_bvh::{BuildOptions, Bvh8, FlatBvh};

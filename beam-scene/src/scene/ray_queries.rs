@@ -4,32 +4,16 @@
 //! meets a cut-out triangle where it is not there goes on from that hit, at most [`MAX_LAYERS`]
 //! times. Eye rays may blend `BLEND` surfaces instead ([`Scene::blended_hits`]).
 
-use super::Scene;
+use super::cut_out_triangles::CutOutTriangles;
+use super::model::Scene;
 use super::surface::AlphaCut;
-use beam_bvh::{BuildOptions, FlatBvh, Hit};
+use beam_bvh::Hit;
+use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_math::{Ray, Triangle};
 
 /// Most cut-out layers a ray passes through; past them it stops at the next (a bound on a query's
 /// work in a forest of leaves).
 const MAX_LAYERS: u32 = 64;
-
-/// A scene's cut-out triangles in a BVH of their own, for beams, which must know where a cut-out
-/// may be (beam-cpu's shaft tests).
-pub struct CutOutTriangles {
-    /// The triangles whose material is a cut-out.
-    pub triangles: Vec<Triangle>,
-    /// Their BVH.
-    pub bvh: FlatBvh,
-}
-
-impl CutOutTriangles {
-    /// The triangles of `triangles` whose `cut_out` is true; `None` when there are none.
-    pub(super) fn of(triangles: &[Triangle], cut_out: impl Fn(usize) -> bool) -> Option<Self> {
-        let triangles: Vec<Triangle> = (0..triangles.len()).filter(|&i| cut_out(i)).map(|i| triangles[i]).collect();
-        (!triangles.is_empty()).then(|| Self { bvh: FlatBvh::build(&triangles, &BuildOptions::sah()), triangles })
-    }
-}
 
 impl Scene {
     /// Whether some triangle's material is a cut-out (taken when the scene was assembled).
