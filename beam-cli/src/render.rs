@@ -77,7 +77,7 @@ pub(crate) fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         println!(
             "exact pixels {:.1}% ({} lights sampled past their beam's budget, where geometry touches the \
              point ({}) or a cut-out may hide them ({}), largest error bound {:.2e}; {} pixels by primary rays, \
-             {} eye beams stopped at their budget, {} saw a cut-out; --exact for all but cut-outs)",
+             {} eye beams stopped at their budget, {} regions that may see a cut-out; --exact for all but cut-outs)",
             100.0 * stats.exact_pixel_share,
             stats.sampled_beams,
             stats.contact_beams,
