@@ -80,30 +80,29 @@ fn a_mask_is_there_where_its_alpha_reaches_the_cutoff() {
     assert!(s.occluded(Ray::new(Vec3::new(2.5, 0.5, 1.0), -Vec3::Z), 4.0), "the opaque layer is there");
 }
 
+/// The share of 4,000 rays down −z (slightly slanted), from `(x, y, 1)` with `x` from `x0` in
+/// steps of `dx`, that a surface stops before `t_max`; and its standard deviation were `p` the
+/// chance that one stops.
+fn stopped_share(s: &Scene, (x0, dx): (f32, f32), t_max: f32, p: f64) -> (f64, f64) {
+    let n = 4000;
+    let stopped = (0..n)
+        .filter(|&i| {
+            let (x, y) = (x0 + dx * i as f32, 0.1 + 0.00011 * (i % 97) as f32);
+            s.occluded(Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.01, 0.0, -1.0)), t_max)
+        })
+        .count();
+    (stopped as f64 / f64::from(n), (p * (1.0 - p) / f64::from(n)).sqrt())
+}
+
 #[test]
 fn a_blend_stops_alpha_of_the_rays() {
     let dir = tempfile::tempdir().unwrap();
     let s = layers(dir.path());
     // Rays through the right half of the mask, between z = 1 and z = −1.5 (the blend layer only).
-    let n = 4000;
-    let stopped = (0..n)
-        .filter(|&i| {
-            let (x, y) = (2.1 + 0.0003 * i as f32, 0.1 + 0.00011 * (i % 97) as f32);
-            s.occluded(Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.01, 0.0, -1.0)), 2.5)
-        })
-        .count();
-    let share = stopped as f64 / f64::from(n);
-    let sigma = (0.25 * 0.75 / f64::from(n)).sqrt();
+    let (share, sigma) = stopped_share(&s, (2.1, 0.0003), 2.5, 0.25);
     assert!((share - 0.25).abs() < 3.0 * sigma, "{share} of the rays stopped, α = 0.25 (σ {sigma:.4})");
     // Two layers of alpha ½ pass a ray independently: 1 − ½ · ½ of the rays stop.
-    let stopped = (0..n)
-        .filter(|&i| {
-            let (x, y) = (10.1 + 0.0005 * i as f32, 0.1 + 0.00011 * (i % 97) as f32);
-            s.occluded(Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.01, 0.0, -1.0)), 3.0)
-        })
-        .count();
-    let share = stopped as f64 / f64::from(n);
-    let sigma = (0.75 * 0.25 / f64::from(n)).sqrt();
+    let (share, sigma) = stopped_share(&s, (10.1, 0.0005), 3.0, 0.75);
     assert!((share - 0.75).abs() < 3.0 * sigma, "{share} of the rays stopped by two layers of α = ½ (σ {sigma:.4})");
 }
 

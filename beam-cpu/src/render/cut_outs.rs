@@ -1,12 +1,14 @@
 //! Shaft and view tests against a scene's cut-out triangles (`alphaMode` `MASK` and `BLEND`,
-//! [`AlphaCut`]), in the BVH of their own the scene keeps. A beam cannot split a light exactly at a texture's alpha, so exactness survives this way: a
-//! shadow beam first asks whether a cut-out triangle may hide part of its light (the shaft test of
-//! [`super::shaft`], from the box of its cluster of shade points, once a cluster); where one may,
-//! the light is sampled by shadow rays, which see through the cut-outs ([`Scene::occluded`]), and
-//! counted (`cut_out_beams`); a constant sky, by the ray method's cosine-weighted rays; everywhere
-//! else the beam is exact.
-//! An eye-beam region whose view meets a cut-out (even one hidden behind something) goes to primary
-//! rays before its beam is traced (`cut_out_regions`).
+//! [`AlphaCut`]), in the BVH of their own the scene keeps. A beam cannot split a light exactly at a
+//! texture's alpha, so exactness survives this way:
+//! - a shadow beam first asks whether a cut-out triangle may hide part of its light (the shaft test
+//!   of [`super::shaft`], from the box of its cluster of shade points, once a cluster); where one
+//!   may, the light is sampled by shadow rays, which see through the cut-outs ([`Scene::occluded`]),
+//!   and counted (`cut_out_beams`); a constant sky, by the ray method's cosine-weighted rays;
+//! - an eye-beam region whose view meets a cut-out (even one hidden behind something) goes to
+//!   primary rays before its beam is traced (`cut_out_regions`).
+//!
+//! Everywhere else the beams are exact.
 //!
 //! [`AlphaCut`]: beam_scene::scene::surface::AlphaCut
 

@@ -44,9 +44,10 @@ impl Scene {
         let key = ray_key(&ray);
         let mut from = 0.0;
         for _ in 0..MAX_LAYERS {
-            let (hit, alpha) = self.nearest_surface(ray, from, t_max)?;
+            let hit = self.hit_from(ray, from, t_max)?;
             // A draw of its own for each surface, so that layers pass independently.
-            if alpha > unit(mix(key ^ hit.prim.wrapping_mul(0x9e37_79b9))) {
+            let alpha = self.coverage(&hit);
+            if alpha >= 1.0 || alpha > unit(mix(key ^ hit.prim.wrapping_mul(0x9e37_79b9))) {
                 return Some(hit);
             }
             from = past(&hit);
@@ -62,16 +63,30 @@ impl Scene {
     pub fn nearest_surface(&self, ray: Ray, mut from: f32, t_max: f32) -> Option<(Hit, f32)> {
         for _ in 0..MAX_LAYERS {
             let hit = self.hit_from(ray, from, t_max)?;
-            let Some(cut) = self.cut_out(hit.prim) else { return Some((hit, 1.0)) };
-            let w = Vec3::new(1.0 - hit.u - hit.v, hit.u, hit.v);
-            let alpha = self.surfaces.alpha(cut, hit.prim, w);
-            match cut.cutoff {
-                Some(cutoff) if alpha >= cutoff => return Some((hit, 1.0)),
-                None if alpha > 0.0 => return Some((hit, alpha.min(1.0))),
-                _ => from = past(&hit),
+            let alpha = self.coverage(&hit);
+            if alpha > 0.0 {
+                return Some((hit, alpha));
             }
+            from = past(&hit);
         }
         self.hit_from(ray, from, t_max).map(|h| (h, 1.0))
+    }
+
+    /// How much of the surface `hit` is on is there: 1 off cut-outs, 0 or 1 on a `MASK` (its
+    /// cutoff decides), α in `[0, 1]` on a `BLEND`.
+    fn coverage(&self, hit: &Hit) -> f32 {
+        let Some(cut) = self.cut_out(hit.prim) else { return 1.0 };
+        let alpha = self.surfaces.alpha(cut, hit.prim, Vec3::new(1.0 - hit.u - hit.v, hit.u, hit.v));
+        match cut.cutoff {
+            Some(cutoff) => {
+                if alpha >= cutoff {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            None => alpha.clamp(0.0, 1.0),
+        }
     }
 
     /// What an eye ray sees through `BLEND` surfaces, blended as a rasterizer blends them (front to

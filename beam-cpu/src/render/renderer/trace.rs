@@ -85,16 +85,16 @@ impl Trace<'_> {
     /// [`Trace::ray_region`] instead.
     pub(super) fn eye_region(&self, region: Region, window: Region) -> EyeTraced {
         let (ctx, camera) = (self.ctx, self.camera);
+        if ctx.cut_outs.as_ref().is_some_and(|c| c.may_show(camera, region)) {
+            // Its pieces would show a cut-out, which only rays see through (the cheaper test first).
+            let mut rays = self.ray_region(window);
+            rays.traced.counters.cut_out_regions += 1;
+            return rays;
+        }
         // Half of what a primary ray and `--spp` shadow rays a pixel cost there; none with `--exact`.
         let budget = if ctx.options.exact { f64::INFINITY } else { eye_budget(region, 1 + ctx.options.spp) };
         if !ctx.options.exact && eye_beam_seconds(ctx.scene, camera, region) > budget {
             return self.ray_region(window);
-        }
-        if ctx.cut_outs.as_ref().is_some_and(|c| c.may_show(camera, region)) {
-            // Its pieces would show a cut-out, which only rays see through.
-            let mut rays = self.ray_region(window);
-            rays.traced.counters.cut_out_regions += 1;
-            return rays;
         }
         let mut t = Thread::default();
         let mut pixels = vec![Vec3::ZERO; window.len()];
