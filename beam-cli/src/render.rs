@@ -107,14 +107,15 @@ struct ReferenceStats<'a> {
 fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
     let (scene, shading) = (&plan.scene, plan.options);
     let gpu = gpu_of(plan.gpu)?;
-    let gpu_beams = gpu
+    let mut gpu_beams = gpu
         .as_ref()
         .map(|g| GpuBeams::new(g, scene).map(|b| b.with_light_samples(a.spp)))
         .transpose()
         .map_err(|e| e.to_string())?;
-    let renderer: &dyn BeamRenderer = match &gpu_beams {
+    let mut cpu = CpuBeams;
+    let renderer: &mut dyn BeamRenderer = match &mut gpu_beams {
         Some(g) => g,
-        None => &CpuBeams,
+        None => &mut cpu,
     };
     let on = gpu.as_ref().map_or_else(|| "CPU".to_string(), |g| g.describe());
     let start = std::time::Instant::now();

@@ -1,7 +1,6 @@
 //! Buffer upload, compute dispatch and readback shared by the pipelines.
 
 use crate::{Gpu, GpuError};
-use std::sync::PoisonError;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
@@ -131,32 +130,13 @@ impl Readback {
     }
 }
 
-/// Smallest buffer [`readback`] makes; it makes powers of two.
-const READBACK_MIN: u64 = 1 << 16;
-
-/// Most buffers the device keeps for readbacks to come.
-const READBACKS_KEPT: usize = 8;
-
 /// A mappable buffer (`MAP_READ | COPY_DST`) for `size` bytes: one an earlier readback handed back
 /// ([`map_with`]) at most twice as large, else a new one of the next power of two. A frame reads
 /// back the same sizes as the last one (the image, the atlas pages' hits), so its readbacks reuse
-/// the last frame's memory: a fresh buffer's memory is paged in on its first use (on lavapipe
-/// 1–2 ms of host time a frame for the 10 MB image).
+/// the last frame's memory (the device's pool, `pool.rs`).
 #[must_use]
 pub fn readback(gpu: &Gpu, size: u64) -> Readback {
-    let mut kept = gpu.readbacks.lock().unwrap_or_else(PoisonError::into_inner);
-    let fits = |b: &wgpu::Buffer| b.size() >= size && b.size() <= 2 * size.max(READBACK_MIN);
-    let best = kept.iter().enumerate().filter(|(_, b)| fits(b)).min_by_key(|(_, b)| b.size()).map(|(i, _)| i);
-    let buffer = match best {
-        Some(i) => kept.swap_remove(i),
-        None => gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: size.max(READBACK_MIN).next_power_of_two(),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        }),
-    };
-    Readback { buffer, size }
+    Readback { buffer: gpu.readbacks.take(&gpu.device, "readback", size), size }
 }
 
 /// How long [`wait`] keeps waiting on a queue that reports timeouts, in seconds.
@@ -193,13 +173,7 @@ pub fn map_with<T>(gpu: &Gpu, readback: Readback, read: impl FnOnce(&[u8]) -> T)
     drop(data);
     buffer.unmap();
     gpu.record(waited, len, start.elapsed());
-    let mut kept = gpu.readbacks.lock().unwrap_or_else(PoisonError::into_inner);
-    if kept.len() == READBACKS_KEPT {
-        // The smallest goes: it is the cheapest to make again.
-        let smallest = kept.iter().enumerate().min_by_key(|(_, b)| b.size()).map(|(i, _)| i);
-        smallest.map(|i| kept.swap_remove(i));
-    }
-    kept.push(buffer);
+    gpu.readbacks.give(buffer);
     Ok(out)
 }
 

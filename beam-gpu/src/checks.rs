@@ -6,25 +6,24 @@
 
 use crate::buffers::read_all;
 use crate::{Gpu, GpuError};
-use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Mutex, PoisonError};
 
 /// The shadings of one frame: whether they wait for their own counts, and the passes they needed.
+/// A value of the frame's shading, lent to each shading in turn.
 #[derive(Debug)]
 pub struct ShadeChecks {
     wait: bool,
     /// Per shading submitted unchecked: where its passes' counts of unfinished points lie, and how
     /// many passes it encoded.
-    pending: Mutex<Vec<(wgpu::Buffer, u32)>>,
+    pending: Vec<(wgpu::Buffer, u32)>,
     /// The most passes a shading that waited needed.
-    most: AtomicU32,
+    most: u32,
 }
 
 impl ShadeChecks {
     /// Shadings that submit their passes and go on, checked together at the frame's end.
     #[must_use]
     pub(crate) fn unchecked() -> Self {
-        Self { wait: false, pending: Mutex::default(), most: AtomicU32::new(1) }
+        Self { wait: false, pending: Vec::new(), most: 1 }
     }
 
     /// Shadings that wait for their counts after each submission, until their points are done.
@@ -40,21 +39,21 @@ impl ShadeChecks {
 
     /// Note a shading submitted with `passes` passes, each pass's count of unfinished points (a
     /// `u32`) in `left` after the last.
-    pub(crate) fn add(&self, left: wgpu::Buffer, passes: u32) {
-        self.pending.lock().unwrap_or_else(PoisonError::into_inner).push((left, passes));
+    pub(crate) fn add(&mut self, left: wgpu::Buffer, passes: u32) {
+        self.pending.push((left, passes));
     }
 
     /// Note a shading that waited and needed `passes` passes.
-    pub(crate) fn waited(&self, passes: u32) {
-        self.most.fetch_max(passes, Ordering::Relaxed);
+    pub(crate) fn waited(&mut self, passes: u32) {
+        self.most = self.most.max(passes);
     }
 
     /// Read back the counts of every shading submitted unchecked in one wait. Returns the passes
     /// the most demanding shading needed, or `None` where one still had points unfinished after
     /// its last pass (its radiance is incomplete).
-    pub(crate) fn needed(&self, gpu: &Gpu) -> Result<Option<u32>, GpuError> {
-        let pending = std::mem::take(&mut *self.pending.lock().unwrap_or_else(PoisonError::into_inner));
-        let mut most = self.most.load(Ordering::Relaxed);
+    pub(crate) fn needed(&mut self, gpu: &Gpu) -> Result<Option<u32>, GpuError> {
+        let pending = std::mem::take(&mut self.pending);
+        let mut most = self.most;
         if pending.is_empty() {
             return Ok(Some(most));
         }

@@ -2,8 +2,9 @@
 //! where there is one), its name and backend, and a clear error when there is none.
 
 use crate::error::GpuError;
+use crate::pool::BufferPool;
 use beam_render::cpu_clock::thread_cpu_seconds;
-use std::sync::Mutex;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -22,9 +23,9 @@ pub struct Gpu {
     uploaded: AtomicU64,
     unpack_ns: AtomicU64,
     /// Mappable buffers that readbacks handed back, for the next ones ([`crate::buffers::readback`]).
-    pub(crate) readbacks: Mutex<Vec<wgpu::Buffer>>,
+    pub(crate) readbacks: BufferPool,
     /// Scratch buffers that passes handed back, for the next ones ([`crate::scratch::scratch`]).
-    pub(crate) scratch: crate::scratch::pool::ScratchPool,
+    pub(crate) scratch: Arc<BufferPool>,
 }
 
 /// What beam's passes have cost on the host side of the bus so far, summed over its calls: the
@@ -122,8 +123,8 @@ impl Gpu {
             upload_ns: zero(),
             uploaded: zero(),
             unpack_ns: zero(),
-            readbacks: Mutex::default(),
-            scratch: crate::scratch::pool::ScratchPool::default(),
+            readbacks: BufferPool::readbacks(),
+            scratch: Arc::new(BufferPool::scratch()),
         }
     }
 

@@ -43,6 +43,7 @@ pub mod gbuffer;
 pub mod glossy;
 pub mod interface;
 pub mod nonlinear;
+mod pool;
 pub mod queries;
 pub mod raytrace;
 mod scratch;

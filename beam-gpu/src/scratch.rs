@@ -6,10 +6,9 @@
 //! next that does), and the next scratch buffer of about its size reuses it.
 
 use crate::device::Gpu;
-
-pub(crate) mod pool;
-
-pub(crate) use pool::Scratch;
+use crate::pool::BufferPool;
+use std::ops::Deref;
+use std::sync::Arc;
 
 /// A storage buffer (`STORAGE | COPY_SRC | COPY_DST`) of at least `size` bytes whose contents are
 /// what an earlier pass left (not zeroed): for a list a pass appends to, read no further than the
@@ -17,5 +16,31 @@ pub(crate) use pool::Scratch;
 /// one of the next power of two.
 #[must_use]
 pub(crate) fn scratch(gpu: &Gpu, label: &str, size: u64) -> Scratch {
-    gpu.scratch.take(&gpu.device, label, size)
+    let pool = Arc::clone(&gpu.scratch);
+    Scratch { buffer: Some(pool.take(&gpu.device, label, size)), pool }
+}
+
+/// A storage buffer from a device's scratch pool, handed back to it when dropped. Hold it until
+/// the work that uses it is submitted: dropped before, the next scratch buffer may be the same
+/// memory, and the unsubmitted work would read what that one's work wrote.
+pub struct Scratch {
+    buffer: Option<wgpu::Buffer>,
+    pool: Arc<BufferPool>,
+}
+
+impl Deref for Scratch {
+    type Target = wgpu::Buffer;
+
+    fn deref(&self) -> &wgpu::Buffer {
+        // Taken only by `drop`.
+        self.buffer.as_ref().unwrap_or_else(|| unreachable!("a scratch buffer is held until dropped"))
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if let Some(buffer) = self.buffer.take() {
+            self.pool.give(buffer);
+        }
+    }
 }

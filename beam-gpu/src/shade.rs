@@ -24,7 +24,6 @@ use beam_scene::scene::{Light, Material, Scene};
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Mutex, PoisonError};
 
 /// A point to shade.
 ///
@@ -211,7 +210,7 @@ pub struct PointShader {
     /// The last [`Self::prepare`] with caustics, under the maps' [`IrradianceMap::content_id`] and
     /// texel size: the frames of a scene share one made-once map, uploaded once (1.2 M texels on
     /// the wavy lake, 4 ms of host time a frame when uploaded every frame).
-    caustic: Mutex<Option<((u64, u32), ShadeScene)>>,
+    caustic: Option<((u64, u32), ShadeScene)>,
     lights: wgpu::Buffer,
     light_count: u32,
     eps: f32,
@@ -237,7 +236,7 @@ impl PointShader {
         Ok(Self {
             pipeline: compute_pipeline(gpu, "raytrace", "shade")?,
             plain: upload_shading(gpu, prims.clone(), None),
-            caustic: Mutex::default(),
+            caustic: None,
             prims,
             lights: storage(gpu, "lights", &lights, wgpu::BufferUsages::empty()),
             light_count: lights.len() as u32,
@@ -256,20 +255,19 @@ impl PointShader {
     /// [`shade_into`](Self::shade_into): uploaded once for maps of the same
     /// [`IrradianceMap::content_id`] (and texel size), again after the maps change.
     #[must_use]
-    pub fn prepare(&self, gpu: &Gpu, caustics: Option<&IrradianceMap>) -> ShadeScene {
+    pub fn prepare(&mut self, gpu: &Gpu, caustics: Option<&IrradianceMap>) -> ShadeScene {
         let Some(map) = caustics else { return self.plain.clone() };
         let key = (map.content_id(), map.texel.to_bits());
-        let mut last = self.caustic.lock().unwrap_or_else(PoisonError::into_inner);
-        match &*last {
+        match &self.caustic {
             Some((k, scene)) if *k == key => scene.clone(),
-            _ => last.insert((key, upload_shading(gpu, self.prims.clone(), caustics))).1.clone(),
+            _ => self.caustic.insert((key, upload_shading(gpu, self.prims.clone(), caustics))).1.clone(),
         }
     }
 
     /// The radiance of `points` (all of triangles the pass [`shades`](Self::shades)), shadow rays
     /// through `tracer`'s BVH (`spp` per area light), with the irradiance of `caustics`.
     pub fn shade(
-        &self,
+        &mut self,
         gpu: &Gpu,
         tracer: &RayTracer,
         caustics: Option<&IrradianceMap>,
@@ -336,7 +334,7 @@ impl PointShader {
         scene: &ShadeScene,
         spp: u32,
         (input, count, extra): (&wgpu::Buffer, usize, usize),
-        checks: Option<&ShadeChecks>,
+        mut checks: Option<&mut ShadeChecks>,
         encoder: &mut wgpu::CommandEncoder,
     ) -> Result<Shaded, GpuError> {
         let params = ShadeParams {
@@ -393,7 +391,7 @@ impl PointShader {
         let left_after = output(gpu, "shade passes", 4 * u64::from(MAX_PASSES_AT_ONCE));
         // Unchecked where the frame checks its shadings at its end, unless the last one needed
         // more passes than one submission encodes.
-        if let Some(checks) = checks.filter(|c| !c.wait() && last <= MAX_PASSES_AT_ONCE) {
+        if let Some(checks) = checks.as_deref_mut().filter(|c| !c.wait() && last <= MAX_PASSES_AT_ONCE) {
             self.encode_passes(encoder, &bind, (&state, &left_after), count, passes);
             checks.add(left_after, passes);
             return Ok(Shaded { radiance: out, _state: Some(state) });
@@ -444,23 +442,23 @@ impl PointShader {
     pub fn shade_checked<T>(
         &self,
         gpu: &Gpu,
-        shade: impl Fn(&ShadeChecks) -> Result<T, GpuError>,
+        mut shade: impl FnMut(&mut ShadeChecks) -> Result<T, GpuError>,
     ) -> Result<T, GpuError> {
-        let checks = ShadeChecks::unchecked();
-        let out = shade(&checks)?;
-        if self.verify(gpu, &checks)? {
+        let mut checks = ShadeChecks::unchecked();
+        let out = shade(&mut checks)?;
+        if self.verify(gpu, &mut checks)? {
             return Ok(out);
         }
-        let checks = ShadeChecks::waiting();
-        let out = shade(&checks)?;
-        self.verify(gpu, &checks)?;
+        let mut checks = ShadeChecks::waiting();
+        let out = shade(&mut checks)?;
+        self.verify(gpu, &mut checks)?;
         Ok(out)
     }
 
     /// Whether every shading given `checks` finished its points (the counts of those submitted
     /// unchecked read back in one wait); the next shadings encode as many passes as the most
     /// demanding of them needed.
-    fn verify(&self, gpu: &Gpu, checks: &ShadeChecks) -> Result<bool, GpuError> {
+    fn verify(&self, gpu: &Gpu, checks: &mut ShadeChecks) -> Result<bool, GpuError> {
         let needed = checks.needed(gpu)?;
         if let Some(passes) = needed {
             self.passes.store(passes, Ordering::Relaxed);

@@ -36,7 +36,7 @@ fn points(scene: &Scene, size: u32) -> Vec<ShadePoint> {
 /// `shade` with `spp` shadow rays per area light equals `shade_twin` at every point but a few
 /// (a ray grazing an edge, decided differently in f32: within 2 rays' worth, 2/spp relative).
 fn shading_equals_twin(gpu: &Gpu, name: &str, scene: &Scene, spp: u32, size: u32) {
-    let shader = PointShader::new(gpu, scene).unwrap();
+    let mut shader = PointShader::new(gpu, scene).unwrap();
     let tracer = RayTracer::new(gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).unwrap()).unwrap();
     let points = points(scene, size);
     let on_gpu = shader.shade(gpu, &tracer, None, spp, &points).unwrap();

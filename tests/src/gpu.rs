@@ -444,10 +444,10 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
             caustic_strata: CAUSTIC_STRATA,
             shading: RenderOptions::exact(96, 96),
         };
-        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
-        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
+        let mut renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &mut renderer).map_err(|e| e.to_string())?;
         let (on_cpu, _) =
-            render_nonlinear_with(&scene, &options, &TwinShading::default()).map_err(|e| e.to_string())?;
+            render_nonlinear_with(&scene, &options, &mut TwinShading::default()).map_err(|e| e.to_string())?;
         let PixelDifference { differ, sum, n } = PixelDifference::of(&on_gpu, &on_cpu);
         if differ * 200 > n {
             return Err(format!("{name}: {differ} of {n} pixels differ by more than 4/255"));
@@ -476,7 +476,7 @@ pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String>
     for name in ["cornell-point", "wavy-lake-coarse", "cornell", "mirror-glass"] {
         let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let point_lit = scene.lights.iter().all(|l| matches!(l, scene::Light::Point { .. }));
-        let shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let mut shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)
             .map_err(|e| e.to_string())?;
         let caustics = caustics_by_beams(&scene, Degree::S1, 16, CAUSTIC_STRATA, &CpuBeams)
@@ -550,10 +550,10 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
             caustic_strata: CAUSTIC_STRATA,
             shading: RenderOptions::exact(64, 64),
         };
-        let twin = TwinShading::default();
-        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &twin).map_err(|e| e.to_string())?;
-        let (levels, caustics) = twin.0.into_inner().map_err(|e| e.to_string())?;
-        let shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let mut twin = TwinShading::default();
+        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &mut twin).map_err(|e| e.to_string())?;
+        let (levels, caustics) = twin.0;
+        let mut shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)
             .map_err(|e| e.to_string())?;
         let whitted = GpuWhitted::new(&gpu, &scene).map_err(|e| e.to_string())?;
@@ -569,7 +569,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
                 return Err(format!("{name}: changed caustic maps not uploaded again"));
             }
         }
-        let rest = |jobs: &[RestJob<'_>], checks: &ShadeChecks| {
+        let rest = |jobs: &[RestJob<'_>], checks: &mut ShadeChecks| {
             whitted.shade_into(&gpu, &tracer, (&shader, &prepared, 64), jobs, Some(checks))
         };
         let smesh = SMesh::specular(&scene);

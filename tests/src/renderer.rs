@@ -8,14 +8,14 @@ use crate::property::{Backend, Outcome};
 pub fn with_renderer<T>(
     backend: Backend,
     scene: &beam_scene::scene::Scene,
-    f: impl FnOnce(&dyn beam_render::nonlinear::BeamRenderer) -> Result<T, String>,
+    f: impl FnOnce(&mut dyn beam_render::nonlinear::BeamRenderer) -> Result<T, String>,
 ) -> Result<Result<T, Outcome>, String> {
     if backend != Backend::Gpu {
-        return f(&beam_cpu::nonlinear::CpuBeams).map(Ok);
+        return f(&mut beam_cpu::nonlinear::CpuBeams).map(Ok);
     }
     let gpu = match crate::gpu::adapter()? {
         Ok(gpu) => gpu,
         Err(skipped) => return Ok(Err(skipped)),
     };
-    f(&beam_gpu::nonlinear::GpuBeams::new(&gpu, scene).map_err(|e| e.to_string())?).map(Ok)
+    f(&mut beam_gpu::nonlinear::GpuBeams::new(&gpu, scene).map_err(|e| e.to_string())?).map(Ok)
 }

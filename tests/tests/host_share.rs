@@ -26,7 +26,7 @@ fn options() -> NonlinearOptions {
 #[test]
 fn cpu_frames_are_all_host_work() {
     let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
-    let (_, stats) = render_nonlinear_with(&scene, &options(), &CpuBeams).expect("a render");
+    let (_, stats) = render_nonlinear_with(&scene, &options(), &mut CpuBeams).expect("a render");
     let names: Vec<&str> = stats.stages.iter().map(|s| s.name).collect();
     for stage in ["eye view", "tree: rasterize beams", "radiance flow", "shading and composite"] {
         assert!(names.contains(&stage), "no stage {stage} in {names:?}");
@@ -56,14 +56,14 @@ fn gpu() -> Option<beam_gpu::Gpu> {
 /// to other texels) takes the eye's beams from the first, and its pixels are, bit for bit, those of
 /// a frame that makes them all afresh (`fresh`: a renderer that has rendered nothing). Returns how
 /// many faces' beams the second frame found.
-fn frames_reusing_beams_equal_fresh(renderer: &dyn BeamRenderer, fresh: &dyn BeamRenderer) -> u64 {
+fn frames_reusing_beams_equal_fresh(renderer: &mut dyn BeamRenderer, fresh: &mut dyn BeamRenderer) -> u64 {
     let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
     let first = options();
     let second = NonlinearOptions { shading: RenderOptions { spp: 4, ..RenderOptions::exact(40, 28) }, ..first };
-    let shared = NonlinearPrecomputed::new(&scene, &first, renderer).expect("the precomputed");
-    render_nonlinear_frame(&scene, &first, renderer, Some(&shared)).expect("a first frame");
+    let mut shared = NonlinearPrecomputed::new(&scene, &first, renderer).expect("the precomputed");
+    render_nonlinear_frame(&scene, &first, renderer, Some(&mut shared)).expect("a first frame");
     let found = shared.beams_reused();
-    let (reused, stats) = render_nonlinear_frame(&scene, &second, renderer, Some(&shared)).expect("a second frame");
+    let (reused, stats) = render_nonlinear_frame(&scene, &second, renderer, Some(&mut shared)).expect("a second frame");
     let (made, _) = render_nonlinear_with(&scene, &second, fresh).expect("a fresh frame");
     assert_eq!(
         reused.read().map(|r| r.pixels),
@@ -77,17 +77,17 @@ fn frames_reusing_beams_equal_fresh(renderer: &dyn BeamRenderer, fresh: &dyn Bea
 
 #[test]
 fn cpu_frames_reusing_beams_equal_fresh_ones() {
-    assert!(frames_reusing_beams_equal_fresh(&CpuBeams, &CpuBeams) > 0, "the second frame found no beam");
+    assert!(frames_reusing_beams_equal_fresh(&mut CpuBeams, &mut CpuBeams) > 0, "the second frame found no beam");
 }
 
 #[test]
 fn gpu_frames_reusing_beams_equal_fresh_ones() {
     let Some(gpu) = gpu() else { return };
     let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
-    let renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
-    let fresh = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+    let mut renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+    let mut fresh = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
     let before = renderer.times().beams_reused;
-    assert!(frames_reusing_beams_equal_fresh(&renderer, &fresh) > 0, "the second frame found no beam");
+    assert!(frames_reusing_beams_equal_fresh(&mut renderer, &mut fresh) > 0, "the second frame found no beam");
     let prepared = renderer.times().beams_reused - before;
     assert!(prepared > 0, "the second frame's atlas prepared every beam again");
 }
@@ -99,20 +99,21 @@ fn gpu_frames_reusing_beams_equal_fresh_ones() {
 fn gpu_frames_of_a_moved_eye_equal_fresh_ones() {
     let Some(gpu) = gpu() else { return };
     let mut scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
-    let renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+    let mut renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
     let options = NonlinearOptions { shading: RenderOptions { spp: 4, ..RenderOptions::exact(40, 28) }, ..options() };
-    let shared = NonlinearPrecomputed::new(&scene, &options, &renderer).expect("the precomputed");
-    render_nonlinear_frame(&scene, &options, &renderer, Some(&shared)).expect("a first frame");
+    let mut shared = NonlinearPrecomputed::new(&scene, &options, &renderer).expect("the precomputed");
+    render_nonlinear_frame(&scene, &options, &mut renderer, Some(&mut shared)).expect("a first frame");
     let mut took = Vec::new();
     for step in [1e-4, 0.25] {
         let step = step * scene.bounds().extent().length() * scene.camera.frame().right;
         scene.camera.position += step;
         scene.camera.target += step;
         let before = renderer.times().blocks_reused;
-        let (moved, _) = render_nonlinear_frame(&scene, &options, &renderer, Some(&shared)).expect("a moved frame");
+        let (moved, _) =
+            render_nonlinear_frame(&scene, &options, &mut renderer, Some(&mut shared)).expect("a moved frame");
         took.push(renderer.times().blocks_reused - before);
-        let fresh = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
-        let (made, _) = render_nonlinear_with(&scene, &options, &fresh).expect("a fresh frame");
+        let mut fresh = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+        let (made, _) = render_nonlinear_with(&scene, &options, &mut fresh).expect("a fresh frame");
         let moved = moved.read().expect("a frame read back").pixels;
         let differ = moved.iter().zip(&made.pixels).filter(|(a, b)| a != b).count();
         assert!(
@@ -127,9 +128,9 @@ fn gpu_frames_of_a_moved_eye_equal_fresh_ones() {
 fn gpu_frames_count_their_waits_and_readbacks() {
     let Some(gpu) = gpu() else { return };
     let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
-    let renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+    let mut renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
     let before = gpu.traffic();
-    let (_, stats) = render_nonlinear_with(&scene, &options(), &renderer).expect("a render");
+    let (_, stats) = render_nonlinear_with(&scene, &options(), &mut renderer).expect("a render");
     let traffic = gpu.traffic() - before;
     // At least the eye's hits (48 × 32 of them) and the final pixels came back.
     assert!(traffic.bytes_read_back >= 2 * 48 * 32 * 8, "{} bytes read back", traffic.bytes_read_back);
@@ -156,13 +157,13 @@ fn gpu_frames_kept_for_display_equal_frames_read_back() {
     let Some(gpu) = gpu() else { return };
     let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
     let options = NonlinearOptions { shading: RenderOptions { spp: 4, ..RenderOptions::exact(40, 28) }, ..options() };
-    let reading = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
+    let mut reading = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
     let before = gpu.traffic();
-    let (read, _) = render_nonlinear_with(&scene, &options, &reading).expect("a frame read back");
+    let (read, _) = render_nonlinear_with(&scene, &options, &mut reading).expect("a frame read back");
     let read_frame = (gpu.traffic() - before).bytes_read_back;
-    let displaying = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4).displaying();
+    let mut displaying = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4).displaying();
     let before = gpu.traffic();
-    let (image, _) = render_nonlinear_frame(&scene, &options, &displaying, None).expect("a frame kept");
+    let (image, _) = render_nonlinear_frame(&scene, &options, &mut displaying, None).expect("a frame kept");
     let read_back = (gpu.traffic() - before).bytes_read_back;
     let FrameImage::Kept(image) = image else { panic!("a frame kept for display came back as an image") };
     // The same frame, less its pixels (four half floats each).
@@ -171,6 +172,6 @@ fn gpu_frames_kept_for_display_equal_frames_read_back() {
     let size = frame.texture().size();
     assert_eq!((size.width, size.height), (40, 28));
     assert_eq!(frame.read_back(&gpu).expect("the frame's pixels"), read.pixels);
-    let one_shot = render_nonlinear_with(&scene, &options, &displaying);
+    let one_shot = render_nonlinear_with(&scene, &options, &mut displaying);
     assert!(matches!(one_shot, Err(beam_cpu::RenderError::FrameKept)), "{:?}", one_shot.map(|_| ()));
 }

@@ -46,13 +46,14 @@ fn shading(method: Method, primary_beams: bool) -> RenderOptions {
 
 /// Render `scene` by `method` on the CPU, or on `gpu` when given, as `beam render` does.
 fn render_cell(scene: &Scene, method: &str, gpu: Option<&Gpu>) -> Result<Image, String> {
-    let gpu_beams = match (gpu, method.starts_with("nonlinear")) {
+    let mut gpu_beams = match (gpu, method.starts_with("nonlinear")) {
         (Some(g), true) => Some(GpuBeams::new(g, scene).map_err(|e| e.to_string())?.with_light_samples(SPP)),
         _ => None,
     };
-    let renderer: &dyn BeamRenderer = match &gpu_beams {
+    let mut cpu = CpuBeams;
+    let renderer: &mut dyn BeamRenderer = match &mut gpu_beams {
         Some(g) => g,
-        None => &CpuBeams,
+        None => &mut cpu,
     };
     let glossy = GlossyOptions { subdivide: 1, ..GlossyOptions::new(SIZE, SIZE) };
     match (method, gpu) {
@@ -185,10 +186,11 @@ fn every_method_on_every_scene_gpu() {
 fn any_texels_render(gpu: Option<&Gpu>) {
     let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
     for texels in [0, 1, 2, 3, 5] {
-        let gpu_beams = gpu.map(|g| GpuBeams::new(g, &scene).expect("the GPU renderer"));
-        let renderer: &dyn BeamRenderer = match &gpu_beams {
+        let mut gpu_beams = gpu.map(|g| GpuBeams::new(g, &scene).expect("the GPU renderer"));
+        let mut cpu = CpuBeams;
+        let renderer: &mut dyn BeamRenderer = match &mut gpu_beams {
             Some(g) => g,
-            None => &CpuBeams,
+            None => &mut cpu,
         };
         let options = NonlinearOptions {
             degree: Degree::S1,

@@ -87,18 +87,18 @@ pub(crate) fn run(
         let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let renderer = if rasterize { renderer.rasterized() } else { renderer };
         let renderer = if read_back { renderer.reading_levels_back() } else { renderer };
-        let renderer = if read_image { renderer } else { renderer.displaying() };
+        let mut renderer = if read_image { renderer } else { renderer.displaying() };
         // The S mesh and the caustics depend on neither the camera nor the tree: made once, shared
         // by the frames.
         let (start, cpu_start) = (Instant::now(), our_threads_cpu_seconds());
-        let shared = NonlinearPrecomputed::new(&scene, &options, &renderer).map_err(|e| e.to_string())?;
+        let mut shared = NonlinearPrecomputed::new(&scene, &options, &renderer).map_err(|e| e.to_string())?;
         let shared_cpu = cpu_since(cpu_start).map_or(0.0, |(main, workers)| main + workers);
         let shared_seconds = start.elapsed().as_secs_f64();
-        let frame = |scene: &scene::Scene| {
-            render_nonlinear_frame(scene, &options, &renderer, Some(&shared)).map_err(|e| e.to_string())
+        let frame = |scene: &scene::Scene, renderer: &mut GpuBeams<'_>, shared: &mut NonlinearPrecomputed| {
+            render_nonlinear_frame(scene, &options, renderer, Some(shared)).map_err(|e| e.to_string())
         };
         // The warm-up frame's image, for the PSNR: read back here where the renderer kept it.
-        let (warm, _) = frame(&scene)?;
+        let (warm, _) = frame(&scene, &mut renderer, &mut shared)?;
         let cpu_start = our_threads_cpu_seconds();
         let warm = match warm {
             FrameImage::Read(image) => image,
@@ -120,7 +120,7 @@ pub(crate) fn run(
                 scene.camera.position += step;
                 scene.camera.target += step;
             }
-            let (image, made) = frame(&scene)?;
+            let (image, made) = frame(&scene, &mut renderer, &mut shared)?;
             frame_cpu.push(made.stages.iter().map(|s| s.cpu_seconds).collect());
             stats = Some(made);
             // Where a display would show it.
@@ -136,7 +136,7 @@ pub(crate) fn run(
         let rays = (after.ray_seconds - before.ray_seconds) / f64::from(frames.max(1));
         let shade = (after.shade_seconds - before.shade_seconds) / f64::from(frames.max(1));
         let start = Instant::now();
-        let (cpu_image, _) = render_nonlinear_with(&scene, &options, &CpuBeams).map_err(|e| e.to_string())?;
+        let (cpu_image, _) = render_nonlinear_with(&scene, &options, &mut CpuBeams).map_err(|e| e.to_string())?;
         let cpu = start.elapsed().as_secs_f64();
         let psnr = difference(&warm, &cpu_image).map_err(|e| e.to_string())?.psnr;
         let stats = stats.unwrap_or_default();

@@ -6,18 +6,19 @@
 
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
-use beam_render::nonlinear::{LevelRadiance, SMesh, Shade, ShadePoint, composite, sample_region};
+use beam_render::nonlinear::{LevelRadiance, SMesh, ShadePoint, composite, sample_region};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 
 /// The radiance flow on the CPU: `levels[0]` is the eye's view, `levels[k]` the tree's level k;
-/// deepest first, each level's points without a composite shaded by `shade` in one batch, the
+/// deepest first, each level's points without a composite shaded by `shade` in one batch (a
+/// backend's shading, which may keep what it uploads for the next batch), the
 /// others composited from the level below. Returns the eye's pixels.
 pub fn composite_levels(
     scene: &Scene,
     smesh: &SMesh,
     levels: &[LevelRadiance],
-    shade: &Shade<'_>,
+    mut shade: impl FnMut(&[ShadePoint]) -> Result<Vec<Vec3>, BackendError>,
 ) -> Result<Vec<Vec3>, BackendError> {
     let mut below: Vec<Vec3> = Vec::new();
     let mut below_regions: &[(u32, u32)] = &[];

@@ -69,7 +69,7 @@ impl ChildLookups for CpuBeams {}
 /// The radiance of every point: by `renderer` where it shades with `options`, else on the CPU by
 /// [`shade_point`].
 pub fn shade_points(
-    renderer: &dyn BeamRenderer,
+    renderer: &mut dyn BeamRenderer,
     scene: &Scene,
     options: &RenderOptions,
     caustics: Option<&IrradianceMap>,

@@ -9,7 +9,7 @@ use super::lookup::Lookups;
 use super::settings::{NonlinearOptions, NonlinearStats};
 use super::stages::StageClock;
 use super::trace::{Built, Request};
-use super::tree::{BeamMemo, Node, ThroughMemo, Tree};
+use super::tree::{Node, Tree, TreeMemos};
 use crate::RenderError;
 use crate::render::Image;
 use beam_bvh::Hit;
@@ -24,14 +24,13 @@ use beam_render::nonlinear::{
 use beam_render::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
-use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
 /// Render `scene` with its mirror and glass surfaces by nonlinear beams on the CPU. Fails only
 /// where the beam tree of `options.bounces` levels is estimated too large to build
 /// ([`RenderError::BeamTree`]).
 pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> Result<(Image, NonlinearStats), RenderError> {
-    render_nonlinear_with(scene, options, &CpuBeams)
+    render_nonlinear_with(scene, options, &mut CpuBeams)
 }
 
 /// Render `scene` with its mirror and glass surfaces by nonlinear beams, the eye's view and every
@@ -42,7 +41,7 @@ pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> Result<(Im
 pub fn render_nonlinear_with(
     scene: &Scene,
     options: &NonlinearOptions,
-    renderer: &dyn BeamRenderer,
+    renderer: &mut dyn BeamRenderer,
 ) -> Result<(Image, NonlinearStats), RenderError> {
     match render_nonlinear_frame(scene, options, renderer, None)? {
         (FrameImage::Read(image), stats) => Ok((image, stats)),
@@ -79,7 +78,8 @@ impl FrameImage {
 /// from its lights). Neither depends on the camera or the beam tree, so an interactive renderer
 /// makes them once and renders every frame (a camera that moves, a new beam tree) with them
 /// ([`render_nonlinear_frame`]). The frames keep their trees' beams here too, each frame's for the
-/// next: a beam of the same face and incoming light is made once.
+/// next: a beam of the same face and incoming light is made once; so a frame borrows these
+/// mutably, one frame at a time.
 #[derive(Debug)]
 pub struct NonlinearPrecomputed {
     smesh: SMesh,
@@ -87,8 +87,7 @@ pub struct NonlinearPrecomputed {
     stats: CausticStats,
     /// The scene's triangle count, checked by the frames that share these.
     triangles: usize,
-    beams: Mutex<BeamMemo>,
-    through: Mutex<ThroughMemo>,
+    memos: TreeMemos,
 }
 
 impl NonlinearPrecomputed {
@@ -97,14 +96,7 @@ impl NonlinearPrecomputed {
     pub fn new(scene: &Scene, options: &NonlinearOptions, renderer: &dyn BeamRenderer) -> Result<Self, RenderError> {
         let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
         let (map, stats) = caustics.map_or((None, CausticStats::default()), |(m, s)| (Some(m), s));
-        Ok(Self {
-            smesh: SMesh::of(scene),
-            map,
-            stats,
-            triangles: scene.triangles.len(),
-            beams: Mutex::default(),
-            through: Mutex::default(),
-        })
+        Ok(Self { smesh: SMesh::of(scene), map, stats, triangles: scene.triangles.len(), memos: TreeMemos::default() })
     }
 
     /// What tracing the caustics did.
@@ -123,7 +115,7 @@ impl NonlinearPrecomputed {
     /// than made.
     #[must_use]
     pub fn beams_reused(&self) -> u64 {
-        self.beams.lock().unwrap_or_else(PoisonError::into_inner).found()
+        self.memos.beams.found()
     }
 }
 
@@ -137,15 +129,15 @@ impl NonlinearPrecomputed {
 pub fn render_nonlinear_frame(
     scene: &Scene,
     options: &NonlinearOptions,
-    renderer: &dyn BeamRenderer,
-    precomputed: Option<&NonlinearPrecomputed>,
+    renderer: &mut dyn BeamRenderer,
+    precomputed: Option<&mut NonlinearPrecomputed>,
 ) -> Result<(FrameImage, NonlinearStats), RenderError> {
     let start = Instant::now();
-    let mut clock = StageClock::start(renderer);
+    let mut clock = StageClock::start(renderer.waited_seconds());
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
     // The S mesh, and pass 1 and 2 of the caustics (000 §9.2), before the eye's beam tree that
     // shades with them.
-    let made;
+    let mut made;
     let shared = match precomputed {
         Some(given) if given.triangles != scene.triangles.len() => {
             return Err(RenderError::Precomputed { made_for: given.triangles, scene: scene.triangles.len() });
@@ -153,10 +145,10 @@ pub fn render_nonlinear_frame(
         Some(given) => given,
         None => {
             made = NonlinearPrecomputed::new(scene, options, renderer)?;
-            &made
+            &mut made
         }
     };
-    clock.lap("S mesh and caustics");
+    clock.lap("S mesh and caustics", renderer.waited_seconds());
     let caustic_stats = shared.stats.clone();
     let tree = Tree {
         scene,
@@ -165,8 +157,6 @@ pub fn render_nonlinear_frame(
         eye: camera.position,
         caustics: shared.map.as_ref(),
         by_rays: std::sync::atomic::AtomicU64::new(0),
-        beams: &shared.beams,
-        through: &shared.through,
         far: scene.bounds().extent().length(),
     };
     // The eye's view: per pixel centre, the nearest hit; the S-mesh faces it sees are the roots of
@@ -176,7 +166,7 @@ pub fn render_nonlinear_frame(
     // levels add to and the shading consumes.)
     let (EyeFaces { hits, seen, kept: kept_eye }, mut kept_frame) =
         renderer.eye_faces(scene, tree.smesh, &camera, &options.shading)?;
-    clock.lap("eye view");
+    clock.lap("eye view", renderer.waited_seconds());
     // Per pixel handed back, the S face it sees: its own triangle's, or on a coarse S mesh the
     // face its point maps to. The eye's beams need only how many pixels see each face (their
     // directions come from the eye itself).
@@ -199,47 +189,49 @@ pub fn render_nonlinear_frame(
         .filter(|&f| seen_by[f][1] > 0)
         .map(|face| Request { parent: None, face, fit: Fit::default(), pixels: seen_by[face][0] as f32 })
         .collect();
-    clock.lap("eye view: faces seen");
+    clock.lap("eye view: faces seen", renderer.waited_seconds());
     let Built { roots: children, mut levels, kept, records } =
-        tree.build(renderer, roots, &mut kept_frame, &mut clock)?;
+        tree.build(renderer, &mut shared.memos, roots, &mut kept_frame, &mut clock)?;
     // The eye's view (the region's pixels) is level 0 of the radiance flow, `next` the tree's first.
     fn first(levels: &[Vec<Node>]) -> &[Node] {
         levels.first().map_or(&[], Vec::as_slice)
     }
-    let eye_texels = |hits: &[(usize, Ray, Hit)], located: &[Option<(usize, Vec3)>], next: &[Node]| {
-        let point = |i: usize, ray: Ray, hit: Hit| ShadePoint {
-            prim: hit.prim,
-            p: ray.at(hit.t),
-            d: ray.direction.normalize(),
-            seed: i as u64,
+    let eye_texels =
+        |renderer: &dyn BeamRenderer, hits: &[(usize, Ray, Hit)], located: &[Option<(usize, Vec3)>], next: &[Node]| {
+            let point = |i: usize, ray: Ray, hit: Hit| ShadePoint {
+                prim: hit.prim,
+                p: ray.at(hit.t),
+                d: ray.direction.normalize(),
+                seed: i as u64,
+            };
+            let to_composite = |k: usize, &(i, ray, hit): &(usize, Ray, Hit)| {
+                tree.to_composite(&children, point(i, ray, hit), located[k])
+            };
+            let points: Option<Vec<_>> = tree
+                .looks_up(renderer, next)
+                .then(|| hits.par_iter().enumerate().map(|(k, h)| in_crop(h.0).then(|| to_composite(k, h))).collect());
+            let looked_up = match &points {
+                Some(points) => tree.lookups(renderer, next, points)?,
+                None => Lookups::default(),
+            };
+            Ok::<_, BackendError>(par_flatten(
+                hits,
+                TexelRadiance::default(),
+                |_, &(i, ..)| usize::from(in_crop(i)),
+                |k, h, push| {
+                    if in_crop(h.0) {
+                        let to = points.as_ref().and_then(|p| p[k]).unwrap_or_else(|| to_composite(k, h));
+                        let composite = tree.composite(next, &to, looked_up.of(k));
+                        push(TexelRadiance { texel: h.0 as u32, point: to.point, composite });
+                    }
+                },
+            ))
         };
-        let to_composite =
-            |k: usize, &(i, ray, hit): &(usize, Ray, Hit)| tree.to_composite(&children, point(i, ray, hit), located[k]);
-        let points: Option<Vec<_>> = tree
-            .looks_up(renderer, next)
-            .then(|| hits.par_iter().enumerate().map(|(k, h)| in_crop(h.0).then(|| to_composite(k, h))).collect());
-        let looked_up = match &points {
-            Some(points) => tree.lookups(renderer, next, points)?,
-            None => Lookups::default(),
-        };
-        Ok::<_, BackendError>(par_flatten(
-            hits,
-            TexelRadiance::default(),
-            |_, &(i, ..)| usize::from(in_crop(i)),
-            |k, h, push| {
-                if in_crop(h.0) {
-                    let to = points.as_ref().and_then(|p| p[k]).unwrap_or_else(|| to_composite(k, h));
-                    let composite = tree.composite(next, &to, looked_up.of(k));
-                    push(TexelRadiance { texel: h.0 as u32, point: to.point, composite });
-                }
-            },
-        ))
-    };
     let none = u32::MAX;
     let eye = LevelRadiance {
         regions: Vec::new(),
         len: camera.width as usize * camera.height as usize,
-        texels: eye_texels(&hits, &located, first(&levels))?,
+        texels: eye_texels(renderer, &hits, &located, first(&levels))?,
         children: (0..tree.smesh.faces.len())
             .map(|f| {
                 children.get(&f).map_or([none; 2], |c| [c.reflected as u32, c.refracted.map_or(none, |r| r as u32)])
@@ -274,7 +266,7 @@ pub fn render_nonlinear_frame(
         + kept.curved
         + kept_by_rays
         + records_by_rays as u64;
-    clock.lap("radiance flow");
+    clock.lap("radiance flow", renderer.waited_seconds());
     let (shading, caustics) = (&options.shading, tree.caustics);
     let (frame, coarse_by_rays) = match renderer.shade_tree(scene, tree.smesh, shading, caustics, &flow, kept_frame)? {
         TreeShading::Shaded { pixels, coarse_by_rays } => (pixels, coarse_by_rays),
@@ -288,18 +280,18 @@ pub fn render_nonlinear_frame(
             }
             flow[0].texels.extend(renderer.take_kept_eye(&mut kept_frame)?);
             let kept_hits = renderer.take_kept_eye_hits(scene, &mut kept_frame)?;
-            flow[0].texels.extend(eye_texels(&kept_hits, &locate(&kept_hits), first(&levels))?);
+            flow[0].texels.extend(eye_texels(renderer, &kept_hits, &locate(&kept_hits), first(&levels))?);
             for (level, texels) in renderer.take_kept_levels(&mut kept_frame)? {
                 let past = || BackendError::new("renderer", format!("kept texels of level {level}, past the tree"));
                 flow.get_mut(level).ok_or_else(past)?.texels.extend(texels);
             }
-            let pixels = composite_levels(scene, tree.smesh, &flow, &|points| {
+            let pixels = composite_levels(scene, tree.smesh, &flow, |points| {
                 shade_points(renderer, scene, shading, caustics, points)
             })?;
             (FramePixels::Read(pixels), CoarseByRays::default())
         }
     };
-    clock.lap("shading and composite");
+    clock.lap("shading and composite", renderer.waited_seconds());
     let image = match frame {
         FramePixels::Read(f) => {
             FrameImage::Read(Image { width: crop.width(), height: crop.height(), pixels: crop.cut(f, camera.width) })
@@ -331,7 +323,7 @@ pub fn render_nonlinear_frame(
         kept_on_backend: kept_eye + kept.points,
         caustics: caustic_stats,
         stages: {
-            clock.lap("image");
+            clock.lap("image", renderer.waited_seconds());
             clock.stages()
         },
         width: crop.width(),
@@ -360,10 +352,10 @@ mod tests {
             caustic_strata: 1,
             shading: RenderOptions::exact(40, 32),
         };
-        let shared = NonlinearPrecomputed::new(&scene, &options, &CpuBeams).unwrap();
+        let mut shared = NonlinearPrecomputed::new(&scene, &options, &CpuBeams).unwrap();
         assert!(shared.stats().beams > 0 && shared.stats().texels_deposited > 0, "{:?}", shared.stats());
-        let (made, made_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
-        let (again, again_stats) = render_nonlinear_frame(&scene, &options, &CpuBeams, Some(&shared)).unwrap();
+        let (made, made_stats) = render_nonlinear_with(&scene, &options, &mut CpuBeams).unwrap();
+        let (again, again_stats) = render_nonlinear_frame(&scene, &options, &mut CpuBeams, Some(&mut shared)).unwrap();
         assert_eq!(Some(made.pixels), again.read().map(|a| a.pixels));
         let counts = |s: &NonlinearStats| (s.caustics.beams, s.caustics.texels_deposited, s.texels_shaded);
         assert_eq!(counts(&made_stats), counts(&again_stats));
@@ -382,14 +374,14 @@ mod tests {
             caustic_strata: 0,
             shading: RenderOptions::exact(32, 24),
         };
-        let shared = NonlinearPrecomputed::new(&scene, &options, &CpuBeams).unwrap();
+        let mut shared = NonlinearPrecomputed::new(&scene, &options, &CpuBeams).unwrap();
         assert!(shared.smesh().coarse_faces() > 0);
-        let (made, made_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
-        let (again, again_stats) = render_nonlinear_frame(&scene, &options, &CpuBeams, Some(&shared)).unwrap();
+        let (made, made_stats) = render_nonlinear_with(&scene, &options, &mut CpuBeams).unwrap();
+        let (again, again_stats) = render_nonlinear_frame(&scene, &options, &mut CpuBeams, Some(&mut shared)).unwrap();
         assert_eq!(Some(made.pixels), again.read().map(|a| a.pixels));
         assert_eq!(made_stats.coarse_smesh_faces, again_stats.coarse_smesh_faces);
         let other = builtin("wavy-lake").unwrap();
-        let wrong = render_nonlinear_frame(&other, &options, &CpuBeams, Some(&shared));
+        let wrong = render_nonlinear_frame(&other, &options, &mut CpuBeams, Some(&mut shared));
         assert!(matches!(wrong, Err(RenderError::Precomputed { .. })), "{:?}", wrong.map(|_| ()));
     }
 }

@@ -406,9 +406,9 @@ mod batches {
                 caustic_strata: 0,
                 shading: RenderOptions::exact(48, 36),
             };
-            let (in_place, in_place_stats) = render_nonlinear_with(&scene, &options, &CpuBeams).unwrap();
-            let batches = HostBatches::default();
-            let (batched, batched_stats) = render_nonlinear_with(&scene, &options, &batches).unwrap();
+            let (in_place, in_place_stats) = render_nonlinear_with(&scene, &options, &mut CpuBeams).unwrap();
+            let mut batches = HostBatches::default();
+            let (batched, batched_stats) = render_nonlinear_with(&scene, &options, &mut batches).unwrap();
             assert!(batches.0.load(Ordering::Relaxed) > 0, "{name}: no lookup went to the backend");
             assert_eq!(in_place.pixels, batched.pixels, "{name}");
             assert_eq!(in_place_stats.uncovered_by_beams, batched_stats.uncovered_by_beams, "{name}");

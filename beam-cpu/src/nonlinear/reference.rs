@@ -38,7 +38,7 @@ pub fn render_smooth_reference_with(
     let paths: Vec<Path> =
         crop.frame_indices(camera.width).map(|i| (i, camera.pixel_ray(&frame, i), Vec3::ONE)).collect();
     // The ground truth shades exactly, on the CPU.
-    let shade = |points: &[ShadePoint]| shade_points(&CpuBeams, scene, options, caustics.as_ref(), points);
+    let shade = |points: &[ShadePoint]| shade_points(&mut CpuBeams, scene, options, caustics.as_ref(), points);
     trace_waves(scene, renderer, &shade, &|i| i as u64, paths, 0, &mut pixels)?;
     Ok(Image { width: crop.width(), height: crop.height(), pixels: crop.cut(pixels, camera.width) })
 }

@@ -3,7 +3,6 @@
 //! column (CPU / GPU milliseconds per frame), and the CPU time of our own threads.
 
 use beam_render::cpu_clock::our_threads_cpu_seconds;
-use beam_render::nonlinear::BeamRenderer;
 use std::time::Instant;
 
 /// One stage of a frame, summed over the times it ran (the beam tree's stages run once per level).
@@ -22,9 +21,9 @@ pub struct Stage {
     pub cpu_seconds: f64,
 }
 
-/// Laps a frame's stages against `renderer`'s device waits.
-pub(super) struct StageClock<'r> {
-    renderer: &'r dyn BeamRenderer,
+/// Laps a frame's stages against the seconds its renderer has blocked on its device
+/// ([`beam_render::nonlinear::DeviceWaits::waited_seconds`], read at each lap).
+pub(super) struct StageClock {
     at: Instant,
     waited: f64,
     cpu: Option<f64>,
@@ -36,14 +35,16 @@ fn cpu_now() -> Option<f64> {
     our_threads_cpu_seconds().map(|(main, workers)| main + workers)
 }
 
-impl<'r> StageClock<'r> {
-    pub(super) fn start(renderer: &'r dyn BeamRenderer) -> Self {
-        Self { renderer, at: Instant::now(), waited: renderer.waited_seconds(), cpu: cpu_now(), stages: Vec::new() }
+impl StageClock {
+    /// A clock started with the renderer's device waits so far, `waited` seconds.
+    pub(super) fn start(waited: f64) -> Self {
+        Self { at: Instant::now(), waited, cpu: cpu_now(), stages: Vec::new() }
     }
 
-    /// Close the stage that ran since the last lap as `name`.
-    pub(super) fn lap(&mut self, name: &'static str) {
-        let (at, waited, cpu) = (Instant::now(), self.renderer.waited_seconds(), cpu_now());
+    /// Close the stage that ran since the last lap as `name`, the renderer's device waits so far
+    /// `waited` seconds.
+    pub(super) fn lap(&mut self, name: &'static str, waited: f64) {
+        let (at, cpu) = (Instant::now(), cpu_now());
         let seconds = (at - self.at).as_secs_f64();
         let host_seconds = (seconds - (waited - self.waited)).max(0.0);
         let cpu_seconds = cpu.zip(self.cpu).map_or(0.0, |(now, then)| (now - then).max(0.0));
@@ -66,24 +67,23 @@ impl<'r> StageClock<'r> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::nonlinear::CpuBeams;
 
     /// A stage that computes on the calling thread reports CPU time, and no more than the CPU
     /// time all our threads used meanwhile (the workers' clocks are read, not asked, so other
     /// tests' rayon work cannot hold a lap up); one that only waits reports wall time.
     #[test]
     fn laps_count_the_cpu_time_of_our_threads() {
-        let mut clock = StageClock::start(&CpuBeams);
+        let mut clock = StageClock::start(0.0);
         let before = our_threads_cpu_seconds();
         let mut x = 1.0f64;
         for i in 0..20_000_000u64 {
             x = (x * 1.000_000_1 + i as f64).sqrt();
         }
         std::hint::black_box(x);
-        clock.lap("compute");
+        clock.lap("compute", 0.0);
         let all = before.zip(our_threads_cpu_seconds()).map(|((m0, w0), (m1, w1))| m1 - m0 + w1 - w0);
         std::thread::sleep(std::time::Duration::from_millis(20));
-        clock.lap("wait");
+        clock.lap("wait", 0.0);
         let stages = clock.stages();
         let (compute, wait) = (&stages[0], &stages[1]);
         if our_threads_cpu_seconds().is_some() {

@@ -15,7 +15,7 @@ use super::lookup::{FaceAnswer, Lookups, ToComposite, reproject};
 use super::settings::MAX_TREE_BEAMS;
 use super::source::{from_eye, through};
 use super::stages::StageClock;
-use super::tree::{FaceMap, Node, Scattered, Tree, TreeBeam};
+use super::tree::{FaceMap, Node, Scattered, Tree, TreeBeam, TreeMemos};
 use crate::RenderError;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
@@ -27,7 +27,7 @@ use beam_render::nonlinear::{
 };
 use beam_render::parallel::par_flatten;
 use rayon::prelude::*;
-use std::sync::{Arc, PoisonError};
+use std::sync::Arc;
 
 /// A built beam tree: the children of the faces the eye sees, and the beams level by level; what the
 /// renderer kept of the levels (texels none of the nodes hold), and per level whether it
@@ -100,13 +100,14 @@ impl Tree<'_> {
     /// levels.
     pub(super) fn build(
         &self,
-        renderer: &dyn BeamRenderer,
+        renderer: &mut dyn BeamRenderer,
+        memos: &mut TreeMemos,
         roots: Vec<Request>,
         kept_frame: &mut KeptFrame,
-        clock: &mut StageClock<'_>,
+        clock: &mut StageClock,
     ) -> Result<Built, RenderError> {
-        self.beams.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
-        self.through.lock().unwrap_or_else(PoisonError::into_inner).next_frame();
+        memos.beams.next_frame();
+        memos.through.next_frame();
         let mut levels: Vec<Vec<Node>> = Vec::new();
         let mut root_children = FaceMap::default();
         let mut kept_totals = KeptTotals::default();
@@ -146,7 +147,7 @@ impl Tree<'_> {
                 .filter_map(|(i, _)| Some((i, &parents?[requests[i].parent?].beam)))
                 .collect();
             let keys = projected.iter().map(|&(i, parent)| through_key(parent, requests[i].face)).collect();
-            let found = self.through.lock().unwrap_or_else(PoisonError::into_inner).values(keys, |k| {
+            let found = memos.through.values(keys, |k| {
                 let (i, parent) = projected[k];
                 through(parent, &self.smesh.faces[requests[i].face])
             });
@@ -160,7 +161,7 @@ impl Tree<'_> {
                 incoming.iter().enumerate().filter_map(|(i, d)| Some((i, (*d)?))).collect();
             let keys: Vec<[u32; 11]> =
                 lit.iter().map(|&(i, d)| children_key(requests[i].face, self.options.degree, d)).collect();
-            let made = self.beams.lock().unwrap_or_else(PoisonError::into_inner).values(keys.clone(), |k| {
+            let made = memos.beams.values(keys.clone(), |k| {
                 let (i, incoming) = lit[k];
                 let (reflected, refracted) =
                     child_beams(self.scene, &self.smesh.faces[requests[i].face], incoming, self.options.degree)?;
@@ -192,7 +193,7 @@ impl Tree<'_> {
                 .iter()
                 .map(|(beam, face, _, size)| BeamJob { beam, size: *size, exclude: self.smesh.exclude(*face) })
                 .collect();
-            clock.lap("tree: beams");
+            clock.lap("tree: beams", renderer.waited_seconds());
             // A backend that shades the tree itself keeps the texels from which the tree does not
             // go on; lookups under coarse faces above read the hits all the same.
             let layout = self.layout(beams.iter().map(|&(_, face, _, size)| (face, size)));
@@ -210,7 +211,7 @@ impl Tree<'_> {
                 kept_totals.curved += k.curved;
             }
             records.push(kept.is_some_and(|k| k.records));
-            clock.lap("tree: rasterize beams");
+            clock.lap("tree: rasterize beams", renderer.waited_seconds());
             let mut nodes: Vec<Node> = beams
                 .into_par_iter()
                 .zip(textures)
@@ -234,7 +235,7 @@ impl Tree<'_> {
                     Node { beam, bumped, face, pixels, tex, hits, located: Vec::new(), children: FaceMap::default() }
                 })
                 .collect();
-            clock.lap("tree: texel hits");
+            clock.lap("tree: texel hits", renderer.waited_seconds());
             requests = if level < self.options.bounces && kept.is_some_and(|k| k.fits) {
                 // The backend summed each beam's fits on the faces its texels hit.
                 nodes
@@ -266,7 +267,7 @@ impl Tree<'_> {
             } else {
                 Vec::new()
             };
-            clock.lap("tree: next level's faces");
+            clock.lap("tree: next level's faces", renderer.waited_seconds());
             levels.push(nodes);
         }
         Ok(Built { roots: root_children, levels, kept: kept_totals, records })

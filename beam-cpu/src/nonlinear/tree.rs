@@ -1,5 +1,6 @@
 //! The beam tree's data (000 §7.3): its beams ([`TreeBeam`], [`Node`]), the child beams of a face
-//! ([`Scattered`]), and one frame's tree ([`Tree`], with the memos of beams the frames share). Data
+//! ([`Scattered`]), one frame's tree ([`Tree`]) and the memos of beams the frames share
+//! ([`TreeMemos`]). Data
 //! only, below the stages that build the tree (`trace`) and composite into it (`lookup`).
 
 use super::settings::NonlinearOptions;
@@ -8,7 +9,7 @@ use beam_render::irradiance_map::IrradianceMap;
 use beam_render::memo::FrameMemo;
 use beam_render::nonlinear::{Beam, BeamTexture, SMesh, TexelPoint};
 use beam_scene::scene::Scene;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// A map keyed by S-mesh face, hashed by rustc's `FxHasher` (one multiplication): the maps below
 /// are looked up once per texel (with the default SipHash: glass-lens radiance flow 192–194 →
@@ -76,23 +77,30 @@ pub(super) struct Tree<'a> {
     pub(super) caustics: Option<&'a IrradianceMap>,
     /// Points under coarse faces traced by rays: no child beam holds their scattered ray.
     pub(super) by_rays: std::sync::atomic::AtomicU64,
-    /// The beams of this frame's tree and of the last one's, by face and incoming light.
-    pub(super) beams: &'a Mutex<BeamMemo>,
-    /// The parents' rays through their children's faces' vertices, of this frame's tree and of
-    /// the last one's.
-    pub(super) through: &'a Mutex<ThroughMemo>,
     /// The scene's diagonal: the depth where a texel's ray leaves the scene ([`reproject`](super::lookup::reproject)),
     /// found once (a lookup and a composite a point read it).
     pub(super) far: f32,
 }
 
+/// What one frame's tree leaves for the next frame's (found again where the next one asks with the
+/// same bits): held by the frames' caller ([`super::NonlinearPrecomputed`]) and lent to one frame
+/// at a time.
+#[derive(Debug, Default)]
+pub(super) struct TreeMemos {
+    /// The beams of this frame's tree and of the last one's, by face and incoming light.
+    pub(super) beams: BeamMemo,
+    /// The parents' rays through their children's faces' vertices, of this frame's tree and of
+    /// the last one's.
+    pub(super) through: ThroughMemo,
+}
+
 /// A face's beams (reflected, and refracted through glass; `None` where degenerate) by what they
 /// are made of (`trace`'s `children_key`), kept from one frame's tree to the next: on the wavy lake's 2,146
 /// beams, 1.6 of the 21 host ms a frame went to their S3 patches.
-pub(crate) type BeamMemo = FrameMemo<[u32; 11], Option<Arc<(Beam, Option<Beam>)>>>;
+pub(super) type BeamMemo = FrameMemo<[u32; 11], Option<Arc<(Beam, Option<Beam>)>>>;
 
 /// The unit directions of a parent beam's rays through the vertices of a face its texels hit
 /// where they do not span it ([`through`](super::source::through): three Newton projections), by the parent
 /// (`trace`'s `through_key`), kept from one frame's tree to the next: on the mirror teapot under 850
 /// coarse faces, 6 of the 28 host ms a frame with the eye still.
-pub(crate) type ThroughMemo = FrameMemo<[u32; 13], Option<[Vec3; 3]>>;
+pub(super) type ThroughMemo = FrameMemo<[u32; 13], Option<[Vec3; 3]>>;

@@ -31,7 +31,7 @@ use beam_render::nonlinear::{BeamJob, BeamTexture, KeepLevel, KeptTotals, region
 use beam_render::options::Shading;
 use beam_scene::scene::Scene;
 use std::cell::Cell;
-use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The tree levels' stage on the GPU: the atlas's passes ([`AtlasPages`]) and the level-points
@@ -49,11 +49,10 @@ pub(super) struct GpuAtlas<'g> {
     /// Whether it keeps the levels' points (and the eye stage the eye's mirror and glass hits)
     /// on the GPU, unless [`super::GpuBeams::reading_levels_back`].
     pub(super) keep_levels: bool,
-    /// Across frames: the one lock of the nonlinear path. The renderer is shared (`&self`, `Sync`)
-    /// by the frames that use it in turn, and each frame's levels read what the last frame's left
-    /// and leave their own for the next; the caller holds no object across frames that could own
-    /// it. Taken once a level (not a page, nor a beam).
-    memo: Mutex<AtlasMemo>,
+    /// Across frames: each frame's levels read what the last frame's left and leave their own for
+    /// the next. Frames use the renderer in turn ([`render_level`](Self::render_level) takes
+    /// `&mut self`), so it is a plain value, lent to one level at a time.
+    memo: AtlasMemo,
     /// No candidates (no texel located), where the frame's eye stage kept none.
     no_locate: LocateTable,
     /// Where the stage spent its time, summed over the renderer's life.
@@ -109,7 +108,7 @@ impl<'g> GpuAtlas<'g> {
             level: GpuLevelPoints::new(gpu, scene)?,
             job_pairs: TEXEL_JOB_PAIRS,
             keep_levels: true,
-            memo: Mutex::default(),
+            memo: AtlasMemo::default(),
             no_locate: LocateTable::none(gpu),
             times: SummedTimes::default(),
         })
@@ -120,15 +119,10 @@ impl<'g> GpuAtlas<'g> {
         self.pages.by_compute()
     }
 
-    /// The memo across frames.
-    fn memo(&self) -> MutexGuard<'_, AtlasMemo> {
-        self.memo.lock().unwrap_or_else(PoisonError::into_inner)
-    }
-
     /// The textures of `jobs`, a batch of beams outside a frame's tree (none prepared for the
     /// next frame).
     pub(super) fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
-        Ok(self.render(scene, jobs, None, None, false)?.0)
+        Ok(self.render(scene, jobs, None, None, None)?.0)
     }
 
     /// A level of a frame's tree ([`beam_render::nonlinear::BeamRasterizer::render_level`]), kept
@@ -137,22 +131,26 @@ impl<'g> GpuAtlas<'g> {
     /// `locate` (the candidates the frame's eye stage kept, where it did). Returns the textures
     /// and the level kept, a value for the frame to hold.
     pub(super) fn render_level(
-        &self,
+        &mut self,
         scene: &Scene,
         jobs: &[BeamJob<'_>],
         keep: &KeepLevel<'_>,
         locate: Option<&LocateTable>,
     ) -> Result<(Vec<BeamTexture>, Option<LevelKept>), BackendError> {
         if keep.level <= 1 {
-            let mut memo = self.memo();
-            memo.preparations.next_frame();
-            memo.pages.next_frame();
+            self.memo.preparations.next_frame();
+            self.memo.pages.next_frame();
         }
         let shaded_here = keep.options.shading == Shading::Exact && texels::fits(self.gpu, keep.layout.len);
-        if !self.keep_levels || !shaded_here {
-            return Ok((self.render(scene, jobs, None, None, true)?.0, None));
-        }
-        let (textures, kept) = self.render(scene, jobs, Some(keep), locate, true)?;
+        let keep = (self.keep_levels && shaded_here).then_some(keep);
+        // The memo lent to the level (`render` reads the stage's passes through `&self`).
+        let mut memo = std::mem::take(&mut self.memo);
+        let rendered = self.render(scene, jobs, keep, locate, Some(&mut memo));
+        self.memo = memo;
+        let (textures, kept) = rendered?;
+        let Some(keep) = keep else {
+            return Ok((textures, None));
+        };
         let mut kept = kept.ok_or(GpuError::Internal("a level to keep was not kept"))?;
         // On a coarse S mesh the records of the level above (the eye's, for the first) look their
         // points up in this one: in the depths written on the GPU, else in every hit read back.
@@ -221,22 +219,20 @@ impl GpuAtlas<'_> {
 
     /// The textures of `jobs`; with `keep`, the points of the texels from which the tree does not go
     /// on kept on the GPU ([`super::GpuLevelPoints`]), the textures holding only the others' hits
-    /// (every hit `keep.with_hits`); with `reuse`, beams of a frame's tree, each prepared once for
-    /// this frame and the next ([`Preparations`]).
+    /// (every hit `keep.with_hits`); with the renderer's `memo`, beams of a frame's tree, each
+    /// prepared once for this frame and the next ([`Preparations`]), and pages uploaded once.
     fn render(
         &self,
         scene: &Scene,
         jobs: &[BeamJob<'_>],
         keep: Option<&KeepLevel<'_>>,
         locate: Option<&LocateTable>,
-        reuse: bool,
+        mut memo: Option<&mut AtlasMemo>,
     ) -> Result<(Vec<BeamTexture>, Option<KeptLevel>), BackendError> {
         let start = Instant::now();
         // Bounding-cone culling (000 App. A) by the BVH's boxes here, triangle by triangle on the
         // GPU (`super::cull`); the beams for the shader from the same bounds, placed on their
         // regions below.
-        // The memo across frames, held for the level.
-        let mut memo = reuse.then(|| self.memo());
         let before = memo.as_ref().map_or((0, 0), |m| m.preparations.reused());
         let culled = prepared(scene, jobs, memo.as_deref_mut().map(|m| &mut m.preparations));
         let after = memo.as_ref().map_or((0, 0), |m| m.preparations.reused());
@@ -398,7 +394,7 @@ impl GpuAtlas<'_> {
             kept.depths = Some(depths);
         }
         if let (Some(kept), Some(table), Some(k)) = (kept.as_mut(), fit_table, keep) {
-            self.read_fits(memo.as_deref_mut(), &table, kept, &mut textures, k.level)?;
+            self.read_fits(memo, &table, kept, &mut textures, k.level)?;
         }
         Ok((textures, kept))
     }

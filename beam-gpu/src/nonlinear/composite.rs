@@ -64,7 +64,7 @@ pub use crate::interface::NONE;
 /// Shades batches of the points the [`PointShader`] does not (mirrors and glass past the tree): adds
 /// the radiance of each job's point `i` to element `first + i` of its buffer of `vec4<f32>`s
 /// (zeroed), as [`GpuWhitted::shade_into`](super::GpuWhitted::shade_into) does.
-pub type ShadeRest<'a> = dyn Fn(&[RestJob<'_>], &ShadeChecks) -> Result<(), GpuError> + 'a;
+pub type ShadeRest<'a> = dyn Fn(&[RestJob<'_>], &mut ShadeChecks) -> Result<(), GpuError> + 'a;
 
 /// Points kept on the GPU for one level of the radiance flow: shaded by the shading pass (`direct`,
 /// the eye's diffuse, glossy and emissive pixels, [`super::GpuEye`], or a kept level's), or by the
@@ -163,7 +163,7 @@ impl GpuComposite {
         kept: &[KeptHere<'_>],
         rest: &ShadeRest<'_>,
         shape: Option<(u32, u32)>,
-        checks: &ShadeChecks,
+        checks: &mut ShadeChecks,
     ) -> Result<GpuFrame, GpuError> {
         let all_faces = gpu_faces(scene, smesh);
         let chunk = Self::records_per_dispatch(gpu);
@@ -310,7 +310,7 @@ impl GpuComposite {
         gpu: &Gpu,
         (tracer, shader, prepared, spp): (&RayTracer, &PointShader, &ShadeScene, u32),
         kept: &[KeptHere<'_>],
-        checks: &ShadeChecks,
+        checks: &mut ShadeChecks,
         encoder: &mut wgpu::CommandEncoder,
     ) -> Result<Option<Joined>, GpuError> {
         let all = || kept.iter().flat_map(|h| h.direct).filter(|k| k.count > 0);

@@ -41,7 +41,7 @@ impl GpuBeams<'_> {
     /// Exact shading of `points` on the GPU: diffuse, glossy and emissive points by the shading
     /// pass; mirrors and glass by Whitted rays traced on the GPU in waves ([`GpuWhitted`]), the
     /// points they end on shaded by the same pass.
-    fn shade_exact(&self, caustics: Option<&IrradianceMap>, points: &[ShadePoint]) -> Result<Vec<Vec3>, GpuError> {
+    fn shade_exact(&mut self, caustics: Option<&IrradianceMap>, points: &[ShadePoint]) -> Result<Vec<Vec3>, GpuError> {
         let start = Instant::now();
         let prepared = self.shader.prepare(self.gpu, caustics);
         let mut out = Vec::with_capacity(points.len());
@@ -104,7 +104,7 @@ impl RayQueries for GpuBeams<'_> {
 
 impl PointShading for GpuBeams<'_> {
     fn shade_points(
-        &self,
+        &mut self,
         _scene: &Scene,
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
@@ -118,7 +118,7 @@ impl PointShading for GpuBeams<'_> {
     }
 
     fn shade_tree(
-        &self,
+        &mut self,
         scene: &Scene,
         smesh: &SMesh,
         options: &RenderOptions,
@@ -204,7 +204,7 @@ impl PointShading for GpuBeams<'_> {
         // Mirror and glass points past the tree by Whitted rays, their host time apart.
         // The scene's shading and caustics, uploaded once for the composite and every wave.
         let prepared = self.shader.prepare(self.gpu, caustics);
-        let rest = |jobs: &[RestJob<'_>], checks: &ShadeChecks| {
+        let rest = |jobs: &[RestJob<'_>], checks: &mut ShadeChecks| {
             let (start, waited) = (Instant::now(), self.gpu.traffic().waited_seconds);
             let shading = (&self.shader, &prepared, self.light_samples);
             let out = self.whitted.shade_into(self.gpu, &self.tracer, shading, jobs, Some(checks));
@@ -215,7 +215,7 @@ impl PointShading for GpuBeams<'_> {
         // A displayed frame's texture has the image's shape; one read back, the texels' layout
         // (whose rows are whole copy alignments).
         let shape = self.display.then_some((options.width, options.height));
-        let composite = |checks: &ShadeChecks| {
+        let composite = |checks: &mut ShadeChecks| {
             let (scene, shading) = ((scene, smesh), &prepared);
             let frame = self.composite.run(
                 self.gpu,

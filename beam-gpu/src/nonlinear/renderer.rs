@@ -168,7 +168,7 @@ impl BeamRasterizer for GpuBeams<'_> {
     /// unless [`GpuBeams::reading_levels_back`] asked otherwise; located by the candidates the
     /// frame's eye view kept, where it did.
     fn render_level(
-        &self,
+        &mut self,
         scene: &Scene,
         jobs: &[BeamJob<'_>],
         keep: &KeepLevel<'_>,

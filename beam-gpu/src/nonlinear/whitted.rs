@@ -293,7 +293,7 @@ impl GpuWhitted {
         tracer: &RayTracer,
         (shader, prepared, spp): (&PointShader, &ShadeScene, u32),
         jobs: &[RestJob<'_>],
-        checks: Option<&ShadeChecks>,
+        mut checks: Option<&mut ShadeChecks>,
     ) -> Result<(), GpuError> {
         let depth_first = if self.depth_first { self.depth_first(gpu, tracer, jobs)? } else { None };
         let mut ends = match depth_first {
@@ -320,7 +320,7 @@ impl GpuWhitted {
         let shading = (tracer, shader, prepared, spp);
         let held = batches
             .iter()
-            .map(|batch| self.shade_ends(gpu, shading, batch, jobs, checks, &mut encoder))
+            .map(|batch| self.shade_ends(gpu, shading, batch, jobs, checks.as_deref_mut(), &mut encoder))
             .collect::<Result<Vec<_>, GpuError>>()?;
         gpu.submit([encoder.finish()]);
         drop(held);
@@ -456,7 +456,7 @@ impl GpuWhitted {
         (tracer, shader, prepared, spp): (&RayTracer, &PointShader, &ShadeScene, u32),
         batch: &[(Ends, usize)],
         jobs: &[RestJob<'_>],
-        checks: Option<&ShadeChecks>,
+        checks: Option<&mut ShadeChecks>,
         encoder: &mut wgpu::CommandEncoder,
     ) -> Result<Option<ShadedEnds>, GpuError> {
         let count: u32 = batch.iter().map(|(e, _)| e.count).sum();

@@ -7,7 +7,10 @@
 //!
 //! A frame's stages hand what a backend keeps on its device from one to the next as a value the
 //! caller holds, [`KeptFrame`]: the eye's view starts it, each level of the tree adds to it, and
-//! the composite consumes it (or hands it back, for a frame the caller shades after all).
+//! the composite consumes it (or hands it back, for a frame the caller shades after all). What a
+//! backend keeps across frames (work the next frame can skip, never a frame's results) it holds
+//! itself: frames use a renderer in turn, so the stages that read or write it take `&mut self`,
+//! and nothing of a frame sits behind a lock.
 
 use super::beam_tree::Beam;
 use super::radiance::{LevelRadiance, TexelRadiance};
@@ -40,7 +43,7 @@ pub trait BeamRasterizer: Sync {
     /// level). A level rendered again replaces what `frame` kept of it. Returns the textures, and
     /// what was kept where it was. The default keeps nothing.
     fn render_level(
-        &self,
+        &mut self,
         scene: &Scene,
         jobs: &[BeamJob<'_>],
         keep: &KeepLevel<'_>,
@@ -229,7 +232,7 @@ pub trait PointShading: Sync {
     /// The radiance of every point as beam-cpu's `shade_point` computes it, or `Ok(None)` when this
     /// backend does not shade with `options`.
     fn shade_points(
-        &self,
+        &mut self,
         scene: &Scene,
         options: &RenderOptions,
         caustics: Option<&IrradianceMap>,
@@ -244,7 +247,7 @@ pub trait PointShading: Sync {
     /// ([`TreeShading::Shaded`]), or `frame` handed back when this backend does not run it
     /// (beam-cpu's `composite_levels` then does; the default).
     fn shade_tree(
-        &self,
+        &mut self,
         scene: &Scene,
         smesh: &SMesh,
         options: &RenderOptions,

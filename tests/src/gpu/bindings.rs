@@ -121,14 +121,14 @@ pub(super) fn gpu_images_fit_narrow_bindings(_: crate::property::Backend, _: &Co
             caustic_strata: CAUSTIC_STRATA,
             shading: RenderOptions::exact(64, 64),
         };
-        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
-        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
+        let mut renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &mut renderer).map_err(|e| e.to_string())?;
         let times = renderer.times();
         if times.gpu_composites != 1 {
             return Err(format!("{degree:?}: the composite ran on the CPU ({} on the GPU)", times.gpu_composites));
         }
         let (on_cpu, _) =
-            render_nonlinear_with(&scene, &options, &TwinShading::default()).map_err(|e| e.to_string())?;
+            render_nonlinear_with(&scene, &options, &mut TwinShading::default()).map_err(|e| e.to_string())?;
         let PixelDifference { differ, sum, n } = PixelDifference::of(&on_gpu, &on_cpu);
         if differ * 200 > n {
             return Err(format!("{degree:?}: {differ} of {n} pixels differ by more than 4/255"));

@@ -55,10 +55,10 @@ pub(super) fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outc
             caustic_strata: 0,
             shading: RenderOptions::exact(SIZE, SIZE),
         };
-        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
-        let (on_gpu, gpu_stats) = render_nonlinear_with(&scene, &options, &renderer).map_err(|e| e.to_string())?;
+        let mut renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let (on_gpu, gpu_stats) = render_nonlinear_with(&scene, &options, &mut renderer).map_err(|e| e.to_string())?;
         let (on_cpu, cpu_stats) =
-            render_nonlinear_with(&scene, &options, &TwinShading::default()).map_err(|e| e.to_string())?;
+            render_nonlinear_with(&scene, &options, &mut TwinShading::default()).map_err(|e| e.to_string())?;
         let name = format!("{degree:?}");
         if cpu_stats.coarse_smesh_faces == 0 || cpu_stats.coarse_smesh_faces > u64::from(2 * FACES) {
             return Err(format!("{name}: {} coarse S-mesh faces, not about {FACES}", cpu_stats.coarse_smesh_faces));

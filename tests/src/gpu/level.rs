@@ -73,7 +73,7 @@ pub(super) fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Resul
         let fresh = || GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string());
         // (A renderer compiles every pipeline: one scene's is enough for this.)
         if name == "bumpy-mirror" {
-            let reading_back = fresh()?.reading_levels_back();
+            let mut reading_back = fresh()?.reading_levels_back();
             let level = reading_back.render_level(&scene, &jobs, &keep(&[], false), &mut KeptFrame::default());
             if level.map_err(|e| e.to_string())?.1.is_some() {
                 return Err(format!("{name}: a renderer reading levels back kept a level"));
@@ -83,7 +83,7 @@ pub(super) fn gpu_kept_level_equals_host_texels(_: Backend, _: &Config) -> Resul
         if GpuBeams::can_compute(&gpu) {
             ways.push((fresh()?, "compute"));
         }
-        for (renderer, way) in ways {
+        for (mut renderer, way) in ways {
             let textures = renderer.render_beams(&scene, &jobs).map_err(|e| e.to_string())?;
             // The host's texel hits of the level: (texel, triangle, point, direction, seed).
             let mut all = Vec::new();
@@ -204,10 +204,10 @@ pub(super) fn gpu_kept_level_images_equal_read_back(_: Backend, _: &Config) -> R
             caustic_strata: CAUSTIC_STRATA,
             shading: RenderOptions::exact(64, 64),
         };
-        let kept = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
-        let read_back = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?.reading_levels_back();
-        let (image, stats) = render_nonlinear_with(&scene, &options, &kept).map_err(|e| e.to_string())?;
-        let (want, want_stats) = render_nonlinear_with(&scene, &options, &read_back).map_err(|e| e.to_string())?;
+        let mut kept = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let mut read_back = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?.reading_levels_back();
+        let (image, stats) = render_nonlinear_with(&scene, &options, &mut kept).map_err(|e| e.to_string())?;
+        let (want, want_stats) = render_nonlinear_with(&scene, &options, &mut read_back).map_err(|e| e.to_string())?;
         let counts =
             |s: &beam_cpu::nonlinear::NonlinearStats| (s.beams_per_level.clone(), s.texels_shaded, s.specular_by_rays);
         // Points by rays: a curved point's side of a texel is an f32 decision on the GPU and on
@@ -275,7 +275,7 @@ pub(super) fn gpu_summed_fits_equal_host_fits(_: Backend, _: &Config) -> Result<
         let smesh = SMesh::of(&scene);
         let options = RenderOptions::exact(64, 64);
         let camera = scene.camera.with_size(64, 64);
-        let renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let mut renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let (_, mut frame) = renderer.eye_faces(&scene, &smesh, &camera, &options).map_err(|e| e.to_string())?;
         let beams = face_beams(&scene, &smesh, (camera.position, Degree::S3), 0..smesh.faces.len());
         let jobs: Vec<BeamJob<'_>> =
@@ -290,9 +290,10 @@ pub(super) fn gpu_summed_fits_equal_host_fits(_: Backend, _: &Config) -> Result<
             faces: smesh.faces.len(),
             continues: &continues,
         };
-        let kept =
-            |frame: &mut KeptFrame| renderer.render_level(&scene, &jobs, &keep, frame).map_err(|e| e.to_string());
-        let (textures, totals) = kept(&mut frame)?;
+        let kept = |frame: &mut KeptFrame, renderer: &mut GpuBeams<'_>| {
+            renderer.render_level(&scene, &jobs, &keep, frame).map_err(|e| e.to_string())
+        };
+        let (textures, totals) = kept(&mut frame, &mut renderer)?;
         if !totals.is_some_and(|t| t.fits) || textures.iter().any(|t| !t.points.is_empty()) {
             return Err(format!("{name}: fits not summed on the GPU ({totals:?})"));
         }
@@ -328,7 +329,7 @@ pub(super) fn gpu_summed_fits_equal_host_fits(_: Backend, _: &Config) -> Result<
         if worst > 2e-6 {
             return Err(format!("{name}: sums up to {worst:.1e} a sample from the host's"));
         }
-        let (again, _) = kept(&mut frame)?;
+        let (again, _) = kept(&mut frame, &mut renderer)?;
         if textures.iter().zip(&again).any(|(a, b)| a.fits != b.fits) {
             return Err(format!("{name}: the same level summed to other bits"));
         }

@@ -7,16 +7,13 @@ use beam_render::BackendError;
 use beam_render::nonlinear::{BeamJob, BeamRasterizer, FramePixels, KeptFrame, LevelRadiance, SMesh, TreeShading};
 use beam_render::options::RenderOptions;
 use beam_scene::scene;
-use std::sync::Mutex;
 
 /// The CPU renderer with the GPU's shading: [`beam_gpu::shade::shade_twin`] (64 rays per area light)
 /// for diffuse, glossy and emissive points, mirrors and glass by Whitted rays in waves ending on it:
 /// the reference the GPU images must equal. It keeps the last radiance flow it composited (the
 /// levels and the caustics).
 #[derive(Default)]
-pub(super) struct TwinShading(
-    pub(super) Mutex<(Vec<LevelRadiance>, Option<beam_render::irradiance_map::IrradianceMap>)>,
-);
+pub(super) struct TwinShading(pub(super) (Vec<LevelRadiance>, Option<beam_render::irradiance_map::IrradianceMap>));
 
 impl BeamRasterizer for TwinShading {
     fn render_beams(
@@ -45,7 +42,7 @@ impl beam_render::queries::RayQueries for TwinShading {
 
 impl beam_render::nonlinear::PointShading for TwinShading {
     fn shade_points(
-        &self,
+        &mut self,
         scene: &scene::Scene,
         _options: &RenderOptions,
         caustics: Option<&beam_render::irradiance_map::IrradianceMap>,
@@ -59,7 +56,7 @@ impl beam_render::nonlinear::PointShading for TwinShading {
     }
 
     fn shade_tree(
-        &self,
+        &mut self,
         scene: &scene::Scene,
         smesh: &SMesh,
         options: &RenderOptions,
@@ -67,11 +64,11 @@ impl beam_render::nonlinear::PointShading for TwinShading {
         levels: &[LevelRadiance],
         _frame: KeptFrame,
     ) -> Result<TreeShading, BackendError> {
-        *self.0.lock().map_err(|e| BackendError::new("cpu", e.to_string()))? = (levels.to_vec(), caustics.cloned());
+        self.0 = (levels.to_vec(), caustics.cloned());
         let shade = |points: &[beam_render::nonlinear::ShadePoint]| {
             beam_cpu::nonlinear::shade_points(self, scene, options, caustics, points)
         };
-        let pixels = beam_cpu::nonlinear::composite_levels(scene, smesh, levels, &shade)?;
+        let pixels = beam_cpu::nonlinear::composite_levels(scene, smesh, levels, shade)?;
         Ok(TreeShading::Shaded { pixels: FramePixels::Read(pixels), coarse_by_rays: Default::default() })
     }
 }

@@ -46,7 +46,7 @@ pub(super) fn gpu_whitted_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, 
         let specular = points.iter().filter(|s| !PointShader::shades(&scene, s.prim)).count();
         let twin = |batch: &[ShadePoint]| Ok(batch.par_iter().map(|s| shade_twin(&scene, None, spp, s)).collect());
         let want = shade_by_waves(&scene, &CpuBeams, &twin, &points).map_err(|e| e.to_string())?;
-        let shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
+        let mut shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)
             .map_err(|e| e.to_string())?;
         let bytes = (points.len() * 16) as u64;
