@@ -24,13 +24,13 @@ pub(crate) fn warn(scene: &Scene, kind: Kind, gpu: bool) {
             kind.name()
         );
     }
-    // Only the CPU's beam and ray frames cut them everywhere (rays see through them where their
-    // alpha says); the other CPU methods' rays do, their beams do not.
-    if scene.has_cut_outs() && (gpu || !matches!(kind, Kind::Beam | Kind::Ray)) {
+    // The CPU cuts them everywhere (rays see through them where their alpha says, and so do the
+    // nonlinear beams' texels) but in the glossy light beams, which scatter off whole triangles.
+    if scene.has_cut_outs() && (gpu || kind == Kind::Glossy) {
         let how = if gpu {
-            "are drawn opaque by --backend gpu".to_string()
+            "are drawn opaque by --backend gpu"
         } else {
-            format!("are seen through by the rays of --method {} but not by its beams", kind.name())
+            "are seen through by the rays of --method glossy but scatter its light beams whole"
         };
         eprintln!("warning: {}: cut-out materials (alphaMode MASK or BLEND) {how}", scene.name);
     }

@@ -1,15 +1,18 @@
 //! Cut-out occluders cast the right shadows and are seen through: a leaf whose texture's alpha cuts
 //! away its right half, between a floor and a small area light, renders as the opaque left half
 //! alone does (rendered exactly by beams), within the noise of the shadow rays that sample the
-//! lights the cut-out may hide; eye beams leave the regions that see it to primary rays.
+//! lights the cut-out may hide; eye beams leave the regions that see it to primary rays. Seen in a
+//! mirror floor, the nonlinear beams' texels see through it as rays do.
 
+use beam_cpu::nonlinear::{NonlinearOptions, render_nonlinear};
 use beam_cpu::render::{Image, render};
 use beam_math::Triangle;
 use beam_math::glam::{Affine2, Vec2, Vec3};
+use beam_render::nonlinear::Degree;
 use beam_render::options::RenderOptions;
 use beam_scene::scene::surface::{AlphaCut, MaterialMaps, Surfaces, TextureRef};
 use beam_scene::scene::texture::{Filter, Texture, Wrap};
-use beam_scene::scene::{Camera, Light, Material, Scene};
+use beam_scene::scene::{Bump, Camera, Light, Material, Scene};
 use std::sync::Arc;
 
 /// The two triangles of the rectangle `x ∈ [x0, x1], z ∈ [z0, z1]` at height `y`, facing up.
@@ -19,19 +22,29 @@ fn rectangle(x: [f32; 2], z: [f32; 2], y: f32) -> [Triangle; 2] {
     [Triangle::new(a, b, c), Triangle::new(a, c, d)]
 }
 
-/// A floor (material 0) and, above it, a leaf (material 1) over `x ∈ [−1, leaf_end]`; with
-/// `cut`, the leaf spans `x ∈ [−1, 1]` and a 2 × 1 texture's alpha cuts its right half away.
+/// A floor (material 0) and, above it, a leaf (material 1) over `x ∈ [−1, leaf_end]`, under a
+/// small area light; with `cut`, the leaf spans `x ∈ [−1, 1]` and a 2 × 1 texture's alpha cuts its
+/// right half away.
 fn scene(leaf_end: f32, cut: bool) -> Scene {
-    let mut triangles: Vec<(Triangle, u32)> = rectangle([-3.0, 3.0], [-3.0, 3.0], 0.0).map(|t| (t, 0)).to_vec();
-    triangles.extend(rectangle([-1.0, leaf_end], [-0.6, 0.6], 1.0).map(|t| (t, 1)));
-    let materials =
-        vec![Material::Diffuse { albedo: Vec3::splat(0.8) }, Material::Diffuse { albedo: Vec3::new(0.3, 0.6, 0.2) }];
     let light = Light::Quad {
         corner: Vec3::new(-0.3, 2.0, -0.3),
         edge_u: Vec3::new(0.6, 0.0, 0.0),
         edge_v: Vec3::new(0.0, 0.0, 0.6),
         radiance: Vec3::splat(20.0),
     };
+    leaf_over(Material::Diffuse { albedo: Vec3::splat(0.8) }, vec![light], leaf_end, cut)
+}
+
+/// [`scene`]'s leaf over a floor of `floor`, lit by `lights`; a mirror floor gets an emissive
+/// ceiling (material 2) to reflect.
+fn leaf_over(floor: Material, lights: Vec<Light>, leaf_end: f32, cut: bool) -> Scene {
+    let mut triangles: Vec<(Triangle, u32)> = rectangle([-3.0, 3.0], [-3.0, 3.0], 0.0).map(|t| (t, 0)).to_vec();
+    triangles.extend(rectangle([-1.0, leaf_end], [-0.6, 0.6], 1.0).map(|t| (t, 1)));
+    let mut materials = vec![floor, Material::Diffuse { albedo: Vec3::new(0.3, 0.6, 0.2) }];
+    if matches!(floor, Material::Mirror { .. }) {
+        triangles.extend(rectangle([-8.0, 8.0], [-8.0, 8.0], 4.0).map(|t| (t, 2)));
+        materials.push(Material::Emissive { radiance: Vec3::new(1.0, 0.8, 0.6) });
+    }
     let camera = Camera {
         position: Vec3::new(0.0, 3.2, 2.6),
         target: Vec3::ZERO,
@@ -56,7 +69,7 @@ fn scene(leaf_end: f32, cut: bool) -> Scene {
         let alpha = AlphaCut { factor: 1.0, texture: Some(texture), cutoff: Some(0.5) };
         surfaces.maps = vec![MaterialMaps::default(), MaterialMaps { alpha: Some(alpha), ..MaterialMaps::default() }];
     }
-    Scene::with_surfaces("leaf".into(), triangles, materials, vec![light], camera, surfaces)
+    Scene::with_surfaces("leaf".into(), triangles, materials, lights, camera, surfaces)
 }
 
 /// Root-mean-square difference of two images, over the mean of the second.
@@ -94,4 +107,27 @@ fn a_cut_out_leaf_shadows_and_shows_like_its_opaque_part() {
             assert!(stats.cut_out_regions > 0 && stats.ray_pixels > 0, "regions that see the leaf go to rays");
         }
     }
+}
+
+/// Pixels of `a` that differ from `b`'s by more than `tolerance` in some channel.
+fn differing(a: &Image, b: &Image, tolerance: f32) -> usize {
+    a.pixels.iter().zip(&b.pixels).filter(|(p, q)| (**p - **q).abs().max_element() > tolerance).count()
+}
+
+/// The leaf over a mirror floor, under an emissive ceiling and no light: the mirror shows the
+/// ceiling where the leaf does not hide it, and the leaf's unlit underside where it does. The
+/// nonlinear beams' texels (000 Alg. 1) test the leaf's alpha at their hits and go on to the
+/// ceiling where it is cut away, as rays do: the cut leaf renders as its opaque half alone does,
+/// but for the pixels on the cut's edge, and not as the whole leaf does.
+#[test]
+fn nonlinear_beams_see_through_a_cut_out_as_rays_do() {
+    let mirror = Material::Mirror { tint: Vec3::ONE, bump: Bump::NONE };
+    let scenes = [(1.0, true), (0.0, false), (1.0, false)].map(|(end, cut)| leaf_over(mirror, Vec::new(), end, cut));
+    let shading = RenderOptions::exact(48, 48);
+    let options = NonlinearOptions { degree: Degree::S3, texels: 16, bounces: 1, caustic_strata: 0, shading };
+    let [cut, half, whole] = scenes.map(|s| render_nonlinear(&s, &options).expect("a render").0);
+    let n = cut.pixels.len();
+    let (apart, from_whole) = (differing(&cut, &half, 1e-3), differing(&cut, &whole, 1e-3));
+    assert!(apart * 100 <= n, "{apart} of {n} pixels differ from the opaque half's");
+    assert!(from_whole * 10 >= n, "only {from_whole} of {n} pixels differ from the whole leaf's");
 }

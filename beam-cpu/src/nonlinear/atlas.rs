@@ -4,8 +4,10 @@
 //! misses and keep the nearest hit (the depth test). Where a GPU's fragment shader evaluates the
 //! ray for every fragment, the CPU keeps each texel's ray once evaluated (regions up to
 //! [`RAY_CACHE_SIZE`] texels a side): the same rays, evaluated once instead of once per covering
-//! triangle.
+//! triangle. A texel's hit on a cut-out (glTF `MASK`, `BLEND`) counts where the surface is there
+//! at it ([`Scene::is_there`], as rays decide): a rasterizer's alpha test.
 
+use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
@@ -90,6 +92,7 @@ pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, e
         let inside = &mut |q| memo.get(q, |q| beam.contains_s1(q));
         let Some(bt) = beam.bounding_triangle_of(&bounds, tri, inside) else { continue };
         let neighbour = tri.v.iter().any(|v| beam.base().contains(v)) || exclude.near(i);
+        let cut_out = scene.cut_out(i).is_some();
         tex.triangles_after_culling += 1;
         let m = bt.lower - Vec3::splat(slack);
         // Texels with u ≥ m.y, v ≥ m.z, u + v ≤ 1 − m.x.
@@ -114,7 +117,8 @@ pub fn render_beam(scene: &Scene, beam: &(impl TexelBeam + ?Sized), size: u32, e
                 let t_min =
                     if neighbour { self_hit_at(lift, normal, r.ray, extent) } else { TEXEL_EPS * extent } / r.len;
                 let t_max = tex.hits[k].map_or(f32::INFINITY, |h| h.t);
-                if let Some(hit) = r.watertight.intersect(tri, t_min, t_max) {
+                let Some(hit) = r.watertight.intersect(tri, t_min, t_max) else { continue };
+                if !cut_out || scene.is_there(&r.ray, &Hit { prim: i, t: hit.t, u: hit.u, v: hit.v }) {
                     tex.hits[k] = Some(TexelHit { prim: i, t: hit.t });
                 }
             }

@@ -45,14 +45,29 @@ impl Scene {
         let mut from = 0.0;
         for _ in 0..MAX_LAYERS {
             let hit = self.hit_from(ray, from, t_max)?;
-            // A draw of its own for each surface, so that layers pass independently.
-            let alpha = self.coverage(&hit);
-            if alpha >= 1.0 || alpha > unit(mix(key ^ hit.prim.wrapping_mul(0x9e37_79b9))) {
+            if self.there(key, &hit) {
                 return Some(hit);
             }
             from = past(&hit);
         }
         self.hit_from(ray, from, t_max)
+    }
+
+    /// Whether the surface `hit` is on is there for `ray`, as [`Scene::closest_hit`] decides at
+    /// each layer: always off cut-outs, where α reaches the cutoff on a `MASK`, with probability α
+    /// on a `BLEND` (by the hash of the ray and the triangle). For hits a caller found itself: a
+    /// nonlinear beam's texel ray against one triangle (000 Alg. 1), which goes on to the next
+    /// nearest where the surface is not there, as a rasterizer's alpha test discards a fragment.
+    #[must_use]
+    pub fn is_there(&self, ray: &Ray, hit: &Hit) -> bool {
+        self.cut_out(hit.prim).is_none() || self.there(ray_key(ray), hit)
+    }
+
+    /// [`Scene::is_there`] for a ray of hash `key`: a draw of its own for each surface, so that
+    /// layers pass independently.
+    fn there(&self, key: u32, hit: &Hit) -> bool {
+        let alpha = self.coverage(hit);
+        alpha >= 1.0 || alpha > unit(mix(key ^ hit.prim.wrapping_mul(0x9e37_79b9)))
     }
 
     /// The nearest hit of `ray` between `from` and `t_max` on a surface that a `MASK` leaves there,
