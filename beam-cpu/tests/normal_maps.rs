@@ -1,10 +1,13 @@
 //! A normal texture bends the shading normal: a floor whose texture tilts every normal by 30°
 //! towards +u (or towards decreasing v, up in the image: glTF's green channel) is lit by a point
-//! light as a floor of that normal is, exactly, by beams and by rays.
+//! light as a floor of that normal is, exactly, by beams and by rays, and by the glossy light
+//! volumes' direct light and its reference's.
 
+use beam_cpu::glossy::{render_glossy, render_glossy_reference};
 use beam_cpu::render::render;
 use beam_math::Triangle;
 use beam_math::glam::{Affine2, Vec2, Vec3};
+use beam_render::glossy::GlossyOptions;
 use beam_render::options::{Method, RenderOptions};
 use beam_scene::scene::surface::{MaterialMaps, NormalMap, Surfaces, TextureRef};
 use beam_scene::scene::texture::{Filter, Texture, Wrap};
@@ -51,6 +54,17 @@ fn centre(scene: &Scene, options: &RenderOptions) -> f32 {
     image.pixels[(SIDE * SIDE / 2) as usize].x
 }
 
+/// The radiance of the centre pixel by the glossy light volumes (`reference`: by their photon
+/// reference).
+fn glossy_centre(scene: &Scene, reference: bool) -> f32 {
+    let image = if reference {
+        render_glossy_reference(scene, SIDE, SIDE, 1_000, 1).expect("a reference")
+    } else {
+        render_glossy(scene, &GlossyOptions::new(SIDE, SIDE)).expect("a render").0
+    };
+    image.pixels[(SIDE * SIDE / 2) as usize].x
+}
+
 /// What a diffuse point at the origin of albedo ½ and unit normal `n` sends up from the light.
 fn expected(n: Vec3, light: Vec3) -> f32 {
     0.5 / std::f32::consts::PI * 10.0 * n.dot(light.normalize()).max(0.0) / light.length_squared()
@@ -78,6 +92,11 @@ fn a_normal_texture_bends_the_light_a_point_receives() {
             let want = expected(n, light);
             for (name, options) in [("beams", &exact), ("rays", &rays), ("eye beams", &eye_beams)] {
                 let got = centre(&scene, options);
+                assert!((got - want).abs() <= 0.02 * want + 1e-6, "{name}, light at {light}: {got} against {want}");
+            }
+            for reference in [false, true] {
+                let got = glossy_centre(&scene, reference);
+                let name = if reference { "glossy reference" } else { "glossy" };
                 assert!((got - want).abs() <= 0.02 * want + 1e-6, "{name}, light at {light}: {got} against {want}");
             }
             // Unbent, the floor would get a visibly different amount wherever the light is not

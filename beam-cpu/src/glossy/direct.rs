@@ -8,12 +8,13 @@ use beam_scene::scene::{Light, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 
-/// Direct irradiance at `p` (unit normal `n`) from every light of `scene`, every occluder
+/// Direct irradiance at `p` (unit normal `n`, its cosines taken with the unit `shading` normal: a
+/// normal texture's, else `n`) from every light of `scene` above the surface, every occluder
 /// casting shadows: a point light by one shadow ray, an area light by [`REFERENCE_AREA_RAYS`]
 /// stratified, jittered shadow rays over its area (seeded by `seed`), each weighted by the cosines
 /// at both ends over the squared distance. The ground truth of the emitters' direct light.
 #[must_use]
-pub fn reference_direct(scene: &Scene, p: Vec3, n: Vec3, seed: u64) -> Vec3 {
+pub fn reference_direct(scene: &Scene, p: Vec3, [n, shading]: [Vec3; 2], seed: u64) -> Vec3 {
     let eps = shading_eps(scene);
     let q = p + n * eps;
     let mut rng = Pcg32::seed_from_u64(seed);
@@ -32,9 +33,9 @@ pub fn reference_direct(scene: &Scene, p: Vec3, n: Vec3, seed: u64) -> Vec3 {
             let to = x - q;
             let r2 = to.length_squared();
             let d = to / r2.sqrt();
-            let cos = n.dot(d);
+            let cos = shading.dot(d);
             let falloff = whole.falloff(-d);
-            if !(cos > 0.0 && falloff > 0.0) || scene.occluded(Ray::new(q, to), 1.0 - DEPTH_EPS) {
+            if !(n.dot(d) > 0.0 && cos > 0.0 && falloff > 0.0) || scene.occluded(Ray::new(q, to), 1.0 - DEPTH_EPS) {
                 continue;
             }
             e += whole.intensity * (falloff * cos / (r2 * samples as f32));

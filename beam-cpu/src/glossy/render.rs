@@ -114,6 +114,13 @@ fn facing(scene: &Scene, prim: u32, d: Vec3) -> Vec3 {
     if n.dot(d) < 0.0 { n } else { -n }
 }
 
+/// The normals of `s`: its triangle's facing the eye ([`facing`]), and the one its direct light's
+/// cosines take (a normal texture's, [`Scene::mapped_normal`], as 001's shading takes it).
+fn normals(scene: &Scene, s: &ShadePoint) -> [Vec3; 2] {
+    let n = facing(scene, s.prim, s.d);
+    [n, scene.mapped_normal(s.prim, s.p, n)]
+}
+
 /// Radiance of the eye's points `points` by `shade` for diffuse ones: mirrors, glass and thin panes
 /// by Whitted rays through `renderer`, emitters their radiance, glossy reflectors their diffuse part
 /// under direct light. Only the pixels of `region` (of the `width × height` frame) are traced, each
@@ -154,7 +161,7 @@ fn render_points(
                 Material::Emissive { .. } => scene.emission_at(s.prim, s.p),
                 Material::Glossy { .. } => {
                     scene.albedo_at(s.prim, s.p) / core::f32::consts::PI
-                        * reference_direct(scene, s.p, facing(scene, s.prim, s.d), s.seed)
+                        * reference_direct(scene, s.p, normals(scene, s), s.seed)
                 }
                 _ => Vec3::ZERO,
             };
@@ -169,9 +176,10 @@ fn render_points(
     Ok(image)
 }
 
-/// Direct irradiance at `p` (unit normal `n`) from the `emitters` not in mask `shadowed` (their
-/// shadow beams cover `p`): occluders that are not scatterers cast shadows by shadow rays.
-fn direct(scene: &Scene, emitters: &[Emitter], p: Vec3, n: Vec3, shadowed: u64) -> Vec3 {
+/// Direct irradiance at `p` (unit normal `n`, cosines with the `shading` normal as
+/// [`reference_direct`] takes them) from the `emitters` not in mask `shadowed` (their shadow beams
+/// cover `p`): occluders that are not scatterers cast shadows by shadow rays.
+fn direct(scene: &Scene, emitters: &[Emitter], p: Vec3, [n, shading]: [Vec3; 2], shadowed: u64) -> Vec3 {
     let eps = shading_eps(scene);
     let q = p + n * eps;
     let mut e = Vec3::ZERO;
@@ -179,8 +187,8 @@ fn direct(scene: &Scene, emitters: &[Emitter], p: Vec3, n: Vec3, shadowed: u64) 
         let to = emitter.position - q;
         let r2 = to.length_squared();
         let d = to / r2.sqrt();
-        let (cos, falloff) = (n.dot(d), emitter.falloff(-d));
-        if !(cos > 0.0 && falloff > 0.0) || shadowed & (1 << l.min(63)) != 0 {
+        let (cos, falloff) = (shading.dot(d), emitter.falloff(-d));
+        if !(n.dot(d) > 0.0 && cos > 0.0 && falloff > 0.0) || shadowed & (1 << l.min(63)) != 0 {
             continue;
         }
         if !blocked_by_non_scatterers(scene, q, emitter.position, eps) {
@@ -245,9 +253,9 @@ pub fn render_glossy_with(
             .par_iter()
             .zip(&at)
             .zip(gathered)
-            .map(|((s, &(p, n)), g)| {
+            .map(|((s, &(p, _)), g)| {
                 scene.albedo_at(s.prim, s.p) / core::f32::consts::PI
-                    * (direct(scene, &volumes.emitters, p, n, g.shadowed) + g.irradiance)
+                    * (direct(scene, &volumes.emitters, p, normals(scene, s), g.shadowed) + g.irradiance)
             })
             .collect())
     };
@@ -290,8 +298,8 @@ pub fn render_glossy_photons_in(
         Ok(points
             .par_iter()
             .map(|s| {
-                let n = facing(scene, s.prim, s.d);
-                let e = reference_direct(scene, s.p, n, s.seed) + map.irradiance(scene, s.prim, s.p, s.d);
+                let e =
+                    reference_direct(scene, s.p, normals(scene, s), s.seed) + map.irradiance(scene, s.prim, s.p, s.d);
                 scene.albedo_at(s.prim, s.p) / core::f32::consts::PI * e
             })
             .collect())
