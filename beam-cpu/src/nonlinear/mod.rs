@@ -11,6 +11,7 @@ mod composite;
 mod cpu_beams;
 mod frame;
 mod lookup;
+mod radiance_flow;
 mod reference;
 mod settings;
 mod source;
