@@ -466,7 +466,8 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
 /// shadows the 64-ray estimate's relative RMS error is stated.
 pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
     use beam_cpu::nonlinear::caustics_by_beams;
-    use beam_gpu::shade::{PointShader, shade_twin};
+    use beam_gpu::shade::PointShader;
+    use beam_gpu::shade::twin::shade_twin;
     use beam_render::nonlinear::ShadePoint;
     let gpu = match adapter()? {
         Ok(g) => g,

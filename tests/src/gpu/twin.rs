@@ -8,9 +8,9 @@ use beam_render::nonlinear::{BeamJob, BeamRasterizer, FramePixels, KeptFrame, Le
 use beam_render::options::RenderOptions;
 use beam_scene::scene;
 
-/// The CPU renderer with the GPU's shading: [`beam_gpu::shade::shade_twin`] (64 rays per area light)
-/// for diffuse, glossy and emissive points, mirrors and glass by Whitted rays in waves ending on it:
-/// the reference the GPU images must equal. It keeps the last radiance flow it composited (the
+/// The CPU renderer with the GPU's shading: [`beam_gpu::shade::twin::shade_twin`] (64 rays per
+/// area light) for diffuse, glossy and emissive points, mirrors and glass by Whitted rays in waves
+/// ending on it: the reference the GPU images must equal. It keeps the last radiance flow it composited (the
 /// levels and the caustics).
 #[derive(Default)]
 pub(super) struct TwinShading(pub(super) (Vec<LevelRadiance>, Option<beam_render::irradiance_map::IrradianceMap>));
@@ -50,7 +50,7 @@ impl beam_render::nonlinear::PointShading for TwinShading {
     ) -> Result<Option<Vec<Vec3>>, BackendError> {
         use rayon::prelude::*;
         let twin = |batch: &[beam_render::nonlinear::ShadePoint]| {
-            Ok(batch.par_iter().map(|s| beam_gpu::shade::shade_twin(scene, caustics, 64, s)).collect())
+            Ok(batch.par_iter().map(|s| beam_gpu::shade::twin::shade_twin(scene, caustics, 64, s)).collect())
         };
         beam_render::nonlinear::shade_by_waves(scene, &CpuBeams, &twin, points).map(Some)
     }
