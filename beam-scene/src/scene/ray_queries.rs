@@ -93,13 +93,7 @@ impl Scene {
         let Some(cut) = self.cut_out(hit.prim) else { return 1.0 };
         let alpha = self.surfaces.alpha(cut, hit.prim, Vec3::new(1.0 - hit.u - hit.v, hit.u, hit.v));
         match cut.cutoff {
-            Some(cutoff) => {
-                if alpha >= cutoff {
-                    1.0
-                } else {
-                    0.0
-                }
-            }
+            Some(cutoff) => f32::from(alpha >= cutoff),
             None => alpha.clamp(0.0, 1.0),
         }
     }

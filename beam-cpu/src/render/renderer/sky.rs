@@ -60,6 +60,7 @@ impl Context<'_> {
         t.c.pending_bound += std::f32::consts::PI * environment.max_radiance();
         std::f32::consts::PI * sum / spp as f32
     }
+
     /// Whether a constant sky, shaded by beams as the six faces of a cube ([`Context::lights`]),
     /// is sampled at `p` (normal `n`) by the ray method's cosine-weighted rays instead: where a
     /// cut-out may hide one of the faces that light the point, those rays (which see through it)
