@@ -6,8 +6,9 @@
 
 use crate::limits;
 use crate::output::check_png_name;
-use beam_cpu::render::{Image, side_by_side, srgb_decode, srgb_encode};
+use beam_cpu::render::side_by_side;
 use beam_math::glam::Vec3;
+use beam_render::image::{Image, srgb_decode, srgb_encode};
 use beam_scene::io::{check_output, encode_png, same_file, write_atomic};
 use image::{ImageDecoder, ImageReader, Limits};
 use std::path::Path;

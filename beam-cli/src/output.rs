@@ -2,7 +2,7 @@
 //! written together (the policy itself is [`beam_scene::io`]'s: regular files only, atomic, modes
 //! kept), and the signal handling that removes the temporaries of an interrupted write.
 
-use beam_cpu::render::Image;
+use beam_render::image::Image;
 use beam_scene::io::{check_output, encode_exr, encode_png_placed, same_file, write_atomic_all};
 use beam_scene::region::Placement;
 use std::path::Path;

@@ -44,7 +44,7 @@ pub(crate) struct RenderArgs {
     pub bounces: u32,
     /// Area lights cast caustics as N × N stratified point emitters (`--method nonlinear`), 0 to
     /// 8; each costs about as much as a point light's caustics; 0: area lights cast none.
-    #[arg(long, default_value_t = beam_cpu::nonlinear::CAUSTIC_STRATA)]
+    #[arg(long, default_value_t = beam_render::nonlinear::CAUSTIC_STRATA)]
     pub caustic_strata: u32,
     /// S-mesh resolution of a procedural built-in (facing-mirrors, glass-lens, mirror-teapot,
     /// wavy-lake): quads per mirror side, lens rings, teapot profile steps, water quads per side.
@@ -326,7 +326,7 @@ pub(crate) fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
     // The nonlinear tracer sizes beam regions from 4 texels up to `--texels`.
     range("texels", a.texels, 4, 4096)?;
     range("bounces", a.bounces, 1, 16)?;
-    range("caustic_strata", a.caustic_strata, 0, beam_cpu::nonlinear::MAX_CAUSTIC_STRATA)?;
+    range("caustic_strata", a.caustic_strata, 0, beam_render::nonlinear::MAX_CAUSTIC_STRATA)?;
     range("spp", a.spp, 1, 65536)?;
     range("subdivide", a.subdivide, 1, 64)?;
     range("photons", a.photons, 1, 1 << 36)?;

@@ -4,7 +4,7 @@ use crate::method::Kind;
 use crate::output::{erased::Json, write_render};
 use crate::plan::{Plan, RenderArgs};
 use beam_cpu::glossy::{photon_texel, render_glossy, render_glossy_reference_in, render_glossy_with};
-use beam_cpu::nonlinear::{CpuBeams, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with};
+use beam_cpu::nonlinear::{CpuBeams, render_smooth_reference_with};
 use beam_cpu::render::{render, render_queries};
 use beam_gpu::nonlinear::GpuBeams;
 use beam_gpu::queries::GpuQueries;
@@ -12,6 +12,7 @@ use beam_math::glam::Vec3;
 use beam_render::BackendError;
 use beam_render::glossy::{GlossyOptions, LightVolumes};
 use beam_render::nonlinear::BeamRenderer;
+use beam_render::nonlinear::{NonlinearOptions, render_nonlinear_with};
 use beam_render::options::Method;
 use std::process::ExitCode;
 
@@ -141,6 +142,7 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
             shading,
         },
         renderer,
+        &CpuBeams,
     )
     .map_err(|e| e.to_string())?;
     write(a, plan, &image, &stats)?;
@@ -171,7 +173,7 @@ fn nonlinear(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
 }
 
 /// Write `image` and its `stats` where `a` says (`--out`, `--stats`), as `plan` places them.
-fn write(a: &RenderArgs, plan: &Plan, image: &beam_cpu::render::Image, stats: &dyn Json) -> Result<(), String> {
+fn write(a: &RenderArgs, plan: &Plan, image: &beam_render::image::Image, stats: &dyn Json) -> Result<(), String> {
     write_render(&a.out, image, (plan.placement, a.exposure), a.stats.as_deref().map(|p| (p, stats)))
 }
 

@@ -204,7 +204,8 @@ fn exr_bits(path: &Path) -> (usize, usize, Vec<u32>) {
 
 #[test]
 fn exr_holds_the_linear_pixels_and_exposure_scales_both_formats() {
-    use beam_cpu::render::{render, srgb_encode};
+    use beam_cpu::render::render;
+    use beam_render::image::srgb_encode;
     use beam_render::options::RenderOptions;
     let dir = tempfile::tempdir().unwrap();
     let (w, h) = (24, 18);

@@ -13,7 +13,9 @@
 //! 6. a lattice fence cut out of one quad by its texture's alpha (`alphaMode` `MASK`) and a glass
 //!    pane of alpha ½ (`BLEND`), casting their shadows on a ground cobbled by a normal texture.
 
-use beam_cpu::render::{Image, render};
+use beam_render::image::Image;
+
+use beam_cpu::render::render;
 use beam_math::glam::Vec3;
 use beam_render::options::{Method, RenderOptions};
 use beam_scene::scene::{self, Environment, EnvironmentMap};

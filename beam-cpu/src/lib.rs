@@ -9,8 +9,9 @@
 //! - [`render`]: polygon-beam and ray-traced images (001), the renderer and its shading.
 //! - [`overdraw`]: the bounding-triangle overdraw experiment of 000 Fig. 7.
 //! - [`glossy`]: glossy light volumes and caustics from point and area lights (002).
-//! - [`nonlinear`]: nonlinear beam tracing of curved mirrors (000).
-//! - [`error`]: what a render, a comparison or an image file can fail with ([`RenderError`]).
+//! - [`nonlinear`]: the CPU's nonlinear beam renderer (000), `CpuBeams`, which the frame driver of
+//!   `beam-render` runs.
+//! - [`error`]: what a render or a comparison can fail with ([`RenderError`]).
 //!
 //! Exact soft shadows of the built-in Cornell box, 64×48, by polygon beams:
 //!
@@ -30,7 +31,6 @@
 pub mod error;
 pub mod glossy;
 pub mod nonlinear;
-mod ordered;
 pub mod overdraw;
 pub mod render;
 

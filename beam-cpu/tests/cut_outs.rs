@@ -4,11 +4,13 @@
 //! lights the cut-out may hide; eye beams leave the regions that see it to primary rays. Seen in a
 //! mirror floor, the nonlinear beams' texels see through it as rays do.
 
-use beam_cpu::nonlinear::{NonlinearOptions, render_nonlinear};
-use beam_cpu::render::{Image, render};
+use beam_cpu::nonlinear::render_nonlinear;
+use beam_cpu::render::render;
 use beam_math::Triangle;
 use beam_math::glam::{Affine2, Vec2, Vec3};
+use beam_render::image::Image;
 use beam_render::nonlinear::Degree;
+use beam_render::nonlinear::NonlinearOptions;
 use beam_render::options::RenderOptions;
 use beam_scene::scene::surface::{AlphaCut, MaterialMaps, Surfaces, TextureRef};
 use beam_scene::scene::texture::{Filter, Texture, Wrap};

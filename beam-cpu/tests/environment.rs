@@ -2,7 +2,9 @@
 //! lights diffuse surfaces (a constant sky exactly by the beam method, as area lights; a map by
 //! sampled rays), under both methods.
 
-use beam_cpu::render::{Image, RenderStats, render};
+use beam_render::image::Image;
+
+use beam_cpu::render::{RenderStats, render};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
 use beam_render::options::{Method, RenderOptions, Shading};

@@ -3,10 +3,12 @@
 //! off the renderers' internal grids (shading tiles of 16 pixels, eye-beam regions of 256).
 
 use beam_cpu::glossy::{render_glossy, render_glossy_reference, render_glossy_reference_in};
-use beam_cpu::nonlinear::{NonlinearOptions, render_nonlinear, render_smooth_reference};
-use beam_cpu::render::{Image, render};
+use beam_cpu::nonlinear::{render_nonlinear, render_smooth_reference};
+use beam_cpu::render::render;
 use beam_render::glossy::GlossyOptions;
+use beam_render::image::Image;
 use beam_render::nonlinear::Degree;
+use beam_render::nonlinear::NonlinearOptions;
 use beam_render::options::{Method, RenderOptions};
 use beam_scene::region::PixelRect;
 use beam_scene::scene;

@@ -4,10 +4,11 @@
 
 use beam_bvh::Hit;
 use beam_cpu::nonlinear::CpuBeams;
-use beam_cpu::render::{Image, RenderStats, difference, render, render_queries};
+use beam_cpu::render::{RenderStats, difference, render, render_queries};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
+use beam_render::image::Image;
 use beam_render::options::{Method, RenderOptions, Shading};
 use beam_render::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen, RayQueries};
 use beam_scene::region::PixelRect;

@@ -8,22 +8,28 @@
 //!   backend; [`error`]: what a backend behind the traits fails with ([`BackendError`]).
 //! - [`options`]: render settings; [`tolerance`]: the offsets every backend uses; [`specular`]: the
 //!   mirror and glass bounce; [`irradiance_map`]: caustic irradiance on receiving planes.
-//! - [`nonlinear`]: the host side of the nonlinear beam tree (000): the renderer traits
-//!   ([`BeamRenderer`](nonlinear::BeamRenderer)), the S mesh, the tree's beams, their texel regions,
-//!   the radiance flow, culling and the Whitted waves.
+//! - [`nonlinear`]: nonlinear beam tracing (000) but for its renderers: the frame driver
+//!   ([`render_nonlinear_frame`](nonlinear::render_nonlinear_frame)), the beam tree, the caustics,
+//!   the renderer traits ([`BeamRenderer`](nonlinear::BeamRenderer),
+//!   [`HostShading`](nonlinear::HostShading)), the S mesh, the tree's beams, their texel regions, the
+//!   radiance flow, culling and the Whitted waves.
 //! - [`glossy`]: the host side of the glossy light volumes (002): emitters, beams, the cone tree and
 //!   the gather at a point.
+//! - [`image`]: the linear RGB image every render returns, and its PNG and OpenEXR files.
 //! - [`memo`]: values kept from one frame for the next; [`parallel`]: flattening in parallel;
+//!   [`ordered`]: parallel sums that come out the same on any number of threads;
 //!   [`cpu_clock`]: CPU time of the calling thread and of rayon's workers (benchmarks, host time
 //!   beside a software GPU).
 
 pub mod cpu_clock;
 pub mod error;
 pub mod glossy;
+pub mod image;
 pub mod irradiance_map;
 pub mod memo;
 pub mod nonlinear;
 pub mod options;
+pub mod ordered;
 pub mod parallel;
 pub mod queries;
 pub mod specular;

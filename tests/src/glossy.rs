@@ -228,7 +228,7 @@ pub fn glossy_beams_match_photon_tracing(_: Backend, _: &Config) -> Result<Outco
             render_glossy_photons(&scene, w, h, &glossy_photons(&scene, 16_000_000, 2)).map_err(|e| e.to_string())?;
         let d = difference(&beams, &reference).map_err(|e| e.to_string())?;
         let noise = difference(&again, &reference).map_err(|e| e.to_string())?;
-        let sum = |i: &beam_cpu::render::Image| i.pixels.iter().map(|p| f64::from(p.x + p.y + p.z)).sum::<f64>();
+        let sum = |i: &beam_render::image::Image| i.pixels.iter().map(|p| f64::from(p.x + p.y + p.z)).sum::<f64>();
         let balance = sum(&beams) / sum(&reference);
         if d.psnr < least || (balance - 1.0).abs() > 0.1 {
             return Err(format!(

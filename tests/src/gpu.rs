@@ -6,7 +6,7 @@
 use crate::generate;
 use crate::property::{Backend, Config, Outcome, Property};
 use beam_bvh::gpu::GpuBvh;
-use beam_cpu::nonlinear::{CAUSTIC_STRATA, CpuBeams, NonlinearOptions, render_nonlinear_with};
+use beam_cpu::nonlinear::CpuBeams;
 use beam_gpu::checks::ShadeChecks;
 use beam_gpu::nonlinear::{GpuBeams, NonlinearCheck};
 use beam_gpu::raytrace::RayTracer;
@@ -14,6 +14,7 @@ use beam_math::glam::Vec3;
 use beam_math::nonlinear::BoundingCase;
 use beam_math::{Ray, Triangle};
 use beam_render::nonlinear::{Beam, BeamJob, BeamRasterizer, Degree, Exclude, SMesh};
+use beam_render::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_with};
 use beam_render::options::RenderOptions;
 use beam_scene::scene;
 use rand::Rng;
@@ -445,9 +446,10 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
             shading: RenderOptions::exact(96, 96),
         };
         let mut renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
-        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &mut renderer).map_err(|e| e.to_string())?;
-        let (on_cpu, _) =
-            render_nonlinear_with(&scene, &options, &mut TwinShading::default()).map_err(|e| e.to_string())?;
+        let (on_gpu, _) =
+            render_nonlinear_with(&scene, &options, &mut renderer, &CpuBeams).map_err(|e| e.to_string())?;
+        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &mut TwinShading::default(), &CpuBeams)
+            .map_err(|e| e.to_string())?;
         let PixelDifference { differ, sum, n } = PixelDifference::of(&on_gpu, &on_cpu);
         if differ * 200 > n {
             return Err(format!("{name}: {differ} of {n} pixels differ by more than 4/255"));
@@ -465,10 +467,10 @@ pub fn gpu_images_equal_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
 /// 0.1% of the points may differ by a shadow ray that grazes an edge. Against the CPU's exact soft
 /// shadows the 64-ray estimate's relative RMS error is stated.
 pub fn gpu_shading_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::caustics_by_beams;
     use beam_gpu::shade::PointShader;
     use beam_gpu::shade::twin::shade_twin;
     use beam_render::nonlinear::ShadePoint;
+    use beam_render::nonlinear::caustics_by_beams;
     let gpu = match adapter()? {
         Ok(g) => g,
         Err(o) => return Ok(o),
@@ -552,7 +554,7 @@ pub fn gpu_composite_equals_cpu(_: Backend, _: &Config) -> Result<Outcome, Strin
             shading: RenderOptions::exact(64, 64),
         };
         let mut twin = TwinShading::default();
-        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &mut twin).map_err(|e| e.to_string())?;
+        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &mut twin, &CpuBeams).map_err(|e| e.to_string())?;
         let (levels, caustics) = twin.0;
         let mut shader = PointShader::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let tracer = RayTracer::new(&gpu, &GpuBvh::new(&scene.bvh, &scene.triangles).map_err(|e| e.to_string())?)

@@ -238,8 +238,10 @@ pub fn nonlinear_texels_equal_ray_hits(backend: Backend, _: &Config) -> Result<O
 /// their irradiance maps by `caustics_match_photon_tracing`: at 128² an image comparison there
 /// measures the photon noise of the reference.)
 pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_with, render_smooth_reference};
+    use beam_cpu::nonlinear::CpuBeams;
+    use beam_cpu::nonlinear::render_smooth_reference;
     use beam_render::nonlinear::Degree;
+    use beam_render::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_with};
     let shading = RenderOptions::exact(128, 128);
     let mut notes = Vec::new();
     // On a software GPU (lavapipe), rasterizing the area light's caustic beams off the spheres takes
@@ -259,7 +261,7 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
                 .map(|degree| {
                     let options =
                         NonlinearOptions { degree, texels: 48, bounces: 2, caustic_strata: CAUSTIC_STRATA, shading };
-                    Ok((degree, render_nonlinear_with(&scene, &options, r).map_err(|e| e.to_string())?.0))
+                    Ok((degree, render_nonlinear_with(&scene, &options, r, &CpuBeams).map_err(|e| e.to_string())?.0))
                 })
                 .into_iter()
                 .collect::<Result<Vec<_>, String>>()
@@ -288,9 +290,10 @@ pub fn nonlinear_images_vs_reference(backend: Backend, _: &Config) -> Result<Out
 /// S3's ray directions must be nearer the sphere's true reflections (at the radial projection of the
 /// ray origin) than S1's.
 pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear, render_smooth_reference};
-    use beam_cpu::render::srgb_encode;
+    use beam_cpu::nonlinear::{render_nonlinear, render_smooth_reference};
+    use beam_render::image::srgb_encode;
     use beam_render::nonlinear::Degree;
+    use beam_render::nonlinear::{CAUSTIC_STRATA, NonlinearOptions};
     use beam_scene::scene::Material;
     let size = 256;
     let shading = RenderOptions::exact(size, size);
@@ -390,8 +393,8 @@ pub fn s3_removes_s1_kinks(_: Backend, _: &Config) -> Result<Outcome, String> {
 /// 1.5× that of an independent 4M-photon map (whose own noise is twice the 16M map's), and the
 /// total flux must agree within 1%.
 pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{CAUSTIC_STRATA, caustics_by_beams, caustics_by_photons};
     use beam_render::nonlinear::Degree;
+    use beam_render::nonlinear::{CAUSTIC_STRATA, caustics_by_beams, caustics_by_photons};
     let scene = scene::builtin("wavy-lake").map_err(|e| e.to_string())?;
     let truth = caustics_by_photons(&scene, 16_000_000, 1).ok_or("no caustics")?;
     let photons = caustics_by_photons(&scene, 4_000_000, 2).ok_or("no caustics")?;
@@ -420,8 +423,9 @@ pub fn caustics_match_photon_tracing(_: Backend, _: &Config) -> Result<Outcome, 
 /// (one emitter at the centre is a one-point quadrature of the area, about 5% off here; 1–2.5%
 /// remains, about 1% of it where rays leave the lens's rim, as with a point light).
 pub fn area_light_caustics_converge(_: Backend, _: &Config) -> Result<Outcome, String> {
-    use beam_cpu::nonlinear::{CpuBeams, caustics_by_beams, caustics_by_photons};
+    use beam_cpu::nonlinear::CpuBeams;
     use beam_render::nonlinear::Degree;
+    use beam_render::nonlinear::{caustics_by_beams, caustics_by_photons};
     let scene = scene::builtin("glass-lens-coarse").map_err(|e| e.to_string())?;
     let truth = caustics_by_photons(&scene, 16_000_000, 1).ok_or("no caustics")?;
     let mut runs = Vec::new();

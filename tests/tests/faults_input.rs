@@ -354,7 +354,7 @@ fn a_camera_too_far_for_its_image_plane_is_refused_not_a_panic() {
     let mut scene = scene::builtin("mirror-glass").unwrap();
     scene.camera.position.z = 3e38;
     let shading = beam_render::options::RenderOptions::exact(8, 8);
-    let options = beam_cpu::nonlinear::NonlinearOptions {
+    let options = beam_render::nonlinear::NonlinearOptions {
         degree: beam_render::nonlinear::Degree::S1,
         texels: 8,
         bounces: 1,
@@ -368,15 +368,16 @@ fn a_camera_too_far_for_its_image_plane_is_refused_not_a_panic() {
 /// now it is refused, naming the bounces, the estimate and the limit, after its first levels.
 #[test]
 fn a_beam_tree_too_large_to_build_is_refused_promptly() {
-    use beam_cpu::nonlinear::{MAX_TREE_BEAMS, NonlinearOptions, render_nonlinear};
+    use beam_cpu::nonlinear::render_nonlinear;
     use beam_render::nonlinear::Degree;
+    use beam_render::nonlinear::{MAX_TREE_BEAMS, NonlinearOptions};
     let scene = scene::builtin("bumpy-mirror").unwrap();
     let shading = beam_render::options::RenderOptions::exact(16, 16);
     let options = NonlinearOptions { degree: Degree::S3, texels: 32, bounces: 16, caustic_strata: 0, shading };
     let start = std::time::Instant::now();
     let r = within("bounces 16", move || render_nonlinear(&scene, &options).map(|_| ()));
     let e = match r {
-        Err(e @ beam_cpu::RenderError::BeamTree { .. }) => e.to_string(),
+        Err(e @ beam_render::nonlinear::NonlinearError::BeamTree { .. }) => e.to_string(),
         other => panic!("expected a refused beam tree, got {other:?}"),
     };
     assert!(start.elapsed() < Duration::from_secs(15), "refused only after {:?}", start.elapsed());

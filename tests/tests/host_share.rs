@@ -4,12 +4,13 @@
 //! its beams from the frame before is the frame that makes them. The GPU's skipped, saying SKIPPED,
 //! without an adapter.
 
-use beam_cpu::nonlinear::{
-    CpuBeams, FrameImage, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
-};
+use beam_cpu::nonlinear::CpuBeams;
 use beam_gpu::nonlinear::{GpuBeams, GpuFrame};
 use beam_render::nonlinear::BeamRenderer;
 use beam_render::nonlinear::Degree;
+use beam_render::nonlinear::{
+    FrameImage, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
+};
 use beam_render::options::RenderOptions;
 use beam_scene::scene;
 
@@ -26,7 +27,7 @@ fn options() -> NonlinearOptions {
 #[test]
 fn cpu_frames_are_all_host_work() {
     let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
-    let (_, stats) = render_nonlinear_with(&scene, &options(), &mut CpuBeams).expect("a render");
+    let (_, stats) = render_nonlinear_with(&scene, &options(), &mut CpuBeams, &CpuBeams).expect("a render");
     let names: Vec<&str> = stats.stages.iter().map(|s| s.name).collect();
     for stage in ["eye view", "tree: rasterize beams", "radiance flow", "shading and composite"] {
         assert!(names.contains(&stage), "no stage {stage} in {names:?}");
@@ -61,10 +62,11 @@ fn frames_reusing_beams_equal_fresh(renderer: &mut dyn BeamRenderer, fresh: &mut
     let first = options();
     let second = NonlinearOptions { shading: RenderOptions { spp: 4, ..RenderOptions::exact(40, 28) }, ..first };
     let mut shared = NonlinearPrecomputed::new(&scene, &first, renderer).expect("the precomputed");
-    render_nonlinear_frame(&scene, &first, renderer, Some(&mut shared)).expect("a first frame");
+    render_nonlinear_frame(&scene, &first, renderer, &CpuBeams, Some(&mut shared)).expect("a first frame");
     let found = shared.beams_reused();
-    let (reused, stats) = render_nonlinear_frame(&scene, &second, renderer, Some(&mut shared)).expect("a second frame");
-    let (made, _) = render_nonlinear_with(&scene, &second, fresh).expect("a fresh frame");
+    let (reused, stats) =
+        render_nonlinear_frame(&scene, &second, renderer, &CpuBeams, Some(&mut shared)).expect("a second frame");
+    let (made, _) = render_nonlinear_with(&scene, &second, fresh, &CpuBeams).expect("a fresh frame");
     assert_eq!(
         reused.read().map(|r| r.pixels),
         Some(made.pixels),
@@ -102,18 +104,18 @@ fn gpu_frames_of_a_moved_eye_equal_fresh_ones() {
     let mut renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
     let options = NonlinearOptions { shading: RenderOptions { spp: 4, ..RenderOptions::exact(40, 28) }, ..options() };
     let mut shared = NonlinearPrecomputed::new(&scene, &options, &renderer).expect("the precomputed");
-    render_nonlinear_frame(&scene, &options, &mut renderer, Some(&mut shared)).expect("a first frame");
+    render_nonlinear_frame(&scene, &options, &mut renderer, &CpuBeams, Some(&mut shared)).expect("a first frame");
     let mut took = Vec::new();
     for step in [1e-4, 0.25] {
         let step = step * scene.bounds().extent().length() * scene.camera.frame().right;
         scene.camera.position += step;
         scene.camera.target += step;
         let before = renderer.times().blocks_reused;
-        let (moved, _) =
-            render_nonlinear_frame(&scene, &options, &mut renderer, Some(&mut shared)).expect("a moved frame");
+        let (moved, _) = render_nonlinear_frame(&scene, &options, &mut renderer, &CpuBeams, Some(&mut shared))
+            .expect("a moved frame");
         took.push(renderer.times().blocks_reused - before);
         let mut fresh = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
-        let (made, _) = render_nonlinear_with(&scene, &options, &mut fresh).expect("a fresh frame");
+        let (made, _) = render_nonlinear_with(&scene, &options, &mut fresh, &CpuBeams).expect("a fresh frame");
         let moved = moved.read().expect("a frame read back").pixels;
         let differ = moved.iter().zip(&made.pixels).filter(|(a, b)| a != b).count();
         assert!(
@@ -130,7 +132,7 @@ fn gpu_frames_count_their_waits_and_readbacks() {
     let scene = scene::builtin("facing-mirrors-coarse").expect("a built-in");
     let mut renderer = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
     let before = gpu.traffic();
-    let (_, stats) = render_nonlinear_with(&scene, &options(), &mut renderer).expect("a render");
+    let (_, stats) = render_nonlinear_with(&scene, &options(), &mut renderer, &CpuBeams).expect("a render");
     let traffic = gpu.traffic() - before;
     // At least the eye's hits (48 × 32 of them) and the final pixels came back.
     assert!(traffic.bytes_read_back >= 2 * 48 * 32 * 8, "{} bytes read back", traffic.bytes_read_back);
@@ -159,11 +161,11 @@ fn gpu_frames_kept_for_display_equal_frames_read_back() {
     let options = NonlinearOptions { shading: RenderOptions { spp: 4, ..RenderOptions::exact(40, 28) }, ..options() };
     let mut reading = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4);
     let before = gpu.traffic();
-    let (read, _) = render_nonlinear_with(&scene, &options, &mut reading).expect("a frame read back");
+    let (read, _) = render_nonlinear_with(&scene, &options, &mut reading, &CpuBeams).expect("a frame read back");
     let read_frame = (gpu.traffic() - before).bytes_read_back;
     let mut displaying = GpuBeams::new(&gpu, &scene).expect("the GPU renderer").with_light_samples(4).displaying();
     let before = gpu.traffic();
-    let (image, _) = render_nonlinear_frame(&scene, &options, &mut displaying, None).expect("a frame kept");
+    let (image, _) = render_nonlinear_frame(&scene, &options, &mut displaying, &CpuBeams, None).expect("a frame kept");
     let read_back = (gpu.traffic() - before).bytes_read_back;
     let FrameImage::Kept(image) = image else { panic!("a frame kept for display came back as an image") };
     // The same frame, less its pixels (four half floats each).
@@ -172,6 +174,6 @@ fn gpu_frames_kept_for_display_equal_frames_read_back() {
     let size = frame.texture().size();
     assert_eq!((size.width, size.height), (40, 28));
     assert_eq!(frame.read_back(&gpu).expect("the frame's pixels"), read.pixels);
-    let one_shot = render_nonlinear_with(&scene, &options, &mut displaying);
-    assert!(matches!(one_shot, Err(beam_cpu::RenderError::FrameKept)), "{:?}", one_shot.map(|_| ()));
+    let one_shot = render_nonlinear_with(&scene, &options, &mut displaying, &CpuBeams);
+    assert!(matches!(one_shot, Err(beam_render::nonlinear::NonlinearError::FrameKept)), "{:?}", one_shot.map(|_| ()));
 }

@@ -8,8 +8,8 @@
 //! failure). Also: the nonlinear renderer takes any `texels` without panicking.
 
 use beam_cpu::glossy::{render_glossy, render_glossy_reference, render_glossy_with};
-use beam_cpu::nonlinear::{CpuBeams, NonlinearOptions, render_nonlinear_with, render_smooth_reference_with};
-use beam_cpu::render::{Image, render, render_queries};
+use beam_cpu::nonlinear::{CpuBeams, render_smooth_reference_with};
+use beam_cpu::render::{render, render_queries};
 use beam_gpu::Gpu;
 use beam_gpu::glossy::GpuGather;
 use beam_gpu::nonlinear::GpuBeams;
@@ -17,7 +17,9 @@ use beam_gpu::queries::GpuQueries;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
 use beam_render::glossy::{GlossyOptions, LightVolumes};
+use beam_render::image::Image;
 use beam_render::nonlinear::{BeamRenderer, Degree};
+use beam_render::nonlinear::{NonlinearOptions, render_nonlinear_with};
 use beam_render::options::{Method, RenderOptions};
 use beam_scene::scene::{self, BUILTIN, Scene};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -75,7 +77,7 @@ fn render_cell(scene: &Scene, method: &str, gpu: Option<&Gpu>) -> Result<Image, 
                 caustic_strata: 1,
                 shading: shading(Method::Beam, false),
             };
-            Ok(render_nonlinear_with(scene, &options, renderer).map_err(|e| e.to_string())?.0)
+            Ok(render_nonlinear_with(scene, &options, renderer, &CpuBeams).map_err(|e| e.to_string())?.0)
         }
         ("nonlinear-reference", _) => {
             render_smooth_reference_with(scene, &shading(Method::Beam, false), PHOTONS, renderer)
@@ -199,8 +201,8 @@ fn any_texels_render(gpu: Option<&Gpu>) {
             caustic_strata: 1,
             shading: shading(Method::Beam, false),
         };
-        let (image, stats) =
-            render_nonlinear_with(&scene, &options, renderer).unwrap_or_else(|e| panic!("texels {texels}: {e}"));
+        let (image, stats) = render_nonlinear_with(&scene, &options, renderer, &CpuBeams)
+            .unwrap_or_else(|e| panic!("texels {texels}: {e}"));
         assert!(image.pixels.iter().all(|p| p.is_finite()), "texels {texels}: non-finite pixels");
         assert!(stats.texels_shaded > 0, "texels {texels}: no beam texel hit the scene");
         assert!(stats.triangles_per_beam >= 0.0);

@@ -7,9 +7,10 @@
 //! pixel) through the cone hierarchy, over every beam, and with the gather on the GPU.
 
 use beam_cpu::glossy::{glossy_photons, photon_texel, render_glossy, render_glossy_photons};
-use beam_cpu::render::{Image, difference};
+use beam_cpu::render::difference;
 use beam_render::BackendError;
 use beam_render::glossy::{GlossyOptions, LightVolumes};
+use beam_render::image::Image;
 use beam_scene::scene;
 use plotters::prelude::*;
 use std::path::Path;

@@ -3,14 +3,16 @@
 //! built-in nonlinear scenes; each GPU image checked against the CPU's.
 
 use super::stats::median;
-use beam_cpu::nonlinear::{
-    CpuBeams, FrameImage, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
-};
-use beam_cpu::render::{Image, difference};
+use beam_cpu::nonlinear::CpuBeams;
+use beam_cpu::render::difference;
 use beam_gpu::Gpu;
 use beam_gpu::nonlinear::{GpuBeams, GpuFrame};
 use beam_render::cpu_clock::our_threads_cpu_seconds;
+use beam_render::image::Image;
 use beam_render::nonlinear::Degree;
+use beam_render::nonlinear::{
+    FrameImage, NonlinearOptions, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with,
+};
 use beam_render::options::RenderOptions;
 use beam_scene::scene::{self, Simplify};
 use std::time::Instant;
@@ -95,7 +97,7 @@ pub(crate) fn run(
         let shared_cpu = cpu_since(cpu_start).map_or(0.0, |(main, workers)| main + workers);
         let shared_seconds = start.elapsed().as_secs_f64();
         let frame = |scene: &scene::Scene, renderer: &mut GpuBeams<'_>, shared: &mut NonlinearPrecomputed| {
-            render_nonlinear_frame(scene, &options, renderer, Some(shared)).map_err(|e| e.to_string())
+            render_nonlinear_frame(scene, &options, renderer, &CpuBeams, Some(shared)).map_err(|e| e.to_string())
         };
         // The warm-up frame's image, for the PSNR: read back here where the renderer kept it.
         let (warm, _) = frame(&scene, &mut renderer, &mut shared)?;
@@ -136,7 +138,8 @@ pub(crate) fn run(
         let rays = (after.ray_seconds - before.ray_seconds) / f64::from(frames.max(1));
         let shade = (after.shade_seconds - before.shade_seconds) / f64::from(frames.max(1));
         let start = Instant::now();
-        let (cpu_image, _) = render_nonlinear_with(&scene, &options, &mut CpuBeams).map_err(|e| e.to_string())?;
+        let (cpu_image, _) =
+            render_nonlinear_with(&scene, &options, &mut CpuBeams, &CpuBeams).map_err(|e| e.to_string())?;
         let cpu = start.elapsed().as_secs_f64();
         let psnr = difference(&warm, &cpu_image).map_err(|e| e.to_string())?.psnr;
         let stats = stats.unwrap_or_default();

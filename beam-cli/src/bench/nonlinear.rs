@@ -2,8 +2,9 @@
 //! the mirror teapot against scene triangles, S-mesh triangles (beams) and atlas resolution, S1 and
 //! S3, beside the ray-traced reference measured in the same run.
 
-use beam_cpu::nonlinear::{NonlinearOptions, render_nonlinear, render_smooth_reference};
+use beam_cpu::nonlinear::{render_nonlinear, render_smooth_reference};
 use beam_render::nonlinear::Degree;
+use beam_render::nonlinear::NonlinearOptions;
 use beam_render::options::RenderOptions;
 use beam_scene::io::write_atomic;
 use beam_scene::scene::Material;

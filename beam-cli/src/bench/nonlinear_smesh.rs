@@ -5,9 +5,10 @@
 //! is the last row. Each row also counts what rays did under the coarse faces: the faces too folded
 //! for beams and the points whose scattered ray no child beam holds.
 
-use beam_cpu::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear, render_smooth_reference};
+use beam_cpu::nonlinear::{render_nonlinear, render_smooth_reference};
 use beam_cpu::render::difference;
 use beam_render::nonlinear::Degree;
+use beam_render::nonlinear::{CAUSTIC_STRATA, NonlinearOptions};
 use beam_render::options::RenderOptions;
 use beam_scene::io::write_atomic;
 use beam_scene::scene::Simplify;

@@ -6,9 +6,10 @@
 //! time to the eye beams'.
 
 use super::primary_shading::flat;
-use beam_cpu::render::{Image, Visibility, difference, pixel_samples, primary_image};
+use beam_cpu::render::{Visibility, difference, pixel_samples, primary_image};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_render::image::Image;
 use beam_render::queries::ClosestHit;
 use beam_scene::scene::{self, Camera, Scene};
 use rayon::prelude::*;

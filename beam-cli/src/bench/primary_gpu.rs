@@ -5,11 +5,12 @@
 //! each GPU image against the CPU rays' image of the same rays.
 
 use super::primary_shading::flat;
-use beam_cpu::render::{Image, difference, pixel_samples};
+use beam_cpu::render::{difference, pixel_samples};
 use beam_gpu::Gpu;
 use beam_gpu::queries::GpuQueries;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_render::image::Image;
 use beam_render::queries::RayQueries;
 use beam_scene::scene::{Camera, Scene};
 use rayon::prelude::*;

@@ -2,7 +2,9 @@
 //! per pixel, Embree at 256 with `--features peers`), each with its error against a many-ray
 //! reference, as 001 §5.1 compares them.
 
-use beam_cpu::render::{Image, difference, render, side_by_side};
+use beam_render::image::Image;
+
+use beam_cpu::render::{difference, render, side_by_side};
 use beam_math::glam::Vec3;
 use beam_render::options::{Method, RenderOptions, Shading};
 use beam_scene::scene::{self, Camera, Light, Scene};

@@ -7,9 +7,10 @@
 //! CPU's. The GPU reports no pieces per beam (its shader counts loop iterations, not pieces).
 
 use super::stats::median;
-use beam_cpu::render::{Image, difference, render_queries};
+use beam_cpu::render::{difference, render_queries};
 use beam_gpu::Gpu;
 use beam_gpu::queries::GpuQueries;
+use beam_render::image::Image;
 use beam_render::options::RenderOptions;
 use beam_scene::scene::Scene;
 use std::time::Instant;

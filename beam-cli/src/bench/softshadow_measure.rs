@@ -9,8 +9,9 @@
 //! averaged, with the rays shared among them.
 
 use super::softshadow::options;
-use beam_cpu::render::{Image, RenderStats, difference, render};
+use beam_cpu::render::{RenderStats, difference, render};
 use beam_math::glam::Vec3;
+use beam_render::image::Image;
 use beam_render::options::Method;
 use beam_scene::scene::Scene;
 

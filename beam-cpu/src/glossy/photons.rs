@@ -87,7 +87,7 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
         }
     }
     // In a fixed order, so that every process of a render farm sums the same map.
-    crate::ordered::fold_in_order(
+    beam_render::ordered::fold_in_order(
         &jobs,
         || empty.clone(),
         |mut map, &(source, emitter, prim, m, seed)| {

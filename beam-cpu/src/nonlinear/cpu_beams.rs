@@ -1,5 +1,5 @@
-//! The CPU's beam renderer: texel regions by [`render_beam`], rays through the BVH, shading by
-//! [`shade_point`].
+//! The CPU's beam renderer: texel regions by [`render_beam`], rays through the BVH, shading on the
+//! host by [`shade_point`]; and a nonlinear frame rendered with it ([`render_nonlinear`]).
 
 use super::atlas::render_beam;
 use crate::render::{light_seen, shade_point};
@@ -7,9 +7,11 @@ use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
+use beam_render::image::Image;
 use beam_render::irradiance_map::IrradianceMap;
 use beam_render::nonlinear::{
-    BeamJob, BeamRasterizer, BeamRenderer, BeamTexture, ChildLookups, DeviceWaits, EyeView, PointShading, ShadePoint,
+    BeamJob, BeamRasterizer, BeamTexture, ChildLookups, DeviceWaits, EyeView, HostShading, NonlinearError,
+    NonlinearOptions, NonlinearStats, PointShading, ShadePoint, render_nonlinear_with,
 };
 use beam_render::options::RenderOptions;
 use beam_render::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen, RayQueries};
@@ -55,7 +57,7 @@ impl BeamQueries for CpuBeams {
     }
 }
 
-/// The CPU shades with [`shade_point`] itself ([`shade_points`]): the defaults hand it back.
+/// The CPU shades on the host ([`HostShading`]): the defaults hand the points back to it.
 impl PointShading for CpuBeams {}
 
 impl EyeView for CpuBeams {}
@@ -66,19 +68,23 @@ impl DeviceWaits for CpuBeams {}
 /// The host looks the coarse S mesh's points up itself (the trait's default).
 impl ChildLookups for CpuBeams {}
 
-/// The radiance of every point: by `renderer` where it shades with `options`, else on the CPU by
-/// [`shade_point`].
-pub fn shade_points(
-    renderer: &mut dyn BeamRenderer,
-    scene: &Scene,
-    options: &RenderOptions,
-    caustics: Option<&IrradianceMap>,
-    points: &[ShadePoint],
-) -> Result<Vec<Vec3>, BackendError> {
-    match renderer.shade_points(scene, options, caustics, points)? {
-        Some(radiance) => Ok(radiance),
-        None => {
-            Ok(points.par_iter().map(|s| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed)).collect())
-        }
+/// Every point shaded by [`shade_point`], in parallel: the host's shading of the points a GPU
+/// renderer hands back.
+impl HostShading for CpuBeams {
+    fn shade_on_host(
+        &self,
+        scene: &Scene,
+        options: &RenderOptions,
+        caustics: Option<&IrradianceMap>,
+        points: &[ShadePoint],
+    ) -> Vec<Vec3> {
+        points.par_iter().map(|s| shade_point(scene, options, caustics, s.prim, s.p, s.d, s.seed)).collect()
     }
+}
+
+/// Render `scene` with its mirror and glass surfaces by nonlinear beams on the CPU
+/// ([`render_nonlinear_with`] with [`CpuBeams`]). Fails only where the beam tree of
+/// `options.bounces` levels is estimated too large to build ([`NonlinearError::BeamTree`]).
+pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> Result<(Image, NonlinearStats), NonlinearError> {
+    render_nonlinear_with(scene, options, &mut CpuBeams, &CpuBeams)
 }

@@ -2,12 +2,11 @@
 //! about the interpolated (Phong) normals, the smooth surfaces the S mesh stands for, traced in
 //! waves so that a GPU's ray tracer can find every wave's hits at once.
 
-use super::caustics::caustics_by_photons;
-use super::cpu_beams::{CpuBeams, shade_points};
+use super::cpu_beams::CpuBeams;
 use crate::RenderError;
-use crate::render::Image;
 use beam_math::glam::Vec3;
-use beam_render::nonlinear::{BeamRenderer, Path, ShadePoint, trace_waves};
+use beam_render::image::Image;
+use beam_render::nonlinear::{BeamRenderer, HostShading, Path, ShadePoint, caustics_by_photons, trace_waves};
 use beam_render::options::RenderOptions;
 use beam_scene::scene::Scene;
 
@@ -38,7 +37,7 @@ pub fn render_smooth_reference_with(
     let paths: Vec<Path> =
         crop.frame_indices(camera.width).map(|i| (i, camera.pixel_ray(&frame, i), Vec3::ONE)).collect();
     // The ground truth shades exactly, on the CPU.
-    let shade = |points: &[ShadePoint]| shade_points(&mut CpuBeams, scene, options, caustics.as_ref(), points);
+    let shade = |points: &[ShadePoint]| Ok(CpuBeams.shade_on_host(scene, options, caustics.as_ref(), points));
     trace_waves(scene, renderer, &shade, &|i| i as u64, paths, 0, &mut pixels)?;
     Ok(Image { width: crop.width(), height: crop.height(), pixels: crop.cut(pixels, camera.width) })
 }

@@ -1,8 +1,8 @@
 //! Image comparison: RMSE and PSNR on 8-bit sRGB values, and a side-by-side picture with an error map.
 
-use super::image::{Image, srgb_decode, srgb_encode};
 use crate::RenderError;
 use beam_math::glam::Vec3;
+use beam_render::image::{Image, srgb_decode, srgb_encode};
 
 /// Differences between two images of the same size.
 #[derive(Clone, Copy, Debug, PartialEq)]

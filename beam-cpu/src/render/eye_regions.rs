@@ -5,11 +5,11 @@
 
 use super::coverage::{PixelGrid, pixel_parts};
 use super::hard_shadow::lit_pieces;
-use super::image::Image;
 use super::primary_beam::{point_on_piece, visible_surface_within};
 use super::shadow_beam::BeamStats;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::BeamFrame;
+use beam_render::image::Image;
 use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Light, Material, Scene};
 

@@ -7,10 +7,10 @@
 use super::cut_outs::CutOuts;
 use super::eye_budget::{eye_beam_seconds, eye_budget};
 use super::eye_regions::{EyeBeam, EyeStats, Fragment, Region, paste, region_fragments, regions};
-use super::image::Image;
 use super::renderer::stratified;
 use super::shadow_beam::BeamStats;
 use beam_math::glam::Vec3;
+use beam_render::image::Image;
 use beam_scene::scene::{Camera, Scene};
 use rand::SeedableRng;
 use rand_pcg::Pcg32;

@@ -4,7 +4,7 @@
 //! assembled and the counters summed (`stats`).
 
 use super::eye_regions::{Region, TILE, paste_within, regions_in};
-use super::image::Image;
+use beam_render::image::Image;
 use beam_render::queries::AnyHit;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;

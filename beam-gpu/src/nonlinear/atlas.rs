@@ -6,7 +6,7 @@
 //! and the depth test keeps the nearest hit. A page takes no more beams, and no more (beam,
 //! triangle) pairs or region texels, than one storage binding of the device holds. A compute pass
 //! gathers each page's regions into one list (a triangular region fills under half of its
-//! power-of-two square), read back as the beams' hit textures, which beam-cpu's beam tree needs
+//! power-of-two square), read back as the beams' hit textures, which the beam tree (beam-render) needs
 //! for the next level's beams. Where the device has 64-bit atomics, one compute pass
 //! (`shaders/beam_texels.wgsl`, an invocation per texel) finds the same hits instead of the draws
 //! and the gather: a compute GPU rasterizes on few of its cores, a software one on one thread.

@@ -5,7 +5,7 @@
 //! or a level's beams past one storage binding of the device. Diffuse, glossy and emissive points are
 //! shaded by [`PointShader`], mirror and glass points without child beams (past the last level) by
 //! the caller, and the `scatter` pass writes both to their texels (4 bytes uploaded a point, its
-//! texel): only the texels to composite have records. CPU twin: beam-cpu's `composite_levels`.
+//! texel): only the texels to composite have records. Host twin: beam-render's `composite_levels`.
 
 use super::display::GpuFrame;
 use super::records::{EyeRecords, KeptPoints};

@@ -46,7 +46,7 @@ pub struct EyeParams {
     pub half_width: f32,
     /// Half height of the image plane at distance 1.
     pub half_height: f32,
-    /// `eye_records`: the scene's diagonal, where a texel's ray leaves the scene (beam-cpu's
+    /// `eye_records`: the scene's diagonal, where a texel's ray leaves the scene (beam-render's
     /// `reproject`).
     pub far: f32,
     /// Padding.

@@ -4,7 +4,7 @@
 //! texels (270 K a frame on the glass lens, 13 MB). `level_points` adds every such texel to its
 //! (beam, face) slot of a table in 64-bit fixed point, whose sums do not depend on the order of
 //! the texels: the same texels give the same bits, and the host's memos of the next level's beams
-//! find them frame after frame. CPU twin: beam-cpu's `Tree::requests`, summing in f32.
+//! find them frame after frame. Host twin: beam-render's `Tree::requests`, summing in f32.
 
 use crate::buffers::{output, read_all};
 use crate::interface::{FIT_BIAS, FIT_SCALE, FIT_WORDS};

@@ -8,7 +8,7 @@
 //! on: the whole level stays. The texels for the host carry their points, so the host evaluates
 //! no texel ray for them. The composite shades the kept points ([`super::GpuComposite::run`]):
 //! the diffuse, glossy and emissive ones by the shading pass, the others (mirror and glass past
-//! the tree) by the Whitted rays. CPU twin: the host's texel hits (beam-cpu's `Tree::build`)
+//! the tree) by the Whitted rays. CPU twin: the host's texel hits (beam-render's `Tree::build`)
 //! sorted as `sort.rs` sorts a level's texels.
 
 use super::composite::GpuComposite;
@@ -39,7 +39,7 @@ pub struct LevelParams {
     pub inverted: u32,
     /// Beams on the page.
     pub beams: u32,
-    /// `level_records`: the scene's diagonal, where a texel's ray leaves the scene (beam-cpu's
+    /// `level_records`: the scene's diagonal, where a texel's ray leaves the scene (beam-render's
     /// `reproject`).
     pub far: f32,
     /// `level_points`: 1 where every texel's depth is written for the lookups of the level
@@ -375,7 +375,7 @@ impl GpuLevelPoints {
     /// child beams of the faces each beam's texels hit (`children`), once the next level is built;
     /// under a coarse face, where the texel's own scattered rays read them (`coarse`, its child
     /// level the next); per dispatch, with the points of faces without child beams (or whose child
-    /// beams do not hold their rays) for the Whitted rays. CPU twin: beam-cpu's `Tree::composite`.
+    /// beams do not hold their rays) for the Whitted rays. Host twin: beam-render's `Tree::composite`.
     pub fn records(
         &self,
         gpu: &Gpu,

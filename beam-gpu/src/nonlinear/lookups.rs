@@ -1,6 +1,6 @@
 //! The coarse S mesh's lookups on the GPU (`shaders/lookups.wgsl`): per point of a fine surface
 //! under a coarse face (000 §7.1), where it reads a child beam for its own scattered ray, by
-//! Newton's method on the beam's S^n rays and the texels' depths: beam-cpu's `reproject` in f32
+//! Newton's method on the beam's S^n rays and the texels' depths: beam-render's `reproject` in f32
 //! (its projections checked by `gpu_lookup_projections_equal_cpu`, its images by
 //! `gpu_coarse_smesh_equals_cpu`).
 
@@ -55,7 +55,7 @@ impl GpuLookups {
     }
 
     /// Each job's coordinates on its beam's base and how far outside the base its last projection
-    /// lay (beam-cpu's `reproject`), the beams `beams` with their textures; `None` where the beams'
+    /// lay (beam-render's `reproject`), the beams `beams` with their textures; `None` where the beams'
     /// texels or the jobs do not fit one storage binding (the host looks them up).
     pub fn run(
         &self,

@@ -13,7 +13,7 @@ use beam_scene::scene::{Bump, Material, Scene};
 
 /// How far a lookup's projection is polished ([`Beam::project_in`]; the shaders' twin is
 /// `lib/lookup.wgsl`). A lookup needs `ω` to a fraction of a texel (1/32 of the base at most), far
-/// above a residual of 10⁻⁶ of the base's size. Started from a guess (beam-cpu's `reproject`), on
+/// above a residual of 10⁻⁶ of the base's size. Started from a guess ([`reproject`](super::reproject)), on
 /// the mirror teapot under an S mesh of 850 faces, 98.5% of the projections that converge within
 /// 10 steps do so within 5 (93% within 3), and 11% do not converge (points no ray of the beam
 /// reaches), which spent more than half of all steps; with 5 the radiance flow takes half the time
@@ -21,8 +21,8 @@ use beam_scene::scene::{Bump, Material, Scene};
 /// keeps its PSNR against the ray-traced reference (32.96 → 33.00 dB at 256²).
 pub const LOOKUP: Polish = Polish { steps: 5, tolerance: 1e-6 };
 
-/// How many texels outside a child beam's base a coarse face's lookup may fall (beam-cpu's
-/// `reproject`) before its point is traced by rays instead: the one-texel margin its region
+/// How many texels outside a child beam's base a coarse face's lookup may fall ([`reproject`](super::reproject))
+/// before its point is traced by rays instead: the one-texel margin its region
 /// renders. (On the mirror teapot with 850 S faces, before folded faces were traced by rays, 0.5,
 /// 1 and 2 texels traced 6,938, 6,080 and 4,921 points, and the image was 33.00, 32.81 and
 /// 32.46 dB from the reference without caustics.)

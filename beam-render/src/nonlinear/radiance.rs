@@ -1,6 +1,6 @@
 //! The radiance flow of a beam tree (000 §7.3): for each level, the texels that hit, and for those
 //! on a specular S-mesh face the child beams they are textured from (bilinear, Fresnel-weighted for
-//! glass). beam-cpu's `composite_levels` runs it on the CPU; beam-gpu keeps it on the GPU.
+//! glass). [`composite_levels`](super::composite_levels) runs it on the host; beam-gpu keeps it on the GPU.
 
 use super::smesh::SMesh;
 use super::texture::ShadePoint;

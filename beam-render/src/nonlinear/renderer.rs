@@ -245,7 +245,7 @@ pub trait PointShading: Sync {
     /// The radiance flow of a built tree (`levels[0]` the eye's view), with what the backend kept
     /// of the frame (`frame`, from its eye's view and levels): the eye's pixels
     /// ([`TreeShading::Shaded`]), or `frame` handed back when this backend does not run it
-    /// (beam-cpu's `composite_levels` then does; the default).
+    /// ([`composite_levels`](super::composite_levels) then does, on the host; the default).
     fn shade_tree(
         &mut self,
         scene: &Scene,
@@ -316,7 +316,7 @@ pub type PixelHits = Vec<(usize, Ray, Hit)>;
 
 /// Mirror and glass points under coarse S-mesh faces that a backend's composite traced by rays
 /// ([`TreeShading::Shaded`]): of the hits [`EyeView::eye_faces`] kept and the texels of levels
-/// whose [`KeptTotals::records`] it makes, as beam-cpu's composite counts its own.
+/// whose [`KeptTotals::records`] it makes, as the host's composite counts its own.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CoarseByRays {
     /// Under a face with child beams, none of which holds the point's scattered rays.
@@ -371,7 +371,7 @@ pub trait DeviceWaits: Sync {
 }
 
 /// One lookup of a point of a fine surface under a coarse S-mesh face (000 §7.1) in a child beam
-/// of the face: beam-cpu's `reproject` of `p`, at `w` on the face, for its scattered unit
+/// of the face: [`reproject`](super::reproject) of `p`, at `w` on the face, for its scattered unit
 /// direction `truth`, in beam `beam` of the next level (`far`: the scene's diagonal, the depth
 /// where a texel's ray leaves the scene).
 #[derive(Clone, Copy, Debug, PartialEq)]

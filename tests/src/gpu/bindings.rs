@@ -5,11 +5,12 @@
 use super::pixels::PixelDifference;
 use super::twin::TwinShading;
 use crate::property::{Config, Outcome};
-use beam_cpu::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_with};
+use beam_cpu::nonlinear::CpuBeams;
 use beam_gpu::nonlinear::{GpuBeams, GpuFace};
 use beam_gpu::{Gpu, GpuError};
 use beam_math::Triangle;
 use beam_math::glam::Vec3;
+use beam_render::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_with};
 use beam_render::nonlinear::{Degree, SMesh};
 use beam_render::options::RenderOptions;
 use beam_scene::mesh;
@@ -122,13 +123,14 @@ pub(super) fn gpu_images_fit_narrow_bindings(_: crate::property::Backend, _: &Co
             shading: RenderOptions::exact(64, 64),
         };
         let mut renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
-        let (on_gpu, _) = render_nonlinear_with(&scene, &options, &mut renderer).map_err(|e| e.to_string())?;
+        let (on_gpu, _) =
+            render_nonlinear_with(&scene, &options, &mut renderer, &CpuBeams).map_err(|e| e.to_string())?;
         let times = renderer.times();
         if times.gpu_composites != 1 {
             return Err(format!("{degree:?}: the composite ran on the CPU ({} on the GPU)", times.gpu_composites));
         }
-        let (on_cpu, _) =
-            render_nonlinear_with(&scene, &options, &mut TwinShading::default()).map_err(|e| e.to_string())?;
+        let (on_cpu, _) = render_nonlinear_with(&scene, &options, &mut TwinShading::default(), &CpuBeams)
+            .map_err(|e| e.to_string())?;
         let PixelDifference { differ, sum, n } = PixelDifference::of(&on_gpu, &on_cpu);
         if differ * 200 > n {
             return Err(format!("{degree:?}: {differ} of {n} pixels differ by more than 4/255"));

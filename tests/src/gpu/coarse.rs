@@ -11,12 +11,13 @@ use super::device::adapter;
 use super::pixels::PixelDifference;
 use super::twin::TwinShading;
 use crate::property::{Backend, Config, Outcome};
-use beam_cpu::nonlinear::{NonlinearOptions, render_nonlinear_with};
+use beam_cpu::nonlinear::CpuBeams;
 use beam_gpu::nonlinear::GpuBeams;
 use beam_math::Triangle;
 use beam_math::collide::closest_point_on_triangle;
 use beam_render::nonlinear::SMesh;
 use beam_render::nonlinear::{Degree, EyeView};
+use beam_render::nonlinear::{NonlinearOptions, render_nonlinear_with};
 use beam_render::options::RenderOptions;
 use beam_scene::scene::{self, Simplify};
 
@@ -56,14 +57,15 @@ pub(super) fn gpu_coarse_smesh_equals_cpu(_: Backend, _: &Config) -> Result<Outc
             shading: RenderOptions::exact(SIZE, SIZE),
         };
         let mut renderer = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
-        let (on_gpu, gpu_stats) = render_nonlinear_with(&scene, &options, &mut renderer).map_err(|e| e.to_string())?;
-        let (on_cpu, cpu_stats) =
-            render_nonlinear_with(&scene, &options, &mut TwinShading::default()).map_err(|e| e.to_string())?;
+        let (on_gpu, gpu_stats) =
+            render_nonlinear_with(&scene, &options, &mut renderer, &CpuBeams).map_err(|e| e.to_string())?;
+        let (on_cpu, cpu_stats) = render_nonlinear_with(&scene, &options, &mut TwinShading::default(), &CpuBeams)
+            .map_err(|e| e.to_string())?;
         let name = format!("{degree:?}");
         if cpu_stats.coarse_smesh_faces == 0 || cpu_stats.coarse_smesh_faces > u64::from(2 * FACES) {
             return Err(format!("{name}: {} coarse S-mesh faces, not about {FACES}", cpu_stats.coarse_smesh_faces));
         }
-        let beams = |s: &beam_cpu::nonlinear::NonlinearStats| s.beams_per_level.iter().sum::<u64>();
+        let beams = |s: &beam_render::nonlinear::NonlinearStats| s.beams_per_level.iter().sum::<u64>();
         let (g, c) = (beams(&gpu_stats), beams(&cpu_stats));
         if c == 0 || g.abs_diff(c) * 50 > c {
             return Err(format!("{name}: {g} beams on the GPU, {c} on the CPU"));

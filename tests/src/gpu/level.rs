@@ -6,11 +6,12 @@ use super::beams::{face_beams, level_one_beams};
 use super::device::adapter;
 use super::pixels::PixelDifference;
 use crate::property::{Backend, Config, Outcome};
-use beam_cpu::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_with};
+use beam_cpu::nonlinear::CpuBeams;
 use beam_gpu::nonlinear::GpuBeams;
 use beam_gpu::shade::PointShader;
 use beam_math::glam::Vec3;
 use beam_render::nonlinear::{BeamJob, BeamRasterizer, Degree, Exclude};
+use beam_render::nonlinear::{CAUSTIC_STRATA, NonlinearOptions, render_nonlinear_with};
 use beam_render::nonlinear::{EyeView, Fit, KeepLevel, KeptFrame, LevelLayout, SMesh, TexelHit};
 use beam_render::options::RenderOptions;
 use beam_scene::scene::{self, Simplify};
@@ -206,15 +207,18 @@ pub(super) fn gpu_kept_level_images_equal_read_back(_: Backend, _: &Config) -> R
         };
         let mut kept = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?;
         let mut read_back = GpuBeams::new(&gpu, &scene).map_err(|e| e.to_string())?.reading_levels_back();
-        let (image, stats) = render_nonlinear_with(&scene, &options, &mut kept).map_err(|e| e.to_string())?;
-        let (want, want_stats) = render_nonlinear_with(&scene, &options, &mut read_back).map_err(|e| e.to_string())?;
-        let counts =
-            |s: &beam_cpu::nonlinear::NonlinearStats| (s.beams_per_level.clone(), s.texels_shaded, s.specular_by_rays);
+        let (image, stats) =
+            render_nonlinear_with(&scene, &options, &mut kept, &CpuBeams).map_err(|e| e.to_string())?;
+        let (want, want_stats) =
+            render_nonlinear_with(&scene, &options, &mut read_back, &CpuBeams).map_err(|e| e.to_string())?;
+        let counts = |s: &beam_render::nonlinear::NonlinearStats| {
+            (s.beams_per_level.clone(), s.texels_shaded, s.specular_by_rays)
+        };
         // Points by rays: a curved point's side of a texel is an f32 decision on the GPU and on
         // the host, so one in a thousand may go the other way (1,102 against 1,101 on an AMD
         // EPYC's lavapipe); the beams and the texels must be equal.
         let (a, b) = (stats.specular_by_rays, want_stats.specular_by_rays);
-        let same = |s: &beam_cpu::nonlinear::NonlinearStats| (s.beams_per_level.clone(), s.texels_shaded);
+        let same = |s: &beam_render::nonlinear::NonlinearStats| (s.beams_per_level.clone(), s.texels_shaded);
         let kept_somewhere = stats.kept_on_backend > 0 && want_stats.kept_on_backend == 0;
         if same(&stats) != same(&want_stats)
             || a.abs_diff(b) * 1_000 > a.max(b)

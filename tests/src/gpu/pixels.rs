@@ -9,11 +9,11 @@ pub(crate) struct PixelDifference {
 }
 
 impl PixelDifference {
-    pub(crate) fn of(a: &beam_cpu::render::Image, b: &beam_cpu::render::Image) -> Self {
+    pub(crate) fn of(a: &beam_render::image::Image, b: &beam_render::image::Image) -> Self {
         let (mut differ, mut sum) = (0u64, 0.0f64);
         for (a, b) in a.pixels.iter().zip(&b.pixels) {
             let d = (0..3)
-                .map(|k| (beam_cpu::render::srgb_encode(a[k]) - beam_cpu::render::srgb_encode(b[k])).abs())
+                .map(|k| (beam_render::image::srgb_encode(a[k]) - beam_render::image::srgb_encode(b[k])).abs())
                 .fold(0.0f32, f32::max);
             sum += f64::from(d);
             differ += u64::from(d > 4.0 / 255.0);

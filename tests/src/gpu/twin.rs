@@ -66,9 +66,9 @@ impl beam_render::nonlinear::PointShading for TwinShading {
     ) -> Result<TreeShading, BackendError> {
         self.0 = (levels.to_vec(), caustics.cloned());
         let shade = |points: &[beam_render::nonlinear::ShadePoint]| {
-            beam_cpu::nonlinear::shade_points(self, scene, options, caustics, points)
+            beam_render::nonlinear::shade_points(self, &CpuBeams, scene, options, caustics, points)
         };
-        let pixels = beam_cpu::nonlinear::composite_levels(scene, smesh, levels, shade)?;
+        let pixels = beam_render::nonlinear::composite_levels(scene, smesh, levels, shade)?;
         Ok(TreeShading::Shaded { pixels: FramePixels::Read(pixels), coarse_by_rays: Default::default() })
     }
 }

@@ -7,10 +7,10 @@
 use super::context::Context;
 use super::stats::{Counters, RenderStats};
 use crate::render::eye_regions::{Region, paste_within};
-use crate::render::image::Image;
 use batches::MAX_BATCH;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
+use beam_render::image::Image;
 use beam_render::options::{Method, RenderOptions};
 use beam_render::queries::BeamQueries;
 use beam_scene::scene::{Camera, Scene};

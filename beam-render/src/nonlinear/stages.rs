@@ -2,7 +2,7 @@
 //! (wall time less the seconds the backend blocked on its device), the split of 000 Table 2's last
 //! column (CPU / GPU milliseconds per frame), and the CPU time of our own threads.
 
-use beam_render::cpu_clock::our_threads_cpu_seconds;
+use crate::cpu_clock::our_threads_cpu_seconds;
 use std::time::Instant;
 
 /// One stage of a frame, summed over the times it ran (the beam tree's stages run once per level).
@@ -22,7 +22,7 @@ pub struct Stage {
 }
 
 /// Laps a frame's stages against the seconds its renderer has blocked on its device
-/// ([`beam_render::nonlinear::DeviceWaits::waited_seconds`], read at each lap).
+/// ([`super::DeviceWaits::waited_seconds`], read at each lap).
 pub(super) struct StageClock {
     at: Instant,
     waited: f64,

@@ -4,9 +4,11 @@
 //! eye's pixels last. [`composite_levels`] does it on the CPU; beam-gpu's renderer keeps every
 //! level's radiance on the GPU and reads back only the pixels.
 
+use super::radiance::{LevelRadiance, composite, sample_region};
+use super::smesh::SMesh;
+use super::texture::ShadePoint;
+use crate::BackendError;
 use beam_math::glam::Vec3;
-use beam_render::BackendError;
-use beam_render::nonlinear::{LevelRadiance, SMesh, ShadePoint, composite, sample_region};
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 

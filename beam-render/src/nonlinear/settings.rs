@@ -1,14 +1,14 @@
 //! The nonlinear renderer's settings and the statistics of a render (000 §8).
 
+use super::beam_tree::Degree;
 use super::caustics::CausticStats;
 use super::stages::Stage;
-use beam_render::nonlinear::Degree;
-use beam_render::options::RenderOptions;
+use crate::options::RenderOptions;
 
 /// Most beams a render's beam tree may hold over all its levels. A tree grows by a factor per
 /// level (each beam off a curved mirror or glass surface sees many S-mesh faces: 4 to 12 on the
 /// built-in scenes), so that deep trees cannot be rendered. A render is refused
-/// ([`crate::RenderError::BeamTree`]) before a level that would pass this is built, or after its
+/// ([`super::NonlinearError::BeamTree`]) before a level that would pass this is built, or after its
 /// first cheap levels where the tree's size at [`NonlinearOptions::bounces`] levels, estimated
 /// from its growth so far, passes ten times this: not after hours. 50,000 beams take about a
 /// minute of a core at 16 × 16 pixels, and gigabytes of textures at larger images.
@@ -20,8 +20,8 @@ pub struct NonlinearOptions {
     /// Beam parameterization.
     pub degree: Degree,
     /// Most texels per side of a beam's region; each beam gets the smallest power of two that
-    /// gives its face at least [`TEXELS_PER_SAMPLE`](beam_render::nonlinear::TEXELS_PER_SAMPLE) texels per pixel covering it, no fewer than 4
-    /// (or than this, when it is below 4). Taken within [`TEXELS`](beam_render::nonlinear::TEXELS) (a value outside is clamped).
+    /// gives its face at least [`TEXELS_PER_SAMPLE`](super::TEXELS_PER_SAMPLE) texels per pixel covering it, no fewer than 4
+    /// (or than this, when it is below 4). Taken within [`TEXELS`](super::TEXELS) (a value outside is clamped).
     pub texels: u32,
     /// Levels of the beam tree (specular bounces by beams); deeper bounces are traced by rays. A
     /// tree estimated past [`MAX_TREE_BEAMS`] beams is refused.

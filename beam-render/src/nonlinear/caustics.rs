@@ -6,16 +6,18 @@
 //! it, [`stratified`]; N = [`CAUSTIC_STRATA`] by default). The ground truth traces photons from the lights (from uniform
 //! points over an area light's whole area) through the same surfaces about the interpolated normals.
 
+use super::beam_tree::{Beam, Degree, child_beams};
+use super::face::{Exclude, SFace};
+use super::renderer::BeamRenderer;
+use super::smesh::SMesh;
+use super::texture::{BeamJob, BeamTexture, TEXELS};
+use crate::BackendError;
+use crate::glossy::{Emitter, area_point, stratified, whole};
+use crate::irradiance_map::IrradianceMap;
+use crate::specular::dielectric;
+use crate::tolerance::{DEPTH_EPS, shading_eps};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_render::BackendError;
-use beam_render::glossy::{Emitter, area_point, stratified, whole};
-use beam_render::irradiance_map::IrradianceMap;
-use beam_render::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BeamTexture, Degree, Exclude, SFace, SMesh, TEXELS, child_beams,
-};
-use beam_render::specular::dielectric;
-use beam_render::tolerance::{DEPTH_EPS, shading_eps};
 use beam_scene::scene::{Light, Material, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
@@ -288,7 +290,7 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
                 let ns = if entering { f.normal_at(w) } else { -f.normal_at(w) };
                 let (reflect, transmit) = split(scene, f, w, d);
                 let side = if entering { n } else { -n };
-                let mut rays = vec![(Ray::new(p + side * eps, beam_render::specular::reflect(d, ns)), reflect)];
+                let mut rays = vec![(Ray::new(p + side * eps, crate::specular::reflect(d, ns)), reflect)];
                 if let (Material::Glass { ior }, true) = (scene.material(f.prim), transmit > 0.0) {
                     if let (_, Some(t)) = dielectric(d, ns, ior, entering) {
                         rays.push((Ray::new(p - side * eps, t), Vec3::splat(transmit)));

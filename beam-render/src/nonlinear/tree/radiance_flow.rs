@@ -5,20 +5,20 @@
 //! instead.
 
 use super::lookup::{FaceAnswer, Lookups, ToComposite, reproject};
-use super::tree::{Node, Tree};
+use super::{Node, Tree};
+use crate::BackendError;
+use crate::nonlinear::beam_tree::{LOOKUP_PREFERENCE, OUTSIDE_TEXELS};
+use crate::nonlinear::radiance::{Composite, LevelRadiance, NodeChildren, TexelRadiance};
+use crate::nonlinear::renderer::{BeamRenderer, LevelLayout};
+use crate::nonlinear::texture::{ShadePoint, TexelPoint};
+use crate::parallel::par_flatten;
 use beam_math::glam::Vec3;
-use beam_render::BackendError;
-use beam_render::nonlinear::{
-    BeamRenderer, Composite, LOOKUP_PREFERENCE, LevelLayout, LevelRadiance, NodeChildren, OUTSIDE_TEXELS, ShadePoint,
-    TexelPoint, TexelRadiance,
-};
-use beam_render::parallel::par_flatten;
 
 impl Tree<'_> {
     /// The tree's levels for the radiance flow: per level, every beam's region and every texel
     /// that hit, composited from its face's children where it has them; where `records[level]`,
     /// the renderer composites the level's texels itself, given their faces' children.
-    pub(super) fn radiance_levels(
+    pub(crate) fn radiance_levels(
         &self,
         renderer: &dyn BeamRenderer,
         levels: &[Vec<Node>],
@@ -92,7 +92,7 @@ impl Tree<'_> {
     /// point's scattered ray within [`OUTSIDE_TEXELS`] of its base: the point is traced by rays.
     /// `looked_up`: the lookups a backend made ([`Tree::lookups`]), per face with child beams in
     /// the order tried here (the located face first); the faces past its end are looked up here.
-    pub(super) fn composite<'l>(
+    pub(crate) fn composite<'l>(
         &self,
         next: &[Node],
         to: &ToComposite<'_>,

@@ -2,50 +2,47 @@
 //! faces it sees, the beam tree level by level ([`Tree`]), the radiance flow and the shading, each
 //! a stage of the frame's [`StageClock`].
 
+use super::beam_tree::Degree;
 use super::caustics::{CausticStats, caustics_by_beams};
 use super::composite::composite_levels;
-use super::cpu_beams::{CpuBeams, shade_points};
-use super::lookup::Lookups;
+use super::error::NonlinearError;
+use super::fit::Fit;
+use super::host_shading::{HostShading, shade_points};
+use super::radiance::{LevelRadiance, TexelRadiance};
+use super::renderer::{BeamRenderer, CoarseByRays, DeviceImage, EyeFaces, FramePixels, TreeShading};
 use super::settings::{NonlinearOptions, NonlinearStats};
+use super::smesh::SMesh;
 use super::stages::StageClock;
-use super::trace::{Built, Request};
+use super::texture::ShadePoint;
+use super::tree::lookup::Lookups;
+use super::tree::trace::{Built, Request};
 use super::tree::{Node, Tree, TreeMemos};
-use crate::RenderError;
-use crate::render::Image;
+use crate::BackendError;
+use crate::image::Image;
+use crate::irradiance_map::IrradianceMap;
+use crate::parallel::par_flatten;
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_render::BackendError;
-use beam_render::irradiance_map::IrradianceMap;
-use beam_render::nonlinear::{
-    BeamRenderer, CoarseByRays, Degree, DeviceImage, EyeFaces, Fit, FramePixels, LevelRadiance, SMesh, ShadePoint,
-    TexelRadiance, TreeShading,
-};
-use beam_render::parallel::par_flatten;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::time::Instant;
 
-/// Render `scene` with its mirror and glass surfaces by nonlinear beams on the CPU. Fails only
-/// where the beam tree of `options.bounces` levels is estimated too large to build
-/// ([`RenderError::BeamTree`]).
-pub fn render_nonlinear(scene: &Scene, options: &NonlinearOptions) -> Result<(Image, NonlinearStats), RenderError> {
-    render_nonlinear_with(scene, options, &mut CpuBeams)
-}
-
-/// Render `scene` with its mirror and glass surfaces by nonlinear beams, the eye's view and every
-/// level of the beam tree rendered by `renderer` (the CPU's, or a GPU's atlases); the tree logic and
-/// the shading are shared. With `options.shading.region`, the eye's rays and the caustics are still
+/// Render `scene` with its mirror and glass surfaces by nonlinear beams (000 §7.3), the eye's view
+/// and every level of the beam tree rendered by `renderer` (the CPU's, or a GPU's atlases); the tree
+/// logic and the shading are shared; the points `renderer` does not shade are shaded by `host` (beam-cpu's
+/// `CpuBeams`). With `options.shading.region`, the eye's rays and the caustics are still
 /// the whole frame's (a face's beams are built from every pixel that sees it), but only the beams
 /// of faces that the region's pixels see are traced, and only its pixels are shaded.
 pub fn render_nonlinear_with(
     scene: &Scene,
     options: &NonlinearOptions,
     renderer: &mut dyn BeamRenderer,
-) -> Result<(Image, NonlinearStats), RenderError> {
-    match render_nonlinear_frame(scene, options, renderer, None)? {
+    host: &dyn HostShading,
+) -> Result<(Image, NonlinearStats), NonlinearError> {
+    match render_nonlinear_frame(scene, options, renderer, host, None)? {
         (FrameImage::Read(image), stats) => Ok((image, stats)),
-        (FrameImage::Kept(_), _) => Err(RenderError::FrameKept),
+        (FrameImage::Kept(_), _) => Err(NonlinearError::FrameKept),
     }
 }
 
@@ -93,7 +90,7 @@ pub struct NonlinearPrecomputed {
 impl NonlinearPrecomputed {
     /// The S mesh and the caustics of `scene` as a frame with `options` traces them, the caustics
     /// by `renderer`.
-    pub fn new(scene: &Scene, options: &NonlinearOptions, renderer: &dyn BeamRenderer) -> Result<Self, RenderError> {
+    pub fn new(scene: &Scene, options: &NonlinearOptions, renderer: &dyn BeamRenderer) -> Result<Self, NonlinearError> {
         let caustics = caustics_by_beams(scene, options.degree, options.texels, options.caustic_strata, renderer)?;
         let (map, stats) = caustics.map_or((None, CausticStats::default()), |(m, s)| (Some(m), s));
         Ok(Self { smesh: SMesh::of(scene), map, stats, triangles: scene.triangles.len(), memos: TreeMemos::default() })
@@ -124,14 +121,15 @@ impl NonlinearPrecomputed {
 /// frame where `None`: an interactive renderer makes them once while the geometry, the materials
 /// and the lights stay put, and renders every frame (a camera that moves, a new beam tree) with
 /// them. The frame's pixels are the renderer's where it kept them on its device for display
-/// ([`FrameImage::Kept`]). Fails with [`RenderError::Precomputed`] where they were made for a
+/// ([`FrameImage::Kept`]). Fails with [`NonlinearError::Precomputed`] where they were made for a
 /// scene of another triangle count.
 pub fn render_nonlinear_frame(
     scene: &Scene,
     options: &NonlinearOptions,
     renderer: &mut dyn BeamRenderer,
+    host: &dyn HostShading,
     precomputed: Option<&mut NonlinearPrecomputed>,
-) -> Result<(FrameImage, NonlinearStats), RenderError> {
+) -> Result<(FrameImage, NonlinearStats), NonlinearError> {
     let start = Instant::now();
     let mut clock = StageClock::start(renderer.waited_seconds());
     let camera = scene.camera.with_size(options.shading.width, options.shading.height);
@@ -140,7 +138,7 @@ pub fn render_nonlinear_frame(
     let mut made;
     let shared = match precomputed {
         Some(given) if given.triangles != scene.triangles.len() => {
-            return Err(RenderError::Precomputed { made_for: given.triangles, scene: scene.triangles.len() });
+            return Err(NonlinearError::Precomputed { made_for: given.triangles, scene: scene.triangles.len() });
         }
         Some(given) => given,
         None => {
@@ -286,7 +284,7 @@ pub fn render_nonlinear_frame(
                 flow.get_mut(level).ok_or_else(past)?.texels.extend(texels);
             }
             let pixels = composite_levels(scene, tree.smesh, &flow, |points| {
-                shade_points(renderer, scene, shading, caustics, points)
+                shade_points(renderer, host, scene, shading, caustics, points)
             })?;
             (FramePixels::Read(pixels), CoarseByRays::default())
         }
@@ -330,58 +328,4 @@ pub fn render_nonlinear_frame(
         height: crop.height(),
     };
     Ok((image, stats))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::nonlinear::CpuBeams;
-    use beam_render::options::RenderOptions;
-    use beam_scene::scene::builtin;
-
-    /// A frame with the caustics made before is the frame that makes them: the same pixels, bit
-    /// for bit, and the same caustic statistics (the point-lit wavy lake, whose light beams off the
-    /// water deposit on the lake's bed).
-    #[test]
-    fn frames_sharing_caustics_equal_frames_making_them() {
-        let scene = builtin("wavy-lake").unwrap();
-        let options = NonlinearOptions {
-            degree: Degree::S1,
-            texels: 8,
-            bounces: 2,
-            caustic_strata: 1,
-            shading: RenderOptions::exact(40, 32),
-        };
-        let mut shared = NonlinearPrecomputed::new(&scene, &options, &CpuBeams).unwrap();
-        assert!(shared.stats().beams > 0 && shared.stats().texels_deposited > 0, "{:?}", shared.stats());
-        let (made, made_stats) = render_nonlinear_with(&scene, &options, &mut CpuBeams).unwrap();
-        let (again, again_stats) = render_nonlinear_frame(&scene, &options, &mut CpuBeams, Some(&mut shared)).unwrap();
-        assert_eq!(Some(made.pixels), again.read().map(|a| a.pixels));
-        let counts = |s: &NonlinearStats| (s.caustics.beams, s.caustics.texels_deposited, s.texels_shaded);
-        assert_eq!(counts(&made_stats), counts(&again_stats));
-    }
-
-    /// A coarse S mesh made once serves every frame: the same pixels, bit for bit, as a frame that
-    /// simplifies it itself; made for another scene, the frame fails instead of indexing it.
-    #[test]
-    fn frames_sharing_a_coarse_smesh_equal_frames_making_it() {
-        let mut scene = builtin("mirror-teapot").unwrap();
-        scene.smesh.rest = Some(beam_scene::scene::Simplify::Faces(60));
-        let options = NonlinearOptions {
-            degree: Degree::S3,
-            texels: 8,
-            bounces: 1,
-            caustic_strata: 0,
-            shading: RenderOptions::exact(32, 24),
-        };
-        let mut shared = NonlinearPrecomputed::new(&scene, &options, &CpuBeams).unwrap();
-        assert!(shared.smesh().coarse_faces() > 0);
-        let (made, made_stats) = render_nonlinear_with(&scene, &options, &mut CpuBeams).unwrap();
-        let (again, again_stats) = render_nonlinear_frame(&scene, &options, &mut CpuBeams, Some(&mut shared)).unwrap();
-        assert_eq!(Some(made.pixels), again.read().map(|a| a.pixels));
-        assert_eq!(made_stats.coarse_smesh_faces, again_stats.coarse_smesh_faces);
-        let other = builtin("wavy-lake").unwrap();
-        let wrong = render_nonlinear_frame(&other, &options, &mut CpuBeams, Some(&mut shared));
-        assert!(matches!(wrong, Err(RenderError::Precomputed { .. })), "{:?}", wrong.map(|_| ()));
-    }
 }

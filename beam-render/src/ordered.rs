@@ -7,12 +7,12 @@ use rayon::prelude::*;
 
 /// Chunks the jobs are folded in: enough to keep every thread busy, few enough that merging them
 /// costs little next to the jobs.
-pub(crate) const CHUNKS: usize = 128;
+pub const CHUNKS: usize = 128;
 
 /// `jobs` folded into accumulators a fixed chunk at a time (up to [`CHUNKS`] contiguous chunks,
 /// in parallel), and the chunks' accumulators merged into `empty()` in chunk order. At most one
 /// accumulator per thread, plus the total, is alive at once.
-pub(crate) fn fold_in_order<J: Sync, A: Send>(
+pub fn fold_in_order<J: Sync, A: Send>(
     jobs: &[J],
     empty: impl Fn() -> A + Sync,
     fold: impl Fn(A, &J) -> A + Sync,

@@ -9,26 +9,28 @@
 //! read is the one whose ray reaches what that ray reaches: the projection (000 §5) onto the beam
 //! of the point at the depth the beam's texel there sees.
 
-use super::tree::{FaceMap, Node, Scattered, Tree};
+use super::{FaceMap, Node, Scattered, Tree};
+use crate::BackendError;
+use crate::nonlinear::beam_tree::{Beam, LOOKUP};
+use crate::nonlinear::renderer::{BeamRenderer, LookupJob};
+use crate::nonlinear::texture::{BeamTexture, ShadePoint};
+use crate::parallel::piece_len;
+use crate::specular::specular_rays;
 use beam_math::glam::Vec3;
 use beam_math::nonlinear::Projection;
-use beam_render::BackendError;
-use beam_render::nonlinear::{Beam, BeamRenderer, BeamTexture, LOOKUP, LookupJob, ShadePoint};
-use beam_render::parallel::piece_len;
-use beam_render::specular::specular_rays;
 use rayon::prelude::*;
 
 /// A point to composite ([`Tree::composite`]), made by [`Tree::to_composite`]: the child beams of
 /// the faces of its level, the point and its located face.
 #[derive(Clone, Copy)]
-pub(super) struct ToComposite<'a> {
-    pub(super) children: &'a FaceMap<Scattered>,
-    pub(super) point: ShadePoint,
-    pub(super) located: Option<(usize, Vec3)>,
+pub(crate) struct ToComposite<'a> {
+    pub(crate) children: &'a FaceMap<Scattered>,
+    pub(crate) point: ShadePoint,
+    pub(crate) located: Option<(usize, Vec3)>,
     /// Under a coarse face with child beams, the unit directions of the point's own scattered
     /// rays (reflected, refracted) that its lookups follow ([`reproject`]), found once for the
     /// lookups and the composite (on the mirror teapot three times a point before).
-    pub(super) own: Option<[Option<Vec3>; 2]>,
+    pub(crate) own: Option<[Option<Vec3>; 2]>,
 }
 
 /// One lookup of a composite ([`Tree::composite`]'s `at`): a job for a backend (the next of
@@ -59,9 +61,9 @@ struct Asks {
 /// The answers for one face of a composite ([`FaceAsks`]): coordinates on the child beam's base
 /// and how far outside it.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct FaceAnswer {
-    pub(super) reflected: (Vec3, f32),
-    pub(super) refracted: Option<(Vec3, f32)>,
+pub(crate) struct FaceAnswer {
+    pub(crate) reflected: (Vec3, f32),
+    pub(crate) refracted: Option<(Vec3, f32)>,
 }
 
 /// A backend's answers to the lookups of a list of points ([`Tree::lookups`]): per point, those of
@@ -69,14 +71,14 @@ pub(super) struct FaceAnswer {
 /// many as were made: the located faces' answers, then the other faces' (for the points whose
 /// first lookup lay outside its beam's base), kept apart rather than copied into one list.
 #[derive(Default)]
-pub(super) struct Lookups {
+pub(crate) struct Lookups {
     located: Answers,
     others: Answers,
 }
 
 impl Lookups {
     /// The answers of point `k` in order (none where there are none: the host looks it up).
-    pub(super) fn of(&self, k: usize) -> impl Iterator<Item = &FaceAnswer> {
+    pub(crate) fn of(&self, k: usize) -> impl Iterator<Item = &FaceAnswer> {
         self.located.of(k).iter().chain(self.others.of(k))
     }
 }
@@ -145,7 +147,7 @@ impl Tree<'_> {
     /// `point`, located at `located` (its S-mesh face and barycentric coordinates there) among
     /// faces with child beams `children`, ready to composite: with its own scattered rays where
     /// its face is coarse and has child beams.
-    pub(super) fn to_composite<'a>(
+    pub(crate) fn to_composite<'a>(
         &self,
         children: &'a FaceMap<Scattered>,
         point: ShadePoint,
@@ -191,7 +193,7 @@ impl Tree<'_> {
 
     /// Whether `renderer` makes the lookups of composites into child beams `next`
     /// ([`Tree::lookups`]): it looks up, the S mesh has coarse faces and there are child beams.
-    pub(super) fn looks_up(&self, renderer: &dyn BeamRenderer, next: &[Node]) -> bool {
+    pub(crate) fn looks_up(&self, renderer: &dyn BeamRenderer, next: &[Node]) -> bool {
         renderer.looks_up() && self.smesh.coarse_faces() > 0 && !next.is_empty()
     }
 
@@ -199,7 +201,7 @@ impl Tree<'_> {
     /// ([`Tree::looks_up`]; the GPU), the beams of `next` with their textures: first each point's
     /// located face's, then the other faces' for the points whose first reflection lookup lies
     /// outside its beam's base. Empty where it does not, and each composite looks up on the host.
-    pub(super) fn lookups(
+    pub(crate) fn lookups(
         &self,
         renderer: &dyn BeamRenderer,
         next: &[Node],
@@ -250,7 +252,7 @@ impl Tree<'_> {
 /// coordinates and how far outside the base the last projection lay (its most negative
 /// coordinate, negated; 0 inside); `w` and 0 when a projection fails.
 #[must_use]
-pub(super) fn reproject(beam: &Beam, tex: &BeamTexture, p: Vec3, truth: Vec3, w: Vec3, far: f32) -> (Vec3, f32) {
+pub fn reproject(beam: &Beam, tex: &BeamTexture, p: Vec3, truth: Vec3, w: Vec3, far: f32) -> (Vec3, f32) {
     if matches!(beam, Beam::Bumped(_)) || !truth.is_finite() {
         return (w, 0.0); // a bump map tilts the rays texel by texel: the face's own coordinates
     }
@@ -290,8 +292,8 @@ fn clamped(w: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::nonlinear::texture::TexelHit;
     use beam_math::nonlinear::NonlinearBeam;
-    use beam_render::nonlinear::TexelHit;
 
     #[test]
     fn finds_the_texel_whose_ray_reaches_the_same_point() {
@@ -331,87 +333,5 @@ mod tests {
         // A point whose own ray is the beam's keeps its coordinates.
         let (same, _) = reproject(&beam, &tex, p, beam.ray_at(w).direction.normalize(), w, 100.0);
         assert!((same - w).abs().max_element() < 1e-3, "{same}");
-    }
-}
-
-#[cfg(test)]
-mod batches {
-    use super::*;
-    use crate::nonlinear::{CpuBeams, NonlinearOptions, render_nonlinear_with};
-    use beam_bvh::Hit;
-    use beam_math::Ray;
-    use beam_render::nonlinear::{BeamJob, BeamRasterizer, ChildLookups, Degree, DeviceWaits, EyeView, PointShading};
-    use beam_render::options::RenderOptions;
-    use beam_render::queries::RayQueries;
-    use beam_scene::scene::{Scene, Simplify, builtin};
-    use std::sync::atomic::{AtomicU64, Ordering};
-
-    /// The CPU backend that takes the composites' lookups in batches ([`Tree::lookups`]) and
-    /// answers them with [`reproject`], counting the jobs.
-    #[derive(Default)]
-    struct HostBatches(AtomicU64);
-
-    impl RayQueries for HostBatches {
-        fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
-            CpuBeams.closest_hits(scene, rays)
-        }
-
-        fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
-            CpuBeams.any_hits(scene, segments)
-        }
-    }
-
-    impl BeamRasterizer for HostBatches {
-        fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
-            CpuBeams.render_beams(scene, jobs)
-        }
-    }
-
-    impl EyeView for HostBatches {}
-    impl PointShading for HostBatches {}
-    impl DeviceWaits for HostBatches {}
-
-    impl ChildLookups for HostBatches {
-        fn looks_up(&self) -> bool {
-            true
-        }
-
-        fn child_lookups(
-            &self,
-            beams: &[(&Beam, &BeamTexture)],
-            jobs: &[LookupJob],
-        ) -> Result<Option<Vec<(Vec3, f32)>>, BackendError> {
-            self.0.fetch_add(jobs.len() as u64, Ordering::Relaxed);
-            let at = |j: &LookupJob| {
-                let (beam, tex) = beams[j.beam as usize];
-                reproject(beam, tex, j.p, j.truth, j.w, j.far)
-            };
-            Ok(Some(jobs.iter().map(at).collect()))
-        }
-    }
-
-    /// The composites' lookups gathered in batches and answered by a backend give the image of the
-    /// lookups made in place, bit for bit, and points under coarse faces do go to the backend:
-    /// the mirror teapot and its glass ball, and the glass lens, under coarse S meshes
-    /// (reflections, refractions and candidate faces).
-    #[test]
-    fn batched_lookups_equal_lookups_in_place() {
-        for (name, faces) in [("mirror-teapot", 200), ("glass-lens", 60)] {
-            let mut scene = builtin(name).unwrap();
-            scene.smesh.rest = Some(Simplify::Faces(faces));
-            let options = NonlinearOptions {
-                degree: Degree::S3,
-                texels: 8,
-                bounces: 2,
-                caustic_strata: 0,
-                shading: RenderOptions::exact(48, 36),
-            };
-            let (in_place, in_place_stats) = render_nonlinear_with(&scene, &options, &mut CpuBeams).unwrap();
-            let mut batches = HostBatches::default();
-            let (batched, batched_stats) = render_nonlinear_with(&scene, &options, &mut batches).unwrap();
-            assert!(batches.0.load(Ordering::Relaxed) > 0, "{name}: no lookup went to the backend");
-            assert_eq!(in_place.pixels, batched.pixels, "{name}");
-            assert_eq!(in_place_stats.uncovered_by_beams, batched_stats.uncovered_by_beams, "{name}");
-        }
     }
 }

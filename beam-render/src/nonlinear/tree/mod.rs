@@ -3,13 +3,20 @@
 //! ([`TreeMemos`]). Data
 //! only, below the stages that build the tree (`trace`) and composite into it (`lookup`).
 
-use super::settings::NonlinearOptions;
+use crate::irradiance_map::IrradianceMap;
+use crate::memo::FrameMemo;
+use crate::nonlinear::beam_tree::Beam;
+use crate::nonlinear::settings::NonlinearOptions;
+use crate::nonlinear::smesh::SMesh;
+use crate::nonlinear::texture::{BeamTexture, TexelPoint};
 use beam_math::glam::Vec3;
-use beam_render::irradiance_map::IrradianceMap;
-use beam_render::memo::FrameMemo;
-use beam_render::nonlinear::{Beam, BeamTexture, SMesh, TexelPoint};
 use beam_scene::scene::Scene;
 use std::sync::Arc;
+
+pub(super) mod lookup;
+pub(super) mod radiance_flow;
+mod source;
+pub(super) mod trace;
 
 /// A map keyed by S-mesh face, hashed by rustc's `FxHasher` (one multiplication): the maps below
 /// are looked up once per texel (with the default SipHash: glass-lens radiance flow 192–194 →

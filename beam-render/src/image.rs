@@ -1,6 +1,5 @@
 //! Linear RGB images and their files (PNG as sRGB, OpenEXR as linear `f32`; written atomically).
 
-use crate::RenderError;
 use beam_math::glam::Vec3;
 use beam_scene::SceneError;
 use std::path::Path;
@@ -43,23 +42,25 @@ impl Image {
     }
 
     /// Write as PNG (sRGB), atomically.
-    pub fn save_png(&self, path: &Path) -> Result<(), RenderError> {
-        Ok(beam_scene::io::write_png(path, self.width, self.height, &self.to_srgb8())?)
+    pub fn save_png(&self, path: &Path) -> Result<(), SceneError> {
+        beam_scene::io::write_png(path, self.width, self.height, &self.to_srgb8())
     }
 
     /// Write as OpenEXR (linear RGB, 32-bit floats), atomically.
-    pub fn save_exr(&self, path: &Path) -> Result<(), RenderError> {
+    pub fn save_exr(&self, path: &Path) -> Result<(), SceneError> {
         let whole = beam_scene::region::Placement::whole(self.width, self.height);
         let bytes = beam_scene::io::encode_exr(&self.pixels, whole).map_err(|e| match e {
             SceneError::Image { path: None, message } => SceneError::Image { path: Some(path.into()), message },
             e => e,
         })?;
-        Ok(beam_scene::io::write_atomic(path, &bytes)?)
+        beam_scene::io::write_atomic(path, &bytes)
     }
 
-    /// Read an 8-bit PNG (or any format the `image` crate reads) back to linear RGB.
-    pub fn load(path: &Path) -> Result<Self, RenderError> {
-        let img = image::open(path).map_err(|source| RenderError::ReadImage { path: path.to_path_buf(), source })?;
+    /// Read an 8-bit PNG (or any format the `image` crate reads) back to linear RGB; a file that
+    /// cannot be read or decoded is a [`SceneError::Image`] naming it.
+    pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let img = image::open(path)
+            .map_err(|e| SceneError::Image { path: Some(path.to_path_buf()), message: e.to_string() })?;
         let img = img.to_rgb8();
         let (width, height) = img.dimensions();
         let pixels = img

@@ -11,40 +11,39 @@
 //! bounces past the last level are traced by rays. The reference (`reference.rs`) traces the same surfaces with rays about the
 //! interpolated (Phong) normals.
 
-use super::settings::MAX_TREE_BEAMS;
 use super::source::{from_eye, through};
-use super::stages::StageClock;
-use super::tree::{FaceMap, Node, Scattered, Tree, TreeBeam, TreeMemos};
-use crate::RenderError;
+use super::{FaceMap, Node, Scattered, Tree, TreeBeam, TreeMemos};
+use crate::BackendError;
+use crate::nonlinear::beam_tree::{Beam, Degree, child_beams};
+use crate::nonlinear::error::NonlinearError;
+use crate::nonlinear::fit::Fit;
+use crate::nonlinear::renderer::{BeamRenderer, KeepLevel, KeptFrame, KeptTotals, LevelLayout};
+use crate::nonlinear::settings::MAX_TREE_BEAMS;
+use crate::nonlinear::stages::StageClock;
+use crate::nonlinear::texture::{BeamJob, BeamTexture, TexelPoint, region_size};
 use beam_math::glam::Vec3;
-use beam_render::BackendError;
-use beam_render::nonlinear::Fit;
-use beam_render::nonlinear::{
-    Beam, BeamJob, BeamRenderer, BeamTexture, Degree, KeepLevel, KeptFrame, KeptTotals, LevelLayout, TexelPoint,
-    child_beams, region_size,
-};
 use rayon::prelude::*;
 use std::sync::Arc;
 
 /// A built beam tree: the children of the faces the eye sees, and the beams level by level; what the
 /// renderer kept of the levels (texels none of the nodes hold), and per level whether it
 /// composites the texels it handed back itself ([`KeptTotals::records`]).
-pub(super) struct Built {
-    pub(super) roots: FaceMap<Scattered>,
-    pub(super) levels: Vec<Vec<Node>>,
-    pub(super) kept: KeptTotals,
-    pub(super) records: Vec<bool>,
+pub(crate) struct Built {
+    pub(crate) roots: FaceMap<Scattered>,
+    pub(crate) levels: Vec<Vec<Node>>,
+    pub(crate) kept: KeptTotals,
+    pub(crate) records: Vec<bool>,
 }
 
 /// The light arriving at one S-mesh face, from which its beams are built: the fit over samples
 /// (barycentric point, unit direction) of the pixels' or the parent texels' rays on it, standing
 /// for `pixels`.
-pub(super) struct Request {
+pub(crate) struct Request {
     /// The parent beam (index into the previous level), or the eye.
-    pub(super) parent: Option<usize>,
-    pub(super) face: usize,
-    pub(super) fit: Fit,
-    pub(super) pixels: f32,
+    pub(crate) parent: Option<usize>,
+    pub(crate) face: usize,
+    pub(crate) fit: Fit,
+    pub(crate) pixels: f32,
 }
 
 /// How many times [`MAX_TREE_BEAMS`] a tree's estimated size must be for it to be refused before
@@ -95,14 +94,14 @@ impl Tree<'_> {
     /// specular faces the requests of the next level; what the renderer keeps of each level goes to
     /// the frame's `kept` (the value its eye's view returned). Returns the roots' children and the
     /// levels.
-    pub(super) fn build(
+    pub(crate) fn build(
         &self,
         renderer: &mut dyn BeamRenderer,
         memos: &mut TreeMemos,
         roots: Vec<Request>,
         kept_frame: &mut KeptFrame,
         clock: &mut StageClock,
-    ) -> Result<Built, RenderError> {
+    ) -> Result<Built, NonlinearError> {
         memos.beams.next_frame();
         memos.through.next_frame();
         let mut levels: Vec<Vec<Node>> = Vec::new();
@@ -284,7 +283,7 @@ impl Tree<'_> {
         levels: &[Vec<Node>],
         requested: usize,
         last_requested: Option<usize>,
-    ) -> Result<(), RenderError> {
+    ) -> Result<(), NonlinearError> {
         let beams_per_level: Vec<u64> = levels.iter().map(|l| l.len() as u64).collect();
         let built: u64 = beams_per_level.iter().sum();
         let (growth, per_face) = match (last_requested, levels.last()) {
@@ -307,7 +306,7 @@ impl Tree<'_> {
             return Ok(());
         }
         let fits = (level..bounces).take_while(|&l| estimate(l) <= limit as f64).last().unwrap_or(level - 1);
-        Err(RenderError::BeamTree {
+        Err(NonlinearError::BeamTree {
             bounces,
             level,
             beams_per_level,
@@ -322,7 +321,7 @@ impl Tree<'_> {
     /// Into `levels`' beams, the texels from which the tree goes on that `renderer` kept in
     /// `kept_frame` and summed the fits of ([`KeptTotals::fits`]), with their faces: for a frame
     /// shaded here after all.
-    pub(super) fn kept_level_points(
+    pub(crate) fn kept_level_points(
         &self,
         renderer: &dyn BeamRenderer,
         kept_frame: &KeptFrame,
@@ -372,7 +371,7 @@ impl Tree<'_> {
 
     /// The layout of a level of beams `(face, texels per side)` in its radiance, as
     /// [`Self::radiance_levels`] lays it out.
-    pub(super) fn layout(&self, beams: impl Iterator<Item = (usize, u32)>) -> LevelLayout {
+    pub(crate) fn layout(&self, beams: impl Iterator<Item = (usize, u32)>) -> LevelLayout {
         let mut layout = LevelLayout::default();
         for (face, size) in beams {
             layout.firsts.push(layout.len as u32);
