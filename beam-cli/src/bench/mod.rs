@@ -14,6 +14,7 @@ pub(crate) mod primary;
 mod primary_gpu;
 mod primary_shading;
 pub(crate) mod primary_sweep;
+mod scene_list;
 pub(crate) mod softshadow;
 mod softshadow_gpu;
 mod softshadow_measure;
@@ -22,8 +23,10 @@ pub(crate) mod softshadow_suite;
 mod stats;
 mod tracer;
 
+use backend::BenchBackend;
 use checks::side;
 use clap::Subcommand;
+use scene_list::SceneList;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -54,7 +57,9 @@ pub(crate) enum BenchCommand {
     /// `--features peers`), each with its RMSE against a many-ray reference. With `--suite`
     /// (`--cases`) and `--sweep light`, instead, a table over built-in and generated scenes and over
     /// light sizes on Sponza and the bunny: beams (eye beams and primary rays) against 64 and 256
-    /// rays, medians of `--runs`, the bar (beams no slower and no less accurate than 256 rays).
+    /// rays, medians of `--runs`, the bar (beams no slower and no less accurate than 256 rays). With
+    /// `--backend gpu`, the GPU's rows are its exact soft shadows (`beam render --backend gpu --method
+    /// beam`: primary rays, every shadow beam exact), with beams per second and overflow beams.
     Softshadow {
         /// A built-in scene, a .toml scene or an .obj mesh (which gets an interior camera and a
         /// ceiling light); the single-scene table (default cornell), not with `--suite` or `--sweep`.
@@ -88,23 +93,20 @@ pub(crate) enum BenchCommand {
         /// Timed runs of every method per scene of `--suite` and `--sweep` (medians reported).
         #[arg(long)]
         runs: Option<u32>,
-        /// `cpu`, or `gpu`: also the GPU's exact soft shadows (`beam render --backend gpu --method
-        /// beam`: primary rays, every shadow beam exact) against the CPU's measured in the same run:
-        /// the device's milliseconds by timestamp queries, the host's, beams per second, overflow
-        /// beams, CPU/GPU and the PSNR of the GPU image against the CPU's.
-        #[arg(long, default_value = "cpu")]
-        backend: String,
+        #[command(flatten)]
+        backend: BenchBackend,
     },
     /// Exact primary visibility by eye beams (001 §3, box-filtered coverage) against 1, 4 and 16
     /// stratified primary rays per pixel (ours, and Embree with `--features peers`) on a flat-shaded
     /// image (a colour per triangle times |cos| of the view angle, black background): seconds, RMSE
     /// against the eye beams' exact image, time relative to the eye beams. With `--sweep`, instead,
-    /// eye beams over seeded random views (001 Fig. 7: time against visible triangles).
+    /// eye beams over seeded random views (001 Fig. 7: time against visible triangles). Scenes:
+    /// `sponza` and `conference` (the shared OBJ files, skipped when absent; an interior view, the
+    /// default), built-ins (e.g. cornell, foliage), .toml scenes or .obj meshes. With `--backend
+    /// gpu`, the GPU's rows are its primary rays (1, 4 and 16 per pixel), in the table only.
     Primary {
-        /// Scenes, comma-separated: `sponza` and `conference` (the shared OBJ files, skipped when
-        /// absent; an interior view), built-ins (e.g. cornell, foliage), .toml scenes or .obj meshes.
-        #[arg(long, value_delimiter = ',')]
-        scenes: Vec<String>,
+        #[command(flatten)]
+        scenes: SceneList,
         /// Image width and height of the table.
         #[arg(long, default_value_t = 1024)]
         size: u32,
@@ -124,18 +126,14 @@ pub(crate) enum BenchCommand {
         /// Write the table's images, the sweep's plot (primary-sweep.png) and its CSV here.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// `cpu`, or `gpu`: also the GPU's primary rays (1, 4 and 16 per pixel, the CPU rays' own)
-        /// in the table, with the device's milliseconds by timestamp queries and the host's (not
-        /// with `--sweep`).
-        #[arg(long, default_value = "cpu")]
-        backend: String,
+        #[command(flatten)]
+        backend: BenchBackend,
     },
     /// The nonlinear renderer on the GPU (wgpu) against the CPU renderer, frames per second on the
-    /// built-in nonlinear scenes, each GPU image checked against the CPU's.
+    /// built-in nonlinear scenes (default: all six), each GPU image checked against the CPU's.
     Gpu {
-        /// Built-in scenes, comma-separated (default: all six nonlinear ones).
-        #[arg(long, value_delimiter = ',')]
-        scenes: Vec<String>,
+        #[command(flatten)]
+        scenes: SceneList,
         /// Image width.
         #[arg(long, default_value_t = 1280)]
         width: u32,
@@ -171,11 +169,11 @@ pub(crate) enum BenchCommand {
         moving: bool,
     },
     /// Glossy light volumes (002) against photon tracing at equal RMSE on the three built-ins of
-    /// 002's figures, on the CPU and (with an adapter) the GPU; plots RMSE against time.
+    /// 002's figures (default: cardioid-ring, pool-caustics, stained-glass), on the CPU and (with an
+    /// adapter) the GPU; plots RMSE against time.
     Glossy {
-        /// Built-in scenes, comma-separated (default: cardioid-ring, pool-caustics, stained-glass).
-        #[arg(long, value_delimiter = ',')]
-        scenes: Vec<String>,
+        #[command(flatten)]
+        scenes: SceneList,
         /// Image width and height.
         #[arg(long, default_value_t = 512)]
         size: u32,
@@ -246,7 +244,7 @@ pub(crate) fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String
                         .map_err(|e| format!("--smesh-target {n} out of range: {e}"))
                 })
                 .transpose()?;
-            let scenes = if scenes.is_empty() { gpu::SCENES.map(String::from).to_vec() } else { scenes };
+            let scenes = scenes.or(&gpu::SCENES);
             let degree = match degree.as_str() {
                 "s1" => beam_render::nonlinear::Degree::S1,
                 "s3" => beam_render::nonlinear::Degree::S3,
@@ -259,7 +257,7 @@ pub(crate) fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String
         }
         BenchCommand::Glossy { scenes, size, reference_photons, subdivide, out } => {
             side("--size", size)?;
-            let scenes = if scenes.is_empty() { glossy::SCENES.map(String::from).to_vec() } else { scenes };
+            let scenes = scenes.or(&glossy::SCENES);
             if dry {
                 return Ok(ExitCode::SUCCESS);
             }
@@ -283,7 +281,7 @@ pub(crate) fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String
             if let Some(s) = sweep_size {
                 side("--sweep-size", s)?;
             }
-            let gpu = backend::wants_gpu(&backend)?;
+            let gpu = backend.wants_gpu()?;
             if gpu && sweep {
                 return Err("--backend gpu is for the table, not --sweep (the sweep times eye beams)".into());
             }
@@ -291,7 +289,7 @@ pub(crate) fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String
                 return Ok(ExitCode::SUCCESS);
             }
             let gpu = backend::adapter(gpu)?;
-            let scenes = if scenes.is_empty() { primary::SCENES.map(String::from).to_vec() } else { scenes };
+            let scenes = scenes.or(&primary::SCENES);
             let table = if sweep { Ok(()) } else { primary::run(&scenes, size, out.as_deref(), gpu.as_ref()) };
             table.and_then(|()| match sweep || cameras.is_some() {
                 true => primary_sweep::run(&scenes, cameras, sweep_size, seed, out.as_deref()),
@@ -310,7 +308,7 @@ pub(crate) fn dispatch(what: BenchCommand, dry: bool) -> Result<ExitCode, String
             runs,
             backend,
         } => {
-            let gpu = backend::wants_gpu(&backend)?;
+            let gpu = backend.wants_gpu()?;
             let sweep = match sweep.as_deref() {
                 None => false,
                 Some("light") => true,
