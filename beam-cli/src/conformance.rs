@@ -2,7 +2,7 @@
 //! `conformance`; without it the subcommand only says how to get it, see [`missing`]).
 
 #[cfg(feature = "conformance")]
-pub(crate) use suite::*;
+pub(crate) use suite::{Args, check, run};
 
 /// The options of `beam conformance`, in a build without the suite: taken whatever they are, so
 /// that the answer is the message of [`missing`], not a parse error.

@@ -25,8 +25,10 @@ pub(crate) fn warn(scene: &Scene, kind: Kind, gpu: bool) {
         );
     }
     // The CPU cuts them everywhere (rays see through them where their alpha says, and so do the
-    // nonlinear beams' texels) but in the glossy light beams, which scatter off whole triangles.
-    if scene.has_cut_outs() && (gpu || kind == Kind::Glossy) {
+    // nonlinear beams' texels) but in the glossy light beams, which scatter off whole triangles; so
+    // do the beam and ray frames on the GPU, whose hits the host checks against the alpha.
+    let host_driven = matches!(kind, Kind::Beam | Kind::Ray);
+    if scene.has_cut_outs() && ((gpu && !host_driven) || kind == Kind::Glossy) {
         let how = if gpu {
             "are drawn opaque by --backend gpu"
         } else {

@@ -2,16 +2,21 @@
 //! away its right half, between a floor and a small area light, renders as the opaque left half
 //! alone does (rendered exactly by beams), within the noise of the shadow rays that sample the
 //! lights the cut-out may hide; eye beams leave the regions that see it to primary rays. Seen in a
-//! mirror floor, the nonlinear beams' texels see through it as rays do.
+//! mirror floor, the nonlinear beams' texels see through it as rays do. Rendered through a backend
+//! blind to alpha (as a GPU's ray tracer is), the host-driven frame sees through it too.
 
+use beam_bvh::Hit;
 use beam_cpu::nonlinear::render_nonlinear;
-use beam_cpu::render::render;
+use beam_cpu::render::{light_seen, render, render_queries};
+use beam_math::Ray;
 use beam_math::Triangle;
 use beam_math::glam::{Affine2, Vec2, Vec3};
+use beam_render::BackendError;
 use beam_render::image::Image;
 use beam_render::nonlinear::Degree;
 use beam_render::nonlinear::NonlinearOptions;
 use beam_render::options::RenderOptions;
+use beam_render::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen, RayQueries};
 use beam_scene::scene::surface::{AlphaCut, MaterialMaps, Surfaces, TextureRef};
 use beam_scene::scene::texture::{Filter, Texture, Wrap};
 use beam_scene::scene::{Bump, Camera, Light, Material, Scene};
@@ -132,4 +137,55 @@ fn nonlinear_beams_see_through_a_cut_out_as_rays_do() {
     let (apart, from_whole) = (differing(&cut, &half, 1e-3), differing(&cut, &whole, 1e-3));
     assert!(apart * 100 <= n, "{apart} of {n} pixels differ from the opaque half's");
     assert!(from_whole * 10 >= n, "only {from_whole} of {n} pixels differ from the whole leaf's");
+}
+
+/// A backend blind to alpha, as a GPU's ray tracer and shadow beams are: every triangle opaque.
+struct AlphaBlind;
+
+impl RayQueries for AlphaBlind {
+    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
+        Ok(rays.iter().map(|&r| scene.bvh.closest_hit(&scene.triangles, r, f32::INFINITY)).collect())
+    }
+
+    fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
+        Ok(segments.iter().map(|&(r, t_max)| scene.bvh.any_hit(&scene.triangles, r, t_max)).collect())
+    }
+}
+
+impl BeamQueries for AlphaBlind {
+    fn light_visibility(
+        &self,
+        scene: &Scene,
+        lights: &[LightPolygon],
+        queries: &[LightQuery],
+    ) -> Result<Vec<Option<LightSeen>>, BackendError> {
+        Ok(queries
+            .iter()
+            .map(|q| Some(light_seen(&scene.bvh, &scene.triangles, &lights[q.light as usize], q)))
+            .collect())
+    }
+}
+
+/// The host-driven frame (`render_queries`, the GPU's) sees through cut-outs whatever its backend
+/// sees: the leaf's hits are checked against its alpha and the rays sent on, the light it may hide
+/// is sampled by shadow rays, and a frame that may see it goes to primary rays. Through a backend
+/// blind to alpha, the cut leaf renders as the CPU renders its opaque half, and not as the whole
+/// leaf renders.
+#[test]
+fn a_backend_blind_to_alpha_sees_through_cut_outs() {
+    let (cut, half, whole) = (scene(1.0, true), scene(0.0, false), scene(1.0, false));
+    for primary_beams in [false, true] {
+        let o = RenderOptions { spp: 256, primary_spp: 16, primary_beams, ..RenderOptions::exact(48, 48) };
+        let (reference, _) = render(&half, &o, || {});
+        let (image, stats) = render_queries(&cut, &o, &AlphaBlind, || {}).expect("a render");
+        let (opaque, _) = render_queries(&whole, &o, &AlphaBlind, || {}).expect("a render");
+        let (error, opaque_error) = (relative_rmse(&image, &reference), relative_rmse(&opaque, &reference));
+        eprintln!("eye beams {primary_beams}: relative RMSE {error}; the whole leaf's {opaque_error}");
+        assert!(stats.cut_out_beams > 0, "the lights the leaf may hide are sampled");
+        assert_eq!(stats.cut_out_regions, u64::from(primary_beams), "a frame that sees the leaf goes to rays");
+        // 16 primary rays a pixel against exact coverage alias at the edges with eye beams.
+        let bound = if primary_beams { 0.1 } else { 0.01 };
+        assert!(error < bound, "eye beams {primary_beams}: relative RMSE {error} against the opaque half");
+        assert!(opaque_error > 8.0 * error, "an opaque whole leaf differs: {opaque_error} against {error}");
+    }
 }

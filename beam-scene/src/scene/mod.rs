@@ -43,4 +43,5 @@ pub use load_options::LoadOptions;
 pub use material::{Bump, Material};
 pub use model::{Notice, Scene, SceneStats};
 pub use names::{BUILTIN, PROCEDURAL};
+pub use ray_queries::{MAX_CUT_OUT_LAYERS, past_hit};
 pub use smesh_plan::{MAX_SMESH_FACES, SMeshPlan, SMeshSource, Simplify};

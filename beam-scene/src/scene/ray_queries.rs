@@ -1,7 +1,7 @@
 //! A scene's own ray queries, through its cut-outs: the nearest surface a ray meets and whether a
 //! segment is blocked, where a triangle of a cut-out material ([`AlphaCut`]) is there only where
 //! its coverage says so. Scenes without cut-outs query the 8-wide BVH once; with them, a ray that
-//! meets a cut-out triangle where it is not there goes on from that hit, at most [`MAX_LAYERS`]
+//! meets a cut-out triangle where it is not there goes on from that hit, at most [`MAX_CUT_OUT_LAYERS`]
 //! times. Eye rays may blend `BLEND` surfaces instead ([`Scene::blended_hits`]).
 
 use super::cut_out_triangles::CutOutTriangles;
@@ -13,7 +13,7 @@ use beam_math::glam::Vec3;
 
 /// Most cut-out layers a ray passes through; past them it stops at the next (a bound on a query's
 /// work in a forest of leaves).
-const MAX_LAYERS: u32 = 64;
+pub const MAX_CUT_OUT_LAYERS: u32 = 64;
 
 impl Scene {
     /// Whether some triangle's material is a cut-out (taken when the scene was assembled).
@@ -43,12 +43,12 @@ impl Scene {
         }
         let key = ray_key(&ray);
         let mut from = 0.0;
-        for _ in 0..MAX_LAYERS {
+        for _ in 0..MAX_CUT_OUT_LAYERS {
             let hit = self.hit_from(ray, from, t_max)?;
             if self.there(key, &hit) {
                 return Some(hit);
             }
-            from = past(&hit);
+            from = past_hit(&hit);
         }
         self.hit_from(ray, from, t_max)
     }
@@ -76,13 +76,13 @@ impl Scene {
     /// ray may instead blend α of it with `1 − α` of what lies behind).
     #[must_use]
     pub fn nearest_surface(&self, ray: Ray, mut from: f32, t_max: f32) -> Option<(Hit, f32)> {
-        for _ in 0..MAX_LAYERS {
+        for _ in 0..MAX_CUT_OUT_LAYERS {
             let hit = self.hit_from(ray, from, t_max)?;
             let alpha = self.coverage(&hit);
             if alpha > 0.0 {
                 return Some((hit, alpha));
             }
-            from = past(&hit);
+            from = past_hit(&hit);
         }
         self.hit_from(ray, from, t_max).map(|h| (h, 1.0))
     }
@@ -105,14 +105,14 @@ impl Scene {
     /// through (the environment's share; 0 when an opaque surface ends the ray).
     pub fn blended_hits(&self, ray: Ray, t_max: f32, mut seen: impl FnMut(Hit, f32)) -> f32 {
         let (mut through, mut from) = (1.0f32, 0.0);
-        for _ in 0..MAX_LAYERS {
+        for _ in 0..MAX_CUT_OUT_LAYERS {
             let Some((hit, alpha)) = self.nearest_surface(ray, from, t_max) else { return through };
             seen(hit, through * alpha);
             through *= 1.0 - alpha;
             if through <= 0.0 {
                 return 0.0;
             }
-            from = past(&hit);
+            from = past_hit(&hit);
         }
         // Past the most layers, the next surface takes what is left (as `closest_hit` stops there).
         match self.hit_from(ray, from, t_max) {
@@ -141,7 +141,7 @@ impl Scene {
 
 /// Where a ray goes on from past `hit`: just beyond it, relative to its distance, so that the same
 /// triangle is not met again at `t ≈ 0`.
-fn past(hit: &Hit) -> f32 {
+pub fn past_hit(hit: &Hit) -> f32 {
     hit.t + hit.t.abs().max(f32::MIN_POSITIVE) * 1e-5
 }
 

@@ -19,6 +19,7 @@ use std::f32::consts::PI;
 use std::time::Instant;
 
 mod batches;
+mod cut_outs;
 mod exact_beam;
 mod eye;
 mod gather;
@@ -28,8 +29,8 @@ mod plan;
 pub use exact_beam::light_seen;
 pub use eye::pixel_fragments;
 
-/// Render `scene` as [`render`](super::render) does with primary rays (`options.primary_beams ==
-/// false`) and every shadow beam traced to the end (`options.exact == true`), the visibility by
+/// Render `scene` as [`render`](super::render) does with every shadow beam traced to the end
+/// (`options.exact == true`), the visibility by
 /// `backend`: its closest hits for the camera, mirror and glass rays, its any-hits for the shadow
 /// rays of point lights, of the `ray` method's area-light samples and of the environment's
 /// cosine-weighted samples, and its shadow beams (one [`LightQuery`](beam_render::queries::LightQuery)
@@ -41,8 +42,14 @@ pub use eye::pixel_fragments;
 ///
 /// The same pixels as `render` with the same options (the same camera rays, jitter, seeds and box
 /// filter, the `ray` method's samples from the same random streams), but:
-/// - primary visibility is always by rays: `options.primary_beams` is not read (no eye beams, so
-///   no lit fragments of point lights; those lights get shadow rays);
+/// - with `options.primary_beams`, every pixel's fragments come from eye beams (the backend's
+///   where it gives them) unless the frame may see a cut-out: then the whole frame is seen through
+///   `options.primary_spp` primary rays (counted as one of `cut_out_regions`), where `render`
+///   sends only the regions that may see one to rays;
+/// - in a scene with cut-outs, the backend's hits on cut-out triangles are checked against their
+///   alpha on the host and its rays sent on past them (a GPU tests no alpha), and an area light a
+///   cut-out may hide from a shade point is sampled by `options.spp` shadow rays
+///   (`cut_out_beams`), as in `render`, but decided per point rather than per cluster of points;
 /// - every shadow beam is traced exactly, whatever `options.exact` and `options.spp`: no work
 ///   budget with its sampled remainder, no ray sampling below `render`'s fewest shadow rays for
 ///   beams, and none of `render`'s ways to the same exact answer faster (shading tiles, shafts and
@@ -68,8 +75,13 @@ pub fn render_queries(
     let k = ((options.primary_spp.max(1) as f32).sqrt() as u32).max(1);
     let mut image = Image::new(crop.width(), crop.height());
     let mut c = Counters::default();
-    // Eye beams: every pixel's exact fragments first (the backend's, the rest the host's).
-    let view = if options.method == Method::Beam && options.primary_beams {
+    // Eye beams: every pixel's exact fragments first (the backend's, the rest the host's); but a
+    // frame that may see a cut-out (even behind something) is seen through primary rays, which
+    // test the alpha (one region: the whole frame).
+    let sees_cut_outs = ctx.cut_outs.as_ref().is_some_and(|c| c.may_show(&camera, crop));
+    let eye_beams = options.method == Method::Beam && options.primary_beams;
+    c.cut_out_regions += u64::from(eye_beams && sees_cut_outs);
+    let view = if eye_beams && !sees_cut_outs {
         let eye_start = Instant::now();
         let (view, left) = eye::eye_view(scene, &camera, backend, crop)?;
         c.overflow_pixels += left;

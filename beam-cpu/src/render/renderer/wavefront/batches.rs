@@ -1,6 +1,8 @@
 //! The backend's queries in batches of at most [`MAX_BATCH`], each answer checked to be one per
-//! question (a backend that answers otherwise is an error, not a panic).
+//! question (a backend that answers otherwise is an error, not a panic); in a scene with cut-outs,
+//! its rays' hits checked against their alpha ([`cut_outs`](super::cut_outs)).
 
+use super::cut_outs::hits_there;
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_render::BackendError;
@@ -10,22 +12,40 @@ use beam_scene::scene::Scene;
 /// Most rays, segments or shadow-beam queries in one call to the backend.
 pub(super) const MAX_BATCH: usize = 1 << 20;
 
-/// The closest hit of each of `rays`.
+/// The closest hit of each of `rays` on a surface that is there.
 pub(super) fn closest_hits(
     backend: &dyn BeamQueries,
     scene: &Scene,
     rays: &[Ray],
 ) -> Result<Vec<Option<Hit>>, BackendError> {
-    in_batches(rays, "rays", |b| backend.closest_hits(scene, b))
+    let closest = |rays: &[Ray]| in_batches(rays, "rays", |b| backend.closest_hits(scene, b));
+    let hits = closest(rays)?;
+    if !scene.has_cut_outs() {
+        return Ok(hits);
+    }
+    let segments: Vec<(Ray, f32)> = rays.iter().map(|&r| (r, f32::INFINITY)).collect();
+    hits_there(scene, &segments, hits, closest)
 }
 
-/// Whether each of `segments` is blocked.
+/// Whether each of `segments` is blocked by a surface that is there: where the backend says one
+/// is and the scene has cut-outs, its nearest hits are checked.
 pub(super) fn any_hits(
     backend: &dyn BeamQueries,
     scene: &Scene,
     segments: &[(Ray, f32)],
 ) -> Result<Vec<bool>, BackendError> {
-    in_batches(segments, "segments", |b| backend.any_hits(scene, b))
+    let mut blocked = in_batches(segments, "segments", |b| backend.any_hits(scene, b))?;
+    if !scene.has_cut_outs() {
+        return Ok(blocked);
+    }
+    let closest = |rays: &[Ray]| in_batches(rays, "rays", |b| backend.closest_hits(scene, b));
+    let suspects: Vec<usize> = (0..segments.len()).filter(|&i| blocked[i]).collect();
+    let checked: Vec<(Ray, f32)> = suspects.iter().map(|&i| segments[i]).collect();
+    let first = closest(&checked.iter().map(|s| s.0).collect::<Vec<_>>())?;
+    for (i, hit) in suspects.into_iter().zip(hits_there(scene, &checked, first, closest)?) {
+        blocked[i] = hit.is_some();
+    }
+    Ok(blocked)
 }
 
 /// The answer to each of `queries` about `lights` (`None`: the backend gave up on it).

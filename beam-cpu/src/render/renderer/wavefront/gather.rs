@@ -52,6 +52,8 @@ pub(super) fn gather(
     }
     c.shadow_seconds += start.elapsed().as_secs_f64();
     c.shadow_rays += plan.shadow_rays;
+    c.shadow_beams += plan.cut_out_beams;
+    c.cut_out_beams += plan.cut_out_beams;
     c.environment_rays += plan.segments.len() as u64 - plan.shadow_rays;
     c.shadow_beams += plan.queries.len() as u64;
     c.overflow_beams += overflow.len() as u64;

@@ -1,6 +1,7 @@
 //! The light stage's work for a slice of shade points, planned on the host: per point and light
 //! (in the lights' order, as [`Context::direct`] sums them), a point light's shadow ray, an area
-//! light's shadow-beam query (`beam`) or stratified shadow rays (`ray`), then the environment's
+//! light's shadow-beam query (`beam`, unless a cut-out may hide part of the light) or stratified
+//! shadow rays (`ray`), then the environment's
 //! cosine-weighted rays where it is not shaded as lights. The samples are drawn from the same
 //! random stream as the CPU renderer's: a camera sample's shade points in its depth-first order,
 //! from the seed of its pixel.
@@ -10,8 +11,8 @@ use crate::render::renderer::context::{Context, SHADE_SEED, pixel_seed};
 use crate::render::renderer::light_samples::{
     cosine_direction, light_integrand, light_sample, point_light, sample_light, tangents,
 };
-use beam_math::Ray;
 use beam_math::glam::Vec3;
+use beam_math::{Aabb, Ray};
 use beam_render::options::{Method, Shading};
 use beam_render::queries::{LightPolygon, LightQuery};
 use beam_render::tolerance::DEPTH_EPS;
@@ -50,6 +51,9 @@ pub(super) struct Plan {
     pub(super) queries: Vec<LightQuery>,
     /// Shadow rays among the segments (the others sample the environment).
     pub(super) shadow_rays: u64,
+    /// Area lights of the `beam` method sampled by shadow rays because a cut-out may hide part of
+    /// them.
+    pub(super) cut_out_beams: u64,
 }
 
 /// The context's area lights as the backend takes them, and where each light is among them.
@@ -139,15 +143,21 @@ fn plan_point(ctx: &Context<'_>, table: &LightTable, s: &ShadePoint, rng: &mut P
         if !ctx.emitters[index].may_light(p, n, exact) {
             continue;
         }
+        let emitter = &ctx.emitters[index];
+        // A texture's alpha cuts the light where no beam can: rays see through the cut-outs
+        // (`Context::light_beam` does the same, per cluster of points).
+        let cut =
+            || ctx.cut_outs.as_ref().is_some_and(|c| c.may_hide(&Aabb::new(p, p), emitter.polygon(), emitter.normal));
         match ctx.options.method {
-            Method::Beam => {
+            Method::Beam if !cut() => {
                 let query = plan.queries.len() as u32;
                 plan.queries.push(LightQuery { p, n, light: slot, clip_above: exact });
                 plan.parts.push(Part::Beam { light: index as u32, query });
             }
-            Method::Ray => {
+            method => {
+                plan.cut_out_beams += u64::from(method == Method::Beam);
                 // As `Context::ray_irradiance`.
-                let (ln, spp) = (ctx.emitters[index].normal, ctx.samples(p, n, index));
+                let (ln, spp) = (emitter.normal, ctx.samples(p, n, index));
                 let first = plan.segments.len() as u32;
                 for i in 0..spp {
                     let (u, v) = light_sample(i, spp, rng);
@@ -201,5 +211,6 @@ impl Plan {
         self.integrands.extend(o.integrands);
         self.queries.extend(o.queries);
         self.shadow_rays += o.shadow_rays;
+        self.cut_out_beams += o.cut_out_beams;
     }
 }

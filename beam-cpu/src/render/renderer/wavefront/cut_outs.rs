@@ -1,0 +1,50 @@
+//! Rays through cut-outs by a backend that takes every triangle as opaque (a GPU's ray tracer tests
+//! no alpha): each hit on a cut-out triangle is checked on the host ([`Scene::is_there`], the
+//! decision [`Scene::closest_hit`] makes at each layer) and, where the surface is not there, the
+//! ray goes on from just past it ([`past_hit`]) with the backend's next nearest hit, the rays of a
+//! layer in one batch, at most [`MAX_CUT_OUT_LAYERS`] layers (the host finishes what is left). A
+//! shadow segment the backend says is blocked is checked the same way. A backend that sees through
+//! cut-outs itself (the CPU's) returns hits that are there, and nothing changes.
+
+use beam_bvh::Hit;
+use beam_math::Ray;
+use beam_render::BackendError;
+use beam_scene::scene::{MAX_CUT_OUT_LAYERS, Scene, past_hit};
+
+/// The nearest hit on a surface that is there of each segment `(ray, t_max)`, from `first` (the
+/// backend's nearest hit of each ray, whatever its surface) and the further nearest hits that
+/// `closest` finds for rays sent on from past a cut-out.
+pub(super) fn hits_there(
+    scene: &Scene,
+    segments: &[(Ray, f32)],
+    first: Vec<Option<Hit>>,
+    mut closest: impl FnMut(&[Ray]) -> Result<Vec<Option<Hit>>, BackendError>,
+) -> Result<Vec<Option<Hit>>, BackendError> {
+    let within = |h: Option<Hit>, t_max: f32| h.filter(|h| h.t < t_max);
+    let mut hits: Vec<Option<Hit>> = first.into_iter().zip(segments).map(|(h, &(_, t_max))| within(h, t_max)).collect();
+    let not_there = |i: usize, hits: &[Option<Hit>]| hits[i].is_some_and(|h| !scene.is_there(&segments[i].0, &h));
+    let mut pending: Vec<usize> = (0..segments.len()).filter(|&i| not_there(i, &hits)).collect();
+    for _ in 0..MAX_CUT_OUT_LAYERS {
+        if pending.is_empty() {
+            break;
+        }
+        // Past each cut-out hit, along the same ray (so the hits keep the original ray's `t`).
+        let from: Vec<f32> = pending.iter().map(|&i| hits[i].map_or(0.0, |h| past_hit(&h))).collect();
+        let rays: Vec<Ray> =
+            pending.iter().zip(&from).map(|(&i, &f)| Ray::new(segments[i].0.at(f), segments[i].0.direction)).collect();
+        let next = closest(&rays)?;
+        if next.len() != rays.len() {
+            let message = format!("{} answers to {} rays past cut-outs", next.len(), rays.len());
+            return Err(BackendError::new("renderer", message));
+        }
+        for ((&i, &f), h) in pending.iter().zip(&from).zip(next) {
+            hits[i] = within(h.map(|h| Hit { t: h.t + f, ..h }), segments[i].1);
+        }
+        pending.retain(|&i| not_there(i, &hits));
+    }
+    // Past the most layers, the host's own query (as deep as the scene's).
+    for i in pending {
+        hits[i] = scene.closest_hit(segments[i].0, segments[i].1);
+    }
+    Ok(hits)
+}
