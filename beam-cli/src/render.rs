@@ -52,8 +52,10 @@ pub(crate) fn run(a: &RenderArgs) -> Result<ExitCode, String> {
         a.out.display()
     );
     if let Some(g) = &gpu {
-        let eye = if method == Method::Beam && options.primary_beams {
+        let eye = if method == Method::Beam && options.primary_beams && stats.cut_out_regions == 0 {
             format!("eye beams ({} pixels past the device's limits computed on the host)", stats.overflow_pixels)
+        } else if stats.cut_out_regions > 0 {
+            format!("primary rays ({} per pixel: the frame may show a cut-out)", options.primary_spp)
         } else {
             format!("primary rays ({} per pixel)", options.primary_spp)
         };
