@@ -78,9 +78,9 @@ pub fn render_queries(
     // Eye beams: every pixel's exact fragments first (the backend's, the rest the host's); but a
     // frame that may see a cut-out (even behind something) is seen through primary rays, which
     // test the alpha (one region: the whole frame).
-    let sees_cut_outs = ctx.cut_outs.as_ref().is_some_and(|c| c.may_show(&camera, crop));
     let eye_beams = options.method == Method::Beam && options.primary_beams;
-    c.cut_out_regions += u64::from(eye_beams && sees_cut_outs);
+    let sees_cut_outs = eye_beams && ctx.cut_outs.as_ref().is_some_and(|c| c.may_show(&camera, crop));
+    c.cut_out_regions += u64::from(sees_cut_outs);
     let view = if eye_beams && !sees_cut_outs {
         let eye_start = Instant::now();
         let (view, left) = eye::eye_view(scene, &camera, backend, crop)?;

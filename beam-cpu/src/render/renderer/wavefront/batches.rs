@@ -18,13 +18,11 @@ pub(super) fn closest_hits(
     scene: &Scene,
     rays: &[Ray],
 ) -> Result<Vec<Option<Hit>>, BackendError> {
-    let closest = |rays: &[Ray]| in_batches(rays, "rays", |b| backend.closest_hits(scene, b));
-    let hits = closest(rays)?;
     if !scene.has_cut_outs() {
-        return Ok(hits);
+        return nearest(backend, scene, rays);
     }
     let segments: Vec<(Ray, f32)> = rays.iter().map(|&r| (r, f32::INFINITY)).collect();
-    hits_there(scene, &segments, hits, closest)
+    hits_there(scene, &segments, |rays| nearest(backend, scene, rays))
 }
 
 /// Whether each of `segments` is blocked by a surface that is there: where the backend says one
@@ -38,14 +36,17 @@ pub(super) fn any_hits(
     if !scene.has_cut_outs() {
         return Ok(blocked);
     }
-    let closest = |rays: &[Ray]| in_batches(rays, "rays", |b| backend.closest_hits(scene, b));
     let suspects: Vec<usize> = (0..segments.len()).filter(|&i| blocked[i]).collect();
     let checked: Vec<(Ray, f32)> = suspects.iter().map(|&i| segments[i]).collect();
-    let first = closest(&checked.iter().map(|s| s.0).collect::<Vec<_>>())?;
-    for (i, hit) in suspects.into_iter().zip(hits_there(scene, &checked, first, closest)?) {
+    for (i, hit) in suspects.into_iter().zip(hits_there(scene, &checked, |rays| nearest(backend, scene, rays))?) {
         blocked[i] = hit.is_some();
     }
     Ok(blocked)
+}
+
+/// The backend's nearest hit of each of `rays`, whatever its surface.
+fn nearest(backend: &dyn BeamQueries, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
+    in_batches(rays, "rays", |b| backend.closest_hits(scene, b))
 }
 
 /// The answer to each of `queries` about `lights` (`None`: the backend gave up on it).

@@ -11,16 +11,16 @@ use beam_math::Ray;
 use beam_render::BackendError;
 use beam_scene::scene::{MAX_CUT_OUT_LAYERS, Scene, past_hit};
 
-/// The nearest hit on a surface that is there of each segment `(ray, t_max)`, from `first` (the
-/// backend's nearest hit of each ray, whatever its surface) and the further nearest hits that
-/// `closest` finds for rays sent on from past a cut-out.
+/// The nearest hit on a surface that is there of each segment `(ray, t_max)`, from the nearest
+/// hits, whatever their surface, that `closest` (the backend's, one answer per ray) finds for the
+/// segments' rays and for rays sent on from past a cut-out.
 pub(super) fn hits_there(
     scene: &Scene,
     segments: &[(Ray, f32)],
-    first: Vec<Option<Hit>>,
-    mut closest: impl FnMut(&[Ray]) -> Result<Vec<Option<Hit>>, BackendError>,
+    closest: impl Fn(&[Ray]) -> Result<Vec<Option<Hit>>, BackendError>,
 ) -> Result<Vec<Option<Hit>>, BackendError> {
     let within = |h: Option<Hit>, t_max: f32| h.filter(|h| h.t < t_max);
+    let first = closest(&segments.iter().map(|s| s.0).collect::<Vec<_>>())?;
     let mut hits: Vec<Option<Hit>> = first.into_iter().zip(segments).map(|(h, &(_, t_max))| within(h, t_max)).collect();
     let not_there = |i: usize, hits: &[Option<Hit>]| hits[i].is_some_and(|h| !scene.is_there(&segments[i].0, &h));
     let mut pending: Vec<usize> = (0..segments.len()).filter(|&i| not_there(i, &hits)).collect();
@@ -32,12 +32,7 @@ pub(super) fn hits_there(
         let from: Vec<f32> = pending.iter().map(|&i| hits[i].map_or(0.0, |h| past_hit(&h))).collect();
         let rays: Vec<Ray> =
             pending.iter().zip(&from).map(|(&i, &f)| Ray::new(segments[i].0.at(f), segments[i].0.direction)).collect();
-        let next = closest(&rays)?;
-        if next.len() != rays.len() {
-            let message = format!("{} answers to {} rays past cut-outs", next.len(), rays.len());
-            return Err(BackendError::new("renderer", message));
-        }
-        for ((&i, &f), h) in pending.iter().zip(&from).zip(next) {
+        for ((&i, &f), h) in pending.iter().zip(&from).zip(closest(&rays)?) {
             hits[i] = within(h.map(|h| Hit { t: h.t + f, ..h }), segments[i].1);
         }
         pending.retain(|&i| not_there(i, &hits));
