@@ -36,18 +36,14 @@ pub(crate) fn warn(scene: &Scene, kind: Kind, gpu: bool) {
         };
         eprintln!("warning: {}: cut-out materials (alphaMode MASK or BLEND) {how}", scene.name);
     }
+    // On the GPU, the methods other than beam and ray use no texture (said above).
     let normal_maps = scene.surfaces.maps.iter().any(|m| m.normal.is_some());
-    if normal_maps && matches!(kind, Kind::Glossy | Kind::GlossyReference) {
+    if normal_maps && !gpu && matches!(kind, Kind::Glossy | Kind::GlossyReference) {
         eprintln!(
             "warning: {}: normal textures bend the direct light of --method {} but not the scattered light it \
              gathers",
             scene.name,
             kind.name()
-        );
-    } else if normal_maps && gpu {
-        eprintln!(
-            "warning: {}: normal textures are not used by --backend gpu: it shades the triangles' own normals",
-            scene.name
         );
     }
 }

@@ -1,17 +1,19 @@
 //! A normal texture bends the shading normal: a floor whose texture tilts every normal by 30°
 //! towards +u (or towards decreasing v, up in the image: glTF's green channel) is lit by a point
 //! light as a floor of that normal is, exactly, by beams and by rays, and by the glossy light
-//! volumes' direct light and its reference's.
+//! volumes' direct light and its reference's; and the host-driven wavefront frame (what the GPU's
+//! `beam` and `ray` frames run) lights it as the CPU renderer does.
 
 use beam_cpu::glossy::{render_glossy, render_glossy_reference};
-use beam_cpu::render::render;
+use beam_cpu::nonlinear::CpuBeams;
+use beam_cpu::render::{difference, render, render_queries};
 use beam_math::Triangle;
 use beam_math::glam::{Affine2, Vec2, Vec3};
 use beam_render::glossy::GlossyOptions;
 use beam_render::options::{Method, RenderOptions};
 use beam_scene::scene::surface::{MaterialMaps, NormalMap, Surfaces, TextureRef};
 use beam_scene::scene::texture::{Filter, Texture, Wrap};
-use beam_scene::scene::{Camera, Light, Material, Scene};
+use beam_scene::scene::{Camera, Environment, Light, Material, Scene};
 use std::sync::Arc;
 
 const SIDE: u32 = 33;
@@ -48,9 +50,14 @@ fn floor(rgb: [u8; 3], light: Vec3) -> Scene {
     Scene::with_surfaces("normal-mapped floor".into(), triangles, materials, lights, camera, surfaces)
 }
 
-/// The radiance of the centre pixel under `options`.
-fn centre(scene: &Scene, options: &RenderOptions) -> f32 {
-    let (image, _) = render(scene, options, || {});
+/// The radiance of the centre pixel under `options` (`wavefront`: by the host-driven frame, its
+/// queries answered by the CPU).
+fn centre(scene: &Scene, options: &RenderOptions, wavefront: bool) -> f32 {
+    let image = if wavefront {
+        render_queries(scene, options, &CpuBeams, || {}).expect("the CPU answers every query").0
+    } else {
+        render(scene, options, || {}).0
+    };
     image.pixels[(SIDE * SIDE / 2) as usize].x
 }
 
@@ -91,8 +98,13 @@ fn a_normal_texture_bends_the_light_a_point_receives() {
             let scene = floor(rgb, light);
             let want = expected(n, light);
             for (name, options) in [("beams", &exact), ("rays", &rays), ("eye beams", &eye_beams)] {
-                let got = centre(&scene, options);
-                assert!((got - want).abs() <= 0.02 * want + 1e-6, "{name}, light at {light}: {got} against {want}");
+                for wavefront in [false, true] {
+                    let got = centre(&scene, options, wavefront);
+                    assert!(
+                        (got - want).abs() <= 0.02 * want + 1e-6,
+                        "{name} (wavefront {wavefront}), light at {light}: {got} against {want}"
+                    );
+                }
             }
             for reference in [false, true] {
                 let got = glossy_centre(&scene, reference);
@@ -131,7 +143,47 @@ fn beams_and_rays_agree_under_a_light_that_crosses_the_surface() {
         scene.surfaces.clone(),
     );
     let exact = RenderOptions::exact(SIDE, SIDE);
-    let beam = centre(&scene, &exact);
-    let ray = centre(&scene, &RenderOptions { method: Method::Ray, spp: 4096, ..exact });
-    assert!(beam > 0.0 && (beam - ray).abs() < 0.02 * beam, "beam {beam}, rays {ray}");
+    let ray = centre(&scene, &RenderOptions { method: Method::Ray, spp: 4096, ..exact }, false);
+    for wavefront in [false, true] {
+        let beam = centre(&scene, &exact, wavefront);
+        assert!(beam > 0.0 && (beam - ray).abs() < 0.02 * beam, "beam (wavefront {wavefront}) {beam}, rays {ray}");
+    }
+    let wave_ray = centre(&scene, &RenderOptions { method: Method::Ray, spp: 4096, ..exact }, true);
+    assert!((wave_ray - ray).abs() < 1e-4 * ray, "the wavefront's rays {wave_ray}, the CPU's {ray}");
+}
+
+#[test]
+fn the_wavefront_lights_a_normal_texture_as_the_cpu_does() {
+    // Tilted 60° towards +x (world normal (√3/2, ½, 0)) under a uniform sky, a wall light that
+    // reaches below the floor and a point light below the floor's plane but above the bent
+    // normal's: the sky's faces and the wall light cross the floor's plane, the point light is
+    // hidden.
+    let bent = Vec3::new(3f32.sqrt() / 2.0, 0.0, 0.5);
+    let rgb = ((bent + Vec3::ONE) / 2.0 * 255.0).round().to_array().map(|v| v as u8);
+    let mut scene = floor(rgb, Vec3::new(2.0, -0.5, 0.0));
+    scene.lights.push(Light::Quad {
+        corner: Vec3::new(2.0, -1.0, -1.0),
+        edge_u: Vec3::new(0.0, 0.0, 2.0),
+        edge_v: Vec3::new(0.0, 2.0, 0.0),
+        radiance: Vec3::splat(5.0),
+    });
+    let mut scene = Scene::with_surfaces(
+        scene.name.clone(),
+        scene.triangles.iter().map(|t| (*t, 0)).collect(),
+        scene.materials.clone(),
+        scene.lights.clone(),
+        scene.camera,
+        scene.surfaces.clone(),
+    );
+    scene.environment = Environment::Constant(Vec3::splat(0.3));
+    for method in [Method::Beam, Method::Ray] {
+        let options = RenderOptions { method, spp: 16, ..RenderOptions::exact(SIDE, SIDE) };
+        let (cpu, _) = render(&scene, &options, || {});
+        let (wave, _) = render_queries(&scene, &options, &CpuBeams, || {}).expect("the CPU answers every query");
+        let d = difference(&wave, &cpu).expect("one size");
+        println!("{method:?}: PSNR {:.1} dB", d.psnr);
+        assert!(d.psnr > 60.0, "{method:?}: PSNR {} dB", d.psnr);
+        let centre = wave.pixels[(SIDE * SIDE / 2) as usize].x;
+        assert!(centre > 0.0, "{method:?}: the centre is lit");
+    }
 }

@@ -11,8 +11,9 @@ use crate::render::renderer::stats::Counters;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
 use beam_render::options::Shading;
-use beam_render::queries::{BeamQueries, LightSeen};
+use beam_render::queries::{BeamQueries, LightPolygon, LightSeen};
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::f32::consts::PI;
 use std::time::Instant;
 
@@ -37,14 +38,18 @@ pub(super) fn gather(
     let scene = ctx.scene;
     let start = Instant::now();
     let hidden = any_hits(backend, scene, &plan.segments)?;
-    let answers = light_visibility(backend, scene, &table.polygons, &plan.queries)?;
+    // The lights, then those clipped to a surface under a normal texture.
+    let polygons: Cow<'_, [LightPolygon]> = if plan.polygons.is_empty() {
+        Cow::Borrowed(&table.polygons)
+    } else {
+        Cow::Owned([table.polygons.as_slice(), &plan.polygons].concat())
+    };
+    let answers = light_visibility(backend, scene, &polygons, &plan.queries)?;
     // The beams the backend gave up on, traced here.
     let overflow: Vec<usize> = answers.iter().enumerate().filter(|(_, a)| a.is_none()).map(|(i, _)| i).collect();
     let traced: Vec<LightSeen> = overflow
         .par_iter()
-        .map(|&i| {
-            light_seen(&scene.bvh, &scene.triangles, &table.polygons[plan.queries[i].light as usize], &plan.queries[i])
-        })
+        .map(|&i| light_seen(&scene.bvh, &scene.triangles, &polygons[plan.queries[i].light as usize], &plan.queries[i]))
         .collect();
     let mut seen: Vec<LightSeen> = answers.into_iter().map(Option::unwrap_or_default).collect();
     for (&i, t) in overflow.iter().zip(traced) {

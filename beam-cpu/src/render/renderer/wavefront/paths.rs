@@ -39,8 +39,12 @@ struct PathRay {
 pub(super) struct ShadePoint {
     /// The gather point: the surface point offset off the surface on the viewer's side.
     pub(super) p: Vec3,
-    /// The unit normal, facing the viewer.
+    /// The unit shading normal, facing the viewer: the surface's, or where a normal texture bends
+    /// it ([`Scene::mapped_normal`](beam_scene::scene::Scene::mapped_normal)), the bent one.
     pub(super) n: Vec3,
+    /// Under a normal texture, the surface's own unit normal (facing the viewer): what lies below
+    /// its plane the surface hides ([`Thread::surface`](crate::render::renderer::context::Thread)).
+    pub(super) surface: Option<Vec3>,
     /// The surface's albedo there.
     pub(super) albedo: Vec3,
     /// Weight of its radiance in its pixel.
@@ -207,9 +211,12 @@ fn follow(ctx: &Context<'_>, r: &PathRay, hit: Option<&Hit>) -> Found {
     let scene = ctx.scene;
     let Some(hit) = hit else { return Found::Light(scene.environment.radiance(r.ray.direction)) };
     let (q, d) = (r.ray.at(hit.t), r.ray.direction.normalize());
-    if let Some((p, n)) = ctx.gather_point(hit.prim, q, d) {
+    if let Some((p, facing)) = ctx.gather_point(hit.prim, q, d) {
         let albedo = scene.albedo_at(hit.prim, q);
-        return Found::Point(ShadePoint { p, n, albedo, weight: r.weight, sample: r.sample, key: r.key });
+        // Lit as `Context::shade` lights it: by the bent normal, above the surface's own plane too.
+        let n = scene.mapped_normal(hit.prim, q, facing);
+        let surface = (n != facing).then_some(facing);
+        return Found::Point(ShadePoint { p, n, surface, albedo, weight: r.weight, sample: r.sample, key: r.key });
     }
     match scene.material(hit.prim) {
         Material::Emissive { .. } => Found::Light(scene.emission_at(hit.prim, q)),

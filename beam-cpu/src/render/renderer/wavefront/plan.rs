@@ -7,6 +7,7 @@
 //! from the seed of its pixel.
 
 use super::paths::ShadePoint;
+use crate::render::lambert::clip_above;
 use crate::render::renderer::context::{Context, SHADE_SEED, pixel_seed};
 use crate::render::renderer::light_samples::{
     cosine_direction, light_integrand, light_sample, point_light, sample_light, tangents,
@@ -47,8 +48,11 @@ pub(super) struct Plan {
     pub(super) segments: Vec<(Ray, f32)>,
     /// The irradiance integrand of each segment to an area light's sample (0 for the others).
     pub(super) integrands: Vec<f32>,
-    /// Shadow-beam queries.
+    /// Shadow-beam queries; a query's `light` indexes the table's polygons, then `polygons`.
     pub(super) queries: Vec<LightQuery>,
+    /// Lights clipped to the plane of a surface under a normal texture, one a query
+    /// ([`ShadePoint::surface`]): what their queries see.
+    pub(super) polygons: Vec<LightPolygon>,
     /// Shadow rays among the segments (the others sample the environment).
     pub(super) shadow_rays: u64,
     /// Area lights of the `beam` method sampled by shadow rays because a cut-out may hide part of
@@ -120,7 +124,7 @@ pub(super) fn plan(
         .collect();
     let mut all = Plan::default();
     for p in plans {
-        all.append(p);
+        all.append(p, table.polygons.len() as u32);
     }
     all
 }
@@ -128,9 +132,11 @@ pub(super) fn plan(
 /// Add the parts of shade point `s` to `plan`, its samples drawn from `rng`.
 fn plan_point(ctx: &Context<'_>, table: &LightTable, s: &ShadePoint, rng: &mut Pcg32, plan: &mut Plan) {
     let (p, n) = (s.p, s.n);
+    // Under a normal texture, what lies below the surface's own plane it hides.
+    let below = |to: Vec3| s.surface.is_some_and(|surface| surface.dot(to) <= 0.0);
     for (index, light) in ctx.lights.iter().enumerate() {
         if let Light::Point { position, intensity } = *light {
-            if let Some((ray, irradiance)) = point_light(p, n, position, intensity) {
+            if let Some((ray, irradiance)) = point_light(p, n, position, intensity).filter(|_| !below(position - p)) {
                 let segment = plan.segment(ray, 1.0 - DEPTH_EPS, 0.0);
                 plan.shadow_rays += 1;
                 plan.parts.push(Part::Point { segment, irradiance });
@@ -150,8 +156,19 @@ fn plan_point(ctx: &Context<'_>, table: &LightTable, s: &ShadePoint, rng: &mut P
             || ctx.cut_outs.as_ref().is_some_and(|c| c.may_hide(&Aabb::new(p, p), emitter.polygon(), emitter.normal));
         match ctx.options.method {
             Method::Beam if !cut() => {
+                let light = match s.surface {
+                    Some(surface) => match beneath((emitter.polygon(), emitter.normal), p, surface) {
+                        Beneath::No => slot,
+                        Beneath::Wholly => continue,
+                        Beneath::Partly(above) => {
+                            plan.polygons.push(above);
+                            (table.polygons.len() + plan.polygons.len() - 1) as u32
+                        }
+                    },
+                    None => slot,
+                };
                 let query = plan.queries.len() as u32;
-                plan.queries.push(LightQuery { p, n, light: slot, clip_above: exact });
+                plan.queries.push(LightQuery { p, n, light, clip_above: exact });
                 plan.parts.push(Part::Beam { light: index as u32, query });
             }
             method => {
@@ -163,7 +180,7 @@ fn plan_point(ctx: &Context<'_>, table: &LightTable, s: &ShadePoint, rng: &mut P
                     let (u, v) = light_sample(i, spp, rng);
                     let to = sample_light(light, u, v) - p;
                     let f = light_integrand(n, ln, to);
-                    if exact && !(f > 0.0) {
+                    if exact && !(f > 0.0) || below(to) {
                         continue;
                     }
                     plan.segment(Ray::new(p, to), 1.0 - DEPTH_EPS, f);
@@ -181,7 +198,9 @@ fn plan_point(ctx: &Context<'_>, table: &LightTable, s: &ShadePoint, rng: &mut P
         let first = plan.segments.len() as u32;
         for i in 0..spp {
             let w = cosine_direction((u, v, n), light_sample(i, spp, rng));
-            plan.segment(Ray::new(p, w), f32::INFINITY, 0.0);
+            if !below(w) {
+                plan.segment(Ray::new(p, w), f32::INFINITY, 0.0);
+            }
         }
         plan.parts.push(Part::Sky { segments: (first, plan.segments.len() as u32), spp });
     }
@@ -195,10 +214,12 @@ impl Plan {
         self.segments.len() as u32 - 1
     }
 
-    /// Append `o`'s points, its indices moved past this plan's.
-    fn append(&mut self, o: Plan) {
+    /// Append `o`'s points, its indices moved past this plan's (its own polygons, from `table` on
+    /// among the queries' lights, too).
+    fn append(&mut self, o: Plan, table: u32) {
         let (segments, queries, parts) =
             (self.segments.len() as u32, self.queries.len() as u32, self.parts.len() as u32);
+        let polygons = self.polygons.len() as u32;
         let range = |(a, b): (u32, u32)| (a + segments, b + segments);
         self.parts.extend(o.parts.into_iter().map(|part| match part {
             Part::Point { segment, irradiance } => Part::Point { segment: segment + segments, irradiance },
@@ -209,8 +230,37 @@ impl Plan {
         self.ends.extend(o.ends.into_iter().map(|e| e + parts));
         self.segments.extend(o.segments);
         self.integrands.extend(o.integrands);
-        self.queries.extend(o.queries);
+        self.queries.extend(
+            o.queries
+                .into_iter()
+                .map(|q| LightQuery { light: if q.light >= table { q.light + polygons } else { q.light }, ..q }),
+        );
+        self.polygons.extend(o.polygons);
         self.shadow_rays += o.shadow_rays;
         self.cut_out_beams += o.cut_out_beams;
+    }
+}
+
+/// Where a light lies against the plane of a surface under a normal texture.
+enum Beneath {
+    /// Wholly above it.
+    No,
+    /// Wholly on or below it: hidden.
+    Wholly,
+    /// Across it: the part above.
+    Partly(LightPolygon),
+}
+
+/// Where light `polygon` (its lit side's unit normal `normal`, at most 4 corners) lies against the
+/// plane through `p` of unit normal `surface`, as `Context::beam_irradiance` clips it.
+fn beneath((polygon, normal): (&[Vec3], Vec3), p: Vec3, surface: Vec3) -> Beneath {
+    if polygon.iter().all(|&c| surface.dot(c - p) >= 0.0) {
+        return Beneath::No;
+    }
+    // At most 5 corners: within the backend's polygons.
+    let above = clip_above(polygon, p, surface);
+    match LightPolygon::new(&above, normal) {
+        Some(part) => Beneath::Partly(part),
+        None => Beneath::Wholly,
     }
 }
