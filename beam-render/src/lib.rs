@@ -22,6 +22,7 @@
 //!   beside a software GPU).
 
 pub mod cpu_clock;
+pub mod cut_outs;
 pub mod error;
 pub mod glossy;
 pub mod image;

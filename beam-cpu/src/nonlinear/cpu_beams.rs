@@ -1,7 +1,6 @@
 //! The CPU's beam renderer: texel regions by [`render_beam`], rays through the BVH, shading on the
 //! host by [`shade_point`]; and a nonlinear frame rendered with it ([`render_nonlinear`]).
 
-use super::atlas::render_beam;
 use crate::render::{light_seen, shade_point};
 use beam_bvh::Hit;
 use beam_math::Ray;
@@ -9,6 +8,7 @@ use beam_math::glam::Vec3;
 use beam_render::BackendError;
 use beam_render::image::Image;
 use beam_render::irradiance_map::IrradianceMap;
+use beam_render::nonlinear::render_beam;
 use beam_render::nonlinear::{
     BeamJob, BeamRasterizer, BeamTexture, ChildLookups, DeviceWaits, EyeView, HostShading, NonlinearError,
     NonlinearOptions, NonlinearStats, PointShading, ShadePoint, render_nonlinear_with,

@@ -52,7 +52,7 @@ impl GpuBeam {
     /// `beam` on an atlas region `(x, y, size)`, skipping scene triangle `exclude.prim` (a coarse
     /// S-mesh face's patch is culled by `shaders/beam_cull.wgsl`, which marks its ring per pair,
     /// [`crate::interface::PAIR_NEAR`]), its lift for self-hits at least the surface's thickness
-    /// about a coarse face (as `beam_cpu::nonlinear::render_beam` takes it). `bounds` are the beam's [`s1_or_sn_bounds`](beam_render::nonlinear::TexelBeam::s1_or_sn_bounds) (for a bumped beam, its S1 beam's),
+    /// about a coarse face (as `beam_render::nonlinear::render_beam` takes it). `bounds` are the beam's [`s1_or_sn_bounds`](beam_render::nonlinear::TexelBeam::s1_or_sn_bounds) (for a bumped beam, its S1 beam's),
     /// which the caller has for bounding-cone culling.
     #[must_use]
     pub fn new(beam: &Beam, bounds: &BeamBounds, region: [u32; 3], exclude: Exclude<'_>) -> Self {

@@ -174,7 +174,7 @@ pub const TEXEL_EPS: f32 = 1e-4;
 /// `beam_gpu::interface`).
 pub const MIN_RISE: f32 = 0.05;
 
-/// What a renderer needs of a beam (beam-cpu's `render_beam`, beam-gpu's atlas): its texel rays and their bounds (000 Algs. 1–4).
+/// What a renderer needs of a beam ([`render_beam`](super::render_beam), beam-gpu's atlas): its texel rays and their bounds (000 Algs. 1–4).
 pub trait TexelBeam {
     /// The bounds the bounding triangles are computed from (Alg. 3's `B`).
     fn s1_or_sn_bounds(&self) -> BeamBounds;

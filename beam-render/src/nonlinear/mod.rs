@@ -19,6 +19,7 @@ mod frame;
 mod host_shading;
 mod nearest;
 mod radiance;
+mod rasterize;
 mod renderer;
 mod settings;
 mod simplify;
@@ -43,6 +44,7 @@ pub use fit::Fit;
 pub use frame::{FrameImage, NonlinearPrecomputed, render_nonlinear_frame, render_nonlinear_with};
 pub use host_shading::{HostShading, shade_points};
 pub use radiance::{Composite, LevelRadiance, NodeChildren, TexelRadiance, composite, sample_region};
+pub use rasterize::render_beam;
 pub use renderer::{
     BeamRasterizer, BeamRenderer, ChildLookups, CoarseByRays, DeviceImage, DeviceWaits, EyeFaces, EyeView, FramePixels,
     KeepLevel, KeptFrame, KeptTotals, LevelLayout, LookupJob, PixelHits, PointShading, TreeShading, eye_by_rays,

@@ -19,7 +19,6 @@ use std::f32::consts::PI;
 use std::time::Instant;
 
 mod batches;
-mod cut_outs;
 mod exact_beam;
 mod eye;
 mod gather;

@@ -1,11 +1,11 @@
 //! The backend's queries in batches of at most [`MAX_BATCH`], each answer checked to be one per
 //! question (a backend that answers otherwise is an error, not a panic); in a scene with cut-outs,
-//! its rays' hits checked against their alpha ([`cut_outs`](super::cut_outs)).
+//! its rays' hits checked against their alpha ([`beam_render::cut_outs`]).
 
-use super::cut_outs::hits_there;
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_render::BackendError;
+use beam_render::cut_outs::{blocked_there, hits_there};
 use beam_render::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen};
 use beam_scene::scene::Scene;
 
@@ -32,16 +32,11 @@ pub(super) fn any_hits(
     scene: &Scene,
     segments: &[(Ray, f32)],
 ) -> Result<Vec<bool>, BackendError> {
-    let mut blocked = in_batches(segments, "segments", |b| backend.any_hits(scene, b))?;
+    let blocked = in_batches(segments, "segments", |b| backend.any_hits(scene, b))?;
     if !scene.has_cut_outs() {
         return Ok(blocked);
     }
-    let suspects: Vec<usize> = (0..segments.len()).filter(|&i| blocked[i]).collect();
-    let checked: Vec<(Ray, f32)> = suspects.iter().map(|&i| segments[i]).collect();
-    for (i, hit) in suspects.into_iter().zip(hits_there(scene, &checked, |rays| nearest(backend, scene, rays))?) {
-        blocked[i] = hit.is_some();
-    }
-    Ok(blocked)
+    blocked_there(scene, segments, blocked, |rays| nearest(backend, scene, rays))
 }
 
 /// The backend's nearest hit of each of `rays`, whatever its surface.

@@ -7,11 +7,14 @@
 //! triangle. A texel's hit on a cut-out (glTF `MASK`, `BLEND`) counts where the surface is there
 //! at it ([`Scene::is_there`], as rays decide): a rasterizer's alpha test.
 
+use super::beam_tree::{TEXEL_EPS, TexelBeam, self_hit_at};
+use super::cull::cone_candidates;
+use super::face::Exclude;
+use super::texture::{BeamTexture, TexelHit};
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::collide::WatertightRay;
 use beam_math::glam::Vec3;
-use beam_render::nonlinear::{BeamTexture, Exclude, TEXEL_EPS, TexelBeam, TexelHit, cone_candidates, self_hit_at};
 use beam_scene::scene::Scene;
 
 /// Regions at most this many texels a side keep their texels' rays (about 100 bytes per texel).

@@ -6,15 +6,15 @@
 //! shadow segment the backend says is blocked is checked the same way. A backend that sees through
 //! cut-outs itself (the CPU's) returns hits that are there, and nothing changes.
 
+use crate::BackendError;
 use beam_bvh::Hit;
 use beam_math::Ray;
-use beam_render::BackendError;
 use beam_scene::scene::{MAX_CUT_OUT_LAYERS, Scene, past_hit};
 
 /// The nearest hit on a surface that is there of each segment `(ray, t_max)`, from the nearest
 /// hits, whatever their surface, that `closest` (the backend's, one answer per ray) finds for the
 /// segments' rays and for rays sent on from past a cut-out.
-pub(super) fn hits_there(
+pub fn hits_there(
     scene: &Scene,
     segments: &[(Ray, f32)],
     closest: impl Fn(&[Ray]) -> Result<Vec<Option<Hit>>, BackendError>,
@@ -42,4 +42,20 @@ pub(super) fn hits_there(
         hits[i] = scene.closest_hit(segments[i].0, segments[i].1);
     }
     Ok(hits)
+}
+
+/// Whether each of `segments` is blocked by a surface that is there, from `blocked`, whether the
+/// backend found any triangle on it: where it did, [`hits_there`] by `closest` decides.
+pub fn blocked_there(
+    scene: &Scene,
+    segments: &[(Ray, f32)],
+    mut blocked: Vec<bool>,
+    closest: impl Fn(&[Ray]) -> Result<Vec<Option<Hit>>, BackendError>,
+) -> Result<Vec<bool>, BackendError> {
+    let suspects: Vec<usize> = (0..segments.len()).filter(|&i| blocked[i]).collect();
+    let checked: Vec<(Ray, f32)> = suspects.iter().map(|&i| segments[i]).collect();
+    for (i, hit) in suspects.into_iter().zip(hits_there(scene, &checked, closest)?) {
+        blocked[i] = hit.is_some();
+    }
+    Ok(blocked)
 }
