@@ -4,7 +4,7 @@
 //! content the file holds.
 
 use crate::method::Kind;
-use beam_scene::scene::{Environment, Scene};
+use beam_scene::scene::Scene;
 
 /// Say on stderr what of `scene` a render by `kind` (on the GPU where `gpu`) does not use.
 pub(crate) fn warn(scene: &Scene, kind: Kind, gpu: bool) {
@@ -12,55 +12,29 @@ pub(crate) fn warn(scene: &Scene, kind: Kind, gpu: bool) {
         // Said even when `quiet`: the image lacks content the file holds.
         eprintln!("warning: {}: {} {}", scene.name, n.count, n.what);
     }
-    if let Some(what) = unseen_environment(kind, gpu, &scene.environment) {
-        eprintln!("warning: {}: the environment is not seen by --method {}{what}", scene.name, kind.name());
+    // Every method but the glossy light volumes shows the environment.
+    if !scene.environment.is_black() && matches!(kind, Kind::Glossy | Kind::GlossyReference) {
+        eprintln!("warning: {}: the environment is not seen by --method {}", scene.name, kind.name());
     }
-    // The beam and ray frames on the GPU shade on the host, textures included.
-    if gpu && !matches!(kind, Kind::Beam | Kind::Ray) && !scene.surfaces.is_plain() {
+    // Every method reads textures on both backends (the GPU hands textured points to the host),
+    // and the rays and nonlinear beams see through cut-outs where their alpha says; the glossy
+    // light beams scatter off whole triangles, and the GPU's gather casts their second-order
+    // shadows through cut-outs as opaque.
+    if scene.has_cut_outs() && kind == Kind::Glossy {
+        let gather = if gpu { "; --backend gpu casts its second-order shadows opaque" } else { "" };
         eprintln!(
-            "warning: {}: textures and vertex colours are not used by --method {} --backend gpu (its materials \
-             are flat)",
-            scene.name,
-            kind.name()
+            "warning: {}: cut-out materials (alphaMode MASK or BLEND) are seen through by the rays of --method \
+             glossy but scatter its light beams whole{gather}",
+            scene.name
         );
     }
-    // The CPU cuts them everywhere (rays see through them where their alpha says, and so do the
-    // nonlinear beams' texels) but in the glossy light beams, which scatter off whole triangles; so
-    // do the beam and ray frames on the GPU, whose hits the host checks against the alpha.
-    let host_driven = matches!(kind, Kind::Beam | Kind::Ray);
-    if scene.has_cut_outs() && ((gpu && !host_driven) || kind == Kind::Glossy) {
-        let how = if gpu {
-            "are drawn opaque by --backend gpu"
-        } else {
-            "are seen through by the rays of --method glossy but scatter its light beams whole"
-        };
-        eprintln!("warning: {}: cut-out materials (alphaMode MASK or BLEND) {how}", scene.name);
-    }
-    // On the GPU, the methods other than beam and ray use no texture (said above).
     let normal_maps = scene.surfaces.maps.iter().any(|m| m.normal.is_some());
-    if normal_maps && !gpu && matches!(kind, Kind::Glossy | Kind::GlossyReference) {
+    if normal_maps && matches!(kind, Kind::Glossy | Kind::GlossyReference) {
         eprintln!(
             "warning: {}: normal textures bend the direct light of --method {} but not the scattered light it \
              gathers",
             scene.name,
             kind.name()
         );
-    }
-}
-
-/// What of a non-black environment `kind` (on the GPU where `gpu`) does not show, after
-/// "the environment is not seen by --method X"; `None` where it shows wholly (`beam`, `ray`) or is
-/// black.
-fn unseen_environment(kind: Kind, gpu: bool, environment: &Environment) -> Option<&'static str> {
-    if environment.is_black() {
-        return None;
-    }
-    match kind {
-        Kind::Beam | Kind::Ray => None,
-        _ if gpu => Some(" --backend gpu"),
-        Kind::Nonlinear | Kind::NonlinearReference => {
-            Some(" in the background, mirrors and glass (it lights diffuse surfaces only)")
-        }
-        Kind::Glossy | Kind::GlossyReference => Some(""),
     }
 }

@@ -204,3 +204,44 @@ fn sky_shadows_agree_between_beams_and_rays() {
     let most = beam.pixels.iter().map(|p| p.x).fold(0.0, f32::max);
     assert!(most <= albedo.x * sky.x * 1.0001, "no point gets more than πL: {most}");
 }
+
+/// The nonlinear beams (000) show the environment as rays do: each texel of a reflection beam that
+/// leaves the scene carries the radiance along its own ray, so a mirror sphere under a constant sky
+/// shows the sky times its tint and, under a map, the map's colour in each pixel's reflected
+/// direction; the background is the sky. So does the Whitted reference.
+#[test]
+fn nonlinear_beams_show_the_environment() {
+    use beam_cpu::nonlinear::{CpuBeams, render_smooth_reference_with};
+    use beam_render::nonlinear::{CAUSTIC_STRATA, Degree, NonlinearOptions, render_nonlinear_with};
+    let (sky, tint) = (Vec3::new(0.3, 0.5, 0.9), Vec3::new(0.9, 0.8, 0.6));
+    let map = Arc::new(direction_map());
+    for environment in [Environment::Constant(sky), Environment::Map(map.clone())] {
+        let scene = mirror_sphere(tint, environment.clone());
+        let options = NonlinearOptions {
+            degree: Degree::S3,
+            texels: 32,
+            bounces: 2,
+            caustic_strata: CAUSTIC_STRATA,
+            shading: RenderOptions::exact(48, 48),
+        };
+        let beams = render_nonlinear_with(&scene, &options, &mut CpuBeams, &CpuBeams).expect("a frame").0;
+        let reference = render_smooth_reference_with(&scene, &options.shading, 0, &CpuBeams).expect("a reference");
+        let frame = scene.camera.frame();
+        for (name, image) in [("beams", &beams), ("reference", &reference)] {
+            let (mut worst, mut on) = (0.0f32, 0);
+            for (i, p) in image.pixels.iter().enumerate() {
+                let want = match reflected(&scene, i) {
+                    Some(r) => {
+                        on += 1;
+                        tint * environment.radiance(r)
+                    }
+                    None if i == 0 => environment.radiance(scene.camera.pixel_ray(&frame, i).direction),
+                    None => continue,
+                };
+                worst = worst.max((*p - want).abs().max_element());
+            }
+            let bound = if matches!(environment, Environment::Constant(_)) { 1e-4 } else { 0.05 };
+            assert!(on > 300 && worst < bound, "{name}: {on} pixels, largest difference {worst} (bound {bound})");
+        }
+    }
+}

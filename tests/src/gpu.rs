@@ -32,6 +32,7 @@ mod level;
 mod lookup;
 mod pixels;
 mod readback;
+mod surfaces;
 mod twin;
 mod whitted;
 
@@ -51,6 +52,7 @@ use level::{
 use lookup::gpu_lookup_projections_equal_cpu;
 use pixels::PixelDifference;
 use readback::gpu_readbacks_reuse_buffers;
+use surfaces::gpu_textured_surfaces_equal_cpu;
 use twin::TwinShading;
 use whitted::gpu_whitted_equals_cpu;
 
@@ -163,6 +165,12 @@ pub fn properties() -> Vec<Property> {
             cites: "001 §3",
             backends: GPU,
             body: gpu_eye_beam_coverage_equals_cpu,
+        },
+        Property {
+            name: "gpu_textured_surfaces_equal_cpu",
+            cites: "glTF 2.0 §3.9 (textures, alphaMode)",
+            backends: GPU,
+            body: gpu_textured_surfaces_equal_cpu,
         },
     ]
 }

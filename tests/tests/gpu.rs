@@ -33,4 +33,5 @@ beam_conformance::conformance_tests!(
     gpu_images_of_beam_and_ray_equal_cpu,
     gpu_gbuffer_irradiance_equals_cpu,
     gpu_eye_beam_coverage_equals_cpu,
+    gpu_textured_surfaces_equal_cpu,
 );

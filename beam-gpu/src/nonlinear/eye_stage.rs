@@ -16,15 +16,15 @@ use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use beam_render::BackendError;
 use beam_render::nonlinear::{EyeFaces, EyeView, KeptFrame, PixelHits, SMesh, ShadePoint, TexelRadiance, eye_by_rays};
-use beam_render::options::{RenderOptions, Shading};
+use beam_render::options::RenderOptions;
 use beam_scene::scene::{Camera, Scene};
 use rayon::prelude::*;
 use std::time::Instant;
 
 impl GpuBeams<'_> {
     /// The eye's view on the GPU with `faces` (where given, its mirror and glass hits on them kept),
-    /// or `None` where the composite will not shade the frame (shading not exact, the eye's level
-    /// past one texture).
+    /// or `None` where the composite will not shade the frame (the GPU does not shade it,
+    /// [`GpuBeams::shades`], or the eye's level is past one texture).
     fn eye_on_gpu(
         &self,
         camera: &Camera,
@@ -32,7 +32,7 @@ impl GpuBeams<'_> {
         faces: Option<EyeFaceMap<'_>>,
     ) -> Result<Option<EyeOut>, GpuError> {
         let pixels = camera.width as usize * camera.height as usize;
-        if options.shading != Shading::Exact || !texels::fits(self.gpu, pixels) {
+        if !self.shades(options) || !texels::fits(self.gpu, pixels) {
             return Ok(None);
         }
         let start = Instant::now();
@@ -62,7 +62,7 @@ impl GpuBeams<'_> {
 }
 
 impl EyeView for GpuBeams<'_> {
-    /// On the GPU (`GpuEye`) where the composite will shade the frame (exact shading, the eye's
+    /// On the GPU (`GpuEye`) where the composite will shade the frame (the GPU shades it, the eye's
     /// level within one texture): the diffuse, glossy and emissive pixels of the region are kept
     /// there, in the frame's `GpuKept`. Otherwise by the compute ray tracer, keeping none.
     fn eye_view(

@@ -8,6 +8,7 @@ mod beam;
 mod check;
 mod composite;
 mod cull;
+mod cut_outs;
 mod display;
 mod eye;
 mod eye_stage;

@@ -18,12 +18,13 @@ use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
+use beam_render::cut_outs::{blocked_there, hits_there};
 use beam_render::irradiance_map::IrradianceMap;
 use beam_render::nonlinear::{
     Beam, BeamTexture, ChildLookups, CoarseByRays, DeviceImage, DeviceWaits, FramePixels, KeptFrame, LevelRadiance,
     LookupJob, PointShading, SMesh, ShadePoint, TreeShading,
 };
-use beam_render::options::{RenderOptions, Shading};
+use beam_render::options::RenderOptions;
 use beam_render::queries::RayQueries;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
@@ -92,13 +93,30 @@ impl DeviceWaits for GpuBeams<'_> {
     }
 }
 
-impl RayQueries for GpuBeams<'_> {
-    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
+impl GpuBeams<'_> {
+    /// The nearest hit of each of `rays` by the compute ray tracer, whatever its surface.
+    fn nearest(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
         Ok(closest_of(scene, rays, self.trace(rays.par_iter().map(GpuRay::closest).collect())?))
     }
+}
 
-    fn any_hits(&self, _scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
-        Ok(occluded_of(&self.trace(segments.par_iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?))
+/// By the compute ray tracer, which tests no alpha: in a scene with cut-outs, each hit on one is
+/// checked on the host and the ray sent on past it ([`beam_render::cut_outs`]).
+impl RayQueries for GpuBeams<'_> {
+    fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
+        if !scene.has_cut_outs() {
+            return self.nearest(scene, rays);
+        }
+        let segments: Vec<(Ray, f32)> = rays.iter().map(|&r| (r, f32::INFINITY)).collect();
+        hits_there(scene, &segments, |rays| self.nearest(scene, rays))
+    }
+
+    fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
+        let blocked = occluded_of(&self.trace(segments.par_iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?);
+        if !scene.has_cut_outs() {
+            return Ok(blocked);
+        }
+        blocked_there(scene, segments, blocked, |rays| self.nearest(scene, rays))
     }
 }
 
@@ -110,8 +128,9 @@ impl PointShading for GpuBeams<'_> {
         caustics: Option<&IrradianceMap>,
         points: &[ShadePoint],
     ) -> Result<Option<Vec<Vec3>>, BackendError> {
-        // The GPU's shading pass does exact shading (001 eq. 1 by shadow rays) only.
-        if options.shading != Shading::Exact {
+        // The GPU's shading pass does exact shading (001 eq. 1 by shadow rays) of constant
+        // materials only.
+        if !self.shades(options) {
             return Ok(None);
         }
         self.shade_exact(caustics, points).map(Some).map_err(BackendError::from)
@@ -126,7 +145,7 @@ impl PointShading for GpuBeams<'_> {
         levels: &[LevelRadiance],
         frame: KeptFrame,
     ) -> Result<TreeShading, BackendError> {
-        if options.shading != Shading::Exact || !GpuComposite::fits(self.gpu, levels) {
+        if !self.shades(options) || !GpuComposite::fits(self.gpu, levels) {
             return Ok(TreeShading::HandedBack(frame));
         }
         // Points under coarse faces (the eye's, a level's) look their child beams up in the level

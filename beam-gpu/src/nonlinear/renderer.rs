@@ -10,6 +10,7 @@
 
 use super::atlas::GpuAtlas;
 use super::composite::GpuComposite;
+use super::cut_outs::see_through_cut_outs;
 use super::eye::GpuEye;
 use super::kept::GpuKept;
 use super::lookups::GpuLookups;
@@ -26,6 +27,7 @@ use beam_render::BackendError;
 use beam_render::nonlinear::{
     BeamJob, BeamRasterizer, BeamTexture, KeepLevel, KeptFrame, KeptTotals, TexelPoint, TexelRadiance,
 };
+use beam_render::options::{RenderOptions, Shading};
 use beam_scene::scene::Scene;
 
 /// The GPU's beam renderer for one scene: its triangles uploaded, every stage's passes compiled.
@@ -55,6 +57,11 @@ pub struct GpuBeams<'g> {
     pub(super) light_samples: u32,
     /// The scene's diagonal.
     pub(super) extent: f32,
+    /// Whether the GPU's shading and composite see the scene as it is: constant materials, with
+    /// no texture or vertex colour ([`Surfaces::is_plain`](beam_scene::scene::surface::Surfaces::is_plain)),
+    /// and a black environment (texels that leave the scene are black). Else every point is
+    /// handed back to the host, which reads the textures and shows the environment.
+    pub(super) as_is: bool,
     /// Where the eye's view, the rays and the composite spent their time, summed over the
     /// renderer's life (the atlas stage sums its own).
     pub(super) times: SummedTimes,
@@ -64,9 +71,13 @@ impl<'g> GpuBeams<'g> {
     /// Upload `scene` and compile the pipeline; pages of up to 4096² texels (less where the adapter
     /// allows less).
     pub fn new(gpu: &'g Gpu, scene: &Scene) -> Result<Self, GpuError> {
+        let as_is = scene.surfaces.is_plain() && scene.environment.is_black();
+        let mut atlas = GpuAtlas::new(gpu, scene)?;
+        // Where the host shades the frame, no level is kept on the GPU for it.
+        atlas.keep_levels = as_is;
         Ok(Self {
             gpu,
-            atlas: GpuAtlas::new(gpu, scene)?,
+            atlas,
             eye: GpuEye::new(gpu, scene)?,
             composite: GpuComposite::new(gpu)?,
             shader: PointShader::new(gpu, scene)?,
@@ -76,6 +87,7 @@ impl<'g> GpuBeams<'g> {
             display: false,
             light_samples: 64,
             extent: scene.bounds().extent().length(),
+            as_is,
             times: SummedTimes::default(),
         })
     }
@@ -115,7 +127,7 @@ impl<'g> GpuBeams<'g> {
 
     /// This renderer, leaving each frame's pixels on the GPU for display rather than reading them
     /// back: where the GPU composites the frame (exact shading, each level within one texture of
-    /// the device), `beam_cpu`'s `render_nonlinear_frame` returns the frame as the GPU keeps it
+    /// the device), `beam_render`'s `render_nonlinear_frame` returns the frame as the GPU keeps it
     /// ([`super::GpuFrame::from_device`] takes it), in a texture of the whole image's size (pixels
     /// outside a `region` black); elsewhere the image comes back as before.
     #[must_use]
@@ -135,6 +147,21 @@ impl<'g> GpuBeams<'g> {
     #[must_use]
     pub fn can_compute(gpu: &Gpu) -> bool {
         AtlasPages::can_compute(gpu)
+    }
+
+    /// Whether the GPU shades the points of a frame with `options`: where the shading is exact
+    /// (001 eq. 1 by shadow rays, all its shading pass does) and it sees the scene
+    /// [as it is](Self::as_is). Elsewhere it hands them back to the host.
+    pub(super) fn shades(&self, options: &RenderOptions) -> bool {
+        options.shading == Shading::Exact && self.as_is
+    }
+
+    /// [`see_through_cut_outs`] for `textures`, the GPU's of `jobs`, counted.
+    fn see_through_cut_outs(&self, scene: &Scene, jobs: &[BeamJob<'_>], textures: &mut [BeamTexture]) {
+        let again = see_through_cut_outs(scene, jobs, textures);
+        if again > 0 {
+            self.add_times(|t| t.cut_out_beams += again);
+        }
     }
 
     /// Time spent so far.
@@ -160,8 +187,11 @@ impl<'g> GpuBeams<'g> {
 /// The tree levels by the atlas stage (`GpuAtlas`); a level it keeps goes to the frame's
 /// `GpuKept`.
 impl BeamRasterizer for GpuBeams<'_> {
+    /// On the GPU; a beam that sees through a cut-out, again on the host ([`see_through_cut_outs`]).
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
-        self.atlas.render_beams(scene, jobs)
+        let mut textures = self.atlas.render_beams(scene, jobs)?;
+        self.see_through_cut_outs(scene, jobs, &mut textures);
+        Ok(textures)
     }
 
     /// Kept where the composite will shade the tree (exact shading, the level within one texture),
@@ -175,8 +205,10 @@ impl BeamRasterizer for GpuBeams<'_> {
         frame: &mut KeptFrame,
     ) -> Result<(Vec<BeamTexture>, Option<KeptTotals>), BackendError> {
         let locate = frame.get::<GpuKept>().and_then(|k| k.eye_hits.as_ref()).map(|e| &e.locate);
-        let (textures, kept) = self.atlas.render_level(scene, jobs, keep, locate)?;
+        let (mut textures, kept) = self.atlas.render_level(scene, jobs, keep, locate)?;
         let Some(level) = kept else {
+            // Every hit came back (a level with cut-outs is never kept: the host shades it).
+            self.see_through_cut_outs(scene, jobs, &mut textures);
             return Ok((textures, None));
         };
         // A level rendered again replaces the frame's.

@@ -44,6 +44,9 @@ pub struct GpuTimes {
     /// Points under coarse S-mesh faces (the eye's and the levels') whose composite records the
     /// GPU made, each looking its child beams up for its own scattered rays.
     pub coarse_records: u64,
+    /// Beams rendered again on the host ([`beam_render::nonlinear::render_beam`]) because a texel's
+    /// nearest hit on the GPU lay where a cut-out's surface is not there.
+    pub cut_out_beams: u64,
     /// The GPU's own seconds in the atlas passes, by timestamp queries (all 0 where the device has
     /// none): bounding triangles, nearest hits (draws, or the compute pass), gather.
     pub atlas_pass_seconds: [f64; 3],
@@ -52,7 +55,7 @@ pub struct GpuTimes {
 /// Seconds in a [`GpuTimes`], in [`SummedTimes`]' order.
 const SECONDS: usize = 8;
 /// Counts in a [`GpuTimes`], in [`SummedTimes`]' order.
-const COUNTS: usize = 10;
+const COUNTS: usize = 11;
 
 impl GpuTimes {
     /// Its seconds, in [`SummedTimes`]' order.
@@ -83,6 +86,7 @@ impl GpuTimes {
             self.lookups,
             self.level_records,
             self.coarse_records,
+            self.cut_out_beams,
         ]
     }
 
@@ -100,6 +104,7 @@ impl GpuTimes {
             lookups,
             level_records,
             coarse_records,
+            cut_out_beams,
         ] = counts;
         Self {
             atlas_seconds,
@@ -117,6 +122,7 @@ impl GpuTimes {
             lookups,
             level_records,
             coarse_records,
+            cut_out_beams,
             atlas_pass_seconds: [a, b, c],
         }
     }

@@ -1,7 +1,7 @@
 //! The radiance flow of a beam tree (000 §7.3, the final composite): deepest level first, every
 //! texel that hit is shaded, or, on a specular S-mesh face with child beams, textured from the
-//! children's radiance at the face's barycentric point (bilinear, Fresnel-weighted for glass); the
-//! eye's pixels last. [`composite_levels`] does it on the CPU; beam-gpu's renderer keeps every
+//! children's radiance at the face's barycentric point (bilinear, Fresnel-weighted for glass), and
+//! every texel whose ray left the scene shows the environment; the eye's pixels last. [`composite_levels`] does it on the CPU; beam-gpu's renderer keeps every
 //! level's radiance on the GPU and reads back only the pixels.
 
 use super::radiance::{LevelRadiance, composite, sample_region};
@@ -35,6 +35,9 @@ pub fn composite_levels(
         let composited: Vec<Option<Vec3>> =
             level.texels.par_iter().map(|t| Some(composite(scene, smesh, &t.point, t.composite?, sample))).collect();
         let mut out = vec![Vec3::ZERO; level.len];
+        for &(t, d) in &level.missed {
+            out[t as usize] = scene.environment.radiance(d);
+        }
         for (t, c) in level.texels.iter().zip(composited) {
             out[t.texel as usize] = c.or_else(|| shaded.next()).unwrap_or_default();
         }

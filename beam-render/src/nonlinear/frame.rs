@@ -24,7 +24,8 @@ use crate::parallel::par_flatten;
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
-use beam_scene::scene::Scene;
+use beam_scene::region::PixelRect;
+use beam_scene::scene::{Camera, Scene};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -236,6 +237,7 @@ pub fn render_nonlinear_frame(
             })
             .collect(),
         node_children: Default::default(),
+        missed: eye_missed(scene, &camera, crop, &hits),
     };
     let mut flow: Vec<LevelRadiance> =
         std::iter::once(eye).chain(tree.radiance_levels(renderer, &levels, &records)?).collect();
@@ -328,4 +330,22 @@ pub fn render_nonlinear_frame(
         height: crop.height(),
     };
     Ok((image, stats))
+}
+
+/// The pixels of `crop` that no ray of `hits` (the eye's view handed back) hits, with their rays'
+/// directions, where the environment they show is not black. (Pixels a backend kept are among
+/// them: the texels it hands back with them later are composited over them.)
+fn eye_missed(scene: &Scene, camera: &Camera, crop: PixelRect, hits: &[(usize, Ray, Hit)]) -> Vec<(u32, Vec3)> {
+    if scene.environment.is_black() {
+        return Vec::new();
+    }
+    let mut hit = vec![false; camera.width as usize * camera.height as usize];
+    for &(i, ..) in hits {
+        hit[i] = true;
+    }
+    let frame = camera.frame();
+    crop.frame_indices(camera.width)
+        .filter(|&i| !hit[i])
+        .map(|i| (i as u32, camera.pixel_ray(&frame, i).direction))
+        .collect()
 }

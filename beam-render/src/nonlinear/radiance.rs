@@ -45,6 +45,9 @@ pub struct LevelRadiance {
     /// Its texels that hit (less those a backend kept, [`super::BeamRasterizer::render_level`],
     /// [`super::EyeView::eye_faces`]).
     pub texels: Vec<TexelRadiance>,
+    /// Its texels (pixels) whose ray leaves the scene, with that ray's direction: they show the
+    /// environment. Empty where the environment is black.
+    pub missed: Vec<(u32, Vec3)>,
     /// Per S-mesh face: its reflection and refraction beams in the level below, [`u32::MAX`] for
     /// none (the eye's view; for the pixels a backend kept).
     pub children: Vec<[u32; 2]>,

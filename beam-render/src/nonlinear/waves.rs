@@ -54,7 +54,8 @@ pub type Shade<'a> = dyn Fn(&[ShadePoint]) -> Result<Vec<Vec3>, BackendError> + 
 /// Trace `paths` (at bounce `first` of at most [`MAX_DEPTH`]) wave by wave: each wave's nearest hits
 /// by `renderer`, mirror and glass hits continuing as their [`specular_rays`], every other hit
 /// shaded by `shade` in one batch (drawing its samples from the seed `seed(pixel)`) and added, times
-/// its path's weight, to `out[pixel]`.
+/// its path's weight, to `out[pixel]`; a path that leaves the scene adds the environment's radiance
+/// along its ray.
 pub fn trace_waves(
     scene: &Scene,
     renderer: &(impl RayQueries + ?Sized),
@@ -74,8 +75,8 @@ pub fn trace_waves(
         // Per path: the (at most two) paths it continues as, or the point it ends on.
         let next: Vec<([Option<Path>; 2], Option<End>)> = paths
             .par_iter()
-            .zip(hits)
-            .map(|(&(px, ray, weight), hit)| {
+            .zip(&hits)
+            .map(|(&(px, ray, weight), &hit)| {
                 let Some(hit) = hit else { return ([None; 2], None) };
                 let (p, d) = (ray.at(hit.t), ray.direction.normalize());
                 match specular_rays(scene, eps, hit.prim, p, d) {
@@ -85,6 +86,13 @@ pub fn trace_waves(
                 }
             })
             .collect();
+        if !scene.environment.is_black() {
+            for ((&(px, ray, weight), _), hit) in paths.iter().zip(&next).zip(&hits) {
+                if hit.is_none() {
+                    out[px] += weight * scene.environment.radiance(ray.direction);
+                }
+            }
+        }
         let ends: Vec<End> = gather(&next, (0, Vec3::ZERO, ShadePoint::default()), |_, (_, e)| [*e, None]);
         let points: Vec<ShadePoint> = ends.par_iter().map(|e| e.2).collect();
         for ((px, weight, _), radiance) in ends.iter().zip(shade(&points)?) {

@@ -13,6 +13,7 @@ use crate::nonlinear::renderer::{BeamRenderer, LevelLayout};
 use crate::nonlinear::texture::{ShadePoint, TexelPoint};
 use crate::parallel::par_flatten;
 use beam_math::glam::Vec3;
+use rayon::prelude::*;
 
 impl Tree<'_> {
     /// The tree's levels for the radiance flow: per level, every beam's region and every texel
@@ -79,7 +80,8 @@ impl Tree<'_> {
                         }
                     },
                 );
-                Ok(LevelRadiance { regions, len, texels, ..LevelRadiance::default() })
+                let missed = self.missed(nodes, &regions);
+                Ok(LevelRadiance { regions, len, texels, missed, ..LevelRadiance::default() })
             })
             .collect()
     }
@@ -148,6 +150,26 @@ impl Tree<'_> {
             reflected_at,
             refracted_at,
         })
+    }
+
+    /// The texels of `nodes` (a level whose beams start at `regions`) whose rays leave the scene,
+    /// with their rays' directions, where the environment they then show is not black.
+    fn missed(&self, nodes: &[Node], regions: &[(u32, u32)]) -> Vec<(u32, Vec3)> {
+        if self.scene.environment.is_black() {
+            return Vec::new();
+        }
+        let regions_and_nodes = regions.par_iter().zip(nodes);
+        regions_and_nodes
+            .flat_map_iter(|(&(first, size), n)| {
+                let mut hit = vec![false; (size * size) as usize];
+                for h in &n.hits {
+                    hit[h.texel as usize] = true;
+                }
+                (0..size * size)
+                    .filter(move |&k| !hit[k as usize] && n.tex.in_region(k % size, k / size))
+                    .map(move |k| (first + k, n.beam.ray_at(n.tex.barycentric(k % size, k / size)).direction))
+            })
+            .collect()
     }
 }
 
