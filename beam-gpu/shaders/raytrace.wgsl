@@ -40,7 +40,7 @@ struct PrimShading {
     normal: vec3<f32>,  // unit geometric normal
     kind: u32,          // SURFACE_REFLECTING (color = albedo), SURFACE_EMISSIVE (color = radiance)
     color: vec3<f32>,
-    plane: i32,         // caustic irradiance plane, −1 for none
+    plane: i32,         // front grid of its caustic irradiance plane (the back one next), −1 for none
 }
 
 // Twin of beam_gpu::shade::GpuLight (64 bytes).
@@ -245,7 +245,10 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) 
         st.integral = 0.0;
     }
     if m.plane >= 0 {
-        st.e += caustic_irradiance(u32(m.plane), s.p);
+        // The plane's front grid, or its back one where the eye's ray travels along its normal.
+        let front = planes[m.plane];
+        let back = dot(cross(front.axis_u, front.axis_v), s.d) > 0.0;
+        st.e += caustic_irradiance(u32(m.plane) + select(0u, 1u, back), s.p);
     }
     shade_out[i] = vec4<f32>(m.color / 3.1415927 * st.e, 0.0);
     shade_state.points[i].light = SHADED;

@@ -63,7 +63,7 @@ pub struct PrimShading {
     pub kind: u32,
     /// Albedo or radiance.
     pub color: [f32; 3],
-    /// Its plane in the caustic irradiance maps, −1 for none.
+    /// The front grid of its plane in the caustic irradiance maps (the back one next), −1 for none.
     pub plane: i32,
 }
 
@@ -484,11 +484,13 @@ fn upload_shading(gpu: &Gpu, mut prims: Vec<PrimShading>, caustics: Option<&Irra
     let mut planes = Vec::new();
     let mut flux: Vec<[f32; 4]> = Vec::new();
     if let Some(map) = caustics {
-        // Which plane each triangle's points read.
+        // Which plane each triangle's points read: the front grid of it (the back one next).
         for (i, p) in prims.iter_mut().enumerate() {
-            p.plane = map.plane_of(i as u32).map_or(-1, |k| k as i32);
+            p.plane = map.plane_of(i as u32).map_or(-1, |k| 2 * k as i32);
         }
         for (origin, axes, size, texels) in map.grids() {
+            // A side that received nothing has no texels: a grid of none, read as zero.
+            let size = if texels.is_empty() { [0, 0] } else { size };
             planes.push(CausticPlane {
                 origin: origin.to_array(),
                 offset: flux.len() as u32,

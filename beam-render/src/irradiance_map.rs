@@ -1,7 +1,8 @@
 //! Irradiance maps: the gather of a two-pass caustic method (000 §9.2 after Wyman and Davis), in
 //! receiver space rather than image space. Every receiving plane of the scene gets a grid of square
-//! texels; flux carriers (beam texels or photons) are splatted into it with a tent kernel, and a
-//! shade point reads the irradiance back bilinearly.
+//! texels on each of its two sides (a thin wall lit on one side stays dark on the other); flux
+//! carriers (beam texels or photons) are splatted into the side they arrive on with a tent kernel,
+//! and a shade point reads the irradiance of the side it is seen from back bilinearly.
 
 use beam_math::glam::{Vec2, Vec3};
 use beam_scene::scene::{Material, Scene};
@@ -9,12 +10,13 @@ use std::collections::HashMap;
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// One receiving plane's texels.
+/// One side of a receiving plane: its texels.
 #[derive(Clone, Debug)]
 struct PlaneMap {
     origin: Vec3,
     axes: [Vec3; 2],
     size: [u32; 2],
+    /// Row-major; empty until flux is first deposited (most sides receive none).
     flux: Vec<Vec3>,
 }
 
@@ -23,6 +25,20 @@ impl PlaneMap {
     fn coords(&self, p: Vec3) -> Vec2 {
         let q = p - self.origin;
         Vec2::new(q.dot(self.axes[0]), q.dot(self.axes[1]))
+    }
+
+    /// Its texels, allocated on first use.
+    fn flux_mut(&mut self) -> &mut [Vec3] {
+        if self.flux.is_empty() {
+            self.flux = vec![Vec3::ZERO; self.size[0] as usize * self.size[1] as usize];
+        }
+        &mut self.flux
+    }
+
+    /// The unit normal of its plane: `axes[0] × axes[1]` (which [`IrradianceMap::new`] makes along
+    /// the first triangle's normal).
+    fn normal(&self) -> Vec3 {
+        self.axes[0].cross(self.axes[1]).normalize_or_zero()
     }
 }
 
@@ -40,14 +56,17 @@ fn taps(size: [u32; 2], c: Vec2) -> impl Iterator<Item = (usize, f32)> {
         })
 }
 
-/// Irradiance over the scene's diffuse and glossy triangles, grouped by plane.
+/// Irradiance over the scene's diffuse and glossy triangles, grouped by plane, on both sides of
+/// each: grid `2k` of plane `k` holds the flux that arrives travelling against the plane's normal
+/// (on its front), grid `2k + 1` the flux travelling along it ([`IrradianceMap::grid`]).
 #[derive(Clone, Debug)]
 pub struct IrradianceMap {
     /// World size of a texel's side.
     pub texel: f32,
     maps: Vec<PlaneMap>,
-    /// Per scene triangle, its plane's index in `maps`, or [`NO_PLANE`] (a dense table: every
-    /// splat and every shade point looks one up; SipHash cost more than the splat itself).
+    /// Per scene triangle, its plane's index (its front grid's in `maps` over two), or
+    /// [`NO_PLANE`] (a dense table: every splat and every shade point looks one up; SipHash cost
+    /// more than the splat itself).
     plane_of: Vec<u32>,
     /// Which texels these are ([`IrradianceMap::content_id`]): assigned on first asking, forgotten
     /// by every change of the texels.
@@ -91,17 +110,13 @@ impl IrradianceMap {
         }
         let maps = bounds
             .into_iter()
-            .map(|(origin, [u, v], lo, hi)| {
+            .flat_map(|(origin, [u, v], lo, hi)| {
                 // One texel of margin each side; texel centres at integer coordinates.
                 let corner = origin + (lo.x - texel) * u + (lo.y - texel) * v;
                 let size = ((hi - lo) / texel).ceil().as_uvec2() + 3;
                 let size = [size.x.min(4096), size.y.min(4096)];
-                PlaneMap {
-                    origin: corner,
-                    axes: [u / texel, v / texel],
-                    size,
-                    flux: vec![Vec3::ZERO; (size[0] * size[1]) as usize],
-                }
+                let side = PlaneMap { origin: corner, axes: [u / texel, v / texel], size, flux: Vec::new() };
+                [side.clone(), side]
             })
             .collect();
         Self { texel, maps, plane_of, id: OnceLock::new() }
@@ -117,35 +132,51 @@ impl IrradianceMap {
         *self.id.get_or_init(|| NEXT.fetch_add(1, Ordering::Relaxed))
     }
 
-    /// Deposit `flux` (watts) arriving at point `p` of triangle `prim`; false when `prim` has no map.
-    pub fn splat(&mut self, prim: u32, p: Vec3, flux: Vec3) -> bool {
-        let Some(m) = self.plane_of(prim) else { return false };
+    /// The grid (an index in [`IrradianceMap::grids`]) of the side of triangle `prim`'s plane that
+    /// a ray travelling along `d` arrives on, if the triangle has a plane.
+    #[must_use]
+    pub fn grid(&self, prim: u32, d: Vec3) -> Option<usize> {
+        let front = 2 * self.plane_of(prim)?;
+        Some(front + usize::from(self.maps[front].normal().dot(d) > 0.0))
+    }
+
+    /// Deposit `flux` (watts) travelling along `d` to point `p` of triangle `prim`, on the side it
+    /// arrives on; false when `prim` has no map.
+    pub fn splat(&mut self, prim: u32, p: Vec3, d: Vec3, flux: Vec3) -> bool {
+        let Some(m) = self.grid(prim, d) else { return false };
         self.id = OnceLock::new();
         let map = &mut self.maps[m];
-        for (k, w) in taps(map.size, map.coords(p)) {
-            map.flux[k] += w * flux;
+        let taps = taps(map.size, map.coords(p));
+        let texels = map.flux_mut();
+        for (k, w) in taps {
+            texels[k] += w * flux;
         }
         true
     }
 
-    /// Add `flux` to texel `at` (column, row) of plane `plane` (an index in [`IrradianceMap::grids`]);
+    /// Add `flux` to texel `at` (column, row) of grid `grid` (an index in [`IrradianceMap::grids`]);
     /// outside the grid it is dropped.
-    pub fn add_texel(&mut self, plane: usize, at: [usize; 2], flux: Vec3) {
+    pub fn add_texel(&mut self, grid: usize, at: [usize; 2], flux: Vec3) {
         self.id = OnceLock::new();
-        if let Some(map) = self.maps.get_mut(plane)
+        if let Some(map) = self.maps.get_mut(grid)
             && at[0] < map.size[0] as usize
             && at[1] < map.size[1] as usize
         {
-            map.flux[at[1] * map.size[0] as usize + at[0]] += flux;
+            let width = map.size[0] as usize;
+            map.flux_mut()[at[1] * width + at[0]] += flux;
         }
     }
 
-    /// Irradiance (watts per unit area) at point `p` of triangle `prim`: the splatted flux over the
-    /// texel area, read bilinearly; zero where there is no map.
+    /// Irradiance (watts per unit area) at point `p` of triangle `prim` on the side a ray along `d`
+    /// (the eye's, arriving there) sees: the splatted flux over the texel area, read bilinearly;
+    /// zero where there is no map.
     #[must_use]
-    pub fn irradiance(&self, prim: u32, p: Vec3) -> Vec3 {
-        let Some(m) = self.plane_of(prim) else { return Vec3::ZERO };
+    pub fn irradiance(&self, prim: u32, p: Vec3, d: Vec3) -> Vec3 {
+        let Some(m) = self.grid(prim, d) else { return Vec3::ZERO };
         let map = &self.maps[m];
+        if map.flux.is_empty() {
+            return Vec3::ZERO;
+        }
         let sum: Vec3 = taps(map.size, map.coords(p)).map(|(k, w)| w * map.flux[k]).sum();
         sum / (self.texel * self.texel)
     }
@@ -153,8 +184,8 @@ impl IrradianceMap {
     /// Add another map of the same scene and texel size.
     pub fn merge(&mut self, other: &Self) {
         self.id = OnceLock::new();
-        for (a, b) in self.maps.iter_mut().zip(&other.maps) {
-            for (x, y) in a.flux.iter_mut().zip(&b.flux) {
+        for (a, b) in self.maps.iter_mut().zip(&other.maps).filter(|(_, b)| !b.flux.is_empty()) {
+            for (x, y) in a.flux_mut().iter_mut().zip(&b.flux) {
                 *x += *y;
             }
         }
@@ -166,7 +197,15 @@ impl IrradianceMap {
     pub fn relative_rms(&self, other: &Self) -> f64 {
         let (mut diff, mut norm) = (0.0f64, 0.0f64);
         for (a, b) in self.maps.iter().zip(&other.maps) {
-            for (x, y) in a.flux.iter().zip(&b.flux) {
+            // A side without texels holds zeros.
+            let zeros = || std::iter::repeat(&Vec3::ZERO);
+            let pairs: Box<dyn Iterator<Item = (&Vec3, &Vec3)>> = match (a.flux.is_empty(), b.flux.is_empty()) {
+                (true, true) => continue,
+                (false, false) => Box::new(a.flux.iter().zip(&b.flux)),
+                (true, false) => Box::new(zeros().zip(&b.flux)),
+                (false, true) => Box::new(a.flux.iter().zip(zeros())),
+            };
+            for (x, y) in pairs {
                 diff += f64::from((*x - *y).length_squared());
                 norm += f64::from(y.length_squared());
             }
@@ -174,13 +213,16 @@ impl IrradianceMap {
         (diff / norm.max(f64::MIN_POSITIVE)).sqrt()
     }
 
-    /// The planes' grids in order, for upload to a GPU: texel-centre origin, axes scaled to texels
-    /// (so `(p − origin)·axis` is a continuous texel coordinate), size, and flux per texel (row-major).
+    /// The grids in order (each plane's front, then its back), for upload to a GPU: texel-centre
+    /// origin, axes scaled to texels (so `(p − origin)·axis` is a continuous texel coordinate;
+    /// `axes[0] × axes[1]` along the plane's normal), size, and flux per texel (row-major; empty
+    /// where none was deposited: zeros).
     pub fn grids(&self) -> impl Iterator<Item = (Vec3, [Vec3; 2], [u32; 2], &[Vec3])> {
         self.maps.iter().map(|m| (m.origin, m.axes, m.size, m.flux.as_slice()))
     }
 
-    /// The index (in [`IrradianceMap::grids`]) of the plane of triangle `prim`, if it has one.
+    /// The index of the plane of triangle `prim` (its front grid is `2 ×` it in
+    /// [`IrradianceMap::grids`], its back grid the next), if it has one.
     #[must_use]
     pub fn plane_of(&self, prim: u32) -> Option<usize> {
         let m = *self.plane_of.get(prim as usize)?;
@@ -206,11 +248,12 @@ mod tests {
         let scene = builtin("wavy-lake").unwrap();
         let mut map = IrradianceMap::new(&scene, 0.1);
         let prim = (0..scene.triangles.len() as u32).find(|&p| map.plane_of(p).is_some()).unwrap();
+        let down = Vec3::NEG_Y;
         let first = map.content_id();
         assert_eq!(map.content_id(), first);
         let clone = map.clone();
         assert_eq!(clone.content_id(), first);
-        assert!(map.splat(prim, scene.triangles[prim as usize].v[0], Vec3::ONE));
+        assert!(map.splat(prim, scene.triangles[prim as usize].v[0], down, Vec3::ONE));
         let splatted = map.content_id();
         assert_ne!(splatted, first);
         assert_eq!(clone.content_id(), first);
@@ -220,5 +263,25 @@ mod tests {
         map.merge(&clone);
         assert_ne!(map.content_id(), added);
         assert_ne!(IrradianceMap::new(&scene, 0.1).content_id(), first);
+    }
+
+    /// Flux arriving on one side of a plane is read on that side only: a thin wall lit from the
+    /// front stays dark behind, and the other way round; a side nothing reached holds no texels.
+    #[test]
+    fn each_side_keeps_its_own_flux() {
+        let scene = builtin("cornell").unwrap();
+        let mut map = IrradianceMap::new(&scene, 10.0);
+        let prim = (0..scene.triangles.len() as u32).find(|&p| map.plane_of(p).is_some()).unwrap();
+        let n = scene.normal(prim);
+        let t = scene.triangles[prim as usize];
+        let p = (t.v[0] + t.v[1] + t.v[2]) / 3.0;
+        assert!(map.splat(prim, p, -n, Vec3::ONE));
+        let (front, back) = (map.irradiance(prim, p, -n), map.irradiance(prim, p, n));
+        assert!(front.x > 0.0 && back == Vec3::ZERO, "front {front}, back {back}");
+        assert_eq!(map.grids().filter(|g| !g.3.is_empty()).count(), 1);
+        assert!(map.splat(prim, p, n, Vec3::splat(2.0)));
+        assert!((map.irradiance(prim, p, n) - 2.0 * front).abs().max_element() < 1e-6);
+        assert_eq!(map.irradiance(prim, p, -n), front);
+        assert!((map.total_flux() - Vec3::splat(3.0)).abs().max_element() < 1e-5);
     }
 }

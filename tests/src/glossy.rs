@@ -257,12 +257,12 @@ pub fn glossy_splat_equals_integrated_gather(_: Backend, _: &Config) -> Result<O
         let scene = scene::builtin(name).map_err(|e| e.to_string())?;
         let volumes = LightVolumes::new(&scene, VolumeMethod::Exact, 4);
         let texel = photon_texel(&scene);
-        let (maps, _) = PhotonKernel::new(&scene, texel).splat(&volumes, None);
-        let map = &maps.sides[0];
-        // The plane that took the most light.
+        let (map, _) = PhotonKernel::new(&scene, texel).splat(&volumes, None);
+        // The plane whose front took the most light (its front grid, `k`, is plane `k / 2`'s).
         let grids: Vec<_> = map.grids().collect();
         let total = |flux: &[Vec3]| flux.iter().map(|f| f.element_sum()).sum::<f32>();
         let k = (0..grids.len())
+            .step_by(2)
             .max_by(|&a, &b| total(grids[a].3).total_cmp(&total(grids[b].3)))
             .ok_or(format!("{name}: no receiver plane"))?;
         let (origin, axes, size, flux) = grids[k];
@@ -277,7 +277,7 @@ pub fn glossy_splat_equals_integrated_gather(_: Backend, _: &Config) -> Result<O
         };
         let eps = beam_render::tolerance::shading_eps(&scene);
         let receivers: Vec<[Vec2; 3]> = (0..scene.triangles.len() as u32)
-            .filter(|&p| map.plane_of(p) == Some(k))
+            .filter(|&p| map.plane_of(p) == Some(k / 2))
             .map(|p| scene.triangles[p as usize].v.map(to_texels))
             .collect();
         // Glossy beams by the gather; specular ones by their footprints on the plane (texels), with

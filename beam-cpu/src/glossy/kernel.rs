@@ -13,7 +13,6 @@
 //! cell. The cells are visited in blocks, each taking the beams whose cones reach it from the cone
 //! hierarchy; negative shadow beams stay per receiver point ([`LightVolumes::shadows`]).
 
-use super::photons::PhotonMaps;
 use beam_math::glam::{Vec2, Vec3};
 use beam_render::glossy::{LightVolumes, Occluded, blocked};
 use beam_render::irradiance_map::IrradianceMap;
@@ -269,13 +268,14 @@ impl PhotonKernel {
     #[must_use]
     pub fn new(scene: &Scene, texel: f32) -> Self {
         let map = IrradianceMap::new(scene, texel);
-        let mut world: Vec<Vec<[Vec3; 3]>> = vec![Vec::new(); map.grids().count()];
+        // Per plane (its front grid's layout: both sides share it), its receiver triangles.
+        let mut world: Vec<Vec<[Vec3; 3]>> = vec![Vec::new(); map.grids().count() / 2];
         for (i, t) in scene.triangles.iter().enumerate() {
             if let Some(k) = map.plane_of(i as u32) {
                 world[k].push(t.v);
             }
         }
-        let grids: Vec<_> = map.grids().map(|(origin, axes, size, _)| (origin, axes, size)).collect();
+        let grids: Vec<_> = map.grids().step_by(2).map(|(origin, axes, size, _)| (origin, axes, size)).collect();
         let planes: Vec<Receivers> =
             grids.into_par_iter().zip(world.par_iter()).map(|(grid, tris)| Receivers::new(grid, tris)).collect();
         let mut blocks = Vec::new();
@@ -297,22 +297,22 @@ impl PhotonKernel {
     /// the receivers, as [`super::glossy_photons`]'s), second-order shadows by `occluded`; and the
     /// beam–block pairs evaluated. Shadow beams are left out.
     #[must_use]
-    pub fn splat(&self, volumes: &LightVolumes, occluded: Occluded<'_>) -> (PhotonMaps, u64) {
+    pub fn splat(&self, volumes: &LightVolumes, occluded: Occluded<'_>) -> (IrradianceMap, u64) {
         let done: Vec<Block> =
             self.blocks.par_iter().map(|&(k, first)| self.splat_block(volumes, k, first, occluded)).collect();
-        let mut maps = PhotonMaps { sides: [self.map.clone(), self.map.clone()] };
+        let mut map = self.map.clone();
         let mut tested = 0;
         for b in done {
             tested += b.tested;
-            for (side, map) in maps.sides.iter_mut().enumerate() {
-                for (i, f) in b.flux[side].iter().enumerate() {
+            for (side, flux) in b.flux.iter().enumerate() {
+                for (i, f) in flux.iter().enumerate() {
                     if *f != Vec3::ZERO {
-                        map.add_texel(b.plane, [b.first[0] + i % b.width, b.first[1] + i / b.width], *f);
+                        map.add_texel(2 * b.plane + side, [b.first[0] + i % b.width, b.first[1] + i / b.width], *f);
                     }
                 }
             }
         }
-        (maps, tested)
+        (map, tested)
     }
 
     /// The texel sums of the cells `first ..< first + BLOCK` of plane `k`.

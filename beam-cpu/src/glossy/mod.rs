@@ -15,7 +15,7 @@ mod render;
 
 pub use direct::reference_direct;
 pub use kernel::PhotonKernel;
-pub use photons::{PhotonMaps, glossy_photons, photon_texel};
+pub use photons::{glossy_photons, photon_texel};
 pub use render::{
     Gather, GlossyStats, gather_on_cpu, render_glossy, render_glossy_photons, render_glossy_photons_in,
     render_glossy_reference, render_glossy_reference_in, render_glossy_with,

@@ -38,37 +38,16 @@ fn spread(d: Vec3, sigma: f32, rng: &mut Pcg32) -> Vec3 {
     (d * r.cos() + (t1 * c + t2 * s) * r.sin()).normalize_or_zero()
 }
 
-/// The photon maps of the scattered light: one per side of the receivers (a thin wall lit on one
-/// side stays dark on the other).
-#[derive(Clone, Debug)]
-pub struct PhotonMaps {
-    /// Photons arriving against the triangles' geometric normals (on their front), and along them.
-    pub sides: [IrradianceMap; 2],
-}
-
-impl PhotonMaps {
-    /// The side of triangle `prim` that light travelling along `d` arrives on.
-    fn side(scene: &Scene, prim: u32, d: Vec3) -> usize {
-        usize::from(scene.normal(prim).dot(d) > 0.0)
-    }
-
-    /// Irradiance at point `p` of triangle `prim` on the side an eye ray along `d` sees.
-    #[must_use]
-    pub fn irradiance(&self, scene: &Scene, prim: u32, p: Vec3, d: Vec3) -> Vec3 {
-        self.sides[Self::side(scene, prim, d)].irradiance(prim, p)
-    }
-}
-
 /// About `photons` photons per light, spread over the scatterer triangles in proportion to the
 /// solid angle they fill from the light's centre, uniformly over each triangle's area; each carries
 /// `I·cosθ·A/(r²·M)` of its triangle's `M`. For an area light (radiance `L`, area `A_L`) each
 /// photon leaves a uniformly random point of its area with `I = L·A_L·cosθ_L` towards the
 /// triangle's point: the same light as the area emits, sampled by area at both ends. Returns the
-/// irradiance maps of the scattered light (texel [`photon_texel`]).
+/// irradiance map of the scattered light (texel [`photon_texel`]; a thin wall lit on one side stays
+/// dark on the other).
 #[must_use]
-pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
-    let map = IrradianceMap::new(scene, photon_texel(scene));
-    let empty = PhotonMaps { sides: [map.clone(), map] };
+pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> IrradianceMap {
+    let empty = IrradianceMap::new(scene, photon_texel(scene));
     let eps = shading_eps(scene);
     let mut jobs = Vec::new();
     for (li, source) in scene.lights.iter().enumerate() {
@@ -145,16 +124,12 @@ pub fn glossy_photons(scene: &Scene, photons: u64, seed: u64) -> PhotonMaps {
                     if let Some(hit) = scene.closest_hit(ray, f32::INFINITY)
                         && !beam_render::glossy::is_scatterer(&scene.material(hit.prim))
                     {
-                        let side = PhotonMaps::side(scene, hit.prim, dir);
-                        map.sides[side].splat(hit.prim, ray.at(hit.t), flux * tint * weight);
+                        map.splat(hit.prim, ray.at(hit.t), dir, flux * tint * weight);
                     }
                 }
             }
             map
         },
-        |a, b| {
-            a.sides[0].merge(&b.sides[0]);
-            a.sides[1].merge(&b.sides[1]);
-        },
+        |a, b| a.merge(&b),
     )
 }

@@ -8,7 +8,7 @@
 
 use super::direct::reference_direct;
 use super::kernel::PhotonKernel;
-use super::photons::{PhotonMaps, glossy_photons};
+use super::photons::glossy_photons;
 use crate::RenderError;
 use crate::nonlinear::CpuBeams;
 use beam_math::Ray;
@@ -16,6 +16,7 @@ use beam_math::glam::Vec3;
 use beam_render::BackendError;
 use beam_render::glossy::{Emitter, Gathered, GlossyOptions, LightVolumes, Occluded, is_scatterer};
 use beam_render::image::Image;
+use beam_render::irradiance_map::IrradianceMap;
 use beam_render::nonlinear::{BeamRenderer, Shade, ShadePoint, shade_by_waves};
 use beam_render::tolerance::{DEPTH_EPS, shading_eps};
 use beam_scene::region::PixelRect;
@@ -237,7 +238,7 @@ pub fn render_glossy_with(
                     .par_iter()
                     .zip(&at)
                     .map(|(s, &(p, n))| Gathered {
-                        irradiance: maps.irradiance(scene, s.prim, p, s.d),
+                        irradiance: maps.irradiance(s.prim, p, s.d),
                         ..shadows.gather(p + n * eps, n, None)
                     })
                     .collect()
@@ -281,7 +282,12 @@ pub fn render_glossy_with(
 /// The ground truth of [`render_glossy`]: the same eye paths, receivers lit directly with exact
 /// shadow rays (every occluder; area lights sampled over their area, [`reference_direct`]) plus
 /// the scattered light of `map` (from [`glossy_photons`]).
-pub fn render_glossy_photons(scene: &Scene, width: u32, height: u32, map: &PhotonMaps) -> Result<Image, RenderError> {
+pub fn render_glossy_photons(
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    map: &IrradianceMap,
+) -> Result<Image, RenderError> {
     render_glossy_photons_in(scene, (width, height), PixelRect::full(width, height), map)
 }
 
@@ -291,15 +297,14 @@ pub fn render_glossy_photons_in(
     scene: &Scene,
     (width, height): (u32, u32),
     region: PixelRect,
-    map: &PhotonMaps,
+    map: &IrradianceMap,
 ) -> Result<Image, RenderError> {
     check_lights(scene)?;
     let diffuse = |points: &[ShadePoint]| -> Result<Vec<Vec3>, BackendError> {
         Ok(points
             .par_iter()
             .map(|s| {
-                let e =
-                    reference_direct(scene, s.p, normals(scene, s), s.seed) + map.irradiance(scene, s.prim, s.p, s.d);
+                let e = reference_direct(scene, s.p, normals(scene, s), s.seed) + map.irradiance(s.prim, s.p, s.d);
                 scene.albedo_at(s.prim, s.p) / core::f32::consts::PI * e
             })
             .collect())

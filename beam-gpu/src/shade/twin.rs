@@ -81,7 +81,7 @@ pub fn shade_twin(scene: &Scene, caustics: Option<&IrradianceMap>, spp: u32, s: 
         e += Vec3::from(l.power) * (l.area * integral / spp as f32);
     }
     if let Some(map) = caustics {
-        e += map.irradiance(s.prim, s.p);
+        e += map.irradiance(s.prim, s.p, s.d);
     }
     albedo / std::f32::consts::PI * e
 }

@@ -180,8 +180,8 @@ pub fn caustics_by_beams(
             })
             .collect();
         stats.beams += work.iter().map(|w| w.2.len() as u64).sum::<u64>();
-        for (prim, p, flux) in per_face.into_iter().flatten() {
-            stats.texels_deposited += u64::from(map.splat(prim, p, flux));
+        for (prim, p, d, flux) in per_face.into_iter().flatten() {
+            stats.texels_deposited += u64::from(map.splat(prim, p, d, flux));
         }
     }
     stats.seconds = start.elapsed().as_secs_f64();
@@ -189,7 +189,7 @@ pub fn caustics_by_beams(
 }
 
 /// The flux of one light beam's texels `tex` off face `f` (with the thickness of the surface under
-/// it; see [`caustics_by_beams`]), appended to `out` as (receiving triangle, point, flux) to splat;
+/// it; see [`caustics_by_beams`]), appended to `out` as (receiving triangle, point, direction of travel, flux) to splat;
 /// `lit` caches per texel whether emitter `e` reaches its base point (shadow rays offset by `eps`,
 /// plus the thickness).
 fn deposit(
@@ -201,7 +201,7 @@ fn deposit(
     transmitted: bool,
     eps: f32,
     lit: &mut [Option<bool>],
-    out: &mut Vec<(u32, Vec3, Vec3)>,
+    out: &mut Vec<(u32, Vec3, Vec3, Vec3)>,
 ) {
     let n = f.normal;
     // Texels whose centre lies strictly inside the base: x + y + 2 ≤ size, n(n−1)/2 of them (the
@@ -228,7 +228,7 @@ fn deposit(
                 continue;
             }
             let ray = beam.ray_at(w);
-            out.push((hit.prim, ray.at(hit.t), e.intensity * weight * (n.dot(d).abs() * share / r2)));
+            out.push((hit.prim, ray.at(hit.t), ray.direction, e.intensity * weight * (n.dot(d).abs() * share / r2)));
         }
     }
 }
@@ -298,7 +298,7 @@ pub fn caustics_by_photons(scene: &Scene, photons: u64, seed: u64) -> Option<Irr
                 }
                 for (ray, weight) in rays {
                     if let Some(hit) = scene.closest_hit(ray, f32::INFINITY) {
-                        map.splat(hit.prim, ray.at(hit.t), flux * weight);
+                        map.splat(hit.prim, ray.at(hit.t), ray.direction, flux * weight);
                     }
                 }
             }

@@ -70,7 +70,7 @@ impl Context<'_> {
                 let mut e = self.direct(p + n * self.eps, shading_normal, lights, depth == 0, rng, t);
                 t.surface = None;
                 if let Some(map) = self.caustics {
-                    e += map.irradiance(prim, p);
+                    e += map.irradiance(prim, p, d);
                 }
                 // Sampled parts of lights leave the radiance within this much of the exact one.
                 let bound = core::mem::take(&mut t.c.pending_bound);
