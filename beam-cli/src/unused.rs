@@ -12,9 +12,14 @@ pub(crate) fn warn(scene: &Scene, kind: Kind, gpu: bool) {
         // Said even when `quiet`: the image lacks content the file holds.
         eprintln!("warning: {}: {} {}", scene.name, n.count, n.what);
     }
-    // Every method but the glossy light volumes shows the environment.
+    // Every method shows the environment; every method but the glossy light volumes is lit by it.
     if !scene.environment.is_black() && matches!(kind, Kind::Glossy | Kind::GlossyReference) {
-        eprintln!("warning: {}: the environment is not seen by --method {}", scene.name, kind.name());
+        eprintln!(
+            "warning: {}: the environment lights nothing by --method {} (it is seen in the background, mirrors and \
+             glass)",
+            scene.name,
+            kind.name()
+        );
     }
     // Every method reads textures on both backends (the GPU hands textured points to the host),
     // and the rays and nonlinear beams see through cut-outs where their alpha says; the glossy

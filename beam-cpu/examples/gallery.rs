@@ -1,9 +1,10 @@
 //! The gallery of `docs/gallery.md`: six small glTF models written here, loaded with their
 //! defaults (no camera and no light of their own: the framing camera, the key light and the
-//! neutral sky), rendered by the beam and the ray method side by side.
+//! neutral sky), rendered by every method: beam, ray, nonlinear and glossy.
 //!
 //! `cargo run --release -p beam-cpu --example gallery -- [folder]` writes the models and
-//! `gallery.png` (one column per model, beam above ray) to `folder` (default `gallery`).
+//! `gallery.png` (one column per model, a row per method in that order) to `folder` (default
+//! `gallery`).
 //!
 //! 1. a box textured with a checker (`baseColorTexture`, nearest filtering);
 //! 2. a box with a colour per face (`COLOR_0`);
@@ -15,8 +16,12 @@
 
 use beam_render::image::Image;
 
+use beam_cpu::glossy::render_glossy;
+use beam_cpu::nonlinear::CpuBeams;
 use beam_cpu::render::render;
 use beam_math::glam::Vec3;
+use beam_render::glossy::GlossyOptions;
+use beam_render::nonlinear::{CAUSTIC_STRATA, Degree, NonlinearOptions, render_nonlinear_with};
 use beam_render::options::{Method, RenderOptions};
 use beam_scene::scene::{self, Environment, EnvironmentMap};
 use std::path::{Path, PathBuf};
@@ -56,29 +61,43 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         label_sheet(&dir)?,
         fence(&dir)?,
     ];
-    let mut sheet = Image { width: SIDE * models.len() as u32, height: 2 * SIDE, pixels: Vec::new() };
+    let mut sheet = Image { width: SIDE * models.len() as u32, height: 4 * SIDE, pixels: Vec::new() };
     sheet.pixels = vec![Vec3::ZERO; (sheet.width * sheet.height) as usize];
     for (column, model) in models.iter().enumerate() {
         let mut scene = scene::load_file(model)?;
         if model.ends_with("mirror-sphere.gltf") {
             scene.environment = sky_map();
         }
-        for (row, method) in [Method::Beam, Method::Ray].into_iter().enumerate() {
+        scene.camera.width = SIDE;
+        scene.camera.height = SIDE;
+        for row in 0..4u32 {
             // The options of `beam render`: 64 rays' worth per shadow beam, eye beams.
             let options = RenderOptions {
-                method,
+                method: if row == 1 { Method::Ray } else { Method::Beam },
                 spp: 64,
                 primary_beams: true,
                 exact: false,
                 ..RenderOptions::exact(SIDE, SIDE)
             };
-            scene.camera.width = SIDE;
-            scene.camera.height = SIDE;
-            let (image, stats) = render(&scene, &options, || {});
-            println!("{} {method:?}: {:.3} s", model.display(), stats.seconds);
+            let start = std::time::Instant::now();
+            let (image, method) = match row {
+                0 | 1 => (render(&scene, &options, || {}).0, ["beam", "ray"][row as usize]),
+                2 => {
+                    let nonlinear = NonlinearOptions {
+                        degree: Degree::S3,
+                        texels: 32,
+                        bounces: 2,
+                        caustic_strata: CAUSTIC_STRATA,
+                        shading: options,
+                    };
+                    (render_nonlinear_with(&scene, &nonlinear, &mut CpuBeams, &CpuBeams)?.0, "nonlinear")
+                }
+                _ => (render_glossy(&scene, &GlossyOptions::new(SIDE, SIDE))?.0, "glossy"),
+            };
+            println!("{} {method}: {:.3} s", model.display(), start.elapsed().as_secs_f64());
             for y in 0..SIDE {
                 for x in 0..SIDE {
-                    let to = (row as u32 * SIDE + y) * sheet.width + column as u32 * SIDE + x;
+                    let to = (row * SIDE + y) * sheet.width + column as u32 * SIDE + x;
                     sheet.pixels[to as usize] = image.pixels[(y * SIDE + x) as usize];
                 }
             }

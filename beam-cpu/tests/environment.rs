@@ -245,3 +245,27 @@ fn nonlinear_beams_show_the_environment() {
         }
     }
 }
+
+/// The glossy light volumes (002) show the environment where their eye rays and Whitted rays leave
+/// the scene, though it lights nothing there: a mirror sphere under a constant sky (and a point
+/// light, which a mirror does not show) shows the sky times its tint, and the background the sky.
+#[test]
+fn glossy_eye_rays_show_the_environment() {
+    use beam_cpu::glossy::render_glossy;
+    use beam_render::glossy::GlossyOptions;
+    let (sky, tint) = (Vec3::new(0.3, 0.5, 0.9), Vec3::new(0.9, 0.8, 0.6));
+    let mut scene = mirror_sphere(tint, Environment::Constant(sky));
+    scene.lights = vec![beam_scene::scene::Light::Point { position: Vec3::new(0.0, 5.0, 5.0), intensity: Vec3::ONE }];
+    let image = render_glossy(&scene, &GlossyOptions::new(48, 48)).expect("a render").0;
+    let mut on = 0;
+    for (i, p) in image.pixels.iter().enumerate() {
+        let want = match reflected(&scene, i) {
+            Some(_) => tint * sky,
+            None if i == 0 => sky,
+            None => continue,
+        };
+        on += u32::from(i != 0);
+        assert!(p.abs_diff_eq(want, 1e-4), "pixel {i} is {p}, want {want}");
+    }
+    assert!(on > 300, "{on} pixels on the sphere");
+}

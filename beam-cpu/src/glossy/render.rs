@@ -124,8 +124,9 @@ fn normals(scene: &Scene, s: &ShadePoint) -> [Vec3; 2] {
 
 /// Radiance of the eye's points `points` by `shade` for diffuse ones: mirrors, glass and thin panes
 /// by Whitted rays through `renderer`, emitters their radiance, glossy reflectors their diffuse part
-/// under direct light. Only the pixels of `region` (of the `width × height` frame) are traced, each
-/// seeded by its index in the frame, and the image holds just them.
+/// under direct light; an eye ray or Whitted ray that leaves the scene sees the environment. Only the
+/// pixels of `region` (of the `width × height` frame) are traced, each seeded by its index in the
+/// frame, and the image holds just them.
 fn render_points(
     scene: &Scene,
     (width, height): (u32, u32),
@@ -171,6 +172,11 @@ fn render_points(
     };
     let radiance = shade_by_waves(scene, renderer, &shade, &points)?;
     let mut image = Image::new(region.width(), region.height());
+    for ((pixel, hit), (_, ray)) in image.pixels.iter_mut().zip(&hits).zip(&rays) {
+        if hit.is_none() {
+            *pixel = scene.environment.radiance(ray.direction);
+        }
+    }
     for (i, c) in pixels.into_iter().zip(radiance) {
         image.pixels[i] = c;
     }
