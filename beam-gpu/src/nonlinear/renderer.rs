@@ -187,7 +187,7 @@ impl<'g> GpuBeams<'g> {
 /// The tree levels by the atlas stage (`GpuAtlas`); a level it keeps goes to the frame's
 /// `GpuKept`.
 impl BeamRasterizer for GpuBeams<'_> {
-    /// On the GPU; a beam that sees through a cut-out, again on the host ([`see_through_cut_outs`]).
+    /// On the GPU; a beam that sees through a cut-out, again on the host (`nonlinear/cut_outs.rs`).
     fn render_beams(&self, scene: &Scene, jobs: &[BeamJob<'_>]) -> Result<Vec<BeamTexture>, BackendError> {
         let mut textures = self.atlas.render_beams(scene, jobs)?;
         self.see_through_cut_outs(scene, jobs, &mut textures);
