@@ -189,9 +189,9 @@ pub fn caustics_by_beams(
 }
 
 /// The flux of one light beam's texels `tex` off face `f` (with the thickness of the surface under
-/// it; see [`caustics_by_beams`]), appended to `out` as (receiving triangle, point, direction of travel, flux) to splat;
-/// `lit` caches per texel whether emitter `e` reaches its base point (shadow rays offset by `eps`,
-/// plus the thickness).
+/// it; see [`caustics_by_beams`]), appended to `out` as (receiving triangle, point, direction of
+/// travel, flux) to splat; `lit` caches per texel whether emitter `e` reaches its base point
+/// (shadow rays offset by `eps`, plus the thickness).
 fn deposit(
     scene: &Scene,
     (f, thickness): (&SFace, f32),

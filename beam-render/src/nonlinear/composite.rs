@@ -1,8 +1,9 @@
 //! The radiance flow of a beam tree (000 §7.3, the final composite): deepest level first, every
 //! texel that hit is shaded, or, on a specular S-mesh face with child beams, textured from the
 //! children's radiance at the face's barycentric point (bilinear, Fresnel-weighted for glass), and
-//! every texel whose ray left the scene shows the environment; the eye's pixels last. [`composite_levels`] does it on the CPU; beam-gpu's renderer keeps every
-//! level's radiance on the GPU and reads back only the pixels.
+//! every texel whose ray left the scene shows the environment; the eye's pixels last.
+//! [`composite_levels`] does it on the CPU; beam-gpu's renderer keeps every level's radiance on
+//! the GPU and reads back only the pixels.
 
 use super::radiance::{LevelRadiance, composite, sample_region};
 use super::smesh::SMesh;
