@@ -198,15 +198,10 @@ impl IrradianceMap {
         let (mut diff, mut norm) = (0.0f64, 0.0f64);
         for (a, b) in self.maps.iter().zip(&other.maps) {
             // A side without texels holds zeros.
-            let zeros = || std::iter::repeat(&Vec3::ZERO);
-            let pairs: Box<dyn Iterator<Item = (&Vec3, &Vec3)>> = match (a.flux.is_empty(), b.flux.is_empty()) {
-                (true, true) => continue,
-                (false, false) => Box::new(a.flux.iter().zip(&b.flux)),
-                (true, false) => Box::new(zeros().zip(&b.flux)),
-                (false, true) => Box::new(a.flux.iter().zip(zeros())),
-            };
-            for (x, y) in pairs {
-                diff += f64::from((*x - *y).length_squared());
+            let at = |flux: &[Vec3], k: usize| flux.get(k).copied().unwrap_or_default();
+            for k in 0..a.flux.len().max(b.flux.len()) {
+                let (x, y) = (at(&a.flux, k), at(&b.flux, k));
+                diff += f64::from((x - y).length_squared());
                 norm += f64::from(y.length_squared());
             }
         }
