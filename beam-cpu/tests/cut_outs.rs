@@ -189,3 +189,43 @@ fn a_backend_blind_to_alpha_sees_through_cut_outs() {
         assert!(opaque_error > 8.0 * error, "an opaque whole leaf differs: {opaque_error} against {error}");
     }
 }
+
+/// The glossy light volumes' eye rays blend a `BLEND` pane as `beam` and `ray` do (front to back,
+/// without noise): a pane of alpha ¼ over a sky shows ¼ of the opaque pane's radiance and ¾ of the
+/// sky in every pixel, where one stochastic ray a pixel would show one or the other.
+#[test]
+fn glossy_eye_rays_blend_a_pane() {
+    use beam_cpu::glossy::render_glossy;
+    use beam_render::glossy::GlossyOptions;
+    use beam_scene::scene::Environment;
+    let sky = Vec3::new(0.2, 0.3, 0.5);
+    let pane = |alpha: Option<f32>| {
+        let triangles = rectangle([-1.0, 1.0], [-1.0, 1.0], 0.0).map(|t| (t, 0)).to_vec();
+        let materials = vec![Material::Diffuse { albedo: Vec3::splat(0.8) }];
+        let lights = vec![Light::Point { position: Vec3::new(0.0, 3.0, 0.0), intensity: Vec3::splat(20.0) }];
+        let camera = Camera {
+            position: Vec3::new(0.0, 3.0, 1.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y: 60.0,
+            width: 32,
+            height: 32,
+        };
+        let mut surfaces = Surfaces::default();
+        if let Some(factor) = alpha {
+            let alpha = Some(AlphaCut { factor, texture: None, cutoff: None });
+            surfaces.maps = vec![MaterialMaps { alpha, ..MaterialMaps::default() }];
+        }
+        let mut scene = Scene::with_surfaces("pane".into(), triangles, materials, lights, camera, surfaces);
+        scene.environment = Environment::Constant(sky);
+        render_glossy(&scene, &GlossyOptions::new(32, 32)).expect("a render").0
+    };
+    let (opaque, blended) = (pane(None), pane(Some(0.25)));
+    let mut on = 0;
+    for (i, (o, b)) in opaque.pixels.iter().zip(&blended.pixels).enumerate() {
+        on += u32::from(*o != sky);
+        let want = if *o == sky { sky } else { 0.25 * *o + 0.75 * sky };
+        assert!(b.abs_diff_eq(want, 1e-4), "pixel {i}: {b}, want {want}");
+    }
+    assert!(on > 200, "{on} pixels on the pane");
+}

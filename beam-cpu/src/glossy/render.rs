@@ -11,6 +11,7 @@ use super::kernel::PhotonKernel;
 use super::photons::glossy_photons;
 use crate::RenderError;
 use crate::nonlinear::CpuBeams;
+use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
@@ -124,9 +125,9 @@ fn normals(scene: &Scene, s: &ShadePoint) -> [Vec3; 2] {
 
 /// Radiance of the eye's points `points` by `shade` for diffuse ones: mirrors, glass and thin panes
 /// by Whitted rays through `renderer`, emitters their radiance, glossy reflectors their diffuse part
-/// under direct light; an eye ray or Whitted ray that leaves the scene sees the environment. Only the
-/// pixels of `region` (of the `width × height` frame) are traced, each seeded by its index in the
-/// frame, and the image holds just them.
+/// under direct light; an eye ray or Whitted ray that leaves the scene sees the environment, and eye
+/// rays blend `BLEND` surfaces ([`eye_hits`]). Only the pixels of `region` (of the `width ×
+/// height` frame) are traced, each seeded by its index in the frame, and the image holds just them.
 fn render_points(
     scene: &Scene,
     (width, height): (u32, u32),
@@ -139,16 +140,7 @@ fn render_points(
     let region = region.intersect(PixelRect::full(camera.width, camera.height));
     let rays: Vec<(usize, Ray)> =
         region.frame_indices(camera.width).map(|i| (i, camera.pixel_ray(&frame, i))).collect();
-    let hits = renderer.closest_hits(scene, &rays.iter().map(|r| r.1).collect::<Vec<_>>())?;
-    let (pixels, points): (Vec<usize>, Vec<ShadePoint>) = hits
-        .iter()
-        .zip(&rays)
-        .enumerate()
-        .filter_map(|(k, (h, &(i, ray)))| {
-            let h = (*h)?;
-            Some((k, ShadePoint { prim: h.prim, p: ray.at(h.t), d: ray.direction.normalize(), seed: i as u64 }))
-        })
-        .unzip();
+    let (seen, beyond) = eye_hits(scene, renderer, &rays)?;
     let shade = |batch: &[ShadePoint]| -> Result<Vec<Vec3>, BackendError> {
         let (receivers, others): (Vec<usize>, Vec<usize>) =
             (0..batch.len()).partition(|&i| matches!(scene.material(batch[i].prim), Material::Diffuse { .. }));
@@ -170,17 +162,55 @@ fn render_points(
         }
         Ok(out)
     };
+    let points: Vec<ShadePoint> = seen.iter().map(|s| s.2).collect();
     let radiance = shade_by_waves(scene, renderer, &shade, &points)?;
     let mut image = Image::new(region.width(), region.height());
-    for ((pixel, hit), (_, ray)) in image.pixels.iter_mut().zip(&hits).zip(&rays) {
-        if hit.is_none() {
-            *pixel = scene.environment.radiance(ray.direction);
+    for ((pixel, &through), (_, ray)) in image.pixels.iter_mut().zip(&beyond).zip(&rays) {
+        if through > 0.0 {
+            *pixel = through * scene.environment.radiance(ray.direction);
         }
     }
-    for (i, c) in pixels.into_iter().zip(radiance) {
-        image.pixels[i] = c;
+    for ((k, share, _), c) in seen.into_iter().zip(radiance) {
+        image.pixels[k] += share * c;
     }
     Ok(image)
+}
+
+/// A surface an eye ray sees: the ray's index, the surface's share of its radiance, its point.
+type Seen = (usize, f32, ShadePoint);
+
+/// What the eye's `rays` (pixel index in the frame, ray) see: per surface, the ray's index, its
+/// share of the ray's radiance and its point; and per ray the share that leaves the scene. A ray
+/// sees the nearest surface by `renderer`, or, in a scene with cut-outs, every `BLEND` surface it
+/// meets blended front to back as `beam` and `ray` blend them ([`Scene::blended_hits`]).
+fn eye_hits(
+    scene: &Scene,
+    renderer: &dyn BeamRenderer,
+    rays: &[(usize, Ray)],
+) -> Result<(Vec<Seen>, Vec<f32>), BackendError> {
+    let point = |i: usize, ray: Ray, h: Hit| ShadePoint {
+        prim: h.prim,
+        p: ray.at(h.t),
+        d: ray.direction.normalize(),
+        seed: i as u64,
+    };
+    if scene.has_cut_outs() {
+        let blended: Vec<(Vec<Seen>, f32)> = rays
+            .par_iter()
+            .enumerate()
+            .map(|(k, &(i, ray))| {
+                let mut seen = Vec::new();
+                let beyond = scene.blended_hits(ray, f32::INFINITY, |h, share| seen.push((k, share, point(i, ray, h))));
+                (seen, beyond)
+            })
+            .collect();
+        let beyond = blended.iter().map(|b| b.1).collect();
+        return Ok((blended.into_iter().flat_map(|b| b.0).collect(), beyond));
+    }
+    let hits = renderer.closest_hits(scene, &rays.iter().map(|r| r.1).collect::<Vec<_>>())?;
+    let beyond = hits.iter().map(|h| if h.is_none() { 1.0 } else { 0.0 }).collect();
+    let seen = hits.iter().zip(rays).enumerate().filter_map(|(k, (h, &(i, ray)))| Some((k, 1.0, point(i, ray, (*h)?))));
+    Ok((seen.collect(), beyond))
 }
 
 /// Direct irradiance at `p` (unit normal `n`, cosines with the `shading` normal as
