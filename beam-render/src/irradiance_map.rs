@@ -35,10 +35,10 @@ impl PlaneMap {
         &mut self.flux
     }
 
-    /// The unit normal of its plane: `axes[0] × axes[1]` (which [`IrradianceMap::new`] makes along
-    /// the first triangle's normal).
+    /// A normal of its plane (not unit: its sign is what [`IrradianceMap::grid`] asks):
+    /// `axes[0] × axes[1]`, which [`IrradianceMap::new`] makes along the first triangle's normal.
     fn normal(&self) -> Vec3 {
-        self.axes[0].cross(self.axes[1]).normalize_or_zero()
+        self.axes[0].cross(self.axes[1])
     }
 }
 

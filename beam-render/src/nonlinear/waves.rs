@@ -87,7 +87,7 @@ pub fn trace_waves(
             })
             .collect();
         if !scene.environment.is_black() {
-            for ((&(px, ray, weight), _), hit) in paths.iter().zip(&next).zip(&hits) {
+            for (&(px, ray, weight), hit) in paths.iter().zip(&hits) {
                 if hit.is_none() {
                     out[px] += weight * scene.environment.radiance(ray.direction);
                 }
