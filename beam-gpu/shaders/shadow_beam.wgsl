@@ -320,9 +320,13 @@ fn answer(status: u32, irradiance: f32, fraction: f32) -> LightSeen {
     return LightSeen(irradiance, fraction, status, work);
 }
 
-// The shadow beam of `query` traced to the end, or until `work` (the invocation's loop iterations
-// so far) passes `budget`.
-fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
+// Cross-section area of the beam on the light's plane (before any occluder).
+var<private> beam_area: f32;
+
+// Set up the beam of `query`: its frame, its pieces (the light polygon as quads) and its frustum.
+// False where there is no beam (the light is behind the point or seen edge-on): its answer is
+// SHADOW_DONE with nothing seen.
+fn begin_beam(query: LightQuery) -> bool {
     let light = lights[query.light];
     overflow = false;
     piece_count = 0u;
@@ -346,7 +350,7 @@ fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
     }
     // light_beam: none from the light's plane or behind it.
     if count < 3u || dot(light.normal, query.p - corners[0]) <= 0.0 {
-        return answer(SHADOW_DONE, 0.0, 0.0);
+        return false;
     }
     // BeamFrame::new(p, corners[0], light normal, corners[1] − corners[0]).
     frame_apex = query.p;
@@ -358,7 +362,7 @@ fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
         frame_distance = -frame_distance;
     }
     if !(frame_distance > 0.0) {
-        return answer(SHADOW_DONE, 0.0, 0.0);
+        return false;
     }
     let hint = corners[1] - corners[0];
     let along = hint - dot(hint, frame_normal) * frame_normal;
@@ -382,7 +386,7 @@ fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
         let w = corners[i] - frame_apex;
         let depth = dot(w, frame_normal) / frame_distance;
         if !(depth > 0.0) {
-            return answer(SHADOW_DONE, 0.0, 0.0);
+            return false;
         }
         let q = frame_apex + w / depth - frame_origin;
         section[i] = vec2<f32>(dot(q, frame_u), dot(q, frame_v));
@@ -400,7 +404,7 @@ fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
             section[count - 1u - i] = t;
         }
     }
-    let beam_area = 0.5 * abs(twice_area);
+    beam_area = 0.5 * abs(twice_area);
     centroid /= f32(count);
     var scale = 0.0;
     for (var i = 0u; i < count; i += 1u) {
@@ -427,6 +431,15 @@ fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
     }
     union_boxes();
     update_planes();
+    return true;
+}
+
+// The shadow beam of `query` traced to the end, or until `work` (the invocation's loop iterations
+// so far) passes `budget`.
+fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
+    if !begin_beam(query) {
+        return answer(SHADOW_DONE, 0.0, 0.0);
+    }
     // The traversal (beam_bvh's `traverse` with ShadowVisitor): depth first, every node whose box
     // is not wholly outside one of the frustum's planes.
     var stack: array<u32, TRAVERSAL_STACK>;
@@ -478,6 +491,12 @@ fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
         stack[sp + 1u] = at + 1u;
         sp += 2u;
     }
+    return finish_beam(query.n, traversed);
+}
+
+// The answer of a beam whose traversal ended (`traversed`: by its own test, not llvmpipe's cap):
+// its pieces integrated by Lambert's formula at the apex (normal n).
+fn finish_beam(n: vec3<f32>, traversed: bool) -> LightSeen {
     if overflow {
         return answer(SHADOW_PIECES, 0.0, 0.0);
     }
@@ -492,7 +511,7 @@ fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
     var corners_in = 0u;
     edges_summed = 0u;
     for (var i = 0u; i < piece_count; i += 1u) {
-        irradiance += piece_irradiance(query.n, pieces[i]);
+        irradiance += piece_irradiance(n, pieces[i]);
         area += abs(quad_signed_area(pieces[i]));
         summed += 1u;
         corners_in += pieces[i].len;
@@ -507,6 +526,7 @@ fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
     return answer(SHADOW_DONE, irradiance, fraction);
 }
 
+// One shadow beam per invocation, each walking the BVH alone.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn visible_light(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.queries {
@@ -515,6 +535,130 @@ fn visible_light(@builtin(global_invocation_id) id: vec3<u32>) {
     let index = params.first + id.x;
     work = 0u;
     seen[index] = shadow_beam(queries[index], params.budget);
+}
+
+// The workgroup's traversal, shared by its WORKGROUP_SIZE beams (visible_light_together): the pending
+// nodes, the stack's height, the beams that took the node on top, the beams still traversing, and
+// the loop iterations its lanes have run, and whether the walk ended early (GROUP_CUT: the stack
+// would have overflowed; GROUP_SPENT: the iterations passed the group's budget).
+const GROUP_CUT: u32 = 1u;
+const GROUP_SPENT: u32 = 2u;
+var<workgroup> group_stack: array<u32, TRAVERSAL_STACK>;
+var<workgroup> group_sp: u32;
+var<workgroup> group_wanted: atomic<u32>;
+var<workgroup> group_live: atomic<u32>;
+var<workgroup> group_work: atomic<u32>;
+var<workgroup> group_ended: u32;
+
+// One shadow beam per invocation, the workgroup's beams (neighbouring shade points, mostly) walking
+// the BVH together: one node at a time, taken by every beam whose frustum it is not wholly outside,
+// its children pushed when any beam took it. A beam visits the nodes and triangles it would visit
+// alone, in the same order (a frustum only shrinks, so a node outside a beam stays outside, and so
+// do its descendants): the answers are shadow_beam's, bit for bit, while the nodes and triangles
+// are read once for the group and its lanes step together instead of each down its own path.
+// `work` counts the group's steps. The loop holds barriers, so every lane must leave it at the same
+// step: llvmpipe's cap (65,535 iterations of a SIMD group's loops, all counted together) must not
+// cut it. The group's iterations, summed over its lanes (at least any SIMD group's count), end the
+// walk past 6 beams' budgets (49,152 on software devices); the beams still walking then answer
+// SHADOW_BUDGET. The host picks the walk (beam_gpu::shadow_beam::Walk).
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn visible_light_together(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+    let valid = id.x < params.queries;
+    let index = params.first + id.x;
+    work = 0u;
+    var query: LightQuery;
+    var begun = false;
+    if valid {
+        query = queries[index];
+        begun = begin_beam(query);
+    }
+    if lane == 0u {
+        group_stack[0] = 0u;
+        group_sp = 1u;
+        group_ended = 0u;
+        atomicStore(&group_work, 0u);
+        atomicStore(&group_wanted, 0u);
+        atomicStore(&group_live, 0u);
+    }
+    workgroupBarrier();
+    var live = begun;
+    if live {
+        atomicAdd(&group_live, 1u);
+    }
+    // Why a beam stopped before the walk ended (SHADOW_PIECES, SHADOW_BUDGET), else SHADOW_DONE.
+    var stopped = SHADOW_DONE;
+    // Set only where the loop ends by its own test (shadow_beam's `traversed`).
+    var traversed = false;
+    work += 2u;
+    loop {
+        let sp = workgroupUniformLoad(&group_sp);
+        if sp == 0u {
+            traversed = true;
+            break;
+        }
+        let before = work;
+        let at = group_stack[sp - 1u];
+        let node = nodes[at];
+        // shadow_beam's loop head, for this beam.
+        if live && (piece_count == 0u || overflow || work > params.budget) {
+            if piece_count != 0u {
+                stopped = select(SHADOW_BUDGET, SHADOW_PIECES, overflow);
+            }
+            live = false;
+            atomicSub(&group_live, 1u);
+        }
+        work += 1u;
+        if live && !outside(node) {
+            atomicAdd(&group_wanted, 1u);
+            if node.count > 0u {
+                work += node.count + 2u;
+                for (var k = 0u; k < node.count; k += 1u) {
+                    if occlude(triangles[node.right_or_first + k]) {
+                        if piece_count == 0u || overflow {
+                            break;
+                        }
+                        update_planes();
+                    }
+                }
+            }
+        }
+        atomicAdd(&group_work, work - before);
+        workgroupBarrier();
+        if lane == 0u {
+            var next = sp - 1u;
+            let wanted = atomicExchange(&group_wanted, 0u) > 0u;
+            if atomicLoad(&group_live) == 0u {
+                next = 0u;
+            } else if atomicLoad(&group_work) > 6u * min(params.budget, 0x20000000u) {
+                group_ended = GROUP_SPENT;
+                next = 0u;
+            } else if wanted && node.count == 0u {
+                // Cannot happen for a tree GpuBvh::new accepted (lib/trace.wgsl's `stack`).
+                if next + 2u > TRAVERSAL_STACK {
+                    group_ended = GROUP_CUT;
+                    next = 0u;
+                } else {
+                    group_stack[next] = node.right_or_first;
+                    group_stack[next + 1u] = at + 1u;
+                    next += 2u;
+                }
+            }
+            group_sp = next;
+        }
+    }
+    let ended = workgroupUniformLoad(&group_ended);
+    if !valid {
+        return;
+    }
+    if !begun {
+        seen[index] = answer(SHADOW_DONE, 0.0, 0.0);
+    } else if stopped != SHADOW_DONE {
+        seen[index] = answer(stopped, 0.0, 0.0);
+    } else if ended != 0u && piece_count != 0u {
+        seen[index] = answer(select(SHADOW_BUDGET, SHADOW_CUT, ended == GROUP_CUT), 0.0, 0.0);
+    } else {
+        seen[index] = finish_beam(query.n, traversed);
+    }
 }
 
 // Twin of beam_gpu::gbuffer::GBufferParams (32 bytes).

@@ -52,6 +52,11 @@ impl BvhPass {
         Ok(Self { pipeline: self.pipeline.clone(), nodes, triangles, budget: self.budget })
     }
 
+    /// `entry` of `shader` over the same BVH, with the same budget.
+    pub(crate) fn with_entry(self, gpu: &Gpu, entry: (&str, &str)) -> Result<Self, GpuError> {
+        Ok(Self { pipeline: compute_pipeline(gpu, entry.0, entry.1)?, ..self })
+    }
+
     fn over(
         gpu: &Gpu,
         (shader, entry): (&str, &str),

@@ -8,7 +8,7 @@
 
 use crate::eye_beam::EyeBeams;
 use crate::raytrace::{GpuHit, GpuRay, RayTracer, closest_of, occluded_of};
-use crate::shadow_beam::{GpuLightSeen, ShadowBeams};
+use crate::shadow_beam::{GpuLightSeen, ShadowBeams, Walk};
 use crate::{Gpu, GpuError};
 use beam_bvh::Hit;
 use beam_bvh::gpu::GpuBvh;
@@ -107,6 +107,12 @@ impl<'g> GpuQueries<'g> {
     pub fn with_budget(mut self, budget: u32) -> Self {
         self.beams = self.beams.with_budget(budget);
         self
+    }
+
+    /// These queries with the shadow beams walking the BVH as `walk` says.
+    pub fn walking(mut self, walk: Walk) -> Result<Self, GpuError> {
+        self.beams = self.beams.walking(self.gpu, walk)?;
+        Ok(self)
     }
 
     /// The device.

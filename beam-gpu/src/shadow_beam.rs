@@ -1,5 +1,5 @@
-//! Exact soft shadows on the GPU (`shaders/shadow_beam.wgsl`, entry point `visible_light`): one
-//! shadow beam per (shade point, light polygon) query, traversed through beam-bvh's GPU layout by
+//! Exact soft shadows on the GPU (`shaders/shadow_beam.wgsl`, entry points `visible_light` and
+//! `visible_light_together`, [`Walk`]): one shadow beam per (shade point, light polygon) query, traversed through beam-bvh's GPU layout by
 //! its frustum, split exactly at triangle edges with the quad rules of 001 §3.2
 //! (`shaders/lib/quad.wgsl`, twin of [`beam_math::polybeam::Quad::split`]), and its unoccluded
 //! pieces integrated by Lambert's formula. CPU twin: `beam_cpu::render::light_seen`.
@@ -128,18 +128,46 @@ pub struct ShadowBeams {
     pass: BvhPass,
 }
 
-impl ShadowBeams {
-    const ENTRY: (&str, &str) = ("shadow_beam", "visible_light");
+/// How a workgroup's beams walk the BVH.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Walk {
+    /// Each beam down its own path (entry point `visible_light`): the default, measured on a real
+    /// GPU (docs/benchmarks.md).
+    #[default]
+    Alone,
+    /// The group's beams together, a node at a time, each taking what it would take alone (entry
+    /// point `visible_light_together`): the same answers, bit for bit, the nodes and triangles read
+    /// once for the group. Its loop holds barriers, which Mesa llvmpipe's loop cap makes unsafe
+    /// for long walks, so the group's summed iterations end it at 6 beams' budgets. Not yet timed
+    /// on a real GPU: `beam bench softshadow --backend gpu` times both walks.
+    Together,
+}
 
+impl Walk {
+    fn entry(self) -> (&'static str, &'static str) {
+        match self {
+            Self::Alone => ("shadow_beam", "visible_light"),
+            Self::Together => ("shadow_beam", "visible_light_together"),
+        }
+    }
+}
+
+impl ShadowBeams {
     /// Compile `shadow_beam.wgsl` and upload `bvh` (each of its buffers within one storage binding,
-    /// [`GpuError::SceneTooLarge`]).
+    /// [`GpuError::SceneTooLarge`]); the beams walk alone ([`Self::walking`]).
     pub fn new(gpu: &Gpu, bvh: &GpuBvh) -> Result<Self, GpuError> {
-        Ok(Self { pass: BvhPass::new(gpu, Self::ENTRY, bvh)? })
+        Ok(Self { pass: BvhPass::new(gpu, Walk::Alone.entry(), bvh)? })
     }
 
     /// Compile `shadow_beam.wgsl` over the BVH `tracer` uploaded (its buffers shared).
     pub fn sharing(gpu: &Gpu, tracer: &RayTracer) -> Result<Self, GpuError> {
-        Ok(Self { pass: BvhPass::sharing(gpu, Self::ENTRY, tracer)? })
+        Ok(Self { pass: BvhPass::sharing(gpu, Walk::Alone.entry(), tracer)? })
+    }
+
+    /// These beams walking the BVH as `walk` says (its entry point compiled; the BVH and budget
+    /// kept).
+    pub fn walking(self, gpu: &Gpu, walk: Walk) -> Result<Self, GpuError> {
+        Ok(Self { pass: self.pass.with_entry(gpu, walk.entry())? })
     }
 
     /// The same pipeline over another BVH (no recompilation).

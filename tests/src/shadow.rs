@@ -11,7 +11,7 @@ use beam_cpu::nonlinear::CpuBeams;
 use beam_cpu::render::{difference, light_seen, polygon_irradiance, render, render_queries};
 use beam_gpu::Gpu;
 use beam_gpu::queries::GpuQueries;
-use beam_gpu::shadow_beam::{MAX_PIECES, ShadowBeams};
+use beam_gpu::shadow_beam::{MAX_PIECES, ShadowBeams, Walk};
 use beam_math::glam::Vec3;
 use beam_math::{Ray, Triangle};
 use beam_render::options::{Method, RenderOptions};
@@ -51,6 +51,12 @@ pub fn properties() -> Vec<Property> {
             cites: "001 §3.2, §5",
             backends: GPU,
             body: gpu_shadow_beams_equal_cpu,
+        },
+        Property {
+            name: "gpu_beams_walking_together_equal_alone",
+            cites: "001 §5; one BVH walk per workgroup",
+            backends: GPU,
+            body: gpu_beams_walking_together_equal_alone,
         },
     ]
 }
@@ -333,6 +339,82 @@ pub fn gpu_shadow_beams_equal_cpu(backend: Backend, config: &Config) -> Result<O
         note.push_str(&format!("; shared meshes skipped: {reason}"));
     }
     Ok(Outcome { cases: total, note })
+}
+
+/// The GPU's two walks of the shadow beams ([`Walk`]): a workgroup's beams walking the BVH together
+/// against each down its own path, on the Cornell box, the procedural
+/// scene and every shared mesh under their quad lights, from camera hits in Morton order (so that
+/// a workgroup holds neighbours, as a renderer's rows do), clipped at the tangent plane and not.
+/// Every beam that both walks finish answers the same, bit for bit (a node outside a beam's
+/// frustum stays outside as the frustum shrinks, so together a beam meets the triangles it meets
+/// alone, in the same order), and the together walk finishes at least a quarter of all beams (on a
+/// software device its walks end at 6 beams' budgets, since its loop holds barriers).
+pub fn gpu_beams_walking_together_equal_alone(backend: Backend, config: &Config) -> Result<Outcome, String> {
+    let gpu = match crate::gpu::adapter()? {
+        Ok(g) if backend == Backend::Gpu => g,
+        Ok(_) => return Err("a GPU property".into()),
+        Err(skipped) => return Ok(skipped),
+    };
+    let (cases, skipped) = scenes()?;
+    let (mut total, mut both, mut together_done) = (0u64, 0u64, 0u64);
+    let mut notes = Vec::new();
+    for (k, (case, light, ln)) in cases.iter().enumerate() {
+        let tris = &case.triangles;
+        let bvh = FlatBvh::build(tris, &BuildOptions::sah());
+        let uploaded = GpuBvh::new(&bvh, tris).map_err(|e| e.to_string())?;
+        let mut points: Vec<(Vec3, Vec3)> = ray_set(tris, &bvh, config.rays / 16, 900 + k as u64)
+            .shadow
+            .iter()
+            .map(|(r, _)| (r.origin, -*ln))
+            .collect();
+        let bounds = bvh.nodes.first().map(|n| n.bounds()).ok_or("an empty mesh")?;
+        points.sort_by_key(|(p, _)| morton(((*p - bounds.min) / bounds.extent().max(Vec3::splat(1e-30))).to_array()));
+        let queries: Vec<LightQuery> = points
+            .iter()
+            .flat_map(|&(p, n)| [false, true].map(|clip_above| LightQuery { p, n, light: 0, clip_above }))
+            .collect();
+        let lights = [LightPolygon::new(light, *ln).ok_or("light")?];
+        let answers = |walk| -> Result<Vec<_>, String> {
+            let beams =
+                ShadowBeams::new(&gpu, &uploaded).and_then(|b| b.walking(&gpu, walk)).map_err(|e| e.to_string())?;
+            beams.answers(&gpu, &lights, &queries).map_err(|e| e.to_string())
+        };
+        let (alone, together) = (answers(Walk::Alone)?, answers(Walk::Together)?);
+        let mut done = 0u64;
+        for (i, (a, t)) in alone.iter().zip(&together).enumerate() {
+            let (a, t) = (a.seen(), t.seen());
+            done += u64::from(t.is_some());
+            if let (Some(a), Some(t)) = (a, t) {
+                both += 1;
+                if a.irradiance.to_bits() != t.irradiance.to_bits() || a.fraction.to_bits() != t.fraction.to_bits() {
+                    return Err(format!("{} query {i} at {}: alone {a:?}, together {t:?}", case.name, queries[i].p));
+                }
+            }
+        }
+        notes.push(format!("{} {done} of {}", case.name, queries.len()));
+        together_done += done;
+        total += queries.len() as u64;
+    }
+    if together_done * 4 < total {
+        return Err(format!("the walk together finished {together_done} of {total} beams, under a quarter"));
+    }
+    let mut note = format!("{both} beams finished by both walks, all equal; finished together: {}", notes.join(", "));
+    if let Some(reason) = skipped {
+        note.push_str(&format!("; shared meshes skipped: {reason}"));
+    }
+    Ok(Outcome { cases: total, note })
+}
+
+/// The Morton code of a point of the unit cube, 10 bits an axis.
+fn morton(unit: [f32; 3]) -> u32 {
+    let spread = |x: f32| {
+        let mut v = ((x.clamp(0.0, 1.0) * 1023.0) as u32) & 0x3ff;
+        v = (v | (v << 16)) & 0x0300_00ff;
+        v = (v | (v << 8)) & 0x0300_f00f;
+        v = (v | (v << 4)) & 0x030c_30c3;
+        (v | (v << 2)) & 0x0924_9249
+    };
+    spread(unit[0]) | (spread(unit[1]) << 1) | (spread(unit[2]) << 2)
 }
 
 /// A mesh, a quad light's corners (counter-clockwise) and its unit normal.

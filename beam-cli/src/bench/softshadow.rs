@@ -5,6 +5,7 @@
 use beam_render::image::Image;
 
 use beam_cpu::render::{difference, render, side_by_side};
+use beam_gpu::shadow_beam::Walk;
 use beam_math::glam::Vec3;
 use beam_render::options::{Method, RenderOptions, Shading};
 use beam_scene::scene::{self, Camera, Light, Scene};
@@ -131,23 +132,20 @@ pub(crate) fn run(
         let (img, st) = beam_cpu::render::render_with(&scene, &options(Method::Ray, 256, 1), &*embree, || {});
         rows.push(("embree3 256 spp".into(), st.seconds, img, String::new()));
     }
-    let on_gpu = match gpu {
-        Some(g) => {
+    // The GPU's frame with each walk of its shadow beams (beam_gpu::shadow_beam::Walk).
+    let mut on_gpu = Vec::new();
+    if let Some(g) = gpu {
+        for (walk, label) in [(Walk::Alone, "alone"), (Walk::Together, "together")] {
             let bar = crate::progress::bar(u64::from(size), "GPU");
             let exact = RenderOptions { exact: true, ..options(Method::Beam, 1, 1) };
-            let run = super::softshadow_gpu::run(g, &scene, &exact, 1, &|| bar.inc(1))?;
+            let run = super::softshadow_gpu::run(g, &scene, (&exact, walk), 1, &|| bar.inc(1))?;
             bar.finish_and_clear();
-            let row = super::softshadow_gpu::Compared::new(
-                short_name(&scene.name),
-                run,
-                (&rows[0].2, bs.seconds),
-                &reference,
-            )?;
-            rows.push(("gpu beam (exact)".into(), row.gpu.host_seconds, row.gpu.image.clone(), String::new()));
-            Some((g, row))
+            let name = format!("{} ({label})", short_name(&scene.name));
+            let row = super::softshadow_gpu::Compared::new(name, run, (&rows[0].2, bs.seconds), &reference)?;
+            rows.push((format!("gpu {label}"), row.gpu.host_seconds, row.gpu.image.clone(), String::new()));
+            on_gpu.push(row);
         }
-        None => None,
-    };
+    }
     let beam_seconds = rows[0].1;
     println!("\n{:<18} {:>9} {:>10} {:>9} {:>14}", "method", "seconds", "RMSE", "PSNR dB", "beam speed-up");
     for (name, seconds, img, extra) in &rows {
@@ -159,13 +157,12 @@ pub(crate) fn run(
             seconds / beam_seconds
         );
     }
-    if let Some((g, row)) = &on_gpu {
-        println!(
-            "\n{}\n{}\n{}",
-            super::softshadow_gpu::header(g),
-            super::softshadow_gpu::line(row),
-            super::softshadow_gpu::FOOTNOTE
-        );
+    if let (Some(g), false) = (gpu, on_gpu.is_empty()) {
+        println!("\n{}", super::softshadow_gpu::header(g));
+        for row in &on_gpu {
+            println!("{}", super::softshadow_gpu::line(row));
+        }
+        println!("{}", super::softshadow_gpu::FOOTNOTE);
     }
     if let Some(dir) = out_dir {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;

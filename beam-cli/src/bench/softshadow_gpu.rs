@@ -10,6 +10,7 @@ use super::stats::median;
 use beam_cpu::render::{difference, render_queries};
 use beam_gpu::Gpu;
 use beam_gpu::queries::GpuQueries;
+use beam_gpu::shadow_beam::Walk;
 use beam_render::image::Image;
 use beam_render::options::RenderOptions;
 use beam_scene::scene::Scene;
@@ -38,18 +39,19 @@ pub(super) struct GpuRun {
     pub setup_seconds: f64,
 }
 
-/// Render `scene` with `options` (method `beam`) on `gpu` by [`render_queries`] `runs` times (at
-/// least once) after an untimed warm-up frame (the device's first dispatches page in its memory);
-/// `row_done` after each image row of each timed run.
+/// Render `scene` with `options` (method `beam`) on `gpu` by [`render_queries`], the shadow beams
+/// walking the BVH as `walk` says, `runs` times (at least once) after an untimed warm-up frame (the
+/// device's first dispatches page in its memory); `row_done` after each image row of each timed run.
 pub(super) fn run(
     gpu: &Gpu,
     scene: &Scene,
-    options: &RenderOptions,
+    (options, walk): (&RenderOptions, Walk),
     runs: u32,
     row_done: &(dyn Fn() + Sync),
 ) -> Result<GpuRun, String> {
     let start = Instant::now();
-    let queries = GpuQueries::new(gpu, scene).map(GpuQueries::timed).map_err(|e| e.to_string())?;
+    let queries =
+        GpuQueries::new(gpu, scene).and_then(|q| q.walking(walk)).map(GpuQueries::timed).map_err(|e| e.to_string())?;
     let setup_seconds = start.elapsed().as_secs_f64();
     let (mut host, mut beam, mut ray) = (Vec::new(), Vec::new(), Vec::new());
     let mut first = None;

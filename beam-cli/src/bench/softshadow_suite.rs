@@ -9,6 +9,7 @@ use super::softshadow::{interior_view, options};
 use super::softshadow_gpu;
 use super::softshadow_measure::{Images, METHODS, Row, measure};
 use beam_cpu::render::render;
+use beam_gpu::shadow_beam::Walk;
 use beam_render::options::{Method, RenderOptions};
 use beam_scene::io::write_atomic;
 use beam_scene::scene::suite::{self, CASES, Case, SWEEP};
@@ -159,7 +160,7 @@ fn gpu_row(
         seconds.push(st.seconds);
         cpu.get_or_insert(img);
     }
-    let run = softshadow_gpu::run(gpu, scene, &options, args.runs, &|| bar.inc(1))?;
+    let run = softshadow_gpu::run(gpu, scene, (&options, Walk::Alone), args.runs, &|| bar.inc(1))?;
     bar.finish_and_clear();
     let cpu = (&cpu.ok_or("no CPU run")?, super::stats::median(seconds));
     softshadow_gpu::Compared::new(label(r), run, cpu, &images.reference)
