@@ -51,13 +51,17 @@ fn softshadow_runs_on_the_gpu() {
     let o = beam(&["bench", "softshadow", "--backend", "gpu", "--size", "8", "--reference-spp", "4"]);
     let (out, e) = text(&o);
     assert!(o.status.success(), "{:?}: {e}", o.status);
-    assert!(out.contains("gpu beam (exact)"), "{out}");
-    let row = out.lines().find(|l| l.starts_with("cornell ")).unwrap_or_else(|| panic!("no GPU row: {out}"));
-    // GPU ms, rays ms, host ms, beams, …: a number or n/a each; the PSNR against the CPU's last but one.
-    let fields: Vec<&str> = row.split_whitespace().collect();
-    assert_eq!(fields.len(), 13, "{row}");
-    assert!(fields[4].parse::<u64>().is_ok_and(|b| b > 0), "no shadow beams: {row}");
-    assert!(fields[11] == "equal" || fields[11].parse::<f64>().is_ok_and(|p| p > 40.0), "GPU ≠ CPU: {row}");
+    // A row for each walk of the GPU's shadow beams, in both tables.
+    for walk in ["alone", "together"] {
+        assert!(out.contains(&format!("gpu {walk}")), "{out}");
+        let name = format!("cornell-{walk} ");
+        let row = out.lines().find(|l| l.starts_with(&name)).unwrap_or_else(|| panic!("no GPU row: {out}"));
+        // GPU ms, rays ms, host ms, beams, …: a number or n/a each; the PSNR against the CPU's last but one.
+        let fields: Vec<&str> = row.split_whitespace().collect();
+        assert_eq!(fields.len(), 13, "{row}");
+        assert!(fields[4].parse::<u64>().is_ok_and(|b| b > 0), "no shadow beams: {row}");
+        assert!(fields[11] == "equal" || fields[11].parse::<f64>().is_ok_and(|p| p > 40.0), "GPU ≠ CPU: {row}");
+    }
 }
 
 #[test]

@@ -434,6 +434,20 @@ fn begin_beam(query: LightQuery) -> bool {
     return true;
 }
 
+// Remove from the pieces what the triangles of leaf `node` hide, the frustum narrowed after each
+// that hid some; stops once nothing is left or the pieces overflowed.
+fn occlude_leaf(node: BvhNode) {
+    work += node.count + 2u;
+    for (var k = 0u; k < node.count; k += 1u) {
+        if occlude(triangles[node.right_or_first + k]) {
+            if piece_count == 0u || overflow {
+                break;
+            }
+            update_planes();
+        }
+    }
+}
+
 // The shadow beam of `query` traced to the end, or until `work` (the invocation's loop iterations
 // so far) passes `budget`.
 fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
@@ -472,15 +486,7 @@ fn shadow_beam(query: LightQuery, budget: u32) -> LightSeen {
             continue;
         }
         if node.count > 0u {
-            work += node.count + 2u;
-            for (var k = 0u; k < node.count; k += 1u) {
-                if occlude(triangles[node.right_or_first + k]) {
-                    if piece_count == 0u || overflow {
-                        break;
-                    }
-                    update_planes();
-                }
-            }
+            occlude_leaf(node);
             continue;
         }
         // Cannot happen for a tree GpuBvh::new accepted (lib/trace.wgsl's `stack`).
@@ -611,15 +617,7 @@ fn visible_light_together(@builtin(global_invocation_id) id: vec3<u32>, @builtin
         if live && !outside(node) {
             atomicAdd(&group_wanted, 1u);
             if node.count > 0u {
-                work += node.count + 2u;
-                for (var k = 0u; k < node.count; k += 1u) {
-                    if occlude(triangles[node.right_or_first + k]) {
-                        if piece_count == 0u || overflow {
-                            break;
-                        }
-                        update_planes();
-                    }
-                }
+                occlude_leaf(node);
             }
         }
         atomicAdd(&group_work, work - before);

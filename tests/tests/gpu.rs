@@ -30,6 +30,7 @@ beam_conformance::conformance_tests!(
     soft_shadow_closed_form,
     soft_shadow_vs_monte_carlo,
     gpu_shadow_beams_equal_cpu,
+    gpu_beams_walking_together_equal_alone,
     gpu_images_of_beam_and_ray_equal_cpu,
     gpu_gbuffer_irradiance_equals_cpu,
     gpu_eye_beam_coverage_equals_cpu,

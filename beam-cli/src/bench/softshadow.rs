@@ -140,7 +140,7 @@ pub(crate) fn run(
             let exact = RenderOptions { exact: true, ..options(Method::Beam, 1, 1) };
             let run = super::softshadow_gpu::run(g, &scene, (&exact, walk), 1, &|| bar.inc(1))?;
             bar.finish_and_clear();
-            let name = format!("{} ({label})", short_name(&scene.name));
+            let name = format!("{}-{label}", short_name(&scene.name));
             let row = super::softshadow_gpu::Compared::new(name, run, (&rows[0].2, bs.seconds), &reference)?;
             rows.push((format!("gpu {label}"), row.gpu.host_seconds, row.gpu.image.clone(), String::new()));
             on_gpu.push(row);
