@@ -190,6 +190,30 @@ fn a_backend_blind_to_alpha_sees_through_cut_outs() {
     }
 }
 
+/// With several bands of rows, only those that may see a cut-out go to primary rays: a 512 × 64
+/// frame (two bands of 32 rows) whose lower half alone sees the leaf keeps its eye beams in the
+/// upper half, and renders as the CPU renders the opaque half.
+#[test]
+fn only_the_bands_that_see_a_cut_out_go_to_rays() {
+    let framed = |mut s: Scene| {
+        s.camera = Camera { target: Vec3::new(0.0, 0.0, -2.5), width: 512, height: 64, ..s.camera };
+        s
+    };
+    let (cut, half) = (framed(scene(1.0, true)), framed(scene(0.0, false)));
+    let o = RenderOptions { spp: 64, primary_spp: 16, primary_beams: true, ..RenderOptions::exact(512, 64) };
+    let (reference, _) = render(&half, &o, || {});
+    let (image, stats) = render_queries(&cut, &o, &AlphaBlind, || {}).expect("a render");
+    let error = relative_rmse(&image, &reference);
+    eprintln!(
+        "{} regions by rays, {} ray pixels, {} fragments; relative RMSE {error}",
+        stats.cut_out_regions, stats.ray_pixels, stats.fragments
+    );
+    assert_eq!((stats.cut_out_regions, stats.ray_pixels), (1, 512 * 32), "the lower band alone sees the leaf");
+    // The upper band sees the far floor's edge, the rest sky: its fragments are the eye beams'.
+    assert!(stats.fragments > 100, "the upper band keeps its eye beams: {} fragments", stats.fragments);
+    assert!(error < 0.1, "relative RMSE {error} against the opaque half");
+}
+
 /// The glossy light volumes' eye rays blend a `BLEND` pane as `beam` and `ray` do (front to back,
 /// without noise): a pane of alpha ¼ over a sky shows ¼ of the opaque pane's radiance and ¾ of the
 /// sky in every pixel, where one stochastic ray a pixel would show one or the other.

@@ -42,9 +42,9 @@ pub use eye::pixel_fragments;
 /// The same pixels as `render` with the same options (the same camera rays, jitter, seeds and box
 /// filter, the `ray` method's samples from the same random streams), but:
 /// - with `options.primary_beams`, every pixel's fragments come from eye beams (the backend's
-///   where it gives them) unless the frame may see a cut-out: then the whole frame is seen through
-///   `options.primary_spp` primary rays (counted as one of `cut_out_regions`), where `render`
-///   sends only the regions that may see one to rays;
+///   where it gives them) except in the bands of rows (a batch's worth) that may see a cut-out:
+///   those are seen through `options.primary_spp` primary rays (each counted in
+///   `cut_out_regions`), where `render` sends the regions of its own grid that may see one;
 /// - in a scene with cut-outs, the backend's hits on cut-out triangles are checked against their
 ///   alpha on the host and its rays sent on past them (a GPU tests no alpha), and an area light a
 ///   cut-out may hide from a shade point is sampled by `options.spp` shadow rays
@@ -75,14 +75,23 @@ pub fn render_queries(
     let mut image = Image::new(crop.width(), crop.height());
     let mut c = Counters::default();
     // Eye beams: every pixel's exact fragments first (the backend's, the rest the host's); but a
-    // frame that may see a cut-out (even behind something) is seen through primary rays, which
-    // test the alpha (one region: the whole frame).
+    // band that may see a cut-out (even behind something) is seen through primary rays, which test
+    // the alpha (a region each). Bands are cut for the larger of the two sample counts.
     let eye_beams = options.method == Method::Beam && options.primary_beams;
-    let sees_cut_outs = eye_beams && ctx.cut_outs.as_ref().is_some_and(|c| c.may_show(&camera, crop));
-    c.cut_out_regions += u64::from(sees_cut_outs);
-    let view = if eye_beams && !sees_cut_outs {
+    let per_pixel = if eye_beams { eye::EYE_SAMPLES.max(k * k) } else { k * k };
+    let bands: Vec<(Region, bool)> = bands(crop, per_pixel)
+        .map(|band| (band, eye_beams && !ctx.cut_outs.as_ref().is_some_and(|c| c.may_show(&camera, band))))
+        .collect();
+    for (band, _) in bands.iter().filter(|(_, by_beams)| eye_beams && !by_beams) {
+        c.cut_out_regions += 1;
+        c.ray_pixels += band.len() as u64;
+    }
+    let view = if bands.iter().any(|(_, by_beams)| *by_beams) {
         let eye_start = Instant::now();
-        let (view, left) = eye::eye_view(scene, &camera, backend, crop)?;
+        let wanted = |x: u32, y: u32| {
+            bands.iter().any(|(b, by_beams)| *by_beams && (b.x0..b.x1).contains(&x) && (b.y0..b.y1).contains(&y))
+        };
+        let (view, left) = eye::eye_view(scene, &camera, backend, wanted)?;
         c.overflow_pixels += left;
         c.fragments += view.iter().map(|p| p.fragments.len() as u64).sum::<u64>();
         c.primary_seconds += eye_start.elapsed().as_secs_f64();
@@ -90,11 +99,10 @@ pub fn render_queries(
     } else {
         None
     };
-    let per_pixel = if view.is_some() { eye::EYE_SAMPLES } else { k * k };
-    for band in bands(crop, per_pixel) {
+    for &(band, by_beams) in &bands {
         let primary = match &view {
-            Some(v) => paths::Primary::Fragments(v),
-            None => paths::Primary::Rays(k),
+            Some(v) if by_beams => paths::Primary::Fragments(v),
+            _ => paths::Primary::Rays(k),
         };
         let pixels = shade_band(&ctx, &camera, backend, &table, band, primary, &mut c)?;
         paste_within(band, &pixels, &mut image, crop);

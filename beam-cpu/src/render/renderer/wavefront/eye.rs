@@ -9,7 +9,6 @@ use beam_math::glam::Vec2;
 use beam_math::polybeam::BeamFrame;
 use beam_render::BackendError;
 use beam_render::queries::{BeamQueries, PixelFragment, PixelFragments};
-use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Scene};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -78,19 +77,18 @@ impl PixelSquares {
     }
 }
 
-/// Every pixel's fragments, row-major: `backend`'s where it gave them, the CPU's elsewhere within
-/// `crop` (outside it, none: those pixels are not rendered); and how many pixels of `crop` the
-/// backend left to the host (0 for a backend without eye beams).
+/// Every pixel's fragments, row-major: `backend`'s where it gave them, the CPU's elsewhere where
+/// `inside` (elsewhere, none: those pixels are not rendered by eye beams); and how many pixels
+/// `inside` the backend left to the host (0 for a backend without eye beams).
 pub(super) fn eye_view(
     scene: &Scene,
     camera: &Camera,
     backend: &dyn BeamQueries,
-    crop: PixelRect,
+    inside: impl Fn(u32, u32) -> bool + Sync,
 ) -> Result<(Vec<PixelFragments>, u64), BackendError> {
     let given = backend.eye_fragments(scene, camera)?;
     let n = (camera.width * camera.height) as usize;
     let squares = PixelSquares::of(camera);
-    let inside = |x: u32, y: u32| (crop.x0..crop.x1).contains(&x) && (crop.y0..crop.y1).contains(&y);
     let view: Vec<(PixelFragments, bool)> = (0..n)
         .into_par_iter()
         .map(|i| {
