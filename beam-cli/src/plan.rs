@@ -153,7 +153,8 @@ pub(crate) struct RenderArgs {
     /// background, mirrors, glass) and the light it sends in. `r,g,b`: a uniform sky of that
     /// linear radiance (lit with exact shadow beams by `--method beam`); a `.hdr` or `.exr`
     /// file: an equirectangular map (+Y up, +X at its centre column, as glTF viewers), whose
-    /// light `--spp` cosine-weighted rays a point sample. Seen by every method but `glossy`.
+    /// light `--spp` cosine-weighted rays a point sample. Seen by every method and lighting every
+    /// method's diffuse points (`glossy` samples it with 64 cosine-weighted rays a point).
     #[arg(long, value_name = "FILE|r,g,b")]
     pub env: Option<String>,
     /// The clap ids of the options given on the command line (not defaulted); set after parsing.

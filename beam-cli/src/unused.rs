@@ -1,6 +1,6 @@
 //! What of a scene a render does not use, said on stderr before it starts: the loader's notices
-//! (one line per kind, with its count) and what the chosen method and backend leave out (the
-//! environment, textures, cut-outs, normal textures). Said even when `--quiet`: the image lacks
+//! (one line per kind, with its count) and what the chosen method and backend leave out (cut-outs,
+//! normal textures). Said even when `--quiet`: the image lacks
 //! content the file holds.
 
 use crate::method::Kind;
@@ -11,15 +11,6 @@ pub(crate) fn warn(scene: &Scene, kind: Kind, gpu: bool) {
     for n in &scene.notices {
         // Said even when `quiet`: the image lacks content the file holds.
         eprintln!("warning: {}: {} {}", scene.name, n.count, n.what);
-    }
-    // Every method shows the environment; every method but the glossy light volumes is lit by it.
-    if !scene.environment.is_black() && matches!(kind, Kind::Glossy | Kind::GlossyReference) {
-        eprintln!(
-            "warning: {}: the environment lights nothing by --method {} (it is seen in the background, mirrors and \
-             glass)",
-            scene.name,
-            kind.name()
-        );
     }
     // Every method reads textures on both backends (the GPU hands textured points to the host),
     // and the rays and nonlinear beams see through cut-outs where their alpha says; the glossy

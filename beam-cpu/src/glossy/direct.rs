@@ -1,4 +1,5 @@
-//! The ground truth of the emitters' direct light: shadow rays over each light's whole area.
+//! The ground truth of the emitters' direct light: shadow rays over each light's whole area; and
+//! the environment's light, by cosine-weighted rays over the hemisphere.
 
 use beam_math::Ray;
 use beam_math::glam::Vec3;
@@ -12,7 +13,8 @@ use rand_pcg::Pcg32;
 /// normal texture's, else `n`) from every light of `scene` above the surface, every occluder
 /// casting shadows: a point light by one shadow ray, an area light by [`REFERENCE_AREA_RAYS`]
 /// stratified, jittered shadow rays over its area (seeded by `seed`), each weighted by the cosines
-/// at both ends over the squared distance. The ground truth of the emitters' direct light.
+/// at both ends over the squared distance; plus the environment's ([`sky_irradiance`] by as many
+/// rays). The ground truth of the emitters' direct light.
 #[must_use]
 pub fn reference_direct(scene: &Scene, p: Vec3, [n, shading]: [Vec3; 2], seed: u64) -> Vec3 {
     let eps = shading_eps(scene);
@@ -41,5 +43,41 @@ pub fn reference_direct(scene: &Scene, p: Vec3, [n, shading]: [Vec3; 2], seed: u
             e += whole.intensity * (falloff * cos / (r2 * samples as f32));
         }
     }
-    e
+    e + sky_irradiance(scene, p, [n, shading], seed, REFERENCE_AREA_RAYS)
+}
+
+/// Rays a point of the glossy method's image gives the environment ([`sky_irradiance`]).
+pub const SKY_RAYS: u32 = 64;
+
+/// Irradiance at `p` (unit normal `n`, cosines with the unit `shading` normal) from `scene`'s
+/// environment: `rays` stratified, jittered cosine-weighted directions about `shading` (seeded by
+/// `seed`), those above the surface (`n`) traced to infinity past every occluder, each that leaves
+/// the scene bringing the environment's radiance from its direction; the estimate `π/N Σ L(ωᵢ)`
+/// (the cosine and the density `cos θ / π` cancel), exact for a constant sky over an open
+/// hemisphere. Zero, with no ray, under a black environment. Light the environment sends by way of
+/// mirrors, glass or glossy surfaces is not gathered.
+#[must_use]
+pub fn sky_irradiance(scene: &Scene, p: Vec3, [n, shading]: [Vec3; 2], seed: u64, rays: u32) -> Vec3 {
+    if scene.environment.is_black() {
+        return Vec3::ZERO;
+    }
+    let q = p + n * shading_eps(scene);
+    let mut rng = Pcg32::seed_from_u64(seed ^ 0x05ca_1ab1_e0dd_ba11);
+    let k = ((rays.max(1) as f32).sqrt() as u32).max(1);
+    let (u, v) = {
+        let a = if shading.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
+        let u = shading.cross(a).normalize();
+        (u, shading.cross(u))
+    };
+    let mut sum = Vec3::ZERO;
+    for j in 0..k * k {
+        let (s, t) =
+            (((j % k) as f32 + rng.random::<f32>()) / k as f32, ((j / k) as f32 + rng.random::<f32>()) / k as f32);
+        let (r, phi) = (s.sqrt(), core::f32::consts::TAU * t);
+        let w = (r * phi.cos()) * u + (r * phi.sin()) * v + (1.0 - s).max(0.0).sqrt() * shading;
+        if n.dot(w) > 0.0 && !scene.occluded(Ray::new(q, w), f32::INFINITY) {
+            sum += scene.environment.radiance(w);
+        }
+    }
+    core::f32::consts::PI * sum / (k * k) as f32
 }

@@ -13,7 +13,7 @@ mod kernel;
 mod photons;
 mod render;
 
-pub use direct::reference_direct;
+pub use direct::{SKY_RAYS, reference_direct, sky_irradiance};
 pub use kernel::PhotonKernel;
 pub use photons::{glossy_photons, photon_texel};
 pub use render::{

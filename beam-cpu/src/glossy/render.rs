@@ -6,7 +6,7 @@
 //! ([`render_glossy_reference`]) shades the same points with exact shadow rays (area lights sampled
 //! over their area, [`reference_direct`]) and the photon map of [`glossy_photons`].
 
-use super::direct::reference_direct;
+use super::direct::{SKY_RAYS, reference_direct, sky_irradiance};
 use super::kernel::PhotonKernel;
 use super::photons::glossy_photons;
 use crate::RenderError;
@@ -291,8 +291,10 @@ pub fn render_glossy_with(
             .zip(&at)
             .zip(gathered)
             .map(|((s, &(p, _)), g)| {
+                let normals = normals(scene, s);
+                let sky = sky_irradiance(scene, p, normals, s.seed, SKY_RAYS);
                 scene.albedo_at(s.prim, s.p) / core::f32::consts::PI
-                    * (direct(scene, &volumes.emitters, p, normals(scene, s), g.shadowed) + g.irradiance)
+                    * (direct(scene, &volumes.emitters, p, normals, g.shadowed) + sky + g.irradiance)
             })
             .collect())
     };
