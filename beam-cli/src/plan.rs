@@ -365,7 +365,7 @@ pub(crate) fn plan(a: &RenderArgs, quiet: bool) -> Result<Plan, String> {
     if let Some(e) = &a.env {
         scene.environment = environment(e)?;
     }
-    crate::unused::warn(&scene, kind, gpu);
+    crate::unused::warn(&scene, kind, gpu && a.second_order());
     if let Some(k) = a.frame {
         scene.camera = camera_at(&scene, k)?;
     }

@@ -219,6 +219,9 @@ fn glossy(a: &RenderArgs, plan: &Plan) -> Result<ExitCode, String> {
         region: plan.options.region,
         ..GlossyOptions::new(width, height)
     };
+    // The GPU's gather tests no alpha: with cut-outs, its second-order shadow rays would take them
+    // as opaque, so the host gathers (its rays see through them).
+    let gpu = gpu.filter(|_| !(options.second_order && scene.has_cut_outs()));
     let (image, stats) = match &gpu {
         Some(g) => {
             let gather = beam_gpu::glossy::GpuGather::new(g, scene).map_err(|e| e.to_string())?;
