@@ -154,7 +154,8 @@ pub(crate) struct RenderArgs {
     /// linear radiance (lit with exact shadow beams by `--method beam`); a `.hdr` or `.exr`
     /// file: an equirectangular map (+Y up, +X at its centre column, as glTF viewers), whose
     /// light `--spp` cosine-weighted rays a point sample. Seen by every method and lighting every
-    /// method's diffuse points (`glossy` samples it with 64 cosine-weighted rays a point).
+    /// method's diffuse points (`glossy` samples it by cosine-weighted rays: 64 a diffuse point,
+    /// 256 a glossy one).
     #[arg(long, value_name = "FILE|r,g,b")]
     pub env: Option<String>,
     /// The clap ids of the options given on the command line (not defaulted); set after parsing.

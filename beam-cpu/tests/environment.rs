@@ -180,18 +180,24 @@ fn open_plane_under_a_sky_shows_albedo_times_sky() {
     }
 }
 
-/// A box standing on the plane shadows the sky: points beside it receive less than `πL`, and the
-/// beam and ray methods agree there within the rays' noise.
-#[test]
-fn sky_shadows_agree_between_beams_and_rays() {
+/// A 2 × 2 × 2 box standing on a 24 × 24 plane, both diffuse of `albedo`, lit by `lights`, seen
+/// at 32² from above and in front.
+fn box_on_plane(albedo: Vec3, lights: Vec<beam_scene::scene::Light>) -> Scene {
     let s = 12.0;
     let (a, b, c, d) = (Vec3::new(-s, 0.0, -s), Vec3::new(s, 0.0, -s), Vec3::new(s, 0.0, s), Vec3::new(-s, 0.0, s));
     let mut triangles = vec![(Triangle::new(a, c, b), 0), (Triangle::new(a, d, c), 0)];
     let cube = mesh::cuboid(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
     triangles.extend(cube.triangles().into_iter().map(|t| (t, 0)));
-    let albedo = Vec3::splat(0.7);
     let cam = camera(Vec3::new(0.0, 7.0, 7.0), Vec3::ZERO, 32);
-    let mut scene = Scene::new("box".into(), triangles, vec![Material::Diffuse { albedo }], Vec::new(), cam);
+    Scene::new("box".into(), triangles, vec![Material::Diffuse { albedo }], lights, cam)
+}
+
+/// A box standing on the plane shadows the sky: points beside it receive less than `πL`, and the
+/// beam and ray methods agree there within the rays' noise.
+#[test]
+fn sky_shadows_agree_between_beams_and_rays() {
+    let albedo = Vec3::splat(0.7);
+    let mut scene = box_on_plane(albedo, Vec::new());
     let sky = Vec3::splat(0.5);
     scene.environment = Environment::Constant(sky);
     let (beam, _) = draw(&scene, Method::Beam, false, 64, 32);
@@ -279,15 +285,8 @@ fn glossy_volumes_are_lit_by_the_sky() {
     use beam_cpu::glossy::render_glossy;
     use beam_render::glossy::GlossyOptions;
     use beam_scene::scene::Light;
-    let s = 12.0;
-    let (a, b, c, d) = (Vec3::new(-s, 0.0, -s), Vec3::new(s, 0.0, -s), Vec3::new(s, 0.0, s), Vec3::new(-s, 0.0, s));
-    let mut triangles = vec![(Triangle::new(a, c, b), 0), (Triangle::new(a, d, c), 0)];
-    let cube = mesh::cuboid(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
-    triangles.extend(cube.triangles().into_iter().map(|t| (t, 0)));
-    let albedo = Vec3::splat(0.7);
     let light = Light::Point { position: Vec3::new(3.0, 6.0, 2.0), intensity: Vec3::splat(20.0) };
-    let cam = camera(Vec3::new(0.0, 7.0, 7.0), Vec3::ZERO, 32);
-    let mut scene = Scene::new("box".into(), triangles, vec![Material::Diffuse { albedo }], vec![light], cam);
+    let mut scene = box_on_plane(Vec3::splat(0.7), vec![light]);
     let mean = |im: &Image| im.pixels.iter().map(|p| p.x).sum::<f32>() / im.pixels.len() as f32;
     let glossy = |scene: &Scene| mean(&render_glossy(scene, &GlossyOptions::new(32, 32)).expect("a render").0);
     let beam = |scene: &Scene| mean(&draw(scene, Method::Beam, false, 64, 32).0);

@@ -549,6 +549,7 @@ fn visible_light(@builtin(global_invocation_id) id: vec3<u32>) {
 // would have overflowed; GROUP_SPENT: the iterations passed the group's budget).
 const GROUP_CUT: u32 = 1u;
 const GROUP_SPENT: u32 = 2u;
+const NO_SLOT: u32 = 0xffffffffu;
 var<workgroup> group_stack: array<u32, TRAVERSAL_STACK>;
 var<workgroup> group_sp: u32;
 var<workgroup> group_wanted: atomic<u32>;
@@ -557,15 +558,17 @@ var<workgroup> group_work: atomic<u32>;
 var<workgroup> group_ended: u32;
 
 // One shadow beam per invocation, the workgroup's beams (neighbouring shade points, mostly) walking
-// the BVH together: one node at a time, taken by every beam whose frustum it is not wholly outside,
-// its children pushed when any beam took it. A beam visits the nodes and triangles it would visit
-// alone, in the same order (a frustum only shrinks, so a node outside a beam stays outside, and so
-// do its descendants): the answers are shadow_beam's, bit for bit, while the nodes and triangles
-// are read once for the group and its lanes step together instead of each down its own path.
-// `work` counts the group's steps. The loop holds barriers, so every lane must leave it at the same
-// step: llvmpipe's cap (65,535 iterations of a SIMD group's loops, all counted together) must not
-// cut it. The group's iterations, summed over its lanes (at least any SIMD group's count), end the
-// walk past 6 beams' budgets (49,152 on software devices); the beams still walking then answer
+// the BVH together: one node at a time from a shared stack, tested by every beam that would pop it
+// alone, its children pushed when any beam took it. A beam that finds a node outside its frustum
+// skips the node's descendants (the slots above it on the stack), so each beam tests the nodes and
+// meets the triangles it would alone, in the same order, and answers what shadow_beam answers
+// wherever both finish, while the nodes and triangles are read once for the group and its lanes
+// step together instead of each down its own path. `work` counts the group's steps (a beam's
+// budget ends it sooner than alone). The loop holds barriers, so every lane must leave it at the
+// same step: llvmpipe's cap (65,535 iterations of a SIMD group's loops, all counted together) must
+// not cut it. The group's iterations, summed over its lanes (at least any SIMD group's count), end
+// the walk past 5 beams' budgets (40,960 on software devices, leaving one step's worth and the
+// set-up and sums below the cap; 5·2²⁰ on hardware); the beams still walking then answer
 // SHADOW_BUDGET. The host picks the walk (beam_gpu::shadow_beam::Walk).
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn visible_light_together(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
@@ -595,6 +598,8 @@ fn visible_light_together(@builtin(global_invocation_id) id: vec3<u32>, @builtin
     var stopped = SHADOW_DONE;
     // Set only where the loop ends by its own test (shadow_beam's `traversed`).
     var traversed = false;
+    // The stack slot of the last node this beam found outside (NO_SLOT: none).
+    var skip_from = NO_SLOT;
     work += 2u;
     loop {
         let sp = workgroupUniformLoad(&group_sp);
@@ -603,10 +608,17 @@ fn visible_light_together(@builtin(global_invocation_id) id: vec3<u32>, @builtin
             break;
         }
         let before = work;
-        let at = group_stack[sp - 1u];
+        let slot = sp - 1u;
+        let at = group_stack[slot];
         let node = nodes[at];
+        // Above the slot of a node this beam found outside lie only that node's descendants, which
+        // the beam alone would never pop; the first pop below it ends the skip.
+        let mine = slot < skip_from;
+        if mine {
+            skip_from = NO_SLOT;
+        }
         // shadow_beam's loop head, for this beam.
-        if live && (piece_count == 0u || overflow || work > params.budget) {
+        if live && mine && (piece_count == 0u || overflow || work > params.budget) {
             if piece_count != 0u {
                 stopped = select(SHADOW_BUDGET, SHADOW_PIECES, overflow);
             }
@@ -614,10 +626,14 @@ fn visible_light_together(@builtin(global_invocation_id) id: vec3<u32>, @builtin
             atomicSub(&group_live, 1u);
         }
         work += 1u;
-        if live && !outside(node) {
-            atomicAdd(&group_wanted, 1u);
-            if node.count > 0u {
-                occlude_leaf(node);
+        if live && mine {
+            if outside(node) {
+                skip_from = slot;
+            } else {
+                atomicAdd(&group_wanted, 1u);
+                if node.count > 0u {
+                    occlude_leaf(node);
+                }
             }
         }
         atomicAdd(&group_work, work - before);
@@ -627,7 +643,7 @@ fn visible_light_together(@builtin(global_invocation_id) id: vec3<u32>, @builtin
             let wanted = atomicExchange(&group_wanted, 0u) > 0u;
             if atomicLoad(&group_live) == 0u {
                 next = 0u;
-            } else if atomicLoad(&group_work) > 6u * min(params.budget, 0x20000000u) {
+            } else if atomicLoad(&group_work) > 5u * min(params.budget, 0x20000000u) {
                 group_ended = GROUP_SPENT;
                 next = 0u;
             } else if wanted && node.count == 0u {

@@ -135,11 +135,12 @@ pub enum Walk {
     /// GPU (docs/benchmarks.md).
     #[default]
     Alone,
-    /// The group's beams together, a node at a time, each taking what it would take alone (entry
-    /// point `visible_light_together`): the same answers, bit for bit, the nodes and triangles read
-    /// once for the group. Its loop holds barriers, which Mesa llvmpipe's loop cap makes unsafe
-    /// for long walks, so the group's summed iterations end it at 6 beams' budgets. Not yet timed
-    /// on a real GPU: `beam bench softshadow --backend gpu` times both walks.
+    /// The group's beams together, a node at a time, each testing the nodes it would test alone
+    /// (entry point `visible_light_together`): the same answers wherever both finish, the nodes
+    /// and triangles read once for the group. Its loop holds barriers, which Mesa llvmpipe's loop
+    /// cap makes unsafe for long walks, so the group's iterations summed over its beams end it at
+    /// 5 beams' budgets, on any device; a beam's own budget counts the group's steps. Not yet
+    /// timed on a real GPU: `beam bench softshadow --backend gpu` times both walks.
     Together,
 }
 

@@ -50,7 +50,7 @@ pub fn reference_direct(scene: &Scene, p: Vec3, [n, shading]: [Vec3; 2], seed: u
 pub const SKY_RAYS: u32 = 64;
 
 /// Irradiance at `p` (unit normal `n`, cosines with the unit `shading` normal) from `scene`'s
-/// environment: `rays` stratified, jittered cosine-weighted directions about `shading` (seeded by
+/// environment: `⌊√rays⌋²` stratified, jittered cosine-weighted directions about `shading` (seeded by
 /// `seed`), those above the surface (`n`) traced to infinity past every occluder, each that leaves
 /// the scene bringing the environment's radiance from its direction; the estimate `π/N Σ L(ωᵢ)`
 /// (the cosine and the density `cos θ / π` cancel), exact for a constant sky over an open

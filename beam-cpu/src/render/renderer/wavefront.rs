@@ -88,12 +88,18 @@ pub fn render_queries(
     }
     let view = if bands.iter().any(|(_, by_beams)| *by_beams) {
         let eye_start = Instant::now();
-        let wanted = |x: u32, y: u32| {
-            bands.iter().any(|(b, by_beams)| *by_beams && (b.x0..b.x1).contains(&x) && (b.y0..b.y1).contains(&y))
-        };
-        let (view, left) = eye::eye_view(scene, &camera, backend, wanted)?;
+        // The frame's pixels that eye beams see (row-major).
+        let mut wanted = vec![false; camera.width as usize * camera.height as usize];
+        for (b, _) in bands.iter().filter(|(_, by_beams)| *by_beams) {
+            for y in b.y0..b.y1 {
+                let row = (y * camera.width) as usize;
+                wanted[row + b.x0 as usize..row + b.x1 as usize].fill(true);
+            }
+        }
+        let (view, left) = eye::eye_view(scene, &camera, backend, |x, y| wanted[(y * camera.width + x) as usize])?;
         c.overflow_pixels += left;
-        c.fragments += view.iter().map(|p| p.fragments.len() as u64).sum::<u64>();
+        c.fragments +=
+            view.iter().zip(&wanted).filter(|(_, w)| **w).map(|(p, _)| p.fragments.len() as u64).sum::<u64>();
         c.primary_seconds += eye_start.elapsed().as_secs_f64();
         Some(view)
     } else {
