@@ -549,7 +549,6 @@ fn visible_light(@builtin(global_invocation_id) id: vec3<u32>) {
 // would have overflowed; GROUP_SPENT: the iterations passed the group's budget).
 const GROUP_CUT: u32 = 1u;
 const GROUP_SPENT: u32 = 2u;
-const NO_SLOT: u32 = 0xffffffffu;
 var<workgroup> group_stack: array<u32, TRAVERSAL_STACK>;
 var<workgroup> group_sp: u32;
 var<workgroup> group_wanted: atomic<u32>;
@@ -598,8 +597,8 @@ fn visible_light_together(@builtin(global_invocation_id) id: vec3<u32>, @builtin
     var stopped = SHADOW_DONE;
     // Set only where the loop ends by its own test (shadow_beam's `traversed`).
     var traversed = false;
-    // The stack slot of the last node this beam found outside (NO_SLOT: none).
-    var skip_from = NO_SLOT;
+    // The stack slot of the last node this beam found outside (NONE: none).
+    var skip_from = NONE;
     work += 2u;
     loop {
         let sp = workgroupUniformLoad(&group_sp);
@@ -615,7 +614,7 @@ fn visible_light_together(@builtin(global_invocation_id) id: vec3<u32>, @builtin
         // the beam alone would never pop; the first pop below it ends the skip.
         let mine = slot < skip_from;
         if mine {
-            skip_from = NO_SLOT;
+            skip_from = NONE;
         }
         // shadow_beam's loop head, for this beam.
         if live && mine && (piece_count == 0u || overflow || work > params.budget) {

@@ -33,7 +33,8 @@ pub const MISS: u32 = u32::MAX;
 /// `light` of a point whose shading is done ([`crate::shade::ShadeState`]).
 pub const SHADED: u32 = u32::MAX;
 
-/// "None" in [`crate::nonlinear::CompositeRecord`]: a face without a refraction beam.
+/// "None" in a `u32`: in [`crate::nonlinear::CompositeRecord`], a face without a refraction beam;
+/// in `shadow_beam.wgsl`'s walk together, no stack slot to skip from.
 pub const NONE: u32 = u32::MAX;
 
 /// `kind` of a closest-hit ray ([`crate::raytrace::GpuRay`]).
