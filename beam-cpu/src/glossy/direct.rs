@@ -1,6 +1,7 @@
 //! The ground truth of the emitters' direct light: shadow rays over each light's whole area; and
 //! the environment's light, by cosine-weighted rays over the hemisphere.
 
+use crate::render::renderer::light_samples::{cosine_direction, light_sample, tangents};
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::glossy::{REFERENCE_AREA_RAYS, area_point, whole};
@@ -50,8 +51,8 @@ pub fn reference_direct(scene: &Scene, p: Vec3, [n, shading]: [Vec3; 2], seed: u
 pub const SKY_RAYS: u32 = 64;
 
 /// Irradiance at `p` (unit normal `n`, cosines with the unit `shading` normal) from `scene`'s
-/// environment: `⌊√rays⌋²` stratified, jittered cosine-weighted directions about `shading` (seeded by
-/// `seed`), those above the surface (`n`) traced to infinity past every occluder, each that leaves
+/// environment: `rays` stratified, jittered cosine-weighted directions about `shading`
+/// ([`light_sample`], [`cosine_direction`]; seeded by `seed`), those above the surface (`n`) traced to infinity past every occluder, each that leaves
 /// the scene bringing the environment's radiance from its direction; the estimate `π/N Σ L(ωᵢ)`
 /// (the cosine and the density `cos θ / π` cancel), exact for a constant sky over an open
 /// hemisphere. Zero, with no ray, under a black environment. Light the environment sends by way of
@@ -63,21 +64,14 @@ pub fn sky_irradiance(scene: &Scene, p: Vec3, [n, shading]: [Vec3; 2], seed: u64
     }
     let q = p + n * shading_eps(scene);
     let mut rng = Pcg32::seed_from_u64(seed ^ 0x05ca_1ab1_e0dd_ba11);
-    let k = ((rays.max(1) as f32).sqrt() as u32).max(1);
-    let (u, v) = {
-        let a = if shading.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
-        let u = shading.cross(a).normalize();
-        (u, shading.cross(u))
-    };
+    let (u, v) = tangents(shading);
+    let rays = rays.max(1);
     let mut sum = Vec3::ZERO;
-    for j in 0..k * k {
-        let (s, t) =
-            (((j % k) as f32 + rng.random::<f32>()) / k as f32, ((j / k) as f32 + rng.random::<f32>()) / k as f32);
-        let (r, phi) = (s.sqrt(), core::f32::consts::TAU * t);
-        let w = (r * phi.cos()) * u + (r * phi.sin()) * v + (1.0 - s).max(0.0).sqrt() * shading;
+    for i in 0..rays {
+        let w = cosine_direction((u, v, shading), light_sample(i, rays, &mut rng));
         if n.dot(w) > 0.0 && !scene.occluded(Ray::new(q, w), f32::INFINITY) {
             sum += scene.environment.radiance(w);
         }
     }
-    core::f32::consts::PI * sum / (k * k) as f32
+    core::f32::consts::PI * sum / rays as f32
 }

@@ -11,7 +11,7 @@ mod lambert;
 mod packet;
 mod primary_beam;
 mod primary_image;
-mod renderer;
+pub(crate) mod renderer;
 mod shadow_beam;
 mod shaft;
 mod silhouettes;

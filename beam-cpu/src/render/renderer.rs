@@ -15,7 +15,7 @@ use trace::{EyeTraced, TileRadiance, Trace, Traced};
 mod context;
 mod emitters;
 mod light_beam;
-mod light_samples;
+pub(crate) mod light_samples;
 mod shade_points;
 mod shading;
 mod sky;

@@ -10,7 +10,7 @@ use rand_pcg::Pcg32;
 
 /// Sample `i` of `spp` on the unit square: jittered in the cells of the largest `k × k` grid with
 /// `k² ≤ spp`, uniform past them.
-pub(super) fn light_sample(i: u32, spp: u32, rng: &mut Pcg32) -> (f32, f32) {
+pub(crate) fn light_sample(i: u32, spp: u32, rng: &mut Pcg32) -> (f32, f32) {
     let k = (spp as f32).sqrt() as u32;
     if i < k * k {
         (((i % k) as f32 + rng.random::<f32>()) / k as f32, ((i / k) as f32 + rng.random::<f32>()) / k as f32)
@@ -51,7 +51,7 @@ pub(super) fn point_light(p: Vec3, n: Vec3, position: Vec3, intensity: Vec3) -> 
 
 /// Two unit vectors that make a right-handed orthonormal frame with the unit vector `n` (Duff et
 /// al. 2017, "Building an orthonormal basis, revisited").
-pub(super) fn tangents(n: Vec3) -> (Vec3, Vec3) {
+pub(crate) fn tangents(n: Vec3) -> (Vec3, Vec3) {
     let sign = 1.0f32.copysign(n.z);
     let a = -1.0 / (sign + n.z);
     let b = n.x * n.y * a;
@@ -61,7 +61,7 @@ pub(super) fn tangents(n: Vec3) -> (Vec3, Vec3) {
 /// The cosine-weighted direction about `n` of the frame `(u, v, n)` ([`tangents`]) for the point
 /// `(s, r)` of the unit square, by Malley's method: uniform on the unit disc, lifted to the
 /// hemisphere.
-pub(super) fn cosine_direction((u, v, n): (Vec3, Vec3, Vec3), (s, r): (f32, f32)) -> Vec3 {
+pub(crate) fn cosine_direction((u, v, n): (Vec3, Vec3, Vec3), (s, r): (f32, f32)) -> Vec3 {
     let (sin_phi, cos_phi) = (std::f32::consts::TAU * s).sin_cos();
     let radius = r.sqrt();
     radius * cos_phi * u + radius * sin_phi * v + (1.0 - r).max(0.0).sqrt() * n
