@@ -157,7 +157,7 @@ pub(crate) fn run(
             seconds / beam_seconds
         );
     }
-    if let (Some(g), false) = (gpu, on_gpu.is_empty()) {
+    if let Some(g) = gpu {
         println!("\n{}", super::softshadow_gpu::header(g));
         for row in &on_gpu {
             println!("{}", super::softshadow_gpu::line(row));

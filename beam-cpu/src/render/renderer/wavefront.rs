@@ -96,7 +96,7 @@ pub fn render_queries(
                 wanted[row + b.x0 as usize..row + b.x1 as usize].fill(true);
             }
         }
-        let (view, left) = eye::eye_view(scene, &camera, backend, |x, y| wanted[(y * camera.width + x) as usize])?;
+        let (view, left) = eye::eye_view(scene, &camera, backend, &wanted)?;
         c.overflow_pixels += left;
         c.fragments +=
             view.iter().zip(&wanted).filter(|(_, w)| **w).map(|(p, _)| p.fragments.len() as u64).sum::<u64>();

@@ -78,13 +78,13 @@ impl PixelSquares {
 }
 
 /// Every pixel's fragments, row-major: `backend`'s where it gave them, the CPU's elsewhere where
-/// `inside` (elsewhere, none: those pixels are not rendered by eye beams); and how many pixels
-/// `inside` the backend left to the host (0 for a backend without eye beams).
+/// `wanted` (row-major; elsewhere none: those pixels are not rendered by eye beams); and how many
+/// wanted pixels the backend left to the host (0 for a backend without eye beams).
 pub(super) fn eye_view(
     scene: &Scene,
     camera: &Camera,
     backend: &dyn BeamQueries,
-    inside: impl Fn(u32, u32) -> bool + Sync,
+    wanted: &[bool],
 ) -> Result<(Vec<PixelFragments>, u64), BackendError> {
     let given = backend.eye_fragments(scene, camera)?;
     let n = (camera.width * camera.height) as usize;
@@ -95,7 +95,7 @@ pub(super) fn eye_view(
             let (x, y) = (i as u32 % camera.width, i as u32 / camera.width);
             match given.as_ref().and_then(|g| g.get(i).cloned()) {
                 Some(Some(p)) => (p, false),
-                _ if !inside(x, y) => (PixelFragments::default(), false),
+                _ if !wanted[i] => (PixelFragments::default(), false),
                 // Left by the backend (counted), or a backend without eye beams (not counted).
                 left => (squares.as_ref().map(|s| s.fragments(scene, x, y)).unwrap_or_default(), left.is_some()),
             }
