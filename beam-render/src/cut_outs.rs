@@ -44,14 +44,32 @@ pub fn hits_there(
     Ok(hits)
 }
 
+/// The nearest hit on a surface that is there of each of `rays`: `closest`'s own hits in a scene
+/// without cut-outs, else [`hits_there`] over the whole rays.
+pub fn closest_there(
+    scene: &Scene,
+    rays: &[Ray],
+    closest: impl Fn(&[Ray]) -> Result<Vec<Option<Hit>>, BackendError>,
+) -> Result<Vec<Option<Hit>>, BackendError> {
+    if !scene.has_cut_outs() {
+        return closest(rays);
+    }
+    let segments: Vec<(Ray, f32)> = rays.iter().map(|&r| (r, f32::INFINITY)).collect();
+    hits_there(scene, &segments, closest)
+}
+
 /// Whether each of `segments` is blocked by a surface that is there, from `blocked`, whether the
-/// backend found any triangle on it: where it did, [`hits_there`] by `closest` decides.
+/// backend found any triangle on it: in a scene with cut-outs, where it did, [`hits_there`] by
+/// `closest` decides.
 pub fn blocked_there(
     scene: &Scene,
     segments: &[(Ray, f32)],
     mut blocked: Vec<bool>,
     closest: impl Fn(&[Ray]) -> Result<Vec<Option<Hit>>, BackendError>,
 ) -> Result<Vec<bool>, BackendError> {
+    if !scene.has_cut_outs() {
+        return Ok(blocked);
+    }
     let suspects: Vec<usize> = (0..segments.len()).filter(|&i| blocked[i]).collect();
     let checked: Vec<(Ray, f32)> = suspects.iter().map(|&i| segments[i]).collect();
     for (i, hit) in suspects.into_iter().zip(hits_there(scene, &checked, closest)?) {

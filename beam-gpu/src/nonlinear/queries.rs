@@ -18,7 +18,7 @@ use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::BackendError;
-use beam_render::cut_outs::{blocked_there, hits_there};
+use beam_render::cut_outs::{blocked_there, closest_there};
 use beam_render::irradiance_map::IrradianceMap;
 use beam_render::nonlinear::{
     Beam, BeamTexture, ChildLookups, CoarseByRays, DeviceImage, DeviceWaits, FramePixels, KeptFrame, LevelRadiance,
@@ -104,18 +104,11 @@ impl GpuBeams<'_> {
 /// checked on the host and the ray sent on past it ([`beam_render::cut_outs`]).
 impl RayQueries for GpuBeams<'_> {
     fn closest_hits(&self, scene: &Scene, rays: &[Ray]) -> Result<Vec<Option<Hit>>, BackendError> {
-        if !scene.has_cut_outs() {
-            return self.nearest(scene, rays);
-        }
-        let segments: Vec<(Ray, f32)> = rays.iter().map(|&r| (r, f32::INFINITY)).collect();
-        hits_there(scene, &segments, |rays| self.nearest(scene, rays))
+        closest_there(scene, rays, |rays| self.nearest(scene, rays))
     }
 
     fn any_hits(&self, scene: &Scene, segments: &[(Ray, f32)]) -> Result<Vec<bool>, BackendError> {
         let blocked = occluded_of(&self.trace(segments.par_iter().map(|(r, t_max)| GpuRay::any(r, *t_max)).collect())?);
-        if !scene.has_cut_outs() {
-            return Ok(blocked);
-        }
         blocked_there(scene, segments, blocked, |rays| self.nearest(scene, rays))
     }
 }

@@ -5,7 +5,7 @@
 use beam_bvh::Hit;
 use beam_math::Ray;
 use beam_render::BackendError;
-use beam_render::cut_outs::{blocked_there, hits_there};
+use beam_render::cut_outs::{blocked_there, closest_there};
 use beam_render::queries::{BeamQueries, LightPolygon, LightQuery, LightSeen};
 use beam_scene::scene::Scene;
 
@@ -18,11 +18,7 @@ pub(super) fn closest_hits(
     scene: &Scene,
     rays: &[Ray],
 ) -> Result<Vec<Option<Hit>>, BackendError> {
-    if !scene.has_cut_outs() {
-        return nearest(backend, scene, rays);
-    }
-    let segments: Vec<(Ray, f32)> = rays.iter().map(|&r| (r, f32::INFINITY)).collect();
-    hits_there(scene, &segments, |rays| nearest(backend, scene, rays))
+    closest_there(scene, rays, |rays| nearest(backend, scene, rays))
 }
 
 /// Whether each of `segments` is blocked by a surface that is there: where the backend says one
@@ -33,9 +29,6 @@ pub(super) fn any_hits(
     segments: &[(Ray, f32)],
 ) -> Result<Vec<bool>, BackendError> {
     let blocked = in_batches(segments, "segments", |b| backend.any_hits(scene, b))?;
-    if !scene.has_cut_outs() {
-        return Ok(blocked);
-    }
     blocked_there(scene, segments, blocked, |rays| nearest(backend, scene, rays))
 }
 
