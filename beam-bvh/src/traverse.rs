@@ -20,6 +20,17 @@ pub struct Hit {
     pub v: f32,
 }
 
+impl Hit {
+    /// The hit of `ray` at parameter `t` on `tri` (index `prim`), its weights those of the point
+    /// `ray.at(t)` (zeros on a degenerate triangle): for a hit whose triangle and `t` are known
+    /// but not its barycentrics (a GPU's, or a plane's).
+    #[must_use]
+    pub fn on(tri: &Triangle, prim: u32, ray: &Ray, t: f32) -> Self {
+        let w = tri.barycentric(ray.at(t)).unwrap_or_default();
+        Self { prim, t, u: w.y, v: w.z }
+    }
+}
+
 /// What a leaf visitor wants next.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Control {

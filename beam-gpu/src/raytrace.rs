@@ -87,8 +87,7 @@ pub fn closest_of(scene: &Scene, rays: &[Ray], hits: Vec<GpuHit>) -> Vec<Option<
         .map(|(h, ray)| {
             (h.prim != GpuHit::MISS).then_some(())?;
             let tri = scene.triangles.get(h.prim as usize)?;
-            let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
-            Some(Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
+            Some(Hit::on(tri, h.prim, ray, h.t))
         })
         .collect()
 }

@@ -30,7 +30,6 @@ fn sees_through(scene: &Scene, job: &BeamJob<'_>, tex: &BeamTexture) -> bool {
         let Some(hit) = hit.as_ref().filter(|h| scene.cut_out(h.prim).is_some()) else { return false };
         let Some(tri) = scene.triangles.get(hit.prim as usize) else { return false };
         let ray = beam.texel_ray(tex.barycentric((k % size) as u32, (k / size) as u32));
-        let w = tri.barycentric(ray.at(hit.t)).unwrap_or_default();
-        !scene.is_there(&ray, &Hit { prim: hit.prim, t: hit.t, u: w.y, v: w.z })
+        !scene.is_there(&ray, &Hit::on(tri, hit.prim, &ray, hit.t))
     })
 }

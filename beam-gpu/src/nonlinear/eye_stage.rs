@@ -48,8 +48,7 @@ impl GpuBeams<'_> {
         let frame = camera.frame();
         let hit = |h: &EyeHit, tri: &Triangle| {
             let ray = camera.pixel_ray(&frame, h.pixel as usize);
-            let w = tri.barycentric(ray.at(h.t)).unwrap_or_default();
-            (h.pixel as usize, ray, Hit { prim: h.prim, t: h.t, u: w.y, v: w.z })
+            (h.pixel as usize, ray, Hit::on(tri, h.prim, &ray, h.t))
         };
         let on = |h: &EyeHit| scene.triangles.get(h.prim as usize);
         if hits.par_iter().all(|h| on(h).is_some()) {

@@ -174,8 +174,7 @@ pub(super) fn trace_band(
                         if !(t.is_finite() && t > 0.0) {
                             return None;
                         }
-                        let w = tri.barycentric(ray.at(t)).unwrap_or_default();
-                        let hit = Hit { prim: f.prim, t, u: w.y, v: w.z };
+                        let hit = Hit::on(tri, f.prim, &ray, t);
                         let sample = i * per_pixel + (j as u32).min(per_pixel - 2);
                         let r = PathRay { ray, sample, key: 0, depth: 0, weight: Vec3::splat(f.coverage) };
                         Some((r, follow(ctx, &r, Some(&hit))))
