@@ -51,12 +51,12 @@ pub fn reference_direct(scene: &Scene, p: Vec3, [n, shading]: [Vec3; 2], seed: u
 pub const SKY_RAYS: u32 = 64;
 
 /// Irradiance at `p` (unit normal `n`, cosines with the unit `shading` normal) from `scene`'s
-/// environment: `rays` stratified, jittered cosine-weighted directions about `shading`
-/// ([`light_sample`], [`cosine_direction`]; seeded by `seed`), those above the surface (`n`) traced to infinity past every occluder, each that leaves
-/// the scene bringing the environment's radiance from its direction; the estimate `π/N Σ L(ωᵢ)`
-/// (the cosine and the density `cos θ / π` cancel), exact for a constant sky over an open
-/// hemisphere. Zero, with no ray, under a black environment. Light the environment sends by way of
-/// mirrors, glass or glossy surfaces is not gathered.
+/// environment: `rays` stratified, jittered cosine-weighted directions about `shading` (the
+/// renderer's light samples, seeded by `seed`), those above the surface (`n`) traced to infinity
+/// past every occluder, each that leaves the scene bringing the environment's radiance from its
+/// direction; the estimate `π/N Σ L(ωᵢ)` (the cosine and the density `cos θ / π` cancel), exact
+/// for a constant sky over an open hemisphere. Zero, with no ray, under a black environment. Light
+/// the environment sends by way of mirrors, glass or glossy surfaces is not gathered.
 #[must_use]
 pub fn sky_irradiance(scene: &Scene, p: Vec3, [n, shading]: [Vec3; 2], seed: u64, rays: u32) -> Vec3 {
     if scene.environment.is_black() {
