@@ -150,16 +150,17 @@ pub fn silhouettes_equal_splitting(_: Backend, _: &Config) -> Result<Outcome, St
 }
 
 /// Shadow beams past their budget against the same beams traced to the end (`exact`), on the
-/// built-in plant (thousands of small leaves) and seeded random scenes, with budgets of 4 and 16
-/// rays: every pixel must lie within the largest error bound the render reports, the mean
-/// difference of linear radiance within 3 standard errors of zero (the ratio estimator is
-/// unbiased to first order), and some beams must have been sampled.
+/// built-in plant (thousands of small leaves) and seeded random scenes, with budgets of 4, 16 and
+/// 256 rays (at 256 sampled in rounds, which end where one sees the whole light lit): every pixel
+/// must lie within the largest error bound the render reports, the mean difference of linear
+/// radiance within 3 standard errors of zero (the ratio estimator is unbiased to first order), and
+/// some beams must have been sampled.
 pub fn sampled_beams_stay_in_their_bound(_: Backend, _: &Config) -> Result<Outcome, String> {
     let mut notes = Vec::new();
     let mut cases = 0u64;
     let scenes = [scene::builtin("plant").map_err(|e| e.to_string())?, random_occluders(3), random_occluders(8)];
     for scene in &scenes {
-        for spp in [4, 16] {
+        for spp in [4, 16, 256] {
             let exact = RenderOptions { primary_beams: false, ..RenderOptions::exact(48, 48) };
             let (a, _) = render(scene, &exact, || {});
             let (b, stats) = render(scene, &RenderOptions { exact: false, spp, ..exact }, || {});

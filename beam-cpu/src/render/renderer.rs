@@ -16,6 +16,7 @@ mod context;
 mod emitters;
 mod light_beam;
 pub(crate) mod light_samples;
+mod rounds;
 mod shade_points;
 mod shading;
 mod sky;

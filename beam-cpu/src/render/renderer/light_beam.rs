@@ -7,6 +7,7 @@
 
 use super::context::{Context, Thread};
 use super::light_samples::{light_sample, sample_light};
+use super::rounds::{Rounds, Tally};
 use super::stats::Counters;
 use crate::render::clear_shafts::LAMBERT_RAYS;
 use crate::render::lambert::{clip_above, point_source_irradiance, polygon_irradiance};
@@ -307,16 +308,28 @@ impl Context<'_> {
             *shadow_rays += 1;
             (f, !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS))
         };
-        let (mut lit, mut all) = (0.0f64, 0.0f64);
-        for i in 0..spp {
-            let (s, r) = light_sample(i, spp, rng);
+        let mut tally = Tally::default();
+        let mut draw = |(s, r): (f32, f32), tally: &mut Tally| {
             let q = sample_light(light, s, r);
             if inside(q) {
                 let (f, seen) = trace(q);
-                all += f;
-                lit += if seen { f } else { 0.0 };
+                tally.add(f, seen);
             }
+        };
+        match Rounds::of(spp, rng) {
+            Some(rounds) => {
+                let mut round = 0;
+                while round < 4 && !tally.all_reached() {
+                    (0..rounds.len()).for_each(|i| draw(rounds.sample(round, i, rng), &mut tally));
+                    round += 1;
+                }
+                if round == 4 {
+                    (4 * rounds.len()..spp).for_each(|i| draw(light_sample(i, spp, rng), &mut tally));
+                }
+            }
+            None => (0..spp).for_each(|i| draw(light_sample(i, spp, rng), &mut tally)),
         }
+        let Tally { mut lit, mut all, .. } = tally;
         if all == 0.0 {
             // No sample fell in what is left (or none faces the point): one ray to its centre,
             // or its largest piece's.

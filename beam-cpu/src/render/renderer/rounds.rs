@@ -1,0 +1,122 @@
+//! A sampled beam's shadow rays in rounds: the `k × k` jittered grid of
+//! [`light_sample`](super::light_samples::light_sample) drawn as four rounds, each one sample in
+//! every 2 × 2 block of cells (a random cell of the block, each cell once over the four), so that
+//! every round is a stratified sample of the light on its own and the four together are the grid.
+//! A round in which every ray reached the light ends the sampling: the ratio estimate is then
+//! exactly the unoccluded irradiance, and the rounds left could lower it only by an occluder that
+//! fell between all of the round's samples.
+
+use rand::Rng;
+use rand_pcg::Pcg32;
+
+/// Samples a round has at least (a block grid of 8 × 8), and the rays with a nonzero integrand
+/// that must all have reached the light for the rounds to end early.
+const MIN_ROUND: u32 = 64;
+
+/// The rounds of a grid of `k × k` cells (`k` even).
+pub(super) struct Rounds {
+    k: u32,
+    /// Hashed with a block's index, its cell in round 0.
+    seed: u32,
+}
+
+impl Rounds {
+    /// The rounds of `spp` samples, whose grid is [`light_sample`]'s `k × k` (`k² ≤ spp`; the
+    /// samples past it are uniform), where `k` is even and a round has at least [`MIN_ROUND`]
+    /// samples; `None` otherwise.
+    ///
+    /// [`light_sample`]: super::light_samples::light_sample
+    pub(super) fn of(spp: u32, rng: &mut Pcg32) -> Option<Self> {
+        let k = (spp as f32).sqrt() as u32;
+        (k % 2 == 0 && (k / 2) * (k / 2) >= MIN_ROUND).then(|| Self { k, seed: rng.random() })
+    }
+
+    /// Samples in a round (blocks in the grid).
+    pub(super) fn len(&self) -> u32 {
+        (self.k / 2) * (self.k / 2)
+    }
+
+    /// Sample `i` of round `round` (0 to 3) on the unit square: in block `i` of the `k/2 × k/2`
+    /// grid, its cell `(round + h(i)) mod 4`, jittered.
+    pub(super) fn sample(&self, round: u32, i: u32, rng: &mut Pcg32) -> (f32, f32) {
+        debug_assert!(round < 4 && i < self.len());
+        let half = self.k / 2;
+        let cell = (round + hash(i ^ self.seed)) & 3;
+        let (x, y) = (2 * (i % half) + (cell & 1), 2 * (i / half) + (cell >> 1));
+        let k = self.k as f32;
+        ((x as f32 + rng.random::<f32>()) / k, (y as f32 + rng.random::<f32>()) / k)
+    }
+}
+
+/// The samples drawn so far: their integrands `g` (the weights of the ratio estimator), those of
+/// the samples that reached the light, and the count of rays with a nonzero integrand traced and
+/// reaching the light.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Tally {
+    /// Σ g V.
+    pub lit: f64,
+    /// Σ g.
+    pub all: f64,
+    traced: u32,
+    reached: u32,
+}
+
+impl Tally {
+    /// Count a sample of integrand `g` whose ray reached the light or not.
+    pub(super) fn add(&mut self, g: f64, seen: bool) {
+        self.all += g;
+        if seen {
+            self.lit += g;
+        }
+        self.traced += u32::from(g > 0.0);
+        self.reached += u32::from(g > 0.0 && seen);
+    }
+
+    /// Whether at least [`MIN_ROUND`] rays with a nonzero integrand were traced and every one
+    /// reached the light (the ratio estimate is 1).
+    pub(super) fn all_reached(&self) -> bool {
+        self.traced >= MIN_ROUND && self.reached == self.traced
+    }
+}
+
+/// A 32-bit integer hash (Wellons' `lowbias32`).
+fn hash(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^ (x >> 16)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    #[test]
+    fn four_rounds_put_one_sample_in_every_cell() {
+        let mut rng = Pcg32::seed_from_u64(7);
+        let rounds = Rounds::of(256, &mut rng).expect("16 × 16 has rounds of 64");
+        assert_eq!(rounds.len(), 64);
+        let mut hits = [0u32; 256];
+        for round in 0..4 {
+            let mut blocks = [0u32; 64];
+            for i in 0..rounds.len() {
+                let (s, t) = rounds.sample(round, i, &mut rng);
+                let (x, y) = ((s * 16.0) as usize, (t * 16.0) as usize);
+                hits[y * 16 + x] += 1;
+                blocks[(y / 2) * 8 + x / 2] += 1;
+            }
+            assert!(blocks.iter().all(|&b| b == 1), "round {round}: one sample a block");
+        }
+        assert!(hits.iter().all(|&h| h == 1), "each cell once over the four rounds");
+    }
+
+    #[test]
+    fn only_even_grids_with_rounds_of_64_have_rounds() {
+        let mut rng = Pcg32::seed_from_u64(1);
+        assert!(Rounds::of(255, &mut rng).is_none(), "15 × 15 is odd");
+        assert!(Rounds::of(196, &mut rng).is_none(), "rounds of 49");
+        assert!(Rounds::of(1024, &mut rng).is_some_and(|r| r.len() == 256));
+    }
+}
