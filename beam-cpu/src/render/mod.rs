@@ -8,6 +8,7 @@ mod eye_budget;
 mod eye_regions;
 mod hard_shadow;
 mod lambert;
+mod light_groups;
 mod packet;
 mod primary_beam;
 mod primary_image;
