@@ -81,8 +81,8 @@ impl ClearShafts {
             return;
         }
         // One light's rays do not pay for a shaft; a group's may.
-        let extent = scene.bounds().extent().length();
-        let groups = self.groups.take().unwrap_or_else(|| group_lights(lights, walk_from, extent));
+        let groups =
+            self.groups.take().unwrap_or_else(|| group_lights(lights, walk_from, scene.bounds().extent().length()));
         self.facing.clear();
         self.facing.resize(lights.len(), false);
         for &i in facing {
