@@ -266,7 +266,8 @@ impl Context<'_> {
     /// weighted by the irradiance integrand `cos θ cos θ′ / r²`; the weight of those that reach
     /// the light over the weight of all (Heitz et al. 2018, the ratio estimator). The samples
     /// outside need no ray: the beam resolved them. 1 or 0 exactly when every traced sample is
-    /// lit or every one hidden.
+    /// lit or every one hidden. Where the strata allow, they are drawn in [`Rounds`], and a round
+    /// whose rays all reach the light ends them ([`Tally::all_reached`]).
     fn seen_share(
         &self,
         (p, n, surface): (Vec3, Vec3, Option<Vec3>),
