@@ -26,16 +26,20 @@ pub(crate) struct LightGroup {
 /// The groups of `lights[..end]`: area lights whose normals and planes agree to within rounding
 /// (every corner within `1e-6` of the scene's `extent` of the first light's plane) are bucketed by
 /// plane, and each plane's lights split by a square grid of cells of about [`GROUP`] lights each;
-/// a cell of more than one light is a group. Point lights and lone lights are in none.
+/// a cell of more than one light is a group. Point lights, lights without area and lone lights
+/// are in none.
 pub(crate) fn group_lights(lights: &[Light], end: usize, extent: f32) -> Vec<LightGroup> {
-    let tol = 1e-6 * extent.max(f32::MIN_POSITIVE);
+    let extent = extent.max(f32::MIN_POSITIVE);
+    let tol = 1e-6 * extent;
     // By quantized normal and offset; a plane split across two keys only makes smaller groups.
     let mut planes: HashMap<[i32; 4], Vec<u32>> = HashMap::new();
     for (i, light) in lights[..end].iter().enumerate() {
-        if matches!(light, Light::Point { .. }) {
+        let n = light.normal();
+        // A point light, or a polygon without area, has no plane.
+        if n == Vec3::ZERO {
             continue;
         }
-        let (n, c) = (light.normal(), light.polygon()[0]);
+        let c = light.polygon()[0];
         let q = |x: f32| (x * 1e4).round() as i32;
         planes.entry([q(n.x), q(n.y), q(n.z), q(n.dot(c) / extent)]).or_default().push(i as u32);
     }
