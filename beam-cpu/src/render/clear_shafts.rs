@@ -74,8 +74,7 @@ impl ClearShafts {
             for &index in facing.iter().filter(|&&i| (i as usize) < walk_from) {
                 let light = &lights[index as usize];
                 if !matches!(light, Light::Point { .. }) {
-                    let area = (light.polygon(), light.normal());
-                    self.test(scene, points, area, (&[index], saved_rays(rays)));
+                    self.test(scene, points, (&light.polygon(), light.normal()), (&[index], saved_rays(rays)));
                 }
             }
             return;
@@ -93,7 +92,7 @@ impl ClearShafts {
             let saved = members.len() as f32 * saved_rays(rays);
             if pays(points.len(), saved) {
                 self.clear.resize(lights.len() * BLOCKS * BLOCKS, Aabb::EMPTY);
-                self.test(scene, points, (g.rectangle.to_vec(), g.normal), (&members, saved));
+                self.test(scene, points, (&g.rectangle, g.normal), (&members, saved));
             }
         }
         self.groups = Some(groups);
@@ -107,10 +106,9 @@ impl ClearShafts {
         &mut self,
         scene: &Scene,
         points: &[(usize, Vec3)],
-        area: (Vec<Vec3>, Vec3),
+        (polygon, ln): (&[Vec3], Vec3),
         (lights, saved): (&[u32], f32),
     ) {
-        let (polygon, ln) = area;
         let center = polygon.iter().sum::<Vec3>() / polygon.len() as f32;
         self.boxes.clear();
         self.boxes.resize(BLOCKS * BLOCKS, (Aabb::EMPTY, 0));
@@ -126,7 +124,7 @@ impl ClearShafts {
             shafts: &mut self.shafts,
             bvh_steps: &mut self.bvh_steps,
             scene,
-            light: (&polygon, ln),
+            light: (polygon, ln),
             saved,
         };
         square.test(0, 0, BLOCKS);
@@ -189,6 +187,19 @@ mod tests {
     use beam_render::tolerance::DEPTH_EPS;
     use beam_scene::scene::builtin;
 
+    /// A 16 × 16 grid of points at height `y` over the first `fraction` of `b`'s width and depth,
+    /// in blocks of 4 × 4 as in a tile, each with its block.
+    fn floor_grid(b: &Aabb, y: f32, fraction: f32) -> Vec<(usize, Vec3)> {
+        let side = BLOCKS * 4;
+        let f = |k: usize| (k as f32 + 0.5) / side as f32 * fraction;
+        (0..side * side)
+            .map(|i| {
+                let (x, z) = (i % side, i / side);
+                (x / 4 + z / 4 * BLOCKS, Vec3::new(b.min.x + f(x) * b.extent().x, y, b.min.z + f(z) * b.extent().z))
+            })
+            .collect()
+    }
+
     /// On the Cornell box's floor, under the light just below the ceiling and beside the two
     /// boxes: every point found to see the whole light does (no ray to the light is blocked), and
     /// the points the boxes shadow are not among them.
@@ -197,16 +208,8 @@ mod tests {
         let scene = builtin("cornell").unwrap();
         let b = scene.bounds();
         let light = scene.lights[0];
-        // A 16 × 16 grid over the floor, a hair above it, in blocks of 4 × 4 as in a tile.
-        let side = BLOCKS * 4;
-        let points: Vec<(usize, Vec3)> = (0..side * side)
-            .map(|i| {
-                let (x, z) = (i % side, i / side);
-                let f = |k: usize| (k as f32 + 0.5) / side as f32;
-                let p = Vec3::new(b.min.x + f(x) * b.extent().x, b.min.y + 0.5, b.min.z + f(z) * b.extent().z);
-                (x / 4 + z / 4 * BLOCKS, p)
-            })
-            .collect();
+        // Over the floor, a hair above it.
+        let points = floor_grid(&b, b.min.y + 0.5, 1.0);
         let mut clear = ClearShafts::default();
         clear.build(&scene, (&scene.lights, 1), &[0], &points, 64);
         assert!(clear.shafts > 1, "the tile's shaft meets the boxes, so its quarters are tried");
@@ -233,16 +236,8 @@ mod tests {
     fn a_group_shaft_clears_each_of_its_lights() {
         use beam_scene::scene::suite::{self, Case};
         let Case::Built(scene) = suite::case("spheres-256").unwrap() else { panic!("built in") };
-        let b = scene.bounds();
-        // A 16 × 16 grid over a corner of the floor beside the spheres, in blocks of 4 × 4.
-        let side = BLOCKS * 4;
-        let points: Vec<(usize, Vec3)> = (0..side * side)
-            .map(|i| {
-                let (x, z) = (i % side, i / side);
-                let f = |k: usize| (k as f32 + 0.5) / side as f32 * 0.3;
-                (x / 4 + z / 4 * BLOCKS, Vec3::new(b.min.x + f(x) * b.extent().x, 1e-3, b.min.z + f(z) * b.extent().z))
-            })
-            .collect();
+        // Over a corner of the floor beside the spheres.
+        let points = floor_grid(&scene.bounds(), 1e-3, 0.3);
         let facing: Vec<u32> = (0..scene.lights.len() as u32).collect();
         let mut clear = ClearShafts::default();
         clear.build(&scene, (&scene.lights, scene.lights.len()), &facing, &points, 1);

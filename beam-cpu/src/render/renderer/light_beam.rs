@@ -330,8 +330,7 @@ impl Context<'_> {
             }
             None => (0..spp).for_each(|i| draw(light_sample(i, spp, rng), &mut tally)),
         }
-        let Tally { mut lit, mut all, .. } = tally;
-        if all == 0.0 {
+        if tally.share().is_none() {
             // No sample fell in what is left (or none faces the point): one ray to its centre,
             // or its largest piece's.
             let centre = match left {
@@ -343,11 +342,10 @@ impl Context<'_> {
             };
             if let Some(c) = centre {
                 let (f, seen) = trace(c);
-                all += f;
-                lit += if seen { f } else { 0.0 };
+                tally.add(f, seen);
             }
         }
-        if all > 0.0 { (lit / all) as f32 } else { 0.0 }
+        tally.share().unwrap_or(0.0)
     }
 }
 

@@ -11,12 +11,17 @@ use rand_pcg::Pcg32;
 /// Sample `i` of `spp` on the unit square: jittered in the cells of the largest `k × k` grid with
 /// `k² ≤ spp`, uniform past them.
 pub(crate) fn light_sample(i: u32, spp: u32, rng: &mut Pcg32) -> (f32, f32) {
-    let k = (spp as f32).sqrt() as u32;
+    let k = grid_side(spp);
     if i < k * k {
         (((i % k) as f32 + rng.random::<f32>()) / k as f32, ((i / k) as f32 + rng.random::<f32>()) / k as f32)
     } else {
         (rng.random::<f32>(), rng.random::<f32>())
     }
+}
+
+/// The side `k` of [`light_sample`]'s grid of `spp` samples: the largest with `k² ≤ spp`.
+pub(super) fn grid_side(spp: u32) -> u32 {
+    (spp as f32).sqrt() as u32
 }
 
 /// A point on an area light from `(s, t) ∈ [0, 1)²` (uniform in area).

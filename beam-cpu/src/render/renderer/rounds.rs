@@ -6,6 +6,7 @@
 //! exactly the unoccluded irradiance, and the rounds left could lower it only by an occluder that
 //! fell between all of the round's samples.
 
+use super::light_samples::grid_side;
 use rand::Rng;
 use rand_pcg::Pcg32;
 
@@ -27,7 +28,7 @@ impl Rounds {
     ///
     /// [`light_sample`]: super::light_samples::light_sample
     pub(super) fn of(spp: u32, rng: &mut Pcg32) -> Option<Self> {
-        let k = (spp as f32).sqrt() as u32;
+        let k = grid_side(spp);
         (k % 2 == 0 && (k / 2) * (k / 2) >= MIN_ROUND).then(|| Self { k, seed: rng.random() })
     }
 
@@ -54,9 +55,9 @@ impl Rounds {
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Tally {
     /// Σ g V.
-    pub lit: f64,
+    lit: f64,
     /// Σ g.
-    pub all: f64,
+    all: f64,
     traced: u32,
     reached: u32,
 }
@@ -70,6 +71,11 @@ impl Tally {
         }
         self.traced += u32::from(g > 0.0);
         self.reached += u32::from(g > 0.0 && seen);
+    }
+
+    /// The ratio estimate of the lit share, `Σ g V / Σ g`; `None` before any sample has weight.
+    pub(super) fn share(&self) -> Option<f32> {
+        (self.all > 0.0).then(|| (self.lit / self.all) as f32)
     }
 
     /// Whether at least [`MIN_ROUND`] rays with a nonzero integrand were traced and every one
