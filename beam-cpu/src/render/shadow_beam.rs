@@ -12,7 +12,7 @@
 
 use super::packet::Survivor;
 use beam_math::Triangle;
-use beam_math::glam::{Vec2, Vec4};
+use beam_math::glam::{Vec2, Vec3, Vec4};
 use beam_math::polybeam::{BeamFrame, Cover, EdgeLines, PolyBeam, Quad};
 use beam_render::tolerance::DEPTH_EPS;
 
@@ -204,6 +204,9 @@ impl<'s> ShadowBeam<'s> {
                 core::array::from_fn(|i| self.apex_uv + Vec2::new(w[i].dot(f.u), w[i].dot(f.v)) * (f.distance / h[i]));
             return self.occlude_projected(&q);
         }
+        if self.beside(&w) {
+            return false;
+        }
         if !self.contact && touch < near && h.iter().any(|&h| h < near) {
             // Its part between the contact depth and the near plane, where it meets the pieces.
             let (part, n) = clip_depth(&w, &h, (touch, near));
@@ -229,6 +232,44 @@ impl<'s> ShadowBeam<'s> {
             return false;
         }
         self.split_pieces::<9>(&q[..n], lo, hi)
+    }
+
+    /// True when a plane keeps the triangle with corners `w` (relative to the apex) out of the
+    /// pyramid from the apex through the pieces' bounding rectangle, with that rectangle more than
+    /// the fuzzy tolerance beyond it. Projection from the apex keeps the side of a plane through
+    /// the apex, so the triangle's part in front of the apex projects on its side of the line where
+    /// the plane through the apex and one of its edges meets the light's plane; and a point at
+    /// depth `h` of its plane `m·w = e` projects onto the line `m·(x − apex) = e·d / h`, so its part
+    /// before the far plane projects beyond that line at `h = far`. Either way it hides nothing and
+    /// touches no piece's cone. A triangle that passes close beside the shade point and reaches
+    /// behind it projects into a long sliver whose bounding rectangle covers the light: these four
+    /// planes drop it before it is clipped, projected and split.
+    fn beside(&self, w: &[Vec3; 3]) -> bool {
+        let f = &self.frame;
+        let origin = f.origin - f.apex;
+        // `k + g·x` at the point `x` of the light's plane is `n·(x − apex)`.
+        let trace = |n: Vec3| (n.dot(origin), Vec2::new(n.dot(f.u), n.dot(f.v)));
+        // True when `k + g·x` exceeds the tolerance over the whole rectangle: at its corner where it
+        // is least.
+        let clear = |(k, g): (f32, Vec2)| {
+            let least =
+                Vec2::new(if g.x > 0.0 { self.lo.x } else { self.hi.x }, if g.y > 0.0 { self.lo.y } else { self.hi.y });
+            k + g.dot(least) > self.eps * g.length()
+        };
+        let edge = |i: usize| {
+            let n = w[i].cross(w[(i + 1) % 3]);
+            // Positive away from the triangle.
+            let n = if n.dot(w[(i + 2) % 3]) > 0.0 { -n } else { n };
+            clear(trace(n))
+        };
+        let far_cut = || {
+            let m = (w[1] - w[0]).cross(w[2] - w[0]);
+            let e = m.dot(w[0]);
+            let (m, e) = if e < 0.0 { (-m, -e) } else { (m, e) };
+            let (k, g) = trace(m);
+            e > 0.0 && clear((e / (1.0 - DEPTH_EPS) - k, -g))
+        };
+        edge(0) || edge(1) || edge(2) || far_cut()
     }
 
     /// True when the rectangle `[lo, hi]` meets the pieces' bounding rectangle.

@@ -134,6 +134,32 @@ mod tests {
         assert!(clipped > 1000, "{clipped}");
     }
 
+    /// A triangle in the plane `x + y = c` reaching from behind the point past the light projects
+    /// into a sliver on the far side of the line `x + y = c` on the light's plane (depth 2 and
+    /// nearer, scaled by 2 / depth ≥ 1), whose bounding rectangle covers the light: at c = 1.2 it
+    /// misses the unit light, whose corner reaches x + y = 1, and is dropped before any piece is
+    /// split; at c = 0.8 it hides the corner beyond x + y = 0.8.
+    #[test]
+    fn a_sliver_beside_the_light_is_dropped_unsplit() {
+        let light = square_light();
+        let beam = light_beam(Vec3::ZERO, &light, -Vec3::Z).unwrap();
+        let diagonal = |c: f32| {
+            let v = |x: f32, z: f32| Vec3::new(x, c - x, z);
+            Triangle::new(v(5.0, -1.0), v(c - 5.0, -1.0), v(0.5 * c, 3.0))
+        };
+        let occlude = |tri: Triangle| {
+            let mut scratch = ShadowScratch::default();
+            let mut traced = ShadowBeam::new(&beam, &mut scratch);
+            let hit = traced.occlude(&tri);
+            (hit, traced.stats.intersections, traced.pieces().iter().map(Quad::area).sum::<f32>())
+        };
+        assert_eq!(occlude(diagonal(1.2)), (false, 0, 1.0));
+        let (hit, splits, visible) = occlude(diagonal(0.8));
+        assert!(hit && splits > 0, "{hit} {splits}");
+        // The corner beyond x + y = 0.8: a right triangle with legs 0.2.
+        assert!((visible - (1.0 - 0.02)).abs() < 1e-4, "{visible}");
+    }
+
     #[test]
     fn square_occluder_parallel_to_square_light() {
         // Light: unit square at z = 2; occluder: square of half-width 0.125 at z = 1 centred above
@@ -160,7 +186,7 @@ mod tests {
         assert!(stats.bvh_steps > 0 && stats.intersections > 0 && stats.triangle_tests > 0);
     }
 
-    /// A triangle through the point (or within the beam's near plane of it, before depth
+    /// A triangle that crosses the beam within its near plane of the point (before depth
     /// `DEPTH_EPS` of the light's distance) is a contact, which rays starting at the point would
     /// find; one that passes beside or behind the point, or meets the beam only farther on, is not.
     #[test]
@@ -180,8 +206,12 @@ mod tests {
         // Wholly before the near plane (2e-4), over the point: a contact, which the near plane alone
         // would have dropped.
         assert!(contact(big(&|_, _| 1e-5)));
-        // A plane through the point, tilted: its part before the near plane lies in the beam.
-        assert!(contact(big(&|x, _| 0.5 * x)));
+        // A steep plane passing 1e-5 beside the point: rays to the light's side x < 0.25 cross it
+        // at depth 2e-5 / (2 − 8x), before the near plane.
+        assert!(contact(big(&|x, _| 8.0 * x + 1e-5)));
+        // A plane through the point that leaves the whole beam on one side (z = 0.5x: the beam's
+        // rays have z ≥ 4|x|): rays from the point never cross it.
+        assert!(!contact(big(&|x, _| 0.5 * x)));
         // Just behind the point (the surface it lies on): none.
         assert!(!contact(big(&|_, _| -1e-5)));
         // A wall 0.3 to the side: it meets the beam only past depth 1.2.
