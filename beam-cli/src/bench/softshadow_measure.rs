@@ -61,10 +61,13 @@ impl Row {
     }
 }
 
-/// The images a row may write: eye beams, rays 256 and the pixel centres' reference.
+/// The images a row may write: eye beams, beams from primary rays, rays 256 and the pixel centres'
+/// reference.
 pub(super) struct Images {
     /// Eye beams + shadow beams.
     pub beam: Image,
+    /// Shadow beams from the rays' primary rays (what the bar judges).
+    pub beam_rays: Image,
     /// Our 256 rays.
     pub rays: Image,
     /// The pixel centres' reference.
@@ -192,8 +195,9 @@ pub(super) fn measure(
         shadow_beams: bs.shadow_beams,
         exact_share: bs.exact_pixel_share,
     };
-    let [beam, _, _, rays, _] = images;
-    Ok((row, Images { beam: beam.ok_or("no beam image")?, rays: rays.ok_or("no ray image")?, reference }))
+    let [beam, beam_rays, _, rays, _] = images;
+    let beam_rays = beam_rays.ok_or("no image of beams from primary rays")?;
+    Ok((row, Images { beam: beam.ok_or("no beam image")?, beam_rays, rays: rays.ok_or("no ray image")?, reference }))
 }
 
 #[cfg(test)]

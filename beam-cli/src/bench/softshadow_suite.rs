@@ -176,7 +176,13 @@ fn label(r: &Row) -> String {
 
 fn write_images(dir: &Path, r: &Row, images: &Images) -> Result<(), String> {
     let name = label(r);
-    for (what, img) in [("beam", &images.beam), ("rays256", &images.rays), ("reference", &images.reference)] {
+    let written = [
+        ("beam", &images.beam),
+        ("beam-primary-rays", &images.beam_rays),
+        ("rays256", &images.rays),
+        ("reference", &images.reference),
+    ];
+    for (what, img) in written {
         img.save_png(&dir.join(format!("{name}-{what}.png"))).map_err(|e| e.to_string())?;
     }
     Ok(())
