@@ -30,6 +30,8 @@ impl ShadowBeam<'_> {
             near: DEPTH_EPS * f.distance,
             far: (1.0 - DEPTH_EPS) * f.distance,
             touch: self.touch * f.distance,
+            origin: f.origin - f.apex,
+            eps: self.eps,
         }
     }
 
