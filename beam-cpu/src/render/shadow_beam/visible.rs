@@ -207,7 +207,7 @@ mod tests {
         // would have dropped.
         assert!(contact(big(&|_, _| 1e-5)));
         // A steep plane passing 1e-5 beside the point: rays to the light's side x < 0.25 cross it
-        // at depth 2e-5 / (2 − 8x), before the near plane.
+        // at depth 2e-5 / (2 − 8x), most of them before the near plane.
         assert!(contact(big(&|x, _| 8.0 * x + 1e-5)));
         // A plane through the point that leaves the whole beam on one side (z = 0.5x: the beam's
         // rays have z ≥ 4|x|): rays from the point never cross it.
