@@ -186,10 +186,12 @@ impl<'s> ShadowBeam<'s> {
     /// light counts. True when any piece was hit.
     pub(crate) fn occlude(&mut self, tri: &Triangle) -> bool {
         self.stats.triangle_tests += 1;
-        self.occlude_uncounted(tri)
+        self.occlude_tested(tri, false)
     }
 
-    fn occlude_uncounted(&mut self, tri: &Triangle) -> bool {
+    /// [`ShadowBeam::occlude`] uncounted; `beside_tested`: the planes of [`ShadowBeam::beside`]
+    /// were tried on it already (the packet test's `beside_planes`) and are not tried again.
+    fn occlude_tested(&mut self, tri: &Triangle, beside_tested: bool) -> bool {
         let f = &self.frame;
         let (near, far) = (DEPTH_EPS * f.distance, (1.0 - DEPTH_EPS) * f.distance);
         let w = tri.v.map(|v| v - f.apex);
@@ -204,7 +206,7 @@ impl<'s> ShadowBeam<'s> {
                 core::array::from_fn(|i| self.apex_uv + Vec2::new(w[i].dot(f.u), w[i].dot(f.v)) * (f.distance / h[i]));
             return self.occlude_projected(&q);
         }
-        if self.beside(&w) {
+        if !beside_tested && self.beside(&w) {
             return false;
         }
         if !self.contact && touch < near && h.iter().any(|&h| h < near) {

@@ -77,7 +77,8 @@ impl ShadowBeam<'_> {
                 let s = self.survivors[!(self.order[k] as u32) as usize];
                 let hit = match s.projected {
                     Some(q) => self.occlude_projected(&q),
-                    None => self.occlude_uncounted(&triangles[s.prim as usize]),
+                    // Reaching out of the depth range: the packet tried the planes beside it.
+                    None => self.occlude_tested(&triangles[s.prim as usize], true),
                 };
                 if hit && self.hot.len() < HOT {
                     self.hot.push(s.prim);
