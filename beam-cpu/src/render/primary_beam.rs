@@ -349,6 +349,20 @@ pub fn point_on_piece(frame: &BeamFrame, piece: &Piece, c: Vec2) -> Option<Vec3>
     (inv > 0.0).then(|| frame.apex + (frame.point(c) - frame.apex) / inv)
 }
 
+/// The point of `tri`'s plane seen through the image point `c` of `frame`: where the view ray
+/// meets the plane, in double precision; `None` along the plane or behind the apex. Where a piece's
+/// inverse depth ([`point_on_piece`]) is read from far away, its f32 plane puts the point up to
+/// about 1e-4 of the scene's size off the surface, behind it as often as in front, and a shade
+/// point offset from there by the shading tolerance can lie behind its own triangle.
+#[must_use]
+pub(crate) fn point_on_triangle(frame: &BeamFrame, tri: &Triangle, c: Vec2) -> Option<Vec3> {
+    let (o, d) = (frame.apex.as_dvec3(), (frame.point(c) - frame.apex).as_dvec3());
+    let [a, b, e] = tri.v.map(|v| v.as_dvec3());
+    let n = (b - a).cross(e - a);
+    let t = (a - o).dot(n) / d.dot(n);
+    (t.is_finite() && t > 0.0).then(|| (o + t * d).as_vec3())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
