@@ -74,10 +74,10 @@ pub enum SceneError {
         /// does not; false when the name itself leads outside.
         resolved: bool,
     },
-    /// A malformed line of an OBJ file.
+    /// A malformed line of an OBJ file or of one of its material libraries (MTL).
     #[error("{}:{line}: {message}", shown(path))]
     Obj {
-        /// The OBJ file.
+        /// The OBJ or MTL file.
         path: PathBuf,
         /// The line, from 1 (a statement continued by `\` counts from its first line).
         line: usize,

@@ -1,12 +1,15 @@
-//! Triangle meshes from OBJ files (`obj`) and built-in procedural meshes.
+//! Triangle meshes from OBJ files (`obj`, their materials' libraries `mtl`) and built-in procedural
+//! meshes.
 
 mod indexed;
 pub(crate) mod limits;
+mod mtl;
 mod obj;
 mod triangulate;
 
 pub use indexed::Mesh;
 pub use limits::MAX_NONCONVEX_CORNERS;
+pub use mtl::{DEFAULT_KD, MtlMaterial, parse_mtl};
 pub use obj::{ObjStats, parse_obj};
 pub use triangulate::triangulate;
 

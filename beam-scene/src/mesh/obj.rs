@@ -1,21 +1,33 @@
-//! The OBJ parser: vertex positions (`v`) and faces (`f`), read in one pass over bytes already in
+//! The OBJ parser: vertex positions (`v`), faces (`f`) and the names of their materials (`mtllib`,
+//! `usemtl`: the libraries are read by [`super::mtl`]), read in one pass over bytes already in
 //! memory, every error naming `file:line`. Faces are triangulated in their plane (non-convex ones
 //! too); lines (`l`) and points (`p`) are skipped and counted; everything else (normals, texture
-//! coordinates, groups, materials: `mtllib` files are never opened) is ignored.
+//! coordinates, groups) is ignored.
 
 use super::indexed::Mesh;
 use super::triangulate::triangulate;
 use crate::error::SceneError;
 use crate::read::quote;
 use beam_math::glam::Vec3;
+use std::collections::HashMap;
 use std::path::Path;
 
-/// Counts from parsing an OBJ file.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// Counts and material names from parsing an OBJ file.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ObjStats {
     /// Line (`l`) and point (`p`) elements skipped: they have no area to render.
     pub skipped_elements: usize,
+    /// The material libraries it names (`mtllib`), with the line of each.
+    pub libraries: Vec<(usize, String)>,
+    /// The materials its faces use (`usemtl`), in the order of their first use.
+    pub materials: Vec<String>,
+    /// Per triangle of the mesh, its material: `0` where no `usemtl` came before its face, else
+    /// `1 +` its index in `materials`.
+    pub triangle_materials: Vec<u32>,
 }
+
+/// Most materials an OBJ file may use (`usemtl` names).
+const MAX_MATERIALS: usize = 65_536;
 
 /// A face as read: its line and its corners `corners[start..end]` (0-based vertex indices, checked
 /// against the vertex count once the whole file is read).
@@ -33,6 +45,10 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
     let mut corners: Vec<i64> = Vec::new();
     let mut faces: Vec<Face> = Vec::new();
     let mut stats = ObjStats::default();
+    // Per face, its material (as in `triangle_materials`).
+    let mut face_materials: Vec<u32> = Vec::new();
+    let mut current = 0u32;
+    let mut slots: HashMap<String, u32> = HashMap::new();
     let mut joined = String::new();
     let mut first_line = 0;
     for (n, raw) in text.lines().enumerate() {
@@ -113,14 +129,29 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
                     return fail("a face needs at least three corners");
                 }
                 faces.push(Face { line: first_line, start, end: corners.len() });
+                face_materials.push(current);
             }
             Some("l" | "p") => stats.skipped_elements += 1,
+            Some("mtllib") => stats.libraries.extend(tokens.map(|name| (first_line, name.to_string()))),
+            Some("usemtl") => {
+                // The name is the rest of the statement (some exporters write names with spaces).
+                let name = data.trim_start()["usemtl".len()..].trim();
+                current = match slots.get(name) {
+                    Some(&slot) => slot,
+                    None if stats.materials.len() < MAX_MATERIALS => {
+                        stats.materials.push(name.to_string());
+                        slots.insert(name.to_string(), stats.materials.len() as u32);
+                        stats.materials.len() as u32
+                    }
+                    None => return fail(&format!("more than {MAX_MATERIALS} materials")),
+                };
+            }
             _ => {}
         }
     }
     let mut indices = Vec::new();
     let mut face = Vec::new();
-    for f in &faces {
+    for (f, &material) in faces.iter().zip(&face_materials) {
         face.clear();
         for &i in &corners[f.start..f.end] {
             if i >= positions.len() as i64 {
@@ -137,6 +168,7 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
             line: f.line,
             source,
         })?;
+        stats.triangle_materials.resize(indices.len(), material);
     }
     Ok((Mesh { positions, indices }, stats))
 }

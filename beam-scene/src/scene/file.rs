@@ -5,10 +5,12 @@ use super::check::{self, finite};
 use super::defaults::{default_camera, default_light, valid_bounds};
 use super::environment::Environment;
 use super::format::{self, Scale, SceneFile};
+use super::light::Light;
 use super::load_options::LoadOptions;
 use super::material::Material;
 use super::model::Scene;
 use super::names::{BUILTIN, GENERATED};
+use super::obj_materials::{ObjMaterials, obj_materials};
 use super::smesh_file;
 use super::smesh_plan::SMeshPlan;
 use crate::error::SceneError;
@@ -43,7 +45,7 @@ pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
 /// [`load_file`] with `options`.
 pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     if has_extension(path, "obj") {
-        load_bare_obj(path)
+        load_bare_obj(path, options)
     } else if has_extension(path, "toml") {
         load_toml(path, options)
     } else if has_extension(path, "gltf") || has_extension(path, "glb") {
@@ -81,7 +83,7 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let mut triangles: Vec<(Triangle, u32)> = Vec::new();
     // Each mesh file is read once, however many meshes name it.
     let mut meshes: HashMap<PathBuf, Mesh> = HashMap::new();
-    let mut skipped = 0;
+    let (mut skipped, mut own_materials) = (0, 0);
     // S-mesh sources by range of the scene's (valid) triangles.
     let (mut valid, mut parts) = (0u32, Vec::new());
     for (i, m) in file.meshes.iter().enumerate() {
@@ -106,6 +108,7 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
         if !meshes.contains_key(&mesh_path) {
             let (mesh, stats) = load_obj_with(&mesh_path, inside).map_err(in_scene)?;
             skipped += stats.skipped_elements;
+            own_materials += usize::from(!stats.materials.is_empty());
             meshes.insert(mesh_path.clone(), mesh);
         }
         let first = triangles.len();
@@ -144,22 +147,38 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let mut scene = Scene::new(path.display().to_string(), triangles, materials, lights, camera);
     scene.stats.skipped_elements = skipped;
     scene.notice("OBJ line and point element(s) skipped: they have no area to render", skipped);
+    scene.notice("OBJ file(s) with their own materials (usemtl) drawn with their [[meshes]] material", own_materials);
     scene.camera_path = camera_path;
     scene.smesh = SMeshPlan { parts, rest };
     scene.environment = environment;
     Ok(scene)
 }
 
-fn load_bare_obj(path: &Path) -> Result<Scene, SceneError> {
+/// A bare OBJ file with the materials of its MTL libraries ([`obj_materials`]), its emissive
+/// triangles as triangle lights, and the framing camera; without an emitter, the default light.
+fn load_bare_obj(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let (mesh, stats) = load_obj_with(path, true)?;
-    let triangles: Vec<(Triangle, u32)> = mesh.triangles().into_iter().map(|t| (t, 0)).collect();
+    let ObjMaterials { materials, notices } = obj_materials(path, &stats, options)?;
+    let triangles: Vec<(Triangle, u32)> = mesh.triangles().into_iter().zip(stats.triangle_materials).collect();
     valid_bounds(path, &triangles)?;
-    let materials = vec![Material::Diffuse { albedo: Vec3::splat(0.7) }];
     let camera = default_camera(&triangles);
-    let light = default_light(&triangles, &camera);
-    let mut scene = Scene::new(path.display().to_string(), triangles, materials, vec![light], camera);
+    let mut lights: Vec<Light> = triangles
+        .iter()
+        .filter(|(t, _)| t.is_valid())
+        .filter_map(|&(t, m)| match materials[m as usize] {
+            Material::Emissive { radiance } => Some(Light::Triangle { v: t.v, radiance }),
+            _ => None,
+        })
+        .collect();
+    if lights.is_empty() {
+        lights.push(default_light(&triangles, &camera));
+    }
+    let mut scene = Scene::new(path.display().to_string(), triangles, materials, lights, camera);
     scene.stats.skipped_elements = stats.skipped_elements;
     scene.notice("OBJ line and point element(s) skipped: they have no area to render", stats.skipped_elements);
+    for (what, count) in notices {
+        scene.notice(what, count);
+    }
     Ok(scene)
 }
 
@@ -189,6 +208,57 @@ mod tests {
         assert_eq!(s.stats.degenerate, 1);
         assert_eq!(s.triangles[0].v[1], Vec3::new(2.0, 0.0, 0.0));
         assert_eq!(s.lights.len(), 1);
+    }
+
+    /// A Cornell-box corner as a bare OBJ with its MTL library: each face takes its material's
+    /// colour, the emissive quad becomes the only light, a polished box is glossy, and what is not
+    /// read is counted.
+    #[test]
+    fn a_bare_obj_takes_its_mtl_materials_and_emitters() {
+        let dir = tempfile::tempdir().unwrap();
+        write(
+            dir.path(),
+            "box.mtl",
+            "newmtl red\nKd 0.63 0.065 0.05\nKs 0.1 0.1 0.1\nnewmtl light\nKd 0.78 0.78 0.78\nKe 17 12 4\n\
+             newmtl shiny\nKd 0 0 0\nKs 0.7 0.7 0.7\nNs 200\nmap_Ks s.png\nd 0.5\n",
+        );
+        let obj = "mtllib box.mtl missing.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n\
+                   f 1 2 3\nusemtl red\nf 1 3 4\nusemtl light\nf 1 2 3 4\nusemtl shiny\nf 1 2 5\n\
+                   usemtl nowhere\nf 1 4 5\nusemtl red\nf 2 3 5\n";
+        let path = write(dir.path(), "box.obj", obj);
+        let s = load_file(&path).unwrap();
+        let materials: Vec<Material> = (0..s.triangles.len() as u32).map(|i| s.material(i)).collect();
+        let grey = Material::Diffuse { albedo: Vec3::splat(0.7) };
+        let red = Material::Diffuse { albedo: Vec3::new(0.63, 0.065, 0.05) };
+        let light = Material::Emissive { radiance: Vec3::new(17.0, 12.0, 4.0) };
+        let shiny = Material::Glossy { albedo: Vec3::splat(0.7), variance: 0.25 / 200.0 };
+        assert_eq!(materials, [grey, red, light, light, shiny, grey, red]);
+        // The emissive quad's two triangles, joined into one quad light; no default light.
+        assert_eq!(s.lights.len(), 1, "{:?}", s.lights);
+        assert!(matches!(s.lights[0], Light::Quad { radiance, .. } if radiance == Vec3::new(17.0, 12.0, 4.0)));
+        let noticed = |what: &str| s.notices.iter().find(|n| n.what.contains(what)).map(|n| n.count);
+        assert_eq!(noticed("librar(ies) not found"), Some(1));
+        assert_eq!(noticed("in no library"), Some(1));
+        assert_eq!(noticed("texture map(s) not read"), Some(1));
+        assert_eq!(noticed("partly transparent"), Some(1));
+        assert_eq!(noticed("specular part(s)"), Some(1));
+        // Without a library the faces are grey and the default light shows them.
+        let bare = write(dir.path(), "bare.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
+        let s = load_file(&bare).unwrap();
+        assert_eq!(s.material(0), grey);
+        assert_eq!(s.lights.len(), 1);
+    }
+
+    #[test]
+    fn mtl_errors_name_the_obj_line_and_the_library_line() {
+        let dir = tempfile::tempdir().unwrap();
+        write(dir.path(), "bad.mtl", "newmtl a\nKd 1 oops 1\n");
+        let obj = write(dir.path(), "a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib bad.mtl\nusemtl a\nf 1 2 3\n");
+        let e = load_file(&obj).err().unwrap().to_string();
+        assert!(e.contains("a.obj: mtllib on line 4: ") && e.contains("bad.mtl:2: "), "{e}");
+        let outside = write(dir.path(), "b.obj", "mtllib ../x.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        let e = load_file(&outside).err().unwrap().to_string();
+        assert!(e.contains("b.obj: mtllib on line 1: ") && e.contains("--allow-outside-paths"), "{e}");
     }
 
     #[test]

@@ -22,6 +22,7 @@ mod merge_emitters;
 mod model;
 pub(crate) mod names;
 mod normals;
+mod obj_materials;
 mod ray_queries;
 pub mod showcase;
 mod smesh_file;

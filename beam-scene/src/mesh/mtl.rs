@@ -1,0 +1,168 @@
+//! The MTL parser: the materials of an OBJ file's `mtllib` libraries, as far as they change a
+//! picture here: the diffuse colour `Kd`, the emission `Ke`, the specular colour `Ks` and its
+//! Phong exponent `Ns`; texture maps (`map_Kd`, `bump`, …) and dissolve (`d`, `Tr`) are counted,
+//! not read, and the rest (`Ka`, `Ni`, `illum`, …) is ignored. Every error names `file:line`.
+
+use crate::error::SceneError;
+use crate::read::quote;
+use beam_math::glam::Vec3;
+use std::path::Path;
+
+/// The diffuse colour of a material without `Kd` (a bare OBJ file's grey).
+pub const DEFAULT_KD: f32 = 0.7;
+
+/// One material of an MTL file (`newmtl`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MtlMaterial {
+    /// Its name (the rest of the `newmtl` statement).
+    pub name: String,
+    /// Diffuse colour (`Kd`; [`DEFAULT_KD`] grey without one).
+    pub kd: Vec3,
+    /// Specular colour (`Ks`).
+    pub ks: Vec3,
+    /// Phong exponent of the specular lobe (`Ns`).
+    pub ns: f32,
+    /// Emitted radiance (`Ke`).
+    pub ke: Vec3,
+    /// Texture-map statements (`map_Kd`, `map_Ks`, `bump`, `norm`, `disp`, `decal`, `refl`, …).
+    pub maps: usize,
+    /// Whether it is partly transparent (`d` below 1 or `Tr` above 0).
+    pub dissolves: bool,
+}
+
+impl MtlMaterial {
+    fn new(name: &str) -> Self {
+        Self {
+            name: name.to_string(),
+            kd: Vec3::splat(DEFAULT_KD),
+            ks: Vec3::ZERO,
+            ns: 0.0,
+            ke: Vec3::ZERO,
+            maps: 0,
+            dissolves: false,
+        }
+    }
+}
+
+/// The materials of the MTL text `data` (from the file `path`, which errors name), in file order.
+/// `quote_lines`: whether errors may quote the offending line.
+pub fn parse_mtl(path: &Path, data: &[u8], quote_lines: bool) -> Result<Vec<MtlMaterial>, SceneError> {
+    let text = String::from_utf8_lossy(data);
+    let mut materials: Vec<MtlMaterial> = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let fail = |what: String| {
+            let quoted = if quote_lines { format!(": `{}`", quote(line)) } else { String::new() };
+            Err(SceneError::Obj { path: path.to_path_buf(), line: n + 1, message: format!("{what}{quoted}") })
+        };
+        let data = line.split_once('#').map_or(line, |(d, _)| d).trim();
+        let mut tokens = data.split_whitespace();
+        let Some(keyword) = tokens.next() else { continue };
+        if keyword == "newmtl" {
+            let name = data["newmtl".len()..].trim();
+            if name.is_empty() {
+                return fail("`newmtl` needs a name".into());
+            }
+            materials.push(MtlMaterial::new(name));
+            continue;
+        }
+        let is_map = keyword.starts_with("map_") || matches!(keyword, "bump" | "disp" | "decal" | "refl" | "norm");
+        if !(is_map || matches!(keyword, "Kd" | "Ks" | "Ke" | "Ns" | "d" | "Tr")) {
+            continue;
+        }
+        let Some(m) = materials.last_mut() else {
+            return fail(format!("`{keyword}` before any `newmtl`"));
+        };
+        if is_map {
+            m.maps += 1;
+            continue;
+        }
+        let mut values = Vec::new();
+        for t in tokens {
+            match t.parse::<f32>() {
+                Ok(x) if x.is_finite() && x >= 0.0 => values.push(x),
+                Ok(_) => return fail(format!("`{keyword}` values must be finite and at least 0")),
+                // `Kd spectral file` and `Kd xyz x y z` name other colour spaces.
+                Err(_) => {
+                    return fail(format!("`{keyword}` takes numbers (spectral and CIE XYZ colours are not read)"));
+                }
+            }
+        }
+        let colour = |values: &[f32]| match *values {
+            [g] => Some(Vec3::splat(g)),
+            [r, g, b] => Some(Vec3::new(r, g, b)),
+            _ => None,
+        };
+        let scalar = |values: &[f32]| match *values {
+            [x] => Some(x),
+            _ => None,
+        };
+        match keyword {
+            "Kd" | "Ks" | "Ke" => {
+                let Some(c) = colour(&values) else {
+                    return fail(format!("`{keyword}` takes one grey value or r g b, not {} numbers", values.len()));
+                };
+                match keyword {
+                    "Kd" => m.kd = c,
+                    "Ks" => m.ks = c,
+                    _ => m.ke = c,
+                }
+            }
+            _ => {
+                let Some(x) = scalar(&values) else {
+                    return fail(format!("`{keyword}` takes one number, not {}", values.len()));
+                };
+                match keyword {
+                    "Ns" => m.ns = x,
+                    "d" => m.dissolves |= x < 1.0,
+                    _ => m.dissolves |= x > 0.0,
+                }
+            }
+        }
+    }
+    Ok(materials)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<Vec<MtlMaterial>, String> {
+        parse_mtl(Path::new("m.mtl"), text.as_bytes(), true).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn reads_colours_emission_and_counts_maps() {
+        let m = parse(
+            "# a library\nnewmtl red wall\n  Kd 0.63 0.065 0.05 # red\n  Ka 1 1 1\n  illum 2\n\
+             newmtl light\nKe 17 12 4\nKd 0.78\nmap_Kd light.png\nbump -bm 0.5 b.png\nd 0.5\n\
+             newmtl box\nKd 0 0 0\nKs 0.7 0.7 0.7\nNs 200\n",
+        )
+        .unwrap();
+        assert_eq!(m.len(), 3);
+        assert_eq!(m[0].name, "red wall");
+        assert_eq!(m[0].kd, Vec3::new(0.63, 0.065, 0.05));
+        assert_eq!((m[0].ke, m[0].maps, m[0].dissolves), (Vec3::ZERO, 0, false));
+        assert_eq!((m[1].ke, m[1].kd), (Vec3::new(17.0, 12.0, 4.0), Vec3::splat(0.78)));
+        assert_eq!((m[1].maps, m[1].dissolves), (2, true));
+        assert_eq!((m[2].kd, m[2].ks, m[2].ns), (Vec3::ZERO, Vec3::splat(0.7), 200.0));
+        let bare = parse("newmtl plain\n").unwrap();
+        assert_eq!(bare[0].kd, Vec3::splat(DEFAULT_KD));
+    }
+
+    #[test]
+    fn errors_name_the_file_and_line() {
+        for (text, line, what) in [
+            ("newmtl a\nKd 1 x 1\n", 2, "takes numbers"),
+            ("newmtl a\n\nKe 1 -1 1\n", 3, "at least 0"),
+            ("newmtl a\nKd 1 1\n", 2, "one grey value or r g b"),
+            ("Kd 1 1 1\n", 1, "before any `newmtl`"),
+            ("newmtl\n", 1, "needs a name"),
+            ("newmtl a\nNs 1 2\n", 2, "one number"),
+            ("newmtl a\nKd spectral r.spd\n", 2, "spectral"),
+            ("newmtl a\nKd inf 1 1\n", 2, "finite"),
+        ] {
+            let e = parse(text).unwrap_err();
+            assert!(e.starts_with(&format!("m.mtl:{line}: ")) && e.contains(what), "{text:?}: {e}");
+        }
+    }
+}
