@@ -1,7 +1,8 @@
 //! The MTL parser: the materials of an OBJ file's `mtllib` libraries, as far as they change a
-//! picture here: the diffuse colour `Kd`, the emission `Ke`, the specular colour `Ks` and its
-//! Phong exponent `Ns`; texture maps (`map_Kd`, `bump`, …) and dissolve (`d`, `Tr`) are counted,
-//! not read, and the rest (`Ka`, `Ni`, `illum`, …) is ignored. Every error names `file:line`.
+//! picture here: the diffuse colour `Kd` and its texture `map_Kd`, the emission `Ke`, the specular
+//! colour `Ks` and its Phong exponent `Ns`; the other texture maps (`map_Ks`, `bump`, …) and
+//! dissolve (`d`, `Tr`) are counted, not read, and the rest (`Ka`, `Ni`, `illum`, …) is ignored.
+//! Every error names `file:line`.
 
 use crate::error::SceneError;
 use crate::read::quote;
@@ -24,7 +25,10 @@ pub struct MtlMaterial {
     pub ns: f32,
     /// Emitted radiance (`Ke`).
     pub ke: Vec3,
-    /// Texture-map statements (`map_Kd`, `map_Ks`, `bump`, `norm`, `disp`, `decal`, `refl`, …).
+    /// The diffuse colour's texture (`map_Kd`): its file name as written (the statement's last
+    /// word) and whether options (`-s`, `-o`, …) came before it, which are not applied.
+    pub map_kd: Option<(String, bool)>,
+    /// The other texture-map statements (`map_Ks`, `bump`, `norm`, `disp`, `decal`, `refl`, …).
     pub maps: usize,
     /// Whether it is partly transparent (`d` below 1 or `Tr` above 0).
     pub dissolves: bool,
@@ -38,6 +42,7 @@ impl MtlMaterial {
             ks: Vec3::ZERO,
             ns: 0.0,
             ke: Vec3::ZERO,
+            map_kd: None,
             maps: 0,
             dissolves: false,
         }
@@ -72,6 +77,12 @@ pub fn parse_mtl(path: &Path, data: &[u8], quote_lines: bool) -> Result<Vec<MtlM
         let Some(m) = materials.last_mut() else {
             return fail(format!("`{keyword}` before any `newmtl`"));
         };
+        if keyword == "map_Kd" {
+            let words: Vec<&str> = tokens.collect();
+            let Some(file) = words.last() else { return fail("`map_Kd` needs a file name".into()) };
+            m.map_kd = Some((file.to_string(), words.len() > 1));
+            continue;
+        }
         if is_map {
             m.maps += 1;
             continue;
@@ -134,7 +145,7 @@ mod tests {
     fn reads_colours_emission_and_counts_maps() {
         let m = parse(
             "# a library\nnewmtl red wall\n  Kd 0.63 0.065 0.05 # red\n  Ka 1 1 1\n  illum 2\n\
-             newmtl light\nKe 17 12 4\nKd 0.78\nmap_Kd light.png\nbump -bm 0.5 b.png\nd 0.5\n\
+             newmtl light\nKe 17 12 4\nKd 0.78\nmap_Kd -s 2 2 1 light.png\nbump -bm 0.5 b.png\nd 0.5\n\
              newmtl box\nKd 0 0 0\nKs 0.7 0.7 0.7\nNs 200\n",
         )
         .unwrap();
@@ -143,7 +154,9 @@ mod tests {
         assert_eq!(m[0].kd, Vec3::new(0.63, 0.065, 0.05));
         assert_eq!((m[0].ke, m[0].maps, m[0].dissolves), (Vec3::ZERO, 0, false));
         assert_eq!((m[1].ke, m[1].kd), (Vec3::new(17.0, 12.0, 4.0), Vec3::splat(0.78)));
-        assert_eq!((m[1].maps, m[1].dissolves), (2, true));
+        assert_eq!((m[1].maps, m[1].dissolves), (1, true));
+        assert_eq!(m[1].map_kd, Some(("light.png".to_string(), true)));
+        assert_eq!(m[0].map_kd, None);
         assert_eq!((m[2].kd, m[2].ks, m[2].ns), (Vec3::ZERO, Vec3::splat(0.7), 200.0));
         let bare = parse("newmtl plain\n").unwrap();
         assert_eq!(bare[0].kd, Vec3::splat(DEFAULT_KD));
@@ -160,6 +173,7 @@ mod tests {
             ("newmtl a\nNs 1 2\n", 2, "one number"),
             ("newmtl a\nKd spectral r.spd\n", 2, "spectral"),
             ("newmtl a\nKd inf 1 1\n", 2, "finite"),
+            ("newmtl a\nmap_Kd\n", 2, "needs a file name"),
         ] {
             let e = parse(text).unwrap_err();
             assert!(e.starts_with(&format!("m.mtl:{line}: ")) && e.contains(what), "{text:?}: {e}");

@@ -8,12 +8,12 @@ use super::indexed::Mesh;
 use super::triangulate::triangulate;
 use crate::error::SceneError;
 use crate::read::quote;
-use beam_math::glam::Vec3;
+use beam_math::glam::{Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
 
 /// Counts and material names from parsing an OBJ file.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct ObjStats {
     /// Line (`l`) and point (`p`) elements skipped: they have no area to render.
     pub skipped_elements: usize,
@@ -24,6 +24,10 @@ pub struct ObjStats {
     /// Per triangle of the mesh, its material: `0` where no `usemtl` came before its face, else
     /// `1 +` its index in `materials`.
     pub triangle_materials: Vec<u32>,
+    /// Per triangle of the mesh, its corners' texture coordinates (`vt`, with `v` turned to run
+    /// down the image as textures are read here; zeros for a face without them); empty when no
+    /// face has any.
+    pub triangle_uvs: Vec<[Vec2; 3]>,
 }
 
 /// Most materials an OBJ file may use (`usemtl` names).
@@ -43,6 +47,9 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
     let text = String::from_utf8_lossy(data);
     let mut positions: Vec<Vec3> = Vec::new();
     let mut corners: Vec<i64> = Vec::new();
+    let mut uvs: Vec<Vec2> = Vec::new();
+    // Per corner, its texture coordinates' index (−1: none).
+    let mut corner_uvs: Vec<i64> = Vec::new();
     let mut faces: Vec<Face> = Vec::new();
     let mut stats = ObjStats::default();
     // Per face, its material (as in `triangle_materials`).
@@ -97,6 +104,19 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
                 }
                 positions.push(Vec3::from_array(xyz));
             }
+            Some("vt") => {
+                let mut uv = Vec::with_capacity(3);
+                for t in tokens {
+                    match t.parse::<f32>() {
+                        Ok(x) if x.is_finite() && uv.len() < 3 => uv.push(x),
+                        Ok(x) if x.is_finite() => return fail("texture coordinates are u, then optionally v and w"),
+                        _ => return fail(&format!("texture coordinate {} must be a finite number", uv.len() + 1)),
+                    }
+                }
+                let Some(&u) = uv.first() else { return fail("texture coordinates need at least u") };
+                let uv = [u, uv.get(1).copied().unwrap_or(0.0)];
+                uvs.push(Vec2::new(uv[0], 1.0 - uv[1]));
+            }
             Some("f") => {
                 let start = corners.len();
                 for (k, c) in tokens.enumerate() {
@@ -124,6 +144,19 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
                         }
                     };
                     corners.push(index);
+                    let uv = match parts.get(1).filter(|t| !t.is_empty()).map(|t| t.parse::<i64>()) {
+                        None => -1,
+                        Some(Ok(i)) if i > 0 => i - 1,
+                        Some(Ok(i)) if i < 0 && i.unsigned_abs() <= uvs.len() as u64 => uvs.len() as i64 + i,
+                        Some(_) => {
+                            return fail(&format!(
+                                "face corner {}'s texture coordinates are not an index (1 to N, or −1 to −{} counting back)",
+                                k + 1,
+                                uvs.len()
+                            ));
+                        }
+                    };
+                    corner_uvs.push(uv);
                 }
                 if corners.len() - start < 3 {
                     return fail("a face needs at least three corners");
@@ -151,7 +184,9 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
     }
     let mut indices = Vec::new();
     let mut face = Vec::new();
+    let textured = corner_uvs.iter().any(|&t| t >= 0);
     for (f, &material) in faces.iter().zip(&face_materials) {
+        let first = indices.len();
         face.clear();
         for &i in &corners[f.start..f.end] {
             if i >= positions.len() as i64 {
@@ -169,6 +204,25 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
             source,
         })?;
         stats.triangle_materials.resize(indices.len(), material);
+        if textured {
+            // Each triangle corner is a vertex of the face: its texture coordinates are the
+            // first such corner's.
+            let uv_of = |v: u32| -> Result<Vec2, SceneError> {
+                let k = face.iter().position(|&w| w == v).map_or(-1, |k| corner_uvs[f.start + k]);
+                match k {
+                    -1 => Ok(Vec2::ZERO),
+                    k if k < uvs.len() as i64 => Ok(uvs[k as usize]),
+                    k => Err(SceneError::Obj {
+                        path: path.to_path_buf(),
+                        line: f.line,
+                        message: format!("texture coordinates {} are past the last ones ({})", k + 1, uvs.len()),
+                    }),
+                }
+            };
+            for t in &indices[first..] {
+                stats.triangle_uvs.push([uv_of(t[0])?, uv_of(t[1])?, uv_of(t[2])?]);
+            }
+        }
     }
     Ok((Mesh { positions, indices }, stats))
 }

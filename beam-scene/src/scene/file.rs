@@ -13,6 +13,7 @@ use super::names::{BUILTIN, GENERATED};
 use super::obj_materials::{ObjMaterials, obj_materials};
 use super::smesh_file;
 use super::smesh_plan::SMeshPlan;
+use super::surface::Surfaces;
 use crate::error::SceneError;
 use crate::mesh::{Mesh, load_obj_with};
 use crate::read::{MAX_SCENE_BYTES, has_extension, read_bounded, resolve_inside};
@@ -158,8 +159,13 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
 /// triangles as triangle lights, and the framing camera; without an emitter, the default light.
 fn load_bare_obj(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let (mesh, stats) = load_obj_with(path, true)?;
-    let ObjMaterials { materials, notices } = obj_materials(path, &stats, options)?;
+    let ObjMaterials { materials, maps, textures, notices } = obj_materials(path, &stats, options)?;
     let triangles: Vec<(Triangle, u32)> = mesh.triangles().into_iter().zip(stats.triangle_materials).collect();
+    let surfaces = if maps.is_empty() {
+        Surfaces::default()
+    } else {
+        Surfaces { uv: [stats.triangle_uvs, Vec::new()], textures, maps, ..Surfaces::default() }
+    };
     valid_bounds(path, &triangles)?;
     let camera = default_camera(&triangles);
     let mut lights: Vec<Light> = triangles
@@ -173,7 +179,7 @@ fn load_bare_obj(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError
     if lights.is_empty() {
         lights.push(default_light(&triangles, &camera));
     }
-    let mut scene = Scene::new(path.display().to_string(), triangles, materials, lights, camera);
+    let mut scene = Scene::with_surfaces(path.display().to_string(), triangles, materials, lights, camera, surfaces);
     scene.stats.skipped_elements = stats.skipped_elements;
     scene.notice("OBJ line and point element(s) skipped: they have no area to render", stats.skipped_elements);
     for (what, count) in notices {
@@ -239,7 +245,7 @@ mod tests {
         let noticed = |what: &str| s.notices.iter().find(|n| n.what.contains(what)).map(|n| n.count);
         assert_eq!(noticed("librar(ies) not found"), Some(1));
         assert_eq!(noticed("in no library"), Some(1));
-        assert_eq!(noticed("texture map(s) not read"), Some(1));
+        assert_eq!(noticed("other than map_Kd"), Some(1));
         assert_eq!(noticed("partly transparent"), Some(1));
         assert_eq!(noticed("specular part(s)"), Some(1));
         // Without a library the faces are grey and the default light shows them.
@@ -247,6 +253,45 @@ mod tests {
         let s = load_file(&bare).unwrap();
         assert_eq!(s.material(0), grey);
         assert_eq!(s.lights.len(), 1);
+    }
+
+    /// A quad with a 2 × 2 texture (red, green / blue, white) under `map_Kd`, its path written with
+    /// a backslash: each quarter of the quad reads its texel (from sRGB), `v` up as OBJ has it;
+    /// a missing and an unreadable image leave `Kd` and are counted.
+    #[test]
+    fn a_bare_obj_reads_its_map_kd_texture() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("tex")).unwrap();
+        let texels = [[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255], [255, 255, 255, 255]];
+        let img = image::RgbaImage::from_fn(2, 2, |x, y| image::Rgba(texels[(y * 2 + x) as usize]));
+        img.save(dir.path().join("tex/t.png")).unwrap();
+        write(&dir.path().join("tex"), "t.tga", "not an image");
+        write(
+            dir.path(),
+            "q.mtl",
+            "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd tex\\t.png\nnewmtl gone\nKd 0.2 0.2 0.2\nmap_Kd none.png\n\
+             newmtl tga\nKd 0.3 0.3 0.3\nmap_Kd tex/t.tga\n",
+        );
+        let obj = "mtllib q.mtl\nv 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+                   usemtl tex\nf 1/1 2/2 3/3 4/4\nusemtl gone\nf 1/1 2/2 3/3\nusemtl tga\nf 1 3 4\n";
+        let s = load_file(&write(dir.path(), "q.obj", obj)).unwrap();
+        // The image's top row (red, green) is at v = 1, the quad's top (y = 2).
+        for (p, colour) in [
+            (Vec3::new(0.5, 1.5, 0.0), Vec3::X),
+            (Vec3::new(1.5, 1.5, 0.0), Vec3::Y),
+            (Vec3::new(0.5, 0.5, 0.0), Vec3::Z),
+            (Vec3::new(1.5, 0.5, 0.0), Vec3::ONE),
+        ] {
+            let prim = if p.x > p.y { 0 } else { 1 };
+            let a = s.albedo_at(prim, p);
+            // Bilinear between texel centres: the quarter's centre reads its own texel whole.
+            assert!((a - colour).abs().max_element() < 1e-3, "{p}: {a}, not {colour}");
+        }
+        assert_eq!(s.albedo_at(2, Vec3::new(1.5, 0.5, 0.0)), Vec3::splat(0.2));
+        assert_eq!(s.albedo_at(3, Vec3::new(0.5, 1.5, 0.0)), Vec3::splat(0.3));
+        let noticed = |what: &str| s.notices.iter().find(|n| n.what.contains(what)).map(|n| n.count);
+        assert_eq!(noticed("not found: their materials' Kd"), Some(1));
+        assert_eq!(noticed("not PNG or JPEG"), Some(1));
     }
 
     #[test]

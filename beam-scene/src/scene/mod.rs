@@ -14,6 +14,7 @@ pub mod foliage;
 mod format;
 pub mod framing;
 mod gltf;
+mod image_file;
 mod light;
 pub mod light_volumes;
 mod load_options;

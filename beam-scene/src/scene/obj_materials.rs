@@ -4,33 +4,42 @@
 //! - `Kd` black with `Ks` above zero (a polished box) → [`Material::Glossy`] of albedo `Ks`, its
 //!   Phong exponent `Ns` taken as a Gaussian lobe about the mirror direction of variance `1/Ns`
 //!   (facets of variance `1 / (4 Ns)`; below `Ns = 1`, diffuse of albedo `Ks`);
-//! - otherwise → [`Material::Diffuse`] of albedo `Kd` (channels above 1 clamped).
+//! - otherwise → [`Material::Diffuse`] of albedo `Kd` (channels above 1 clamped), or with a
+//!   `map_Kd` texture (PNG or JPEG, beside its library; `\` read as `/`) that texture instead of
+//!   `Kd`, as Blender imports it, read at the faces' `vt` coordinates (repeating, bilinear).
 //!
 //! Faces before any `usemtl`, names no library defines and a library that is missing get the bare
-//! file's grey; texture maps, dissolve and the specular part of a diffuse material are not read.
-//! Each of these is counted in one notice.
+//! file's grey; a texture that is missing or in another format leaves `Kd`; the other texture maps,
+//! `map_Kd` options, dissolve and the specular part of a diffuse material are not read. Each of
+//! these is counted in one notice.
 
+use super::image_file::decode_image;
 use super::load_options::LoadOptions;
 use super::material::Material;
+use super::surface::{MaterialMaps, TextureRef};
+use super::texture::{Filter, Texture, Wrap};
 use crate::error::SceneError;
 use crate::mesh::{DEFAULT_KD, MtlMaterial, ObjStats, parse_mtl};
-use crate::read::{MAX_SCENE_BYTES, read_bounded, resolve_inside};
-use beam_math::glam::Vec3;
+use crate::read::{MAX_MESH_BYTES, MAX_SCENE_BYTES, read_bounded, resolve_inside};
+use beam_math::glam::{Affine2, Vec3};
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// The materials of an OBJ file: per slot of [`ObjStats::triangle_materials`], and the notices of
-/// what was not used, as `(what, count)`.
+/// The materials of an OBJ file: per slot of [`ObjStats::triangle_materials`], with their textures
+/// (no maps when none has one), and the notices of what was not used, as `(what, count)`.
 pub(super) struct ObjMaterials {
     pub(super) materials: Vec<Material>,
+    pub(super) maps: Vec<MaterialMaps>,
+    pub(super) textures: Vec<Texture>,
     pub(super) notices: Vec<(&'static str, usize)>,
 }
 
-/// The materials of the OBJ file `path`, whose parse gave `stats`; its libraries lie in its folder
-/// unless `options` allows others.
+/// The materials of the OBJ file `path`, whose parse gave `stats`; its libraries and their
+/// textures lie in its folder unless `options` allows others.
 pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions) -> Result<ObjMaterials, SceneError> {
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let mut defined: HashMap<String, MtlMaterial> = HashMap::new();
+    // Each material with the folder of its library.
+    let mut defined: HashMap<String, (MtlMaterial, PathBuf)> = HashMap::new();
     let mut missing_libraries = 0;
     for (line, name) in &stats.libraries {
         let in_obj = |e| SceneError::InMesh {
@@ -38,51 +47,145 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
             element: format!("mtllib on line {line}"),
             source: Box::new(e),
         };
-        let read = resolve_inside(dir, name, options.allow_outside_paths)
-            .and_then(|(file, inside)| Ok((read_bounded(&file, MAX_SCENE_BYTES)?, file, inside)));
-        let (data, file, inside) = match read {
-            Ok(read) => read,
-            Err(SceneError::Read { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
-                missing_libraries += 1;
-                continue;
-            }
-            Err(e) => return Err(in_obj(e)),
+        let Some((data, file, inside)) = read_optional(dir, name, MAX_SCENE_BYTES, options).map_err(in_obj)? else {
+            missing_libraries += 1;
+            continue;
         };
+        let folder = file.parent().map_or_else(|| dir.to_path_buf(), Path::to_path_buf);
         for m in parse_mtl(&file, &data, inside).map_err(in_obj)? {
-            defined.insert(m.name.clone(), m);
+            defined.insert(m.name.clone(), (m, folder.clone()));
         }
     }
     let grey = Material::Diffuse { albedo: Vec3::splat(DEFAULT_KD) };
     let mut materials = vec![grey];
-    let (mut undefined, mut maps, mut dissolving, mut specular, mut clamped) = (0, 0, 0, 0, 0);
+    let mut maps = vec![MaterialMaps::default()];
+    let mut textures = Textures::default();
+    let (mut undefined, mut other_maps, mut dissolving, mut specular, mut clamped) = (0, 0, 0, 0, 0);
     for name in &stats.materials {
-        let Some(m) = defined.get(name) else {
-            undefined += 1;
-            materials.push(grey);
-            continue;
+        let (material, base_color) = match defined.get(name) {
+            None => {
+                undefined += 1;
+                (grey, None)
+            }
+            Some((m, _)) if m.ke.max_element() > 0.0 => (Material::Emissive { radiance: m.ke }, None),
+            Some((m, _)) if m.kd.max_element() == 0.0 && m.ks.max_element() > 0.0 => {
+                clamped += usize::from(m.ks.max_element() > 1.0);
+                let albedo = m.ks.min(Vec3::ONE);
+                let glossy = m.ns >= 1.0;
+                (
+                    if glossy {
+                        Material::Glossy { albedo, variance: 0.25 / m.ns }
+                    } else {
+                        Material::Diffuse { albedo }
+                    },
+                    None,
+                )
+            }
+            Some((m, folder)) => {
+                specular += usize::from(m.ks.max_element() > 0.0);
+                let texture = match &m.map_kd {
+                    Some(_) if stats.triangle_uvs.is_empty() => {
+                        textures.without_uvs += 1;
+                        None
+                    }
+                    Some((file, with_options)) => {
+                        textures.options += usize::from(*with_options);
+                        let in_obj = |e| SceneError::InMesh {
+                            path: path.to_path_buf(),
+                            element: format!("material {name} map_Kd"),
+                            source: Box::new(e),
+                        };
+                        textures.read(folder, file, options).map_err(in_obj)?
+                    }
+                    None => None,
+                };
+                clamped += usize::from(texture.is_none() && m.kd.max_element() > 1.0);
+                let albedo = if texture.is_some() { Vec3::ONE } else { m.kd.min(Vec3::ONE) };
+                let base_color =
+                    texture.map(|texture| TextureRef { texture, tex_coord: 0, transform: Affine2::IDENTITY });
+                (Material::Diffuse { albedo }, base_color)
+            }
         };
-        maps += m.maps;
-        dissolving += usize::from(m.dissolves);
-        let material = if m.ke.max_element() > 0.0 {
-            Material::Emissive { radiance: m.ke }
-        } else if m.kd.max_element() == 0.0 && m.ks.max_element() > 0.0 {
-            clamped += usize::from(m.ks.max_element() > 1.0);
-            let albedo = m.ks.min(Vec3::ONE);
-            if m.ns >= 1.0 { Material::Glossy { albedo, variance: 0.25 / m.ns } } else { Material::Diffuse { albedo } }
-        } else {
-            specular += usize::from(m.ks.max_element() > 0.0);
-            clamped += usize::from(m.kd.max_element() > 1.0);
-            Material::Diffuse { albedo: m.kd.min(Vec3::ONE) }
-        };
+        if let Some((m, _)) = defined.get(name) {
+            other_maps += m.maps;
+            dissolving += usize::from(m.dissolves);
+        }
         materials.push(material);
+        maps.push(MaterialMaps { base_color, ..MaterialMaps::default() });
+    }
+    if textures.list.is_empty() {
+        maps.clear();
     }
     let notices = vec![
         ("OBJ material librar(ies) not found: their materials drawn grey", missing_libraries),
         ("OBJ material name(s) (usemtl) in no library: drawn grey", undefined),
-        ("OBJ material texture map(s) not read: the flat colours (Kd) are used", maps),
+        ("OBJ texture image(s) (map_Kd) not found: their materials' Kd used", textures.absent),
+        ("OBJ texture image(s) (map_Kd) not PNG or JPEG: their materials' Kd used", textures.unreadable),
+        ("OBJ texture(s) (map_Kd) not read: the faces have no texture coordinates (vt)", textures.without_uvs),
+        ("OBJ texture option(s) (map_Kd -s, -o, …) not applied", textures.options),
+        ("OBJ texture map(s) other than map_Kd not read", other_maps),
         ("partly transparent OBJ material(s) (d, Tr) drawn opaque", dissolving),
         ("specular part(s) (Ks) of diffuse OBJ materials not drawn", specular),
         ("OBJ material colour(s) above 1 clamped to 1", clamped),
     ];
-    Ok(ObjMaterials { materials, notices })
+    Ok(ObjMaterials { materials, maps, textures: textures.list, notices })
+}
+
+/// The bytes of file `name` in `dir` (at most `limit`), the file and whether it lies inside `dir`;
+/// `None` where it does not exist.
+fn read_optional(
+    dir: &Path,
+    name: &str,
+    limit: u64,
+    options: &LoadOptions,
+) -> Result<Option<(Vec<u8>, PathBuf, bool)>, SceneError> {
+    let read = resolve_inside(dir, name, options.allow_outside_paths)
+        .and_then(|(file, inside)| Ok((read_bounded(&file, limit)?, file, inside)));
+    match read {
+        Ok(read) => Ok(Some(read)),
+        Err(SceneError::Read { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(e),
+    }
+}
+
+/// The `map_Kd` textures read so far, each file decoded once, and the counts for the notices.
+#[derive(Default)]
+struct Textures {
+    list: Vec<Texture>,
+    /// Index in `list` of each file read (`None`: it could not be).
+    by_file: HashMap<PathBuf, Option<u32>>,
+    absent: usize,
+    unreadable: usize,
+    without_uvs: usize,
+    options: usize,
+}
+
+impl Textures {
+    /// The texture of file `name` (as an MTL file in `folder` writes it): its index in `list`, or
+    /// `None` where it is missing or not PNG or JPEG (counted).
+    fn read(&mut self, folder: &Path, name: &str, options: &LoadOptions) -> Result<Option<u32>, SceneError> {
+        let name = name.replace('\\', "/");
+        if let Some(&known) = self.by_file.get(&folder.join(&name)) {
+            return Ok(known);
+        }
+        let index = match read_optional(folder, &name, MAX_MESH_BYTES, options)? {
+            None => {
+                self.absent += 1;
+                None
+            }
+            Some((bytes, _, _)) => match decode_image(bytes) {
+                Ok((width, height, texels)) => {
+                    let texture = Texture { width, height, texels, wrap: [Wrap::Repeat; 2], filter: Filter::Linear };
+                    self.list.push(texture);
+                    Some(self.list.len() as u32 - 1)
+                }
+                Err(_) => {
+                    self.unreadable += 1;
+                    None
+                }
+            },
+        };
+        self.by_file.insert(folder.join(&name), index);
+        Ok(index)
+    }
 }

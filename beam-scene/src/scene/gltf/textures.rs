@@ -1,28 +1,17 @@
-//! The textures a glTF document's materials read: each image decoded once by the `image` crate
-//! (PNG and JPEG; every other format refused by name), bounded in size, paired with its sampler
-//! (glTF 2.0 §3.8.4).
+//! The textures a glTF document's materials read: each image decoded once
+//! ([`decode_image`]: PNG and JPEG, bounded in size), paired with its sampler (glTF 2.0 §3.8.4).
 
 use super::buffers::{data_uri, file_name, has_scheme};
 use super::errors::error;
 use crate::error::SceneError;
 use crate::read::{MAX_MESH_BYTES, read_bounded, resolve_inside};
+use crate::scene::image_file::{Decoded, decode_image};
 use crate::scene::load_options::LoadOptions;
 use crate::scene::surface::{MaterialMaps, TextureRef};
 use crate::scene::texture::{Filter, Texture, Wrap};
 use std::collections::HashMap;
-use std::io::Cursor;
 use std::path::Path;
 use std::rc::Rc;
-use std::sync::Arc;
-
-/// Widest and tallest image read, texels.
-const MAX_SIDE: u32 = 16_384;
-
-/// Most bytes an image may decode to (as 8-bit RGBA, 4 bytes a texel).
-const MAX_DECODED_BYTES: u64 = 1 << 30;
-
-/// A decoded image: width, height and its texels (shared by the textures that read it).
-type Decoded = (u32, u32, Arc<[[u8; 4]]>);
 
 /// The textures `maps` read, decoded, in the order of their first use; the maps' texture indices
 /// (glTF texture indices on entry) are rewritten to index the returned list. A normal texture whose
@@ -143,37 +132,5 @@ fn decode(
         }
         (None, None) => return Err(fail("has neither a bufferView nor a uri".into())),
     };
-    let format = match image::guess_format(&bytes) {
-        Ok(f @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => f,
-        _ => return Err(fail(format!("{} images are not read (only PNG and JPEG)", format_name(&bytes)))),
-    };
-    let mut reader = image::ImageReader::with_format(Cursor::new(bytes), format);
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(MAX_SIDE);
-    limits.max_image_height = Some(MAX_SIDE);
-    limits.max_alloc = Some(MAX_DECODED_BYTES);
-    reader.limits(limits);
-    let rgba = reader.decode().map_err(|e| fail(format!("{format:?} image: {e}")))?.into_rgba8();
-    let (width, height) = rgba.dimensions();
-    if width == 0 || height == 0 {
-        return Err(fail("the image has no texels".into()));
-    }
-    let texels: Arc<[[u8; 4]]> = rgba.pixels().map(|p| p.0).collect();
-    Ok((width, height, texels))
-}
-
-/// The name of the image format `bytes` start with, for a refusal.
-fn format_name(bytes: &[u8]) -> &'static str {
-    if bytes.starts_with(b"\xABKTX 20\xBB") {
-        "KTX2"
-    } else if bytes.len() >= 12 && &bytes[..4] == b"RIFF" && &bytes[8..12] == b"WEBP" {
-        "WebP"
-    } else if bytes.starts_with(b"DDS ") {
-        "DDS"
-    } else {
-        match image::guess_format(bytes) {
-            Ok(f) => f.extensions_str().first().copied().unwrap_or("these"),
-            Err(_) => "unrecognised",
-        }
-    }
+    decode_image(bytes).map_err(fail)
 }
