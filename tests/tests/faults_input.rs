@@ -104,14 +104,23 @@ fn devices_and_fifos_are_refused_not_read() {
 
 #[test]
 #[cfg(unix)]
-fn material_libraries_are_never_opened() {
+fn material_libraries_that_are_not_files_are_refused_unread() {
     let dir = TempDir::new("mtllib");
     std::os::unix::fs::symlink("/dev/zero", dir.0.join("zero.mtl")).unwrap();
+    let zero = dir.write("z.obj", &format!("mtllib zero.mtl\nusemtl x\n{TRI}"));
+    let e = err(load(&zero));
+    assert!(e.contains("z.obj: mtllib on line 1") && e.contains("--allow-outside-paths"), "{e}");
+    let absolute = dir.write("a.obj", &format!("mtllib /dev/zero\nusemtl x\n{TRI}"));
+    assert!(err(load(&absolute)).contains("a.obj: mtllib on line 1"));
     if has_mkfifo() {
         mkfifo(&dir.0.join("fifo.mtl"));
+        let fifo = dir.write("f.obj", &format!("mtllib fifo.mtl\nusemtl x\n{TRI}"));
+        let e = err(load(&fifo));
+        assert!(e.contains("f.obj: mtllib on line 1") && e.contains("not a regular file (a FIFO)"), "{e}");
     }
-    let obj = dir.write("m.obj", &format!("mtllib zero.mtl fifo.mtl\nmtllib /dev/zero\nusemtl x\n{TRI}"));
-    assert_eq!(load(&obj).unwrap().stats.triangles, 1);
+    // A library that is not there is a notice: the model loads grey.
+    let missing = dir.write("m.obj", &format!("mtllib gone.mtl\nusemtl x\n{TRI}"));
+    assert_eq!(load(&missing).unwrap().stats.triangles, 1);
 }
 
 #[test]
