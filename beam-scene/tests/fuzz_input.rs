@@ -1,4 +1,5 @@
-//! Seeded mutation fuzzer over scene files (TOML) and meshes (OBJ): valid seeds mutated by bytes,
+//! Seeded mutation fuzzer over scene files (TOML), meshes (OBJ) and their material libraries (MTL):
+//! valid seeds mutated by bytes,
 //! lines and tokens (deletions, duplicates, swaps, `nan`, `inf`, `1e39`, `-0`, huge integers, deep
 //! brackets, odd Unicode, invalid UTF-8) go to the library loaders. Every case must load or fail
 //! with a short error naming the file; none may panic, and each must finish within a time limit
@@ -232,7 +233,7 @@ fn mutate(rng: &mut Pcg64, text: &[u8]) -> Vec<u8> {
     t
 }
 
-const MESH: &str = "# a box corner and a non-convex face\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n\
+const MESH: &str = "# a box corner and a non-convex face\nmtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n\
     v 2 0 0\nv 2 1 0\nv 1 1 0.5\nvn 0 0 1\nvt 0 0\no part\ng side\nusemtl white\nf 1 2 3 4\nf 1//1 5//1 2//1\n\
     f 2/1/1 6/1/1 7/1/1 8/1/1 # non-convex\nf -1 -2 -3\nl 1 2\n";
 
@@ -246,6 +247,11 @@ const SCENE: &str = "[camera]\nposition = [0, 1, 4]\ntarget = [0, 0.5, 0]\nup = 
     [[lights]]\ntype = \"quad\"\ncorner = [-0.5, 2, -0.5]\nedge_u = [1, 0, 0]\nedge_v = [0, 0, 1]\n\
     radiance = [10, 10, 10]\n\n[[lights]]\ntype = \"point\"\nposition = [0, 3, 0]\nintensity = [1, 1, 1]\n\n\
     [[lights]]\ntype = \"triangle\"\nvertices = [[0, 2, 0], [1, 2, 0], [0, 2, 1]]\nradiance = [1, 1, 1]\n";
+
+/// The MTL seed: a diffuse, an emissive, a glossy and a textured material (its image missing).
+const MTL: &str = "# materials\nnewmtl white\n  Kd 0.7 0.7 0.7\n  Ka 0 0 0\n  illum 2\nnewmtl light\nKe 17 12 4\n\
+    Kd 0.78\nnewmtl shiny\nKd 0 0 0\nKs 0.7 0.7 0.7\nNs 200\nd 0.5\nnewmtl tex\nKd 1 1 1\n\
+    map_Kd -s 1 1 1 textures\\t.png\nbump b.png\n";
 
 /// The built-in OBJ seeds: [`MESH`] and one triangle.
 const MESHES: [&str; 2] = [MESH, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"];
@@ -336,8 +342,8 @@ fn run(
     cases: std::ops::Range<usize>,
     shared: Vec<String>,
     progress: mpsc::Sender<()>,
-) -> (Counts, Counts, Vec<String>) {
-    let (mut toml, mut obj, mut bad) = (Counts::default(), Counts::default(), Vec::new());
+) -> (Counts, Counts, Counts, Vec<String>) {
+    let (mut toml, mut obj, mut mtl, mut bad) = (Counts::default(), Counts::default(), Counts::default(), Vec::new());
     let scene_path = dir.join("case.toml");
     let obj_path = dir.join("case.obj");
     let show = cases.len() == 1;
@@ -374,9 +380,14 @@ fn run(
             r => r,
         };
         obj.add(k, "case.obj", &input, start.elapsed(), r, &mut bad);
+
+        let input = mutate(&mut case_rng(seed, k, 2), MTL.as_bytes());
+        let start = Instant::now();
+        let r = catch_unwind(AssertUnwindSafe(|| mesh::parse_mtl(Path::new("case.mtl"), &input, true).map(drop)));
+        mtl.add(k, "case.mtl", &input, start.elapsed(), r, &mut bad);
         let _ = progress.send(());
     }
-    (toml, obj, bad)
+    (toml, obj, mtl, bad)
 }
 
 #[test]
@@ -392,6 +403,7 @@ fn mutated_scene_files_and_meshes_never_panic_or_hang() {
     let _ = std::fs::remove_dir_all(&root);
     std::fs::create_dir_all(dir.join("sub")).unwrap();
     std::fs::write(dir.join("m.obj"), MESH).unwrap();
+    std::fs::write(dir.join("m.mtl"), MTL).unwrap();
     std::fs::write(root.join("m.obj"), MESH).unwrap();
     std::fs::write(dir.join("sub/t.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     let (shared, names) = shared_seeds();
@@ -418,11 +430,11 @@ fn mutated_scene_files_and_meshes_never_panic_or_hang() {
             }
         }
     }
-    let (toml, obj, bad) = worker.join().unwrap();
+    let (toml, obj, mtl, bad) = worker.join().unwrap();
     let _ = std::fs::remove_dir_all(&root);
-    let all = toml.cases + obj.cases;
+    let all = toml.cases + obj.cases + mtl.cases;
     println!("fuzz_input: {all} cases in {:.1} s", start.elapsed().as_secs_f64());
-    for (kind, c) in [("toml", &toml), ("obj", &obj)] {
+    for (kind, c) in [("toml", &toml), ("obj", &obj), ("mtl", &mtl)] {
         println!(
             "  {kind}: {} cases, {} ok, {} clear errors, {} panics, longest case {:.1} ms",
             c.cases,
@@ -440,5 +452,5 @@ fn mutated_scene_files_and_meshes_never_panic_or_hang() {
         bad.len(),
         &bad[..bad.len().min(5)]
     );
-    assert_eq!(toml.panics + obj.panics, 0);
+    assert_eq!(toml.panics + obj.panics + mtl.panics, 0);
 }
