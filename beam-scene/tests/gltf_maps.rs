@@ -144,3 +144,31 @@ fn a_normal_texture_is_read_as_data() {
     // Seen from behind, the bent normal is reversed.
     assert!((s.mapped_normal(prim, Vec3::new(0.5, 0.5, -2.0), -Vec3::Z) + want).length() < 1e-5);
 }
+
+/// `NORMAL` shades a diffuse triangle smoothly: its corners' normals, taken to world space by the
+/// inverse transpose of the node's matrix (a scale of 2 along x halves their x), interpolated.
+#[test]
+fn vertex_normals_shade_through_the_node_transform() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut d = Doc::default();
+    let p = d.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let normals: Vec<u8> =
+        [1.0f32, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0].iter().flat_map(|x| x.to_le_bytes()).collect();
+    let at = d.bin.len();
+    d.bin.extend_from_slice(&normals);
+    d.views.push(format!(r#"{{"buffer": 0, "byteOffset": {at}, "byteLength": 36}}"#));
+    let view = d.views.len() - 1;
+    d.accessors.push(format!(r#"{{"bufferView": {view}, "componentType": 5126, "count": 3, "type": "VEC3"}}"#));
+    let n = d.accessors.len() - 1;
+    let prim = primitive(p, None, None, "").replacen('}', &format!(r#", "NORMAL": {n}}}"#), 1);
+    let mesh = d.mesh(&[prim]);
+    d.roots = vec![d.node(&format!(r#"{{"mesh": {mesh}, "scale": [2, 1, 1]}}"#))];
+    let s = scene::load_file(&write(dir.path(), "smooth.gltf", d.gltf())).unwrap();
+    let corner = s.mapped_normal(0, Vec3::ZERO, Vec3::Z);
+    let want = Vec3::new(0.5, 0.0, 1.0).normalize();
+    assert!((corner - want).length() < 1e-5, "{corner} against {want}");
+    // Half-way along the edge to the corner whose normal is +z, and seen from behind.
+    let mid = s.mapped_normal(0, Vec3::new(1.0, 0.0, 0.0), -Vec3::Z);
+    let want = -(want + Vec3::Z).normalize();
+    assert!((mid - want).length() < 1e-5, "{mid} against {want}");
+}

@@ -28,6 +28,59 @@ pub struct ObjStats {
     /// down the image as textures are read here; zeros for a face without them); empty when no
     /// face has any.
     pub triangle_uvs: Vec<[Vec2; 3]>,
+    /// Per triangle of the mesh, its corners' unit normals (`vn`; zeros for a face without them);
+    /// empty when no face has any.
+    pub triangle_normals: Vec<[Vec3; 3]>,
+}
+
+/// The index a face corner's word `part` (after its first or second slash) gives into a list of
+/// `len` values read so far: −1 for none, 0-based for `1` to `N` or `−1` to `−len` counting back;
+/// `None` when it is not such an index (a positive one past the end is checked at the end).
+fn attribute_index(part: Option<&str>, len: usize) -> Option<i64> {
+    match part.filter(|t| !t.is_empty()).map(str::parse::<i64>) {
+        None => Some(-1),
+        Some(Ok(i)) if i > 0 => Some(i - 1),
+        Some(Ok(i)) if i < 0 && i.unsigned_abs() <= len as u64 => Some(len as i64 + i),
+        Some(_) => None,
+    }
+}
+
+/// The triangles one face was cut into, to give their corners the face's per-corner values.
+struct Corners<'a> {
+    path: &'a Path,
+    /// The face's vertices, and its line.
+    face: &'a [u32],
+    line: usize,
+    /// Its first corner's index in the per-corner lists.
+    start: usize,
+    triangles: &'a [[u32; 3]],
+}
+
+impl Corners<'_> {
+    /// Push onto `out` each triangle's corner values: a triangle corner is a vertex of the face,
+    /// whose value is that of the face's first corner at the vertex (`indices` into `values`, −1:
+    /// the default).
+    fn values<T: Copy + Default>(
+        &self,
+        indices: &[i64],
+        values: &[T],
+        what: &str,
+        out: &mut Vec<[T; 3]>,
+    ) -> Result<(), SceneError> {
+        let value = |v: u32| match self.face.iter().position(|&w| w == v).map_or(-1, |k| indices[self.start + k]) {
+            -1 => Ok(T::default()),
+            k if k < values.len() as i64 => Ok(values[k as usize]),
+            k => Err(SceneError::Obj {
+                path: self.path.to_path_buf(),
+                line: self.line,
+                message: format!("{what} {} is past the last ({})", k + 1, values.len()),
+            }),
+        };
+        for t in self.triangles {
+            out.push([value(t[0])?, value(t[1])?, value(t[2])?]);
+        }
+        Ok(())
+    }
 }
 
 /// Most materials an OBJ file may use (`usemtl` names).
@@ -47,9 +100,9 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
     let text = String::from_utf8_lossy(data);
     let mut positions: Vec<Vec3> = Vec::new();
     let mut corners: Vec<i64> = Vec::new();
-    let mut uvs: Vec<Vec2> = Vec::new();
-    // Per corner, its texture coordinates' index (−1: none).
-    let mut corner_uvs: Vec<i64> = Vec::new();
+    let (mut uvs, mut normals): (Vec<Vec2>, Vec<Vec3>) = (Vec::new(), Vec::new());
+    // Per corner, the index of its texture coordinates and of its normal (−1: none).
+    let (mut corner_uvs, mut corner_normals): (Vec<i64>, Vec<i64>) = (Vec::new(), Vec::new());
     let mut faces: Vec<Face> = Vec::new();
     let mut stats = ObjStats::default();
     // Per face, its material (as in `triangle_materials`).
@@ -117,6 +170,14 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
                 let uv = [u, uv.get(1).copied().unwrap_or(0.0)];
                 uvs.push(Vec2::new(uv[0], 1.0 - uv[1]));
             }
+            Some("vn") => {
+                let n: Vec<f32> = tokens
+                    .map(|t| t.parse::<f32>().ok().filter(|x| x.is_finite()))
+                    .collect::<Option<_>>()
+                    .unwrap_or_default();
+                let [x, y, z] = n[..] else { return fail("a normal needs three finite numbers") };
+                normals.push(Vec3::new(x, y, z).normalize_or_zero());
+            }
             Some("f") => {
                 let start = corners.len();
                 for (k, c) in tokens.enumerate() {
@@ -144,19 +205,18 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
                         }
                     };
                     corners.push(index);
-                    let uv = match parts.get(1).filter(|t| !t.is_empty()).map(|t| t.parse::<i64>()) {
-                        None => -1,
-                        Some(Ok(i)) if i > 0 => i - 1,
-                        Some(Ok(i)) if i < 0 && i.unsigned_abs() <= uvs.len() as u64 => uvs.len() as i64 + i,
-                        Some(_) => {
+                    for (slot, list, len, what) in [
+                        (1, &mut corner_uvs, uvs.len(), "texture coordinates"),
+                        (2, &mut corner_normals, normals.len(), "normal"),
+                    ] {
+                        let Some(i) = attribute_index(parts.get(slot).copied(), len) else {
                             return fail(&format!(
-                                "face corner {}'s texture coordinates are not an index (1 to N, or −1 to −{} counting back)",
-                                k + 1,
-                                uvs.len()
+                                "face corner {}'s {what} is not an index (1 to N, or −1 to −{len} counting back)",
+                                k + 1
                             ));
-                        }
-                    };
-                    corner_uvs.push(uv);
+                        };
+                        list.push(i);
+                    }
                 }
                 if corners.len() - start < 3 {
                     return fail("a face needs at least three corners");
@@ -185,6 +245,7 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
     let mut indices = Vec::new();
     let mut face = Vec::new();
     let textured = corner_uvs.iter().any(|&t| t >= 0);
+    let smooth = corner_normals.iter().any(|&t| t >= 0);
     for (f, &material) in faces.iter().zip(&face_materials) {
         let first = indices.len();
         face.clear();
@@ -204,24 +265,12 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
             source,
         })?;
         stats.triangle_materials.resize(indices.len(), material);
+        let at = Corners { path, face: &face, line: f.line, start: f.start, triangles: &indices[first..] };
         if textured {
-            // Each triangle corner is a vertex of the face: its texture coordinates are the
-            // first such corner's.
-            let uv_of = |v: u32| -> Result<Vec2, SceneError> {
-                let k = face.iter().position(|&w| w == v).map_or(-1, |k| corner_uvs[f.start + k]);
-                match k {
-                    -1 => Ok(Vec2::ZERO),
-                    k if k < uvs.len() as i64 => Ok(uvs[k as usize]),
-                    k => Err(SceneError::Obj {
-                        path: path.to_path_buf(),
-                        line: f.line,
-                        message: format!("texture coordinates {} are past the last ones ({})", k + 1, uvs.len()),
-                    }),
-                }
-            };
-            for t in &indices[first..] {
-                stats.triangle_uvs.push([uv_of(t[0])?, uv_of(t[1])?, uv_of(t[2])?]);
-            }
+            at.values(&corner_uvs, &uvs, "texture coordinates", &mut stats.triangle_uvs)?;
+        }
+        if smooth {
+            at.values(&corner_normals, &normals, "normal", &mut stats.triangle_normals)?;
         }
     }
     Ok((Mesh { positions, indices }, stats))

@@ -155,17 +155,16 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     Ok(scene)
 }
 
-/// A bare OBJ file with the materials of its MTL libraries ([`obj_materials`]), its emissive
-/// triangles as triangle lights, and the framing camera; without an emitter, the default light.
+/// A bare OBJ file with the materials of its MTL libraries ([`obj_materials`]) and its vertex
+/// normals (`vn`) as shading normals, its emissive triangles as triangle lights, and the framing
+/// camera; without an emitter, the default light.
 fn load_bare_obj(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let (mesh, stats) = load_obj_with(path, true)?;
     let ObjMaterials { materials, maps, textures, notices } = obj_materials(path, &stats, options)?;
     let triangles: Vec<(Triangle, u32)> = mesh.triangles().into_iter().zip(stats.triangle_materials).collect();
-    let surfaces = if maps.is_empty() {
-        Surfaces::default()
-    } else {
-        Surfaces { uv: [stats.triangle_uvs, Vec::new()], textures, maps, ..Surfaces::default() }
-    };
+    let uv = if maps.is_empty() { Vec::new() } else { stats.triangle_uvs };
+    let surfaces =
+        Surfaces { uv: [uv, Vec::new()], textures, maps, normals: stats.triangle_normals, ..Surfaces::default() };
     valid_bounds(path, &triangles)?;
     let camera = default_camera(&triangles);
     let mut lights: Vec<Light> = triangles
@@ -292,6 +291,24 @@ mod tests {
         let noticed = |what: &str| s.notices.iter().find(|n| n.what.contains(what)).map(|n| n.count);
         assert_eq!(noticed("not found: their materials' Kd"), Some(1));
         assert_eq!(noticed("not PNG or JPEG"), Some(1));
+    }
+
+    /// `vn` normals shade a bare OBJ's faces smoothly: a quad (two triangles) whose corners lean
+    /// out along x gives each point the interpolation of its triangle's corners; a face without
+    /// normals keeps its own; an index past the last normal is an error naming the line.
+    #[test]
+    fn a_bare_obj_is_shaded_by_its_vertex_normals() {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn -1 0 1\nvn 1 0 1\n\
+                   f 1//1 2//2 3//2 4//1\nf 1 3 4\n";
+        let s = load_file(&write(dir.path(), "n.obj", obj)).unwrap();
+        let at = |prim: u32, x: f32| s.mapped_normal(prim, Vec3::new(x, 0.5, 0.0), Vec3::Z);
+        assert!((at(0, 0.75) - Vec3::new(0.5, 0.0, 1.0).normalize()).length() < 1e-5, "{}", at(0, 0.75));
+        assert!((at(1, 0.5) - Vec3::Z).length() < 1e-5, "{}", at(1, 0.5));
+        assert!((at(2, 0.25) - Vec3::Z).length() < 1e-6, "no vn: the face's own normal");
+        let bad = write(dir.path(), "b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//2\n");
+        let e = load_file(&bad).err().unwrap().to_string();
+        assert!(e.contains("b.obj:5: normal 2 is past the last (1)"), "{e}");
     }
 
     #[test]

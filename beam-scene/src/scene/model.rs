@@ -119,7 +119,7 @@ impl Scene {
     ) -> Self {
         let total = triangles.len();
         let (lights, merged_lights) = merge_emitters::merge_emitters(lights);
-        if !surfaces.is_plain() {
+        if !surfaces.is_plain() || !surfaces.normals.is_empty() {
             surfaces.retain(&triangles.iter().map(|(t, _)| t.is_valid()).collect::<Vec<_>>());
         }
         let (triangles, material_of): (Vec<Triangle>, Vec<u32>) =
@@ -236,20 +236,26 @@ impl Scene {
         self.triangles[i as usize].scaled_normal().normalize_or_zero()
     }
 
-    /// Shading normal of diffuse or glossy triangle `i` at its point `p` by its normal texture,
-    /// on the side of `facing` (its geometric unit normal, turned to the viewer): the normal the
-    /// texture gives on the front, reversed on the back (glTF's double-sided rule); `facing`
-    /// itself without a texture.
+    /// Shading normal of diffuse or glossy triangle `i` at its point `p` by its normal texture, else
+    /// by its corners' normals ([`Surfaces::smooth_normal`](surface::Surfaces::smooth_normal)), on
+    /// the side of `facing` (its geometric unit normal, turned to the viewer): the normal they give
+    /// on the front, reversed on the back (glTF's double-sided rule); `facing` itself without them.
     #[must_use]
     pub fn mapped_normal(&self, i: u32, p: Vec3, facing: Vec3) -> Vec3 {
         let material = self.material_of[i as usize];
-        if self.surfaces.maps.get(material as usize).is_none_or(|m| m.normal.is_none()) {
+        let mapped = self.surfaces.maps.get(material as usize).is_some_and(|m| m.normal.is_some());
+        if !mapped && self.surfaces.normals.is_empty() {
             return facing;
         }
         let tri = &self.triangles[i as usize];
         let front = self.normal(i);
         let w = tri.barycentric(p).unwrap_or(Vec3::splat(1.0 / 3.0));
-        match self.surfaces.mapped_normal(i, material, &tri.v, front, w) {
+        let bent = if mapped {
+            self.surfaces.mapped_normal(i, material, &tri.v, front, w)
+        } else {
+            self.surfaces.smooth_normal(i, front, w)
+        };
+        match bent {
             Some(n) if front.dot(facing) < 0.0 => -n,
             Some(n) => n,
             None => facing,

@@ -76,6 +76,10 @@ pub struct Surfaces {
     /// Per triangle, the linear RGBA colour of its corners (`COLOR_0`; empty when none has one,
     /// white for a triangle without one).
     pub color: Vec<[Vec4; 3]>,
+    /// Per triangle, the unit shading normals of its corners (glTF `NORMAL`, OBJ `vn`; empty when
+    /// none has any, zeros for a triangle without them): diffuse and glossy surfaces are shaded
+    /// with their interpolation ([`Surfaces::smooth_normal`]).
+    pub normals: Vec<[Vec3; 3]>,
     /// Textures.
     pub textures: Vec<Texture>,
     /// Per material, its textures; empty when no material has any.
@@ -95,6 +99,17 @@ impl Surfaces {
         retain_by(&mut self.uv[0], keep);
         retain_by(&mut self.uv[1], keep);
         retain_by(&mut self.color, keep);
+        retain_by(&mut self.normals, keep);
+    }
+
+    /// The shading normal of triangle `prim` (geometric unit normal `n`) at barycentric coordinates
+    /// `w`: its corners' normals interpolated (Phong), turned to `n`'s side where the file winds the
+    /// triangle against them; `None` without them or where they cancel.
+    #[must_use]
+    pub fn smooth_normal(&self, prim: u32, n: Vec3, w: Vec3) -> Option<Vec3> {
+        let c = self.normals.get(prim as usize)?;
+        let s = (w.x * c[0] + w.y * c[1] + w.z * c[2]).try_normalize()?;
+        Some(if s.dot(n) < 0.0 { -s } else { s })
     }
 
     /// What multiplies the base colour of triangle `prim` (material `material`) at barycentric
@@ -230,9 +245,9 @@ mod tests {
         let t = TextureRef { texture: 0, tex_coord: 0, transform };
         Surfaces {
             uv: [uv, Vec::new()],
-            color: Vec::new(),
             textures: vec![checker()],
             maps: vec![MaterialMaps { base_color: Some(t), emissive: Some(t), ..MaterialMaps::default() }],
+            ..Surfaces::default()
         }
     }
 

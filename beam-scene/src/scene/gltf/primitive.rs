@@ -18,6 +18,8 @@ pub(super) struct Part {
     pub uv: [Vec<Vec2>; 2],
     /// Linear RGBA vertex colours (`COLOR_0`; alpha 1 for RGB ones).
     pub color: Vec<Vec4>,
+    /// Vertex normals (`NORMAL`, in the mesh's space; zero where not finite).
+    pub normal: Vec<Vec3>,
 }
 
 /// The mesh of primitive `p` in its mesh's space with its attributes, or `None` for a point or
@@ -74,7 +76,16 @@ pub(super) fn triangles(p: &gltf::Primitive, buffers: &[Rc<Vec<u8>>]) -> Result<
             if c.is_finite() { c.clamp(Vec4::ZERO, Vec4::ONE) } else { Vec4::ONE }
         })
         .collect();
-    Ok(Some(Part { mesh: Mesh { positions, indices }, uv, color }))
+    if p.get(&gltf::Semantic::Normals).is_some_and(|a| a.dimensions() != Dimensions::Vec3) {
+        return Err("its NORMAL attribute is not VEC3".into());
+    }
+    let normal = attribute(p, buffers, gltf::Semantic::Normals, positions.len())?;
+    let normal = normal
+        .chunks_exact(3)
+        .map(Vec3::from_slice)
+        .map(|n| if n.is_finite() { n } else { Vec3::ZERO })
+        .collect();
+    Ok(Some(Part { mesh: Mesh { positions, indices }, uv, color, normal }))
 }
 
 /// The components of `p`'s attribute `semantic` (empty when it has none), checked to hold one

@@ -13,7 +13,7 @@ use crate::scene::light::Light;
 use crate::scene::material::Material;
 use crate::scene::surface::Surfaces;
 use beam_math::Triangle;
-use beam_math::glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+use beam_math::glam::{Mat3, Mat4, Quat, Vec2, Vec3, Vec4};
 use gltf::khr_lights_punctual::Kind;
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
@@ -213,6 +213,9 @@ fn place(
             _ => None,
         };
         let mesh = &part.mesh;
+        // Normals go by the inverse transpose (unit length again where it scales).
+        let to_world = Mat3::from_mat4(world).inverse().transpose();
+        let normals: Vec<Vec3> = part.normal.iter().map(|&n| (to_world * n).normalize_or_zero()).collect();
         for t in &mesh.indices {
             // Through the indices, so that the work follows the triangles placed (bounded above),
             // not the vertices of a mesh that many nodes place with few triangles.
@@ -224,6 +227,7 @@ fn place(
                 corners(&mut s.uv[set], &part.uv[set], t, at, Vec2::ZERO);
             }
             corners(&mut s.color, &part.color, t, at, Vec4::ONE);
+            corners(&mut s.normals, &normals, t, at, Vec3::ZERO);
             if let (Some(radiance), true) = (emissive, tri.is_valid()) {
                 let radiance = radiance * s.mean_emissive_factor(at as u32, *material);
                 if radiance.max_element() > 0.0 {
