@@ -83,7 +83,9 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     }
     let mut triangles: Vec<(Triangle, u32)> = Vec::new();
     // Each mesh file is read once, however many meshes name it.
-    let mut meshes: HashMap<PathBuf, Mesh> = HashMap::new();
+    let mut meshes: HashMap<PathBuf, (Mesh, Vec<[Vec3; 3]>)> = HashMap::new();
+    // Per triangle, its corners' shading normals (`vn`, placed with the mesh), once any mesh has them.
+    let mut normals: Vec<[Vec3; 3]> = Vec::new();
     let (mut skipped, mut own_materials) = (0, 0);
     // S-mesh sources by range of the scene's (valid) triangles.
     let (mut valid, mut parts) = (0u32, Vec::new());
@@ -110,10 +112,16 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
             let (mesh, stats) = load_obj_with(&mesh_path, inside).map_err(in_scene)?;
             skipped += stats.skipped_elements;
             own_materials += usize::from(!stats.materials.is_empty());
-            meshes.insert(mesh_path.clone(), mesh);
+            meshes.insert(mesh_path.clone(), (mesh, stats.triangle_normals));
         }
         let first = triangles.len();
-        for tri in meshes[&mesh_path].triangles() {
+        let (mesh, mesh_normals) = &meshes[&mesh_path];
+        if !mesh_normals.is_empty() {
+            // Normals go by the inverse transpose of `rot · scale`: `rot · (n / scale)`.
+            normals.resize(triangles.len(), [Vec3::ZERO; 3]);
+            normals.extend(mesh_normals.iter().map(|c| c.map(|n| (rot * (n / scale)).normalize_or_zero())));
+        }
+        for tri in mesh.triangles() {
             triangles.push((Triangle { v: tri.v.map(|v| rot * (v * scale) + t) }, mat));
         }
         let fine: Vec<Triangle> = triangles[first..].iter().map(|(t, _)| *t).collect();
@@ -145,7 +153,11 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     if lights.is_empty() {
         lights.push(default_light(&triangles, &camera));
     }
-    let mut scene = Scene::new(path.display().to_string(), triangles, materials, lights, camera);
+    if !normals.is_empty() {
+        normals.resize(triangles.len(), [Vec3::ZERO; 3]);
+    }
+    let surfaces = Surfaces { normals, ..Surfaces::default() };
+    let mut scene = Scene::with_surfaces(path.display().to_string(), triangles, materials, lights, camera, surfaces);
     scene.stats.skipped_elements = skipped;
     scene.notice("OBJ line and point element(s) skipped: they have no area to render", skipped);
     scene.notice("OBJ file(s) with their own materials (usemtl) drawn with their [[meshes]] material", own_materials);
@@ -309,6 +321,22 @@ mod tests {
         let bad = write(dir.path(), "b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//2\n");
         let e = load_file(&bad).err().unwrap().to_string();
         assert!(e.contains("b.obj:5: normal 2 is past the last (1)"), "{e}");
+    }
+
+    /// A scene file's mesh keeps its `vn` normals, placed with it: a scale of 2 along x halves
+    /// their x, a turn of 90° about z takes x to y.
+    #[test]
+    fn a_scene_mesh_keeps_its_vertex_normals_through_its_transform() {
+        let dir = tempfile::tempdir().unwrap();
+        write(dir.path(), "n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 1 0 1\nf 1//1 2//1 3//1\n");
+        write(dir.path(), "flat.obj", "v 0 0 5\nv 1 0 5\nv 0 1 5\nf 1 2 3\n");
+        let body = "[materials.w]\ntype=\"diffuse\"\nalbedo=[1,1,1]\n[[meshes]]\nfile=\"flat.obj\"\nmaterial=\"w\"\n\
+                    [[meshes]]\nfile=\"n.obj\"\nmaterial=\"w\"\nscale=[2,1,1]\nrotate=[0,0,90]\n";
+        let s = load_file(&write(dir.path(), "s.toml", body)).unwrap();
+        let n = s.mapped_normal(1, s.triangles[1].v[0], Vec3::Z);
+        let want = Vec3::new(0.0, 0.5, 1.0).normalize();
+        assert!((n - want).length() < 1e-5, "{n} against {want}");
+        assert_eq!(s.mapped_normal(0, Vec3::new(0.2, 0.2, 5.0), Vec3::Z), Vec3::Z, "the mesh without vn");
     }
 
     #[test]

@@ -80,11 +80,8 @@ pub(super) fn triangles(p: &gltf::Primitive, buffers: &[Rc<Vec<u8>>]) -> Result<
         return Err("its NORMAL attribute is not VEC3".into());
     }
     let normal = attribute(p, buffers, gltf::Semantic::Normals, positions.len())?;
-    let normal = normal
-        .chunks_exact(3)
-        .map(Vec3::from_slice)
-        .map(|n| if n.is_finite() { n } else { Vec3::ZERO })
-        .collect();
+    let normal =
+        normal.chunks_exact(3).map(Vec3::from_slice).map(|n| if n.is_finite() { n } else { Vec3::ZERO }).collect();
     Ok(Some(Part { mesh: Mesh { positions, indices }, uv, color, normal }))
 }
 
