@@ -25,19 +25,10 @@ fn half_transparent_png() -> String {
 /// x ∈ [10, 14], two `BLEND` layers of alpha ½ in planes `z = 0, −1`.
 fn layers(dir: &std::path::Path) -> Scene {
     let mut d = Doc::default();
-    let uv_bytes: Vec<u8> = [0.0f32, 0.0, 1.0, 0.0, 0.0, 1.0].iter().flat_map(|x| x.to_le_bytes()).collect();
     let mut meshes = Vec::new();
     for (x, z, material) in [(0.0, 0.0, 0), (0.0, -1.0, 1), (0.0, -2.0, 2), (10.0, 0.0, 3), (10.0, -1.0, 3)] {
         let p = d.positions(&[[x, 0.0, z], [x + 4.0, 0.0, z], [x, 4.0, z]]);
-        while d.bin.len() % 4 != 0 {
-            d.bin.push(0);
-        }
-        let at = d.bin.len();
-        d.bin.extend_from_slice(&uv_bytes);
-        d.views.push(format!(r#"{{"buffer": 0, "byteOffset": {at}, "byteLength": 24}}"#));
-        let view = d.views.len() - 1;
-        d.accessors.push(format!(r#"{{"bufferView": {view}, "componentType": 5126, "count": 3, "type": "VEC2"}}"#));
-        let uv = d.accessors.len() - 1;
+        let uv = d.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC2", 2);
         let prim = primitive(p, None, Some(material), "").replacen('}', &format!(r#", "TEXCOORD_0": {uv}}}"#), 1);
         meshes.push(d.mesh(&[prim]));
     }
@@ -152,14 +143,7 @@ fn vertex_normals_shade_through_the_node_transform() {
     let dir = tempfile::tempdir().unwrap();
     let mut d = Doc::default();
     let p = d.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
-    let normals: Vec<u8> =
-        [1.0f32, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0].iter().flat_map(|x| x.to_le_bytes()).collect();
-    let at = d.bin.len();
-    d.bin.extend_from_slice(&normals);
-    d.views.push(format!(r#"{{"buffer": 0, "byteOffset": {at}, "byteLength": 36}}"#));
-    let view = d.views.len() - 1;
-    d.accessors.push(format!(r#"{{"bufferView": {view}, "componentType": 5126, "count": 3, "type": "VEC3"}}"#));
-    let n = d.accessors.len() - 1;
+    let n = d.floats(&[1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC3", 3);
     let prim = primitive(p, None, None, "").replacen('}', &format!(r#", "NORMAL": {n}}}"#), 1);
     let mesh = d.mesh(&[prim]);
     d.roots = vec![d.node(&format!(r#"{{"mesh": {mesh}, "scale": [2, 1, 1]}}"#))];

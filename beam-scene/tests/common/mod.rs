@@ -35,6 +35,16 @@ impl Doc {
         self.views.len() - 1
     }
 
+    /// A float accessor of `values`, `kind` (`"VEC2"`, `"VEC3"`) each `width` of them; its index.
+    pub(crate) fn floats(&mut self, values: &[f32], kind: &str, width: usize) -> usize {
+        let bytes: Vec<u8> = values.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let view = self.view(&bytes);
+        let count = values.len() / width;
+        self.accessors
+            .push(format!(r#"{{"bufferView": {view}, "componentType": 5126, "count": {count}, "type": "{kind}"}}"#));
+        self.accessors.len() - 1
+    }
+
     /// A VEC3 float accessor of `p`; its index.
     pub(crate) fn positions(&mut self, p: &[[f32; 3]]) -> usize {
         let bytes: Vec<u8> = p.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
