@@ -20,7 +20,7 @@ use super::surface::{MaterialMaps, TextureRef};
 use super::texture::{Filter, Texture, Wrap};
 use crate::error::SceneError;
 use crate::mesh::{DEFAULT_KD, MtlMaterial, ObjStats, parse_mtl};
-use crate::read::{MAX_MESH_BYTES, MAX_SCENE_BYTES, read_bounded, resolve_inside};
+use crate::read::{MAX_MESH_BYTES, MAX_SCENE_BYTES, clip, read_bounded, resolve_inside, visible};
 use beam_math::glam::{Affine2, Vec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -71,9 +71,9 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
             Some((m, _)) if m.kd.max_element() == 0.0 && m.ks.max_element() > 0.0 => {
                 clamped += usize::from(m.ks.max_element() > 1.0);
                 let albedo = m.ks.min(Vec3::ONE);
-                let glossy = m.ns >= 1.0;
+                let polished = m.ns >= 1.0;
                 (
-                    if glossy {
+                    if polished {
                         Material::Glossy { albedo, variance: 0.25 / m.ns }
                     } else {
                         Material::Diffuse { albedo }
@@ -92,7 +92,7 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
                         textures.options += usize::from(*with_options);
                         let in_obj = |e| SceneError::InMesh {
                             path: path.to_path_buf(),
-                            element: format!("material {name} map_Kd"),
+                            element: format!("material `{}` map_Kd", visible(&clip(name, 60))),
                             source: Box::new(e),
                         };
                         textures.read(folder, file, options).map_err(in_obj)?
