@@ -171,11 +171,10 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
                 uvs.push(Vec2::new(uv[0], 1.0 - uv[1]));
             }
             Some("vn") => {
-                let n: Vec<f32> = tokens
-                    .map(|t| t.parse::<f32>().ok().filter(|x| x.is_finite()))
-                    .collect::<Option<_>>()
-                    .unwrap_or_default();
-                let [x, y, z] = n[..] else { return fail("a normal needs three finite numbers") };
+                // Some tools write `nan` for the normal of a degenerate face: such a normal (and a
+                // zero one) is no normal, and its corners keep their face's own.
+                let n: Vec<f32> = tokens.map(|t| t.parse::<f32>().ok()).collect::<Option<_>>().unwrap_or_default();
+                let [x, y, z] = n[..] else { return fail("a normal needs three numbers") };
                 normals.push(Vec3::new(x, y, z).normalize_or_zero());
             }
             Some("f") => {

@@ -311,13 +311,14 @@ mod tests {
     #[test]
     fn a_bare_obj_is_shaded_by_its_vertex_normals() {
         let dir = tempfile::tempdir().unwrap();
-        let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn -1 0 1\nvn 1 0 1\n\
-                   f 1//1 2//2 3//2 4//1\nf 1 3 4\n";
+        let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn -1 0 1\nvn 1 0 1\nvn -nan nan 0\n\
+                   f 1//1 2//2 3//2 4//1\nf 1 3 4\nf 1//3 2//2 3//2\n";
         let s = load_file(&write(dir.path(), "n.obj", obj)).unwrap();
         let at = |prim: u32, x: f32| s.mapped_normal(prim, Vec3::new(x, 0.5, 0.0), Vec3::Z);
         assert!((at(0, 0.75) - Vec3::new(0.5, 0.0, 1.0).normalize()).length() < 1e-5, "{}", at(0, 0.75));
         assert!((at(1, 0.5) - Vec3::Z).length() < 1e-5, "{}", at(1, 0.5));
         assert!((at(2, 0.25) - Vec3::Z).length() < 1e-6, "no vn: the face's own normal");
+        assert!((at(3, 0.75) - Vec3::Z).length() < 1e-6, "a `nan` normal: the face's own");
         let bad = write(dir.path(), "b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//2\n");
         let e = load_file(&bad).err().unwrap().to_string();
         assert!(e.contains("b.obj:5: normal 2 is past the last (1)"), "{e}");

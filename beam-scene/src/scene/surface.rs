@@ -104,10 +104,11 @@ impl Surfaces {
 
     /// The shading normal of triangle `prim` (geometric unit normal `n`) at barycentric coordinates
     /// `w`: its corners' normals interpolated (Phong), turned to `n`'s side where the file winds the
-    /// triangle against them; `None` without them or where they cancel.
+    /// triangle against them; `None` without them (a corner without one: all zeros) or where they
+    /// cancel.
     #[must_use]
     pub fn smooth_normal(&self, prim: u32, n: Vec3, w: Vec3) -> Option<Vec3> {
-        let c = self.normals.get(prim as usize)?;
+        let c = self.normals.get(prim as usize).filter(|c| !c.contains(&Vec3::ZERO))?;
         let s = (w.x * c[0] + w.y * c[1] + w.z * c[2]).try_normalize()?;
         Some(if s.dot(n) < 0.0 { -s } else { s })
     }
