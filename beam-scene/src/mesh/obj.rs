@@ -158,12 +158,13 @@ pub fn parse_obj(path: &Path, data: &[u8], quote_lines: bool) -> Result<(Mesh, O
                 positions.push(Vec3::from_array(xyz));
             }
             Some("vt") => {
+                // Non-finite coordinates (written for degenerate faces) read texel 0 of a texture.
                 let mut uv = Vec::with_capacity(3);
                 for t in tokens {
                     match t.parse::<f32>() {
-                        Ok(x) if x.is_finite() && uv.len() < 3 => uv.push(x),
-                        Ok(x) if x.is_finite() => return fail("texture coordinates are u, then optionally v and w"),
-                        _ => return fail(&format!("texture coordinate {} must be a finite number", uv.len() + 1)),
+                        Ok(x) if uv.len() < 3 => uv.push(x),
+                        Ok(_) => return fail("texture coordinates are u, then optionally v and w"),
+                        Err(_) => return fail(&format!("texture coordinate {} must be a number", uv.len() + 1)),
                     }
                 }
                 let Some(&u) = uv.first() else { return fail("texture coordinates need at least u") };

@@ -268,7 +268,7 @@ mod tests {
 
     /// A quad with a 2 × 2 texture (red, green / blue, white) under `map_Kd`, its path written with
     /// a backslash: each quarter of the quad reads its texel (from sRGB), `v` up as OBJ has it;
-    /// a missing and an unreadable image leave `Kd` and are counted.
+    /// a missing and an unreadable image leave `Kd` and are counted; `vt nan` loads.
     #[test]
     fn a_bare_obj_reads_its_map_kd_texture() {
         let dir = tempfile::tempdir().unwrap();
@@ -284,7 +284,8 @@ mod tests {
              newmtl tga\nKd 0.3 0.3 0.3\nmap_Kd tex/t.tga\n",
         );
         let obj = "mtllib q.mtl\nv 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
-                   usemtl tex\nf 1/1 2/2 3/3 4/4\nusemtl gone\nf 1/1 2/2 3/3\nusemtl tga\nf 1 3 4\n";
+                   vt nan -inf\nusemtl tex\nf 1/1 2/2 3/3 4/4\nusemtl gone\nf 1/1 2/2 3/3\nusemtl tga\nf 1 3 4\n\
+                   usemtl tex\nf 1/5 2/5 3/5\n";
         let s = load_file(&write(dir.path(), "q.obj", obj)).unwrap();
         // The image's top row (red, green) is at v = 1, the quad's top (y = 2).
         for (p, colour) in [
@@ -300,6 +301,9 @@ mod tests {
         }
         assert_eq!(s.albedo_at(2, Vec3::new(1.5, 0.5, 0.0)), Vec3::splat(0.2));
         assert_eq!(s.albedo_at(3, Vec3::new(0.5, 1.5, 0.0)), Vec3::splat(0.3));
+        // Coordinates that are not finite (written for degenerate faces) read the image still.
+        let a = s.albedo_at(4, Vec3::new(1.5, 0.5, 0.0));
+        assert!(a.is_finite() && a.max_element() <= 1.0 && a.min_element() >= 0.0, "{a}");
         let noticed = |what: &str| s.notices.iter().find(|n| n.what.contains(what)).map(|n| n.count);
         assert_eq!(noticed("not found: their materials' Kd"), Some(1));
         assert_eq!(noticed("not PNG or JPEG"), Some(1));
