@@ -268,7 +268,8 @@ mod tests {
 
     /// A quad with a 2 × 2 texture (red, green / blue, white) under `map_Kd`, its path written with
     /// a backslash: each quarter of the quad reads its texel (from sRGB), `v` up as OBJ has it;
-    /// a missing and an unreadable image leave `Kd` and are counted; `vt nan` loads.
+    /// the same image as a TGA file likewise; a missing and an unreadable image leave `Kd` and are
+    /// counted; `vt nan` loads.
     #[test]
     fn a_bare_obj_reads_its_map_kd_texture() {
         let dir = tempfile::tempdir().unwrap();
@@ -276,16 +277,17 @@ mod tests {
         let texels = [[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255], [255, 255, 255, 255]];
         let img = image::RgbaImage::from_fn(2, 2, |x, y| image::Rgba(texels[(y * 2 + x) as usize]));
         img.save(dir.path().join("tex/t.png")).unwrap();
-        write(&dir.path().join("tex"), "t.tga", "not an image");
+        img.save_with_format(dir.path().join("tex/t.tga"), image::ImageFormat::Tga).unwrap();
+        write(&dir.path().join("tex"), "b.tga", "not an image");
         write(
             dir.path(),
             "q.mtl",
             "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd tex\\t.png\nnewmtl gone\nKd 0.2 0.2 0.2\nmap_Kd none.png\n\
-             newmtl tga\nKd 0.3 0.3 0.3\nmap_Kd tex/t.tga\n",
+             newmtl tga\nKd 0.3 0.3 0.3\nmap_Kd tex/t.tga\nnewmtl bad\nKd 0.4 0.4 0.4\nmap_Kd tex/b.tga\n",
         );
         let obj = "mtllib q.mtl\nv 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
-                   vt nan -inf\nusemtl tex\nf 1/1 2/2 3/3 4/4\nusemtl gone\nf 1/1 2/2 3/3\nusemtl tga\nf 1 3 4\n\
-                   usemtl tex\nf 1/5 2/5 3/5\n";
+                   vt nan -inf\nusemtl tex\nf 1/1 2/2 3/3 4/4\nusemtl gone\nf 1/1 2/2 3/3\nusemtl tga\n\
+                   f 1/1 3/3 4/4\nusemtl tex\nf 1/5 2/5 3/5\nusemtl bad\nf 1/1 2/2 3/3\n";
         let s = load_file(&write(dir.path(), "q.obj", obj)).unwrap();
         // The image's top row (red, green) is at v = 1, the quad's top (y = 2).
         for (p, colour) in [
@@ -300,13 +302,16 @@ mod tests {
             assert!((a - colour).abs().max_element() < 1e-3, "{p}: {a}, not {colour}");
         }
         assert_eq!(s.albedo_at(2, Vec3::new(1.5, 0.5, 0.0)), Vec3::splat(0.2));
-        assert_eq!(s.albedo_at(3, Vec3::new(0.5, 1.5, 0.0)), Vec3::splat(0.3));
+        // The same image as a TGA file.
+        let a = s.albedo_at(3, Vec3::new(0.5, 1.5, 0.0));
+        assert!((a - Vec3::X).abs().max_element() < 1e-3, "TGA: {a}");
         // Coordinates that are not finite (written for degenerate faces) read the image still.
         let a = s.albedo_at(4, Vec3::new(1.5, 0.5, 0.0));
         assert!(a.is_finite() && a.max_element() <= 1.0 && a.min_element() >= 0.0, "{a}");
+        assert_eq!(s.albedo_at(5, Vec3::new(1.5, 0.5, 0.0)), Vec3::splat(0.4));
         let noticed = |what: &str| s.notices.iter().find(|n| n.what.contains(what)).map(|n| n.count);
         assert_eq!(noticed("not found: their materials' Kd"), Some(1));
-        assert_eq!(noticed("not PNG or JPEG"), Some(1));
+        assert_eq!(noticed("not PNG, JPEG, TGA or BMP"), Some(1));
     }
 
     /// `vn` normals shade a bare OBJ's faces smoothly: a quad (two triangles) whose corners lean

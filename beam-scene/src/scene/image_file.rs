@@ -1,8 +1,27 @@
-//! Texture images from their bytes: PNG and JPEG decoded by the `image` crate to 8-bit RGBA,
-//! bounded in size; every other format refused by name (KTX2, WebP, DDS, …).
+//! Texture images from their bytes: PNG and JPEG (and for OBJ materials TGA and BMP) decoded by
+//! the `image` crate to 8-bit RGBA, bounded in size; every other format refused by name (KTX2,
+//! WebP, DDS, …).
 
+use image::ImageFormat;
 use std::io::Cursor;
+use std::path::Path;
 use std::sync::Arc;
+
+/// Image formats a kind of file may use, and their names for a refusal.
+pub(crate) struct Formats {
+    list: &'static [ImageFormat],
+    names: &'static str,
+}
+
+/// The formats a glTF image may have (glTF 2.0 §3.8.3).
+pub(crate) const GLTF_IMAGES: Formats = Formats { list: &[ImageFormat::Png, ImageFormat::Jpeg], names: "PNG and JPEG" };
+
+/// The formats an OBJ material's map may have: also TGA (common in game assets, known by its
+/// extension: a TGA file has no signature) and BMP.
+pub(crate) const MTL_IMAGES: Formats = Formats {
+    list: &[ImageFormat::Png, ImageFormat::Jpeg, ImageFormat::Tga, ImageFormat::Bmp],
+    names: "PNG, JPEG, TGA and BMP",
+};
 
 /// Widest and tallest image read, texels.
 const MAX_SIDE: u32 = 16_384;
@@ -13,11 +32,13 @@ const MAX_DECODED_BYTES: u64 = 1 << 30;
 /// A decoded image: width, height and its texels (shared by the textures that read it).
 pub(crate) type Decoded = (u32, u32, Arc<[[u8; 4]]>);
 
-/// The image `bytes` decoded to 8-bit RGBA, or why not.
-pub(crate) fn decode_image(bytes: Vec<u8>) -> Result<Decoded, String> {
-    let format = match image::guess_format(&bytes) {
-        Ok(f @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => f,
-        _ => return Err(format!("{} images are not read (only PNG and JPEG)", format_name(&bytes))),
+/// The image `bytes` (of the file `name`, or an empty name) decoded to 8-bit RGBA, or why not:
+/// its format, from its signature or else its name's extension, must be one of `formats`.
+pub(crate) fn decode_image(bytes: Vec<u8>, name: &str, formats: &Formats) -> Result<Decoded, String> {
+    let accepted = |f: &ImageFormat| formats.list.contains(f);
+    let by_name = || Path::new(name).extension().and_then(ImageFormat::from_extension);
+    let Some(format) = image::guess_format(&bytes).ok().filter(accepted).or_else(|| by_name().filter(accepted)) else {
+        return Err(format!("{} images are not read (only {})", format_name(&bytes), formats.names));
     };
     let mut reader = image::ImageReader::with_format(Cursor::new(bytes), format);
     let mut limits = image::Limits::default();

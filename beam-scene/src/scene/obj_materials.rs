@@ -5,7 +5,7 @@
 //!   Phong exponent `Ns` taken as a Gaussian lobe about the mirror direction of variance `1/Ns`
 //!   (facets of variance `1 / (4 Ns)`; below `Ns = 1`, diffuse of albedo `Ks`);
 //! - otherwise → [`Material::Diffuse`] of albedo `Kd` (channels above 1 clamped), or with a
-//!   `map_Kd` texture (PNG or JPEG, beside its library; `\` read as `/`) that texture instead of
+//!   `map_Kd` texture (PNG, JPEG, TGA or BMP, beside its library; `\` read as `/`) that texture instead of
 //!   `Kd`, as Blender imports it, read at the faces' `vt` coordinates (repeating, bilinear).
 //!
 //! Faces before any `usemtl`, names no library defines and a library that is missing get the bare
@@ -13,7 +13,7 @@
 //! `map_Kd` options, dissolve and the specular part of a diffuse material are not read. Each of
 //! these is counted in one notice.
 
-use super::image_file::decode_image;
+use super::image_file::{MTL_IMAGES, decode_image};
 use super::load_options::LoadOptions;
 use super::material::Material;
 use super::surface::{MaterialMaps, TextureRef};
@@ -120,7 +120,7 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
         ("OBJ material librar(ies) not found: their materials drawn grey", missing_libraries),
         ("OBJ material name(s) (usemtl) in no library: drawn grey", undefined),
         ("OBJ texture image(s) (map_Kd) not found: their materials' Kd used", textures.absent),
-        ("OBJ texture image(s) (map_Kd) not PNG or JPEG: their materials' Kd used", textures.unreadable),
+        ("OBJ texture image(s) (map_Kd) not PNG, JPEG, TGA or BMP: their materials' Kd used", textures.unreadable),
         ("OBJ texture(s) (map_Kd) not read: the faces have no texture coordinates (vt)", textures.without_uvs),
         ("OBJ texture option(s) (map_Kd -s, -o, …) not applied", textures.options),
         ("OBJ texture map(s) other than map_Kd not read", other_maps),
@@ -162,7 +162,7 @@ struct Textures {
 
 impl Textures {
     /// The texture of file `name` (as an MTL file in `folder` writes it): its index in `list`, or
-    /// `None` where it is missing or not PNG or JPEG (counted).
+    /// `None` where it is missing or not a PNG, JPEG, TGA or BMP image (counted).
     fn read(&mut self, folder: &Path, name: &str, options: &LoadOptions) -> Result<Option<u32>, SceneError> {
         let name = name.replace('\\', "/");
         if let Some(&known) = self.by_file.get(&folder.join(&name)) {
@@ -173,7 +173,7 @@ impl Textures {
                 self.absent += 1;
                 None
             }
-            Some((bytes, _, _)) => match decode_image(bytes) {
+            Some((bytes, _, _)) => match decode_image(bytes, &name, &MTL_IMAGES) {
                 Ok((width, height, texels)) => {
                     let texture = Texture { width, height, texels, wrap: [Wrap::Repeat; 2], filter: Filter::Linear };
                     self.list.push(texture);

@@ -5,7 +5,7 @@ use super::buffers::{data_uri, file_name, has_scheme};
 use super::errors::error;
 use crate::error::SceneError;
 use crate::read::{MAX_MESH_BYTES, read_bounded, resolve_inside};
-use crate::scene::image_file::{Decoded, decode_image};
+use crate::scene::image_file::{Decoded, GLTF_IMAGES, decode_image};
 use crate::scene::load_options::LoadOptions;
 use crate::scene::surface::{MaterialMaps, TextureRef};
 use crate::scene::texture::{Filter, Texture, Wrap};
@@ -132,5 +132,5 @@ fn decode(
         }
         (None, None) => return Err(fail("has neither a bufferView nor a uri".into())),
     };
-    decode_image(bytes).map_err(fail)
+    decode_image(bytes, "", &GLTF_IMAGES).map_err(fail)
 }
