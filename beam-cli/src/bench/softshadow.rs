@@ -8,7 +8,7 @@ use beam_cpu::render::{difference, render, side_by_side};
 use beam_gpu::shadow_beam::Walk;
 use beam_math::glam::Vec3;
 use beam_render::options::{Method, RenderOptions, Shading};
-use beam_scene::scene::{self, Camera, Light, Scene};
+use beam_scene::scene::{self, Camera, Scene};
 use std::path::Path;
 
 /// Refuse sizes and counts the benchmark cannot use: `size` 1 to 16384, at least 1 reference ray,
@@ -47,15 +47,9 @@ pub(super) fn options(size: u32, method: Method, spp: u32, seed: u64, primary_be
 /// irradiance stays about the same), lowered under the ceiling above the box centre if there is one
 /// (the conference room's box top is above its ceiling; Sponza's atrium is open).
 pub(super) fn interior_view(scene: &mut Scene, size: u32, light_size: f32) {
-    let bounds = scene.bounds();
-    scene.camera = Camera::interior(bounds, size, size);
-    let mut light = Light::under_ceiling(bounds, light_size, Vec3::splat(25.0 * (0.1 / light_size).powi(2)));
-    if let Some(hit) = scene.wide.closest_hit(beam_math::Ray::new(bounds.center(), Vec3::Y), f32::INFINITY) {
-        if let Light::Quad { corner, .. } = &mut light {
-            corner.y = bounds.center().y + hit.t - 0.01 * bounds.extent().y;
-        }
-    }
-    scene.lights = vec![light];
+    scene.camera = Camera::interior(scene.bounds(), size, size);
+    let radiance = Vec3::splat(25.0 * (0.1 / light_size).powi(2));
+    scene.lights = vec![scene::interior::ceiling_light(scene, light_size, radiance)];
 }
 
 /// `name` without its folders and extension (a mesh's file stem).

@@ -5,6 +5,7 @@ use super::check::{self, finite};
 use super::defaults::{default_camera, default_light, valid_bounds};
 use super::environment::Environment;
 use super::format::{self, Scale, SceneFile};
+use super::interior;
 use super::light::Light;
 use super::load_options::LoadOptions;
 use super::material::Material;
@@ -146,11 +147,13 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
         lights.push(light);
     }
     valid_bounds(path, &triangles)?;
+    let framed = file.camera.is_none();
     let (camera, camera_path) = match file.camera {
         Some(c) => format::camera(path, &c)?,
         None => (default_camera(&triangles), None),
     };
-    if lights.is_empty() {
+    let default_lit = lights.is_empty();
+    if default_lit {
         lights.push(default_light(&triangles, &camera));
     }
     if !normals.is_empty() {
@@ -158,6 +161,9 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     }
     let surfaces = Surfaces { normals, ..Surfaces::default() };
     let mut scene = Scene::with_surfaces(path.display().to_string(), triangles, materials, lights, camera, surfaces);
+    if framed && interior::encloses(&scene) {
+        interior::look_inside(&mut scene, default_lit);
+    }
     scene.stats.skipped_elements = skipped;
     scene.notice("OBJ line and point element(s) skipped: they have no area to render", skipped);
     scene.notice("OBJ file(s) with their own materials (usemtl) drawn with their [[meshes]] material", own_materials);
@@ -187,10 +193,14 @@ fn load_bare_obj(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError
             _ => None,
         })
         .collect();
-    if lights.is_empty() {
+    let default_lit = lights.is_empty();
+    if default_lit {
         lights.push(default_light(&triangles, &camera));
     }
     let mut scene = Scene::with_surfaces(path.display().to_string(), triangles, materials, lights, camera, surfaces);
+    if interior::encloses(&scene) {
+        interior::look_inside(&mut scene, default_lit);
+    }
     scene.stats.skipped_elements = stats.skipped_elements;
     scene.notice("OBJ line and point element(s) skipped: they have no area to render", stats.skipped_elements);
     for (what, count) in notices {
@@ -478,5 +488,27 @@ mod tests {
         let s = load(p.to_str().unwrap()).unwrap();
         assert_eq!(s.lights.len(), 1);
         assert!(s.camera.position.z > 0.5);
+    }
+
+    /// A room (a unit box without its +z wall, its faces turned in) as a bare OBJ and in a TOML
+    /// scene without a camera or light is seen from its open side and lit from under its ceiling;
+    /// a TOML camera is kept.
+    #[test]
+    fn a_room_is_framed_from_inside() {
+        let dir = tempfile::tempdir().unwrap();
+        let room = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                    f 1 2 3 4\nf 1 4 8 5\nf 2 6 7 3\nf 1 5 6 2\nf 4 3 7 8\n";
+        let obj = write(dir.path(), "room.obj", room);
+        let mesh = "[materials.w]\ntype = \"diffuse\"\nalbedo = [0.7, 0.7, 0.7]\n[[meshes]]\nfile = \"room.obj\"\nmaterial = \"w\"\n";
+        let toml = write(dir.path(), "room.toml", mesh);
+        let kept =
+            write(dir.path(), "kept.toml", &format!("[camera]\nposition = [3, 3, 3]\ntarget = [0, 0, 0]\n{mesh}"));
+        for path in [obj, toml] {
+            let s = load_file(&path).unwrap();
+            assert!(s.camera.position.z > 1.0 && s.camera.target == Vec3::splat(0.5), "{:?}", s.camera);
+            let [Light::Quad { corner, .. }] = s.lights[..] else { panic!("{:?}", s.lights) };
+            assert!((corner.y - 0.99).abs() < 1e-5, "under the ceiling: {corner}");
+        }
+        assert_eq!(load_file(&kept).unwrap().camera.position, Vec3::splat(3.0));
     }
 }

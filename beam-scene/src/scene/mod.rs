@@ -15,6 +15,7 @@ mod format;
 pub mod framing;
 mod gltf;
 mod image_file;
+pub mod interior;
 mod light;
 pub mod light_volumes;
 mod load_options;

@@ -28,6 +28,7 @@ mod walk;
 use super::camera::Camera;
 use super::defaults::{default_camera, default_light, valid_bounds};
 use super::environment::Environment;
+use super::interior;
 use super::load_options::LoadOptions;
 use super::model::Scene;
 use super::surface::{MaterialMaps, Surfaces};
@@ -55,6 +56,7 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     let surfaces = Surfaces { textures, maps, ..Surfaces::default() };
     let walked = walk::walk(path, &document, &buffers, &materials, &raw.instancing, surfaces)?;
     valid_bounds(path, &walked.triangles)?;
+    let framed = walked.camera.is_none();
     let camera: Camera = walked.camera.unwrap_or_else(|| default_camera(&walked.triangles));
     let mut lights = walked.lights;
     // A model without a light of its own is shown under a neutral sky with a key light.
@@ -66,6 +68,9 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     let mut scene = Scene::with_surfaces(name, walked.triangles, materials, lights, camera, walked.surfaces);
     if without_lights {
         scene.environment = Environment::neutral_sky();
+    }
+    if framed && interior::encloses(&scene) {
+        interior::look_inside(&mut scene, without_lights);
     }
     scene.stats.skipped_elements = walked.skipped_primitives;
     scene.stats.skipped_lights = walked.skipped_lights;
