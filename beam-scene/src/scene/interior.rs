@@ -26,7 +26,7 @@ const FLOOR_IRRADIANCE: f32 = 0.8 * std::f32::consts::PI;
 /// Whether `scene` encloses the centre of its box: at least [`ENCLOSED`] of [`DIRECTIONS`]
 /// directions from there meet a triangle on its front ([`front_share`]).
 #[must_use]
-pub fn encloses(scene: &Scene) -> bool {
+pub(crate) fn encloses(scene: &Scene) -> bool {
     front_share(scene) >= ENCLOSED
 }
 
@@ -65,10 +65,10 @@ pub fn ceiling_light(scene: &Scene, size: f32, radiance: Vec3) -> Light {
     light
 }
 
-/// Give `scene`, which [`encloses`] its centre, a camera inside ([`view_inside`], the size of the
-/// one it has) and, with `light`, a ceiling light ([`ceiling_light`]) in place of its lights,
-/// bright enough that the floor below it receives the key light's irradiance.
-pub fn look_inside(scene: &mut Scene, light: bool) {
+/// Give `scene`, which [`encloses`] its centre, a camera that shows its inside ([`view_inside`],
+/// the size of the one it has) and, with `light`, a ceiling light ([`ceiling_light`]) in place of
+/// its lights, bright enough that the floor below it receives the key light's irradiance.
+pub(crate) fn look_inside(scene: &mut Scene, light: bool) {
     let bounds = scene.bounds();
     scene.camera = view_inside(scene);
     if light {
