@@ -114,3 +114,17 @@ fn gltf_files_load_through_the_scene_name_dispatch() {
     let s = scene::load_with(p.to_str().unwrap(), &scene::LoadOptions::default()).unwrap();
     assert_eq!(s.stats.triangles, 28);
 }
+
+/// The Cornell-like box without its camera node is a room open towards +z: its default camera
+/// stands on that side looking in at the box's centre, and its own lights stay.
+#[test]
+fn a_room_without_a_camera_is_seen_from_its_open_side() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut d = cornell();
+    d.roots.retain(|&r| r != 6);
+    let s = scene::load_file(&write(dir.path(), "room.gltf", d.gltf())).unwrap();
+    let c = s.camera;
+    assert!(c.position.z > 1.0 && c.position.x.abs() < 1e-5, "{c:?}");
+    assert!(near(c.target, s.bounds().center()), "{c:?}");
+    assert_eq!(s.lights.len(), 3, "the emissive quad and two point lights: {:?}", s.lights);
+}
