@@ -161,7 +161,7 @@ fn load_toml(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     }
     let surfaces = Surfaces { normals, ..Surfaces::default() };
     let mut scene = Scene::with_surfaces(path.display().to_string(), triangles, materials, lights, camera, surfaces);
-    if framed && interior::encloses(&scene) {
+    if framed {
         interior::look_inside(&mut scene, default_lit);
     }
     scene.stats.skipped_elements = skipped;
@@ -198,9 +198,7 @@ fn load_bare_obj(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError
         lights.push(default_light(&triangles, &camera));
     }
     let mut scene = Scene::with_surfaces(path.display().to_string(), triangles, materials, lights, camera, surfaces);
-    if interior::encloses(&scene) {
-        interior::look_inside(&mut scene, default_lit);
-    }
+    interior::look_inside(&mut scene, default_lit);
     scene.stats.skipped_elements = stats.skipped_elements;
     scene.notice("OBJ line and point element(s) skipped: they have no area to render", stats.skipped_elements);
     for (what, count) in notices {

@@ -26,7 +26,7 @@ const FLOOR_IRRADIANCE: f32 = 0.8 * std::f32::consts::PI;
 /// Whether `scene` encloses the centre of its box: at least [`ENCLOSED`] of [`DIRECTIONS`]
 /// directions from there meet a triangle on its front ([`front_share`]).
 #[must_use]
-pub(crate) fn encloses(scene: &Scene) -> bool {
+fn encloses(scene: &Scene) -> bool {
     front_share(scene) >= ENCLOSED
 }
 
@@ -41,10 +41,8 @@ fn front_share(scene: &Scene) -> f32 {
             let r = (1.0 - y * y).max(0.0).sqrt();
             let phi = golden * i as f32;
             let d = Vec3::new(r * phi.cos(), y, r * phi.sin());
-            scene.wide.closest_hit(Ray::new(centre, d), f32::INFINITY).is_some_and(|hit| {
-                let t = &scene.triangles[hit.prim as usize];
-                (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0]).dot(d) < 0.0
-            })
+            let hit = scene.wide.closest_hit(Ray::new(centre, d), f32::INFINITY);
+            hit.is_some_and(|hit| scene.triangles[hit.prim as usize].scaled_normal().dot(d) < 0.0)
         })
         .count();
     front as f32 / DIRECTIONS as f32
@@ -65,21 +63,24 @@ pub fn ceiling_light(scene: &Scene, size: f32, radiance: Vec3) -> Light {
     light
 }
 
-/// Give `scene`, which [`encloses`] its centre, a camera that shows its inside ([`view_inside`],
-/// the size of the one it has) and, with `light`, a ceiling light ([`ceiling_light`]) in place of
-/// its lights, bright enough that the floor below it receives the key light's irradiance.
+/// Where `scene` [`encloses`] its centre, give it a camera that shows its inside
+/// ([`view_inside`], the size of the one it has) and, with `light`, a ceiling light
+/// ([`ceiling_light`]) in place of its lights, bright enough that the floor below it receives the
+/// key light's irradiance. The loaders call it for a scene whose file has no camera.
 pub(crate) fn look_inside(scene: &mut Scene, light: bool) {
-    let bounds = scene.bounds();
+    if !encloses(scene) {
+        return;
+    }
     scene.camera = view_inside(scene);
     if light {
-        let ceiling = ceiling_light(scene, CEILING_LIGHT, Vec3::ONE);
-        if let Light::Quad { corner, edge_u, edge_v, .. } = ceiling {
+        let mut ceiling = ceiling_light(scene, CEILING_LIGHT, Vec3::ONE);
+        if let Light::Quad { corner, edge_u, edge_v, radiance } = &mut ceiling {
             // E ≈ L · A / h² straight below a small light at height h.
-            let h = (corner.y - bounds.min.y).max(f32::MIN_POSITIVE);
-            let area = edge_u.cross(edge_v).length().max(f32::MIN_POSITIVE);
-            let radiance = Vec3::splat(FLOOR_IRRADIANCE * h * h / area);
-            scene.lights = vec![Light::Quad { corner, edge_u, edge_v, radiance }];
+            let h = (corner.y - scene.bounds().min.y).max(f32::MIN_POSITIVE);
+            let area = edge_u.cross(*edge_v).length().max(f32::MIN_POSITIVE);
+            *radiance = Vec3::splat(FLOOR_IRRADIANCE * h * h / area);
         }
+        scene.lights = vec![ceiling];
     }
 }
 

@@ -5,8 +5,9 @@
 //!   Phong exponent `Ns` taken as a Gaussian lobe about the mirror direction of variance `1/Ns`
 //!   (facets of variance `1 / (4 Ns)`; below `Ns = 1`, diffuse of albedo `Ks`);
 //! - otherwise → [`Material::Diffuse`] of albedo `Kd` (channels above 1 clamped), or with a
-//!   `map_Kd` texture (PNG, JPEG, TGA or BMP, beside its library; `\` read as `/`) that texture instead of
-//!   `Kd`, as Blender imports it, read at the faces' `vt` coordinates (repeating, bilinear).
+//!   `map_Kd` texture (PNG, JPEG, TGA or BMP, beside its library; `\` read as `/`) that texture
+//!   instead of `Kd`, as Blender imports it, read at the faces' `vt` coordinates (repeating,
+//!   bilinear).
 //!
 //! Faces before any `usemtl`, names no library defines and a library that is missing get the bare
 //! file's grey; a texture that is missing or in another format leaves `Kd`; the other texture maps,

@@ -69,7 +69,7 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     if without_lights {
         scene.environment = Environment::neutral_sky();
     }
-    if framed && interior::encloses(&scene) {
+    if framed {
         interior::look_inside(&mut scene, without_lights);
     }
     scene.stats.skipped_elements = walked.skipped_primitives;
