@@ -130,9 +130,16 @@ pub(crate) fn occludes4(b: &Tri4, r: &ShearRay, t_max: f32) -> bool {
     hits.mask != 0
 }
 
+/// Whether `hint` is a block of `bvh` one of whose triangles `sr` hits within `[0, t_max]`
+/// ([`occludes4`]).
+#[inline(always)]
+pub(crate) fn hinted(bvh: &Bvh8, hint: u32, sr: &ShearRay, t_max: f32) -> bool {
+    bvh.blocks.get(hint as usize).is_some_and(|b| occludes4(b, sr, t_max))
+}
+
 /// Test the blocks of leaf `r` of `bvh` (a [`Node8::LEAF`] reference) with `sr`, calling
-/// `on_block` with each block's index before its test. With `ANY`: whether one block is hit within
-/// `[0, t_best]`. Else the nearest hit there replaces `best` and becomes `t_best`; returns false.
+/// `on_block` with each block's index before its test. With `ANY`: the first block hit within
+/// `[0, t_best]`. Else the nearest hit there replaces `best` and becomes `t_best`; returns `None`.
 #[inline(always)]
 pub(crate) fn visit_leaf<const ANY: bool>(
     bvh: &Bvh8,
@@ -141,13 +148,13 @@ pub(crate) fn visit_leaf<const ANY: bool>(
     t_best: &mut f32,
     best: &mut Option<Hit>,
     mut on_block: impl FnMut(usize),
-) -> bool {
+) -> Option<u32> {
     let (first, count) = Node8::leaf_blocks(r);
     for k in first..first + count {
         on_block(k);
         if ANY {
             if occludes4(&bvh.blocks[k], sr, *t_best) {
-                return true;
+                return Some(k as u32);
             }
             continue;
         }
@@ -158,7 +165,7 @@ pub(crate) fn visit_leaf<const ANY: bool>(
             *best = Some(Hit { prim: bvh.prims[4 * k + l], t: h.t[l], u: h.u[l], v: h.v[l] });
         }
     }
-    false
+    None
 }
 
 /// The edge functions of four triangles for one ray: the lanes' transformed vertices and `u`,

@@ -52,7 +52,7 @@ impl Bvh8 {
     /// The closest hit with `t` in `[0, t_max]`.
     #[must_use]
     pub fn closest_hit(&self, ray: Ray, t_max: f32) -> Option<Hit> {
-        self.trace::<false>(ray, t_max)
+        self.trace::<false>(ray, t_max, u32::MAX)
     }
 
     /// True when `ray` hits anything with `t` in `[0, t_max]`. The leaves test the range without
@@ -60,20 +60,30 @@ impl Bvh8 {
     /// or not; everywhere else the answer is the scalar watertight test's.
     #[must_use]
     pub fn any_hit(&self, ray: Ray, t_max: f32) -> bool {
-        self.trace::<true>(ray, t_max).is_some()
+        self.trace::<true>(ray, t_max, u32::MAX).is_some()
+    }
+
+    /// [`Bvh8::any_hit`] for a ray whose neighbour was stopped by block `last` (of
+    /// [`Bvh8::blocks`]): that block is tested first, before any traversal, as shadow rays from one
+    /// point to one light are mostly stopped by the same few triangles. The answer is
+    /// [`Bvh8::any_hit`]'s, given as the block found hit (`last`, or the first block the traversal
+    /// met), to be passed on as the next ray's `last`.
+    #[must_use]
+    pub fn occluding_block(&self, ray: Ray, t_max: f32, last: Option<u32>) -> Option<u32> {
+        self.trace::<true>(ray, t_max, last.unwrap_or(u32::MAX)).map(|h| h.prim)
     }
 
     /// [`Bvh8::closest_hit`] through the portable kernel, counting child boxes and triangles
     /// tested.
     #[must_use]
     pub fn closest_hit_stats(&self, ray: Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
-        portable::trace::<false, _>(self, ray, t_max, stats)
+        portable::trace::<false, _>(self, ray, t_max, u32::MAX, stats)
     }
 
     /// [`Bvh8::any_hit`] through the portable kernel, counting work.
     #[must_use]
     pub fn any_hit_stats(&self, ray: Ray, t_max: f32, stats: &mut TraversalStats) -> bool {
-        portable::trace::<true, _>(self, ray, t_max, stats).is_some()
+        portable::trace::<true, _>(self, ray, t_max, u32::MAX, stats).is_some()
     }
 
     /// Closest hits of many rays (parallel with the `parallel` feature).
@@ -88,17 +98,18 @@ impl Bvh8 {
         crate::traverse::map_segments(rays, t_max, |r, t| self.any_hit(r, t))
     }
 
-    /// The closest hit, or for `ANY` [`ray_box::OCCLUDED`] when anything is hit (the kernels return one
-    /// `Option<Hit>` in the caller's slot: a `(bool, Option<Hit>)` copied out of a callee's
-    /// narrower stores stalled store forwarding on every ray).
+    /// The closest hit, or for `ANY` [`ray_box::occluded`] by the first block hit, block `hint`
+    /// tested before the traversal (`u32::MAX`: none). The kernels return one `Option<Hit>` in
+    /// the caller's slot: a `(bool, Option<Hit>)` copied out of a callee's narrower stores stalled
+    /// store forwarding on every ray.
     #[inline]
-    fn trace<const ANY: bool>(&self, ray: Ray, t_max: f32) -> Option<Hit> {
+    fn trace<const ANY: bool>(&self, ray: Ray, t_max: f32, hint: u32) -> Option<Hit> {
         match self.kernel {
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2 | Kernel::Avx512 if self.stack_need + 8 <= x86::STACK_CAPACITY => {
-                x86::trace::<ANY>(self, ray, t_max)
+                x86::trace::<ANY>(self, ray, t_max, hint)
             }
-            _ => portable::trace::<ANY, ()>(self, ray, t_max, &mut ()),
+            _ => portable::trace::<ANY, ()>(self, ray, t_max, hint, &mut ()),
         }
     }
 }

@@ -3,9 +3,9 @@
 //! (any-hit queries: in the x86 kernels' slot order), leaves through [`visit_leaf`]. It is the
 //! fallback where AVX2 is missing, and the kernel that counts work.
 
-use super::leaf::{ShearRay, visit_leaf};
+use super::leaf::{ShearRay, hinted, visit_leaf};
 use super::node::Node8;
-use super::ray_box::{OCCLUDED, RayBox};
+use super::ray_box::{RayBox, occluded};
 use super::tree::Bvh8;
 use crate::stats::Counter;
 use crate::traverse::Hit;
@@ -16,9 +16,15 @@ use std::vec::Vec;
 /// Stack entries kept inline; deeper trees use a heap stack.
 const INLINE_STACK: usize = 64;
 
-/// Closest hit (`ANY = false`) of `ray` in `[0, t_max]`, or (`ANY = true`) `OCCLUDED` if anything
-/// is hit there.
-pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f32, c: &mut C) -> Option<Hit> {
+/// Closest hit (`ANY = false`) of `ray` in `[0, t_max]`, or (`ANY = true`) [`occluded`] by the
+/// first block found hit there, block `hint` tested first (`u32::MAX`: none).
+pub(crate) fn trace<const ANY: bool, C: Counter>(
+    bvh: &Bvh8,
+    ray: Ray,
+    t_max: f32,
+    hint: u32,
+    c: &mut C,
+) -> Option<Hit> {
     if bvh.nodes.is_empty() {
         return None;
     }
@@ -32,6 +38,9 @@ pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f3
     };
     let rb = RayBox::new(ray);
     let sr = ShearRay::new(ray);
+    if ANY && hinted(bvh, hint, &sr, t_max) {
+        return Some(occluded(hint));
+    }
     let o = rb.origin.map(Vec4::splat);
     let inv = rb.inv.map(Vec4::splat);
     let inv_far = rb.inv_far.map(Vec4::splat);
@@ -48,8 +57,8 @@ pub(crate) fn trace<const ANY: bool, C: Counter>(bvh: &Bvh8, ray: Ray, t_max: f3
                     }
                 }
             };
-            if visit_leaf::<ANY>(bvh, cur, &sr, &mut t_best, &mut best, count) {
-                return Some(OCCLUDED);
+            if let Some(block) = visit_leaf::<ANY>(bvh, cur, &sr, &mut t_best, &mut best, count) {
+                return Some(occluded(block));
             }
         } else {
             let n = &bvh.nodes[cur as usize];

@@ -4,9 +4,14 @@ use crate::traverse::Hit;
 use beam_math::Ray;
 use beam_math::glam::Vec4;
 
-/// What an any-hit traversal returns for a ray that hits something: only `is_some` means
-/// anything.
-pub(super) const OCCLUDED: Hit = Hit { prim: u32::MAX, t: 0.0, u: 0.0, v: 0.0 };
+/// What an any-hit traversal returns for a ray that hits block `block` (of [`Bvh8::blocks`]): the
+/// block in `prim`, the other fields meaning nothing.
+///
+/// [`Bvh8::blocks`]: super::Bvh8::blocks
+#[inline(always)]
+pub(super) fn occluded(block: u32) -> Hit {
+    Hit { prim: block, t: 0.0, u: 0.0, v: 0.0 }
+}
 
 /// Per-ray constants of the box tests: origin, reciprocal direction for near planes and a
 /// widened one for far planes, and which plane of each axis the ray meets first (`near[a]`

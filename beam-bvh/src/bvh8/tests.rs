@@ -44,6 +44,7 @@ fn kernels() -> Vec<Kernel> {
 fn check(tris: &[Triangle], bvh: &mut Bvh8, rays: &[Ray], t_any: f32) {
     for k in kernels() {
         assert!(bvh.set_kernel(k));
+        let mut last = None;
         for (i, ray) in rays.iter().enumerate() {
             let want = brute(tris, *ray, f32::INFINITY);
             let got = bvh.closest_hit(*ray, f32::INFINITY);
@@ -61,7 +62,25 @@ fn check(tris: &[Triangle], bvh: &mut Bvh8, rays: &[Ray], t_any: f32) {
             // kernels' division-free range test may count either way.
             let boundary = want.is_some_and(|w| (w.1 - t_any).abs() <= 1e-6 * t_any);
             if !boundary {
-                assert_eq!(bvh.any_hit(*ray, t_any), want.is_some_and(|w| w.1 <= t_any), "{k} ray {i}");
+                let any = want.is_some_and(|w| w.1 <= t_any);
+                assert_eq!(bvh.any_hit(*ray, t_any), any, "{k} ray {i}");
+                // With the last ray's occluder, another block, or none first: the same answer, by a
+                // block that holds a triangle the ray hits in range.
+                for hint in [last, Some(i as u32 % bvh.blocks.len() as u32), Some(u32::MAX - 1), None] {
+                    let block = bvh.occluding_block(*ray, t_any, hint);
+                    assert_eq!(block.is_some(), any, "{k} ray {i} hint {hint:?}");
+                    if let Some(b) = block {
+                        let lanes = &bvh.prims[4 * b as usize..4 * b as usize + 4];
+                        let wt = WatertightRay::new(*ray);
+                        assert!(
+                            lanes
+                                .iter()
+                                .any(|&p| p != u32::MAX && wt.intersect(&tris[p as usize], 0.0, t_any).is_some()),
+                            "{k} ray {i}: block {b} is not hit"
+                        );
+                    }
+                }
+                last = bvh.occluding_block(*ray, t_any, last).or(last);
             }
             let mut stats = TraversalStats::default();
             let counted = bvh.closest_hit_stats(*ray, f32::INFINITY, &mut stats);

@@ -23,9 +23,9 @@
 #![allow(unsafe_code, reason = "the one module of its crate that holds unsafe blocks, each with a SAFETY comment")]
 
 use super::kernel::Kernel;
-use super::leaf::{ShearRay, visit_leaf};
+use super::leaf::{ShearRay, hinted, visit_leaf};
 use super::node::Node8;
-use super::ray_box::OCCLUDED;
+use super::ray_box::occluded;
 use super::tree::Bvh8;
 use crate::traverse::Hit;
 use beam_math::Ray;
@@ -37,16 +37,16 @@ use core::mem::MaybeUninit;
 /// push) run the portable kernel.
 pub(super) const STACK_CAPACITY: usize = 256;
 
-/// Trace with `bvh`'s kernel (AVX2 or AVX-512).
-pub(super) fn trace<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32) -> Option<Hit> {
+/// Trace with `bvh`'s kernel (AVX2 or AVX-512), as the portable kernel's `trace` does.
+pub(super) fn trace<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32, hint: u32) -> Option<Hit> {
     assert!(bvh.stack_need + 8 <= STACK_CAPACITY, "tree too deep for the x86 kernels");
     match bvh.kernel {
         // SAFETY: `Bvh8::kernel` is `Avx512` only after `Kernel::is_available` (`has_avx512`)
         // found every feature `trace_avx512` enables on this CPU.
-        Kernel::Avx512 => unsafe { trace_avx512::<ANY>(bvh, ray, t_max) },
+        Kernel::Avx512 => unsafe { trace_avx512::<ANY>(bvh, ray, t_max, hint) },
         // SAFETY: likewise, `Avx2` only after `has_avx2`.
-        Kernel::Avx2 => unsafe { trace_avx2::<ANY>(bvh, ray, t_max) },
-        Kernel::Portable => super::portable::trace::<ANY, ()>(bvh, ray, t_max, &mut ()),
+        Kernel::Avx2 => unsafe { trace_avx2::<ANY>(bvh, ray, t_max, hint) },
+        Kernel::Portable => super::portable::trace::<ANY, ()>(bvh, ray, t_max, hint, &mut ()),
     }
 }
 
@@ -57,14 +57,17 @@ macro_rules! kernel {
     ($(#[$doc:meta])* $name:ident, $features:literal) => {
         $(#[$doc])*
         #[target_feature(enable = $features)]
-        fn $name<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32) -> Option<Hit> {
+        fn $name<const ANY: bool>(bvh: &Bvh8, ray: Ray, t_max: f32, hint: u32) -> Option<Hit> {
             if bvh.nodes.is_empty() || !(t_max >= 0.0) {
                 return None;
             }
             let Some(rb) = FmaBox::new(ray, bvh.scale) else {
-                return super::portable::trace::<ANY, ()>(bvh, ray, t_max, &mut ());
+                return super::portable::trace::<ANY, ()>(bvh, ray, t_max, hint, &mut ());
             };
             let sr = ShearRay::new(ray);
+            if ANY && hinted(bvh, hint, &sr, t_max) {
+                return Some(occluded(hint));
+            }
             let inv = rb.inv.map(|x| _mm256_set1_ps(x));
             let c_near = rb.c_near.map(|x| _mm256_set1_ps(x));
             let c_far = rb.c_far.map(|x| _mm256_set1_ps(x));
@@ -76,8 +79,8 @@ macro_rules! kernel {
             let mut cur = 0u32;
             loop {
                 if cur & Node8::LEAF != 0 {
-                    if visit_leaf::<ANY>(bvh, cur, &sr, &mut t_best, &mut best, |_| {}) {
-                        return Some(OCCLUDED);
+                    if let Some(block) = visit_leaf::<ANY>(bvh, cur, &sr, &mut t_best, &mut best, |_| {}) {
+                        return Some(occluded(block));
                     }
                 } else {
                     let n = &bvh.nodes[cur as usize];

@@ -36,7 +36,7 @@ use beam_render::options::{Method, RenderOptions};
 /// Render `scene` (the pixels of `options.region` only, each as in the whole frame); `row_done` is
 /// called after each image row (for a progress bar).
 pub fn render(scene: &Scene, options: &RenderOptions, row_done: impl Fn() + Sync) -> (Image, RenderStats) {
-    render_with(scene, options, &|ray, t_max| scene.occluded(ray, t_max), row_done)
+    render_by(scene, options, None, row_done)
 }
 
 /// [`render`] with another shadow-ray tracer (for benchmarks against peers).
@@ -46,9 +46,19 @@ pub fn render_with(
     occluded: &AnyHit<'_>,
     row_done: impl Fn() + Sync,
 ) -> (Image, RenderStats) {
+    render_by(scene, options, Some(occluded), row_done)
+}
+
+/// [`render`], shadow rays traced by `peer` or else by the scene's own BVH.
+fn render_by(
+    scene: &Scene,
+    options: &RenderOptions,
+    peer: Option<&AnyHit<'_>>,
+    row_done: impl Fn() + Sync,
+) -> (Image, RenderStats) {
     let start = Instant::now();
     let camera = scene.camera.with_size(options.width, options.height);
-    let ctx = Context::new(scene, options, occluded, None);
+    let ctx = Context::new(scene, options, peer, None);
     let pixel_seed = |x: u32, y: u32| pixel_seed(options.seed, x, y);
     let eye_beams = options.method == Method::Beam && options.primary_beams;
     let n_prims = if eye_beams { scene.triangles.len() } else { 0 };

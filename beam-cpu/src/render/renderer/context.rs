@@ -8,6 +8,7 @@ use crate::render::clear_shafts::ClearShafts;
 use crate::render::cut_outs::CutOuts;
 use crate::render::shadow_beam::{ShadowScratch, WindingScratch};
 use crate::render::tile_shadows::TileShadows;
+use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::irradiance_map::IrradianceMap;
 use beam_render::options::{Method, RenderOptions};
@@ -49,7 +50,8 @@ pub(super) struct Context<'a> {
     pub(super) scene: &'a Scene,
     pub(super) options: RenderOptions,
     pub(super) eps: f32,
-    pub(super) occluded: &'a AnyHit<'a>,
+    /// A peer's shadow-ray tracer, asked instead of the scene's own BVH (benchmarks).
+    pub(super) peer: Option<&'a AnyHit<'a>>,
     /// Irradiance arriving at diffuse surfaces by paths the direct light does not follow (caustics).
     pub(super) caustics: Option<&'a IrradianceMap>,
     /// The lights shaded: the scene's (in the order of `scene.lights`, so that their indices are
@@ -66,7 +68,7 @@ impl<'a> Context<'a> {
     pub(super) fn new(
         scene: &'a Scene,
         options: &RenderOptions,
-        occluded: &'a AnyHit<'a>,
+        peer: Option<&'a AnyHit<'a>>,
         caustics: Option<&'a IrradianceMap>,
     ) -> Self {
         let mut lights = scene.lights.clone();
@@ -75,7 +77,17 @@ impl<'a> Context<'a> {
         }
         let emitters = lights.iter().map(Emitter::of).collect();
         let cut_outs = CutOuts::of(scene);
-        Self { scene, options: *options, eps: shading_eps(scene), occluded, caustics, lights, emitters, cut_outs }
+        Self { scene, options: *options, eps: shading_eps(scene), peer, caustics, lights, emitters, cut_outs }
+    }
+
+    /// Whether shadow ray `ray` meets a surface below `t_max`; `last` carries the occluder of the
+    /// previous ray from the same point, tested first ([`Scene::occluded_after`]; a peer's tracer
+    /// is asked as it is).
+    pub(super) fn occluded(&self, ray: Ray, t_max: f32, last: &mut Option<u32>) -> bool {
+        match self.peer {
+            Some(occluded) => occluded(ray, t_max),
+            None => self.scene.occluded_after(ray, t_max, last),
+        }
     }
 }
 

@@ -297,6 +297,7 @@ impl Context<'_> {
             }
         };
         // A sample's integrand and whether it reaches the light (not traced where the integrand is 0).
+        let mut last = None;
         let mut trace = |q: Vec3| -> (f64, bool) {
             let to = q - p;
             let r2 = to.length_squared();
@@ -307,7 +308,7 @@ impl Context<'_> {
                 return (0.0, false);
             }
             *shadow_rays += 1;
-            (f, !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS))
+            (f, !self.occluded(Ray::new(p, to), 1.0 - DEPTH_EPS, &mut last))
         };
         let mut tally = Tally::default();
         let mut draw = |(s, r): (f32, f32), tally: &mut Tally| {
@@ -320,11 +321,12 @@ impl Context<'_> {
         match Rounds::of(spp, rng) {
             Some(rounds) => {
                 let mut round = 0;
-                while round < 4 && !tally.all_reached() {
+                while round < 4 && !tally.all_reached() && !tally.any_stopped() {
                     (0..rounds.len()).for_each(|i| draw(rounds.sample(round, i, rng), &mut tally));
                     round += 1;
                 }
-                if round == 4 {
+                if !tally.all_reached() {
+                    rounds.rest(round, rng, |st| draw(st, &mut tally));
                     (4 * rounds.len()..spp).for_each(|i| draw(light_sample(i, spp, rng), &mut tally));
                 }
             }

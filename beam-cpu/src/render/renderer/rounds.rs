@@ -4,7 +4,12 @@
 //! every round is a stratified sample of the light on its own and the four together are the grid.
 //! A round in which every ray reached the light ends the sampling: the ratio estimate is then
 //! exactly the unoccluded irradiance, and the rounds left could lower it only by an occluder that
-//! fell between all of the round's samples.
+//! fell between all of the round's samples. Once a ray has been stopped no round can end it, and
+//! the rounds left are drawn together a row of cells at a time ([`Rounds::rest`]): neighbouring
+//! rays then follow each other, as the ray method's do, and are mostly stopped by the same
+//! triangles, which the shadow-ray query tests first ([`Scene::occluded_after`]).
+//!
+//! [`Scene::occluded_after`]: beam_scene::scene::Scene::occluded_after
 
 use super::light_samples::grid_side;
 use rand::Rng;
@@ -47,6 +52,22 @@ impl Rounds {
         let k = self.k as f32;
         ((x as f32 + rng.random::<f32>()) / k, (y as f32 + rng.random::<f32>()) / k)
     }
+
+    /// The samples of rounds `from` to 3, each as [`Rounds::sample`] draws it, in the order of
+    /// their cells row by row, passed to `draw`.
+    pub(super) fn rest(&self, from: u32, rng: &mut Pcg32, mut draw: impl FnMut((f32, f32))) {
+        let (half, k) = (self.k / 2, self.k as f32);
+        for y in 0..self.k {
+            for x in 0..self.k {
+                // Round `r` takes cell `(r + h) mod 4` of its block: this cell is round `(cell − h) mod 4`'s.
+                let cell = (x & 1) | (y & 1) << 1;
+                let round = cell.wrapping_sub(hash((y / 2 * half + x / 2) ^ self.seed)) & 3;
+                if round >= from {
+                    draw(((x as f32 + rng.random::<f32>()) / k, (y as f32 + rng.random::<f32>()) / k));
+                }
+            }
+        }
+    }
 }
 
 /// The samples drawn so far: their integrands `g` (the weights of the ratio estimator), those of
@@ -83,6 +104,12 @@ impl Tally {
     pub(super) fn all_reached(&self) -> bool {
         self.traced >= MIN_ROUND && self.reached == self.traced
     }
+
+    /// Whether a ray with a nonzero integrand was stopped: [`Tally::all_reached`] is then false
+    /// for good.
+    pub(super) fn any_stopped(&self) -> bool {
+        self.reached < self.traced
+    }
 }
 
 /// A 32-bit integer hash (Wellons' `lowbias32`).
@@ -116,6 +143,24 @@ mod tests {
             assert!(blocks.iter().all(|&b| b == 1), "round {round}: one sample a block");
         }
         assert!(hits.iter().all(|&h| h == 1), "each cell once over the four rounds");
+    }
+
+    #[test]
+    fn the_rest_of_the_rounds_are_their_cells_row_by_row() {
+        let mut rng = Pcg32::seed_from_u64(3);
+        let rounds = Rounds::of(256, &mut rng).expect("16 × 16 has rounds of 64");
+        let cell = |(s, t): (f32, f32)| (t * 16.0) as usize * 16 + (s * 16.0) as usize;
+        for from in 0..4 {
+            let mut drawn = Vec::new();
+            rounds.rest(from, &mut rng, |st| drawn.push(cell(st)));
+            let mut rounds_cells: Vec<usize> = (from..4)
+                .flat_map(|r| (0..64).map(move |i| (r, i)))
+                .map(|(r, i)| cell(rounds.sample(r, i, &mut rng)))
+                .collect();
+            rounds_cells.sort_unstable();
+            assert!(drawn.is_sorted(), "row by row");
+            assert_eq!(drawn, rounds_cells, "the cells of rounds {from} to 3");
+        }
     }
 
     #[test]

@@ -142,7 +142,7 @@ impl Context<'_> {
                 let above = t.surface.is_none_or(|s| s.dot(position - p) > 0.0);
                 if let Some((ray, e)) = point_light(p, n, position, intensity).filter(|_| above) {
                     t.c.shadow_rays += 1;
-                    if !(self.occluded)(ray, 1.0 - DEPTH_EPS) {
+                    if !self.occluded(ray, 1.0 - DEPTH_EPS, &mut None) {
                         return e;
                     }
                 }
@@ -198,6 +198,7 @@ impl Context<'_> {
         let ln = self.emitters[index].normal;
         let spp = self.samples(p, n, index);
         let (mut visible, mut integral) = (0u32, 0.0f32);
+        let mut last = None;
         for i in 0..spp {
             let (s, r) = light_sample(i, spp, rng);
             let to = sample_light(light, s, r) - p;
@@ -209,7 +210,7 @@ impl Context<'_> {
             }
             if clear || {
                 t.c.shadow_rays += 1;
-                !(self.occluded)(Ray::new(p, to), 1.0 - DEPTH_EPS)
+                !self.occluded(Ray::new(p, to), 1.0 - DEPTH_EPS, &mut last)
             } {
                 visible += 1;
                 integral += f;
@@ -358,8 +359,7 @@ fn with_context<R>(
     caustics: Option<&IrradianceMap>,
     f: impl FnOnce(&Context<'_>) -> R,
 ) -> R {
-    let occluded = |ray, t_max| scene.occluded(ray, t_max);
-    f(&Context::new(scene, options, &occluded, caustics))
+    f(&Context::new(scene, options, None, caustics))
 }
 
 /// Offset in the pixel of sample `i` of `k × k` stratified samples, jittered by `rng` (the pixel's

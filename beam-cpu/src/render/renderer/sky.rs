@@ -46,6 +46,7 @@ impl Context<'_> {
         let spp = self.options.spp.max(1);
         let (u, v) = tangents(n);
         let mut sum = Vec3::ZERO;
+        let mut last = None;
         for i in 0..spp {
             let w = cosine_direction((u, v, n), light_sample(i, spp, rng));
             if t.surface.is_some_and(|s| s.dot(w) <= 0.0) {
@@ -53,7 +54,7 @@ impl Context<'_> {
                 continue;
             }
             t.c.environment_rays += 1;
-            if !(self.occluded)(Ray::new(p, w), f32::INFINITY) {
+            if !self.occluded(Ray::new(p, w), f32::INFINITY, &mut last) {
                 sum += environment.radiance(w);
             }
         }

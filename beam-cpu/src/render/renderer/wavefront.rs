@@ -67,8 +67,7 @@ pub fn render_queries(
     let start = Instant::now();
     let camera = scene.camera.with_size(options.width, options.height);
     // Every query goes to `backend`: the context's own shadow-ray tracer is never called.
-    let occluded = |ray, t_max| scene.occluded(ray, t_max);
-    let ctx = Context::new(scene, options, &occluded, None);
+    let ctx = Context::new(scene, options, None, None);
     let table = LightTable::new(&ctx);
     let crop = options.region();
     let k = ((options.primary_spp.max(1) as f32).sqrt() as u32).max(1);
