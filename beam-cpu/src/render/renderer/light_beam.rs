@@ -16,9 +16,9 @@ use crate::render::shadow_beam::visible::light_beam;
 use crate::render::shadow_beam::walk::trace_bvh;
 use crate::render::silhouettes::WindingWork;
 use crate::render::tile_shadows::Mode;
+use beam_math::Aabb;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::{BeamFrame, Quad, WindingError};
-use beam_math::{Aabb, Ray};
 use beam_render::options::Shading;
 use beam_render::tolerance::DEPTH_EPS;
 use rand_pcg::Pcg32;
@@ -308,7 +308,7 @@ impl Context<'_> {
                 return (0.0, false);
             }
             *shadow_rays += 1;
-            (f, !self.occluded(Ray::new(p, to), 1.0 - DEPTH_EPS, &mut last))
+            (f, !self.occluded((p, to), 1.0 - DEPTH_EPS, &mut last))
         };
         let mut tally = Tally::default();
         let mut draw = |(s, r): (f32, f32), tally: &mut Tally| {

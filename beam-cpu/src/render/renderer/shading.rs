@@ -142,7 +142,7 @@ impl Context<'_> {
                 let above = t.surface.is_none_or(|s| s.dot(position - p) > 0.0);
                 if let Some((ray, e)) = point_light(p, n, position, intensity).filter(|_| above) {
                     t.c.shadow_rays += 1;
-                    if !self.occluded(ray, 1.0 - DEPTH_EPS, &mut None) {
+                    if !self.occluded((ray.origin, ray.direction), 1.0 - DEPTH_EPS, &mut None) {
                         return e;
                     }
                 }
@@ -210,7 +210,7 @@ impl Context<'_> {
             }
             if clear || {
                 t.c.shadow_rays += 1;
-                !self.occluded(Ray::new(p, to), 1.0 - DEPTH_EPS, &mut last)
+                !self.occluded((p, to), 1.0 - DEPTH_EPS, &mut last)
             } {
                 visible += 1;
                 integral += f;

@@ -5,7 +5,6 @@
 use super::context::{Context, Thread};
 use super::light_samples::{cosine_direction, light_sample, tangents};
 use crate::render::lambert::polygon_irradiance;
-use beam_math::Ray;
 use beam_math::glam::Vec3;
 use beam_render::options::Shading;
 use rand_pcg::Pcg32;
@@ -54,7 +53,7 @@ impl Context<'_> {
                 continue;
             }
             t.c.environment_rays += 1;
-            if !self.occluded(Ray::new(p, w), f32::INFINITY, &mut last) {
+            if !self.occluded((p, w), f32::INFINITY, &mut last) {
                 sum += environment.radiance(w);
             }
         }
