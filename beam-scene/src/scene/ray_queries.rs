@@ -134,6 +134,8 @@ impl Scene {
     /// [`Scene::occluded`], with the same answer, first testing the triangles (a block of four of
     /// the BVH's leaves) that stopped the last ray asked about through `last`, which this updates
     /// ([`Bvh8::occluding_block`]). With cut-outs, it is [`Scene::occluded`].
+    ///
+    /// [`Bvh8::occluding_block`]: beam_bvh::Bvh8::occluding_block
     #[must_use]
     pub fn occluded_after(&self, ray: Ray, t_max: f32, last: &mut Option<u32>) -> bool {
         if self.cut_outs.is_some() {
