@@ -59,7 +59,8 @@ impl Rounds {
         let (half, k) = (self.k / 2, self.k as f32);
         for y in 0..self.k {
             for x in 0..self.k {
-                // Round `r` takes cell `(r + h) mod 4` of its block: this cell is round `(cell − h) mod 4`'s.
+                // Round `r` takes cell `(r + h) mod 4` of its block: this cell is round
+                // `(cell − h) mod 4`'s.
                 let cell = (x & 1) | (y & 1) << 1;
                 let round = cell.wrapping_sub(hash((y / 2 * half + x / 2) ^ self.seed)) & 3;
                 if round >= from {
