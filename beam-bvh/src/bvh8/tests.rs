@@ -66,8 +66,12 @@ fn check(tris: &[Triangle], bvh: &mut Bvh8, rays: &[Ray], t_any: f32) {
                 assert_eq!(bvh.any_hit(*ray, t_any), any, "{k} ray {i}");
                 // With the last ray's occluder, another block, or none first: the same answer, by a
                 // block that holds a triangle the ray hits in range.
+                let mut next = last;
                 for hint in [last, Some(i as u32 % bvh.blocks.len() as u32), Some(u32::MAX - 1), None] {
                     let block = bvh.occluding_block(*ray, t_any, hint);
+                    if hint == last {
+                        next = block.or(last);
+                    }
                     assert_eq!(block.is_some(), any, "{k} ray {i} hint {hint:?}");
                     if let Some(b) = block {
                         let lanes = &bvh.prims[4 * b as usize..4 * b as usize + 4];
@@ -80,7 +84,7 @@ fn check(tris: &[Triangle], bvh: &mut Bvh8, rays: &[Ray], t_any: f32) {
                         );
                     }
                 }
-                last = bvh.occluding_block(*ray, t_any, last).or(last);
+                last = next;
             }
             let mut stats = TraversalStats::default();
             let counted = bvh.closest_hit_stats(*ray, f32::INFINITY, &mut stats);

@@ -47,27 +47,35 @@ impl Rounds {
     pub(super) fn sample(&self, round: u32, i: u32, rng: &mut Pcg32) -> (f32, f32) {
         debug_assert!(round < 4 && i < self.len());
         let half = self.k / 2;
-        let cell = (round + hash(i ^ self.seed)) & 3;
-        let (x, y) = (2 * (i % half) + (cell & 1), 2 * (i / half) + (cell >> 1));
-        let k = self.k as f32;
-        ((x as f32 + rng.random::<f32>()) / k, (y as f32 + rng.random::<f32>()) / k)
+        let cell = (round + self.shift(i)) & 3;
+        self.jittered(2 * (i % half) + (cell & 1), 2 * (i / half) + (cell >> 1), rng)
     }
 
     /// The samples of rounds `from` to 3, each as [`Rounds::sample`] draws it, in the order of
     /// their cells row by row, passed to `draw`.
     pub(super) fn rest(&self, from: u32, rng: &mut Pcg32, mut draw: impl FnMut((f32, f32))) {
-        let (half, k) = (self.k / 2, self.k as f32);
+        let half = self.k / 2;
         for y in 0..self.k {
             for x in 0..self.k {
                 // Round `r` takes cell `(r + h) mod 4` of its block: this cell is round
                 // `(cell − h) mod 4`'s.
                 let cell = (x & 1) | (y & 1) << 1;
-                let round = cell.wrapping_sub(hash((y / 2 * half + x / 2) ^ self.seed)) & 3;
-                if round >= from {
-                    draw(((x as f32 + rng.random::<f32>()) / k, (y as f32 + rng.random::<f32>()) / k));
+                if cell.wrapping_sub(self.shift(y / 2 * half + x / 2)) & 3 >= from {
+                    draw(self.jittered(x, y, rng));
                 }
             }
         }
+    }
+
+    /// `h(i)`: the cell of block `i` in round 0.
+    fn shift(&self, i: u32) -> u32 {
+        hash(i ^ self.seed)
+    }
+
+    /// A point of cell `(x, y)` of the grid on the unit square, uniform in it.
+    fn jittered(&self, x: u32, y: u32, rng: &mut Pcg32) -> (f32, f32) {
+        let k = self.k as f32;
+        ((x as f32 + rng.random::<f32>()) / k, (y as f32 + rng.random::<f32>()) / k)
     }
 }
 
