@@ -3,6 +3,7 @@
 //! and which lights they gather ([`Lights`]), and the seeds of a pixel's samples.
 
 use super::emitters::Emitter;
+use super::rounds::Partial;
 use super::stats::Counters;
 use crate::render::clear_shafts::ClearShafts;
 use crate::render::cut_outs::CutOuts;
@@ -44,6 +45,8 @@ pub(super) struct Thread {
     /// its lights are integrated with: shadow beams then also clip each light to the half-space
     /// above the surface itself (what lies below it the surface hides, as it hides it from rays).
     pub(super) surface: Option<Vec3>,
+    /// Which lights the last point sampled had partly hidden (the order of the next one's rays).
+    pub(super) partial: Partial,
 }
 
 pub(super) struct Context<'a> {

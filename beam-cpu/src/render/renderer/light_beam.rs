@@ -6,8 +6,8 @@
 //! interval `[0, unoccluded irradiance of that part]` is the error's bound.
 
 use super::context::{Context, Thread};
-use super::light_samples::{light_sample, sample_light};
-use super::rounds::{Rounds, Tally};
+use super::light_samples::sample_light;
+use super::rounds::draw_light;
 use super::stats::Counters;
 use crate::render::clear_shafts::LAMBERT_RAYS;
 use crate::render::lambert::{clip_above, point_source_irradiance, polygon_irradiance};
@@ -154,7 +154,13 @@ impl Context<'_> {
             };
             if unresolved && unoccluded > 0.0 {
                 let left = if sample_all { Left::Whole(&polygon) } else { Left::Pieces(&frame, pieces) };
-                self.sampled((p, n, t.surface), (index, samples), (left, unoccluded), rng, &mut t.c)
+                self.sampled(
+                    (p, n, t.surface),
+                    (index, samples),
+                    (left, unoccluded),
+                    rng,
+                    (&mut t.c, t.partial.of(index)),
+                )
             } else {
                 match self.shading(index) {
                     Shading::Exact => unoccluded,
@@ -236,7 +242,7 @@ impl Context<'_> {
         if !(unoccluded > 0.0) {
             return 0.0;
         }
-        self.sampled((p, n, t.surface), drawn, (Left::Whole(polygon), unoccluded), rng, &mut t.c)
+        self.sampled((p, n, t.surface), drawn, (Left::Whole(polygon), unoccluded), rng, (&mut t.c, t.partial.of(index)))
     }
 
     /// Irradiance per unit radiance at `p` (normal `n`, surface normal `surface` under a normal
@@ -251,9 +257,9 @@ impl Context<'_> {
         (index, spp): (usize, u32),
         (left, unoccluded): (Left<'_>, f32),
         rng: &mut Pcg32,
-        c: &mut Counters,
+        (c, partial): (&mut Counters, &mut bool),
     ) -> f32 {
-        let seen = self.seen_share((p, n, surface), (index, spp), left, rng, &mut c.shadow_rays);
+        let seen = self.seen_share((p, n, surface), (index, spp), left, rng, (&mut c.shadow_rays, partial));
         c.sampled_beams += 1;
         c.pending_bound += self.lights[index].power().max_element() * unoccluded;
         match self.shading(index) {
@@ -269,15 +275,15 @@ impl Context<'_> {
     /// weighted by the irradiance integrand `cos θ cos θ′ / r²`; the weight of those that reach
     /// the light over the weight of all (Heitz et al. 2018, the ratio estimator). The samples
     /// outside need no ray: the beam resolved them. 1 or 0 exactly when every traced sample is
-    /// lit or every one hidden. Where the strata allow, they are drawn in [`Rounds`], and a round
-    /// whose rays all reach the light ends them ([`Tally::all_reached`]).
+    /// lit or every one hidden. Where the strata allow, they are drawn in rounds, and a first
+    /// round whose rays all reach the light, or none does, ends them ([`draw_light`]).
     fn seen_share(
         &self,
         (p, n, surface): (Vec3, Vec3, Option<Vec3>),
         (index, spp): (usize, u32),
         left: Left<'_>,
         rng: &mut Pcg32,
-        shadow_rays: &mut u64,
+        (shadow_rays, partial): (&mut u64, &mut bool),
     ) -> f32 {
         let light = &self.lights[index];
         let ln = self.emitters[index].normal;
@@ -313,28 +319,13 @@ impl Context<'_> {
             *shadow_rays += 1;
             (f, !self.occluded((p, to), 1.0 - DEPTH_EPS, &mut last))
         };
-        let mut tally = Tally::default();
-        let mut draw = |(s, r): (f32, f32), tally: &mut Tally| {
+        let mut tally = draw_light(spp, rng, partial, |(s, r), tally| {
             let q = sample_light(light, s, r);
             if inside(q) {
                 let (f, seen) = trace(q);
                 tally.add(f, seen);
             }
-        };
-        match Rounds::of(spp, rng) {
-            Some(rounds) => {
-                let mut round = 0;
-                while round < 4 && !tally.all_reached() && !tally.any_stopped() {
-                    (0..rounds.len()).for_each(|i| draw(rounds.sample(round, i, rng), &mut tally));
-                    round += 1;
-                }
-                if !tally.all_reached() {
-                    rounds.rest(round, rng, |st| draw(st, &mut tally));
-                    (4 * rounds.len()..spp).for_each(|i| draw(light_sample(i, spp, rng), &mut tally));
-                }
-            }
-            None => (0..spp).for_each(|i| draw(light_sample(i, spp, rng), &mut tally)),
-        }
+        });
         if tally.share().is_none() {
             // No sample fell in what is left (or none faces the point): one ray to its centre,
             // or its largest piece's.

@@ -254,6 +254,7 @@ impl Context<'_> {
         let start = Instant::now();
         let shadow_before = t.c.shadow_seconds;
         self.cull_lights(surfaces, t);
+        t.partial.clear();
         if self.options.method == Method::Beam {
             let start = Instant::now();
             points.clear();
