@@ -4,8 +4,8 @@
 //! every round is a stratified sample of the light on its own and the four together are the grid.
 //! A round in which every ray reached the light ends the sampling: the ratio estimate is then
 //! exactly the unoccluded irradiance, and the rounds left could lower it only by an occluder that
-//! fell between all of the round's samples; a round in which every ray was stopped ends it too,
-//! at 0, unless an opening fell between them. Otherwise the rounds left are drawn together a row
+//! fell between all of the round's samples; two rounds in which every ray was stopped end it
+//! too, at 0, unless an opening fell between all of their samples. Otherwise the rounds left are drawn together a row
 //! of cells at a time ([`Rounds::rest`]): neighbouring rays then follow each other, as the ray
 //! method's do, and are mostly stopped by the same triangles, which the shadow-ray query tests
 //! first ([`Scene::occluded_after`]). Where the last point sampled on the thread had its light
@@ -84,11 +84,18 @@ impl Rounds {
     }
 }
 
+/// Rounds in which every ray was stopped that end the sampling at 0. With one, the rays' slivers
+/// of light between an object and the ground it stands on came out 0 too often: the bunny under a
+/// light as wide as the scene then had an RMSE of 0.00162 against the rays' 0.00155 (`beam bench
+/// softshadow --sweep light`); with two, 0.00155.
+const HIDDEN_ROUNDS: u32 = 2;
+
 /// The `spp` stratified samples of a light on the unit square ([`light_sample`]'s), passed to
 /// `draw` with the tally it adds its sample to when the sample falls in what is sampled: in
-/// [`Rounds`] where the grid allows, which end early when the first is all reached or all
-/// stopped, or drawn together from the start when `partial` (the last point's light was partly
-/// hidden); `partial` is then set to whether this point's is. The tally of all the samples.
+/// [`Rounds`] where the grid allows, which end early when the first is all reached or the first
+/// [`HIDDEN_ROUNDS`] all stopped, or drawn together from the start when `partial` (the last
+/// point's light was partly hidden); `partial` is then set to whether this point's is. The tally
+/// of all the samples.
 pub(super) fn draw_light(
     spp: u32,
     rng: &mut Pcg32,
@@ -100,18 +107,21 @@ pub(super) fn draw_light(
         (0..spp).for_each(|i| draw(light_sample(i, spp, rng), &mut tally));
         return tally;
     };
+    // Rounds are drawn one at a time while they could still end early.
+    let open = |t: &Tally, round| !t.any_stopped() || t.reached == 0 && round < HIDDEN_ROUNDS;
     let mut round = 0;
     if !*partial {
-        while round < 4 && !tally.all_reached() && !tally.any_stopped() {
+        while round < 4 && !tally.all_reached() && open(&tally, round) {
             (0..rounds.len()).for_each(|i| draw(rounds.sample(round, i, rng), &mut tally));
             round += 1;
         }
     }
-    if !tally.all_reached() && !tally.none_reached() {
+    let ended = tally.all_reached() || tally.none_reached() && round >= HIDDEN_ROUNDS;
+    if !ended {
         rounds.rest(round, rng, |st| draw(st, &mut tally));
         (4 * rounds.len()..spp).for_each(|i| draw(light_sample(i, spp, rng), &mut tally));
     }
-    *partial = !tally.all_reached() && !tally.none_reached();
+    *partial = tally.any_stopped() && !tally.none_reached();
     tally
 }
 
@@ -236,9 +246,9 @@ mod tests {
     }
 
     #[test]
-    fn a_first_round_all_reached_or_all_stopped_ends_the_sampling() {
+    fn a_first_round_all_reached_or_two_all_stopped_end_the_sampling() {
         // Every ray reaches the light, none does, or those in the left half do.
-        for (seen, drawn, partial) in [(0, 64, false), (1, 64, false), (2, 256, true)] {
+        for (seen, drawn, partial) in [(0, 64, false), (1, 128, false), (2, 256, true)] {
             let mut rng = Pcg32::seed_from_u64(5);
             let (mut n, mut last) = (0, false);
             let tally = draw_light(256, &mut rng, &mut last, |(s, _), t| {
