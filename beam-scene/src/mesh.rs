@@ -9,7 +9,7 @@ mod triangulate;
 
 pub use indexed::Mesh;
 pub use limits::MAX_NONCONVEX_CORNERS;
-pub use mtl::{DEFAULT_KD, MtlMaterial, parse_mtl};
+pub use mtl::{DEFAULT_KD, MtlBump, MtlMaterial, parse_mtl};
 pub use obj::{ObjStats, parse_obj};
 pub use triangulate::triangulate;
 

@@ -1,7 +1,8 @@
 //! The MTL parser: the materials of an OBJ file's `mtllib` libraries, as far as they change a
 //! picture here: the diffuse colour `Kd` and its texture `map_Kd`, the emission `Ke`, the specular
-//! colour `Ks` and its Phong exponent `Ns`; the other texture maps (`map_Ks`, `bump`, …) and
-//! dissolve (`d`, `Tr`) are counted, not read, and the rest (`Ka`, `Ni`, `illum`, …) is ignored.
+//! colour `Ks` and its Phong exponent `Ns`, and the bump or normal map (`bump`, `map_Bump`,
+//! `norm`) with its `-bm` multiplier; the other texture maps (`map_Ks`, `disp`, …) and dissolve
+//! (`d`, `Tr`) are counted, not read, and the rest (`Ka`, `Ni`, `illum`, …) is ignored.
 //! Every error names `file:line`.
 
 use crate::error::SceneError;
@@ -28,10 +29,27 @@ pub struct MtlMaterial {
     /// The diffuse colour's texture (`map_Kd`): its file name as written (the statement's last
     /// word) and whether options (`-s`, `-o`, …) came before it, which are not applied.
     pub map_kd: Option<(String, bool)>,
-    /// The other texture-map statements (`map_Ks`, `bump`, `norm`, `disp`, `decal`, `refl`, …).
+    /// The bump or normal map (`bump`, `map_bump`, `map_Bump`, `norm`; a `norm` wins over a bump,
+    /// which is then counted in `maps`).
+    pub bump: Option<MtlBump>,
+    /// The other texture-map statements (`map_Ks`, `disp`, `decal`, `refl`, …).
     pub maps: usize,
     /// Whether it is partly transparent (`d` below 1 or `Tr` above 0).
     pub dissolves: bool,
+}
+
+/// A material's bump map (`bump`, `map_bump`, `map_Bump`: heights, or a normal map as Blender
+/// writes them) or normal map (`norm`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MtlBump {
+    /// The image's file name as written (the statement's last word).
+    pub file: String,
+    /// Whether the statement was `norm` (a tangent-space normal map).
+    pub normal: bool,
+    /// The `-bm` multiplier (1 without one).
+    pub scale: f32,
+    /// Whether other options (`-s`, `-o`, …) came before the file name; they are not applied.
+    pub options: bool,
 }
 
 impl MtlMaterial {
@@ -43,6 +61,7 @@ impl MtlMaterial {
             ns: 0.0,
             ke: Vec3::ZERO,
             map_kd: None,
+            bump: None,
             maps: 0,
             dissolves: false,
         }
@@ -81,6 +100,39 @@ pub fn parse_mtl(path: &Path, data: &[u8], quote_lines: bool) -> Result<Vec<MtlM
             let words: Vec<&str> = tokens.collect();
             let Some(file) = words.last() else { return fail("`map_Kd` needs a file name".into()) };
             m.map_kd = Some((file.to_string(), words.len() > 1));
+            continue;
+        }
+        if matches!(keyword, "bump" | "map_bump" | "map_Bump" | "norm") {
+            let words: Vec<&str> = tokens.collect();
+            let Some((file, options)) = words.split_last() else {
+                return fail(format!("`{keyword}` needs a file name"));
+            };
+            if *file == "-bm" {
+                return fail("`-bm` takes a finite number before the file name".into());
+            }
+            let mut bump = MtlBump { file: file.to_string(), normal: keyword == "norm", scale: 1.0, options: false };
+            let mut i = 0;
+            while i < options.len() {
+                if options[i] == "-bm" {
+                    match options.get(i + 1).map(|v| v.parse::<f32>()) {
+                        Some(Ok(x)) if x.is_finite() => bump.scale = x,
+                        _ => return fail("`-bm` takes a finite number before the file name".into()),
+                    }
+                    i += 2;
+                } else {
+                    bump.options = true;
+                    i += 1;
+                }
+            }
+            match &m.bump {
+                // A normal map wins over heights; the map not used is counted.
+                Some(b) if b.normal && !bump.normal => m.maps += 1,
+                Some(_) => {
+                    m.maps += 1;
+                    m.bump = Some(bump);
+                }
+                None => m.bump = Some(bump),
+            }
             continue;
         }
         if is_map {
@@ -154,12 +206,24 @@ mod tests {
         assert_eq!(m[0].kd, Vec3::new(0.63, 0.065, 0.05));
         assert_eq!((m[0].ke, m[0].maps, m[0].dissolves), (Vec3::ZERO, 0, false));
         assert_eq!((m[1].ke, m[1].kd), (Vec3::new(17.0, 12.0, 4.0), Vec3::splat(0.78)));
-        assert_eq!((m[1].maps, m[1].dissolves), (1, true));
+        assert_eq!((m[1].maps, m[1].dissolves), (0, true));
+        let bump = MtlBump { file: "b.png".into(), normal: false, scale: 0.5, options: false };
+        assert_eq!(m[1].bump, Some(bump));
         assert_eq!(m[1].map_kd, Some(("light.png".to_string(), true)));
         assert_eq!(m[0].map_kd, None);
         assert_eq!((m[2].kd, m[2].ks, m[2].ns), (Vec3::ZERO, Vec3::splat(0.7), 200.0));
         let bare = parse("newmtl plain\n").unwrap();
         assert_eq!(bare[0].kd, Vec3::splat(DEFAULT_KD));
+    }
+
+    #[test]
+    fn a_normal_map_wins_over_heights() {
+        let m = parse("newmtl a\nnorm -s 2 2 1 n.png\nmap_Bump -bm 2 h.png\nmap_Ks k.png\n").unwrap();
+        let norm = MtlBump { file: "n.png".into(), normal: true, scale: 1.0, options: true };
+        assert_eq!((m[0].bump.as_ref(), m[0].maps), (Some(&norm), 2));
+        let m = parse("newmtl a\nbump h.png\nnorm n.png\n").unwrap();
+        assert!(m[0].bump.as_ref().is_some_and(|b| b.normal && b.file == "n.png"));
+        assert_eq!(m[0].maps, 1);
     }
 
     #[test]
@@ -174,6 +238,9 @@ mod tests {
             ("newmtl a\nKd spectral r.spd\n", 2, "spectral"),
             ("newmtl a\nKd inf 1 1\n", 2, "finite"),
             ("newmtl a\nmap_Kd\n", 2, "needs a file name"),
+            ("newmtl a\nbump\n", 2, "needs a file name"),
+            ("newmtl a\nmap_Bump -bm x b.png\n", 2, "`-bm` takes a finite number"),
+            ("newmtl a\nbump -bm\n", 2, "`-bm` takes a finite number"),
         ] {
             let e = parse(text).unwrap_err();
             assert!(e.starts_with(&format!("m.mtl:{line}: ")) && e.contains(what), "{text:?}: {e}");

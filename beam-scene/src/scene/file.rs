@@ -322,6 +322,40 @@ mod tests {
         assert_eq!(noticed("not PNG, JPEG, TGA or BMP"), Some(1));
     }
 
+    /// A bump map bends a bare OBJ's shading normals: heights rising along `u` (`map_Bump -bm 4`)
+    /// tilt them against it; a `norm` normal map and a normal map written as `map_Bump` (as
+    /// Blender writes them) tilt them as their texels say; a missing map leaves the face flat and
+    /// is counted.
+    #[test]
+    fn a_bare_obj_reads_its_bump_and_normal_maps() {
+        let dir = tempfile::tempdir().unwrap();
+        let ramp = image::RgbaImage::from_fn(16, 16, |x, _| {
+            let c = (x * 16) as u8;
+            image::Rgba([c, c, c, 255])
+        });
+        ramp.save(dir.path().join("h.png")).unwrap();
+        image::RgbaImage::from_pixel(4, 4, image::Rgba([150, 128, 255, 255])).save(dir.path().join("n.png")).unwrap();
+        write(
+            dir.path(),
+            "b.mtl",
+            "newmtl heights\nKd 0.5 0.5 0.5\nmap_Bump -bm 4 h.png\nnewmtl norm\nKd 0.5 0.5 0.5\nnorm n.png\n\
+             newmtl blender\nKd 0.5 0.5 0.5\nmap_Bump -bm 1.0 n.png\nnewmtl gone\nKd 0.5 0.5 0.5\nbump none.png\n",
+        );
+        let obj = "mtllib b.mtl\nv 0 0 0\nv 2 0 0\nv 2 2 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl heights\nf 1/1 2/2 3/3\n\
+                   usemtl norm\nf 1/1 2/2 3/3\nusemtl blender\nf 1/1 2/2 3/3\nusemtl gone\nf 1/1 2/2 3/3\n";
+        let s = load_file(&write(dir.path(), "b.obj", obj)).unwrap();
+        let at = |prim: u32| s.mapped_normal(prim, Vec3::new(1.5, 0.5, 0.0), Vec3::Z);
+        // u along x: a slope of 4 / 16 a texel tilts the normal to (−0.25, 0, 1), normalized.
+        let expect = Vec3::new(-0.25, 0.0, 1.0).normalize();
+        assert!((at(0) - expect).length() < 0.02, "heights: {}", at(0));
+        let tilted = Vec3::new(150.0 / 255.0 * 2.0 - 1.0, 128.0 / 255.0 * 2.0 - 1.0, 1.0).normalize();
+        assert!((at(1) - tilted).length() < 0.01, "norm: {}", at(1));
+        assert!((at(2) - tilted).length() < 0.01, "a normal map as map_Bump: {}", at(2));
+        assert_eq!(at(3), Vec3::Z, "a missing map: flat");
+        let noticed = |what: &str| s.notices.iter().find(|n| n.what.contains(what)).map(|n| n.count);
+        assert_eq!(noticed("bump or normal map image(s) not found"), Some(1));
+    }
+
     /// `vn` normals shade a bare OBJ's faces smoothly: a quad (two triangles) whose corners lean
     /// out along x gives each point the interpolation of its triangle's corners; a face without
     /// normals keeps its own; an index past the last normal is an error naming the line.

@@ -2,6 +2,7 @@
 //! a bare OBJ file or a built-in name.
 
 mod builtin;
+mod bump;
 mod camera;
 mod camera_path;
 mod check;

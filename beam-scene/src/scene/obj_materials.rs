@@ -7,17 +7,21 @@
 //! - otherwise → [`Material::Diffuse`] of albedo `Kd` (channels above 1 clamped), or with a
 //!   `map_Kd` texture (PNG, JPEG, TGA or BMP, beside its library; `\` read as `/`) that texture
 //!   instead of `Kd`, as Blender imports it, read at the faces' `vt` coordinates (repeating,
-//!   bilinear).
+//!   bilinear);
+//! - a diffuse or glossy material's bump map (`bump`, `map_Bump`: heights, turned into normals with
+//!   its `-bm` multiplier, or a normal map as Blender writes them) or normal map (`norm`) bends its
+//!   shading normals as a glTF normal texture does ([`bump`](super::bump)).
 //!
 //! Faces before any `usemtl`, names no library defines and a library that is missing get the bare
-//! file's grey; a texture that is missing or in another format leaves `Kd`; the other texture maps,
-//! `map_Kd` options, dissolve and the specular part of a diffuse material are not read. Each of
-//! these is counted in one notice.
+//! file's grey; a texture that is missing or in another format leaves `Kd` (or the faces flat);
+//! the other texture maps, map options other than `-bm`, dissolve and the specular part of a
+//! diffuse material are not read. Each of these is counted in one notice.
 
+use super::bump::{height_to_normals, is_normal_map};
 use super::image_file::{MTL_IMAGES, decode_image};
 use super::load_options::LoadOptions;
 use super::material::Material;
-use super::surface::{MaterialMaps, TextureRef};
+use super::surface::{MaterialMaps, NormalMap, TextureRef};
 use super::texture::{Filter, Texture, Wrap};
 use crate::error::SceneError;
 use crate::mesh::{DEFAULT_KD, MtlMaterial, ObjStats, parse_mtl};
@@ -85,34 +89,42 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
             Some((m, folder)) => {
                 specular += usize::from(m.ks.max_element() > 0.0);
                 let texture = match &m.map_kd {
-                    Some(_) if stats.triangle_uvs.is_empty() => {
-                        textures.without_uvs += 1;
-                        None
-                    }
                     Some((file, with_options)) => {
                         textures.options += usize::from(*with_options);
-                        let in_obj = |e| SceneError::InMesh {
-                            path: path.to_path_buf(),
-                            element: format!("material `{}` map_Kd", visible(&clip(name, 60))),
-                            source: Box::new(e),
-                        };
-                        textures.read(folder, file, options).map_err(in_obj)?
+                        textures
+                            .read(folder, file, Kind::Colour, stats, options)
+                            .map_err(in_material(path, name, "map_Kd"))?
                     }
                     None => None,
                 };
                 clamped += usize::from(texture.is_none() && m.kd.max_element() > 1.0);
                 let albedo = if texture.is_some() { Vec3::ONE } else { m.kd.min(Vec3::ONE) };
-                let base_color =
-                    texture.map(|texture| TextureRef { texture, tex_coord: 0, transform: Affine2::IDENTITY });
+                let base_color = texture.map(|(texture, _)| texture_ref(texture));
                 (Material::Diffuse { albedo }, base_color)
             }
         };
-        if let Some((m, _)) = defined.get(name) {
+        let mut normal = None;
+        if let Some((m, folder)) = defined.get(name) {
             other_maps += m.maps;
             dissolving += usize::from(m.dissolves);
+            match (&m.bump, material) {
+                (Some(bump), Material::Diffuse { .. } | Material::Glossy { .. }) => {
+                    textures.options += usize::from(bump.options);
+                    let kind = Kind::Bump { normal: bump.normal, scale: bump.scale };
+                    let texture = textures.read(folder, &bump.file, kind, stats, options);
+                    let texture = texture.map_err(in_material(path, name, "bump map"))?;
+                    // A normal map's tilt is scaled by `-bm`; heights were, when made normals.
+                    normal = texture.map(|(texture, is_normal)| NormalMap {
+                        texture: texture_ref(texture),
+                        scale: if is_normal { bump.scale } else { 1.0 },
+                    });
+                }
+                (Some(_), _) => other_maps += 1,
+                (None, _) => {}
+            }
         }
         materials.push(material);
-        maps.push(MaterialMaps { base_color, ..MaterialMaps::default() });
+        maps.push(MaterialMaps { base_color, normal, ..MaterialMaps::default() });
     }
     if textures.list.is_empty() {
         maps.clear();
@@ -120,11 +132,13 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
     let notices = vec![
         ("OBJ material librar(ies) not found: their materials drawn grey", missing_libraries),
         ("OBJ material name(s) (usemtl) in no library: drawn grey", undefined),
-        ("OBJ texture image(s) (map_Kd) not found: their materials' Kd used", textures.absent),
-        ("OBJ texture image(s) (map_Kd) not PNG, JPEG, TGA or BMP: their materials' Kd used", textures.unreadable),
-        ("OBJ texture(s) (map_Kd) not read: the faces have no texture coordinates (vt)", textures.without_uvs),
-        ("OBJ texture option(s) (map_Kd -s, -o, …) not applied", textures.options),
-        ("OBJ texture map(s) other than map_Kd not read", other_maps),
+        ("OBJ texture image(s) (map_Kd) not found: their materials' Kd used", textures.absent[0]),
+        ("OBJ texture image(s) (map_Kd) not PNG, JPEG, TGA or BMP: their materials' Kd used", textures.unreadable[0]),
+        ("OBJ bump or normal map image(s) not found: their faces shaded flat", textures.absent[1]),
+        ("OBJ bump or normal map image(s) not PNG, JPEG, TGA or BMP: their faces shaded flat", textures.unreadable[1]),
+        ("OBJ texture(s) (map_Kd, bump) not read: the faces have no texture coordinates (vt)", textures.without_uvs),
+        ("OBJ texture option(s) (-s, -o, …; all but -bm) not applied", textures.options),
+        ("OBJ texture map(s) other than map_Kd and one bump or normal map not read", other_maps),
         ("partly transparent OBJ material(s) (d, Tr) drawn opaque", dissolving),
         ("specular part(s) (Ks) of diffuse OBJ materials not drawn", specular),
         ("OBJ material colour(s) above 1 clamped to 1", clamped),
@@ -149,44 +163,89 @@ fn read_optional(
     }
 }
 
-/// The `map_Kd` textures read so far, each file decoded once, and the counts for the notices.
+/// The error of material `name`'s map `what`, for an OBJ file's materials.
+fn in_material(path: &Path, name: &str, what: &'static str) -> impl Fn(SceneError) -> SceneError {
+    let element = format!("material `{}` {what}", visible(&clip(name, 60)));
+    move |e| SceneError::InMesh { path: path.to_path_buf(), element: element.clone(), source: Box::new(e) }
+}
+
+/// Where a map is read: texture `texture` at the faces' `vt` coordinates.
+fn texture_ref(texture: u32) -> TextureRef {
+    TextureRef { texture, tex_coord: 0, transform: Affine2::IDENTITY }
+}
+
+/// How a map's image is read: as colour, or as a bump map (heights scaled by `-bm`, unless it is
+/// or looks like a normal map).
+#[derive(Clone, Copy, PartialEq)]
+enum Kind {
+    Colour,
+    Bump { normal: bool, scale: f32 },
+}
+
+/// A texture read: its index in [`Textures::list`] and whether it is a normal map.
+type Read = (u32, bool);
+
+/// The maps' textures read so far, each file and kind decoded once, and the counts for the notices
+/// (`[colour, bump]`).
 #[derive(Default)]
 struct Textures {
     list: Vec<Texture>,
-    /// Index in `list` of each file read (`None`: it could not be).
-    by_file: HashMap<PathBuf, Option<u32>>,
-    absent: usize,
-    unreadable: usize,
+    /// Index in `list` of each file read as a kind, and whether it is a normal map (`None`: it
+    /// could not be read).
+    by_file: HashMap<(PathBuf, [u32; 2]), Option<Read>>,
+    absent: [usize; 2],
+    unreadable: [usize; 2],
     without_uvs: usize,
     options: usize,
 }
 
 impl Textures {
-    /// The texture of file `name` (as an MTL file in `folder` writes it): its index in `list`, or
-    /// `None` where it is missing or not a PNG, JPEG, TGA or BMP image (counted).
-    fn read(&mut self, folder: &Path, name: &str, options: &LoadOptions) -> Result<Option<u32>, SceneError> {
+    /// The texture of file `name` (as an MTL file in `folder` writes it) read as `kind`: its index
+    /// in `list` and whether it is a normal map, or `None` where it is missing or not a PNG, JPEG,
+    /// TGA or BMP image, or the faces have no texture coordinates (counted).
+    fn read(
+        &mut self,
+        folder: &Path,
+        name: &str,
+        kind: Kind,
+        stats: &ObjStats,
+        options: &LoadOptions,
+    ) -> Result<Option<Read>, SceneError> {
+        if stats.triangle_uvs.is_empty() {
+            self.without_uvs += 1;
+            return Ok(None);
+        }
         let name = name.replace('\\', "/");
-        if let Some(&known) = self.by_file.get(&folder.join(&name)) {
+        let (slot, key) = match kind {
+            Kind::Colour => (0, [0, 0]),
+            Kind::Bump { normal, scale } => (1, [1 + u32::from(normal), scale.to_bits()]),
+        };
+        let file = (folder.join(&name), key);
+        if let Some(&known) = self.by_file.get(&file) {
             return Ok(known);
         }
         let index = match read_optional(folder, &name, MAX_MESH_BYTES, options)? {
             None => {
-                self.absent += 1;
+                self.absent[slot] += 1;
                 None
             }
             Some((bytes, _, _)) => match decode_image(bytes, &name, &MTL_IMAGES) {
                 Ok((width, height, texels)) => {
-                    let texture = Texture { width, height, texels, wrap: [Wrap::Repeat; 2], filter: Filter::Linear };
-                    self.list.push(texture);
-                    Some(self.list.len() as u32 - 1)
+                    let (texels, normal) = match kind {
+                        Kind::Colour => (texels, false),
+                        Kind::Bump { normal, .. } if normal || is_normal_map(&texels) => (texels, true),
+                        Kind::Bump { scale, .. } => (height_to_normals(width, height, &texels, scale), false),
+                    };
+                    self.list.push(Texture { width, height, texels, wrap: [Wrap::Repeat; 2], filter: Filter::Linear });
+                    Some((self.list.len() as u32 - 1, normal))
                 }
                 Err(_) => {
-                    self.unreadable += 1;
+                    self.unreadable[slot] += 1;
                     None
                 }
             },
         };
-        self.by_file.insert(folder.join(&name), index);
+        self.by_file.insert(file, index);
         Ok(index)
     }
 }
