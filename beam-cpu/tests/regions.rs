@@ -55,6 +55,32 @@ fn beam_and_ray_tiles_equal_the_frame() {
     }
 }
 
+/// A render whose shadow beams run past their budget, and whose tiles start from how the tile to
+/// their left ended, is the same image bit for bit on one, two or three threads (each row of tiles
+/// is shaded in order by one thread), and its rectangles are the frame's (a rectangle's rows are
+/// shaded across the frame), by eye beams and by primary rays.
+#[test]
+fn a_budgeted_render_does_not_depend_on_the_threads_or_the_rectangle() {
+    let scene = scene::builtin("plant").unwrap();
+    let (w, h) = (160, 96);
+    for primary_beams in [true, false] {
+        let options = RenderOptions { spp: 64, primary_beams, exact: false, ..RenderOptions::exact(w, h) };
+        let on = |threads: usize, region| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| render(&scene, &RenderOptions { region, ..options }, || {}))
+        };
+        let (one, stats) = on(1, None);
+        assert!(stats.sampled_beams > 0 && stats.exact_pixel_share < 1.0, "no beam ran past its budget");
+        let what = format!("eye beams {primary_beams}");
+        for threads in [2, 3] {
+            same(&format!("{what}, {threads} threads"), &one, PixelRect::full(w, h), &on(threads, None).0);
+        }
+        for rect in rects(w, h) {
+            same(&what, &one, rect, &on(2, Some(rect)).0);
+        }
+    }
+}
+
 #[test]
 fn a_region_outside_the_frame_renders_nothing() {
     let scene = scene::builtin("cornell").unwrap();

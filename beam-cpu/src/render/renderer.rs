@@ -8,7 +8,6 @@ use beam_render::image::Image;
 use beam_render::queries::AnyHit;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 use trace::{EyeTraced, TileRadiance, Trace, Traced};
 
@@ -65,9 +64,13 @@ fn render_by(
     let trace = Trace { ctx: &ctx, camera: &camera, seed: &pixel_seed, n_prims };
     // The pixels asked for, and those computed: whole shading tiles of the frame's grid, since a
     // tile's shade points share their candidate occluders (a pixel gets its whole-frame value only
-    // with its tile's others).
+    // with its tile's others); with beams, whole rows of tiles, since a tile starts from how the
+    // one to its left ended.
     let crop = options.region();
-    let work = crop.aligned_out(TILE, camera.width, camera.height);
+    let mut work = crop.aligned_out(TILE, camera.width, camera.height);
+    if options.method == Method::Beam && !work.is_empty() {
+        (work.x0, work.x1) = (0, camera.width);
+    }
     let rows_of = |part: Region| crop.y1.min(part.y1).saturating_sub(crop.y0.max(part.y0));
     // Eye beams a region of the frame's grid at a time (the pixels of `work` in it), primary rays a
     // band of TILE rows at a time, in parallel; each returns its pixels, counters and the triangles
@@ -75,46 +78,44 @@ fn render_by(
     let parts: Vec<Traced> = if crop.is_empty() {
         Vec::new()
     } else if eye_beams {
-        // Eye beams a region at a time, in parallel; then the regions' tiles are shaded in
-        // parallel (a small image is one region, and its shading is most of the work).
+        // Eye beams a region at a time, in parallel; then the rows of tiles are shaded in parallel
+        // (a small image is one region, and its shading is most of the work).
         let regions = regions_in(camera.width, camera.height, work);
         let mut traced: Vec<EyeTraced> =
             regions.into_par_iter().map(|region| trace.eye_region(region, region.intersect(work))).collect();
-        let jobs: Vec<(usize, usize, usize)> = traced
-            .iter()
-            .enumerate()
-            .flat_map(|(r, e)| {
-                e.tiles.iter().scan(0, move |start, &len| {
-                    *start += len;
-                    Some((r, *start - len, *start))
-                })
-            })
-            .collect();
-        // A row of tiles is done once every tile of it with fragments is.
-        let tile_row = |e: &EyeTraced, start: usize| e.surfaces[start].y / TILE;
-        let rows = camera.height.div_ceil(TILE) as usize;
-        let left: Vec<AtomicU32> = (0..rows).map(|_| AtomicU32::new(0)).collect();
-        for &(r, start, _) in &jobs {
-            left[tile_row(&traced[r], start) as usize].fetch_add(1, Ordering::Relaxed);
+        // A row of tiles across the frame is shaded in order by one thread, as a band of primary
+        // rays is: a tile starts from how the one before it ended (`TileShadows`), so the image
+        // does not depend on which thread shaded which tile. The regions come row by row, so each
+        // row's tiles come left to right: `(region, start, end)` of its surfaces.
+        let mut by_row: Vec<Vec<(usize, usize, usize)>> = vec![Vec::new(); camera.height.div_ceil(TILE) as usize];
+        for (r, e) in traced.iter().enumerate() {
+            let mut start = 0;
+            for &len in &e.tiles {
+                by_row[(e.surfaces[start].y / TILE) as usize].push((r, start, start + len));
+                start += len;
+            }
         }
-        let done_rows = |row: u32| {
-            let r = Region { x0: 0, y0: row * TILE, x1: camera.width, y1: ((row + 1) * TILE).min(camera.height) };
+        let done_rows = |row: usize| {
+            let y0 = row as u32 * TILE;
+            let r = Region { x0: 0, y0, x1: camera.width, y1: (y0 + TILE).min(camera.height) };
             (0..rows_of(r)).for_each(|_| row_done());
         };
-        for row in (0..rows as u32).filter(|&row| left[row as usize].load(Ordering::Relaxed) == 0) {
-            done_rows(row);
-        }
-        let shaded: Vec<(usize, TileRadiance, Counters)> = jobs
+        let shaded: Vec<(usize, TileRadiance, Counters)> = by_row
             .par_iter()
-            .map_init(Thread::default, |t, &(r, start, end)| {
-                let e = &traced[r];
-                let before = t.c;
-                let out = trace.shade_eye_tile(e.traced.region, &e.surfaces[start..end], e.lights, t);
-                let row = tile_row(e, start);
-                if left[row as usize].fetch_sub(1, Ordering::Relaxed) == 1 {
-                    done_rows(row);
-                }
-                (r, out, t.c.since(&before))
+            .enumerate()
+            .flat_map_iter(|(row, tiles)| {
+                let mut t = Thread::default();
+                let shaded: Vec<_> = tiles
+                    .iter()
+                    .map(|&(r, start, end)| {
+                        let e = &traced[r];
+                        let before = t.c;
+                        let out = trace.shade_eye_tile(e.traced.region, &e.surfaces[start..end], e.lights, &mut t);
+                        (r, out, t.c.since(&before))
+                    })
+                    .collect();
+                done_rows(row);
+                shaded
             })
             .collect();
         for (r, out, counters) in shaded {

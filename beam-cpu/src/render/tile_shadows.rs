@@ -95,11 +95,11 @@ pub(crate) struct TileShadows {
     pub(crate) bvh_steps: u64,
     /// Shafts traced (one a cluster and area light).
     pub(crate) shafts: u64,
-    /// Per light, how this tile starts, by how the last ones (of this thread) ended.
+    /// Per light, how this tile starts, by how the ones before it in its row ended.
     carried: Vec<Carry>,
 }
 
-/// How a tile's clusters start for one light, by how the last tile's (of the same thread) ended.
+/// How a tile's clusters start for one light, by how those of the tile before it in its row ended.
 #[derive(Clone, Copy, Debug)]
 struct Carry {
     /// The mode the clusters take from the start (`None`: each decides afresh).
@@ -120,7 +120,7 @@ impl Default for Carry {
     }
 }
 
-/// How a tile's clusters start, per light, from how the last tile's (of the same thread) ended:
+/// How a tile's clusters start, per light, from how those of the tile before it in its row ended:
 /// the cost model's decisions carried to the neighbours, as they are within a cluster. Where at
 /// least [`SAMPLED_SHARE`] of them sampled by rays, the next tile samples that light from the
 /// start without gathering candidates (the shafts are then most of the cost); where every one
