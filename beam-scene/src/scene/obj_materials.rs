@@ -176,7 +176,7 @@ fn texture_ref(texture: u32) -> TextureRef {
 
 /// How a map's image is read: as colour, or as a bump map (heights scaled by `-bm`, unless it is
 /// or looks like a normal map).
-#[derive(Clone, Copy, PartialEq)]
+#[derive(Clone, Copy)]
 enum Kind {
     Colour,
     Bump { normal: bool, scale: f32 },

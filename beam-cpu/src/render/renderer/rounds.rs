@@ -5,14 +5,14 @@
 //! A round in which every ray reached the light ends the sampling: the ratio estimate is then
 //! exactly the unoccluded irradiance, and the rounds left could lower it only by an occluder that
 //! fell between all of the round's samples; two rounds in which every ray was stopped end it
-//! too, at 0, unless an opening fell between all of their samples. Otherwise the rounds left are drawn together a row
-//! of cells at a time ([`Rounds::rest`]): neighbouring rays then follow each other, as the ray
-//! method's do, and are mostly stopped by the same triangles, which the shadow-ray query tests
-//! first ([`Scene::occluded_after`]). Where the last point sampled on the thread had its light
-//! partly hidden, the next (its neighbour) most likely has too, and no round would end its
-//! sampling: all four are then drawn together from the start ([`draw_light`]), since a round's
-//! rays, two cells apart, are stopped by the same triangles less often (under a light over all of
-//! Sponza the render took 8% less time).
+//! too, at 0, unless an opening fell between all of their samples. Otherwise the rounds left are
+//! drawn together a row of cells at a time ([`Rounds::rest`]): neighbouring rays then follow each
+//! other, as the ray method's do, and are mostly stopped by the same triangles, which the
+//! shadow-ray query tests first ([`Scene::occluded_after`]). Where the point shaded before (in the
+//! same tile) had the light partly hidden, the next, its neighbour, most likely has too, and no
+//! round would end its sampling: all four are then drawn so from the start ([`draw_light`]), since
+//! a round's rays, two cells apart, are stopped by the same triangles less often (under a light
+//! over all of Sponza the render took 7% less time).
 //!
 //! [`Scene::occluded_after`]: beam_scene::scene::Scene::occluded_after
 
@@ -125,9 +125,8 @@ pub(super) fn draw_light(
     tally
 }
 
-/// For each light, whether the last point a thread sampled it from had it partly hidden
-/// ([`draw_light`]); cleared at each tile, so that an image does not depend on which thread
-/// shaded which tile.
+/// For each light, whether the last point that sampled it had it partly hidden ([`draw_light`]);
+/// cleared at each tile.
 #[derive(Debug, Default)]
 pub(super) struct Partial(Vec<bool>);
 
