@@ -95,6 +95,7 @@ fn render_by(
                 start += len;
             }
         }
+        debug_assert!(by_row.iter().all(|row| row.is_sorted_by_key(|&(r, start, _)| traced[r].surfaces[start].x)));
         let done_rows = |row: usize| {
             let y0 = row as u32 * TILE;
             let r = Region { x0: 0, y0, x1: camera.width, y1: (y0 + TILE).min(camera.height) };

@@ -31,10 +31,9 @@ pub(crate) fn is_normal_map(texels: &[[u8; 4]]) -> bool {
 pub(crate) fn height_to_normals(width: u32, height: u32, texels: &[[u8; 4]], scale: f32) -> Arc<[[u8; 4]]> {
     let (w, h) = (width as usize, height as usize);
     debug_assert_eq!(texels.len(), w * h);
-    let at = |x: usize, y: usize| {
-        let t = texels[y * w + x];
-        (f32::from(t[0]) + f32::from(t[1]) + f32::from(t[2])) / (3.0 * 255.0)
-    };
+    let heights: Vec<f32> =
+        texels.iter().map(|t| (f32::from(t[0]) + f32::from(t[1]) + f32::from(t[2])) / (3.0 * 255.0)).collect();
+    let at = |x: usize, y: usize| heights[y * w + x];
     let encode = |c: f32| ((c + 1.0) * 0.5 * 255.0).round().clamp(0.0, 255.0) as u8;
     let mut out = Vec::with_capacity(w * h);
     for y in 0..h {

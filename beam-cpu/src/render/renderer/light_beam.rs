@@ -275,8 +275,9 @@ impl Context<'_> {
     /// weighted by the irradiance integrand `cos θ cos θ′ / r²`; the weight of those that reach
     /// the light over the weight of all (Heitz et al. 2018, the ratio estimator). The samples
     /// outside need no ray: the beam resolved them. 1 or 0 exactly when every traced sample is
-    /// lit or every one hidden. Where the strata allow, they are drawn in rounds, and a first
-    /// round whose rays all reach the light, or none does, ends them ([`draw_light`]).
+    /// lit or every one hidden. Where the strata allow, they are drawn in rounds, which a first
+    /// round whose rays all reach the light, or two whose rays all were stopped, end
+    /// ([`draw_light`]).
     fn seen_share(
         &self,
         (p, n, surface): (Vec3, Vec3, Option<Vec3>),
