@@ -1,6 +1,6 @@
 //! The rest of glTF 2.0 that changes a picture: `EXT_mesh_gpu_instancing` places a mesh once per
-//! instance; an orthographic camera, skins, morph weights and animations load with one notice
-//! each; scenes without nodes, accessors without a buffer view and sparse accessors load; optional
+//! instance; morph targets take their default weights; an orthographic camera, skins and
+//! animations load with one notice each; scenes without nodes, accessors without a buffer view and sparse accessors load; optional
 //! extensions are ignored and required ones we do not read are refused by name (`docs/gltf.md`).
 
 mod common;
@@ -137,7 +137,7 @@ fn an_orthographic_camera_becomes_a_distant_narrow_perspective_one() {
 }
 
 #[test]
-fn skins_morph_weights_and_animations_load_in_one_pose_with_a_notice_each() {
+fn skins_and_animations_load_in_one_pose_with_a_notice_each_and_morph_weights_apply() {
     let dir = tempfile::tempdir().unwrap();
     let mut d = triangle("{");
     let offsets = floats(&mut d, &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC3", "");
@@ -157,19 +157,53 @@ fn skins_morph_weights_and_animations_load_in_one_pose_with_a_notice_each() {
    "channels": [{{"sampler": 0, "target": {{"path": "weights"}}}}, {{"sampler": 0, "target": {{"node": 0, "path": "weights"}}}}]}}]"#
     );
     let s = scene::load_file(&write(dir.path(), "posed.gltf", with_members(&d, &members))).unwrap();
-    // The base shape: no morph offset, the mesh where its node puts it.
+    // The default pose: the base plus half the morph offset, the mesh where its node puts it.
     assert_eq!(s.stats.triangles, 1);
-    assert!(corners(&s).iter().all(|v| v.z == 0.0), "{:?}", corners(&s));
+    assert!(corners(&s).iter().all(|v| v.z == 0.5), "{:?}", corners(&s));
     assert_eq!(notice(&s, "skin(s) ignored: meshes are drawn in their bind pose"), Some(1), "{:?}", s.notices);
-    assert_eq!(notice(&s, "morph target(s) ignored"), Some(1), "{:?}", s.notices);
     assert_eq!(notice(&s, "animation(s) ignored: beam renders one pose"), Some(1), "{:?}", s.notices);
+    assert_eq!(s.notices.len(), 2, "{:?}", s.notices);
 
-    // Morph targets under zero weights are the default pose exactly: no notice.
-    let mut zero = d;
-    zero.meshes[0] = zero.meshes[0].replace(r#""weights": [0.5]"#, r#""weights": [0]"#);
-    zero.nodes[0] = r#"{"mesh": 0}"#.into();
-    let s = scene::load_file(&write(dir.path(), "zero.gltf", zero.gltf())).unwrap();
+    // A node's weights win over its mesh's; zero weights are the base shape; two nodes of the
+    // same mesh under different weights get their own shapes.
+    let mut two = d;
+    two.nodes[0] = r#"{"mesh": 0, "weights": [2]}"#.into();
+    two.roots = vec![0, two.node(r#"{"mesh": 0, "weights": [0], "translation": [5, 0, 0]}"#)];
+    let s = scene::load_file(&write(dir.path(), "two.gltf", two.gltf())).unwrap();
+    let z: Vec<f32> = corners(&s).iter().map(|v| v.z).collect();
+    assert_eq!(z, [2.0, 2.0, 2.0, 0.0, 0.0, 0.0], "{:?}", corners(&s));
     assert!(s.notices.is_empty(), "{:?}", s.notices);
+
+    // A weight past f32 and a target with the wrong number of elements are refused, naming them.
+    let mut huge = two.clone();
+    huge.nodes[0] = r#"{"mesh": 0, "weights": [1e39]}"#.into();
+    refused(dir.path(), "huge.gltf", huge.gltf(), &["node 0", "morph weight inf is not finite"]);
+    let mut bad = two;
+    let short = floats(&mut bad, &[0.0, 0.0, 1.0], "VEC3", "");
+    bad.meshes[0] =
+        bad.meshes[0].replace(&format!(r#""POSITION": {offsets}}}]"#), &format!(r#""POSITION": {short}}}]"#));
+    refused(
+        dir.path(),
+        "bad.gltf",
+        bad.gltf(),
+        &["mesh 0 primitive 0", "morph target 0 Position", "one element per vertex"],
+    );
+}
+
+#[test]
+fn morph_targets_move_normals_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut d = triangle("{");
+    // Normals along +z, and a target tilting them towards +x under weight 1: (1, 0, 1) unnormalized.
+    let normals = floats(&mut d, &[0.0, 0.0, 1.0].repeat(3), "VEC3", "");
+    let turn = floats(&mut d, &[1.0, 0.0, 0.0].repeat(3), "VEC3", "");
+    let targets = format!(r#", "targets": [{{"NORMAL": {turn}}}]"#);
+    let prim = format!(r#"{{"attributes": {{"POSITION": 0, "NORMAL": {normals}}}{targets}}}"#);
+    d.meshes[0] = format!(r#"{{"primitives": [{prim}], "weights": [1]}}"#);
+    let s = scene::load_file(&write(dir.path(), "normals.gltf", d.gltf())).unwrap();
+    let n = s.surfaces.normals[0];
+    let want = Vec3::new(1.0, 0.0, 1.0).normalize();
+    assert!(n.iter().all(|n| (*n - want).length() < 1e-5), "{n:?}");
 }
 
 /// The identity matrix (an inverse bind matrix).

@@ -8,7 +8,7 @@ use base64::Engine as _;
 use std::path::{Path, PathBuf};
 
 /// A glTF document being written: one buffer, and the JSON of its other arrays.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub(crate) struct Doc {
     pub bin: Vec<u8>,
     pub views: Vec<String>,

@@ -1,8 +1,8 @@
 //! glTF 2.0 scenes (`.gltf` JSON or `.glb` binary): the default scene's meshes with their node
 //! transforms (and `EXT_mesh_gpu_instancing` instances), the first camera ([`camera`]; an
 //! orthographic one approximated), `KHR_lights_punctual` lights, emissive triangles as area lights
-//! and the materials mapped to ours ([`materials`]). Skins, morph weights and animations are not
-//! applied: one pose is drawn, and each is noticed. `docs/gltf.md` lists what is read.
+//! and the materials mapped to ours ([`materials`]), morph targets under their default weights.
+//! Skins and animations are not applied: one pose is drawn, and each is noticed. `docs/gltf.md` lists what is read.
 //!
 //! Required extensions we do not read are refused by name first ([`extensions`]); the raw JSON is
 //! then typed ([`raw`]). The file is read once and bounded; its buffers are the GLB binary chunk, `data:` URIs, or files
@@ -80,7 +80,6 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     scene.notice("orthographic camera(s) approximated by a distant narrow perspective camera", orthographic);
     scene.notice("spot light(s) drawn as point lights: their cone is not kept", walked.spot_lights);
     scene.notice("skin(s) ignored: meshes are drawn in their bind pose", walked.skins);
-    scene.notice("morph target(s) ignored: meshes are drawn in their base shape, not their weights", walked.morphed);
     scene.notice("animation(s) ignored: beam renders one pose", raw.animations);
     let count = |f: fn(&gltf::Material) -> bool| document.materials().filter(f).count();
     let cut_outs = count(|m| m.alpha_mode() != gltf::material::AlphaMode::Opaque);

@@ -1,6 +1,7 @@
 //! One glTF mesh primitive as an indexed triangle mesh: its positions (finite), its triangles,
 //! strips or fans as index triples (each index checked against the positions), and the vertex
-//! attributes shading reads: texture coordinates `TEXCOORD_0` and `_1`, colours `COLOR_0`.
+//! attributes shading reads: texture coordinates `TEXCOORD_0` and `_1`, colours `COLOR_0`,
+//! normals; positions and normals in the default pose of the morph targets.
 
 use super::accessor;
 use crate::mesh::Mesh;
@@ -23,9 +24,10 @@ pub(super) struct Part {
 }
 
 /// The mesh of primitive `p` in its mesh's space with its attributes, or `None` for a point or
-/// line primitive (which has no area to render). Errors say what is wrong; the caller names the
-/// primitive.
-pub(super) fn triangles(p: &gltf::Primitive, buffers: &[Rc<Vec<u8>>]) -> Result<Option<Part>, String> {
+/// line primitive (which has no area to render), its morph targets applied under `weights` (the
+/// node's or mesh's, one per target; missing ones 0). Errors say what is wrong; the caller names
+/// the primitive.
+pub(super) fn triangles(p: &gltf::Primitive, buffers: &[Rc<Vec<u8>>], weights: &[f32]) -> Result<Option<Part>, String> {
     let mode = p.mode();
     if matches!(mode, Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip) {
         return Ok(None);
@@ -36,7 +38,8 @@ pub(super) fn triangles(p: &gltf::Primitive, buffers: &[Rc<Vec<u8>>]) -> Result<
     if position.dimensions() != Dimensions::Vec3 {
         return Err(format!("POSITION accessor {}: must be VEC3, not {:?}", position.index(), position.dimensions()));
     }
-    let xyz = accessor::floats(&position, buffers)?;
+    let mut xyz = accessor::floats(&position, buffers)?;
+    morph(p, buffers, weights, Target::Position, &mut xyz)?;
     if let Some(i) = xyz.iter().position(|x| !x.is_finite()) {
         return Err(format!("POSITION {} is not finite: {:?}", i / 3, &xyz[i / 3 * 3..i / 3 * 3 + 3]));
     }
@@ -79,7 +82,10 @@ pub(super) fn triangles(p: &gltf::Primitive, buffers: &[Rc<Vec<u8>>]) -> Result<
     if p.get(&gltf::Semantic::Normals).is_some_and(|a| a.dimensions() != Dimensions::Vec3) {
         return Err("its NORMAL attribute is not VEC3".into());
     }
-    let normal = attribute(p, buffers, gltf::Semantic::Normals, positions.len())?;
+    let mut normal = attribute(p, buffers, gltf::Semantic::Normals, positions.len())?;
+    if !normal.is_empty() {
+        morph(p, buffers, weights, Target::Normal, &mut normal)?;
+    }
     let normal =
         normal.chunks_exact(3).map(Vec3::from_slice).map(|n| if n.is_finite() { n } else { Vec3::ZERO }).collect();
     Ok(Some(Part { mesh: Mesh { positions, indices }, uv, color, normal }))
@@ -100,4 +106,38 @@ fn attribute(
         return Err(format!("{semantic:?} accessor {}: {} elements for {vertices} vertices", a.index(), a.count()));
     }
     accessor::floats(&a, buffers)
+}
+
+/// The morph-target attributes read (`TANGENT` is not: shading builds its own tangent frame).
+#[derive(Clone, Copy, Debug)]
+enum Target {
+    Position,
+    Normal,
+}
+
+/// Add to `values` (a VEC3 attribute of `p`, three components a vertex) each morph target's
+/// displacement of it times the target's weight (glTF 2.0 §3.7.2.2: the default pose is the base
+/// plus Σ wᵢ·targetᵢ); targets under weight 0 are not read.
+fn morph(
+    p: &gltf::Primitive,
+    buffers: &[Rc<Vec<u8>>],
+    weights: &[f32],
+    target: Target,
+    values: &mut [f32],
+) -> Result<(), String> {
+    for (i, (t, &w)) in p.morph_targets().zip(weights).enumerate() {
+        let accessor = match target {
+            Target::Position => t.positions(),
+            Target::Normal => t.normals(),
+        };
+        let Some(a) = accessor.filter(|_| w != 0.0) else { continue };
+        let name = format!("morph target {i} {target:?} accessor {}", a.index());
+        if a.dimensions() != Dimensions::Vec3 || a.count() != values.len() / 3 {
+            return Err(format!("{name}: must be VEC3 with one element per vertex ({})", values.len() / 3));
+        }
+        for (v, d) in values.iter_mut().zip(accessor::floats(&a, buffers)?) {
+            *v += w * d;
+        }
+    }
+    Ok(())
 }

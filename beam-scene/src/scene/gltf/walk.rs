@@ -1,7 +1,8 @@
 //! The node hierarchy of a glTF scene walked from its roots, each node's matrix composed with its
 //! parents': its mesh's triangles in world space (emissive ones also as triangle lights), once per
 //! `EXT_mesh_gpu_instancing` instance when it has them ([`instancing`]), its camera ([`camera`])
-//! and its `KHR_lights_punctual` light. Skins and morph weights are not applied, only counted.
+//! and its `KHR_lights_punctual` light. Morph targets are applied under the node's (else the
+//! mesh's) default weights; skins are not applied, only counted.
 
 use super::errors::error;
 use super::primitive::{self, Part};
@@ -26,6 +27,9 @@ use std::rc::Rc;
 /// memory estimate is made. Sixty times the Sponza atrium.
 const MAX_GLTF_TRIANGLES: usize = 1 << 25;
 
+/// A mesh read under morph weights: its index and the weights' bits (empty without targets).
+type MeshKey = (usize, Vec<u32>);
+
 /// What the walk found.
 pub(super) struct Walked {
     /// Triangles in world space with their material (degenerate ones included).
@@ -38,8 +42,6 @@ pub(super) struct Walked {
     pub orthographic: bool,
     /// Skins of the meshes placed (not applied: meshes are drawn in their bind pose).
     pub skins: usize,
-    /// Nodes placing a mesh with morph targets under non-zero weights (not applied).
-    pub morphed: usize,
     /// Texture coordinates and colours of the triangles' corners, with the materials' textures.
     pub surfaces: Surfaces,
     /// Point and line primitives skipped (once per mesh).
@@ -76,14 +78,13 @@ pub(super) fn walk(
         surfaces,
         orthographic: false,
         skins: 0,
-        morphed: 0,
         skipped_primitives: 0,
         skipped_lights: 0,
         spot_lights: 0,
     };
     let mut skinned = vec![false; document.skins().len()];
     let mut camera_index = usize::MAX;
-    let mut meshes: HashMap<usize, Vec<(Part, u32)>> = HashMap::new();
+    let mut meshes: HashMap<MeshKey, Vec<(Part, u32)>> = HashMap::new();
     let mut seen = vec![false; document.nodes().len()];
     let mut stack: Vec<(gltf::Node, Mat4)> = roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY)).collect();
     while let Some((node, parent)) = stack.pop() {
@@ -96,10 +97,16 @@ pub(super) fn walk(
             return Err(error(path, element, "its world matrix overflows (values must stay finite)"));
         }
         if let Some(mesh) = node.mesh() {
-            let parts = match meshes.entry(mesh.index()) {
+            let targets = mesh.primitives().any(|p| p.morph_targets().len() > 0);
+            let weights = if targets { node.weights().or(mesh.weights()).unwrap_or_default() } else { &[] };
+            if let Some(w) = weights.iter().find(|w| !w.is_finite()) {
+                return Err(error(path, element, format!("morph weight {w} is not finite")));
+            }
+            let key = (mesh.index(), weights.iter().map(|w| w.to_bits()).collect());
+            let parts = match meshes.entry(key) {
                 Entry::Occupied(e) => e.into_mut(),
                 Entry::Vacant(e) => {
-                    let (parts, skipped) = read_mesh(path, &mesh, buffers, materials.len() - 1)?;
+                    let (parts, skipped) = read_mesh(path, &mesh, buffers, weights, materials.len() - 1)?;
                     walked.skipped_primitives += skipped;
                     e.insert(parts)
                 }
@@ -121,9 +128,6 @@ pub(super) fn walk(
             if let Some(skin) = node.skin() {
                 walked.skins += usize::from(!std::mem::replace(&mut skinned[skin.index()], true));
             }
-            let targets = mesh.primitives().any(|p| p.morph_targets().len() > 0);
-            let weights = node.weights().or(mesh.weights()).unwrap_or_default();
-            walked.morphed += usize::from(targets && weights.iter().any(|&w| w != 0.0));
         }
         if let Some(c) = node.camera().filter(|c| c.index() < camera_index) {
             if let Some((cam, orthographic)) = camera::camera(path, document, c.index(), world)? {
@@ -171,18 +175,19 @@ fn local_matrix(path: &Path, element: &str, node: &gltf::Node) -> Result<Mat4, S
     if m.is_finite() { Ok(m) } else { Err(error(path, element, "its transform values must be finite")) }
 }
 
-/// The triangle meshes of `mesh`'s primitives with their material index (`default` for none), and
-/// how many point and line primitives were skipped.
+/// The triangle meshes of `mesh`'s primitives under the morph `weights` with their material index
+/// (`default` for none), and how many point and line primitives were skipped.
 fn read_mesh(
     path: &Path,
     mesh: &gltf::Mesh,
     buffers: &[Rc<Vec<u8>>],
+    weights: &[f32],
     default: usize,
 ) -> Result<(Vec<(Part, u32)>, usize), SceneError> {
     let (mut parts, mut skipped) = (Vec::new(), 0);
     for p in mesh.primitives() {
         let element = format!("mesh {} primitive {}", mesh.index(), p.index());
-        match primitive::triangles(&p, buffers).map_err(|e| error(path, element, e))? {
+        match primitive::triangles(&p, buffers, weights).map_err(|e| error(path, element, e))? {
             Some(m) => parts.push((m, p.material().index().unwrap_or(default) as u32)),
             None => skipped += 1,
         }
