@@ -5,7 +5,7 @@
 
 use super::coverage::{PixelGrid, pixel_parts};
 use super::hard_shadow::lit_pieces;
-use super::primary_beam::{point_on_triangle, visible_surface_within};
+use super::primary_beam::{TrianglePlane, visible_surface_within};
 use super::shadow_beam::BeamStats;
 use beam_math::glam::{Vec2, Vec3};
 use beam_math::polybeam::BeamFrame;
@@ -20,6 +20,9 @@ pub const TILE: u32 = 16;
 /// beam for a large region walks the top of the BVH once and splits a visible triangle only where
 /// it crosses a region's edge; a smaller frame gets smaller regions ([`region_side`]).
 pub const REGION: u32 = 256;
+
+/// Offset of the 2 × 2 Gauss points from a pixel's centre, in pixels: ½ / √3.
+const GAUSS: f32 = 0.288_675_13;
 
 /// Regions a frame is cut into at least, where the smallest side allows: enough to share among
 /// threads (a 128² frame in one region traced on one core).
@@ -104,8 +107,9 @@ pub(crate) enum Fragment<'a> {
     /// The part of a surface fragment lit by point light `light` (001 §4.2); its light is added to
     /// the surface fragment's, which then leaves that light out. The light varies fast near the
     /// light, so it is integrated over the fragment: `points` are the surface points of a quadrature
-    /// exact for quadratics on the image plane (edge midpoints of a fan around the centroid), with
-    /// weights summing to the coverage.
+    /// on the image plane with weights summing to the coverage, exact for cubics on a whole pixel
+    /// (2 × 2 Gauss points) and for quadratics on a part of one (edge midpoints of a fan around the
+    /// centroid).
     Lit { light: usize, prim: u32, points: &'a [(f32, Vec3)] },
 }
 
@@ -194,9 +198,9 @@ pub(crate) fn region_fragments(
             continue;
         };
         seen_prims[prim as usize] = true;
-        let tri = &scene.triangles[prim as usize];
+        let plane = TrianglePlane::new(&frame, &scene.triangles[prim as usize]);
         pixel_parts(grid, &piece.section, window, |x, y, cov, part| {
-            if let Some(q) = point_on_triangle(&frame, tri, grid.to_image(part.centroid())) {
+            if let Some(q) = plane.point(&frame, grid.to_image(part.centroid())) {
                 fragment(x, y, cov, Fragment::Surface { prim, q, d: (q - frame.apex).normalize() });
             }
         });
@@ -208,14 +212,25 @@ pub(crate) fn region_fragments(
             stats.shadow_beams += 1;
             for lit in lit_pieces(&scene.bvh, &scene.triangles, &frame, piece, position, &mut stats.shadow) {
                 pixel_parts(grid, &lit.section, window, |x, y, cov, part| {
-                    let (v, c) = (part.vertices(), part.centroid());
                     points.clear();
-                    for i in 0..v.len() {
-                        let (a, b) = (v[i], v[(i + 1) % v.len()]);
-                        // Pixel units: the areas are fractions of the pixel already.
-                        let w = (a - c).perp_dot(b - c).abs() / 6.0;
-                        for m in [0.5 * (c + a), 0.5 * (a + b), 0.5 * (b + c)] {
-                            points.extend(point_on_triangle(&frame, tri, grid.to_image(m)).map(|q| (w, q)));
+                    let mut add =
+                        |w: f32, m: Vec2| points.extend(plane.point(&frame, grid.to_image(m)).map(|q| (w, q)));
+                    let v = part.vertices();
+                    if v.len() == 4 && cov >= 1.0 - 1e-6 {
+                        // The whole pixel: the 2 × 2 Gauss rule, exact for cubics.
+                        let c = Vec2::new(x as f32, y as f32) + 0.5;
+                        for (dx, dy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+                            add(cov / 4.0, c + GAUSS * Vec2::new(dx, dy));
+                        }
+                    } else {
+                        let c = part.centroid();
+                        for i in 0..v.len() {
+                            let (a, b) = (v[i], v[(i + 1) % v.len()]);
+                            // Pixel units: the areas are fractions of the pixel already.
+                            let w = (a - c).perp_dot(b - c).abs() / 6.0;
+                            for m in [0.5 * (c + a), 0.5 * (a + b), 0.5 * (b + c)] {
+                                add(w, m);
+                            }
                         }
                     }
                     fragment(x, y, cov, Fragment::Lit { light, prim, points: &points });

@@ -13,7 +13,7 @@ use super::eye_budget::eye_trace_seconds;
 use super::shadow_beam::BeamStats;
 use beam_bvh::FlatBvh;
 use beam_math::Triangle;
-use beam_math::glam::{Vec2, Vec3};
+use beam_math::glam::{DVec3, Vec2, Vec3};
 use beam_math::polybeam::{BeamFrame, KEEP_CORNERS, Part, ProjectedTriangle, Section, merge, split_section};
 use node_view::NodeView;
 use piece::InverseDepth;
@@ -349,18 +349,33 @@ pub fn point_on_piece(frame: &BeamFrame, piece: &Piece, c: Vec2) -> Option<Vec3>
     (inv > 0.0).then(|| frame.apex + (frame.point(c) - frame.apex) / inv)
 }
 
-/// The point of `tri`'s plane seen through the image point `c` of `frame`: where the view ray
-/// meets the plane, in double precision; `None` along the plane or behind the apex. Where a piece's
-/// inverse depth ([`point_on_piece`]) is read from far away, its f32 plane puts the point up to
-/// about 1e-4 of the scene's size off the surface, behind it as often as in front, and a shade
-/// point offset from there by the shading tolerance can lie behind its own triangle.
-#[must_use]
-pub(crate) fn point_on_triangle(frame: &BeamFrame, tri: &Triangle, c: Vec2) -> Option<Vec3> {
-    let (o, d) = (frame.apex.as_dvec3(), (frame.point(c) - frame.apex).as_dvec3());
-    let [a, b, e] = tri.v.map(|v| v.as_dvec3());
-    let n = (b - a).cross(e - a);
-    let t = (a - o).dot(n) / d.dot(n);
-    (t.is_finite() && t > 0.0).then(|| (o + t * d).as_vec3())
+/// A triangle's plane seen from a beam frame's apex, in double precision: its normal `n` (not
+/// unit) and the apex's height over it times `|n|`, set up once for the points of a piece.
+pub(crate) struct TrianglePlane {
+    apex: DVec3,
+    n: DVec3,
+    height: f64,
+}
+
+impl TrianglePlane {
+    pub(crate) fn new(frame: &BeamFrame, tri: &Triangle) -> Self {
+        let apex = frame.apex.as_dvec3();
+        let [a, b, e] = tri.v.map(|v| v.as_dvec3());
+        let n = (b - a).cross(e - a);
+        Self { apex, n, height: (a - apex).dot(n) }
+    }
+
+    /// The point of the plane seen through the image point `c` of `frame`: where the view ray
+    /// meets the plane, in double precision; `None` along the plane or behind the apex. Where a
+    /// piece's inverse depth ([`point_on_piece`]) is read from far away, its f32 plane puts the
+    /// point up to about 1e-4 of the scene's size off the surface, behind it as often as in front,
+    /// and a shade point offset from there by the shading tolerance can lie behind its own triangle.
+    #[must_use]
+    pub(crate) fn point(&self, frame: &BeamFrame, c: Vec2) -> Option<Vec3> {
+        let d = (frame.point(c) - frame.apex).as_dvec3();
+        let t = self.height / d.dot(self.n);
+        (t.is_finite() && t > 0.0).then(|| (self.apex + t * d).as_vec3())
+    }
 }
 
 #[cfg(test)]

@@ -65,6 +65,8 @@ pub(super) struct Context<'a> {
     pub(super) emitters: Vec<Emitter>,
     /// The scene's cut-out triangles, when it has any.
     pub(super) cut_outs: Option<CutOuts<'a>>,
+    /// Whether a shade point may gather light other than point lights' (an area light, the sky).
+    pub(super) area_or_sky: bool,
 }
 
 impl<'a> Context<'a> {
@@ -80,7 +82,9 @@ impl<'a> Context<'a> {
         }
         let emitters = lights.iter().map(Emitter::of).collect();
         let cut_outs = CutOuts::of(scene);
-        Self { scene, options: *options, eps: shading_eps(scene), peer, caustics, lights, emitters, cut_outs }
+        let area_or_sky = lights.iter().any(|l| !matches!(l, Light::Point { .. })) || !scene.environment.is_black();
+        let eps = shading_eps(scene);
+        Self { scene, options: *options, eps, peer, caustics, lights, emitters, cut_outs, area_or_sky }
     }
 
     /// Whether the shadow ray from `origin` along `direction` meets a surface below `t_max`;

@@ -6,6 +6,7 @@
 //! and material boundaries keep their fragments apart, so their coverage stays exact.
 
 use super::context::Surface;
+use crate::render::eye_regions::{Region, TILE};
 use beam_scene::scene::Scene;
 
 /// Cosine of the largest angle between the normals of fragments shaded as one.
@@ -14,11 +15,44 @@ const SMOOTH: f32 = 0.906; // 25°
 /// Largest relative difference of the distances along the view of fragments shaded as one.
 const CONTINUOUS: f32 = 0.05;
 
+/// Order the fragments of `window`'s pixels as they are shaded: tile by tile of the frame's grid
+/// (rows of tiles, each left to right), row by row within a tile, each pixel's largest coverage
+/// first. Stable, and linear in the fragments: a counting sort on the pixel's place in that order,
+/// then each pixel's few fragments by coverage.
+pub(super) fn sort_by_tile(surfaces: &mut Vec<Surface>, window: Region) {
+    if surfaces.is_empty() {
+        return;
+    }
+    let (tx0, ty0) = (window.x0 / TILE, window.y0 / TILE);
+    let columns = (window.x1.div_ceil(TILE) - tx0) as usize;
+    let rows = (window.y1.div_ceil(TILE) - ty0) as usize;
+    let place = |s: &Surface| {
+        debug_assert!((window.x0..window.x1).contains(&s.x) && (window.y0..window.y1).contains(&s.y));
+        let tile = (s.y / TILE - ty0) as usize * columns + (s.x / TILE - tx0) as usize;
+        (tile * TILE as usize + (s.y % TILE) as usize) * TILE as usize + (s.x % TILE) as usize
+    };
+    let mut start = vec![0usize; rows * columns * (TILE * TILE) as usize + 1];
+    for s in surfaces.iter() {
+        start[place(s) + 1] += 1;
+    }
+    for i in 1..start.len() {
+        start[i] += start[i - 1];
+    }
+    let mut sorted = surfaces.clone();
+    for s in surfaces.iter() {
+        let at = &mut start[place(s)];
+        sorted[*at] = *s;
+        *at += 1;
+    }
+    for pixel in sorted.chunk_by_mut(|a, b| (a.x, a.y) == (b.x, b.y)) {
+        pixel.sort_by(|a, b| b.weight.total_cmp(&a.weight));
+    }
+    *surfaces = sorted;
+}
+
 /// Merge each pixel's fragments that see one smooth stretch of surface into the largest of them
-/// (its coverage the sum of theirs). `surfaces` is left sorted by pixel, row by row.
+/// (its coverage the sum of theirs). `surfaces` come as [`sort_by_tile`] leaves them, and stay so.
 pub(super) fn merge_smooth(scene: &Scene, camera: beam_math::glam::Vec3, surfaces: &mut Vec<Surface>) {
-    // By pixel, largest coverage first.
-    surfaces.sort_by(|a, b| (a.y, a.x).cmp(&(b.y, b.x)).then(b.weight.total_cmp(&a.weight)));
     let mut kept = 0;
     let mut start = 0;
     while start < surfaces.len() {

@@ -104,6 +104,10 @@ impl Context<'_> {
         rng: &mut Pcg32,
         t: &mut Thread,
     ) -> Vec3 {
+        if lights == Lights::AreaOnly && !self.area_or_sky {
+            // Point lights alone, and those come from lit fragments: nothing to gather (nor to time).
+            return Vec3::ZERO;
+        }
         let start = (self.options.method == Method::Beam).then(Instant::now);
         let facing = if first { t.facing.take() } else { None };
         // The sky's faces as lights, unless a cut-out may hide one ([`Context::sky_behind_cut_outs`]).
@@ -152,23 +156,29 @@ impl Context<'_> {
         }
     }
 
-    /// Radiance towards `−d` of diffuse or glossy point `q` of `prim` from point light `light`,
-    /// unoccluded: the fragment is known to be lit (001 §4.2).
-    pub(super) fn point_lit(&self, prim: u32, q: Vec3, d: Vec3, light: usize) -> Vec3 {
+    /// Radiance towards the camera at `camera` of the diffuse or glossy points of `prim` from point
+    /// light `light`, unoccluded (the fragment is known to be lit, 001 §4.2), summed over `points`
+    /// with their weights (a quadrature over the fragment).
+    pub(super) fn point_lit(&self, prim: u32, points: &[(f32, Vec3)], camera: Vec3, light: usize) -> Vec3 {
         let (Light::Point { position, intensity }, Material::Diffuse { .. } | Material::Glossy { .. }) =
             (self.scene.lights[light], self.scene.material(prim))
         else {
             return Vec3::ZERO;
         };
-        let albedo = self.scene.albedo_at(prim, q);
+        let Some(&(_, q0)) = points.first() else { return Vec3::ZERO };
+        // One side of the triangle's plane faces the camera for all its points.
         let mut n = self.scene.normal(prim);
-        if n.dot(d) > 0.0 {
+        if n.dot(q0 - camera) > 0.0 {
             n = -n;
         }
-        let to = position - q;
-        let r2 = to.length_squared();
-        let cos = self.scene.mapped_normal(prim, q, n).dot(to) / r2.sqrt();
-        albedo / std::f32::consts::PI * intensity * cos.max(0.0) / r2
+        let mut sum = Vec3::ZERO;
+        for &(weight, q) in points {
+            let to = position - q;
+            let r2 = to.length_squared();
+            let cos = self.scene.mapped_normal(prim, q, n).dot(to) / r2.sqrt();
+            sum += weight * self.scene.albedo_at(prim, q) * cos.max(0.0) / r2;
+        }
+        sum / std::f32::consts::PI * intensity
     }
 
     /// Irradiance per unit radiance from area light `index`.
@@ -255,7 +265,7 @@ impl Context<'_> {
         let shadow_before = t.c.shadow_seconds;
         self.cull_lights(surfaces, t);
         t.partial.clear();
-        if self.options.method == Method::Beam {
+        if self.options.method == Method::Beam && (lights == Lights::All || self.area_or_sky) {
             let start = Instant::now();
             points.clear();
             points.extend(

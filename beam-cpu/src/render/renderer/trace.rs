@@ -3,7 +3,7 @@
 //! what they see a tile at a time ([`Context::shade_tile`]).
 
 use super::context::{Context, Lights, SHADE_SEED, Surface, Thread};
-use super::shade_points::merge_smooth;
+use super::shade_points::{merge_smooth, sort_by_tile};
 use super::shading::stratified;
 use super::stats::Counters;
 use crate::render::eye_budget::{eye_beam_seconds, eye_budget};
@@ -118,9 +118,7 @@ impl Trace<'_> {
                     surfaces.push(Surface { x, y, weight: cov, prim, q, d, seed: (self.seed)(x, y) });
                 }
                 Fragment::Lit { light, prim, points } => {
-                    for &(weight, q) in points {
-                        pixels[i] += weight * ctx.point_lit(prim, q, q - camera.position, light);
-                    }
+                    pixels[i] += ctx.point_lit(prim, points, camera.position, light)
                 }
             }
         });
@@ -134,10 +132,10 @@ impl Trace<'_> {
             return rays;
         }
         t.c.fragments += surfaces.len() as u64;
-        merge_smooth(ctx.scene, camera.position, &mut surfaces);
         // Shaded tile by tile (the frame's grid), so that neighbouring points share their candidate
         // occluders.
-        surfaces.sort_by_key(tile_of);
+        sort_by_tile(&mut surfaces, window);
+        merge_smooth(ctx.scene, camera.position, &mut surfaces);
         t.c.primary += eye.primary;
         t.c.beams += eye.shadow;
         t.c.shadow_beams += eye.shadow_beams;
@@ -161,8 +159,8 @@ impl Trace<'_> {
         let mut pixels = vec![Vec3::ZERO; window.len()];
         self.primary_hits(window, RAY_GRID, &mut seen, &mut surfaces, (&mut pixels, window), &mut t);
         t.c.fragments += surfaces.len() as u64;
+        sort_by_tile(&mut surfaces, window);
         merge_smooth(ctx.scene, camera.position, &mut surfaces);
-        surfaces.sort_by_key(tile_of);
         t.c.shade_points += surfaces.len() as u64;
         t.c.ray_pixels += window.len() as u64;
         t.c.primary_seconds += start.elapsed().as_secs_f64();
