@@ -76,7 +76,11 @@ fn a_budgeted_render_does_not_depend_on_the_threads_or_the_rectangle() {
             same(&format!("{what}, {threads} threads"), &one, PixelRect::full(w, h), &on(threads, None).0);
         }
         for rect in rects(w, h) {
-            same(&what, &one, rect, &on(2, Some(rect)).0);
+            let (image, stats) = on(2, Some(rect));
+            same(&what, &one, rect, &image);
+            // A share of the rectangle's pixels, though whole rows of tiles around it are shaded.
+            let share = stats.exact_pixel_share;
+            assert!((0.0..=1.0).contains(&share), "{what}, {rect:?}: exact pixel share {share}");
         }
     }
 }

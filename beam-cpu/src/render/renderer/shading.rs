@@ -299,7 +299,10 @@ impl Context<'_> {
                 inexact[((s.y - y0) * TILE + s.x - x0) as usize] = true;
             }
         }
-        t.c.inexact_pixels += inexact.iter().filter(|&&i| i).count() as u64;
+        // Only the pixels asked for: a crop shades whole rows of tiles around itself.
+        let crop = self.options.region();
+        let asked = |i: usize| crop.contains(x0 + i as u32 % TILE, y0 + i as u32 / TILE);
+        t.c.inexact_pixels += (0..inexact.len()).filter(|&i| inexact[i] && asked(i)).count() as u64;
         t.facing = None;
         t.c.shading_seconds += start.elapsed().as_secs_f64() - (t.c.shadow_seconds - shadow_before);
     }
