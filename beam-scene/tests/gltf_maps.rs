@@ -9,7 +9,7 @@ use base64::Engine as _;
 use beam_scene::beam_math::Ray;
 use beam_scene::beam_math::glam::Vec3;
 use beam_scene::scene::{self, Scene};
-use common::{Doc, primitive, write};
+use common::{Doc, primitive, refused, write};
 
 /// A 2 × 1 RGBA PNG: opaque white on the left (u < ½), transparent white on the right.
 fn half_transparent_png() -> String {
@@ -155,4 +155,47 @@ fn vertex_normals_shade_through_the_node_transform() {
     let mid = s.mapped_normal(0, Vec3::new(1.0, 0.0, 0.0), -Vec3::Z);
     let want = -(want + Vec3::Z).normalize();
     assert!((mid - want).length() < 1e-5, "{mid} against {want}");
+}
+
+/// A triangle spanning x, y ∈ [0, 4] at z = 0 with texture coordinates `(x, y) / 4`, whose normal
+/// texture (a 2 × 1 PNG, nearest: tilted towards +x on the left half, −x on the right) is read
+/// through the `KHR_texture_transform` `transform` (JSON members, or none): the `.gltf` text.
+fn tilted(transform: Option<&str>) -> String {
+    let image = image::RgbImage::from_raw(2, 1, vec![255, 128, 255, 0, 128, 255]).unwrap();
+    let mut png = std::io::Cursor::new(Vec::new());
+    image.write_to(&mut png, image::ImageFormat::Png).unwrap();
+    let png = base64::engine::general_purpose::STANDARD.encode(png.into_inner());
+    let mut d = Doc::default();
+    let p = d.positions(&[[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]]);
+    let uv = d.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC2", 2);
+    let prim = primitive(p, None, Some(0), "").replacen('}', &format!(r#", "TEXCOORD_0": {uv}}}"#), 1);
+    let m = d.mesh(&[prim]);
+    d.roots = vec![d.node(&format!(r#"{{"mesh": {m}}}"#))];
+    let extension =
+        transform.map_or(String::new(), |t| format!(r#", "extensions": {{"KHR_texture_transform": {{{t}}}}}"#));
+    d.materials = vec![format!(
+        r#"{{"normalTexture": {{"index": 0{extension}}}, "pbrMetallicRoughness": {{"metallicFactor": 0}}}}"#
+    )];
+    let images = format!(
+        r#""images": [{{"uri": "data:image/png;base64,{png}"}}], "samplers": [{{"magFilter": 9728}}], "textures": [{{"source": 0, "sampler": 0}}]"#
+    );
+    let json = d.gltf();
+    format!("{{{images},\n{}", &json[1..])
+}
+
+#[test]
+fn a_normal_texture_is_read_through_its_texture_transform() {
+    let dir = tempfile::tempdir().unwrap();
+    // At x = 0.5 the coordinates are u = 0.125: the left texel, tilted towards +x.
+    let x_of = |name: &str, transform| {
+        let s = scene::load_file(&write(dir.path(), name, tilted(transform))).unwrap();
+        s.mapped_normal(0, Vec3::new(0.5, 0.5, 0.0), Vec3::Z).x
+    };
+    assert!(x_of("plain.gltf", None) > 0.5);
+    // Offset by half the image, the same point reads the right texel; scaled by 5, too (u = 0.625).
+    assert!(x_of("offset.gltf", Some(r#""offset": [0.5, 0]"#)) < -0.5);
+    assert!(x_of("scaled.gltf", Some(r#""scale": [5, 1]"#)) < -0.5);
+    // A transform that does not fit the extension's schema is refused, naming it.
+    let bad = tilted(Some(r#""offset": "left""#));
+    refused(dir.path(), "bad.gltf", bad, &["materials[0].normalTexture.extensions.KHR_texture_transform"]);
 }

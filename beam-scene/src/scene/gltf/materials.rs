@@ -1,6 +1,6 @@
 //! glTF materials mapped to ours, from their factors, with the textures that multiply them
 //! ([`MaterialMaps`]: `baseColorTexture` and `emissiveTexture`, their `texCoord` set and
-//! `KHR_texture_transform`):
+//! `KHR_texture_transform`; the normal texture's too):
 //!
 //! - an emissive factor (times `KHR_materials_emissive_strength`) above zero → [`Material::Emissive`]
 //!   (its triangles also become area lights);
@@ -22,6 +22,8 @@ use crate::error::SceneError;
 use crate::scene::material::{Bump, Material};
 use crate::scene::surface::{AlphaCut, MaterialMaps, NormalMap, TextureRef};
 use beam_math::glam::{Affine2, Vec2, Vec3};
+use gltf::json::extensions::texture::TextureTransform;
+use std::collections::HashMap;
 use std::path::Path;
 
 /// Roughest metal that is still a mirror.
@@ -32,10 +34,12 @@ pub(super) const DEFAULT: Material = Material::Diffuse { albedo: Vec3::splat(0.7
 
 /// Our material for each of `document`'s materials, in order, then [`DEFAULT`] (the material of
 /// primitives that name none, at index `document.materials().len()`); and the textures of each
-/// (their indices glTF texture indices).
+/// (their indices glTF texture indices); `normal_transforms` the normal textures'
+/// `KHR_texture_transform` by material.
 pub(super) fn map_all(
     path: &Path,
     document: &gltf::Document,
+    normal_transforms: &HashMap<usize, TextureTransform>,
 ) -> Result<(Vec<Material>, Vec<MaterialMaps>), SceneError> {
     let mut out = Vec::with_capacity(document.materials().len() + 1);
     let mut maps = Vec::with_capacity(document.materials().len() + 1);
@@ -58,13 +62,13 @@ pub(super) fn map_all(
             gltf::material::AlphaMode::Mask => cut(Some(m.alpha_cutoff().filter(|c| c.is_finite()).unwrap_or(0.5))),
             gltf::material::AlphaMode::Blend => cut(None),
         };
-        let normal = m.normal_texture().filter(|_| reflecting).map(|t| NormalMap {
-            texture: TextureRef {
-                texture: t.texture().index() as u32,
-                tex_coord: t.tex_coord().min(1) as u8,
-                transform: Affine2::IDENTITY,
-            },
-            scale: if t.scale().is_finite() { t.scale() } else { 1.0 },
+        let normal = m.normal_texture().filter(|_| reflecting).map(|t| {
+            let transform = m.index().and_then(|i| normal_transforms.get(&i));
+            let transform = transform.map(|t| (t.offset.0, t.rotation.0, t.scale.0, t.tex_coord));
+            NormalMap {
+                texture: texture_ref(t.texture().index(), t.tex_coord(), transform),
+                scale: if t.scale().is_finite() { t.scale() } else { 1.0 },
+            }
         });
         out.push(material);
         maps.push(MaterialMaps { base_color, emissive, alpha, normal });
@@ -77,15 +81,27 @@ pub(super) fn map_all(
 /// Where the texture `info` is read: its texture, coordinate set and `KHR_texture_transform`
 /// (`offset · rotation · scale`, whose `texCoord` overrides the info's).
 fn reference(info: &gltf::texture::Info) -> TextureRef {
-    let (mut tex_coord, mut transform) = (info.tex_coord(), Affine2::IDENTITY);
-    if let Some(t) = info.texture_transform() {
-        let finite = |v: [f32; 2]| Vec2::from_array(v).is_finite().then(|| Vec2::from_array(v));
-        let (scale, offset) = (finite(t.scale()).unwrap_or(Vec2::ONE), finite(t.offset()).unwrap_or(Vec2::ZERO));
-        let rotation = if t.rotation().is_finite() { t.rotation() } else { 0.0 };
-        transform = Affine2::from_scale_angle_translation(scale, rotation, offset);
-        tex_coord = t.tex_coord().unwrap_or(tex_coord);
+    let transform = info.texture_transform().map(|t| (t.offset(), t.rotation(), t.scale(), t.tex_coord()));
+    texture_ref(info.texture().index(), info.tex_coord(), transform)
+}
+
+/// A `KHR_texture_transform`: offset, rotation, scale and the `texCoord` that overrides the set.
+type Transform = ([f32; 2], f32, [f32; 2], Option<u32>);
+
+/// Texture `texture` read through coordinate set `tex_coord` and `transform` (`offset · rotation ·
+/// scale`; non-finite parts left out).
+fn texture_ref(texture: usize, tex_coord: u32, transform: Option<Transform>) -> TextureRef {
+    let Some((offset, rotation, scale, set)) = transform else {
+        return TextureRef { texture: texture as u32, tex_coord: tex_coord.min(1) as u8, transform: Affine2::IDENTITY };
+    };
+    let finite = |v: [f32; 2]| Vec2::from_array(v).is_finite().then(|| Vec2::from_array(v));
+    let (scale, offset) = (finite(scale).unwrap_or(Vec2::ONE), finite(offset).unwrap_or(Vec2::ZERO));
+    let rotation = if rotation.is_finite() { rotation } else { 0.0 };
+    TextureRef {
+        texture: texture as u32,
+        tex_coord: set.unwrap_or(tex_coord).min(1) as u8,
+        transform: Affine2::from_scale_angle_translation(scale, rotation, offset),
     }
-    TextureRef { texture: info.texture().index() as u32, tex_coord: tex_coord.min(1) as u8, transform }
 }
 
 /// Our material for the glTF material `m`, its factors checked (colours finite and ≥ 0, the

@@ -47,7 +47,7 @@ pub(super) fn load_gltf(path: &Path, options: &LoadOptions) -> Result<Scene, Sce
     let (gltf::Gltf { document, blob }, raw) = parse(path, json_or_glb)?;
     drop(data);
     let buffers = buffers::load(path, &document, blob, options)?;
-    let (materials, mut maps) = materials::map_all(path, &document)?;
+    let (materials, mut maps) = materials::map_all(path, &document, &raw.normal_transforms)?;
     let emissive_maps = maps.iter().filter(|m| m.emissive.is_some()).count();
     let (textures, unread_normal_maps) = textures::load(path, &document, &buffers, options, &mut maps)?;
     if maps.iter().all(MaterialMaps::is_empty) {

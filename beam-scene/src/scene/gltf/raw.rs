@@ -2,13 +2,15 @@
 //! cannot type or keep is dealt with: required extensions checked ([`extensions::check`]);
 //! animations removed and counted (beam renders one pose, and the crate refuses a channel whose
 //! target has no `node`, which the schema allows); a scene without `nodes` given none; each node's
-//! `EXT_mesh_gpu_instancing` attributes kept. A document that does not fit the schema's types is
+//! `EXT_mesh_gpu_instancing` attributes kept, and each normal texture's `KHR_texture_transform`
+//! (the crate reads that extension on other textures only). A document that does not fit the schema's types is
 //! an error naming the first element that does not (`nodes[3]: invalid type: …`).
 
 use super::errors::{error, file_error};
 use super::extensions;
 use crate::error::SceneError;
 use crate::read::clip;
+use gltf::json::extensions::texture::TextureTransform;
 use gltf::json::{self, Value};
 use serde::Deserialize;
 use serde::de::DeserializeOwned;
@@ -33,6 +35,8 @@ pub(super) struct Raw {
     pub animations: usize,
     /// Node index → its instancing attributes.
     pub instancing: HashMap<usize, Instancing>,
+    /// Material index → its normal texture's `KHR_texture_transform`.
+    pub normal_transforms: HashMap<usize, TextureTransform>,
 }
 
 /// Check and adjust the raw document `root` in place (see the module), and take from it what the
@@ -75,6 +79,13 @@ pub(super) fn prepare(path: &Path, root: &mut Value) -> Result<Raw, SceneError> 
             scale: accessor("SCALE")?,
         };
         raw.instancing.insert(i, instancing);
+    }
+    for (i, material) in extensions::array(root, "materials").iter().enumerate() {
+        let at = ["normalTexture", "extensions", "KHR_texture_transform"];
+        let Some(v) = at.iter().try_fold(material, |v, key| v.get(key)) else { continue };
+        let transform = TextureTransform::deserialize(v)
+            .map_err(|e| error(path, format!("materials[{i}].{}", at.join(".")), clip(&e.to_string(), 200)))?;
+        raw.normal_transforms.insert(i, transform);
     }
     Ok(raw)
 }
