@@ -248,10 +248,10 @@ const SCENE: &str = "[camera]\nposition = [0, 1, 4]\ntarget = [0, 0.5, 0]\nup = 
     radiance = [10, 10, 10]\n\n[[lights]]\ntype = \"point\"\nposition = [0, 3, 0]\nintensity = [1, 1, 1]\n\n\
     [[lights]]\ntype = \"triangle\"\nvertices = [[0, 2, 0], [1, 2, 0], [0, 2, 1]]\nradiance = [1, 1, 1]\n";
 
-/// The MTL seed: a diffuse, an emissive, a glossy and a textured material (its image missing).
+/// The MTL seed: a diffuse, an emissive, a glossy and a textured material (its images missing).
 const MTL: &str = "# materials\nnewmtl white\n  Kd 0.7 0.7 0.7\n  Ka 0 0 0\n  illum 2\nnewmtl light\nKe 17 12 4\n\
     Kd 0.78\nnewmtl shiny\nKd 0 0 0\nKs 0.7 0.7 0.7\nNs 200\nd 0.5\nnewmtl tex\nKd 1 1 1\n\
-    map_Kd -s 1 1 1 textures\\t.png\nbump -bm 0.5 b.png\nnorm -s 1 1 1 n.png\n";
+    map_Kd -s 1 1 1 textures\\t.png\nbump -bm 0.5 b.png\nnorm -s 1 1 1 n.png\nmap_d -imfchan m a.png\n";
 
 /// The built-in OBJ seeds: [`MESH`] and one triangle.
 const MESHES: [&str; 2] = [MESH, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"];

@@ -29,6 +29,8 @@ pub struct MtlMaterial {
     /// The diffuse colour's texture (`map_Kd`): its file name as written (the statement's last
     /// word) and whether options (`-s`, `-o`, …) came before it, which are not applied.
     pub map_kd: Option<(String, bool)>,
+    /// The alpha map (`map_d`), as `map_kd`.
+    pub map_d: Option<(String, bool)>,
     /// The bump or normal map (`bump`, `map_bump`, `map_Bump`, `norm`; a `norm` wins over a bump,
     /// which is then counted in `maps`).
     pub bump: Option<MtlBump>,
@@ -61,6 +63,7 @@ impl MtlMaterial {
             ns: 0.0,
             ke: Vec3::ZERO,
             map_kd: None,
+            map_d: None,
             bump: None,
             maps: 0,
             dissolves: false,
@@ -96,10 +99,15 @@ pub fn parse_mtl(path: &Path, data: &[u8], quote_lines: bool) -> Result<Vec<MtlM
         let Some(m) = materials.last_mut() else {
             return fail(format!("`{keyword}` before any `newmtl`"));
         };
-        if keyword == "map_Kd" {
+        if matches!(keyword, "map_Kd" | "map_d") {
             let words: Vec<&str> = tokens.collect();
-            let Some(file) = words.last() else { return fail("`map_Kd` needs a file name".into()) };
-            m.map_kd = Some((file.to_string(), words.len() > 1));
+            let Some(file) = words.last() else { return fail(format!("`{keyword}` needs a file name")) };
+            let map = Some((file.to_string(), words.len() > 1));
+            if keyword == "map_Kd" {
+                m.map_kd = map
+            } else {
+                m.map_d = map
+            }
             continue;
         }
         if matches!(keyword, "bump" | "map_bump" | "map_Bump" | "norm") {

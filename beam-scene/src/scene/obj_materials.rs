@@ -10,18 +10,21 @@
 //!   bilinear);
 //! - a diffuse or glossy material's bump map (`bump`, `map_Bump`: heights, turned into normals with
 //!   its `-bm` multiplier, or a normal map as Blender writes them) or normal map (`norm`) bends its
-//!   shading normals as a glTF normal texture does ([`bump`](super::bump)).
+//!   shading normals as a glTF normal texture does ([`bump`](super::bump));
+//! - a diffuse or glossy material's alpha map (`map_d`: the image's alpha, or its grey level where
+//!   it has no alpha, as Blender reads it) cuts it out where that is below ½, as a glTF `MASK`
+//!   cut-out (leaves, fences).
 //!
 //! Faces before any `usemtl`, names no library defines and a library that is missing get the bare
 //! file's grey; a texture that is missing or in another format leaves `Kd` (or the faces flat);
-//! the other texture maps, map options other than `-bm`, dissolve and the specular part of a
-//! diffuse material are not read. Each of these is counted in one notice.
+//! the other texture maps, map options other than `-bm`, a constant dissolve (`d`, `Tr`) and the
+//! specular part of a diffuse material are not read. Each of these is counted in one notice.
 
 use super::bump::{height_to_normals, is_normal_map};
 use super::image_file::{MTL_IMAGES, decode_image};
 use super::load_options::LoadOptions;
 use super::material::Material;
-use super::surface::{MaterialMaps, NormalMap, TextureRef};
+use super::surface::{AlphaCut, MaterialMaps, NormalMap, TextureRef};
 use super::texture::{Filter, Texture, Wrap};
 use crate::error::SceneError;
 use crate::mesh::{DEFAULT_KD, MtlMaterial, ObjStats, parse_mtl};
@@ -29,6 +32,7 @@ use crate::read::{MAX_MESH_BYTES, MAX_SCENE_BYTES, clip, read_bounded, resolve_i
 use beam_math::glam::{Affine2, Vec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The materials of an OBJ file: per slot of [`ObjStats::triangle_materials`], with their textures
 /// (no maps when none has one), and the notices of what was not used, as `(what, count)`.
@@ -103,7 +107,7 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
                 (Material::Diffuse { albedo }, base_color)
             }
         };
-        let mut normal = None;
+        let (mut normal, mut alpha) = (None, None);
         if let Some((m, folder)) = defined.get(name) {
             other_maps += m.maps;
             dissolving += usize::from(m.dissolves);
@@ -122,9 +126,23 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
                 (Some(_), _) => other_maps += 1,
                 (None, _) => {}
             }
+            match (&m.map_d, material) {
+                (Some((file, with_options)), Material::Diffuse { .. } | Material::Glossy { .. }) => {
+                    textures.options += usize::from(*with_options);
+                    let texture = textures.read(folder, file, Kind::Alpha, stats, options);
+                    let texture = texture.map_err(in_material(path, name, "map_d"))?;
+                    alpha = texture.map(|(texture, _)| AlphaCut {
+                        factor: 1.0,
+                        texture: Some(texture_ref(texture)),
+                        cutoff: Some(0.5),
+                    });
+                }
+                (Some(_), _) => other_maps += 1,
+                (None, _) => {}
+            }
         }
         materials.push(material);
-        maps.push(MaterialMaps { base_color, normal, ..MaterialMaps::default() });
+        maps.push(MaterialMaps { base_color, normal, alpha, ..MaterialMaps::default() });
     }
     if textures.list.is_empty() {
         maps.clear();
@@ -136,9 +154,14 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
         ("OBJ texture image(s) (map_Kd) not PNG, JPEG, TGA or BMP: their materials' Kd used", textures.unreadable[0]),
         ("OBJ bump or normal map image(s) not found: their faces shaded flat", textures.absent[1]),
         ("OBJ bump or normal map image(s) not PNG, JPEG, TGA or BMP: their faces shaded flat", textures.unreadable[1]),
-        ("OBJ texture(s) (map_Kd, bump) not read: the faces have no texture coordinates (vt)", textures.without_uvs),
+        ("OBJ alpha map image(s) (map_d) not found: their faces drawn whole", textures.absent[2]),
+        ("OBJ alpha map image(s) (map_d) not PNG, JPEG, TGA or BMP: their faces drawn whole", textures.unreadable[2]),
+        (
+            "OBJ texture(s) (map_Kd, map_d, bump) not read: the faces have no texture coordinates (vt)",
+            textures.without_uvs,
+        ),
         ("OBJ texture option(s) (-s, -o, …; all but -bm) not applied", textures.options),
-        ("OBJ texture map(s) other than map_Kd and one bump or normal map not read", other_maps),
+        ("OBJ texture map(s) other than map_Kd, map_d and one bump or normal map not read", other_maps),
         ("partly transparent OBJ material(s) (d, Tr) drawn opaque", dissolving),
         ("specular part(s) (Ks) of diffuse OBJ materials not drawn", specular),
         ("OBJ material colour(s) above 1 clamped to 1", clamped),
@@ -174,27 +197,37 @@ fn texture_ref(texture: u32) -> TextureRef {
     TextureRef { texture, tex_coord: 0, transform: Affine2::IDENTITY }
 }
 
-/// How a map's image is read: as colour, or as a bump map (heights scaled by `-bm`, unless it is
-/// or looks like a normal map).
+/// How a map's image is read: as colour, as a bump map (heights scaled by `-bm`, unless it is
+/// or looks like a normal map), or as alpha ([`alpha_texels`]).
 #[derive(Clone, Copy)]
 enum Kind {
     Colour,
     Bump { normal: bool, scale: f32 },
+    Alpha,
 }
 
 /// A texture read: its index in [`Textures::list`] and whether it is a normal map.
 type Read = (u32, bool);
 
+/// An alpha map's texels as white of its alpha: the image's own alpha where any texel has some,
+/// else its grey level (the mean of its channels), as Blender reads `map_d`.
+fn alpha_texels(texels: &[[u8; 4]]) -> Arc<[[u8; 4]]> {
+    let has_alpha = texels.iter().any(|t| t[3] < u8::MAX);
+    let alpha =
+        |t: &[u8; 4]| if has_alpha { t[3] } else { ((u16::from(t[0]) + u16::from(t[1]) + u16::from(t[2])) / 3) as u8 };
+    texels.iter().map(|t| [u8::MAX, u8::MAX, u8::MAX, alpha(t)]).collect()
+}
+
 /// The maps' textures read so far, each file and kind decoded once, and the counts for the notices
-/// (`[colour, bump]`).
+/// (`[colour, bump, alpha]`).
 #[derive(Default)]
 struct Textures {
     list: Vec<Texture>,
     /// Index in `list` of each file read as a kind, and whether it is a normal map (`None`: it
     /// could not be read).
     by_file: HashMap<(PathBuf, [u32; 2]), Option<Read>>,
-    absent: [usize; 2],
-    unreadable: [usize; 2],
+    absent: [usize; 3],
+    unreadable: [usize; 3],
     without_uvs: usize,
     options: usize,
 }
@@ -219,6 +252,7 @@ impl Textures {
         let (slot, key) = match kind {
             Kind::Colour => (0, [0, 0]),
             Kind::Bump { normal, scale } => (1, [1 + u32::from(normal), scale.to_bits()]),
+            Kind::Alpha => (2, [3, 0]),
         };
         let file = (folder.join(&name), key);
         if let Some(&known) = self.by_file.get(&file) {
@@ -233,6 +267,7 @@ impl Textures {
                 Ok((width, height, texels)) => {
                     let (texels, normal) = match kind {
                         Kind::Colour => (texels, false),
+                        Kind::Alpha => (alpha_texels(&texels), false),
                         Kind::Bump { normal, .. } if normal || is_normal_map(&texels) => (texels, true),
                         Kind::Bump { scale, .. } => (height_to_normals(width, height, &texels, scale), false),
                     };
