@@ -21,40 +21,53 @@ const MARGIN: f32 = 0.1;
 /// diffuse surface facing the light comes out at radiance 0.8.
 const KEY_IRRADIANCE: f32 = 0.8 * std::f32::consts::PI;
 
-/// The box of what stands in the scene: the bounds of `triangles` without a ground, where there is
-/// one that is much wider than the rest. The ground is every horizontal triangle near the lowest
-/// height (within 2 % of the scene's width), and every triangle wider (along x or z) than half the
-/// scene and less than 2 % of its width high (a slab); it is left out only when something else
-/// remains and that is less than half as wide as the scene, so that a room (its floor at the
-/// bottom, walls as wide) is framed whole.
+/// The box of what stands in the scene: the bounds of `triangles` without its ground
+/// ([`ground`]), down to the ground (so that the view includes its contact).
 #[must_use]
 pub fn object_bounds(triangles: &[Triangle]) -> Aabb {
+    let bounds = |keep: &dyn Fn(usize) -> bool| {
+        let kept = triangles.iter().enumerate().filter(|&(i, t)| t.is_valid() && keep(i));
+        kept.fold(Aabb::EMPTY, |b, (_, t)| t.v.iter().fold(b, |b, &v| b.grow(v)))
+    };
+    let all = bounds(&|_| true);
+    match ground(triangles) {
+        Some(ground) => {
+            let rest = bounds(&|i| !ground[i]);
+            let floor = all.min.y.max(rest.min.y - rest.extent().y);
+            Aabb::new(Vec3::new(rest.min.x, rest.min.y.min(floor), rest.min.z), rest.max)
+        }
+        None => all,
+    }
+}
+
+/// Which of `triangles` are a ground much wider than what stands on it, or `None` where there is
+/// none. The ground is every horizontal triangle near the lowest height (within 2 % of the scene's
+/// width), and every triangle wider (along x or z) than half the scene and less than 2 % of its
+/// width high (a slab); it counts only when something else remains and that is less than half as
+/// wide as the scene, so that a room (its floor at the bottom, walls as wide) has none.
+#[must_use]
+pub fn ground(triangles: &[Triangle]) -> Option<Vec<bool>> {
     let all = triangles.iter().filter(|t| t.is_valid()).fold(Aabb::EMPTY, |b, t| t.v.iter().fold(b, |b, &v| b.grow(v)));
     if !all.is_valid() {
-        return all;
+        return None;
     }
     let width = all.extent().x.max(all.extent().z);
     let thin = 0.02 * width;
-    let ground = |t: &Triangle| {
-        let b = t.v.iter().fold(Aabb::EMPTY, |b, &v| b.grow(v));
-        let span = b.extent();
-        let wide = span.x.max(span.z) > 0.5 * width;
-        (span.y <= 1e-4 * width && b.min.y <= all.min.y + thin) || (wide && span.y <= thin)
-    };
+    let mask: Vec<bool> = triangles
+        .iter()
+        .map(|t| {
+            let b = t.v.iter().fold(Aabb::EMPTY, |b, &v| b.grow(v));
+            let span = b.extent();
+            let wide = span.x.max(span.z) > 0.5 * width;
+            t.is_valid() && ((span.y <= 1e-4 * width && b.min.y <= all.min.y + thin) || (wide && span.y <= thin))
+        })
+        .collect();
     let rest = triangles
         .iter()
-        .filter(|t| t.is_valid() && !ground(t))
-        .fold(Aabb::EMPTY, |b, t| t.v.iter().fold(b, |b, &v| b.grow(v)));
-    let rest_wide = rest.extent().x.max(rest.extent().z);
-    if rest.is_valid() && rest_wide < 0.5 * width {
-        // What stands on the ground, down to the ground (so that the view includes its contact).
-        Aabb::new(
-            Vec3::new(rest.min.x, rest.min.y.min(all.min.y.max(rest.min.y - rest.extent().y)), rest.min.z),
-            rest.max,
-        )
-    } else {
-        all
-    }
+        .zip(&mask)
+        .filter(|&(t, &g)| t.is_valid() && !g)
+        .fold(Aabb::EMPTY, |b, (t, _)| t.v.iter().fold(b, |b, &v| b.grow(v)));
+    (rest.is_valid() && rest.extent().x.max(rest.extent().z) < 0.5 * width).then_some(mask)
 }
 
 /// A camera that sees `bounds` from the front, right and above (`VIEW`), at the distance where

@@ -2,9 +2,11 @@
 //! interior): the framing camera outside it would see only its outer walls, a featureless box, and
 //! the key light outside would light only them. Such a model encloses its centre: from there
 //! most directions meet a face turned towards the centre. A closed object (a box, a statue) turns
-//! its faces away from its centre, and a set of objects leaves most directions open.
+//! its faces away from its centre, and a set of objects leaves most directions open; a ground
+//! under them encloses nothing (a table on a wide floor is not a room).
 
 use super::camera::Camera;
+use super::framing;
 use super::light::Light;
 use super::model::Scene;
 use beam_math::Ray;
@@ -31,9 +33,11 @@ fn encloses(scene: &Scene) -> bool {
 }
 
 /// The share of [`DIRECTIONS`] directions from the centre of the scene's box (a Fibonacci
-/// sphere) whose first hit is a triangle's front (its winding's normal towards the centre).
+/// sphere) whose first hit is a triangle's front (its winding's normal towards the centre), not
+/// on a ground much wider than the rest ([`framing::ground`]).
 fn front_share(scene: &Scene) -> f32 {
     let centre = scene.bounds().center();
+    let ground = framing::ground(&scene.triangles).unwrap_or_default();
     let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
     let front = (0..DIRECTIONS)
         .filter(|&i| {
@@ -42,7 +46,10 @@ fn front_share(scene: &Scene) -> f32 {
             let phi = golden * i as f32;
             let d = Vec3::new(r * phi.cos(), y, r * phi.sin());
             let hit = scene.wide.closest_hit(Ray::new(centre, d), f32::INFINITY);
-            hit.is_some_and(|hit| scene.triangles[hit.prim as usize].scaled_normal().dot(d) < 0.0)
+            hit.is_some_and(|hit| {
+                let prim = hit.prim as usize;
+                scene.triangles[prim].scaled_normal().dot(d) < 0.0 && !ground.get(prim).copied().unwrap_or(false)
+            })
         })
         .count();
     front as f32 / DIRECTIONS as f32
@@ -147,6 +154,27 @@ mod tests {
         assert!(encloses(&cube(&[5], true)));
         assert!(!encloses(&cube(&[], false)));
         assert!(!encloses(&cube(&[5], false)));
+    }
+
+    /// A table top (a slab, faces out) over a ground plane five times as wide: from the centre
+    /// of the scene's box, the ground fills the lower half of the directions and the top's
+    /// underside most of the upper half, but a ground encloses nothing: it is no room.
+    #[test]
+    fn a_table_on_a_wide_ground_is_no_room() {
+        let room = cube(&[], true);
+        let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+        let mut triangles = vec![
+            (Triangle::new(v(-10., 0., -10.), v(-10., 0., 10.), v(10., 0., 10.)), 0),
+            (Triangle::new(v(-10., 0., -10.), v(10., 0., 10.), v(10., 0., -10.)), 0),
+        ];
+        // The slab x ∈ [−2, 2], y ∈ [0.9, 1], z ∈ [−1.5, 1.5]: the unit cube's faces, turned out.
+        let slab = |p: Vec3| v(-2.0 + 4.0 * p.x, 0.9 + 0.1 * p.y, -1.5 + 3.0 * p.z);
+        let faces = cube(&[], false).triangles;
+        triangles.extend(faces.iter().map(|t| (Triangle::new(slab(t.v[0]), slab(t.v[1]), slab(t.v[2])), 0)));
+        let table = Scene::new("table".into(), triangles, room.materials.clone(), room.lights.clone(), room.camera);
+        let share = front_share(&table);
+        assert!(share < 0.5, "{share}");
+        assert!(!encloses(&table));
     }
 
     /// A room open at +z is seen from outside that side, looking in, with the whole opening in
