@@ -91,18 +91,20 @@ impl Shaft {
             && self.planes[..self.len].iter().all(|&(n, d)| n.dot(a) <= d || n.dot(b) <= d || n.dot(c) <= d)
     }
 
-    /// Whether `t` may hide part of the light from a point of the box: it meets the shaft and
-    /// its plane does not leave the box and the light on one side.
+    /// Whether `t` may hide part of the light from a point of the box: it meets the shaft, does
+    /// not lie behind the light and its plane does not leave the box and the light on one side.
     pub(crate) fn may_hide(&self, t: &Triangle) -> bool {
-        self.meets_triangle(t) && !self.beside_plane_of(t)
+        self.meets_triangle(t) && !self.behind_light(t) && !self.beside_plane_of(t)
     }
 
-    /// True when `t` lies on the light's plane (within the shaft's tolerance): a segment from the
-    /// box ends at the light before it would reach `t` (the light's own triangles).
-    pub(crate) fn on_light_plane(&self, t: &Triangle) -> bool {
+    /// True when `t` lies on the light's plane or beyond it (within the shaft's tolerance): a
+    /// segment from the box ends at the light before it would reach `t`. The light's own
+    /// neighbours on a curved emitter (a lamp's other triangles) touch it along an edge and lie
+    /// behind it: without this each of its beams clipped them.
+    fn behind_light(&self, t: &Triangle) -> bool {
         // The first plane is the light's, `−N·x ≤ −N·l₀ + tol`; the light's corners follow the box's.
         let n = self.planes[0].0;
-        t.v.iter().all(|&v| n.dot(v - self.ends[8]).abs() <= self.tol)
+        t.v.iter().all(|&v| n.dot(v - self.ends[8]) >= -self.tol)
     }
 
     /// True when the box and the light lie strictly on one side of `t`'s plane: no segment from
@@ -158,10 +160,7 @@ impl NodeVisitor for Meets<'_> {
     }
 
     fn leaf(&mut self, prims: &[u32]) -> Control {
-        self.found = prims.iter().any(|&p| {
-            let t = &self.triangles[p as usize];
-            self.shaft.may_hide(t) && !self.shaft.on_light_plane(t)
-        });
+        self.found = prims.iter().any(|&p| self.shaft.may_hide(&self.triangles[p as usize]));
         if self.found { Control::Stop } else { Control::Continue }
     }
 }
