@@ -171,6 +171,20 @@ impl Context<'_> {
         if n.dot(q0 - camera) > 0.0 {
             n = -n;
         }
+        let surfaces = &self.scene.surfaces;
+        if surfaces.is_plain() && surfaces.normals.is_empty() {
+            // One albedo and one normal over the triangle.
+            let albedo = self.scene.material(prim).albedo();
+            let irradiance: f32 = points
+                .iter()
+                .map(|&(weight, q)| {
+                    let to = position - q;
+                    let r2 = to.length_squared();
+                    weight * (n.dot(to) / r2.sqrt()).max(0.0) / r2
+                })
+                .sum();
+            return albedo * irradiance / std::f32::consts::PI * intensity;
+        }
         let mut sum = Vec3::ZERO;
         for &(weight, q) in points {
             let to = position - q;
