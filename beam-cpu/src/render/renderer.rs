@@ -146,7 +146,6 @@ fn shade_band(trace: &Trace<'_>, mut traced: Vec<EyeTraced>, rows_done: impl Fn(
         }
     }
     debug_assert!(by_row.iter().all(|row| row.is_sorted_by_key(|&(r, start, _)| traced[r].surfaces[start].x)));
-    let width = traced.last().map_or(0, |e| e.traced.region.x1);
     let shaded: Vec<(usize, TileRadiance, Counters)> = by_row
         .par_iter()
         .enumerate()
@@ -162,7 +161,7 @@ fn shade_band(trace: &Trace<'_>, mut traced: Vec<EyeTraced>, rows_done: impl Fn(
                 })
                 .collect();
             let top = y0 + row as u32 * TILE;
-            rows_done(Region { x0: 0, y0: top, x1: width, y1: (top + TILE).min(y1) });
+            rows_done(Region { y0: top, y1: (top + TILE).min(y1), ..first.traced.region });
             shaded
         })
         .collect();

@@ -25,14 +25,10 @@ const KEY_IRRADIANCE: f32 = 0.8 * std::f32::consts::PI;
 /// ([`ground`]), down to the ground (so that the view includes its contact).
 #[must_use]
 pub fn object_bounds(triangles: &[Triangle]) -> Aabb {
-    let bounds = |keep: &dyn Fn(usize) -> bool| {
-        let kept = triangles.iter().enumerate().filter(|&(i, t)| t.is_valid() && keep(i));
-        kept.fold(Aabb::EMPTY, |b, (_, t)| t.v.iter().fold(b, |b, &v| b.grow(v)))
-    };
-    let all = bounds(&|_| true);
+    let all = bounds_where(triangles, |_| true);
     match ground(triangles) {
         Some(ground) => {
-            let rest = bounds(&|i| !ground[i]);
+            let rest = bounds_where(triangles, |i| !ground[i]);
             let floor = all.min.y.max(rest.min.y - rest.extent().y);
             Aabb::new(Vec3::new(rest.min.x, rest.min.y.min(floor), rest.min.z), rest.max)
         }
@@ -47,7 +43,7 @@ pub fn object_bounds(triangles: &[Triangle]) -> Aabb {
 /// wide as the scene, so that a room (its floor at the bottom, walls as wide) has none.
 #[must_use]
 pub fn ground(triangles: &[Triangle]) -> Option<Vec<bool>> {
-    let all = triangles.iter().filter(|t| t.is_valid()).fold(Aabb::EMPTY, |b, t| t.v.iter().fold(b, |b, &v| b.grow(v)));
+    let all = bounds_where(triangles, |_| true);
     if !all.is_valid() {
         return None;
     }
@@ -62,12 +58,14 @@ pub fn ground(triangles: &[Triangle]) -> Option<Vec<bool>> {
             t.is_valid() && ((span.y <= 1e-4 * width && b.min.y <= all.min.y + thin) || (wide && span.y <= thin))
         })
         .collect();
-    let rest = triangles
-        .iter()
-        .zip(&mask)
-        .filter(|&(t, &g)| t.is_valid() && !g)
-        .fold(Aabb::EMPTY, |b, (t, _)| t.v.iter().fold(b, |b, &v| b.grow(v)));
+    let rest = bounds_where(triangles, |i| !mask[i]);
     (rest.is_valid() && rest.extent().x.max(rest.extent().z) < 0.5 * width).then_some(mask)
+}
+
+/// The bounds of the valid triangles whose index `keep` accepts.
+fn bounds_where(triangles: &[Triangle], keep: impl Fn(usize) -> bool) -> Aabb {
+    let kept = triangles.iter().enumerate().filter(|&(i, t)| t.is_valid() && keep(i));
+    kept.fold(Aabb::EMPTY, |b, (_, t)| t.v.iter().fold(b, |b, &v| b.grow(v)))
 }
 
 /// A camera that sees `bounds` from the front, right and above (`VIEW`), at the distance where

@@ -94,10 +94,8 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
                 specular += usize::from(m.ks.max_element() > 0.0);
                 let texture = match &m.map_kd {
                     Some((file, with_options)) => {
-                        textures.options += usize::from(*with_options);
-                        textures
-                            .read(folder, file, Kind::Colour, stats, options)
-                            .map_err(in_material(path, name, "map_Kd"))?
+                        let error = in_material(path, name, "map_Kd");
+                        textures.read_map(folder, (file, *with_options), Kind::Colour, (stats, options), error)?
                     }
                     None => None,
                 };
@@ -111,34 +109,31 @@ pub(super) fn obj_materials(path: &Path, stats: &ObjStats, options: &LoadOptions
         if let Some((m, folder)) = defined.get(name) {
             other_maps += m.maps;
             dissolving += usize::from(m.dissolves);
-            match (&m.bump, material) {
-                (Some(bump), Material::Diffuse { .. } | Material::Glossy { .. }) => {
-                    textures.options += usize::from(bump.options);
+            let reflecting = matches!(material, Material::Diffuse { .. } | Material::Glossy { .. });
+            let read = (stats, options);
+            match &m.bump {
+                Some(bump) if reflecting => {
                     let kind = Kind::Bump { normal: bump.normal, scale: bump.scale };
-                    let texture = textures.read(folder, &bump.file, kind, stats, options);
-                    let texture = texture.map_err(in_material(path, name, "bump map"))?;
+                    let error = in_material(path, name, "bump map");
+                    let texture = textures.read_map(folder, (&bump.file, bump.options), kind, read, error)?;
                     // A normal map's tilt is scaled by `-bm`; heights were, when made normals.
                     normal = texture.map(|(texture, is_normal)| NormalMap {
                         texture: texture_ref(texture),
                         scale: if is_normal { bump.scale } else { 1.0 },
                     });
                 }
-                (Some(_), _) => other_maps += 1,
-                (None, _) => {}
+                Some(_) => other_maps += 1,
+                None => {}
             }
-            match (&m.map_d, material) {
-                (Some((file, with_options)), Material::Diffuse { .. } | Material::Glossy { .. }) => {
-                    textures.options += usize::from(*with_options);
-                    let texture = textures.read(folder, file, Kind::Alpha, stats, options);
-                    let texture = texture.map_err(in_material(path, name, "map_d"))?;
-                    alpha = texture.map(|(texture, _)| AlphaCut {
-                        factor: 1.0,
-                        texture: Some(texture_ref(texture)),
-                        cutoff: Some(0.5),
-                    });
+            match &m.map_d {
+                Some((file, with_options)) if reflecting => {
+                    let error = in_material(path, name, "map_d");
+                    let texture = textures.read_map(folder, (file, *with_options), Kind::Alpha, read, error)?;
+                    let texture = texture.map(|(texture, _)| texture_ref(texture));
+                    alpha = texture.map(|t| AlphaCut { factor: 1.0, texture: Some(t), cutoff: Some(0.5) });
                 }
-                (Some(_), _) => other_maps += 1,
-                (None, _) => {}
+                Some(_) => other_maps += 1,
+                None => {}
             }
         }
         materials.push(material);
@@ -233,6 +228,20 @@ struct Textures {
 }
 
 impl Textures {
+    /// [`Textures::read`] for a map statement `(file, with_options)`: options other than `-bm`
+    /// are counted, not applied; `error` names the material and the map.
+    fn read_map(
+        &mut self,
+        folder: &Path,
+        (file, with_options): (&str, bool),
+        kind: Kind,
+        (stats, options): (&ObjStats, &LoadOptions),
+        error: impl Fn(SceneError) -> SceneError,
+    ) -> Result<Option<Read>, SceneError> {
+        self.options += usize::from(with_options);
+        self.read(folder, file, kind, stats, options).map_err(error)
+    }
+
     /// The texture of file `name` (as an MTL file in `folder` writes it) read as `kind`: its index
     /// in `list` and whether it is a normal map, or `None` where it is missing or not a PNG, JPEG,
     /// TGA or BMP image, or the faces have no texture coordinates (counted).

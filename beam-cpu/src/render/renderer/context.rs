@@ -66,7 +66,7 @@ pub(super) struct Context<'a> {
     /// The scene's cut-out triangles, when it has any.
     pub(super) cut_outs: Option<CutOuts<'a>>,
     /// Whether a shade point may gather light other than point lights' (an area light, the sky).
-    pub(super) area_or_sky: bool,
+    area_or_sky: bool,
 }
 
 impl<'a> Context<'a> {
@@ -85,6 +85,12 @@ impl<'a> Context<'a> {
         let area_or_sky = lights.iter().any(|l| !matches!(l, Light::Point { .. })) || !scene.environment.is_black();
         let eps = shading_eps(scene);
         Self { scene, options: *options, eps, peer, caustics, lights, emitters, cut_outs, area_or_sky }
+    }
+
+    /// Whether a shade point gathering `lights` has any light to gather: not where only point
+    /// lights remain and those come from lit fragments.
+    pub(super) fn gathers(&self, lights: Lights) -> bool {
+        lights == Lights::All || self.area_or_sky
     }
 
     /// Whether the shadow ray from `origin` along `direction` meets a surface below `t_max`;

@@ -104,8 +104,7 @@ impl Context<'_> {
         rng: &mut Pcg32,
         t: &mut Thread,
     ) -> Vec3 {
-        if lights == Lights::AreaOnly && !self.area_or_sky {
-            // Point lights alone, and those come from lit fragments: nothing to gather (nor to time).
+        if !self.gathers(lights) {
             return Vec3::ZERO;
         }
         let start = (self.options.method == Method::Beam).then(Instant::now);
@@ -171,26 +170,18 @@ impl Context<'_> {
         if n.dot(q0 - camera) > 0.0 {
             n = -n;
         }
+        // Without textures, vertex colours or vertex normals, one albedo and one normal hold over
+        // the triangle: no lookup per point.
         let surfaces = &self.scene.surfaces;
-        if surfaces.is_plain() && surfaces.normals.is_empty() {
-            // One albedo and one normal over the triangle.
-            let albedo = self.scene.material(prim).albedo();
-            let irradiance: f32 = points
-                .iter()
-                .map(|&(weight, q)| {
-                    let to = position - q;
-                    let r2 = to.length_squared();
-                    weight * (n.dot(to) / r2.sqrt()).max(0.0) / r2
-                })
-                .sum();
-            return albedo * irradiance / std::f32::consts::PI * intensity;
-        }
+        let plain = surfaces.is_plain() && surfaces.normals.is_empty();
+        let albedo = self.scene.material(prim).albedo();
         let mut sum = Vec3::ZERO;
         for &(weight, q) in points {
             let to = position - q;
             let r2 = to.length_squared();
-            let cos = self.scene.mapped_normal(prim, q, n).dot(to) / r2.sqrt();
-            sum += weight * self.scene.albedo_at(prim, q) * cos.max(0.0) / r2;
+            let (albedo, n) =
+                if plain { (albedo, n) } else { (self.scene.albedo_at(prim, q), self.scene.mapped_normal(prim, q, n)) };
+            sum += weight * albedo * (n.dot(to) / r2.sqrt()).max(0.0) / r2;
         }
         sum / std::f32::consts::PI * intensity
     }
@@ -279,7 +270,7 @@ impl Context<'_> {
         let shadow_before = t.c.shadow_seconds;
         self.cull_lights(surfaces, t);
         t.partial.clear();
-        if self.options.method == Method::Beam && (lights == Lights::All || self.area_or_sky) {
+        if self.options.method == Method::Beam && self.gathers(lights) {
             let start = Instant::now();
             points.clear();
             points.extend(

@@ -3,8 +3,8 @@
 //! animations removed and counted (beam renders one pose, and the crate refuses a channel whose
 //! target has no `node`, which the schema allows); a scene without `nodes` given none; each node's
 //! `EXT_mesh_gpu_instancing` attributes kept, and each normal texture's `KHR_texture_transform`
-//! (the crate reads that extension on other textures only). A document that does not fit the schema's types is
-//! an error naming the first element that does not (`nodes[3]: invalid type: …`).
+//! (the crate reads that extension on other textures only). A document that does not fit the
+//! schema's types is an error naming the first element that does not (`nodes[3]: invalid type: …`).
 
 use super::errors::{error, file_error};
 use super::extensions;
