@@ -104,6 +104,9 @@ pub(crate) enum Fragment<'a> {
     Background { d: Vec3 },
     /// Triangle `prim` at point `q` (at the fragment's centroid), seen along `d`.
     Surface { prim: u32, q: Vec3, d: Vec3 },
+    /// A fragment of a diffuse or glossy triangle that gathers no light but its point lights'
+    /// ([`EyeBeam::lit_only`]): its coverage only, its light all in its [`Fragment::Lit`] parts.
+    Covered,
     /// The part of a surface fragment lit by point light `light` (001 §4.2); its light is added to
     /// the surface fragment's, which then leaves that light out. The light varies fast near the
     /// light, so it is integrated over the fragment: `points` are the surface points of a quadrature
@@ -136,6 +139,9 @@ pub(crate) struct EyeBeam {
     pub(crate) window: Region,
     /// Whether each visible piece is connected to the point lights by hard-shadow beams.
     pub(crate) point_shadows: bool,
+    /// With `point_shadows`: whether diffuse and glossy surfaces gather nothing else (no area
+    /// light, sky or caustics), so that their surface fragments are [`Fragment::Covered`].
+    pub(crate) lit_only: bool,
     /// Thread-seconds the trace may take ([`super::eye_budget::eye_trace_seconds`]).
     pub(crate) budget: f64,
 }
@@ -143,7 +149,7 @@ pub(crate) struct EyeBeam {
 impl EyeBeam {
     /// The exact beam through `region`, every fragment wanted, no point lights.
     pub(crate) fn exact(region: Region) -> Self {
-        Self { region, window: region, point_shadows: false, budget: f64::INFINITY }
+        Self { region, window: region, point_shadows: false, lit_only: false, budget: f64::INFINITY }
     }
 }
 
@@ -164,7 +170,7 @@ pub(crate) fn region_fragments(
     seen_prims: &mut [bool],
     mut fragment: impl FnMut(u32, u32, f32, Fragment),
 ) -> bool {
-    let EyeBeam { region, window, point_shadows, budget } = beam;
+    let EyeBeam { region, window, point_shadows, lit_only, budget } = beam;
     // A camera without a view sees nothing: the loaders and the CLI refuse one with its reason.
     let Some((frame, hw, hh)) = image_frame(camera) else { return true };
     let grid = PixelGrid::new(hw, hh, camera.width, camera.height);
@@ -199,12 +205,17 @@ pub(crate) fn region_fragments(
         };
         seen_prims[prim as usize] = true;
         let plane = TrianglePlane::new(&frame, &scene.triangles[prim as usize]);
-        pixel_parts(grid, &piece.section, window, |x, y, cov, part| {
-            if let Some(q) = plane.point(&frame, grid.to_image(part.centroid())) {
-                fragment(x, y, cov, Fragment::Surface { prim, q, d: (q - frame.apex).normalize() });
-            }
-        });
-        if !point_shadows || !matches!(scene.material(prim), Material::Diffuse { .. } | Material::Glossy { .. }) {
+        let lit = point_shadows && matches!(scene.material(prim), Material::Diffuse { .. } | Material::Glossy { .. });
+        if lit && lit_only {
+            pixel_parts(grid, &piece.section, window, |x, y, cov, _| fragment(x, y, cov, Fragment::Covered));
+        } else {
+            pixel_parts(grid, &piece.section, window, |x, y, cov, part| {
+                if let Some(q) = plane.point(&frame, grid.to_image(part.centroid())) {
+                    fragment(x, y, cov, Fragment::Surface { prim, q, d: (q - frame.apex).normalize() });
+                }
+            });
+        }
+        if !lit {
             continue;
         }
         for (light, l) in scene.lights.iter().enumerate() {
@@ -253,7 +264,7 @@ pub fn primary_coverage(scene: &Scene, width: u32, height: u32) -> Vec<(f32, f32
         let f = |x: u32, y: u32, cov: f32, seen: Fragment| {
             let o = &mut out[(y * width + x) as usize];
             o.0 += cov;
-            if let Fragment::Surface { .. } = seen {
+            if let Fragment::Surface { .. } | Fragment::Covered = seen {
                 o.1 += cov;
             }
         };
@@ -298,7 +309,7 @@ mod tests {
             let points = match f {
                 Fragment::Surface { q, .. } => vec![q],
                 Fragment::Lit { points, .. } => points.iter().map(|&(_, q)| q).collect(),
-                Fragment::Background { .. } => Vec::new(),
+                Fragment::Background { .. } | Fragment::Covered => Vec::new(),
             };
             for q in points {
                 worst = worst.max((q.z - z).abs());

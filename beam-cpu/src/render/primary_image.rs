@@ -196,7 +196,7 @@ fn eye_part(
                 pixels[i] += cov * shade(prim, q, d);
             }
             Fragment::Background { d } => pixels[i] += cov * scene.environment.radiance(d),
-            Fragment::Lit { .. } => {}
+            Fragment::Lit { .. } | Fragment::Covered => {}
         }
     });
     let error = coverage.iter().fold(0.0f64, |m, &c| m.max(f64::from((1.0 - c).abs())));

@@ -103,15 +103,22 @@ impl Trace<'_> {
         let start = Instant::now();
         let mut surfaces = Vec::new();
         let mut eye = EyeStats::default();
+        // Fragments lit by point lights alone: nothing to shade but their lit parts.
+        let mut covered = 0u64;
         // Cut-outs cast no exact hard shadows: with them, point lights are shaded by rays too.
         let point_shadows = !ctx.scene.has_cut_outs();
-        let beam = EyeBeam { region, window, point_shadows, budget };
+        let lit_only = point_shadows && !ctx.gathers(Lights::AreaOnly) && ctx.caustics.is_none();
+        let beam = EyeBeam { region, window, point_shadows, lit_only, budget };
         let traced = region_fragments(ctx.scene, camera, beam, &mut eye, &mut seen, |x, y, cov, f| {
             let i = window.index(x, y);
             match f {
                 Fragment::Background { d } => {
                     coverage[i] += cov;
                     pixels[i] += cov * ctx.scene.environment.radiance(d);
+                }
+                Fragment::Covered => {
+                    coverage[i] += cov;
+                    covered += 1;
                 }
                 Fragment::Surface { prim, q, d } => {
                     coverage[i] += cov;
@@ -131,7 +138,7 @@ impl Trace<'_> {
             rays.traced.counters.primary += eye.primary;
             return rays;
         }
-        t.c.fragments += surfaces.len() as u64;
+        t.c.fragments += surfaces.len() as u64 + covered;
         // Shaded tile by tile (the frame's grid), so that neighbouring points share their candidate
         // occluders.
         sort_by_tile(&mut surfaces, window);
