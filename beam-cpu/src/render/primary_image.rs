@@ -5,7 +5,7 @@
 //! those rays instead.
 
 use super::cut_outs::CutOuts;
-use super::eye_budget::{eye_beam_seconds, eye_budget};
+use super::eye_budget::trace_budget;
 use super::eye_regions::{EyeBeam, EyeStats, Fragment, Region, paste, region_fragments, regions};
 use super::renderer::stratified;
 use super::shadow_beam::BeamStats;
@@ -123,19 +123,20 @@ pub fn primary_image(
         .into_par_iter()
         .map(|region| {
             let (budget, rays) = match visibility {
-                Visibility::Exact => (f64::INFINITY, CUT_OUT_RAYS),
-                Visibility::Budget { rays } => (eye_budget(region, rays), rays),
+                Visibility::Exact => (Some(f64::INFINITY), CUT_OUT_RAYS),
+                Visibility::Budget { rays } => (trace_budget(scene, camera, region, rays), rays),
             };
             let cut_out = cut_outs.is_some_and(|c| c.may_show(camera, region));
-            let part = if cut_out || budget.is_finite() && eye_beam_seconds(scene, camera, region) > budget {
-                Part { cut_out, ..ray_part(scene, camera, region, rays, &shade) }
-            } else {
-                let eye = eye_part(scene, camera, region, budget, &shade);
-                if eye.eye.over_budget > 0 {
-                    // The work spent counts; the pixels come from rays.
-                    Part { eye: eye.eye, ..ray_part(scene, camera, region, rays, &shade) }
-                } else {
-                    eye
+            let part = match budget.filter(|_| !cut_out) {
+                None => Part { cut_out, ..ray_part(scene, camera, region, rays, &shade) },
+                Some(budget) => {
+                    let eye = eye_part(scene, camera, region, budget, &shade);
+                    if eye.eye.over_budget > 0 {
+                        // The work spent counts; the pixels come from rays.
+                        Part { eye: eye.eye, ..ray_part(scene, camera, region, rays, &shade) }
+                    } else {
+                        eye
+                    }
                 }
             };
             pixels_done(region.len() as u64);

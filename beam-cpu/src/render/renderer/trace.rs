@@ -6,7 +6,7 @@ use super::context::{Context, Lights, SHADE_SEED, Surface, Thread};
 use super::shade_points::{merge_smooth, sort_by_tile};
 use super::shading::stratified;
 use super::stats::Counters;
-use crate::render::eye_budget::{eye_beam_seconds, eye_budget};
+use crate::render::eye_budget::trace_budget;
 use crate::render::eye_regions::{EyeBeam, EyeStats, Fragment, Region, TILE, region_fragments};
 use beam_math::glam::Vec3;
 use beam_scene::scene::Camera;
@@ -81,8 +81,7 @@ impl Trace<'_> {
     /// tiles of the frame's grid, within `region`) and the pixels of `window` with what point lights
     /// give the lit fragments (hard-shadow beams from the visible pieces, 001 §4.2). The surface
     /// fragments come sorted by tile, for [`Trace::shade_eye_tile`]. Where the beam would not pay
-    /// ([`eye_beam_seconds`] past [`eye_budget`]) or passes its budget while traced,
-    /// [`Trace::ray_region`] instead.
+    /// or passes its budget while traced ([`trace_budget`]), [`Trace::ray_region`] instead.
     pub(super) fn eye_region(&self, region: Region, window: Region) -> EyeTraced {
         let (ctx, camera) = (self.ctx, self.camera);
         if ctx.cut_outs.as_ref().is_some_and(|c| c.may_show(camera, region)) {
@@ -92,10 +91,12 @@ impl Trace<'_> {
             return rays;
         }
         // Half of what a primary ray and `--spp` shadow rays a pixel cost there; none with `--exact`.
-        let budget = if ctx.options.exact { f64::INFINITY } else { eye_budget(region, 1 + ctx.options.spp) };
-        if !ctx.options.exact && eye_beam_seconds(ctx.scene, camera, region) > budget {
-            return self.ray_region(window);
-        }
+        let budget = if ctx.options.exact {
+            Some(f64::INFINITY)
+        } else {
+            trace_budget(ctx.scene, camera, region, 1 + ctx.options.spp)
+        };
+        let Some(budget) = budget else { return self.ray_region(window) };
         let mut t = Thread::default();
         let mut pixels = vec![Vec3::ZERO; window.len()];
         let mut coverage = vec![0.0f32; window.len()];
@@ -154,7 +155,7 @@ impl Trace<'_> {
         EyeTraced { traced: self.finish(window, pixels, t, seen), surfaces, tiles, lights }
     }
 
-    /// [`Trace::eye_region`] by primary rays where the eye beam would not pay ([`eye_budget`]):
+    /// [`Trace::eye_region`] by primary rays where the eye beam would not pay ([`trace_budget`]):
     /// [`RAY_GRID`]² stratified rays a pixel of `window`, each pixel's hits on one smooth stretch of
     /// surface shaded once, point lights by shadow rays.
     fn ray_region(&self, window: Region) -> EyeTraced {
