@@ -60,20 +60,20 @@ pub(crate) fn trace_budget(scene: &Scene, camera: &Camera, region: PixelRect, ra
 /// The thread-seconds the eye beam of `region` may take at most, where rays at `rays` a pixel are
 /// the alternative: [`SHARE`] of theirs.
 #[must_use]
-pub(crate) fn eye_budget(region: PixelRect, rays: u32) -> f64 {
+fn eye_budget(region: PixelRect, rays: u32) -> f64 {
     SHARE * ray_seconds(region, rays)
 }
 
 /// The thread-seconds `rays` rays a pixel of `region` take.
 #[must_use]
-pub(crate) fn ray_seconds(region: PixelRect, rays: u32) -> f64 {
+fn ray_seconds(region: PixelRect, rays: u32) -> f64 {
     PER_RAY * region.len() as f64 * f64::from(rays)
 }
 
 /// The predicted thread-seconds of the eye beam through `region` of `camera`'s image, by the
 /// triangles a grid of rays sees and their size on screen.
 #[must_use]
-pub(crate) fn eye_beam_seconds(scene: &Scene, camera: &Camera, region: PixelRect) -> f64 {
+fn eye_beam_seconds(scene: &Scene, camera: &Camera, region: PixelRect) -> f64 {
     let frame = camera.frame();
     let pixels = region.len() as f64;
     let cell = pixels / f64::from(GRID * GRID);
