@@ -127,9 +127,25 @@ impl<const N: usize> ConvexPolygon<N> {
         Ok((inside, outside))
     }
 
-    /// Keep the part on the inner side `n·(x − a) ≤ 0` of a line.
+    /// Keep the part on the inner side `n·(x − a) ≤ 0` of a line: the inside part of
+    /// [`ConvexPolygon::split`] with `eps = 0`, without building the outside part.
     pub fn clip(&self, a: Vec2, n: Vec2) -> Result<Self, CapacityExceeded> {
-        Ok(self.split(a, n, 0.0)?.0)
+        let mut inside = Self::new();
+        let v = self.vertices();
+        for i in 0..v.len() {
+            let (p, q) = (v[i], v[(i + 1) % v.len()]);
+            let (dp, dq) = (n.dot(p - a), n.dot(q - a));
+            if dp <= 0.0 {
+                inside.push(p)?;
+            }
+            if (dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0) {
+                inside.push(p + (q - p) * (dp / (dp - dq)))?;
+            }
+        }
+        if inside.len < 3 {
+            inside = Self::new();
+        }
+        Ok(inside)
     }
 
     /// Intersection with another convex polygon by clipping against each of its edges
@@ -311,6 +327,40 @@ mod tests {
         assert_eq!(signed_area(&cw), -6.0);
         order_ccw(&mut cw);
         assert_eq!(signed_area(&cw), 6.0);
+    }
+
+    /// `clip` is `split`'s inside part with `eps = 0` (bit for bit) wherever `split` fits, and
+    /// also fits where only `split`'s outside part would not: a full polygon whose corner is kept.
+    #[test]
+    fn clip_is_the_inside_of_split() {
+        // Regular polygons of 3 to 8 corners, cut by lines at many angles and offsets.
+        let mut seed = 12345u32;
+        let mut next = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            f32::from(u16::try_from(seed >> 16).unwrap_or(0)) / 65536.0
+        };
+        for k in 3..=8usize {
+            let corners: Vec<Vec2> = (0..k)
+                .map(|i| {
+                    let t = core::f32::consts::TAU * i as f32 / k as f32;
+                    Vec2::new(libm::cosf(t), libm::sinf(t))
+                })
+                .collect();
+            let poly = Poly::from_slice(&corners).unwrap();
+            for _ in 0..200 {
+                let t = core::f32::consts::TAU * next();
+                let (n, a) = (Vec2::new(libm::cosf(t), libm::sinf(t)), Vec2::splat(2.0 * next() - 1.0));
+                if let Ok((inside, _)) = poly.split(a, n, 0.0) {
+                    assert_eq!(poly.clip(a, n), Ok(inside));
+                }
+            }
+            if k == 8 {
+                // The corner at (1, 0) kept: a triangle inside, 9 corners outside (past 8).
+                let (a, n) = (Vec2::new(0.99, 0.0), -Vec2::X);
+                assert!(poly.split(a, n, 0.0).is_err());
+                assert_eq!(poly.clip(a, n).map(|c| c.len()), Ok(3));
+            }
+        }
     }
 
     #[test]
