@@ -122,11 +122,13 @@ pub fn primary_image(
     let parts: Vec<Part> = regions(camera.width, camera.height)
         .into_par_iter()
         .map(|region| {
+            let cut_out = cut_outs.is_some_and(|c| c.may_show(camera, region));
             let (budget, rays) = match visibility {
                 Visibility::Exact => (Some(f64::INFINITY), CUT_OUT_RAYS),
+                // A region that may see a cut-out goes to rays: no grid of rays to predict its beam.
+                Visibility::Budget { rays } if cut_out => (None, rays),
                 Visibility::Budget { rays } => (trace_budget(scene, camera, region, rays), rays),
             };
-            let cut_out = cut_outs.is_some_and(|c| c.may_show(camera, region));
             let part = match budget.filter(|_| !cut_out) {
                 None => Part { cut_out, ..ray_part(scene, camera, region, rays, &shade) },
                 Some(budget) => {
