@@ -8,8 +8,8 @@
 use super::packet::Packet;
 use super::shaft::{MAX_CANDIDATES, Shaft, gather};
 use super::silhouettes::{self, SilEdge, WindingBuilder};
-use beam_math::Aabb;
 use beam_math::glam::Vec3;
+use beam_math::{Aabb, Triangle};
 use beam_render::options::Occluders;
 use beam_scene::scene::{Light, Scene};
 
@@ -26,9 +26,9 @@ struct Cluster {
     points: Aabb,
     /// Packets of the candidates, split one at a time.
     packets: (u32, u32),
-    /// The candidates as edges, and those that reach out of a point's depth range.
-    edges: (u32, u32),
-    reaching: (u32, u32),
+    /// The candidates as edges, and those that reach out of a point's depth range, once a beam
+    /// has asked for them ([`TileShadows::edges`]).
+    edges: Option<((u32, u32), (u32, u32))>,
     /// How its shadow beams take the candidates.
     mode: Mode,
     /// Whether a candidate is a cut-out (`None` where it has no list of candidates).
@@ -51,12 +51,10 @@ pub(crate) enum Mode {
 }
 
 /// The candidate occluders of a shade point for one light.
-pub(crate) struct Candidates<'a> {
-    /// Four to a packet, to split by one at a time.
-    pub(crate) packets: &'a [Packet],
-    /// The same as edges and reaching triangles (`render/silhouettes`).
-    pub(crate) edges: &'a [SilEdge],
-    pub(crate) reaching: &'a [u32],
+#[derive(Clone, Copy)]
+pub(crate) struct Candidates {
+    /// How its beams take them: split by them one at a time ([`TileShadows::packets`]), by their
+    /// edges ([`TileShadows::edges`]), or otherwise.
     pub(crate) mode: Mode,
     /// Whether one of them is a cut-out (`None` where the cluster has no list of candidates and
     /// no one has said yet, [`TileShadows::set_cut_outs`]).
@@ -87,9 +85,10 @@ pub(crate) struct TileShadows {
     gathered: Vec<(u32, u32)>,
     /// One cluster's candidates.
     ids: Vec<u32>,
-    /// The clusters' candidates as edges.
+    /// The clusters' candidates as edges, and each light's plane to build them for.
     edges: Vec<SilEdge>,
     reaching: Vec<u32>,
+    planes: Vec<silhouettes::Light>,
     builder: WindingBuilder,
     /// BVH nodes tested by the shafts.
     pub(crate) bvh_steps: u64,
@@ -185,17 +184,12 @@ impl TileShadows {
         self.packets.clear();
         self.edges.clear();
         self.reaching.clear();
-        let empty = Cluster {
-            points: Aabb::EMPTY,
-            packets: (0, 0),
-            edges: (0, 0),
-            reaching: (0, 0),
-            mode: Mode::Split,
-            cut_outs: None,
-        };
+        self.planes.clear();
+        let empty = Cluster { points: Aabb::EMPTY, packets: (0, 0), edges: None, mode: Mode::Split, cut_outs: None };
         for (index, light) in lights.iter().enumerate() {
             let base = self.clusters.len();
             self.clusters.resize(base + 2 * BLOCKS * BLOCKS, empty);
+            self.planes.push(silhouettes::Light { normal: light.normal(), center: light.center() });
             if matches!(light, Light::Point { .. }) {
                 continue;
             }
@@ -251,20 +245,9 @@ impl TileShadows {
                 self.ids.clear();
                 self.ids.extend(self.gathered.iter().map(|&(_, prim)| prim));
                 cluster.cut_outs = Some(scene.has_cut_outs() && self.ids.iter().any(|&p| scene.cut_out(p).is_some()));
-                let (edges0, reaching0) = (self.edges.len() as u32, self.reaching.len() as u32);
                 if occluders != Occluders::Split && carried != Some(Mode::Split) {
-                    self.builder.build(
-                        tris,
-                        &cluster.points,
-                        &silhouettes::Light { normal: ln, center },
-                        &self.ids,
-                        &mut self.edges,
-                        &mut self.reaching,
-                    );
                     cluster.mode = if occluders == Occluders::Edges { Mode::Winding } else { Mode::Probe };
                 }
-                cluster.edges = (edges0, self.edges.len() as u32);
-                cluster.reaching = (reaching0, self.reaching.len() as u32);
                 cluster.packets = pack(tris, &self.ids, &mut self.packets);
             }
         }
@@ -272,22 +255,37 @@ impl TileShadows {
 
     /// The candidate occluders between `p` and light `light`, when `p` lies in the box of one of
     /// block `block`'s clusters (any point there: the shaft bounds every segment from the box).
-    pub(crate) fn candidates(&self, light: usize, block: usize, p: Vec3) -> Option<Candidates<'_>> {
+    pub(crate) fn candidates(&self, light: usize, block: usize, p: Vec3) -> Option<Candidates> {
         let first = 2 * (light * BLOCKS * BLOCKS + block);
         let i = (first..first + 2).find(|&i| {
             self.clusters.get(i).is_some_and(|c| c.points.min.cmple(p).all() && p.cmple(c.points.max).all())
         })?;
         let c = &self.clusters[i];
-        let range = |r: (u32, u32)| r.0 as usize..r.1 as usize;
-        Some(Candidates {
-            packets: &self.packets[range(c.packets)],
-            edges: &self.edges[range(c.edges)],
-            reaching: &self.reaching[range(c.reaching)],
-            mode: c.mode,
-            cut_outs: c.cut_outs,
-            points: c.points,
-            cluster: i,
-        })
+        Some(Candidates { mode: c.mode, cut_outs: c.cut_outs, points: c.points, cluster: i })
+    }
+
+    /// Cluster `cluster`'s candidates, four to a packet.
+    pub(crate) fn packets(&self, cluster: usize) -> &[Packet] {
+        &self.packets[range(self.clusters[cluster].packets)]
+    }
+
+    /// Cluster `cluster`'s candidates as edges and the candidates that reach out of some point's
+    /// depth range (`render/silhouettes`), built the first time a beam asks: most clusters never
+    /// do, since splitting decides them first (`light_beam.rs`).
+    pub(crate) fn edges(&mut self, cluster: usize, triangles: &[Triangle]) -> (&[SilEdge], &[u32]) {
+        let c = self.clusters[cluster];
+        let (edges, reaching) = c.edges.unwrap_or_else(|| {
+            self.ids.clear();
+            let packets = &self.packets[range(c.packets)];
+            self.ids.extend(packets.iter().flat_map(|q| q.prims[..q.len as usize].iter().copied()));
+            let (edges0, reaching0) = (self.edges.len() as u32, self.reaching.len() as u32);
+            let plane = &self.planes[cluster / (2 * BLOCKS * BLOCKS)];
+            self.builder.build(triangles, &c.points, plane, &self.ids, &mut self.edges, &mut self.reaching);
+            let built = ((edges0, self.edges.len() as u32), (reaching0, self.reaching.len() as u32));
+            self.clusters[cluster].edges = Some(built);
+            built
+        });
+        (&self.edges[range(edges)], &self.reaching[range(reaching)])
     }
 
     /// Settle how cluster `cluster`'s remaining beams take their candidates.
@@ -301,8 +299,13 @@ impl TileShadows {
     }
 }
 
+/// The indices of a `(start, end)` range.
+fn range(r: (u32, u32)) -> core::ops::Range<usize> {
+    r.0 as usize..r.1 as usize
+}
+
 /// Pack `prims` four to a packet at the end of `packets`; their range there.
-fn pack(triangles: &[beam_math::Triangle], prims: &[u32], packets: &mut Vec<Packet>) -> (u32, u32) {
+fn pack(triangles: &[Triangle], prims: &[u32], packets: &mut Vec<Packet>) -> (u32, u32) {
     let start = packets.len() as u32;
     packets.extend(prims.chunks(4).map(|chunk| Packet::new(triangles, chunk)));
     (start, packets.len() as u32)

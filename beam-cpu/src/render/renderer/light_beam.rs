@@ -88,38 +88,46 @@ impl Context<'_> {
         let tris = &self.scene.triangles;
         let mut lit = None;
         let mut sample_all = false;
-        match t.tile.candidates(index, t.block, p) {
-            Some(c) => {
-                let (cluster, mode) = (c.cluster, c.mode);
-                let mut winding = |traced: &mut ShadowBeam<'_>| {
-                    traced.lit_by_winding(&beam.section, (c.edges, c.reaching), tris, n, max_edges, &mut t.winding)
-                };
+        match t.tile.candidates(index, t.block, p).map(|c| (c.cluster, c.mode)) {
+            Some((cluster, mode)) => {
                 let mut next = None;
                 match mode {
-                    Mode::Split => traced.occlude_packets(c.packets, tris),
+                    Mode::Split => traced.occlude_packets(t.tile.packets(cluster), tris),
                     Mode::Walk => trace_bvh(&self.scene.bvh, tris, &mut traced),
                     Mode::Rays => unreachable!("sampled before the beam is set up"),
-                    Mode::Winding => match winding(&mut traced) {
-                        Ok(l) => lit = Some(l),
-                        // Past the budget (exact beams have none: past the arrangement's capacity).
-                        Err(WindingError::Capacity) if !self.options.exact => sample_all = true,
-                        Err(_) => {
-                            traced.stats.silhouette_fallbacks += 1;
-                            traced.occlude_packets(c.packets, tris);
+                    Mode::Winding => {
+                        let edges = t.tile.edges(cluster, tris);
+                        match traced.lit_by_winding(&beam.section, edges, tris, n, max_edges, &mut t.winding) {
+                            Ok(l) => lit = Some(l),
+                            // Past the budget (exact beams have none: past the arrangement's capacity).
+                            Err(WindingError::Capacity) if !self.options.exact => sample_all = true,
+                            Err(_) => {
+                                traced.stats.silhouette_fallbacks += 1;
+                                traced.occlude_packets(t.tile.packets(cluster), tris);
+                            }
                         }
-                    },
+                    }
                     Mode::Probe => {
-                        // Both ways, once: the work of each decides the cluster's other beams.
+                        // Split first: where the candidates split the beam too little for the edges
+                        // ever to pay ([`WindingWork::may_pay`]), the point says nothing of which way
+                        // is cheaper, and the cluster's next beam probes again. Otherwise the edges
+                        // too, once: the work of each decides the cluster's other beams.
                         let before = traced.stats;
-                        let result = winding(&mut traced);
-                        let edges_over = traced.stats.silhouette_edges - before.silhouette_edges;
-                        traced.occlude_packets(c.packets, tris);
+                        let candidates = t.tile.packets(cluster);
+                        traced.occlude_packets(candidates, tris);
                         let splits = traced.stats.intersections - before.intersections;
-                        let candidates = c.packets.iter().map(|q| q.len as usize).sum();
-                        let work = WindingWork { records: c.edges.len(), reaching: c.reaching.len(), edges_over };
-                        let cheaper = result.is_ok() && work.cheaper_than(candidates, splits);
-                        next = Some(if cheaper { Mode::Winding } else { Mode::Split });
-                        lit = result.ok();
+                        if WindingWork::may_pay(splits) {
+                            let candidates = candidates.iter().map(|q| q.len as usize).sum();
+                            let before = traced.stats;
+                            let edges = t.tile.edges(cluster, tris);
+                            let result =
+                                traced.lit_by_winding(&beam.section, edges, tris, n, max_edges, &mut t.winding);
+                            let edges_over = traced.stats.silhouette_edges - before.silhouette_edges;
+                            let work = WindingWork { records: edges.0.len(), reaching: edges.1.len(), edges_over };
+                            let cheaper = result.is_ok() && work.cheaper_than(candidates, splits);
+                            next = Some(if cheaper { Mode::Winding } else { Mode::Split });
+                            lit = result.ok();
+                        }
                     }
                 }
                 if sample_all || (lit.is_none() && traced.over_budget()) {
