@@ -127,7 +127,7 @@ pub fn primary_image(
                 Visibility::Exact => (Some(f64::INFINITY), CUT_OUT_RAYS),
                 // A region that may see a cut-out goes to rays: no grid of rays to predict its beam.
                 Visibility::Budget { rays } if cut_out => (None, rays),
-                Visibility::Budget { rays } => (trace_budget(scene, camera, region, rays), rays),
+                Visibility::Budget { rays } => (trace_budget(scene, camera, region, (rays, rays)), rays),
             };
             let part = match budget.filter(|_| !cut_out) {
                 None => Part { cut_out, ..ray_part(scene, camera, region, rays, &shade) },

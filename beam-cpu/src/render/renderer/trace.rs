@@ -90,11 +90,12 @@ impl Trace<'_> {
             rays.traced.counters.cut_out_regions += 1;
             return rays;
         }
-        // Half of what a primary ray and `--spp` shadow rays a pixel cost there; none with `--exact`.
+        // Half of what a primary ray and `--spp` shadow rays a pixel cost there, and a few times what
+        // the rays of [`Trace::ray_region`] cost; none with `--exact`.
         let budget = if ctx.options.exact {
             Some(f64::INFINITY)
         } else {
-            trace_budget(ctx.scene, camera, region, 1 + ctx.options.spp)
+            trace_budget(ctx.scene, camera, region, (1 + ctx.options.spp, RAY_GRID * RAY_GRID))
         };
         let Some(budget) = budget else { return self.ray_region(window) };
         let mut t = Thread::default();
