@@ -64,7 +64,7 @@ pub struct RenderOptions {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Occluders {
     /// Each cluster of shade points picks whichever of the two below did less work on its first
-    /// beam.
+    /// beam that its candidates split enough for the edges to be worth building.
     #[default]
     Auto,
     /// One at a time: each splits the beam's remaining pieces (001 §3.2).
