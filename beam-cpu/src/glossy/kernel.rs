@@ -30,7 +30,7 @@ const LATTICE: f32 = 2.0;
 const SLIVER: f32 = 1e-3;
 
 /// A convex polygon of at most 8 vertices: a triangle or cell clipped by a few lines (the kernel's
-/// inner loop; `ConvexPolygon::clip` is general and keeps both halves).
+/// inner loop: lines as `m·p ≤ d`, and no capacity error to carry, unlike `ConvexPolygon::clip`).
 #[derive(Clone, Copy)]
 struct Piece {
     v: [Vec2; 8],

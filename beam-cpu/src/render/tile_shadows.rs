@@ -189,11 +189,12 @@ impl TileShadows {
         for (index, light) in lights.iter().enumerate() {
             let base = self.clusters.len();
             self.clusters.resize(base + 2 * BLOCKS * BLOCKS, empty);
-            self.planes.push(silhouettes::Light { normal: light.normal(), center: light.center() });
+            let (ln, center) = (light.normal(), light.center());
+            self.planes.push(silhouettes::Light { normal: ln, center });
             if matches!(light, Light::Point { .. }) {
                 continue;
             }
-            let (polygon, ln, center) = (light.polygon(), light.normal(), light.center());
+            let polygon = light.polygon();
             let lit = |p: Vec3| ln.dot(p - center) > 0.0;
             // The blocks' boxes, and where to cut the spread ones.
             self.boxes.clear();

@@ -121,11 +121,11 @@ impl Context<'_> {
                         // is cheaper, and the cluster's next beam probes again. Otherwise the edges
                         // too, once: the work of each decides the cluster's other beams.
                         let before = traced.stats;
-                        let candidates = t.tile.packets(cluster);
-                        traced.occlude_packets(candidates, tris);
+                        let packets = t.tile.packets(cluster);
+                        traced.occlude_packets(packets, tris);
                         let splits = traced.stats.intersections - before.intersections;
                         if WindingWork::may_pay(splits) {
-                            let candidates = candidates.iter().map(|q| q.len as usize).sum();
+                            let candidates = packets.iter().map(|q| q.len as usize).sum();
                             let before = traced.stats;
                             let edges = t.tile.edges(cluster, tris);
                             let result =
