@@ -3,6 +3,7 @@
 
 use super::node::Node8;
 use super::tree::Bvh8;
+use core::ops::ControlFlow;
 use std::vec::Vec;
 
 impl Bvh8 {
@@ -14,6 +15,7 @@ impl Bvh8 {
     pub fn gather(&self, enter: impl FnMut(&Node8) -> u32, out: &mut Vec<u32>) {
         self.visit_leaves(enter, |first, count| {
             out.extend(self.prims[4 * first..4 * (first + count)].iter().filter(|&&p| p != u32::MAX));
+            ControlFlow::Continue(())
         });
     }
 
@@ -21,11 +23,21 @@ impl Bvh8 {
     /// holds the triangles `prims[4b..4b + 4]` (`u32::MAX` in an unused lane). For a device that
     /// culls triangle by triangle what the host culled by boxes.
     pub fn gather_blocks(&self, enter: impl FnMut(&Node8) -> u32, out: &mut Vec<u32>) {
-        self.visit_leaves(enter, |first, count| out.extend(first as u32..(first + count) as u32));
+        self.visit_leaves(enter, |first, count| {
+            out.extend(first as u32..(first + count) as u32);
+            ControlFlow::Continue(())
+        });
     }
 
-    /// Call `leaf(first block, blocks)` for every leaf reached through the children `enter` accepts.
-    fn visit_leaves(&self, mut enter: impl FnMut(&Node8) -> u32, mut leaf: impl FnMut(usize, usize)) {
+    /// Call `leaf(first block, blocks)` for every leaf reached from the root through the children
+    /// `enter` accepts (as [`Bvh8::gather`] does), until `leaf` breaks: block `b` is
+    /// [`Bvh8::blocks`]`[b]`, its triangles `prims[4b..4b + 4]`. For a volume test of the
+    /// triangles themselves, four at a time.
+    pub fn visit_leaves(
+        &self,
+        mut enter: impl FnMut(&Node8) -> u32,
+        mut leaf: impl FnMut(usize, usize) -> ControlFlow<()>,
+    ) {
         if self.nodes.is_empty() {
             return;
         }
@@ -34,7 +46,9 @@ impl Bvh8 {
         loop {
             if cur & Node8::LEAF != 0 {
                 let (first, count) = Node8::leaf_blocks(cur);
-                leaf(first, count);
+                if leaf(first, count).is_break() {
+                    return;
+                }
             } else {
                 let n = &self.nodes[cur as usize];
                 let mut mask = enter(n) & used(n);

@@ -237,7 +237,7 @@ impl TileShadows {
                 }
                 let shaft = Shaft::new(&cluster.points, &polygon, ln);
                 self.shafts += 1;
-                self.bvh_steps += gather(&scene.bvh, tris, &shaft, &mut self.gathered);
+                self.bvh_steps += gather(&scene.wide, tris, &shaft, &mut self.gathered);
                 if self.gathered.len() > MAX_CANDIDATES {
                     // Too wide: its points walk the BVH themselves (until one runs past its budget).
                     cluster.mode = Mode::Walk;

@@ -92,7 +92,8 @@ pub struct RenderStats {
     /// replace the shadow beams' own BVH traversals; where beams do not pay (fewer than 16 rays a
     /// light), shafts tested for whether a block of points sees the whole light.
     pub shafts: u64,
-    /// BVH nodes tested by the shafts.
+    /// BVH nodes tested by the shafts: 8-wide nodes (eight boxes each) for the candidates, binary
+    /// ones where a shaft only asks whether a block sees the whole light.
     pub shaft_bvh_steps: u64,
     /// Shadow beams whose occluders entered by their edges (silhouettes, boundaries and depth
     /// cuts) instead of splitting them one at a time.
