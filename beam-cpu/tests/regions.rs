@@ -71,6 +71,8 @@ fn a_budgeted_render_does_not_depend_on_the_threads_or_the_rectangle() {
         };
         let (one, stats) = on(1, None);
         assert!(stats.sampled_beams > 0 && stats.exact_pixel_share < 1.0, "no beam ran past its budget");
+        // Regions left to rays sample a pixel by its neighbours' centres too.
+        assert_eq!(stats.ray_pixels > 0, primary_beams, "{} pixels by rays", stats.ray_pixels);
         let what = format!("eye beams {primary_beams}");
         for threads in [2, 3] {
             same(&format!("{what}, {threads} threads"), &one, PixelRect::full(w, h), &on(threads, None).0);

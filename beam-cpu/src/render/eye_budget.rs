@@ -36,9 +36,9 @@ const SHARE: f64 = 0.5;
 /// How many times the time of the rays that replace it (a few a pixel, shaded the same way) an
 /// eye beam may take for its exact coverage. Where triangles are a few pixels large (Sponza, the
 /// Šibenik cathedral, the conference room at 256²) an eye beam costs 1–9 µs a pixel against
-/// 0.6–1.2 µs for 2 × 2 rays; at 512² 0.2–2 µs. Fit on 224 regions of seven scenes at 256² and
-/// 512²: 3 sends Sponza 256² 62% to rays (eye beams 0.121 → 0.070 thread-seconds), 512² 25%, and
-/// the conference room, the plant and `foliage` at 512² none.
+/// 0.6–1.2 µs for 2 × 2 rays; at 512² 0.2–2 µs (224 regions of seven scenes at 256² and 512²).
+/// With the renderer's rays (counted as 3 a pixel, `renderer/trace.rs`), 3 sends Sponza 256² 62%
+/// to rays, 512² 25%, the conference room 31% at 256² and 6% at 512², the plant at 512² none.
 const EXACTNESS: f64 = 3.0;
 
 /// How many times its prediction an eye beam's trace may take: on the shared scenes and the

@@ -35,7 +35,7 @@ pub mod surface;
 pub mod texture;
 
 pub use builtin::{builtin, builtin_with_smesh};
-pub use camera::Camera;
+pub use camera::{Camera, CameraFrame};
 pub use camera_path::{CameraKey, CameraPath};
 pub use cut_out_triangles::CutOutTriangles;
 pub use environment::{

@@ -61,14 +61,7 @@ pub(super) fn merge_smooth(scene: &Scene, camera: beam_math::glam::Vec3, surface
         let first_kept = kept;
         for i in start..end {
             let s = surfaces[i];
-            let n = facing_normal(scene, &s);
-            let t = (s.q - camera).length();
-            let joined = (first_kept..kept).find(|&k| {
-                let o = &surfaces[k];
-                scene.material_of[o.prim as usize] == scene.material_of[s.prim as usize]
-                    && facing_normal(scene, o).dot(n) >= SMOOTH
-                    && ((o.q - camera).length() - t).abs() <= CONTINUOUS * t
-            });
+            let joined = (first_kept..kept).find(|&k| one_stretch(scene, camera, &surfaces[k], &s));
             match joined {
                 Some(k) => surfaces[k].weight += s.weight,
                 None => {
@@ -80,6 +73,15 @@ pub(super) fn merge_smooth(scene: &Scene, camera: beam_math::glam::Vec3, surface
         start = end;
     }
     surfaces.truncate(kept);
+}
+
+/// Whether fragments `o` and `s` (seen from `camera`) see one smooth stretch of surface: the same
+/// material, normals within [`SMOOTH`], distances within [`CONTINUOUS`] of `s`'s.
+pub(super) fn one_stretch(scene: &Scene, camera: beam_math::glam::Vec3, o: &Surface, s: &Surface) -> bool {
+    let t = (s.q - camera).length();
+    scene.material_of[o.prim as usize] == scene.material_of[s.prim as usize]
+        && facing_normal(scene, o).dot(facing_normal(scene, s)) >= SMOOTH
+        && ((o.q - camera).length() - t).abs() <= CONTINUOUS * t
 }
 
 /// The fragment's geometric normal, turned to face the viewer.

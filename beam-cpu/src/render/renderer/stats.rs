@@ -64,9 +64,10 @@ pub struct RenderStats {
     /// Points the eye beams' fragments were shaded at: a pixel's fragments that see one smooth
     /// stretch of surface are shaded once.
     pub shade_points: u64,
-    /// Pixels whose primary visibility was sampled by primary rays (2 × 2 a pixel) because their
-    /// region's eye beam would have cost more than half the ray method's time there (sub-pixel
-    /// triangles): predicted from a grid of rays, or found while tracing it; none with `--exact`.
+    /// Pixels whose primary visibility was sampled by primary rays (one through the centre, 2 × 2
+    /// where an edge may pass) because their region's eye beam would have cost more than its
+    /// budget (sub-pixel triangles, `render/eye_budget.rs`): predicted from a grid of rays, or
+    /// found while tracing it; none with `--exact`.
     pub ray_pixels: u64,
     /// Eye beams stopped while tracing, past that budget (their regions are in `ray_pixels`).
     pub over_budget_regions: u64,
