@@ -7,6 +7,7 @@
 
 use super::context::Surface;
 use crate::render::eye_regions::{Region, TILE};
+use beam_math::glam::Vec3;
 use beam_scene::scene::Scene;
 
 /// Cosine of the largest angle between the normals of fragments shaded as one.
@@ -52,21 +53,25 @@ pub(super) fn sort_by_tile(surfaces: &mut Vec<Surface>, window: Region) {
 
 /// Merge each pixel's fragments that see one smooth stretch of surface into the largest of them
 /// (its coverage the sum of theirs). `surfaces` come as [`sort_by_tile`] leaves them, and stay so.
-pub(super) fn merge_smooth(scene: &Scene, camera: beam_math::glam::Vec3, surfaces: &mut Vec<Surface>) {
+pub(super) fn merge_smooth(scene: &Scene, camera: Vec3, surfaces: &mut Vec<Surface>) {
     let mut kept = 0;
     let mut start = 0;
+    // The stretches of the pixel's kept fragments, `first_kept..kept`.
+    let mut stretches: Vec<Stretch> = Vec::new();
     while start < surfaces.len() {
         let end = start
             + surfaces[start..].iter().take_while(|s| (s.x, s.y) == (surfaces[start].x, surfaces[start].y)).count();
         let first_kept = kept;
+        stretches.clear();
         for i in start..end {
             let s = surfaces[i];
-            let joined = (first_kept..kept).find(|&k| one_stretch(scene, camera, &surfaces[k], &s));
-            match joined {
-                Some(k) => surfaces[k].weight += s.weight,
+            let stretch = Stretch::of(scene, camera, &s);
+            match stretches.iter().position(|o| o.joins(&stretch)) {
+                Some(k) => surfaces[first_kept + k].weight += s.weight,
                 None => {
                     surfaces[kept] = s;
                     kept += 1;
+                    stretches.push(stretch);
                 }
             }
         }
@@ -75,17 +80,33 @@ pub(super) fn merge_smooth(scene: &Scene, camera: beam_math::glam::Vec3, surface
     surfaces.truncate(kept);
 }
 
-/// Whether fragments `o` and `s` (seen from `camera`) see one smooth stretch of surface: the same
-/// material, normals within [`SMOOTH`], distances within [`CONTINUOUS`] of `s`'s.
-pub(super) fn one_stretch(scene: &Scene, camera: beam_math::glam::Vec3, o: &Surface, s: &Surface) -> bool {
-    let t = (s.q - camera).length();
-    scene.material_of[o.prim as usize] == scene.material_of[s.prim as usize]
-        && facing_normal(scene, o).dot(facing_normal(scene, s)) >= SMOOTH
-        && ((o.q - camera).length() - t).abs() <= CONTINUOUS * t
+/// What decides whether two fragments see one smooth stretch of surface: the material, the
+/// geometric normal turned to face the viewer, the distance from the camera.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Stretch {
+    material: u32,
+    normal: Vec3,
+    distance: f32,
+}
+
+impl Stretch {
+    /// The stretch fragment `s` sees from `camera`.
+    pub(super) fn of(scene: &Scene, camera: Vec3, s: &Surface) -> Self {
+        let material = scene.material_of[s.prim as usize];
+        Self { material, normal: facing_normal(scene, s), distance: (s.q - camera).length() }
+    }
+
+    /// Whether `self` and `s` are one smooth stretch: the same material, normals within
+    /// [`SMOOTH`], distances within [`CONTINUOUS`] of `s`'s.
+    pub(super) fn joins(&self, s: &Self) -> bool {
+        self.material == s.material
+            && self.normal.dot(s.normal) >= SMOOTH
+            && (self.distance - s.distance).abs() <= CONTINUOUS * s.distance
+    }
 }
 
 /// The fragment's geometric normal, turned to face the viewer.
-fn facing_normal(scene: &Scene, s: &Surface) -> beam_math::glam::Vec3 {
+fn facing_normal(scene: &Scene, s: &Surface) -> Vec3 {
     let n = scene.normal(s.prim);
     if n.dot(s.d) > 0.0 { -n } else { n }
 }

@@ -3,7 +3,7 @@
 //! what they see a tile at a time ([`Context::shade_tile`]).
 
 use super::context::{Context, Lights, SHADE_SEED, Surface, Thread};
-use super::shade_points::{merge_smooth, one_stretch, sort_by_tile};
+use super::shade_points::{Stretch, merge_smooth, sort_by_tile};
 use super::shading::stratified;
 use super::stats::Counters;
 use crate::render::eye_budget::trace_budget;
@@ -53,8 +53,8 @@ const FALLBACK_RAYS: u32 = 3;
 enum Centre {
     /// Nothing: the environment along this direction.
     Background(Vec3),
-    /// One opaque surface.
-    Surface(Surface),
+    /// One opaque surface, and the stretch of surface it lies on.
+    Surface(Surface, Stretch),
     /// A `BLEND` surface and what lies behind it.
     Layered,
 }
@@ -255,7 +255,8 @@ impl Trace<'_> {
         t: &mut Thread,
     ) {
         let weight = 1.0 / (k * k) as f32;
-        let mut rng = Pcg32::seed_from_u64((self.seed)(x, y));
+        let seed = (self.seed)(x, y);
+        let mut rng = Pcg32::seed_from_u64(seed);
         for i in 0..k * k {
             let (jx, jy) = stratified(i, k, &mut rng);
             let ray = self.camera.ray(frame, x as f32 + jx, y as f32 + jy);
@@ -265,7 +266,7 @@ impl Trace<'_> {
                 if let Some(s) = seen.get_mut(hit.prim as usize) {
                     *s = true;
                 }
-                let seed = (self.seed)(x, y) ^ SHADE_SEED;
+                let seed = seed ^ SHADE_SEED;
                 out.push(Surface { x, y, weight: weight * share, prim: hit.prim, q: ray.at(hit.t), d, seed });
             });
             if beyond > 0.0 {
@@ -277,7 +278,7 @@ impl Trace<'_> {
     /// One primary ray through the centre of each pixel of `rect` (as `--method ray` traces it),
     /// and [`RAY_GRID`]² stratified ones ([`Trace::pixel_hits`]) instead where the pixel may hold
     /// an edge: where its centre and a neighbour's (above, below, left or right, in the image) do
-    /// not see one smooth stretch of surface ([`one_stretch`]), or see through a `BLEND` surface.
+    /// not see one smooth stretch of surface ([`Stretch`]), or see through a `BLEND` surface.
     /// Each pixel's rays are its own (seeded by the pixel), whichever part of the image traces it.
     fn adaptive_hits(
         &self,
@@ -301,16 +302,18 @@ impl Trace<'_> {
             for x in ring.x0..ring.x1 {
                 let ray = camera.ray(&frame, x as f32 + 0.5, y as f32 + 0.5);
                 t.c.camera_rays += 1;
-                let (mut surface, mut layers) = (None, 0);
-                let d = ray.direction.normalize();
+                let (mut last, mut layers) = (None, 0);
                 let beyond = scene.blended_hits(ray, f32::INFINITY, |hit, _| {
                     layers += 1;
-                    let seed = (self.seed)(x, y) ^ SHADE_SEED;
-                    surface = Some(Surface { x, y, weight: 1.0, prim: hit.prim, q: ray.at(hit.t), d, seed });
+                    last = Some(hit);
                 });
-                centres.push(match (surface, layers, beyond) {
+                centres.push(match (last, layers, beyond) {
                     (None, _, _) => Centre::Background(ray.direction),
-                    (Some(s), 1, 0.0) => Centre::Surface(s),
+                    (Some(hit), 1, 0.0) => {
+                        let (q, d, seed) = (ray.at(hit.t), ray.direction.normalize(), (self.seed)(x, y) ^ SHADE_SEED);
+                        let s = Surface { x, y, weight: 1.0, prim: hit.prim, q, d, seed };
+                        Centre::Surface(s, Stretch::of(scene, camera.position, &s))
+                    }
                     _ => Centre::Layered,
                 });
             }
@@ -318,7 +321,7 @@ impl Trace<'_> {
         let at = |x: u32, y: u32| &centres[ring.index(x, y)];
         let one = |a: &Centre, b: &Centre| match (a, b) {
             (Centre::Background(_), Centre::Background(_)) => true,
-            (Centre::Surface(a), Centre::Surface(b)) => one_stretch(scene, camera.position, a, b),
+            (Centre::Surface(_, a), Centre::Surface(_, b)) => a.joins(b),
             _ => false,
         };
         for y in rect.y0..rect.y1 {
@@ -333,7 +336,7 @@ impl Trace<'_> {
                 let pixel = &mut pixels[part.index(x, y)];
                 let smooth = neighbours.iter().flatten().all(|&(u, v)| one(c, at(u, v)));
                 match c {
-                    Centre::Surface(s) if smooth => {
+                    Centre::Surface(s, _) if smooth => {
                         if let Some(seen) = seen.get_mut(s.prim as usize) {
                             *seen = true;
                         }
