@@ -1,6 +1,6 @@
 //! Regions of the image left to primary rays (their eye beams would not pay: sub-pixel triangles)
-//! trace one ray through each pixel's centre, and 2 × 2 stratified rays only where an edge may
-//! pass: a floor of 45,000 triangles, each under half a pixel, meets a wall of two.
+//! trace one ray through each pixel's centre, and a stratified ray in each quarter of a pixel that
+//! an edge may cross: a floor of 45,000 triangles, each under half a pixel, meets a wall of two.
 
 use beam_cpu::render::render;
 use beam_math::Triangle;
@@ -60,12 +60,14 @@ fn ray_regions_sample_edges_finely_and_the_rest_once() {
     let budgeted = RenderOptions { spp: 64, primary_beams: true, exact: false, ..RenderOptions::exact(64, 64) };
     let (image, stats) = render(&scene, &budgeted, || {});
     assert!(stats.ray_pixels >= 64 * 32, "the floor's regions go to rays: {} pixels", stats.ray_pixels);
-    // A centre a pixel (and a ring around each region), four more where an edge may pass: the
-    // floor's triangles are one smooth stretch, so few pixels take them.
+    // A centre a pixel (and a ring around each region), up to four more where an edge may pass:
+    // the floor's triangles are one smooth stretch, so few pixels take them. Along the edge, a
+    // quarter-pixel sliver of floor or wall is shaded at the neighbour's point of its stretch.
     let rays_per_pixel = stats.camera_rays as f64 / stats.ray_pixels as f64;
     assert!((1.0..2.0).contains(&rays_per_pixel), "{rays_per_pixel} rays a pixel");
+    assert!(stats.lent_fragments > 0, "slivers shaded at their neighbours' points");
     // The same render with primary rays instead of eye beams: one through every pixel's centre,
-    // whose edges alias, and 2 × 2 stratified ones a pixel everywhere.
+    // whose edges alias, and 2 × 2 stratified ones a pixel everywhere, each fragment shaded.
     let centres = RenderOptions { primary_beams: false, primary_spp: 1, ..budgeted };
     let (aliased, _) = render(&scene, &centres, || {});
     let (four, _) = render(&scene, &RenderOptions { primary_spp: 4, ..centres }, || {});
@@ -74,4 +76,7 @@ fn ray_regions_sample_edges_finely_and_the_rest_once() {
     eprintln!("{rays_per_pixel:.2} rays a pixel: relative RMSE {error}; centres {aliased_error}, 2 × 2 {four_error}");
     assert!(error < 0.85 * aliased_error, "edges sampled finely: {error} against {aliased_error} by centres");
     assert!(error < 1.05 * four_error, "as close as 2 × 2 rays everywhere: {error} against {four_error}");
+    // Exact eye beams everywhere shade every fragment at its own point.
+    let (_, exact) = render(&scene, &RenderOptions { primary_beams: true, ..RenderOptions::exact(64, 64) }, || {});
+    assert!(exact.fragments > exact.shade_points && exact.lent_fragments == 0, "{exact:?}");
 }

@@ -107,7 +107,8 @@ impl<'a> Context<'a> {
 }
 
 /// A visible surface point of a tile to shade: pixel, weight in it, triangle, point, unit view
-/// direction and the seed of its shadow-ray samples.
+/// direction and the seed of its shadow-ray samples, and the weights it also has in the pixel to
+/// its right and the one below ([`lend_slivers`](super::shade_points::lend_slivers)).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Surface {
     pub(super) x: u32,
@@ -117,6 +118,17 @@ pub(super) struct Surface {
     pub(super) q: Vec3,
     pub(super) d: Vec3,
     pub(super) seed: u64,
+    pub(super) lent: [f32; 2],
+}
+
+impl Surface {
+    /// The pixels this point is shaded into, with its weight in each: its own, then the ones it
+    /// lends to (the pixel to its right, the one below).
+    pub(super) fn targets(&self) -> impl Iterator<Item = ((u32, u32), f32)> + use<> {
+        let (x, y) = (self.x, self.y);
+        let lent = [((x + 1, y), self.lent[0]), ((x, y + 1), self.lent[1])];
+        core::iter::once(((x, y), self.weight)).chain(lent.into_iter().filter(|&(_, w)| w > 0.0))
+    }
 }
 
 /// Which lights a shade point gathers directly.

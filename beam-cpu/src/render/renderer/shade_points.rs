@@ -80,6 +80,60 @@ pub(super) fn merge_smooth(scene: &Scene, camera: Vec3, surfaces: &mut Vec<Surfa
     surfaces.truncate(kept);
 }
 
+/// Largest coverage of a fragment shaded at a neighbour's point ([`lend_slivers`]): one of the
+/// 2 × 2 rays of a ray region's edge pixel.
+const SLIVER: f32 = 0.25;
+
+/// Shade the slivers of edge pixels at their neighbours' points: in a pixel that holds more than
+/// one shade point (an edge passes through it), a fragment of at most [`SLIVER`] coverage whose
+/// stretch of surface is one with a shade point of the pixel to its left or of the one above, in
+/// its tile, is dropped and its weight lent to that point ([`Surface::lent`]): shaded one pixel
+/// away, as a pixel's fragments on one stretch are all shaded at its largest ([`merge_smooth`]).
+/// `surfaces` come as [`merge_smooth`] leaves them, and stay so. Returns how many were lent.
+pub(super) fn lend_slivers(scene: &Scene, camera: Vec3, surfaces: &mut Vec<Surface>) -> u64 {
+    const SIDE: usize = TILE as usize;
+    let mut lent = 0;
+    // The kept points' stretches, and per pixel of the tile being read the range of its own.
+    let mut stretches: Vec<Stretch> = Vec::new();
+    let mut own = [(0, 0); SIDE * SIDE];
+    let (mut kept, mut first, mut start, mut tile) = (0, 0, 0, None);
+    while start < surfaces.len() {
+        let (x, y) = (surfaces[start].x, surfaces[start].y);
+        let end = start + surfaces[start..].iter().take_while(|s| (s.x, s.y) == (x, y)).count();
+        if tile != Some((x / TILE, y / TILE)) {
+            // A new tile: its kept points start here.
+            (tile, first, own) = (Some((x / TILE, y / TILE)), kept, [(0, 0); SIDE * SIDE]);
+            stretches.clear();
+        }
+        let (tx, ty) = ((x % TILE) as usize, (y % TILE) as usize);
+        let left = if tx > 0 { own[ty * SIDE + tx - 1] } else { (0, 0) };
+        let above = if ty > 0 { own[(ty - 1) * SIDE + tx] } else { (0, 0) };
+        let mine = stretches.len();
+        for i in start..end {
+            let s = surfaces[i];
+            let stretch = Stretch::of(scene, camera, &s);
+            let joins = |(a, b): (usize, usize)| (a..b).find(|&k| stretches[k].joins(&stretch));
+            let lender = if end - start > 1 && s.weight <= SLIVER {
+                joins(left).map(|k| (k, 0)).or_else(|| joins(above).map(|k| (k, 1)))
+            } else {
+                None
+            };
+            if let Some((k, side)) = lender {
+                surfaces[first + k].lent[side] += s.weight;
+                lent += 1;
+            } else {
+                surfaces[kept] = s;
+                stretches.push(stretch);
+                kept += 1;
+            }
+        }
+        own[ty * SIDE + tx] = (mine, stretches.len());
+        start = end;
+    }
+    surfaces.truncate(kept);
+    lent
+}
+
 /// What decides whether two fragments see one smooth stretch of surface: the material, the
 /// geometric normal turned to face the viewer, the distance from the camera.
 #[derive(Clone, Copy, Debug)]
@@ -109,4 +163,74 @@ impl Stretch {
 fn facing_normal(scene: &Scene, s: &Surface) -> Vec3 {
     let n = scene.normal(s.prim);
     if n.dot(s.d) > 0.0 { -n } else { n }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use beam_math::Triangle;
+    use beam_scene::scene::{Camera, Material};
+
+    /// A floor (triangle 0, material 0) and a wall (triangle 1, material 1) seen from above.
+    fn floor_and_wall() -> Scene {
+        let floor = Triangle::new(Vec3::new(-5.0, 0.0, -5.0), Vec3::new(5.0, 0.0, -5.0), Vec3::new(0.0, 0.0, 5.0));
+        let wall = Triangle::new(Vec3::new(-5.0, 0.0, -1.0), Vec3::new(5.0, 0.0, -1.0), Vec3::new(0.0, 5.0, -1.0));
+        let plain = Material::Diffuse { albedo: Vec3::splat(0.5) };
+        let camera = Camera {
+            position: Vec3::new(0.0, 10.0, 0.0),
+            target: Vec3::ZERO,
+            up: Vec3::Z,
+            fov_y: 40.0,
+            width: 32,
+            height: 32,
+        };
+        Scene::new("floor and wall".into(), vec![(floor, 0), (wall, 1)], vec![plain, plain], Vec::new(), camera)
+    }
+
+    fn fragment((x, y): (u32, u32), weight: f32, prim: u32) -> Surface {
+        let q = if prim == 0 { Vec3::new(0.1, 0.0, 0.0) } else { Vec3::new(0.1, 1.0, -1.0) };
+        let d = (q - Vec3::new(0.0, 10.0, 0.0)).normalize();
+        Surface { x, y, weight, prim, q, d, seed: 0, lent: [0.0; 2] }
+    }
+
+    /// A sliver of an edge pixel goes to the point of its stretch in the pixel to its left or the
+    /// one above, in its tile; larger fragments, lone fragments and other tiles' points stay.
+    #[test]
+    fn slivers_go_to_the_left_or_upper_neighbours_point() {
+        let scene = floor_and_wall();
+        let camera = scene.camera.position;
+        let mut surfaces = vec![
+            fragment((0, 0), 1.0, 1),
+            fragment((1, 0), 0.75, 0),
+            fragment((1, 0), 0.25, 1),
+            fragment((2, 0), 0.5, 0),
+            fragment((2, 0), 0.5, 1),
+            fragment((15, 0), 1.0, 1),
+            fragment((0, 1), 0.75, 0),
+            fragment((0, 1), 0.25, 1),
+            fragment((1, 1), 0.25, 1),
+            // The next tile: its left neighbour (15, 0) lies in another.
+            fragment((16, 0), 0.75, 0),
+            fragment((16, 0), 0.25, 1),
+        ];
+        let lent = lend_slivers(&scene, camera, &mut surfaces);
+        assert_eq!(lent, 2);
+        let at =
+            |x, y| surfaces.iter().filter(|s| (s.x, s.y) == (x, y)).map(|s| (s.prim, s.weight)).collect::<Vec<_>>();
+        assert_eq!(surfaces[0].lent, [0.25, 0.25], "(1, 0)'s and (0, 1)'s wall slivers");
+        assert_eq!(at(1, 0), [(0, 0.75)]);
+        assert_eq!(at(0, 1), [(0, 0.75)]);
+        assert_eq!(at(2, 0), [(0, 0.5), (1, 0.5)], "no sliver");
+        assert_eq!(at(1, 1), [(1, 0.25)], "a lone fragment");
+        assert_eq!(at(16, 0), [(0, 0.75), (1, 0.25)], "across a tile's edge");
+        let targets: Vec<_> = surfaces[0].targets().collect();
+        assert_eq!(targets, [((0, 0), 1.0), ((1, 0), 0.25), ((0, 1), 0.25)]);
+        // What was lent and what stayed still cover each pixel as before.
+        let weight = |x, y| {
+            surfaces.iter().flat_map(Surface::targets).filter(|&(p, _)| p == (x, y)).map(|(_, w)| w).sum::<f32>()
+        };
+        for (x, y) in [(0, 0), (1, 0), (2, 0), (0, 1), (16, 0)] {
+            assert_eq!(weight(x, y), 1.0, "({x}, {y})");
+        }
+    }
 }

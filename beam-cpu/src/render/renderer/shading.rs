@@ -299,9 +299,12 @@ impl Context<'_> {
             let mut rng = Pcg32::seed_from_u64(s.seed);
             let (sampled, sky) = (t.c.sampled_beams, t.c.environment_rays);
             let l = self.shade(s.prim, s.q, s.d, 0, lights, &mut rng, t);
-            pixels[part.index(s.x, s.y)] += s.weight * l;
-            if t.c.sampled_beams > sampled || t.c.environment_rays > sky {
-                inexact[((s.y - y0) * TILE + s.x - x0) as usize] = true;
+            let sampled = t.c.sampled_beams > sampled || t.c.environment_rays > sky;
+            for ((x, y), weight) in s.targets() {
+                pixels[part.index(x, y)] += weight * l;
+                if sampled {
+                    inexact[((y - y0) * TILE + x - x0) as usize] = true;
+                }
             }
         }
         // Only the pixels asked for: a crop shades whole rows of tiles around itself.

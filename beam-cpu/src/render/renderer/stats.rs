@@ -64,6 +64,9 @@ pub struct RenderStats {
     /// Points the eye beams' fragments were shaded at: a pixel's fragments that see one smooth
     /// stretch of surface are shaded once.
     pub shade_points: u64,
+    /// Slivers of edge pixels (at most a quarter of the pixel) shaded at a neighbouring pixel's
+    /// point of their stretch of surface instead of their own; none with `--exact`.
+    pub lent_fragments: u64,
     /// Pixels whose primary visibility was sampled by primary rays (one through the centre, 2 × 2
     /// where an edge may pass) because their region's eye beam would have cost more than its
     /// budget (sub-pixel triangles, `render/eye_budget.rs`): predicted from a grid of rays, or
@@ -182,6 +185,7 @@ impl RenderStats {
             hit_beams_per_visible_triangle: total.primary.hit_beams as f64 / visible_triangles.max(1) as f64,
             fragments: total.fragments,
             shade_points: total.shade_points,
+            lent_fragments: total.lent_fragments,
             ray_pixels: total.ray_pixels,
             over_budget_regions: total.over_budget,
             contact_beams: total.contact_beams,
@@ -221,6 +225,7 @@ pub(super) struct Counters {
     pub(super) primary: BeamStats,
     pub(super) fragments: u64,
     pub(super) shade_points: u64,
+    pub(super) lent_fragments: u64,
     pub(super) ray_pixels: u64,
     pub(super) over_budget: u64,
     pub(super) contact_beams: u64,
@@ -256,6 +261,7 @@ impl Counters {
             primary: self.primary.since(&before.primary),
             fragments: d(self.fragments, before.fragments),
             shade_points: d(self.shade_points, before.shade_points),
+            lent_fragments: d(self.lent_fragments, before.lent_fragments),
             ray_pixels: d(self.ray_pixels, before.ray_pixels),
             over_budget: d(self.over_budget, before.over_budget),
             contact_beams: d(self.contact_beams, before.contact_beams),
@@ -288,6 +294,7 @@ impl core::ops::AddAssign for Counters {
         self.primary += o.primary;
         self.fragments += o.fragments;
         self.shade_points += o.shade_points;
+        self.lent_fragments += o.lent_fragments;
         self.ray_pixels += o.ray_pixels;
         self.over_budget += o.over_budget;
         self.contact_beams += o.contact_beams;

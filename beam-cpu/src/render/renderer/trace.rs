@@ -3,7 +3,7 @@
 //! what they see a tile at a time ([`Context::shade_tile`]).
 
 use super::context::{Context, Lights, SHADE_SEED, Surface, Thread};
-use super::shade_points::{Stretch, merge_smooth, sort_by_tile};
+use super::shade_points::{Stretch, lend_slivers, merge_smooth, sort_by_tile};
 use super::shading::stratified;
 use super::stats::Counters;
 use crate::render::eye_budget::trace_budget;
@@ -36,14 +36,15 @@ pub(super) struct EyeTraced {
     pub(super) lights: Lights,
 }
 
-/// Primary rays per pixel side where a region's eye beam would not pay, in the pixels that may hold
-/// an edge ([`Trace::adaptive_hits`]); one ray through the others' centres.
+/// Strata per pixel side where a region's eye beam would not pay, in the pixels that may hold an
+/// edge: their quarters ([`Trace::adaptive_hits`]); one ray through the others' centres.
 const RAY_GRID: u32 = 2;
+const _: () = assert!(RAY_GRID == 2, "the strata are a pixel's quarters");
 
 /// The rays a pixel of such a region counts as in the eye beam's budget ([`trace_budget`]). The
-/// regions trace 1.2–4 a pixel (a centre, a ring of centres around the region, and [`RAY_GRID`]²
-/// more where an edge may pass): 1.2–1.6 on the bunny, 2.2–2.9 on Sponza, Šibenik and the
-/// conference room, 3–4 in the plant's and `foliage`'s leaves, at 128²–512². With 4 the conference
+/// regions trace 1.1–3.4 a pixel (a centre, a ring of centres around the region, and one in each
+/// quarter that borders an edge): 1.1–1.4 on the bunny, 1.5–2.7 on Sponza, Šibenik and the
+/// conference room, 2.6–3.4 in the plant's and `foliage`'s leaves, at 128²–512². With 4 the conference
 /// room at 256² kept eye beams that took 12% more than rays would (thread-seconds 0.150 against
 /// 0.134); with 2, Šibenik at 256² sent 81% of its pixels to rays, and its RMSE against `--exact`
 /// rose from 0.032 to 0.052.
@@ -144,7 +145,7 @@ impl Trace<'_> {
                 }
                 Fragment::Surface { prim, q, d } => {
                     coverage[i] += cov;
-                    surfaces.push(Surface { x, y, weight: cov, prim, q, d, seed: (self.seed)(x, y) });
+                    surfaces.push(Surface { x, y, weight: cov, prim, q, d, seed: (self.seed)(x, y), lent: [0.0; 2] });
                 }
                 Fragment::Lit { light, prim, points } => {
                     pixels[i] += ctx.point_lit(prim, points, camera.position, light)
@@ -165,6 +166,9 @@ impl Trace<'_> {
         // occluders.
         sort_by_tile(&mut surfaces, window);
         merge_smooth(ctx.scene, camera.position, &mut surfaces);
+        if !ctx.options.exact {
+            t.c.lent_fragments += lend_slivers(ctx.scene, camera.position, &mut surfaces);
+        }
         t.c.primary += eye.primary;
         t.c.beams += eye.shadow;
         t.c.shadow_beams += eye.shadow_beams;
@@ -191,6 +195,9 @@ impl Trace<'_> {
         t.c.fragments += surfaces.len() as u64;
         sort_by_tile(&mut surfaces, window);
         merge_smooth(ctx.scene, camera.position, &mut surfaces);
+        if !ctx.options.exact {
+            t.c.lent_fragments += lend_slivers(ctx.scene, camera.position, &mut surfaces);
+        }
         t.c.shade_points += surfaces.len() as u64;
         t.c.ray_pixels += window.len() as u64;
         t.c.primary_seconds += start.elapsed().as_secs_f64();
@@ -214,10 +221,10 @@ impl Trace<'_> {
         let mut points = Vec::new();
         self.ctx.shade_tile(tile, lights, (part.x0, part.y0), (&mut pixels, part), &mut points, t);
         let mut out = Vec::new();
-        for s in tile {
-            let i = part.index(s.x, s.y);
+        for ((x, y), _) in tile.iter().flat_map(Surface::targets) {
+            let i = part.index(x, y);
             if pixels[i] != Vec3::ZERO {
-                out.push((window.index(s.x, s.y), core::mem::take(&mut pixels[i])));
+                out.push((window.index(x, y), core::mem::take(&mut pixels[i])));
             }
         }
         out
@@ -240,16 +247,19 @@ impl Trace<'_> {
         let frame = self.camera.frame();
         for y in rect.y0..rect.y1 {
             for x in rect.x0..rect.x1 {
-                self.pixel_hits((x, y), (k, &frame), (&mut *seen, &mut *out), &mut pixels[part.index(x, y)], t);
+                let pixel = &mut pixels[part.index(x, y)];
+                self.pixel_hits((x, y), (k, None, &frame), (&mut *seen, &mut *out), pixel, t);
             }
         }
     }
 
-    /// [`Trace::primary_hits`] of pixel `(x, y)`, whose radiance is `pixel`.
+    /// [`Trace::primary_hits`] of pixel `(x, y)`, whose radiance is `pixel`: in every stratum, or
+    /// only in those `i` (column `i % k`, row `i / k`) whose bit is set in `only` (each stratum's
+    /// jitter is drawn all the same, so its ray does not depend on which others are traced).
     fn pixel_hits(
         &self,
         (x, y): (u32, u32),
-        (k, frame): (u32, &CameraFrame),
+        (k, only, frame): (u32, Option<u32>, &CameraFrame),
         (seen, out): (&mut [bool], &mut Vec<Surface>),
         pixel: &mut Vec3,
         t: &mut Thread,
@@ -259,6 +269,9 @@ impl Trace<'_> {
         let mut rng = Pcg32::seed_from_u64(seed);
         for i in 0..k * k {
             let (jx, jy) = stratified(i, k, &mut rng);
+            if only.is_some_and(|bits| bits >> i & 1 == 0) {
+                continue;
+            }
             let ray = self.camera.ray(frame, x as f32 + jx, y as f32 + jy);
             t.c.camera_rays += 1;
             let d = ray.direction.normalize();
@@ -267,7 +280,16 @@ impl Trace<'_> {
                     *s = true;
                 }
                 let seed = seed ^ SHADE_SEED;
-                out.push(Surface { x, y, weight: weight * share, prim: hit.prim, q: ray.at(hit.t), d, seed });
+                out.push(Surface {
+                    x,
+                    y,
+                    weight: weight * share,
+                    prim: hit.prim,
+                    q: ray.at(hit.t),
+                    d,
+                    seed,
+                    lent: [0.0; 2],
+                });
             });
             if beyond > 0.0 {
                 *pixel += weight * beyond * self.ctx.scene.environment.radiance(ray.direction);
@@ -276,9 +298,10 @@ impl Trace<'_> {
     }
 
     /// One primary ray through the centre of each pixel of `rect` (as `--method ray` traces it),
-    /// and [`RAY_GRID`]² stratified ones ([`Trace::pixel_hits`]) instead where the pixel may hold
-    /// an edge: where its centre and a neighbour's (above, below, left or right, in the image) do
-    /// not see one smooth stretch of surface ([`Stretch`]), or see through a `BLEND` surface.
+    /// and where the pixel may hold an edge, a stratified ray in each quarter of it that borders a
+    /// neighbour (left, right, above or below, in the image) whose centre does not see the same
+    /// smooth stretch of surface ([`Stretch`]), or in all four behind a `BLEND` surface
+    /// ([`Trace::pixel_hits`] with [`RAY_GRID`] 2); the other quarters take what the centre sees.
     /// Each pixel's rays are its own (seeded by the pixel), whichever part of the image traces it.
     fn adaptive_hits(
         &self,
@@ -311,7 +334,7 @@ impl Trace<'_> {
                     (None, _, _) => Centre::Background(ray.direction),
                     (Some(hit), 1, 0.0) => {
                         let (q, d, seed) = (ray.at(hit.t), ray.direction.normalize(), (self.seed)(x, y) ^ SHADE_SEED);
-                        let s = Surface { x, y, weight: 1.0, prim: hit.prim, q, d, seed };
+                        let s = Surface { x, y, weight: 1.0, prim: hit.prim, q, d, seed, lent: [0.0; 2] };
                         Centre::Surface(s, Stretch::of(scene, camera.position, &s))
                     }
                     _ => Centre::Layered,
@@ -334,16 +357,27 @@ impl Trace<'_> {
                     (y + 1 < ring.y1).then_some((x, y + 1)),
                 ];
                 let pixel = &mut pixels[part.index(x, y)];
-                let smooth = neighbours.iter().flatten().all(|&(u, v)| one(c, at(u, v)));
+                // Whether each neighbour's centre sees another stretch: left, right, above, below.
+                let differ = neighbours.map(|n| n.is_some_and(|(u, v)| !one(c, at(u, v))));
+                // The quarters (the 2 × 2 strata) that border such a neighbour get a ray each, all
+                // four behind a `BLEND` centre; the others take what the centre sees.
+                let quarters: u32 = match c {
+                    Centre::Layered => 0b1111,
+                    _ => (0..4).filter(|&i| differ[i % 2] || differ[2 + i / 2]).map(|i| 1 << i).sum(),
+                };
+                if quarters != 0 {
+                    self.pixel_hits((x, y), (RAY_GRID, Some(quarters), &frame), (&mut *seen, &mut *out), pixel, t);
+                }
+                let share = (4 - quarters.count_ones()) as f32 / 4.0;
                 match c {
-                    Centre::Surface(s, _) if smooth => {
+                    Centre::Surface(s, _) if share > 0.0 => {
                         if let Some(seen) = seen.get_mut(s.prim as usize) {
                             *seen = true;
                         }
-                        out.push(*s);
+                        out.push(Surface { weight: share, ..*s });
                     }
-                    Centre::Background(direction) if smooth => *pixel += scene.environment.radiance(*direction),
-                    _ => self.pixel_hits((x, y), (RAY_GRID, &frame), (&mut *seen, &mut *out), pixel, t),
+                    Centre::Background(direction) => *pixel += share * scene.environment.radiance(*direction),
+                    _ => {}
                 }
             }
         }
