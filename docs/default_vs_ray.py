@@ -1,6 +1,6 @@
 """Time the default `beam render` against `--method ray` (its default 64 spp) on the built-in scenes
 and the shared ones, as a new user would run them: wall seconds of the whole command (loading,
-building, rendering, writing the PNG), best of two. The table of docs/benchmarks.md.
+building, rendering, writing the PNG), best of three, the two methods' runs interleaved. The table of docs/benchmarks.md.
 
     python3 docs/default_vs_ray.py target/release/beam [size]      (BEAM_SCENES: ../shared/scenes)
 """
@@ -15,18 +15,17 @@ scenes += [os.path.join(shared, f) for f in ["conference/conference.obj", "corne
                                               "teapot/teapot.obj"]]
 scenes.append("spheres-256")
 out = os.path.join(tempfile.mkdtemp(), "x.png")
-print(f"{'scene':28s} {'beam s':>8s} {'ray s':>8s} ratio   ({size}², best of 2)")
+print(f"{'scene':28s} {'beam s':>8s} {'ray s':>8s} ratio   ({size}², best of 3)")
 for scene in scenes:
     if scene.endswith(".obj") and not os.path.exists(scene):
         print(f"skipping {scene}: not found")
         continue
-    best = []
-    for method in ["beam", "ray"]:
-        times = []
-        for _ in range(2):
+    times = {"beam": [], "ray": []}
+    for _ in range(3):
+        for method in times:
             t = time.time()
             cmd = [beam, "render", "--scene", scene, "--width", size, "--height", size, "--method", method, "--out", out]
             subprocess.run(cmd, check=True, capture_output=True)
-            times.append(time.time() - t)
-        best.append(min(times))
+            times[method].append(time.time() - t)
+    best = [min(times["beam"]), min(times["ray"])]
     print(f"{os.path.basename(scene):28s} {best[0]:8.3f} {best[1]:8.3f} {best[0] / best[1]:5.2f}", flush=True)
