@@ -83,8 +83,8 @@ pub struct PrimaryStats {
     pub cut_out_regions: u64,
 }
 
-/// Rays a pixel of the regions that may see a cut-out under [`Visibility::Exact`]: 2 × 2, as the
-/// renderer's ray regions.
+/// Rays a pixel of the regions that may see a cut-out under [`Visibility::Exact`]: 2 × 2, as many
+/// as the renderer's ray regions trace in a pixel an edge crosses.
 pub const CUT_OUT_RAYS: u32 = 4;
 
 /// What a region returns.

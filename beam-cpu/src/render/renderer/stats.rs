@@ -67,8 +67,8 @@ pub struct RenderStats {
     /// Slivers of edge pixels (at most a quarter of the pixel) shaded at a neighbouring pixel's
     /// point of their stretch of surface instead of their own; none with `--exact`.
     pub lent_fragments: u64,
-    /// Pixels whose primary visibility was sampled by primary rays (one through the centre, 2 × 2
-    /// where an edge may pass) because their region's eye beam would have cost more than its
+    /// Pixels whose primary visibility was sampled by primary rays (one through the centre, one
+    /// more in each quarter an edge may cross) because their region's eye beam would have cost more than its
     /// budget (sub-pixel triangles, `render/eye_budget.rs`): predicted from a grid of rays, or
     /// found while tracing it; none with `--exact`.
     pub ray_pixels: u64,
