@@ -3,7 +3,9 @@
 //! once, at the largest of them, with their coverage summed. On a finely tessellated mesh a pixel
 //! holds a fragment per visible triangle, and each shaded on its own would cost a shadow beam per
 //! light apiece for differences below the flat shading of neighbouring facets; silhouettes, creases
-//! and material boundaries keep their fragments apart, so their coverage stays exact.
+//! and material boundaries keep their fragments apart, so their coverage stays exact. Without
+//! `--exact`, a sliver of an edge pixel is shaded at a neighbouring pixel's point of its stretch
+//! ([`lend_slivers`]).
 
 use super::context::Surface;
 use crate::render::eye_regions::{Region, TILE};
