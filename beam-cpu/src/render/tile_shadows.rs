@@ -42,7 +42,7 @@ pub(crate) enum Mode {
     Split,
     /// By their edges, the winding pass (`shadow_beam/silhouette.rs`).
     Winding,
-    /// Not decided yet: the next beam does both and decides by their work.
+    /// Not decided yet: the next beam does both and decides by their work ([`TileShadows::decide`]).
     Probe,
     /// By shadow rays over the light: a beam of the cluster ran past its budget.
     Rays,
@@ -134,6 +134,12 @@ const SAMPLED_SHARE: f32 = 0.75;
 const WINDING_SHARE: f32 = 0.25;
 const MAX_CARRY: u32 = 3;
 const MAX_BACKOFF: u32 = 24;
+
+/// Probes of one tile and light that chose splitting, none choosing edges, after which its other
+/// clusters split without probing: a probe builds its cluster's edges and weighs them, 12% of
+/// `foliage`'s render at 128², where edges decided 59 of 10,490 beams (6 with this), and Sponza at
+/// 512² took 0.80 thread-seconds instead of 0.96.
+const PROBE_QUORUM: usize = 2;
 
 impl TileShadows {
     /// Gather the candidates among `scene`'s triangles for the shade points `points` (each with
@@ -290,8 +296,19 @@ impl TileShadows {
     }
 
     /// Settle how cluster `cluster`'s remaining beams take their candidates.
+    /// Where it probed and chose splitting, and [`PROBE_QUORUM`] of its light's clusters in the
+    /// tile have, none choosing edges, the clusters still to probe split without probing.
     pub(crate) fn decide(&mut self, cluster: usize, mode: Mode) {
+        let probed = self.clusters[cluster].mode == Mode::Probe;
         self.clusters[cluster].mode = mode;
+        if probed && mode == Mode::Split {
+            let per_light = 2 * BLOCKS * BLOCKS;
+            let light = &mut self.clusters[cluster / per_light * per_light..][..per_light];
+            let split = light.iter().filter(|c| c.mode == Mode::Split).count();
+            if split >= PROBE_QUORUM && light.iter().all(|c| c.mode != Mode::Winding) {
+                light.iter_mut().filter(|c| c.mode == Mode::Probe).for_each(|c| c.mode = Mode::Split);
+            }
+        }
     }
 
     /// Record whether a cut-out may hide the light from a point of cluster `cluster`.
