@@ -135,12 +135,6 @@ const WINDING_SHARE: f32 = 0.25;
 const MAX_CARRY: u32 = 3;
 const MAX_BACKOFF: u32 = 24;
 
-/// Probes of one tile and light that chose splitting, none choosing edges, after which its other
-/// clusters split without probing: a probe builds its cluster's edges and weighs them, 12% of
-/// `foliage`'s render at 128², where edges decided 59 of 10,490 beams (6 with this), and Sponza at
-/// 512² took 0.80 thread-seconds instead of 0.96.
-const PROBE_QUORUM: usize = 2;
-
 impl TileShadows {
     /// Gather the candidates among `scene`'s triangles for the shade points `points` (each with
     /// its block index, `< BLOCKS²`), for every area light of `lights` that faces them. The lights
@@ -295,17 +289,18 @@ impl TileShadows {
         (&self.edges[range(edges)], &self.reaching[range(reaching)])
     }
 
-    /// Settle how cluster `cluster`'s remaining beams take their candidates.
-    /// Where it probed and chose splitting, and [`PROBE_QUORUM`] of its light's clusters in the
-    /// tile have, none choosing edges, the clusters still to probe split without probing.
+    /// Settle how cluster `cluster`'s remaining beams take their candidates. Where its probe chose
+    /// splitting and none of the tile's clusters has chosen edges for that light, the clusters
+    /// still to probe split without probing: a probe builds its cluster's edges and weighs them,
+    /// 12% of `foliage`'s render at 128², where edges decided 59 of 10,490 beams (6 now), and
+    /// Sponza at 512² took 0.80 thread-seconds instead of 0.96.
     pub(crate) fn decide(&mut self, cluster: usize, mode: Mode) {
         let probed = self.clusters[cluster].mode == Mode::Probe;
         self.clusters[cluster].mode = mode;
         if probed && mode == Mode::Split {
             let per_light = 2 * BLOCKS * BLOCKS;
             let light = &mut self.clusters[cluster / per_light * per_light..][..per_light];
-            let split = light.iter().filter(|c| c.mode == Mode::Split).count();
-            if split >= PROBE_QUORUM && light.iter().all(|c| c.mode != Mode::Winding) {
+            if light.iter().all(|c| c.mode != Mode::Winding) {
                 light.iter_mut().filter(|c| c.mode == Mode::Probe).for_each(|c| c.mode = Mode::Split);
             }
         }
