@@ -22,7 +22,7 @@ const CONTINUOUS: f32 = 0.05;
 /// (rows of tiles, each left to right), row by row within a tile, each pixel's largest coverage
 /// first. Stable, and linear in the fragments: a counting sort on the pixel's place in that order,
 /// then each pixel's few fragments by coverage.
-pub(super) fn sort_by_tile(surfaces: &mut Vec<Surface>, window: Region) {
+fn sort_by_tile(surfaces: &mut Vec<Surface>, window: Region) {
     if surfaces.is_empty() {
         return;
     }
@@ -53,22 +53,34 @@ pub(super) fn sort_by_tile(surfaces: &mut Vec<Surface>, window: Region) {
     *surfaces = sorted;
 }
 
+/// Turn a region's fragments in `window` into its shade points: ordered by tile
+/// ([`sort_by_tile`]), each pixel's fragments on one stretch merged ([`merge_smooth`]), and where
+/// `lend`, slivers shaded at a neighbour's point ([`lend_slivers`], whose count it returns).
+pub(super) fn shade_points(
+    scene: &Scene,
+    camera: Vec3,
+    (surfaces, window): (&mut Vec<Surface>, Region),
+    lend: bool,
+) -> u64 {
+    sort_by_tile(surfaces, window);
+    let mut stretches = merge_smooth(scene, camera, surfaces);
+    if lend { lend_slivers(surfaces, &mut stretches) } else { 0 }
+}
+
 /// Merge each pixel's fragments that see one smooth stretch of surface into the largest of them
 /// (its coverage the sum of theirs). `surfaces` come as [`sort_by_tile`] leaves them, and stay so.
-pub(super) fn merge_smooth(scene: &Scene, camera: Vec3, surfaces: &mut Vec<Surface>) {
-    let mut kept = 0;
-    let mut start = 0;
-    // The stretches of the pixel's kept fragments, `first_kept..kept`.
-    let mut stretches: Vec<Stretch> = Vec::new();
+/// Returns the kept fragments' stretches, one for each.
+fn merge_smooth(scene: &Scene, camera: Vec3, surfaces: &mut Vec<Surface>) -> Vec<Stretch> {
+    let mut stretches: Vec<Stretch> = Vec::with_capacity(surfaces.len());
+    let (mut kept, mut start) = (0, 0);
     while start < surfaces.len() {
         let end = start
             + surfaces[start..].iter().take_while(|s| (s.x, s.y) == (surfaces[start].x, surfaces[start].y)).count();
         let first_kept = kept;
-        stretches.clear();
         for i in start..end {
             let s = surfaces[i];
             let stretch = Stretch::of(scene, camera, &s);
-            match stretches.iter().position(|o| o.joins(&stretch)) {
+            match stretches[first_kept..].iter().position(|o| o.joins(&stretch)) {
                 Some(k) => surfaces[first_kept + k].weight += s.weight,
                 None => {
                     surfaces[kept] = s;
@@ -80,6 +92,7 @@ pub(super) fn merge_smooth(scene: &Scene, camera: Vec3, surfaces: &mut Vec<Surfa
         start = end;
     }
     surfaces.truncate(kept);
+    stretches
 }
 
 /// Largest coverage of a fragment shaded at a neighbour's point ([`lend_slivers`]): one of the
@@ -91,29 +104,27 @@ const SLIVER: f32 = 0.25;
 /// stretch of surface is one with a shade point of the pixel to its left or of the one above, in
 /// its tile, is dropped and its weight lent to that point ([`Surface::lent`]): shaded one pixel
 /// away, as a pixel's fragments on one stretch are all shaded at its largest ([`merge_smooth`]).
-/// `surfaces` come as [`merge_smooth`] leaves them, and stay so. Returns how many were lent.
-pub(super) fn lend_slivers(scene: &Scene, camera: Vec3, surfaces: &mut Vec<Surface>) -> u64 {
+/// `surfaces` and their `stretches` come as [`merge_smooth`] leaves them, and stay so. Returns
+/// how many were lent.
+fn lend_slivers(surfaces: &mut Vec<Surface>, stretches: &mut Vec<Stretch>) -> u64 {
     const SIDE: usize = TILE as usize;
+    debug_assert_eq!(surfaces.len(), stretches.len());
     let mut lent = 0;
-    // The kept points' stretches, and per pixel of the tile being read the range of its own.
-    let mut stretches: Vec<Stretch> = Vec::new();
+    // Per pixel of the tile being read, the range of its kept points.
     let mut own = [(0, 0); SIDE * SIDE];
-    let (mut kept, mut first, mut start, mut tile) = (0, 0, 0, None);
+    let (mut kept, mut start, mut tile) = (0, 0, None);
     while start < surfaces.len() {
         let (x, y) = (surfaces[start].x, surfaces[start].y);
         let end = start + surfaces[start..].iter().take_while(|s| (s.x, s.y) == (x, y)).count();
         if tile != Some((x / TILE, y / TILE)) {
-            // A new tile: its kept points start here.
-            (tile, first, own) = (Some((x / TILE, y / TILE)), kept, [(0, 0); SIDE * SIDE]);
-            stretches.clear();
+            (tile, own) = (Some((x / TILE, y / TILE)), [(0, 0); SIDE * SIDE]);
         }
         let (tx, ty) = ((x % TILE) as usize, (y % TILE) as usize);
         let left = if tx > 0 { own[ty * SIDE + tx - 1] } else { (0, 0) };
         let above = if ty > 0 { own[(ty - 1) * SIDE + tx] } else { (0, 0) };
-        let mine = stretches.len();
+        let mine = kept;
         for i in start..end {
-            let s = surfaces[i];
-            let stretch = Stretch::of(scene, camera, &s);
+            let (s, stretch) = (surfaces[i], stretches[i]);
             let joins = |(a, b): (usize, usize)| (a..b).find(|&k| stretches[k].joins(&stretch));
             let lender = if end - start > 1 && s.weight <= SLIVER {
                 joins(left).map(|k| (k, 0)).or_else(|| joins(above).map(|k| (k, 1)))
@@ -121,18 +132,18 @@ pub(super) fn lend_slivers(scene: &Scene, camera: Vec3, surfaces: &mut Vec<Surfa
                 None
             };
             if let Some((k, side)) = lender {
-                surfaces[first + k].lent[side] += s.weight;
+                surfaces[k].lent[side] += s.weight;
                 lent += 1;
             } else {
-                surfaces[kept] = s;
-                stretches.push(stretch);
+                (surfaces[kept], stretches[kept]) = (s, stretch);
                 kept += 1;
             }
         }
-        own[ty * SIDE + tx] = (mine, stretches.len());
+        own[ty * SIDE + tx] = (mine, kept);
         start = end;
     }
     surfaces.truncate(kept);
+    stretches.truncate(kept);
     lent
 }
 
@@ -215,7 +226,8 @@ mod tests {
             fragment((16, 0), 0.75, 0),
             fragment((16, 0), 0.25, 1),
         ];
-        let lent = lend_slivers(&scene, camera, &mut surfaces);
+        let mut stretches = surfaces.iter().map(|s| Stretch::of(&scene, camera, s)).collect();
+        let lent = lend_slivers(&mut surfaces, &mut stretches);
         assert_eq!(lent, 2);
         let at =
             |x, y| surfaces.iter().filter(|s| (s.x, s.y) == (x, y)).map(|s| (s.prim, s.weight)).collect::<Vec<_>>();

@@ -3,7 +3,7 @@
 //! what they see a tile at a time ([`Context::shade_tile`]).
 
 use super::context::{Context, Lights, SHADE_SEED, Surface, Thread};
-use super::shade_points::{Stretch, lend_slivers, merge_smooth, sort_by_tile};
+use super::shade_points::{Stretch, shade_points};
 use super::shading::stratified;
 use super::stats::Counters;
 use crate::render::eye_budget::trace_budget;
@@ -164,11 +164,7 @@ impl Trace<'_> {
         t.c.fragments += surfaces.len() as u64 + covered;
         // Shaded tile by tile (the frame's grid), so that neighbouring points share their candidate
         // occluders.
-        sort_by_tile(&mut surfaces, window);
-        merge_smooth(ctx.scene, camera.position, &mut surfaces);
-        if !ctx.options.exact {
-            t.c.lent_fragments += lend_slivers(ctx.scene, camera.position, &mut surfaces);
-        }
+        t.c.lent_fragments += shade_points(ctx.scene, camera.position, (&mut surfaces, window), !ctx.options.exact);
         t.c.primary += eye.primary;
         t.c.beams += eye.shadow;
         t.c.shadow_beams += eye.shadow_beams;
@@ -181,9 +177,9 @@ impl Trace<'_> {
     }
 
     /// [`Trace::eye_region`] by primary rays where the eye beam would not pay ([`trace_budget`]):
-    /// a ray through each pixel's centre of `window`, [`RAY_GRID`]² stratified ones where an edge
-    /// may pass ([`Trace::adaptive_hits`]), each pixel's hits on one smooth stretch of surface
-    /// shaded once, point lights by shadow rays.
+    /// a ray through each pixel's centre of `window`, one more in each quarter an edge may cross
+    /// ([`Trace::adaptive_hits`]), each pixel's hits on one smooth stretch of surface shaded once,
+    /// point lights by shadow rays.
     fn ray_region(&self, window: Region) -> EyeTraced {
         let (ctx, camera) = (self.ctx, self.camera);
         let mut t = Thread::default();
@@ -193,11 +189,7 @@ impl Trace<'_> {
         let mut pixels = vec![Vec3::ZERO; window.len()];
         self.adaptive_hits(window, &mut seen, &mut surfaces, (&mut pixels, window), &mut t);
         t.c.fragments += surfaces.len() as u64;
-        sort_by_tile(&mut surfaces, window);
-        merge_smooth(ctx.scene, camera.position, &mut surfaces);
-        if !ctx.options.exact {
-            t.c.lent_fragments += lend_slivers(ctx.scene, camera.position, &mut surfaces);
-        }
+        t.c.lent_fragments += shade_points(ctx.scene, camera.position, (&mut surfaces, window), !ctx.options.exact);
         t.c.shade_points += surfaces.len() as u64;
         t.c.ray_pixels += window.len() as u64;
         t.c.primary_seconds += start.elapsed().as_secs_f64();
