@@ -12,7 +12,7 @@ use beam_math::glam::Vec2;
 use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Scene};
 
-/// Rays per side of the grid through a region.
+/// Rays per side of the grid through a region ([`grid_hits`]).
 const GRID: u32 = 16;
 
 /// Thread-seconds per visible triangle of an eye beam, per pixel of its rasterization, and per ray
@@ -60,16 +60,16 @@ pub(crate) fn eye_trace_seconds(stats: &BeamStats, checks: u64) -> f64 {
 
 /// The thread-seconds the trace of `region`'s eye beam may take, where the ray method traces
 /// `rays` a pixel and `fallback` rays a pixel would replace the beam: `None` where it is predicted
-/// to take more than [`eye_budget`] ([`eye_beam_seconds`]), else that budget but no more than
-/// [`SURPRISE`] times the prediction.
+/// to take more than [`eye_budget`] ([`eye_beam_seconds`] from the region's [`grid_hits`]), else
+/// that budget but no more than [`SURPRISE`] times the prediction.
 #[must_use]
 pub(crate) fn trace_budget(
     scene: &Scene,
     camera: &Camera,
-    region: PixelRect,
+    (region, hits): (PixelRect, &[(f32, u32)]),
     (rays, fallback): (u32, u32),
 ) -> Option<f64> {
-    let (budget, predicted) = (eye_budget(region, rays, fallback), eye_beam_seconds(scene, camera, region));
+    let (budget, predicted) = (eye_budget(region, rays, fallback), eye_beam_seconds(scene, camera, region, hits));
     (predicted <= budget).then(|| budget.min(SURPRISE * predicted))
 }
 
@@ -87,10 +87,30 @@ fn ray_seconds(region: PixelRect, rays: u32) -> f64 {
     PER_RAY * region.len() as f64 * f64::from(rays)
 }
 
-/// The predicted thread-seconds of the eye beam through `region` of `camera`'s image, by the
-/// triangles a grid of rays sees and their size on screen.
+/// The hits `(t, prim)` of a `GRID × GRID` grid of camera rays through the cell centres of
+/// `region` (`t` in units of the image plane's distance): what predicts the region's eye beam
+/// ([`trace_budget`]) and, nearest first, what splits it first
+/// ([`nearest_first`](super::primary_beam::nearest_first)).
 #[must_use]
-fn eye_beam_seconds(scene: &Scene, camera: &Camera, region: PixelRect) -> f64 {
+pub(crate) fn grid_hits(scene: &Scene, camera: &Camera, region: PixelRect) -> Vec<(f32, u32)> {
+    let frame = camera.frame();
+    let mut hits = Vec::with_capacity((GRID * GRID) as usize);
+    for j in 0..GRID {
+        for i in 0..GRID {
+            let x = region.x0 as f32 + (i as f32 + 0.5) / GRID as f32 * region.width() as f32;
+            let y = region.y0 as f32 + (j as f32 + 0.5) / GRID as f32 * region.height() as f32;
+            if let Some(hit) = scene.wide.closest_hit(camera.ray(&frame, x, y), f32::INFINITY) {
+                hits.push((hit.t, hit.prim));
+            }
+        }
+    }
+    hits
+}
+
+/// The predicted thread-seconds of the eye beam through `region` of `camera`'s image, by the
+/// triangles its grid of rays sees (`hits`, [`grid_hits`]) and their size on screen.
+#[must_use]
+fn eye_beam_seconds(scene: &Scene, camera: &Camera, region: PixelRect, hits: &[(f32, u32)]) -> f64 {
     let frame = camera.frame();
     let pixels = region.len() as f64;
     let cell = pixels / f64::from(GRID * GRID);
@@ -104,21 +124,56 @@ fn eye_beam_seconds(scene: &Scene, camera: &Camera, region: PixelRect) -> f64 {
         })
     };
     let mut visible = 0.0f64;
-    for j in 0..GRID {
-        for i in 0..GRID {
-            let x = region.x0 as f32 + (i as f32 + 0.5) / GRID as f32 * region.width() as f32;
-            let y = region.y0 as f32 + (j as f32 + 0.5) / GRID as f32 * region.height() as f32;
-            let Some(hit) = scene.wide.closest_hit(camera.ray(&frame, x, y), f32::INFINITY) else { continue };
-            let t = &scene.triangles[hit.prim as usize];
-            // The cell's share of the triangles it sees, `cell / area`: summed over the cells, an
-            // estimate of the visible triangles (a triangle of area A is hit by about A / cell of
-            // them). A triangle reaching behind the eye counts as the size of the region.
-            let area = match (to_pixels(t.v[0]), to_pixels(t.v[1]), to_pixels(t.v[2])) {
-                (Some(a), Some(b), Some(c)) => f64::from(0.5 * (b - a).perp_dot(c - a).abs()),
-                _ => pixels,
-            };
-            visible += cell / area.max(1e-3);
-        }
+    for &(_, prim) in hits {
+        let t = &scene.triangles[prim as usize];
+        // The cell's share of the triangles it sees, `cell / area`: summed over the cells, an
+        // estimate of the visible triangles (a triangle of area A is hit by about A / cell of
+        // them). A triangle reaching behind the eye counts as the size of the region.
+        let area = match (to_pixels(t.v[0]), to_pixels(t.v[1]), to_pixels(t.v[2])) {
+            (Some(a), Some(b), Some(c)) => f64::from(0.5 * (b - a).perp_dot(c - a).abs()),
+            _ => pixels,
+        };
+        visible += cell / area.max(1e-3);
     }
     PER_TRIANGLE * visible + PER_PIXEL * pixels
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::eye_regions::{EyeBeam, EyeStats, Fragment, region_fragments, regions};
+    use crate::render::primary_beam::nearest_first;
+    use beam_scene::scene::builtin;
+    use std::collections::HashMap;
+
+    /// The grid that predicts a region's eye beam also seeds it, in place of the beam's own: the
+    /// seeds change only the order the beam is split in, so each pixel's coverage by each triangle
+    /// is the same.
+    #[test]
+    fn the_prediction_grid_seeds_the_beam_without_changing_it() {
+        let scene = builtin("foliage").unwrap();
+        let camera = scene.camera.with_size(64, 64);
+        let coverage = |region, seeds: Option<&[u32]>| {
+            let mut out: HashMap<(u32, u32, u32), f32> = HashMap::new();
+            let (mut stats, mut seen) = (EyeStats::default(), vec![false; scene.triangles.len()]);
+            let beam = EyeBeam { seeds, ..EyeBeam::exact(region) };
+            region_fragments(&scene, &camera, beam, &mut stats, &mut seen, |x, y, cov, f| {
+                if let Fragment::Surface { prim, .. } = f {
+                    *out.entry((x, y, prim)).or_default() += cov;
+                }
+            });
+            out
+        };
+        let mut seeded = 0;
+        for region in regions(camera.width, camera.height) {
+            let seeds = nearest_first(grid_hits(&scene, &camera, region));
+            let (own, shared) = (coverage(region, None), coverage(region, Some(&seeds)));
+            for key in own.keys().chain(shared.keys()) {
+                let (a, b) = (own.get(key).copied().unwrap_or(0.0), shared.get(key).copied().unwrap_or(0.0));
+                assert!((a - b).abs() < 1e-4, "{region:?} {key:?}: {a} against {b}");
+            }
+            seeded += usize::from(!seeds.is_empty());
+        }
+        assert!(seeded > 1, "{seeded} regions seeded");
+    }
 }

@@ -132,7 +132,7 @@ pub(crate) struct EyeStats {
 
 /// One region's eye beam, as [`region_fragments`] is asked to trace it.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct EyeBeam {
+pub(crate) struct EyeBeam<'a> {
     /// The pixels the beam covers.
     pub(crate) region: Region,
     /// The pixels (within `region`) whose fragments are wanted.
@@ -144,12 +144,15 @@ pub(crate) struct EyeBeam {
     pub(crate) lit_only: bool,
     /// Thread-seconds the trace may take ([`super::eye_budget::eye_trace_seconds`]).
     pub(crate) budget: f64,
+    /// The triangles the caller's grid of rays through `region` saw, nearest first, which split
+    /// the beam first (`None`: the beam casts its own grid).
+    pub(crate) seeds: Option<&'a [u32]>,
 }
 
-impl EyeBeam {
+impl EyeBeam<'_> {
     /// The exact beam through `region`, every fragment wanted, no point lights.
     pub(crate) fn exact(region: Region) -> Self {
-        Self { region, window: region, point_shadows: false, lit_only: false, budget: f64::INFINITY }
+        Self { region, window: region, point_shadows: false, lit_only: false, budget: f64::INFINITY, seeds: None }
     }
 }
 
@@ -165,19 +168,20 @@ impl EyeBeam {
 pub(crate) fn region_fragments(
     scene: &Scene,
     camera: &Camera,
-    beam: EyeBeam,
+    beam: EyeBeam<'_>,
     stats: &mut EyeStats,
     seen_prims: &mut [bool],
     mut fragment: impl FnMut(u32, u32, f32, Fragment),
 ) -> bool {
-    let EyeBeam { region, window, point_shadows, lit_only, budget } = beam;
+    let EyeBeam { region, window, point_shadows, lit_only, budget, seeds } = beam;
     // A camera without a view sees nothing: the loaders and the CLI refuse one with its reason.
     let Some((frame, hw, hh)) = image_frame(camera) else { return true };
     let grid = PixelGrid::new(hw, hh, camera.width, camera.height);
     let corner = |x: u32, y: u32| grid.to_image(Vec2::new(x as f32, y as f32));
     let (lo, hi) = (corner(region.x0, region.y0), corner(region.x1, region.y1));
     let start = std::time::Instant::now();
-    let pieces = visible_surface_within(&scene.bvh, &scene.triangles, &frame, (lo, hi), budget, &mut stats.primary);
+    let pieces =
+        visible_surface_within(&scene.bvh, &scene.triangles, &frame, (lo, hi), seeds, budget, &mut stats.primary);
     stats.trace_seconds += start.elapsed().as_secs_f64();
     let Some(pieces) = pieces else {
         stats.over_budget += 1;

@@ -18,6 +18,7 @@ use beam_math::polybeam::{BeamFrame, KEEP_CORNERS, Part, ProjectedTriangle, Sect
 use node_view::NodeView;
 use piece::InverseDepth;
 pub use piece::{NEAR, Piece};
+pub(crate) use seeds::nearest_first;
 use seeds::seen_by_rays;
 
 mod node_view;
@@ -290,16 +291,19 @@ pub fn visible_surface(
     hi: Vec2,
     stats: &mut BeamStats,
 ) -> Vec<Piece> {
-    visible_surface_within(bvh, triangles, frame, (lo, hi), f64::INFINITY, stats).unwrap_or_default()
+    visible_surface_within(bvh, triangles, frame, (lo, hi), None, f64::INFINITY, stats).unwrap_or_default()
 }
 
 /// [`visible_surface`] through `window`, or `None` once its trace is predicted to have taken more
 /// than `budget` thread-seconds ([`eye_trace_seconds`]; the work done so far is in `stats`).
+/// `seeds`: the triangles a grid of rays through the window sees, nearest first, where the caller
+/// has cast it ([`nearest_first`]); else the beam casts its own.
 pub(crate) fn visible_surface_within(
     bvh: &FlatBvh,
     triangles: &[Triangle],
     frame: &BeamFrame,
     (lo, hi): (Vec2, Vec2),
+    seeds: Option<&[u32]>,
     budget: f64,
     stats: &mut BeamStats,
 ) -> Option<Vec<Piece>> {
@@ -328,8 +332,10 @@ pub(crate) fn visible_surface_within(
     if bvh.nodes.first().is_some_and(|root| NodeView::of(frame, t.offset, (lo, hi), root).is_some()) {
         // The triangles a grid of rays sees split the beam first: the big near ones then own most
         // of it, and nodes behind them are culled, whatever order their boxes come in.
-        let seeds = seen_by_rays(bvh, triangles, frame, lo, hi);
-        t.leaf(&seeds, 0..1);
+        match seeds {
+            Some(seeds) => t.leaf(seeds, 0..1),
+            None => t.leaf(&seen_by_rays(bvh, triangles, frame, lo, hi), 0..1),
+        };
         t.lists = (0..t.pieces.len() as u32).collect();
         t.stats.bvh_steps += 1;
         t.visit(0, 0..t.lists.len());
@@ -431,13 +437,13 @@ mod tests {
         let bvh = FlatBvh::build(&tris, &BuildOptions::sah());
         let window = (Vec2::splat(-1.0), Vec2::splat(1.0));
         let mut stats = BeamStats::default();
-        let all = visible_surface_within(&bvh, &tris, &frame, window, f64::INFINITY, &mut stats).unwrap();
+        let all = visible_surface_within(&bvh, &tris, &frame, window, None, f64::INFINITY, &mut stats).unwrap();
         let whole = visible_surface(&bvh, &tris, &frame, window.0, window.1, &mut BeamStats::default());
         assert_eq!(all.len(), whole.len());
         assert!(all.iter().zip(&whole).all(|(a, b)| a.prim == b.prim && a.section == b.section));
         let cost = eye_trace_seconds(&stats, 0);
         let mut cut = BeamStats::default();
-        assert!(visible_surface_within(&bvh, &tris, &frame, window, 0.5 * cost, &mut cut).is_none());
+        assert!(visible_surface_within(&bvh, &tris, &frame, window, None, 0.5 * cost, &mut cut).is_none());
         assert!(cut.triangle_tests > 0 && cut.triangle_tests <= stats.triangle_tests);
     }
 }

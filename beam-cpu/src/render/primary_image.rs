@@ -5,8 +5,9 @@
 //! those rays instead.
 
 use super::cut_outs::CutOuts;
-use super::eye_budget::trace_budget;
+use super::eye_budget::{grid_hits, trace_budget};
 use super::eye_regions::{EyeBeam, EyeStats, Fragment, Region, paste, region_fragments, regions};
+use super::primary_beam::nearest_first;
 use super::renderer::stratified;
 use super::shadow_beam::BeamStats;
 use beam_math::glam::Vec3;
@@ -123,16 +124,20 @@ pub fn primary_image(
         .into_par_iter()
         .map(|region| {
             let cut_out = cut_outs.is_some_and(|c| c.may_show(camera, region));
-            let (budget, rays) = match visibility {
-                Visibility::Exact => (Some(f64::INFINITY), CUT_OUT_RAYS),
+            let (budget, rays, seeds) = match visibility {
+                Visibility::Exact => (Some(f64::INFINITY), CUT_OUT_RAYS, None),
                 // A region that may see a cut-out goes to rays: no grid of rays to predict its beam.
-                Visibility::Budget { rays } if cut_out => (None, rays),
-                Visibility::Budget { rays } => (trace_budget(scene, camera, region, (rays, rays)), rays),
+                Visibility::Budget { rays } if cut_out => (None, rays, None),
+                Visibility::Budget { rays } => {
+                    // The grid of rays that predicts the beam's cost also seeds it.
+                    let hits = grid_hits(scene, camera, region);
+                    (trace_budget(scene, camera, (region, &hits), (rays, rays)), rays, Some(nearest_first(hits)))
+                }
             };
             let part = match budget.filter(|_| !cut_out) {
                 None => Part { cut_out, ..ray_part(scene, camera, region, rays, &shade) },
                 Some(budget) => {
-                    let eye = eye_part(scene, camera, region, budget, &shade);
+                    let eye = eye_part(scene, camera, region, (budget, seeds.as_deref()), &shade);
                     if eye.eye.over_budget > 0 {
                         // The work spent counts; the pixels come from rays.
                         Part { eye: eye.eye, ..ray_part(scene, camera, region, rays, &shade) }
@@ -175,13 +180,13 @@ pub fn primary_image(
 }
 
 /// `region` by its eye beam, which may take `budget` thread-seconds (past them, the part's pixels
-/// are empty and its `eye.over_budget` is 1). Cut-outs are opaque to it: regions that may see one
-/// go to [`ray_part`] first.
+/// are empty and its `eye.over_budget` is 1), split first by `seeds` ([`EyeBeam::seeds`]).
+/// Cut-outs are opaque to it: regions that may see one go to [`ray_part`] first.
 fn eye_part(
     scene: &Scene,
     camera: &Camera,
     region: Region,
-    budget: f64,
+    (budget, seeds): (f64, Option<&[u32]>),
     shade: &(impl Fn(u32, Vec3, Vec3) -> Vec3 + Sync),
 ) -> Part {
     let mut pixels = vec![Vec3::ZERO; region.len()];
@@ -189,7 +194,7 @@ fn eye_part(
     let mut seen = vec![false; scene.triangles.len()];
     let mut fragments = 0u64;
     let mut eye = EyeStats::default();
-    let beam = EyeBeam { budget, ..EyeBeam::exact(region) };
+    let beam = EyeBeam { budget, seeds, ..EyeBeam::exact(region) };
     region_fragments(scene, camera, beam, &mut eye, &mut seen, |x, y, cov, f| {
         let i = region.index(x, y);
         coverage[i] += cov;

@@ -22,6 +22,12 @@ pub(super) fn seen_by_rays(bvh: &FlatBvh, triangles: &[Triangle], frame: &BeamFr
             }
         }
     }
+    nearest_first(hits)
+}
+
+/// The distinct triangles of `hits` (`(t, prim)` of rays from the apex, `t` in units of the
+/// distance to the image plane), nearest first.
+pub(crate) fn nearest_first(mut hits: Vec<(f32, u32)>) -> Vec<u32> {
     hits.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut seeds: Vec<u32> = Vec::with_capacity(hits.len());
     for (_, p) in hits {

@@ -6,8 +6,9 @@ use super::context::{Context, Lights, SHADE_SEED, Surface, Thread};
 use super::shade_points::{Stretch, shade_points};
 use super::shading::stratified;
 use super::stats::Counters;
-use crate::render::eye_budget::trace_budget;
+use crate::render::eye_budget::{grid_hits, trace_budget};
 use crate::render::eye_regions::{EyeBeam, EyeStats, Fragment, Region, TILE, region_fragments};
+use crate::render::primary_beam::nearest_first;
 use beam_math::glam::Vec3;
 use beam_scene::scene::{Camera, CameraFrame};
 use rand::SeedableRng;
@@ -112,11 +113,13 @@ impl Trace<'_> {
             return rays;
         }
         // Half of what a primary ray and `--spp` shadow rays a pixel cost there, and a few times what
-        // the rays of [`Trace::ray_region`] cost; none with `--exact`.
+        // the rays of [`Trace::ray_region`] cost; none with `--exact`. The grid of rays that
+        // predicts the beam's cost also seeds it.
+        let hits = grid_hits(ctx.scene, camera, region);
         let budget = if ctx.options.exact {
             Some(f64::INFINITY)
         } else {
-            trace_budget(ctx.scene, camera, region, (1 + ctx.options.spp, FALLBACK_RAYS))
+            trace_budget(ctx.scene, camera, (region, &hits), (1 + ctx.options.spp, FALLBACK_RAYS))
         };
         let Some(budget) = budget else { return self.ray_region(window) };
         let mut t = Thread::default();
@@ -131,7 +134,8 @@ impl Trace<'_> {
         // Cut-outs cast no exact hard shadows: with them, point lights are shaded by rays too.
         let point_shadows = !ctx.scene.has_cut_outs();
         let lit_only = point_shadows && !ctx.gathers(Lights::AreaOnly) && ctx.caustics.is_none();
-        let beam = EyeBeam { region, window, point_shadows, lit_only, budget };
+        let seeds = nearest_first(hits);
+        let beam = EyeBeam { region, window, point_shadows, lit_only, budget, seeds: Some(&seeds) };
         let traced = region_fragments(ctx.scene, camera, beam, &mut eye, &mut seen, |x, y, cov, f| {
             let i = window.index(x, y);
             match f {
