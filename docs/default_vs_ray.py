@@ -1,12 +1,14 @@
 """Time the default `beam render` against `--method ray` (its default 64 spp) on the built-in scenes
 and the shared ones, as a new user would run them: wall seconds of the whole command (loading,
-building, rendering, writing the PNG), best of three, the two methods' runs interleaved. The table of docs/benchmarks.md.
+building, rendering, writing the PNG), best of `runs` (3 unless given), the two methods' runs
+interleaved. The table of docs/benchmarks.md.
 
-    python3 docs/default_vs_ray.py target/release/beam [size]      (BEAM_SCENES: ../shared/scenes)
+    python3 docs/default_vs_ray.py target/release/beam [size [runs]]      (BEAM_SCENES: ../shared/scenes)
 """
 import os, subprocess, sys, tempfile, time
 
 beam, size = sys.argv[1], sys.argv[2] if len(sys.argv) > 2 else "512"
+runs = int(sys.argv[3]) if len(sys.argv) > 3 else 3
 shared = os.environ.get("BEAM_SCENES", "../shared/scenes")
 scenes = ["cornell", "cornell-point", "mirror-glass", "foliage", "spheres", "spheres-36", "plant", "ground"]
 scenes += [os.path.join(shared, f) for f in ["conference/conference.obj", "cornell_box_mcguire/CornellBox-Original.obj",
@@ -15,13 +17,13 @@ scenes += [os.path.join(shared, f) for f in ["conference/conference.obj", "corne
                                               "teapot/teapot.obj"]]
 scenes.append("spheres-256")
 out = os.path.join(tempfile.mkdtemp(), "x.png")
-print(f"{'scene':28s} {'beam s':>8s} {'ray s':>8s} ratio   ({size}², best of 3)")
+print(f"{'scene':28s} {'beam s':>8s} {'ray s':>8s} ratio   ({size}², best of {runs})")
 for scene in scenes:
     if scene.endswith(".obj") and not os.path.exists(scene):
         print(f"skipping {scene}: not found")
         continue
     times = {"beam": [], "ray": []}
-    for _ in range(3):
+    for _ in range(runs):
         for method in times:
             t = time.time()
             cmd = [beam, "render", "--scene", scene, "--width", size, "--height", size, "--method", method, "--out", out]
