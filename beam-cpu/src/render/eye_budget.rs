@@ -13,7 +13,7 @@ use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Scene};
 
 /// Rays per side of the grid through a region ([`grid_hits`]).
-const GRID: u32 = 16;
+pub(crate) const GRID: u32 = 16;
 
 /// Thread-seconds per visible triangle of an eye beam, per pixel of its rasterization, and per ray
 /// (this machine, `beam bench primary`: Sponza 512² 0.41 s for 16,274 visible triangles, the

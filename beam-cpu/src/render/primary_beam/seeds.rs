@@ -6,8 +6,9 @@ use beam_math::Triangle;
 use beam_math::glam::Vec2;
 use beam_math::polybeam::BeamFrame;
 
-/// Rays per side of the grid whose hits seed a beam ([`seen_by_rays`]).
-const SEED_RAYS: u32 = 16;
+/// Rays per side of the grid whose hits seed a beam ([`seen_by_rays`]): the grid that predicts
+/// the beam's cost, which the renderer casts for both.
+const SEED_RAYS: u32 = crate::render::eye_budget::GRID;
 
 /// The distinct triangles that rays through a grid of points of the window `[lo, hi]` hit, nearest
 /// first.
