@@ -16,6 +16,9 @@ use beam_scene::scene::{Light, Scene};
 /// Blocks per tile side (a tile of [`super::TILE`]² pixels has blocks of `TILE / BLOCKS` pixels a side).
 pub(crate) const BLOCKS: usize = 4;
 
+/// Clusters per light: two halves of each block.
+const PER_LIGHT: usize = 2 * BLOCKS * BLOCKS;
+
 /// A block is cut in two when its box's diagonal exceeds this fraction of its distance to the light.
 const SPREAD: f32 = 0.1;
 
@@ -75,7 +78,7 @@ struct Cut {
 /// Candidate occluders of a tile, per light, block and cluster. Empty until [`TileShadows::build`].
 #[derive(Default)]
 pub(crate) struct TileShadows {
-    /// `clusters[(light · BLOCKS² + block) · 2 + half]`.
+    /// `clusters[light · PER_LIGHT + block · 2 + half]`.
     clusters: Vec<Cluster>,
     /// Per block of the light being built, its points' box and cut.
     boxes: Vec<(Aabb, Cut)>,
@@ -150,9 +153,8 @@ impl TileShadows {
     ) {
         // How this tile's clusters start, by how the last tile's ended.
         self.carried.resize(lights.len(), Carry::default());
-        let per_light = 2 * BLOCKS * BLOCKS;
         for (light, carried) in self.carried.iter_mut().enumerate() {
-            let clusters = self.clusters.get(light * per_light..(light + 1) * per_light).unwrap_or(&[]);
+            let clusters = self.clusters.get(light * PER_LIGHT..(light + 1) * PER_LIGHT).unwrap_or(&[]);
             let ended = |m: Mode| clusters.iter().filter(|c| c.points.is_valid() && c.mode == m).count() as f32;
             let valid = clusters.iter().filter(|c| c.points.is_valid()).count();
             let sampled = valid > 0 && ended(Mode::Rays) >= SAMPLED_SHARE * valid as f32;
@@ -188,7 +190,7 @@ impl TileShadows {
         let empty = Cluster { points: Aabb::EMPTY, packets: (0, 0), edges: None, mode: Mode::Split, cut_outs: None };
         for (index, light) in lights.iter().enumerate() {
             let base = self.clusters.len();
-            self.clusters.resize(base + 2 * BLOCKS * BLOCKS, empty);
+            self.clusters.resize(base + PER_LIGHT, empty);
             let (ln, center) = (light.normal(), light.center());
             self.planes.push(silhouettes::Light { normal: ln, center });
             if matches!(light, Light::Point { .. }) {
@@ -221,7 +223,7 @@ impl TileShadows {
                 *c = c.grow(p);
             }
             let tris = &scene.triangles;
-            let Carry { mode: carried, sentinel, .. } = self.carried[base / per_light];
+            let Carry { mode: carried, sentinel, .. } = self.carried[base / PER_LIGHT];
             let first = self.clusters[base..].iter().position(|c| c.points.is_valid());
             for (i, cluster) in self.clusters[base..].iter_mut().enumerate() {
                 if !cluster.points.is_valid() {
@@ -257,7 +259,7 @@ impl TileShadows {
     /// The candidate occluders between `p` and light `light`, when `p` lies in the box of one of
     /// block `block`'s clusters (any point there: the shaft bounds every segment from the box).
     pub(crate) fn candidates(&self, light: usize, block: usize, p: Vec3) -> Option<Candidates> {
-        let first = 2 * (light * BLOCKS * BLOCKS + block);
+        let first = light * PER_LIGHT + 2 * block;
         let i = (first..first + 2).find(|&i| {
             self.clusters.get(i).is_some_and(|c| c.points.min.cmple(p).all() && p.cmple(c.points.max).all())
         })?;
@@ -280,7 +282,7 @@ impl TileShadows {
             let packets = &self.packets[range(c.packets)];
             self.ids.extend(packets.iter().flat_map(|q| q.prims[..q.len as usize].iter().copied()));
             let (edges0, reaching0) = (self.edges.len() as u32, self.reaching.len() as u32);
-            let plane = &self.planes[cluster / (2 * BLOCKS * BLOCKS)];
+            let plane = &self.planes[cluster / PER_LIGHT];
             self.builder.build(triangles, &c.points, plane, &self.ids, &mut self.edges, &mut self.reaching);
             let built = ((edges0, self.edges.len() as u32), (reaching0, self.reaching.len() as u32));
             self.clusters[cluster].edges = Some(built);
@@ -298,8 +300,7 @@ impl TileShadows {
         let probed = self.clusters[cluster].mode == Mode::Probe;
         self.clusters[cluster].mode = mode;
         if probed && mode == Mode::Split {
-            let per_light = 2 * BLOCKS * BLOCKS;
-            let light = &mut self.clusters[cluster / per_light * per_light..][..per_light];
+            let light = &mut self.clusters[cluster / PER_LIGHT * PER_LIGHT..][..PER_LIGHT];
             if light.iter().all(|c| c.mode != Mode::Winding) {
                 light.iter_mut().filter(|c| c.mode == Mode::Probe).for_each(|c| c.mode = Mode::Split);
             }
