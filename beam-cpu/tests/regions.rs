@@ -57,7 +57,7 @@ fn beam_and_ray_tiles_equal_the_frame() {
 
 /// A render whose shadow beams run past their budget, and whose tiles start from how the tile to
 /// their left ended, is the same image bit for bit on one, two or three threads (each row of tiles
-/// is shaded in order by one thread), and its rectangles are the frame's (a rectangle's rows are
+/// is shaded in order, its state handed from thread to thread), and its rectangles are the frame's (a rectangle's rows are
 /// shaded across the frame), by eye beams and by primary rays.
 #[test]
 fn a_budgeted_render_does_not_depend_on_the_threads_or_the_rectangle() {

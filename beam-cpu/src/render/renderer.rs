@@ -9,7 +9,7 @@ use beam_render::queries::AnyHit;
 use beam_scene::scene::Scene;
 use rayon::prelude::*;
 use std::time::Instant;
-use trace::{EyeTraced, TileRadiance, Trace, Traced};
+use trace::{Trace, Traced};
 
 mod context;
 mod emitters;
@@ -20,10 +20,11 @@ mod shade_points;
 mod shading;
 mod sky;
 mod stats;
+mod tile_chains;
 mod trace;
 mod wavefront;
 
-use context::{Context, Thread, pixel_seed};
+use context::{Context, pixel_seed};
 use stats::Counters;
 pub use stats::RenderStats;
 
@@ -78,20 +79,10 @@ fn render_by(
     let parts: Vec<Traced> = if crop.is_empty() {
         Vec::new()
     } else if eye_beams {
-        // A band of regions (one row of the frame's grid) at a time, in parallel: its regions
-        // traced in parallel, then its rows of tiles shaded in parallel, so that one band's
-        // shading overlaps another's tracing (a small image is one region, and its shading is
-        // most of the work).
+        // The regions of the frame's grid traced and their rows of tiles shaded, as jobs.
         let regions = regions_in(camera.width, camera.height, work);
         let bands: Vec<&[Region]> = regions.chunk_by(|a, b| a.y0 == b.y0).collect();
-        bands
-            .par_iter()
-            .flat_map_iter(|band| {
-                let traced: Vec<EyeTraced> =
-                    band.par_iter().map(|&region| trace.eye_region(region, region.intersect(work))).collect();
-                shade_band(&trace, traced, |rows| (0..rows_of(rows)).for_each(|_| row_done()))
-            })
-            .collect()
+        tile_chains::trace_and_shade(&trace, &bands, work, &|rows| (0..rows_of(rows)).for_each(|_| row_done()))
     } else {
         (work.y0 / TILE..work.y1.div_ceil(TILE))
             .into_par_iter()
@@ -125,52 +116,4 @@ fn render_by(
         start.elapsed().as_secs_f64(),
     );
     (image, stats)
-}
-
-/// Shade the eye-traced regions of one band (one row of the frame's grid, left to right) and add
-/// the radiance to their pixels; `rows_done` is called with each row of tiles once shaded.
-///
-/// A row of tiles across the frame is shaded in order by one thread, as a band of primary rays is:
-/// a tile starts from how the one before it ended (`TileShadows`), so the image does not depend on
-/// which thread shaded which tile.
-fn shade_band(trace: &Trace<'_>, mut traced: Vec<EyeTraced>, rows_done: impl Fn(Region) + Sync) -> Vec<Traced> {
-    let Some(first) = traced.first() else { return Vec::new() };
-    let (y0, y1) = (first.traced.region.y0, first.traced.region.y1);
-    // Each row's tiles, left to right: `(region, start, end)` of their surfaces.
-    let mut by_row: Vec<Vec<(usize, usize, usize)>> = vec![Vec::new(); (y1 - y0).div_ceil(TILE) as usize];
-    for (r, e) in traced.iter().enumerate() {
-        let mut start = 0;
-        for &len in &e.tiles {
-            by_row[((e.surfaces[start].y - y0) / TILE) as usize].push((r, start, start + len));
-            start += len;
-        }
-    }
-    debug_assert!(by_row.iter().all(|row| row.is_sorted_by_key(|&(r, start, _)| traced[r].surfaces[start].x)));
-    let shaded: Vec<(usize, TileRadiance, Counters)> = by_row
-        .par_iter()
-        .enumerate()
-        .flat_map_iter(|(row, tiles)| {
-            let mut t = Thread::default();
-            let shaded: Vec<_> = tiles
-                .iter()
-                .map(|&(r, start, end)| {
-                    let e = &traced[r];
-                    let before = t.c;
-                    let out = trace.shade_eye_tile(e.traced.region, &e.surfaces[start..end], e.lights, &mut t);
-                    (r, out, t.c.since(&before))
-                })
-                .collect();
-            let top = y0 + row as u32 * TILE;
-            rows_done(Region { y0: top, y1: (top + TILE).min(y1), ..first.traced.region });
-            shaded
-        })
-        .collect();
-    for (r, out, counters) in shaded {
-        let part = &mut traced[r].traced;
-        for (i, l) in out {
-            part.pixels[i] += l;
-        }
-        part.counters += counters;
-    }
-    traced.into_iter().map(|e| e.traced).collect()
 }
