@@ -2,8 +2,8 @@
 //! parts within each pixel square. Pixels the polygon covers wholly are found a row at a time from
 //! its edges, without clipping; only the pixels its edges cross are clipped.
 
-use beam_math::glam::Vec2;
-use beam_math::polybeam::Section;
+use beam_math::glam::{DVec3, Vec2};
+use beam_math::polybeam::{BeamFrame, Section};
 
 /// The affine map between image-plane coordinates and pixel coordinates (pixel `(x, y)` is the
 /// unit square at `(x, y)`).
@@ -26,6 +26,14 @@ impl PixelGrid {
 
     pub(crate) fn to_image(self, p: Vec2) -> Vec2 {
         (p - self.offset) / self.scale
+    }
+
+    /// `[d0, du, dv]`: the direction from `frame`'s apex to the image point of pixel point `m`
+    /// is `d0 + m.x·du + m.y·dv` (in double precision).
+    pub(crate) fn view_rays(self, frame: &BeamFrame) -> [DVec3; 3] {
+        let (du, dv) = (frame.u.as_dvec3() / f64::from(self.scale.x), frame.v.as_dvec3() / f64::from(self.scale.y));
+        let d0 = (frame.origin - frame.apex).as_dvec3() - f64::from(self.offset.x) * du - f64::from(self.offset.y) * dv;
+        [d0, du, dv]
     }
 }
 

@@ -4,11 +4,11 @@
 //! connected to the light by hard-shadow beams (001 §4.2) whose lit parts come as fragments too.
 
 use super::coverage::{PixelGrid, pixel_parts};
-use super::hard_shadow::lit_pieces;
+use super::hard_shadow::{LitParts, lit_parts};
 use super::primary_beam::{TrianglePlane, visible_surface_within};
 use super::shadow_beam::BeamStats;
 use beam_math::glam::{Vec2, Vec3};
-use beam_math::polybeam::BeamFrame;
+use beam_math::polybeam::{BeamFrame, Section};
 use beam_render::image::Image;
 use beam_scene::region::PixelRect;
 use beam_scene::scene::{Camera, Light, Material, Scene};
@@ -208,52 +208,65 @@ pub(crate) fn region_fragments(
             continue;
         };
         seen_prims[prim as usize] = true;
-        let plane = TrianglePlane::new(&frame, &scene.triangles[prim as usize]);
+        let plane = TrianglePlane::new(&frame, grid, &scene.triangles[prim as usize]);
         let lit = point_shadows && matches!(scene.material(prim), Material::Diffuse { .. } | Material::Glossy { .. });
-        if lit && lit_only {
-            pixel_parts(grid, &piece.section, window, |x, y, cov, _| fragment(x, y, cov, Fragment::Covered));
-        } else {
-            pixel_parts(grid, &piece.section, window, |x, y, cov, part| {
-                if let Some(q) = plane.point(&frame, grid.to_image(part.centroid())) {
-                    fragment(x, y, cov, Fragment::Surface { prim, q, d: (q - frame.apex).normalize() });
-                }
-            });
-        }
-        if !lit {
-            continue;
-        }
-        for (light, l) in scene.lights.iter().enumerate() {
+        // Per point light, what it lights of the piece: a light that lights all of it is integrated
+        // over the piece's own fragments, as they are found; the others over their lit parts.
+        let (mut whole, mut cut) = (Vec::new(), Vec::new());
+        for (light, l) in scene.lights.iter().enumerate().filter(|_| lit) {
             let Light::Point { position, .. } = *l else { continue };
             stats.shadow_beams += 1;
-            for lit in lit_pieces(&scene.bvh, &scene.triangles, &frame, piece, position, &mut stats.shadow) {
-                pixel_parts(grid, &lit.section, window, |x, y, cov, part| {
-                    points.clear();
-                    let mut add =
-                        |w: f32, m: Vec2| points.extend(plane.point(&frame, grid.to_image(m)).map(|q| (w, q)));
-                    let v = part.vertices();
-                    if v.len() == 4 && cov >= 1.0 - 1e-6 {
-                        // The whole pixel: the 2 × 2 Gauss rule, exact for cubics.
-                        let c = Vec2::new(x as f32, y as f32) + 0.5;
-                        for (dx, dy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
-                            add(cov / 4.0, c + GAUSS * Vec2::new(dx, dy));
-                        }
-                    } else {
-                        let c = part.centroid();
-                        for i in 0..v.len() {
-                            let (a, b) = (v[i], v[(i + 1) % v.len()]);
-                            // Pixel units: the areas are fractions of the pixel already.
-                            let w = (a - c).perp_dot(b - c).abs() / 6.0;
-                            for m in [0.5 * (c + a), 0.5 * (a + b), 0.5 * (b + c)] {
-                                add(w, m);
-                            }
-                        }
-                    }
-                    fragment(x, y, cov, Fragment::Lit { light, prim, points: &points });
-                });
+            match lit_parts(&scene.bvh, &scene.triangles, &frame, piece, position, &mut stats.shadow) {
+                LitParts::Whole => whole.push(light),
+                LitParts::Cut(parts) => cut.extend(parts.into_iter().map(|p| (light, p))),
             }
+        }
+        pixel_parts(grid, &piece.section, window, |x, y, cov, part| {
+            if lit && lit_only {
+                fragment(x, y, cov, Fragment::Covered);
+            } else if let Some(q) = plane.point(part.centroid()) {
+                fragment(x, y, cov, Fragment::Surface { prim, q, d: (q - frame.apex).normalize() });
+            }
+            if !whole.is_empty() {
+                quadrature(&plane, (x, y), cov, part, &mut points);
+                for &light in &whole {
+                    fragment(x, y, cov, Fragment::Lit { light, prim, points: &points });
+                }
+            }
+        });
+        for (light, lit) in cut {
+            pixel_parts(grid, &lit.section, window, |x, y, cov, part| {
+                quadrature(&plane, (x, y), cov, part, &mut points);
+                fragment(x, y, cov, Fragment::Lit { light, prim, points: &points });
+            });
         }
     }
     true
+}
+
+/// The points of a fragment of `plane` in pixel `(x, y)`, the part `part` of coverage `cov`, with
+/// the weights of a quadrature over it that sum to `cov`, into `points` ([`Fragment::Lit`]).
+fn quadrature(plane: &TrianglePlane, (x, y): (u32, u32), cov: f32, part: &Section, points: &mut Vec<(f32, Vec3)>) {
+    points.clear();
+    let mut add = |w: f32, m: Vec2| points.extend(plane.point(m).map(|q| (w, q)));
+    let v = part.vertices();
+    if v.len() == 4 && cov >= 1.0 - 1e-6 {
+        // The whole pixel: the 2 × 2 Gauss rule, exact for cubics.
+        let c = Vec2::new(x as f32, y as f32) + 0.5;
+        for (dx, dy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+            add(cov / 4.0, c + GAUSS * Vec2::new(dx, dy));
+        }
+    } else {
+        let c = part.centroid();
+        for i in 0..v.len() {
+            let (a, b) = (v[i], v[(i + 1) % v.len()]);
+            // Pixel units: the areas are fractions of the pixel already.
+            let w = (a - c).perp_dot(b - c).abs() / 6.0;
+            for m in [0.5 * (c + a), 0.5 * (a + b), 0.5 * (b + c)] {
+                add(w, m);
+            }
+        }
+    }
 }
 
 /// Per pixel, the coverage of all visible pieces and of the pieces that see a triangle (exact

@@ -23,10 +23,34 @@ pub fn lit_pieces(
     light: Vec3,
     stats: &mut BeamStats,
 ) -> Vec<Piece> {
-    let Some(prim) = piece.prim else { return Vec::new() };
+    match lit_parts(bvh, triangles, eye, piece, light, stats) {
+        LitParts::Whole => vec![*piece],
+        LitParts::Cut(pieces) => pieces,
+    }
+}
+
+/// What a point light lights of a piece ([`lit_parts`]).
+pub(crate) enum LitParts {
+    /// All of it: no triangle hid any of the light's beam through it.
+    Whole,
+    /// These parts (none where the triangle faces away from the light).
+    Cut(Vec<Piece>),
+}
+
+/// [`lit_pieces`], the piece itself where nothing hides it from the light: the beam's own parts (a
+/// fan of quads) carried back to the image plane would cut it along lines that shade nothing.
+pub(crate) fn lit_parts(
+    bvh: &FlatBvh,
+    triangles: &[Triangle],
+    eye: &BeamFrame,
+    piece: &Piece,
+    light: Vec3,
+    stats: &mut BeamStats,
+) -> LitParts {
+    let Some(prim) = piece.prim else { return LitParts::Cut(Vec::new()) };
     let tri = &triangles[prim as usize];
     let corners: Option<Vec<Vec3>> = piece.section.vertices().iter().map(|&c| point_on_piece(eye, piece, c)).collect();
-    let Some(corners) = corners else { return Vec::new() };
+    let Some(corners) = corners else { return LitParts::Cut(Vec::new()) };
     // The receiving side of the triangle is the one the eye sees; a light on the other side lights
     // nothing of it.
     let mut n = tri.scaled_normal();
@@ -34,25 +58,32 @@ pub fn lit_pieces(
         n = -n;
     }
     if n.dot(light - tri.v[0]) <= 0.0 {
-        return Vec::new();
+        return LitParts::Cut(Vec::new());
     }
     // The reference plane is the triangle's own, so that the triangle and its coplanar neighbours lie
     // at depth 1 to rounding and never shadow it; the corners are projected onto it.
     let Some(beam) = BeamFrame::new(light, tri.v[0], n, tri.v[1] - tri.v[0]).and_then(|f| PolyBeam::new(f, &corners))
     else {
-        return Vec::new();
+        return LitParts::Cut(Vec::new());
     };
+    let hits = stats.hit_beams;
     let lit = visible_section(bvh, triangles, &beam, stats);
-    lit.pieces
-        .iter()
-        .filter_map(|s| {
-            let mut image: Vec<Vec2> = s.vertices().iter().map(|&c| eye.project(lit.frame.point(c))).collect();
-            if beam_math::collide::signed_area(&image) < 0.0 {
-                image.reverse();
-            }
-            Section::from_slice(&image).ok().map(|section| piece.with_section(section))
-        })
-        .collect()
+    if stats.hit_beams == hits {
+        // No triangle hit a part of the beam: its parts are the fan it started as.
+        return LitParts::Whole;
+    }
+    LitParts::Cut(
+        lit.pieces
+            .iter()
+            .filter_map(|s| {
+                let mut image: Vec<Vec2> = s.vertices().iter().map(|&c| eye.project(lit.frame.point(c))).collect();
+                if beam_math::collide::signed_area(&image) < 0.0 {
+                    image.reverse();
+                }
+                Section::from_slice(&image).ok().map(|section| piece.with_section(section))
+            })
+            .collect(),
+    )
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@
 //! where their union is convex ([`merge`]): the mesh's neighbouring triangles otherwise leave the
 //! beam cut along every extended edge (Sponza: 7.7 pieces per visible triangle without, 1.6 with).
 
+use super::coverage::PixelGrid;
 use super::eye_budget::eye_trace_seconds;
 use super::shadow_beam::BeamStats;
 use beam_bvh::FlatBvh;
@@ -355,32 +356,41 @@ pub fn point_on_piece(frame: &BeamFrame, piece: &Piece, c: Vec2) -> Option<Vec3>
     (inv > 0.0).then(|| frame.apex + (frame.point(c) - frame.apex) / inv)
 }
 
-/// A triangle's plane seen from a beam frame's apex, in double precision: its normal `n` (not
-/// unit) and the apex's height over it times `|n|`, set up once for the points of a piece.
+/// A triangle's plane seen from a beam frame's apex through the pixels of an image, in double
+/// precision: the view ray through pixel point `m` runs along `d(m) = d0 + m.x·du + m.y·dv` from
+/// the apex ([`PixelGrid::view_rays`]), and meets the plane (normal `n`, not unit) at
+/// `apex + h / (n·d(m)) · d(m)`, `h` the apex's height over it times `|n|`; set up once for the
+/// points of a piece.
 pub(crate) struct TrianglePlane {
     apex: DVec3,
-    n: DVec3,
+    rays: [DVec3; 3],
+    /// `n·d0`, `n·du`, `n·dv`.
+    n_rays: [f64; 3],
     height: f64,
 }
 
 impl TrianglePlane {
-    pub(crate) fn new(frame: &BeamFrame, tri: &Triangle) -> Self {
+    pub(crate) fn new(frame: &BeamFrame, grid: PixelGrid, tri: &Triangle) -> Self {
         let apex = frame.apex.as_dvec3();
         let [a, b, e] = tri.v.map(|v| v.as_dvec3());
         let n = (b - a).cross(e - a);
-        Self { apex, n, height: (a - apex).dot(n) }
+        let rays = grid.view_rays(frame);
+        Self { apex, rays, n_rays: rays.map(|d| n.dot(d)), height: (a - apex).dot(n) }
     }
 
-    /// The point of the plane seen through the image point `c` of `frame`: where the view ray
-    /// meets the plane, in double precision; `None` along the plane or behind the apex. Where a
-    /// piece's inverse depth ([`point_on_piece`]) is read from far away, its f32 plane puts the
-    /// point up to about 1e-4 of the scene's size off the surface, behind it as often as in front,
-    /// and a shade point offset from there by the shading tolerance can lie behind its own triangle.
+    /// The point of the plane seen through pixel point `m` (pixel `(x, y)` is the unit square at
+    /// `(x, y)`): where the view ray meets the plane, in double precision; `None` along the plane
+    /// or behind the apex. Where a piece's inverse depth ([`point_on_piece`]) is read from far
+    /// away, its f32 plane puts the point up to about 1e-4 of the scene's size off the surface,
+    /// behind it as often as in front, and a shade point offset from there by the shading
+    /// tolerance can lie behind its own triangle.
     #[must_use]
-    pub(crate) fn point(&self, frame: &BeamFrame, c: Vec2) -> Option<Vec3> {
-        let d = (frame.point(c) - frame.apex).as_dvec3();
-        let t = self.height / d.dot(self.n);
-        (t.is_finite() && t > 0.0).then(|| (self.apex + t * d).as_vec3())
+    pub(crate) fn point(&self, m: Vec2) -> Option<Vec3> {
+        let (x, y) = (f64::from(m.x), f64::from(m.y));
+        let [d0, du, dv] = self.rays;
+        let [n0, nu, nv] = self.n_rays;
+        let t = self.height / (n0 + x * nu + y * nv);
+        (t.is_finite() && t > 0.0).then(|| (self.apex + t * (d0 + x * du + y * dv)).as_vec3())
     }
 }
 

@@ -131,6 +131,7 @@ impl Trace<'_> {
         let mut eye = EyeStats::default();
         // Fragments lit by point lights alone: nothing to shade but their lit parts.
         let mut covered = 0u64;
+        let mut lit = None;
         // Cut-outs cast no exact hard shadows: with them, point lights are shaded by rays too.
         let point_shadows = !ctx.scene.has_cut_outs();
         let lit_only = point_shadows && !ctx.gathers(Lights::AreaOnly) && ctx.caustics.is_none();
@@ -152,7 +153,14 @@ impl Trace<'_> {
                     surfaces.push(Surface { x, y, weight: cov, prim, q, d, seed: (self.seed)(x, y), lent: [0.0; 2] });
                 }
                 Fragment::Lit { light, prim, points } => {
-                    pixels[i] += ctx.point_lit(prim, points, camera.position, light)
+                    let Some(&(_, q)) = points.first() else { return };
+                    // The fragments of one lit piece come in a row: its triangle's side and albedo once.
+                    if lit.as_ref().is_none_or(|&(p, l, _)| (p, l) != (prim, light)) {
+                        lit = Some((prim, light, ctx.point_lit(prim, light, camera.position, q)));
+                    }
+                    if let Some((_, _, Some(lit))) = &lit {
+                        pixels[i] += lit.radiance(points);
+                    }
                 }
             }
         });
