@@ -9,39 +9,65 @@
 //! started. With a row a job instead, the thread that shaded one heavy row went on to the next
 //! one it had queued while the other idled: `foliage` at 128², whose two rows under the leaves
 //! take 16 and 21 ms, rendered in 40 ms what was 62 thread-ms of work.
+//!
+//! Bands are traced as many at a time as there are threads, the next once one is shaded, and
+//! a band's surface fragments go once its rows are; twice as many rows as threads shade at a
+//! time, each with its state: a frame holds the fragments of a few bands and the states of a few
+//! rows, not all.
 
-use super::context::Thread;
+use super::context::{Lights, Surface, Thread};
 use super::stats::Counters;
-use super::trace::{EyeTraced, TileRadiance, Trace, Traced};
+use super::trace::{EyeTraced, Trace, Traced};
 use crate::render::eye_regions::{Region, TILE};
+use beam_math::glam::Vec3;
 use rayon::ScopeFifo;
+use std::collections::VecDeque;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Arc, Mutex, PoisonError};
 
-/// A tile's radiance and counters: `(region of its band, pixels, counters)`.
-type Shaded = (usize, TileRadiance, Counters);
+/// A region's surface fragments sorted by tile, and the lights they gather.
+struct Fragments {
+    region: Region,
+    surfaces: Vec<Surface>,
+    lights: Lights,
+}
 
 /// One row of tiles of a band being shaded.
 struct Chain {
     band: usize,
+    /// The band's fragments, region by region.
+    fragments: Arc<[Fragments]>,
     /// Its tiles, left to right: `(region of the band, start, end)` of their surfaces.
     tiles: Vec<(usize, usize, usize)>,
-    /// The tiles shaded so far.
-    shaded: Vec<Shaded>,
+    /// Each tile's radiance as it is shaded: `(region, pixel of the region, radiance)`.
+    radiance: Vec<(usize, usize, Vec3)>,
+    counters: Vec<(usize, Counters)>,
     /// The row's pixels (for the progress).
     rows: Region,
-    t: Thread,
+    /// Its state, from its first tile on.
+    t: Option<Box<Thread>>,
+}
+
+/// One band of regions.
+struct Band {
+    /// Its regions as traced, until the last of them is.
+    traced: Mutex<Vec<Option<EyeTraced>>>,
+    /// Its regions still to trace, then its rows still to shade.
+    left: AtomicUsize,
+    /// Its regions' pixels and counters, each row's radiance added once it is shaded.
+    parts: Mutex<Vec<Traced>>,
 }
 
 /// What the jobs share.
 struct Frame<'a> {
     trace: &'a Trace<'a>,
-    /// Per band, its regions once traced.
-    traced: Vec<Vec<OnceLock<EyeTraced>>>,
-    /// Per band, its regions still to trace.
-    left: Vec<AtomicUsize>,
-    /// Per band, its tiles once shaded.
-    shaded: Vec<Mutex<Vec<Shaded>>>,
+    bands: &'a [&'a [Region]],
+    work: Region,
+    band: Vec<Band>,
+    /// The next band to trace, and the bands traced or being traced whose rows are not all shaded.
+    queue: Mutex<(usize, usize)>,
+    /// The rows waiting to be shaded, and how many are being shaded.
+    rows: Mutex<(VecDeque<Chain>, usize)>,
     rows_done: &'a (dyn Fn(Region) + Sync),
 }
 
@@ -53,53 +79,70 @@ pub(super) fn trace_and_shade(
     work: Region,
     rows_done: &(dyn Fn(Region) + Sync),
 ) -> Vec<Traced> {
-    let frame = Frame {
-        trace,
-        traced: bands.iter().map(|b| b.iter().map(|_| OnceLock::new()).collect()).collect(),
-        left: bands.iter().map(|b| AtomicUsize::new(b.len())).collect(),
-        shaded: bands.iter().map(|_| Mutex::new(Vec::new())).collect(),
-        rows_done,
-    };
+    let band = bands
+        .iter()
+        .map(|b| Band {
+            traced: Mutex::new(b.iter().map(|_| None).collect()),
+            left: AtomicUsize::new(b.len()),
+            parts: Mutex::new(Vec::new()),
+        })
+        .collect();
+    let rows = Mutex::new((VecDeque::new(), 0));
+    let frame = Frame { trace, bands, work, band, queue: Mutex::new((0, 0)), rows, rows_done };
     let jobs = &frame;
-    rayon::scope_fifo(|s| {
-        for (band, regions) in bands.iter().enumerate() {
-            for (r, &region) in regions.iter().enumerate() {
-                s.spawn_fifo(move |s| jobs.trace_region(s, (band, r), region, region.intersect(work)));
-            }
-        }
-    });
-    let mut parts = Vec::new();
-    for (band, shaded) in frame.traced.into_iter().zip(frame.shaded) {
-        let mut band: Vec<Traced> =
-            band.into_iter().map(|e| e.into_inner().expect("every region traced").traced).collect();
-        for (r, out, counters) in shaded.into_inner().expect("no job panicked") {
-            let part = &mut band[r];
-            for (i, l) in out {
-                part.pixels[i] += l;
-            }
-            part.counters += counters;
-        }
-        parts.extend(band);
-    }
-    parts
+    rayon::scope_fifo(|s| jobs.start_bands(s, false));
+    frame.band.into_iter().flat_map(|b| b.parts.into_inner().unwrap_or_else(PoisonError::into_inner)).collect()
 }
 
 impl<'a> Frame<'a> {
-    /// Trace `region`, region `r` of band `band` (the pixels of `window` in it); the last of its
-    /// band starts the band's rows of tiles.
-    fn trace_region(&'a self, s: &ScopeFifo<'a>, (band, r): (usize, usize), region: Region, window: Region) {
-        self.traced[band][r].get_or_init(|| self.trace.eye_region(region, window));
-        if self.left[band].fetch_sub(1, Ordering::AcqRel) == 1 {
-            for chain in self.chains(band) {
-                s.spawn_fifo(move |s| self.shade(s, chain));
+    /// Start tracing bands while fewer than the threads are in flight (`done`: one just finished).
+    fn start_bands(&'a self, s: &ScopeFifo<'a>, done: bool) {
+        let mut queue = self.queue.lock().unwrap_or_else(PoisonError::into_inner);
+        let (next, in_flight) = &mut *queue;
+        *in_flight -= usize::from(done);
+        while *next < self.bands.len() && *in_flight < rayon::current_num_threads() {
+            let band = *next;
+            for (r, &region) in self.bands[band].iter().enumerate() {
+                s.spawn_fifo(move |s| self.trace_region(s, (band, r), region));
             }
+            (*next, *in_flight) = (band + 1, *in_flight + 1);
         }
     }
 
-    /// The rows of tiles of band `band`, each with its tiles left to right; the empty rows are
-    /// done at once.
-    fn chains(&self, band: usize) -> Vec<Chain> {
-        let traced: Vec<&EyeTraced> = self.traced[band].iter().map(|e| e.get().expect("the band is traced")).collect();
+    /// Trace `region`, region `r` of band `band`; the last of its band starts the band's rows.
+    fn trace_region(&'a self, s: &ScopeFifo<'a>, (band, r): (usize, usize), region: Region) {
+        let traced = self.trace.eye_region(region, region.intersect(self.work));
+        let b = &self.band[band];
+        b.traced.lock().unwrap_or_else(PoisonError::into_inner)[r] = Some(traced);
+        if b.left.fetch_sub(1, Ordering::AcqRel) > 1 {
+            return;
+        }
+        let traced: Vec<EyeTraced> =
+            b.traced.lock().unwrap_or_else(PoisonError::into_inner).drain(..).map(|e| e.expect("traced")).collect();
+        let chains = self.chains(band, traced);
+        if chains.is_empty() {
+            self.start_bands(s, true);
+        }
+        b.left.store(chains.len(), Ordering::Release);
+        self.rows.lock().unwrap_or_else(PoisonError::into_inner).0.extend(chains);
+        self.start_rows(s, false);
+    }
+
+    /// Start shading rows while fewer than twice the threads are (`done`: one just finished).
+    fn start_rows(&'a self, s: &ScopeFifo<'a>, done: bool) {
+        let mut rows = self.rows.lock().unwrap_or_else(PoisonError::into_inner);
+        let (waiting, shading) = &mut *rows;
+        *shading -= usize::from(done);
+        while *shading < 2 * rayon::current_num_threads() {
+            let Some(chain) = waiting.pop_front() else { break };
+            *shading += 1;
+            s.spawn_fifo(move |s| self.shade(s, chain));
+        }
+    }
+
+    /// The rows of tiles of band `band` (its regions `traced`), each with its tiles left to right;
+    /// the empty rows are done at once. The regions' pixels and counters wait for the rows.
+    fn chains(&self, band: usize, traced: Vec<EyeTraced>) -> Vec<Chain> {
         let first = traced[0].traced.region;
         let (y0, y1) = (first.y0, first.y1);
         let mut by_row: Vec<Vec<(usize, usize, usize)>> = vec![Vec::new(); (y1 - y0).div_ceil(TILE) as usize];
@@ -111,6 +154,15 @@ impl<'a> Frame<'a> {
             }
         }
         debug_assert!(by_row.iter().all(|row| row.is_sorted_by_key(|&(r, start, _)| traced[r].surfaces[start].x)));
+        let (parts, fragments): (Vec<Traced>, Vec<Fragments>) = traced
+            .into_iter()
+            .map(|e| {
+                let fragments = Fragments { region: e.traced.region, surfaces: e.surfaces, lights: e.lights };
+                (e.traced, fragments)
+            })
+            .unzip();
+        *self.band[band].parts.lock().unwrap_or_else(PoisonError::into_inner) = parts;
+        let fragments: Arc<[Fragments]> = fragments.into();
         let mut chains = Vec::new();
         for (row, tiles) in by_row.into_iter().enumerate() {
             let top = y0 + row as u32 * TILE;
@@ -118,24 +170,43 @@ impl<'a> Frame<'a> {
             if tiles.is_empty() {
                 (self.rows_done)(rows);
             } else {
-                chains.push(Chain { band, tiles, shaded: Vec::new(), rows, t: Thread::default() });
+                let (radiance, counters) = (Vec::new(), Vec::new());
+                let fragments = Arc::clone(&fragments);
+                chains.push(Chain { band, fragments, tiles, radiance, counters, rows, t: None });
             }
         }
         chains
     }
 
-    /// Shade the next tile of `chain`, then queue the rest of it behind the jobs queued so far.
+    /// Shade the next tile of `chain`, then queue the rest of it behind the jobs queued so far;
+    /// the last adds the row's radiance to its regions' pixels.
     fn shade(&'a self, s: &ScopeFifo<'a>, mut chain: Chain) {
-        let (r, start, end) = chain.tiles[chain.shaded.len()];
-        let e = self.traced[chain.band][r].get().expect("the band is traced");
-        let before = chain.t.c;
-        let out = self.trace.shade_eye_tile(e.traced.region, &e.surfaces[start..end], e.lights, &mut chain.t);
-        chain.shaded.push((r, out, chain.t.c.since(&before)));
-        if chain.shaded.len() < chain.tiles.len() {
+        let (r, start, end) = chain.tiles[chain.counters.len()];
+        let e = &chain.fragments[r];
+        let t = chain.t.get_or_insert_default();
+        let before = t.c;
+        let out = self.trace.shade_eye_tile(e.region, &e.surfaces[start..end], e.lights, t);
+        chain.counters.push((r, t.c.since(&before)));
+        chain.radiance.extend(out.into_iter().map(|(i, l)| (r, i, l)));
+        if chain.counters.len() < chain.tiles.len() {
             s.spawn_fifo(move |s| self.shade(s, chain));
-        } else {
-            (self.rows_done)(chain.rows);
-            self.shaded[chain.band].lock().expect("no job panicked").append(&mut chain.shaded);
+            return;
+        }
+        drop(chain.t.take());
+        self.start_rows(s, true);
+        (self.rows_done)(chain.rows);
+        let band = &self.band[chain.band];
+        {
+            let mut parts = band.parts.lock().unwrap_or_else(PoisonError::into_inner);
+            for (r, i, l) in chain.radiance {
+                parts[r].pixels[i] += l;
+            }
+            for (r, counters) in chain.counters {
+                parts[r].counters += counters;
+            }
+        }
+        if band.left.fetch_sub(1, Ordering::AcqRel) == 1 {
+            self.start_bands(s, true);
         }
     }
 }
