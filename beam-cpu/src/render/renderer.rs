@@ -15,6 +15,7 @@ mod context;
 mod emitters;
 mod light_beam;
 pub(crate) mod light_samples;
+mod point_lit;
 mod rounds;
 mod shade_points;
 mod shading;
