@@ -10,10 +10,10 @@
 //! one it had queued while the other idled: `foliage` at 128², whose two rows under the leaves
 //! take 16 and 21 ms, rendered in 40 ms what was 62 thread-ms of work.
 //!
-//! Bands are traced as many at a time as there are threads, the next once one is shaded, and
-//! a band's surface fragments go once its rows are; twice as many rows as threads shade at a
-//! time, each with its state: a frame holds the fragments of a few bands and the states of a few
-//! rows, not all.
+//! Bands are traced while the pixels of those whose rows are not all shaded stay within
+//! [`AHEAD`], and a band's surface fragments go once its rows are; twice as many rows as threads
+//! shade at a time, each with its state: a large frame holds the fragments of a few bands and the
+//! states of a few rows, not all.
 
 use super::context::{Lights, Surface, Thread};
 use super::stats::Counters;
@@ -24,6 +24,13 @@ use rayon::ScopeFifo;
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
+
+/// Pixels of the bands traced whose rows are not all shaded, at most (but for one band): 2 M, a
+/// 1,448² frame, whose fragments take about 140 MB (a 56-byte [`Surface`] per pixel and 20% more
+/// for the edges). Tracing the next band only once fewer than four rows were left to shade took
+/// the conference room at 256² 74.6 ms a render instead of 63.5 (warm, 2 threads, medians of 9):
+/// its threads waited for a band's regions between its rows.
+const AHEAD: usize = 1 << 21;
 
 /// A region's surface fragments sorted by tile, and the lights they gather.
 struct Fragments {
@@ -52,7 +59,7 @@ struct Chain {
 struct Band {
     /// Its regions as traced, until the last of them is.
     traced: Mutex<Vec<Option<EyeTraced>>>,
-    /// Its regions still to trace, then its rows still to shade.
+    /// Its regions still to trace.
     left: AtomicUsize,
     /// Its regions' pixels and counters, each row's radiance added once it is shaded.
     parts: Mutex<Vec<Traced>>,
@@ -64,7 +71,7 @@ struct Frame<'a> {
     bands: &'a [&'a [Region]],
     work: Region,
     band: Vec<Band>,
-    /// The next band to trace, and the bands traced or being traced whose rows are not all shaded.
+    /// The next band to trace, and the rows of tiles of the bands started that are not shaded yet.
     queue: Mutex<(usize, usize)>,
     /// The rows waiting to be shaded, and how many are being shaded.
     rows: Mutex<(VecDeque<Chain>, usize)>,
@@ -90,22 +97,28 @@ pub(super) fn trace_and_shade(
     let rows = Mutex::new((VecDeque::new(), 0));
     let frame = Frame { trace, bands, work, band, queue: Mutex::new((0, 0)), rows, rows_done };
     let jobs = &frame;
-    rayon::scope_fifo(|s| jobs.start_bands(s, false));
+    rayon::scope_fifo(|s| jobs.start_bands(s, 0));
     frame.band.into_iter().flat_map(|b| b.parts.into_inner().unwrap_or_else(PoisonError::into_inner)).collect()
 }
 
 impl<'a> Frame<'a> {
-    /// Start tracing bands while fewer than the threads are in flight (`done`: one just finished).
-    fn start_bands(&'a self, s: &ScopeFifo<'a>, done: bool) {
+    /// Start tracing bands while [`AHEAD`] allows (`shaded`: rows just shaded).
+    fn start_bands(&'a self, s: &ScopeFifo<'a>, shaded: usize) {
+        // Rows of tiles, which span the work's width: AHEAD's pixels in them.
+        let ahead = AHEAD / (TILE * self.work.width()).max(1) as usize;
         let mut queue = self.queue.lock().unwrap_or_else(PoisonError::into_inner);
-        let (next, in_flight) = &mut *queue;
-        *in_flight -= usize::from(done);
-        while *next < self.bands.len() && *in_flight < rayon::current_num_threads() {
+        let (next, unshaded) = &mut *queue;
+        *unshaded -= shaded;
+        while let Some(regions) = self.bands.get(*next) {
+            let rows = regions[0].intersect(self.work).height().div_ceil(TILE) as usize;
+            if *unshaded > 0 && *unshaded + rows > ahead {
+                break;
+            }
             let band = *next;
-            for (r, &region) in self.bands[band].iter().enumerate() {
+            for (r, &region) in regions.iter().enumerate() {
                 s.spawn_fifo(move |s| self.trace_region(s, (band, r), region));
             }
-            (*next, *in_flight) = (band + 1, *in_flight + 1);
+            (*next, *unshaded) = (band + 1, *unshaded + rows);
         }
     }
 
@@ -119,11 +132,10 @@ impl<'a> Frame<'a> {
         }
         let traced: Vec<EyeTraced> =
             b.traced.lock().unwrap_or_else(PoisonError::into_inner).drain(..).map(|e| e.expect("traced")).collect();
-        let chains = self.chains(band, traced);
-        if chains.is_empty() {
-            self.start_bands(s, true);
+        let (chains, empty) = self.chains(band, traced);
+        if empty > 0 {
+            self.start_bands(s, empty);
         }
-        b.left.store(chains.len(), Ordering::Release);
         self.rows.lock().unwrap_or_else(PoisonError::into_inner).0.extend(chains);
         self.start_rows(s, false);
     }
@@ -140,9 +152,10 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// The rows of tiles of band `band` (its regions `traced`), each with its tiles left to right;
-    /// the empty rows are done at once. The regions' pixels and counters wait for the rows.
-    fn chains(&self, band: usize, traced: Vec<EyeTraced>) -> Vec<Chain> {
+    /// The rows of tiles of band `band` (its regions `traced`), each with its tiles left to right,
+    /// and how many rows are empty (done at once). The regions' pixels and counters wait for the
+    /// rows.
+    fn chains(&self, band: usize, traced: Vec<EyeTraced>) -> (Vec<Chain>, usize) {
         let first = traced[0].traced.region;
         let (y0, y1) = (first.y0, first.y1);
         let mut by_row: Vec<Vec<(usize, usize, usize)>> = vec![Vec::new(); (y1 - y0).div_ceil(TILE) as usize];
@@ -163,19 +176,20 @@ impl<'a> Frame<'a> {
             .unzip();
         *self.band[band].parts.lock().unwrap_or_else(PoisonError::into_inner) = parts;
         let fragments: Arc<[Fragments]> = fragments.into();
-        let mut chains = Vec::new();
+        let (mut chains, mut empty) = (Vec::new(), 0);
         for (row, tiles) in by_row.into_iter().enumerate() {
             let top = y0 + row as u32 * TILE;
             let rows = Region { y0: top, y1: (top + TILE).min(y1), ..first };
             if tiles.is_empty() {
                 (self.rows_done)(rows);
+                empty += 1;
             } else {
                 let (radiance, counters) = (Vec::new(), Vec::new());
                 let fragments = Arc::clone(&fragments);
                 chains.push(Chain { band, fragments, tiles, radiance, counters, rows, t: None });
             }
         }
-        chains
+        (chains, empty)
     }
 
     /// Shade the next tile of `chain`, then queue the rest of it behind the jobs queued so far;
@@ -195,9 +209,8 @@ impl<'a> Frame<'a> {
         drop(chain.t.take());
         self.start_rows(s, true);
         (self.rows_done)(chain.rows);
-        let band = &self.band[chain.band];
         {
-            let mut parts = band.parts.lock().unwrap_or_else(PoisonError::into_inner);
+            let mut parts = self.band[chain.band].parts.lock().unwrap_or_else(PoisonError::into_inner);
             for (r, i, l) in chain.radiance {
                 parts[r].pixels[i] += l;
             }
@@ -205,8 +218,6 @@ impl<'a> Frame<'a> {
                 parts[r].counters += counters;
             }
         }
-        if band.left.fetch_sub(1, Ordering::AcqRel) == 1 {
-            self.start_bands(s, true);
-        }
+        self.start_bands(s, 1);
     }
 }
