@@ -168,7 +168,12 @@ fn run(cli: Cli, given: &[String], dry: bool) -> Result<ExitCode, String> {
             args.given = given.to_vec();
             match dry {
                 true => plan::plan(&args, true).map(|_| ExitCode::SUCCESS),
-                false => render::run(&args),
+                false => {
+                    // Start the threads while the scene loads: a thread the kernel has just made
+                    // waited up to 3 ms for a core here, longer than a small render takes.
+                    rayon::spawn_broadcast(|_| {});
+                    render::run(&args)
+                }
             }
         }
         Command::Merge { tiles, out } => match dry {
