@@ -48,6 +48,7 @@ struct Chain {
     tiles: Vec<(usize, usize, usize)>,
     /// Each tile's radiance as it is shaded: `(region, pixel of the region, radiance)`.
     radiance: Vec<(usize, usize, Vec3)>,
+    /// Each tile's counters: `(region, counters)`.
     counters: Vec<(usize, Counters)>,
     /// The row's pixels (for the progress).
     rows: Region,
