@@ -98,8 +98,28 @@ impl<const N: usize> ConvexPolygon<N> {
     /// and the part where it is `≥ 0` (outside), Sutherland–Hodgman style, one edge at a time.
     /// Vertices with `|n·(x − a)| ≤ eps` count on both sides (the fuzzy test of 001 App. A).
     pub fn split(&self, a: Vec2, n: Vec2, eps: f32) -> Result<(Self, Self), CapacityExceeded> {
-        let mut inside = Self::new();
         let mut outside = Self::new();
+        let inside = self.sides::<true>(a, n, eps, &mut outside)?;
+        Ok((inside, outside))
+    }
+
+    /// Keep the part on the inner side `n·(x − a) ≤ 0` of a line: the inside part of
+    /// [`ConvexPolygon::split`] with `eps = 0`, without building the outside part (the pixel
+    /// coverage clips each pixel an edge crosses).
+    pub fn clip(&self, a: Vec2, n: Vec2) -> Result<Self, CapacityExceeded> {
+        self.sides::<false>(a, n, 0.0, &mut Self::new())
+    }
+
+    /// The inside part of [`ConvexPolygon::split`], returned, and with `OUTSIDE` its outside part
+    /// in `outside` (an empty polygon).
+    fn sides<const OUTSIDE: bool>(
+        &self,
+        a: Vec2,
+        n: Vec2,
+        eps: f32,
+        outside: &mut Self,
+    ) -> Result<Self, CapacityExceeded> {
+        let mut inside = Self::new();
         let v = self.vertices();
         for i in 0..v.len() {
             let p = v[i];
@@ -109,44 +129,22 @@ impl<const N: usize> ConvexPolygon<N> {
             if dp <= eps {
                 inside.push(p)?;
             }
-            if dp >= -eps {
+            if OUTSIDE && dp >= -eps {
                 outside.push(p)?;
             }
             if (dp < -eps && dq > eps) || (dp > eps && dq < -eps) {
                 let x = p + (q - p) * (dp / (dp - dq));
                 inside.push(x)?;
-                outside.push(x)?;
+                if OUTSIDE {
+                    outside.push(x)?;
+                }
             }
         }
         if inside.len < 3 {
             inside = Self::new();
         }
-        if outside.len < 3 {
-            outside = Self::new();
-        }
-        Ok((inside, outside))
-    }
-
-    /// Keep the part on the inner side `n·(x − a) ≤ 0` of a line: the inside part of
-    /// [`ConvexPolygon::split`] with `eps = 0`, without building the outside part (the pixel
-    /// coverage clips each pixel an edge crosses).
-    pub fn clip(&self, a: Vec2, n: Vec2) -> Result<Self, CapacityExceeded> {
-        let mut inside = Self::new();
-        let v = self.vertices();
-        for i in 0..v.len() {
-            let p = v[i];
-            let q = v[(i + 1) % v.len()];
-            let dp = n.dot(p - a);
-            let dq = n.dot(q - a);
-            if dp <= 0.0 {
-                inside.push(p)?;
-            }
-            if (dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0) {
-                inside.push(p + (q - p) * (dp / (dp - dq)))?;
-            }
-        }
-        if inside.len < 3 {
-            inside = Self::new();
+        if OUTSIDE && outside.len < 3 {
+            *outside = Self::new();
         }
         Ok(inside)
     }
